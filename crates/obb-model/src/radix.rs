@@ -1,0 +1,89 @@
+//! Stable LSD radix sort of u64 keys with a payload, on buffers kept between calls.
+//!
+//! The hardware sorts the same way (histogram, prefix sum, stable scatter per digit), and a stable
+//! sort by key has exactly one result, so this is also the order the hardware produces.
+
+/// Sorts `keys` (and `vals` alongside) by the low `key_bits` bits of each key, stably, in
+/// `ceil(key_bits / digit_bits)` passes. Scratch space is kept, so repeated calls on inputs of
+/// similar size do not allocate.
+#[derive(Debug)]
+pub struct RadixSorter<V> {
+    digit_bits: u32,
+    tmp_keys: Vec<u64>,
+    tmp_vals: Vec<V>,
+    counts: Vec<usize>,
+}
+
+impl<V: Copy> RadixSorter<V> {
+    /// `digit_bits` from 1 to 16.
+    pub fn new(digit_bits: u32) -> Self {
+        assert!(
+            (1..=16).contains(&digit_bits),
+            "radix digit width must be 1..=16 bits, got {digit_bits}"
+        );
+        RadixSorter {
+            digit_bits,
+            tmp_keys: Vec::new(),
+            tmp_vals: Vec::new(),
+            counts: Vec::new(),
+        }
+    }
+
+    /// Number of passes needed for `key_bits`-bit keys.
+    pub fn passes(&self, key_bits: u32) -> u32 {
+        key_bits.div_ceil(self.digit_bits)
+    }
+
+    pub fn sort(&mut self, keys: &mut Vec<u64>, vals: &mut Vec<V>, key_bits: u32) {
+        assert_eq!(keys.len(), vals.len(), "one payload per key");
+        let n = keys.len();
+        let passes = self.passes(key_bits.min(64));
+        if n < 2 || passes == 0 {
+            return;
+        }
+        let radix = 1usize << self.digit_bits;
+        let mask = (radix - 1) as u64;
+        // All digit histograms in one read of the keys (the hardware counts the next digit's
+        // histogram during the current pass to the same effect).
+        self.counts.clear();
+        self.counts.resize(radix * passes as usize, 0);
+        for &k in keys.iter() {
+            for p in 0..passes as usize {
+                let d = ((k >> (p as u32 * self.digit_bits)) & mask) as usize;
+                self.counts[p * radix + d] += 1;
+            }
+        }
+        self.tmp_keys.clear();
+        self.tmp_keys.resize(n, 0);
+        self.tmp_vals.clear();
+        self.tmp_vals.extend_from_slice(vals);
+        for p in 0..passes as usize {
+            let hist = &mut self.counts[p * radix..(p + 1) * radix];
+            // A digit that is the same in every key leaves the order as it is.
+            if hist.contains(&n) {
+                continue;
+            }
+            let mut sum = 0;
+            for c in hist.iter_mut() {
+                let here = *c;
+                *c = sum;
+                sum += here;
+            }
+            let shift = p as u32 * self.digit_bits;
+            for (&k, &v) in keys.iter().zip(vals.iter()) {
+                let d = ((k >> shift) & mask) as usize;
+                let at = hist[d];
+                hist[d] += 1;
+                self.tmp_keys[at] = k;
+                self.tmp_vals[at] = v;
+            }
+            std::mem::swap(keys, &mut self.tmp_keys);
+            std::mem::swap(vals, &mut self.tmp_vals);
+        }
+    }
+}
+
+/// Bits needed to hold `max` (0 for 0).
+pub fn bits_for(max: u64) -> u32 {
+    64 - max.leading_zeros()
+}

@@ -1,0 +1,63 @@
+//! `obbcd`: scenes, CPU collision detection, statistics and benchmarks.
+
+mod bench;
+mod detect;
+mod parry;
+mod scene;
+mod stats;
+mod timing;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "obbcd",
+    version,
+    about = "OBB collision detection: golden model and CPU engines"
+)]
+struct Cli {
+    /// Worker threads (default: one per core).
+    #[arg(long, global = true)]
+    threads: Option<usize>,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Generate a scene and write it as JSON.
+    Scene(scene::SceneArgs),
+    /// Find every colliding pair of a scene.
+    Detect(detect::DetectArgs),
+    /// Per-axis overlap counts, candidates of each broad phase and collisions, by group pair.
+    Stats(stats::StatsArgs),
+    /// Time every engine and parry3d on the surgical scene and on uniform scenes.
+    Bench(bench::BenchArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    if let Some(t) = cli.threads {
+        if let Err(e) = rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build_global()
+        {
+            eprintln!("error: cannot start {t} threads: {e}");
+            return ExitCode::FAILURE;
+        }
+    }
+    let result = match cli.command {
+        Command::Scene(a) => scene::run(a),
+        Command::Detect(a) => detect::run(a),
+        Command::Stats(a) => stats::run(a),
+        Command::Bench(a) => bench::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

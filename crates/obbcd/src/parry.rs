@@ -1,0 +1,1 @@
+//! parry3d baseline (stub until written).

@@ -1,0 +1,52 @@
+//! `obbcd stats`: what each broad phase does on a scene.
+
+use anyhow::Result;
+use clap::Args;
+use obb_model::stats::{scene_stats, STATS_ENGINES};
+use obb_model::{Prepared, Scene};
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct StatsArgs {
+    /// Scene JSON file.
+    #[arg(long)]
+    scene: PathBuf,
+}
+
+pub fn run(a: StatsArgs) -> Result<()> {
+    let scene = Scene::load(&a.scene)?;
+    let boxes = Prepared::new(&scene.obbs);
+    let rows = scene_stats(&boxes);
+    let mut header = vec![
+        "groups",
+        "pairs",
+        "overlap_x",
+        "overlap_y",
+        "overlap_z",
+        "overlap_xyz",
+    ];
+    let engine_cols: Vec<String> = STATS_ENGINES
+        .iter()
+        .flat_map(|k| [format!("{k}_cand"), format!("{k}_sat")])
+        .collect();
+    header.extend(engine_cols.iter().map(String::as_str));
+    header.push("collisions");
+    println!("{}", header.join("\t"));
+    for r in rows {
+        let mut cells = vec![
+            r.mask.to_string(),
+            r.pairs.to_string(),
+            r.overlap[0].to_string(),
+            r.overlap[1].to_string(),
+            r.overlap[2].to_string(),
+            r.overlap_xyz.to_string(),
+        ];
+        for (_, c) in &r.engines {
+            cells.push(c.candidates.to_string());
+            cells.push(c.sat.to_string());
+        }
+        cells.push(r.collisions.to_string());
+        println!("{}", cells.join("\t"));
+    }
+    Ok(())
+}
