@@ -1,0 +1,117 @@
+//! Strategies shared by the integration tests: random and degenerate scenes.
+#![allow(dead_code)] // each test binary uses its own subset
+
+use nalgebra::{Quaternion, UnitQuaternion};
+use obb_model::{GroupMask, Obb, Scene};
+use proptest::prelude::*;
+
+/// Axes of a rotation given by a (not necessarily unit) quaternion, as rows.
+pub fn axes_of(q: [f64; 4]) -> [[f64; 3]; 3] {
+    let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if norm < 1e-9 {
+        return Obb::aligned([0.0; 3], [0.0; 3], 0).axes;
+    }
+    let r = UnitQuaternion::from_quaternion(Quaternion::new(q[0], q[1], q[2], q[3]));
+    let m = r.to_rotation_matrix();
+    std::array::from_fn(|k| [m[(0, k)], m[(1, k)], m[(2, k)]])
+}
+
+/// The same axes rounded to single precision: orthonormal only to about 1e-7.
+pub fn f32_axes(a: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    a.map(|row| row.map(|v| v as f32 as f64))
+}
+
+/// How a random box's axes are made.
+#[derive(Clone, Copy, Debug)]
+pub enum AxesKind {
+    Aligned,
+    Random,
+    SinglePrecision,
+}
+
+pub fn axes_kind() -> impl Strategy<Value = AxesKind> {
+    prop_oneof![
+        Just(AxesKind::Aligned),
+        Just(AxesKind::Random),
+        Just(AxesKind::SinglePrecision)
+    ]
+}
+
+/// One box in a cube of edge `side`, half-lengths in [0, max_half] (zero half-lengths included).
+pub fn obb(side: f64, max_half: f64, groups: u32) -> impl Strategy<Value = Obb> {
+    (
+        prop::array::uniform3(0.0..=side),
+        prop::array::uniform4(-1.0f64..1.0),
+        axes_kind(),
+        prop::array::uniform3(prop_oneof![1 => Just(0.0), 6 => 0.0..=max_half]),
+        0..groups,
+    )
+        .prop_map(|(center, q, kind, half, group)| {
+            let axes = match kind {
+                AxesKind::Aligned => axes_of([1.0, 0.0, 0.0, 0.0]),
+                AxesKind::Random => axes_of(q),
+                AxesKind::SinglePrecision => f32_axes(axes_of(q)),
+            };
+            Obb {
+                center,
+                axes,
+                half,
+                group,
+            }
+        })
+}
+
+/// Scenes with the degenerate cases mixed in: identical boxes, coordinates snapped to a coarse
+/// lattice (boxes sharing end points), everything in a tiny cube (all boxes overlapping), and
+/// an occasional huge box.
+pub fn scene(max_n: usize) -> impl Strategy<Value = Scene> {
+    (
+        prop_oneof![Just(1.0), Just(4.0), Just(12.0)],
+        prop::collection::vec(obb(12.0, 2.0, 3), 0..max_n),
+        any::<bool>(),
+        any::<bool>(),
+        any::<bool>(),
+    )
+        .prop_map(|(scale, mut obbs, duplicate, snap, huge)| {
+            for o in obbs.iter_mut() {
+                o.center = o.center.map(|c| c * scale / 12.0);
+            }
+            if duplicate && obbs.len() > 2 {
+                let copy = obbs[0].clone();
+                obbs.push(copy.clone());
+                obbs[1] = copy;
+            }
+            if snap {
+                for o in obbs.iter_mut() {
+                    o.center = o.center.map(|c| (c * 2.0).round() / 2.0);
+                    o.half = o.half.map(|h| (h * 4.0).round() / 4.0);
+                    o.axes = axes_of([1.0, 0.0, 0.0, 0.0]);
+                }
+            }
+            if huge && !obbs.is_empty() {
+                obbs[0].half = [40.0, 30.0, 0.5];
+            }
+            Scene { obbs }
+        })
+}
+
+pub fn mask() -> impl Strategy<Value = GroupMask> {
+    prop_oneof![
+        Just(GroupMask::All),
+        Just(GroupMask::Cross),
+        Just(GroupMask::Pairs(vec![(0, 1)])),
+        Just(GroupMask::Pairs(vec![(1, 1), (0, 2)])),
+    ]
+}
+
+/// A deterministic runner for tests that draw a fixed number of cases themselves.
+pub fn runner() -> proptest::test_runner::TestRunner {
+    use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+    TestRunner::new_with_rng(
+        Config {
+            failure_persistence: None,
+            ..Config::default()
+        },
+        TestRng::deterministic_rng(RngAlgorithm::ChaCha),
+    )
+}

@@ -1,0 +1,281 @@
+//! The f64 SAT never reports intersecting or touching boxes as separated, and agrees with an
+//! independent implementation (parry3d-f64) except within a stated tolerance of touching.
+
+mod common;
+
+use common::{axes_of, f32_axes};
+use obb_model::aabb::Aabb;
+use obb_model::sat::{boxes_collide, SatBox};
+use obb_model::Obb;
+use parry3d_f64::math::{Mat3, Pose, Rot3, Vector};
+use parry3d_f64::query::intersection_test;
+use parry3d_f64::shape::Cuboid;
+use proptest::prelude::*;
+use proptest::strategy::ValueTree;
+
+fn collide(a: &Obb, b: &Obb) -> bool {
+    Aabb::of(a).overlaps(&Aabb::of(b)) && boxes_collide(&SatBox::of(a), &SatBox::of(b))
+}
+
+/// Point of `o` at box coordinates `s` (|s_k| <= 1).
+fn point(o: &Obb, s: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|x| {
+        o.center[x] + (0..3).map(|k| s[k] * o.half[k] * o.axes[k][x]).sum::<f64>()
+    })
+}
+
+/// Places `b` so that its point at box coordinates `sb` is `a`'s point at `sa`: the two boxes
+/// share that point, so they intersect (or touch, when both points are on the boundaries).
+fn touching(a: &Obb, sa: [f64; 3], mut b: Obb, sb: [f64; 3]) -> Obb {
+    let p = point(a, sa);
+    b.center = [0.0; 3];
+    let q = point(&b, sb);
+    b.center = std::array::from_fn(|x| p[x] - q[x]);
+    b
+}
+
+/// A point on the boundary of the unit cube: `face` picks the coordinate pinned to ±1.
+fn boundary(s: [f64; 3], face: usize, sign: bool) -> [f64; 3] {
+    let mut s = s;
+    s[face] = if sign { 1.0 } else { -1.0 };
+    s
+}
+
+/// The classic SAT (Ericson, Real-Time Collision Detection, 4.4.1) with a fixed 1e-9 epsilon on
+/// |R_ij|: it assumes exactly orthonormal axes. Here only to show the cases below are hard.
+fn classic_sat(a: &Obb, b: &Obb) -> bool {
+    let dot = |p: &[f64; 3], q: &[f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+    let (ea, eb) = (a.half, b.half);
+    let r: [[f64; 3]; 3] =
+        std::array::from_fn(|i| std::array::from_fn(|j| dot(&a.axes[i], &b.axes[j])));
+    let tw: [f64; 3] = std::array::from_fn(|x| b.center[x] - a.center[x]);
+    let t: [f64; 3] = std::array::from_fn(|i| dot(&tw, &a.axes[i]));
+    let ar: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| r[i][j].abs() + 1e-9));
+    for i in 0..3 {
+        if t[i].abs() > ea[i] + eb[0] * ar[i][0] + eb[1] * ar[i][1] + eb[2] * ar[i][2] {
+            return false;
+        }
+    }
+    for j in 0..3 {
+        let tb = t[0] * r[0][j] + t[1] * r[1][j] + t[2] * r[2][j];
+        if tb.abs() > ea[0] * ar[0][j] + ea[1] * ar[1][j] + ea[2] * ar[2][j] + eb[j] {
+            return false;
+        }
+    }
+    for i in 0..3 {
+        let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+        for j in 0..3 {
+            let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+            let lhs = (t[i2] * r[i1][j] - t[i1] * r[i2][j]).abs();
+            if lhs
+                > ea[i1] * ar[i2][j] + ea[i2] * ar[i1][j] + eb[j1] * ar[i][j2] + eb[j2] * ar[i][j1]
+            {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// Axes of `a` turned by `angle` about a random direction: edges near-parallel to a's.
+fn tilted(a: [[f64; 3]; 3], q: [f64; 4], angle: f64) -> [[f64; 3]; 3] {
+    let n = (q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt().max(1e-12);
+    let (s, c) = (angle / 2.0).sin_cos();
+    let turn = axes_of([c, s * q[1] / n, s * q[2] / n, s * q[3] / n]);
+    // Row k of the result: turn applied to a_k.
+    a.map(|row| std::array::from_fn(|x| (0..3).map(|y| turn[y][x] * row[y]).sum()))
+}
+
+fn obb_strategy(single: bool) -> impl Strategy<Value = Obb> {
+    (
+        prop::array::uniform4(-1.0f64..1.0),
+        prop::array::uniform3(prop_oneof![1 => Just(0.0), 2 => 1e-3..0.5, 4 => 0.1..75.0f64]),
+    )
+        .prop_map(move |(q, half)| {
+            let axes = axes_of(q);
+            Obb {
+                center: [0.0; 3],
+                axes: if single { f32_axes(axes) } else { axes },
+                half,
+                group: 0,
+            }
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(3000))]
+
+    /// Boxes sharing a boundary point, with random, near-parallel (1e-3 to 1e-9 rad) and
+    /// single-precision axes, zero thicknesses and aspect ratios up to 75 mm : 0 mm.
+    #[test]
+    fn touching_boxes_collide(
+        a in prop_oneof![obb_strategy(false), obb_strategy(true)],
+        b in prop_oneof![obb_strategy(false), obb_strategy(true)],
+        near_parallel in prop_oneof![Just(None), (-9i32..=-3).prop_map(Some)],
+        qt in prop::array::uniform4(-1.0f64..1.0),
+        sa in prop::array::uniform3(-1.0f64..=1.0), fa in 0usize..3, ga in any::<bool>(),
+        sb in prop::array::uniform3(-1.0f64..=1.0), fb in 0usize..3, gb in any::<bool>(),
+        corner in any::<bool>(),
+    ) {
+        let mut b = b;
+        if let Some(e) = near_parallel {
+            b.axes = tilted(a.axes, qt, 10f64.powi(e));
+        }
+        let (sa, sb) = if corner {
+            (sa.map(|v| v.signum()), sb.map(|v| v.signum()))
+        } else {
+            (boundary(sa, fa, ga), boundary(sb, fb, gb))
+        };
+        let b = touching(&a, sa, b, sb);
+        prop_assert!(collide(&a, &b), "missed: {a:?} {b:?}");
+        prop_assert!(collide(&b, &a), "missed (swapped): {a:?} {b:?}");
+    }
+}
+
+/// The classic fixed-epsilon SAT misses some of those touching pairs (so the property above has
+/// teeth); ours misses none. Counted over a fixed set of single-precision near-parallel cases.
+#[test]
+fn classic_epsilon_misses_what_ours_catches() {
+    let mut runner = common::runner();
+    let (mut classic_misses, mut ours_misses, mut total) = (0, 0, 0);
+    let cases = (
+        obb_strategy(true),
+        obb_strategy(true),
+        prop::array::uniform4(-1.0f64..1.0),
+        -7i32..=-4,
+        prop::array::uniform3(-1.0f64..=1.0),
+        0usize..3,
+    );
+    for _ in 0..20_000 {
+        let (a, b, q, e, s, f) = cases.new_tree(&mut runner).unwrap().current();
+        let mut b = b;
+        b.axes = f32_axes(tilted(a.axes, q, 10f64.powi(e)));
+        let b = touching(&a, boundary(s, f, true), b, boundary(s, (f + 1) % 3, false));
+        total += 1;
+        classic_misses += usize::from(!classic_sat(&a, &b));
+        ours_misses += usize::from(!collide(&a, &b));
+    }
+    println!(
+        "touching pairs {total}: classic 1e-9 SAT missed {classic_misses}, ours {ours_misses}"
+    );
+    assert_eq!(ours_misses, 0);
+    assert!(
+        classic_misses > 0,
+        "the cases should defeat a fixed 1e-9 epsilon"
+    );
+}
+
+#[test]
+fn exact_touching_faces_edges_corners_and_gaps() {
+    let unit = Obb::aligned([0.0; 3], [1.0; 3], 0);
+    let at = |c: [f64; 3]| Obb::aligned(c, [1.0; 3], 0);
+    // Face, edge and corner contact at exactly representable coordinates.
+    for c in [
+        [2.0, 0.0, 0.0],
+        [2.0, 2.0, 0.0],
+        [2.0, 2.0, 2.0],
+        [0.0, -2.0, 0.5],
+    ] {
+        assert!(collide(&unit, &at(c)), "touching at {c:?}");
+    }
+    // Gaps of 1e-9 and of one ulp beyond a face are separations the SAT must see.
+    assert!(!collide(&unit, &at([2.0 + 1e-9, 0.0, 0.0])));
+    assert!(!collide(&unit, &at([2.0, 2.0 + 1e-9, 2.0])));
+    // A box rotated 45° about z whose edge touches the unit box's face at x = 1.
+    let r = std::f64::consts::FRAC_1_SQRT_2;
+    let diamond = Obb {
+        center: [1.0 + 2f64.sqrt(), 0.0, 0.0],
+        axes: [[r, r, 0.0], [-r, r, 0.0], [0.0, 0.0, 1.0]],
+        half: [1.0, 1.0, 1.0],
+        group: 0,
+    };
+    assert!(collide(&unit, &diamond));
+    let mut apart = diamond.clone();
+    apart.center[0] += 1e-9;
+    assert!(!collide(&unit, &apart));
+    // Coincident and nested boxes, and a zero-size box inside another.
+    assert!(collide(&unit, &unit));
+    assert!(collide(&unit, &Obb::aligned([0.3, 0.2, 0.1], [0.1; 3], 0)));
+    assert!(collide(&unit, &Obb::aligned([0.5; 3], [0.0; 3], 0)));
+}
+
+#[test]
+fn shaft_against_tiny_boxes() {
+    // A 150 mm x 2 mm shaft along a tilted direction, tiny boxes just touching its surface.
+    let axes = f32_axes(axes_of([0.9, 0.1, -0.3, 0.2]));
+    let shaft = Obb {
+        center: [10.0, -5.0, 40.0],
+        axes,
+        half: [75.0, 1.0, 1.0],
+        group: 1,
+    };
+    for k in 0..200 {
+        let s = [-1.0 + k as f64 / 100.0, 1.0, (k as f64 * 0.37).sin()];
+        let tiny = Obb {
+            center: [0.0; 3],
+            axes: axes_of([1.0, k as f64, 2.0, 0.5]),
+            half: [0.01, 0.02, 0.0],
+            group: 0,
+        };
+        let tiny = touching(&shaft, s, tiny, [1.0, -1.0, 0.3]);
+        assert!(collide(&shaft, &tiny), "tiny box {k}");
+    }
+}
+
+fn parry_collide(a: &Obb, b: &Obb, grow: f64) -> bool {
+    let pose = |o: &Obb| {
+        let v = |r: [f64; 3]| Vector::new(r[0], r[1], r[2]);
+        let m = Mat3::from_cols(v(o.axes[0]), v(o.axes[1]), v(o.axes[2]));
+        Pose::from_parts(v(o.center), Rot3::from_mat3(&m))
+    };
+    let cub = |o: &Obb| {
+        Cuboid::new(
+            Vector::new(o.half[0] + grow, o.half[1] + grow, o.half[2] + grow).max(Vector::ZERO),
+        )
+    };
+    intersection_test(&pose(a), &cub(a), &pose(b), &cub(b))
+        .expect("cuboids are supported")
+        .intersecting
+}
+
+/// parry3d-f64 as an oracle on random pairs near contact. Disagreements are allowed only within
+/// TOL of touching: growing (or shrinking) both boxes by TOL must make parry agree with us.
+#[test]
+fn agrees_with_parry_except_within_tolerance_of_touching() {
+    const TOL: f64 = 1e-9;
+    let mut runner = common::runner();
+    let cases = (
+        obb_strategy(false),
+        obb_strategy(false),
+        prop::array::uniform3(-1.5f64..1.5),
+        prop_oneof![Just(0.0), -1e-6..1e-6f64],
+    );
+    let (mut we_collide_only, mut parry_collides_only, mut agree) = (0, 0, 0);
+    for _ in 0..50_000 {
+        let (a, b, dir, nudge) = cases.new_tree(&mut runner).unwrap().current();
+        // Put b where a's point `dir` is, then nudge it: pairs straddle contact.
+        let mut b = touching(&a, dir.map(|v| v.clamp(-1.0, 1.0)), b, [1.0, -1.0, 1.0]);
+        b.center[0] += nudge;
+        let ours = collide(&a, &b);
+        let theirs = parry_collide(&a, &b, 0.0);
+        match (ours, theirs) {
+            (true, false) => {
+                we_collide_only += 1;
+                assert!(
+                    parry_collide(&a, &b, TOL),
+                    "we collide, parry is apart by more than {TOL}: {a:?} {b:?}"
+                );
+            }
+            (false, true) => {
+                parry_collides_only += 1;
+                assert!(
+                    !parry_collide(&a, &b, -TOL),
+                    "parry collides deeper than {TOL} where we see a gap: {a:?} {b:?}"
+                );
+            }
+            _ => agree += 1,
+        }
+    }
+    println!("parry3d-f64 oracle: {agree} agree, {we_collide_only} only we call colliding, {parry_collides_only} only parry does (all within {TOL} of touching)");
+    assert!(agree > 45_000);
+}
