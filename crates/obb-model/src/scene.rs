@@ -8,6 +8,9 @@ use thiserror::Error;
 /// every product in the separating-axis test far from overflow and every grid cell index in range.
 pub const COORD_LIMIT: f64 = 1.0e6;
 
+/// Most boxes in a scene (engines pack box indices into 29 bits).
+pub const MAX_OBBS: usize = 1 << 28;
+
 /// Largest accepted deviation of an OBB's axes from orthonormality: every entry of `A Aᵀ - I`,
 /// where the rows of `A` are the three axes, must be at most this. Rotations computed in single
 /// precision are orthonormal to about 1e-7; the SAT stays conservative for any deviation up to
@@ -48,6 +51,8 @@ pub enum SceneError {
         path: String,
         source: serde_json::Error,
     },
+    #[error("the scene has {0} obbs, more than the limit of {MAX_OBBS}")]
+    TooMany(usize),
     #[error("obb {index}: field `{field}` {problem}")]
     Invalid {
         index: usize,
@@ -126,6 +131,9 @@ impl Obb {
 impl Scene {
     /// Checks every OBB; the first problem found is returned.
     pub fn validate(&self) -> Result<(), SceneError> {
+        if self.obbs.len() > MAX_OBBS {
+            return Err(SceneError::TooMany(self.obbs.len()));
+        }
         self.obbs
             .iter()
             .enumerate()

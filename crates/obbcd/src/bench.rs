@@ -1,7 +1,162 @@
-//! bench (stub until written).
-use anyhow::Result;
-#[derive(clap::Args)]
-pub struct BenchArgs {}
-pub fn run(_a: BenchArgs) -> Result<()> {
-    anyhow::bail!("not yet")
+//! `obbcd bench`: every engine and parry3d on the surgical scene and on uniform scenes, in one
+//! run, with the growth of the run time from the smallest to the largest uniform scene.
+
+use crate::parry::ParryScene;
+use crate::timing::median_ms;
+use anyhow::{Context, Result};
+use clap::Args;
+use obb_model::generate::{surgical, uniform, SURGICAL_DEFAULT_N, UNIFORM_DEFAULT_DENSITY};
+use obb_model::{EngineKind, GroupMask, Pair, Prepared, Scene};
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Uniform scene sizes.
+    #[arg(long, value_delimiter = ',', default_value = "1000,4000,16000,64000")]
+    sizes: Vec<usize>,
+    /// Surgical scene size.
+    #[arg(long, default_value_t = SURGICAL_DEFAULT_N)]
+    surgical_n: usize,
+    /// Timed runs per measurement (the median is reported).
+    #[arg(long, default_value_t = 5)]
+    repeat: usize,
+    /// Quadratic engines (brute, sap, improved-sap) only up to this many boxes.
+    #[arg(long, default_value_t = 20_000)]
+    quadratic_max: usize,
+    /// Also write the table as CSV.
+    #[arg(long)]
+    csv: Option<PathBuf>,
+}
+
+struct Row {
+    scene: String,
+    n: usize,
+    groups: GroupMask,
+    engine: String,
+    threads: usize,
+    ms: f64,
+    pairs: usize,
+    candidates: u64,
+}
+
+fn time_engine(
+    kind: EngineKind,
+    scene: &Scene,
+    mask: &GroupMask,
+    repeat: usize,
+) -> (f64, Vec<Pair>, u64) {
+    let mut engine = kind.build();
+    let mut boxes = Prepared::default();
+    let mut pairs = Vec::new();
+    let (ms, c) = median_ms(repeat, || {
+        boxes.update(&scene.obbs);
+        engine.detect(&boxes, mask, &mut pairs)
+    });
+    (ms, pairs, c.candidates)
+}
+
+fn bench_scene(
+    name: &str,
+    scene: &Scene,
+    mask: &GroupMask,
+    a: &BenchArgs,
+    rows: &mut Vec<Row>,
+) -> Result<()> {
+    let n = scene.obbs.len();
+    let all_threads = rayon::current_num_threads();
+    let single = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let mut reference: Option<Vec<Pair>> = None;
+    let mut add = |engine: &str, threads, ms, pairs: &[Pair], candidates| {
+        rows.push(Row {
+            scene: name.into(),
+            n,
+            groups: mask.clone(),
+            engine: engine.into(),
+            threads,
+            ms,
+            pairs: pairs.len(),
+            candidates,
+        });
+    };
+    for kind in EngineKind::ALL {
+        let quadratic = matches!(
+            kind,
+            EngineKind::Brute | EngineKind::Sap | EngineKind::ImprovedSap
+        );
+        if quadratic && n > a.quadratic_max {
+            continue;
+        }
+        let (ms, pairs, cand) = time_engine(kind, scene, mask, a.repeat);
+        add(kind.name(), all_threads, ms, &pairs, cand);
+        if kind == EngineKind::Grid && all_threads > 1 {
+            let (ms1, _, _) = single.install(|| time_engine(kind, scene, mask, a.repeat));
+            add(kind.name(), 1, ms1, &pairs, cand);
+        }
+        match &reference {
+            None => reference = Some(pairs),
+            Some(r) => anyhow::ensure!(
+                *r == pairs,
+                "{kind} disagrees with the other engines on {name}"
+            ),
+        }
+    }
+    let parry = ParryScene::new(scene);
+    let mut pairs = Vec::new();
+    let (ms, ()) = median_ms(a.repeat, || parry.detect(mask, &mut pairs));
+    add("parry3d", 1, ms, &pairs, 0);
+    Ok(())
+}
+
+pub fn run(a: BenchArgs) -> Result<()> {
+    let mut rows = Vec::new();
+    let surg = surgical(a.surgical_n, 1)?;
+    for mask in [GroupMask::All, GroupMask::Cross] {
+        eprintln!("surgical {} groups={mask}", a.surgical_n);
+        bench_scene("surgical", &surg, &mask, &a, &mut rows)?;
+    }
+    for &n in &a.sizes {
+        eprintln!("uniform {n}");
+        let scene = uniform(n, 1, UNIFORM_DEFAULT_DENSITY)?;
+        bench_scene("uniform", &scene, &GroupMask::All, &a, &mut rows)?;
+    }
+    let mut table = String::from("scene,n,groups,engine,threads,time_ms,pairs,candidates\n");
+    for r in &rows {
+        writeln!(
+            table,
+            "{},{},{},{},{},{:.3},{},{}",
+            r.scene, r.n, r.groups, r.engine, r.threads, r.ms, r.pairs, r.candidates
+        )?;
+    }
+    print!("{table}");
+    // How the time grows over the uniform sizes: the exponent k in time ~ n^k.
+    if let (Some(&lo), Some(&hi)) = (a.sizes.iter().min(), a.sizes.iter().max()) {
+        if hi > lo {
+            let at = |n, engine: &str, threads| {
+                rows.iter()
+                    .find(|r| {
+                        r.scene == "uniform"
+                            && r.n == n
+                            && r.engine == engine
+                            && r.threads == threads
+                    })
+                    .map(|r| r.ms)
+            };
+            for (engine, threads) in [
+                ("grid", rayon::current_num_threads()),
+                ("grid", 1),
+                ("sweep", rayon::current_num_threads()),
+                ("parry3d", 1),
+            ] {
+                if let (Some(t0), Some(t1)) = (at(lo, engine, threads), at(hi, engine, threads)) {
+                    let k = (t1 / t0).ln() / (hi as f64 / lo as f64).ln();
+                    println!("growth {engine} threads={threads}: {lo} -> {hi} boxes, {t0:.3} -> {t1:.3} ms, time ~ n^{k:.2}");
+                }
+            }
+        }
+    }
+    if let Some(path) = &a.csv {
+        std::fs::write(path, &table).with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    Ok(())
 }

@@ -2,8 +2,9 @@
 
 use anyhow::Result;
 use clap::Args;
+use obb_model::engines::Grid;
 use obb_model::stats::{scene_stats, STATS_ENGINES};
-use obb_model::{Prepared, Scene};
+use obb_model::{Engine, GroupMask, Prepared, Scene};
 use std::path::PathBuf;
 
 #[derive(Args)]
@@ -48,5 +49,19 @@ pub fn run(a: StatsArgs) -> Result<()> {
         cells.push(r.collisions.to_string());
         println!("{}", cells.join("\t"));
     }
+    let mut grid = Grid::default();
+    grid.detect(&boxes, &GroupMask::All, &mut Vec::new());
+    let g = grid.stats();
+    println!(
+        "grid cell_mm={:.4} dims={}x{}x{} entries={} entries_per_box={:.2} max_per_cell={} large={}",
+        g.geometry.cell,
+        g.geometry.dims[0],
+        g.geometry.dims[1],
+        g.geometry.dims[2],
+        g.entries,
+        g.entries as f64 / boxes.len().max(1) as f64,
+        g.max_per_cell,
+        g.large
+    );
     Ok(())
 }

@@ -6,7 +6,7 @@
 //! two AABBs' intersection, which both AABBs cover: each overlapping pair is found exactly once.
 //! The work follows the real overlaps instead of one axis's projection (docs/engines.md).
 
-use super::{Counters, Engine, EngineKind, Pair, PairSorter};
+use super::{ordered, Counters, Engine, EngineKind, Pair, PairSorter};
 use crate::aabb::Aabb;
 use crate::groups::GroupMask;
 use crate::prepared::Prepared;
@@ -22,8 +22,15 @@ const MAX_CELLS_PER_AXIS: u64 = 1 << 20;
 /// Cell edge as a multiple of the median AABB edge: the measured sweet spot between entries per
 /// box and pairs per cell (docs/engines.md).
 const CELL_PER_MEDIAN_EDGE: f64 = 2.0;
-/// Cell runs are split into this many work chunks per thread, to even out the load.
+/// Cell runs are split into this many chunks of equal pair work per thread.
 const CHUNKS_PER_THREAD: usize = 8;
+/// A cell entry holds the box index in its low bits and, above them, one flag per axis: set when
+/// the box's cell range starts in this cell on that axis.
+const INDEX_BITS: u32 = 29;
+const INDEX_MASK: u32 = (1 << INDEX_BITS) - 1;
+const ALL_AXES: u32 = 0b111 << INDEX_BITS;
+/// Largest grid (in cells) for which an occupancy bitmap is kept (4 MiB of bits).
+const MAX_BITMAP_CELLS: u64 = 1 << 25;
 
 /// The grid's geometry for one frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -46,16 +53,6 @@ impl GridGeometry {
     #[inline]
     fn key(&self, c: [u64; 3]) -> u64 {
         c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2])
-    }
-
-    #[inline]
-    fn decode(&self, key: u64) -> [u64; 3] {
-        let xy = self.dims[0] * self.dims[1];
-        [
-            key % self.dims[0],
-            (key / self.dims[0]) % self.dims[1],
-            key / xy,
-        ]
     }
 
     /// Sets origin and dims for cells of edge `cell` over `lo..=hi`, enlarging the cell when the
@@ -106,8 +103,13 @@ pub struct Grid {
     is_large: Vec<bool>,
     /// (start, end) of each cell holding two or more entries.
     runs: Vec<(u32, u32)>,
+    /// Chunk boundaries in `runs`, cut at equal pair work.
+    cuts: Vec<usize>,
     chunk_pairs: Vec<Vec<Pair>>,
     scratch: Vec<f64>,
+    /// Cells occupied by boxes outside the sparse group (see `build`).
+    occupied: Vec<u64>,
+    group_sizes: Vec<(u32, usize)>,
     radix: RadixSorter<u32>,
     sorter: PairSorter,
 }
@@ -122,8 +124,11 @@ impl Default for Grid {
             large: Vec::new(),
             is_large: Vec::new(),
             runs: Vec::new(),
+            cuts: Vec::new(),
             chunk_pairs: Vec::new(),
             scratch: Vec::new(),
+            occupied: Vec::new(),
+            group_sizes: Vec::new(),
             radix: RadixSorter::new(11),
             sorter: PairSorter::default(),
         }
@@ -170,8 +175,72 @@ impl Grid {
         }
     }
 
+    /// The most populous group, if the scene has more than one.
+    fn largest_group(&mut self, boxes: &Prepared) -> Option<u32> {
+        self.group_sizes.clear();
+        for &g in &boxes.groups {
+            match self.group_sizes.iter_mut().find(|(h, _)| *h == g) {
+                Some((_, n)) => *n += 1,
+                None => self.group_sizes.push((g, 1)),
+            }
+            // Many distinct groups: not the tissue-and-instruments shape this is for.
+            if self.group_sizes.len() > 64 {
+                return None;
+            }
+        }
+        let &(g0, _) = self
+            .group_sizes
+            .iter()
+            .max_by_key(|(g, n)| (*n, std::cmp::Reverse(*g)))?;
+        (self.group_sizes.len() > 1).then_some(g0)
+    }
+
+    /// Enters the boxes whose group passes `pick` in the cells their AABBs cover (only in
+    /// occupied cells when `only_occupied`), or in the large list when they cover too many.
+    fn enter(&mut self, boxes: &Prepared, pick: impl Fn(u32) -> bool, only_occupied: bool) {
+        let g = self.geometry;
+        for (i, b) in boxes.aabbs.iter().enumerate() {
+            if !pick(boxes.groups[i]) {
+                continue;
+            }
+            let c0 = [
+                g.coord(b.min[0], 0),
+                g.coord(b.min[1], 1),
+                g.coord(b.min[2], 2),
+            ];
+            let c1 = [
+                g.coord(b.max[0], 0),
+                g.coord(b.max[1], 1),
+                g.coord(b.max[2], 2),
+            ];
+            let cells = (c1[0] - c0[0] + 1) * (c1[1] - c0[1] + 1) * (c1[2] - c0[2] + 1);
+            if cells > MAX_CELLS_PER_BOX {
+                self.large.push(i as u32);
+                self.is_large[i] = true;
+                continue;
+            }
+            for z in c0[2]..=c1[2] {
+                for y in c0[1]..=c1[1] {
+                    for x in c0[0]..=c1[0] {
+                        let key = g.key([x, y, z]);
+                        if only_occupied
+                            && self.occupied[(key / 64) as usize] & (1 << (key % 64)) == 0
+                        {
+                            continue;
+                        }
+                        let starts = u32::from(x == c0[0])
+                            | u32::from(y == c0[1]) << 1
+                            | u32::from(z == c0[2]) << 2;
+                        self.keys.push(key);
+                        self.entries.push(i as u32 | starts << INDEX_BITS);
+                    }
+                }
+            }
+        }
+    }
+
     /// Enters every box in its cells (or in the large list) and sorts the entries by cell.
-    fn build(&mut self, boxes: &Prepared) {
+    fn build(&mut self, boxes: &Prepared, mask: &GroupMask) {
         let aabbs = &boxes.aabbs;
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
@@ -192,51 +261,65 @@ impl Grid {
         self.large.clear();
         self.is_large.clear();
         self.is_large.resize(aabbs.len(), false);
-        for (i, b) in aabbs.iter().enumerate() {
-            let c0 = [
-                g.coord(b.min[0], 0),
-                g.coord(b.min[1], 1),
-                g.coord(b.min[2], 2),
-            ];
-            let c1 = [
-                g.coord(b.max[0], 0),
-                g.coord(b.max[1], 1),
-                g.coord(b.max[2], 2),
-            ];
-            let cells = (c1[0] - c0[0] + 1) * (c1[1] - c0[1] + 1) * (c1[2] - c0[2] + 1);
-            if cells > MAX_CELLS_PER_BOX {
-                self.large.push(i as u32);
-                self.is_large[i] = true;
-                continue;
+        // When the mask excludes pairs inside the largest group (tissue, for cross-group
+        // detection), a box of that group can only pair with a box of another group, in a cell
+        // that box covers: enter the other groups first, mark their cells, and enter the largest
+        // group's boxes only where a cell is marked. Exact, and it leaves out the tissue-only cells.
+        let cells = g.dims[0] * g.dims[1] * g.dims[2];
+        let sparse = self
+            .largest_group(boxes)
+            .filter(|&g0| !mask.allows(g0, g0) && cells <= MAX_BITMAP_CELLS);
+        self.occupied.clear();
+        if let Some(g0) = sparse {
+            self.occupied.resize(cells.div_ceil(64) as usize, 0);
+            self.enter(boxes, |grp| grp != g0, false);
+            for &k in &self.keys {
+                self.occupied[(k / 64) as usize] |= 1 << (k % 64);
             }
-            for z in c0[2]..=c1[2] {
-                for y in c0[1]..=c1[1] {
-                    for x in c0[0]..=c1[0] {
-                        self.keys.push(g.key([x, y, z]));
-                        self.entries.push(i as u32);
-                    }
-                }
-            }
+            self.enter(boxes, |grp| grp == g0, true);
+        } else {
+            self.enter(boxes, |_| true, false);
         }
         let key_bits = bits_for(g.dims[0] * g.dims[1] * g.dims[2] - 1);
         self.radix.sort(&mut self.keys, &mut self.entries, key_bits);
         self.runs.clear();
         let mut start = 0;
+        let mut work = 0;
         for p in 1..=self.keys.len() {
             if p == self.keys.len() || self.keys[p] != self.keys[start] {
                 if p - start >= 2 {
                     self.runs.push((start as u32, p as u32));
+                    work += (p - start) * (p - start - 1) / 2;
                 }
                 start = p;
             }
+        }
+        // Cut the runs into chunks of about equal pair work: dense cells (an instrument's) lie
+        // together in key order and would otherwise load one thread.
+        let chunks = rayon::current_num_threads() * CHUNKS_PER_THREAD;
+        let target = work.div_ceil(chunks).max(1);
+        self.cuts.clear();
+        self.cuts.push(0);
+        let mut acc = 0;
+        for (r, &(s, e)) in self.runs.iter().enumerate() {
+            let len = (e - s) as usize;
+            acc += len * (len - 1) / 2;
+            if acc >= target {
+                self.cuts.push(r + 1);
+                acc = 0;
+            }
+        }
+        if *self.cuts.last().expect("starts with 0") != self.runs.len() {
+            self.cuts.push(self.runs.len());
         }
     }
 }
 
 /// Examines the pairs inside the cells `runs`, appending the colliding ones to `out`.
+/// `candidates` counts each pair once, in its home cell: the cell holding the lower corner of the
+/// two boxes' cell ranges' intersection, where on every axis one of the two ranges starts. That
+/// is the cell of the lower corner of the AABBs' intersection (cell coordinates are monotone).
 fn scan_cells(
-    g: &GridGeometry,
-    keys: &[u64],
     entries: &[u32],
     runs: &[(u32, u32)],
     boxes: &Prepared,
@@ -246,30 +329,28 @@ fn scan_cells(
     let mut c = Counters::default();
     out.clear();
     for &(s, e) in runs {
-        let (s, e) = (s as usize, e as usize);
-        let here = g.decode(keys[s]);
-        for p in s..e {
-            let i = entries[p] as usize;
+        let cell = &entries[s as usize..e as usize];
+        for (p, &ei) in cell.iter().enumerate() {
+            let i = (ei & INDEX_MASK) as usize;
             let (bi, gi) = (&boxes.aabbs[i], boxes.groups[i]);
-            for &j in &entries[p + 1..e] {
-                let j = j as usize;
+            for &ej in &cell[p + 1..] {
+                // Once only: skip the pair unless this is its home cell.
+                if (ei | ej) & ALL_AXES != ALL_AXES {
+                    continue;
+                }
+                let j = (ej & INDEX_MASK) as usize;
                 if !mask.allows(gi, boxes.groups[j]) {
                     continue;
                 }
                 c.candidates += 1;
-                let bj = &boxes.aabbs[j];
-                if !bi.overlaps(bj) {
-                    continue;
-                }
-                // Once only: the lower corner of the intersection must lie in this cell.
-                let lower_here = (0..3).all(|a| g.coord(bi.min[a].max(bj.min[a]), a) == here[a]);
-                if !lower_here {
+                if !bi.overlaps(&boxes.aabbs[j]) {
                     continue;
                 }
                 // The AABBs overlap: this is `Prepared::collide` without repeating that check.
                 c.sat += 1;
                 if boxes_collide(&boxes.sat[i], &boxes.sat[j]) {
-                    out.push([i as u32, j as u32]);
+                    // Ascending within a cell unless boxes were entered in two rounds.
+                    out.push(ordered(i, j));
                 }
             }
         }
@@ -294,7 +375,7 @@ fn scan_large(
         if boxes.aabbs[l].overlaps(&boxes.aabbs[j]) {
             c.sat += 1;
             if boxes_collide(&boxes.sat[l], &boxes.sat[j]) {
-                out.push(super::ordered(l, j));
+                out.push(ordered(l, j));
             }
         }
     }
@@ -314,19 +395,17 @@ impl Engine for Grid {
             self.large.clear();
             return Counters::default();
         }
-        self.build(boxes);
-        let chunks = (rayon::current_num_threads() * CHUNKS_PER_THREAD).max(1);
-        let per_chunk = self.runs.len().div_ceil(chunks).max(1);
-        let used = self.runs.len().div_ceil(per_chunk);
+        self.build(boxes, mask);
+        let used = self.cuts.len() - 1;
         if self.chunk_pairs.len() < used + 1 {
             self.chunk_pairs.resize_with(used + 1, Vec::new);
         }
         let (cell_outs, large_out) = self.chunk_pairs.split_at_mut(used);
-        let (g, keys, entries) = (&self.geometry, &self.keys, &self.entries);
+        let (cuts, runs, entries) = (&self.cuts, &self.runs, &self.entries);
         let mut c = cell_outs
             .par_iter_mut()
-            .zip(self.runs.par_chunks(per_chunk))
-            .map(|(o, runs)| scan_cells(g, keys, entries, runs, boxes, mask, o))
+            .enumerate()
+            .map(|(k, o)| scan_cells(entries, &runs[cuts[k]..cuts[k + 1]], boxes, mask, o))
             .reduce(Counters::default, |mut a, b| {
                 a += b;
                 a
