@@ -280,7 +280,7 @@ impl Grid {
         } else {
             self.enter(boxes, |_| true, false);
         }
-        let key_bits = bits_for(g.dims[0] * g.dims[1] * g.dims[2] - 1);
+        let key_bits = bits_for(cells - 1);
         self.radix.sort(&mut self.keys, &mut self.entries, key_bits);
         self.runs.clear();
         let mut start = 0;
