@@ -18,5 +18,5 @@ pub mod stats;
 
 pub use engines::{detect, Counters, Engine, EngineKind, Pair};
 pub use groups::GroupMask;
-pub use prepared::Prepared;
+pub use prepared::{Frame, Prepared};
 pub use scene::{Obb, Scene, SceneError};

@@ -1,66 +1,85 @@
-//! Per-frame preparation shared by every engine: each box's AABB, SAT form and group.
+//! Per-frame preparation shared by every engine: each box's AABB and SAT slack, and its group.
 
 use crate::aabb::Aabb;
-use crate::sat::{boxes_collide, SatBox};
+use crate::sat::{boxes_collide, Slack};
 use crate::scene::Obb;
 use rayon::prelude::*;
 
 /// Boxes below this count are prepared on one thread: below it, waking the pool costs more.
 const PARALLEL_MIN: usize = 4096;
 
-/// The boxes of one frame, ready for the broad and narrow phases. Buffers are reused.
+/// The per-box buffers of one frame, reused from frame to frame. The boxes themselves are not
+/// copied: the SAT reads them from the scene, which keeps the per-frame writes small (they, not
+/// the arithmetic, bound this pass).
 #[derive(Clone, Debug, Default)]
 pub struct Prepared {
-    pub aabbs: Vec<Aabb>,
-    pub sat: Vec<SatBox>,
-    pub groups: Vec<u32>,
+    aabbs: Vec<Aabb>,
+    slack: Vec<Slack>,
+    groups: Vec<u32>,
+}
+
+/// One frame's boxes, ready for the broad and narrow phases.
+#[derive(Clone, Copy, Debug)]
+pub struct Frame<'a> {
+    pub obbs: &'a [Obb],
+    pub aabbs: &'a [Aabb],
+    pub slack: &'a [Slack],
+    pub groups: &'a [u32],
 }
 
 impl Prepared {
-    pub fn new(obbs: &[Obb]) -> Prepared {
-        let mut p = Prepared::default();
-        p.update(obbs);
-        p
-    }
-
     /// Recomputes everything from `obbs`, keeping the allocations.
-    pub fn update(&mut self, obbs: &[Obb]) {
+    pub fn update<'a>(&'a mut self, obbs: &'a [Obb]) -> Frame<'a> {
         let n = obbs.len();
         self.aabbs.resize(n, Aabb::default());
-        self.sat.resize(n, SatBox::default());
+        self.slack.resize(n, Slack::default());
         self.groups.clear();
         self.groups.extend(obbs.iter().map(|o| o.group));
-        let one = |((aabb, sat), obb): ((&mut Aabb, &mut SatBox), &Obb)| {
+        let one = |((aabb, slack), obb): ((&mut Aabb, &mut Slack), &Obb)| {
             *aabb = Aabb::of(obb);
-            *sat = SatBox::of(obb);
+            *slack = Slack::of(obb);
         };
         if n < PARALLEL_MIN {
             self.aabbs
                 .iter_mut()
-                .zip(self.sat.iter_mut())
+                .zip(self.slack.iter_mut())
                 .zip(obbs)
                 .for_each(one);
         } else {
             self.aabbs
                 .par_iter_mut()
-                .zip(self.sat.par_iter_mut())
+                .zip(self.slack.par_iter_mut())
                 .zip(obbs.par_iter())
                 .for_each(one);
         }
+        Frame {
+            obbs,
+            aabbs: &self.aabbs,
+            slack: &self.slack,
+            groups: &self.groups,
+        }
     }
+}
 
+impl Frame<'_> {
     pub fn len(&self) -> usize {
-        self.aabbs.len()
+        self.obbs.len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.aabbs.is_empty()
+        self.obbs.is_empty()
+    }
+
+    /// The 15-axis SAT on boxes `i` and `j`, without the AABB check.
+    #[inline]
+    pub fn sat(&self, i: usize, j: usize) -> bool {
+        boxes_collide(&self.obbs[i], &self.slack[i], &self.obbs[j], &self.slack[j])
     }
 
     /// The narrow phase every engine uses: closed AABB overlap, then the 15-axis SAT. Every
     /// engine reports exactly the pairs for which this is true (and the mask allows).
     #[inline]
     pub fn collide(&self, i: usize, j: usize) -> bool {
-        self.aabbs[i].overlaps(&self.aabbs[j]) && boxes_collide(&self.sat[i], &self.sat[j])
+        self.aabbs[i].overlaps(&self.aabbs[j]) && self.sat(i, j)
     }
 }

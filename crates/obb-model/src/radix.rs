@@ -4,25 +4,25 @@
 //! sort by key has exactly one result, so this is also the order the hardware produces.
 
 /// Sorts `keys` (and `vals` alongside) by the low `key_bits` bits of each key, stably, in
-/// `ceil(key_bits / digit_bits)` passes. Scratch space is kept, so repeated calls on inputs of
-/// similar size do not allocate.
+/// `ceil(key_bits / max_digit_bits)` passes of equal digits. Scratch space is kept, so repeated
+/// calls on inputs of similar size do not allocate.
 #[derive(Debug)]
 pub struct RadixSorter<V> {
-    digit_bits: u32,
+    max_digit_bits: u32,
     tmp_keys: Vec<u64>,
     tmp_vals: Vec<V>,
     counts: Vec<usize>,
 }
 
 impl<V: Copy> RadixSorter<V> {
-    /// `digit_bits` from 1 to 16.
-    pub fn new(digit_bits: u32) -> Self {
+    /// `max_digit_bits` from 1 to 16.
+    pub fn new(max_digit_bits: u32) -> Self {
         assert!(
-            (1..=16).contains(&digit_bits),
-            "radix digit width must be 1..=16 bits, got {digit_bits}"
+            (1..=16).contains(&max_digit_bits),
+            "radix digit width must be 1..=16 bits, got {max_digit_bits}"
         );
         RadixSorter {
-            digit_bits,
+            max_digit_bits,
             tmp_keys: Vec::new(),
             tmp_vals: Vec::new(),
             counts: Vec::new(),
@@ -31,7 +31,13 @@ impl<V: Copy> RadixSorter<V> {
 
     /// Number of passes needed for `key_bits`-bit keys.
     pub fn passes(&self, key_bits: u32) -> u32 {
-        key_bits.div_ceil(self.digit_bits)
+        key_bits.div_ceil(self.max_digit_bits)
+    }
+
+    /// Digit width for `key_bits`-bit keys: the passes split the key evenly, so that (say) 24
+    /// bits take two passes of 12 rather than 12 + 12 of a wider table or 11 + 11 + 2.
+    pub fn digit_bits(&self, key_bits: u32) -> u32 {
+        key_bits.div_ceil(self.passes(key_bits).max(1))
     }
 
     pub fn sort(&mut self, keys: &mut Vec<u64>, vals: &mut Vec<V>, key_bits: u32) {
@@ -41,7 +47,8 @@ impl<V: Copy> RadixSorter<V> {
         if n < 2 || passes == 0 {
             return;
         }
-        let radix = 1usize << self.digit_bits;
+        let digit_bits = self.digit_bits(key_bits.min(64));
+        let radix = 1usize << digit_bits;
         let mask = (radix - 1) as u64;
         // All digit histograms in one read of the keys (the hardware counts the next digit's
         // histogram during the current pass to the same effect).
@@ -49,7 +56,7 @@ impl<V: Copy> RadixSorter<V> {
         self.counts.resize(radix * passes as usize, 0);
         for &k in keys.iter() {
             for p in 0..passes as usize {
-                let d = ((k >> (p as u32 * self.digit_bits)) & mask) as usize;
+                let d = ((k >> (p as u32 * digit_bits)) & mask) as usize;
                 self.counts[p * radix + d] += 1;
             }
         }
@@ -69,7 +76,7 @@ impl<V: Copy> RadixSorter<V> {
                 *c = sum;
                 sum += here;
             }
-            let shift = p as u32 * self.digit_bits;
+            let shift = p as u32 * digit_bits;
             for (&k, &v) in keys.iter().zip(vals.iter()) {
                 let d = ((k >> shift) & mask) as usize;
                 let at = hist[d];

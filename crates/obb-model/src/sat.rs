@@ -11,88 +11,172 @@
 use crate::aabb::U;
 use crate::scene::Obb;
 
-/// A box ready for the SAT: the fields of the OBB plus two per-box constants.
+/// Two per-box constants of the SAT margin, computed once per frame.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct SatBox {
-    pub c: [f64; 3],
-    pub a: [[f64; 3]; 3],
-    pub h: [f64; 3],
+pub struct Slack {
     /// h0 + h1 + h2.
     pub hsum: f64,
     /// Slack for this box's non-orthonormality: 2.01 · η · Σh, η bounding |A Aᵀ - I|.
     pub kappa: f64,
 }
 
-impl SatBox {
-    pub fn of(obb: &Obb) -> SatBox {
+impl Slack {
+    pub fn of(obb: &Obb) -> Slack {
         // The Gram matrix is computed with error < 4u per entry; 8u covers it with room.
         let eta = obb.ortho_error() + 8.0 * U;
         let hsum = obb.half[0] + obb.half[1] + obb.half[2];
-        SatBox {
-            c: obb.center,
-            a: obb.axes,
-            h: obb.half,
+        Slack {
             hsum,
             kappa: 2.01 * eta * hsum,
         }
     }
 }
 
+/// Pairs [`retain_colliding`] tests side by side.
+pub const LANES: usize = 4;
+
 #[inline(always)]
 fn dot(p: &[f64; 3], q: &[f64; 3]) -> f64 {
     p[0] * q[0] + p[1] * q[1] + p[2] * q[2]
 }
 
-/// True unless one of the 15 axes separates `a` and `b` for certain. Touching counts as colliding.
-#[inline]
-pub fn boxes_collide(a: &SatBox, b: &SatBox) -> bool {
-    let tw = [b.c[0] - a.c[0], b.c[1] - a.c[1], b.c[2] - a.c[2]];
-    let tnorm = tw[0].abs() + tw[1].abs() + tw[2].abs();
-    // The margin every axis test gets: the rounding bound 64u·(|T|₁ + Σa + Σb) (docs/sat.md
-    // derives 23u) plus both boxes' orthonormality slack.
-    let s = a.kappa + b.kappa + 64.0 * U * (tnorm + a.hsum + b.hsum);
+/// The SAT on two boxes, computing their slack: the convenience form for tests and tools.
+pub fn obbs_collide(a: &Obb, b: &Obb) -> bool {
+    boxes_collide(a, &Slack::of(a), b, &Slack::of(b))
+}
 
-    let mut r = [[0.0; 3]; 3];
-    let mut ar = [[0.0; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            r[i][j] = dot(&a.a[i], &b.a[j]);
-            ar[i][j] = r[i][j].abs();
+/// True unless one of the 15 axes separates `a` and `b` for certain. Touching counts as colliding.
+/// `sa` and `sb` are the boxes' [`Slack`].
+#[inline]
+pub fn boxes_collide(a: &Obb, sa: &Slack, b: &Obb, sb: &Slack) -> bool {
+    sat_lanes([a], [sa], [b], [sb])[0]
+}
+
+/// Keeps the pairs of `pairs` that collide (by [`boxes_collide`]), in their order, testing
+/// [`LANES`] pairs at a time with the widest vector instructions the CPU has (chosen at run time;
+/// no fused multiply-add, so every lane rounds exactly as [`boxes_collide`] does).
+#[multiversion::multiversion(targets("x86_64+avx2", "x86_64+sse4.1"))]
+pub fn retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) {
+    let n = pairs.len();
+    let mut kept = 0;
+    for start in (0..n).step_by(LANES) {
+        // The last group repeats its final pair to fill the lanes.
+        let mut p = [pairs[n - 1]; LANES];
+        let take = LANES.min(n - start);
+        p[..take].copy_from_slice(&pairs[start..start + take]);
+        let (mut a, mut b) = ([&obbs[0]; LANES], [&obbs[0]; LANES]);
+        let (mut sa, mut sb) = ([&slack[0]; LANES], [&slack[0]; LANES]);
+        for l in 0..LANES {
+            let [i, j] = p[l].map(|x| x as usize);
+            (a[l], sa[l], b[l], sb[l]) = (&obbs[i], &slack[i], &obbs[j], &slack[j]);
+        }
+        let hit = sat_lanes(a, sa, b, sb);
+        for (l, &q) in p.iter().enumerate().take(take) {
+            pairs[kept] = q;
+            kept += usize::from(hit[l]);
         }
     }
-    // T in each box's own axes: computed directly, so no orthonormality is assumed.
-    let t = [dot(&tw, &a.a[0]), dot(&tw, &a.a[1]), dot(&tw, &a.a[2])];
-    let u = [dot(&tw, &b.a[0]), dot(&tw, &b.a[1]), dot(&tw, &b.a[2])];
+    pairs.truncate(kept);
+}
 
+/// One value per lane.
+type V<const L: usize> = [f64; L];
+
+#[inline(always)]
+fn lanes<const L: usize>(mut f: impl FnMut(usize) -> f64) -> V<L> {
+    // A plain loop: `array::from_fn` is not always inlined, and a call per value costs more
+    // than the value.
+    let mut v = [0.0; L];
+    for (l, x) in v.iter_mut().enumerate() {
+        *x = f(l);
+    }
+    v
+}
+
+/// Three lane values, `f(k, l)`.
+#[inline(always)]
+fn lanes3<const L: usize>(mut f: impl FnMut(usize, usize) -> f64) -> [V<L>; 3] {
+    let mut v = [[0.0; L]; 3];
+    for (k, row) in v.iter_mut().enumerate() {
+        *row = lanes(|l| f(k, l));
+    }
+    v
+}
+
+/// A 3x3 matrix of lane values, `f(i, j, l)`.
+#[inline(always)]
+fn lanes33<const L: usize>(mut f: impl FnMut(usize, usize, usize) -> f64) -> [[V<L>; 3]; 3] {
+    let mut v = [[[0.0; L]; 3]; 3];
+    for (i, row) in v.iter_mut().enumerate() {
+        *row = lanes3(|j, l| f(i, j, l));
+    }
+    v
+}
+
+/// The SAT on `L` pairs (a[l], b[l]) at once: every value is an array over the lanes, so the
+/// compiler can keep a lane per vector element. A lane is separated when any axis separates it;
+/// the work stops early only when every lane is separated.
+#[inline(always)]
+fn sat_lanes<const L: usize>(
+    a: [&Obb; L],
+    sa: [&Slack; L],
+    b: [&Obb; L],
+    sb: [&Slack; L],
+) -> [bool; L] {
+    let tw: [V<L>; 3] = lanes3(|k, l| b[l].center[k] - a[l].center[k]);
+    let tnorm: V<L> = lanes(|l| tw[0][l].abs() + tw[1][l].abs() + tw[2][l].abs());
+    // The margin every axis test gets: the rounding bound 64u·(|T|₁ + Σa + Σb) (docs/sat.md
+    // derives 23u) plus both boxes' orthonormality slack.
+    let s: V<L> =
+        lanes(|l| sa[l].kappa + sb[l].kappa + 64.0 * U * (tnorm[l] + sa[l].hsum + sb[l].hsum));
+    let ah: [V<L>; 3] = lanes3(|k, l| a[l].half[k]);
+    let bh: [V<L>; 3] = lanes3(|k, l| b[l].half[k]);
+
+    let r: [[V<L>; 3]; 3] = lanes33(|i, j, l| dot(&a[l].axes[i], &b[l].axes[j]));
+    let ar: [[V<L>; 3]; 3] = lanes33(|i, j, l| r[i][j][l].abs());
+    // T in each box's own axes: computed directly, so no orthonormality is assumed.
+    let tl = |l: usize| [tw[0][l], tw[1][l], tw[2][l]];
+    let t: [V<L>; 3] = lanes3(|i, l| dot(&tl(l), &a[l].axes[i]));
+    let u: [V<L>; 3] = lanes3(|j, l| dot(&tl(l), &b[l].axes[j]));
+
+    let mut sep = [false; L];
     // Axes a_i.
     for i in 0..3 {
-        let rb = b.h[0] * ar[i][0] + b.h[1] * ar[i][1] + b.h[2] * ar[i][2];
-        if t[i].abs() > a.h[i] + rb + s {
-            return false;
+        for l in 0..L {
+            let rb = bh[0][l] * ar[i][0][l] + bh[1][l] * ar[i][1][l] + bh[2][l] * ar[i][2][l];
+            sep[l] |= t[i][l].abs() > ah[i][l] + rb + s[l];
         }
     }
     // Axes b_j.
     for j in 0..3 {
-        let ra = a.h[0] * ar[0][j] + a.h[1] * ar[1][j] + a.h[2] * ar[2][j];
-        if u[j].abs() > ra + b.h[j] + s {
-            return false;
+        for l in 0..L {
+            let ra = ah[0][l] * ar[0][j][l] + ah[1][l] * ar[1][j][l] + ah[2][l] * ar[2][j][l];
+            sep[l] |= u[j][l].abs() > ra + bh[j][l] + s[l];
         }
     }
+    if sep.iter().all(|&x| x) {
+        return [false; L];
+    }
     // Axes L = R[i1][j]·a_{i2} - R[i2][j]·a_{i1} (= a_i × b_j for orthonormal A). Its projections
-    // are computed from R and t exactly as written; B's radius uses the products of R directly
-    // rather than the cofactor identity, which holds only for orthonormal B.
-    for i in 0..3 {
+    // are computed from R and t exactly as written; B's radius uses the 2x2 minors of R directly
+    // rather than the cofactor identity, which holds only for orthonormal B. Each minor
+    // m[i][k] = |R[i1][k1]·R[i2][k2] - R[i2][k1]·R[i1][k2]| serves two axes; computed once, it
+    // rounds exactly as when written out for each (a product commutes, and fl(x - y) = -fl(y - x)).
+    let m: [[V<L>; 3]; 3] = lanes33(|i, k, l| {
+        let (i1, i2, k1, k2) = ((i + 1) % 3, (i + 2) % 3, (k + 1) % 3, (k + 2) % 3);
+        (r[i1][k1][l] * r[i2][k2][l] - r[i2][k1][l] * r[i1][k2][l]).abs()
+    });
+    for (i, mi) in m.iter().enumerate() {
         let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
         for j in 0..3 {
             let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
-            let lhs = (t[i2] * r[i1][j] - t[i1] * r[i2][j]).abs();
-            let ra = a.h[i1] * ar[i2][j] + a.h[i2] * ar[i1][j];
-            let rb = b.h[j1] * (r[i1][j] * r[i2][j1] - r[i2][j] * r[i1][j1]).abs()
-                + b.h[j2] * (r[i1][j] * r[i2][j2] - r[i2][j] * r[i1][j2]).abs();
-            if lhs > ra + rb + s {
-                return false;
+            for (l, sep) in sep.iter_mut().enumerate() {
+                let lhs = (t[i2][l] * r[i1][j][l] - t[i1][l] * r[i2][j][l]).abs();
+                let ra = ah[i1][l] * ar[i2][j][l] + ah[i2][l] * ar[i1][j][l];
+                let rb = bh[j1][l] * mi[j2][l] + bh[j2][l] * mi[j1][l];
+                *sep |= lhs > ra + rb + s[l];
             }
         }
     }
-    true
+    sep.map(|x| !x)
 }

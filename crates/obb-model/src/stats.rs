@@ -4,7 +4,7 @@
 use crate::engines::endpoints::count_axis_overlaps;
 use crate::engines::{Counters, EngineKind};
 use crate::groups::GroupMask;
-use crate::prepared::Prepared;
+use crate::prepared::Frame;
 use std::collections::BTreeSet;
 
 /// The broad phases compared in a stats row (brute's work is simply the number of pairs).
@@ -32,7 +32,7 @@ pub struct StatsRow {
 }
 
 /// Rows for all pairs, then for each group pair present in the scene.
-pub fn scene_stats(boxes: &Prepared) -> Vec<StatsRow> {
+pub fn scene_stats(boxes: &Frame) -> Vec<StatsRow> {
     let groups: BTreeSet<u32> = boxes.groups.iter().copied().collect();
     let size = |g: u32| boxes.groups.iter().filter(|&&x| x == g).count() as u64;
     let n = boxes.len() as u64;

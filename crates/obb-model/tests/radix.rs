@@ -16,5 +16,6 @@ proptest! {
         expect.sort_by_key(|p| p.0);
         prop_assert_eq!(k.iter().copied().zip(v.iter().copied()).collect::<Vec<_>>(), expect);
         prop_assert_eq!(sorter.passes(bits), bits.div_ceil(digit));
+        prop_assert!(sorter.digit_bits(bits) <= digit && sorter.digit_bits(bits) * sorter.passes(bits) >= bits);
     }
 }

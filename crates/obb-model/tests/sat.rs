@@ -5,8 +5,8 @@ mod common;
 
 use common::{axes_of, f32_axes};
 use obb_model::aabb::Aabb;
-use obb_model::sat::{boxes_collide, SatBox};
-use obb_model::Obb;
+use obb_model::sat::{obbs_collide, retain_colliding};
+use obb_model::{Obb, Prepared};
 use parry3d_f64::math::{Mat3, Pose, Rot3, Vector};
 use parry3d_f64::query::intersection_test;
 use parry3d_f64::shape::Cuboid;
@@ -14,7 +14,7 @@ use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 
 fn collide(a: &Obb, b: &Obb) -> bool {
-    Aabb::of(a).overlaps(&Aabb::of(b)) && boxes_collide(&SatBox::of(a), &SatBox::of(b))
+    Aabb::of(a).overlaps(&Aabb::of(b)) && obbs_collide(a, b)
 }
 
 /// Point of `o` at box coordinates `s` (|s_k| <= 1).
@@ -129,6 +129,24 @@ proptest! {
         let b = touching(&a, sa, b, sb);
         prop_assert!(collide(&a, &b), "missed: {a:?} {b:?}");
         prop_assert!(collide(&b, &a), "missed (swapped): {a:?} {b:?}");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    /// The vector-lane SAT keeps exactly the pairs the one-pair SAT accepts, in order, for any
+    /// number of pairs (full groups of lanes and a partial last group).
+    #[test]
+    fn lanes_equal_one_pair_sat(scene in common::scene(24), take in 0usize..300) {
+        let mut prepared = Prepared::default();
+        let frame = prepared.update(&scene.obbs);
+        let n = frame.len() as u32;
+        let all: Vec<[u32; 2]> = (0..n).flat_map(|i| (i + 1..n).map(move |j| [i, j])).take(take).collect();
+        let mut kept = all.clone();
+        retain_colliding(frame.obbs, frame.slack, &mut kept);
+        let expect: Vec<[u32; 2]> = all.into_iter().filter(|p| frame.sat(p[0] as usize, p[1] as usize)).collect();
+        prop_assert_eq!(kept, expect);
     }
 }
 

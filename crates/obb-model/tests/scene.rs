@@ -126,7 +126,8 @@ fn generators_are_deterministic_exact_in_count_and_valid() {
 fn surgical_jaws_touch_the_tissue() {
     use obb_model::{detect, EngineKind, GroupMask, Prepared};
     let s = surgical(17_500, 1).unwrap();
-    let boxes = Prepared::new(&s.obbs);
+    let mut prepared = Prepared::default();
+    let boxes = prepared.update(&s.obbs);
     let (pairs, _) = detect(
         EngineKind::Grid,
         &boxes,

@@ -6,6 +6,7 @@ use crate::timing::median_ms;
 use anyhow::{Context, Result};
 use clap::Args;
 use obb_model::generate::{surgical, uniform, SURGICAL_DEFAULT_N, UNIFORM_DEFAULT_DENSITY};
+use obb_model::sat::obbs_collide;
 use obb_model::{EngineKind, GroupMask, Pair, Prepared, Scene};
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -50,8 +51,8 @@ fn time_engine(
     let mut boxes = Prepared::default();
     let mut pairs = Vec::new();
     let (ms, c) = median_ms(repeat, || {
-        boxes.update(&scene.obbs);
-        engine.detect(&boxes, mask, &mut pairs)
+        let frame = boxes.update(&scene.obbs);
+        engine.detect(&frame, mask, &mut pairs)
     });
     (ms, pairs, c.candidates)
 }
@@ -105,6 +106,61 @@ fn bench_scene(
     let mut pairs = Vec::new();
     let (ms, ()) = median_ms(a.repeat, || parry.detect(mask, &mut pairs));
     add("parry3d", 1, ms, &pairs, 0);
+    let ours = reference.context("at least one engine ran")?;
+    report_disagreement(name, scene, mask, &ours, &pairs)
+}
+
+/// Relative size of single precision's rounding, with room: parry3d works in f32.
+const F32_TOLERANCE: f64 = 1e-6;
+
+/// Prints where parry3d (f32) and our engines (f64, conservative) disagree, and whether each
+/// pair only parry3d reports is within f32 rounding of touching: it must collide once both
+/// boxes grow by `F32_TOLERANCE` times the scene's extent. A pair beyond that would be one we
+/// miss: an error.
+fn report_disagreement(
+    name: &str,
+    scene: &Scene,
+    mask: &GroupMask,
+    ours: &[Pair],
+    parry: &[Pair],
+) -> Result<()> {
+    let only = |x: &[Pair], y: &[Pair]| -> Vec<Pair> {
+        x.iter()
+            .filter(|p| y.binary_search(p).is_err())
+            .copied()
+            .collect()
+    };
+    let (only_parry, only_ours) = (only(parry, ours), only(ours, parry));
+    let extent = scene
+        .obbs
+        .iter()
+        .flat_map(|o| {
+            o.center
+                .iter()
+                .map(|c| c.abs() + o.half.iter().sum::<f64>())
+        })
+        .fold(0.0, f64::max);
+    let grow = F32_TOLERANCE * extent;
+    let grown = |i: u32| {
+        let mut o = scene.obbs[i as usize].clone();
+        o.half = o.half.map(|h| h + grow);
+        o
+    };
+    let near = only_parry
+        .iter()
+        .filter(|p| obbs_collide(&grown(p[0]), &grown(p[1])))
+        .count();
+    println!(
+        "parry3d vs ours, {name} {} groups={mask}: only parry3d {} ({near} within {grow:.1e} of touching), only ours {}",
+        scene.obbs.len(),
+        only_parry.len(),
+        only_ours.len()
+    );
+    anyhow::ensure!(
+        near == only_parry.len(),
+        "parry3d finds {} pairs on {name} that our engines miss by more than f32 rounding",
+        only_parry.len() - near
+    );
     Ok(())
 }
 

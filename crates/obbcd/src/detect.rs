@@ -37,10 +37,10 @@ pub fn run(a: DetectArgs) -> Result<()> {
     let mut engine = a.engine.build();
     let mut boxes = Prepared::default();
     let mut pairs = Vec::new();
-    // Timed: the per-frame work (AABBs, SAT forms, broad and narrow phase), scene already loaded.
+    // Timed: the per-frame work (AABBs, SAT slack, broad and narrow phase), scene already loaded.
     let (ms, counters) = median_ms(a.repeat, || {
-        boxes.update(&scene.obbs);
-        engine.detect(&boxes, &a.groups, &mut pairs)
+        let frame = boxes.update(&scene.obbs);
+        engine.detect(&frame, &a.groups, &mut pairs)
     });
     if let Some(path) = &a.output {
         let json = serde_json::to_string(&PairsFile { pairs: &pairs })?;

@@ -16,7 +16,8 @@ pub struct StatsArgs {
 
 pub fn run(a: StatsArgs) -> Result<()> {
     let scene = Scene::load(&a.scene)?;
-    let boxes = Prepared::new(&scene.obbs);
+    let mut prepared = Prepared::default();
+    let boxes = prepared.update(&scene.obbs);
     let rows = scene_stats(&boxes);
     let mut header = vec![
         "groups",

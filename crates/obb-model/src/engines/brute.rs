@@ -2,7 +2,7 @@
 
 use super::{Counters, Engine, EngineKind, Pair};
 use crate::groups::GroupMask;
-use crate::prepared::Prepared;
+use crate::prepared::Frame;
 
 #[derive(Debug, Default)]
 pub struct Brute;
@@ -12,7 +12,7 @@ impl Engine for Brute {
         EngineKind::Brute
     }
 
-    fn detect(&mut self, boxes: &Prepared, mask: &GroupMask, out: &mut Vec<Pair>) -> Counters {
+    fn detect(&mut self, boxes: &Frame, mask: &GroupMask, out: &mut Vec<Pair>) -> Counters {
         out.clear();
         let mut c = Counters::default();
         let n = boxes.len();

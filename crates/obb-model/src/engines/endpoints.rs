@@ -2,7 +2,7 @@
 //! axis, tagged with the box index and a min/max flag, sorted.
 
 use crate::groups::GroupMask;
-use crate::prepared::Prepared;
+use crate::prepared::Frame;
 use std::collections::HashMap;
 
 #[derive(Clone, Copy, Debug)]
@@ -14,7 +14,7 @@ pub(crate) struct Endpoint {
 
 /// Fills `out` with the 2N endpoints on `axis`, sorted by value; at equal values a min comes
 /// before a max (closed intervals: touching boxes overlap), then by box index.
-pub(crate) fn sorted_endpoints(boxes: &Prepared, axis: usize, out: &mut Vec<Endpoint>) {
+pub(crate) fn sorted_endpoints(boxes: &Frame, axis: usize, out: &mut Vec<Endpoint>) {
     out.clear();
     for (i, b) in boxes.aabbs.iter().enumerate() {
         out.push(Endpoint {
@@ -39,7 +39,7 @@ pub(crate) fn sorted_endpoints(boxes: &Prepared, axis: usize, out: &mut Vec<Endp
 /// For each mask, the number of pairs it allows whose intervals overlap on `axis` (one sweep
 /// over the sorted end points with an active list, as in the paper's SAP step 3).
 pub(crate) fn count_axis_overlaps(
-    boxes: &Prepared,
+    boxes: &Frame,
     axis: usize,
     masks: &[(GroupMask, u64)],
 ) -> Vec<(GroupMask, u64)> {

@@ -6,7 +6,7 @@
 use super::endpoints::{sorted_endpoints, Endpoint};
 use super::{ordered, Counters, Engine, EngineKind, Pair, PairSorter};
 use crate::groups::GroupMask;
-use crate::prepared::Prepared;
+use crate::prepared::Frame;
 
 #[derive(Debug, Default)]
 pub struct ImprovedSap {
@@ -19,7 +19,7 @@ impl Engine for ImprovedSap {
         EngineKind::ImprovedSap
     }
 
-    fn detect(&mut self, boxes: &Prepared, mask: &GroupMask, out: &mut Vec<Pair>) -> Counters {
+    fn detect(&mut self, boxes: &Frame, mask: &GroupMask, out: &mut Vec<Pair>) -> Counters {
         let mut c = Counters::default();
         out.clear();
         for axis in 0..3 {

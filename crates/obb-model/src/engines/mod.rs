@@ -1,5 +1,5 @@
 //! Detection engines. Every engine reports the same set: the pairs (i, j), i < j, that the
-//! group mask allows and for which [`Prepared::collide`] holds, sorted ascending.
+//! group mask allows and for which [`Frame::collide`] holds, sorted ascending.
 
 mod brute;
 pub(crate) mod endpoints;
@@ -15,8 +15,7 @@ pub use sap::Sap;
 pub use sweep::Sweep;
 
 use crate::groups::GroupMask;
-use crate::prepared::Prepared;
-use crate::radix::{bits_for, RadixSorter};
+use crate::prepared::Frame;
 use std::fmt;
 use std::str::FromStr;
 
@@ -48,7 +47,7 @@ impl std::ops::AddAssign for Counters {
 pub trait Engine: Send {
     fn kind(&self) -> EngineKind;
     /// Fills `out` with the colliding pairs, sorted ascending, and returns the counters.
-    fn detect(&mut self, boxes: &Prepared, mask: &GroupMask, out: &mut Vec<Pair>) -> Counters;
+    fn detect(&mut self, boxes: &Frame, mask: &GroupMask, out: &mut Vec<Pair>) -> Counters;
 }
 
 /// The engines, by their command-line names.
@@ -111,52 +110,54 @@ impl FromStr for EngineKind {
 }
 
 /// Runs one engine once on prepared boxes: the convenience form for tests and tools.
-pub fn detect(kind: EngineKind, boxes: &Prepared, mask: &GroupMask) -> (Vec<Pair>, Counters) {
+pub fn detect(kind: EngineKind, boxes: &Frame, mask: &GroupMask) -> (Vec<Pair>, Counters) {
     let mut out = Vec::new();
     let counters = kind.build().detect(boxes, mask, &mut out);
     (out, counters)
 }
 
-/// Sorts pairs ascending and removes repeats, on buffers kept by the caller.
-#[derive(Debug)]
+/// Sorts pairs ascending and removes repeats, on buffers kept by the caller: a counting sort on
+/// the first index (one bucket per box), then each bucket's few second indices sorted in place.
+#[derive(Debug, Default)]
 pub(crate) struct PairSorter {
-    keys: Vec<u64>,
-    none: Vec<()>,
-    radix: RadixSorter<()>,
-}
-
-impl Default for PairSorter {
-    fn default() -> Self {
-        PairSorter {
-            keys: Vec::new(),
-            none: Vec::new(),
-            radix: RadixSorter::new(11),
-        }
-    }
+    starts: Vec<u32>,
+    seconds: Vec<u32>,
 }
 
 impl PairSorter {
     /// Sorts `pairs` ascending (by i, then j) and drops duplicates; `n` is the number of boxes.
     pub fn sort_dedup(&mut self, pairs: &mut Vec<Pair>, n: usize) {
-        let idx_bits = bits_for(n.saturating_sub(1) as u64);
-        self.keys.clear();
-        self.keys.extend(
-            pairs
-                .iter()
-                .map(|p| ((p[0] as u64) << idx_bits) | p[1] as u64),
-        );
-        self.none.clear();
-        self.none.resize(self.keys.len(), ());
-        self.radix
-            .sort(&mut self.keys, &mut self.none, 2 * idx_bits);
-        self.keys.dedup();
-        let low = (1u64 << idx_bits) - 1;
+        self.starts.clear();
+        self.starts.resize(n + 1, 0);
+        for p in pairs.iter() {
+            self.starts[p[0] as usize + 1] += 1;
+        }
+        for i in 0..n {
+            self.starts[i + 1] += self.starts[i];
+        }
+        self.seconds.clear();
+        self.seconds.resize(pairs.len(), 0);
+        // `starts[i]` runs ahead as bucket i fills, ending where bucket i + 1 starts.
+        for p in pairs.iter() {
+            let at = &mut self.starts[p[0] as usize];
+            self.seconds[*at as usize] = p[1];
+            *at += 1;
+        }
         pairs.clear();
-        pairs.extend(
-            self.keys
-                .iter()
-                .map(|&k| [(k >> idx_bits) as u32, (k & low) as u32]),
-        );
+        let mut begin = 0;
+        for i in 0..n {
+            let end = self.starts[i] as usize;
+            let bucket = &mut self.seconds[begin..end];
+            bucket.sort_unstable();
+            let mut last = None;
+            for &j in bucket.iter() {
+                if last != Some(j) {
+                    pairs.push([i as u32, j]);
+                    last = Some(j);
+                }
+            }
+            begin = end;
+        }
     }
 }
 

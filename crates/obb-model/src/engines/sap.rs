@@ -4,7 +4,7 @@
 use super::endpoints::{sorted_endpoints, Endpoint};
 use super::{ordered, Counters, Engine, EngineKind, Pair, PairSorter};
 use crate::groups::GroupMask;
-use crate::prepared::Prepared;
+use crate::prepared::Frame;
 
 #[derive(Debug, Default)]
 pub struct Sap {
@@ -18,7 +18,7 @@ pub struct Sap {
 
 impl Sap {
     /// Step 3 on one axis: every pair whose intervals overlap, each once.
-    fn traverse(&mut self, boxes: &Prepared, mask: &GroupMask, axis: usize) {
+    fn traverse(&mut self, boxes: &Frame, mask: &GroupMask, axis: usize) {
         sorted_endpoints(boxes, axis, &mut self.endpoints);
         self.active.clear();
         self.slot.clear();
@@ -51,7 +51,7 @@ impl Engine for Sap {
         EngineKind::Sap
     }
 
-    fn detect(&mut self, boxes: &Prepared, mask: &GroupMask, out: &mut Vec<Pair>) -> Counters {
+    fn detect(&mut self, boxes: &Frame, mask: &GroupMask, out: &mut Vec<Pair>) -> Counters {
         let mut c = Counters::default();
         for axis in 0..3 {
             self.traverse(boxes, mask, axis);

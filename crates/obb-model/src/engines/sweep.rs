@@ -3,7 +3,7 @@
 
 use super::{ordered, Counters, Engine, EngineKind, Pair, PairSorter};
 use crate::groups::GroupMask;
-use crate::prepared::Prepared;
+use crate::prepared::Frame;
 
 #[derive(Debug, Default)]
 pub struct Sweep {
@@ -13,7 +13,7 @@ pub struct Sweep {
 }
 
 impl Sweep {
-    fn sort_axis(&mut self, boxes: &Prepared, axis: usize) {
+    fn sort_axis(&mut self, boxes: &Frame, axis: usize) {
         let order = &mut self.order[axis];
         order.clear();
         order.extend(
@@ -28,7 +28,7 @@ impl Sweep {
 
     /// The exact number of pairs a sweep on `axis` walks: for each box, the mins after its own
     /// position that are <= its max.
-    fn walk_count(&self, boxes: &Prepared, axis: usize) -> u64 {
+    fn walk_count(&self, boxes: &Frame, axis: usize) -> u64 {
         let order = &self.order[axis];
         order
             .iter()
@@ -42,7 +42,7 @@ impl Sweep {
     }
 
     /// The axis the sweep uses for these boxes: the one with the fewest walked pairs.
-    pub fn choose_axis(&mut self, boxes: &Prepared) -> usize {
+    pub fn choose_axis(&mut self, boxes: &Frame) -> usize {
         for axis in 0..3 {
             self.sort_axis(boxes, axis);
         }
@@ -57,7 +57,7 @@ impl Engine for Sweep {
         EngineKind::Sweep
     }
 
-    fn detect(&mut self, boxes: &Prepared, mask: &GroupMask, out: &mut Vec<Pair>) -> Counters {
+    fn detect(&mut self, boxes: &Frame, mask: &GroupMask, out: &mut Vec<Pair>) -> Counters {
         let axis = self.choose_axis(boxes);
         let (o1, o2) = ((axis + 1) % 3, (axis + 2) % 3);
         let order = &self.order[axis];

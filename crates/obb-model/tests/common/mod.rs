@@ -62,8 +62,8 @@ pub fn obb(side: f64, max_half: f64, groups: u32) -> impl Strategy<Value = Obb> 
 }
 
 /// Scenes with the degenerate cases mixed in: identical boxes, coordinates snapped to a coarse
-/// lattice (boxes sharing end points), everything in a tiny cube (all boxes overlapping), and
-/// an occasional huge box.
+/// lattice (boxes sharing end points), everything in a tiny cube (all boxes overlapping), an
+/// occasional huge box, and sometimes eleven groups instead of three.
 pub fn scene(max_n: usize) -> impl Strategy<Value = Scene> {
     (
         prop_oneof![Just(1.0), Just(4.0), Just(12.0)],
@@ -71,8 +71,9 @@ pub fn scene(max_n: usize) -> impl Strategy<Value = Scene> {
         any::<bool>(),
         any::<bool>(),
         any::<bool>(),
+        prop::bool::weighted(0.2),
     )
-        .prop_map(|(scale, mut obbs, duplicate, snap, huge)| {
+        .prop_map(|(scale, mut obbs, duplicate, snap, huge, many_groups)| {
             for o in obbs.iter_mut() {
                 o.center = o.center.map(|c| c * scale / 12.0);
             }
@@ -90,6 +91,12 @@ pub fn scene(max_n: usize) -> impl Strategy<Value = Scene> {
             }
             if huge && !obbs.is_empty() {
                 obbs[0].half = [40.0, 30.0, 0.5];
+            }
+            // More groups than the grid keeps ranks for (it then checks the mask pair by pair).
+            if many_groups {
+                for (i, o) in obbs.iter_mut().enumerate() {
+                    o.group = (i % 11) as u32;
+                }
             }
             Scene { obbs }
         })

@@ -1,0 +1,90 @@
+//! Where the cells are: origin, edge and dimensions, and the choice of the edge.
+
+use crate::aabb::Aabb;
+
+/// Cells per axis at most (keys stay below 2^60).
+const MAX_CELLS_PER_AXIS: u64 = 1 << 20;
+/// Cell edge as a multiple of the median AABB edge: the measured sweet spot between entries per
+/// box and pairs per cell (docs/engines.md).
+const CELL_PER_MEDIAN_EDGE: f64 = 3.0;
+/// The median edge is taken over at most this many boxes, evenly spaced in the scene.
+const CELL_SAMPLE: usize = 4096;
+
+/// The grid's geometry for one frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GridGeometry {
+    pub origin: [f64; 3],
+    pub cell: f64,
+    /// Multiplier turning a coordinate offset into a cell coordinate (1 / cell).
+    pub inv: f64,
+    pub dims: [u64; 3],
+}
+
+impl GridGeometry {
+    /// Cell coordinate of `x` on `axis`. Monotone in `x`, so a box's cell range covers the cell
+    /// of any point inside it.
+    #[inline]
+    pub(super) fn coord(&self, x: f64, axis: usize) -> u64 {
+        ((x - self.origin[axis]) * self.inv) as u64
+    }
+
+    /// The cell ranges `(first, last)` of `b` on each axis.
+    #[inline]
+    pub(super) fn range(&self, b: &Aabb) -> ([u64; 3], [u64; 3]) {
+        (
+            [
+                self.coord(b.min[0], 0),
+                self.coord(b.min[1], 1),
+                self.coord(b.min[2], 2),
+            ],
+            [
+                self.coord(b.max[0], 0),
+                self.coord(b.max[1], 1),
+                self.coord(b.max[2], 2),
+            ],
+        )
+    }
+
+    #[inline]
+    pub(super) fn key(&self, c: [u64; 3]) -> u64 {
+        c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2])
+    }
+
+    /// Sets origin and dims for cells of edge `cell` over `lo..=hi`, enlarging the cell when the
+    /// extent would need more than `MAX_CELLS_PER_AXIS` cells.
+    pub(super) fn fit(lo: [f64; 3], hi: [f64; 3], cell: f64) -> GridGeometry {
+        let extent = (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
+        let cell = cell.max(extent / (MAX_CELLS_PER_AXIS - 2) as f64);
+        let g = GridGeometry {
+            origin: lo,
+            cell,
+            inv: 1.0 / cell,
+            dims: [1; 3],
+        };
+        GridGeometry {
+            dims: std::array::from_fn(|a| g.coord(hi[a], a) + 1),
+            ..g
+        }
+    }
+}
+
+/// Cell edge from the boxes: `CELL_PER_MEDIAN_EDGE` times the median of each AABB's mean edge,
+/// over an evenly spaced sample of at most `CELL_SAMPLE` boxes.
+pub(super) fn choose_cell(aabbs: &[Aabb], scratch: &mut Vec<f64>) -> f64 {
+    scratch.clear();
+    scratch.extend(
+        aabbs
+            .iter()
+            .step_by(aabbs.len().div_ceil(CELL_SAMPLE).max(1))
+            .map(|b| ((b.max[0] - b.min[0]) + (b.max[1] - b.min[1]) + (b.max[2] - b.min[2])) / 3.0),
+    );
+    let mid = scratch.len() / 2;
+    let (_, median, _) = scratch.select_nth_unstable_by(mid, f64::total_cmp);
+    let cell = *median * CELL_PER_MEDIAN_EDGE;
+    // Boxes of zero size give a zero median: any positive cell is then correct.
+    if cell > 0.0 && cell.is_finite() {
+        cell
+    } else {
+        1.0
+    }
+}

@@ -1,0 +1,328 @@
+//! Uniform-grid broad phase on a radix sort of cell keys.
+//!
+//! Each box is entered in every cell its AABB covers; the (cell key, box) entries are sorted by a
+//! stable radix sort, so a cell's boxes lie together. A pair meeting in a cell is examined there,
+//! and emitted only from its home cell, the cell that holds the lower corner of the two AABBs'
+//! intersection, which both AABBs cover: each overlapping pair is found exactly once.
+//! The work follows the real overlaps instead of one axis's projection (docs/engines.md).
+//!
+//! Below the cell, a key holds a box's class: its group's rank (when the mask tells groups
+//! apart) and three flags, one per axis, set when the box's cell range starts in this cell on
+//! that axis. A pair is in its home cell exactly when, on every axis, one of the two starts
+//! there. Sorted by key, a cell's boxes lie in runs of one class, and the scan pairs whole runs
+//! whose flags cover all three axes and whose groups the mask allows: it never visits a pair
+//! that is not at home or not wanted.
+//!
+//! When the mask excludes the pairs inside the largest group (tissue, for cross-group
+//! detection), only the other groups are entered and sorted; each box of the largest group then
+//! probes the cells it covers (see `Grid::build`).
+
+mod geometry;
+mod ranks;
+mod scan;
+
+pub use geometry::GridGeometry;
+
+use super::{Counters, Engine, EngineKind, Pair, PairSorter};
+use crate::groups::GroupMask;
+use crate::prepared::Frame;
+use crate::radix::{bits_for, RadixSorter};
+use geometry::choose_cell;
+use ranks::Ranks;
+use rayon::prelude::*;
+use scan::{probe, scan_cells, scan_large, start_flags, Cells};
+
+/// A box covering more cells than this is not entered in the grid but tested against every box:
+/// one huge box must not fill memory with cell entries.
+const MAX_CELLS_PER_BOX: u64 = 64;
+/// The pair work is split into this many chunks per thread.
+const CHUNKS_PER_THREAD: usize = 8;
+/// The three start flags in the low bits of a key.
+const FLAG_BITS: u32 = 3;
+const ALL_STARTS: u64 = 0b111;
+/// Largest grid (in cells) for which an occupancy bitmap is kept (4 MiB of bits): the probing
+/// needs it.
+const MAX_BITMAP_CELLS: u64 = 1 << 25;
+
+/// One parallel task's output: its colliding pairs, and the probing boxes it found too large.
+type TaskOut = (Vec<Pair>, Vec<u32>);
+
+/// Uniform-grid engine. `cell` fixes the cell edge; `None` chooses it from the scene each frame.
+#[derive(Debug)]
+pub struct Grid {
+    cell: Option<f64>,
+    geometry: GridGeometry,
+    ranks: Ranks,
+    keys: Vec<u64>,
+    entries: Vec<u32>,
+    large: Vec<u32>,
+    is_large: Vec<bool>,
+    /// (start, end) of each cell holding two or more entries of wanted pairs.
+    runs: Vec<(u32, u32)>,
+    /// Chunk boundaries in `runs`, cut at equal pair work.
+    cuts: Vec<usize>,
+    /// The group that probes instead of being entered, when there is one.
+    prober: Option<u32>,
+    tasks: Vec<TaskOut>,
+    scratch: Vec<f64>,
+    /// Cells holding an entry, when a group probes.
+    occupied: Vec<u64>,
+    radix: RadixSorter<u32>,
+    sorter: PairSorter,
+}
+
+impl Default for Grid {
+    fn default() -> Self {
+        Grid {
+            cell: None,
+            geometry: GridGeometry::default(),
+            ranks: Ranks::default(),
+            keys: Vec::new(),
+            entries: Vec::new(),
+            large: Vec::new(),
+            is_large: Vec::new(),
+            runs: Vec::new(),
+            cuts: Vec::new(),
+            prober: None,
+            tasks: Vec::new(),
+            scratch: Vec::new(),
+            occupied: Vec::new(),
+            radix: RadixSorter::new(12),
+            sorter: PairSorter::default(),
+        }
+    }
+}
+
+/// What the grid built in its last detection.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GridStats {
+    pub geometry: GridGeometry,
+    /// Cell entries (box, cell) in the grid.
+    pub entries: usize,
+    /// Boxes tested against every box instead of entered in the grid.
+    pub large: usize,
+    /// Most boxes in one cell.
+    pub max_per_cell: usize,
+}
+
+impl Grid {
+    /// A grid with a fixed cell edge, which must be a positive finite length.
+    pub fn with_cell(cell: f64) -> Result<Grid, String> {
+        if !(cell > 0.0 && cell.is_finite()) {
+            return Err(format!(
+                "grid cell edge must be a positive length, got {cell}"
+            ));
+        }
+        Ok(Grid {
+            cell: Some(cell),
+            ..Grid::default()
+        })
+    }
+
+    pub fn stats(&self) -> GridStats {
+        GridStats {
+            geometry: self.geometry,
+            entries: self.keys.len(),
+            large: self.large.len(),
+            max_per_cell: self
+                .runs
+                .iter()
+                .map(|&(s, e)| (e - s) as usize)
+                .max()
+                .unwrap_or(usize::from(!self.keys.is_empty())),
+        }
+    }
+
+    /// Enters the boxes that pass `pick` in the cells their AABBs cover, or in the large list
+    /// when they cover too many.
+    fn enter(&mut self, boxes: &Frame, pick: impl Fn(usize) -> bool) {
+        let g = self.geometry;
+        let class_bits = self.ranks.class_bits();
+        for (i, b) in boxes.aabbs.iter().enumerate() {
+            if !pick(i) {
+                continue;
+            }
+            let (c0, c1) = g.range(b);
+            let cells = (c1[0] - c0[0] + 1) * (c1[1] - c0[1] + 1) * (c1[2] - c0[2] + 1);
+            if cells > MAX_CELLS_PER_BOX {
+                self.large.push(i as u32);
+                self.is_large[i] = true;
+                continue;
+            }
+            let rank = self.ranks.rank(i) << FLAG_BITS;
+            for z in c0[2]..=c1[2] {
+                for y in c0[1]..=c1[1] {
+                    for x in c0[0]..=c1[0] {
+                        let c = [x, y, z];
+                        self.keys
+                            .push(g.key(c) << class_bits | rank | start_flags(c, c0));
+                        self.entries.push(i as u32);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Enters the boxes in their cells (or in the large list), sorts the entries by key, and
+    /// finds the cells with pairs to examine.
+    fn build(&mut self, boxes: &Frame, mask: &GroupMask) {
+        let aabbs = boxes.aabbs;
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for b in aabbs {
+            for (a, (l, h)) in lo.iter_mut().zip(hi.iter_mut()).enumerate() {
+                *l = l.min(b.min[a]);
+                *h = h.max(b.max[a]);
+            }
+        }
+        let cell = match self.cell {
+            Some(c) => c,
+            None => choose_cell(aabbs, &mut self.scratch),
+        };
+        let g = GridGeometry::fit(lo, hi, cell);
+        self.geometry = g;
+        self.ranks.update(boxes, mask);
+        self.keys.clear();
+        self.entries.clear();
+        self.large.clear();
+        self.is_large.clear();
+        self.is_large.resize(aabbs.len(), false);
+        // When the mask excludes pairs inside the largest group, a box of that group only pairs
+        // with boxes of other groups, in cells they cover: enter only the other groups, and let
+        // each box of the largest group probe the occupied cells it covers. The largest group is
+        // then neither entered nor sorted, which is most of the work for cross-group detection.
+        let cells = g.dims[0] * g.dims[1] * g.dims[2];
+        let class_bits = self.ranks.class_bits();
+        self.prober = self.ranks.sparse.filter(|_| cells <= MAX_BITMAP_CELLS);
+        self.occupied.clear();
+        match self.prober {
+            Some(g0) => {
+                self.enter(boxes, |i| boxes.groups[i] != g0);
+                self.occupied.resize(cells.div_ceil(64) as usize, 0);
+                for &k in &self.keys {
+                    let cell = k >> class_bits;
+                    self.occupied[(cell / 64) as usize] |= 1 << (cell % 64);
+                }
+            }
+            None => self.enter(boxes, |_| true),
+        }
+        let key_bits = bits_for(cells - 1) + class_bits;
+        self.radix.sort(&mut self.keys, &mut self.entries, key_bits);
+        self.find_runs();
+    }
+
+    /// The cells with two or more entries, except those holding one rank whose own pairs the
+    /// mask excludes (an instrument's cells, for cross-group detection), cut into chunks of
+    /// about equal pair work: dense cells lie together in key order and would otherwise load
+    /// one thread.
+    fn find_runs(&mut self) {
+        let class_bits = self.ranks.class_bits();
+        let rank = |k: u64| (k & ((1 << class_bits) - 1)) >> FLAG_BITS;
+        self.runs.clear();
+        let mut start = 0;
+        let mut work = 0;
+        for p in 1..=self.keys.len() {
+            if p == self.keys.len() || self.keys[p] >> class_bits != self.keys[start] >> class_bits
+            {
+                // Ranks ascend inside a cell: the first and last entries hold the extremes.
+                let (r0, r1) = (rank(self.keys[start]), rank(self.keys[p - 1]));
+                if p - start >= 2 && (r0 != r1 || self.ranks.allowed[r0 as usize][r0 as usize]) {
+                    self.runs.push((start as u32, p as u32));
+                    work += (p - start) * (p - start - 1) / 2;
+                }
+                start = p;
+            }
+        }
+        let chunks = rayon::current_num_threads() * CHUNKS_PER_THREAD;
+        let target = work.div_ceil(chunks).max(1);
+        self.cuts.clear();
+        self.cuts.push(0);
+        let mut acc = 0;
+        for (r, &(s, e)) in self.runs.iter().enumerate() {
+            let len = (e - s) as usize;
+            acc += len * (len - 1) / 2;
+            if acc >= target {
+                self.cuts.push(r + 1);
+                acc = 0;
+            }
+        }
+        if *self.cuts.last().expect("starts with 0") != self.runs.len() {
+            self.cuts.push(self.runs.len());
+        }
+    }
+}
+
+impl Engine for Grid {
+    fn kind(&self) -> EngineKind {
+        EngineKind::Grid
+    }
+
+    fn detect(&mut self, boxes: &Frame, mask: &GroupMask, out: &mut Vec<Pair>) -> Counters {
+        out.clear();
+        if boxes.is_empty() {
+            self.keys.clear();
+            self.runs.clear();
+            self.large.clear();
+            return Counters::default();
+        }
+        self.build(boxes, mask);
+        // Tasks: the cell chunks, then (when a group probes) equal ranges of box indices.
+        let cell_tasks = self.cuts.len() - 1;
+        let probe_tasks = match self.prober {
+            Some(_) => rayon::current_num_threads() * CHUNKS_PER_THREAD,
+            None => 0,
+        };
+        let n_tasks = cell_tasks + probe_tasks;
+        if self.tasks.len() < n_tasks {
+            self.tasks.resize_with(n_tasks, Default::default);
+        }
+        let cells = Cells {
+            keys: &self.keys,
+            entries: &self.entries,
+            ranks: &self.ranks,
+        };
+        let (cuts, runs, geometry, occupied) =
+            (&self.cuts, &self.runs, &self.geometry, &self.occupied);
+        let (prober, probe_len) = (self.prober, boxes.len().div_ceil(probe_tasks.max(1)));
+        let mut c = self.tasks[..n_tasks]
+            .par_iter_mut()
+            .enumerate()
+            .map(|(t, (pairs, large))| {
+                large.clear();
+                if t < cell_tasks {
+                    return scan_cells(&cells, &runs[cuts[t]..cuts[t + 1]], boxes, mask, pairs);
+                }
+                let first = ((t - cell_tasks) * probe_len).min(boxes.len());
+                let last = (first + probe_len).min(boxes.len());
+                let pick = |i: &usize| Some(boxes.groups[*i]) == prober;
+                probe(
+                    &cells,
+                    geometry,
+                    occupied,
+                    (first..last).filter(pick),
+                    boxes,
+                    pairs,
+                    large,
+                )
+            })
+            .reduce(Counters::default, |mut a, b| {
+                a += b;
+                a
+            });
+        for (_, large) in &self.tasks[..n_tasks] {
+            for &l in large {
+                self.is_large[l as usize] = true;
+                self.large.push(l);
+            }
+        }
+        for (pairs, _) in &self.tasks[..n_tasks] {
+            out.extend_from_slice(pairs);
+        }
+        for &l in &self.large {
+            c += scan_large(l as usize, &self.is_large, boxes, mask, out);
+        }
+        self.sorter.sort_dedup(out, boxes.len());
+        c.pairs = out.len() as u64;
+        c
+    }
+}

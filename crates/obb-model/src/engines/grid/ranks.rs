@@ -1,0 +1,92 @@
+//! Classes below the cell in a key: group ranks and start flags, and which class pairs are wanted.
+
+use super::{ALL_STARTS, FLAG_BITS};
+use crate::groups::GroupMask;
+use crate::prepared::Frame;
+use crate::radix::bits_for;
+
+/// Group ranks in a key at most (3 bits): with more groups the mask is checked pair by pair.
+pub(super) const MAX_RANKS: usize = 8;
+
+/// How one frame's groups enter the keys.
+#[derive(Debug, Default)]
+pub(super) struct Ranks {
+    /// The distinct groups (up to `MAX_RANKS`) with their sizes, ascending by group.
+    pub(super) groups: Vec<(u32, usize)>,
+    /// Each box's rank (its group's place in `groups`), empty when `bits` is 0.
+    rank: Vec<u8>,
+    /// Rank bits in a key.
+    pub(super) bits: u32,
+    /// `allowed[a][b]`: the mask allows pairs of ranks a and b.
+    pub(super) allowed: [[bool; MAX_RANKS]; MAX_RANKS],
+    /// More groups than ranks: every pair's groups are checked against the mask.
+    pub(super) pairwise: bool,
+    /// The most populous group, when the mask excludes its own pairs (see `Grid::build`).
+    pub(super) sparse: Option<u32>,
+}
+
+impl Ranks {
+    pub(super) fn update(&mut self, boxes: &Frame, mask: &GroupMask) {
+        self.groups.clear();
+        self.rank.clear();
+        self.bits = 0;
+        self.allowed = [[false; MAX_RANKS]; MAX_RANKS];
+        self.pairwise = false;
+        self.sparse = None;
+        if *mask == GroupMask::All {
+            // Every pair is wanted: one rank.
+            self.allowed[0][0] = true;
+            return;
+        }
+        for &g in boxes.groups {
+            if let Some((_, n)) = self.groups.iter_mut().find(|(h, _)| *h == g) {
+                *n += 1;
+            } else if self.groups.len() < MAX_RANKS {
+                self.groups.push((g, 1));
+            } else {
+                self.groups.clear();
+                self.allowed[0][0] = true;
+                self.pairwise = true;
+                return;
+            }
+        }
+        self.groups.sort_unstable();
+        for (a, &(ga, _)) in self.groups.iter().enumerate() {
+            for (b, &(gb, _)) in self.groups.iter().enumerate() {
+                self.allowed[a][b] = mask.allows(ga, gb);
+            }
+        }
+        self.bits = bits_for(self.groups.len().saturating_sub(1) as u64);
+        if self.bits > 0 {
+            let groups = &self.groups;
+            self.rank.extend(
+                boxes
+                    .groups
+                    .iter()
+                    .map(|g| groups.iter().position(|(h, _)| h == g).unwrap_or(0) as u8),
+            );
+        }
+        self.sparse = self
+            .groups
+            .iter()
+            .max_by_key(|(g, n)| (*n, std::cmp::Reverse(*g)))
+            .filter(|&&(g, _)| self.groups.len() > 1 && !mask.allows(g, g))
+            .map(|&(g, _)| g);
+    }
+
+    pub(super) fn rank(&self, i: usize) -> u64 {
+        self.rank.get(i).map_or(0, |&r| u64::from(r))
+    }
+
+    /// Bits below the cell in a key.
+    pub(super) fn class_bits(&self) -> u32 {
+        self.bits + FLAG_BITS
+    }
+
+    /// Pairs of classes `a` and `b` are at home in their cell and wanted by the mask.
+    #[inline]
+    pub(super) fn pairs_wanted(&self, a: u64, b: u64) -> bool {
+        (a | b) & ALL_STARTS == ALL_STARTS
+            && self.allowed[(a >> FLAG_BITS) as usize][(b >> FLAG_BITS) as usize]
+    }
+}

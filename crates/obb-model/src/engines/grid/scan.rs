@@ -1,0 +1,223 @@
+//! The pair work: the home pairs inside each cell, the sparse group's boxes probing the cells,
+//! and the large boxes against every box.
+
+use super::geometry::GridGeometry;
+use super::ranks::{Ranks, MAX_RANKS};
+use super::{FLAG_BITS, MAX_CELLS_PER_BOX};
+use crate::aabb::Aabb;
+use crate::engines::{ordered, Counters, Pair};
+use crate::groups::GroupMask;
+use crate::prepared::Frame;
+use crate::sat::retain_colliding;
+
+/// Classes in one cell at most: every rank with every flag pattern.
+const MAX_CLASSES: usize = MAX_RANKS << FLAG_BITS;
+
+/// The sorted entries and what a scan needs to read them.
+pub(super) struct Cells<'a> {
+    pub keys: &'a [u64],
+    pub entries: &'a [u32],
+    pub ranks: &'a Ranks,
+}
+
+impl Cells<'_> {
+    fn class_mask(&self) -> u64 {
+        (1u64 << self.ranks.class_bits()) - 1
+    }
+}
+
+/// Pairs written at `out[kept]` and kept when their AABBs overlap, with no branch on that (it
+/// goes either way about as often); `reserve` makes room first.
+struct Emitter<'a> {
+    out: &'a mut Vec<Pair>,
+    kept: usize,
+    counters: Counters,
+}
+
+impl<'a> Emitter<'a> {
+    fn new(out: &'a mut Vec<Pair>) -> Self {
+        out.clear();
+        Emitter {
+            out,
+            kept: 0,
+            counters: Counters::default(),
+        }
+    }
+
+    /// Room for `n` more pairs.
+    #[inline]
+    fn reserve(&mut self, n: usize) {
+        if self.out.len() < self.kept + n {
+            let len = (self.kept + n).max(2 * self.out.len());
+            self.out.resize(len, [0; 2]);
+        }
+    }
+
+    /// A candidate pair; room must have been reserved.
+    #[inline(always)]
+    fn pair(&mut self, boxes: &Frame, i: usize, j: usize) {
+        self.counters.candidates += 1;
+        self.out[self.kept] = ordered(i, j);
+        self.kept += usize::from(overlaps(&boxes.aabbs[i], &boxes.aabbs[j]));
+    }
+
+    /// The SAT decides on the pairs whose AABBs overlap, in vector lanes.
+    fn finish(self, boxes: &Frame) -> Counters {
+        let mut c = self.counters;
+        self.out.truncate(self.kept);
+        c.sat = self.kept as u64;
+        retain_colliding(boxes.obbs, boxes.slack, self.out);
+        c
+    }
+}
+
+/// `Aabb::overlaps` without short-circuit branches.
+#[inline(always)]
+fn overlaps(a: &Aabb, b: &Aabb) -> bool {
+    (a.min[0] <= b.max[0])
+        & (b.min[0] <= a.max[0])
+        & (a.min[1] <= b.max[1])
+        & (b.min[1] <= a.max[1])
+        & (a.min[2] <= b.max[2])
+        & (b.min[2] <= a.max[2])
+}
+
+/// Examines the wanted home pairs inside the cells `runs` and puts the colliding ones in `out`.
+pub(super) fn scan_cells(
+    cells: &Cells,
+    runs: &[(u32, u32)],
+    boxes: &Frame,
+    mask: &GroupMask,
+    out: &mut Vec<Pair>,
+) -> Counters {
+    let class_mask = cells.class_mask();
+    let ranks = cells.ranks;
+    let mut emit = Emitter::new(out);
+    let mut classes = [(0u64, 0usize, 0usize); MAX_CLASSES];
+    for &(s, e) in runs {
+        // The cell's runs of one class.
+        let mut nc = 0;
+        let mut p = s as usize;
+        while p < e as usize {
+            let class = cells.keys[p] & class_mask;
+            let mut q = p + 1;
+            while q < e as usize && cells.keys[q] & class_mask == class {
+                q += 1;
+            }
+            classes[nc] = (class, p, q);
+            nc += 1;
+            p = q;
+        }
+        let classes = &classes[..nc];
+        let wanted = || {
+            classes.iter().enumerate().flat_map(move |(x, &a)| {
+                classes[x..]
+                    .iter()
+                    .filter(move |b| ranks.pairs_wanted(a.0, b.0))
+                    .map(move |&b| (a, b))
+            })
+        };
+        emit.reserve(
+            wanted()
+                .map(|((_, sa, ea), (_, sb, eb))| {
+                    if sa == sb {
+                        (ea - sa) * (ea - sa - 1) / 2
+                    } else {
+                        (ea - sa) * (eb - sb)
+                    }
+                })
+                .sum(),
+        );
+        for ((_, sa, ea), (_, sb, eb)) in wanted() {
+            for p in sa..ea {
+                let i = cells.entries[p] as usize;
+                let from = if sa == sb { p + 1 } else { sb };
+                for &j in &cells.entries[from..eb] {
+                    let j = j as usize;
+                    if ranks.pairwise && !mask.allows(boxes.groups[i], boxes.groups[j]) {
+                        continue;
+                    }
+                    emit.pair(boxes, i, j);
+                }
+            }
+        }
+    }
+    emit.finish(boxes)
+}
+
+/// The boxes `probes` (of the sparse group, not entered in the grid) each look up the occupied
+/// cells they cover and meet there the entries with which they are at home and wanted. Boxes
+/// covering too many cells go to `large` instead.
+pub(super) fn probe(
+    cells: &Cells,
+    geometry: &GridGeometry,
+    occupied: &[u64],
+    probes: impl Iterator<Item = usize>,
+    boxes: &Frame,
+    out: &mut Vec<Pair>,
+    large: &mut Vec<u32>,
+) -> Counters {
+    let class_bits = cells.ranks.class_bits();
+    let class_mask = cells.class_mask();
+    let mut emit = Emitter::new(out);
+    large.clear();
+    for i in probes {
+        let (c0, c1) = geometry.range(&boxes.aabbs[i]);
+        if (c1[0] - c0[0] + 1) * (c1[1] - c0[1] + 1) * (c1[2] - c0[2] + 1) > MAX_CELLS_PER_BOX {
+            large.push(i as u32);
+            continue;
+        }
+        let rank = cells.ranks.rank(i) << FLAG_BITS;
+        for z in c0[2]..=c1[2] {
+            for y in c0[1]..=c1[1] {
+                for x in c0[0]..=c1[0] {
+                    let cell = geometry.key([x, y, z]);
+                    if occupied[(cell / 64) as usize] & (1 << (cell % 64)) == 0 {
+                        continue;
+                    }
+                    let class = rank | start_flags([x, y, z], c0);
+                    let first = cells.keys.partition_point(|&k| k >> class_bits < cell);
+                    let end =
+                        first + cells.keys[first..].partition_point(|&k| k >> class_bits == cell);
+                    emit.reserve(end - first);
+                    for p in first..end {
+                        if cells.ranks.pairs_wanted(class, cells.keys[p] & class_mask) {
+                            emit.pair(boxes, i, cells.entries[p] as usize);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    emit.finish(boxes)
+}
+
+/// One flag per axis, set when a box whose cell range starts at `c0` starts in cell `c`.
+#[inline]
+pub(super) fn start_flags(c: [u64; 3], c0: [u64; 3]) -> u64 {
+    u64::from(c[0] == c0[0]) | u64::from(c[1] == c0[1]) << 1 | u64::from(c[2] == c0[2]) << 2
+}
+
+/// Tests the large box `l` against every box, each pair of large boxes once.
+pub(super) fn scan_large(
+    l: usize,
+    is_large: &[bool],
+    boxes: &Frame,
+    mask: &GroupMask,
+    out: &mut Vec<Pair>,
+) -> Counters {
+    let mut c = Counters::default();
+    for (j, &j_large) in is_large.iter().enumerate() {
+        if j == l || (j_large && j < l) || !mask.allows(boxes.groups[l], boxes.groups[j]) {
+            continue;
+        }
+        c.candidates += 1;
+        if boxes.aabbs[l].overlaps(&boxes.aabbs[j]) {
+            c.sat += 1;
+            if boxes.sat(l, j) {
+                out.push(ordered(l, j));
+            }
+        }
+    }
+    c
+}
