@@ -45,6 +45,12 @@ impl GridGeometry {
         )
     }
 
+    /// Cells in the range `c0..=c1` (from `range`).
+    #[inline]
+    pub(super) fn cells_in(c0: [u64; 3], c1: [u64; 3]) -> u64 {
+        (c1[0] - c0[0] + 1) * (c1[1] - c0[1] + 1) * (c1[2] - c0[2] + 1)
+    }
+
     #[inline]
     pub(super) fn key(&self, c: [u64; 3]) -> u64 {
         c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2])

@@ -143,8 +143,7 @@ impl Grid {
                 continue;
             }
             let (c0, c1) = g.range(b);
-            let cells = (c1[0] - c0[0] + 1) * (c1[1] - c0[1] + 1) * (c1[2] - c0[2] + 1);
-            if cells > MAX_CELLS_PER_BOX {
+            if GridGeometry::cells_in(c0, c1) > MAX_CELLS_PER_BOX {
                 self.large.push(i as u32);
                 self.is_large[i] = true;
                 continue;
@@ -217,7 +216,8 @@ impl Grid {
     /// one thread.
     fn find_runs(&mut self) {
         let class_bits = self.ranks.class_bits();
-        let rank = |k: u64| (k & ((1 << class_bits) - 1)) >> FLAG_BITS;
+        let class_mask = self.ranks.class_mask();
+        let rank = |k: u64| (k & class_mask) >> FLAG_BITS;
         self.runs.clear();
         let mut start = 0;
         let mut work = 0;

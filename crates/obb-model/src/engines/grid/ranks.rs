@@ -12,7 +12,7 @@ pub(super) const MAX_RANKS: usize = 8;
 #[derive(Debug, Default)]
 pub(super) struct Ranks {
     /// The distinct groups (up to `MAX_RANKS`) with their sizes, ascending by group.
-    pub(super) groups: Vec<(u32, usize)>,
+    groups: Vec<(u32, usize)>,
     /// Each box's rank (its group's place in `groups`), empty when `bits` is 0.
     rank: Vec<u8>,
     /// Rank bits in a key.
@@ -81,6 +81,11 @@ impl Ranks {
     /// Bits below the cell in a key.
     pub(super) fn class_bits(&self) -> u32 {
         self.bits + FLAG_BITS
+    }
+
+    /// The class part of a key.
+    pub(super) fn class_mask(&self) -> u64 {
+        (1 << self.class_bits()) - 1
     }
 
     /// Pairs of classes `a` and `b` are at home in their cell and wanted by the mask.

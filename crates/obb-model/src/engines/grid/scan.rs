@@ -20,12 +20,6 @@ pub(super) struct Cells<'a> {
     pub ranks: &'a Ranks,
 }
 
-impl Cells<'_> {
-    fn class_mask(&self) -> u64 {
-        (1u64 << self.ranks.class_bits()) - 1
-    }
-}
-
 /// Pairs written at `out[kept]` and kept when their AABBs overlap, with no branch on that (it
 /// goes either way about as often); `reserve` makes room first.
 struct Emitter<'a> {
@@ -90,7 +84,7 @@ pub(super) fn scan_cells(
     mask: &GroupMask,
     out: &mut Vec<Pair>,
 ) -> Counters {
-    let class_mask = cells.class_mask();
+    let class_mask = cells.ranks.class_mask();
     let ranks = cells.ranks;
     let mut emit = Emitter::new(out);
     let mut classes = [(0u64, 0usize, 0usize); MAX_CLASSES];
@@ -158,12 +152,12 @@ pub(super) fn probe(
     large: &mut Vec<u32>,
 ) -> Counters {
     let class_bits = cells.ranks.class_bits();
-    let class_mask = cells.class_mask();
+    let class_mask = cells.ranks.class_mask();
     let mut emit = Emitter::new(out);
     large.clear();
     for i in probes {
         let (c0, c1) = geometry.range(&boxes.aabbs[i]);
-        if (c1[0] - c0[0] + 1) * (c1[1] - c0[1] + 1) * (c1[2] - c0[2] + 1) > MAX_CELLS_PER_BOX {
+        if GridGeometry::cells_in(c0, c1) > MAX_CELLS_PER_BOX {
             large.push(i as u32);
             continue;
         }
