@@ -12,6 +12,15 @@ pub struct Aabb {
 /// Unit roundoff of f64 (2^-53).
 pub const U: f64 = f64::EPSILON / 2.0;
 
+/// `d` moved outward (`dir` -1 down, +1 up) by `2u·|d|`, which is at least one ulp of `d`, so
+/// that the result lies beyond the exact value that `d` rounds; `+ 0.0` turns -0.0 into +0.0.
+/// Unlike `next_down`/`next_up` it has no branch on the sign, which is unpredictable for
+/// coordinates around the origin (docs/sat.md, "AABBs").
+#[inline(always)]
+fn outward(d: f64, dir: f64) -> f64 {
+    d + dir * (d.abs() * (2.0 * U)) + 0.0
+}
+
 impl Aabb {
     /// The AABB of an OBB: per world axis x, `e_x = Σ_k half_k |axes_k,x|` is the exact half-extent
     /// of the box's projection, whatever the axes (they need not be orthonormal). The computed sum
@@ -27,8 +36,8 @@ impl Aabb {
             let e = e * (1.0 + 8.0 * U);
             // `+ 0.0` turns -0.0 into +0.0, so that sorting by total order (which puts -0.0
             // first) agrees with `<=` on touching end points.
-            min[x] = (obb.center[x] - e).next_down() + 0.0;
-            max[x] = (obb.center[x] + e).next_up() + 0.0;
+            min[x] = outward(obb.center[x] - e, -1.0);
+            max[x] = outward(obb.center[x] + e, 1.0);
         }
         Aabb { min, max }
     }
@@ -43,5 +52,58 @@ impl Aabb {
     #[inline]
     pub fn overlaps(&self, other: &Aabb) -> bool {
         self.overlaps_on(other, 0) && self.overlaps_on(other, 1) && self.overlaps_on(other, 2)
+    }
+
+    /// The empty box: the identity of `union`.
+    pub const EMPTY: Aabb = Aabb {
+        min: [f64::INFINITY; 3],
+        max: [f64::NEG_INFINITY; 3],
+    };
+
+    /// The smallest box holding both.
+    #[inline]
+    pub fn union(&self, other: &Aabb) -> Aabb {
+        Aabb {
+            min: std::array::from_fn(|x| self.min[x].min(other.min[x])),
+            max: std::array::from_fn(|x| self.max[x].max(other.max[x])),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::outward;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The branch-free outward step is at least the one-ulp step it replaces, for every
+        /// finite value, so the stored bounds still contain the exact ones (docs/sat.md).
+        #[test]
+        fn outward_steps_at_least_one_ulp(bits in any::<u64>()) {
+            let d = f64::from_bits(bits);
+            prop_assume!(d.is_finite() && d.abs() <= 1e300);
+            let (down, up) = (outward(d, -1.0), outward(d, 1.0));
+            prop_assert!(down <= d.next_down() || (d.abs() < f64::MIN_POSITIVE && down <= d));
+            prop_assert!(up >= d.next_up() || (d.abs() < f64::MIN_POSITIVE && up >= d));
+            prop_assert!(down.to_bits() != (-0.0f64).to_bits() && up.to_bits() != (-0.0f64).to_bits());
+        }
+    }
+
+    #[test]
+    fn outward_at_binade_edges() {
+        for k in [-1000, -60, -1, 0, 1, 52, 60] {
+            let p = 2f64.powi(k);
+            for d in [
+                p,
+                -p,
+                p.next_down(),
+                -p.next_down(),
+                p.next_up(),
+                -p.next_up(),
+            ] {
+                assert!(outward(d, -1.0) <= d.next_down(), "{d:e}");
+                assert!(outward(d, 1.0) >= d.next_up(), "{d:e}");
+            }
+        }
     }
 }

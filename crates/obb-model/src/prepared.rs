@@ -7,6 +7,8 @@ use rayon::prelude::*;
 
 /// Boxes below this count are prepared on one thread: below it, waking the pool costs more.
 const PARALLEL_MIN: usize = 4096;
+/// Boxes per parallel task.
+const CHUNK: usize = 1024;
 
 /// The per-box buffers of one frame, reused from frame to frame. The boxes themselves are not
 /// copied: the SAT reads them from the scene, which keeps the per-frame writes small (they, not
@@ -25,6 +27,21 @@ pub struct Frame<'a> {
     pub aabbs: &'a [Aabb],
     pub slack: &'a [Slack],
     pub groups: &'a [u32],
+    /// The union of the AABBs (`Aabb::EMPTY` for no boxes).
+    pub bounds: Aabb,
+}
+
+/// Prepares one run of boxes and returns the union of their AABBs: one read of each box serves
+/// every per-box quantity.
+fn prepare(obbs: &[Obb], aabbs: &mut [Aabb], slack: &mut [Slack], groups: &mut [u32]) -> Aabb {
+    let mut bounds = Aabb::EMPTY;
+    for (((obb, aabb), slack), group) in obbs.iter().zip(aabbs).zip(slack).zip(groups) {
+        *aabb = Aabb::of(obb);
+        *slack = Slack::of(obb);
+        *group = obb.group;
+        bounds = bounds.union(aabb);
+    }
+    bounds
 }
 
 impl Prepared {
@@ -33,30 +50,23 @@ impl Prepared {
         let n = obbs.len();
         self.aabbs.resize(n, Aabb::default());
         self.slack.resize(n, Slack::default());
-        self.groups.clear();
-        self.groups.extend(obbs.iter().map(|o| o.group));
-        let one = |((aabb, slack), obb): ((&mut Aabb, &mut Slack), &Obb)| {
-            *aabb = Aabb::of(obb);
-            *slack = Slack::of(obb);
-        };
-        if n < PARALLEL_MIN {
-            self.aabbs
-                .iter_mut()
-                .zip(self.slack.iter_mut())
-                .zip(obbs)
-                .for_each(one);
+        self.groups.resize(n, 0);
+        let bounds = if n < PARALLEL_MIN {
+            prepare(obbs, &mut self.aabbs, &mut self.slack, &mut self.groups)
         } else {
-            self.aabbs
-                .par_iter_mut()
-                .zip(self.slack.par_iter_mut())
-                .zip(obbs.par_iter())
-                .for_each(one);
-        }
+            obbs.par_chunks(CHUNK)
+                .zip(self.aabbs.par_chunks_mut(CHUNK))
+                .zip(self.slack.par_chunks_mut(CHUNK))
+                .zip(self.groups.par_chunks_mut(CHUNK))
+                .map(|(((o, a), s), g)| prepare(o, a, s, g))
+                .reduce(|| Aabb::EMPTY, |a, b| a.union(&b))
+        };
         Frame {
             obbs,
             aabbs: &self.aabbs,
             slack: &self.slack,
             groups: &self.groups,
+            bounds,
         }
     }
 }

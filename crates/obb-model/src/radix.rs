@@ -11,7 +11,8 @@ pub struct RadixSorter<V> {
     max_digit_bits: u32,
     tmp_keys: Vec<u64>,
     tmp_vals: Vec<V>,
-    counts: Vec<usize>,
+    /// Digit histograms; u32 halves their cache footprint (at most 2^32 - 1 keys are sorted).
+    counts: Vec<u32>,
 }
 
 impl<V: Copy> RadixSorter<V> {
@@ -42,6 +43,7 @@ impl<V: Copy> RadixSorter<V> {
 
     pub fn sort(&mut self, keys: &mut Vec<u64>, vals: &mut Vec<V>, key_bits: u32) {
         assert_eq!(keys.len(), vals.len(), "one payload per key");
+        assert!(keys.len() < u32::MAX as usize, "at most 2^32 - 2 keys");
         let n = keys.len();
         let passes = self.passes(key_bits.min(64));
         if n < 2 || passes == 0 {
@@ -55,19 +57,21 @@ impl<V: Copy> RadixSorter<V> {
         self.counts.clear();
         self.counts.resize(radix * passes as usize, 0);
         for &k in keys.iter() {
-            for p in 0..passes as usize {
-                let d = ((k >> (p as u32 * digit_bits)) & mask) as usize;
-                self.counts[p * radix + d] += 1;
+            for (p, hist) in self.counts.chunks_exact_mut(radix).enumerate() {
+                hist[((k >> (p as u32 * digit_bits)) & mask) as usize] += 1;
             }
         }
-        self.tmp_keys.clear();
+        // Every slot of the scratch is written by each pass (a stable scatter is a
+        // permutation), so only its length matters, not its contents.
         self.tmp_keys.resize(n, 0);
-        self.tmp_vals.clear();
-        self.tmp_vals.extend_from_slice(vals);
+        if self.tmp_vals.len() != n {
+            self.tmp_vals.clear();
+            self.tmp_vals.extend_from_slice(vals);
+        }
         for p in 0..passes as usize {
             let hist = &mut self.counts[p * radix..(p + 1) * radix];
             // A digit that is the same in every key leaves the order as it is.
-            if hist.contains(&n) {
+            if hist.contains(&(n as u32)) {
                 continue;
             }
             let mut sum = 0;
@@ -77,12 +81,13 @@ impl<V: Copy> RadixSorter<V> {
                 sum += here;
             }
             let shift = p as u32 * digit_bits;
+            let (tk, tv) = (&mut self.tmp_keys[..n], &mut self.tmp_vals[..n]);
             for (&k, &v) in keys.iter().zip(vals.iter()) {
                 let d = ((k >> shift) & mask) as usize;
-                let at = hist[d];
+                let at = hist[d] as usize;
                 hist[d] += 1;
-                self.tmp_keys[at] = k;
-                self.tmp_vals[at] = v;
+                tk[at] = k;
+                tv[at] = v;
             }
             std::mem::swap(keys, &mut self.tmp_keys);
             std::mem::swap(vals, &mut self.tmp_vals);

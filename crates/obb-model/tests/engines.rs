@@ -127,3 +127,44 @@ fn engines_keep_no_state_between_frames() {
         assert_eq!(results[1], fresh, "{kind} after another scene");
     }
 }
+
+#[test]
+fn grid_slabs_do_not_matter() {
+    // The grid splits its cells into one z slab per thread (for scenes of a few hundred boxes
+    // or more): any number of slabs must give brute force's pairs and the same counters, with
+    // boxes spanning slab boundaries, large boxes covering many slabs, and probing masks.
+    let mut spanning = uniform(2500, 9, 2.0).unwrap();
+    spanning.obbs[17] = obb_model::Obb::aligned([0.0; 3], [40.0, 3.0, 60.0], 1);
+    spanning.obbs[1200] = obb_model::Obb::aligned([5.0, 5.0, -20.0], [2.0, 2.0, 80.0], 2);
+    for (i, o) in spanning.obbs.iter_mut().enumerate() {
+        o.group = (i % 5 == 0) as u32;
+    }
+    let surgery = surgical(3000, 4).unwrap();
+    for (scene, mask) in [
+        (&spanning, GroupMask::All),
+        (&spanning, GroupMask::Cross),
+        (&surgery, GroupMask::All),
+        (&surgery, GroupMask::Cross),
+    ] {
+        let mut prepared = Prepared::default();
+        let boxes = prepared.update(&scene.obbs);
+        let (reference, _) = detect(EngineKind::Brute, &boxes, &mask);
+        let mut first = None;
+        for threads in [1, 2, 3, 7] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut grid = Grid::default();
+            let mut pairs = Vec::new();
+            let c = pool.install(|| grid.detect(&boxes, &mask, &mut pairs));
+            assert_eq!(pairs, reference, "{threads} threads, mask {mask}");
+            let first = first.get_or_insert(c);
+            assert_eq!(
+                (c.sat, c.pairs),
+                (first.sat, first.pairs),
+                "{threads} threads"
+            );
+        }
+    }
+}

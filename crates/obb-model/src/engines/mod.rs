@@ -116,6 +116,9 @@ pub fn detect(kind: EngineKind, boxes: &Frame, mask: &GroupMask) -> (Vec<Pair>, 
     (out, counters)
 }
 
+/// `PairSorter` sorts by comparison when there are fewer pairs than boxes / this.
+const SMALL_SORT_RATIO: usize = 16;
+
 /// Sorts pairs ascending and removes repeats, on buffers kept by the caller: a counting sort on
 /// the first index (one bucket per box), then each bucket's few second indices sorted in place.
 #[derive(Debug, Default)]
@@ -127,6 +130,13 @@ pub(crate) struct PairSorter {
 impl PairSorter {
     /// Sorts `pairs` ascending (by i, then j) and drops duplicates; `n` is the number of boxes.
     pub fn sort_dedup(&mut self, pairs: &mut Vec<Pair>, n: usize) {
+        // Few pairs among many boxes (cross-group detection): the buckets would cost more than
+        // a comparison sort.
+        if pairs.len() * SMALL_SORT_RATIO < n {
+            pairs.sort_unstable();
+            pairs.dedup();
+            return;
+        }
         self.starts.clear();
         self.starts.resize(n + 1, 0);
         for p in pairs.iter() {

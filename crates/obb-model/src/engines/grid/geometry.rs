@@ -7,6 +7,9 @@ const MAX_CELLS_PER_AXIS: u64 = 1 << 20;
 /// Cell edge as a multiple of the median AABB edge: the measured sweet spot between entries per
 /// box and pairs per cell (docs/engines.md).
 const CELL_PER_MEDIAN_EDGE: f64 = 3.0;
+/// The same when a group probes: larger cells mean fewer entries to enter and sort, and fewer
+/// cells for each probing box to look up, while the pairs examined grow more slowly.
+const PROBING_CELL_PER_MEDIAN_EDGE: f64 = 4.0;
 /// The median edge is taken over at most this many boxes, evenly spaced in the scene.
 const CELL_SAMPLE: usize = 4096;
 
@@ -22,10 +25,11 @@ pub struct GridGeometry {
 
 impl GridGeometry {
     /// Cell coordinate of `x` on `axis`. Monotone in `x`, so a box's cell range covers the cell
-    /// of any point inside it.
+    /// of any point inside it. Through i64: the conversion to u64 costs twice as much, and a cell
+    /// coordinate is below 2^21 (a point below the origin would give 0 either way).
     #[inline]
     pub(super) fn coord(&self, x: f64, axis: usize) -> u64 {
-        ((x - self.origin[axis]) * self.inv) as u64
+        (((x - self.origin[axis]) * self.inv) as i64).max(0) as u64
     }
 
     /// The cell ranges `(first, last)` of `b` on each axis.
@@ -74,9 +78,10 @@ impl GridGeometry {
     }
 }
 
-/// Cell edge from the boxes: `CELL_PER_MEDIAN_EDGE` times the median of each AABB's mean edge,
-/// over an evenly spaced sample of at most `CELL_SAMPLE` boxes.
-pub(super) fn choose_cell(aabbs: &[Aabb], scratch: &mut Vec<f64>) -> f64 {
+/// Cell edge from the boxes: `CELL_PER_MEDIAN_EDGE` (or `PROBING_CELL_PER_MEDIAN_EDGE` when a
+/// group will probe) times the median of each AABB's mean edge, over an evenly spaced sample of
+/// at most `CELL_SAMPLE` boxes.
+pub(super) fn choose_cell(aabbs: &[Aabb], probing: bool, scratch: &mut Vec<f64>) -> f64 {
     scratch.clear();
     scratch.extend(
         aabbs
@@ -86,7 +91,12 @@ pub(super) fn choose_cell(aabbs: &[Aabb], scratch: &mut Vec<f64>) -> f64 {
     );
     let mid = scratch.len() / 2;
     let (_, median, _) = scratch.select_nth_unstable_by(mid, f64::total_cmp);
-    let cell = *median * CELL_PER_MEDIAN_EDGE;
+    let factor = if probing {
+        PROBING_CELL_PER_MEDIAN_EDGE
+    } else {
+        CELL_PER_MEDIAN_EDGE
+    };
+    let cell = *median * factor;
     // Boxes of zero size give a zero median: any positive cell is then correct.
     if cell > 0.0 && cell.is_finite() {
         cell

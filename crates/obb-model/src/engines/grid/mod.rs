@@ -18,19 +18,23 @@
 //! probes the cells it covers (see `Grid::build`).
 
 mod geometry;
+mod occupied;
 mod ranks;
 mod scan;
+mod slab;
 
 pub use geometry::GridGeometry;
 
 use super::{Counters, Engine, EngineKind, Pair, PairSorter};
 use crate::groups::GroupMask;
 use crate::prepared::Frame;
-use crate::radix::{bits_for, RadixSorter};
+use crate::radix::bits_for;
 use geometry::choose_cell;
+use occupied::Occupied;
 use ranks::Ranks;
 use rayon::prelude::*;
-use scan::{probe, scan_cells, scan_large, start_flags, Cells};
+use scan::{probe, scan_cells, scan_large, Cells};
+use slab::{Layout, Slab};
 
 /// A box covering more cells than this is not entered in the grid but tested against every box:
 /// one huge box must not fill memory with cell entries.
@@ -40,15 +44,15 @@ const CHUNKS_PER_THREAD: usize = 8;
 /// The three start flags in the low bits of a key.
 const FLAG_BITS: u32 = 3;
 const ALL_STARTS: u64 = 0b111;
-/// Largest grid (in cells) for which an occupancy bitmap is kept (4 MiB of bits): the probing
-/// needs it.
+/// Largest grid (in cells) for which an occupancy bitmap is kept (4 MiB of bits, and as many
+/// rank words): the probing needs it.
 const MAX_BITMAP_CELLS: u64 = 1 << 25;
 
 /// One parallel task's output: its colliding pairs, and the probing boxes it found too large.
 type TaskOut = (Vec<Pair>, Vec<u32>);
 
 /// Uniform-grid engine. `cell` fixes the cell edge; `None` chooses it from the scene each frame.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 pub struct Grid {
     cell: Option<f64>,
     geometry: GridGeometry,
@@ -65,32 +69,13 @@ pub struct Grid {
     prober: Option<u32>,
     tasks: Vec<TaskOut>,
     scratch: Vec<f64>,
-    /// Cells holding an entry, when a group probes.
-    occupied: Vec<u64>,
-    radix: RadixSorter<u32>,
+    /// Where each occupied cell's entries start, when a group probes.
+    occupied: Occupied,
+    /// The grid's z slabs, one per thread at most.
+    slabs: Vec<Slab>,
+    /// Sampled z layers, to place the slabs.
+    layers: Vec<u64>,
     sorter: PairSorter,
-}
-
-impl Default for Grid {
-    fn default() -> Self {
-        Grid {
-            cell: None,
-            geometry: GridGeometry::default(),
-            ranks: Ranks::default(),
-            keys: Vec::new(),
-            entries: Vec::new(),
-            large: Vec::new(),
-            is_large: Vec::new(),
-            runs: Vec::new(),
-            cuts: Vec::new(),
-            prober: None,
-            tasks: Vec::new(),
-            scratch: Vec::new(),
-            occupied: Vec::new(),
-            radix: RadixSorter::new(12),
-            sorter: PairSorter::default(),
-        }
-    }
 }
 
 /// What the grid built in its last detection.
@@ -133,114 +118,78 @@ impl Grid {
         }
     }
 
-    /// Enters the boxes that pass `pick` in the cells their AABBs cover, or in the large list
-    /// when they cover too many.
-    fn enter(&mut self, boxes: &Frame, pick: impl Fn(usize) -> bool) {
-        let g = self.geometry;
-        let class_bits = self.ranks.class_bits();
-        for (i, b) in boxes.aabbs.iter().enumerate() {
-            if !pick(i) {
-                continue;
-            }
-            let (c0, c1) = g.range(b);
-            if GridGeometry::cells_in(c0, c1) > MAX_CELLS_PER_BOX {
-                self.large.push(i as u32);
-                self.is_large[i] = true;
-                continue;
-            }
-            let rank = self.ranks.rank(i) << FLAG_BITS;
-            for z in c0[2]..=c1[2] {
-                for y in c0[1]..=c1[1] {
-                    for x in c0[0]..=c1[0] {
-                        let c = [x, y, z];
-                        self.keys
-                            .push(g.key(c) << class_bits | rank | start_flags(c, c0));
-                        self.entries.push(i as u32);
-                    }
-                }
-            }
-        }
-    }
-
     /// Enters the boxes in their cells (or in the large list), sorts the entries by key, and
-    /// finds the cells with pairs to examine.
+    /// finds the cells with pairs to examine, in slabs of z layers on all threads.
     fn build(&mut self, boxes: &Frame, mask: &GroupMask) {
         let aabbs = boxes.aabbs;
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for b in aabbs {
-            for (a, (l, h)) in lo.iter_mut().zip(hi.iter_mut()).enumerate() {
-                *l = l.min(b.min[a]);
-                *h = h.max(b.max[a]);
-            }
-        }
+        self.ranks.update(boxes, mask);
         let cell = match self.cell {
             Some(c) => c,
-            None => choose_cell(aabbs, &mut self.scratch),
+            None => choose_cell(aabbs, self.ranks.sparse.is_some(), &mut self.scratch),
         };
-        let g = GridGeometry::fit(lo, hi, cell);
+        let g = GridGeometry::fit(boxes.bounds.min, boxes.bounds.max, cell);
         self.geometry = g;
-        self.ranks.update(boxes, mask);
-        self.keys.clear();
-        self.entries.clear();
-        self.large.clear();
-        self.is_large.clear();
-        self.is_large.resize(aabbs.len(), false);
         // When the mask excludes pairs inside the largest group, a box of that group only pairs
         // with boxes of other groups, in cells they cover: enter only the other groups, and let
         // each box of the largest group probe the occupied cells it covers. The largest group is
         // then neither entered nor sorted, which is most of the work for cross-group detection.
         let cells = g.dims[0] * g.dims[1] * g.dims[2];
         let class_bits = self.ranks.class_bits();
-        self.prober = self.ranks.sparse.filter(|_| cells <= MAX_BITMAP_CELLS);
-        self.occupied.clear();
-        match self.prober {
-            Some(g0) => {
-                self.enter(boxes, |i| boxes.groups[i] != g0);
-                self.occupied.resize(cells.div_ceil(64) as usize, 0);
-                for &k in &self.keys {
-                    let cell = k >> class_bits;
-                    self.occupied[(cell / 64) as usize] |= 1 << (cell % 64);
-                }
+        let prober = self.ranks.sparse.filter(|_| cells <= MAX_BITMAP_CELLS);
+        self.prober = prober;
+        let layout = Layout {
+            geometry: &self.geometry,
+            ranks: &self.ranks,
+            boxes,
+            prober,
+            key_bits: bits_for(cells - 1) + class_bits,
+        };
+        let threads = rayon::current_num_threads();
+        slab::place(&mut self.slabs, threads, &layout, &mut self.layers);
+        self.slabs.par_iter_mut().for_each(|s| s.build(&layout));
+        let total = self.slabs.iter().map(Slab::len).sum();
+        self.keys.resize(total, 0);
+        self.entries.resize(total, 0);
+        let ranks = &self.ranks;
+        slab::for_each_part(
+            &mut self.slabs,
+            &mut self.keys,
+            &mut self.entries,
+            0,
+            &|s, k, e, offset| s.publish(k, e, offset, ranks),
+        );
+        self.large.clear();
+        self.is_large.clear();
+        self.is_large.resize(aabbs.len(), false);
+        self.runs.clear();
+        for s in &self.slabs {
+            for &l in &s.large {
+                self.is_large[l as usize] = true;
             }
-            None => self.enter(boxes, |_| true),
+            self.large.extend_from_slice(&s.large);
+            self.runs.extend_from_slice(&s.runs);
         }
-        let key_bits = bits_for(cells - 1) + class_bits;
-        self.radix.sort(&mut self.keys, &mut self.entries, key_bits);
-        self.find_runs();
+        self.occupied.clear();
+        if prober.is_some() {
+            self.occupied.index(&self.keys, class_bits, cells);
+        }
+        self.cut_runs(threads);
     }
 
-    /// The cells with two or more entries, except those holding one rank whose own pairs the
-    /// mask excludes (an instrument's cells, for cross-group detection), cut into chunks of
-    /// about equal pair work: dense cells lie together in key order and would otherwise load
-    /// one thread.
-    fn find_runs(&mut self) {
-        let class_bits = self.ranks.class_bits();
-        let class_mask = self.ranks.class_mask();
-        let rank = |k: u64| (k & class_mask) >> FLAG_BITS;
-        self.runs.clear();
-        let mut start = 0;
-        let mut work = 0;
-        for p in 1..=self.keys.len() {
-            if p == self.keys.len() || self.keys[p] >> class_bits != self.keys[start] >> class_bits
-            {
-                // Ranks ascend inside a cell: the first and last entries hold the extremes.
-                let (r0, r1) = (rank(self.keys[start]), rank(self.keys[p - 1]));
-                if p - start >= 2 && (r0 != r1 || self.ranks.allowed[r0 as usize][r0 as usize]) {
-                    self.runs.push((start as u32, p as u32));
-                    work += (p - start) * (p - start - 1) / 2;
-                }
-                start = p;
-            }
-        }
-        let chunks = rayon::current_num_threads() * CHUNKS_PER_THREAD;
-        let target = work.div_ceil(chunks).max(1);
+    /// Cuts the runs into chunks of about equal pair work: dense cells lie together in key
+    /// order and would otherwise load one thread.
+    fn cut_runs(&mut self, threads: usize) {
+        let work = |&(s, e): &(u32, u32)| {
+            let len = (e - s) as usize;
+            len * (len - 1) / 2
+        };
+        let total: usize = self.runs.iter().map(work).sum();
+        let target = total.div_ceil(threads * CHUNKS_PER_THREAD).max(1);
         self.cuts.clear();
         self.cuts.push(0);
         let mut acc = 0;
-        for (r, &(s, e)) in self.runs.iter().enumerate() {
-            let len = (e - s) as usize;
-            acc += len * (len - 1) / 2;
+        for (r, run) in self.runs.iter().enumerate() {
+            acc += work(run);
             if acc >= target {
                 self.cuts.push(r + 1);
                 acc = 0;

@@ -38,11 +38,13 @@ impl Ranks {
             self.allowed[0][0] = true;
             return;
         }
-        for &g in boxes.groups {
+        // Boxes of one group mostly lie together: count runs, not boxes.
+        for run in boxes.groups.chunk_by(|a, b| a == b) {
+            let (g, len) = (run[0], run.len());
             if let Some((_, n)) = self.groups.iter_mut().find(|(h, _)| *h == g) {
-                *n += 1;
+                *n += len;
             } else if self.groups.len() < MAX_RANKS {
-                self.groups.push((g, 1));
+                self.groups.push((g, len));
             } else {
                 self.groups.clear();
                 self.allowed[0][0] = true;
@@ -58,13 +60,11 @@ impl Ranks {
         }
         self.bits = bits_for(self.groups.len().saturating_sub(1) as u64);
         if self.bits > 0 {
-            let groups = &self.groups;
-            self.rank.extend(
-                boxes
-                    .groups
-                    .iter()
-                    .map(|g| groups.iter().position(|(h, _)| h == g).unwrap_or(0) as u8),
-            );
+            for run in boxes.groups.chunk_by(|a, b| a == b) {
+                let r = self.groups.iter().position(|(h, _)| *h == run[0]);
+                let r = r.expect("every group was counted") as u8;
+                self.rank.extend(std::iter::repeat_n(r, run.len()));
+            }
         }
         self.sparse = self
             .groups

@@ -2,6 +2,7 @@
 //! and the large boxes against every box.
 
 use super::geometry::GridGeometry;
+use super::occupied::Occupied;
 use super::ranks::{Ranks, MAX_RANKS};
 use super::{FLAG_BITS, MAX_CELLS_PER_BOX};
 use crate::aabb::Aabb;
@@ -145,13 +146,12 @@ pub(super) fn scan_cells(
 pub(super) fn probe(
     cells: &Cells,
     geometry: &GridGeometry,
-    occupied: &[u64],
+    occupied: &Occupied,
     probes: impl Iterator<Item = usize>,
     boxes: &Frame,
     out: &mut Vec<Pair>,
     large: &mut Vec<u32>,
 ) -> Counters {
-    let class_bits = cells.ranks.class_bits();
     let class_mask = cells.ranks.class_mask();
     let mut emit = Emitter::new(out);
     large.clear();
@@ -165,16 +165,13 @@ pub(super) fn probe(
         for z in c0[2]..=c1[2] {
             for y in c0[1]..=c1[1] {
                 for x in c0[0]..=c1[0] {
-                    let cell = geometry.key([x, y, z]);
-                    if occupied[(cell / 64) as usize] & (1 << (cell % 64)) == 0 {
+                    let run = occupied.entries(geometry.key([x, y, z]));
+                    if run.is_empty() {
                         continue;
                     }
                     let class = rank | start_flags([x, y, z], c0);
-                    let first = cells.keys.partition_point(|&k| k >> class_bits < cell);
-                    let end =
-                        first + cells.keys[first..].partition_point(|&k| k >> class_bits == cell);
-                    emit.reserve(end - first);
-                    for p in first..end {
+                    emit.reserve(run.len());
+                    for p in run {
                         if cells.ranks.pairs_wanted(class, cells.keys[p] & class_mask) {
                             emit.pair(boxes, i, cells.entries[p] as usize);
                         }

@@ -1,0 +1,56 @@
+//! The occupied cells of a sorted grid, for probing: a bitmap with a rank per word, so that a
+//! probing box finds a cell's entries in constant time instead of two binary searches.
+
+/// Occupancy of the cells, and where each occupied cell's entries lie in the sorted keys.
+#[derive(Debug, Default)]
+pub(super) struct Occupied {
+    /// Bit `c % 64` of word `c / 64`: cell `c` holds an entry.
+    bits: Vec<u64>,
+    /// Occupied cells before word `w`.
+    rank: Vec<u32>,
+    /// Start of each occupied cell's entries, in cell order, and the end of the last.
+    starts: Vec<u32>,
+}
+
+impl Occupied {
+    pub(super) fn clear(&mut self) {
+        self.bits.clear();
+        self.rank.clear();
+        self.starts.clear();
+    }
+
+    /// Indexes `keys` (sorted, the cell above `class_bits`) over a grid of `cells` cells.
+    pub(super) fn index(&mut self, keys: &[u64], class_bits: u32, cells: u64) {
+        self.clear();
+        let words = cells.div_ceil(64) as usize;
+        self.bits.resize(words, 0);
+        let mut last = None;
+        for (p, &k) in keys.iter().enumerate() {
+            let cell = k >> class_bits;
+            if last != Some(cell) {
+                self.bits[(cell / 64) as usize] |= 1 << (cell % 64);
+                self.starts.push(p as u32);
+                last = Some(cell);
+            }
+        }
+        self.starts.push(keys.len() as u32);
+        let mut sum = 0;
+        self.rank.extend(self.bits.iter().map(|w| {
+            let before = sum;
+            sum += w.count_ones();
+            before
+        }));
+    }
+
+    /// The range of sorted entries in `cell`, empty when it holds none.
+    #[inline]
+    pub(super) fn entries(&self, cell: u64) -> std::ops::Range<usize> {
+        let (w, b) = ((cell / 64) as usize, cell % 64);
+        let word = self.bits[w];
+        if word & (1 << b) == 0 {
+            return 0..0;
+        }
+        let ordinal = (self.rank[w] + (word & ((1 << b) - 1)).count_ones()) as usize;
+        self.starts[ordinal] as usize..self.starts[ordinal + 1] as usize
+    }
+}

@@ -1,0 +1,185 @@
+//! The grid built in slabs of z layers, one task each. The cell's z is the most significant part
+//! of a key, so the slabs' sorted entries laid end to end are the whole grid sorted: the threads
+//! enter, sort and scan their slabs independently, and nothing is merged.
+
+use super::geometry::GridGeometry;
+use super::ranks::Ranks;
+use super::scan::start_flags;
+use super::{FLAG_BITS, MAX_CELLS_PER_BOX};
+use crate::prepared::Frame;
+use crate::radix::RadixSorter;
+use std::ops::Range;
+
+/// A slab needs at least this many sampled boxes, so that a small scene stays on one thread.
+const MIN_SAMPLE_PER_SLAB: usize = 256;
+/// Boxes sampled to place the slab boundaries.
+const SLAB_SAMPLE: usize = 4096;
+
+/// One slab's entries, built on one thread.
+#[derive(Debug)]
+pub(super) struct Slab {
+    /// The z layers of cells this slab holds.
+    z: Range<u64>,
+    keys: Vec<u64>,
+    entries: Vec<u32>,
+    /// Boxes covering too many cells whose first z layer is in this slab.
+    pub large: Vec<u32>,
+    /// This slab's cells with pairs to examine, as ranges of the whole grid's entries.
+    pub runs: Vec<(u32, u32)>,
+    radix: RadixSorter<u32>,
+}
+
+impl Default for Slab {
+    fn default() -> Self {
+        Slab {
+            z: 0..0,
+            keys: Vec::new(),
+            entries: Vec::new(),
+            large: Vec::new(),
+            runs: Vec::new(),
+            radix: RadixSorter::new(12),
+        }
+    }
+}
+
+/// What every slab reads while it is built.
+pub(super) struct Layout<'a> {
+    pub geometry: &'a GridGeometry,
+    pub ranks: &'a Ranks,
+    pub boxes: &'a Frame<'a>,
+    /// The group whose boxes probe instead of being entered.
+    pub prober: Option<u32>,
+    pub key_bits: u32,
+}
+
+impl Slab {
+    pub(super) fn len(&self) -> usize {
+        self.keys.len()
+    }
+
+    /// Enters the chosen boxes' cells in this slab's layers, then sorts them by key.
+    pub(super) fn build(&mut self, l: &Layout) {
+        let (g, class_bits) = (l.geometry, l.ranks.class_bits());
+        self.keys.clear();
+        self.entries.clear();
+        self.large.clear();
+        for (i, b) in l.boxes.aabbs.iter().enumerate() {
+            // The group, then the z range: most boxes probe, or lie in other slabs.
+            if Some(l.boxes.groups[i]) == l.prober {
+                continue;
+            }
+            let (z0, z1) = (g.coord(b.min[2], 2), g.coord(b.max[2], 2));
+            if z1 < self.z.start || z0 >= self.z.end {
+                continue;
+            }
+            let (c0, c1) = g.range(b);
+            if GridGeometry::cells_in(c0, c1) > MAX_CELLS_PER_BOX {
+                if self.z.contains(&z0) {
+                    self.large.push(i as u32);
+                }
+                continue;
+            }
+            let rank = l.ranks.rank(i) << FLAG_BITS;
+            for z in z0.max(self.z.start)..=z1.min(self.z.end - 1) {
+                for y in c0[1]..=c1[1] {
+                    for x in c0[0]..=c1[0] {
+                        let c = [x, y, z];
+                        self.keys
+                            .push(g.key(c) << class_bits | rank | start_flags(c, c0));
+                        self.entries.push(i as u32);
+                    }
+                }
+            }
+        }
+        self.radix
+            .sort(&mut self.keys, &mut self.entries, l.key_bits);
+    }
+
+    /// Copies the sorted entries to `keys` and `entries` (this slab's part of the whole grid,
+    /// starting at entry `offset`), and finds its runs: the cells with two or more entries,
+    /// except those holding one rank whose own pairs the mask excludes (an instrument's cells,
+    /// for cross-group detection).
+    pub(super) fn publish(
+        &mut self,
+        keys: &mut [u64],
+        entries: &mut [u32],
+        offset: usize,
+        ranks: &Ranks,
+    ) {
+        keys.copy_from_slice(&self.keys);
+        entries.copy_from_slice(&self.entries);
+        let class_bits = ranks.class_bits();
+        let class_mask = ranks.class_mask();
+        let rank = |k: u64| ((k & class_mask) >> FLAG_BITS) as usize;
+        self.runs.clear();
+        let mut start = 0;
+        for p in 1..=keys.len() {
+            if p == keys.len() || keys[p] >> class_bits != keys[start] >> class_bits {
+                // Ranks ascend inside a cell: the first and last entries hold the extremes.
+                let (r0, r1) = (rank(keys[start]), rank(keys[p - 1]));
+                if p - start >= 2 && (r0 != r1 || ranks.allowed[r0][r0]) {
+                    self.runs
+                        .push(((offset + start) as u32, (offset + p) as u32));
+                }
+                start = p;
+            }
+        }
+    }
+}
+
+/// Sets the slabs' layers so that each gets about the same share of the entered boxes, judged
+/// from an evenly spaced sample of their first z layers; one slab per thread at most.
+pub(super) fn place(slabs: &mut Vec<Slab>, threads: usize, l: &Layout, scratch: &mut Vec<u64>) {
+    let g = l.geometry;
+    let (aabbs, groups) = (l.boxes.aabbs, l.boxes.groups);
+    scratch.clear();
+    scratch.extend(
+        (0..aabbs.len())
+            .step_by(aabbs.len().div_ceil(SLAB_SAMPLE).max(1))
+            .filter(|&i| Some(groups[i]) != l.prober)
+            .map(|i| g.coord(aabbs[i].min[2], 2)),
+    );
+    let n = threads.min(scratch.len() / MIN_SAMPLE_PER_SLAB).max(1);
+    if slabs.len() != n {
+        slabs.resize_with(n, Slab::default);
+    }
+    let mut start = 0;
+    for (s, slab) in slabs.iter_mut().enumerate() {
+        let end = if s + 1 == n {
+            g.dims[2]
+        } else {
+            let at = scratch.len() * (s + 1) / n;
+            let (_, &mut z, _) = scratch.select_nth_unstable(at);
+            z.max(start)
+        };
+        slab.z = start..end;
+        start = end;
+    }
+}
+
+/// Runs `f` on every slab with its part of `keys` and `entries` and that part's offset, the
+/// slabs in parallel (by `rayon::join`, which needs no allocation).
+pub(super) fn for_each_part<F>(
+    slabs: &mut [Slab],
+    keys: &mut [u64],
+    entries: &mut [u32],
+    offset: usize,
+    f: &F,
+) where
+    F: Fn(&mut Slab, &mut [u64], &mut [u32], usize) + Sync,
+{
+    match slabs {
+        [] => {}
+        [one] => f(one, keys, entries, offset),
+        _ => {
+            let (a, b) = slabs.split_at_mut(slabs.len() / 2);
+            let n = a.iter().map(Slab::len).sum();
+            let (ka, kb) = keys.split_at_mut(n);
+            let (ea, eb) = entries.split_at_mut(n);
+            rayon::join(
+                || for_each_part(a, ka, ea, offset, f),
+                || for_each_part(b, kb, eb, offset + n, f),
+            );
+        }
+    }
+}
