@@ -26,6 +26,7 @@ mod slab;
 pub use geometry::GridGeometry;
 
 use super::{Counters, Engine, EngineKind, Pair, PairSorter};
+use crate::aabb::Aabb;
 use crate::groups::GroupMask;
 use crate::prepared::Frame;
 use crate::radix::bits_for;
@@ -171,7 +172,11 @@ impl Grid {
         }
         self.occupied.clear();
         if prober.is_some() {
-            self.occupied.index(&self.keys, class_bits, cells);
+            let bounds = self
+                .slabs
+                .iter()
+                .fold(Aabb::EMPTY, |b, s| b.union(&s.bounds));
+            self.occupied.index(&self.keys, class_bits, cells, bounds);
         }
         self.cut_runs(threads);
     }

@@ -1,8 +1,10 @@
 //! The occupied cells of a sorted grid, for probing: a bitmap with a rank per word, so that a
 //! probing box finds a cell's entries in constant time instead of two binary searches.
 
+use crate::aabb::Aabb;
+
 /// Occupancy of the cells, and where each occupied cell's entries lie in the sorted keys.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub(super) struct Occupied {
     /// Bit `c % 64` of word `c / 64`: cell `c` holds an entry.
     bits: Vec<u64>,
@@ -10,18 +12,35 @@ pub(super) struct Occupied {
     rank: Vec<u32>,
     /// Start of each occupied cell's entries, in cell order, and the end of the last.
     starts: Vec<u32>,
+    /// The union of the entered boxes' AABBs: a probing box outside it meets no entry, and
+    /// most tissue lies outside the instruments' bounds.
+    pub bounds: Aabb,
+}
+
+impl Default for Occupied {
+    fn default() -> Self {
+        Occupied {
+            bits: Vec::new(),
+            rank: Vec::new(),
+            starts: Vec::new(),
+            bounds: Aabb::EMPTY,
+        }
+    }
 }
 
 impl Occupied {
     pub(super) fn clear(&mut self) {
+        self.bounds = Aabb::EMPTY;
         self.bits.clear();
         self.rank.clear();
         self.starts.clear();
     }
 
-    /// Indexes `keys` (sorted, the cell above `class_bits`) over a grid of `cells` cells.
-    pub(super) fn index(&mut self, keys: &[u64], class_bits: u32, cells: u64) {
+    /// Indexes `keys` (sorted, the cell above `class_bits`) over a grid of `cells` cells, whose
+    /// boxes lie in `bounds`.
+    pub(super) fn index(&mut self, keys: &[u64], class_bits: u32, cells: u64, bounds: Aabb) {
         self.clear();
+        self.bounds = bounds;
         let words = cells.div_ceil(64) as usize;
         self.bits.resize(words, 0);
         let mut last = None;

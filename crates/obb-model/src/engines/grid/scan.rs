@@ -156,6 +156,11 @@ pub(super) fn probe(
     let mut emit = Emitter::new(out);
     large.clear();
     for i in probes {
+        // Outside the entered boxes' bounds there is nothing to meet. (A large entered box is
+        // not in the bounds: it meets every box in `scan_large`.)
+        if !overlaps(&boxes.aabbs[i], &occupied.bounds) {
+            continue;
+        }
         let (c0, c1) = geometry.range(&boxes.aabbs[i]);
         if GridGeometry::cells_in(c0, c1) > MAX_CELLS_PER_BOX {
             large.push(i as u32);

@@ -6,6 +6,7 @@ use super::geometry::GridGeometry;
 use super::ranks::Ranks;
 use super::scan::start_flags;
 use super::{FLAG_BITS, MAX_CELLS_PER_BOX};
+use crate::aabb::Aabb;
 use crate::prepared::Frame;
 use crate::radix::RadixSorter;
 use std::ops::Range;
@@ -26,6 +27,8 @@ pub(super) struct Slab {
     pub large: Vec<u32>,
     /// This slab's cells with pairs to examine, as ranges of the whole grid's entries.
     pub runs: Vec<(u32, u32)>,
+    /// The union of the AABBs of the boxes entered in this slab's cells.
+    pub bounds: Aabb,
     radix: RadixSorter<u32>,
 }
 
@@ -37,6 +40,7 @@ impl Default for Slab {
             entries: Vec::new(),
             large: Vec::new(),
             runs: Vec::new(),
+            bounds: Aabb::EMPTY,
             radix: RadixSorter::new(12),
         }
     }
@@ -63,6 +67,7 @@ impl Slab {
         self.keys.clear();
         self.entries.clear();
         self.large.clear();
+        self.bounds = Aabb::EMPTY;
         for (i, b) in l.boxes.aabbs.iter().enumerate() {
             // The group, then the z range: most boxes probe, or lie in other slabs.
             if Some(l.boxes.groups[i]) == l.prober {
@@ -79,6 +84,7 @@ impl Slab {
                 }
                 continue;
             }
+            self.bounds = self.bounds.union(b);
             let rank = l.ranks.rank(i) << FLAG_BITS;
             for z in z0.max(self.z.start)..=z1.min(self.z.end - 1) {
                 for y in c0[1]..=c1[1] {
