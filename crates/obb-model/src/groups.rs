@@ -3,8 +3,10 @@
 use std::fmt;
 use std::str::FromStr;
 
-/// Which unordered group pairs {g, h} are wanted.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+/// Which unordered group pairs {g, h} are wanted. In configuration files it is the same string
+/// as on the command line.
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "String", into = "String")]
 pub enum GroupMask {
     /// Every pair of boxes.
     #[default]
@@ -66,5 +68,19 @@ impl fmt::Display for GroupMask {
                 write!(f, "{}", items.join(","))
             }
         }
+    }
+}
+
+impl TryFrom<String> for GroupMask {
+    type Error = String;
+
+    fn try_from(s: String) -> Result<Self, Self::Error> {
+        s.parse()
+    }
+}
+
+impl From<GroupMask> for String {
+    fn from(m: GroupMask) -> String {
+        m.to_string()
     }
 }

@@ -8,6 +8,7 @@
 
 pub mod aabb;
 pub mod engines;
+pub mod fixed;
 pub mod generate;
 pub mod groups;
 pub mod prepared;

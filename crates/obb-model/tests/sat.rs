@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{axes_of, f32_axes};
+use common::{axes_of, boundary, f32_axes, obb_strategy, tilted, touching};
 use obb_model::aabb::Aabb;
 use obb_model::sat::{obbs_collide, retain_colliding};
 use obb_model::{Obb, Prepared};
@@ -15,30 +15,6 @@ use proptest::strategy::ValueTree;
 
 fn collide(a: &Obb, b: &Obb) -> bool {
     Aabb::of(a).overlaps(&Aabb::of(b)) && obbs_collide(a, b)
-}
-
-/// Point of `o` at box coordinates `s` (|s_k| <= 1).
-fn point(o: &Obb, s: [f64; 3]) -> [f64; 3] {
-    std::array::from_fn(|x| {
-        o.center[x] + (0..3).map(|k| s[k] * o.half[k] * o.axes[k][x]).sum::<f64>()
-    })
-}
-
-/// Places `b` so that its point at box coordinates `sb` is `a`'s point at `sa`: the two boxes
-/// share that point, so they intersect (or touch, when both points are on the boundaries).
-fn touching(a: &Obb, sa: [f64; 3], mut b: Obb, sb: [f64; 3]) -> Obb {
-    let p = point(a, sa);
-    b.center = [0.0; 3];
-    let q = point(&b, sb);
-    b.center = std::array::from_fn(|x| p[x] - q[x]);
-    b
-}
-
-/// A point on the boundary of the unit cube: `face` picks the coordinate pinned to ±1.
-fn boundary(s: [f64; 3], face: usize, sign: bool) -> [f64; 3] {
-    let mut s = s;
-    s[face] = if sign { 1.0 } else { -1.0 };
-    s
 }
 
 /// The classic SAT (Ericson, Real-Time Collision Detection, 4.4.1) with a fixed 1e-9 epsilon on
@@ -77,56 +53,12 @@ fn classic_sat(a: &Obb, b: &Obb) -> bool {
     true
 }
 
-/// Axes of `a` turned by `angle` about a random direction: edges near-parallel to a's.
-fn tilted(a: [[f64; 3]; 3], q: [f64; 4], angle: f64) -> [[f64; 3]; 3] {
-    let n = (q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt().max(1e-12);
-    let (s, c) = (angle / 2.0).sin_cos();
-    let turn = axes_of([c, s * q[1] / n, s * q[2] / n, s * q[3] / n]);
-    // Row k of the result: turn applied to a_k.
-    a.map(|row| std::array::from_fn(|x| (0..3).map(|y| turn[y][x] * row[y]).sum()))
-}
-
-fn obb_strategy(single: bool) -> impl Strategy<Value = Obb> {
-    (
-        prop::array::uniform4(-1.0f64..1.0),
-        prop::array::uniform3(prop_oneof![1 => Just(0.0), 2 => 1e-3..0.5, 4 => 0.1..75.0f64]),
-    )
-        .prop_map(move |(q, half)| {
-            let axes = axes_of(q);
-            Obb {
-                center: [0.0; 3],
-                axes: if single { f32_axes(axes) } else { axes },
-                half,
-                group: 0,
-            }
-        })
-}
-
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(3000))]
 
-    /// Boxes sharing a boundary point, with random, near-parallel (1e-3 to 1e-9 rad) and
-    /// single-precision axes, zero thicknesses and aspect ratios up to 75 mm : 0 mm.
+    /// Boxes sharing a boundary point (`common::touching_pair`).
     #[test]
-    fn touching_boxes_collide(
-        a in prop_oneof![obb_strategy(false), obb_strategy(true)],
-        b in prop_oneof![obb_strategy(false), obb_strategy(true)],
-        near_parallel in prop_oneof![Just(None), (-9i32..=-3).prop_map(Some)],
-        qt in prop::array::uniform4(-1.0f64..1.0),
-        sa in prop::array::uniform3(-1.0f64..=1.0), fa in 0usize..3, ga in any::<bool>(),
-        sb in prop::array::uniform3(-1.0f64..=1.0), fb in 0usize..3, gb in any::<bool>(),
-        corner in any::<bool>(),
-    ) {
-        let mut b = b;
-        if let Some(e) = near_parallel {
-            b.axes = tilted(a.axes, qt, 10f64.powi(e));
-        }
-        let (sa, sb) = if corner {
-            (sa.map(|v| v.signum()), sb.map(|v| v.signum()))
-        } else {
-            (boundary(sa, fa, ga), boundary(sb, fb, gb))
-        };
-        let b = touching(&a, sa, b, sb);
+    fn touching_boxes_collide((a, b) in common::touching_pair()) {
         prop_assert!(collide(&a, &b), "missed: {a:?} {b:?}");
         prop_assert!(collide(&b, &a), "missed (swapped): {a:?} {b:?}");
     }

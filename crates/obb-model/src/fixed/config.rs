@@ -1,0 +1,245 @@
+//! The hardware configuration: number formats, capacity, broad phase, group mask, lanes. Read
+//! from TOML; every key has a default that suits the surgical scene, and an inconsistent
+//! configuration is rejected with the key and the reason.
+
+use crate::aabb::Aabb;
+use crate::groups::GroupMask;
+use crate::scene::Scene;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use thiserror::Error;
+
+/// The broad phase the core runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BroadPhase {
+    /// Uniform grid on radix-sorted cell keys.
+    Grid,
+    /// Single-axis sweep over the sorted min keys, other axes checked against an AABB table.
+    Sweep,
+    /// The paper's Algorithm 2: every box between an OBB's min and max key, three axes.
+    ImprovedSap,
+    /// Every pair.
+    Brute,
+}
+
+/// Operand width of a DSP48E1 multiplier's A port (signed).
+pub const DSP_A_BITS: u32 = 25;
+/// Operand width of a DSP48E1 multiplier's B port (signed).
+pub const DSP_B_BITS: u32 = 18;
+
+/// The configuration of one core. Lengths are integers in units of the LSB `lsb_mm`; rotation
+/// entries are signed fixed point Q1.f with f = `rot_bits` - 2 (docs/numerics.md).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HwConfig {
+    /// The length LSB q in mm, a power of two so that quantizing is exact scaling.
+    pub lsb_mm: f64,
+    /// Width of a center coordinate (signed); every AABB end point must fit it too.
+    pub center_bits: u32,
+    /// Width of a half-length (unsigned).
+    pub half_bits: u32,
+    /// Width of a rotation entry (signed Q1.f, f = rot_bits - 2), at most one DSP B port.
+    pub rot_bits: u32,
+    /// Width of a sort key: the top `key_bits` of an AABB end point, rounded outward.
+    pub key_bits: u32,
+    /// Largest deviation from orthonormality (every entry of `A Aᵀ - I`) the core's margins
+    /// cover; a box beyond it is rejected on the host.
+    pub ortho_tol: f64,
+    /// Most OBBs in a frame.
+    pub capacity: u32,
+    pub broad_phase: BroadPhase,
+    /// Which group pairs are reported (`all`, `cross`, or a list like `0-1,0-2,1-2`).
+    pub groups: GroupMask,
+    /// SAT lanes (pairs per clock).
+    pub lanes: u32,
+    /// Digit width of the radix sort.
+    pub radix_digit_bits: u32,
+}
+
+impl Default for HwConfig {
+    /// The surgical scene: ±512 mm at 2^-10 mm (about 1 µm), half-lengths up to 128 mm, 20-bit
+    /// sort keys (the paper's narrower width), cross-group pairs, 32,768 OBBs.
+    fn default() -> Self {
+        HwConfig {
+            lsb_mm: 1.0 / 1024.0,
+            center_bits: 20,
+            half_bits: 17,
+            rot_bits: 18,
+            key_bits: 20,
+            ortho_tol: 1e-5,
+            capacity: 32768,
+            broad_phase: BroadPhase::Grid,
+            groups: GroupMask::Cross,
+            lanes: 1,
+            radix_digit_bits: 8,
+        }
+    }
+}
+
+/// What is wrong with a configuration.
+#[derive(Debug, Error)]
+pub enum ConfigError {
+    #[error("cannot read configuration {path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("configuration {path} is not valid TOML for obbcd: {source}")]
+    Toml {
+        path: String,
+        source: Box<toml::de::Error>,
+    },
+    #[error("configuration key `{key}`: {problem}")]
+    Invalid { key: &'static str, problem: String },
+}
+
+fn invalid(key: &'static str, problem: impl Into<String>) -> ConfigError {
+    ConfigError::Invalid {
+        key,
+        problem: problem.into(),
+    }
+}
+
+/// `value` must lie in `lo..=hi`.
+fn in_range(key: &'static str, value: u32, lo: u32, hi: u32, why: &str) -> Result<(), ConfigError> {
+    if (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(invalid(
+            key,
+            format!("{value} is outside {lo}..={hi} ({why})"),
+        ))
+    }
+}
+
+impl HwConfig {
+    /// Reads and checks a TOML file.
+    pub fn load(path: &Path) -> Result<HwConfig, ConfigError> {
+        let shown = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Io {
+            path: shown.clone(),
+            source,
+        })?;
+        Self::parse(&text, &shown)
+    }
+
+    /// Parses and checks TOML text; `origin` names it in errors.
+    pub fn parse(text: &str, origin: &str) -> Result<HwConfig, ConfigError> {
+        let cfg: HwConfig = toml::from_str(text).map_err(|source| ConfigError::Toml {
+            path: origin.to_string(),
+            source: Box::new(source),
+        })?;
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    /// The configuration as TOML (every key).
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).expect("a configuration always serialises")
+    }
+
+    /// Checks that the formats are consistent and fit the DSP48E1 operands (docs/numerics.md).
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let q = self.lsb_mm;
+        if !(q.is_finite() && q > 0.0 && q.is_normal()) || q.to_bits() & ((1 << 52) - 1) != 0 {
+            return Err(invalid(
+                "lsb_mm",
+                format!("{q} is not a positive power of two (such as 0.0009765625 = 2^-10)"),
+            ));
+        }
+        // The SAT truncates t = T·a to center_bits + 2 bits, one DSP A port.
+        in_range(
+            "center_bits",
+            self.center_bits,
+            8,
+            DSP_A_BITS - 2,
+            "T·a must fit a DSP48E1 A port",
+        )?;
+        // A half-length enters every radius product on the 18-bit B port, as a positive number.
+        in_range(
+            "half_bits",
+            self.half_bits,
+            1,
+            (DSP_B_BITS - 1).min(self.center_bits - 1),
+            "a half-length is a positive operand of the 18-bit DSP port and fits the center range",
+        )?;
+        in_range(
+            "rot_bits",
+            self.rot_bits,
+            4,
+            DSP_B_BITS,
+            "a rotation entry is one 18-bit DSP operand",
+        )?;
+        in_range(
+            "key_bits",
+            self.key_bits,
+            4,
+            self.center_bits,
+            "a key is the top bits of an end point",
+        )?;
+        // Below 1e-12 even exact axes fail the f64 measurement of their own Gram matrix.
+        if !(self.ortho_tol.is_finite() && (1e-12..=1e-3).contains(&self.ortho_tol)) {
+            return Err(invalid(
+                "ortho_tol",
+                format!("{} is outside 1e-12..=1e-3", self.ortho_tol),
+            ));
+        }
+        in_range(
+            "capacity",
+            self.capacity,
+            1,
+            1 << 20,
+            "box indices are 20 bits",
+        )?;
+        in_range("lanes", self.lanes, 1, 16, "SAT lanes")?;
+        in_range(
+            "radix_digit_bits",
+            self.radix_digit_bits,
+            1,
+            self.key_bits.min(16),
+            "a digit is part of a key, and its histogram is one block RAM",
+        )?;
+        Ok(())
+    }
+
+    /// Fraction bits f of a rotation entry (Q1.f).
+    pub fn frac_bits(&self) -> u32 {
+        self.rot_bits - 2
+    }
+
+    /// Bits dropped from an end point to make its sort key.
+    pub fn key_shift(&self) -> u32 {
+        self.center_bits - self.key_bits
+    }
+
+    /// The same configuration with the finest power-of-two LSB at which every box of `scene`
+    /// fits: its AABB within half the center range (the rest is room for rounding), its
+    /// half-lengths within `half_bits`.
+    pub fn fitted(&self, scene: &Scene) -> HwConfig {
+        let mut reach: f64 = 0.0;
+        let mut half: f64 = 0.0;
+        for o in &scene.obbs {
+            let b = Aabb::of(o);
+            reach = (0..3).fold(reach, |r, x| r.max(b.min[x].abs()).max(b.max[x].abs()));
+            half = o.half.iter().fold(half, |h, &v| h.max(v));
+        }
+        let need = (reach / f64::from(1u32 << (self.center_bits - 2)))
+            .max(half / f64::from(1u32 << (self.half_bits - 1)));
+        // At least 2^-40 mm: a scene of zero size fits any LSB.
+        let exp = need.max(2f64.powi(-40)).log2().ceil() as i32;
+        HwConfig {
+            lsb_mm: 2f64.powi(exp),
+            ..self.clone()
+        }
+    }
+
+    /// The same configuration with `key_bits` sort keys (and digits no wider than them).
+    pub fn with_key_bits(&self, key_bits: u32) -> HwConfig {
+        HwConfig {
+            key_bits,
+            radix_digit_bits: self.radix_digit_bits.min(key_bits),
+            ..self.clone()
+        }
+    }
+}

@@ -1,0 +1,256 @@
+//! The fixed-point model: configuration and quantization errors, projection outward rounding,
+//! and the central claim: never a false negative against the f64 reference, for every
+//! supported configuration (docs/numerics.md).
+
+mod common;
+
+use obb_model::aabb::Aabb;
+use obb_model::fixed::{HwConfig, ModelFrame, QuantizeError};
+use obb_model::sat::obbs_collide;
+use obb_model::{detect, EngineKind, GroupMask, Obb, Prepared, Scene};
+use proptest::prelude::*;
+use proptest::strategy::ValueTree;
+
+/// Any supported configuration: every width in its range, the LSB then fitted to the scene.
+fn config() -> impl Strategy<Value = HwConfig> {
+    (
+        8u32..=23,
+        4u32..=18,
+        0u32..=100,
+        0u32..=100,
+        prop_oneof![Just(1e-6), Just(1e-5), Just(1e-3)],
+    )
+        .prop_map(|(center_bits, rot_bits, key_pick, half_pick, ortho_tol)| {
+            let key_bits = 4 + key_pick % (center_bits - 3);
+            let half_max = 17.min(center_bits - 1);
+            let half_bits = half_max - half_pick % half_max.min(8);
+            HwConfig {
+                center_bits,
+                rot_bits,
+                key_bits,
+                half_bits,
+                ortho_tol,
+                radix_digit_bits: key_bits.min(8),
+                ..HwConfig::default()
+            }
+        })
+}
+
+/// The f64 reference: AABB overlap and the conservative f64 SAT.
+fn reference(a: &Obb, b: &Obb) -> bool {
+    Aabb::of(a).overlaps(&Aabb::of(b)) && obbs_collide(a, b)
+}
+
+/// What the core reports for the pair, with the LSB fitted to the two boxes.
+fn model(a: &Obb, b: &Obb, cfg: &HwConfig) -> bool {
+    let scene = Scene {
+        obbs: vec![a.clone(), b.clone()],
+    };
+    let cfg = cfg.fitted(&scene);
+    let m = ModelFrame::new(&scene, &cfg).expect("a fitted configuration holds the scene");
+    m.keys_overlap(0, 1) && m.sat(0, 1)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(3000))]
+
+    /// Boxes sharing a boundary point (faces, edges, corners; near-parallel, single-precision
+    /// and zero-thickness boxes) are reported by every configuration, in both orders.
+    #[test]
+    fn touching_pairs_are_never_missed((a, b) in common::touching_pair(), cfg in config()) {
+        prop_assert!(model(&a, &b, &cfg), "missed: {a:?} {b:?} with {cfg:?}");
+        prop_assert!(model(&b, &a, &cfg), "missed (swapped): {a:?} {b:?} with {cfg:?}");
+    }
+
+    /// Random boxes close together: whatever the f64 reference reports, the model reports.
+    #[test]
+    fn random_pairs_are_never_missed(
+        a in common::obb(3.0, 2.0, 1),
+        b in common::obb(3.0, 2.0, 1),
+        cfg in config(),
+    ) {
+        if reference(&a, &b) {
+            prop_assert!(model(&a, &b, &cfg), "missed: {a:?} {b:?} with {cfg:?}");
+        }
+    }
+
+    /// The projection's AABB contains the original box's, and the keys contain the AABB.
+    #[test]
+    fn projection_rounds_outward(a in common::obb(50.0, 20.0, 1), cfg in config()) {
+        let scene = Scene { obbs: vec![a.clone()] };
+        let cfg = cfg.fitted(&scene);
+        let m = ModelFrame::new(&scene, &cfg).unwrap();
+        let (p, (k0, k1)) = (&m.projected[0], &m.keys[0]);
+        let exact = Aabb::of(&a);
+        let (q, s, offset) = (cfg.lsb_mm, cfg.key_shift(), 1i64 << (cfg.center_bits - 1));
+        for x in 0..3 {
+            prop_assert!(p.min[x] as f64 * q <= exact.min[x] && exact.max[x] <= p.max[x] as f64 * q);
+            prop_assert!(((k0[x] << s) as i64) - offset <= p.min[x]);
+            prop_assert!(p.max[x] <= ((k1[x] << s) as i64) - offset);
+            prop_assert!(k1[x] < 1 << cfg.key_bits);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    /// Whole scenes (degenerate ones included): the model's pairs contain the f64 engines'.
+    #[test]
+    fn scenes_are_never_missed(scene in common::scene(24), cfg in config(), mask in common::mask()) {
+        let cfg = cfg.fitted(&scene);
+        let m = ModelFrame::new(&scene, &cfg).unwrap();
+        let (pairs, c) = m.pairs(&mask);
+        let mut prepared = Prepared::default();
+        let (truth, _) = detect(EngineKind::Brute, &prepared.update(&scene.obbs), &mask);
+        for p in &truth {
+            prop_assert!(pairs.binary_search(p).is_ok(), "missed {p:?} with {cfg:?}");
+        }
+        prop_assert_eq!(c.pairs as usize, pairs.len());
+    }
+}
+
+#[test]
+fn every_width_combination_on_touching_pairs() {
+    // The full grid of widths (not a random sample) on a fixed set of touching pairs.
+    let mut runner = common::runner();
+    let pairs: Vec<(Obb, Obb)> = (0..40)
+        .map(|_| {
+            common::touching_pair()
+                .new_tree(&mut runner)
+                .unwrap()
+                .current()
+        })
+        .collect();
+    let mut configs = 0;
+    for center_bits in 8..=23 {
+        for rot_bits in 4..=18 {
+            for key_bits in [4, (4 + center_bits) / 2, center_bits] {
+                let cfg = HwConfig {
+                    center_bits,
+                    rot_bits,
+                    key_bits,
+                    half_bits: 17.min(center_bits - 1),
+                    radix_digit_bits: 4,
+                    ..HwConfig::default()
+                };
+                cfg.validate().unwrap();
+                configs += 1;
+                for (a, b) in &pairs {
+                    assert!(model(a, b, &cfg), "missed {a:?} {b:?} with {cfg:?}");
+                }
+            }
+        }
+    }
+    assert_eq!(configs, 16 * 15 * 3);
+}
+
+#[test]
+fn separated_boxes_beyond_the_margin_are_separated() {
+    // The price side: axis-aligned boxes further apart than the derived worst case (docs/
+    // numerics.md, "What a false positive can cost") are reported separated.
+    for center_bits in [12, 16, 20, 23] {
+        for rot_bits in [6, 12, 18] {
+            let cfg = HwConfig {
+                center_bits,
+                rot_bits,
+                key_bits: center_bits,
+                half_bits: 17.min(center_bits - 1),
+                ..HwConfig::default()
+            };
+            cfg.validate().unwrap();
+            let a = Obb::aligned([0.0; 3], [1.0, 1.0, 1.0], 0);
+            let fit = cfg.fitted(&Scene {
+                obbs: vec![a.clone(), Obb::aligned([8.0, 0.0, 0.0], [1.0; 3], 0)],
+            });
+            let sum_half = 3 * (1.0 / fit.lsb_mm).ceil() as i64;
+            let bound = obb_model::fixed::Margins::new(&fit).face_gap_lsb([sum_half; 2]);
+            let gap = (bound + 1.0) * fit.lsb_mm;
+            let b = Obb::aligned([2.0 + gap, 0.0, 0.0], [1.0; 3], 0);
+            let scene = Scene {
+                obbs: vec![a.clone(), b.clone()],
+            };
+            let m = ModelFrame::new(&scene, &fit).unwrap();
+            assert!(!m.sat(0, 1), "gap {gap} mm reported colliding with {fit:?}");
+            // And at a gap below one LSB the pair is reported (a false positive, never a miss).
+            let c = Obb::aligned([2.0 + 0.4 * fit.lsb_mm, 0.0, 0.0], [1.0; 3], 0);
+            let near = ModelFrame::new(&Scene { obbs: vec![a, c] }, &fit).unwrap();
+            assert!(near.keys_overlap(0, 1) && near.sat(0, 1));
+        }
+    }
+}
+
+#[test]
+fn configuration_round_trips_and_defaults_are_valid() {
+    let cfg = HwConfig::default();
+    cfg.validate().unwrap();
+    let text = cfg.to_toml();
+    assert_eq!(HwConfig::parse(&text, "round trip").unwrap(), cfg);
+    let partial = HwConfig::parse(
+        "key_bits = 12\ngroups = \"0-1,0-2\"\nbroad_phase = \"sweep\"\n",
+        "t",
+    )
+    .unwrap();
+    assert_eq!(partial.key_bits, 12);
+    assert_eq!(partial.groups, GroupMask::Pairs(vec![(0, 1), (0, 2)]));
+    assert_eq!(partial.center_bits, cfg.center_bits);
+}
+
+#[test]
+fn bad_configurations_name_the_key() {
+    let cases = [
+        ("lsb_mm = 0.001", "lsb_mm"),
+        ("lsb_mm = -0.5", "lsb_mm"),
+        ("center_bits = 24", "center_bits"),
+        ("rot_bits = 19", "rot_bits"),
+        ("rot_bits = 3", "rot_bits"),
+        ("half_bits = 18", "half_bits"),
+        ("key_bits = 21", "key_bits"),
+        ("ortho_tol = 0.1", "ortho_tol"),
+        ("capacity = 0", "capacity"),
+        ("lanes = 0", "lanes"),
+        ("radix_digit_bits = 17", "radix_digit_bits"),
+        ("groups = \"0-x\"", "groups"),
+        ("broad_phase = \"octree\"", "broad_phase"),
+        ("center_bit = 20", "center_bit"),
+        ("center_bits = \"wide\"", "center_bits"),
+    ];
+    for (text, key) in cases {
+        let e = HwConfig::parse(text, "test.toml").unwrap_err().to_string();
+        assert!(e.contains(key), "`{text}`: {e}");
+    }
+}
+
+#[test]
+fn scenes_that_do_not_fit_are_rejected_naming_the_obb() {
+    let cfg = HwConfig::default(); // ±512 mm at 2^-10 mm, half-lengths below 128 mm
+    let ok = Obb::aligned([0.0; 3], [1.0; 3], 0);
+    let check = |bad: Obb, what: &str| {
+        let scene = Scene {
+            obbs: vec![ok.clone(), bad],
+        };
+        let e = ModelFrame::new(&scene, &cfg).unwrap_err();
+        let text = e.to_string();
+        assert!(text.contains("obb 1") && text.contains(what), "{text}");
+    };
+    check(Obb::aligned([600.0, 0.0, 0.0], [1.0; 3], 0), "center[0]");
+    check(Obb::aligned([0.0, 510.0, 0.0], [5.0; 3], 0), "axis 1");
+    check(Obb::aligned([0.0; 3], [1.0, 1.0, 200.0], 0), "half[2]");
+    let mut skew = ok.clone();
+    skew.axes[0] = [1.0, 1e-4, 0.0];
+    check(skew, "ortho");
+    let small = HwConfig {
+        capacity: 1,
+        ..cfg.clone()
+    };
+    let two = Scene {
+        obbs: vec![ok.clone(), ok.clone()],
+    };
+    assert!(matches!(
+        ModelFrame::new(&two, &small),
+        Err(QuantizeError::Capacity {
+            count: 2,
+            capacity: 1
+        })
+    ));
+}
