@@ -56,7 +56,7 @@ fn never_missed(scene: &Scene, expected: usize) {
     for cfg in configs() {
         let cfg = cfg.fitted(scene);
         let m = ModelFrame::new(scene, &cfg).expect("a fitted configuration holds the scene");
-        let (pairs, _) = m.pairs(&GroupMask::All);
+        let pairs = m.detect(cfg.broad_phase, &GroupMask::All).pairs;
         for p in &truth {
             assert!(pairs.binary_search(p).is_ok(), "missed {p:?} with {cfg:?}");
         }
@@ -199,7 +199,11 @@ fn boxes_at_the_edges_of_the_coordinate_range() {
         let truth = reference(&s);
         assert_eq!(truth.len(), 2);
         let m = ModelFrame::new(&s, &cfg).expect("inside the range");
-        assert_eq!(m.pairs(&GroupMask::All).0, truth, "{cfg:?}");
+        assert_eq!(
+            m.detect(cfg.broad_phase, &GroupMask::All).pairs,
+            truth,
+            "{cfg:?}"
+        );
         // One LSB further and the box is rejected, never wrapped.
         let past = scene(vec![Obb::aligned([edge + q, 0.0, 0.0], [hq; 3], 0)]);
         let err = ModelFrame::new(&past, &cfg).unwrap_err().to_string();

@@ -1,23 +1,60 @@
-//! `obbcd detect`: the colliding pairs of a scene.
+//! `obbcd detect`: the colliding pairs of a scene, by a CPU engine or by the fixed-point model of
+//! the core.
 
 use crate::timing::median_ms;
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use clap::Args;
-use obb_model::{EngineKind, GroupMask, Pair, Prepared, Scene};
+use obb_model::fixed::{HwConfig, ModelFrame};
+use obb_model::{detect, EngineKind, GroupMask, Pair, Prepared, Scene};
 use serde::Serialize;
-use std::path::PathBuf;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+/// An engine on the command line: a CPU engine, or `model`, the bit-exact fixed-point model of
+/// the core.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EngineArg {
+    Cpu(EngineKind),
+    Model,
+}
+
+impl FromStr for EngineArg {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s == "model" {
+            return Ok(EngineArg::Model);
+        }
+        s.parse()
+            .map(EngineArg::Cpu)
+            .map_err(|e: String| format!("{e}, or model"))
+    }
+}
+
+impl fmt::Display for EngineArg {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EngineArg::Cpu(k) => write!(f, "{k}"),
+            EngineArg::Model => write!(f, "model"),
+        }
+    }
+}
 
 #[derive(Args)]
 pub struct DetectArgs {
     /// Scene JSON file.
     #[arg(long)]
     scene: PathBuf,
-    /// brute, sap, improved-sap, sweep or grid.
+    /// brute, sap, improved-sap, sweep, grid, or model (the fixed-point core).
     #[arg(long, default_value = "grid")]
-    engine: EngineKind,
+    engine: EngineArg,
     /// Which group pairs: `all`, `cross` (different groups only) or a list like `0-1,0-2,1-2`.
-    #[arg(long, default_value = "all")]
-    groups: GroupMask,
+    /// Default: `all`, or the configuration's `groups` for `--engine model`.
+    #[arg(long)]
+    groups: Option<GroupMask>,
+    /// Hardware configuration (TOML) for `--engine model`; default: the built-in one.
+    #[arg(long)]
+    config: Option<PathBuf>,
     /// Run the detection N times and report the median time.
     #[arg(long, default_value_t = 1)]
     repeat: usize,
@@ -32,9 +69,54 @@ struct PairsFile<'a> {
     pairs: &'a [Pair],
 }
 
+/// Writes a pairs file.
+pub fn write_pairs(path: &Path, pairs: &[Pair]) -> Result<()> {
+    let json = serde_json::to_string(&PairsFile { pairs })?;
+    std::fs::write(path, json).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// The configuration for the model: the file, or the defaults.
+pub fn load_config(path: Option<&Path>) -> Result<HwConfig> {
+    Ok(match path {
+        Some(p) => HwConfig::load(p)?,
+        None => HwConfig::default(),
+    })
+}
+
+/// The f64 reference pairs (the CPU grid) under `mask`.
+pub fn reference_pairs(scene: &Scene, mask: &GroupMask) -> Vec<Pair> {
+    let mut prepared = Prepared::default();
+    detect(EngineKind::Grid, &prepared.update(&scene.obbs), mask).0
+}
+
+/// Pairs of `model` not in `reference` (false positives) and pairs of `reference` not in
+/// `model` (false negatives); both sorted ascending.
+pub fn differences(model: &[Pair], reference: &[Pair]) -> (Vec<Pair>, Vec<Pair>) {
+    let only = |a: &[Pair], b: &[Pair]| -> Vec<Pair> {
+        a.iter()
+            .filter(|p| b.binary_search(p).is_err())
+            .copied()
+            .collect()
+    };
+    (only(model, reference), only(reference, model))
+}
+
 pub fn run(a: DetectArgs) -> Result<()> {
     let scene = Scene::load(&a.scene)?;
-    let mut engine = a.engine.build();
+    match a.engine {
+        EngineArg::Cpu(kind) => {
+            if a.config.is_some() {
+                bail!("--config applies to --engine model only");
+            }
+            run_cpu(&a, &scene, kind)
+        }
+        EngineArg::Model => run_model(&a, &scene),
+    }
+}
+
+fn run_cpu(a: &DetectArgs, scene: &Scene, kind: EngineKind) -> Result<()> {
+    let mask = a.groups.clone().unwrap_or_default();
+    let mut engine = kind.build();
     let mut boxes = Prepared::default();
     let mut pairs = Vec::new();
     // Timed: the per-frame work (AABBs, SAT slack, broad and narrow phase), scene already loaded.
@@ -43,23 +125,55 @@ pub fn run(a: DetectArgs) -> Result<()> {
     let (ms, counters) = rayon::scope(|_| {
         median_ms(a.repeat, || {
             let frame = boxes.update(&scene.obbs);
-            engine.detect(&frame, &a.groups, &mut pairs)
+            engine.detect(&frame, &mask, &mut pairs)
         })
     });
     if let Some(path) = &a.output {
-        let json = serde_json::to_string(&PairsFile { pairs: &pairs })?;
-        std::fs::write(path, json).with_context(|| format!("cannot write {}", path.display()))?;
+        write_pairs(path, &pairs)?;
     }
     println!(
-        "engine={} obbs={} groups={} candidates={} sat={} pairs={} time_ms={:.3} threads={}",
-        a.engine,
+        "engine={kind} obbs={} groups={mask} candidates={} sat={} pairs={} time_ms={ms:.3} threads={}",
         scene.obbs.len(),
-        a.groups,
         counters.candidates,
         counters.sat,
         counters.pairs,
-        ms,
         rayon::current_num_threads()
     );
+    Ok(())
+}
+
+fn run_model(a: &DetectArgs, scene: &Scene) -> Result<()> {
+    let mut cfg = load_config(a.config.as_deref())?;
+    if let Some(mask) = &a.groups {
+        cfg.groups = mask.clone();
+    }
+    let frame = ModelFrame::new(scene, &cfg)
+        .context("the scene does not fit the hardware configuration")?;
+    let (ms, run) = median_ms(a.repeat, || frame.run());
+    let reference = reference_pairs(scene, &cfg.groups);
+    let (fp, missed) = differences(&run.pairs, &reference);
+    if let Some(path) = &a.output {
+        write_pairs(path, &run.pairs)?;
+    }
+    let c = run.counters();
+    println!(
+        "engine=model obbs={} groups={} broad_phase={} candidates={} sat={} pairs={} \
+         false_positives={} false_negatives={} cycles={} time_ms={ms:.3}",
+        scene.obbs.len(),
+        cfg.groups,
+        cfg.broad_phase,
+        c.candidates,
+        c.sat,
+        c.pairs,
+        fp.len(),
+        missed.len(),
+        run.cycles.total,
+    );
+    if let Some(p) = missed.first() {
+        bail!(
+            "the model missed {} pair(s) the f64 reference reports, first {p:?}: this is a bug",
+            missed.len()
+        );
+    }
     Ok(())
 }

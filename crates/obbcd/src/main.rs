@@ -1,7 +1,8 @@
-//! `obbcd`: scenes, CPU collision detection, statistics and benchmarks.
+//! `obbcd`: scenes, CPU collision detection, the fixed-point model, statistics and benchmarks.
 
 mod bench;
 mod detect;
+mod error;
 mod parry;
 mod scene;
 mod stats;
@@ -34,6 +35,9 @@ enum Command {
     Stats(stats::StatsArgs),
     /// Time every engine and parry3d on the surgical scene and on uniform scenes.
     Bench(bench::BenchArgs),
+    /// For each data width: the fixed-point model's false positives and negatives against the
+    /// f64 reference, the worst AABB inflation and the modelled cycles per frame.
+    Error(error::ErrorArgs),
 }
 
 fn main() -> ExitCode {
@@ -52,6 +56,7 @@ fn main() -> ExitCode {
         Command::Detect(a) => detect::run(a),
         Command::Stats(a) => stats::run(a),
         Command::Bench(a) => bench::run(a),
+        Command::Error(a) => error::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

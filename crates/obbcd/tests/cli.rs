@@ -10,6 +10,28 @@ fn obbcd(args: &[&str]) -> Output {
         .expect("obbcd runs")
 }
 
+/// Runs obbcd and requires success, showing its stderr otherwise.
+fn ok(args: &[&str]) -> Output {
+    let out = obbcd(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+/// Each command fails, without a panic, with a message containing its text.
+fn fails_with(cases: &[(&[&str], &str)]) {
+    for (args, want) in cases {
+        let out = obbcd(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} should fail");
+        assert!(err.contains(want), "{args:?}: `{err}` lacks `{want}`");
+        assert!(!err.contains("panicked"), "{args:?} panicked");
+    }
+}
+
 fn tmp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("obbcd-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -25,7 +47,7 @@ fn field<'a>(line: &'a str, key: &str) -> &'a str {
 #[test]
 fn scene_detect_and_stats() {
     let scene = tmp("s.json");
-    let out = obbcd(&[
+    ok(&[
         "scene",
         "surgical",
         "--n",
@@ -35,15 +57,10 @@ fn scene_detect_and_stats() {
         "-o",
         scene.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let mut results = Vec::new();
     for engine in ["brute", "sap", "improved-sap", "sweep", "grid"] {
         let pairs = tmp(&format!("{engine}.json"));
-        let out = obbcd(&[
+        let out = ok(&[
             "detect",
             "--scene",
             scene.to_str().unwrap(),
@@ -56,11 +73,6 @@ fn scene_detect_and_stats() {
             "-o",
             pairs.to_str().unwrap(),
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         let line = String::from_utf8(out.stdout).unwrap();
         assert_eq!(field(&line, "engine"), engine);
         assert_eq!(field(&line, "obbs"), "1200");
@@ -72,8 +84,7 @@ fn scene_detect_and_stats() {
         results.push(list);
     }
     assert!(results.iter().all(|r| *r == results[0]));
-    let out = obbcd(&["stats", "--scene", scene.to_str().unwrap()]);
-    assert!(out.status.success());
+    let out = ok(&["stats", "--scene", scene.to_str().unwrap()]);
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.starts_with("groups\tpairs\toverlap_x"));
     assert_eq!(
@@ -125,11 +136,131 @@ fn bad_input_fails_with_a_message() {
             "--n must be at least 1",
         ),
     ];
-    for (args, want) in cases {
-        let out = obbcd(args);
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(!out.status.success(), "{args:?} should fail");
-        assert!(err.contains(want), "{args:?}: `{err}` lacks `{want}`");
-        assert!(!err.contains("panicked"), "{args:?} panicked");
+    fails_with(&cases);
+}
+
+#[test]
+fn model_engine_and_error_table() {
+    let scene = tmp("m.json");
+    ok(&[
+        "scene",
+        "surgical",
+        "--n",
+        "1500",
+        "--seed",
+        "2",
+        "-o",
+        scene.to_str().unwrap(),
+    ]);
+    let s = scene.to_str().unwrap();
+    let run = |extra: &[&str], file: &PathBuf| {
+        let mut args = vec!["detect", "--scene", s, "-o", file.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let out = ok(&args);
+        let line = String::from_utf8(out.stdout).unwrap();
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
+        (line, json["pairs"].as_array().unwrap().clone())
+    };
+    let (cpu_line, cpu) = run(&["--groups", "all"], &tmp("cpu.json"));
+    let (line, model) = run(
+        &["--engine", "model", "--groups", "all"],
+        &tmp("model.json"),
+    );
+    assert_eq!(field(&line, "engine"), "model");
+    assert_eq!(field(&line, "false_negatives"), "0");
+    assert!(field(&line, "cycles").parse::<u64>().unwrap() > 1500);
+    // Every CPU pair is in the model's file; the extra ones are the false positives.
+    assert!(cpu.iter().all(|p| model.contains(p)));
+    let fp: usize = field(&line, "false_positives").parse().unwrap();
+    assert_eq!(model.len(), cpu.len() + fp, "{cpu_line} / {line}");
+    // A configuration file: its groups apply unless --groups is given.
+    let cfg = tmp("hw.toml");
+    std::fs::write(
+        &cfg,
+        "key_bits = 16\ngroups = \"cross\"\nbroad_phase = \"sweep\"\n",
+    )
+    .unwrap();
+    let (line, _) = run(
+        &["--engine", "model", "--config", cfg.to_str().unwrap()],
+        &tmp("m2.json"),
+    );
+    assert_eq!(field(&line, "groups"), "cross");
+    assert_eq!(field(&line, "broad_phase"), "sweep");
+
+    let csv = tmp("err.csv");
+    let out = ok(&[
+        "error",
+        "--scene",
+        s,
+        "--widths",
+        "12..14",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    let printed = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(
+        printed.lines().count(),
+        2 + 3,
+        "summary, header, one row per width"
+    );
+    let table = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<&str> = table.lines().collect();
+    assert_eq!(rows.len(), 4);
+    assert!(rows[0].starts_with("width,lsb_um,pairs,false_positives,fp_rate,false_negatives"));
+    for (row, w) in rows[1..].iter().zip(12..) {
+        let cols: Vec<&str> = row.split(',').collect();
+        assert_eq!(cols[0], w.to_string());
+        assert_eq!(cols[5], "0", "false negatives at width {w}");
     }
+}
+
+#[test]
+fn model_errors_name_the_problem() {
+    let far = tmp("far.json");
+    std::fs::write(&far, r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]},{"center":[900,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]}]}"#).unwrap();
+    let bad_cfg = tmp("bad.toml");
+    std::fs::write(&bad_cfg, "rot_bits = 30\n").unwrap();
+    let typo = tmp("typo.toml");
+    std::fs::write(&typo, "keybits = 12\n").unwrap();
+    let f = far.to_str().unwrap();
+    let cases: [(&[&str], &str); 5] = [
+        (
+            &["detect", "--scene", f, "--engine", "model"],
+            "obb 1: center[0] 900 mm",
+        ),
+        (
+            &[
+                "detect",
+                "--scene",
+                f,
+                "--engine",
+                "model",
+                "--config",
+                bad_cfg.to_str().unwrap(),
+            ],
+            "rot_bits",
+        ),
+        (
+            &[
+                "detect",
+                "--scene",
+                f,
+                "--engine",
+                "model",
+                "--config",
+                typo.to_str().unwrap(),
+            ],
+            "keybits",
+        ),
+        (
+            &["detect", "--scene", f, "--config", typo.to_str().unwrap()],
+            "--engine model only",
+        ),
+        (
+            &["error", "--scene", f, "--widths", "12..36"],
+            "width 24 is not supported",
+        ),
+    ];
+    fails_with(&cases);
 }

@@ -23,6 +23,17 @@ pub enum BroadPhase {
     Brute,
 }
 
+impl std::fmt::Display for BroadPhase {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            BroadPhase::Grid => "grid",
+            BroadPhase::Sweep => "sweep",
+            BroadPhase::ImprovedSap => "improved-sap",
+            BroadPhase::Brute => "brute",
+        })
+    }
+}
+
 /// Operand width of a DSP48E1 multiplier's A port (signed).
 pub const DSP_A_BITS: u32 = 25;
 /// Operand width of a DSP48E1 multiplier's B port (signed).

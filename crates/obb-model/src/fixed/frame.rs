@@ -1,9 +1,10 @@
-//! One frame through the fixed-point model: quantize, project, then every pair whose keys
-//! overlap on all three axes (and that the mask allows) through the integer SAT. The result is
-//! the set of pairs the core reports, whatever its broad phase; the broad phases' candidate
-//! orders and cycle counts are modelled stage by stage on top of it.
+//! One frame through the fixed-point model: quantize, project, run a broad phase on the keys,
+//! and send its pairs through the SAT stage (keys on all three axes, then the integer SAT).
+//! Every broad phase gives the same pairs; only the work differs.
 
-use super::config::HwConfig;
+use super::broad::{self, BroadWork};
+use super::config::{BroadPhase, HwConfig};
+use super::cycles::{frame_cycles, FrameCycles};
 use super::margins::Margins;
 use super::quantize::{keys, project, quantize, Projected, QObb, QuantizeError};
 use super::sat::collide;
@@ -44,7 +45,7 @@ impl ModelFrame {
         (0..3).all(|x| a0[x] <= b1[x] && b0[x] <= a1[x])
     }
 
-    /// The integer SAT on boxes `i` and `j`.
+    /// The integer SAT on boxes `i` (as A) and `j` (as B).
     pub fn sat(&self, i: usize, j: usize) -> bool {
         collide(
             &self.obbs[i],
@@ -56,34 +57,51 @@ impl ModelFrame {
         )
     }
 
-    /// The pairs the core reports under `mask`: keys overlapping on all axes, then the SAT.
-    /// Found by a sweep over the x keys; sorted ascending. `candidates` counts the pairs whose
-    /// keys overlap on x, `sat` those that reach the SAT.
-    pub fn pairs(&self, mask: &GroupMask) -> (Vec<Pair>, Counters) {
-        let mut order: Vec<u32> = (0..self.obbs.len() as u32).collect();
-        order.sort_by_key(|&i| (self.keys[i as usize].0[0], i));
-        let mut c = Counters::default();
-        let mut out = Vec::new();
-        for (p, &i) in order.iter().enumerate() {
-            let i = i as usize;
-            for &j in &order[p + 1..] {
-                let j = j as usize;
-                if self.keys[j].0[0] > self.keys[i].1[0] {
-                    break;
-                }
-                c.candidates += 1;
-                if !mask.allows(self.obbs[i].group, self.obbs[j].group) || !self.keys_overlap(i, j)
-                {
-                    continue;
-                }
-                c.sat += 1;
-                if self.sat(i, j) {
-                    out.push([i.min(j) as u32, i.max(j) as u32]);
-                }
+    /// The frame with the configured broad phase and group mask.
+    pub fn run(&self) -> ModelRun {
+        self.detect(self.cfg.broad_phase, &self.cfg.groups)
+    }
+
+    /// The pairs the core reports with broad phase `mode` and `mask`, sorted ascending: each
+    /// pair the broad phase emits goes through the SAT stage (keys on all three axes, then the
+    /// 15 axes). With the broad phase's work and the modelled cycles.
+    pub fn detect(&self, mode: BroadPhase, mask: &GroupMask) -> ModelRun {
+        let mut pairs = Vec::new();
+        let work = broad::run(self, mode, mask, |i, j| {
+            // The SAT stage orders the pair (the lower index is box A): the integer test is not
+            // symmetric in A and B, and every mode must report the same pairs.
+            let (a, b) = (i.min(j), i.max(j));
+            if self.keys_overlap(a, b) && self.sat(a, b) {
+                pairs.push([a as u32, b as u32]);
             }
+        });
+        pairs.sort_unstable();
+        pairs.dedup();
+        let cycles = frame_cycles(&self.cfg, self.obbs.len() as u64, &work, pairs.len() as u64);
+        ModelRun {
+            pairs,
+            work,
+            cycles,
         }
-        out.sort_unstable();
-        c.pairs = out.len() as u64;
-        (out, c)
+    }
+}
+
+/// What one frame of the model gives.
+#[derive(Clone, Debug)]
+pub struct ModelRun {
+    pub pairs: Vec<Pair>,
+    pub work: BroadWork,
+    pub cycles: FrameCycles,
+}
+
+impl ModelRun {
+    /// The counters `detect` prints: index pairs the broad phase visited, pairs it sent to the
+    /// SAT stage, pairs reported.
+    pub fn counters(&self) -> Counters {
+        Counters {
+            candidates: self.work.visited,
+            sat: self.work.emitted,
+            pairs: self.pairs.len() as u64,
+        }
     }
 }

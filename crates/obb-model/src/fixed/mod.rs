@@ -3,13 +3,16 @@
 //! reference finds on the original boxes, for every supported configuration
 //! (docs/numerics.md, tests/fixed.rs, tests/stiff.rs).
 
+pub mod broad;
 pub mod config;
+pub mod cycles;
 pub mod frame;
 pub mod margins;
 pub mod quantize;
 pub mod sat;
 
 pub use config::{BroadPhase, ConfigError, HwConfig};
-pub use frame::ModelFrame;
+pub use cycles::{frame_cycles, FrameCycles};
+pub use frame::{ModelFrame, ModelRun};
 pub use margins::Margins;
 pub use quantize::{keys, project, quantize, Projected, QObb, QuantizeError};

@@ -1,0 +1,225 @@
+//! The broad phases of the core, on the integer sort keys, each emitting its candidate pairs in
+//! the exact order the hardware will: `brute`, the single-axis `sweep`, the paper's three-axis
+//! `improved-sap` (Algorithm 2) and the `grid` on power-of-two cells. Every emitted pair that
+//! the mask allows goes to the SAT stage, which checks the keys on all three axes and runs the
+//! 15-axis test; so every mode reports the same pairs, and only the work differs.
+
+use super::config::BroadPhase;
+use super::frame::ModelFrame;
+use crate::groups::GroupMask;
+use crate::radix::{bits_for, RadixSorter};
+
+/// A box covering more grid cells than this is not entered in the grid but paired with every
+/// box after the cell scan (as in the CPU grid).
+pub const GRID_MAX_CELLS: u64 = 64;
+/// Grid cell edge as a multiple of the median key extent (rounded to a power of two).
+const GRID_CELL_PER_MEDIAN: u64 = 3;
+/// The three start flags below the cell in a grid key.
+const FLAG_BITS: u32 = 3;
+
+/// The work of one broad phase on one frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BroadWork {
+    /// Grid cell entries written (one per clock), and large boxes listed.
+    pub entered: u64,
+    /// Radix passes, summed over the sorts.
+    pub passes: u64,
+    /// Keys moved by the radix passes: each sort's length times its passes, summed.
+    pub moves: u64,
+    /// Index pairs the broad phase visits (one per clock per lane).
+    pub visited: u64,
+    /// Pairs sent to the SAT stage (the mask allows them).
+    pub emitted: u64,
+}
+
+/// Runs the broad phase `mode` on `frame`, calling `emit(i, j)` for each pair it sends to the
+/// SAT stage, in order. Returns its work.
+pub fn run(
+    frame: &ModelFrame,
+    mode: BroadPhase,
+    mask: &GroupMask,
+    mut emit: impl FnMut(usize, usize),
+) -> BroadWork {
+    let mut w = BroadWork::default();
+    let allows = |i: usize, j: usize| mask.allows(frame.obbs[i].group, frame.obbs[j].group);
+    let mut send = |w: &mut BroadWork, i: usize, j: usize| {
+        if allows(i, j) {
+            w.emitted += 1;
+            emit(i, j);
+        }
+    };
+    let n = frame.obbs.len();
+    let mut radix = RadixSorter::<u32>::new(frame.cfg.radix_digit_bits);
+    match mode {
+        BroadPhase::Brute => {
+            for i in 0..n {
+                for j in i + 1..n {
+                    w.visited += 1;
+                    send(&mut w, i, j);
+                }
+            }
+        }
+        BroadPhase::Sweep => {
+            // Stable sort of the boxes by min key on x; each walks its successors while their
+            // min key is within its own max key.
+            let mut keys: Vec<u64> = frame.keys.iter().map(|k| k.0[0]).collect();
+            let mut order: Vec<u32> = (0..n as u32).collect();
+            sort(
+                &mut radix,
+                &mut keys,
+                &mut order,
+                frame.cfg.key_bits,
+                &mut w,
+            );
+            for p in 0..n {
+                let i = order[p] as usize;
+                for &j in &order[p + 1..] {
+                    let j = j as usize;
+                    if frame.keys[j].0[0] > frame.keys[i].1[0] {
+                        break;
+                    }
+                    w.visited += 1;
+                    send(&mut w, i, j);
+                }
+            }
+        }
+        BroadPhase::ImprovedSap => {
+            // Per axis, the 2n endpoints (box 0 min, box 0 max, box 1 min, ...) sorted stably by
+            // (key, min before max); from each min, every box met before its own max.
+            for axis in 0..3 {
+                let mut keys = Vec::with_capacity(2 * n);
+                let mut ends = Vec::with_capacity(2 * n);
+                for (i, k) in frame.keys.iter().enumerate() {
+                    keys.push(k.0[axis] << 1);
+                    ends.push((i as u32) << 1);
+                    keys.push(k.1[axis] << 1 | 1);
+                    ends.push((i as u32) << 1 | 1);
+                }
+                sort(
+                    &mut radix,
+                    &mut keys,
+                    &mut ends,
+                    frame.cfg.key_bits + 1,
+                    &mut w,
+                );
+                for (p, &e) in ends.iter().enumerate() {
+                    if e & 1 == 1 {
+                        continue;
+                    }
+                    let i = (e >> 1) as usize;
+                    for &other in &ends[p + 1..] {
+                        let j = (other >> 1) as usize;
+                        if j == i {
+                            break;
+                        }
+                        w.visited += 1;
+                        send(&mut w, i, j);
+                    }
+                }
+            }
+        }
+        BroadPhase::Grid => grid(frame, &mut radix, &mut w, &mut send),
+    }
+    w
+}
+
+/// Sorts `keys` (with `vals`) on `bits` bits and counts the work.
+fn sort(
+    radix: &mut RadixSorter<u32>,
+    keys: &mut Vec<u64>,
+    vals: &mut Vec<u32>,
+    bits: u32,
+    w: &mut BroadWork,
+) {
+    radix.sort(keys, vals, bits);
+    let passes = u64::from(radix.passes(bits));
+    w.passes += passes;
+    w.moves += passes * keys.len() as u64;
+}
+
+/// log2 of the grid's cell edge in key units: `GRID_CELL_PER_MEDIAN` times the median key
+/// extent (mean over the axes), rounded to the nearest power of two.
+pub fn grid_cell_log2(frame: &ModelFrame) -> u32 {
+    let mut extents: Vec<u64> = frame
+        .keys
+        .iter()
+        .map(|(lo, hi)| (0..3).map(|x| hi[x] - lo[x]).sum::<u64>() / 3)
+        .collect();
+    if extents.is_empty() {
+        return 0;
+    }
+    let mid = extents.len() / 2;
+    let median = *extents.select_nth_unstable(mid).1;
+    let edge = (median * GRID_CELL_PER_MEDIAN).max(1);
+    // Nearest power of two: round log2 of the edge.
+    let low = bits_for(edge) - 1;
+    let up = u32::from(edge - (1 << low) > (1 << low) / 2);
+    (low + up).min(frame.cfg.key_bits)
+}
+
+/// The grid: each box (unless large) enters every cell its keys cover, with three flags saying
+/// on which axes its range starts there; the entries are radix-sorted by (cell, flags); in each
+/// cell every pair of entries is visited in sorted order and emitted when the cell is the pair's
+/// home (the flags of the two cover all three axes). Then each large box, in index order, is
+/// paired with every box (two large boxes once).
+fn grid(
+    frame: &ModelFrame,
+    radix: &mut RadixSorter<u32>,
+    w: &mut BroadWork,
+    send: &mut impl FnMut(&mut BroadWork, usize, usize),
+) {
+    let g = grid_cell_log2(frame);
+    let axis_bits = frame.cfg.key_bits - g;
+    let mut keys = Vec::new();
+    let mut entries = Vec::new();
+    let mut large = Vec::new();
+    for (i, (lo, hi)) in frame.keys.iter().enumerate() {
+        let c0 = lo.map(|k| k >> g);
+        let c1 = hi.map(|k| k >> g);
+        if (0..3).map(|x| c1[x] - c0[x] + 1).product::<u64>() > GRID_MAX_CELLS {
+            large.push(i);
+            continue;
+        }
+        for z in c0[2]..=c1[2] {
+            for y in c0[1]..=c1[1] {
+                for x in c0[0]..=c1[0] {
+                    let cell = (z << (2 * axis_bits)) | (y << axis_bits) | x;
+                    let flags = u64::from(x == c0[0])
+                        | u64::from(y == c0[1]) << 1
+                        | u64::from(z == c0[2]) << 2;
+                    keys.push(cell << FLAG_BITS | flags);
+                    entries.push(i as u32);
+                }
+            }
+        }
+    }
+    w.entered = (keys.len() + large.len()) as u64;
+    sort(radix, &mut keys, &mut entries, 3 * axis_bits + FLAG_BITS, w);
+    let mut start = 0;
+    while start < keys.len() {
+        let cell = keys[start] >> FLAG_BITS;
+        let end = start + keys[start..].partition_point(|k| k >> FLAG_BITS == cell);
+        for p in start..end {
+            for q in p + 1..end {
+                w.visited += 1;
+                if (keys[p] | keys[q]) & 0b111 == 0b111 {
+                    send(w, entries[p] as usize, entries[q] as usize);
+                }
+            }
+        }
+        start = end;
+    }
+    let mut is_large = vec![false; frame.obbs.len()];
+    for &l in &large {
+        is_large[l] = true;
+    }
+    for &l in &large {
+        for (j, &j_large) in is_large.iter().enumerate() {
+            if j == l || (j_large && j < l) {
+                continue;
+            }
+            w.visited += 1;
+            send(w, l, j);
+        }
+    }
+}
