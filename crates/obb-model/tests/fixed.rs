@@ -20,21 +20,25 @@ fn config() -> impl Strategy<Value = HwConfig> {
         0u32..=100,
         0u32..=100,
         prop_oneof![Just(1e-6), Just(1e-5), Just(1e-3)],
+        16u32..=48,
     )
-        .prop_map(|(center_bits, rot_bits, key_pick, half_pick, ortho_tol)| {
-            let key_bits = 4 + key_pick % (center_bits - 3);
-            let half_max = 17.min(center_bits - 1);
-            let half_bits = half_max - half_pick % half_max.min(8);
-            HwConfig {
-                center_bits,
-                rot_bits,
-                key_bits,
-                half_bits,
-                ortho_tol,
-                radix_digit_bits: key_bits.min(8),
-                ..HwConfig::default()
-            }
-        })
+        .prop_map(
+            |(center_bits, rot_bits, key_pick, half_pick, ortho_tol, sat_bits)| {
+                let key_bits = 4 + key_pick % (center_bits - 3);
+                let half_max = 17.min(center_bits - 1);
+                let half_bits = half_max - half_pick % half_max.min(8);
+                HwConfig {
+                    center_bits,
+                    rot_bits,
+                    key_bits,
+                    half_bits,
+                    ortho_tol,
+                    sat_bits,
+                    radix_digit_bits: key_bits.min(8),
+                    ..HwConfig::default()
+                }
+            },
+        )
 }
 
 /// The f64 reference: AABB overlap and the conservative f64 SAT.
@@ -151,6 +155,14 @@ proptest! {
             distinct.dedup();
             for p in &wanted {
                 prop_assert!(distinct.binary_search(p).is_ok(), "{mode:?} dropped {p:?}");
+            }
+            // Directly: no pair whose original (f64) AABBs overlap is dropped.
+            for [i, j] in (0..n).flat_map(|i| (i + 1..n).map(move |j| [i, j])) {
+                let (a, b) = (&scene.obbs[i], &scene.obbs[j]);
+                if mask.allows(a.group, b.group) && Aabb::of(a).overlaps(&Aabb::of(b)) {
+                    let p = [i as u32, j as u32];
+                    prop_assert!(distinct.binary_search(&p).is_ok(), "{mode:?} dropped {p:?}");
+                }
             }
             if matches!(mode, BroadPhase::Sweep | BroadPhase::Grid) {
                 let home: Vec<_> = emitted.iter().filter(|[i, j]| m.keys_overlap(*i as usize, *j as usize)).collect();

@@ -9,24 +9,26 @@ use common::{axes_of, f32_axes, tilted, touching};
 use obb_model::fixed::{HwConfig, Margins, ModelFrame};
 use obb_model::{detect, EngineKind, GroupMask, Obb, Pair, Prepared, Scene};
 
-/// From the narrowest formats to the widest: (center_bits, rot_bits, key_bits).
-const WIDTHS: [(u32, u32, u32); 7] = [
-    (8, 4, 4),
-    (10, 6, 10),
-    (12, 8, 8),
-    (16, 12, 16),
-    (20, 18, 20),
-    (20, 10, 12),
-    (23, 18, 23),
+/// From the narrowest formats to the widest: (center_bits, rot_bits, key_bits, sat_bits).
+const WIDTHS: [(u32, u32, u32, u32); 8] = [
+    (8, 4, 4, 16),
+    (10, 6, 10, 40),
+    (12, 8, 8, 40),
+    (16, 12, 16, 24),
+    (20, 18, 20, 40),
+    (20, 10, 12, 40),
+    (23, 18, 23, 48),
+    (23, 18, 23, 20),
 ];
 
 fn configs() -> impl Iterator<Item = HwConfig> {
     WIDTHS
         .iter()
-        .map(|&(center_bits, rot_bits, key_bits)| HwConfig {
+        .map(|&(center_bits, rot_bits, key_bits, sat_bits)| HwConfig {
             center_bits,
             rot_bits,
             key_bits,
+            sat_bits,
             half_bits: 17.min(center_bits - 1),
             radix_digit_bits: 4,
             ortho_tol: 1e-5,

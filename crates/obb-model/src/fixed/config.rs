@@ -66,6 +66,9 @@ pub struct HwConfig {
     pub lanes: u32,
     /// Digit width of the radix sort.
     pub radix_digit_bits: u32,
+    /// Width of the SAT's 15 comparisons: both sides drop their low bits down to this width
+    /// when their full width, center_bits + rot_bits + 2, is wider.
+    pub sat_bits: u32,
 }
 
 impl Default for HwConfig {
@@ -84,6 +87,7 @@ impl Default for HwConfig {
             groups: GroupMask::Cross,
             lanes: 1,
             radix_digit_bits: 8,
+            sat_bits: 40,
         }
     }
 }
@@ -211,7 +215,25 @@ impl HwConfig {
             self.key_bits.min(16),
             "a digit is part of a key, and its histogram is one block RAM",
         )?;
+        in_range(
+            "sat_bits",
+            self.sat_bits,
+            16,
+            48,
+            "the width of the SAT's comparators",
+        )?;
         Ok(())
+    }
+
+    /// Full width of the SAT's comparisons: |T·L| on a cross axis is below
+    /// 2^(center_bits + f + 4) (docs/numerics.md, "Comparison width").
+    pub fn sat_full_bits(&self) -> u32 {
+        self.center_bits + self.frac_bits() + 4
+    }
+
+    /// Bits dropped from both sides of each SAT comparison.
+    pub fn sat_shift(&self) -> u32 {
+        self.sat_full_bits().saturating_sub(self.sat_bits)
     }
 
     /// Fraction bits f of a rotation entry (Q1.f).

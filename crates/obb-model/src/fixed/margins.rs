@@ -19,6 +19,8 @@ pub struct Margins {
     pub beta_num: i64,
     /// Fraction bits f of the rotation entries: SAT units are LSB · 2^-f.
     pub frac_bits: u32,
+    /// Bits dropped from both sides of each comparison (`HwConfig::sat_shift`).
+    pub compare_shift: u32,
 }
 
 /// A real bound made an integer bound: rounded up, with room for the f64 rounding of the
@@ -46,6 +48,7 @@ impl Margins {
             cross: up(cross),
             beta_num: up(beta_face.max(beta_cross) * f64::from(1u32 << BETA_SHIFT)),
             frac_bits: cfg.frac_bits(),
+            compare_shift: cfg.sat_shift(),
         }
     }
 
@@ -60,9 +63,12 @@ impl Margins {
 
     /// The widest gap, in LSBs, at which the face-axis test can still report two boxes whose
     /// half-lengths sum to `sum_half` (LSBs) as colliding: the margins, plus 3 LSBs of rounding
-    /// (two centers to nearest, two half-lengths up). The price of never missing.
+    /// (two centers to nearest, two half-lengths up), and what cutting the comparison to
+    /// `sat_bits` adds. The price of never missing.
     pub fn face_gap_lsb(&self, sum_half: [i64; 2]) -> f64 {
         let m = self.face + self.per_box_sum(sum_half[0]) + self.per_box_sum(sum_half[1]);
-        m as f64 / f64::from(1u32 << self.frac_bits) + 3.0
+        // A cut comparison may call |T·L| < R + 2^shift not separated.
+        let cut = 1i64 << self.compare_shift;
+        (m + cut) as f64 / f64::from(1u32 << self.frac_bits) + 3.0
     }
 }

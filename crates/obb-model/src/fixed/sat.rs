@@ -22,16 +22,21 @@ pub fn collide(a: &QObb, pa: &Projected, b: &QObb, pb: &Projected, m: &Margins, 
     // |R_ij| / 2^f rounded up, for the radius terms of the face axes.
     let r_up = r.map(|row| row.map(|v| ceil_shift(v.abs(), f)));
     let pair = pa.margin + pb.margin;
+    // Separated for certain: both sides cut to the comparator width by dropping k low bits;
+    // floor(L / 2^k) > floor(R / 2^k) still implies L > R (docs/numerics.md, "Comparison
+    // width").
+    let k = m.compare_shift;
+    let apart = |lhs: i64, radius: i64| lhs >> k > radius >> k;
     for i in 0..3 {
         let radius = (a.half[i] << f) + dot(&b.half, &r_up[i]) + m.face + pair;
-        if t[i].abs() > radius {
+        if apart(t[i].abs(), radius) {
             return false;
         }
     }
     for j in 0..3 {
         let column = [r_up[0][j], r_up[1][j], r_up[2][j]];
         let radius = (b.half[j] << f) + dot(&a.half, &column) + m.face + pair;
-        if u[j].abs() > radius {
+        if apart(u[j].abs(), radius) {
             return false;
         }
     }
@@ -52,7 +57,7 @@ pub fn collide(a: &QObb, pa: &Projected, b: &QObb, pb: &Projected, m: &Margins, 
                     b.half[l] * ceil_shift(minor.abs(), f)
                 })
                 .sum();
-            if p.abs() > r_a + r_b + m.cross + pair {
+            if apart(p.abs(), r_a + r_b + m.cross + pair) {
                 return false;
             }
         }
