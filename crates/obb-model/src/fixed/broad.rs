@@ -1,8 +1,10 @@
 //! The broad phases of the core, on the integer sort keys, each emitting its candidate pairs in
 //! the exact order the hardware will: `brute`, the single-axis `sweep`, the paper's three-axis
-//! `improved-sap` (Algorithm 2) and the `grid` on power-of-two cells. Every emitted pair that
-//! the mask allows goes to the SAT stage, which checks the keys on all three axes and runs the
-//! 15-axis test; so every mode reports the same pairs, and only the work differs.
+//! `improved-sap` (Algorithm 2) and the `grid` on power-of-two cells. `brute`, `sweep` and
+//! `grid` emit a pair only if the mask allows it and its keys overlap on all three axes (the
+//! AABB table check); `improved-sap`, as the paper writes it, emits every pair it meets that
+//! the mask allows. The SAT stage checks the keys again and runs the 15 axes, so every mode
+//! reports the same pairs, and only the work differs.
 
 use super::config::BroadPhase;
 use super::frame::ModelFrame;
@@ -28,7 +30,7 @@ pub struct BroadWork {
     pub moves: u64,
     /// Index pairs the broad phase visits (one per clock per lane).
     pub visited: u64,
-    /// Pairs sent to the SAT stage (the mask allows them).
+    /// Pairs sent to the SAT stage.
     pub emitted: u64,
 }
 
@@ -41,9 +43,14 @@ pub fn run(
     mut emit: impl FnMut(usize, usize),
 ) -> BroadWork {
     let mut w = BroadWork::default();
-    let allows = |i: usize, j: usize| mask.allows(frame.obbs[i].group, frame.obbs[j].group);
+    // The paper's Algorithm 2 checks no other axis; the other modes check all three.
+    let check_keys = mode != BroadPhase::ImprovedSap;
+    let wanted = |i: usize, j: usize| {
+        mask.allows(frame.obbs[i].group, frame.obbs[j].group)
+            && (!check_keys || frame.keys_overlap(i, j))
+    };
     let mut send = |w: &mut BroadWork, i: usize, j: usize| {
-        if allows(i, j) {
+        if wanted(i, j) {
             w.emitted += 1;
             emit(i, j);
         }
