@@ -304,6 +304,8 @@ fn scenes_that_do_not_fit_are_rejected_naming_the_obb() {
     let mut skew = ok.clone();
     skew.axes[0] = [1.0, 1e-4, 0.0];
     check(skew, "ortho");
+    check(Obb::aligned([f64::NAN, 0.0, 0.0], [1.0; 3], 0), "center");
+    check(Obb::aligned([0.0; 3], [1.0, -1.0, 1.0], 0), "half");
     let small = HwConfig {
         capacity: 1,
         ..cfg.clone()

@@ -4,7 +4,7 @@
 use super::config::HwConfig;
 use super::margins::Margins;
 use crate::aabb::U;
-use crate::scene::{Obb, Scene};
+use crate::scene::{Obb, Scene, SceneError};
 use thiserror::Error;
 
 /// One OBB in the core's formats: lengths in LSBs, rotation entries in Q1.f.
@@ -30,7 +30,7 @@ pub struct Projected {
 }
 
 /// Why a scene cannot enter the core.
-#[derive(Debug, Error, PartialEq)]
+#[derive(Debug, Error)]
 pub enum QuantizeError {
     #[error("the scene has {count} obbs, more than the configured capacity of {capacity}")]
     Capacity { count: usize, capacity: u32 },
@@ -45,6 +45,9 @@ pub enum QuantizeError {
         "obb {index}: its axes deviate from orthonormality by {error:e}, more than the configured ortho_tol {tol:e}"
     )]
     Ortho { index: usize, error: f64, tol: f64 },
+    /// A box that fails the scene's own validation (NaN, negative half-length, ...).
+    #[error(transparent)]
+    Invalid(#[from] SceneError),
 }
 
 /// Largest |coordinate| in LSBs: centers and AABB end points lie in `-limit..=limit`. The top
@@ -71,6 +74,8 @@ pub fn quantize(scene: &Scene, cfg: &HwConfig) -> Result<Vec<QObb>, QuantizeErro
 
 /// Quantizes one box (`index` names it in errors) and checks that its AABB fits the range.
 pub fn quantize_obb(index: usize, o: &Obb, cfg: &HwConfig) -> Result<QObb, QuantizeError> {
+    // Scenes read from files are validated already; one built in code may not be.
+    o.validate(index)?;
     let q = cfg.lsb_mm;
     let limit = coord_limit(cfg);
     // q and 2^f are powers of two: dividing and scaling are exact, only the rounding is not.
