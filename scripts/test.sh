@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Runs everything that must pass: formatting, lints, and every test of the workspace.
-# Installs what the tests need on a fresh machine (today: only the Rust toolchain, already there).
+# On a fresh machine it installs what the tests need: Verilator (with g++ and make, to build
+# its simulations) and Icarus Verilog, from Debian's packages. A missing tool is installed or
+# the script fails: no test is skipped for want of one.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -8,6 +10,22 @@ cd "$(dirname "$0")/.."
 for tool in "cargo --version" "cargo fmt --version" "cargo clippy --version"; do
   $tool >/dev/null 2>&1 || { echo "error: '$tool' failed: the Rust toolchain is incomplete" >&2; exit 1; }
 done
+
+need=()
+command -v verilator >/dev/null 2>&1 || need+=(verilator)
+command -v iverilog >/dev/null 2>&1 || need+=(iverilog)
+command -v g++ >/dev/null 2>&1 || need+=(g++)
+command -v make >/dev/null 2>&1 || need+=(make)
+if [ ${#need[@]} -gt 0 ]; then
+  if [ "$(id -u)" != 0 ]; then
+    echo "error: missing ${need[*]}; run as root (or install them) so that the HDL tests can run" >&2
+    exit 1
+  fi
+  echo "installing ${need[*]}"
+  apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${need[@]}" >/dev/null
+fi
+verilator --version
 
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --locked -- -D warnings

@@ -324,8 +324,8 @@ fn scenes_that_do_not_fit_are_rejected_naming_the_obb() {
 
 #[test]
 fn cycle_model_by_hand() {
-    // Two touching boxes, brute force, one lane: load 2 + 6, no entries, no sort, one visited
-    // pair (1 + 4), one reported pair, drain 14.
+    // Two touching boxes, brute force, one lane: load 2 + LAT_PROJECT, no entries, no sort,
+    // one visited pair (1 + LAT_BROAD), one reported pair, drain LAT_SAT.
     use obb_model::fixed::cycles::{LAT_BROAD, LAT_PROJECT, LAT_SAT, LAT_SORT_PASS};
     let scene = Scene {
         obbs: vec![

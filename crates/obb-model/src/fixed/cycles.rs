@@ -5,8 +5,9 @@
 use super::broad::BroadWork;
 use super::config::HwConfig;
 
-/// Pipeline depth of the projection stage (input register, multiplies, adder tree, round).
-pub const LAT_PROJECT: u64 = 6;
+/// Pipeline depth of the projection stage: input registers, `2|r|+1`, three DSP stages, sums,
+/// end points, keys (`obb_rtl::projection`, checked equal by its test).
+pub const LAT_PROJECT: u64 = 8;
 /// Fixed cycles of one radix pass besides its keys and its prefix sum (read latency, turnaround).
 pub const LAT_SORT_PASS: u64 = 4;
 /// Pipeline depth of the broad-phase unit (key table read, compare, mask).

@@ -1,0 +1,123 @@
+//! Arithmetic leaves that rust-hdl cannot express (its multiply stops at 16 x 16 bits): each is
+//! a Rust simulation model plus hand-written Verilog, registered as a DSP48E1 wants, and each is
+//! co-simulated against its own Verilog (tests/leaves.rs).
+
+use rust_hdl::prelude::*;
+
+/// The value of an unsigned signal.
+pub fn uval<const N: usize>(b: Bits<N>) -> u64 {
+    b.to_u64()
+}
+
+/// The value of a signed signal.
+pub fn sval<const N: usize>(s: Signed<N>) -> i64 {
+    let raw = s.inner().to_u64();
+    if N < 64 && raw >> (N - 1) & 1 == 1 {
+        raw as i64 - (1i64 << N)
+    } else {
+        raw as i64
+    }
+}
+
+/// A signed signal from a value that fits it.
+pub fn sbits<const N: usize>(v: i64) -> Signed<N> {
+    debug_assert!(N == 64 || (-(1i64 << (N - 1))..(1i64 << (N - 1))).contains(&v));
+    Signed::from(v)
+}
+
+/// `2|r| + 1`, registered: the projection's multiplier operand for a rotation entry `r` (the
+/// `+1` covers the entry's rounding, docs/numerics.md).
+#[derive(Clone, Debug, Default, LogicBlock)]
+pub struct AbsTwice<const N: usize, const M: usize> {
+    pub r: Signal<In, Signed<N>>,
+    pub t: Signal<Out, Bits<M>>,
+    pub clock: Signal<In, Clock>,
+}
+
+impl<const N: usize, const M: usize> AbsTwice<N, M> {
+    /// `2|r| + 1` must fit M bits.
+    const FITS: () = assert!(M > N);
+}
+
+impl<const N: usize, const M: usize> Logic for AbsTwice<N, M> {
+    fn update(&mut self) {
+        let () = Self::FITS;
+        if self.clock.pos_edge() {
+            let r = sval(self.r.val());
+            self.t.next = Bits::from(2 * r.unsigned_abs() + 1);
+        }
+    }
+    fn connect(&mut self) {
+        self.t.connect();
+    }
+    fn hdl(&self) -> Verilog {
+        // |r| as an unsigned N-bit number (-2^(N-1) gives 2^(N-1)), widened to M bits.
+        Verilog::Custom(format!(
+            "\
+wire [{n1}:0] mag = r[{n1}] ? -r : r;
+wire [{m1}:0] wide = {{{{{pad}{{1'b0}}}}, mag}};
+always @(posedge clock) begin
+   t <= {{wide[{m2}:0], 1'b1}};
+end
+",
+            n1 = N - 1,
+            m1 = M - 1,
+            m2 = M - 2,
+            pad = M - N,
+        ))
+    }
+}
+
+/// An unsigned multiplier mapped to one DSP48E1: inputs, product and output registered
+/// (AREG/BREG, MREG, PREG), so `p` follows `a` and `b` by three clocks, one product per clock.
+#[derive(Clone, Debug, Default, LogicBlock)]
+pub struct UMul<const A: usize, const B: usize, const P: usize> {
+    pub a: Signal<In, Bits<A>>,
+    pub b: Signal<In, Bits<B>>,
+    pub p: Signal<Out, Bits<P>>,
+    pub clock: Signal<In, Clock>,
+    a_r: Signal<Local, Bits<A>>,
+    b_r: Signal<Local, Bits<B>>,
+    m_r: Signal<Local, Bits<P>>,
+}
+
+impl<const A: usize, const B: usize, const P: usize> UMul<A, B, P> {
+    /// Clocks from operands to product.
+    pub const LATENCY: u64 = 3;
+    /// Products must fit the 64-bit simulation model (and P must hold them).
+    const FITS: () = assert!(A + B <= 64 && A + B <= P);
+}
+
+impl<const A: usize, const B: usize, const P: usize> Logic for UMul<A, B, P> {
+    fn update(&mut self) {
+        if self.clock.pos_edge() {
+            // A block's own Local and Out signals read back their `next` value in rust-hdl:
+            // read every stage before writing any, so that each moves one stage per edge.
+            let (a, b, m) = (uval(self.a_r.val()), uval(self.b_r.val()), self.m_r.val());
+            self.a_r.next = self.a.val();
+            self.b_r.next = self.b.val();
+            self.m_r.next = Bits::from(a * b);
+            self.p.next = m;
+        }
+    }
+    fn connect(&mut self) {
+        let () = Self::FITS;
+        self.a_r.connect();
+        self.b_r.connect();
+        self.m_r.connect();
+        self.p.connect();
+    }
+    fn hdl(&self) -> Verilog {
+        Verilog::Custom(
+            "\
+always @(posedge clock) begin
+   a_r <= a;
+   b_r <= b;
+   m_r <= a_r * b_r;
+   p <= m_r;
+end
+"
+            .into(),
+        )
+    }
+}

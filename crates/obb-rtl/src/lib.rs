@@ -1,0 +1,8 @@
+//! obb-rtl: the obbcd collision-detection core described in rust-hdl, checked cycle by cycle
+//! against the bit-exact model in `obb-model` (`obb_model::fixed`), and its Verilog generator.
+
+pub mod emit;
+pub mod generate;
+pub mod leaf;
+pub mod projection;
+pub mod verilator;

@@ -1,0 +1,232 @@
+//! Runs emitted Verilog in a real simulator (Verilator) on vectors: a generated test bench reads
+//! one packed input word per clock (`$readmemh`), applies it, clocks the design and writes the
+//! packed outputs after the edge. The same vectors drive the rust-hdl simulation, and both are
+//! compared with the model, because rust-hdl's simulation and its Verilog can disagree.
+
+use anyhow::{bail, Context, Result};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// A port of the design under test: its Verilog name and width (at most 64 bits).
+#[derive(Clone, Debug)]
+pub struct Port {
+    pub name: String,
+    pub bits: usize,
+}
+
+impl Port {
+    pub fn new(name: impl Into<String>, bits: usize) -> Port {
+        assert!((1..=64).contains(&bits), "ports of 1 to 64 bits");
+        Port {
+            name: name.into(),
+            bits,
+        }
+    }
+}
+
+/// Packs values (the first port in the lowest bits) into a hex word.
+fn pack(ports: &[Port], values: &[u64]) -> String {
+    let total: usize = ports.iter().map(|p| p.bits).sum();
+    let mut bits = vec![false; total.div_ceil(4) * 4];
+    let mut at = 0;
+    for (p, &v) in ports.iter().zip(values) {
+        for b in 0..p.bits {
+            bits[at + b] = v >> b & 1 == 1;
+        }
+        at += p.bits;
+    }
+    bits.chunks(4)
+        .rev()
+        .map(|c| {
+            let d = c.iter().rev().fold(0, |acc, &b| acc << 1 | u32::from(b));
+            char::from_digit(d, 16).expect("a hex digit")
+        })
+        .collect()
+}
+
+/// Unpacks a hex word into one value per port; `x` and `z` digits read as 0.
+fn unpack(ports: &[Port], word: &str) -> Result<Vec<u64>> {
+    let mut bits = Vec::with_capacity(word.len() * 4);
+    for c in word.trim().chars().rev() {
+        let d = match c {
+            'x' | 'X' | 'z' | 'Z' => 0,
+            _ => c
+                .to_digit(16)
+                .with_context(|| format!("bad output word `{word}`"))?,
+        };
+        bits.extend((0..4).map(|b| d >> b & 1 == 1));
+    }
+    let mut at = 0;
+    let mut out = Vec::with_capacity(ports.len());
+    for p in ports {
+        let v = (0..p.bits).fold(0u64, |acc, b| {
+            acc | u64::from(bits.get(at + b).copied().unwrap_or(false)) << b
+        });
+        out.push(v);
+        at += p.bits;
+    }
+    Ok(out)
+}
+
+/// The test bench: clock low, apply word k, rising edge, write the outputs, falling edge.
+fn testbench(top: &str, clock: &str, inputs: &[Port], outputs: &[Port], n: usize) -> String {
+    let iw: usize = inputs.iter().map(|p| p.bits).sum();
+    let mut v = String::new();
+    let _ = writeln!(v, "`timescale 1ns/1ps\nmodule tb;");
+    let _ = writeln!(
+        v,
+        "reg {clock} = 0;\nreg [{}:0] stim [0:{}];\nreg [{}:0] cur;",
+        iw - 1,
+        n - 1,
+        iw - 1
+    );
+    let mut at = 0;
+    for p in inputs {
+        let _ = writeln!(
+            v,
+            "wire [{}:0] {} = cur[{}:{}];",
+            p.bits - 1,
+            p.name,
+            at + p.bits - 1,
+            at
+        );
+        at += p.bits;
+    }
+    for p in outputs {
+        let _ = writeln!(v, "wire [{}:0] {};", p.bits - 1, p.name);
+    }
+    let conns: Vec<String> = std::iter::once(clock.to_string())
+        .chain(inputs.iter().chain(outputs).map(|p| p.name.clone()))
+        .map(|n| format!(".{n}({n})"))
+        .collect();
+    let _ = writeln!(v, "{top} dut({});", conns.join(", "));
+    let packed: Vec<&str> = outputs.iter().rev().map(|p| p.name.as_str()).collect();
+    let _ = writeln!(
+        v,
+        "integer f, k;
+reg [1023:0] stim_file, out_file;
+initial begin
+  if (!$value$plusargs(\"stim=%s\", stim_file)) $fatal(1, \"no +stim\");
+  if (!$value$plusargs(\"out=%s\", out_file)) $fatal(1, \"no +out\");
+  $readmemh(stim_file, stim);
+  f = $fopen(out_file, \"w\");
+  for (k = 0; k < {n}; k = k + 1) begin
+    cur = stim[k];
+    #1 {clock} = 1;
+    #1 $fwrite(f, \"%h\\n\", {{{}}});
+    #1 {clock} = 0;
+  end
+  $fclose(f);
+  $finish;
+end
+endmodule",
+        packed.join(", ")
+    );
+    v
+}
+
+/// A scratch directory for one simulation, below the system's temporary directory.
+pub fn scratch_dir(name: &str) -> Result<PathBuf> {
+    let dir = std::env::temp_dir().join(format!("obb-rtl-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    Ok(dir)
+}
+
+fn run(cmd: &mut Command, what: &str) -> Result<()> {
+    let out = cmd.output().with_context(|| {
+        format!("cannot run {what}: is Verilator installed? (scripts/test.sh installs it)")
+    })?;
+    if !out.status.success() {
+        bail!(
+            "{what} failed:\n{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    Ok(())
+}
+
+/// Simulates `verilog` (top module `top`, clocked by `clock`) in Verilator on one input vector
+/// per clock and returns the outputs after each rising edge.
+pub fn simulate(
+    dir: &Path,
+    verilog: &str,
+    top: &str,
+    clock: &str,
+    inputs: &[Port],
+    outputs: &[Port],
+    vectors: &[Vec<u64>],
+) -> Result<Vec<Vec<u64>>> {
+    assert!(!vectors.is_empty() && !inputs.is_empty());
+    std::fs::write(dir.join("dut.v"), verilog)?;
+    std::fs::write(
+        dir.join("tb.v"),
+        testbench(top, clock, inputs, outputs, vectors.len()),
+    )?;
+    let stim: String = vectors.iter().map(|v| pack(inputs, v) + "\n").collect();
+    std::fs::write(dir.join("stim.hex"), stim)?;
+    run(
+        Command::new("verilator")
+            .current_dir(dir)
+            .args([
+                "--binary",
+                "-j",
+                "2",
+                "-O3",
+                "--top-module",
+                "tb",
+                "-Wno-fatal",
+            ])
+            .args([
+                "-Wno-WIDTH",
+                "-Wno-DECLFILENAME",
+                "-Wno-UNUSED",
+                "--Mdir",
+                "obj",
+            ])
+            .args(["tb.v", "dut.v"]),
+        "verilator (build)",
+    )?;
+    run(
+        Command::new(dir.join("obj/Vtb"))
+            .current_dir(dir)
+            .args(["+stim=stim.hex", "+out=out.hex"]),
+        "the Verilator simulation",
+    )?;
+    let text = std::fs::read_to_string(dir.join("out.hex"))?;
+    text.lines().map(|l| unpack(outputs, l)).collect()
+}
+
+/// Lints `verilog` with Verilator: all warnings on, except WIDTH (rust-hdl writes 32-bit
+/// literals), DECLFILENAME and UNUSED; LATCH and everything else is an error.
+pub fn lint(dir: &Path, verilog: &str, top: &str) -> Result<()> {
+    std::fs::write(dir.join("lint.v"), verilog)?;
+    run(
+        Command::new("verilator")
+            .current_dir(dir)
+            .args([
+                "--lint-only",
+                "-Wall",
+                "-Wno-WIDTH",
+                "-Wno-DECLFILENAME",
+                "-Wno-UNUSED",
+            ])
+            .args(["--top-module", top, "lint.v"]),
+        "verilator --lint-only",
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pack_and_unpack_round_trip() {
+        let ports = [Port::new("a", 3), Port::new("b", 64), Port::new("c", 1)];
+        let values = vec![5, 0xdead_beef_1234_5678, 1];
+        let word = pack(&ports, &values);
+        assert_eq!(word.len(), 17);
+        assert_eq!(unpack(&ports, &word).unwrap(), values);
+    }
+}
