@@ -4,6 +4,7 @@
 
 use crate::emit;
 use crate::projection::{self, Projection};
+use crate::sat_front::{self, SatFront};
 use anyhow::{Context, Result};
 use obb_model::fixed::HwConfig;
 use serde::Serialize;
@@ -82,6 +83,15 @@ pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
         ports: ports(&proj, "projection"),
     });
     out.push(("projection.v".to_string(), header(cfg) + &proj));
+    let front = emit::verilog(&mut SatFront::default(), "sat_front")?;
+    modules.push(ModuleInfo {
+        module: "sat_front".into(),
+        file: "sat_front.v".into(),
+        latency: sat_front::LATENCY,
+        throughput: 1,
+        ports: ports(&front, "sat_front"),
+    });
+    out.push(("sat_front.v".to_string(), header(cfg) + &front));
     let manifest = Manifest {
         generator: format!(
             "obb-rtl {} (cargo run --bin gen-rtl)",

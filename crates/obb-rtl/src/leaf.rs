@@ -121,3 +121,130 @@ end
         )
     }
 }
+
+/// `b - a` of two unsigned N-bit values as a signed M-bit value, registered: the center
+/// difference `T` of two offset-binary centers (the offsets cancel).
+#[derive(Clone, Debug, Default, LogicBlock)]
+pub struct Diff<const N: usize, const M: usize> {
+    pub a: Signal<In, Bits<N>>,
+    pub b: Signal<In, Bits<N>>,
+    pub d: Signal<Out, Signed<M>>,
+    pub clock: Signal<In, Clock>,
+}
+
+impl<const N: usize, const M: usize> Diff<N, M> {
+    const FITS: () = assert!(M > N && M <= 64);
+}
+
+impl<const N: usize, const M: usize> Logic for Diff<N, M> {
+    fn update(&mut self) {
+        let () = Self::FITS;
+        if self.clock.pos_edge() {
+            self.d.next = sbits(uval(self.b.val()) as i64 - uval(self.a.val()) as i64);
+        }
+    }
+    fn connect(&mut self) {
+        self.d.connect();
+    }
+    fn hdl(&self) -> Verilog {
+        Verilog::Custom(format!(
+            "\
+always @(posedge clock) begin
+   d <= $signed({{{pad}'b0, b}}) - $signed({{{pad}'b0, a}});
+end
+",
+            pad = M - N,
+        ))
+    }
+}
+
+/// A signed dot product of three terms, `a0 b0 + a1 b1 + a2 b2`, three DSP48E1: inputs,
+/// products and sum registered, so `p` follows the operands by three clocks. (Scalar ports: an
+/// array port of a block in an array of blocks emits invalid Verilog in rust-hdl.)
+#[derive(Clone, Debug, Default, LogicBlock)]
+pub struct SDot3<const A: usize, const B: usize, const P: usize> {
+    pub a0: Signal<In, Signed<A>>,
+    pub a1: Signal<In, Signed<A>>,
+    pub a2: Signal<In, Signed<A>>,
+    pub b0: Signal<In, Signed<B>>,
+    pub b1: Signal<In, Signed<B>>,
+    pub b2: Signal<In, Signed<B>>,
+    pub p: Signal<Out, Signed<P>>,
+    pub clock: Signal<In, Clock>,
+    a0_r: Signal<Local, Signed<A>>,
+    a1_r: Signal<Local, Signed<A>>,
+    a2_r: Signal<Local, Signed<A>>,
+    b0_r: Signal<Local, Signed<B>>,
+    b1_r: Signal<Local, Signed<B>>,
+    b2_r: Signal<Local, Signed<B>>,
+    m0: Signal<Local, Signed<P>>,
+    m1: Signal<Local, Signed<P>>,
+    m2: Signal<Local, Signed<P>>,
+}
+
+impl<const A: usize, const B: usize, const P: usize> SDot3<A, B, P> {
+    /// Clocks from operands to the dot product.
+    pub const LATENCY: u64 = 3;
+    const FITS: () = assert!(A + B + 2 <= P && P <= 64);
+}
+
+impl<const A: usize, const B: usize, const P: usize> Logic for SDot3<A, B, P> {
+    fn update(&mut self) {
+        let () = Self::FITS;
+        if self.clock.pos_edge() {
+            // Read every stage before writing any (see `UMul`).
+            let (a0, a1, a2) = (
+                sval(self.a0_r.val()),
+                sval(self.a1_r.val()),
+                sval(self.a2_r.val()),
+            );
+            let (b0, b1, b2) = (
+                sval(self.b0_r.val()),
+                sval(self.b1_r.val()),
+                sval(self.b2_r.val()),
+            );
+            let sum = sval(self.m0.val()) + sval(self.m1.val()) + sval(self.m2.val());
+            self.a0_r.next = self.a0.val();
+            self.a1_r.next = self.a1.val();
+            self.a2_r.next = self.a2.val();
+            self.b0_r.next = self.b0.val();
+            self.b1_r.next = self.b1.val();
+            self.b2_r.next = self.b2.val();
+            self.m0.next = sbits(a0 * b0);
+            self.m1.next = sbits(a1 * b1);
+            self.m2.next = sbits(a2 * b2);
+            self.p.next = sbits(sum);
+        }
+    }
+    fn connect(&mut self) {
+        self.a0_r.connect();
+        self.a1_r.connect();
+        self.a2_r.connect();
+        self.b0_r.connect();
+        self.b1_r.connect();
+        self.b2_r.connect();
+        self.m0.connect();
+        self.m1.connect();
+        self.m2.connect();
+        self.p.connect();
+    }
+    fn hdl(&self) -> Verilog {
+        Verilog::Custom(
+            "\
+always @(posedge clock) begin
+   a0_r <= a0;
+   a1_r <= a1;
+   a2_r <= a2;
+   b0_r <= b0;
+   b1_r <= b1;
+   b2_r <= b2;
+   m0 <= a0_r * b0_r;
+   m1 <= a1_r * b1_r;
+   m2 <= a2_r * b2_r;
+   p <= m0 + m1 + m2;
+end
+"
+            .into(),
+        )
+    }
+}

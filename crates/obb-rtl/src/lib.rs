@@ -5,4 +5,5 @@ pub mod emit;
 pub mod generate;
 pub mod leaf;
 pub mod projection;
+pub mod sat_front;
 pub mod verilator;

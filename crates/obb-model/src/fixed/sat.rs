@@ -10,15 +10,28 @@ fn dot(p: &[i64; 3], q: &[i64; 3]) -> i64 {
     p[0] * q[0] + p[1] * q[1] + p[2] * q[2]
 }
 
+/// The SAT's first stage, exact: `t_i = T·a_i`, `u_j = T·b_j` (LSB · 2^-f) and `R_ij = a_i·b_j`
+/// (2^-2f), with `T = c_B - c_A`. The hardware's `sat_front` computes exactly these.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SatProducts {
+    pub t: [i64; 3],
+    pub u: [i64; 3],
+    pub r: [[i64; 3]; 3],
+}
+
+pub fn sat_products(a: &QObb, b: &QObb) -> SatProducts {
+    let t_world: [i64; 3] = std::array::from_fn(|x| b.center[x] - a.center[x]);
+    SatProducts {
+        t: std::array::from_fn(|i| dot(&a.axes[i], &t_world)),
+        u: std::array::from_fn(|j| dot(&b.axes[j], &t_world)),
+        r: std::array::from_fn(|i| std::array::from_fn(|j| dot(&a.axes[i], &b.axes[j]))),
+    }
+}
+
 /// The 15-axis test on quantized boxes `a` and `b` with their projections; `f` is the rotation
 /// entries' fraction bits. True unless an axis separates them for certain.
 pub fn collide(a: &QObb, pa: &Projected, b: &QObb, pb: &Projected, m: &Margins, f: u32) -> bool {
-    let t_world: [i64; 3] = std::array::from_fn(|x| b.center[x] - a.center[x]);
-    // t_i = T·a_i, u_j = T·b_j (LSB · 2^-f); R_ij = a_i·b_j (2^-2f): exact.
-    let t: [i64; 3] = std::array::from_fn(|i| dot(&a.axes[i], &t_world));
-    let u: [i64; 3] = std::array::from_fn(|j| dot(&b.axes[j], &t_world));
-    let r: [[i64; 3]; 3] =
-        std::array::from_fn(|i| std::array::from_fn(|j| dot(&a.axes[i], &b.axes[j])));
+    let SatProducts { t, u, r } = sat_products(a, b);
     // |R_ij| / 2^f rounded up, for the radius terms of the face axes.
     let r_up = r.map(|row| row.map(|v| ceil_shift(v.abs(), f)));
     let pair = pa.margin + pb.margin;
