@@ -39,6 +39,7 @@ fn config() -> impl Strategy<Value = HwConfig> {
                 }
             },
         )
+        .prop_filter("a supported configuration", |c| c.validate().is_ok())
 }
 
 /// The f64 reference: AABB overlap and the conservative f64 SAT.
@@ -199,7 +200,11 @@ fn every_width_combination_on_touching_pairs() {
                     radix_digit_bits: 4,
                     ..HwConfig::default()
                 };
-                cfg.validate().unwrap();
+                if cfg.validate().is_err() {
+                    // Only 23-bit centers with rot_bits 4 (docs/numerics.md, "Widths").
+                    assert_eq!((center_bits, rot_bits), (23, 4));
+                    continue;
+                }
                 configs += 1;
                 for (a, b) in &pairs {
                     assert!(model(a, b, &cfg), "missed {a:?} {b:?} with {cfg:?}");
@@ -207,7 +212,7 @@ fn every_width_combination_on_touching_pairs() {
             }
         }
     }
-    assert_eq!(configs, 16 * 15 * 3);
+    assert_eq!(configs, 16 * 15 * 3 - 3);
 }
 
 #[test]

@@ -215,6 +215,20 @@ impl HwConfig {
             self.key_bits.min(16),
             "a digit is part of a key, and its histogram is one block RAM",
         )?;
+        // |t̂| = |T·a| / 2^f <= √3 √(1+η) 2^center_bits must fit the DSP's 25-bit port; only
+        // the coarsest rotations (f = 2, η about 0.5) with 23-bit centers fail.
+        let t_hat = 3f64.sqrt() * (1.0 + super::margins::eta(self)).sqrt()
+            * f64::from(1u32 << self.center_bits)
+            + 1.0;
+        if t_hat >= f64::from(1u32 << (DSP_A_BITS - 1)) {
+            return Err(invalid(
+                "center_bits",
+                format!(
+                    "{} with rot_bits {}: T·a / 2^f would reach {t_hat:.0}, beyond the                      DSP48E1's 25-bit port (use rot_bits of at least 5, or fewer center bits)",
+                    self.center_bits, self.rot_bits
+                ),
+            ));
+        }
         in_range(
             "sat_bits",
             self.sat_bits,

@@ -23,6 +23,14 @@ pub struct Margins {
     pub compare_shift: u32,
 }
 
+/// η: the quantized axes' Gram matrix deviates from `2^2f I` by at most `η 2^2f` per entry
+/// (docs/numerics.md, "The quantized axes are nearly orthonormal").
+pub fn eta(cfg: &HwConfig) -> f64 {
+    let two_f = f64::from(1u32 << cfg.frac_bits());
+    let tol = cfg.ortho_tol;
+    tol + 3f64.sqrt() * (1.0 + tol) / two_f + 0.75 / (two_f * two_f)
+}
+
 /// A real bound made an integer bound: rounded up, with room for the f64 rounding of the
 /// formula itself (a few ulps, far below the 1e-9 relative pad).
 fn up(v: f64) -> i64 {
@@ -33,9 +41,7 @@ impl Margins {
     pub fn new(cfg: &HwConfig) -> Margins {
         let two_f = f64::from(1u32 << cfg.frac_bits());
         let s3 = 3f64.sqrt();
-        let tol = cfg.ortho_tol;
-        // η: deviation of the quantized axes' Gram matrix from 2^2f I, relative to 2^2f.
-        let eta = tol + s3 * (1.0 + tol) / two_f + 0.75 / (two_f * two_f);
+        let eta = eta(cfg);
         // ρ̄: bound on |R̃_ij|, a rotation product rounded to 2^-f.
         let rho_bar = two_f * (1.0 + eta) + 0.5;
         let face = s3 * two_f * (1.0 + eta);

@@ -48,6 +48,9 @@ pub enum QuantizeError {
     /// A box that fails the scene's own validation (NaN, negative half-length, ...).
     #[error(transparent)]
     Invalid(#[from] SceneError),
+    /// The configuration itself is not supported.
+    #[error(transparent)]
+    Config(#[from] super::config::ConfigError),
 }
 
 /// Largest |coordinate| in LSBs: centers and AABB end points lie in `-limit..=limit`. The top
@@ -58,6 +61,7 @@ fn coord_limit(cfg: &HwConfig) -> i64 {
 
 /// Quantizes every box of `scene`; rejects (never wraps or saturates) a box that does not fit.
 pub fn quantize(scene: &Scene, cfg: &HwConfig) -> Result<Vec<QObb>, QuantizeError> {
+    cfg.validate()?;
     if scene.obbs.len() > cfg.capacity as usize {
         return Err(QuantizeError::Capacity {
             count: scene.obbs.len(),
