@@ -217,7 +217,8 @@ impl HwConfig {
         )?;
         // |t̂| = |T·a| / 2^f <= √3 √(1+η) 2^center_bits must fit the DSP's 25-bit port; only
         // the coarsest rotations (f = 2, η about 0.5) with 23-bit centers fail.
-        let t_hat = 3f64.sqrt() * (1.0 + super::margins::eta(self)).sqrt()
+        let t_hat = 3f64.sqrt()
+            * (1.0 + super::margins::eta(self)).sqrt()
             * f64::from(1u32 << self.center_bits)
             + 1.0;
         if t_hat >= f64::from(1u32 << (DSP_A_BITS - 1)) {

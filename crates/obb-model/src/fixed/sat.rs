@@ -28,52 +28,112 @@ pub fn sat_products(a: &QObb, b: &QObb) -> SatProducts {
     }
 }
 
-/// The 15-axis test on quantized boxes `a` and `b` with their projections; `f` is the rotation
-/// entries' fraction bits. True unless an axis separates them for certain.
-pub fn collide(a: &QObb, pa: &Projected, b: &QObb, pb: &Projected, m: &Margins, f: u32) -> bool {
-    let SatProducts { t, u, r } = sat_products(a, b);
-    // |R_ij| / 2^f rounded up, for the radius terms of the face axes.
-    let r_up = r.map(|row| row.map(|v| ceil_shift(v.abs(), f)));
-    let pair = pa.margin + pb.margin;
-    // Separated for certain: both sides cut to the comparator width by dropping k low bits;
-    // floor(L / 2^k) > floor(R / 2^k) still implies L > R (docs/numerics.md, "Comparison
-    // width").
-    let k = m.compare_shift;
-    let apart = |lhs: i64, radius: i64| lhs >> k > radius >> k;
-    for i in 0..3 {
-        let radius = (a.half[i] << f) + dot(&b.half, &r_up[i]) + m.face + pair;
-        if apart(t[i].abs(), radius) {
-            return false;
-        }
+/// The SAT's second stage: the products rounded for the next multiplies. `r_up = ceil(|R| /
+/// 2^f)` (face radii), `rt = round(R / 2^f)` (cross axes), `th = floor(t / 2^f)`, and |t|, |u|.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SatRounded {
+    pub abs_t: [i64; 3],
+    pub abs_u: [i64; 3],
+    pub r_up: [[i64; 3]; 3],
+    pub rt: [[i64; 3]; 3],
+    pub th: [i64; 3],
+}
+
+pub fn sat_round(p: &SatProducts, f: u32) -> SatRounded {
+    SatRounded {
+        abs_t: p.t.map(i64::abs),
+        abs_u: p.u.map(i64::abs),
+        r_up: p.r.map(|row| row.map(|v| ceil_shift(v.abs(), f))),
+        rt: p.r.map(|row| row.map(|v| (v + (1 << (f - 1))) >> f)),
+        th: p.t.map(|v| v >> f),
     }
-    for j in 0..3 {
-        let column = [r_up[0][j], r_up[1][j], r_up[2][j]];
-        let radius = (b.half[j] << f) + dot(&a.half, &column) + m.face + pair;
-        if apart(u[j].abs(), radius) {
-            return false;
-        }
+}
+
+/// The unordered pairs {j, l}, j != l, in the order the minors are kept.
+pub const MINOR_PAIRS: [(usize, usize); 3] = [(0, 1), (0, 2), (1, 2)];
+
+/// The minor pair holding {j, l}.
+fn minor_index(j: usize, l: usize) -> usize {
+    match (j.min(l), j.max(l)) {
+        (0, 1) => 0,
+        (0, 2) => 1,
+        _ => 2,
     }
-    // Cross axes L = R̃_{i1 j} a_{i2} - R̃_{i2 j} a_{i1}, with R̃ = R / 2^f rounded to nearest
-    // and t̂ = t / 2^f rounded down: every product fits one DSP.
-    let rt = r.map(|row| row.map(|v| (v + (1 << (f - 1))) >> f));
-    let th = t.map(|v| v >> f);
-    for i in 0..3 {
-        let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
-        for j in 0..3 {
-            let p = rt[i1][j] * th[i2] - rt[i2][j] * th[i1];
-            let r_a = a.half[i1] * rt[i2][j].abs() + a.half[i2] * rt[i1][j].abs();
-            // The minors R̃_{i1 j} R̃_{i2 l} - R̃_{i2 j} R̃_{i1 l} / 2^f, rounded up; zero for l = j.
-            let r_b: i64 = (0..3)
+}
+
+/// The SAT's third stage, one product pair each: the face radii `Σ_j h^B_j r_up_ij` (A's axes)
+/// and `Σ_i h^A_i r_up_ij` (B's), and per cross axis (i, j) with (i, i1, i2) cyclic:
+/// `P = rt_i1j th_i2 - rt_i2j th_i1`, `r_A = h^A_i1 |rt_i2j| + h^A_i2 |rt_i1j|`, and the minors
+/// `ceil(|rt_i1j rt_i2l - rt_i2j rt_i1l| / 2^f)` for each pair {j, l} (`MINOR_PAIRS`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SatTerms {
+    pub face_a: [i64; 3],
+    pub face_b: [i64; 3],
+    pub p: [[i64; 3]; 3],
+    pub r_a: [[i64; 3]; 3],
+    pub minors: [[i64; 3]; 3],
+}
+
+pub fn sat_terms(a: &QObb, b: &QObb, r: &SatRounded, f: u32) -> SatTerms {
+    let cyc = |i: usize| ((i + 1) % 3, (i + 2) % 3);
+    SatTerms {
+        face_a: std::array::from_fn(|i| dot(&b.half, &r.r_up[i])),
+        face_b: std::array::from_fn(|j| dot(&a.half, &[r.r_up[0][j], r.r_up[1][j], r.r_up[2][j]])),
+        p: std::array::from_fn(|i| {
+            let (i1, i2) = cyc(i);
+            std::array::from_fn(|j| r.rt[i1][j] * r.th[i2] - r.rt[i2][j] * r.th[i1])
+        }),
+        r_a: std::array::from_fn(|i| {
+            let (i1, i2) = cyc(i);
+            std::array::from_fn(|j| a.half[i1] * r.rt[i2][j].abs() + a.half[i2] * r.rt[i1][j].abs())
+        }),
+        minors: std::array::from_fn(|i| {
+            let (i1, i2) = cyc(i);
+            MINOR_PAIRS.map(|(j, l)| {
+                let m = r.rt[i1][j] * r.rt[i2][l] - r.rt[i2][j] * r.rt[i1][l];
+                ceil_shift(m.abs(), f)
+            })
+        }),
+    }
+}
+
+/// The SAT's fourth stage: `r_B` of each cross axis (i, j), `Σ_(l != j) h^B_l minor(i, {j, l})`.
+pub fn sat_r_b(b: &QObb, t: &SatTerms) -> [[i64; 3]; 3] {
+    std::array::from_fn(|i| {
+        std::array::from_fn(|j| {
+            (0..3)
                 .filter(|&l| l != j)
-                .map(|l| {
-                    let minor = rt[i1][j] * rt[i2][l] - rt[i2][j] * rt[i1][l];
-                    b.half[l] * ceil_shift(minor.abs(), f)
-                })
-                .sum();
-            if apart(p.abs(), r_a + r_b + m.cross + pair) {
-                return false;
-            }
-        }
-    }
-    true
+                .map(|l| b.half[l] * t.minors[i][minor_index(j, l)])
+                .sum()
+        })
+    })
+}
+
+/// The SAT's last stage: the 15 comparisons, each side cut by `compare_shift` bits (docs/
+/// numerics.md, "Comparison width"). True unless an axis separates the boxes for certain.
+pub fn sat_decide(
+    a: &QObb,
+    b: &QObb,
+    pair_margin: i64,
+    r: &SatRounded,
+    t: &SatTerms,
+    r_b: &[[i64; 3]; 3],
+    m: &Margins,
+) -> bool {
+    let (f, k) = (m.frac_bits, m.compare_shift);
+    let apart = |lhs: i64, radius: i64| lhs >> k > radius >> k;
+    let face = m.face + pair_margin;
+    let cross = m.cross + pair_margin;
+    !((0..3).any(|i| apart(r.abs_t[i], (a.half[i] << f) + t.face_a[i] + face))
+        || (0..3).any(|j| apart(r.abs_u[j], (b.half[j] << f) + t.face_b[j] + face))
+        || (0..3).any(|i| (0..3).any(|j| apart(t.p[i][j].abs(), t.r_a[i][j] + r_b[i][j] + cross))))
+}
+
+/// The 15-axis test on quantized boxes `a` and `b` with their projections: the stages above in
+/// order. True unless an axis separates them for certain.
+pub fn collide(a: &QObb, pa: &Projected, b: &QObb, pb: &Projected, m: &Margins, f: u32) -> bool {
+    let rounded = sat_round(&sat_products(a, b), f);
+    let terms = sat_terms(a, b, &rounded, f);
+    let r_b = sat_r_b(b, &terms);
+    sat_decide(a, b, pa.margin + pb.margin, &rounded, &terms, &r_b, m)
 }
