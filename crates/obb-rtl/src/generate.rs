@@ -4,7 +4,7 @@
 
 use crate::emit;
 use crate::projection::{self, Projection};
-use crate::sat_front::{self, SatFront};
+use crate::sat::{self, Sat};
 use anyhow::{Context, Result};
 use obb_model::fixed::HwConfig;
 use serde::Serialize;
@@ -83,15 +83,15 @@ pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
         ports: ports(&proj, "projection"),
     });
     out.push(("projection.v".to_string(), header(cfg) + &proj));
-    let front = emit::verilog(&mut SatFront::default(), "sat_front")?;
+    let sat = emit::verilog(&mut Sat::new(cfg), "sat")?;
     modules.push(ModuleInfo {
-        module: "sat_front".into(),
-        file: "sat_front.v".into(),
-        latency: sat_front::LATENCY,
+        module: "sat".into(),
+        file: "sat.v".into(),
+        latency: sat::LATENCY,
         throughput: 1,
-        ports: ports(&front, "sat_front"),
+        ports: ports(&sat, "sat"),
     });
-    out.push(("sat_front.v".to_string(), header(cfg) + &front));
+    out.push(("sat.v".to_string(), header(cfg) + &sat));
     let manifest = Manifest {
         generator: format!(
             "obb-rtl {} (cargo run --bin gen-rtl)",

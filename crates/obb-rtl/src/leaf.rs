@@ -248,3 +248,111 @@ end
         )
     }
 }
+
+/// `a0 b0 + a1 b1` (or `a0 b0 - a1 b1` when `SUB`), signed, two DSP48E1: inputs, products and
+/// result registered, so `p` follows the operands by three clocks. Scalar ports (see `SDot3`).
+#[derive(Clone, Debug, Default, LogicBlock)]
+pub struct SDot2<const A: usize, const B: usize, const P: usize, const SUB: bool> {
+    pub a0: Signal<In, Signed<A>>,
+    pub a1: Signal<In, Signed<A>>,
+    pub b0: Signal<In, Signed<B>>,
+    pub b1: Signal<In, Signed<B>>,
+    pub p: Signal<Out, Signed<P>>,
+    pub clock: Signal<In, Clock>,
+    a0_r: Signal<Local, Signed<A>>,
+    a1_r: Signal<Local, Signed<A>>,
+    b0_r: Signal<Local, Signed<B>>,
+    b1_r: Signal<Local, Signed<B>>,
+    m0: Signal<Local, Signed<P>>,
+    m1: Signal<Local, Signed<P>>,
+}
+
+impl<const A: usize, const B: usize, const P: usize, const SUB: bool> SDot2<A, B, P, SUB> {
+    /// Clocks from operands to result.
+    pub const LATENCY: u64 = 3;
+    const FITS: () = assert!(A + B < P && P <= 64);
+}
+
+impl<const A: usize, const B: usize, const P: usize, const SUB: bool> Logic
+    for SDot2<A, B, P, SUB>
+{
+    fn update(&mut self) {
+        let () = Self::FITS;
+        if self.clock.pos_edge() {
+            // Read every stage before writing any (see `UMul`).
+            let (a0, a1) = (sval(self.a0_r.val()), sval(self.a1_r.val()));
+            let (b0, b1) = (sval(self.b0_r.val()), sval(self.b1_r.val()));
+            let (m0, m1) = (sval(self.m0.val()), sval(self.m1.val()));
+            self.a0_r.next = self.a0.val();
+            self.a1_r.next = self.a1.val();
+            self.b0_r.next = self.b0.val();
+            self.b1_r.next = self.b1.val();
+            self.m0.next = sbits(a0 * b0);
+            self.m1.next = sbits(a1 * b1);
+            self.p.next = sbits(if SUB { m0 - m1 } else { m0 + m1 });
+        }
+    }
+    fn connect(&mut self) {
+        self.a0_r.connect();
+        self.a1_r.connect();
+        self.b0_r.connect();
+        self.b1_r.connect();
+        self.m0.connect();
+        self.m1.connect();
+        self.p.connect();
+    }
+    fn hdl(&self) -> Verilog {
+        Verilog::Custom(format!(
+            "\
+always @(posedge clock) begin
+   a0_r <= a0;
+   a1_r <= a1;
+   b0_r <= b0;
+   b1_r <= b1;
+   m0 <= a0_r * b0_r;
+   m1 <= a1_r * b1_r;
+   p <= m0 {} m1;
+end
+",
+            if SUB { "-" } else { "+" }
+        ))
+    }
+}
+
+/// `ceil(|x| / 2^s)`, registered, for a signed N-bit `x` and a shift `s` that is a constant of
+/// the configuration (`s = 0` gives `|x|`).
+#[derive(Clone, Debug, Default, LogicBlock)]
+pub struct AbsShift<const N: usize, const M: usize> {
+    pub x: Signal<In, Signed<N>>,
+    pub s: Signal<In, Bits<8>>,
+    pub y: Signal<Out, Bits<M>>,
+    pub clock: Signal<In, Clock>,
+}
+
+impl<const N: usize, const M: usize> Logic for AbsShift<N, M> {
+    fn update(&mut self) {
+        if self.clock.pos_edge() {
+            let (x, s) = (sval(self.x.val()).unsigned_abs(), uval(self.s.val()));
+            self.y.next = Bits::from((x + (1 << s) - 1) >> s);
+        }
+    }
+    fn connect(&mut self) {
+        self.y.connect();
+    }
+    fn hdl(&self) -> Verilog {
+        // |x| needs N bits as an unsigned number (-2^(N-1) gives 2^(N-1)); one more bit holds
+        // the rounding addend.
+        Verilog::Custom(format!(
+            "\
+wire [{n1}:0] mag = x[{n1}] ? -x : x;
+wire [{n}:0] round = ({{{{{n}{{1'b0}}}}, 1'b1}} << s) - 1;
+wire [{n}:0] total = {{1'b0, mag}} + round;
+always @(posedge clock) begin
+   y <= total >> s;
+end
+",
+            n1 = N - 1,
+            n = N,
+        ))
+    }
+}

@@ -5,5 +5,8 @@ pub mod emit;
 pub mod generate;
 pub mod leaf;
 pub mod projection;
+pub mod sat;
+pub mod sat_back;
 pub mod sat_front;
+pub mod sat_round;
 pub mod verilator;

@@ -47,6 +47,17 @@ fn the_manifest_lists_the_verilog_ports() {
         json["modules"][0]["latency"],
         obb_model::fixed::cycles::LAT_PROJECT
     );
+    let (_, sat) = fresh.iter().find(|(n, _)| n == "sat.v").unwrap();
+    let sp = ports(sat, "sat");
+    assert_eq!(sp.len(), 1 + 1 + 2 * (3 + 3 + 9 + 1) + 2);
+    assert_eq!(
+        json["modules"][1]["ports"].as_array().unwrap().len(),
+        sp.len()
+    );
+    assert_eq!(
+        json["modules"][1]["latency"],
+        obb_model::fixed::cycles::LAT_SAT
+    );
     assert_eq!(json["configuration"]["key_bits"], 20);
 }
 

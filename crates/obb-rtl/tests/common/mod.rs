@@ -2,6 +2,9 @@
 //! Verilator, on the same packed vectors, and comparing both with the model's expected outputs.
 #![allow(dead_code)] // each test binary uses its own subset
 
+use obb_model::fixed::broad;
+use obb_model::fixed::{BroadPhase, ModelFrame};
+use obb_model::GroupMask;
 use obb_rtl::verilator::{self, Port};
 use rust_hdl::prelude::*;
 
@@ -72,4 +75,27 @@ pub fn ports(name: &str, n: usize, bits: usize) -> Vec<Port> {
     (0..n)
         .map(|i| Port::new(format!("{name}${i}"), bits))
         .collect()
+}
+
+/// Pairs the brute-force broad phase sends to the SAT (keys overlap), ordered i < j: up to
+/// `most` the SAT reports and as many it separates, interleaved, then pairs far apart.
+pub fn pairs(m: &ModelFrame, most: usize) -> Vec<(usize, usize)> {
+    let (mut hits, mut misses) = (Vec::new(), Vec::new());
+    broad::run(m, BroadPhase::Brute, &GroupMask::All, |i, j| {
+        let p = (i.min(j), i.max(j));
+        if m.sat(p.0, p.1) {
+            hits.push(p);
+        } else {
+            misses.push(p);
+        }
+    });
+    let mut out: Vec<_> = hits
+        .iter()
+        .zip(&misses)
+        .take(most)
+        .flat_map(|(h, s)| [*h, *s])
+        .collect();
+    let n = m.obbs.len();
+    out.extend((0..40).map(|k| (k, n - 1 - k)));
+    out
 }

@@ -1,0 +1,624 @@
+//! The SAT after its first stage: rounding, the radius products, the minors, `r_B`, and the 15
+//! comparisons, one pair per clock, bit for bit as `obb_model::fixed::sat::{sat_round,
+//! sat_terms, sat_r_b, sat_decide}`.
+//!
+//! | clock | stage |
+//! | --- | --- |
+//! | 1 | `SatRound`: |t|, |u|, `ceil(|R|/2^f)`, `round(R/2^f)` and its magnitude, `floor(t/2^f)` |
+//! | 2-4 | 51 DSP48E1: face radii (6 `SDot3`), `P` (9 `SDot2`), `r_A` (9), the 9 minors |
+//! | 5 | `ceil(|minor|/2^f)` and `|P|` (`AbsShift`) |
+//! | 6-8 | `r_B` (9 `SDot2`) |
+//! | 9-10 | `SatDecide`: radius sums with the margins, then the 15 comparisons and their OR |
+
+use crate::leaf::{sval, uval, AbsShift, SDot2, SDot3};
+use crate::sat_front::{RR, TU};
+use crate::sat_round::{SatRound, ABS_TU, RT, R_UP, TH};
+use obb_model::fixed::sat::{sat_decide, SatRounded, SatTerms};
+use obb_model::fixed::{HwConfig, Margins, QObb};
+use rust_hdl::prelude::*;
+use std::fmt::Write as _;
+
+/// A half-length, signed for the DSP ports (always non-negative).
+pub const HALF_S: usize = 18;
+/// The pair's margin `M_A + M_B`.
+pub const PAIR_MARGIN: usize = crate::projection::MARGIN + 1;
+/// Face radius sums `Σ h r_up` (19 x 18 bits, three terms).
+const FACE: usize = R_UP + HALF_S + 2;
+/// `P` and `|P|`.
+const P_BITS: usize = TH + RT + 1;
+/// `r_A` and the minors (18 x 18 bits, two terms).
+const PAIR2: usize = 2 * RT + 1;
+/// `ceil(|minor| / 2^f)` (at most 2^19, kept signed for the DSP's A port).
+const MINOR: usize = 21;
+/// `r_B` (21 x 18 bits, two terms).
+const RB: usize = MINOR + HALF_S + 1;
+/// Clocks from a pair's products on the inputs to its verdict.
+pub const LATENCY: u64 = 10;
+
+/// The radius sums and the 15 comparisons as one leaf (its arithmetic mixes signed products
+/// with unsigned sums, which rust-hdl's Verilog gets wrong): two clocks, sums then verdict.
+/// Its Rust model calls `obb_model::fixed::sat::sat_decide`.
+#[derive(Clone, Debug, Default, LogicBlock)]
+pub struct SatDecide {
+    pub abs_t: [Signal<In, Bits<ABS_TU>>; 3],
+    pub abs_u: [Signal<In, Bits<ABS_TU>>; 3],
+    pub face_a: [Signal<In, Signed<FACE>>; 3],
+    pub face_b: [Signal<In, Signed<FACE>>; 3],
+    pub abs_p: [Signal<In, Bits<P_BITS>>; 9],
+    pub r_a: [Signal<In, Signed<PAIR2>>; 9],
+    pub r_b: [Signal<In, Signed<RB>>; 9],
+    pub half_a: [Signal<In, Signed<HALF_S>>; 3],
+    pub half_b: [Signal<In, Signed<HALF_S>>; 3],
+    pub pair_margin: Signal<In, Bits<PAIR_MARGIN>>,
+    pub f: Signal<In, Bits<8>>,
+    pub k: Signal<In, Bits<8>>,
+    pub face_margin: Signal<In, Bits<24>>,
+    pub cross_margin: Signal<In, Bits<24>>,
+    /// No axis separates the pair.
+    pub hit: Signal<Out, Bit>,
+    pub clock: Signal<In, Clock>,
+    /// The verdict one clock before it shows on `hit` (the sums' stage in the Verilog).
+    verdict: Signal<Local, Bit>,
+}
+
+/// Width of the radius sums and of the compared values.
+const SUM: usize = 46;
+
+impl Logic for SatDecide {
+    fn update(&mut self) {
+        if self.clock.pos_edge() {
+            let shown = self.verdict.val();
+            let f = uval(self.f.val()) as u32;
+            let k = uval(self.k.val()) as u32;
+            let half = |h: &[Signal<In, Signed<HALF_S>>; 3]| h.each_ref().map(|s| sval(s.val()));
+            let a = QObb {
+                center: [0; 3],
+                half: half(&self.half_a),
+                axes: [[0; 3]; 3],
+                group: 0,
+            };
+            let b = QObb {
+                center: [0; 3],
+                half: half(&self.half_b),
+                axes: [[0; 3]; 3],
+                group: 0,
+            };
+            let m = Margins {
+                face: uval(self.face_margin.val()) as i64,
+                cross: uval(self.cross_margin.val()) as i64,
+                beta_num: 0,
+                frac_bits: f,
+                compare_shift: k,
+            };
+            let rounded = SatRounded {
+                abs_t: self.abs_t.each_ref().map(|s| uval(s.val()) as i64),
+                abs_u: self.abs_u.each_ref().map(|s| uval(s.val()) as i64),
+                r_up: [[0; 3]; 3],
+                rt: [[0; 3]; 3],
+                th: [0; 3],
+            };
+            let grid = |s: &[Signal<In, Signed<PAIR2>>; 9]| {
+                std::array::from_fn(|i| std::array::from_fn(|j| sval(s[3 * i + j].val())))
+            };
+            let terms = SatTerms {
+                face_a: self.face_a.each_ref().map(|s| sval(s.val())),
+                face_b: self.face_b.each_ref().map(|s| sval(s.val())),
+                // |P| is what the comparisons use.
+                p: std::array::from_fn(|i| {
+                    std::array::from_fn(|j| uval(self.abs_p[3 * i + j].val()) as i64)
+                }),
+                r_a: grid(&self.r_a),
+                minors: [[0; 3]; 3],
+            };
+            let r_b =
+                std::array::from_fn(|i| std::array::from_fn(|j| sval(self.r_b[3 * i + j].val())));
+            let pair = uval(self.pair_margin.val()) as i64;
+            self.verdict.next = sat_decide(&a, &b, pair, &rounded, &terms, &r_b, &m);
+            self.hit.next = shown;
+        }
+    }
+    fn connect(&mut self) {
+        self.verdict.connect();
+        self.hit.connect();
+    }
+    fn hdl(&self) -> Verilog {
+        let mut v = String::new();
+        let s1 = SUM - 1;
+        let w = |v: &mut String, name: String, expr: String| {
+            let _ = writeln!(v, "wire [{s1}:0] {name} = {expr};");
+        };
+        // Every operand is non-negative: zero-extend and add unsigned.
+        let z = |name: &str| format!("{{{{{SUM}{{1'b0}}}}, {name}}}");
+        for i in 0..3 {
+            w(
+                &mut v,
+                format!("ra_face{i}"),
+                format!(
+                    "({} << f) + {} + {} + {}",
+                    z(&format!("half_a${i}")),
+                    z(&format!("face_a${i}")),
+                    z("face_margin"),
+                    z("pair_margin")
+                ),
+            );
+            w(
+                &mut v,
+                format!("rb_face{i}"),
+                format!(
+                    "({} << f) + {} + {} + {}",
+                    z(&format!("half_b${i}")),
+                    z(&format!("face_b${i}")),
+                    z("face_margin"),
+                    z("pair_margin")
+                ),
+            );
+        }
+        for c in 0..9 {
+            w(
+                &mut v,
+                format!("r_cross{c}"),
+                format!(
+                    "{} + {} + {} + {}",
+                    z(&format!("r_a${c}")),
+                    z(&format!("r_b${c}")),
+                    z("cross_margin"),
+                    z("pair_margin")
+                ),
+            );
+        }
+        let _ = writeln!(v, "reg [{s1}:0] lhs [0:14];\nreg [{s1}:0] rhs [0:14];");
+        v.push_str("always @(posedge clock) begin\n");
+        for i in 0..3 {
+            let _ = writeln!(
+                v,
+                "   lhs[{i}] <= {};\n   rhs[{i}] <= ra_face{i};",
+                z(&format!("abs_t${i}"))
+            );
+            let _ = writeln!(
+                v,
+                "   lhs[{}] <= {};\n   rhs[{}] <= rb_face{i};",
+                3 + i,
+                z(&format!("abs_u${i}")),
+                3 + i
+            );
+        }
+        for c in 0..9 {
+            let _ = writeln!(
+                v,
+                "   lhs[{}] <= {};\n   rhs[{}] <= r_cross{c};",
+                6 + c,
+                z(&format!("abs_p${c}")),
+                6 + c
+            );
+        }
+        let apart: Vec<String> = (0..15)
+            .map(|x| format!("((lhs[{x}] >> k) > (rhs[{x}] >> k))"))
+            .collect();
+        let _ = writeln!(v, "   hit <= !({});", apart.join(" || "));
+        v.push_str("end\n");
+        Verilog::Custom(v)
+    }
+}
+
+#[derive(Clone, Debug, LogicBlock)]
+pub struct SatBack {
+    pub clock: Signal<In, Clock>,
+    pub valid_in: Signal<In, Bit>,
+    pub t: [Signal<In, Signed<TU>>; 3],
+    pub u: [Signal<In, Signed<TU>>; 3],
+    pub r: [Signal<In, Signed<RR>>; 9],
+    pub half_a: [Signal<In, Signed<HALF_S>>; 3],
+    pub half_b: [Signal<In, Signed<HALF_S>>; 3],
+    pub pair_margin: Signal<In, Bits<PAIR_MARGIN>>,
+    pub valid_out: Signal<Out, Bit>,
+    /// No axis separates the pair.
+    pub hit: Signal<Out, Bit>,
+    frac: Constant<Bits<8>>,
+    zero: Constant<Bits<8>>,
+    shift: Constant<Bits<8>>,
+    face_margin: Constant<Bits<24>>,
+    cross_margin: Constant<Bits<24>>,
+    valid: [DFF<Bit>; 10],
+    round: SatRound,
+    /// Half-lengths delayed: `ha[3 s + x]` after clock s + 1 (s = 0..7).
+    ha: [DFF<Signed<HALF_S>>; 24],
+    hb: [DFF<Signed<HALF_S>>; 24],
+    pm: [DFF<Bits<PAIR_MARGIN>>; 8],
+    face_a_dot: [SDot3<R_UP, HALF_S, FACE>; 3],
+    face_b_dot: [SDot3<R_UP, HALF_S, FACE>; 3],
+    p_dot: [SDot2<TH, RT, P_BITS, true>; 9],
+    ra_dot: [SDot2<HALF_S, RT, PAIR2, false>; 9],
+    minor_dot: [SDot2<RT, RT, PAIR2, true>; 9],
+    minor_abs: [AbsShift<PAIR2, MINOR>; 9],
+    minor_s: [Signal<Local, Signed<MINOR>>; 9],
+    p_abs: [AbsShift<P_BITS, P_BITS>; 9],
+    rb_dot: [SDot2<MINOR, HALF_S, RB, false>; 9],
+    /// |t|, |u| from clock 1 to 8: `at_d[3 s + i]` after clock s + 2.
+    at_d: [DFF<Bits<ABS_TU>>; 21],
+    au_d: [DFF<Bits<ABS_TU>>; 21],
+    /// Face radii from clock 4 to 8: `fa_d[3 s + i]` after clock s + 5.
+    fa_d: [DFF<Signed<FACE>>; 12],
+    fb_d: [DFF<Signed<FACE>>; 12],
+    /// r_A from clock 4 to 8: `ra_d[9 s + c]` after clock s + 5.
+    ra_d: [DFF<Signed<PAIR2>>; 36],
+    /// |P| from clock 5 to 8: `pa_d[9 s + c]` after clock s + 6.
+    pa_d: [DFF<Bits<P_BITS>>; 27],
+    decide: SatDecide,
+}
+
+impl SatBack {
+    pub fn new(cfg: &HwConfig) -> SatBack {
+        let m = Margins::new(cfg);
+        assert!(m.face < 1 << 24 && m.cross < 1 << 24, "margins fit 24 bits");
+        SatBack {
+            clock: Default::default(),
+            valid_in: Default::default(),
+            t: Default::default(),
+            u: Default::default(),
+            r: Default::default(),
+            half_a: Default::default(),
+            half_b: Default::default(),
+            pair_margin: Default::default(),
+            valid_out: Default::default(),
+            hit: Default::default(),
+            frac: Constant::new(u64::from(cfg.frac_bits()).into()),
+            zero: Constant::new(0u64.into()),
+            shift: Constant::new(u64::from(cfg.sat_shift()).into()),
+            face_margin: Constant::new((m.face as u64).into()),
+            cross_margin: Constant::new((m.cross as u64).into()),
+            valid: Default::default(),
+            round: Default::default(),
+            ha: std::array::from_fn(|_| Default::default()),
+            hb: std::array::from_fn(|_| Default::default()),
+            pm: Default::default(),
+            face_a_dot: Default::default(),
+            face_b_dot: Default::default(),
+            p_dot: Default::default(),
+            ra_dot: Default::default(),
+            minor_dot: Default::default(),
+            minor_abs: Default::default(),
+            minor_s: Default::default(),
+            p_abs: Default::default(),
+            rb_dot: Default::default(),
+            at_d: Default::default(),
+            au_d: Default::default(),
+            fa_d: Default::default(),
+            fb_d: Default::default(),
+            ra_d: std::array::from_fn(|_| Default::default()),
+            pa_d: Default::default(),
+            decide: Default::default(),
+        }
+    }
+}
+
+impl Logic for SatBack {
+    #[hdl_gen]
+    fn update(&mut self) {
+        for i in 0..10 {
+            self.valid[i].clock.next = self.clock.val();
+        }
+        for i in 0..24 {
+            self.ha[i].clock.next = self.clock.val();
+        }
+        for i in 0..24 {
+            self.hb[i].clock.next = self.clock.val();
+        }
+        for i in 0..8 {
+            self.pm[i].clock.next = self.clock.val();
+        }
+        for i in 0..3 {
+            self.face_a_dot[i].clock.next = self.clock.val();
+        }
+        for i in 0..3 {
+            self.face_b_dot[i].clock.next = self.clock.val();
+        }
+        for i in 0..9 {
+            self.p_dot[i].clock.next = self.clock.val();
+        }
+        for i in 0..9 {
+            self.ra_dot[i].clock.next = self.clock.val();
+        }
+        for i in 0..9 {
+            self.minor_dot[i].clock.next = self.clock.val();
+        }
+        for i in 0..9 {
+            self.minor_abs[i].clock.next = self.clock.val();
+        }
+        for i in 0..9 {
+            self.p_abs[i].clock.next = self.clock.val();
+        }
+        for i in 0..9 {
+            self.rb_dot[i].clock.next = self.clock.val();
+        }
+        for i in 0..21 {
+            self.at_d[i].clock.next = self.clock.val();
+        }
+        for i in 0..21 {
+            self.au_d[i].clock.next = self.clock.val();
+        }
+        for i in 0..12 {
+            self.fa_d[i].clock.next = self.clock.val();
+        }
+        for i in 0..12 {
+            self.fb_d[i].clock.next = self.clock.val();
+        }
+        for i in 0..36 {
+            self.ra_d[i].clock.next = self.clock.val();
+        }
+        for i in 0..27 {
+            self.pa_d[i].clock.next = self.clock.val();
+        }
+        self.round.clock.next = self.clock.val();
+        self.decide.clock.next = self.clock.val();
+        // Valid, half-lengths and the pair margin ride along.
+        self.valid[0].d.next = self.valid_in.val();
+        for i in 1..10 {
+            self.valid[i].d.next = self.valid[i - 1].q.val();
+        }
+        self.pm[0].d.next = self.pair_margin.val();
+        for i in 1..8 {
+            self.pm[i].d.next = self.pm[i - 1].q.val();
+        }
+        for x in 0..3 {
+            self.ha[x].d.next = self.half_a[x].val();
+            self.hb[x].d.next = self.half_b[x].val();
+        }
+        for i in 3..24 {
+            self.ha[i].d.next = self.ha[i - 3].q.val();
+            self.hb[i].d.next = self.hb[i - 3].q.val();
+        }
+        // Clock 1: rounding.
+        self.round.f.next = self.frac.val();
+        for i in 0..3 {
+            self.round.t[i].next = self.t[i].val();
+            self.round.u[i].next = self.u[i].val();
+        }
+        for i in 0..9 {
+            self.round.r[i].next = self.r[i].val();
+        }
+        // Clocks 2-4: face radii, P, r_A and the minors (halves after clock 1: ha[0..3]).
+        self.face_a_dot[0].a0.next = self.round.r_up[0].val();
+        self.face_a_dot[0].a1.next = self.round.r_up[1].val();
+        self.face_a_dot[0].a2.next = self.round.r_up[2].val();
+        self.face_a_dot[0].b0.next = self.hb[0].q.val();
+        self.face_a_dot[0].b1.next = self.hb[1].q.val();
+        self.face_a_dot[0].b2.next = self.hb[2].q.val();
+        self.face_b_dot[0].a0.next = self.round.r_up[0].val();
+        self.face_b_dot[0].a1.next = self.round.r_up[3].val();
+        self.face_b_dot[0].a2.next = self.round.r_up[6].val();
+        self.face_b_dot[0].b0.next = self.ha[0].q.val();
+        self.face_b_dot[0].b1.next = self.ha[1].q.val();
+        self.face_b_dot[0].b2.next = self.ha[2].q.val();
+        self.face_a_dot[1].a0.next = self.round.r_up[3].val();
+        self.face_a_dot[1].a1.next = self.round.r_up[4].val();
+        self.face_a_dot[1].a2.next = self.round.r_up[5].val();
+        self.face_a_dot[1].b0.next = self.hb[0].q.val();
+        self.face_a_dot[1].b1.next = self.hb[1].q.val();
+        self.face_a_dot[1].b2.next = self.hb[2].q.val();
+        self.face_b_dot[1].a0.next = self.round.r_up[1].val();
+        self.face_b_dot[1].a1.next = self.round.r_up[4].val();
+        self.face_b_dot[1].a2.next = self.round.r_up[7].val();
+        self.face_b_dot[1].b0.next = self.ha[0].q.val();
+        self.face_b_dot[1].b1.next = self.ha[1].q.val();
+        self.face_b_dot[1].b2.next = self.ha[2].q.val();
+        self.face_a_dot[2].a0.next = self.round.r_up[6].val();
+        self.face_a_dot[2].a1.next = self.round.r_up[7].val();
+        self.face_a_dot[2].a2.next = self.round.r_up[8].val();
+        self.face_a_dot[2].b0.next = self.hb[0].q.val();
+        self.face_a_dot[2].b1.next = self.hb[1].q.val();
+        self.face_a_dot[2].b2.next = self.hb[2].q.val();
+        self.face_b_dot[2].a0.next = self.round.r_up[2].val();
+        self.face_b_dot[2].a1.next = self.round.r_up[5].val();
+        self.face_b_dot[2].a2.next = self.round.r_up[8].val();
+        self.face_b_dot[2].b0.next = self.ha[0].q.val();
+        self.face_b_dot[2].b1.next = self.ha[1].q.val();
+        self.face_b_dot[2].b2.next = self.ha[2].q.val();
+        self.p_dot[0].a0.next = self.round.th[2].val();
+        self.p_dot[0].b0.next = self.round.rt[3].val();
+        self.p_dot[0].a1.next = self.round.th[1].val();
+        self.p_dot[0].b1.next = self.round.rt[6].val();
+        self.ra_dot[0].a0.next = self.ha[1].q.val();
+        self.ra_dot[0].b0.next = self.round.art[6].val();
+        self.ra_dot[0].a1.next = self.ha[2].q.val();
+        self.ra_dot[0].b1.next = self.round.art[3].val();
+        self.p_dot[1].a0.next = self.round.th[2].val();
+        self.p_dot[1].b0.next = self.round.rt[4].val();
+        self.p_dot[1].a1.next = self.round.th[1].val();
+        self.p_dot[1].b1.next = self.round.rt[7].val();
+        self.ra_dot[1].a0.next = self.ha[1].q.val();
+        self.ra_dot[1].b0.next = self.round.art[7].val();
+        self.ra_dot[1].a1.next = self.ha[2].q.val();
+        self.ra_dot[1].b1.next = self.round.art[4].val();
+        self.p_dot[2].a0.next = self.round.th[2].val();
+        self.p_dot[2].b0.next = self.round.rt[5].val();
+        self.p_dot[2].a1.next = self.round.th[1].val();
+        self.p_dot[2].b1.next = self.round.rt[8].val();
+        self.ra_dot[2].a0.next = self.ha[1].q.val();
+        self.ra_dot[2].b0.next = self.round.art[8].val();
+        self.ra_dot[2].a1.next = self.ha[2].q.val();
+        self.ra_dot[2].b1.next = self.round.art[5].val();
+        self.minor_dot[0].a0.next = self.round.rt[3].val();
+        self.minor_dot[0].b0.next = self.round.rt[7].val();
+        self.minor_dot[0].a1.next = self.round.rt[6].val();
+        self.minor_dot[0].b1.next = self.round.rt[4].val();
+        self.minor_dot[1].a0.next = self.round.rt[3].val();
+        self.minor_dot[1].b0.next = self.round.rt[8].val();
+        self.minor_dot[1].a1.next = self.round.rt[6].val();
+        self.minor_dot[1].b1.next = self.round.rt[5].val();
+        self.minor_dot[2].a0.next = self.round.rt[4].val();
+        self.minor_dot[2].b0.next = self.round.rt[8].val();
+        self.minor_dot[2].a1.next = self.round.rt[7].val();
+        self.minor_dot[2].b1.next = self.round.rt[5].val();
+        self.p_dot[3].a0.next = self.round.th[0].val();
+        self.p_dot[3].b0.next = self.round.rt[6].val();
+        self.p_dot[3].a1.next = self.round.th[2].val();
+        self.p_dot[3].b1.next = self.round.rt[0].val();
+        self.ra_dot[3].a0.next = self.ha[2].q.val();
+        self.ra_dot[3].b0.next = self.round.art[0].val();
+        self.ra_dot[3].a1.next = self.ha[0].q.val();
+        self.ra_dot[3].b1.next = self.round.art[6].val();
+        self.p_dot[4].a0.next = self.round.th[0].val();
+        self.p_dot[4].b0.next = self.round.rt[7].val();
+        self.p_dot[4].a1.next = self.round.th[2].val();
+        self.p_dot[4].b1.next = self.round.rt[1].val();
+        self.ra_dot[4].a0.next = self.ha[2].q.val();
+        self.ra_dot[4].b0.next = self.round.art[1].val();
+        self.ra_dot[4].a1.next = self.ha[0].q.val();
+        self.ra_dot[4].b1.next = self.round.art[7].val();
+        self.p_dot[5].a0.next = self.round.th[0].val();
+        self.p_dot[5].b0.next = self.round.rt[8].val();
+        self.p_dot[5].a1.next = self.round.th[2].val();
+        self.p_dot[5].b1.next = self.round.rt[2].val();
+        self.ra_dot[5].a0.next = self.ha[2].q.val();
+        self.ra_dot[5].b0.next = self.round.art[2].val();
+        self.ra_dot[5].a1.next = self.ha[0].q.val();
+        self.ra_dot[5].b1.next = self.round.art[8].val();
+        self.minor_dot[3].a0.next = self.round.rt[6].val();
+        self.minor_dot[3].b0.next = self.round.rt[1].val();
+        self.minor_dot[3].a1.next = self.round.rt[0].val();
+        self.minor_dot[3].b1.next = self.round.rt[7].val();
+        self.minor_dot[4].a0.next = self.round.rt[6].val();
+        self.minor_dot[4].b0.next = self.round.rt[2].val();
+        self.minor_dot[4].a1.next = self.round.rt[0].val();
+        self.minor_dot[4].b1.next = self.round.rt[8].val();
+        self.minor_dot[5].a0.next = self.round.rt[7].val();
+        self.minor_dot[5].b0.next = self.round.rt[2].val();
+        self.minor_dot[5].a1.next = self.round.rt[1].val();
+        self.minor_dot[5].b1.next = self.round.rt[8].val();
+        self.p_dot[6].a0.next = self.round.th[1].val();
+        self.p_dot[6].b0.next = self.round.rt[0].val();
+        self.p_dot[6].a1.next = self.round.th[0].val();
+        self.p_dot[6].b1.next = self.round.rt[3].val();
+        self.ra_dot[6].a0.next = self.ha[0].q.val();
+        self.ra_dot[6].b0.next = self.round.art[3].val();
+        self.ra_dot[6].a1.next = self.ha[1].q.val();
+        self.ra_dot[6].b1.next = self.round.art[0].val();
+        self.p_dot[7].a0.next = self.round.th[1].val();
+        self.p_dot[7].b0.next = self.round.rt[1].val();
+        self.p_dot[7].a1.next = self.round.th[0].val();
+        self.p_dot[7].b1.next = self.round.rt[4].val();
+        self.ra_dot[7].a0.next = self.ha[0].q.val();
+        self.ra_dot[7].b0.next = self.round.art[4].val();
+        self.ra_dot[7].a1.next = self.ha[1].q.val();
+        self.ra_dot[7].b1.next = self.round.art[1].val();
+        self.p_dot[8].a0.next = self.round.th[1].val();
+        self.p_dot[8].b0.next = self.round.rt[2].val();
+        self.p_dot[8].a1.next = self.round.th[0].val();
+        self.p_dot[8].b1.next = self.round.rt[5].val();
+        self.ra_dot[8].a0.next = self.ha[0].q.val();
+        self.ra_dot[8].b0.next = self.round.art[5].val();
+        self.ra_dot[8].a1.next = self.ha[1].q.val();
+        self.ra_dot[8].b1.next = self.round.art[2].val();
+        self.minor_dot[6].a0.next = self.round.rt[0].val();
+        self.minor_dot[6].b0.next = self.round.rt[4].val();
+        self.minor_dot[6].a1.next = self.round.rt[3].val();
+        self.minor_dot[6].b1.next = self.round.rt[1].val();
+        self.minor_dot[7].a0.next = self.round.rt[0].val();
+        self.minor_dot[7].b0.next = self.round.rt[5].val();
+        self.minor_dot[7].a1.next = self.round.rt[3].val();
+        self.minor_dot[7].b1.next = self.round.rt[2].val();
+        self.minor_dot[8].a0.next = self.round.rt[1].val();
+        self.minor_dot[8].b0.next = self.round.rt[5].val();
+        self.minor_dot[8].a1.next = self.round.rt[4].val();
+        self.minor_dot[8].b1.next = self.round.rt[2].val();
+        // Clock 5: ceil(|minor| / 2^f) and |P|.
+        for c in 0..9 {
+            self.minor_abs[c].x.next = self.minor_dot[c].p.val();
+            self.minor_abs[c].s.next = self.frac.val();
+            self.p_abs[c].x.next = self.p_dot[c].p.val();
+            self.p_abs[c].s.next = self.zero.val();
+        }
+        self.minor_s[0].next = signed_cast::<MINOR>(self.minor_abs[0].y.val());
+        self.minor_s[1].next = signed_cast::<MINOR>(self.minor_abs[1].y.val());
+        self.minor_s[2].next = signed_cast::<MINOR>(self.minor_abs[2].y.val());
+        self.minor_s[3].next = signed_cast::<MINOR>(self.minor_abs[3].y.val());
+        self.minor_s[4].next = signed_cast::<MINOR>(self.minor_abs[4].y.val());
+        self.minor_s[5].next = signed_cast::<MINOR>(self.minor_abs[5].y.val());
+        self.minor_s[6].next = signed_cast::<MINOR>(self.minor_abs[6].y.val());
+        self.minor_s[7].next = signed_cast::<MINOR>(self.minor_abs[7].y.val());
+        self.minor_s[8].next = signed_cast::<MINOR>(self.minor_abs[8].y.val());
+        // Clocks 6-8: r_B = Σ_(l != j) h^B_l minor(i, {j, l}) (halves after clock 5: hb[12..15]).
+        self.rb_dot[0].a0.next = self.minor_s[0].val();
+        self.rb_dot[0].b0.next = self.hb[13].q.val();
+        self.rb_dot[0].a1.next = self.minor_s[1].val();
+        self.rb_dot[0].b1.next = self.hb[14].q.val();
+        self.rb_dot[1].a0.next = self.minor_s[0].val();
+        self.rb_dot[1].b0.next = self.hb[12].q.val();
+        self.rb_dot[1].a1.next = self.minor_s[2].val();
+        self.rb_dot[1].b1.next = self.hb[14].q.val();
+        self.rb_dot[2].a0.next = self.minor_s[1].val();
+        self.rb_dot[2].b0.next = self.hb[12].q.val();
+        self.rb_dot[2].a1.next = self.minor_s[2].val();
+        self.rb_dot[2].b1.next = self.hb[13].q.val();
+        self.rb_dot[3].a0.next = self.minor_s[3].val();
+        self.rb_dot[3].b0.next = self.hb[13].q.val();
+        self.rb_dot[3].a1.next = self.minor_s[4].val();
+        self.rb_dot[3].b1.next = self.hb[14].q.val();
+        self.rb_dot[4].a0.next = self.minor_s[3].val();
+        self.rb_dot[4].b0.next = self.hb[12].q.val();
+        self.rb_dot[4].a1.next = self.minor_s[5].val();
+        self.rb_dot[4].b1.next = self.hb[14].q.val();
+        self.rb_dot[5].a0.next = self.minor_s[4].val();
+        self.rb_dot[5].b0.next = self.hb[12].q.val();
+        self.rb_dot[5].a1.next = self.minor_s[5].val();
+        self.rb_dot[5].b1.next = self.hb[13].q.val();
+        self.rb_dot[6].a0.next = self.minor_s[6].val();
+        self.rb_dot[6].b0.next = self.hb[13].q.val();
+        self.rb_dot[6].a1.next = self.minor_s[7].val();
+        self.rb_dot[6].b1.next = self.hb[14].q.val();
+        self.rb_dot[7].a0.next = self.minor_s[6].val();
+        self.rb_dot[7].b0.next = self.hb[12].q.val();
+        self.rb_dot[7].a1.next = self.minor_s[8].val();
+        self.rb_dot[7].b1.next = self.hb[14].q.val();
+        self.rb_dot[8].a0.next = self.minor_s[7].val();
+        self.rb_dot[8].b0.next = self.hb[12].q.val();
+        self.rb_dot[8].a1.next = self.minor_s[8].val();
+        self.rb_dot[8].b1.next = self.hb[13].q.val();
+        // Delay lines to clock 8.
+        for i in 0..3 {
+            self.at_d[i].d.next = self.round.abs_t[i].val();
+            self.au_d[i].d.next = self.round.abs_u[i].val();
+            self.fa_d[i].d.next = self.face_a_dot[i].p.val();
+            self.fb_d[i].d.next = self.face_b_dot[i].p.val();
+        }
+        for i in 3..21 {
+            self.at_d[i].d.next = self.at_d[i - 3].q.val();
+            self.au_d[i].d.next = self.au_d[i - 3].q.val();
+        }
+        for i in 3..12 {
+            self.fa_d[i].d.next = self.fa_d[i - 3].q.val();
+            self.fb_d[i].d.next = self.fb_d[i - 3].q.val();
+        }
+        for c in 0..9 {
+            self.ra_d[c].d.next = self.ra_dot[c].p.val();
+            self.pa_d[c].d.next = self.p_abs[c].y.val();
+        }
+        for c in 9..36 {
+            self.ra_d[c].d.next = self.ra_d[c - 9].q.val();
+        }
+        for c in 9..27 {
+            self.pa_d[c].d.next = self.pa_d[c - 9].q.val();
+        }
+        // Clocks 9-10: the decision (halves and margin after clock 8: ha[21..24], pm[7]).
+        self.decide.f.next = self.frac.val();
+        self.decide.k.next = self.shift.val();
+        self.decide.face_margin.next = self.face_margin.val();
+        self.decide.cross_margin.next = self.cross_margin.val();
+        self.decide.pair_margin.next = self.pm[7].q.val();
+        for i in 0..3 {
+            self.decide.abs_t[i].next = self.at_d[18 + i].q.val();
+            self.decide.abs_u[i].next = self.au_d[18 + i].q.val();
+            self.decide.face_a[i].next = self.fa_d[9 + i].q.val();
+            self.decide.face_b[i].next = self.fb_d[9 + i].q.val();
+            self.decide.half_a[i].next = self.ha[21 + i].q.val();
+            self.decide.half_b[i].next = self.hb[21 + i].q.val();
+        }
+        for c in 0..9 {
+            self.decide.abs_p[c].next = self.pa_d[18 + c].q.val();
+            self.decide.r_a[c].next = self.ra_d[27 + c].q.val();
+            self.decide.r_b[c].next = self.rb_dot[c].p.val();
+        }
+        self.valid_out.next = self.valid[9].q.val();
+        self.hit.next = self.decide.hit.val();
+    }
+}
