@@ -1,4 +1,4 @@
-//! Runs emitted Verilog in a real simulator (Verilator) on vectors: a generated test bench reads
+//! Runs emitted Verilog in a real simulator (Verilator, or Icarus as a second opinion) on vectors: a generated test bench reads
 //! one packed input word per clock (`$readmemh`), applies it, clocks the design and writes the
 //! packed outputs after the edge. The same vectors drive the rust-hdl simulation, and both are
 //! compared with the model, because rust-hdl's simulation and its Verilog can disagree.
@@ -135,7 +135,7 @@ pub fn scratch_dir(name: &str) -> Result<PathBuf> {
 
 fn run(cmd: &mut Command, what: &str) -> Result<()> {
     let out = cmd.output().with_context(|| {
-        format!("cannot run {what}: is Verilator installed? (scripts/test.sh installs it)")
+        format!("cannot run {what}: are Verilator and Icarus installed? (scripts/test.sh installs them)")
     })?;
     if !out.status.success() {
         bail!(
@@ -147,9 +147,18 @@ fn run(cmd: &mut Command, what: &str) -> Result<()> {
     Ok(())
 }
 
-/// Simulates `verilog` (top module `top`, clocked by `clock`) in Verilator on one input vector
-/// per clock and returns the outputs after each rising edge.
-pub fn simulate(
+/// A Verilog simulator: Verilator for speed, Icarus as a second opinion.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Simulator {
+    Verilator,
+    Icarus,
+}
+
+/// Simulates `verilog` (top module `top`, clocked by `clock`) in `sim` on one input vector per
+/// clock and returns the outputs after each rising edge.
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_with(
+    sim: Simulator,
     dir: &Path,
     verilog: &str,
     top: &str,
@@ -160,42 +169,73 @@ pub fn simulate(
 ) -> Result<Vec<Vec<u64>>> {
     assert!(!vectors.is_empty() && !inputs.is_empty());
     std::fs::write(dir.join("dut.v"), verilog)?;
-    std::fs::write(
-        dir.join("tb.v"),
-        testbench(top, clock, inputs, outputs, vectors.len()),
-    )?;
+    let bench = testbench(top, clock, inputs, outputs, vectors.len());
+    std::fs::write(dir.join("tb.v"), bench)?;
     let stim: String = vectors.iter().map(|v| pack(inputs, v) + "\n").collect();
     std::fs::write(dir.join("stim.hex"), stim)?;
-    run(
-        Command::new("verilator")
-            .current_dir(dir)
-            .args([
-                "--binary",
-                "-j",
-                "2",
-                "-O3",
-                "--top-module",
-                "tb",
-                "-Wno-fatal",
-            ])
-            .args([
-                "-Wno-WIDTH",
-                "-Wno-DECLFILENAME",
-                "-Wno-UNUSED",
-                "--Mdir",
-                "obj",
-            ])
-            .args(["tb.v", "dut.v"]),
-        "verilator (build)",
-    )?;
-    run(
-        Command::new(dir.join("obj/Vtb"))
-            .current_dir(dir)
-            .args(["+stim=stim.hex", "+out=out.hex"]),
-        "the Verilator simulation",
-    )?;
+    let plusargs = ["+stim=stim.hex", "+out=out.hex"];
+    match sim {
+        Simulator::Verilator => {
+            run(
+                Command::new("verilator")
+                    .current_dir(dir)
+                    .args(["--binary", "-j", "2", "-O3", "--top-module", "tb"])
+                    .args([
+                        "-Wno-fatal",
+                        "-Wno-WIDTH",
+                        "-Wno-DECLFILENAME",
+                        "-Wno-UNUSED",
+                    ])
+                    .args(["--Mdir", "obj", "tb.v", "dut.v"]),
+                "verilator (build)",
+            )?;
+            run(
+                Command::new(dir.join("obj/Vtb"))
+                    .current_dir(dir)
+                    .args(plusargs),
+                "the Verilator simulation",
+            )?;
+        }
+        Simulator::Icarus => {
+            run(
+                Command::new("iverilog")
+                    .current_dir(dir)
+                    .args(["-g2012", "-s", "tb", "-o", "tb.vvp", "tb.v", "dut.v"]),
+                "iverilog (build)",
+            )?;
+            run(
+                Command::new("vvp")
+                    .current_dir(dir)
+                    .args(["-n", "tb.vvp"])
+                    .args(plusargs),
+                "the Icarus simulation",
+            )?;
+        }
+    }
     let text = std::fs::read_to_string(dir.join("out.hex"))?;
     text.lines().map(|l| unpack(outputs, l)).collect()
+}
+
+/// `simulate_with` in Verilator.
+pub fn simulate(
+    dir: &Path,
+    verilog: &str,
+    top: &str,
+    clock: &str,
+    inputs: &[Port],
+    outputs: &[Port],
+    vectors: &[Vec<u64>],
+) -> Result<Vec<Vec<u64>>> {
+    simulate_with(
+        Simulator::Verilator,
+        dir,
+        verilog,
+        top,
+        clock,
+        inputs,
+        outputs,
+        vectors,
+    )
 }
 
 /// Lints `verilog` with Verilator: all warnings on, except WIDTH (rust-hdl writes 32-bit

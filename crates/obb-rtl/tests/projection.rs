@@ -1,5 +1,5 @@
 //! The projection pipeline, clock by clock against the model: the rust-hdl simulation and the
-//! emitted Verilog in Verilator, on the same vectors, must give the model's keys and margins
+//! emitted Verilog in Verilator (and Icarus, which must agree), on the same vectors, must give the model's keys and margins
 //! `LATENCY` clocks after each OBB, one OBB per clock, and nothing on the other clocks.
 
 mod common;
@@ -10,7 +10,7 @@ use obb_model::generate::{surgical, uniform};
 use obb_model::Scene;
 use obb_rtl::leaf::{sbits, uval};
 use obb_rtl::projection::{Projection, CENTER, HALF, LATENCY, MARGIN, ROT};
-use obb_rtl::verilator::Port;
+use obb_rtl::verilator::{Port, Simulator};
 use rust_hdl::prelude::*;
 
 /// One clock's inputs: valid, offset centers (3), half-lengths (3), rotation entries (9, raw).
@@ -79,7 +79,8 @@ fn rust_hdl(cfg: &HwConfig, vectors: &[Vec<u64>]) -> Vec<Vec<u64>> {
     run_rust_hdl(&mut Projection::new(cfg), vectors, apply, clock, read)
 }
 
-fn verilator(cfg: &HwConfig, vectors: &[Vec<u64>]) -> Vec<Vec<u64>> {
+/// The emitted Verilog in Verilator and in Icarus.
+fn simulators(cfg: &HwConfig, vectors: &[Vec<u64>]) -> (Vec<Vec<u64>>, Vec<Vec<u64>>) {
     let verilog = obb_rtl::emit::verilog(&mut Projection::new(cfg), "projection").unwrap();
     let mut inputs = vec![Port::new("valid_in", 1)];
     inputs.extend(ports("center", 3, CENTER));
@@ -89,7 +90,21 @@ fn verilator(cfg: &HwConfig, vectors: &[Vec<u64>]) -> Vec<Vec<u64>> {
     outputs.extend(ports("key_min", 3, CENTER));
     outputs.extend(ports("key_max", 3, CENTER));
     outputs.push(Port::new("margin", MARGIN));
-    run_verilator(&verilog, "projection", &inputs, &outputs, vectors)
+    let verilator = run_verilator(&verilog, "projection", &inputs, &outputs, vectors);
+    // Icarus as a second opinion, on the same words.
+    let dir = obb_rtl::verilator::scratch_dir("projection-icarus").unwrap();
+    let icarus = obb_rtl::verilator::simulate_with(
+        Simulator::Icarus,
+        &dir,
+        &verilog,
+        "projection",
+        "clock",
+        &inputs,
+        &outputs,
+        vectors,
+    )
+    .unwrap();
+    (verilator, icarus)
 }
 
 /// Scenes and configurations: the surgical scene (default formats), uniform boxes (narrow
@@ -130,6 +145,8 @@ fn projection_matches_the_model_in_rust_hdl_and_verilator() {
         let vectors = stream(&boxes, &cfg);
         let want = expected(&vectors, &boxes, &cfg);
         check(&rust_hdl(&cfg, &vectors), &want, "rust-hdl");
-        check(&verilator(&cfg, &vectors), &want, "verilator");
+        let (verilator, icarus) = simulators(&cfg, &vectors);
+        check(&verilator, &want, "verilator");
+        check(&icarus, &want, "icarus");
     }
 }
