@@ -331,7 +331,9 @@ fn scenes_that_do_not_fit_are_rejected_naming_the_obb() {
 fn cycle_model_by_hand() {
     // Two touching boxes, brute force, one lane: load 2 + LAT_PROJECT, no entries, no sort,
     // one visited pair (1 + LAT_BROAD), one reported pair, drain LAT_SAT.
-    use obb_model::fixed::cycles::{LAT_BROAD, LAT_PROJECT, LAT_SAT, LAT_SORT_PASS};
+    use obb_model::fixed::cycles::{
+        LAT_BROAD, LAT_PROJECT, LAT_SAT, LAT_SORT_PASS, LAT_SORT_START,
+    };
     let scene = Scene {
         obbs: vec![
             Obb::aligned([0.0; 3], [1.0; 3], 0),
@@ -348,9 +350,10 @@ fn cycle_model_by_hand() {
         (2 + LAT_PROJECT, 0, 0, 1 + LAT_BROAD, LAT_SAT)
     );
     assert_eq!(c.total, 2 + LAT_PROJECT + 1 + LAT_BROAD + LAT_SAT);
-    // The sweep sorts two keys on 20 bits in 3 passes of 8-bit digits (256 bins each).
+    // The sweep sorts two keys on 20 bits in 3 passes of 7-bit digits (128 bins each), as
+    // RadixSorter splits 20 bits into digits of at most 8.
     let sweep = m.detect(BroadPhase::Sweep, &GroupMask::All).cycles;
-    assert_eq!(sweep.sort, 3 * 2 + 3 * (256 + LAT_SORT_PASS));
+    assert_eq!(sweep.sort, 3 * (128 + 2 + LAT_SORT_PASS) + LAT_SORT_START);
     // Two lanes halve the visiting (rounded up), never more.
     let lanes = ModelFrame::new(&scene, &HwConfig { lanes: 2, ..cfg }).unwrap();
     assert_eq!(

@@ -4,6 +4,7 @@
 
 use crate::emit;
 use crate::projection::{self, Projection};
+use crate::radix::RadixSort;
 use crate::sat::{self, Sat};
 use anyhow::{Context, Result};
 use obb_model::fixed::HwConfig;
@@ -92,6 +93,17 @@ pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
         ports: ports(&sat, "sat"),
     });
     out.push(("sat.v".to_string(), header(cfg) + &sat));
+    let key_bits = cfg.key_bits;
+    let sort = radix_verilog(cfg.capacity, key_bits, cfg.radix_digit_bits)?;
+    modules.push(ModuleInfo {
+        module: "radix_sort".into(),
+        file: "radix_sort.v".into(),
+        // Not a pipeline: the sort's clocks are `cycles::sort_cycles` after `go`.
+        latency: 0,
+        throughput: 1,
+        ports: ports(&sort, "radix_sort"),
+    });
+    out.push(("radix_sort.v".to_string(), header(cfg) + &sort));
     let manifest = Manifest {
         generator: format!(
             "obb-rtl {} (cargo run --bin gen-rtl)",
@@ -105,6 +117,23 @@ pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
         serde_json::to_string_pretty(&manifest)? + "\n",
     ));
     Ok(out)
+}
+
+/// The radix sort's Verilog for `capacity` entries: its RAM address width is a type parameter,
+/// so each supported width is its own instance.
+fn radix_verilog(capacity: u32, key_bits: u32, digit: u32) -> Result<String> {
+    let a = capacity.next_power_of_two().trailing_zeros().max(1);
+    macro_rules! widths {
+        ($($a:literal => $c:literal),*) => {
+            match a {
+                $($a => emit::verilog(&mut RadixSort::<$a, $c>::new(key_bits, digit), "radix_sort"),)*
+                _ => anyhow::bail!("capacity {capacity}: the radix sort supports 2 to 2^20 entries"),
+            }
+        };
+    }
+    widths!(1 => 2, 2 => 3, 3 => 4, 4 => 5, 5 => 6, 6 => 7, 7 => 8, 8 => 9, 9 => 10, 10 => 11,
+        11 => 12, 12 => 13, 13 => 14, 14 => 15, 15 => 16, 16 => 17, 17 => 18, 18 => 19,
+        19 => 20, 20 => 21)
 }
 
 fn header(cfg: &HwConfig) -> String {

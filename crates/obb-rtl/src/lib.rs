@@ -5,6 +5,7 @@ pub mod emit;
 pub mod generate;
 pub mod leaf;
 pub mod projection;
+pub mod radix;
 pub mod sat;
 pub mod sat_back;
 pub mod sat_front;

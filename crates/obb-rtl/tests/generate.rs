@@ -58,6 +58,12 @@ fn the_manifest_lists_the_verilog_ports() {
         json["modules"][1]["latency"],
         obb_model::fixed::cycles::LAT_SAT
     );
+    let (_, sort) = fresh.iter().find(|(n, _)| n == "radix_sort.v").unwrap();
+    let rp = ports(sort, "radix_sort");
+    assert!(
+        rp.iter().any(|p| p.name == "rd_addr" && p.bits == 15),
+        "capacity 32768"
+    );
     assert_eq!(json["configuration"]["key_bits"], 20);
 }
 

@@ -7,6 +7,7 @@
 //! reports the same pairs, and only the work differs.
 
 use super::config::BroadPhase;
+use super::cycles::sort_cycles;
 use super::frame::ModelFrame;
 use crate::groups::GroupMask;
 use crate::radix::{bits_for, RadixSorter};
@@ -28,6 +29,8 @@ pub struct BroadWork {
     pub passes: u64,
     /// Keys moved by the radix passes: each sort's length times its passes, summed.
     pub moves: u64,
+    /// Clocks of the sorts (`cycles::sort_cycles`), summed.
+    pub sort_cycles: u64,
     /// Index pairs the broad phase visits (one per clock per lane).
     pub visited: u64,
     /// Pairs sent to the SAT stage.
@@ -139,9 +142,10 @@ fn sort(
     w: &mut BroadWork,
 ) {
     radix.sort(keys, vals, bits);
-    let passes = u64::from(radix.passes(bits));
-    w.passes += passes;
-    w.moves += passes * keys.len() as u64;
+    let passes = radix.passes(bits);
+    w.passes += u64::from(passes);
+    w.moves += u64::from(passes) * keys.len() as u64;
+    w.sort_cycles += sort_cycles(keys.len() as u64, passes, radix.digit_bits(bits));
 }
 
 /// log2 of the grid's cell edge in key units: `GRID_CELL_PER_MEDIAN` times the median key

@@ -212,8 +212,8 @@ impl HwConfig {
             "radix_digit_bits",
             self.radix_digit_bits,
             1,
-            self.key_bits.min(16),
-            "a digit is part of a key, and its histogram is one block RAM",
+            self.key_bits.min(8),
+            "a digit is part of a key, and the hardware keeps one register per bin",
         )?;
         // |t̂| = |T·a| / 2^f <= √3 √(1+η) 2^center_bits must fit the DSP's 25-bit port; only
         // the coarsest rotations (f = 2, η about 0.5) with 23-bit centers fail.

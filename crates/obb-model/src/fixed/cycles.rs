@@ -8,8 +8,18 @@ use super::config::HwConfig;
 /// Pipeline depth of the projection stage: input registers, `2|r|+1`, three DSP stages, sums,
 /// end points, keys (`obb_rtl::projection`, checked equal by its test).
 pub const LAT_PROJECT: u64 = 8;
-/// Fixed cycles of one radix pass besides its keys and its prefix sum (read latency, turnaround).
-pub const LAT_SORT_PASS: u64 = 4;
+/// Clocks of one radix pass besides its keys and its prefix sum: the write of the last entry,
+/// one clock behind its read (`obb_rtl::radix`).
+pub const LAT_SORT_PASS: u64 = 1;
+/// Clocks of a sort besides its passes: the clock that takes `go`.
+pub const LAT_SORT_START: u64 = 1;
+
+/// Clocks of one radix sort of `n` keys in `passes` passes of `digit_bits`-bit digits: each
+/// pass a prefix sum over the `2^digit_bits` bins, then one key per clock (the histogram of the
+/// next digit is counted meanwhile, the first one during the load).
+pub fn sort_cycles(n: u64, passes: u32, digit_bits: u32) -> u64 {
+    u64::from(passes) * ((1u64 << digit_bits) + n + LAT_SORT_PASS) + LAT_SORT_START
+}
 /// Pipeline depth of the broad-phase unit (key table read, compare, mask).
 pub const LAT_BROAD: u64 = 4;
 /// Pipeline depth of the SAT stage (products, minors, radius sums, compares, OR of 15 axes).
@@ -22,8 +32,7 @@ pub struct FrameCycles {
     pub load: u64,
     /// Grid cell entries written at one per clock.
     pub enter: u64,
-    /// Radix passes: each moves its keys at one per clock, after a prefix sum over the digit's
-    /// bins (the histogram itself is counted during the previous pass or the load).
+    /// The radix sorts (`sort_cycles`).
     pub sort: u64,
     /// The broad phase visits `lanes` index pairs per clock; the SAT stage and the output
     /// stream (one pair per clock) run alongside, so the slower of the two sets the pace.
@@ -36,10 +45,9 @@ pub struct FrameCycles {
 /// The modelled cycles of a frame of `n` boxes whose broad phase did `work` and which reports
 /// `pairs` pairs.
 pub fn frame_cycles(cfg: &HwConfig, n: u64, work: &BroadWork, pairs: u64) -> FrameCycles {
-    let bins = 1u64 << cfg.radix_digit_bits;
     let load = n + LAT_PROJECT;
     let enter = work.entered;
-    let sort = work.moves + work.passes * (bins + LAT_SORT_PASS);
+    let sort = work.sort_cycles;
     let visit = work.visited.div_ceil(u64::from(cfg.lanes)) + LAT_BROAD;
     let pairs = visit.max(pairs);
     let drain = LAT_SAT;
