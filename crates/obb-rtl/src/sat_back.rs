@@ -14,7 +14,7 @@ use crate::leaf::{sval, uval, AbsShift, SDot2, SDot3};
 use crate::sat_front::{RR, TU};
 use crate::sat_round::{SatRound, ABS_TU, RT, R_UP, TH};
 use obb_model::fixed::sat::{sat_decide, SatRounded, SatTerms};
-use obb_model::fixed::{HwConfig, Margins, QObb};
+use obb_model::fixed::{HwConfig, Margins};
 use rust_hdl::prelude::*;
 use std::fmt::Write as _;
 
@@ -71,18 +71,7 @@ impl Logic for SatDecide {
             let f = uval(self.f.val()) as u32;
             let k = uval(self.k.val()) as u32;
             let half = |h: &[Signal<In, Signed<HALF_S>>; 3]| h.each_ref().map(|s| sval(s.val()));
-            let a = QObb {
-                center: [0; 3],
-                half: half(&self.half_a),
-                axes: [[0; 3]; 3],
-                group: 0,
-            };
-            let b = QObb {
-                center: [0; 3],
-                half: half(&self.half_b),
-                axes: [[0; 3]; 3],
-                group: 0,
-            };
+            let (half_a, half_b) = (half(&self.half_a), half(&self.half_b));
             let m = Margins {
                 face: uval(self.face_margin.val()) as i64,
                 cross: uval(self.cross_margin.val()) as i64,
@@ -113,7 +102,7 @@ impl Logic for SatDecide {
             let r_b =
                 std::array::from_fn(|i| std::array::from_fn(|j| sval(self.r_b[3 * i + j].val())));
             let pair = uval(self.pair_margin.val()) as i64;
-            self.verdict.next = sat_decide(&a, &b, pair, &rounded, &terms, &r_b, &m);
+            self.verdict.next = sat_decide(&half_a, &half_b, pair, &rounded, &terms, &r_b, &m);
             self.hit.next = shown;
         }
     }

@@ -111,9 +111,10 @@ pub fn sat_r_b(b: &QObb, t: &SatTerms) -> [[i64; 3]; 3] {
 
 /// The SAT's last stage: the 15 comparisons, each side cut by `compare_shift` bits (docs/
 /// numerics.md, "Comparison width"). True unless an axis separates the boxes for certain.
+/// `half_a`, `half_b` are the boxes' half-lengths; of `r` only |t| and |u| are read.
 pub fn sat_decide(
-    a: &QObb,
-    b: &QObb,
+    half_a: &[i64; 3],
+    half_b: &[i64; 3],
     pair_margin: i64,
     r: &SatRounded,
     t: &SatTerms,
@@ -124,8 +125,8 @@ pub fn sat_decide(
     let apart = |lhs: i64, radius: i64| lhs >> k > radius >> k;
     let face = m.face + pair_margin;
     let cross = m.cross + pair_margin;
-    !((0..3).any(|i| apart(r.abs_t[i], (a.half[i] << f) + t.face_a[i] + face))
-        || (0..3).any(|j| apart(r.abs_u[j], (b.half[j] << f) + t.face_b[j] + face))
+    !((0..3).any(|i| apart(r.abs_t[i], (half_a[i] << f) + t.face_a[i] + face))
+        || (0..3).any(|j| apart(r.abs_u[j], (half_b[j] << f) + t.face_b[j] + face))
         || (0..3).any(|i| (0..3).any(|j| apart(t.p[i][j].abs(), t.r_a[i][j] + r_b[i][j] + cross))))
 }
 
@@ -135,5 +136,13 @@ pub fn collide(a: &QObb, pa: &Projected, b: &QObb, pb: &Projected, m: &Margins, 
     let rounded = sat_round(&sat_products(a, b), f);
     let terms = sat_terms(a, b, &rounded, f);
     let r_b = sat_r_b(b, &terms);
-    sat_decide(a, b, pa.margin + pb.margin, &rounded, &terms, &r_b, m)
+    sat_decide(
+        &a.half,
+        &b.half,
+        pa.margin + pb.margin,
+        &rounded,
+        &terms,
+        &r_b,
+        m,
+    )
 }
