@@ -32,7 +32,6 @@ module projection(clock,valid_in,center$0,center$1,center$2,half$0,half$1,half$2
     output reg  [27:0] margin;
     
     // Constant declarations
-    localparam  frac = 8'h10;
     localparam  frac1 = 8'h11;
     localparam  round = 38'h2ffff;
     localparam  key_shift = 8'h0;

@@ -56,7 +56,6 @@ pub struct Projection {
     pub key_max: [Signal<Out, Bits<CENTER>>; 3],
     pub margin: Signal<Out, Bits<MARGIN>>,
     // Configuration constants.
-    frac: Constant<Bits<8>>,
     frac1: Constant<Bits<8>>,
     round: Constant<Bits<SUM>>,
     key_shift: Constant<Bits<8>>,
@@ -114,7 +113,6 @@ impl Projection {
             key_min: Default::default(),
             key_max: Default::default(),
             margin: Default::default(),
-            frac: Constant::new(f.into()),
             frac1: Constant::new((f + 1).into()),
             round: Constant::new((3 * (1u64 << f) - 1).into()),
             key_shift: Constant::new(s.into()),
