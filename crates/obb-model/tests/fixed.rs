@@ -103,7 +103,7 @@ proptest! {
 
     /// Whole scenes (degenerate ones included): the model's pairs contain the f64 engines'.
     #[test]
-    fn scenes_are_never_missed(scene in common::scene(24), cfg in config(), mask in common::mask()) {
+    fn scenes_are_never_missed(scene in common::core_scene(24), cfg in config(), mask in common::mask()) {
         let cfg = cfg.fitted(&scene);
         let m = ModelFrame::new(&scene, &cfg).unwrap();
         let run = m.detect(cfg.broad_phase, &mask);
@@ -131,7 +131,7 @@ proptest! {
     /// the same pairs); `brute`, `sweep` and `grid` emit exactly those, each once.
     #[test]
     fn broad_phases_emit_every_overlapping_pair(
-        scene in common::scene(40), cfg in config(), mask in common::mask(),
+        scene in common::core_scene(40), cfg in config(), mask in common::mask(),
     ) {
         let cfg = cfg.fitted(&scene);
         let m = ModelFrame::new(&scene, &cfg).unwrap();
@@ -329,15 +329,16 @@ fn scenes_that_do_not_fit_are_rejected_naming_the_obb() {
 
 #[test]
 fn cycle_model_by_hand() {
-    // Two touching boxes, brute force, one lane: load 2 + LAT_PROJECT, no entries, no sort,
-    // one visited pair (1 + LAT_BROAD), one reported pair, drain LAT_SAT.
+    // Two touching boxes, brute force: load 2 + LAT_PROJECT + LAT_KEY_WRITE, no entries, no
+    // sort, one visit (one clock), then LAT_BROAD + LAT_SAT.
     use obb_model::fixed::cycles::{
-        LAT_BROAD, LAT_PROJECT, LAT_SAT, LAT_SORT_PASS, LAT_SORT_START,
+        LAT_BROAD, LAT_KEY_WRITE, LAT_PROJECT, LAT_SAT, LAT_SORT_PASS, LAT_SORT_START,
     };
     let scene = Scene {
         obbs: vec![
             Obb::aligned([0.0; 3], [1.0; 3], 0),
             Obb::aligned([2.0, 0.0, 0.0], [1.0; 3], 1),
+            Obb::aligned([9.0, 0.0, 0.0], [1.0; 3], 1),
         ],
     };
     let cfg = HwConfig::default();
@@ -346,21 +347,29 @@ fn cycle_model_by_hand() {
     assert_eq!(run.pairs, vec![[0, 1]]);
     let c = run.cycles;
     assert_eq!(
-        (c.load, c.enter, c.sort, c.pairs, c.drain),
-        (2 + LAT_PROJECT, 0, 0, 1 + LAT_BROAD, LAT_SAT)
+        (c.load, c.enter, c.sort, c.walk, c.drain),
+        (
+            3 + LAT_PROJECT + LAT_KEY_WRITE,
+            0,
+            0,
+            3,
+            LAT_BROAD + LAT_SAT
+        )
     );
-    assert_eq!(c.total, 2 + LAT_PROJECT + 1 + LAT_BROAD + LAT_SAT);
-    // The sweep sorts two keys on 20 bits in 3 passes of 7-bit digits (128 bins each), as
-    // RadixSorter splits 20 bits into digits of at most 8.
-    let sweep = m.detect(BroadPhase::Sweep, &GroupMask::All).cycles;
-    assert_eq!(sweep.sort, 3 * (128 + 2 + LAT_SORT_PASS) + LAT_SORT_START);
-    // Two lanes halve the visiting (rounded up), never more.
-    let lanes = ModelFrame::new(&scene, &HwConfig { lanes: 2, ..cfg }).unwrap();
+    assert_eq!(c.total, c.load + 3 + LAT_BROAD + LAT_SAT);
+    // The sweep sorts three keys on 20 bits in 3 passes of 7-bit digits (128 bins each), as
+    // RadixSorter splits 20 bits into digits of at most 8. Box 0 visits box 1 and reads box 2
+    // beyond its max; box 1 reads box 2 beyond its max: 2 clocks per outer box, 1 visit and 2
+    // reads beyond.
+    let sweep = m.detect(BroadPhase::Sweep, &GroupMask::All);
     assert_eq!(
-        lanes
-            .detect(BroadPhase::Brute, &GroupMask::All)
-            .cycles
-            .pairs,
-        1 + LAT_BROAD
+        sweep.cycles.sort,
+        3 * (128 + 3 + LAT_SORT_PASS) + LAT_SORT_START
     );
+    assert_eq!((sweep.work.visited, sweep.work.breaks), (1, 2));
+    assert_eq!(sweep.cycles.walk, 2 * 2 + 1 + 2);
+    // An empty frame: its end marker, the key write, the drain.
+    let empty = ModelFrame::new(&Scene { obbs: vec![] }, &cfg).unwrap();
+    let e = empty.detect(BroadPhase::Sweep, &GroupMask::All).cycles;
+    assert_eq!((e.load, e.walk), (1 + LAT_KEY_WRITE, 0));
 }

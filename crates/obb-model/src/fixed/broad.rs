@@ -33,6 +33,10 @@ pub struct BroadWork {
     pub sort_cycles: u64,
     /// Index pairs the broad phase visits (one per clock per lane).
     pub visited: u64,
+    /// Sweep: walks that ended on a box beyond the outer box's max key (not at the end).
+    pub breaks: u64,
+    /// Clocks of the walk (`walk_cycles`).
+    pub walk: u64,
     /// Pairs sent to the SAT stage.
     pub emitted: u64,
 }
@@ -86,6 +90,7 @@ pub fn run(
                 for &j in &order[p + 1..] {
                     let j = j as usize;
                     if frame.keys[j].0[0] > frame.keys[i].1[0] {
+                        w.breaks += 1;
                         break;
                     }
                     w.visited += 1;
@@ -130,7 +135,21 @@ pub fn run(
         }
         BroadPhase::Grid => grid(frame, &mut radix, &mut w, &mut send),
     }
+    w.walk = walk_cycles(mode, n as u64, &w, frame.cfg.lanes);
     w
+}
+
+/// Clocks the broad phase's walk takes (`obb_rtl::walker`). `brute` visits one pair per clock.
+/// `sweep` spends per outer box except the last one clock reading its entry, one clock per
+/// successor read (its visits, and the one read beyond its max key, if any), and one clock
+/// deciding to move on. `grid` and `improved-sap` are not built yet: their visits spread over
+/// the lanes stand in for them.
+pub fn walk_cycles(mode: BroadPhase, n: u64, w: &BroadWork, lanes: u32) -> u64 {
+    match mode {
+        BroadPhase::Brute => w.visited,
+        BroadPhase::Sweep => 2 * n.saturating_sub(1) + w.visited + w.breaks,
+        BroadPhase::Grid | BroadPhase::ImprovedSap => w.visited.div_ceil(u64::from(lanes)),
+    }
 }
 
 /// Sorts `keys` (with `vals`) on `bits` bits and counts the work.

@@ -34,6 +34,9 @@ impl std::fmt::Display for BroadPhase {
     }
 }
 
+/// Width of a box's group number in the core: groups 0 to 7.
+pub const GROUP_BITS: u32 = 3;
+
 /// Operand width of a DSP48E1 multiplier's A port (signed).
 pub const DSP_A_BITS: u32 = 25;
 /// Operand width of a DSP48E1 multiplier's B port (signed).
@@ -83,7 +86,7 @@ impl Default for HwConfig {
             key_bits: 20,
             ortho_tol: 1e-5,
             capacity: 32768,
-            broad_phase: BroadPhase::Grid,
+            broad_phase: BroadPhase::Sweep,
             groups: GroupMask::Cross,
             lanes: 1,
             radix_digit_bits: 8,
@@ -225,10 +228,19 @@ impl HwConfig {
             return Err(invalid(
                 "center_bits",
                 format!(
-                    "{} with rot_bits {}: T·a / 2^f would reach {t_hat:.0}, beyond the                      DSP48E1's 25-bit port (use rot_bits of at least 5, or fewer center bits)",
+                    "{} with rot_bits {}: T·a / 2^f would reach {t_hat:.0}, beyond the \
+                     DSP48E1's 25-bit port (use rot_bits of at least 5, or fewer center bits)",
                     self.center_bits, self.rot_bits
                 ),
             ));
+        }
+        if let GroupMask::Pairs(list) = &self.groups {
+            if let Some(&(_, h)) = list.iter().find(|&&(_, h)| h >= 1 << GROUP_BITS) {
+                return Err(invalid(
+                    "groups",
+                    format!("group {h} is beyond the core's {} groups", 1 << GROUP_BITS),
+                ));
+            }
         }
         in_range(
             "sat_bits",

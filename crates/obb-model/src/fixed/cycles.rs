@@ -3,7 +3,6 @@
 //! checked against (issue 4); the latencies are the pipeline depths it must have.
 
 use super::broad::BroadWork;
-use super::config::HwConfig;
 
 /// Pipeline depth of the projection stage: input registers, `2|r|+1`, three DSP stages, sums,
 /// end points, keys (`obb_rtl::projection`, checked equal by its test).
@@ -20,43 +19,50 @@ pub const LAT_SORT_START: u64 = 1;
 pub fn sort_cycles(n: u64, passes: u32, digit_bits: u32) -> u64 {
     u64::from(passes) * ((1u64 << digit_bits) + n + LAT_SORT_PASS) + LAT_SORT_START
 }
-/// Pipeline depth of the broad-phase unit (key table read, compare, mask).
-pub const LAT_BROAD: u64 = 4;
+/// Clocks from a visit of the broad phase to its candidate on the SAT's inputs: the key table
+/// read, the key and group check, the geometry read (`obb_rtl::core`).
+pub const LAT_BROAD: u64 = 3;
 /// Pipeline depth of the SAT stage (products, minors, radius sums, compares, OR of 15 axes).
 pub const LAT_SAT: u64 = 14;
+/// The clock after the last projection output, when its keys are in the key table.
+pub const LAT_KEY_WRITE: u64 = 1;
 
-/// Cycles per stage of one frame.
+/// Cycles per stage of one frame, from the first clock the core accepts a box to the last SAT
+/// verdict (the core's `cycles` counter).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct FrameCycles {
-    /// Boxes streamed in at one per clock through the projection pipeline.
+    /// Boxes streamed in at one per clock, then the projection pipeline drains and its last
+    /// keys are written (an empty frame: its end marker and one clock).
     pub load: u64,
     /// Grid cell entries written at one per clock.
     pub enter: u64,
     /// The radix sorts (`sort_cycles`).
     pub sort: u64,
-    /// The broad phase visits `lanes` index pairs per clock; the SAT stage and the output
-    /// stream (one pair per clock) run alongside, so the slower of the two sets the pace.
-    pub pairs: u64,
-    /// The SAT pipeline drains after the last pair.
+    /// The broad phase's walk (`broad::walk_cycles`): at most one visit per clock and lane; the
+    /// SAT and the output stream take one pair per clock alongside.
+    pub walk: u64,
+    /// The last visit's way through the key check and the SAT.
     pub drain: u64,
     pub total: u64,
 }
 
-/// The modelled cycles of a frame of `n` boxes whose broad phase did `work` and which reports
-/// `pairs` pairs.
-pub fn frame_cycles(cfg: &HwConfig, n: u64, work: &BroadWork, pairs: u64) -> FrameCycles {
-    let load = n + LAT_PROJECT;
+/// The modelled cycles of a frame of `n` boxes whose broad phase did `work`.
+pub fn frame_cycles(n: u64, work: &BroadWork) -> FrameCycles {
+    let load = if n == 0 {
+        1 + LAT_KEY_WRITE
+    } else {
+        n + LAT_PROJECT + LAT_KEY_WRITE
+    };
     let enter = work.entered;
     let sort = work.sort_cycles;
-    let visit = work.visited.div_ceil(u64::from(cfg.lanes)) + LAT_BROAD;
-    let pairs = visit.max(pairs);
-    let drain = LAT_SAT;
+    let walk = work.walk;
+    let drain = LAT_BROAD + LAT_SAT;
     FrameCycles {
         load,
         enter,
         sort,
-        pairs,
+        walk,
         drain,
-        total: load + enter + sort + pairs + drain,
+        total: load + enter + sort + walk + drain,
     }
 }

@@ -77,7 +77,7 @@ impl ModelFrame {
         });
         pairs.sort_unstable();
         pairs.dedup();
-        let cycles = frame_cycles(&self.cfg, self.obbs.len() as u64, &work, pairs.len() as u64);
+        let cycles = frame_cycles(self.obbs.len() as u64, &work);
         ModelRun {
             pairs,
             work,

@@ -41,6 +41,12 @@ pub enum QuantizeError {
         value: f64,
         limit: f64,
     },
+    #[error("obb {index}: group {group} is beyond the core's {groups} groups")]
+    Group {
+        index: usize,
+        group: u32,
+        groups: u32,
+    },
     #[error(
         "obb {index}: its axes deviate from orthonormality by {error:e}, more than the configured ortho_tol {tol:e}"
     )]
@@ -80,6 +86,14 @@ pub fn quantize(scene: &Scene, cfg: &HwConfig) -> Result<Vec<QObb>, QuantizeErro
 pub fn quantize_obb(index: usize, o: &Obb, cfg: &HwConfig) -> Result<QObb, QuantizeError> {
     // Scenes read from files are validated already; one built in code may not be.
     o.validate(index)?;
+    let groups = 1 << super::config::GROUP_BITS;
+    if o.group >= groups {
+        return Err(QuantizeError::Group {
+            index,
+            group: o.group,
+            groups,
+        });
+    }
     let q = cfg.lsb_mm;
     let limit = coord_limit(cfg);
     // q and 2^f are powers of two: dividing and scaling are exact, only the rounding is not.

@@ -102,6 +102,17 @@ pub fn scene(max_n: usize) -> impl Strategy<Value = Scene> {
         })
 }
 
+/// `scene`, with the groups the core holds (`fixed::config::GROUP_BITS`): eleven become 0 to 7.
+pub fn core_scene(max_n: usize) -> impl Strategy<Value = Scene> {
+    let groups = 1 << obb_model::fixed::config::GROUP_BITS;
+    scene(max_n).prop_map(move |mut s| {
+        for o in s.obbs.iter_mut() {
+            o.group %= groups;
+        }
+        s
+    })
+}
+
 pub fn mask() -> impl Strategy<Value = GroupMask> {
     prop_oneof![
         Just(GroupMask::All),

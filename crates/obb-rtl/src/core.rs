@@ -1,0 +1,501 @@
+//! `obb_core`: the whole collision-detection core for one frame. The OBBs stream in (one per
+//! clock), each is projected to its keys and margin and kept in the box tables; the broad
+//! phase (`walker`: brute, or sweep over the radix-sorted min x keys) visits index pairs; each
+//! visit's keys are checked on all three axes and its groups against the mask; candidates go
+//! through the 15-axis SAT; colliding pairs leave on a valid/ready stream through a FIFO. The
+//! pairs, the counters and the clock count equal `obb_model::fixed::ModelFrame::run`'s
+//! (docs/hardware.md has the ports, the protocol and the cycle budget).
+//!
+//! | clock | stage |
+//! | --- | --- |
+//! | V | the walker's visit (i, j); the key table is read for i (port A) and j (port B) |
+//! | V+1 | keys overlap on x, y, z and the mask allows the groups: a candidate (a < b) |
+//! | V+2 | the geometry table is read for a (port A) and b (port B) |
+//! | V+3 .. V+17 | the SAT pipeline; a hit enters the output FIFO |
+
+use crate::projection::{Projection, CENTER, HALF, MARGIN, ROT};
+use crate::radix::{RadixSort, KEY, VAL};
+use crate::sat::{self, Sat};
+use crate::two_read::TwoReadRam;
+use crate::walker::Walker;
+use obb_model::fixed::config::GROUP_BITS;
+use obb_model::fixed::{BroadPhase, HwConfig};
+use rust_hdl::prelude::*;
+
+/// Width of the status counters.
+pub const COUNT: usize = 40;
+/// Width of a box index on the pair stream.
+pub const INDEX: usize = VAL;
+const GROUP: usize = GROUP_BITS as usize;
+/// The group mask: bit `8 g + h` says whether groups g and h are paired.
+const MASK: usize = 1 << (2 * GROUP);
+/// A pair in the output FIFO: a above b.
+const PAIR: usize = 2 * INDEX;
+/// Clocks from a visit to its candidate on the SAT's inputs (`obb_model::fixed::cycles`).
+pub const LAT_BROAD: u64 = 3;
+/// Clocks after the walker's last visit until its SAT verdict is in the FIFO.
+const DRAIN: u64 = LAT_BROAD + sat::LATENCY - 1;
+
+#[derive(Copy, Clone, Debug, PartialEq, LogicState)]
+pub enum CoreState {
+    Idle,
+    /// Boxes accepted on the input stream.
+    Load,
+    /// The last keys leave the projection pipeline.
+    Project,
+    /// Sweep: the radix sort of the min x keys.
+    Sort,
+    Walk,
+    /// The last visits pass the SAT.
+    Drain,
+    Done,
+}
+
+#[derive(LogicBlock)]
+pub struct ObbCore<const A: usize, const C: usize> {
+    pub clock: Signal<In, Clock>,
+    /// Pulse: clear the counters and begin a frame (boxes are accepted from the next clock).
+    pub frame_start: Signal<In, Bit>,
+    /// The OBB stream: offset-binary centers, half-lengths, axes (`obb_axes[3k + x]`, Q1.f),
+    /// group; `obb_last` ends the frame, with its last box or (for an empty frame) alone.
+    pub obb_valid: Signal<In, Bit>,
+    pub obb_ready: Signal<Out, Bit>,
+    pub obb_last: Signal<In, Bit>,
+    pub obb_center: [Signal<In, Bits<CENTER>>; 3],
+    pub obb_half: [Signal<In, Bits<HALF>>; 3],
+    pub obb_axes: [Signal<In, Signed<ROT>>; 9],
+    pub obb_group: Signal<In, Bits<GROUP>>,
+    /// The pair stream: box indices a < b in load order; held until `pair_ready`.
+    pub pair_valid: Signal<Out, Bit>,
+    pub pair_ready: Signal<In, Bit>,
+    pub pair_a: Signal<Out, Bits<INDEX>>,
+    pub pair_b: Signal<Out, Bits<INDEX>>,
+    /// The frame is computed and every pair has left; held until the next `frame_start`.
+    pub done: Signal<Out, Bit>,
+    pub busy: Signal<Out, Bit>,
+    /// Sticky for the frame: more boxes than `capacity` arrived; the frame reports no pairs.
+    pub capacity_exceeded: Signal<Out, Bit>,
+    /// Clocks from the first load clock to the last SAT verdict.
+    pub cycles: Signal<Out, Bits<COUNT>>,
+    /// Index pairs the broad phase visited, candidates sent to the SAT, pairs reported.
+    pub candidates: Signal<Out, Bits<COUNT>>,
+    pub sat_tests: Signal<Out, Bits<COUNT>>,
+    pub pairs: Signal<Out, Bits<COUNT>>,
+    // Configuration.
+    sweep: Constant<Bit>,
+    capacity: Constant<Bits<C>>,
+    mask: Constant<Bits<MASK>>,
+    drain: Constant<Bits<8>>,
+    // Stages.
+    projection: Projection,
+    radix: RadixSort<A, C>,
+    walker: Walker<A, C>,
+    sat: Sat,
+    fifo: SynchronousFIFO<Bits<PAIR>, 6, 7, 32>,
+    // Box tables: geometry written on load, keys, margin and group when projected.
+    center: [TwoReadRam<Bits<CENTER>, A>; 3],
+    half: [TwoReadRam<Bits<HALF>, A>; 3],
+    axes: [TwoReadRam<Signed<ROT>, A>; 9],
+    kmin: [TwoReadRam<Bits<CENTER>, A>; 3],
+    kmax: [TwoReadRam<Bits<CENTER>, A>; 3],
+    margin: TwoReadRam<Bits<MARGIN>, A>,
+    group: TwoReadRam<Bits<GROUP>, A>,
+    /// The group alongside the projection pipeline.
+    gdelay: [DFF<Bits<GROUP>>; 8],
+    // Control.
+    state: DFF<CoreState>,
+    loaded: DFF<Bits<C>>,
+    projected: DFF<Bits<C>>,
+    over: DFF<Bit>,
+    countdown: DFF<Bits<8>>,
+    n_cycles: DFF<Bits<COUNT>>,
+    n_visits: DFF<Bits<COUNT>>,
+    n_tests: DFF<Bits<COUNT>>,
+    n_pairs: DFF<Bits<COUNT>>,
+    // Pipeline registers: the visit (K), the candidate (C), its geometry read (G), the pair's
+    // indices alongside the SAT (tag_*).
+    k_valid: DFF<Bit>,
+    k_i: DFF<Bits<A>>,
+    k_j: DFF<Bits<A>>,
+    c_valid: DFF<Bit>,
+    c_a: DFF<Bits<A>>,
+    c_b: DFF<Bits<A>>,
+    c_ma: DFF<Bits<MARGIN>>,
+    c_mb: DFF<Bits<MARGIN>>,
+    g_valid: DFF<Bit>,
+    g_a: DFF<Bits<A>>,
+    g_b: DFF<Bits<A>>,
+    g_ma: DFF<Bits<MARGIN>>,
+    g_mb: DFF<Bits<MARGIN>>,
+    tag_a: [DFF<Bits<A>>; 14],
+    tag_b: [DFF<Bits<A>>; 14],
+    /// A hit entered the FIFO one or two clocks ago: the FIFO shows it as not empty only two
+    /// clocks after its write.
+    recent: [DFF<Bit>; 2],
+    // Combinational.
+    accept: Signal<Local, Bit>,
+    overlap: Signal<Local, Bit>,
+    gidx: Signal<Local, Bits<MASK>>,
+    shifted: Signal<Local, Bits<MASK>>,
+    candidate: Signal<Local, Bit>,
+    swap: Signal<Local, Bit>,
+    hit: Signal<Local, Bit>,
+}
+
+impl<const A: usize, const C: usize> ObbCore<A, C> {
+    /// The core for configuration `cfg`, which must be valid and supported
+    /// (`generate::check_supported`): brute or sweep, one lane, capacity within 2^A.
+    pub fn new(cfg: &HwConfig) -> ObbCore<A, C> {
+        assert!(C == A + 1, "counts need one bit more than addresses");
+        assert!(
+            u64::from(cfg.capacity) <= 1 << A,
+            "capacity fits the tables"
+        );
+        let sweep = match cfg.broad_phase {
+            BroadPhase::Sweep => true,
+            BroadPhase::Brute => false,
+            other => panic!("broad phase {other} is not in the hardware"),
+        };
+        let mut mask = Bits::<MASK>::default();
+        for g in 0..1u32 << GROUP {
+            for h in 0..1u32 << GROUP {
+                if cfg.groups.allows(g, h) {
+                    mask = mask.replace_bit((g << GROUP | h) as usize, true);
+                }
+            }
+        }
+        ObbCore {
+            clock: Default::default(),
+            frame_start: Default::default(),
+            obb_valid: Default::default(),
+            obb_ready: Default::default(),
+            obb_last: Default::default(),
+            obb_center: Default::default(),
+            obb_half: Default::default(),
+            obb_axes: Default::default(),
+            obb_group: Default::default(),
+            pair_valid: Default::default(),
+            pair_ready: Default::default(),
+            pair_a: Default::default(),
+            pair_b: Default::default(),
+            done: Default::default(),
+            busy: Default::default(),
+            capacity_exceeded: Default::default(),
+            cycles: Default::default(),
+            candidates: Default::default(),
+            sat_tests: Default::default(),
+            pairs: Default::default(),
+            sweep: Constant::new(sweep),
+            capacity: Constant::new(u64::from(cfg.capacity).into()),
+            mask: Constant::new(mask),
+            drain: Constant::new(DRAIN.into()),
+            projection: Projection::new(cfg),
+            radix: RadixSort::new(cfg.key_bits, cfg.radix_digit_bits),
+            walker: Walker::new(sweep),
+            sat: Sat::new(cfg),
+            fifo: Default::default(),
+            center: Default::default(),
+            half: Default::default(),
+            axes: Default::default(),
+            kmin: Default::default(),
+            kmax: Default::default(),
+            margin: Default::default(),
+            group: Default::default(),
+            gdelay: Default::default(),
+            state: Default::default(),
+            loaded: Default::default(),
+            projected: Default::default(),
+            over: Default::default(),
+            countdown: Default::default(),
+            n_cycles: Default::default(),
+            n_visits: Default::default(),
+            n_tests: Default::default(),
+            n_pairs: Default::default(),
+            k_valid: Default::default(),
+            k_i: Default::default(),
+            k_j: Default::default(),
+            c_valid: Default::default(),
+            c_a: Default::default(),
+            c_b: Default::default(),
+            c_ma: Default::default(),
+            c_mb: Default::default(),
+            g_valid: Default::default(),
+            g_a: Default::default(),
+            g_b: Default::default(),
+            g_ma: Default::default(),
+            g_mb: Default::default(),
+            tag_a: Default::default(),
+            tag_b: Default::default(),
+            recent: Default::default(),
+            accept: Default::default(),
+            overlap: Default::default(),
+            gidx: Default::default(),
+            shifted: Default::default(),
+            candidate: Default::default(),
+            swap: Default::default(),
+            hit: Default::default(),
+        }
+    }
+}
+
+impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(
+            self, clock, state, loaded, projected, over, countdown, n_cycles, n_visits, n_tests,
+            n_pairs, k_valid, k_i, k_j, c_valid, c_a, c_b, c_ma, c_mb, g_valid, g_a, g_b, g_ma,
+            g_mb
+        );
+        clock!(self, clock, projection, radix, walker, sat, fifo, margin, group);
+        for x in 0..3 {
+            self.center[x].clock.next = self.clock.val();
+            self.half[x].clock.next = self.clock.val();
+            self.kmin[x].clock.next = self.clock.val();
+            self.kmax[x].clock.next = self.clock.val();
+        }
+        for k in 0..9 {
+            self.axes[k].clock.next = self.clock.val();
+        }
+        for s in 0..8 {
+            self.gdelay[s].clock.next = self.clock.val();
+        }
+        self.recent[0].clock.next = self.clock.val();
+        self.recent[1].clock.next = self.clock.val();
+        for s in 0..14 {
+            self.tag_a[s].clock.next = self.clock.val();
+            self.tag_b[s].clock.next = self.clock.val();
+        }
+
+        // Load: a box is accepted while loading, stored at its index and projected.
+        self.obb_ready.next = self.state.q.val() == CoreState::Load;
+        self.accept.next = (self.state.q.val() == CoreState::Load)
+            & self.obb_valid.val()
+            & (self.loaded.q.val() != self.capacity.val());
+        for x in 0..3 {
+            self.center[x].write_enable.next = self.accept.val();
+            self.center[x].write_address.next = bit_cast::<A, C>(self.loaded.q.val());
+            self.center[x].write_data.next = self.obb_center[x].val();
+            self.half[x].write_enable.next = self.accept.val();
+            self.half[x].write_address.next = bit_cast::<A, C>(self.loaded.q.val());
+            self.half[x].write_data.next = self.obb_half[x].val();
+            self.projection.center[x].next = self.obb_center[x].val();
+            self.projection.half[x].next = self.obb_half[x].val();
+        }
+        for k in 0..9 {
+            self.axes[k].write_enable.next = self.accept.val();
+            self.axes[k].write_address.next = bit_cast::<A, C>(self.loaded.q.val());
+            self.axes[k].write_data.next = self.obb_axes[k].val();
+            self.projection.axes[k].next = self.obb_axes[k].val();
+        }
+        self.projection.valid_in.next = self.accept.val();
+        self.gdelay[0].d.next = self.obb_group.val();
+        for s in 1..8 {
+            self.gdelay[s].d.next = self.gdelay[s - 1].q.val();
+        }
+        if self.accept.val() {
+            self.loaded.d.next = self.loaded.q.val() + 1;
+        }
+
+        // Projected: keys, margin and group stored at the box's index; sweep sorts min x.
+        for x in 0..3 {
+            self.kmin[x].write_enable.next = self.projection.valid_out.val();
+            self.kmin[x].write_address.next = bit_cast::<A, C>(self.projected.q.val());
+            self.kmin[x].write_data.next = self.projection.key_min[x].val();
+            self.kmax[x].write_enable.next = self.projection.valid_out.val();
+            self.kmax[x].write_address.next = bit_cast::<A, C>(self.projected.q.val());
+            self.kmax[x].write_data.next = self.projection.key_max[x].val();
+        }
+        self.margin.write_enable.next = self.projection.valid_out.val();
+        self.margin.write_address.next = bit_cast::<A, C>(self.projected.q.val());
+        self.margin.write_data.next = self.projection.margin.val();
+        self.group.write_enable.next = self.projection.valid_out.val();
+        self.group.write_address.next = bit_cast::<A, C>(self.projected.q.val());
+        self.group.write_data.next = self.gdelay[7].q.val();
+        self.radix.in_valid.next = self.projection.valid_out.val() & self.sweep.val();
+        self.radix.in_key.next = bit_cast::<KEY, CENTER>(self.projection.key_min[0].val());
+        self.radix.in_val.next = bit_cast::<VAL, C>(self.projected.q.val());
+        if self.projection.valid_out.val() {
+            self.projected.d.next = self.projected.q.val() + 1;
+        }
+
+        // The broad phase: the walker reads the sorted entries and the key table.
+        self.radix.start.next = self.frame_start.val();
+        self.radix.go.next = false;
+        self.radix.rd_addr.next = self.walker.rd_addr.val();
+        self.walker.rd_key.next = self.radix.rd_key.val();
+        self.walker.rd_val.next = self.radix.rd_val.val();
+        self.walker.n.next = self.loaded.q.val();
+        self.walker.start.next = false;
+        self.walker.stall.next = self.fifo.almost_full.val();
+        self.walker.a_max_x.next = self.kmax[0].read_data_a.val();
+        for x in 0..3 {
+            self.kmin[x].read_address_a.next = self.walker.a_addr.val();
+            self.kmin[x].read_address_b.next = self.walker.b_addr.val();
+            self.kmax[x].read_address_a.next = self.walker.a_addr.val();
+            self.kmax[x].read_address_b.next = self.walker.b_addr.val();
+        }
+        self.margin.read_address_a.next = self.walker.a_addr.val();
+        self.margin.read_address_b.next = self.walker.b_addr.val();
+        self.group.read_address_a.next = self.walker.a_addr.val();
+        self.group.read_address_b.next = self.walker.b_addr.val();
+
+        // V+1: the keys of i and j overlap on all three axes, and the mask allows the groups.
+        self.k_valid.d.next = self.walker.visit.val();
+        self.k_i.d.next = self.walker.vi.val();
+        self.k_j.d.next = self.walker.vj.val();
+        self.overlap.next = (self.kmin[0].read_data_a.val() <= self.kmax[0].read_data_b.val())
+            & (self.kmin[0].read_data_b.val() <= self.kmax[0].read_data_a.val())
+            & (self.kmin[1].read_data_a.val() <= self.kmax[1].read_data_b.val())
+            & (self.kmin[1].read_data_b.val() <= self.kmax[1].read_data_a.val())
+            & (self.kmin[2].read_data_a.val() <= self.kmax[2].read_data_b.val())
+            & (self.kmin[2].read_data_b.val() <= self.kmax[2].read_data_a.val());
+        self.gidx.next = (bit_cast::<MASK, GROUP>(self.group.read_data_a.val()) << 3_u64)
+            | bit_cast::<MASK, GROUP>(self.group.read_data_b.val());
+        self.shifted.next = self.mask.val() >> self.gidx.val();
+        self.candidate.next =
+            self.k_valid.q.val() & self.overlap.val() & self.shifted.val().get_bit(0);
+        // The lower index is box A of the SAT.
+        self.swap.next = self.k_j.q.val() < self.k_i.q.val();
+        self.c_valid.d.next = self.candidate.val();
+        self.c_a.d.next = self.k_i.q.val();
+        self.c_b.d.next = self.k_j.q.val();
+        self.c_ma.d.next = self.margin.read_data_a.val();
+        self.c_mb.d.next = self.margin.read_data_b.val();
+        if self.swap.val() {
+            self.c_a.d.next = self.k_j.q.val();
+            self.c_b.d.next = self.k_i.q.val();
+            self.c_ma.d.next = self.margin.read_data_b.val();
+            self.c_mb.d.next = self.margin.read_data_a.val();
+        }
+        if self.k_valid.q.val() {
+            self.n_visits.d.next = self.n_visits.q.val() + 1;
+        }
+        if self.candidate.val() {
+            self.n_tests.d.next = self.n_tests.q.val() + 1;
+        }
+
+        // V+2: the geometry of a and b is read.
+        for x in 0..3 {
+            self.center[x].read_address_a.next = self.c_a.q.val();
+            self.center[x].read_address_b.next = self.c_b.q.val();
+            self.half[x].read_address_a.next = self.c_a.q.val();
+            self.half[x].read_address_b.next = self.c_b.q.val();
+        }
+        for k in 0..9 {
+            self.axes[k].read_address_a.next = self.c_a.q.val();
+            self.axes[k].read_address_b.next = self.c_b.q.val();
+        }
+        self.g_valid.d.next = self.c_valid.q.val();
+        self.g_a.d.next = self.c_a.q.val();
+        self.g_b.d.next = self.c_b.q.val();
+        self.g_ma.d.next = self.c_ma.q.val();
+        self.g_mb.d.next = self.c_mb.q.val();
+
+        // V+3: the SAT; the indices ride alongside.
+        self.sat.valid_in.next = self.g_valid.q.val();
+        for x in 0..3 {
+            self.sat.center_a[x].next = self.center[x].read_data_a.val();
+            self.sat.center_b[x].next = self.center[x].read_data_b.val();
+            self.sat.half_a[x].next = self.half[x].read_data_a.val();
+            self.sat.half_b[x].next = self.half[x].read_data_b.val();
+        }
+        for k in 0..9 {
+            self.sat.axes_a[k].next = self.axes[k].read_data_a.val();
+            self.sat.axes_b[k].next = self.axes[k].read_data_b.val();
+        }
+        self.sat.margin_a.next = self.g_ma.q.val();
+        self.sat.margin_b.next = self.g_mb.q.val();
+        self.tag_a[0].d.next = self.g_a.q.val();
+        self.tag_b[0].d.next = self.g_b.q.val();
+        for s in 1..14 {
+            self.tag_a[s].d.next = self.tag_a[s - 1].q.val();
+            self.tag_b[s].d.next = self.tag_b[s - 1].q.val();
+        }
+
+        // V+17: a hit enters the FIFO; the stream takes pairs from it.
+        self.hit.next = self.sat.valid_out.val() & self.sat.hit.val();
+        self.fifo.write.next = self.hit.val();
+        self.recent[0].d.next = self.hit.val();
+        self.recent[1].d.next = self.recent[0].q.val();
+        self.fifo.data_in.next = (bit_cast::<PAIR, A>(self.tag_a[13].q.val()) << 20_u64)
+            | bit_cast::<PAIR, A>(self.tag_b[13].q.val());
+        if self.hit.val() {
+            self.n_pairs.d.next = self.n_pairs.q.val() + 1;
+        }
+        self.pair_valid.next = !self.fifo.empty.val();
+        self.pair_a.next = self.fifo.data_out.val().get_bits::<INDEX>(20);
+        self.pair_b.next = self.fifo.data_out.val().get_bits::<INDEX>(0);
+        self.fifo.read.next = self.pair_ready.val() & !self.fifo.empty.val();
+
+        // Control and status.
+        self.busy.next =
+            (self.state.q.val() != CoreState::Idle) & (self.state.q.val() != CoreState::Done);
+        self.done.next = (self.state.q.val() == CoreState::Done)
+            & self.fifo.empty.val()
+            & !self.recent[0].q.val()
+            & !self.recent[1].q.val();
+        self.capacity_exceeded.next = self.over.q.val();
+        self.cycles.next = self.n_cycles.q.val();
+        self.candidates.next = self.n_visits.q.val();
+        self.sat_tests.next = self.n_tests.q.val();
+        self.pairs.next = self.n_pairs.q.val();
+        if self.busy.val() {
+            self.n_cycles.d.next = self.n_cycles.q.val() + 1;
+        }
+        match self.state.q.val() {
+            CoreState::Idle => {}
+            CoreState::Load => {
+                if self.obb_valid.val() & (self.loaded.q.val() == self.capacity.val()) {
+                    self.over.d.next = true;
+                }
+                if self.obb_last.val() {
+                    self.state.d.next = CoreState::Project;
+                }
+            }
+            CoreState::Project => {
+                // Every box is in the key table: sort (sweep) or walk (brute); a frame over
+                // capacity ends here with no pairs.
+                if self.projected.q.val() == self.loaded.q.val() {
+                    if self.over.q.val() {
+                        self.state.d.next = CoreState::Done;
+                    } else if self.sweep.val() {
+                        self.radix.go.next = true;
+                        self.state.d.next = CoreState::Sort;
+                    } else {
+                        self.walker.start.next = true;
+                        self.state.d.next = CoreState::Walk;
+                    }
+                }
+            }
+            CoreState::Sort => {
+                if self.radix.done.val() {
+                    self.walker.start.next = true;
+                    self.state.d.next = CoreState::Walk;
+                }
+            }
+            CoreState::Walk => {
+                if self.walker.finished.val() {
+                    self.countdown.d.next = self.drain.val();
+                    self.state.d.next = CoreState::Drain;
+                }
+            }
+            CoreState::Drain => {
+                self.countdown.d.next = self.countdown.q.val() - 1;
+                if self.countdown.q.val() == 1 {
+                    self.state.d.next = CoreState::Done;
+                }
+            }
+            CoreState::Done => {}
+        }
+        if self.frame_start.val() {
+            self.state.d.next = CoreState::Load;
+            self.loaded.d.next = 0.into();
+            self.projected.d.next = 0.into();
+            self.over.d.next = false;
+            self.n_cycles.d.next = 0.into();
+            self.n_visits.d.next = 0.into();
+            self.n_tests.d.next = 0.into();
+            self.n_pairs.d.next = 0.into();
+        }
+    }
+}

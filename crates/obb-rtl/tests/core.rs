@@ -1,0 +1,303 @@
+//! The whole core, `obb_core`, on small scenes against `ModelFrame::run`: the same pairs (each
+//! once), the same counters and the model's clock count, in rust-hdl's simulation and, as
+//! emitted Verilog, in Verilator, clock for clock on the same input words. Back-pressure on the
+//! pair stream loses nothing; a frame over capacity reports the error and no pairs.
+
+mod common;
+
+use common::{raw, run_rust_hdl, run_verilator, signed};
+use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame, ModelRun, QObb};
+use obb_model::generate::{surgical, uniform};
+use obb_model::{Obb, Scene};
+use obb_rtl::core::{ObbCore, COUNT, INDEX};
+use obb_rtl::leaf::{sbits, uval};
+use obb_rtl::projection::{CENTER, HALF, ROT};
+use obb_rtl::verilator::Port;
+use rust_hdl::prelude::*;
+
+const A: usize = 9;
+const C: usize = 10;
+type Core = ObbCore<A, C>;
+
+/// Input word: frame_start, obb_valid, obb_last, centers (3), halves (3), axes (9), group,
+/// pair_ready.
+const WORD: usize = 20;
+
+fn inputs() -> Vec<Port> {
+    let mut p = vec![
+        Port::new("frame_start", 1),
+        Port::new("obb_valid", 1),
+        Port::new("obb_last", 1),
+    ];
+    p.extend(common::ports("obb_center", 3, CENTER));
+    p.extend(common::ports("obb_half", 3, HALF));
+    p.extend(common::ports("obb_axes", 9, ROT));
+    p.push(Port::new("obb_group", 3));
+    p.push(Port::new("pair_ready", 1));
+    p
+}
+
+/// Output word: pair_valid, pair_a, pair_b, done, capacity_exceeded, obb_ready, cycles,
+/// candidates, sat_tests, pairs.
+fn outputs() -> Vec<Port> {
+    vec![
+        Port::new("pair_valid", 1),
+        Port::new("pair_a", INDEX),
+        Port::new("pair_b", INDEX),
+        Port::new("done", 1),
+        Port::new("capacity_exceeded", 1),
+        Port::new("obb_ready", 1),
+        Port::new("cycles", COUNT),
+        Port::new("candidates", COUNT),
+        Port::new("sat_tests", COUNT),
+        Port::new("pairs", COUNT),
+    ]
+}
+
+/// The words of one frame: `frame_start`, one box per clock (the last with `obb_last`, or the
+/// marker alone for no boxes), then `idle` clocks; `ready(k)` drives `pair_ready` on clock k.
+fn frame(
+    boxes: &[QObb],
+    cfg: &HwConfig,
+    idle: usize,
+    ready: &dyn Fn(usize) -> bool,
+) -> Vec<Vec<u64>> {
+    let offset = 1i64 << (cfg.center_bits - 1);
+    let mut words = vec![vec![0; WORD]];
+    words[0][0] = 1;
+    for (i, b) in boxes.iter().enumerate() {
+        let mut w = vec![0, 1, u64::from(i + 1 == boxes.len())];
+        w.extend(b.center.map(|c| (c + offset) as u64));
+        w.extend(b.half.map(|h| h as u64));
+        w.extend((0..9).map(|k| raw(b.axes[k / 3][k % 3], ROT)));
+        w.push(u64::from(b.group));
+        w.push(0);
+        words.push(w);
+    }
+    if boxes.is_empty() {
+        let mut w = vec![0; WORD];
+        w[2] = 1;
+        words.push(w);
+    }
+    words.extend((0..idle).map(|_| vec![0; WORD]));
+    for (k, w) in words.iter_mut().enumerate() {
+        w[WORD - 1] = u64::from(ready(k));
+    }
+    words
+}
+
+fn rust_hdl(cfg: &HwConfig, words: &[Vec<u64>]) -> Vec<Vec<u64>> {
+    let apply = |u: &mut Core, w: &[u64]| {
+        u.frame_start.next = w[0] == 1;
+        u.obb_valid.next = w[1] == 1;
+        u.obb_last.next = w[2] == 1;
+        for x in 0..3 {
+            u.obb_center[x].next = w[3 + x].into();
+            u.obb_half[x].next = w[6 + x].into();
+        }
+        for k in 0..9 {
+            u.obb_axes[k].next = sbits(signed(w[9 + k], ROT));
+        }
+        u.obb_group.next = w[18].into();
+        u.pair_ready.next = w[19] == 1;
+    };
+    let read = |u: &Core| {
+        vec![
+            u64::from(u.pair_valid.val()),
+            uval(u.pair_a.val()),
+            uval(u.pair_b.val()),
+            u64::from(u.done.val()),
+            u64::from(u.capacity_exceeded.val()),
+            u64::from(u.obb_ready.val()),
+            uval(u.cycles.val()),
+            uval(u.candidates.val()),
+            uval(u.sat_tests.val()),
+            uval(u.pairs.val()),
+        ]
+    };
+    let clock = |u: &mut Core, c: bool| u.clock.next = Clock::from(c);
+    run_rust_hdl(&mut Core::new(cfg), words, apply, clock, read)
+}
+
+/// What a frame's outputs say: the pairs taken from the stream in order (a pair moves on a
+/// clock whose word has `pair_ready` while the outputs before it show `pair_valid`), the
+/// clock `done` first shows, and the counters then.
+#[derive(Debug)]
+struct Outcome {
+    pairs: Vec<[u32; 2]>,
+    done_at: usize,
+    over: bool,
+    cycles: u64,
+    counters: [u64; 3],
+}
+
+fn outcome(words: &[Vec<u64>], out: &[Vec<u64>], from: usize) -> Outcome {
+    let mut pairs = Vec::new();
+    for k in from + 1..out.len() {
+        let before = &out[k - 1];
+        if before[0] == 1 && words[k][WORD - 1] == 1 {
+            pairs.push([before[1] as u32, before[2] as u32]);
+        }
+        if out[k][3] == 1 {
+            let o = &out[k];
+            return Outcome {
+                pairs,
+                done_at: k - from,
+                over: o[4] == 1,
+                cycles: o[6],
+                counters: [o[7], o[8], o[9]],
+            };
+        }
+    }
+    panic!("the frame never finished");
+}
+
+/// The core's frame equals the model's: every pair once, the counters, and (with the stream
+/// always ready) the clock count, `done` within three clocks of the last verdict.
+fn agrees(got: &Outcome, run: &ModelRun, always_ready: bool, what: &str) {
+    let mut pairs = got.pairs.clone();
+    pairs.sort_unstable();
+    let n = pairs.len();
+    pairs.dedup();
+    assert_eq!(pairs.len(), n, "{what}: a pair came twice");
+    let missing: Vec<_> = run
+        .pairs
+        .iter()
+        .filter(|p| pairs.binary_search(p).is_err())
+        .collect();
+    let extra: Vec<_> = pairs
+        .iter()
+        .filter(|p| run.pairs.binary_search(p).is_err())
+        .collect();
+    assert!(
+        missing.is_empty() && extra.is_empty(),
+        "{what}: {} pairs missing, first {:?}; {} extra, first {:?}",
+        missing.len(),
+        missing.first(),
+        extra.len(),
+        extra.first()
+    );
+    assert!(!got.over, "{what}: capacity");
+    let c = run.counters();
+    assert_eq!(
+        got.counters,
+        [c.candidates, c.sat, c.pairs],
+        "{what}: counters"
+    );
+    if always_ready {
+        assert_eq!(
+            got.cycles, run.cycles.total,
+            "{what}: cycles {:?}",
+            run.cycles
+        );
+        assert!(
+            (got.done_at as u64).abs_diff(run.cycles.total) <= 3,
+            "{what}: done at {} for {} cycles",
+            got.done_at,
+            run.cycles.total
+        );
+    } else {
+        assert!(got.cycles >= run.cycles.total, "{what}: cycles");
+    }
+}
+
+fn touching_pairs() -> Scene {
+    // Faces, edges and corners just touching, a zero-thickness box, a rotated one, a far one.
+    let mut obbs = vec![
+        Obb::aligned([0.0; 3], [1.0; 3], 0),
+        Obb::aligned([2.0, 0.0, 0.0], [1.0; 3], 1),
+        Obb::aligned([2.0, 2.0, 0.0], [1.0; 3], 2),
+        Obb::aligned([-2.0, -2.0, -2.0], [1.0; 3], 1),
+        Obb::aligned([0.0, 0.0, 3.0], [2.0, 2.0, 0.0], 1),
+        Obb::aligned([50.0, 0.0, 0.0], [1.0; 3], 1),
+    ];
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let mut r = Obb::aligned([0.0, 2.0 + std::f64::consts::SQRT_2, 0.0], [1.0; 3], 1);
+    r.axes = [[s, s, 0.0], [-s, s, 0.0], [0.0, 0.0, 1.0]];
+    obbs.push(r);
+    Scene { obbs }
+}
+
+/// Scenes and configurations, each fitted: a surgical scene and a dense one (sweep and brute),
+/// the touching cases under narrow formats, and one box and no box.
+fn cases() -> Vec<(&'static str, Scene, HwConfig)> {
+    let sweep = HwConfig {
+        capacity: 1 << A,
+        ..HwConfig::default()
+    };
+    let brute = HwConfig {
+        broad_phase: BroadPhase::Brute,
+        groups: "0-1,1-1".parse().unwrap(),
+        ..sweep.clone()
+    };
+    let narrow = HwConfig {
+        center_bits: 14,
+        key_bits: 10,
+        rot_bits: 8,
+        half_bits: 12,
+        radix_digit_bits: 4,
+        groups: obb_model::GroupMask::All,
+        ..sweep.clone()
+    };
+    let mut dense = uniform(120, 3, 4.0).unwrap();
+    for (i, o) in dense.obbs.iter_mut().enumerate() {
+        o.group = (i % 8) as u32;
+    }
+    vec![
+        ("surgical sweep", surgical(300, 11).unwrap(), sweep.clone()),
+        ("dense brute", dense.clone(), brute.clone()),
+        (
+            "dense sweep",
+            dense,
+            HwConfig {
+                groups: obb_model::GroupMask::All,
+                ..sweep.clone()
+            },
+        ),
+        ("touching narrow", touching_pairs(), narrow.clone()),
+        (
+            "touching brute",
+            touching_pairs(),
+            HwConfig {
+                broad_phase: BroadPhase::Brute,
+                ..narrow
+            },
+        ),
+        (
+            "one box",
+            Scene {
+                obbs: touching_pairs().obbs[..1].to_vec(),
+            },
+            sweep.clone(),
+        ),
+        ("no box", Scene { obbs: vec![] }, brute),
+    ]
+    .into_iter()
+    .map(|(name, s, c)| {
+        let c = c.fitted(&s);
+        (name, s, c)
+    })
+    .collect()
+}
+
+#[test]
+fn core_matches_the_model_in_rust_hdl_and_verilator() {
+    for (name, scene, cfg) in cases() {
+        let m = ModelFrame::new(&scene, &cfg).unwrap();
+        let run = m.run();
+        let idle = run.cycles.total as usize + 20;
+        let words = frame(&m.obbs, &cfg, idle, &|_| true);
+        let out = rust_hdl(&cfg, &words);
+        let got = outcome(&words, &out, 0);
+        eprintln!(
+            "{name}: {} boxes, {} pairs, {} cycles {:?} got {:?} want {:?}",
+            m.obbs.len(),
+            run.pairs.len(),
+            got.cycles,
+            run.cycles,
+            got.counters,
+            run.counters()
+        );
+        agrees(&got, &run, true, name);
+    }
+}
