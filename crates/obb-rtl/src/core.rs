@@ -19,6 +19,7 @@ use crate::sat::{self, Sat};
 use crate::two_read::TwoReadRam;
 use crate::walker::Walker;
 use obb_model::fixed::config::GROUP_BITS;
+use obb_model::fixed::cycles::{LAT_BROAD, LAT_SAT};
 use obb_model::fixed::{BroadPhase, HwConfig};
 use rust_hdl::prelude::*;
 
@@ -31,8 +32,13 @@ const GROUP: usize = GROUP_BITS as usize;
 const MASK: usize = 1 << (2 * GROUP);
 /// A pair in the output FIFO: a above b.
 const PAIR: usize = 2 * INDEX;
-/// Clocks from a visit to its candidate on the SAT's inputs (`obb_model::fixed::cycles`).
-pub const LAT_BROAD: u64 = 3;
+/// Entries of the pair FIFO (2^6), and the fill at which the walker stalls: the pairs in flight
+/// behind it (at most `LAT_BROAD + sat::LATENCY`, plus the FIFO's two-clock view of its own
+/// writes) still fit.
+pub const FIFO_DEPTH: u64 = 64;
+pub const FIFO_STALL: u64 = 32;
+const _: () = assert!(sat::LATENCY == LAT_SAT);
+const _: () = assert!(FIFO_STALL + LAT_BROAD + sat::LATENCY + 2 < FIFO_DEPTH);
 /// Clocks after the walker's last visit until its SAT verdict is in the FIFO.
 const DRAIN: u64 = LAT_BROAD + sat::LATENCY - 1;
 
@@ -91,7 +97,7 @@ pub struct ObbCore<const A: usize, const C: usize> {
     radix: RadixSort<A, C>,
     walker: Walker<A, C>,
     sat: Sat,
-    fifo: SynchronousFIFO<Bits<PAIR>, 6, 7, 32>,
+    fifo: SynchronousFIFO<Bits<PAIR>, 6, 7, { FIFO_STALL as u32 }>,
     // Box tables: geometry written on load, keys, margin and group when projected.
     center: [TwoReadRam<Bits<CENTER>, A>; 3],
     half: [TwoReadRam<Bits<HALF>, A>; 3],
@@ -425,7 +431,9 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.pair_valid.next = !self.fifo.empty.val();
         self.pair_a.next = self.fifo.data_out.val().get_bits::<INDEX>(20);
         self.pair_b.next = self.fifo.data_out.val().get_bits::<INDEX>(0);
-        self.fifo.read.next = self.pair_ready.val() & !self.fifo.empty.val();
+        // The FIFO ignores a read while empty; gating it with `empty` here would close a
+        // combinational loop through the FIFO's read logic.
+        self.fifo.read.next = self.pair_ready.val();
 
         // Control and status.
         self.busy.next =

@@ -2,12 +2,14 @@
 //! configuration, each module's ports and latency). Deterministic: the same configuration gives
 //! the same bytes.
 
+use crate::core::{self, ObbCore};
 use crate::emit;
 use crate::projection::{self, Projection};
 use crate::radix::RadixSort;
 use crate::sat::{self, Sat};
-use anyhow::{Context, Result};
-use obb_model::fixed::HwConfig;
+use anyhow::{bail, Context, Result};
+use obb_model::fixed::{cycles, BroadPhase, HwConfig};
+use obb_model::radix::RadixSorter;
 use serde::Serialize;
 use std::path::Path;
 
@@ -36,6 +38,7 @@ pub struct ModuleInfo {
 pub struct Manifest {
     pub generator: String,
     pub configuration: HwConfig,
+    pub core: CoreInfo,
     pub modules: Vec<ModuleInfo>,
 }
 
@@ -70,46 +73,152 @@ pub fn ports(verilog: &str, top: &str) -> Vec<PortInfo> {
         .collect()
 }
 
-/// The files for configuration `cfg`: (file name, contents), the manifest last.
-pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
+/// The stage latencies and sizes of the core, for the manifest (`obb_model::fixed::cycles`).
+#[derive(Clone, Debug, Serialize)]
+pub struct CoreInfo {
+    /// Clocks of the projection pipeline; the key table write after it.
+    pub lat_project: u64,
+    pub lat_key_write: u64,
+    /// Clocks from a broad-phase visit to the SAT's inputs, and of the SAT.
+    pub lat_broad: u64,
+    pub lat_sat: u64,
+    /// Radix sort: digit bits, passes; each pass `2^digit + n + 1` clocks, plus 1 per sort.
+    pub sort_digit_bits: u32,
+    pub sort_passes: u32,
+    /// Entries of every per-box table (a power of two at least `capacity`).
+    pub table_depth: u64,
+    /// Entries of the pair FIFO, and the fill at which the broad phase stalls.
+    pub fifo_depth: u64,
+    pub fifo_stall_fill: u64,
+    pub counter_bits: usize,
+}
+
+/// Checks that the hardware supports `cfg` (valid, brute or sweep, one lane).
+pub fn check_supported(cfg: &HwConfig) -> Result<()> {
     cfg.validate()?;
+    match cfg.broad_phase {
+        BroadPhase::Brute | BroadPhase::Sweep => {}
+        other => bail!(
+            "configuration key `broad_phase`: `{other}` is modelled (obbcd detect --engine model) \
+             but not in the hardware yet; the core has `sweep` and `brute`"
+        ),
+    }
+    if cfg.lanes != 1 {
+        bail!(
+            "configuration key `lanes`: {} lanes are modelled but the hardware has one lane so far",
+            cfg.lanes
+        );
+    }
+    Ok(())
+}
+
+/// Address bits of the per-box tables for `capacity`: at least 4.
+pub fn address_bits(capacity: u32) -> usize {
+    capacity.next_power_of_two().trailing_zeros().max(4) as usize
+}
+
+/// Calls `$f::<A, A + 1>($args)` for the address width `$a` (4 to 20): rust-hdl's widths are
+/// type parameters, so each supported width is its own instance.
+macro_rules! by_address_bits {
+    ($a:expr, $f:ident($($args:expr),*)) => {
+        match $a {
+            4 => $f::<4, 5>($($args),*),
+            5 => $f::<5, 6>($($args),*),
+            6 => $f::<6, 7>($($args),*),
+            7 => $f::<7, 8>($($args),*),
+            8 => $f::<8, 9>($($args),*),
+            9 => $f::<9, 10>($($args),*),
+            10 => $f::<10, 11>($($args),*),
+            11 => $f::<11, 12>($($args),*),
+            12 => $f::<12, 13>($($args),*),
+            13 => $f::<13, 14>($($args),*),
+            14 => $f::<14, 15>($($args),*),
+            15 => $f::<15, 16>($($args),*),
+            16 => $f::<16, 17>($($args),*),
+            17 => $f::<17, 18>($($args),*),
+            18 => $f::<18, 19>($($args),*),
+            19 => $f::<19, 20>($($args),*),
+            20 => $f::<20, 21>($($args),*),
+            a => bail!("{a} address bits: the tables support 2^4 to 2^20 entries"),
+        }
+    };
+}
+
+fn core_verilog<const A: usize, const C: usize>(cfg: &HwConfig) -> Result<String> {
+    emit::verilog(&mut ObbCore::<A, C>::new(cfg), "obb_core")
+}
+
+fn radix_verilog<const A: usize, const C: usize>(cfg: &HwConfig) -> Result<String> {
+    emit::verilog(
+        &mut RadixSort::<A, C>::new(cfg.key_bits, cfg.radix_digit_bits),
+        "radix_sort",
+    )
+}
+
+/// The files for configuration `cfg`: (path below the output directory, contents). The top,
+/// `obb_core.v`, holds the whole core; `blocks/` holds each block as its own top module (for
+/// per-block synthesis estimates); the manifest comes last.
+pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
+    check_supported(cfg)?;
+    let a = address_bits(cfg.capacity);
     let mut out = Vec::new();
     let mut modules = Vec::new();
-    let proj = emit::verilog(&mut Projection::new(cfg), "projection")?;
-    modules.push(ModuleInfo {
-        module: "projection".into(),
-        file: "projection.v".into(),
-        latency: projection::LATENCY,
-        throughput: 1,
-        ports: ports(&proj, "projection"),
-    });
-    out.push(("projection.v".to_string(), header(cfg) + &proj));
-    let sat = emit::verilog(&mut Sat::new(cfg), "sat")?;
-    modules.push(ModuleInfo {
-        module: "sat".into(),
-        file: "sat.v".into(),
-        latency: sat::LATENCY,
-        throughput: 1,
-        ports: ports(&sat, "sat"),
-    });
-    out.push(("sat.v".to_string(), header(cfg) + &sat));
-    let key_bits = cfg.key_bits;
-    let sort = radix_verilog(cfg.capacity, key_bits, cfg.radix_digit_bits)?;
-    modules.push(ModuleInfo {
-        module: "radix_sort".into(),
-        file: "radix_sort.v".into(),
-        // Not a pipeline: the sort's clocks are `cycles::sort_cycles` after `go`.
-        latency: 0,
-        throughput: 1,
-        ports: ports(&sort, "radix_sort"),
-    });
-    out.push(("radix_sort.v".to_string(), header(cfg) + &sort));
+    let mut add = |module: &str, file: String, text: String, latency: u64| {
+        modules.push(ModuleInfo {
+            module: module.into(),
+            file: file.clone(),
+            latency,
+            throughput: 1,
+            ports: ports(&text, module),
+        });
+        out.push((file, header(cfg) + &text));
+    };
+    // The core works on frames: its clocks per frame are `cycles::frame_cycles`.
+    add(
+        "obb_core",
+        "obb_core.v".into(),
+        by_address_bits!(a, core_verilog(cfg))?,
+        0,
+    );
+    add(
+        "projection",
+        "blocks/projection.v".into(),
+        emit::verilog(&mut Projection::new(cfg), "projection")?,
+        projection::LATENCY,
+    );
+    add(
+        "sat",
+        "blocks/sat.v".into(),
+        emit::verilog(&mut Sat::new(cfg), "sat")?,
+        sat::LATENCY,
+    );
+    // Not a pipeline: the sort's clocks are `cycles::sort_cycles` after `go`.
+    add(
+        "radix_sort",
+        "blocks/radix_sort.v".into(),
+        by_address_bits!(a, radix_verilog(cfg))?,
+        0,
+    );
+    let sorter = RadixSorter::<u32>::new(cfg.radix_digit_bits);
+    let core = CoreInfo {
+        lat_project: cycles::LAT_PROJECT,
+        lat_key_write: cycles::LAT_KEY_WRITE,
+        lat_broad: cycles::LAT_BROAD,
+        lat_sat: cycles::LAT_SAT,
+        sort_digit_bits: sorter.digit_bits(cfg.key_bits),
+        sort_passes: sorter.passes(cfg.key_bits),
+        table_depth: 1 << a,
+        fifo_depth: core::FIFO_DEPTH,
+        fifo_stall_fill: core::FIFO_STALL,
+        counter_bits: core::COUNT,
+    };
     let manifest = Manifest {
         generator: format!(
             "obb-rtl {} (cargo run --bin gen-rtl)",
             env!("CARGO_PKG_VERSION")
         ),
         configuration: cfg.clone(),
+        core,
         modules,
     };
     out.push((
@@ -117,23 +226,6 @@ pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
         serde_json::to_string_pretty(&manifest)? + "\n",
     ));
     Ok(out)
-}
-
-/// The radix sort's Verilog for `capacity` entries: its RAM address width is a type parameter,
-/// so each supported width is its own instance.
-fn radix_verilog(capacity: u32, key_bits: u32, digit: u32) -> Result<String> {
-    let a = capacity.next_power_of_two().trailing_zeros().max(1);
-    macro_rules! widths {
-        ($($a:literal => $c:literal),*) => {
-            match a {
-                $($a => emit::verilog(&mut RadixSort::<$a, $c>::new(key_bits, digit), "radix_sort"),)*
-                _ => anyhow::bail!("capacity {capacity}: the radix sort supports 2 to 2^20 entries"),
-            }
-        };
-    }
-    widths!(1 => 2, 2 => 3, 3 => 4, 4 => 5, 5 => 6, 6 => 7, 7 => 8, 8 => 9, 9 => 10, 10 => 11,
-        11 => 12, 12 => 13, 13 => 14, 14 => 15, 15 => 16, 16 => 17, 17 => 18, 18 => 19,
-        19 => 20, 20 => 21)
 }
 
 fn header(cfg: &HwConfig) -> String {
@@ -151,10 +243,13 @@ fn header(cfg: &HwConfig) -> String {
 
 /// Writes the files for `cfg` into `dir` (created if needed).
 pub fn write(cfg: &HwConfig, dir: &Path) -> Result<Vec<String>> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let files = files(cfg)?;
     let mut names = Vec::new();
-    for (name, text) in files(cfg)? {
+    for (name, text) in files {
         let path = dir.join(&name);
+        let parent = path.parent().unwrap_or(dir);
+        std::fs::create_dir_all(parent)
+            .with_context(|| format!("cannot create {}", parent.display()))?;
         std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
         names.push(name);
     }

@@ -126,9 +126,12 @@ endmodule",
     v
 }
 
-/// A scratch directory for one simulation, below the system's temporary directory.
+/// A scratch directory for one simulation, below the system's temporary directory, its own for
+/// every call (tests run in parallel threads of one process).
 pub fn scratch_dir(name: &str) -> Result<PathBuf> {
-    let dir = std::env::temp_dir().join(format!("obb-rtl-{}-{name}", std::process::id()));
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("obb-rtl-{}-{call}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     Ok(dir)
 }

@@ -57,7 +57,7 @@ pub struct Walker<const A: usize, const C: usize> {
     p: DFF<Bits<C>>,
     i: DFF<Bits<A>>,
     /// Next successor to read (sweep) or box j (brute).
-    q: DFF<Bits<C>>,
+    succ: DFF<Bits<C>>,
     /// A successor was read last clock: its key and box are on `rd_key`, `rd_val`.
     pending: DFF<Bit>,
     last: Signal<Local, Bits<C>>,
@@ -87,7 +87,7 @@ impl<const A: usize, const C: usize> Walker<A, C> {
             state: Default::default(),
             p: Default::default(),
             i: Default::default(),
-            q: Default::default(),
+            succ: Default::default(),
             pending: Default::default(),
             last: Default::default(),
             beyond: Default::default(),
@@ -99,14 +99,14 @@ impl<const A: usize, const C: usize> Walker<A, C> {
 impl<const A: usize, const C: usize> Logic for Walker<A, C> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, state, p, i, q, pending);
+        dff_setup!(self, clock, state, p, i, succ, pending);
         self.last.next = self.n.val() - 1;
         // Sweep: the successor read last clock starts beyond box i's max x key.
         self.beyond.next = self.rd_key.val() > bit_cast::<KEY, CENTER>(self.a_max_x.val());
         self.move_on.next =
-            (self.pending.q.val() & self.beyond.val()) | (self.q.q.val() == self.n.val());
+            (self.pending.q.val() & self.beyond.val()) | (self.succ.q.val() == self.n.val());
         self.finished.next = self.state.q.val() == WalkState::Finished;
-        self.rd_addr.next = bit_cast::<A, C>(self.q.q.val());
+        self.rd_addr.next = bit_cast::<A, C>(self.succ.q.val());
         self.a_addr.next = self.i.q.val();
         self.b_addr.next = bit_cast::<A, VAL>(self.rd_val.val());
         self.vi.next = self.i.q.val();
@@ -119,7 +119,7 @@ impl<const A: usize, const C: usize> Logic for Walker<A, C> {
                 // Entry p arrives: it is box i, and the key table reads i's keys for the walk.
                 self.i.d.next = bit_cast::<A, VAL>(self.rd_val.val());
                 self.a_addr.next = bit_cast::<A, VAL>(self.rd_val.val());
-                self.q.d.next = self.p.q.val() + 1;
+                self.succ.d.next = self.p.q.val() + 1;
                 self.state.d.next = WalkState::Walk;
             }
             WalkState::Walk => {
@@ -136,19 +136,19 @@ impl<const A: usize, const C: usize> Logic for Walker<A, C> {
                         self.state.d.next = WalkState::Finished;
                     }
                 } else if !self.stall.val() {
-                    self.q.d.next = self.q.q.val() + 1;
+                    self.succ.d.next = self.succ.q.val() + 1;
                     self.pending.d.next = true;
                 }
             }
             WalkState::Pairs => {
-                self.b_addr.next = bit_cast::<A, C>(self.q.q.val());
-                self.vj.next = bit_cast::<A, C>(self.q.q.val());
+                self.b_addr.next = bit_cast::<A, C>(self.succ.q.val());
+                self.vj.next = bit_cast::<A, C>(self.succ.q.val());
                 if !self.stall.val() {
                     self.visit.next = true;
-                    self.q.d.next = self.q.q.val() + 1;
-                    if self.q.q.val() == self.last.val() {
+                    self.succ.d.next = self.succ.q.val() + 1;
+                    if self.succ.q.val() == self.last.val() {
                         self.i.d.next = self.i.q.val() + 1;
-                        self.q.d.next = bit_cast::<C, A>(self.i.q.val()) + 2;
+                        self.succ.d.next = bit_cast::<C, A>(self.i.q.val()) + 2;
                         if bit_cast::<C, A>(self.i.q.val()) + 2 == self.n.val() {
                             self.state.d.next = WalkState::Finished;
                         }
@@ -160,7 +160,7 @@ impl<const A: usize, const C: usize> Logic for Walker<A, C> {
         if self.start.val() {
             self.p.d.next = 0.into();
             self.i.d.next = 0.into();
-            self.q.d.next = 1.into();
+            self.succ.d.next = 1.into();
             self.state.d.next = WalkState::Finished;
             if self.n.val() > 1 {
                 self.state.d.next = WalkState::Pairs;

@@ -218,86 +218,170 @@ fn touching_pairs() -> Scene {
     Scene { obbs }
 }
 
-/// Scenes and configurations, each fitted: a surgical scene and a dense one (sweep and brute),
-/// the touching cases under narrow formats, and one box and no box.
-fn cases() -> Vec<(&'static str, Scene, HwConfig)> {
-    let sweep = HwConfig {
+/// A frame of a run: its scene, quantized with the run's formats at the scene's own LSB (the
+/// LSB is not in the hardware), and how the receiver takes pairs.
+struct Frame {
+    name: &'static str,
+    scene: Scene,
+    /// `pair_ready` on one clock in this many.
+    ready_every: usize,
+}
+
+/// The model's frame, or `None` when the scene is over capacity.
+fn model(f: &Frame, cfg: &HwConfig) -> (HwConfig, Option<ModelFrame>, Vec<QObb>) {
+    let fit = cfg.fitted(&f.scene);
+    let roomy = HwConfig {
+        capacity: 1 << 20,
+        ..fit.clone()
+    };
+    let boxes = obb_model::fixed::quantize(&f.scene, &roomy).unwrap();
+    (fit.clone(), ModelFrame::new(&f.scene, &fit).ok(), boxes)
+}
+
+/// Runs `frames` back to back through one core for `cfg` in rust-hdl and in Verilator: both
+/// traces must be equal, and each frame must agree with the model.
+fn run(cfg: &HwConfig, frames: &[Frame]) {
+    let mut words = Vec::new();
+    let mut starts = Vec::new();
+    let mut models = Vec::new();
+    for f in frames {
+        let (fit, m, boxes) = model(f, cfg);
+        let run = m.as_ref().map(ModelFrame::run);
+        let pairs = run.as_ref().map_or(0, |r| r.pairs.len());
+        let total = run
+            .as_ref()
+            .map_or(boxes.len() as u64 + 20, |r| r.cycles.total);
+        let idle = total as usize + f.ready_every * pairs + 20;
+        let every = f.ready_every;
+        starts.push(words.len());
+        words.extend(frame(&boxes, &fit, idle, &|k| k % every == 0));
+        models.push(run);
+    }
+    let hdl = rust_hdl(cfg, &words);
+    let verilog = obb_rtl::emit::verilog(&mut Core::new(cfg), "obb_core").unwrap();
+    let verilator = run_verilator(&verilog, "obb_core", &inputs(), &outputs(), &words);
+    for (k, (h, v)) in hdl.iter().zip(&verilator).enumerate() {
+        assert_eq!(h, v, "rust-hdl and Verilator differ at clock {k}");
+    }
+    for ((f, run), &from) in frames.iter().zip(&models).zip(&starts) {
+        let got = outcome(&words, &hdl, from);
+        match run {
+            Some(run) => {
+                eprintln!(
+                    "{}: {} boxes, {} pairs, {} cycles (model {:?})",
+                    f.name,
+                    f.scene.obbs.len(),
+                    got.pairs.len(),
+                    got.cycles,
+                    run.cycles
+                );
+                agrees(&got, run, f.ready_every == 1, f.name);
+                if f.ready_every > 1 {
+                    assert!(
+                        got.cycles > run.cycles.total,
+                        "{}: the stream never stalled the core",
+                        f.name
+                    );
+                }
+            }
+            None => {
+                assert!(got.over, "{}: capacity exceeded is reported", f.name);
+                assert!(
+                    got.pairs.is_empty() && got.counters == [0; 3],
+                    "{}: nothing reported",
+                    f.name
+                );
+            }
+        }
+    }
+}
+
+fn dense(n: usize) -> Scene {
+    let mut s = uniform(n, 3, 4.0).unwrap();
+    for (i, o) in s.obbs.iter_mut().enumerate() {
+        o.group = (i % 8) as u32;
+    }
+    s
+}
+
+fn frame_of(name: &'static str, scene: Scene) -> Frame {
+    Frame {
+        name,
+        scene,
+        ready_every: 1,
+    }
+}
+
+/// Sweep with the default formats and every group pair: a surgical scene, the dense case with
+/// the receiver always ready and then taking a pair every fourth clock (the FIFO fills and the
+/// walker stalls), one box, no box.
+#[test]
+fn sweep_core_matches_the_model() {
+    let cfg = HwConfig {
         capacity: 1 << A,
+        groups: obb_model::GroupMask::All,
         ..HwConfig::default()
     };
-    let brute = HwConfig {
+    run(
+        &cfg,
+        &[
+            frame_of("surgical", surgical(300, 11).unwrap()),
+            frame_of("dense", dense(120)),
+            Frame {
+                name: "dense, throttled",
+                scene: dense(120),
+                ready_every: 4,
+            },
+            frame_of(
+                "one box",
+                Scene {
+                    obbs: touching_pairs().obbs[..1].to_vec(),
+                },
+            ),
+            frame_of("no box", Scene { obbs: vec![] }),
+        ],
+    );
+}
+
+/// Brute force with narrow formats and a group-pair list: the touching cases and the dense case.
+#[test]
+fn brute_core_matches_the_model() {
+    let cfg = HwConfig {
+        capacity: 1 << A,
         broad_phase: BroadPhase::Brute,
-        groups: "0-1,1-1".parse().unwrap(),
-        ..sweep.clone()
-    };
-    let narrow = HwConfig {
+        groups: "0-1,1-1,2-5".parse().unwrap(),
         center_bits: 14,
         key_bits: 10,
         rot_bits: 8,
         half_bits: 12,
         radix_digit_bits: 4,
-        groups: obb_model::GroupMask::All,
-        ..sweep.clone()
+        ..HwConfig::default()
     };
-    let mut dense = uniform(120, 3, 4.0).unwrap();
-    for (i, o) in dense.obbs.iter_mut().enumerate() {
-        o.group = (i % 8) as u32;
-    }
-    vec![
-        ("surgical sweep", surgical(300, 11).unwrap(), sweep.clone()),
-        ("dense brute", dense.clone(), brute.clone()),
-        (
-            "dense sweep",
-            dense,
-            HwConfig {
-                groups: obb_model::GroupMask::All,
-                ..sweep.clone()
-            },
-        ),
-        ("touching narrow", touching_pairs(), narrow.clone()),
-        (
-            "touching brute",
-            touching_pairs(),
-            HwConfig {
-                broad_phase: BroadPhase::Brute,
-                ..narrow
-            },
-        ),
-        (
-            "one box",
-            Scene {
-                obbs: touching_pairs().obbs[..1].to_vec(),
-            },
-            sweep.clone(),
-        ),
-        ("no box", Scene { obbs: vec![] }, brute),
-    ]
-    .into_iter()
-    .map(|(name, s, c)| {
-        let c = c.fitted(&s);
-        (name, s, c)
-    })
-    .collect()
+    run(
+        &cfg,
+        &[
+            frame_of("touching", touching_pairs()),
+            frame_of("dense", dense(100)),
+            frame_of("surgical", surgical(150, 5).unwrap()),
+        ],
+    );
 }
 
+/// Sweep, cross-group, capacity 8: a frame of ten boxes reports the error and no pairs; the
+/// next frame, within capacity, is whole again.
 #[test]
-fn core_matches_the_model_in_rust_hdl_and_verilator() {
-    for (name, scene, cfg) in cases() {
-        let m = ModelFrame::new(&scene, &cfg).unwrap();
-        let run = m.run();
-        let idle = run.cycles.total as usize + 20;
-        let words = frame(&m.obbs, &cfg, idle, &|_| true);
-        let out = rust_hdl(&cfg, &words);
-        let got = outcome(&words, &out, 0);
-        eprintln!(
-            "{name}: {} boxes, {} pairs, {} cycles {:?} got {:?} want {:?}",
-            m.obbs.len(),
-            run.pairs.len(),
-            got.cycles,
-            run.cycles,
-            got.counters,
-            run.counters()
-        );
-        agrees(&got, &run, true, name);
-    }
+fn capacity_exceeded_is_reported_and_cleared() {
+    let cfg = HwConfig {
+        capacity: 8,
+        ..HwConfig::default()
+    };
+    let mut ten = touching_pairs();
+    ten.obbs.extend(touching_pairs().obbs[..3].to_vec());
+    run(
+        &cfg,
+        &[
+            frame_of("ten boxes", ten),
+            frame_of("touching", touching_pairs()),
+        ],
+    );
 }
