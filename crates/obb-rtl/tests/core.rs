@@ -15,9 +15,8 @@ use obb_rtl::projection::{CENTER, HALF, ROT};
 use obb_rtl::verilator::Port;
 use rust_hdl::prelude::*;
 
+/// Table address bits of the small cores (capacity 512).
 const A: usize = 9;
-const C: usize = 10;
-type Core = ObbCore<A, C>;
 
 /// Input word: frame_start, obb_valid, obb_last, centers (3), halves (3), axes (9), group,
 /// pair_ready.
@@ -86,8 +85,9 @@ fn frame(
     words
 }
 
-fn rust_hdl(cfg: &HwConfig, words: &[Vec<u64>]) -> Vec<Vec<u64>> {
-    let apply = |u: &mut Core, w: &[u64]| {
+fn rust_hdl<const A: usize, const C: usize>(cfg: &HwConfig, words: &[Vec<u64>]) -> Vec<Vec<u64>> {
+    type Core<const A: usize, const C: usize> = ObbCore<A, C>;
+    let apply = |u: &mut Core<A, C>, w: &[u64]| {
         u.frame_start.next = w[0] == 1;
         u.obb_valid.next = w[1] == 1;
         u.obb_last.next = w[2] == 1;
@@ -101,7 +101,7 @@ fn rust_hdl(cfg: &HwConfig, words: &[Vec<u64>]) -> Vec<Vec<u64>> {
         u.obb_group.next = w[18].into();
         u.pair_ready.next = w[19] == 1;
     };
-    let read = |u: &Core| {
+    let read = |u: &Core<A, C>| {
         vec![
             u64::from(u.pair_valid.val()),
             uval(u.pair_a.val()),
@@ -115,8 +115,8 @@ fn rust_hdl(cfg: &HwConfig, words: &[Vec<u64>]) -> Vec<Vec<u64>> {
             uval(u.pairs.val()),
         ]
     };
-    let clock = |u: &mut Core, c: bool| u.clock.next = Clock::from(c);
-    run_rust_hdl(&mut Core::new(cfg), words, apply, clock, read)
+    let clock = |u: &mut Core<A, C>, c: bool| u.clock.next = Clock::from(c);
+    run_rust_hdl(&mut Core::<A, C>::new(cfg), words, apply, clock, read)
 }
 
 /// What a frame's outputs say: the pairs taken from the stream in order (a pair moves on a
@@ -241,6 +241,23 @@ fn model(f: &Frame, cfg: &HwConfig) -> (HwConfig, Option<ModelFrame>, Vec<QObb>)
 /// Runs `frames` back to back through one core for `cfg` in rust-hdl and in Verilator: both
 /// traces must be equal, and each frame must agree with the model.
 fn run(cfg: &HwConfig, frames: &[Frame]) {
+    let (words, starts, models) = stimulus(cfg, frames);
+    let hdl = rust_hdl::<A, { A + 1 }>(cfg, &words);
+    let verilog =
+        obb_rtl::emit::verilog(&mut ObbCore::<A, { A + 1 }>::new(cfg), "obb_core").unwrap();
+    let verilator = run_verilator(&verilog, "obb_core", &inputs(), &outputs(), &words);
+    for (k, (h, v)) in hdl.iter().zip(&verilator).enumerate() {
+        assert_eq!(h, v, "rust-hdl and Verilator differ at clock {k}");
+    }
+    judge(frames, &words, &hdl, &starts, &models);
+}
+
+/// The input words of `frames` back to back, where each frame starts, and the model's runs.
+#[allow(clippy::type_complexity)]
+fn stimulus(
+    cfg: &HwConfig,
+    frames: &[Frame],
+) -> (Vec<Vec<u64>>, Vec<usize>, Vec<Option<ModelRun>>) {
     let mut words = Vec::new();
     let mut starts = Vec::new();
     let mut models = Vec::new();
@@ -257,14 +274,19 @@ fn run(cfg: &HwConfig, frames: &[Frame]) {
         words.extend(frame(&boxes, &fit, idle, &|k| k % every == 0));
         models.push(run);
     }
-    let hdl = rust_hdl(cfg, &words);
-    let verilog = obb_rtl::emit::verilog(&mut Core::new(cfg), "obb_core").unwrap();
-    let verilator = run_verilator(&verilog, "obb_core", &inputs(), &outputs(), &words);
-    for (k, (h, v)) in hdl.iter().zip(&verilator).enumerate() {
-        assert_eq!(h, v, "rust-hdl and Verilator differ at clock {k}");
-    }
-    for ((f, run), &from) in frames.iter().zip(&models).zip(&starts) {
-        let got = outcome(&words, &hdl, from);
+    (words, starts, models)
+}
+
+/// Each frame's outputs agree with the model's run (or report capacity exceeded).
+fn judge(
+    frames: &[Frame],
+    words: &[Vec<u64>],
+    hdl: &[Vec<u64>],
+    starts: &[usize],
+    models: &[Option<ModelRun>],
+) {
+    for ((f, run), &from) in frames.iter().zip(models).zip(starts) {
+        let got = outcome(words, hdl, from);
         match run {
             Some(run) => {
                 eprintln!(
@@ -384,4 +406,18 @@ fn capacity_exceeded_is_reported_and_cleared() {
             frame_of("touching", touching_pairs()),
         ],
     );
+}
+
+/// The default configuration (capacity 32,768, cross-group sweep) on a 1,000-OBB surgical
+/// scene in rust-hdl: the model's pairs, counters and clock count (the figure in the README).
+#[test]
+fn default_core_on_a_surgical_scene_of_1000_boxes() {
+    let cfg = HwConfig::default();
+    let frames = [frame_of(
+        "surgical 1000, default configuration",
+        surgical(1000, 1).unwrap(),
+    )];
+    let (words, starts, models) = stimulus(&cfg, &frames);
+    let hdl = rust_hdl::<15, 16>(&cfg, &words);
+    judge(&frames, &words, &hdl, &starts, &models);
 }
