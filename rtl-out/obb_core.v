@@ -40,6 +40,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     
     // Constant declarations
     localparam  sweep = 1'b1;
+    localparam  sap = 1'b0;
     localparam  capacity = 16'h8000;
     localparam  mask = 64'h7fbfdfeff7fbfdfe;
     localparam  drain = 8'h10;
@@ -98,7 +99,18 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [19:0] walker$rd_val;
     wire  [14:0] walker$a_addr;
     wire  [14:0] walker$b_addr;
-    reg  [22:0] walker$a_max_x;
+    reg  [22:0] walker$a_min$0;
+    reg  [22:0] walker$a_min$1;
+    reg  [22:0] walker$a_min$2;
+    reg  [22:0] walker$a_max$0;
+    reg  [22:0] walker$a_max$1;
+    reg  [22:0] walker$a_max$2;
+    wire  walker$sort_start;
+    wire  walker$sort_valid;
+    wire  [23:0] walker$sort_key;
+    wire  [19:0] walker$sort_val;
+    wire  walker$sort_go;
+    reg  walker$sort_done;
     wire  walker$visit;
     wire  [14:0] walker$vi;
     wire  [14:0] walker$vj;
@@ -508,6 +520,54 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [14:0] tag_b$13$d;
     wire  [14:0] tag_b$13$q;
     reg  tag_b$13$clock;
+    reg  k_overlap$0$d;
+    wire  k_overlap$0$q;
+    reg  k_overlap$0$clock;
+    reg  k_overlap$1$d;
+    wire  k_overlap$1$q;
+    reg  k_overlap$1$clock;
+    reg  k_overlap$2$d;
+    wire  k_overlap$2$q;
+    reg  k_overlap$2$clock;
+    reg  k_overlap$3$d;
+    wire  k_overlap$3$q;
+    reg  k_overlap$3$clock;
+    reg  k_overlap$4$d;
+    wire  k_overlap$4$q;
+    reg  k_overlap$4$clock;
+    reg  k_overlap$5$d;
+    wire  k_overlap$5$q;
+    reg  k_overlap$5$clock;
+    reg  k_overlap$6$d;
+    wire  k_overlap$6$q;
+    reg  k_overlap$6$clock;
+    reg  k_overlap$7$d;
+    wire  k_overlap$7$q;
+    reg  k_overlap$7$clock;
+    reg  k_overlap$8$d;
+    wire  k_overlap$8$q;
+    reg  k_overlap$8$clock;
+    reg  k_overlap$9$d;
+    wire  k_overlap$9$q;
+    reg  k_overlap$9$clock;
+    reg  k_overlap$10$d;
+    wire  k_overlap$10$q;
+    reg  k_overlap$10$clock;
+    reg  k_overlap$11$d;
+    wire  k_overlap$11$q;
+    reg  k_overlap$11$clock;
+    reg  k_overlap$12$d;
+    wire  k_overlap$12$q;
+    reg  k_overlap$12$clock;
+    reg  k_overlap$13$d;
+    wire  k_overlap$13$q;
+    reg  k_overlap$13$clock;
+    reg  k_overlap$14$d;
+    wire  k_overlap$14$q;
+    reg  k_overlap$14$clock;
+    reg  k_overlap$15$d;
+    wire  k_overlap$15$q;
+    reg  k_overlap$15$clock;
     reg  recent$0$d;
     wire  recent$0$q;
     reg  recent$0$clock;
@@ -574,7 +634,18 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .rd_val(walker$rd_val),
         .a_addr(walker$a_addr),
         .b_addr(walker$b_addr),
-        .a_max_x(walker$a_max_x),
+        .a_min$0(walker$a_min$0),
+        .a_min$1(walker$a_min$1),
+        .a_min$2(walker$a_min$2),
+        .a_max$0(walker$a_max$0),
+        .a_max$1(walker$a_max$1),
+        .a_max$2(walker$a_max$2),
+        .sort_start(walker$sort_start),
+        .sort_valid(walker$sort_valid),
+        .sort_key(walker$sort_key),
+        .sort_val(walker$sort_val),
+        .sort_go(walker$sort_go),
+        .sort_done(walker$sort_done),
         .visit(walker$visit),
         .vi(walker$vi),
         .vj(walker$vj),
@@ -1151,6 +1222,86 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .q(tag_b$13$q),
         .clock(tag_b$13$clock)
     );
+    obb_core$k_overlap$0 k_overlap$0(
+        .d(k_overlap$0$d),
+        .q(k_overlap$0$q),
+        .clock(k_overlap$0$clock)
+    );
+    obb_core$k_overlap$1 k_overlap$1(
+        .d(k_overlap$1$d),
+        .q(k_overlap$1$q),
+        .clock(k_overlap$1$clock)
+    );
+    obb_core$k_overlap$2 k_overlap$2(
+        .d(k_overlap$2$d),
+        .q(k_overlap$2$q),
+        .clock(k_overlap$2$clock)
+    );
+    obb_core$k_overlap$3 k_overlap$3(
+        .d(k_overlap$3$d),
+        .q(k_overlap$3$q),
+        .clock(k_overlap$3$clock)
+    );
+    obb_core$k_overlap$4 k_overlap$4(
+        .d(k_overlap$4$d),
+        .q(k_overlap$4$q),
+        .clock(k_overlap$4$clock)
+    );
+    obb_core$k_overlap$5 k_overlap$5(
+        .d(k_overlap$5$d),
+        .q(k_overlap$5$q),
+        .clock(k_overlap$5$clock)
+    );
+    obb_core$k_overlap$6 k_overlap$6(
+        .d(k_overlap$6$d),
+        .q(k_overlap$6$q),
+        .clock(k_overlap$6$clock)
+    );
+    obb_core$k_overlap$7 k_overlap$7(
+        .d(k_overlap$7$d),
+        .q(k_overlap$7$q),
+        .clock(k_overlap$7$clock)
+    );
+    obb_core$k_overlap$8 k_overlap$8(
+        .d(k_overlap$8$d),
+        .q(k_overlap$8$q),
+        .clock(k_overlap$8$clock)
+    );
+    obb_core$k_overlap$9 k_overlap$9(
+        .d(k_overlap$9$d),
+        .q(k_overlap$9$q),
+        .clock(k_overlap$9$clock)
+    );
+    obb_core$k_overlap$10 k_overlap$10(
+        .d(k_overlap$10$d),
+        .q(k_overlap$10$q),
+        .clock(k_overlap$10$clock)
+    );
+    obb_core$k_overlap$11 k_overlap$11(
+        .d(k_overlap$11$d),
+        .q(k_overlap$11$q),
+        .clock(k_overlap$11$clock)
+    );
+    obb_core$k_overlap$12 k_overlap$12(
+        .d(k_overlap$12$d),
+        .q(k_overlap$12$q),
+        .clock(k_overlap$12$clock)
+    );
+    obb_core$k_overlap$13 k_overlap$13(
+        .d(k_overlap$13$d),
+        .q(k_overlap$13$q),
+        .clock(k_overlap$13$clock)
+    );
+    obb_core$k_overlap$14 k_overlap$14(
+        .d(k_overlap$14$d),
+        .q(k_overlap$14$q),
+        .clock(k_overlap$14$clock)
+    );
+    obb_core$k_overlap$15 k_overlap$15(
+        .d(k_overlap$15$d),
+        .q(k_overlap$15$q),
+        .clock(k_overlap$15$clock)
+    );
     obb_core$recent$0 recent$0(
         .d(recent$0$d),
         .q(recent$0$q),
@@ -1244,6 +1395,22 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         gdelay$5$clock = clock;
         gdelay$6$clock = clock;
         gdelay$7$clock = clock;
+        k_overlap$0$clock = clock;
+        k_overlap$1$clock = clock;
+        k_overlap$2$clock = clock;
+        k_overlap$3$clock = clock;
+        k_overlap$4$clock = clock;
+        k_overlap$5$clock = clock;
+        k_overlap$6$clock = clock;
+        k_overlap$7$clock = clock;
+        k_overlap$8$clock = clock;
+        k_overlap$9$clock = clock;
+        k_overlap$10$clock = clock;
+        k_overlap$11$clock = clock;
+        k_overlap$12$clock = clock;
+        k_overlap$13$clock = clock;
+        k_overlap$14$clock = clock;
+        k_overlap$15$clock = clock;
         recent$0$clock = clock;
         recent$1$clock = clock;
         tag_a$0$clock = clock;
@@ -1375,26 +1542,37 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         radix$in_valid = projection$valid_out & sweep;
         radix$in_key = ((projection$key_min$0) & 24'hffffff);
         radix$in_val = ((projected$q) & 20'hfffff);
+        if (sap) begin
+            radix$in_valid = walker$sort_valid;
+            radix$in_key = walker$sort_key;
+            radix$in_val = walker$sort_val;
+        end
         if (projection$valid_out) begin
             projected$d = projected$q + 32'h1;
         end
-        radix$start = frame_start;
-        radix$go = 1'b0;
+        radix$start = frame_start | walker$sort_start;
+        radix$go = walker$sort_go;
+        walker$sort_done = radix$done;
         radix$rd_addr = walker$rd_addr;
         walker$rd_key = radix$rd_key;
         walker$rd_val = radix$rd_val;
         walker$n = loaded$q;
         walker$start = 1'b0;
         walker$stall = fifo$almost_full;
-        walker$a_max_x = kmax$0$read_data_a;
+        walker$a_min$0 = kmin$0$read_data_a;
+        walker$a_max$0 = kmax$0$read_data_a;
         kmin$0$read_address_a = walker$a_addr;
         kmin$0$read_address_b = walker$b_addr;
         kmax$0$read_address_a = walker$a_addr;
         kmax$0$read_address_b = walker$b_addr;
+        walker$a_min$1 = kmin$1$read_data_a;
+        walker$a_max$1 = kmax$1$read_data_a;
         kmin$1$read_address_a = walker$a_addr;
         kmin$1$read_address_b = walker$b_addr;
         kmax$1$read_address_a = walker$a_addr;
         kmax$1$read_address_b = walker$b_addr;
+        walker$a_min$2 = kmin$2$read_data_a;
+        walker$a_max$2 = kmax$2$read_data_a;
         kmin$2$read_address_a = walker$a_addr;
         kmin$2$read_address_b = walker$b_addr;
         kmax$2$read_address_a = walker$a_addr;
@@ -1409,7 +1587,23 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         overlap = (kmin$0$read_data_a <= kmax$0$read_data_b) & (kmin$0$read_data_b <= kmax$0$read_data_a) & (kmin$1$read_data_a <= kmax$1$read_data_b) & (kmin$1$read_data_b <= kmax$1$read_data_a) & (kmin$2$read_data_a <= kmax$2$read_data_b) & (kmin$2$read_data_b <= kmax$2$read_data_a);
         gidx = (((group$read_data_a) & 64'hffffffffffffffff) << 64'h3) | ((group$read_data_b) & 64'hffffffffffffffff);
         shifted = mask >> gidx;
-        candidate = k_valid$q & overlap & shifted[32'h0];
+        candidate = k_valid$q & (overlap | sap) & shifted[32'h0];
+        k_overlap$0$d = overlap;
+        k_overlap$1$d = k_overlap$0$q;
+        k_overlap$2$d = k_overlap$1$q;
+        k_overlap$3$d = k_overlap$2$q;
+        k_overlap$4$d = k_overlap$3$q;
+        k_overlap$5$d = k_overlap$4$q;
+        k_overlap$6$d = k_overlap$5$q;
+        k_overlap$7$d = k_overlap$6$q;
+        k_overlap$8$d = k_overlap$7$q;
+        k_overlap$9$d = k_overlap$8$q;
+        k_overlap$10$d = k_overlap$9$q;
+        k_overlap$11$d = k_overlap$10$q;
+        k_overlap$12$d = k_overlap$11$q;
+        k_overlap$13$d = k_overlap$12$q;
+        k_overlap$14$d = k_overlap$13$q;
+        k_overlap$15$d = k_overlap$14$q;
         swap = k_j$q < k_i$q;
         c_valid$d = candidate;
         c_a$d = k_i$q;
@@ -1524,7 +1718,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         tag_b$12$d = tag_b$11$q;
         tag_a$13$d = tag_a$12$q;
         tag_b$13$d = tag_b$12$q;
-        hit = sat$valid_out & sat$hit;
+        hit = sat$valid_out & sat$hit & k_overlap$15$q;
         fifo$write = hit;
         recent$0$d = hit;
         recent$1$d = recent$0$q;
@@ -4453,6 +4647,310 @@ module obb_core$k_j(d,q,clock);
     end
           
 endmodule // obb_core$k_j
+
+
+module obb_core$k_overlap$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$0
+
+
+module obb_core$k_overlap$1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$1
+
+
+module obb_core$k_overlap$10(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$10
+
+
+module obb_core$k_overlap$11(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$11
+
+
+module obb_core$k_overlap$12(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$12
+
+
+module obb_core$k_overlap$13(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$13
+
+
+module obb_core$k_overlap$14(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$14
+
+
+module obb_core$k_overlap$15(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$15
+
+
+module obb_core$k_overlap$2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$2
+
+
+module obb_core$k_overlap$3(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$3
+
+
+module obb_core$k_overlap$4(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$4
+
+
+module obb_core$k_overlap$5(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$5
+
+
+module obb_core$k_overlap$6(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$6
+
+
+module obb_core$k_overlap$7(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$7
+
+
+module obb_core$k_overlap$8(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$8
+
+
+module obb_core$k_overlap$9(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$9
 
 
 module obb_core$k_valid(d,q,clock);
@@ -40792,7 +41290,7 @@ module obb_core$tag_b$9(d,q,clock);
 endmodule // obb_core$tag_b$9
 
 
-module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a_max_x,visit,vi,vj,finished);
+module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a_min$0,a_min$1,a_min$2,a_max$0,a_max$1,a_max$2,sort_start,sort_valid,sort_key,sort_val,sort_go,sort_done,visit,vi,vj,finished);
     
     // Module arguments
     input wire  clock;
@@ -40804,7 +41302,18 @@ module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a
     input wire  [19:0] rd_val;
     output reg  [14:0] a_addr;
     output reg  [14:0] b_addr;
-    input wire  [22:0] a_max_x;
+    input wire  [22:0] a_min$0;
+    input wire  [22:0] a_min$1;
+    input wire  [22:0] a_min$2;
+    input wire  [22:0] a_max$0;
+    input wire  [22:0] a_max$1;
+    input wire  [22:0] a_max$2;
+    output reg  sort_start;
+    output reg  sort_valid;
+    output reg  [23:0] sort_key;
+    output reg  [19:0] sort_val;
+    output reg  sort_go;
+    input wire  sort_done;
     output reg  visit;
     output reg  [14:0] vi;
     output reg  [14:0] vj;
@@ -40812,17 +41321,24 @@ module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a
     
     // Constant declarations
     localparam  sweep = 1'b1;
+    localparam  sap = 1'b0;
     
     // Enums
     localparam WalkState$Idle = 0;
     localparam WalkState$Head = 1;
     localparam WalkState$Walk = 2;
     localparam WalkState$Pairs = 3;
-    localparam WalkState$Finished = 4;
+    localparam WalkState$Ends = 4;
+    localparam WalkState$EndsGo = 5;
+    localparam WalkState$EndsSort = 6;
+    localparam WalkState$SapHead = 7;
+    localparam WalkState$SapWalk = 8;
+    localparam WalkState$NextAxis = 9;
+    localparam WalkState$Finished = 10;
     
     // Stub signals
-    reg  [2:0] state$d;
-    wire  [2:0] state$q;
+    reg  [3:0] state$d;
+    wire  [3:0] state$q;
     reg  state$clock;
     reg  [15:0] p$d;
     wire  [15:0] p$q;
@@ -40836,9 +41352,19 @@ module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a
     reg  pending$d;
     wire  pending$q;
     reg  pending$clock;
+    reg  [1:0] axis$d;
+    wire  [1:0] axis$q;
+    reg  axis$clock;
+    reg  upper$d;
+    wire  upper$q;
+    reg  upper$clock;
     
     // Local signals
     reg  [15:0] last;
+    reg  [15:0] ends;
+    reg  [22:0] key_lo;
+    reg  [22:0] key_hi;
+    reg  [14:0] end_box;
     reg  beyond;
     reg  move_on;
     
@@ -40868,6 +41394,16 @@ module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a
         .q(pending$q),
         .clock(pending$clock)
     );
+    obb_core$walker$axis axis(
+        .d(axis$d),
+        .q(axis$q),
+        .clock(axis$clock)
+    );
+    obb_core$walker$upper upper(
+        .d(upper$d),
+        .q(upper$q),
+        .clock(upper$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -40876,13 +41412,34 @@ module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a
         i$clock = clock;
         succ$clock = clock;
         pending$clock = clock;
+        axis$clock = clock;
+        upper$clock = clock;
         state$d = state$q;
         p$d = p$q;
         i$d = i$q;
         succ$d = succ$q;
         pending$d = pending$q;
+        axis$d = axis$q;
+        upper$d = upper$q;
         last = n - 32'h1;
-        beyond = rd_key > ((a_max_x) & 24'hffffff);
+        ends = n << 64'h1;
+        key_lo = a_min$0;
+        key_hi = a_max$0;
+        if (axis$q == 32'h1) begin
+            key_lo = a_min$1;
+            key_hi = a_max$1;
+        end
+        if (axis$q == 32'h2) begin
+            key_lo = a_min$2;
+            key_hi = a_max$2;
+        end
+        end_box = ((rd_val >> 64'h1) & 15'h7fff);
+        sort_start = 1'b0;
+        sort_valid = 1'b0;
+        sort_go = 1'b0;
+        sort_key = ((key_lo) & 24'hffffff) << 64'h1;
+        sort_val = ((i$q) & 20'hfffff) << 64'h1;
+        beyond = rd_key > ((a_max$0) & 24'hffffff);
         move_on = (pending$q & beyond) | (succ$q == n);
         finished = state$q == WalkState$Finished;
         rd_addr = ((succ$q) & 15'h7fff);
@@ -40937,6 +41494,81 @@ module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a
                         end
                     end
                 end
+            WalkState$Ends:
+                begin
+                    a_addr = i$q;
+                    sort_valid = 1'b1;
+                    upper$d = ~upper$q;
+                    if (upper$q) begin
+                        sort_key = (((key_hi) & 24'hffffff) << 64'h1) | 64'h1;
+                        sort_val = (((i$q) & 20'hfffff) << 64'h1) | 64'h1;
+                        a_addr = i$q + 32'h1;
+                        i$d = i$q + 32'h1;
+                        if (((i$q) & 16'hffff) == last) begin
+                            state$d = WalkState$EndsGo;
+                        end
+                    end
+                end
+            WalkState$EndsGo:
+                begin
+                    sort_go = 1'b1;
+                    state$d = WalkState$EndsSort;
+                end
+            WalkState$EndsSort:
+                begin
+                    if (sort_done) begin
+                        rd_addr = 32'h0;
+                        p$d = 32'h0;
+                        state$d = WalkState$SapHead;
+                    end
+                end
+            WalkState$SapHead:
+                begin
+                    rd_addr = ((p$q + 32'h1) & 15'h7fff);
+                    if (rd_val[32'h0]) begin
+                        p$d = p$q + 32'h1;
+                        if (p$q + 32'h1 == ends) begin
+                            state$d = WalkState$Finished;
+                            if (axis$q != 32'h2) begin
+                                state$d = WalkState$NextAxis;
+                            end
+                        end
+                    end
+                    else begin
+                        i$d = end_box;
+                        succ$d = p$q + 32'h2;
+                        pending$d = 1'b1;
+                        state$d = WalkState$SapWalk;
+                    end
+                end
+            WalkState$SapWalk:
+                begin
+                    vj = end_box;
+                    b_addr = end_box;
+                    if (pending$q & (end_box == i$q)) begin
+                        rd_addr = ((p$q + 32'h1) & 15'h7fff);
+                        p$d = p$q + 32'h1;
+                        state$d = WalkState$SapHead;
+                    end
+                    else begin
+                        if (pending$q) begin
+                            visit = 1'b1;
+                        end
+                        if (~stall) begin
+                            succ$d = succ$q + 32'h1;
+                            pending$d = 1'b1;
+                        end
+                    end
+                end
+            WalkState$NextAxis:
+                begin
+                    axis$d = axis$q + 32'h1;
+                    sort_start = 1'b1;
+                    a_addr = 32'h0;
+                    i$d = 32'h0;
+                    upper$d = 1'b0;
+                    state$d = WalkState$Ends;
+                end
             WalkState$Finished:
                 begin
                 end
@@ -40952,11 +41584,37 @@ module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a
                     rd_addr = 32'h0;
                     state$d = WalkState$Head;
                 end
+                if (sap) begin
+                    axis$d = 32'h0;
+                    upper$d = 1'b0;
+                    sort_start = 1'b1;
+                    a_addr = 32'h0;
+                    state$d = WalkState$Ends;
+                end
             end
         end
     end
     
 endmodule // obb_core$walker
+
+
+module obb_core$walker$axis(d,q,clock);
+    
+    // Module arguments
+    input wire  [1:0] d;
+    output reg  [1:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 2'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$walker$axis
 
 
 module obb_core$walker$i(d,q,clock);
@@ -41019,8 +41677,8 @@ endmodule // obb_core$walker$pending
 module obb_core$walker$state(d,q,clock);
     
     // Module arguments
-    input wire  [2:0] d;
-    output reg  [2:0] q;
+    input wire  [3:0] d;
+    output reg  [3:0] q;
     input wire  clock;
     
     // Enums
@@ -41028,7 +41686,13 @@ module obb_core$walker$state(d,q,clock);
     localparam WalkState$Head = 1;
     localparam WalkState$Walk = 2;
     localparam WalkState$Pairs = 3;
-    localparam WalkState$Finished = 4;
+    localparam WalkState$Ends = 4;
+    localparam WalkState$EndsGo = 5;
+    localparam WalkState$EndsSort = 6;
+    localparam WalkState$SapHead = 7;
+    localparam WalkState$SapWalk = 8;
+    localparam WalkState$NextAxis = 9;
+    localparam WalkState$Finished = 10;
     
     // Update code (custom)
     initial begin
@@ -41059,3 +41723,22 @@ module obb_core$walker$succ(d,q,clock);
     end
           
 endmodule // obb_core$walker$succ
+
+
+module obb_core$walker$upper(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$walker$upper

@@ -368,6 +368,14 @@ fn cycle_model_by_hand() {
     );
     assert_eq!((sweep.work.visited, sweep.work.breaks), (1, 2));
     assert_eq!(sweep.cycles.walk, 2 * 2 + 1 + 2);
+    // Improved-sap: on x, box 0 meets box 1's min and box 1 meets box 0's max (2 visits); on y
+    // and z the three boxes share their keys, so each min meets the two other mins or maxes
+    // (6 visits each). Per axis 2n loading clocks, one reading, one per max and two per min,
+    // one starting each of the later axes.
+    let sap = m.detect(BroadPhase::ImprovedSap, &GroupMask::All);
+    assert_eq!(sap.work.visited, 14);
+    assert_eq!(sap.cycles.walk, 3 * (2 * 3 + 1 + 3 + 2 * 3) + 2 + 14);
+    assert_eq!(sap.reported, 6, "pair (0, 1) is met twice on each axis");
     // An empty frame: its end marker, the key write, the drain.
     let empty = ModelFrame::new(&Scene { obbs: vec![] }, &cfg).unwrap();
     let e = empty.detect(BroadPhase::Sweep, &GroupMask::All).cycles;

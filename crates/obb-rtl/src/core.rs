@@ -13,11 +13,12 @@
 //! | V+2 | the geometry table is read for a (port A) and b (port B) |
 //! | V+3 .. V+17 | the SAT pipeline; a hit enters the output FIFO |
 
+use crate::generate::{address_bits, sort_key_bits};
 use crate::projection::{Projection, CENTER, HALF, MARGIN, ROT};
 use crate::radix::{RadixSort, KEY, VAL};
 use crate::sat::{self, Sat};
 use crate::two_read::TwoReadRam;
-use crate::walker::Walker;
+use crate::walker::{WalkMode, Walker};
 use obb_model::fixed::config::GROUP_BITS;
 use obb_model::fixed::cycles::{LAT_BROAD, LAT_SAT};
 use obb_model::fixed::{BroadPhase, HwConfig};
@@ -89,6 +90,9 @@ pub struct ObbCore<const A: usize, const C: usize> {
     pub pairs: Signal<Out, Bits<COUNT>>,
     // Configuration.
     sweep: Constant<Bit>,
+    /// Improved-sap: the walker drives the radix sort, and the keys are checked only at the
+    /// SAT's output (the paper's Algorithm 2 sends every pair it meets).
+    sap: Constant<Bit>,
     capacity: Constant<Bits<C>>,
     mask: Constant<Bits<MASK>>,
     drain: Constant<Bits<8>>,
@@ -135,6 +139,8 @@ pub struct ObbCore<const A: usize, const C: usize> {
     g_mb: DFF<Bits<MARGIN>>,
     tag_a: [DFF<Bits<A>>; 14],
     tag_b: [DFF<Bits<A>>; 14],
+    /// The candidate's keys overlap on all three axes (always, but with improved-sap).
+    k_overlap: [DFF<Bit>; 16],
     /// A hit entered the FIFO one or two clocks ago: the FIFO shows it as not empty only two
     /// clocks after its write.
     recent: [DFF<Bit>; 2],
@@ -153,15 +159,16 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
     /// (`generate::check_supported`): brute or sweep, one lane, capacity within 2^A.
     pub fn new(cfg: &HwConfig) -> ObbCore<A, C> {
         assert!(C == A + 1, "counts need one bit more than addresses");
-        assert!(
-            u64::from(cfg.capacity) <= 1 << A,
-            "capacity fits the tables"
-        );
-        let sweep = match cfg.broad_phase {
-            BroadPhase::Sweep => true,
-            BroadPhase::Brute => false,
-            other => panic!("broad phase {other} is not in the hardware"),
+        let mode = match cfg.broad_phase {
+            BroadPhase::Sweep => WalkMode::Sweep,
+            BroadPhase::Brute => WalkMode::Brute,
+            BroadPhase::ImprovedSap => WalkMode::ImprovedSap,
+            BroadPhase::Grid => panic!("broad phase grid is not in the hardware"),
         };
+        assert!(
+            address_bits(cfg) <= A,
+            "capacity fits the tables and the sort"
+        );
         let mut mask = Bits::<MASK>::default();
         for g in 0..1u32 << GROUP {
             for h in 0..1u32 << GROUP {
@@ -191,13 +198,14 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             candidates: Default::default(),
             sat_tests: Default::default(),
             pairs: Default::default(),
-            sweep: Constant::new(sweep),
+            sweep: Constant::new(mode == WalkMode::Sweep),
+            sap: Constant::new(mode == WalkMode::ImprovedSap),
             capacity: Constant::new(u64::from(cfg.capacity).into()),
             mask: Constant::new(mask),
             drain: Constant::new(DRAIN.into()),
             projection: Projection::new(cfg),
-            radix: RadixSort::new(cfg.key_bits, cfg.radix_digit_bits),
-            walker: Walker::new(sweep),
+            radix: RadixSort::new(sort_key_bits(cfg), cfg.radix_digit_bits),
+            walker: Walker::new(mode),
             sat: Sat::new(cfg),
             fifo: Default::default(),
             center: Default::default(),
@@ -233,6 +241,7 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             tag_a: Default::default(),
             tag_b: Default::default(),
             recent: Default::default(),
+            k_overlap: Default::default(),
             accept: Default::default(),
             overlap: Default::default(),
             gidx: Default::default(),
@@ -264,6 +273,9 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         }
         for s in 0..8 {
             self.gdelay[s].clock.next = self.clock.val();
+        }
+        for s in 0..16 {
+            self.k_overlap[s].clock.next = self.clock.val();
         }
         self.recent[0].clock.next = self.clock.val();
         self.recent[1].clock.next = self.clock.val();
@@ -320,21 +332,28 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.radix.in_valid.next = self.projection.valid_out.val() & self.sweep.val();
         self.radix.in_key.next = bit_cast::<KEY, CENTER>(self.projection.key_min[0].val());
         self.radix.in_val.next = bit_cast::<VAL, C>(self.projected.q.val());
+        if self.sap.val() {
+            self.radix.in_valid.next = self.walker.sort_valid.val();
+            self.radix.in_key.next = self.walker.sort_key.val();
+            self.radix.in_val.next = self.walker.sort_val.val();
+        }
         if self.projection.valid_out.val() {
             self.projected.d.next = self.projected.q.val() + 1;
         }
 
         // The broad phase: the walker reads the sorted entries and the key table.
-        self.radix.start.next = self.frame_start.val();
-        self.radix.go.next = false;
+        self.radix.start.next = self.frame_start.val() | self.walker.sort_start.val();
+        self.radix.go.next = self.walker.sort_go.val();
+        self.walker.sort_done.next = self.radix.done.val();
         self.radix.rd_addr.next = self.walker.rd_addr.val();
         self.walker.rd_key.next = self.radix.rd_key.val();
         self.walker.rd_val.next = self.radix.rd_val.val();
         self.walker.n.next = self.loaded.q.val();
         self.walker.start.next = false;
         self.walker.stall.next = self.fifo.almost_full.val();
-        self.walker.a_max_x.next = self.kmax[0].read_data_a.val();
         for x in 0..3 {
+            self.walker.a_min[x].next = self.kmin[x].read_data_a.val();
+            self.walker.a_max[x].next = self.kmax[x].read_data_a.val();
             self.kmin[x].read_address_a.next = self.walker.a_addr.val();
             self.kmin[x].read_address_b.next = self.walker.b_addr.val();
             self.kmax[x].read_address_a.next = self.walker.a_addr.val();
@@ -358,8 +377,13 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.gidx.next = (bit_cast::<MASK, GROUP>(self.group.read_data_a.val()) << 3_u64)
             | bit_cast::<MASK, GROUP>(self.group.read_data_b.val());
         self.shifted.next = self.mask.val() >> self.gidx.val();
-        self.candidate.next =
-            self.k_valid.q.val() & self.overlap.val() & self.shifted.val().get_bit(0);
+        self.candidate.next = self.k_valid.q.val()
+            & (self.overlap.val() | self.sap.val())
+            & self.shifted.val().get_bit(0);
+        self.k_overlap[0].d.next = self.overlap.val();
+        for s in 1..16 {
+            self.k_overlap[s].d.next = self.k_overlap[s - 1].q.val();
+        }
         // The lower index is box A of the SAT.
         self.swap.next = self.k_j.q.val() < self.k_i.q.val();
         self.c_valid.d.next = self.candidate.val();
@@ -419,7 +443,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         }
 
         // V+17: a hit enters the FIFO; the stream takes pairs from it.
-        self.hit.next = self.sat.valid_out.val() & self.sat.hit.val();
+        self.hit.next = self.sat.valid_out.val() & self.sat.hit.val() & self.k_overlap[15].q.val();
         self.fifo.write.next = self.hit.val();
         self.recent[0].d.next = self.hit.val();
         self.recent[1].d.next = self.recent[0].q.val();
@@ -467,6 +491,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
                     if self.over.q.val() {
                         self.state.d.next = CoreState::Done;
                     } else if self.sweep.val() {
+                        // (Improved-sap sorts in the walker, axis by axis.)
                         self.radix.go.next = true;
                         self.state.d.next = CoreState::Sort;
                     } else {

@@ -93,14 +93,31 @@ pub struct CoreInfo {
     pub counter_bits: usize,
 }
 
-/// Checks that the hardware supports `cfg` (valid, brute or sweep, one lane).
+/// Checks that the hardware supports `cfg` (valid, not the grid, one lane).
 pub fn check_supported(cfg: &HwConfig) -> Result<()> {
     cfg.validate()?;
     match cfg.broad_phase {
         BroadPhase::Brute | BroadPhase::Sweep => {}
-        other => bail!(
-            "configuration key `broad_phase`: `{other}` is modelled (obbcd detect --engine model) \
-             but not in the hardware yet; the core has `sweep` and `brute`"
+        BroadPhase::ImprovedSap => {
+            if cfg.capacity > 1 << 19 {
+                bail!(
+                    "configuration key `capacity`: {} with improved-sap, which sorts two end \
+                     points per box with 20-bit values: at most 524288",
+                    cfg.capacity
+                );
+            }
+            if cfg.key_bits + 1 > crate::radix::KEY as u32 {
+                bail!(
+                    "configuration key `key_bits`: {} with improved-sap, whose end point keys \
+                     take one bit more: at most {}",
+                    cfg.key_bits,
+                    crate::radix::KEY - 1
+                );
+            }
+        }
+        BroadPhase::Grid => bail!(
+            "configuration key `broad_phase`: `grid` is modelled (obbcd detect --engine model) \
+             but not in the hardware yet; the core has `sweep`, `brute` and `improved-sap`"
         ),
     }
     if cfg.lanes != 1 {
@@ -112,9 +129,22 @@ pub fn check_supported(cfg: &HwConfig) -> Result<()> {
     Ok(())
 }
 
-/// Address bits of the per-box tables for `capacity`: at least 4.
-pub fn address_bits(capacity: u32) -> usize {
-    capacity.next_power_of_two().trailing_zeros().max(4) as usize
+/// Address bits of the per-box tables and the sort for `cfg`: `capacity` entries, twice that
+/// with improved-sap (which sorts two end points per box); at least 4.
+pub fn address_bits(cfg: &HwConfig) -> usize {
+    let entries = match cfg.broad_phase {
+        BroadPhase::ImprovedSap => 2 * cfg.capacity,
+        _ => cfg.capacity,
+    };
+    entries.next_power_of_two().trailing_zeros().max(4) as usize
+}
+
+/// Key bits of the radix sort: end point keys take one bit more (min before max).
+pub fn sort_key_bits(cfg: &HwConfig) -> u32 {
+    match cfg.broad_phase {
+        BroadPhase::ImprovedSap => cfg.key_bits + 1,
+        _ => cfg.key_bits,
+    }
 }
 
 /// Calls `$f::<A, A + 1>($args)` for the address width `$a` (4 to 20): rust-hdl's widths are
@@ -150,7 +180,7 @@ fn core_verilog<const A: usize, const C: usize>(cfg: &HwConfig) -> Result<String
 
 fn radix_verilog<const A: usize, const C: usize>(cfg: &HwConfig) -> Result<String> {
     emit::verilog(
-        &mut RadixSort::<A, C>::new(cfg.key_bits, cfg.radix_digit_bits),
+        &mut RadixSort::<A, C>::new(sort_key_bits(cfg), cfg.radix_digit_bits),
         "radix_sort",
     )
 }
@@ -160,7 +190,7 @@ fn radix_verilog<const A: usize, const C: usize>(cfg: &HwConfig) -> Result<Strin
 /// per-block synthesis estimates); the manifest comes last.
 pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
     check_supported(cfg)?;
-    let a = address_bits(cfg.capacity);
+    let a = address_bits(cfg);
     let mut out = Vec::new();
     let mut modules = Vec::new();
     let mut add = |module: &str, file: String, text: String, latency: u64| {
@@ -205,8 +235,8 @@ pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
         lat_key_write: cycles::LAT_KEY_WRITE,
         lat_broad: cycles::LAT_BROAD,
         lat_sat: cycles::LAT_SAT,
-        sort_digit_bits: sorter.digit_bits(cfg.key_bits),
-        sort_passes: sorter.passes(cfg.key_bits),
+        sort_digit_bits: sorter.digit_bits(sort_key_bits(cfg)),
+        sort_passes: sorter.passes(sort_key_bits(cfg)),
         table_depth: 1 << a,
         fifo_depth: core::FIFO_DEPTH,
         fifo_stall_fill: core::FIFO_STALL,

@@ -11,6 +11,13 @@
 //!   Outer p costs 2 + its reads (visits plus the one read beyond), one clock more starts the
 //!   walk: `obb_model::fixed::cycles` counts the same.
 //!
+//! - `improved-sap` (the paper's Algorithm 2), per axis x, y, z: the walker loads the 2n end
+//!   points (box 0 min, box 0 max, box 1 min, ...: key `2k + is_max`, value `2b + is_max`) into
+//!   the radix sort from the key table, two clocks per box, sorts them, then reads them in
+//!   order: a max end point costs one clock; a min end point of box i one clock, then one per
+//!   end point read until i's own max (each other box met is a visit, with no key check); one
+//!   clock starts the next axis.
+//!
 //! `stall` holds back visits (the output is filling); it never drops one.
 
 use crate::projection::CENTER;
@@ -26,6 +33,16 @@ pub enum WalkState {
     Walk,
     /// Brute: the pairs (i, j).
     Pairs,
+    /// Improved-sap: the end points of the axis into the radix sort, two clocks per box.
+    Ends,
+    /// Improved-sap: the clock that takes `go`, then the sort.
+    EndsGo,
+    EndsSort,
+    /// Improved-sap: the end point at position p arrives; a min end point starts a walk.
+    SapHead,
+    SapWalk,
+    /// Improved-sap: the next axis starts (the sort is cleared).
+    NextAxis,
     Finished,
 }
 
@@ -41,17 +58,26 @@ pub struct Walker<const A: usize, const C: usize> {
     pub rd_addr: Signal<Out, Bits<A>>,
     pub rd_key: Signal<In, Bits<KEY>>,
     pub rd_val: Signal<In, Bits<VAL>>,
-    /// The key table: port A reads box i, port B box j; `a_max_x` is port A's max x key.
+    /// The key table: port A reads box i, port B box j; `a_min`, `a_max` are port A's keys.
     pub a_addr: Signal<Out, Bits<A>>,
     pub b_addr: Signal<Out, Bits<A>>,
-    pub a_max_x: Signal<In, Bits<CENTER>>,
+    pub a_min: [Signal<In, Bits<CENTER>>; 3],
+    pub a_max: [Signal<In, Bits<CENTER>>; 3],
+    /// Improved-sap drives the radix sort: `start`, one entry per clock, `go`, `done`.
+    pub sort_start: Signal<Out, Bit>,
+    pub sort_valid: Signal<Out, Bit>,
+    pub sort_key: Signal<Out, Bits<KEY>>,
+    pub sort_val: Signal<Out, Bits<VAL>>,
+    pub sort_go: Signal<Out, Bit>,
+    pub sort_done: Signal<In, Bit>,
     /// A visit this clock: (i, j), keys requested on ports A and B.
     pub visit: Signal<Out, Bit>,
     pub vi: Signal<Out, Bits<A>>,
     pub vj: Signal<Out, Bits<A>>,
     pub finished: Signal<Out, Bit>,
-    /// Sweep (true) or brute (false).
+    /// Sweep, improved-sap, or (neither) brute.
     sweep: Constant<Bit>,
+    sap: Constant<Bit>,
     state: DFF<WalkState>,
     /// Outer position (sweep) or box i (brute), and its box (sweep).
     p: DFF<Bits<C>>,
@@ -60,13 +86,29 @@ pub struct Walker<const A: usize, const C: usize> {
     succ: DFF<Bits<C>>,
     /// A successor was read last clock: its key and box are on `rd_key`, `rd_val`.
     pending: DFF<Bit>,
+    /// Improved-sap: the axis, and which end point of box `i` goes into the sort next.
+    axis: DFF<Bits<2>>,
+    upper: DFF<Bit>,
     last: Signal<Local, Bits<C>>,
+    /// Improved-sap: 2n end points; the axis's keys of box i; the box and kind of the entry read.
+    ends: Signal<Local, Bits<C>>,
+    key_lo: Signal<Local, Bits<CENTER>>,
+    key_hi: Signal<Local, Bits<CENTER>>,
+    end_box: Signal<Local, Bits<A>>,
     beyond: Signal<Local, Bit>,
     move_on: Signal<Local, Bit>,
 }
 
+/// What the walker walks.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum WalkMode {
+    Brute,
+    Sweep,
+    ImprovedSap,
+}
+
 impl<const A: usize, const C: usize> Walker<A, C> {
-    pub fn new(sweep: bool) -> Walker<A, C> {
+    pub fn new(mode: WalkMode) -> Walker<A, C> {
         assert!(C == A + 1, "counts need one bit more than addresses");
         Walker {
             clock: Default::default(),
@@ -78,18 +120,32 @@ impl<const A: usize, const C: usize> Walker<A, C> {
             rd_val: Default::default(),
             a_addr: Default::default(),
             b_addr: Default::default(),
-            a_max_x: Default::default(),
+            a_min: Default::default(),
+            a_max: Default::default(),
+            sort_start: Default::default(),
+            sort_valid: Default::default(),
+            sort_key: Default::default(),
+            sort_val: Default::default(),
+            sort_go: Default::default(),
+            sort_done: Default::default(),
             visit: Default::default(),
             vi: Default::default(),
             vj: Default::default(),
             finished: Default::default(),
-            sweep: Constant::new(sweep),
+            sweep: Constant::new(mode == WalkMode::Sweep),
+            sap: Constant::new(mode == WalkMode::ImprovedSap),
             state: Default::default(),
             p: Default::default(),
             i: Default::default(),
             succ: Default::default(),
             pending: Default::default(),
+            axis: Default::default(),
+            upper: Default::default(),
             last: Default::default(),
+            ends: Default::default(),
+            key_lo: Default::default(),
+            key_hi: Default::default(),
+            end_box: Default::default(),
             beyond: Default::default(),
             move_on: Default::default(),
         }
@@ -99,10 +155,27 @@ impl<const A: usize, const C: usize> Walker<A, C> {
 impl<const A: usize, const C: usize> Logic for Walker<A, C> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, state, p, i, succ, pending);
+        dff_setup!(self, clock, state, p, i, succ, pending, axis, upper);
         self.last.next = self.n.val() - 1;
+        self.ends.next = self.n.val() << 1_u64;
+        self.key_lo.next = self.a_min[0].val();
+        self.key_hi.next = self.a_max[0].val();
+        if self.axis.q.val() == 1 {
+            self.key_lo.next = self.a_min[1].val();
+            self.key_hi.next = self.a_max[1].val();
+        }
+        if self.axis.q.val() == 2 {
+            self.key_lo.next = self.a_min[2].val();
+            self.key_hi.next = self.a_max[2].val();
+        }
+        self.end_box.next = bit_cast::<A, VAL>(self.rd_val.val() >> 1_u64);
+        self.sort_start.next = false;
+        self.sort_valid.next = false;
+        self.sort_go.next = false;
+        self.sort_key.next = bit_cast::<KEY, CENTER>(self.key_lo.val()) << 1_u64;
+        self.sort_val.next = bit_cast::<VAL, A>(self.i.q.val()) << 1_u64;
         // Sweep: the successor read last clock starts beyond box i's max x key.
-        self.beyond.next = self.rd_key.val() > bit_cast::<KEY, CENTER>(self.a_max_x.val());
+        self.beyond.next = self.rd_key.val() > bit_cast::<KEY, CENTER>(self.a_max[0].val());
         self.move_on.next =
             (self.pending.q.val() & self.beyond.val()) | (self.succ.q.val() == self.n.val());
         self.finished.next = self.state.q.val() == WalkState::Finished;
@@ -155,6 +228,85 @@ impl<const A: usize, const C: usize> Logic for Walker<A, C> {
                     }
                 }
             }
+            WalkState::Ends => {
+                // Box i's keys were addressed last clock: its min end point, then (addressing
+                // the next box) its max end point.
+                self.a_addr.next = self.i.q.val();
+                self.sort_valid.next = true;
+                self.upper.d.next = !self.upper.q.val();
+                if self.upper.q.val() {
+                    self.sort_key.next =
+                        (bit_cast::<KEY, CENTER>(self.key_hi.val()) << 1_u64) | 1_u64;
+                    self.sort_val.next = (bit_cast::<VAL, A>(self.i.q.val()) << 1_u64) | 1_u64;
+                    self.a_addr.next = self.i.q.val() + 1;
+                    self.i.d.next = self.i.q.val() + 1;
+                    if bit_cast::<C, A>(self.i.q.val()) == self.last.val() {
+                        self.state.d.next = WalkState::EndsGo;
+                    }
+                }
+            }
+            WalkState::EndsGo => {
+                self.sort_go.next = true;
+                self.state.d.next = WalkState::EndsSort;
+            }
+            WalkState::EndsSort => {
+                if self.sort_done.val() {
+                    // This clock reads end point 0.
+                    self.rd_addr.next = 0.into();
+                    self.p.d.next = 0.into();
+                    self.state.d.next = WalkState::SapHead;
+                }
+            }
+            WalkState::SapHead => {
+                // End point p: a max moves on (reading p + 1 now); a min of box i starts a
+                // walk, reading p + 1 now.
+                self.rd_addr.next = bit_cast::<A, C>(self.p.q.val() + 1);
+                if self.rd_val.val().get_bit(0) {
+                    self.p.d.next = self.p.q.val() + 1;
+                    if self.p.q.val() + 1 == self.ends.val() {
+                        // The axis is done: the next one starts, or the walk ends.
+                        self.state.d.next = WalkState::Finished;
+                        if self.axis.q.val() != 2 {
+                            self.state.d.next = WalkState::NextAxis;
+                        }
+                    }
+                } else {
+                    self.i.d.next = self.end_box.val();
+                    self.succ.d.next = self.p.q.val() + 2;
+                    self.pending.d.next = true;
+                    self.state.d.next = WalkState::SapWalk;
+                }
+            }
+            WalkState::SapWalk => {
+                // The end point read last clock: box i's own max ends the walk (and this clock
+                // reads p + 1); any other box is a visit.
+                self.vj.next = self.end_box.val();
+                self.b_addr.next = self.end_box.val();
+                if self.pending.q.val() & (self.end_box.val() == self.i.q.val()) {
+                    self.rd_addr.next = bit_cast::<A, C>(self.p.q.val() + 1);
+                    self.p.d.next = self.p.q.val() + 1;
+                    self.state.d.next = WalkState::SapHead;
+                } else {
+                    if self.pending.q.val() {
+                        self.visit.next = true;
+                    }
+                    if !self.stall.val() {
+                        self.succ.d.next = self.succ.q.val() + 1;
+                        self.pending.d.next = true;
+                    }
+                }
+            }
+            WalkState::NextAxis => {
+                // Clears the sort and addresses box 0's keys. (This takes a clock of its own:
+                // `sort_start` must not depend on the sort's outputs, or Verilator sees a
+                // combinational loop through the sort's logic.)
+                self.axis.d.next = self.axis.q.val() + 1;
+                self.sort_start.next = true;
+                self.a_addr.next = 0.into();
+                self.i.d.next = 0.into();
+                self.upper.d.next = false;
+                self.state.d.next = WalkState::Ends;
+            }
             WalkState::Finished => {}
         }
         if self.start.val() {
@@ -168,6 +320,14 @@ impl<const A: usize, const C: usize> Logic for Walker<A, C> {
                     // The start clock reads entry 0.
                     self.rd_addr.next = 0.into();
                     self.state.d.next = WalkState::Head;
+                }
+                if self.sap.val() {
+                    // The start clock clears the sort and addresses box 0's keys.
+                    self.axis.d.next = 0.into();
+                    self.upper.d.next = false;
+                    self.sort_start.next = true;
+                    self.a_addr.next = 0.into();
+                    self.state.d.next = WalkState::Ends;
                 }
             }
         }

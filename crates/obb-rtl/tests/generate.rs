@@ -140,10 +140,21 @@ fn unsupported_configurations_are_rejected() {
             },
             "lanes",
         ),
+        (
+            HwConfig {
+                broad_phase: obb_model::fixed::BroadPhase::ImprovedSap,
+                capacity: 1 << 20,
+                ..HwConfig::default()
+            },
+            "capacity",
+        ),
     ] {
         let e = files(&cfg).unwrap_err().to_string();
         assert!(
-            e.contains(key) && e.contains("not in the hardware") || e.contains("one lane"),
+            e.contains(key)
+                && (e.contains("not in the hardware")
+                    || e.contains("one lane")
+                    || e.contains("two end points")),
             "{e}"
         );
     }

@@ -100,8 +100,9 @@ pub fn run(
         }
         BroadPhase::ImprovedSap => {
             // Per axis, the 2n endpoints (box 0 min, box 0 max, box 1 min, ...) sorted stably by
-            // (key, min before max); from each min, every box met before its own max.
-            for axis in 0..3 {
+            // (key, min before max); from each min, every box met before its own max. Fewer
+            // than two boxes have no pair: nothing is sorted.
+            for axis in (0..3).filter(|_| n >= 2) {
                 let mut keys = Vec::with_capacity(2 * n);
                 let mut ends = Vec::with_capacity(2 * n);
                 for (i, k) in frame.keys.iter().enumerate() {
@@ -139,16 +140,23 @@ pub fn run(
     w
 }
 
-/// Clocks the broad phase's walk takes (`obb_rtl::walker`). `brute` visits one pair per clock.
-/// `sweep` spends per outer box except the last one clock reading its entry, one clock per
-/// successor read (its visits, and the one read beyond its max key, if any), and one clock
-/// deciding to move on. `grid` and `improved-sap` are not built yet: their visits spread over
-/// the lanes stand in for them.
+/// Clocks the broad phase's walk takes besides its sorts (`obb_rtl::walker`).
+/// - `brute` visits one pair per clock.
+/// - `sweep` spends per outer box except the last one clock reading its entry, one clock per
+///   successor read (its visits, and the one read beyond its max key, if any), and one clock
+///   deciding to move on.
+/// - `improved-sap` (two boxes or more) spends per axis 2n clocks loading the end points into
+///   the sort and one reading the first sorted one; then one clock per max end point, and per
+///   min end point one clock, one per visit and one for the box's own max: `5n + 1` per axis
+///   plus the visits, and one clock starting each of the second and third axes.
+/// - `grid` is not built yet: its visits spread over the lanes stand in for it.
 pub fn walk_cycles(mode: BroadPhase, n: u64, w: &BroadWork, lanes: u32) -> u64 {
     match mode {
         BroadPhase::Brute => w.visited,
         BroadPhase::Sweep => 2 * n.saturating_sub(1) + w.visited + w.breaks,
-        BroadPhase::Grid | BroadPhase::ImprovedSap => w.visited.div_ceil(u64::from(lanes)),
+        BroadPhase::ImprovedSap if n < 2 => 0,
+        BroadPhase::ImprovedSap => 3 * (5 * n + 1) + 2 + w.visited,
+        BroadPhase::Grid => w.visited.div_ceil(u64::from(lanes)),
     }
 }
 

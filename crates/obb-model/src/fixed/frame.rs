@@ -67,11 +67,13 @@ impl ModelFrame {
     /// 15 axes). With the broad phase's work and the modelled cycles.
     pub fn detect(&self, mode: BroadPhase, mask: &GroupMask) -> ModelRun {
         let mut pairs = Vec::new();
+        let mut reported = 0;
         let work = broad::run(self, mode, mask, |i, j| {
             // The SAT stage orders the pair (the lower index is box A): the integer test is not
             // symmetric in A and B, and every mode must report the same pairs.
             let (a, b) = (i.min(j), i.max(j));
             if self.keys_overlap(a, b) && self.sat(a, b) {
+                reported += 1;
                 pairs.push([a as u32, b as u32]);
             }
         });
@@ -80,6 +82,7 @@ impl ModelFrame {
         let cycles = frame_cycles(self.obbs.len() as u64, &work);
         ModelRun {
             pairs,
+            reported,
             work,
             cycles,
         }
@@ -90,6 +93,9 @@ impl ModelFrame {
 #[derive(Clone, Debug)]
 pub struct ModelRun {
     pub pairs: Vec<Pair>,
+    /// Pairs the SAT stage reports, repeats included: improved-sap may meet a pair on up to
+    /// six end points; the other modes meet each pair once.
+    pub reported: u64,
     pub work: BroadWork,
     pub cycles: FrameCycles,
 }
