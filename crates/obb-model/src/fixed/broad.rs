@@ -175,8 +175,13 @@ fn sort(
     w.sort_cycles += sort_cycles(keys.len() as u64, passes, radix.digit_bits(bits));
 }
 
+/// Most bits of a cell coordinate per axis: a cell key (three coordinates and the start flags)
+/// must fit 64 bits.
+const GRID_AXIS_BITS_MAX: u32 = (64 - FLAG_BITS) / 3;
+
 /// log2 of the grid's cell edge in key units: `GRID_CELL_PER_MEDIAN` times the median key
-/// extent (mean over the axes), rounded to the nearest power of two.
+/// extent (mean over the axes), rounded to the nearest power of two; no finer than a cell key
+/// of 64 bits allows (wide keys and tiny boxes would otherwise overflow it).
 pub fn grid_cell_log2(frame: &ModelFrame) -> u32 {
     let mut extents: Vec<u64> = frame
         .keys
@@ -184,7 +189,7 @@ pub fn grid_cell_log2(frame: &ModelFrame) -> u32 {
         .map(|(lo, hi)| (0..3).map(|x| hi[x] - lo[x]).sum::<u64>() / 3)
         .collect();
     if extents.is_empty() {
-        return 0;
+        return frame.cfg.key_bits.saturating_sub(GRID_AXIS_BITS_MAX);
     }
     let mid = extents.len() / 2;
     let median = *extents.select_nth_unstable(mid).1;
@@ -192,7 +197,9 @@ pub fn grid_cell_log2(frame: &ModelFrame) -> u32 {
     // Nearest power of two: round log2 of the edge.
     let low = bits_for(edge) - 1;
     let up = u32::from(edge - (1 << low) > (1 << low) / 2);
-    (low + up).min(frame.cfg.key_bits)
+    (low + up)
+        .max(frame.cfg.key_bits.saturating_sub(GRID_AXIS_BITS_MAX))
+        .min(frame.cfg.key_bits)
 }
 
 /// The grid: each box (unless large) enters every cell its keys cover, with three flags saying
