@@ -15,7 +15,7 @@
 
 use crate::generate::{address_bits, sort_key_bits};
 use crate::projection::{Projection, CENTER, HALF, MARGIN, ROT};
-use crate::radix::{RadixSort, KEY, VAL};
+use crate::radix::{KeySort, KEY, VAL};
 use crate::sat::{self, Sat};
 use crate::two_read::TwoReadRam;
 use crate::walker::{WalkMode, Walker};
@@ -98,7 +98,7 @@ pub struct ObbCore<const A: usize, const C: usize> {
     drain: Constant<Bits<8>>,
     // Stages.
     projection: Projection,
-    radix: RadixSort<A, C>,
+    radix: KeySort<A, C>,
     walker: Walker<A, C>,
     sat: Sat,
     fifo: SynchronousFIFO<Bits<PAIR>, 6, 7, { FIFO_STALL as u32 }>,
@@ -204,7 +204,7 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             mask: Constant::new(mask),
             drain: Constant::new(DRAIN.into()),
             projection: Projection::new(cfg),
-            radix: RadixSort::new(sort_key_bits(cfg), cfg.radix_digit_bits),
+            radix: KeySort::new(sort_key_bits(cfg), cfg.radix_digit_bits),
             walker: Walker::new(mode),
             sat: Sat::new(cfg),
             fifo: Default::default(),

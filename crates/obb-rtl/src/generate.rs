@@ -5,7 +5,7 @@
 use crate::core::{self, ObbCore};
 use crate::emit;
 use crate::projection::{self, Projection};
-use crate::radix::RadixSort;
+use crate::radix::KeySort;
 use crate::sat::{self, Sat};
 use anyhow::{bail, Context, Result};
 use obb_model::fixed::{cycles, BroadPhase, HwConfig};
@@ -180,7 +180,7 @@ fn core_verilog<const A: usize, const C: usize>(cfg: &HwConfig) -> Result<String
 
 fn radix_verilog<const A: usize, const C: usize>(cfg: &HwConfig) -> Result<String> {
     emit::verilog(
-        &mut RadixSort::<A, C>::new(sort_key_bits(cfg), cfg.radix_digit_bits),
+        &mut KeySort::<A, C>::new(sort_key_bits(cfg), cfg.radix_digit_bits),
         "radix_sort",
     )
 }

@@ -14,14 +14,19 @@
 use obb_model::radix::RadixSorter;
 use rust_hdl::prelude::*;
 
-/// Key bits (sweep keys, or improved-sap's endpoint keys of up to 24 bits).
+/// Key bits of the core's sorts (sweep keys, or improved-sap's end point keys of up to 24
+/// bits). The sort itself takes any key width K (the grid's cell keys take up to 63 bits).
 pub const KEY: usize = 24;
 /// Value bits (box indices).
 pub const VAL: usize = 20;
+/// Entry bits of the core's sorts: key above value.
+pub const ENTRY: usize = KEY + VAL;
 /// Digit bits at most: the histogram and the pointers are registers, one per bin.
 pub const MAX_DIGIT: u32 = 8;
 const BINS: usize = 1 << MAX_DIGIT;
-const ENTRY: usize = KEY + VAL;
+
+/// The core's sort: 24-bit keys.
+pub type KeySort<const A: usize, const C: usize> = RadixSort<A, C, KEY, ENTRY>;
 
 #[derive(Copy, Clone, Debug, PartialEq, LogicState)]
 pub enum Phase {
@@ -32,27 +37,27 @@ pub enum Phase {
 }
 
 #[derive(LogicBlock)]
-pub struct RadixSort<const A: usize, const C: usize> {
+pub struct RadixSort<const A: usize, const C: usize, const K: usize, const E: usize> {
     pub clock: Signal<In, Clock>,
     pub start: Signal<In, Bit>,
     pub in_valid: Signal<In, Bit>,
-    pub in_key: Signal<In, Bits<KEY>>,
+    pub in_key: Signal<In, Bits<K>>,
     pub in_val: Signal<In, Bits<VAL>>,
     pub go: Signal<In, Bit>,
     pub done: Signal<Out, Bit>,
     pub rd_addr: Signal<In, Bits<A>>,
-    pub rd_key: Signal<Out, Bits<KEY>>,
+    pub rd_key: Signal<Out, Bits<K>>,
     pub rd_val: Signal<Out, Bits<VAL>>,
     // Configuration.
     digit: Constant<Bits<8>>,
-    mask: Constant<Bits<KEY>>,
+    mask: Constant<Bits<K>>,
     last_bin: Constant<Bits<C>>,
     passes: Constant<Bits<8>>,
-    bins: [Constant<Bits<KEY>>; BINS],
+    bins: [Constant<Bits<K>>; BINS],
     binc: [Constant<Bits<C>>; BINS],
     // State.
     phase: DFF<Phase>,
-    ram: [RAM<Bits<ENTRY>, A>; 2],
+    ram: [RAM<Bits<E>, A>; 2],
     /// RAM the current pass reads (0 or 1); the other is written.
     src: DFF<Bit>,
     count: DFF<Bits<C>>,
@@ -65,23 +70,24 @@ pub struct RadixSort<const A: usize, const C: usize> {
     /// The entry read last clock is being written (scatter).
     busy: DFF<Bit>,
     // Combinational.
-    entry: Signal<Local, Bits<ENTRY>>,
-    key: Signal<Local, Bits<KEY>>,
-    dig: Signal<Local, Bits<KEY>>,
-    next_dig: Signal<Local, Bits<KEY>>,
-    in_dig: Signal<Local, Bits<KEY>>,
+    entry: Signal<Local, Bits<E>>,
+    key: Signal<Local, Bits<K>>,
+    dig: Signal<Local, Bits<K>>,
+    next_dig: Signal<Local, Bits<K>>,
+    in_dig: Signal<Local, Bits<K>>,
     waddr: Signal<Local, Bits<C>>,
-    new_entry: Signal<Local, Bits<ENTRY>>,
+    new_entry: Signal<Local, Bits<E>>,
     scatter: Signal<Local, Bit>,
 }
 
-impl<const A: usize, const C: usize> RadixSort<A, C> {
+impl<const A: usize, const C: usize, const K: usize, const E: usize> RadixSort<A, C, K, E> {
     /// The sorter for `key_bits`-bit keys with digits of at most `max_digit_bits`, split evenly
     /// as `RadixSorter` splits them.
-    pub fn new(key_bits: u32, max_digit_bits: u32) -> RadixSort<A, C> {
+    pub fn new(key_bits: u32, max_digit_bits: u32) -> RadixSort<A, C, K, E> {
         assert!(C == A + 1, "counts need one bit more than addresses");
+        assert!(E == K + VAL, "an entry is a key above a value");
         assert_eq!(VAL, 20, "the update's literal offsets assume 20-bit values");
-        assert!(key_bits as usize <= KEY && max_digit_bits <= MAX_DIGIT);
+        assert!(key_bits as usize <= K && K < 64 && max_digit_bits <= MAX_DIGIT);
         let model = RadixSorter::<u32>::new(max_digit_bits);
         let d = model.digit_bits(key_bits);
         RadixSort {
@@ -124,7 +130,9 @@ impl<const A: usize, const C: usize> RadixSort<A, C> {
     }
 }
 
-impl<const A: usize, const C: usize> Logic for RadixSort<A, C> {
+impl<const A: usize, const C: usize, const K: usize, const E: usize> Logic
+    for RadixSort<A, C, K, E>
+{
     #[hdl_gen]
     fn update(&mut self) {
         // Clocks; every register holds unless told otherwise.
@@ -142,13 +150,13 @@ impl<const A: usize, const C: usize> Logic for RadixSort<A, C> {
         }
         // The key sits above the value (VAL = 20 bits; rust-hdl writes a named constant here
         // into the Verilog as a name, so the literal is spelled out).
-        self.key.next = self.entry.val().get_bits::<KEY>(20);
+        self.key.next = self.entry.val().get_bits::<K>(20);
         self.dig.next = (self.key.val() >> self.shift.q.val()) & self.mask.val();
         self.next_dig.next =
             (self.key.val() >> (self.shift.q.val() + self.digit.val())) & self.mask.val();
         self.in_dig.next = self.in_key.val() & self.mask.val();
-        self.new_entry.next = (bit_cast::<ENTRY, KEY>(self.in_key.val()) << 20_u64)
-            | bit_cast::<ENTRY, VAL>(self.in_val.val());
+        self.new_entry.next =
+            (bit_cast::<E, K>(self.in_key.val()) << 20_u64) | bit_cast::<E, VAL>(self.in_val.val());
         // Reads: the result in the source RAM by `rd_addr`, or the pass's next entry.
         self.ram[0].read_address.next = self.rd_addr.val();
         self.ram[1].read_address.next = self.rd_addr.val();

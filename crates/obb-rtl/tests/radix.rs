@@ -1,12 +1,12 @@
 //! The radix sort against `obb_model::radix::RadixSorter`: the same order (a stable sort has
 //! one), and `done` exactly the model's `sort_cycles` clocks after `go`, in rust-hdl and in
-//! Verilator.
+//! Verilator; with the core's 24-bit keys and with the 63-bit keys a grid's cells need.
 
 mod common;
 
 use obb_model::radix::RadixSorter;
 use obb_rtl::leaf::uval;
-use obb_rtl::radix::RadixSort;
+use obb_rtl::radix::{RadixSort, ENTRY, KEY};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use rust_hdl::prelude::*;
@@ -14,9 +14,12 @@ use rust_hdl::prelude::*;
 const A: usize = 8;
 const C: usize = 9;
 
-type Sorter = RadixSort<A, C>;
+type Sorter<const K: usize, const E: usize> = RadixSort<A, C, K, E>;
+/// The widest keys: a grid cell key (three 20-bit coordinates and three flags).
+const WIDE: usize = 63;
+const WIDE_ENTRY: usize = WIDE + obb_rtl::radix::VAL;
 
-fn tick(u: &mut Sorter) {
+fn tick<const K: usize, const E: usize>(u: &mut Sorter<K, E>) {
     u.clock.next = Clock::from(false);
     assert!(simulate(u, 1000));
     u.clock.next = Clock::from(true);
@@ -24,8 +27,12 @@ fn tick(u: &mut Sorter) {
 }
 
 /// Sorts in rust-hdl; returns the sorted (key, value) pairs and the clocks from `go` to `done`.
-fn rust_hdl_sort(keys: &[u64], key_bits: u32, digit: u32) -> (Vec<(u64, u64)>, u64) {
-    let mut u = Sorter::new(key_bits, digit);
+fn rust_hdl_sort<const K: usize, const E: usize>(
+    keys: &[u64],
+    key_bits: u32,
+    digit: u32,
+) -> (Vec<(u64, u64)>, u64) {
+    let mut u = Sorter::<K, E>::new(key_bits, digit);
     u.connect_all();
     u.start.next = true;
     tick(&mut u);
@@ -81,11 +88,13 @@ fn radix_sort_matches_the_model_in_rust_hdl() {
         (37, 12, 4),
         (200, 20, 8),
         (256, 23, 6),
+        (120, 63, 8),
+        (90, 40, 5),
     ] {
         let keys: Vec<u64> = proptest::collection::vec(
             prop_oneof![
                 Just(0u64),
-                Just((1 << key_bits) - 1),
+                Just((1u64 << key_bits) - 1),
                 0..(1u64 << key_bits),
                 0..4u64
             ],
@@ -94,7 +103,11 @@ fn radix_sort_matches_the_model_in_rust_hdl() {
         .new_tree(&mut runner)
         .unwrap()
         .current();
-        let (got, clocks) = rust_hdl_sort(&keys, key_bits, digit);
+        let (got, clocks) = if key_bits as usize > KEY {
+            rust_hdl_sort::<WIDE, WIDE_ENTRY>(&keys, key_bits, digit)
+        } else {
+            rust_hdl_sort::<KEY, ENTRY>(&keys, key_bits, digit)
+        };
         let (want, want_clocks) = model_sort(&keys, key_bits, digit);
         assert_eq!(got, want, "n={n} key_bits={key_bits} digit={digit}");
         assert_eq!(
@@ -121,10 +134,15 @@ fn vectors(keys: &[u64], wait: u64) -> Vec<Vec<u64>> {
 
 #[test]
 fn radix_sort_verilog_matches_the_model_in_verilator() {
-    use obb_rtl::radix::{KEY, VAL};
+    verilator_sort::<KEY, ENTRY>(250, 20, 7);
+    verilator_sort::<WIDE, WIDE_ENTRY>(100, 63, 8);
+}
+
+/// `n` random keys of `key_bits` bits sorted by the emitted Verilog of the K-bit sort.
+fn verilator_sort<const K: usize, const E: usize>(n: usize, key_bits: u32, digit: u32) {
+    use obb_rtl::radix::VAL;
     use obb_rtl::verilator::Port;
     let mut runner = proptest::test_runner::TestRunner::deterministic();
-    let (n, key_bits, digit) = (250usize, 20u32, 7u32);
     let keys: Vec<u64> =
         proptest::collection::vec(prop_oneof![0..(1u64 << key_bits), 0..4u64], n..=n)
             .new_tree(&mut runner)
@@ -132,27 +150,31 @@ fn radix_sort_verilog_matches_the_model_in_verilator() {
             .current();
     let (want, clocks) = model_sort(&keys, key_bits, digit);
     let v = vectors(&keys, clocks);
-    let mut u = Sorter::new(key_bits, digit);
+    let mut u = Sorter::<K, E>::new(key_bits, digit);
     let verilog = obb_rtl::emit::verilog(&mut u, "radix_sort").unwrap();
     let inputs = [
         Port::new("start", 1),
         Port::new("in_valid", 1),
-        Port::new("in_key", KEY),
+        Port::new("in_key", K),
         Port::new("in_val", VAL),
         Port::new("go", 1),
         Port::new("rd_addr", A),
     ];
     let outputs = [
         Port::new("done", 1),
-        Port::new("rd_key", KEY),
+        Port::new("rd_key", K),
         Port::new("rd_val", VAL),
     ];
     let out = common::run_verilator(&verilog, "radix_sort", &inputs, &outputs, &v);
     // `done` rises on the clock of the last `wait` vector, `clocks` after `go`.
     let go = 1 + n;
     let first_done = out.iter().position(|o| o[0] == 1).expect("done rises");
-    assert_eq!(first_done as u64, go as u64 + clocks - 1, "done");
+    assert_eq!(
+        first_done as u64,
+        go as u64 + clocks - 1,
+        "done, {K}-bit keys"
+    );
     let reads = &out[out.len() - n..];
     let got: Vec<(u64, u64)> = reads.iter().map(|o| (o[1], o[2])).collect();
-    assert_eq!(got, want);
+    assert_eq!(got, want, "{K}-bit keys");
 }
