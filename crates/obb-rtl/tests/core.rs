@@ -338,9 +338,40 @@ fn frame_of(name: &'static str, scene: Scene) -> Frame {
     }
 }
 
-/// Sweep with the default formats and every group pair: a surgical scene, the dense case with
-/// the receiver always ready and then taking a pair every fourth clock (the FIFO fills and the
-/// walker stalls), one box, no box.
+/// The stiff and extreme cases: boxes at both ends of the coordinate range, the longest
+/// half-lengths, a near-parallel pair 1e-9 rad apart, axes rounded to f32, a zero-thickness
+/// plate touching a box, coincident boxes.
+fn stiff() -> Scene {
+    let rot = |angle: f64| {
+        let (s, c) = angle.sin_cos();
+        [[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]
+    };
+    let mut obbs = vec![
+        Obb::aligned([-500.0, -500.0, -500.0], [1.0; 3], 0),
+        Obb::aligned([-498.0, -500.0, -500.0], [1.0; 3], 1),
+        Obb::aligned([499.0, 499.0, 499.0], [1.0; 3], 2),
+        Obb::aligned([0.0, 0.0, 0.0], [120.0, 1.0, 1.0], 0),
+        Obb::aligned([0.0, 2.0, 0.0], [120.0, 1.0, 1.0], 1),
+        Obb::aligned([50.0, 50.0, 50.0], [2.0, 2.0, 0.0], 0),
+        Obb::aligned([50.0, 50.0, 51.0], [1.0; 3], 1),
+        Obb::aligned([-50.0, 0.0, 0.0], [3.0; 3], 2),
+        Obb::aligned([-50.0, 0.0, 0.0], [3.0; 3], 1),
+    ];
+    let mut a = Obb::aligned([200.0, 0.0, 0.0], [10.0, 1.0, 1.0], 0);
+    a.axes = rot(0.3);
+    let mut b = Obb::aligned([200.0, 0.0, 0.0], [10.0, 1.0, 1.0], 1);
+    b.axes = rot(0.3 + 1e-9);
+    b.center = [200.0 - 2.0 * 0.3f64.sin(), 2.0 * 0.3f64.cos(), 0.0];
+    let mut f = Obb::aligned([-200.0, 0.0, 0.0], [4.0, 2.0, 1.0], 2);
+    f.axes = rot(0.7).map(|r| r.map(|v| v as f32 as f64));
+    let g = Obb::aligned([-200.0, 0.0, 2.0], [1.0; 3], 0);
+    obbs.extend([a, b, f, g]);
+    Scene { obbs }
+}
+
+/// Sweep with the default formats and every group pair: a surgical scene, the stiff cases,
+/// the dense case with the receiver always ready and then taking a pair every fourth clock
+/// (the FIFO fills and the walker stalls), one box, no box.
 #[test]
 fn sweep_core_matches_the_model() {
     let cfg = HwConfig {
@@ -352,6 +383,7 @@ fn sweep_core_matches_the_model() {
         &cfg,
         &[
             frame_of("surgical", surgical(300, 11).unwrap()),
+            frame_of("stiff", stiff()),
             frame_of("dense", dense(120)),
             Frame {
                 name: "dense, throttled",
@@ -387,6 +419,7 @@ fn brute_core_matches_the_model() {
         &cfg,
         &[
             frame_of("touching", touching_pairs()),
+            frame_of("stiff", stiff()),
             frame_of("dense", dense(100)),
             frame_of("surgical", surgical(150, 5).unwrap()),
         ],
@@ -449,4 +482,64 @@ fn default_core_on_a_surgical_scene_of_1000_boxes() {
     let (words, starts, models) = stimulus(&cfg, &frames);
     let hdl = rust_hdl::<15, 16>(&cfg, &words);
     judge(&frames, &words, &hdl, &starts, &models);
+}
+
+/// Random boxes: up to 40 in a small cube, any rotation, half-lengths from zero up, groups
+/// 0..7; a random broad phase and mask. The core in rust-hdl equals the model on every one.
+#[test]
+fn random_scenes_match_the_model() {
+    use proptest::prelude::*;
+    let obb = (
+        prop::array::uniform3(-6.0f64..6.0),
+        prop::array::uniform4(-1.0f64..1.0),
+        prop::array::uniform3(prop_oneof![Just(0.0), 0.0f64..3.0]),
+        0u32..8,
+    )
+        .prop_map(|(center, q, half, group)| {
+            let r = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                q[0] + 1.5,
+                q[1],
+                q[2],
+                q[3],
+            ))
+            .to_rotation_matrix();
+            let mut o = Obb::aligned(center, half, group);
+            o.axes = std::array::from_fn(|k| [r[(0, k)], r[(1, k)], r[(2, k)]]);
+            o
+        });
+    let case = (
+        prop::collection::vec(obb, 0..40),
+        prop_oneof![
+            Just(BroadPhase::Brute),
+            Just(BroadPhase::Sweep),
+            Just(BroadPhase::ImprovedSap)
+        ],
+        prop_oneof![Just("all"), Just("cross"), Just("0-1,2-2,3-7")],
+    );
+    // Deterministic, like every test here: a failure names its case and recurs.
+    let mut runner = proptest::test_runner::TestRunner::new_with_rng(
+        ProptestConfig {
+            cases: 24,
+            failure_persistence: None,
+            ..ProptestConfig::default()
+        },
+        proptest::test_runner::TestRng::deterministic_rng(
+            proptest::test_runner::RngAlgorithm::ChaCha,
+        ),
+    );
+    runner
+        .run(&case, |(obbs, mode, mask)| {
+            let cfg = HwConfig {
+                capacity: 1 << (A - 1),
+                broad_phase: mode,
+                groups: mask.parse().unwrap(),
+                ..HwConfig::default()
+            };
+            let frames = [frame_of("random", Scene { obbs })];
+            let (words, starts, models) = stimulus(&cfg, &frames);
+            let hdl = rust_hdl::<A, { A + 1 }>(&cfg, &words);
+            judge(&frames, &words, &hdl, &starts, &models);
+            Ok(())
+        })
+        .unwrap();
 }
