@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs everything that must pass: formatting, lints, and every test of the workspace.
 # On a fresh machine it installs what the tests need: Verilator (with g++ and make, to build
-# its simulations) and Icarus Verilog, from Debian's packages. A missing tool is installed or
+# its simulations), Icarus Verilog and tclsh (the ISE script's check), from Debian's packages. A missing tool is installed or
 # the script fails: no test is skipped for want of one.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,6 +16,7 @@ command -v verilator >/dev/null 2>&1 || need+=(verilator)
 command -v iverilog >/dev/null 2>&1 || need+=(iverilog)
 command -v g++ >/dev/null 2>&1 || need+=(g++)
 command -v make >/dev/null 2>&1 || need+=(make)
+command -v tclsh >/dev/null 2>&1 || need+=(tcl)
 if [ ${#need[@]} -gt 0 ]; then
   if [ "$(id -u)" != 0 ]; then
     echo "error: missing ${need[*]}; run as root (or install them) so that the HDL tests can run" >&2

@@ -284,6 +284,9 @@ fn bad_configurations_name_the_key() {
         ("broad_phase = \"octree\"", "broad_phase"),
         ("center_bit = 20", "center_bit"),
         ("center_bits = \"wide\"", "center_bits"),
+        ("groups = \"0-8\"", "groups"),
+        ("clock_ns = 0.5", "clock_ns"),
+        ("speed_grade = 4", "speed_grade"),
     ];
     for (text, key) in cases {
         let e = HwConfig::parse(text, "test.toml").unwrap_err().to_string();

@@ -271,6 +271,59 @@ fn header(cfg: &HwConfig) -> String {
     )
 }
 
+/// The ISE hand-off for `cfg`: the UCF, and the xtclsh script that reaches `obb_core.v` and
+/// the UCF by the given paths relative to the script's directory.
+pub fn handoff(cfg: &HwConfig, verilog: &str, constraints: &str) -> Result<(String, String)> {
+    check_supported(cfg)?;
+    let head = header(cfg);
+    Ok((
+        crate::handoff::ucf(cfg, &head),
+        crate::handoff::build_tcl(cfg, &head, verilog, constraints),
+    ))
+}
+
+/// `to` as a path relative to the directory `from` (both existing), with `/` separators.
+fn relative(from: &Path, to: &Path) -> Result<String> {
+    let canon = |p: &Path| {
+        p.canonicalize()
+            .with_context(|| format!("cannot resolve {}", p.display()))
+    };
+    let (from, to) = (canon(from)?, canon(to)?);
+    let common = from
+        .components()
+        .zip(to.components())
+        .take_while(|(a, b)| a == b)
+        .count();
+    let up = std::iter::repeat_n("..".to_string(), from.components().count() - common);
+    let down = to
+        .components()
+        .skip(common)
+        .map(|c| c.as_os_str().to_string_lossy().into_owned());
+    Ok(up.chain(down).collect::<Vec<_>>().join("/"))
+}
+
+/// Writes the UCF to `ucf` and the xtclsh script to `tcl` (directories created if needed);
+/// the script finds `obb_core.v` in `verilog_dir` and the UCF by relative paths.
+pub fn write_handoff(cfg: &HwConfig, verilog_dir: &Path, ucf: &Path, tcl: &Path) -> Result<()> {
+    for p in [ucf, tcl] {
+        if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir)
+                .with_context(|| format!("cannot create {}", dir.display()))?;
+        }
+    }
+    let dir_of = |p: &Path| match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => Path::new(".").to_path_buf(),
+    };
+    let (ucf_text, _) = handoff(cfg, "", "")?;
+    std::fs::write(ucf, ucf_text).with_context(|| format!("cannot write {}", ucf.display()))?;
+    let verilog = relative(&dir_of(tcl), &verilog_dir.join("obb_core.v"))?;
+    let constraints = relative(&dir_of(tcl), ucf)?;
+    let (_, tcl_text) = handoff(cfg, &verilog, &constraints)?;
+    std::fs::write(tcl, tcl_text).with_context(|| format!("cannot write {}", tcl.display()))?;
+    Ok(())
+}
+
 /// Writes the files for `cfg` into `dir` (created if needed).
 pub fn write(cfg: &HwConfig, dir: &Path) -> Result<Vec<String>> {
     let files = files(cfg)?;

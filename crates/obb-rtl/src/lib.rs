@@ -4,6 +4,7 @@
 pub mod core;
 pub mod emit;
 pub mod generate;
+pub mod handoff;
 pub mod leaf;
 pub mod projection;
 pub mod radix;

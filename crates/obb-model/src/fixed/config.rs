@@ -72,6 +72,10 @@ pub struct HwConfig {
     /// Width of the SAT's 15 comparisons: both sides drop their low bits down to this width
     /// when their full width, center_bits + rot_bits + 2, is wider.
     pub sat_bits: u32,
+    /// Target clock period in ns, for the ISE constraints (`gen-rtl` writes the UCF).
+    pub clock_ns: f64,
+    /// Speed grade of the XC6VHX565T for the ISE project (2 means -2).
+    pub speed_grade: u32,
 }
 
 impl Default for HwConfig {
@@ -91,6 +95,8 @@ impl Default for HwConfig {
             lanes: 1,
             radix_digit_bits: 8,
             sat_bits: 40,
+            clock_ns: 4.0,
+            speed_grade: 2,
         }
     }
 }
@@ -248,6 +254,19 @@ impl HwConfig {
             16,
             48,
             "the width of the SAT's comparators",
+        )?;
+        if !(self.clock_ns.is_finite() && (1.0..=100.0).contains(&self.clock_ns)) {
+            return Err(invalid(
+                "clock_ns",
+                format!("{} is outside 1..=100 ns", self.clock_ns),
+            ));
+        }
+        in_range(
+            "speed_grade",
+            self.speed_grade,
+            1,
+            3,
+            "Virtex-6 speed grades are -1, -2 and -3",
         )?;
         Ok(())
     }
