@@ -282,44 +282,51 @@ pub fn handoff(cfg: &HwConfig, verilog: &str, constraints: &str) -> Result<(Stri
     ))
 }
 
-/// `to` as a path relative to the directory `from` (both existing), with `/` separators.
+/// The file `to` as a path relative to the directory `from` (both directories exist), with
+/// `/` separators.
 fn relative(from: &Path, to: &Path) -> Result<String> {
     let canon = |p: &Path| {
         p.canonicalize()
             .with_context(|| format!("cannot resolve {}", p.display()))
     };
-    let (from, to) = (canon(from)?, canon(to)?);
+    let name = to
+        .file_name()
+        .with_context(|| format!("{} names no file", to.display()))?;
+    let (from, to_dir) = (canon(from)?, canon(&dir_of(to))?);
     let common = from
         .components()
-        .zip(to.components())
+        .zip(to_dir.components())
         .take_while(|(a, b)| a == b)
         .count();
     let up = std::iter::repeat_n("..".to_string(), from.components().count() - common);
-    let down = to
+    let down = to_dir
         .components()
         .skip(common)
         .map(|c| c.as_os_str().to_string_lossy().into_owned());
-    Ok(up.chain(down).collect::<Vec<_>>().join("/"))
+    let mut parts: Vec<String> = up.chain(down).collect();
+    parts.push(name.to_string_lossy().into_owned());
+    Ok(parts.join("/"))
+}
+
+/// The directory of file `p` (`.` for a bare name).
+fn dir_of(p: &Path) -> std::path::PathBuf {
+    match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => Path::new(".").to_path_buf(),
+    }
 }
 
 /// Writes the UCF to `ucf` and the xtclsh script to `tcl` (directories created if needed);
 /// the script finds `obb_core.v` in `verilog_dir` and the UCF by relative paths.
 pub fn write_handoff(cfg: &HwConfig, verilog_dir: &Path, ucf: &Path, tcl: &Path) -> Result<()> {
-    for p in [ucf, tcl] {
-        if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir)
-                .with_context(|| format!("cannot create {}", dir.display()))?;
-        }
+    for dir in [dir_of(ucf), dir_of(tcl)] {
+        std::fs::create_dir_all(&dir)
+            .with_context(|| format!("cannot create {}", dir.display()))?;
     }
-    let dir_of = |p: &Path| match p.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => Path::new(".").to_path_buf(),
-    };
-    let (ucf_text, _) = handoff(cfg, "", "")?;
-    std::fs::write(ucf, ucf_text).with_context(|| format!("cannot write {}", ucf.display()))?;
     let verilog = relative(&dir_of(tcl), &verilog_dir.join("obb_core.v"))?;
     let constraints = relative(&dir_of(tcl), ucf)?;
-    let (_, tcl_text) = handoff(cfg, &verilog, &constraints)?;
+    let (ucf_text, tcl_text) = handoff(cfg, &verilog, &constraints)?;
+    std::fs::write(ucf, ucf_text).with_context(|| format!("cannot write {}", ucf.display()))?;
     std::fs::write(tcl, tcl_text).with_context(|| format!("cannot write {}", tcl.display()))?;
     Ok(())
 }
