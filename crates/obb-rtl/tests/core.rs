@@ -6,7 +6,7 @@
 mod common;
 
 use common::{raw, run_rust_hdl, run_verilator, signed};
-use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame, ModelRun, QObb};
+use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame, ModelRun, QObb, QuantizeError};
 use obb_model::generate::{surgical, uniform};
 use obb_model::{Obb, Scene};
 use obb_rtl::core::{ObbCore, COUNT, INDEX};
@@ -231,15 +231,25 @@ struct Frame {
     ready_every: usize,
 }
 
-/// The model's frame, or `None` when the scene is over capacity.
+/// The model's frame and its quantized boxes, or `None` and the boxes streamed anyway when the
+/// scene is over capacity (any other quantization error is a broken test).
 fn model(f: &Frame, cfg: &HwConfig) -> (HwConfig, Option<ModelFrame>, Vec<QObb>) {
     let fit = cfg.fitted(&f.scene);
-    let roomy = HwConfig {
-        capacity: 1 << 20,
-        ..fit.clone()
-    };
-    let boxes = obb_model::fixed::quantize(&f.scene, &roomy).unwrap();
-    (fit.clone(), ModelFrame::new(&f.scene, &fit).ok(), boxes)
+    match ModelFrame::new(&f.scene, &fit) {
+        Ok(m) => {
+            let boxes = m.obbs.clone();
+            (fit, Some(m), boxes)
+        }
+        Err(QuantizeError::Capacity { .. }) => {
+            let roomy = HwConfig {
+                capacity: 1 << 20,
+                ..fit.clone()
+            };
+            let boxes = obb_model::fixed::quantize(&f.scene, &roomy).unwrap();
+            (fit, None, boxes)
+        }
+        Err(e) => panic!("{}: {e}", f.name),
+    }
 }
 
 /// Runs `frames` back to back through one core for `cfg` in rust-hdl and in Verilator: both
