@@ -378,7 +378,7 @@ fn cycle_model_by_hand() {
     let sap = m.detect(BroadPhase::ImprovedSap, &GroupMask::All);
     assert_eq!(sap.work.visited, 14);
     assert_eq!(sap.cycles.walk, 3 * (2 * 3 + 1 + 3 + 2 * 3) + 2 + 14);
-    assert_eq!(sap.reported, 6, "pair (0, 1) is met twice on each axis");
+    assert_eq!(sap.reported(), 6, "pair (0, 1) is met twice on each axis");
     // An empty frame: its end marker, the key write, the drain.
     let empty = ModelFrame::new(&Scene { obbs: vec![] }, &cfg).unwrap();
     let e = empty.detect(BroadPhase::Sweep, &GroupMask::All).cycles;
@@ -415,5 +415,5 @@ fn grid_cell_keys_fit_64_bits_with_wide_keys() {
     let brute = m.detect(BroadPhase::Brute, &GroupMask::All);
     assert!(!brute.pairs.is_empty());
     assert_eq!(grid.pairs, brute.pairs);
-    assert_eq!(grid.reported, brute.reported, "each pair once");
+    assert_eq!(grid.reported(), brute.reported(), "each pair once");
 }

@@ -181,6 +181,12 @@ fn radix_verilog<const A: usize, const C: usize>(cfg: &HwConfig) -> Result<Strin
     )
 }
 
+/// The Verilog of the whole core for `cfg` (top `obb_core`), as `obb_core.v` holds it.
+pub fn core(cfg: &HwConfig) -> Result<String> {
+    check_supported(cfg)?;
+    Ok(header(cfg) + &by_address_bits!(address_bits(cfg), core_verilog(cfg))?)
+}
+
 /// The files for configuration `cfg`: (path below the output directory, contents). The top,
 /// `obb_core.v`, holds the whole core; `blocks/` holds each block as its own top module (for
 /// per-block synthesis estimates); the manifest comes last.
@@ -197,32 +203,27 @@ pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
             throughput: 1,
             ports: ports(&text, module),
         });
-        out.push((file, header(cfg) + &text));
+        out.push((file, text));
     };
     // The core works on frames: its clocks per frame are `cycles::frame_cycles`.
-    add(
-        "obb_core",
-        "obb_core.v".into(),
-        by_address_bits!(a, core_verilog(cfg))?,
-        0,
-    );
+    add("obb_core", "obb_core.v".into(), core(cfg)?, 0);
     add(
         "projection",
         "blocks/projection.v".into(),
-        emit::verilog(&mut Projection::new(cfg), "projection")?,
+        header(cfg) + &emit::verilog(&mut Projection::new(cfg), "projection")?,
         projection::LATENCY,
     );
     add(
         "sat",
         "blocks/sat.v".into(),
-        emit::verilog(&mut Sat::new(cfg), "sat")?,
+        header(cfg) + &emit::verilog(&mut Sat::new(cfg), "sat")?,
         sat::LATENCY,
     );
     // Not a pipeline: the sort's clocks are `cycles::sort_cycles` after `go`.
     add(
         "radix_sort",
         "blocks/radix_sort.v".into(),
-        by_address_bits!(a, radix_verilog(cfg))?,
+        header(cfg) + &by_address_bits!(a, radix_verilog(cfg))?,
         0,
     );
     let sorter = RadixSorter::<u32>::new(cfg.radix_digit_bits);

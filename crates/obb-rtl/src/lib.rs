@@ -2,6 +2,7 @@
 //! against the bit-exact model in `obb-model` (`obb_model::fixed`), and its Verilog generator.
 
 pub mod core;
+pub mod cosim;
 pub mod emit;
 pub mod generate;
 pub mod handoff;

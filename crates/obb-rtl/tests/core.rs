@@ -5,11 +5,13 @@
 
 mod common;
 
-use common::{raw, run_rust_hdl, run_verilator, signed};
-use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame, ModelRun, QObb, QuantizeError};
-use obb_model::generate::{surgical, uniform};
+use common::scenes::{dense, first, stiff, touching_pairs};
+use common::{run_rust_hdl, run_verilator, signed};
+use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame, ModelRun, QObb};
+use obb_model::generate::surgical;
 use obb_model::{Obb, Scene};
 use obb_rtl::core::{ObbCore, COUNT, INDEX};
+use obb_rtl::cosim::{box_ports, compare, prepare, Expected, SimFrame};
 use obb_rtl::leaf::{sbits, uval};
 use obb_rtl::projection::{CENTER, HALF, ROT};
 use obb_rtl::verilator::Port;
@@ -61,15 +63,11 @@ fn frame(
     idle: usize,
     ready: &dyn Fn(usize) -> bool,
 ) -> Vec<Vec<u64>> {
-    let offset = 1i64 << (cfg.center_bits - 1);
     let mut words = vec![vec![0; WORD]];
     words[0][0] = 1;
     for (i, b) in boxes.iter().enumerate() {
         let mut w = vec![0, 1, u64::from(i + 1 == boxes.len())];
-        w.extend(b.center.map(|c| (c + offset) as u64));
-        w.extend(b.half.map(|h| h as u64));
-        w.extend((0..9).map(|k| raw(b.axes[k / 3][k % 3], ROT)));
-        w.push(u64::from(b.group));
+        w.extend(box_ports(b, cfg).map(|(v, _)| v));
         w.push(0);
         words.push(w);
     }
@@ -121,105 +119,28 @@ fn rust_hdl<const A: usize, const C: usize>(cfg: &HwConfig, words: &[Vec<u64>]) 
 
 /// What a frame's outputs say: the pairs taken from the stream in order (a pair moves on a
 /// clock whose word has `pair_ready` while the outputs before it show `pair_valid`), the
-/// clock `done` first shows, and the counters then.
-#[derive(Debug)]
-struct Outcome {
-    pairs: Vec<[u32; 2]>,
-    done_at: usize,
-    over: bool,
-    cycles: u64,
-    counters: [u64; 3],
-}
-
-fn outcome(words: &[Vec<u64>], out: &[Vec<u64>], from: usize) -> Outcome {
-    let mut pairs = Vec::new();
+/// clock `done` first shows, and the status outputs then.
+fn outcome(words: &[Vec<u64>], out: &[Vec<u64>], from: usize) -> SimFrame {
+    let mut stream = Vec::new();
     for k in from + 1..out.len() {
         let before = &out[k - 1];
         if before[0] == 1 && words[k][WORD - 1] == 1 {
-            pairs.push([before[1] as u32, before[2] as u32]);
+            stream.push([before[1] as u32, before[2] as u32]);
         }
         if out[k][3] == 1 {
             let o = &out[k];
-            return Outcome {
-                pairs,
-                done_at: k - from,
-                over: o[4] == 1,
+            return SimFrame {
+                stream,
+                clocks: (k - from) as u64,
+                capacity_exceeded: o[4] == 1,
                 cycles: o[6],
-                counters: [o[7], o[8], o[9]],
+                candidates: o[7],
+                sat_tests: o[8],
+                pairs: o[9],
             };
         }
     }
     panic!("the frame never finished");
-}
-
-/// The core's frame equals the model's: the pairs (improved-sap may send a pair more than
-/// once, as the model counts), the counters, and (with the stream always ready) the clock
-/// count, `done` within three clocks of the last verdict.
-fn agrees(got: &Outcome, run: &ModelRun, always_ready: bool, what: &str) {
-    assert_eq!(
-        got.pairs.len() as u64,
-        run.reported,
-        "{what}: pairs on the stream"
-    );
-    let mut pairs = got.pairs.clone();
-    pairs.sort_unstable();
-    pairs.dedup();
-    let missing: Vec<_> = run
-        .pairs
-        .iter()
-        .filter(|p| pairs.binary_search(p).is_err())
-        .collect();
-    let extra: Vec<_> = pairs
-        .iter()
-        .filter(|p| run.pairs.binary_search(p).is_err())
-        .collect();
-    assert!(
-        missing.is_empty() && extra.is_empty(),
-        "{what}: {} pairs missing, first {:?}; {} extra, first {:?}",
-        missing.len(),
-        missing.first(),
-        extra.len(),
-        extra.first()
-    );
-    assert!(!got.over, "{what}: capacity");
-    let c = run.counters();
-    assert_eq!(
-        got.counters,
-        [c.candidates, c.sat, run.reported],
-        "{what}: counters"
-    );
-    if always_ready {
-        assert_eq!(
-            got.cycles, run.cycles.total,
-            "{what}: cycles {:?}",
-            run.cycles
-        );
-        assert!(
-            (got.done_at as u64).abs_diff(run.cycles.total) <= 3,
-            "{what}: done at {} for {} cycles",
-            got.done_at,
-            run.cycles.total
-        );
-    } else {
-        assert!(got.cycles >= run.cycles.total, "{what}: cycles");
-    }
-}
-
-fn touching_pairs() -> Scene {
-    // Faces, edges and corners just touching, a zero-thickness box, a rotated one, a far one.
-    let mut obbs = vec![
-        Obb::aligned([0.0; 3], [1.0; 3], 0),
-        Obb::aligned([2.0, 0.0, 0.0], [1.0; 3], 1),
-        Obb::aligned([2.0, 2.0, 0.0], [1.0; 3], 2),
-        Obb::aligned([-2.0, -2.0, -2.0], [1.0; 3], 1),
-        Obb::aligned([0.0, 0.0, 3.0], [2.0, 2.0, 0.0], 1),
-        Obb::aligned([50.0, 0.0, 0.0], [1.0; 3], 1),
-    ];
-    let s = std::f64::consts::FRAC_1_SQRT_2;
-    let mut r = Obb::aligned([0.0, 2.0 + std::f64::consts::SQRT_2, 0.0], [1.0; 3], 1);
-    r.axes = [[s, s, 0.0], [-s, s, 0.0], [0.0, 0.0, 1.0]];
-    obbs.push(r);
-    Scene { obbs }
 }
 
 /// A frame of a run: its scene, quantized with the run's formats at the scene's own LSB (the
@@ -229,27 +150,6 @@ struct Frame {
     scene: Scene,
     /// `pair_ready` on one clock in this many.
     ready_every: usize,
-}
-
-/// The model's frame and its quantized boxes, or `None` and the boxes streamed anyway when the
-/// scene is over capacity (any other quantization error is a broken test).
-fn model(f: &Frame, cfg: &HwConfig) -> (HwConfig, Option<ModelFrame>, Vec<QObb>) {
-    let fit = cfg.fitted(&f.scene);
-    match ModelFrame::new(&f.scene, &fit) {
-        Ok(m) => {
-            let boxes = m.obbs.clone();
-            (fit, Some(m), boxes)
-        }
-        Err(QuantizeError::Capacity { .. }) => {
-            let roomy = HwConfig {
-                capacity: 1 << 20,
-                ..fit.clone()
-            };
-            let boxes = obb_model::fixed::quantize(&f.scene, &roomy).unwrap();
-            (fit, None, boxes)
-        }
-        Err(e) => panic!("{}: {e}", f.name),
-    }
 }
 
 /// Runs `frames` back to back through one core for `cfg` in rust-hdl and in Verilator: both
@@ -276,7 +176,8 @@ fn stimulus(
     let mut starts = Vec::new();
     let mut models = Vec::new();
     for f in frames {
-        let (fit, m, boxes) = model(f, cfg);
+        let fit = cfg.fitted(&f.scene);
+        let (m, boxes) = prepare(&f.scene, &fit).unwrap_or_else(|e| panic!("{}: {e}", f.name));
         let run = m.as_ref().map(ModelFrame::run);
         let pairs = run.as_ref().map_or(0, |r| r.pairs.len());
         let total = run
@@ -301,43 +202,26 @@ fn judge(
 ) {
     for ((f, run), &from) in frames.iter().zip(models).zip(starts) {
         let got = outcome(words, hdl, from);
-        match run {
-            Some(run) => {
-                eprintln!(
-                    "{}: {} boxes, {} pairs, {} cycles (model {:?})",
-                    f.name,
-                    f.scene.obbs.len(),
-                    got.pairs.len(),
-                    got.cycles,
-                    run.cycles
-                );
-                agrees(&got, run, f.ready_every == 1, f.name);
-                if f.ready_every > 1 {
-                    assert!(
-                        got.cycles > run.cycles.total,
-                        "{}: the stream never stalled the core",
-                        f.name
-                    );
-                }
-            }
-            None => {
-                assert!(got.over, "{}: capacity exceeded is reported", f.name);
-                assert!(
-                    got.pairs.is_empty() && got.counters == [0; 3],
-                    "{}: nothing reported",
-                    f.name
-                );
-            }
+        eprintln!(
+            "{}: {} boxes, {} pairs, {} cycles (model {:?})",
+            f.name,
+            f.scene.obbs.len(),
+            got.stream.len(),
+            got.cycles,
+            run.as_ref().map(|r| r.cycles)
+        );
+        let want = run.as_ref().map_or(Expected::OverCapacity, Expected::Frame);
+        if let Err(e) = compare(&got, &want, f.ready_every > 1) {
+            panic!("{}: {e}", f.name);
+        }
+        if let (Some(run), true) = (run, f.ready_every > 1) {
+            assert!(
+                got.cycles > run.cycles.total,
+                "{}: the stream never stalled the core",
+                f.name
+            );
         }
     }
-}
-
-fn dense(n: usize) -> Scene {
-    let mut s = uniform(n, 3, 4.0).unwrap();
-    for (i, o) in s.obbs.iter_mut().enumerate() {
-        o.group = (i % 8) as u32;
-    }
-    s
 }
 
 fn frame_of(name: &'static str, scene: Scene) -> Frame {
@@ -346,37 +230,6 @@ fn frame_of(name: &'static str, scene: Scene) -> Frame {
         scene,
         ready_every: 1,
     }
-}
-
-/// The stiff and extreme cases: boxes at both ends of the coordinate range, the longest
-/// half-lengths, a near-parallel pair 1e-9 rad apart, axes rounded to f32, a zero-thickness
-/// plate touching a box, coincident boxes.
-fn stiff() -> Scene {
-    let rot = |angle: f64| {
-        let (s, c) = angle.sin_cos();
-        [[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]
-    };
-    let mut obbs = vec![
-        Obb::aligned([-500.0, -500.0, -500.0], [1.0; 3], 0),
-        Obb::aligned([-498.0, -500.0, -500.0], [1.0; 3], 1),
-        Obb::aligned([499.0, 499.0, 499.0], [1.0; 3], 2),
-        Obb::aligned([0.0, 0.0, 0.0], [120.0, 1.0, 1.0], 0),
-        Obb::aligned([0.0, 2.0, 0.0], [120.0, 1.0, 1.0], 1),
-        Obb::aligned([50.0, 50.0, 50.0], [2.0, 2.0, 0.0], 0),
-        Obb::aligned([50.0, 50.0, 51.0], [1.0; 3], 1),
-        Obb::aligned([-50.0, 0.0, 0.0], [3.0; 3], 2),
-        Obb::aligned([-50.0, 0.0, 0.0], [3.0; 3], 1),
-    ];
-    let mut a = Obb::aligned([200.0, 0.0, 0.0], [10.0, 1.0, 1.0], 0);
-    a.axes = rot(0.3);
-    let mut b = Obb::aligned([200.0, 0.0, 0.0], [10.0, 1.0, 1.0], 1);
-    b.axes = rot(0.3 + 1e-9);
-    b.center = [200.0 - 2.0 * 0.3f64.sin(), 2.0 * 0.3f64.cos(), 0.0];
-    let mut f = Obb::aligned([-200.0, 0.0, 0.0], [4.0, 2.0, 1.0], 2);
-    f.axes = rot(0.7).map(|r| r.map(|v| v as f32 as f64));
-    let g = Obb::aligned([-200.0, 0.0, 2.0], [1.0; 3], 0);
-    obbs.extend([a, b, f, g]);
-    Scene { obbs }
 }
 
 /// Sweep with the default formats and every group pair: a surgical scene, the stiff cases,
@@ -400,12 +253,7 @@ fn sweep_core_matches_the_model() {
                 scene: dense(120),
                 ready_every: 4,
             },
-            frame_of(
-                "one box",
-                Scene {
-                    obbs: touching_pairs().obbs[..1].to_vec(),
-                },
-            ),
+            frame_of("one box", first(touching_pairs(), 1)),
             frame_of("no box", Scene { obbs: vec![] }),
         ],
     );
@@ -451,12 +299,7 @@ fn improved_sap_core_matches_the_model() {
             frame_of("touching", touching_pairs()),
             frame_of("dense", dense(100)),
             frame_of("surgical", surgical(200, 3).unwrap()),
-            frame_of(
-                "one box",
-                Scene {
-                    obbs: touching_pairs().obbs[..1].to_vec(),
-                },
-            ),
+            frame_of("one box", first(touching_pairs(), 1)),
         ],
     );
 }

@@ -66,23 +66,22 @@ impl ModelFrame {
     /// pair the broad phase emits goes through the SAT stage (keys on all three axes, then the
     /// 15 axes). With the broad phase's work and the modelled cycles.
     pub fn detect(&self, mode: BroadPhase, mask: &GroupMask) -> ModelRun {
-        let mut pairs = Vec::new();
-        let mut reported = 0;
+        let mut stream = Vec::new();
         let work = broad::run(self, mode, mask, |i, j| {
             // The SAT stage orders the pair (the lower index is box A): the integer test is not
             // symmetric in A and B, and every mode must report the same pairs.
             let (a, b) = (i.min(j), i.max(j));
             if self.keys_overlap(a, b) && self.sat(a, b) {
-                reported += 1;
-                pairs.push([a as u32, b as u32]);
+                stream.push([a as u32, b as u32]);
             }
         });
+        let mut pairs = stream.clone();
         pairs.sort_unstable();
         pairs.dedup();
         let cycles = frame_cycles(self.obbs.len() as u64, &work);
         ModelRun {
             pairs,
-            reported,
+            stream,
             work,
             cycles,
         }
@@ -93,14 +92,19 @@ impl ModelFrame {
 #[derive(Clone, Debug)]
 pub struct ModelRun {
     pub pairs: Vec<Pair>,
-    /// Pairs the SAT stage reports, repeats included: improved-sap may meet a pair on up to
-    /// six end points; the other modes meet each pair once.
-    pub reported: u64,
+    /// The pairs the SAT stage reports, in the order the core sends them, repeats included:
+    /// improved-sap may meet a pair on up to six end points; the other modes meet each pair once.
+    pub stream: Vec<Pair>,
     pub work: BroadWork,
     pub cycles: FrameCycles,
 }
 
 impl ModelRun {
+    /// Pairs the SAT stage reports, repeats included (the core's `pairs` counter).
+    pub fn reported(&self) -> u64 {
+        self.stream.len() as u64
+    }
+
     /// The counters `detect` prints: index pairs the broad phase visited, pairs it sent to the
     /// SAT stage, pairs reported.
     pub fn counters(&self) -> Counters {

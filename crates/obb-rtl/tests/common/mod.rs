@@ -2,6 +2,8 @@
 //! Verilator, on the same packed vectors, and comparing both with the model's expected outputs.
 #![allow(dead_code)] // each test binary uses its own subset
 
+pub mod scenes;
+
 use obb_model::fixed::broad;
 use obb_model::fixed::{BroadPhase, ModelFrame};
 use obb_model::GroupMask;

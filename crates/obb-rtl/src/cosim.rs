@@ -1,0 +1,457 @@
+//! Co-simulation of the emitted core on whole scenes: the hand-written test bench
+//! `sim/tb_obb_core.v` streams a scene's quantized boxes into `obb_core`, takes the pair stream
+//! (optionally throttled) and the status counters, and writes them to a file; this module
+//! builds it in Verilator or Icarus (once per design: builds are cached), runs it, reads the
+//! result and compares it with the bit-exact model. `obbcd cosim` is its command line.
+
+use crate::verilator::Simulator;
+use anyhow::{bail, Context, Result};
+use obb_model::fixed::{quantize, HwConfig, ModelFrame, ModelRun, QObb, QuantizeError};
+use obb_model::{Pair, Scene};
+use std::hash::{Hash, Hasher};
+use std::io::{BufRead, BufReader, Read};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+/// The test bench, compiled into the binary so that `obbcd` runs anywhere.
+pub const TESTBENCH: &str = include_str!("../../../sim/tb_obb_core.v");
+
+/// The model's frame for `scene` and the boxes to stream. A scene over capacity has no model
+/// frame; its boxes are quantized anyway, for the core must see them to flag the frame.
+pub fn prepare(
+    scene: &Scene,
+    cfg: &HwConfig,
+) -> Result<(Option<ModelFrame>, Vec<QObb>), QuantizeError> {
+    match ModelFrame::new(scene, cfg) {
+        Ok(m) => {
+            let boxes = m.obbs.clone();
+            Ok((Some(m), boxes))
+        }
+        Err(QuantizeError::Capacity { .. }) => {
+            let roomy = HwConfig {
+                capacity: 1 << 20,
+                ..cfg.clone()
+            };
+            Ok((None, quantize(scene, &roomy)?))
+        }
+        Err(e) => Err(e),
+    }
+}
+
+/// The values of the box input ports for one box, in the test bench's word order (lowest bits
+/// first): `obb_center[0..3]` (offset binary), `obb_half[0..3]`, `obb_axes[0..9]` (two's
+/// complement, row-major), `obb_group`.
+pub fn box_ports(b: &QObb, cfg: &HwConfig) -> [(u64, usize); 16] {
+    use crate::projection::{CENTER, HALF, ROT};
+    let offset = 1i64 << (cfg.center_bits - 1);
+    let mut w = [(0, 0); 16];
+    for x in 0..3 {
+        w[x] = ((b.center[x] + offset) as u64, CENTER);
+        w[3 + x] = (b.half[x] as u64, HALF);
+    }
+    for k in 0..9 {
+        w[6 + k] = (b.axes[k / 3][k % 3] as u64 & ((1 << ROT) - 1), ROT);
+    }
+    w[15] = (
+        u64::from(b.group),
+        obb_model::fixed::config::GROUP_BITS as usize,
+    );
+    w
+}
+
+/// One box as the test bench reads it: the ports packed into one hex word.
+pub fn box_word(b: &QObb, cfg: &HwConfig) -> String {
+    let mut bits = Vec::new();
+    for (v, n) in box_ports(b, cfg) {
+        bits.extend((0..n).map(|k| v >> k & 1 == 1));
+    }
+    bits.resize(bits.len().div_ceil(4) * 4, false);
+    bits.chunks(4)
+        .rev()
+        .map(|c| {
+            let d = c.iter().rev().fold(0, |acc, &b| acc << 1 | u32::from(b));
+            char::from_digit(d, 16).expect("a hex digit")
+        })
+        .collect()
+}
+
+/// The stimulus file: one box per line.
+pub fn stimulus(obbs: &[QObb], cfg: &HwConfig) -> String {
+    obbs.iter().map(|b| box_word(b, cfg) + "\n").collect()
+}
+
+/// Which Verilog of the core is simulated: the emitted RTL, or the yosys netlist of it
+/// (Xilinx primitives, simulated with yosys' `cells_sim.v`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Level {
+    Rtl,
+    Gates,
+}
+
+/// A built test bench, in the cache.
+#[derive(Debug)]
+pub struct Bench {
+    dir: PathBuf,
+    sim: Simulator,
+    /// Whether the build was found in the cache.
+    pub cached: bool,
+}
+
+fn output(cmd: &mut Command, what: &str) -> Result<String> {
+    let out = cmd.output().with_context(|| {
+        format!("cannot run {what}: is it installed? (scripts/test.sh installs it)")
+    })?;
+    if !out.status.success() {
+        bail!(
+            "{what} failed:\n{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+/// yosys' simulation models of the Xilinx primitives, for gate-level runs.
+pub fn cells_sim() -> Result<PathBuf> {
+    let dat = output(Command::new("yosys-config").arg("--datdir"), "yosys-config")?;
+    let path = Path::new(dat.trim()).join("xilinx/cells_sim.v");
+    if !path.is_file() {
+        bail!("{} is missing: yosys is incomplete", path.display());
+    }
+    Ok(path)
+}
+
+/// The cache of built test benches: `$OBBCD_CACHE`, else `$XDG_CACHE_HOME/obbcd`, else
+/// `~/.cache/obbcd`, else the system's temporary directory.
+pub fn default_cache() -> PathBuf {
+    let var = |k: &str| {
+        std::env::var_os(k)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
+    var("OBBCD_CACHE")
+        .or_else(|| var("XDG_CACHE_HOME").map(|d| d.join("obbcd")))
+        .or_else(|| var("HOME").map(|d| d.join(".cache/obbcd")))
+        .unwrap_or_else(|| std::env::temp_dir().join("obbcd-cache"))
+        .join("cosim")
+}
+
+/// Builds the test bench around `design` (the core's Verilog, or its netlist) in `sim`, with
+/// waves if `trace`; reuses a build of the same sources, simulator version and options from
+/// `cache`. Builds go to a directory of their own and are renamed into place when complete,
+/// so that concurrent builds never see each other's half-built files.
+pub fn build(
+    design: &str,
+    level: Level,
+    sim: Simulator,
+    trace: bool,
+    cache: &Path,
+) -> Result<Bench> {
+    let version = match sim {
+        Simulator::Verilator => output(Command::new("verilator").arg("--version"), "verilator")?,
+        Simulator::Icarus => output(Command::new("iverilog").arg("-V"), "iverilog")?,
+    };
+    let cells = match level {
+        Level::Rtl => String::new(),
+        Level::Gates => std::fs::read_to_string(cells_sim()?)?,
+    };
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    (
+        TESTBENCH,
+        design,
+        &cells,
+        &version,
+        format!("{level:?}{trace}"),
+    )
+        .hash(&mut h);
+    let key = format!(
+        "{sim:?}-{level:?}{}-{:016x}",
+        if trace { "-trace" } else { "" },
+        h.finish()
+    )
+    .to_lowercase();
+    let dir = cache.join(&key);
+    if dir.join("ok").is_file() {
+        return Ok(Bench {
+            dir,
+            sim,
+            cached: true,
+        });
+    }
+    std::fs::create_dir_all(cache).with_context(|| format!("cannot create {}", cache.display()))?;
+    let work = cache.join(format!("{key}.{}.tmp", std::process::id()));
+    let _ = std::fs::remove_dir_all(&work);
+    std::fs::create_dir_all(&work)?;
+    std::fs::write(work.join("tb.v"), TESTBENCH)?;
+    std::fs::write(work.join("core.v"), design)?;
+    let mut sources = vec!["tb.v".to_string(), "core.v".to_string()];
+    if level == Level::Gates {
+        std::fs::write(work.join("cells_sim.v"), &cells)?;
+        sources.push("cells_sim.v".into());
+    }
+    match sim {
+        Simulator::Verilator => {
+            let mut cmd = Command::new("verilator");
+            cmd.current_dir(&work)
+                .args(["--binary", "-j", "2", "-O3", "--top-module", "tb"])
+                .args([
+                    "-Wno-fatal",
+                    "-Wno-WIDTH",
+                    "-Wno-DECLFILENAME",
+                    "-Wno-UNUSED",
+                ])
+                .args(["--Mdir", "obj"]);
+            if level == Level::Gates {
+                cmd.args(["-Wno-lint", "-Wno-style"]);
+            }
+            if trace {
+                cmd.arg("--trace");
+            }
+            output(cmd.args(&sources), "verilator (build)")?;
+        }
+        Simulator::Icarus => {
+            output(
+                Command::new("iverilog")
+                    .current_dir(&work)
+                    .args(["-g2012", "-s", "tb", "-o", "tb.vvp"])
+                    .args(&sources),
+                "iverilog (build)",
+            )?;
+        }
+    }
+    std::fs::write(work.join("ok"), "")?;
+    if std::fs::rename(&work, &dir).is_err() {
+        // Another build of the same key finished first: use it.
+        let _ = std::fs::remove_dir_all(&work);
+        if !dir.join("ok").is_file() {
+            bail!("cannot move the build into {}", dir.display());
+        }
+    }
+    Ok(Bench {
+        dir,
+        sim,
+        cached: false,
+    })
+}
+
+/// How the test bench runs a frame.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// `pair_ready` is high one clock in this many (1: always).
+    pub ready_every: u32,
+    /// Clocks without `done` after which the run fails.
+    pub timeout: u64,
+    /// Clocks between progress reports (0: none).
+    pub progress_every: u64,
+    pub vcd: Option<PathBuf>,
+}
+
+impl Default for RunOptions {
+    fn default() -> RunOptions {
+        RunOptions {
+            ready_every: 1,
+            timeout: 1 << 40,
+            progress_every: 0,
+            vcd: None,
+        }
+    }
+}
+
+/// What the simulated core gave for one frame.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SimFrame {
+    /// The pairs taken from the stream, in order.
+    pub stream: Vec<Pair>,
+    /// Clocks from `frame_start` until `done` was seen.
+    pub clocks: u64,
+    /// The status outputs at `done`.
+    pub cycles: u64,
+    pub candidates: u64,
+    pub sat_tests: u64,
+    pub pairs: u64,
+    pub capacity_exceeded: bool,
+}
+
+impl Bench {
+    /// Runs one frame of the `boxes` boxes in the stimulus file `stim` (`stimulus`); calls
+    /// `progress` with the clock count as the simulation reports it.
+    pub fn run(
+        &self,
+        stim: &Path,
+        boxes: usize,
+        opts: &RunOptions,
+        mut progress: impl FnMut(u64),
+    ) -> Result<SimFrame> {
+        let stim = std::path::absolute(stim)?;
+        let out = stim.with_extension("out");
+        let mut args = vec![
+            format!("+stim={}", stim.display()),
+            format!("+out={}", out.display()),
+            format!("+boxes={boxes}"),
+            format!("+ready={}", opts.ready_every),
+            format!("+timeout={}", opts.timeout),
+            format!("+progress={}", opts.progress_every),
+        ];
+        if let Some(v) = &opts.vcd {
+            args.push(format!("+vcd={}", std::path::absolute(v)?.display()));
+        }
+        let mut cmd = match self.sim {
+            Simulator::Verilator => Command::new(self.dir.join("obj/Vtb")),
+            Simulator::Icarus => {
+                let mut c = Command::new("vvp");
+                c.arg("-n").arg(self.dir.join("tb.vvp"));
+                c
+            }
+        };
+        let _ = std::fs::remove_file(&out);
+        let mut child = cmd
+            .args(&args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .with_context(|| format!("cannot start the {:?} simulation", self.sim))?;
+        let mut stderr = child.stderr.take().expect("piped");
+        let errors = std::thread::spawn(move || {
+            let mut s = String::new();
+            let _ = stderr.read_to_string(&mut s);
+            s
+        });
+        let mut said = Vec::new();
+        for line in BufReader::new(child.stdout.take().expect("piped")).lines() {
+            let line = line?;
+            match line.strip_prefix("progress ").map(str::parse) {
+                Some(Ok(clock)) => progress(clock),
+                _ => said.push(line),
+            }
+        }
+        let status = child.wait()?;
+        let errors = errors.join().unwrap_or_default();
+        if !status.success() {
+            bail!(
+                "the {:?} simulation failed ({status}):\n{}\n{errors}",
+                self.sim,
+                said.join("\n")
+            );
+        }
+        let text = std::fs::read_to_string(&out).with_context(|| {
+            format!(
+                "the simulation wrote no {}:\n{}\n{errors}",
+                out.display(),
+                said.join("\n")
+            )
+        })?;
+        parse_result(&text).with_context(|| format!("in {}", out.display()))
+    }
+}
+
+/// Reads the test bench's result file.
+fn parse_result(text: &str) -> Result<SimFrame> {
+    let mut stream = Vec::new();
+    for line in text.lines() {
+        let mut words = line.split_whitespace();
+        let tag = words.next();
+        let nums: Vec<u64> = words
+            .map(|w| w.parse().with_context(|| format!("bad line `{line}`")))
+            .collect::<Result<_>>()?;
+        match (tag, nums.as_slice()) {
+            (Some("pair"), &[a, b]) => stream.push([a as u32, b as u32]),
+            (Some("done"), &[clocks, cycles, candidates, sat_tests, pairs, over]) => {
+                return Ok(SimFrame {
+                    stream,
+                    clocks,
+                    cycles,
+                    candidates,
+                    sat_tests,
+                    pairs,
+                    capacity_exceeded: over == 1,
+                })
+            }
+            _ => bail!("bad line `{line}`"),
+        }
+    }
+    bail!("the frame did not finish (no `done` line)")
+}
+
+/// The model's verdict on a frame whose boxes all fit, or the capacity error for one that does
+/// not.
+pub enum Expected<'a> {
+    Frame(&'a ModelRun),
+    OverCapacity,
+}
+
+/// Compares a simulated frame with the model: the pair stream in order, the counters, and
+/// (with the pair stream never throttled) the cycle count; `done` within three clocks of it.
+/// Over capacity: the flag, and no pair. Returns the first difference.
+pub fn compare(got: &SimFrame, want: &Expected, throttled: bool) -> Result<(), String> {
+    let run = match want {
+        Expected::OverCapacity => {
+            if !got.capacity_exceeded {
+                return Err("over capacity, but capacity_exceeded is low".into());
+            }
+            if let Some(p) = got.stream.first() {
+                return Err(format!(
+                    "over capacity, but the core sent {} pair(s), first {p:?}",
+                    got.stream.len()
+                ));
+            }
+            let counters = [got.candidates, got.sat_tests, got.pairs];
+            return match counters {
+                [0, 0, 0] => Ok(()),
+                c => Err(format!(
+                    "over capacity, but the counters (candidates, sat_tests, pairs) are {c:?}"
+                )),
+            };
+        }
+        Expected::Frame(run) => run,
+    };
+    if got.capacity_exceeded {
+        return Err("capacity_exceeded is high, but the boxes fit".into());
+    }
+    if let Some(k) = (0..got.stream.len().max(run.stream.len()))
+        .find(|&k| got.stream.get(k) != run.stream.get(k))
+    {
+        return Err(format!(
+            "pair {k} of the stream: core {:?}, model {:?} ({} and {} pairs in all)",
+            got.stream.get(k),
+            run.stream.get(k),
+            got.stream.len(),
+            run.stream.len()
+        ));
+    }
+    let c = run.counters();
+    let counters = [
+        ("candidates", got.candidates, c.candidates),
+        ("sat_tests", got.sat_tests, c.sat),
+        ("pairs", got.pairs, run.reported()),
+    ];
+    for (name, core, model) in counters {
+        if core != model {
+            return Err(format!("counter {name}: core {core}, model {model}"));
+        }
+    }
+    let total = run.cycles.total;
+    if throttled {
+        // A throttled stream stalls the broad phase: never fewer clocks than the model.
+        if got.cycles < total {
+            return Err(format!(
+                "cycles: core {}, model at least {total}",
+                got.cycles
+            ));
+        }
+    } else if got.cycles != total {
+        return Err(format!(
+            "cycles: core {}, model {total} ({:?})",
+            got.cycles, run.cycles
+        ));
+    }
+    // `done` waits for the last pair to leave: with the stream throttled, that may be long
+    // after the last verdict.
+    let late = got.clocks.saturating_sub(got.cycles);
+    if got.clocks < got.cycles || (!throttled && late > 3) {
+        return Err(format!(
+            "done came {} clocks after frame_start, for {} cycles",
+            got.clocks, got.cycles
+        ));
+    }
+    Ok(())
+}
