@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Runs everything that must pass: formatting, lints, and every test of the workspace.
-# On a fresh machine it installs what the tests need: Verilator (with g++ and make, to build
-# its simulations), Icarus Verilog and tclsh (the ISE script's check), from Debian's packages. A missing tool is installed or
-# the script fails: no test is skipped for want of one.
+# On a fresh machine it installs what the tests need from Debian's packages: Verilator (with
+# g++ and make, to build its simulations), Icarus Verilog, yosys (the gate-level run and the
+# synthesis analysis) and tclsh (the ISE script's check). A missing tool is installed or the
+# script fails: no test is skipped for want of one.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -17,6 +18,7 @@ command -v iverilog >/dev/null 2>&1 || need+=(iverilog)
 command -v g++ >/dev/null 2>&1 || need+=(g++)
 command -v make >/dev/null 2>&1 || need+=(make)
 command -v tclsh >/dev/null 2>&1 || need+=(tcl)
+command -v yosys >/dev/null 2>&1 || need+=(yosys)
 if [ ${#need[@]} -gt 0 ]; then
   if [ "$(id -u)" != 0 ]; then
     echo "error: missing ${need[*]}; run as root (or install them) so that the HDL tests can run" >&2
@@ -27,6 +29,7 @@ if [ ${#need[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${need[@]}" >/dev/null
 fi
 verilator --version
+yosys -V
 
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --locked -- -D warnings

@@ -4,11 +4,11 @@
 //! builds it in Verilator or Icarus (once per design: builds are cached), runs it, reads the
 //! result and compares it with the bit-exact model. `obbcd cosim` is its command line.
 
+use crate::cache;
 use crate::verilator::Simulator;
 use anyhow::{bail, Context, Result};
 use obb_model::fixed::{quantize, HwConfig, ModelFrame, ModelRun, QObb, QuantizeError};
 use obb_model::{Pair, Scene};
-use std::hash::{Hash, Hasher};
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -111,35 +111,29 @@ fn output(cmd: &mut Command, what: &str) -> Result<String> {
     Ok(String::from_utf8_lossy(&out.stdout).into_owned())
 }
 
-/// yosys' simulation models of the Xilinx primitives, for gate-level runs.
+/// yosys' simulation models of the Xilinx primitives, for gate-level runs: in the `share`
+/// directory beside the `yosys` found on `PATH` (Debian's `yosys-config` is in a separate
+/// package).
 pub fn cells_sim() -> Result<PathBuf> {
-    let dat = output(Command::new("yosys-config").arg("--datdir"), "yosys-config")?;
-    let path = Path::new(dat.trim()).join("xilinx/cells_sim.v");
-    if !path.is_file() {
-        bail!("{} is missing: yosys is incomplete", path.display());
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    let bin = std::env::split_paths(&path)
+        .map(|d| d.join("yosys"))
+        .find(|p| p.is_file())
+        .context("yosys is not on PATH (scripts/test.sh installs it)")?;
+    let share = bin
+        .parent()
+        .and_then(Path::parent)
+        .map(|p| p.join("share/yosys/xilinx/cells_sim.v"))
+        .context("no directory above yosys")?;
+    if !share.is_file() {
+        bail!("{} is missing: yosys is incomplete", share.display());
     }
-    Ok(path)
-}
-
-/// The cache of built test benches: `$OBBCD_CACHE`, else `$XDG_CACHE_HOME/obbcd`, else
-/// `~/.cache/obbcd`, else the system's temporary directory.
-pub fn default_cache() -> PathBuf {
-    let var = |k: &str| {
-        std::env::var_os(k)
-            .filter(|v| !v.is_empty())
-            .map(PathBuf::from)
-    };
-    var("OBBCD_CACHE")
-        .or_else(|| var("XDG_CACHE_HOME").map(|d| d.join("obbcd")))
-        .or_else(|| var("HOME").map(|d| d.join(".cache/obbcd")))
-        .unwrap_or_else(|| std::env::temp_dir().join("obbcd-cache"))
-        .join("cosim")
+    Ok(share)
 }
 
 /// Builds the test bench around `design` (the core's Verilog, or its netlist) in `sim`, with
 /// waves if `trace`; reuses a build of the same sources, simulator version and options from
-/// `cache`. Builds go to a directory of their own and are renamed into place when complete,
-/// so that concurrent builds never see each other's half-built files.
+/// `cache`.
 pub fn build(
     design: &str,
     level: Level,
@@ -155,44 +149,32 @@ pub fn build(
         Level::Rtl => String::new(),
         Level::Gates => std::fs::read_to_string(cells_sim()?)?,
     };
-    let mut h = std::collections::hash_map::DefaultHasher::new();
-    (
-        TESTBENCH,
-        design,
-        &cells,
-        &version,
-        format!("{level:?}{trace}"),
-    )
-        .hash(&mut h);
-    let key = format!(
-        "{sim:?}-{level:?}{}-{:016x}",
+    let options = format!("{level:?} trace={trace}");
+    let parts = [TESTBENCH, design, &cells, &version, &options].map(str::as_bytes);
+    let name = format!(
+        "{sim:?}-{level:?}{}-{}",
         if trace { "-trace" } else { "" },
-        h.finish()
+        cache::key(&parts)
     )
     .to_lowercase();
-    let dir = cache.join(&key);
-    if dir.join("ok").is_file() {
-        return Ok(Bench {
-            dir,
-            sim,
-            cached: true,
-        });
-    }
-    std::fs::create_dir_all(cache).with_context(|| format!("cannot create {}", cache.display()))?;
-    let work = cache.join(format!("{key}.{}.tmp", std::process::id()));
-    let _ = std::fs::remove_dir_all(&work);
-    std::fs::create_dir_all(&work)?;
-    std::fs::write(work.join("tb.v"), TESTBENCH)?;
-    std::fs::write(work.join("core.v"), design)?;
-    let mut sources = vec!["tb.v".to_string(), "core.v".to_string()];
-    if level == Level::Gates {
-        std::fs::write(work.join("cells_sim.v"), &cells)?;
-        sources.push("cells_sim.v".into());
-    }
+    let (dir, cached) = cache::entry(cache, &name, |work| {
+        std::fs::write(work.join("tb.v"), TESTBENCH)?;
+        std::fs::write(work.join("core.v"), design)?;
+        let mut sources = vec!["tb.v", "core.v"];
+        if level == Level::Gates {
+            std::fs::write(work.join("cells_sim.v"), &cells)?;
+            sources.push("cells_sim.v");
+        }
+        compile(work, sim, level, trace, &sources)
+    })?;
+    Ok(Bench { dir, sim, cached })
+}
+
+fn compile(work: &Path, sim: Simulator, level: Level, trace: bool, sources: &[&str]) -> Result<()> {
     match sim {
         Simulator::Verilator => {
             let mut cmd = Command::new("verilator");
-            cmd.current_dir(&work)
+            cmd.current_dir(work)
                 .args(["--binary", "-j", "2", "-O3", "--top-module", "tb"])
                 .args([
                     "-Wno-fatal",
@@ -207,31 +189,19 @@ pub fn build(
             if trace {
                 cmd.arg("--trace");
             }
-            output(cmd.args(&sources), "verilator (build)")?;
+            output(cmd.args(sources), "verilator (build)")?;
         }
         Simulator::Icarus => {
             output(
                 Command::new("iverilog")
-                    .current_dir(&work)
+                    .current_dir(work)
                     .args(["-g2012", "-s", "tb", "-o", "tb.vvp"])
-                    .args(&sources),
+                    .args(sources),
                 "iverilog (build)",
             )?;
         }
     }
-    std::fs::write(work.join("ok"), "")?;
-    if std::fs::rename(&work, &dir).is_err() {
-        // Another build of the same key finished first: use it.
-        let _ = std::fs::remove_dir_all(&work);
-        if !dir.join("ok").is_file() {
-            bail!("cannot move the build into {}", dir.display());
-        }
-    }
-    Ok(Bench {
-        dir,
-        sim,
-        cached: false,
-    })
+    Ok(())
 }
 
 /// How the test bench runs a frame.

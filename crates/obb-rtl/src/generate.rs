@@ -126,13 +126,14 @@ pub fn check_supported(cfg: &HwConfig) -> Result<()> {
 }
 
 /// Address bits of the per-box tables and the sort for `cfg`: `capacity` entries, twice that
-/// with improved-sap (which sorts two end points per box); at least 4.
+/// with improved-sap (which sorts two end points per box); at least `radix::MIN_ADDRESS`,
+/// for the sort's counters also count its bins.
 pub fn address_bits(cfg: &HwConfig) -> usize {
     let entries = match cfg.broad_phase {
         BroadPhase::ImprovedSap => 2 * cfg.capacity,
         _ => cfg.capacity,
     };
-    entries.next_power_of_two().trailing_zeros().max(4) as usize
+    (entries.next_power_of_two().trailing_zeros() as usize).max(crate::radix::MIN_ADDRESS)
 }
 
 /// Key bits of the radix sort: end point keys take one bit more (min before max).
@@ -143,15 +144,11 @@ pub fn sort_key_bits(cfg: &HwConfig) -> u32 {
     }
 }
 
-/// Calls `$f::<A, A + 1>($args)` for the address width `$a` (4 to 20): rust-hdl's widths are
+/// Calls `$f::<A, A + 1>($args)` for the address width `$a` (8 to 20): rust-hdl's widths are
 /// type parameters, so each supported width is its own instance.
 macro_rules! by_address_bits {
     ($a:expr, $f:ident($($args:expr),*)) => {
         match $a {
-            4 => $f::<4, 5>($($args),*),
-            5 => $f::<5, 6>($($args),*),
-            6 => $f::<6, 7>($($args),*),
-            7 => $f::<7, 8>($($args),*),
             8 => $f::<8, 9>($($args),*),
             9 => $f::<9, 10>($($args),*),
             10 => $f::<10, 11>($($args),*),
@@ -165,7 +162,7 @@ macro_rules! by_address_bits {
             18 => $f::<18, 19>($($args),*),
             19 => $f::<19, 20>($($args),*),
             20 => $f::<20, 21>($($args),*),
-            a => bail!("{a} address bits: the tables support 2^4 to 2^20 entries"),
+            a => bail!("{a} address bits: the tables support 2^8 to 2^20 entries"),
         }
     };
 }

@@ -1,6 +1,7 @@
 //! obb-rtl: the obbcd collision-detection core described in rust-hdl, checked cycle by cycle
 //! against the bit-exact model in `obb-model` (`obb_model::fixed`), and its Verilog generator.
 
+pub mod cache;
 pub mod core;
 pub mod cosim;
 pub mod emit;
@@ -13,6 +14,7 @@ pub mod sat;
 pub mod sat_back;
 pub mod sat_front;
 pub mod sat_round;
+pub mod synth;
 pub mod two_read;
 pub mod verilator;
 pub mod walker;

@@ -24,6 +24,8 @@ pub const ENTRY: usize = KEY + VAL;
 /// Digit bits at most: the histogram and the pointers are registers, one per bin.
 pub const MAX_DIGIT: u32 = 8;
 const BINS: usize = 1 << MAX_DIGIT;
+/// Address bits at least: the counters (one bit wider) also step through the bins.
+pub const MIN_ADDRESS: usize = MAX_DIGIT as usize;
 
 /// The core's sort: 24-bit keys.
 pub type KeySort<const A: usize, const C: usize> = RadixSort<A, C, KEY, ENTRY>;
@@ -85,6 +87,7 @@ impl<const A: usize, const C: usize, const K: usize, const E: usize> RadixSort<A
     /// as `RadixSorter` splits them.
     pub fn new(key_bits: u32, max_digit_bits: u32) -> RadixSort<A, C, K, E> {
         assert!(C == A + 1, "counts need one bit more than addresses");
+        assert!(A >= MIN_ADDRESS, "the counters must hold every bin");
         assert!(E == K + VAL, "an entry is a key above a value");
         assert_eq!(VAL, 20, "the update's literal offsets assume 20-bit values");
         assert!(key_bits as usize <= K && K < 64 && max_digit_bits <= MAX_DIGIT);

@@ -1,11 +1,13 @@
 //! `obbcd`: scenes, CPU collision detection, the fixed-point model, statistics and benchmarks.
 
 mod bench;
+mod cosim;
 mod detect;
 mod error;
 mod parry;
 mod scene;
 mod stats;
+mod synth;
 mod timing;
 
 use clap::{Parser, Subcommand};
@@ -15,7 +17,7 @@ use std::process::ExitCode;
 #[command(
     name = "obbcd",
     version,
-    about = "OBB collision detection: golden model and CPU engines"
+    about = "OBB collision detection: golden model, CPU engines, and the hardware core's co-simulation and synthesis estimate"
 )]
 struct Cli {
     /// Worker threads (default: one per core).
@@ -38,6 +40,12 @@ enum Command {
     /// For each data width: the fixed-point model's false positives and negatives against the
     /// f64 reference, the worst AABB inflation and the modelled cycles per frame.
     Error(error::ErrorArgs),
+    /// Run one frame of a scene through the emitted Verilog in Verilator or Icarus and compare
+    /// the pairs, counters and cycles with the bit-exact model.
+    Cosim(cosim::CosimArgs),
+    /// Synthesize the core with yosys for the XC6VHX565T: resources, logic depth, estimated
+    /// period, beside the paper's tables (a Markdown report).
+    Synth(synth::SynthArgs),
 }
 
 fn main() -> ExitCode {
@@ -57,6 +65,8 @@ fn main() -> ExitCode {
         Command::Stats(a) => stats::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Error(a) => error::run(a),
+        Command::Cosim(a) => cosim::run(a),
+        Command::Synth(a) => synth::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

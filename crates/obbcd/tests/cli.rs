@@ -264,3 +264,80 @@ fn model_errors_name_the_problem() {
     ];
     fails_with(&cases);
 }
+
+/// `cosim` end to end on a small core (capacity 256) in Verilator: the pairs file equals the
+/// model's from `detect --engine model`, the cycles equal the model's, and with back-pressure
+/// nothing changes but the clock count; a scene over capacity and bad options fail with a
+/// message.
+#[test]
+fn cosim_matches_the_model_and_reports_problems() {
+    let scene = tmp("cosim-scene.json");
+    let config = tmp("cosim.toml");
+    let cache = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli-cosim-cache");
+    std::fs::write(&config, "capacity = 256\ngroups = \"all\"\n").unwrap();
+    let s = scene.to_str().unwrap();
+    let c = config.to_str().unwrap();
+    let k = cache.to_str().unwrap();
+    ok(&[
+        "scene",
+        "uniform",
+        "--n",
+        "150",
+        "--density",
+        "0.3",
+        "-o",
+        s,
+    ]);
+    let model_pairs = tmp("cosim-model.json");
+    let m = model_pairs.to_str().unwrap();
+    let out = ok(&[
+        "detect", "--engine", "model", "--scene", s, "--config", c, "-o", m,
+    ]);
+    let model_line = String::from_utf8_lossy(&out.stdout).to_string();
+    for ready in ["1", "5"] {
+        let pairs = tmp(&format!("cosim-pairs-{ready}.json"));
+        let p = pairs.to_str().unwrap();
+        let out = ok(&[
+            "cosim",
+            "--scene",
+            s,
+            "--config",
+            c,
+            "--cache",
+            k,
+            "--ready-every",
+            ready,
+            "-o",
+            p,
+        ]);
+        let line = String::from_utf8_lossy(&out.stdout).to_string();
+        assert_eq!(field(&line, "simulator"), "verilator");
+        assert_eq!(field(&line, "pairs"), field(&model_line, "pairs"), "{line}");
+        assert_eq!(field(&line, "model_cycles"), field(&model_line, "cycles"));
+        if ready == "1" {
+            assert_eq!(
+                field(&line, "cycles"),
+                field(&model_line, "cycles"),
+                "{line}"
+            );
+        }
+        assert_eq!(
+            std::fs::read_to_string(&pairs).unwrap(),
+            std::fs::read_to_string(&model_pairs).unwrap()
+        );
+        assert!(field(&model_line, "pairs").parse::<u64>().unwrap() > 0);
+    }
+    let big = tmp("cosim-big.json");
+    let b = big.to_str().unwrap();
+    ok(&["scene", "uniform", "--n", "300", "-o", b]);
+    fails_with(&[
+        (
+            &["cosim", "--scene", b, "--config", c, "--cache", k],
+            "exceed the configured capacity of 256",
+        ),
+        (
+            &["cosim", "--scene", s, "--ready-every", "0", "--cache", k],
+            "--ready-every must be at least 1",
+        ),
+    ]);
+}

@@ -1,0 +1,61 @@
+//! A cache of slow builds (simulators, yosys netlists), keyed by the SHA-256 of everything the
+//! build reads. An entry is built in a directory of its own and renamed into place when
+//! complete, so that concurrent builds (parallel tests, two shells) never see half-built files.
+
+use anyhow::{bail, Context, Result};
+use sha2::{Digest, Sha256};
+use std::path::{Path, PathBuf};
+
+/// The cache directory: `$OBBCD_CACHE`, else `$XDG_CACHE_HOME/obbcd`, else `~/.cache/obbcd`,
+/// else below the system's temporary directory.
+pub fn default_dir() -> PathBuf {
+    let var = |k: &str| {
+        std::env::var_os(k)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
+    var("OBBCD_CACHE")
+        .or_else(|| var("XDG_CACHE_HOME").map(|d| d.join("obbcd")))
+        .or_else(|| var("HOME").map(|d| d.join(".cache/obbcd")))
+        .unwrap_or_else(|| std::env::temp_dir().join("obbcd-cache"))
+}
+
+/// A key from the build's inputs: the first 16 hex digits of their SHA-256.
+pub fn key(parts: &[&[u8]]) -> String {
+    let mut h = Sha256::new();
+    for p in parts {
+        h.update((p.len() as u64).to_le_bytes());
+        h.update(p);
+    }
+    h.finalize()[..8]
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// The entry `name` in `cache`, built by `build` (in a fresh directory) if it is not there yet.
+/// Returns the entry's directory and whether it was already built.
+pub fn entry(
+    cache: &Path,
+    name: &str,
+    build: impl FnOnce(&Path) -> Result<()>,
+) -> Result<(PathBuf, bool)> {
+    let dir = cache.join(name);
+    if dir.join("ok").is_file() {
+        return Ok((dir, true));
+    }
+    std::fs::create_dir_all(cache).with_context(|| format!("cannot create {}", cache.display()))?;
+    let work = cache.join(format!("{name}.{}.tmp", std::process::id()));
+    let _ = std::fs::remove_dir_all(&work);
+    std::fs::create_dir_all(&work).with_context(|| format!("cannot create {}", work.display()))?;
+    build(&work)?;
+    std::fs::write(work.join("ok"), "")?;
+    if std::fs::rename(&work, &dir).is_err() {
+        // Another build of the same key finished first: use it.
+        let _ = std::fs::remove_dir_all(&work);
+        if !dir.join("ok").is_file() {
+            bail!("cannot move the build into {}", dir.display());
+        }
+    }
+    Ok((dir, false))
+}

@@ -1,0 +1,627 @@
+//! Synthesis estimates for the XC6VHX565T: yosys `synth_xilinx -family xc6v` stands in for
+//! ISE's XST. From its flattened netlist this module counts the resources and walks every
+//! register-to-register path for its logic depth (LUT levels, CARRY4 blocks), the DSP48E1s
+//! without their pipeline registers and the block RAM reads without an output register, and
+//! turns the worst path into a clock period with the stated delay model (`DelayModel`). The
+//! period is an estimate: yosys has no Virtex-6 timing and places nothing.
+
+use crate::cache;
+use anyhow::{bail, Context, Result};
+use serde::Serialize;
+use serde_json::Value;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The target device, as the paper's tables give it.
+pub struct Device {
+    pub name: &'static str,
+    pub luts: u64,
+    pub registers: u64,
+    pub dsp: u64,
+    /// 36 Kb block RAMs (a RAMB18 is half of one).
+    pub ramb36: u64,
+}
+
+pub const XC6VHX565T: Device = Device {
+    name: "XC6VHX565T",
+    luts: 354_240,
+    registers: 708_480,
+    dsp: 864,
+    ramb36: 912,
+};
+
+/// One of the paper's resource tables (Zhang et al. 2016).
+pub struct PaperTable {
+    pub what: &'static str,
+    pub luts: u64,
+    pub registers: u64,
+    pub dsp: u64,
+    pub ramb36: Option<u64>,
+    pub period_ns: f64,
+}
+
+/// Table 1 (the SAT alone) and Table 2 (the whole design, 16,384 boxes).
+pub const PAPER: [PaperTable; 2] = [
+    PaperTable {
+        what: "paper, Table 1 (SAT)",
+        luts: 31_504,
+        registers: 30_543,
+        dsp: 525,
+        ramb36: None,
+        period_ns: 8.110,
+    },
+    PaperTable {
+        what: "paper, Table 2 (whole)",
+        luts: 66_061,
+        registers: 47_634,
+        dsp: 630,
+        ramb36: Some(705),
+        period_ns: 8.509,
+    },
+];
+
+/// The delay model that turns logic depth into a period (ns). Fabric figures are those of
+/// `../shared/hdl-flow-notes.md` (a LUT with its input route; a carry chain's entry, blocks and
+/// exit); the block RAM and DSP figures are yosys' `cells_sim.v` (Artix-7, prjxray) rounded up.
+/// No placement: every LUT level pays the same route.
+#[derive(Clone, Debug, Serialize)]
+pub struct DelayModel {
+    pub clock_to_q: f64,
+    pub lut_level: f64,
+    pub muxf: f64,
+    pub carry_in: f64,
+    pub carry_block: f64,
+    pub carry_out: f64,
+    pub setup: f64,
+    /// Shift register (SRL16E/SRLC32E) clock to output.
+    pub srl_clock_to_q: f64,
+    /// Block RAM clock to data out, without and with the output register (DO_REG).
+    pub bram_clock_to_out: f64,
+    pub bram_clock_to_out_reg: f64,
+    /// Block RAM address and data setup.
+    pub bram_setup: f64,
+    /// DSP48E1 clock to P with PREG; with MREG only; with only input registers.
+    pub dsp_clock_to_p: f64,
+    pub dsp_m_to_p: f64,
+    pub dsp_a_to_p: f64,
+    /// DSP48E1 input setup to its input register; to M when A/B are not registered; to P.
+    pub dsp_setup: f64,
+    pub dsp_setup_m: f64,
+    pub dsp_setup_p: f64,
+    /// DSP48E1 cascade input (PCIN) setup.
+    pub dsp_setup_pcin: f64,
+}
+
+pub const DELAYS: DelayModel = DelayModel {
+    clock_to_q: 0.40,
+    lut_level: 0.52,
+    muxf: 0.30,
+    carry_in: 0.40,
+    carry_block: 0.08,
+    carry_out: 0.30,
+    setup: 0.10,
+    srl_clock_to_q: 1.20,
+    bram_clock_to_out: 2.45,
+    bram_clock_to_out_reg: 0.88,
+    bram_setup: 0.57,
+    dsp_clock_to_p: 0.60,
+    dsp_m_to_p: 1.90,
+    dsp_a_to_p: 2.90,
+    dsp_setup: 0.30,
+    dsp_setup_m: 2.60,
+    dsp_setup_p: 3.00,
+    dsp_setup_pcin: 1.03,
+};
+
+/// Cell counts of the netlist.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Resources {
+    /// LUT1 to LUT6 and inverters (a LUT1 each).
+    pub luts: u64,
+    /// LUTs used as memory: distributed RAM and shift registers.
+    pub lutram: u64,
+    pub registers: u64,
+    pub carry4: u64,
+    pub muxf: u64,
+    pub dsp: u64,
+    pub ramb36: u64,
+    pub ramb18: u64,
+}
+
+impl Resources {
+    /// Block RAM in 36 Kb units.
+    pub fn ramb36_equivalent(&self) -> f64 {
+        self.ramb36 as f64 + self.ramb18 as f64 / 2.0
+    }
+}
+
+/// One register-to-register path: its delay under the model (the slowest path), its LUT
+/// levels and CARRY4 blocks, and the cells it runs between.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct PathInfo {
+    pub delay_ns: f64,
+    pub luts: u32,
+    pub carry4: u32,
+    pub from: String,
+    pub to: String,
+}
+
+/// The path with the most LUT levels.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct DeepPath {
+    pub luts: u32,
+    pub from: String,
+    pub to: String,
+}
+
+/// What the netlist says.
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    pub resources: Resources,
+    /// DSP48E1s that multiply without MREG, and without PREG.
+    pub dsp_without_mreg: u64,
+    pub dsp_without_preg: u64,
+    /// Block RAMs with a read port whose output register (DO_REG) is off.
+    pub bram_without_output_register: u64,
+    /// Path endpoints (bits) fed through more than 3 LUT levels.
+    pub endpoints_over_3_luts: u64,
+    /// The slowest path under the delay model, and the one with the most LUT levels.
+    pub worst: PathInfo,
+    pub deepest: DeepPath,
+    pub delays: DelayModel,
+}
+
+/// The yosys netlist of `verilog` (top `obb_core`), from `cache` or synthesized into it:
+/// returns the entry's directory, with `net.json` (for `analyze`), `syn.v` (for gate-level
+/// simulation), yosys' own cell counts `stat.txt` and `yosys.log`, and whether it was cached.
+pub fn netlist(verilog: &str, cache: &Path) -> Result<(PathBuf, bool)> {
+    let version = Command::new("yosys")
+        .arg("-V")
+        .output()
+        .context("cannot run yosys: is it installed? (scripts/test.sh installs it)")?
+        .stdout;
+    let name = format!(
+        "yosys-{}",
+        cache::key(&[verilog.as_bytes(), &version, SCRIPT.as_bytes()])
+    );
+    cache::entry(cache, &name, |dir| {
+        std::fs::write(dir.join("core.v"), verilog)?;
+        let out = Command::new("yosys")
+            .current_dir(dir)
+            .args(["-q", "-l", "yosys.log", "-p", SCRIPT])
+            .output()
+            .context("cannot run yosys")?;
+        if !out.status.success() {
+            bail!(
+                "yosys failed (log in {}):\n{}",
+                dir.join("yosys.log").display(),
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+        Ok(())
+    })
+}
+
+/// The synthesis: Virtex-6 primitives, flattened, no I/O buffers (the core is a block inside a
+/// larger design).
+const SCRIPT: &str = "read_verilog core.v; synth_xilinx -family xc6v -top obb_core -flatten \
+                      -noiopad; tee -q -o stat.txt stat -tech xilinx; write_json net.json; \
+                      write_verilog -noattr syn.v";
+
+/// A parameter's value: yosys writes numbers as binary strings.
+fn param(cell: &Value, name: &str) -> Option<u64> {
+    let v = cell.get("parameters")?.get(name)?;
+    match v {
+        Value::Number(n) => n.as_u64(),
+        Value::String(s) => u64::from_str_radix(s.trim(), 2).ok(),
+        _ => None,
+    }
+}
+
+/// What a cell is to the path walk.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    Lut,
+    Muxf,
+    Carry,
+    /// Distributed RAM: its read is combinational from the address.
+    LutRam,
+    Flop,
+    Srl,
+    Bram,
+    Dsp,
+    ClockBuffer,
+}
+
+fn kind(ty: &str) -> Option<Kind> {
+    Some(match ty {
+        "LUT1" | "LUT2" | "LUT3" | "LUT4" | "LUT5" | "LUT6" | "INV" => Kind::Lut,
+        "MUXF7" | "MUXF8" => Kind::Muxf,
+        "CARRY4" => Kind::Carry,
+        "SRL16E" | "SRLC32E" => Kind::Srl,
+        "RAMB36E1" | "RAMB18E1" => Kind::Bram,
+        "DSP48E1" => Kind::Dsp,
+        "BUFG" => Kind::ClockBuffer,
+        t if t.starts_with("FD") => Kind::Flop,
+        t if t.starts_with("RAM") && (t.ends_with('M') || t.contains('X')) => Kind::LutRam,
+        _ => return None,
+    })
+}
+
+fn is_clock_pin(pin: &str) -> bool {
+    matches!(pin, "C" | "CLK" | "CLKARDCLK" | "CLKBWRCLK" | "WCLK")
+}
+
+/// How late a signal is and by which path (its LUT levels, CARRY4 blocks and launching cell);
+/// and, apart, the most LUT levels of any path to it.
+#[derive(Clone, Copy, Debug)]
+struct Arrival {
+    t: f64,
+    luts: u32,
+    carry: u32,
+    from: usize,
+    /// Driven by a CARRY4: leaving the chain costs `carry_out`.
+    in_chain: bool,
+    depth: u32,
+    depth_from: usize,
+}
+
+struct Cell {
+    name: String,
+    kind: Kind,
+    /// (pin, bits) of inputs and outputs; a bit is a net number or None for a constant.
+    inputs: Vec<(String, Vec<Option<u64>>)>,
+    outputs: Vec<(String, Vec<Option<u64>>)>,
+    value: Value,
+}
+
+fn bits(v: &Value) -> Vec<Option<u64>> {
+    v.as_array()
+        .map(|a| a.iter().map(Value::as_u64).collect())
+        .unwrap_or_default()
+}
+
+/// Reads the flattened netlist `net.json` and analyses module `top`.
+pub fn analyze(json: &Path, top: &str) -> Result<Report> {
+    let text =
+        std::fs::read_to_string(json).with_context(|| format!("cannot read {}", json.display()))?;
+    let netlist: Value = serde_json::from_str(&text)?;
+    let module = netlist
+        .get("modules")
+        .and_then(|m| m.get(top))
+        .with_context(|| format!("no module {top} in {}", json.display()))?;
+    let mut cells = Vec::new();
+    let mut unknown = std::collections::BTreeSet::new();
+    for (name, c) in module["cells"].as_object().context("no cells")? {
+        let ty = c["type"].as_str().unwrap_or_default();
+        let Some(kind) = kind(ty) else {
+            unknown.insert(ty.to_string());
+            continue;
+        };
+        let dirs = &c["port_directions"];
+        let (mut inputs, mut outputs) = (Vec::new(), Vec::new());
+        for (pin, b) in c["connections"].as_object().context("no connections")? {
+            let entry = (pin.clone(), bits(b));
+            match dirs[pin].as_str() {
+                Some("output") => outputs.push(entry),
+                _ => inputs.push(entry),
+            }
+        }
+        cells.push(Cell {
+            name: name.trim_start_matches('\\').to_string(),
+            kind,
+            inputs,
+            outputs,
+            value: c.clone(),
+        });
+    }
+    if !unknown.is_empty() {
+        bail!("cells the analysis does not know: {unknown:?}");
+    }
+    // Cells are named by yosys (`$auto$ff.cc...`): a path end is named by the net its cell
+    // drives, which keeps the RTL's register name.
+    let mut names: HashMap<u64, String> = HashMap::new();
+    for (name, n) in module["netnames"].as_object().context("no netnames")? {
+        if n["hide_name"].as_u64() == Some(1) {
+            continue;
+        }
+        for (k, b) in bits(&n["bits"]).into_iter().enumerate() {
+            if let Some(b) = b {
+                names
+                    .entry(b)
+                    .or_insert_with(|| format!("{}[{k}]", name.trim_start_matches('\\')));
+            }
+        }
+    }
+    for c in &mut cells {
+        let named = c
+            .outputs
+            .iter()
+            .flat_map(|(_, bs)| bs.iter().flatten())
+            .find_map(|b| names.get(b));
+        if let Some(n) = named {
+            c.name = n.clone();
+        }
+    }
+    Ok(walk(&cells, &DELAYS))
+}
+
+fn count(cells: &[Cell]) -> Resources {
+    let mut r = Resources::default();
+    for c in cells {
+        let ty = c.value["type"].as_str().unwrap_or_default();
+        match c.kind {
+            Kind::Lut => r.luts += 1,
+            Kind::LutRam | Kind::Srl => r.lutram += 1,
+            Kind::Flop => r.registers += 1,
+            Kind::Carry => r.carry4 += 1,
+            Kind::Muxf => r.muxf += 1,
+            Kind::Dsp => r.dsp += 1,
+            Kind::Bram if ty == "RAMB36E1" => r.ramb36 += 1,
+            Kind::Bram => r.ramb18 += 1,
+            Kind::ClockBuffer => {}
+        }
+    }
+    r
+}
+
+/// A DSP48E1's registers: (input A/B registered, MREG, PREG, multiplier used).
+fn dsp_regs(c: &Value) -> (bool, bool, bool, bool) {
+    let on = |p: &str| param(c, p).unwrap_or(0) > 0;
+    let mult = c["parameters"]["USE_MULT"]
+        .as_str()
+        .is_none_or(|s| !s.contains("NONE"));
+    (on("AREG") && on("BREG"), on("MREG"), on("PREG"), mult)
+}
+
+/// Clock-to-output of a sequential cell's output pin, or None for a combinational output.
+fn launch(c: &Cell, pin: &str, d: &DelayModel) -> Option<f64> {
+    match c.kind {
+        Kind::Flop => Some(d.clock_to_q),
+        Kind::Srl => Some(d.srl_clock_to_q),
+        Kind::Bram => {
+            let reg = if pin.starts_with("DOA") || pin.starts_with("DOPA") {
+                "DOA_REG"
+            } else {
+                "DOB_REG"
+            };
+            Some(if param(&c.value, reg).unwrap_or(0) > 0 {
+                d.bram_clock_to_out_reg
+            } else {
+                d.bram_clock_to_out
+            })
+        }
+        Kind::Dsp => {
+            let (ab, m, p, _) = dsp_regs(&c.value);
+            Some(if p {
+                d.dsp_clock_to_p
+            } else if m {
+                d.dsp_m_to_p
+            } else if ab {
+                d.dsp_a_to_p
+            } else {
+                // Nothing registered inside: treated as launched like the slowest case.
+                d.dsp_a_to_p + d.dsp_setup_p
+            })
+        }
+        _ => None,
+    }
+}
+
+/// Setup of a sequential cell's input pin (None: not a path endpoint).
+fn capture(c: &Cell, pin: &str, d: &DelayModel) -> Option<f64> {
+    if is_clock_pin(pin) {
+        return None;
+    }
+    match c.kind {
+        Kind::Flop | Kind::Srl => Some(d.setup),
+        Kind::LutRam => Some(d.setup),
+        Kind::Bram => Some(d.bram_setup),
+        Kind::Dsp => {
+            let (ab, m, _, _) = dsp_regs(&c.value);
+            Some(if pin.starts_with("PCIN") {
+                d.dsp_setup_pcin
+            } else if ab {
+                d.dsp_setup
+            } else if m {
+                d.dsp_setup_m
+            } else {
+                d.dsp_setup_p
+            })
+        }
+        _ => None,
+    }
+}
+
+/// Walks every path from a launching output through the combinational cells to a capturing
+/// input, in topological order.
+fn walk(cells: &[Cell], d: &DelayModel) -> Report {
+    let resources = count(cells);
+    // The combinational cells and the read side of distributed RAM.
+    let comb = |c: &Cell| matches!(c.kind, Kind::Lut | Kind::Muxf | Kind::Carry | Kind::LutRam);
+    let mut driver: HashMap<u64, usize> = HashMap::new();
+    for (i, c) in cells.iter().enumerate() {
+        for (_, bs) in &c.outputs {
+            for b in bs.iter().flatten() {
+                driver.insert(*b, i);
+            }
+        }
+    }
+    // Kahn's order over combinational cells.
+    let reads = |c: &Cell, pin: &str| match c.kind {
+        Kind::LutRam => pin.starts_with("ADDR") || pin.starts_with('A') || pin == "DPRA",
+        _ => true,
+    };
+    let mut waiting = vec![0usize; cells.len()];
+    let mut users: Vec<Vec<usize>> = vec![Vec::new(); cells.len()];
+    for (i, c) in cells.iter().enumerate().filter(|(_, c)| comb(c)) {
+        for (pin, bs) in &c.inputs {
+            if !reads(c, pin) {
+                continue;
+            }
+            for b in bs.iter().flatten() {
+                if let Some(&k) = driver.get(b) {
+                    if comb(&cells[k]) {
+                        waiting[i] += 1;
+                        users[k].push(i);
+                    }
+                }
+            }
+        }
+    }
+    let mut arrival: HashMap<u64, Arrival> = HashMap::new();
+    for (i, c) in cells.iter().enumerate() {
+        for (pin, bs) in &c.outputs {
+            if let Some(t) = launch(c, pin, d) {
+                for b in bs.iter().flatten() {
+                    arrival.insert(
+                        *b,
+                        Arrival {
+                            t,
+                            luts: 0,
+                            carry: 0,
+                            from: i,
+                            in_chain: false,
+                            depth: 0,
+                            depth_from: i,
+                        },
+                    );
+                }
+            }
+        }
+    }
+    let mut ready: Vec<usize> = (0..cells.len())
+        .filter(|&i| comb(&cells[i]) && waiting[i] == 0)
+        .collect();
+    let leave = |a: &Arrival| a.t + if a.in_chain { d.carry_out } else { 0.0 };
+    while let Some(i) = ready.pop() {
+        let c = &cells[i];
+        // The latest input and the deepest one, with what this cell adds.
+        let lut = u32::from(matches!(c.kind, Kind::Lut | Kind::LutRam));
+        let carry = u32::from(c.kind == Kind::Carry);
+        let mut out: Option<Arrival> = None;
+        for (pin, bs) in &c.inputs {
+            if !reads(c, pin) {
+                continue;
+            }
+            for b in bs.iter().flatten() {
+                let Some(a) = arrival.get(b) else { continue };
+                let t = match (c.kind, pin.as_str()) {
+                    (Kind::Carry, "CI") => a.t + d.carry_block,
+                    (Kind::Carry, _) => leave(a) + d.carry_in,
+                    (Kind::Muxf, _) => leave(a) + d.muxf,
+                    _ => leave(a) + d.lut_level,
+                };
+                let next = Arrival {
+                    t,
+                    luts: a.luts + lut,
+                    carry: a.carry + carry,
+                    from: a.from,
+                    in_chain: c.kind == Kind::Carry,
+                    depth: a.depth + lut,
+                    depth_from: a.depth_from,
+                };
+                out = Some(match out {
+                    None => next,
+                    Some(o) => {
+                        let mut m = if next.t > o.t { next } else { o };
+                        (m.depth, m.depth_from) = if next.depth > o.depth {
+                            (next.depth, next.depth_from)
+                        } else {
+                            (o.depth, o.depth_from)
+                        };
+                        m
+                    }
+                });
+            }
+        }
+        if let Some(out) = out {
+            for (_, bs) in &c.outputs {
+                for b in bs.iter().flatten() {
+                    arrival.insert(*b, out);
+                }
+            }
+        }
+        for &u in &users[i] {
+            waiting[u] -= 1;
+            if waiting[u] == 0 {
+                ready.push(u);
+            }
+        }
+    }
+    let mut worst = PathInfo::default();
+    let mut deepest = DeepPath::default();
+    let mut over = 0;
+    for c in cells {
+        for (pin, bs) in &c.inputs {
+            let Some(setup) = capture(c, pin, d) else {
+                continue;
+            };
+            for b in bs.iter().flatten() {
+                let Some(a) = arrival.get(b) else { continue };
+                let total = leave(a) + setup;
+                if total > worst.delay_ns {
+                    worst = PathInfo {
+                        delay_ns: total,
+                        luts: a.luts,
+                        carry4: a.carry,
+                        from: cells[a.from].name.clone(),
+                        to: format!("{}.{pin}", c.name),
+                    };
+                }
+                if a.depth > deepest.luts {
+                    deepest = DeepPath {
+                        luts: a.depth,
+                        from: cells[a.depth_from].name.clone(),
+                        to: format!("{}.{pin}", c.name),
+                    };
+                }
+                over += u64::from(a.depth > 3);
+            }
+        }
+    }
+    let dsp = cells.iter().filter(|c| c.kind == Kind::Dsp);
+    let dsp_without_mreg = dsp
+        .clone()
+        .filter(|c| {
+            let (_, m, _, mult) = dsp_regs(&c.value);
+            mult && !m
+        })
+        .count() as u64;
+    let dsp_without_preg = dsp.filter(|c| !dsp_regs(&c.value).2).count() as u64;
+    let consumed: std::collections::HashSet<u64> = cells
+        .iter()
+        .flat_map(|c| {
+            c.inputs
+                .iter()
+                .flat_map(|(_, bs)| bs.iter().flatten().copied())
+        })
+        .collect();
+    let bram_without_output_register = cells
+        .iter()
+        .filter(|c| c.kind == Kind::Bram)
+        .filter(|c| {
+            // A port counts when its data out is used.
+            c.outputs.iter().any(|(pin, bs)| {
+                let reg = if pin.starts_with("DOA") || pin.starts_with("DOPA") {
+                    "DOA_REG"
+                } else {
+                    "DOB_REG"
+                };
+                bs.iter().flatten().any(|b| consumed.contains(b))
+                    && param(&c.value, reg).unwrap_or(0) == 0
+            })
+        })
+        .count() as u64;
+    Report {
+        resources,
+        dsp_without_mreg,
+        dsp_without_preg,
+        bram_without_output_register,
+        endpoints_over_3_luts: over,
+        worst,
+        deepest,
+        delays: d.clone(),
+    }
+}

@@ -1,0 +1,150 @@
+//! `obbcd cosim`: one frame of a scene through the emitted Verilog of the core in a real
+//! simulator, compared with the bit-exact model: the pair stream in order, the counters and the
+//! clock count. Any difference fails the command with the first one.
+
+use crate::detect::{load_config, write_pairs};
+use anyhow::{bail, Context, Result};
+use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use obb_model::Scene;
+use obb_rtl::cosim::{self, compare, prepare, Expected, Level, RunOptions};
+use obb_rtl::verilator::Simulator;
+use obb_rtl::{cache, generate, synth};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum SimulatorArg {
+    Verilator,
+    Icarus,
+}
+
+#[derive(Args)]
+pub struct CosimArgs {
+    /// Scene JSON file.
+    #[arg(long)]
+    scene: PathBuf,
+    /// Hardware configuration (TOML); default: the built-in one.
+    #[arg(long)]
+    config: Option<PathBuf>,
+    #[arg(long, value_enum, default_value = "verilator")]
+    simulator: SimulatorArg,
+    /// Simulate yosys' netlist of the core (Virtex-6 primitives) instead of the RTL: a check
+    /// of the DSP and block RAM mapping; slow to synthesize (cached) and to simulate.
+    #[arg(long)]
+    gate_level: bool,
+    /// The receiver takes a pair one clock in N (back-pressure on the pair stream).
+    #[arg(long, default_value_t = 1)]
+    ready_every: u32,
+    /// Pairs JSON file to write (as `obbcd detect` writes it).
+    #[arg(short = 'o', long = "output")]
+    output: Option<PathBuf>,
+    /// Waveform file (VCD) of the whole frame.
+    #[arg(long)]
+    vcd: Option<PathBuf>,
+    /// Cache of simulator builds and netlists (default: $OBBCD_CACHE, else ~/.cache/obbcd).
+    #[arg(long)]
+    cache: Option<PathBuf>,
+}
+
+fn spinner(msg: String) -> ProgressBar {
+    let bar = ProgressBar::new_spinner().with_message(msg);
+    bar.enable_steady_tick(Duration::from_millis(120));
+    bar
+}
+
+pub fn run(a: CosimArgs) -> Result<()> {
+    if a.ready_every == 0 {
+        bail!("--ready-every must be at least 1");
+    }
+    let scene = Scene::load(&a.scene)?;
+    let cfg = load_config(a.config.as_deref())?;
+    let (model, boxes) =
+        prepare(&scene, &cfg).context("the scene does not fit the hardware configuration")?;
+    let run = model.as_ref().map(|m| m.run());
+    let cache = a.cache.clone().unwrap_or_else(cache::default_dir);
+    let sim = match a.simulator {
+        SimulatorArg::Verilator => Simulator::Verilator,
+        SimulatorArg::Icarus => Simulator::Icarus,
+    };
+    let mut design = generate::core(&cfg)?;
+    let level = if a.gate_level {
+        let bar = spinner("synthesizing the core with yosys (cached after the first time)".into());
+        let (dir, _) = synth::netlist(&design, &cache.join("synth"))?;
+        bar.finish_and_clear();
+        design = std::fs::read_to_string(dir.join("syn.v"))?;
+        Level::Gates
+    } else {
+        Level::Rtl
+    };
+    let bar = spinner(format!("building the {sim:?} simulation"));
+    let bench = cosim::build(&design, level, sim, a.vcd.is_some(), &cache.join("cosim"))?;
+    bar.finish_and_clear();
+    eprintln!(
+        "{sim:?} build: {}",
+        if bench.cached { "cached" } else { "new" }
+    );
+
+    let work = cache.join(format!("run-{}", std::process::id()));
+    std::fs::create_dir_all(&work).with_context(|| format!("cannot create {}", work.display()))?;
+    let stim = work.join("stim.hex");
+    std::fs::write(&stim, cosim::stimulus(&boxes, &cfg))?;
+    // The model's clocks, or for a frame over capacity about one per box: the bar's length.
+    let expect = run
+        .as_ref()
+        .map_or(boxes.len() as u64 + 20, |r| r.cycles.total);
+    let bar = ProgressBar::new(expect).with_style(
+        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} clocks ({eta})")
+            .expect("a valid template"),
+    );
+    bar.set_message("simulating");
+    let opts = RunOptions {
+        ready_every: a.ready_every,
+        progress_every: (expect / 200).max(1000),
+        vcd: a.vcd.clone(),
+        ..RunOptions::default()
+    };
+    let start = Instant::now();
+    let result = bench.run(&stim, boxes.len(), &opts, |clock| bar.set_position(clock));
+    bar.finish_and_clear();
+    let _ = std::fs::remove_dir_all(&work);
+    let got = result?;
+    let secs = start.elapsed().as_secs_f64();
+
+    let mut pairs = got.stream.clone();
+    pairs.sort_unstable();
+    pairs.dedup();
+    let want = run.as_ref().map_or(Expected::OverCapacity, Expected::Frame);
+    let verdict = compare(&got, &want, a.ready_every > 1);
+    println!(
+        "simulator={} level={} obbs={} pairs={} reported={} candidates={} sat={} cycles={} \
+         model_cycles={} frame_ms={:.3} clock_ns={} sim_s={secs:.2} clocks_per_s={:.0}",
+        format!("{sim:?}").to_lowercase(),
+        if a.gate_level { "gates" } else { "rtl" },
+        boxes.len(),
+        pairs.len(),
+        got.pairs,
+        got.candidates,
+        got.sat_tests,
+        got.cycles,
+        run.as_ref().map_or(0, |r| r.cycles.total),
+        got.cycles as f64 * cfg.clock_ns * 1e-6,
+        cfg.clock_ns,
+        got.clocks as f64 / secs,
+    );
+    if let Err(e) = verdict {
+        bail!("the core and the model differ: {e}");
+    }
+    if run.is_none() {
+        bail!(
+            "the scene's {} boxes exceed the configured capacity of {}: the core flagged \
+             capacity_exceeded and reported no pair, as it must; no pairs file was written",
+            boxes.len(),
+            cfg.capacity
+        );
+    }
+    if let Some(path) = &a.output {
+        write_pairs(path, &pairs)?;
+    }
+    Ok(())
+}
