@@ -1,10 +1,13 @@
 //! A cache of slow builds (simulators, yosys netlists), keyed by the SHA-256 of everything the
 //! build reads. An entry is built in a directory of its own and renamed into place when
-//! complete, so that concurrent builds (parallel tests, two shells) never see half-built files.
+//! complete, so that concurrent builds (two shells) never see half-built files; within one
+//! process (parallel tests) builds take turns.
 
 use anyhow::{bail, Context, Result};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
 
 /// The cache directory: `$OBBCD_CACHE`, else `$XDG_CACHE_HOME/obbcd`, else `~/.cache/obbcd`,
 /// else below the system's temporary directory.
@@ -40,12 +43,18 @@ pub fn entry(
     name: &str,
     build: impl FnOnce(&Path) -> Result<()>,
 ) -> Result<(PathBuf, bool)> {
+    // One build at a time in this process: threads that want the same entry wait for it
+    // instead of building it again (a poisoned lock only means another build failed).
+    static BUILDING: Mutex<()> = Mutex::new(());
+    static CALLS: AtomicUsize = AtomicUsize::new(0);
+    let _one = BUILDING.lock().unwrap_or_else(|p| p.into_inner());
     let dir = cache.join(name);
     if dir.join("ok").is_file() {
         return Ok((dir, true));
     }
     std::fs::create_dir_all(cache).with_context(|| format!("cannot create {}", cache.display()))?;
-    let work = cache.join(format!("{name}.{}.tmp", std::process::id()));
+    let call = CALLS.fetch_add(1, Ordering::Relaxed);
+    let work = cache.join(format!("{name}.{}-{call}.tmp", std::process::id()));
     let _ = std::fs::remove_dir_all(&work);
     std::fs::create_dir_all(&work).with_context(|| format!("cannot create {}", work.display()))?;
     build(&work)?;

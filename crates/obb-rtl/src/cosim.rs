@@ -5,7 +5,7 @@
 //! result and compares it with the bit-exact model. `obbcd cosim` is its command line.
 
 use crate::cache;
-use crate::verilator::Simulator;
+use crate::verilator::{hex_word, output, Simulator};
 use anyhow::{bail, Context, Result};
 use obb_model::fixed::{quantize, HwConfig, ModelFrame, ModelRun, QObb, QuantizeError};
 use obb_model::{Pair, Scene};
@@ -61,18 +61,7 @@ pub fn box_ports(b: &QObb, cfg: &HwConfig) -> [(u64, usize); 16] {
 
 /// One box as the test bench reads it: the ports packed into one hex word.
 pub fn box_word(b: &QObb, cfg: &HwConfig) -> String {
-    let mut bits = Vec::new();
-    for (v, n) in box_ports(b, cfg) {
-        bits.extend((0..n).map(|k| v >> k & 1 == 1));
-    }
-    bits.resize(bits.len().div_ceil(4) * 4, false);
-    bits.chunks(4)
-        .rev()
-        .map(|c| {
-            let d = c.iter().rev().fold(0, |acc, &b| acc << 1 | u32::from(b));
-            char::from_digit(d, 16).expect("a hex digit")
-        })
-        .collect()
+    hex_word(&box_ports(b, cfg))
 }
 
 /// The stimulus file: one box per line.
@@ -95,20 +84,6 @@ pub struct Bench {
     sim: Simulator,
     /// Whether the build was found in the cache.
     pub cached: bool,
-}
-
-fn output(cmd: &mut Command, what: &str) -> Result<String> {
-    let out = cmd.output().with_context(|| {
-        format!("cannot run {what}: is it installed? (scripts/test.sh installs it)")
-    })?;
-    if !out.status.success() {
-        bail!(
-            "{what} failed:\n{}{}",
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        );
-    }
-    Ok(String::from_utf8_lossy(&out.stdout).into_owned())
 }
 
 /// yosys' simulation models of the Xilinx primitives, for gate-level runs: in the `share`

@@ -27,15 +27,21 @@ impl Port {
 
 /// Packs values (the first port in the lowest bits) into a hex word.
 fn pack(ports: &[Port], values: &[u64]) -> String {
-    let total: usize = ports.iter().map(|p| p.bits).sum();
-    let mut bits = vec![false; total.div_ceil(4) * 4];
-    let mut at = 0;
-    for (p, &v) in ports.iter().zip(values) {
-        for b in 0..p.bits {
-            bits[at + b] = v >> b & 1 == 1;
-        }
-        at += p.bits;
+    let fields: Vec<(u64, usize)> = values
+        .iter()
+        .zip(ports)
+        .map(|(&v, p)| (v, p.bits))
+        .collect();
+    hex_word(&fields)
+}
+
+/// Packs (value, bits) fields, the first in the lowest bits, into a hex word of whole digits.
+pub fn hex_word(fields: &[(u64, usize)]) -> String {
+    let mut bits = Vec::new();
+    for &(v, n) in fields {
+        bits.extend((0..n).map(|b| v >> b & 1 == 1));
     }
+    bits.resize(bits.len().div_ceil(4) * 4, false);
     bits.chunks(4)
         .rev()
         .map(|c| {
@@ -136,9 +142,10 @@ pub fn scratch_dir(name: &str) -> Result<PathBuf> {
     Ok(dir)
 }
 
-fn run(cmd: &mut Command, what: &str) -> Result<()> {
+/// Runs a tool to completion; its stdout, or an error with all it said.
+pub fn output(cmd: &mut Command, what: &str) -> Result<String> {
     let out = cmd.output().with_context(|| {
-        format!("cannot run {what}: are Verilator and Icarus installed? (scripts/test.sh installs them)")
+        format!("cannot run {what}: is it installed? (scripts/test.sh installs it)")
     })?;
     if !out.status.success() {
         bail!(
@@ -147,7 +154,11 @@ fn run(cmd: &mut Command, what: &str) -> Result<()> {
             String::from_utf8_lossy(&out.stderr)
         );
     }
-    Ok(())
+    Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+fn run(cmd: &mut Command, what: &str) -> Result<()> {
+    output(cmd, what).map(drop)
 }
 
 /// A Verilog simulator: Verilator for speed, Icarus as a second opinion.

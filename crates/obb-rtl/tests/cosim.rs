@@ -20,19 +20,18 @@ fn cache() -> PathBuf {
     PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cosim-cache")
 }
 
-/// Simulates one frame of `scene` on `design` (the Verilog for `cfg`) and checks it against
+/// Simulates one frame of `scene` on `design` (the RTL for `cfg`) and checks it against
 /// the model; `ready_every` throttles the pair stream.
 fn cosim(
     cfg: &HwConfig,
     design: &str,
-    level: Level,
     sim: Simulator,
     scene: &Scene,
     ready_every: u32,
     name: &str,
 ) -> SimFrame {
     let (model, boxes) = prepare(scene, cfg).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let bench = build(design, level, sim, false, &cache()).unwrap();
+    let bench = build(design, Level::Rtl, sim, false, &cache()).unwrap();
     let dir = scratch_dir("cosim").unwrap();
     let stim = dir.join("stim.hex");
     std::fs::write(&stim, stimulus(&boxes, cfg)).unwrap();
@@ -46,10 +45,10 @@ fn cosim(
     let run = model.map(|m| m.run());
     let want = run.as_ref().map_or(Expected::OverCapacity, Expected::Frame);
     if let Err(e) = compare(&got, &want, ready_every > 1) {
-        panic!("{name} ({sim:?}, {level:?}): {e}");
+        panic!("{name} ({sim:?}): {e}");
     }
     eprintln!(
-        "{name} ({sim:?}, {level:?}): {} boxes, {} pairs, {} cycles, {:.2} s simulated ({:.0} clocks/s)",
+        "{name} ({sim:?}): {} boxes, {} pairs, {} cycles, {:.2} s simulated ({:.0} clocks/s)",
         boxes.len(),
         got.stream.len(),
         got.cycles,
@@ -73,36 +72,19 @@ fn default_core_from_one_box_to_the_full_surgical_scene() {
         ("surgical 17500", full),
     ];
     for (name, scene) in &scenes {
-        cosim(
-            &cfg,
-            &design,
-            Level::Rtl,
-            Simulator::Verilator,
-            scene,
-            1,
-            name,
-        );
+        cosim(&cfg, &design, Simulator::Verilator, scene, 1, name);
     }
 }
 
 /// The default configuration on the stiff and extreme suite, and on the dense worst case with
-/// the receiver always ready and then taking a pair one clock in 16 (fewer than it finds): the FIFO fills, the
-/// broad phase stalls, and no pair is lost or reordered.
+/// the receiver always ready and then taking a pair one clock in 16 (fewer than the core
+/// finds): the FIFO fills, the broad phase stalls, and no pair is lost or reordered.
 #[test]
 fn default_core_on_stiff_and_dense_scenes_with_back_pressure() {
     let cfg = HwConfig::default();
     let design = obb_rtl::generate::core(&cfg).unwrap();
-    let run = |scene: &Scene, ready, name| {
-        cosim(
-            &cfg,
-            &design,
-            Level::Rtl,
-            Simulator::Verilator,
-            scene,
-            ready,
-            name,
-        )
-    };
+    let run =
+        |scene: &Scene, ready, name| cosim(&cfg, &design, Simulator::Verilator, scene, ready, name);
     run(&stiff(), 1, "stiff");
     let free = run(&dense(400), 1, "dense 400");
     let throttled = run(&dense(400), 16, "dense 400, pair_ready one clock in 16");
@@ -129,16 +111,8 @@ fn small_core_in_verilator_and_icarus() {
         ("surgical 600, over capacity", surgical(600, 2).unwrap()),
     ];
     for (name, scene) in &scenes {
-        let v = cosim(
-            &cfg,
-            &design,
-            Level::Rtl,
-            Simulator::Verilator,
-            scene,
-            1,
-            name,
-        );
-        let i = cosim(&cfg, &design, Level::Rtl, Simulator::Icarus, scene, 1, name);
+        let v = cosim(&cfg, &design, Simulator::Verilator, scene, 1, name);
+        let i = cosim(&cfg, &design, Simulator::Icarus, scene, 1, name);
         assert_eq!(v, i, "{name}: Verilator and Icarus differ");
     }
 }
