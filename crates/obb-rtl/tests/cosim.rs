@@ -35,14 +35,17 @@ fn cosim(
     let dir = scratch_dir("cosim").unwrap();
     let stim = dir.join("stim.hex");
     std::fs::write(&stim, stimulus(&boxes, cfg)).unwrap();
+    let run = model.map(|m| m.run());
+    let clocks = run.as_ref().map_or(boxes.len() as u64, |r| r.cycles.total);
+    let pairs = run.as_ref().map_or(0, |r| r.reported());
     let opts = RunOptions {
         ready_every,
+        timeout: 2 * (clocks + pairs * u64::from(ready_every)) + 10_000,
         ..RunOptions::default()
     };
     let start = Instant::now();
     let got = bench.run(&stim, boxes.len(), &opts, |_| {}).unwrap();
     let secs = start.elapsed().as_secs_f64();
-    let run = model.map(|m| m.run());
     let want = run.as_ref().map_or(Expected::OverCapacity, Expected::Frame);
     if let Err(e) = compare(&got, &want, ready_every > 1) {
         panic!("{name} ({sim:?}): {e}");

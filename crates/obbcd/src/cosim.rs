@@ -100,9 +100,12 @@ pub fn run(a: CosimArgs) -> Result<()> {
     bar.set_message("simulating");
     let opts = RunOptions {
         ready_every: a.ready_every,
+        // A core that never says `done` is a failure, not a hang: twice the clocks the frame
+        // can take with every pair waiting `ready_every` clocks.
+        timeout: 2 * (expect + run.as_ref().map_or(0, |r| r.reported()) * u64::from(a.ready_every))
+            + 10_000,
         progress_every: (expect / 200).max(1000),
         vcd: a.vcd.clone(),
-        ..RunOptions::default()
     };
     let start = Instant::now();
     let result = bench.run(&stim, boxes.len(), &opts, |clock| bar.set_position(clock));
