@@ -210,8 +210,8 @@ const SCRIPT: &str = "read_verilog core.v; synth_xilinx -family xc6v -top obb_co
                       write_verilog -noattr syn.v";
 
 /// A parameter's value: yosys writes numbers as binary strings.
-fn param(cell: &Value, name: &str) -> Option<u64> {
-    let v = cell.get("parameters")?.get(name)?;
+fn param(params: &Value, name: &str) -> Option<u64> {
+    let v = params.get(name)?;
     match v {
         Value::Number(n) => n.as_u64(),
         Value::String(s) => u64::from_str_radix(s.trim(), 2).ok(),
@@ -273,7 +273,8 @@ struct Cell {
     /// (pin, bits) of inputs and outputs; a bit is a net number or None for a constant.
     inputs: Vec<(String, Vec<Option<u64>>)>,
     outputs: Vec<(String, Vec<Option<u64>>)>,
-    value: Value,
+    ty: String,
+    params: Value,
 }
 
 fn bits(v: &Value) -> Vec<Option<u64>> {
@@ -313,7 +314,8 @@ pub fn analyze(json: &Path, top: &str) -> Result<Report> {
             kind,
             inputs,
             outputs,
-            value: c.clone(),
+            ty: ty.to_string(),
+            params: c["parameters"].clone(),
         });
     }
     if !unknown.is_empty() {
@@ -350,7 +352,6 @@ pub fn analyze(json: &Path, top: &str) -> Result<Report> {
 fn count(cells: &[Cell]) -> Resources {
     let mut r = Resources::default();
     for c in cells {
-        let ty = c.value["type"].as_str().unwrap_or_default();
         match c.kind {
             Kind::Lut => r.luts += 1,
             Kind::LutRam | Kind::Srl => r.lutram += 1,
@@ -358,7 +359,7 @@ fn count(cells: &[Cell]) -> Resources {
             Kind::Carry => r.carry4 += 1,
             Kind::Muxf => r.muxf += 1,
             Kind::Dsp => r.dsp += 1,
-            Kind::Bram if ty == "RAMB36E1" => r.ramb36 += 1,
+            Kind::Bram if c.ty == "RAMB36E1" => r.ramb36 += 1,
             Kind::Bram => r.ramb18 += 1,
             Kind::ClockBuffer => {}
         }
@@ -367,12 +368,22 @@ fn count(cells: &[Cell]) -> Resources {
 }
 
 /// A DSP48E1's registers: (input A/B registered, MREG, PREG, multiplier used).
-fn dsp_regs(c: &Value) -> (bool, bool, bool, bool) {
-    let on = |p: &str| param(c, p).unwrap_or(0) > 0;
-    let mult = c["parameters"]["USE_MULT"]
+fn dsp_regs(params: &Value) -> (bool, bool, bool, bool) {
+    let on = |p: &str| param(params, p).unwrap_or(0) > 0;
+    let mult = params["USE_MULT"]
         .as_str()
         .is_none_or(|s| !s.contains("NONE"));
     (on("AREG") && on("BREG"), on("MREG"), on("PREG"), mult)
+}
+
+/// Whether a block RAM's data-out pin `pin` (port A or B) has its output register on.
+fn bram_port_registered(c: &Cell, pin: &str) -> bool {
+    let reg = if pin.starts_with("DOA") || pin.starts_with("DOPA") {
+        "DOA_REG"
+    } else {
+        "DOB_REG"
+    };
+    param(&c.params, reg).unwrap_or(0) > 0
 }
 
 /// Clock-to-output of a sequential cell's output pin, or None for a combinational output.
@@ -380,20 +391,13 @@ fn launch(c: &Cell, pin: &str, d: &DelayModel) -> Option<f64> {
     match c.kind {
         Kind::Flop => Some(d.clock_to_q),
         Kind::Srl => Some(d.srl_clock_to_q),
-        Kind::Bram => {
-            let reg = if pin.starts_with("DOA") || pin.starts_with("DOPA") {
-                "DOA_REG"
-            } else {
-                "DOB_REG"
-            };
-            Some(if param(&c.value, reg).unwrap_or(0) > 0 {
-                d.bram_clock_to_out_reg
-            } else {
-                d.bram_clock_to_out
-            })
-        }
+        Kind::Bram => Some(if bram_port_registered(c, pin) {
+            d.bram_clock_to_out_reg
+        } else {
+            d.bram_clock_to_out
+        }),
         Kind::Dsp => {
-            let (ab, m, p, _) = dsp_regs(&c.value);
+            let (ab, m, p, _) = dsp_regs(&c.params);
             Some(if p {
                 d.dsp_clock_to_p
             } else if m {
@@ -419,7 +423,7 @@ fn capture(c: &Cell, pin: &str, d: &DelayModel) -> Option<f64> {
         Kind::LutRam => Some(d.setup),
         Kind::Bram => Some(d.bram_setup),
         Kind::Dsp => {
-            let (ab, m, _, _) = dsp_regs(&c.value);
+            let (ab, m, _, _) = dsp_regs(&c.params);
             Some(if pin.starts_with("PCIN") {
                 d.dsp_setup_pcin
             } else if ab {
@@ -585,11 +589,11 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
     let dsp_without_mreg = dsp
         .clone()
         .filter(|c| {
-            let (_, m, _, mult) = dsp_regs(&c.value);
+            let (_, m, _, mult) = dsp_regs(&c.params);
             mult && !m
         })
         .count() as u64;
-    let dsp_without_preg = dsp.filter(|c| !dsp_regs(&c.value).2).count() as u64;
+    let dsp_without_preg = dsp.filter(|c| !dsp_regs(&c.params).2).count() as u64;
     let consumed: std::collections::HashSet<u64> = cells
         .iter()
         .flat_map(|c| {
@@ -604,13 +608,7 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
         .filter(|c| {
             // A port counts when its data out is used.
             c.outputs.iter().any(|(pin, bs)| {
-                let reg = if pin.starts_with("DOA") || pin.starts_with("DOPA") {
-                    "DOA_REG"
-                } else {
-                    "DOB_REG"
-                };
-                bs.iter().flatten().any(|b| consumed.contains(b))
-                    && param(&c.value, reg).unwrap_or(0) == 0
+                bs.iter().flatten().any(|b| consumed.contains(b)) && !bram_port_registered(c, pin)
             })
         })
         .count() as u64;
