@@ -43,7 +43,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     localparam  sap = 1'b0;
     localparam  capacity = 16'h8000;
     localparam  mask = 64'h7fbfdfeff7fbfdfe;
-    localparam  drain = 8'h10;
+    localparam  drain = 8'h16;
     
     // Enums
     localparam CoreState$Idle = 0;
@@ -478,6 +478,24 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [14:0] tag_a$13$d;
     wire  [14:0] tag_a$13$q;
     reg  tag_a$13$clock;
+    reg  [14:0] tag_a$14$d;
+    wire  [14:0] tag_a$14$q;
+    reg  tag_a$14$clock;
+    reg  [14:0] tag_a$15$d;
+    wire  [14:0] tag_a$15$q;
+    reg  tag_a$15$clock;
+    reg  [14:0] tag_a$16$d;
+    wire  [14:0] tag_a$16$q;
+    reg  tag_a$16$clock;
+    reg  [14:0] tag_a$17$d;
+    wire  [14:0] tag_a$17$q;
+    reg  tag_a$17$clock;
+    reg  [14:0] tag_a$18$d;
+    wire  [14:0] tag_a$18$q;
+    reg  tag_a$18$clock;
+    reg  [14:0] tag_a$19$d;
+    wire  [14:0] tag_a$19$q;
+    reg  tag_a$19$clock;
     reg  [14:0] tag_b$0$d;
     wire  [14:0] tag_b$0$q;
     reg  tag_b$0$clock;
@@ -520,6 +538,24 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [14:0] tag_b$13$d;
     wire  [14:0] tag_b$13$q;
     reg  tag_b$13$clock;
+    reg  [14:0] tag_b$14$d;
+    wire  [14:0] tag_b$14$q;
+    reg  tag_b$14$clock;
+    reg  [14:0] tag_b$15$d;
+    wire  [14:0] tag_b$15$q;
+    reg  tag_b$15$clock;
+    reg  [14:0] tag_b$16$d;
+    wire  [14:0] tag_b$16$q;
+    reg  tag_b$16$clock;
+    reg  [14:0] tag_b$17$d;
+    wire  [14:0] tag_b$17$q;
+    reg  tag_b$17$clock;
+    reg  [14:0] tag_b$18$d;
+    wire  [14:0] tag_b$18$q;
+    reg  tag_b$18$clock;
+    reg  [14:0] tag_b$19$d;
+    wire  [14:0] tag_b$19$q;
+    reg  tag_b$19$clock;
     reg  k_overlap$0$d;
     wire  k_overlap$0$q;
     reg  k_overlap$0$clock;
@@ -568,6 +604,24 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  k_overlap$15$d;
     wire  k_overlap$15$q;
     reg  k_overlap$15$clock;
+    reg  k_overlap$16$d;
+    wire  k_overlap$16$q;
+    reg  k_overlap$16$clock;
+    reg  k_overlap$17$d;
+    wire  k_overlap$17$q;
+    reg  k_overlap$17$clock;
+    reg  k_overlap$18$d;
+    wire  k_overlap$18$q;
+    reg  k_overlap$18$clock;
+    reg  k_overlap$19$d;
+    wire  k_overlap$19$q;
+    reg  k_overlap$19$clock;
+    reg  k_overlap$20$d;
+    wire  k_overlap$20$q;
+    reg  k_overlap$20$clock;
+    reg  k_overlap$21$d;
+    wire  k_overlap$21$q;
+    reg  k_overlap$21$clock;
     reg  recent$0$d;
     wire  recent$0$q;
     reg  recent$0$clock;
@@ -1152,6 +1206,36 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .q(tag_a$13$q),
         .clock(tag_a$13$clock)
     );
+    obb_core$tag_a$14 tag_a$14(
+        .d(tag_a$14$d),
+        .q(tag_a$14$q),
+        .clock(tag_a$14$clock)
+    );
+    obb_core$tag_a$15 tag_a$15(
+        .d(tag_a$15$d),
+        .q(tag_a$15$q),
+        .clock(tag_a$15$clock)
+    );
+    obb_core$tag_a$16 tag_a$16(
+        .d(tag_a$16$d),
+        .q(tag_a$16$q),
+        .clock(tag_a$16$clock)
+    );
+    obb_core$tag_a$17 tag_a$17(
+        .d(tag_a$17$d),
+        .q(tag_a$17$q),
+        .clock(tag_a$17$clock)
+    );
+    obb_core$tag_a$18 tag_a$18(
+        .d(tag_a$18$d),
+        .q(tag_a$18$q),
+        .clock(tag_a$18$clock)
+    );
+    obb_core$tag_a$19 tag_a$19(
+        .d(tag_a$19$d),
+        .q(tag_a$19$q),
+        .clock(tag_a$19$clock)
+    );
     obb_core$tag_b$0 tag_b$0(
         .d(tag_b$0$d),
         .q(tag_b$0$q),
@@ -1221,6 +1305,36 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .d(tag_b$13$d),
         .q(tag_b$13$q),
         .clock(tag_b$13$clock)
+    );
+    obb_core$tag_b$14 tag_b$14(
+        .d(tag_b$14$d),
+        .q(tag_b$14$q),
+        .clock(tag_b$14$clock)
+    );
+    obb_core$tag_b$15 tag_b$15(
+        .d(tag_b$15$d),
+        .q(tag_b$15$q),
+        .clock(tag_b$15$clock)
+    );
+    obb_core$tag_b$16 tag_b$16(
+        .d(tag_b$16$d),
+        .q(tag_b$16$q),
+        .clock(tag_b$16$clock)
+    );
+    obb_core$tag_b$17 tag_b$17(
+        .d(tag_b$17$d),
+        .q(tag_b$17$q),
+        .clock(tag_b$17$clock)
+    );
+    obb_core$tag_b$18 tag_b$18(
+        .d(tag_b$18$d),
+        .q(tag_b$18$q),
+        .clock(tag_b$18$clock)
+    );
+    obb_core$tag_b$19 tag_b$19(
+        .d(tag_b$19$d),
+        .q(tag_b$19$q),
+        .clock(tag_b$19$clock)
     );
     obb_core$k_overlap$0 k_overlap$0(
         .d(k_overlap$0$d),
@@ -1301,6 +1415,36 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .d(k_overlap$15$d),
         .q(k_overlap$15$q),
         .clock(k_overlap$15$clock)
+    );
+    obb_core$k_overlap$16 k_overlap$16(
+        .d(k_overlap$16$d),
+        .q(k_overlap$16$q),
+        .clock(k_overlap$16$clock)
+    );
+    obb_core$k_overlap$17 k_overlap$17(
+        .d(k_overlap$17$d),
+        .q(k_overlap$17$q),
+        .clock(k_overlap$17$clock)
+    );
+    obb_core$k_overlap$18 k_overlap$18(
+        .d(k_overlap$18$d),
+        .q(k_overlap$18$q),
+        .clock(k_overlap$18$clock)
+    );
+    obb_core$k_overlap$19 k_overlap$19(
+        .d(k_overlap$19$d),
+        .q(k_overlap$19$q),
+        .clock(k_overlap$19$clock)
+    );
+    obb_core$k_overlap$20 k_overlap$20(
+        .d(k_overlap$20$d),
+        .q(k_overlap$20$q),
+        .clock(k_overlap$20$clock)
+    );
+    obb_core$k_overlap$21 k_overlap$21(
+        .d(k_overlap$21$d),
+        .q(k_overlap$21$q),
+        .clock(k_overlap$21$clock)
     );
     obb_core$recent$0 recent$0(
         .d(recent$0$d),
@@ -1411,6 +1555,12 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         k_overlap$13$clock = clock;
         k_overlap$14$clock = clock;
         k_overlap$15$clock = clock;
+        k_overlap$16$clock = clock;
+        k_overlap$17$clock = clock;
+        k_overlap$18$clock = clock;
+        k_overlap$19$clock = clock;
+        k_overlap$20$clock = clock;
+        k_overlap$21$clock = clock;
         recent$0$clock = clock;
         recent$1$clock = clock;
         tag_a$0$clock = clock;
@@ -1441,6 +1591,18 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         tag_b$12$clock = clock;
         tag_a$13$clock = clock;
         tag_b$13$clock = clock;
+        tag_a$14$clock = clock;
+        tag_b$14$clock = clock;
+        tag_a$15$clock = clock;
+        tag_b$15$clock = clock;
+        tag_a$16$clock = clock;
+        tag_b$16$clock = clock;
+        tag_a$17$clock = clock;
+        tag_b$17$clock = clock;
+        tag_a$18$clock = clock;
+        tag_b$18$clock = clock;
+        tag_a$19$clock = clock;
+        tag_b$19$clock = clock;
         obb_ready = state$q == CoreState$Load;
         accept = (state$q == CoreState$Load) & obb_valid & (loaded$q != capacity);
         center$0$write_enable = accept;
@@ -1604,6 +1766,12 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         k_overlap$13$d = k_overlap$12$q;
         k_overlap$14$d = k_overlap$13$q;
         k_overlap$15$d = k_overlap$14$q;
+        k_overlap$16$d = k_overlap$15$q;
+        k_overlap$17$d = k_overlap$16$q;
+        k_overlap$18$d = k_overlap$17$q;
+        k_overlap$19$d = k_overlap$18$q;
+        k_overlap$20$d = k_overlap$19$q;
+        k_overlap$21$d = k_overlap$20$q;
         swap = k_j$q < k_i$q;
         c_valid$d = candidate;
         c_a$d = k_i$q;
@@ -1718,11 +1886,23 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         tag_b$12$d = tag_b$11$q;
         tag_a$13$d = tag_a$12$q;
         tag_b$13$d = tag_b$12$q;
-        hit = sat$valid_out & sat$hit & k_overlap$15$q;
+        tag_a$14$d = tag_a$13$q;
+        tag_b$14$d = tag_b$13$q;
+        tag_a$15$d = tag_a$14$q;
+        tag_b$15$d = tag_b$14$q;
+        tag_a$16$d = tag_a$15$q;
+        tag_b$16$d = tag_b$15$q;
+        tag_a$17$d = tag_a$16$q;
+        tag_b$17$d = tag_b$16$q;
+        tag_a$18$d = tag_a$17$q;
+        tag_b$18$d = tag_b$17$q;
+        tag_a$19$d = tag_a$18$q;
+        tag_b$19$d = tag_b$18$q;
+        hit = sat$valid_out & sat$hit & k_overlap$21$q;
         fifo$write = hit;
         recent$0$d = hit;
         recent$1$d = recent$0$q;
-        fifo$data_in = (((tag_a$13$q) & 40'hffffffffff) << 64'h14) | ((tag_b$13$q) & 40'hffffffffff);
+        fifo$data_in = (((tag_a$19$q) & 40'hffffffffff) << 64'h14) | ((tag_b$19$q) & 40'hffffffffff);
         if (hit) begin
             n_pairs$d = n_pairs$q + 32'h1;
         end
@@ -1821,119 +2001,19 @@ module obb_core$axes$0(clock,write_enable,write_address,write_data,read_address_
     output reg signed [17:0] read_data_a;
     output reg signed [17:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire signed [17:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg signed [17:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire signed [17:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg signed [17:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$axes$0$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$axes$0$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [17:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$axes$0
-
-
-module obb_core$axes$0$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$0$copy_a
-
-
-module obb_core$axes$0$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$0$copy_b
 
 
 module obb_core$axes$1(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -1948,119 +2028,19 @@ module obb_core$axes$1(clock,write_enable,write_address,write_data,read_address_
     output reg signed [17:0] read_data_a;
     output reg signed [17:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire signed [17:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg signed [17:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire signed [17:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg signed [17:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$axes$1$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$axes$1$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [17:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$axes$1
-
-
-module obb_core$axes$1$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$1$copy_a
-
-
-module obb_core$axes$1$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$1$copy_b
 
 
 module obb_core$axes$2(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -2075,119 +2055,19 @@ module obb_core$axes$2(clock,write_enable,write_address,write_data,read_address_
     output reg signed [17:0] read_data_a;
     output reg signed [17:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire signed [17:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg signed [17:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire signed [17:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg signed [17:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$axes$2$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$axes$2$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [17:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$axes$2
-
-
-module obb_core$axes$2$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$2$copy_a
-
-
-module obb_core$axes$2$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$2$copy_b
 
 
 module obb_core$axes$3(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -2202,119 +2082,19 @@ module obb_core$axes$3(clock,write_enable,write_address,write_data,read_address_
     output reg signed [17:0] read_data_a;
     output reg signed [17:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire signed [17:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg signed [17:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire signed [17:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg signed [17:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$axes$3$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$axes$3$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [17:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$axes$3
-
-
-module obb_core$axes$3$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$3$copy_a
-
-
-module obb_core$axes$3$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$3$copy_b
 
 
 module obb_core$axes$4(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -2329,119 +2109,19 @@ module obb_core$axes$4(clock,write_enable,write_address,write_data,read_address_
     output reg signed [17:0] read_data_a;
     output reg signed [17:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire signed [17:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg signed [17:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire signed [17:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg signed [17:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$axes$4$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$axes$4$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [17:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$axes$4
-
-
-module obb_core$axes$4$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$4$copy_a
-
-
-module obb_core$axes$4$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$4$copy_b
 
 
 module obb_core$axes$5(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -2456,119 +2136,19 @@ module obb_core$axes$5(clock,write_enable,write_address,write_data,read_address_
     output reg signed [17:0] read_data_a;
     output reg signed [17:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire signed [17:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg signed [17:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire signed [17:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg signed [17:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$axes$5$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$axes$5$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [17:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$axes$5
-
-
-module obb_core$axes$5$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$5$copy_a
-
-
-module obb_core$axes$5$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$5$copy_b
 
 
 module obb_core$axes$6(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -2583,119 +2163,19 @@ module obb_core$axes$6(clock,write_enable,write_address,write_data,read_address_
     output reg signed [17:0] read_data_a;
     output reg signed [17:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire signed [17:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg signed [17:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire signed [17:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg signed [17:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$axes$6$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$axes$6$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [17:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$axes$6
-
-
-module obb_core$axes$6$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$6$copy_a
-
-
-module obb_core$axes$6$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$6$copy_b
 
 
 module obb_core$axes$7(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -2710,119 +2190,19 @@ module obb_core$axes$7(clock,write_enable,write_address,write_data,read_address_
     output reg signed [17:0] read_data_a;
     output reg signed [17:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire signed [17:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg signed [17:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire signed [17:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg signed [17:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$axes$7$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$axes$7$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [17:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$axes$7
-
-
-module obb_core$axes$7$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$7$copy_a
-
-
-module obb_core$axes$7$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$7$copy_b
 
 
 module obb_core$axes$8(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -2837,119 +2217,19 @@ module obb_core$axes$8(clock,write_enable,write_address,write_data,read_address_
     output reg signed [17:0] read_data_a;
     output reg signed [17:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire signed [17:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg signed [17:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire signed [17:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg signed [17:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$axes$8$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$axes$8$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [17:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$axes$8
-
-
-module obb_core$axes$8$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$8$copy_a
-
-
-module obb_core$axes$8$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg signed [17:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire signed [17:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[17:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$axes$8$copy_b
 
 
 module obb_core$c_a(d,q,clock);
@@ -3059,119 +2339,19 @@ module obb_core$center$0(clock,write_enable,write_address,write_data,read_addres
     output reg  [22:0] read_data_a;
     output reg  [22:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire  [22:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg  [22:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire  [22:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg  [22:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$center$0$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$center$0$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [22:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$center$0
-
-
-module obb_core$center$0$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$center$0$copy_a
-
-
-module obb_core$center$0$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$center$0$copy_b
 
 
 module obb_core$center$1(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -3186,119 +2366,19 @@ module obb_core$center$1(clock,write_enable,write_address,write_data,read_addres
     output reg  [22:0] read_data_a;
     output reg  [22:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire  [22:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg  [22:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire  [22:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg  [22:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$center$1$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$center$1$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [22:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$center$1
-
-
-module obb_core$center$1$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$center$1$copy_a
-
-
-module obb_core$center$1$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$center$1$copy_b
 
 
 module obb_core$center$2(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -3313,119 +2393,19 @@ module obb_core$center$2(clock,write_enable,write_address,write_data,read_addres
     output reg  [22:0] read_data_a;
     output reg  [22:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire  [22:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg  [22:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire  [22:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg  [22:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$center$2$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$center$2$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [22:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$center$2
-
-
-module obb_core$center$2$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$center$2$copy_a
-
-
-module obb_core$center$2$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$center$2$copy_b
 
 
 module obb_core$countdown(d,q,clock);
@@ -4115,119 +3095,19 @@ module obb_core$group(clock,write_enable,write_address,write_data,read_address_a
     output reg  [2:0] read_data_a;
     output reg  [2:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire  [2:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg  [2:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire  [2:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg  [2:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$group$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$group$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [2:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$group
-
-
-module obb_core$group$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [2:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [2:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[2:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$group$copy_a
-
-
-module obb_core$group$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [2:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [2:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[2:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$group$copy_b
 
 
 module obb_core$half$0(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -4242,119 +3122,19 @@ module obb_core$half$0(clock,write_enable,write_address,write_data,read_address_
     output reg  [16:0] read_data_a;
     output reg  [16:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire  [16:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg  [16:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire  [16:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg  [16:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$half$0$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$half$0$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [16:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$half$0
-
-
-module obb_core$half$0$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [16:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [16:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[16:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$half$0$copy_a
-
-
-module obb_core$half$0$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [16:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [16:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[16:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$half$0$copy_b
 
 
 module obb_core$half$1(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -4369,119 +3149,19 @@ module obb_core$half$1(clock,write_enable,write_address,write_data,read_address_
     output reg  [16:0] read_data_a;
     output reg  [16:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire  [16:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg  [16:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire  [16:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg  [16:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$half$1$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$half$1$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [16:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$half$1
-
-
-module obb_core$half$1$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [16:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [16:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[16:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$half$1$copy_a
-
-
-module obb_core$half$1$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [16:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [16:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[16:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$half$1$copy_b
 
 
 module obb_core$half$2(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -4496,119 +3176,19 @@ module obb_core$half$2(clock,write_enable,write_address,write_data,read_address_
     output reg  [16:0] read_data_a;
     output reg  [16:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire  [16:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg  [16:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire  [16:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg  [16:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$half$2$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$half$2$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [16:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$half$2
-
-
-module obb_core$half$2$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [16:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [16:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[16:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$half$2$copy_a
-
-
-module obb_core$half$2$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [16:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [16:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[16:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$half$2$copy_b
 
 
 module obb_core$k_i(d,q,clock);
@@ -4801,6 +3381,82 @@ module obb_core$k_overlap$15(d,q,clock);
 endmodule // obb_core$k_overlap$15
 
 
+module obb_core$k_overlap$16(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$16
+
+
+module obb_core$k_overlap$17(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$17
+
+
+module obb_core$k_overlap$18(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$18
+
+
+module obb_core$k_overlap$19(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$19
+
+
 module obb_core$k_overlap$2(d,q,clock);
     
     // Module arguments
@@ -4818,6 +3474,44 @@ module obb_core$k_overlap$2(d,q,clock);
     end
           
 endmodule // obb_core$k_overlap$2
+
+
+module obb_core$k_overlap$20(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$20
+
+
+module obb_core$k_overlap$21(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$21
 
 
 module obb_core$k_overlap$3(d,q,clock);
@@ -4984,119 +3678,19 @@ module obb_core$kmax$0(clock,write_enable,write_address,write_data,read_address_
     output reg  [22:0] read_data_a;
     output reg  [22:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire  [22:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg  [22:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire  [22:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg  [22:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$kmax$0$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$kmax$0$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [22:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$kmax$0
-
-
-module obb_core$kmax$0$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$kmax$0$copy_a
-
-
-module obb_core$kmax$0$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$kmax$0$copy_b
 
 
 module obb_core$kmax$1(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -5111,119 +3705,19 @@ module obb_core$kmax$1(clock,write_enable,write_address,write_data,read_address_
     output reg  [22:0] read_data_a;
     output reg  [22:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire  [22:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg  [22:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire  [22:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg  [22:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$kmax$1$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$kmax$1$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [22:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$kmax$1
-
-
-module obb_core$kmax$1$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$kmax$1$copy_a
-
-
-module obb_core$kmax$1$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$kmax$1$copy_b
 
 
 module obb_core$kmax$2(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -5238,119 +3732,19 @@ module obb_core$kmax$2(clock,write_enable,write_address,write_data,read_address_
     output reg  [22:0] read_data_a;
     output reg  [22:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire  [22:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg  [22:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire  [22:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg  [22:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$kmax$2$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$kmax$2$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [22:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$kmax$2
-
-
-module obb_core$kmax$2$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$kmax$2$copy_a
-
-
-module obb_core$kmax$2$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$kmax$2$copy_b
 
 
 module obb_core$kmin$0(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -5365,119 +3759,19 @@ module obb_core$kmin$0(clock,write_enable,write_address,write_data,read_address_
     output reg  [22:0] read_data_a;
     output reg  [22:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire  [22:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg  [22:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire  [22:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg  [22:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$kmin$0$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$kmin$0$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [22:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$kmin$0
-
-
-module obb_core$kmin$0$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$kmin$0$copy_a
-
-
-module obb_core$kmin$0$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$kmin$0$copy_b
 
 
 module obb_core$kmin$1(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -5492,119 +3786,19 @@ module obb_core$kmin$1(clock,write_enable,write_address,write_data,read_address_
     output reg  [22:0] read_data_a;
     output reg  [22:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire  [22:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg  [22:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire  [22:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg  [22:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$kmin$1$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$kmin$1$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [22:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$kmin$1
-
-
-module obb_core$kmin$1$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$kmin$1$copy_a
-
-
-module obb_core$kmin$1$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$kmin$1$copy_b
 
 
 module obb_core$kmin$2(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -5619,119 +3813,19 @@ module obb_core$kmin$2(clock,write_enable,write_address,write_data,read_address_
     output reg  [22:0] read_data_a;
     output reg  [22:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire  [22:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg  [22:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire  [22:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg  [22:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$kmin$2$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$kmin$2$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [22:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$kmin$2
-
-
-module obb_core$kmin$2$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$kmin$2$copy_a
-
-
-module obb_core$kmin$2$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [22:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [22:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[22:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$kmin$2$copy_b
 
 
 module obb_core$loaded(d,q,clock);
@@ -5765,119 +3859,19 @@ module obb_core$margin(clock,write_enable,write_address,write_data,read_address_
     output reg  [27:0] read_data_a;
     output reg  [27:0] read_data_b;
     
-    // Stub signals
-    reg  [14:0] copy_a$read_address;
-    reg  copy_a$read_clock;
-    wire  [27:0] copy_a$read_data;
-    reg  [14:0] copy_a$write_address;
-    reg  copy_a$write_clock;
-    reg  [27:0] copy_a$write_data;
-    reg  copy_a$write_enable;
-    reg  [14:0] copy_b$read_address;
-    reg  copy_b$read_clock;
-    wire  [27:0] copy_b$read_data;
-    reg  [14:0] copy_b$write_address;
-    reg  copy_b$write_clock;
-    reg  [27:0] copy_b$write_data;
-    reg  copy_b$write_enable;
-    
-    // Sub module instances
-    obb_core$margin$copy_a copy_a(
-        .read_address(copy_a$read_address),
-        .read_clock(copy_a$read_clock),
-        .read_data(copy_a$read_data),
-        .write_address(copy_a$write_address),
-        .write_clock(copy_a$write_clock),
-        .write_data(copy_a$write_data),
-        .write_enable(copy_a$write_enable)
-    );
-    obb_core$margin$copy_b copy_b(
-        .read_address(copy_b$read_address),
-        .read_clock(copy_b$read_clock),
-        .read_data(copy_b$read_data),
-        .write_address(copy_b$write_address),
-        .write_clock(copy_b$write_clock),
-        .write_data(copy_b$write_data),
-        .write_enable(copy_b$write_enable)
-    );
-    
-    // Update code
-    always @(*) begin
-        copy_a$read_clock = clock;
-        copy_a$write_clock = clock;
-        copy_b$read_clock = clock;
-        copy_b$write_clock = clock;
-        copy_a$write_enable = write_enable;
-        copy_b$write_enable = write_enable;
-        copy_a$write_address = write_address;
-        copy_b$write_address = write_address;
-        copy_a$write_data = write_data;
-        copy_b$write_data = write_data;
-        copy_a$read_address = read_address_a;
-        copy_b$read_address = read_address_b;
-        read_data_a = copy_a$read_data;
-        read_data_b = copy_b$read_data;
+    // Update code (custom)
+    reg [27:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
     end
-    
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
 endmodule // obb_core$margin
-
-
-module obb_core$margin$copy_a(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [27:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [27:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[27:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$margin$copy_a
-
-
-module obb_core$margin$copy_b(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
-    
-    // Module arguments
-    input wire  [14:0] read_address;
-    input wire  read_clock;
-    output reg  [27:0] read_data;
-    input wire  [14:0] write_address;
-    input wire  write_clock;
-    input wire  [27:0] write_data;
-    input wire  write_enable;
-    
-    // Update code (custom)
-    reg[27:0] mem[32767:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
-    end
-    
-    always @(posedge write_clock) begin
-       if (write_enable) begin
-          mem[write_address] <= write_data;
-       end
-    end
-                
-endmodule // obb_core$margin$copy_b
 
 
 module obb_core$n_cycles(d,q,clock);
@@ -29043,6 +27037,24 @@ module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,hal
     reg signed [17:0] ha$11$d;
     wire signed [17:0] ha$11$q;
     reg  ha$11$clock;
+    reg signed [17:0] ha$12$d;
+    wire signed [17:0] ha$12$q;
+    reg  ha$12$clock;
+    reg signed [17:0] ha$13$d;
+    wire signed [17:0] ha$13$q;
+    reg  ha$13$clock;
+    reg signed [17:0] ha$14$d;
+    wire signed [17:0] ha$14$q;
+    reg  ha$14$clock;
+    reg signed [17:0] ha$15$d;
+    wire signed [17:0] ha$15$q;
+    reg  ha$15$clock;
+    reg signed [17:0] ha$16$d;
+    wire signed [17:0] ha$16$q;
+    reg  ha$16$clock;
+    reg signed [17:0] ha$17$d;
+    wire signed [17:0] ha$17$q;
+    reg  ha$17$clock;
     reg signed [17:0] hb$0$d;
     wire signed [17:0] hb$0$q;
     reg  hb$0$clock;
@@ -29079,6 +27091,24 @@ module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,hal
     reg signed [17:0] hb$11$d;
     wire signed [17:0] hb$11$q;
     reg  hb$11$clock;
+    reg signed [17:0] hb$12$d;
+    wire signed [17:0] hb$12$q;
+    reg  hb$12$clock;
+    reg signed [17:0] hb$13$d;
+    wire signed [17:0] hb$13$q;
+    reg  hb$13$clock;
+    reg signed [17:0] hb$14$d;
+    wire signed [17:0] hb$14$q;
+    reg  hb$14$clock;
+    reg signed [17:0] hb$15$d;
+    wire signed [17:0] hb$15$q;
+    reg  hb$15$clock;
+    reg signed [17:0] hb$16$d;
+    wire signed [17:0] hb$16$q;
+    reg  hb$16$clock;
+    reg signed [17:0] hb$17$d;
+    wire signed [17:0] hb$17$q;
+    reg  hb$17$clock;
     reg  [28:0] pm$0$d;
     wire  [28:0] pm$0$q;
     reg  pm$0$clock;
@@ -29091,6 +27121,12 @@ module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,hal
     reg  [28:0] pm$3$d;
     wire  [28:0] pm$3$q;
     reg  pm$3$clock;
+    reg  [28:0] pm$4$d;
+    wire  [28:0] pm$4$q;
+    reg  pm$4$clock;
+    reg  [28:0] pm$5$d;
+    wire  [28:0] pm$5$q;
+    reg  pm$5$clock;
     
     // Local signals
     reg signed [17:0] ha_s$0;
@@ -29234,6 +27270,36 @@ module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,hal
         .q(ha$11$q),
         .clock(ha$11$clock)
     );
+    obb_core$sat$ha$12 ha$12(
+        .d(ha$12$d),
+        .q(ha$12$q),
+        .clock(ha$12$clock)
+    );
+    obb_core$sat$ha$13 ha$13(
+        .d(ha$13$d),
+        .q(ha$13$q),
+        .clock(ha$13$clock)
+    );
+    obb_core$sat$ha$14 ha$14(
+        .d(ha$14$d),
+        .q(ha$14$q),
+        .clock(ha$14$clock)
+    );
+    obb_core$sat$ha$15 ha$15(
+        .d(ha$15$d),
+        .q(ha$15$q),
+        .clock(ha$15$clock)
+    );
+    obb_core$sat$ha$16 ha$16(
+        .d(ha$16$d),
+        .q(ha$16$q),
+        .clock(ha$16$clock)
+    );
+    obb_core$sat$ha$17 ha$17(
+        .d(ha$17$d),
+        .q(ha$17$q),
+        .clock(ha$17$clock)
+    );
     obb_core$sat$hb$0 hb$0(
         .d(hb$0$d),
         .q(hb$0$q),
@@ -29294,6 +27360,36 @@ module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,hal
         .q(hb$11$q),
         .clock(hb$11$clock)
     );
+    obb_core$sat$hb$12 hb$12(
+        .d(hb$12$d),
+        .q(hb$12$q),
+        .clock(hb$12$clock)
+    );
+    obb_core$sat$hb$13 hb$13(
+        .d(hb$13$d),
+        .q(hb$13$q),
+        .clock(hb$13$clock)
+    );
+    obb_core$sat$hb$14 hb$14(
+        .d(hb$14$d),
+        .q(hb$14$q),
+        .clock(hb$14$clock)
+    );
+    obb_core$sat$hb$15 hb$15(
+        .d(hb$15$d),
+        .q(hb$15$q),
+        .clock(hb$15$clock)
+    );
+    obb_core$sat$hb$16 hb$16(
+        .d(hb$16$d),
+        .q(hb$16$q),
+        .clock(hb$16$clock)
+    );
+    obb_core$sat$hb$17 hb$17(
+        .d(hb$17$d),
+        .q(hb$17$q),
+        .clock(hb$17$clock)
+    );
     obb_core$sat$pm$0 pm$0(
         .d(pm$0$d),
         .q(pm$0$q),
@@ -29313,6 +27409,16 @@ module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,hal
         .d(pm$3$d),
         .q(pm$3$q),
         .clock(pm$3$clock)
+    );
+    obb_core$sat$pm$4 pm$4(
+        .d(pm$4$d),
+        .q(pm$4$q),
+        .clock(pm$4$clock)
+    );
+    obb_core$sat$pm$5 pm$5(
+        .d(pm$5$d),
+        .q(pm$5$q),
+        .clock(pm$5$clock)
     );
     
     // Update code
@@ -29343,10 +27449,24 @@ module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,hal
         hb$10$clock = clock;
         ha$11$clock = clock;
         hb$11$clock = clock;
+        ha$12$clock = clock;
+        hb$12$clock = clock;
+        ha$13$clock = clock;
+        hb$13$clock = clock;
+        ha$14$clock = clock;
+        hb$14$clock = clock;
+        ha$15$clock = clock;
+        hb$15$clock = clock;
+        ha$16$clock = clock;
+        hb$16$clock = clock;
+        ha$17$clock = clock;
+        hb$17$clock = clock;
         pm$0$clock = clock;
         pm$1$clock = clock;
         pm$2$clock = clock;
         pm$3$clock = clock;
+        pm$4$clock = clock;
+        pm$5$clock = clock;
         front$valid_in = valid_in;
         front$center_a$0 = center_a$0;
         front$center_b$0 = center_b$0;
@@ -29403,23 +27523,37 @@ module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,hal
         hb$10$d = hb$7$q;
         ha$11$d = ha$8$q;
         hb$11$d = hb$8$q;
+        ha$12$d = ha$9$q;
+        hb$12$d = hb$9$q;
+        ha$13$d = ha$10$q;
+        hb$13$d = hb$10$q;
+        ha$14$d = ha$11$q;
+        hb$14$d = hb$11$q;
+        ha$15$d = ha$12$q;
+        hb$15$d = hb$12$q;
+        ha$16$d = ha$13$q;
+        hb$16$d = hb$13$q;
+        ha$17$d = ha$14$q;
+        hb$17$d = hb$14$q;
         pm$0$d = pair;
         pm$1$d = pm$0$q;
         pm$2$d = pm$1$q;
         pm$3$d = pm$2$q;
+        pm$4$d = pm$3$q;
+        pm$5$d = pm$4$q;
         back$valid_in = front$valid_out;
         back$t$0 = front$t$0;
         back$u$0 = front$u$0;
-        back$half_a$0 = ha$9$q;
-        back$half_b$0 = hb$9$q;
+        back$half_a$0 = ha$15$q;
+        back$half_b$0 = hb$15$q;
         back$t$1 = front$t$1;
         back$u$1 = front$u$1;
-        back$half_a$1 = ha$10$q;
-        back$half_b$1 = hb$10$q;
+        back$half_a$1 = ha$16$q;
+        back$half_b$1 = hb$16$q;
         back$t$2 = front$t$2;
         back$u$2 = front$u$2;
-        back$half_a$2 = ha$11$q;
-        back$half_b$2 = hb$11$q;
+        back$half_a$2 = ha$17$q;
+        back$half_b$2 = hb$17$q;
         back$r$0 = front$r$0;
         back$r$1 = front$r$1;
         back$r$2 = front$r$2;
@@ -29429,7 +27563,7 @@ module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,hal
         back$r$6 = front$r$6;
         back$r$7 = front$r$7;
         back$r$8 = front$r$8;
-        back$pair_margin = pm$3$q;
+        back$pair_margin = pm$5$q;
         valid_out = back$valid_out;
         hit = back$hit;
     end
@@ -29505,6 +27639,18 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     reg  valid$9$d;
     wire  valid$9$q;
     reg  valid$9$clock;
+    reg  valid$10$d;
+    wire  valid$10$q;
+    reg  valid$10$clock;
+    reg  valid$11$d;
+    wire  valid$11$q;
+    reg  valid$11$clock;
+    reg  valid$12$d;
+    wire  valid$12$q;
+    reg  valid$12$clock;
+    reg  valid$13$d;
+    wire  valid$13$q;
+    reg  valid$13$clock;
     reg signed [43:0] round$t$0;
     reg signed [43:0] round$t$1;
     reg signed [43:0] round$t$2;
@@ -29630,6 +27776,42 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     reg signed [17:0] ha$23$d;
     wire signed [17:0] ha$23$q;
     reg  ha$23$clock;
+    reg signed [17:0] ha$24$d;
+    wire signed [17:0] ha$24$q;
+    reg  ha$24$clock;
+    reg signed [17:0] ha$25$d;
+    wire signed [17:0] ha$25$q;
+    reg  ha$25$clock;
+    reg signed [17:0] ha$26$d;
+    wire signed [17:0] ha$26$q;
+    reg  ha$26$clock;
+    reg signed [17:0] ha$27$d;
+    wire signed [17:0] ha$27$q;
+    reg  ha$27$clock;
+    reg signed [17:0] ha$28$d;
+    wire signed [17:0] ha$28$q;
+    reg  ha$28$clock;
+    reg signed [17:0] ha$29$d;
+    wire signed [17:0] ha$29$q;
+    reg  ha$29$clock;
+    reg signed [17:0] ha$30$d;
+    wire signed [17:0] ha$30$q;
+    reg  ha$30$clock;
+    reg signed [17:0] ha$31$d;
+    wire signed [17:0] ha$31$q;
+    reg  ha$31$clock;
+    reg signed [17:0] ha$32$d;
+    wire signed [17:0] ha$32$q;
+    reg  ha$32$clock;
+    reg signed [17:0] ha$33$d;
+    wire signed [17:0] ha$33$q;
+    reg  ha$33$clock;
+    reg signed [17:0] ha$34$d;
+    wire signed [17:0] ha$34$q;
+    reg  ha$34$clock;
+    reg signed [17:0] ha$35$d;
+    wire signed [17:0] ha$35$q;
+    reg  ha$35$clock;
     reg signed [17:0] hb$0$d;
     wire signed [17:0] hb$0$q;
     reg  hb$0$clock;
@@ -29702,6 +27884,42 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     reg signed [17:0] hb$23$d;
     wire signed [17:0] hb$23$q;
     reg  hb$23$clock;
+    reg signed [17:0] hb$24$d;
+    wire signed [17:0] hb$24$q;
+    reg  hb$24$clock;
+    reg signed [17:0] hb$25$d;
+    wire signed [17:0] hb$25$q;
+    reg  hb$25$clock;
+    reg signed [17:0] hb$26$d;
+    wire signed [17:0] hb$26$q;
+    reg  hb$26$clock;
+    reg signed [17:0] hb$27$d;
+    wire signed [17:0] hb$27$q;
+    reg  hb$27$clock;
+    reg signed [17:0] hb$28$d;
+    wire signed [17:0] hb$28$q;
+    reg  hb$28$clock;
+    reg signed [17:0] hb$29$d;
+    wire signed [17:0] hb$29$q;
+    reg  hb$29$clock;
+    reg signed [17:0] hb$30$d;
+    wire signed [17:0] hb$30$q;
+    reg  hb$30$clock;
+    reg signed [17:0] hb$31$d;
+    wire signed [17:0] hb$31$q;
+    reg  hb$31$clock;
+    reg signed [17:0] hb$32$d;
+    wire signed [17:0] hb$32$q;
+    reg  hb$32$clock;
+    reg signed [17:0] hb$33$d;
+    wire signed [17:0] hb$33$q;
+    reg  hb$33$clock;
+    reg signed [17:0] hb$34$d;
+    wire signed [17:0] hb$34$q;
+    reg  hb$34$clock;
+    reg signed [17:0] hb$35$d;
+    wire signed [17:0] hb$35$q;
+    reg  hb$35$clock;
     reg  [28:0] pm$0$d;
     wire  [28:0] pm$0$q;
     reg  pm$0$clock;
@@ -29726,6 +27944,18 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     reg  [28:0] pm$7$d;
     wire  [28:0] pm$7$q;
     reg  pm$7$clock;
+    reg  [28:0] pm$8$d;
+    wire  [28:0] pm$8$q;
+    reg  pm$8$clock;
+    reg  [28:0] pm$9$d;
+    wire  [28:0] pm$9$q;
+    reg  pm$9$clock;
+    reg  [28:0] pm$10$d;
+    wire  [28:0] pm$10$q;
+    reg  pm$10$clock;
+    reg  [28:0] pm$11$d;
+    wire  [28:0] pm$11$q;
+    reg  pm$11$clock;
     reg signed [18:0] face_a_dot$0$a0;
     reg signed [18:0] face_a_dot$0$a1;
     reg signed [18:0] face_a_dot$0$a2;
@@ -30125,6 +28355,42 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     reg  [42:0] at_d$20$d;
     wire  [42:0] at_d$20$q;
     reg  at_d$20$clock;
+    reg  [42:0] at_d$21$d;
+    wire  [42:0] at_d$21$q;
+    reg  at_d$21$clock;
+    reg  [42:0] at_d$22$d;
+    wire  [42:0] at_d$22$q;
+    reg  at_d$22$clock;
+    reg  [42:0] at_d$23$d;
+    wire  [42:0] at_d$23$q;
+    reg  at_d$23$clock;
+    reg  [42:0] at_d$24$d;
+    wire  [42:0] at_d$24$q;
+    reg  at_d$24$clock;
+    reg  [42:0] at_d$25$d;
+    wire  [42:0] at_d$25$q;
+    reg  at_d$25$clock;
+    reg  [42:0] at_d$26$d;
+    wire  [42:0] at_d$26$q;
+    reg  at_d$26$clock;
+    reg  [42:0] at_d$27$d;
+    wire  [42:0] at_d$27$q;
+    reg  at_d$27$clock;
+    reg  [42:0] at_d$28$d;
+    wire  [42:0] at_d$28$q;
+    reg  at_d$28$clock;
+    reg  [42:0] at_d$29$d;
+    wire  [42:0] at_d$29$q;
+    reg  at_d$29$clock;
+    reg  [42:0] at_d$30$d;
+    wire  [42:0] at_d$30$q;
+    reg  at_d$30$clock;
+    reg  [42:0] at_d$31$d;
+    wire  [42:0] at_d$31$q;
+    reg  at_d$31$clock;
+    reg  [42:0] at_d$32$d;
+    wire  [42:0] at_d$32$q;
+    reg  at_d$32$clock;
     reg  [42:0] au_d$0$d;
     wire  [42:0] au_d$0$q;
     reg  au_d$0$clock;
@@ -30188,6 +28454,42 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     reg  [42:0] au_d$20$d;
     wire  [42:0] au_d$20$q;
     reg  au_d$20$clock;
+    reg  [42:0] au_d$21$d;
+    wire  [42:0] au_d$21$q;
+    reg  au_d$21$clock;
+    reg  [42:0] au_d$22$d;
+    wire  [42:0] au_d$22$q;
+    reg  au_d$22$clock;
+    reg  [42:0] au_d$23$d;
+    wire  [42:0] au_d$23$q;
+    reg  au_d$23$clock;
+    reg  [42:0] au_d$24$d;
+    wire  [42:0] au_d$24$q;
+    reg  au_d$24$clock;
+    reg  [42:0] au_d$25$d;
+    wire  [42:0] au_d$25$q;
+    reg  au_d$25$clock;
+    reg  [42:0] au_d$26$d;
+    wire  [42:0] au_d$26$q;
+    reg  au_d$26$clock;
+    reg  [42:0] au_d$27$d;
+    wire  [42:0] au_d$27$q;
+    reg  au_d$27$clock;
+    reg  [42:0] au_d$28$d;
+    wire  [42:0] au_d$28$q;
+    reg  au_d$28$clock;
+    reg  [42:0] au_d$29$d;
+    wire  [42:0] au_d$29$q;
+    reg  au_d$29$clock;
+    reg  [42:0] au_d$30$d;
+    wire  [42:0] au_d$30$q;
+    reg  au_d$30$clock;
+    reg  [42:0] au_d$31$d;
+    wire  [42:0] au_d$31$q;
+    reg  au_d$31$clock;
+    reg  [42:0] au_d$32$d;
+    wire  [42:0] au_d$32$q;
+    reg  au_d$32$clock;
     reg signed [38:0] fa_d$0$d;
     wire signed [38:0] fa_d$0$q;
     reg  fa_d$0$clock;
@@ -30224,6 +28526,24 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     reg signed [38:0] fa_d$11$d;
     wire signed [38:0] fa_d$11$q;
     reg  fa_d$11$clock;
+    reg signed [38:0] fa_d$12$d;
+    wire signed [38:0] fa_d$12$q;
+    reg  fa_d$12$clock;
+    reg signed [38:0] fa_d$13$d;
+    wire signed [38:0] fa_d$13$q;
+    reg  fa_d$13$clock;
+    reg signed [38:0] fa_d$14$d;
+    wire signed [38:0] fa_d$14$q;
+    reg  fa_d$14$clock;
+    reg signed [38:0] fa_d$15$d;
+    wire signed [38:0] fa_d$15$q;
+    reg  fa_d$15$clock;
+    reg signed [38:0] fa_d$16$d;
+    wire signed [38:0] fa_d$16$q;
+    reg  fa_d$16$clock;
+    reg signed [38:0] fa_d$17$d;
+    wire signed [38:0] fa_d$17$q;
+    reg  fa_d$17$clock;
     reg signed [38:0] fb_d$0$d;
     wire signed [38:0] fb_d$0$q;
     reg  fb_d$0$clock;
@@ -30260,6 +28580,24 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     reg signed [38:0] fb_d$11$d;
     wire signed [38:0] fb_d$11$q;
     reg  fb_d$11$clock;
+    reg signed [38:0] fb_d$12$d;
+    wire signed [38:0] fb_d$12$q;
+    reg  fb_d$12$clock;
+    reg signed [38:0] fb_d$13$d;
+    wire signed [38:0] fb_d$13$q;
+    reg  fb_d$13$clock;
+    reg signed [38:0] fb_d$14$d;
+    wire signed [38:0] fb_d$14$q;
+    reg  fb_d$14$clock;
+    reg signed [38:0] fb_d$15$d;
+    wire signed [38:0] fb_d$15$q;
+    reg  fb_d$15$clock;
+    reg signed [38:0] fb_d$16$d;
+    wire signed [38:0] fb_d$16$q;
+    reg  fb_d$16$clock;
+    reg signed [38:0] fb_d$17$d;
+    wire signed [38:0] fb_d$17$q;
+    reg  fb_d$17$clock;
     reg signed [36:0] ra_d$0$d;
     wire signed [36:0] ra_d$0$q;
     reg  ra_d$0$clock;
@@ -30368,6 +28706,60 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     reg signed [36:0] ra_d$35$d;
     wire signed [36:0] ra_d$35$q;
     reg  ra_d$35$clock;
+    reg signed [36:0] ra_d$36$d;
+    wire signed [36:0] ra_d$36$q;
+    reg  ra_d$36$clock;
+    reg signed [36:0] ra_d$37$d;
+    wire signed [36:0] ra_d$37$q;
+    reg  ra_d$37$clock;
+    reg signed [36:0] ra_d$38$d;
+    wire signed [36:0] ra_d$38$q;
+    reg  ra_d$38$clock;
+    reg signed [36:0] ra_d$39$d;
+    wire signed [36:0] ra_d$39$q;
+    reg  ra_d$39$clock;
+    reg signed [36:0] ra_d$40$d;
+    wire signed [36:0] ra_d$40$q;
+    reg  ra_d$40$clock;
+    reg signed [36:0] ra_d$41$d;
+    wire signed [36:0] ra_d$41$q;
+    reg  ra_d$41$clock;
+    reg signed [36:0] ra_d$42$d;
+    wire signed [36:0] ra_d$42$q;
+    reg  ra_d$42$clock;
+    reg signed [36:0] ra_d$43$d;
+    wire signed [36:0] ra_d$43$q;
+    reg  ra_d$43$clock;
+    reg signed [36:0] ra_d$44$d;
+    wire signed [36:0] ra_d$44$q;
+    reg  ra_d$44$clock;
+    reg signed [36:0] ra_d$45$d;
+    wire signed [36:0] ra_d$45$q;
+    reg  ra_d$45$clock;
+    reg signed [36:0] ra_d$46$d;
+    wire signed [36:0] ra_d$46$q;
+    reg  ra_d$46$clock;
+    reg signed [36:0] ra_d$47$d;
+    wire signed [36:0] ra_d$47$q;
+    reg  ra_d$47$clock;
+    reg signed [36:0] ra_d$48$d;
+    wire signed [36:0] ra_d$48$q;
+    reg  ra_d$48$clock;
+    reg signed [36:0] ra_d$49$d;
+    wire signed [36:0] ra_d$49$q;
+    reg  ra_d$49$clock;
+    reg signed [36:0] ra_d$50$d;
+    wire signed [36:0] ra_d$50$q;
+    reg  ra_d$50$clock;
+    reg signed [36:0] ra_d$51$d;
+    wire signed [36:0] ra_d$51$q;
+    reg  ra_d$51$clock;
+    reg signed [36:0] ra_d$52$d;
+    wire signed [36:0] ra_d$52$q;
+    reg  ra_d$52$clock;
+    reg signed [36:0] ra_d$53$d;
+    wire signed [36:0] ra_d$53$q;
+    reg  ra_d$53$clock;
     reg  [43:0] pa_d$0$d;
     wire  [43:0] pa_d$0$q;
     reg  pa_d$0$clock;
@@ -30449,6 +28841,60 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     reg  [43:0] pa_d$26$d;
     wire  [43:0] pa_d$26$q;
     reg  pa_d$26$clock;
+    reg  [43:0] pa_d$27$d;
+    wire  [43:0] pa_d$27$q;
+    reg  pa_d$27$clock;
+    reg  [43:0] pa_d$28$d;
+    wire  [43:0] pa_d$28$q;
+    reg  pa_d$28$clock;
+    reg  [43:0] pa_d$29$d;
+    wire  [43:0] pa_d$29$q;
+    reg  pa_d$29$clock;
+    reg  [43:0] pa_d$30$d;
+    wire  [43:0] pa_d$30$q;
+    reg  pa_d$30$clock;
+    reg  [43:0] pa_d$31$d;
+    wire  [43:0] pa_d$31$q;
+    reg  pa_d$31$clock;
+    reg  [43:0] pa_d$32$d;
+    wire  [43:0] pa_d$32$q;
+    reg  pa_d$32$clock;
+    reg  [43:0] pa_d$33$d;
+    wire  [43:0] pa_d$33$q;
+    reg  pa_d$33$clock;
+    reg  [43:0] pa_d$34$d;
+    wire  [43:0] pa_d$34$q;
+    reg  pa_d$34$clock;
+    reg  [43:0] pa_d$35$d;
+    wire  [43:0] pa_d$35$q;
+    reg  pa_d$35$clock;
+    reg  [43:0] pa_d$36$d;
+    wire  [43:0] pa_d$36$q;
+    reg  pa_d$36$clock;
+    reg  [43:0] pa_d$37$d;
+    wire  [43:0] pa_d$37$q;
+    reg  pa_d$37$clock;
+    reg  [43:0] pa_d$38$d;
+    wire  [43:0] pa_d$38$q;
+    reg  pa_d$38$clock;
+    reg  [43:0] pa_d$39$d;
+    wire  [43:0] pa_d$39$q;
+    reg  pa_d$39$clock;
+    reg  [43:0] pa_d$40$d;
+    wire  [43:0] pa_d$40$q;
+    reg  pa_d$40$clock;
+    reg  [43:0] pa_d$41$d;
+    wire  [43:0] pa_d$41$q;
+    reg  pa_d$41$clock;
+    reg  [43:0] pa_d$42$d;
+    wire  [43:0] pa_d$42$q;
+    reg  pa_d$42$clock;
+    reg  [43:0] pa_d$43$d;
+    wire  [43:0] pa_d$43$q;
+    reg  pa_d$43$clock;
+    reg  [43:0] pa_d$44$d;
+    wire  [43:0] pa_d$44$q;
+    reg  pa_d$44$clock;
     reg  [42:0] decide$abs_t$0;
     reg  [42:0] decide$abs_t$1;
     reg  [42:0] decide$abs_t$2;
@@ -30563,6 +29009,26 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         .d(valid$9$d),
         .q(valid$9$q),
         .clock(valid$9$clock)
+    );
+    obb_core$sat$back$valid$10 valid$10(
+        .d(valid$10$d),
+        .q(valid$10$q),
+        .clock(valid$10$clock)
+    );
+    obb_core$sat$back$valid$11 valid$11(
+        .d(valid$11$d),
+        .q(valid$11$q),
+        .clock(valid$11$clock)
+    );
+    obb_core$sat$back$valid$12 valid$12(
+        .d(valid$12$d),
+        .q(valid$12$q),
+        .clock(valid$12$clock)
+    );
+    obb_core$sat$back$valid$13 valid$13(
+        .d(valid$13$d),
+        .q(valid$13$q),
+        .clock(valid$13$clock)
     );
     obb_core$sat$back$round round(
         .t$0(round$t$0),
@@ -30739,6 +29205,66 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         .q(ha$23$q),
         .clock(ha$23$clock)
     );
+    obb_core$sat$back$ha$24 ha$24(
+        .d(ha$24$d),
+        .q(ha$24$q),
+        .clock(ha$24$clock)
+    );
+    obb_core$sat$back$ha$25 ha$25(
+        .d(ha$25$d),
+        .q(ha$25$q),
+        .clock(ha$25$clock)
+    );
+    obb_core$sat$back$ha$26 ha$26(
+        .d(ha$26$d),
+        .q(ha$26$q),
+        .clock(ha$26$clock)
+    );
+    obb_core$sat$back$ha$27 ha$27(
+        .d(ha$27$d),
+        .q(ha$27$q),
+        .clock(ha$27$clock)
+    );
+    obb_core$sat$back$ha$28 ha$28(
+        .d(ha$28$d),
+        .q(ha$28$q),
+        .clock(ha$28$clock)
+    );
+    obb_core$sat$back$ha$29 ha$29(
+        .d(ha$29$d),
+        .q(ha$29$q),
+        .clock(ha$29$clock)
+    );
+    obb_core$sat$back$ha$30 ha$30(
+        .d(ha$30$d),
+        .q(ha$30$q),
+        .clock(ha$30$clock)
+    );
+    obb_core$sat$back$ha$31 ha$31(
+        .d(ha$31$d),
+        .q(ha$31$q),
+        .clock(ha$31$clock)
+    );
+    obb_core$sat$back$ha$32 ha$32(
+        .d(ha$32$d),
+        .q(ha$32$q),
+        .clock(ha$32$clock)
+    );
+    obb_core$sat$back$ha$33 ha$33(
+        .d(ha$33$d),
+        .q(ha$33$q),
+        .clock(ha$33$clock)
+    );
+    obb_core$sat$back$ha$34 ha$34(
+        .d(ha$34$d),
+        .q(ha$34$q),
+        .clock(ha$34$clock)
+    );
+    obb_core$sat$back$ha$35 ha$35(
+        .d(ha$35$d),
+        .q(ha$35$q),
+        .clock(ha$35$clock)
+    );
     obb_core$sat$back$hb$0 hb$0(
         .d(hb$0$d),
         .q(hb$0$q),
@@ -30859,6 +29385,66 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         .q(hb$23$q),
         .clock(hb$23$clock)
     );
+    obb_core$sat$back$hb$24 hb$24(
+        .d(hb$24$d),
+        .q(hb$24$q),
+        .clock(hb$24$clock)
+    );
+    obb_core$sat$back$hb$25 hb$25(
+        .d(hb$25$d),
+        .q(hb$25$q),
+        .clock(hb$25$clock)
+    );
+    obb_core$sat$back$hb$26 hb$26(
+        .d(hb$26$d),
+        .q(hb$26$q),
+        .clock(hb$26$clock)
+    );
+    obb_core$sat$back$hb$27 hb$27(
+        .d(hb$27$d),
+        .q(hb$27$q),
+        .clock(hb$27$clock)
+    );
+    obb_core$sat$back$hb$28 hb$28(
+        .d(hb$28$d),
+        .q(hb$28$q),
+        .clock(hb$28$clock)
+    );
+    obb_core$sat$back$hb$29 hb$29(
+        .d(hb$29$d),
+        .q(hb$29$q),
+        .clock(hb$29$clock)
+    );
+    obb_core$sat$back$hb$30 hb$30(
+        .d(hb$30$d),
+        .q(hb$30$q),
+        .clock(hb$30$clock)
+    );
+    obb_core$sat$back$hb$31 hb$31(
+        .d(hb$31$d),
+        .q(hb$31$q),
+        .clock(hb$31$clock)
+    );
+    obb_core$sat$back$hb$32 hb$32(
+        .d(hb$32$d),
+        .q(hb$32$q),
+        .clock(hb$32$clock)
+    );
+    obb_core$sat$back$hb$33 hb$33(
+        .d(hb$33$d),
+        .q(hb$33$q),
+        .clock(hb$33$clock)
+    );
+    obb_core$sat$back$hb$34 hb$34(
+        .d(hb$34$d),
+        .q(hb$34$q),
+        .clock(hb$34$clock)
+    );
+    obb_core$sat$back$hb$35 hb$35(
+        .d(hb$35$d),
+        .q(hb$35$q),
+        .clock(hb$35$clock)
+    );
     obb_core$sat$back$pm$0 pm$0(
         .d(pm$0$d),
         .q(pm$0$q),
@@ -30898,6 +29484,26 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         .d(pm$7$d),
         .q(pm$7$q),
         .clock(pm$7$clock)
+    );
+    obb_core$sat$back$pm$8 pm$8(
+        .d(pm$8$d),
+        .q(pm$8$q),
+        .clock(pm$8$clock)
+    );
+    obb_core$sat$back$pm$9 pm$9(
+        .d(pm$9$d),
+        .q(pm$9$q),
+        .clock(pm$9$clock)
+    );
+    obb_core$sat$back$pm$10 pm$10(
+        .d(pm$10$d),
+        .q(pm$10$q),
+        .clock(pm$10$clock)
+    );
+    obb_core$sat$back$pm$11 pm$11(
+        .d(pm$11$d),
+        .q(pm$11$q),
+        .clock(pm$11$clock)
     );
     obb_core$sat$back$face_a_dot$0 face_a_dot$0(
         .a0(face_a_dot$0$a0),
@@ -31460,6 +30066,66 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         .q(at_d$20$q),
         .clock(at_d$20$clock)
     );
+    obb_core$sat$back$at_d$21 at_d$21(
+        .d(at_d$21$d),
+        .q(at_d$21$q),
+        .clock(at_d$21$clock)
+    );
+    obb_core$sat$back$at_d$22 at_d$22(
+        .d(at_d$22$d),
+        .q(at_d$22$q),
+        .clock(at_d$22$clock)
+    );
+    obb_core$sat$back$at_d$23 at_d$23(
+        .d(at_d$23$d),
+        .q(at_d$23$q),
+        .clock(at_d$23$clock)
+    );
+    obb_core$sat$back$at_d$24 at_d$24(
+        .d(at_d$24$d),
+        .q(at_d$24$q),
+        .clock(at_d$24$clock)
+    );
+    obb_core$sat$back$at_d$25 at_d$25(
+        .d(at_d$25$d),
+        .q(at_d$25$q),
+        .clock(at_d$25$clock)
+    );
+    obb_core$sat$back$at_d$26 at_d$26(
+        .d(at_d$26$d),
+        .q(at_d$26$q),
+        .clock(at_d$26$clock)
+    );
+    obb_core$sat$back$at_d$27 at_d$27(
+        .d(at_d$27$d),
+        .q(at_d$27$q),
+        .clock(at_d$27$clock)
+    );
+    obb_core$sat$back$at_d$28 at_d$28(
+        .d(at_d$28$d),
+        .q(at_d$28$q),
+        .clock(at_d$28$clock)
+    );
+    obb_core$sat$back$at_d$29 at_d$29(
+        .d(at_d$29$d),
+        .q(at_d$29$q),
+        .clock(at_d$29$clock)
+    );
+    obb_core$sat$back$at_d$30 at_d$30(
+        .d(at_d$30$d),
+        .q(at_d$30$q),
+        .clock(at_d$30$clock)
+    );
+    obb_core$sat$back$at_d$31 at_d$31(
+        .d(at_d$31$d),
+        .q(at_d$31$q),
+        .clock(at_d$31$clock)
+    );
+    obb_core$sat$back$at_d$32 at_d$32(
+        .d(at_d$32$d),
+        .q(at_d$32$q),
+        .clock(at_d$32$clock)
+    );
     obb_core$sat$back$au_d$0 au_d$0(
         .d(au_d$0$d),
         .q(au_d$0$q),
@@ -31565,6 +30231,66 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         .q(au_d$20$q),
         .clock(au_d$20$clock)
     );
+    obb_core$sat$back$au_d$21 au_d$21(
+        .d(au_d$21$d),
+        .q(au_d$21$q),
+        .clock(au_d$21$clock)
+    );
+    obb_core$sat$back$au_d$22 au_d$22(
+        .d(au_d$22$d),
+        .q(au_d$22$q),
+        .clock(au_d$22$clock)
+    );
+    obb_core$sat$back$au_d$23 au_d$23(
+        .d(au_d$23$d),
+        .q(au_d$23$q),
+        .clock(au_d$23$clock)
+    );
+    obb_core$sat$back$au_d$24 au_d$24(
+        .d(au_d$24$d),
+        .q(au_d$24$q),
+        .clock(au_d$24$clock)
+    );
+    obb_core$sat$back$au_d$25 au_d$25(
+        .d(au_d$25$d),
+        .q(au_d$25$q),
+        .clock(au_d$25$clock)
+    );
+    obb_core$sat$back$au_d$26 au_d$26(
+        .d(au_d$26$d),
+        .q(au_d$26$q),
+        .clock(au_d$26$clock)
+    );
+    obb_core$sat$back$au_d$27 au_d$27(
+        .d(au_d$27$d),
+        .q(au_d$27$q),
+        .clock(au_d$27$clock)
+    );
+    obb_core$sat$back$au_d$28 au_d$28(
+        .d(au_d$28$d),
+        .q(au_d$28$q),
+        .clock(au_d$28$clock)
+    );
+    obb_core$sat$back$au_d$29 au_d$29(
+        .d(au_d$29$d),
+        .q(au_d$29$q),
+        .clock(au_d$29$clock)
+    );
+    obb_core$sat$back$au_d$30 au_d$30(
+        .d(au_d$30$d),
+        .q(au_d$30$q),
+        .clock(au_d$30$clock)
+    );
+    obb_core$sat$back$au_d$31 au_d$31(
+        .d(au_d$31$d),
+        .q(au_d$31$q),
+        .clock(au_d$31$clock)
+    );
+    obb_core$sat$back$au_d$32 au_d$32(
+        .d(au_d$32$d),
+        .q(au_d$32$q),
+        .clock(au_d$32$clock)
+    );
     obb_core$sat$back$fa_d$0 fa_d$0(
         .d(fa_d$0$d),
         .q(fa_d$0$q),
@@ -31625,6 +30351,36 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         .q(fa_d$11$q),
         .clock(fa_d$11$clock)
     );
+    obb_core$sat$back$fa_d$12 fa_d$12(
+        .d(fa_d$12$d),
+        .q(fa_d$12$q),
+        .clock(fa_d$12$clock)
+    );
+    obb_core$sat$back$fa_d$13 fa_d$13(
+        .d(fa_d$13$d),
+        .q(fa_d$13$q),
+        .clock(fa_d$13$clock)
+    );
+    obb_core$sat$back$fa_d$14 fa_d$14(
+        .d(fa_d$14$d),
+        .q(fa_d$14$q),
+        .clock(fa_d$14$clock)
+    );
+    obb_core$sat$back$fa_d$15 fa_d$15(
+        .d(fa_d$15$d),
+        .q(fa_d$15$q),
+        .clock(fa_d$15$clock)
+    );
+    obb_core$sat$back$fa_d$16 fa_d$16(
+        .d(fa_d$16$d),
+        .q(fa_d$16$q),
+        .clock(fa_d$16$clock)
+    );
+    obb_core$sat$back$fa_d$17 fa_d$17(
+        .d(fa_d$17$d),
+        .q(fa_d$17$q),
+        .clock(fa_d$17$clock)
+    );
     obb_core$sat$back$fb_d$0 fb_d$0(
         .d(fb_d$0$d),
         .q(fb_d$0$q),
@@ -31684,6 +30440,36 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         .d(fb_d$11$d),
         .q(fb_d$11$q),
         .clock(fb_d$11$clock)
+    );
+    obb_core$sat$back$fb_d$12 fb_d$12(
+        .d(fb_d$12$d),
+        .q(fb_d$12$q),
+        .clock(fb_d$12$clock)
+    );
+    obb_core$sat$back$fb_d$13 fb_d$13(
+        .d(fb_d$13$d),
+        .q(fb_d$13$q),
+        .clock(fb_d$13$clock)
+    );
+    obb_core$sat$back$fb_d$14 fb_d$14(
+        .d(fb_d$14$d),
+        .q(fb_d$14$q),
+        .clock(fb_d$14$clock)
+    );
+    obb_core$sat$back$fb_d$15 fb_d$15(
+        .d(fb_d$15$d),
+        .q(fb_d$15$q),
+        .clock(fb_d$15$clock)
+    );
+    obb_core$sat$back$fb_d$16 fb_d$16(
+        .d(fb_d$16$d),
+        .q(fb_d$16$q),
+        .clock(fb_d$16$clock)
+    );
+    obb_core$sat$back$fb_d$17 fb_d$17(
+        .d(fb_d$17$d),
+        .q(fb_d$17$q),
+        .clock(fb_d$17$clock)
     );
     obb_core$sat$back$ra_d$0 ra_d$0(
         .d(ra_d$0$d),
@@ -31865,6 +30651,96 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         .q(ra_d$35$q),
         .clock(ra_d$35$clock)
     );
+    obb_core$sat$back$ra_d$36 ra_d$36(
+        .d(ra_d$36$d),
+        .q(ra_d$36$q),
+        .clock(ra_d$36$clock)
+    );
+    obb_core$sat$back$ra_d$37 ra_d$37(
+        .d(ra_d$37$d),
+        .q(ra_d$37$q),
+        .clock(ra_d$37$clock)
+    );
+    obb_core$sat$back$ra_d$38 ra_d$38(
+        .d(ra_d$38$d),
+        .q(ra_d$38$q),
+        .clock(ra_d$38$clock)
+    );
+    obb_core$sat$back$ra_d$39 ra_d$39(
+        .d(ra_d$39$d),
+        .q(ra_d$39$q),
+        .clock(ra_d$39$clock)
+    );
+    obb_core$sat$back$ra_d$40 ra_d$40(
+        .d(ra_d$40$d),
+        .q(ra_d$40$q),
+        .clock(ra_d$40$clock)
+    );
+    obb_core$sat$back$ra_d$41 ra_d$41(
+        .d(ra_d$41$d),
+        .q(ra_d$41$q),
+        .clock(ra_d$41$clock)
+    );
+    obb_core$sat$back$ra_d$42 ra_d$42(
+        .d(ra_d$42$d),
+        .q(ra_d$42$q),
+        .clock(ra_d$42$clock)
+    );
+    obb_core$sat$back$ra_d$43 ra_d$43(
+        .d(ra_d$43$d),
+        .q(ra_d$43$q),
+        .clock(ra_d$43$clock)
+    );
+    obb_core$sat$back$ra_d$44 ra_d$44(
+        .d(ra_d$44$d),
+        .q(ra_d$44$q),
+        .clock(ra_d$44$clock)
+    );
+    obb_core$sat$back$ra_d$45 ra_d$45(
+        .d(ra_d$45$d),
+        .q(ra_d$45$q),
+        .clock(ra_d$45$clock)
+    );
+    obb_core$sat$back$ra_d$46 ra_d$46(
+        .d(ra_d$46$d),
+        .q(ra_d$46$q),
+        .clock(ra_d$46$clock)
+    );
+    obb_core$sat$back$ra_d$47 ra_d$47(
+        .d(ra_d$47$d),
+        .q(ra_d$47$q),
+        .clock(ra_d$47$clock)
+    );
+    obb_core$sat$back$ra_d$48 ra_d$48(
+        .d(ra_d$48$d),
+        .q(ra_d$48$q),
+        .clock(ra_d$48$clock)
+    );
+    obb_core$sat$back$ra_d$49 ra_d$49(
+        .d(ra_d$49$d),
+        .q(ra_d$49$q),
+        .clock(ra_d$49$clock)
+    );
+    obb_core$sat$back$ra_d$50 ra_d$50(
+        .d(ra_d$50$d),
+        .q(ra_d$50$q),
+        .clock(ra_d$50$clock)
+    );
+    obb_core$sat$back$ra_d$51 ra_d$51(
+        .d(ra_d$51$d),
+        .q(ra_d$51$q),
+        .clock(ra_d$51$clock)
+    );
+    obb_core$sat$back$ra_d$52 ra_d$52(
+        .d(ra_d$52$d),
+        .q(ra_d$52$q),
+        .clock(ra_d$52$clock)
+    );
+    obb_core$sat$back$ra_d$53 ra_d$53(
+        .d(ra_d$53$d),
+        .q(ra_d$53$q),
+        .clock(ra_d$53$clock)
+    );
     obb_core$sat$back$pa_d$0 pa_d$0(
         .d(pa_d$0$d),
         .q(pa_d$0$q),
@@ -32000,6 +30876,96 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         .q(pa_d$26$q),
         .clock(pa_d$26$clock)
     );
+    obb_core$sat$back$pa_d$27 pa_d$27(
+        .d(pa_d$27$d),
+        .q(pa_d$27$q),
+        .clock(pa_d$27$clock)
+    );
+    obb_core$sat$back$pa_d$28 pa_d$28(
+        .d(pa_d$28$d),
+        .q(pa_d$28$q),
+        .clock(pa_d$28$clock)
+    );
+    obb_core$sat$back$pa_d$29 pa_d$29(
+        .d(pa_d$29$d),
+        .q(pa_d$29$q),
+        .clock(pa_d$29$clock)
+    );
+    obb_core$sat$back$pa_d$30 pa_d$30(
+        .d(pa_d$30$d),
+        .q(pa_d$30$q),
+        .clock(pa_d$30$clock)
+    );
+    obb_core$sat$back$pa_d$31 pa_d$31(
+        .d(pa_d$31$d),
+        .q(pa_d$31$q),
+        .clock(pa_d$31$clock)
+    );
+    obb_core$sat$back$pa_d$32 pa_d$32(
+        .d(pa_d$32$d),
+        .q(pa_d$32$q),
+        .clock(pa_d$32$clock)
+    );
+    obb_core$sat$back$pa_d$33 pa_d$33(
+        .d(pa_d$33$d),
+        .q(pa_d$33$q),
+        .clock(pa_d$33$clock)
+    );
+    obb_core$sat$back$pa_d$34 pa_d$34(
+        .d(pa_d$34$d),
+        .q(pa_d$34$q),
+        .clock(pa_d$34$clock)
+    );
+    obb_core$sat$back$pa_d$35 pa_d$35(
+        .d(pa_d$35$d),
+        .q(pa_d$35$q),
+        .clock(pa_d$35$clock)
+    );
+    obb_core$sat$back$pa_d$36 pa_d$36(
+        .d(pa_d$36$d),
+        .q(pa_d$36$q),
+        .clock(pa_d$36$clock)
+    );
+    obb_core$sat$back$pa_d$37 pa_d$37(
+        .d(pa_d$37$d),
+        .q(pa_d$37$q),
+        .clock(pa_d$37$clock)
+    );
+    obb_core$sat$back$pa_d$38 pa_d$38(
+        .d(pa_d$38$d),
+        .q(pa_d$38$q),
+        .clock(pa_d$38$clock)
+    );
+    obb_core$sat$back$pa_d$39 pa_d$39(
+        .d(pa_d$39$d),
+        .q(pa_d$39$q),
+        .clock(pa_d$39$clock)
+    );
+    obb_core$sat$back$pa_d$40 pa_d$40(
+        .d(pa_d$40$d),
+        .q(pa_d$40$q),
+        .clock(pa_d$40$clock)
+    );
+    obb_core$sat$back$pa_d$41 pa_d$41(
+        .d(pa_d$41$d),
+        .q(pa_d$41$q),
+        .clock(pa_d$41$clock)
+    );
+    obb_core$sat$back$pa_d$42 pa_d$42(
+        .d(pa_d$42$d),
+        .q(pa_d$42$q),
+        .clock(pa_d$42$clock)
+    );
+    obb_core$sat$back$pa_d$43 pa_d$43(
+        .d(pa_d$43$d),
+        .q(pa_d$43$q),
+        .clock(pa_d$43$clock)
+    );
+    obb_core$sat$back$pa_d$44 pa_d$44(
+        .d(pa_d$44$d),
+        .q(pa_d$44$q),
+        .clock(pa_d$44$clock)
+    );
     obb_core$sat$back$decide decide(
         .abs_t$0(decide$abs_t$0),
         .abs_t$1(decide$abs_t$1),
@@ -32067,6 +31033,10 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         valid$7$clock = clock;
         valid$8$clock = clock;
         valid$9$clock = clock;
+        valid$10$clock = clock;
+        valid$11$clock = clock;
+        valid$12$clock = clock;
+        valid$13$clock = clock;
         ha$0$clock = clock;
         ha$1$clock = clock;
         ha$2$clock = clock;
@@ -32091,6 +31061,18 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         ha$21$clock = clock;
         ha$22$clock = clock;
         ha$23$clock = clock;
+        ha$24$clock = clock;
+        ha$25$clock = clock;
+        ha$26$clock = clock;
+        ha$27$clock = clock;
+        ha$28$clock = clock;
+        ha$29$clock = clock;
+        ha$30$clock = clock;
+        ha$31$clock = clock;
+        ha$32$clock = clock;
+        ha$33$clock = clock;
+        ha$34$clock = clock;
+        ha$35$clock = clock;
         hb$0$clock = clock;
         hb$1$clock = clock;
         hb$2$clock = clock;
@@ -32115,6 +31097,18 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         hb$21$clock = clock;
         hb$22$clock = clock;
         hb$23$clock = clock;
+        hb$24$clock = clock;
+        hb$25$clock = clock;
+        hb$26$clock = clock;
+        hb$27$clock = clock;
+        hb$28$clock = clock;
+        hb$29$clock = clock;
+        hb$30$clock = clock;
+        hb$31$clock = clock;
+        hb$32$clock = clock;
+        hb$33$clock = clock;
+        hb$34$clock = clock;
+        hb$35$clock = clock;
         pm$0$clock = clock;
         pm$1$clock = clock;
         pm$2$clock = clock;
@@ -32123,6 +31117,10 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         pm$5$clock = clock;
         pm$6$clock = clock;
         pm$7$clock = clock;
+        pm$8$clock = clock;
+        pm$9$clock = clock;
+        pm$10$clock = clock;
+        pm$11$clock = clock;
         face_a_dot$0$clock = clock;
         face_a_dot$1$clock = clock;
         face_a_dot$2$clock = clock;
@@ -32204,6 +31202,18 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         at_d$18$clock = clock;
         at_d$19$clock = clock;
         at_d$20$clock = clock;
+        at_d$21$clock = clock;
+        at_d$22$clock = clock;
+        at_d$23$clock = clock;
+        at_d$24$clock = clock;
+        at_d$25$clock = clock;
+        at_d$26$clock = clock;
+        at_d$27$clock = clock;
+        at_d$28$clock = clock;
+        at_d$29$clock = clock;
+        at_d$30$clock = clock;
+        at_d$31$clock = clock;
+        at_d$32$clock = clock;
         au_d$0$clock = clock;
         au_d$1$clock = clock;
         au_d$2$clock = clock;
@@ -32225,6 +31235,18 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         au_d$18$clock = clock;
         au_d$19$clock = clock;
         au_d$20$clock = clock;
+        au_d$21$clock = clock;
+        au_d$22$clock = clock;
+        au_d$23$clock = clock;
+        au_d$24$clock = clock;
+        au_d$25$clock = clock;
+        au_d$26$clock = clock;
+        au_d$27$clock = clock;
+        au_d$28$clock = clock;
+        au_d$29$clock = clock;
+        au_d$30$clock = clock;
+        au_d$31$clock = clock;
+        au_d$32$clock = clock;
         fa_d$0$clock = clock;
         fa_d$1$clock = clock;
         fa_d$2$clock = clock;
@@ -32237,6 +31259,12 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         fa_d$9$clock = clock;
         fa_d$10$clock = clock;
         fa_d$11$clock = clock;
+        fa_d$12$clock = clock;
+        fa_d$13$clock = clock;
+        fa_d$14$clock = clock;
+        fa_d$15$clock = clock;
+        fa_d$16$clock = clock;
+        fa_d$17$clock = clock;
         fb_d$0$clock = clock;
         fb_d$1$clock = clock;
         fb_d$2$clock = clock;
@@ -32249,6 +31277,12 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         fb_d$9$clock = clock;
         fb_d$10$clock = clock;
         fb_d$11$clock = clock;
+        fb_d$12$clock = clock;
+        fb_d$13$clock = clock;
+        fb_d$14$clock = clock;
+        fb_d$15$clock = clock;
+        fb_d$16$clock = clock;
+        fb_d$17$clock = clock;
         ra_d$0$clock = clock;
         ra_d$1$clock = clock;
         ra_d$2$clock = clock;
@@ -32285,6 +31319,24 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         ra_d$33$clock = clock;
         ra_d$34$clock = clock;
         ra_d$35$clock = clock;
+        ra_d$36$clock = clock;
+        ra_d$37$clock = clock;
+        ra_d$38$clock = clock;
+        ra_d$39$clock = clock;
+        ra_d$40$clock = clock;
+        ra_d$41$clock = clock;
+        ra_d$42$clock = clock;
+        ra_d$43$clock = clock;
+        ra_d$44$clock = clock;
+        ra_d$45$clock = clock;
+        ra_d$46$clock = clock;
+        ra_d$47$clock = clock;
+        ra_d$48$clock = clock;
+        ra_d$49$clock = clock;
+        ra_d$50$clock = clock;
+        ra_d$51$clock = clock;
+        ra_d$52$clock = clock;
+        ra_d$53$clock = clock;
         pa_d$0$clock = clock;
         pa_d$1$clock = clock;
         pa_d$2$clock = clock;
@@ -32312,6 +31364,24 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         pa_d$24$clock = clock;
         pa_d$25$clock = clock;
         pa_d$26$clock = clock;
+        pa_d$27$clock = clock;
+        pa_d$28$clock = clock;
+        pa_d$29$clock = clock;
+        pa_d$30$clock = clock;
+        pa_d$31$clock = clock;
+        pa_d$32$clock = clock;
+        pa_d$33$clock = clock;
+        pa_d$34$clock = clock;
+        pa_d$35$clock = clock;
+        pa_d$36$clock = clock;
+        pa_d$37$clock = clock;
+        pa_d$38$clock = clock;
+        pa_d$39$clock = clock;
+        pa_d$40$clock = clock;
+        pa_d$41$clock = clock;
+        pa_d$42$clock = clock;
+        pa_d$43$clock = clock;
+        pa_d$44$clock = clock;
         round$clock = clock;
         decide$clock = clock;
         valid$0$d = valid_in;
@@ -32324,6 +31394,10 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         valid$7$d = valid$6$q;
         valid$8$d = valid$7$q;
         valid$9$d = valid$8$q;
+        valid$10$d = valid$9$q;
+        valid$11$d = valid$10$q;
+        valid$12$d = valid$11$q;
+        valid$13$d = valid$12$q;
         pm$0$d = pair_margin;
         pm$1$d = pm$0$q;
         pm$2$d = pm$1$q;
@@ -32332,6 +31406,10 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         pm$5$d = pm$4$q;
         pm$6$d = pm$5$q;
         pm$7$d = pm$6$q;
+        pm$8$d = pm$7$q;
+        pm$9$d = pm$8$q;
+        pm$10$d = pm$9$q;
+        pm$11$d = pm$10$q;
         ha$0$d = half_a$0;
         hb$0$d = half_b$0;
         ha$1$d = half_a$1;
@@ -32380,6 +31458,30 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         hb$22$d = hb$19$q;
         ha$23$d = ha$20$q;
         hb$23$d = hb$20$q;
+        ha$24$d = ha$21$q;
+        hb$24$d = hb$21$q;
+        ha$25$d = ha$22$q;
+        hb$25$d = hb$22$q;
+        ha$26$d = ha$23$q;
+        hb$26$d = hb$23$q;
+        ha$27$d = ha$24$q;
+        hb$27$d = hb$24$q;
+        ha$28$d = ha$25$q;
+        hb$28$d = hb$25$q;
+        ha$29$d = ha$26$q;
+        hb$29$d = hb$26$q;
+        ha$30$d = ha$27$q;
+        hb$30$d = hb$27$q;
+        ha$31$d = ha$28$q;
+        hb$31$d = hb$28$q;
+        ha$32$d = ha$29$q;
+        hb$32$d = hb$29$q;
+        ha$33$d = ha$30$q;
+        hb$33$d = hb$30$q;
+        ha$34$d = ha$31$q;
+        hb$34$d = hb$31$q;
+        ha$35$d = ha$32$q;
+        hb$35$d = hb$32$q;
         round$f = frac;
         round$t$0 = t$0;
         round$u$0 = u$0;
@@ -32586,41 +31688,41 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         minor_s$7 = $signed(minor_abs$7$y);
         minor_s$8 = $signed(minor_abs$8$y);
         rb_dot$0$a0 = minor_s$0;
-        rb_dot$0$b0 = hb$13$q;
+        rb_dot$0$b0 = hb$19$q;
         rb_dot$0$a1 = minor_s$1;
-        rb_dot$0$b1 = hb$14$q;
+        rb_dot$0$b1 = hb$20$q;
         rb_dot$1$a0 = minor_s$0;
-        rb_dot$1$b0 = hb$12$q;
+        rb_dot$1$b0 = hb$18$q;
         rb_dot$1$a1 = minor_s$2;
-        rb_dot$1$b1 = hb$14$q;
+        rb_dot$1$b1 = hb$20$q;
         rb_dot$2$a0 = minor_s$1;
-        rb_dot$2$b0 = hb$12$q;
+        rb_dot$2$b0 = hb$18$q;
         rb_dot$2$a1 = minor_s$2;
-        rb_dot$2$b1 = hb$13$q;
+        rb_dot$2$b1 = hb$19$q;
         rb_dot$3$a0 = minor_s$3;
-        rb_dot$3$b0 = hb$13$q;
+        rb_dot$3$b0 = hb$19$q;
         rb_dot$3$a1 = minor_s$4;
-        rb_dot$3$b1 = hb$14$q;
+        rb_dot$3$b1 = hb$20$q;
         rb_dot$4$a0 = minor_s$3;
-        rb_dot$4$b0 = hb$12$q;
+        rb_dot$4$b0 = hb$18$q;
         rb_dot$4$a1 = minor_s$5;
-        rb_dot$4$b1 = hb$14$q;
+        rb_dot$4$b1 = hb$20$q;
         rb_dot$5$a0 = minor_s$4;
-        rb_dot$5$b0 = hb$12$q;
+        rb_dot$5$b0 = hb$18$q;
         rb_dot$5$a1 = minor_s$5;
-        rb_dot$5$b1 = hb$13$q;
+        rb_dot$5$b1 = hb$19$q;
         rb_dot$6$a0 = minor_s$6;
-        rb_dot$6$b0 = hb$13$q;
+        rb_dot$6$b0 = hb$19$q;
         rb_dot$6$a1 = minor_s$7;
-        rb_dot$6$b1 = hb$14$q;
+        rb_dot$6$b1 = hb$20$q;
         rb_dot$7$a0 = minor_s$6;
-        rb_dot$7$b0 = hb$12$q;
+        rb_dot$7$b0 = hb$18$q;
         rb_dot$7$a1 = minor_s$8;
-        rb_dot$7$b1 = hb$14$q;
+        rb_dot$7$b1 = hb$20$q;
         rb_dot$8$a0 = minor_s$7;
-        rb_dot$8$b0 = hb$12$q;
+        rb_dot$8$b0 = hb$18$q;
         rb_dot$8$a1 = minor_s$8;
-        rb_dot$8$b1 = hb$13$q;
+        rb_dot$8$b1 = hb$19$q;
         at_d$0$d = round$abs_t$0;
         au_d$0$d = round$abs_u$0;
         fa_d$0$d = face_a_dot$0$p;
@@ -32669,6 +31771,30 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         au_d$19$d = au_d$16$q;
         at_d$20$d = at_d$17$q;
         au_d$20$d = au_d$17$q;
+        at_d$21$d = at_d$18$q;
+        au_d$21$d = au_d$18$q;
+        at_d$22$d = at_d$19$q;
+        au_d$22$d = au_d$19$q;
+        at_d$23$d = at_d$20$q;
+        au_d$23$d = au_d$20$q;
+        at_d$24$d = at_d$21$q;
+        au_d$24$d = au_d$21$q;
+        at_d$25$d = at_d$22$q;
+        au_d$25$d = au_d$22$q;
+        at_d$26$d = at_d$23$q;
+        au_d$26$d = au_d$23$q;
+        at_d$27$d = at_d$24$q;
+        au_d$27$d = au_d$24$q;
+        at_d$28$d = at_d$25$q;
+        au_d$28$d = au_d$25$q;
+        at_d$29$d = at_d$26$q;
+        au_d$29$d = au_d$26$q;
+        at_d$30$d = at_d$27$q;
+        au_d$30$d = au_d$27$q;
+        at_d$31$d = at_d$28$q;
+        au_d$31$d = au_d$28$q;
+        at_d$32$d = at_d$29$q;
+        au_d$32$d = au_d$29$q;
         fa_d$3$d = fa_d$0$q;
         fb_d$3$d = fb_d$0$q;
         fa_d$4$d = fa_d$1$q;
@@ -32687,6 +31813,18 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         fb_d$10$d = fb_d$7$q;
         fa_d$11$d = fa_d$8$q;
         fb_d$11$d = fb_d$8$q;
+        fa_d$12$d = fa_d$9$q;
+        fb_d$12$d = fb_d$9$q;
+        fa_d$13$d = fa_d$10$q;
+        fb_d$13$d = fb_d$10$q;
+        fa_d$14$d = fa_d$11$q;
+        fb_d$14$d = fb_d$11$q;
+        fa_d$15$d = fa_d$12$q;
+        fb_d$15$d = fb_d$12$q;
+        fa_d$16$d = fa_d$13$q;
+        fb_d$16$d = fb_d$13$q;
+        fa_d$17$d = fa_d$14$q;
+        fb_d$17$d = fb_d$14$q;
         ra_d$0$d = ra_dot$0$p;
         pa_d$0$d = p_abs$0$y;
         ra_d$1$d = ra_dot$1$p;
@@ -32732,6 +31870,24 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         ra_d$33$d = ra_d$24$q;
         ra_d$34$d = ra_d$25$q;
         ra_d$35$d = ra_d$26$q;
+        ra_d$36$d = ra_d$27$q;
+        ra_d$37$d = ra_d$28$q;
+        ra_d$38$d = ra_d$29$q;
+        ra_d$39$d = ra_d$30$q;
+        ra_d$40$d = ra_d$31$q;
+        ra_d$41$d = ra_d$32$q;
+        ra_d$42$d = ra_d$33$q;
+        ra_d$43$d = ra_d$34$q;
+        ra_d$44$d = ra_d$35$q;
+        ra_d$45$d = ra_d$36$q;
+        ra_d$46$d = ra_d$37$q;
+        ra_d$47$d = ra_d$38$q;
+        ra_d$48$d = ra_d$39$q;
+        ra_d$49$d = ra_d$40$q;
+        ra_d$50$d = ra_d$41$q;
+        ra_d$51$d = ra_d$42$q;
+        ra_d$52$d = ra_d$43$q;
+        ra_d$53$d = ra_d$44$q;
         pa_d$9$d = pa_d$0$q;
         pa_d$10$d = pa_d$1$q;
         pa_d$11$d = pa_d$2$q;
@@ -32750,57 +31906,75 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         pa_d$24$d = pa_d$15$q;
         pa_d$25$d = pa_d$16$q;
         pa_d$26$d = pa_d$17$q;
+        pa_d$27$d = pa_d$18$q;
+        pa_d$28$d = pa_d$19$q;
+        pa_d$29$d = pa_d$20$q;
+        pa_d$30$d = pa_d$21$q;
+        pa_d$31$d = pa_d$22$q;
+        pa_d$32$d = pa_d$23$q;
+        pa_d$33$d = pa_d$24$q;
+        pa_d$34$d = pa_d$25$q;
+        pa_d$35$d = pa_d$26$q;
+        pa_d$36$d = pa_d$27$q;
+        pa_d$37$d = pa_d$28$q;
+        pa_d$38$d = pa_d$29$q;
+        pa_d$39$d = pa_d$30$q;
+        pa_d$40$d = pa_d$31$q;
+        pa_d$41$d = pa_d$32$q;
+        pa_d$42$d = pa_d$33$q;
+        pa_d$43$d = pa_d$34$q;
+        pa_d$44$d = pa_d$35$q;
         decide$f = frac;
         decide$k = shift;
         decide$face_margin = face_margin;
         decide$cross_margin = cross_margin;
-        decide$pair_margin = pm$7$q;
-        decide$abs_t$0 = at_d$18$q;
-        decide$abs_u$0 = au_d$18$q;
-        decide$face_a$0 = fa_d$9$q;
-        decide$face_b$0 = fb_d$9$q;
-        decide$half_a$0 = ha$21$q;
-        decide$half_b$0 = hb$21$q;
-        decide$abs_t$1 = at_d$19$q;
-        decide$abs_u$1 = au_d$19$q;
-        decide$face_a$1 = fa_d$10$q;
-        decide$face_b$1 = fb_d$10$q;
-        decide$half_a$1 = ha$22$q;
-        decide$half_b$1 = hb$22$q;
-        decide$abs_t$2 = at_d$20$q;
-        decide$abs_u$2 = au_d$20$q;
-        decide$face_a$2 = fa_d$11$q;
-        decide$face_b$2 = fb_d$11$q;
-        decide$half_a$2 = ha$23$q;
-        decide$half_b$2 = hb$23$q;
-        decide$abs_p$0 = pa_d$18$q;
-        decide$r_a$0 = ra_d$27$q;
+        decide$pair_margin = pm$11$q;
+        decide$abs_t$0 = at_d$30$q;
+        decide$abs_u$0 = au_d$30$q;
+        decide$face_a$0 = fa_d$15$q;
+        decide$face_b$0 = fb_d$15$q;
+        decide$half_a$0 = ha$33$q;
+        decide$half_b$0 = hb$33$q;
+        decide$abs_t$1 = at_d$31$q;
+        decide$abs_u$1 = au_d$31$q;
+        decide$face_a$1 = fa_d$16$q;
+        decide$face_b$1 = fb_d$16$q;
+        decide$half_a$1 = ha$34$q;
+        decide$half_b$1 = hb$34$q;
+        decide$abs_t$2 = at_d$32$q;
+        decide$abs_u$2 = au_d$32$q;
+        decide$face_a$2 = fa_d$17$q;
+        decide$face_b$2 = fb_d$17$q;
+        decide$half_a$2 = ha$35$q;
+        decide$half_b$2 = hb$35$q;
+        decide$abs_p$0 = pa_d$36$q;
+        decide$r_a$0 = ra_d$45$q;
         decide$r_b$0 = rb_dot$0$p;
-        decide$abs_p$1 = pa_d$19$q;
-        decide$r_a$1 = ra_d$28$q;
+        decide$abs_p$1 = pa_d$37$q;
+        decide$r_a$1 = ra_d$46$q;
         decide$r_b$1 = rb_dot$1$p;
-        decide$abs_p$2 = pa_d$20$q;
-        decide$r_a$2 = ra_d$29$q;
+        decide$abs_p$2 = pa_d$38$q;
+        decide$r_a$2 = ra_d$47$q;
         decide$r_b$2 = rb_dot$2$p;
-        decide$abs_p$3 = pa_d$21$q;
-        decide$r_a$3 = ra_d$30$q;
+        decide$abs_p$3 = pa_d$39$q;
+        decide$r_a$3 = ra_d$48$q;
         decide$r_b$3 = rb_dot$3$p;
-        decide$abs_p$4 = pa_d$22$q;
-        decide$r_a$4 = ra_d$31$q;
+        decide$abs_p$4 = pa_d$40$q;
+        decide$r_a$4 = ra_d$49$q;
         decide$r_b$4 = rb_dot$4$p;
-        decide$abs_p$5 = pa_d$23$q;
-        decide$r_a$5 = ra_d$32$q;
+        decide$abs_p$5 = pa_d$41$q;
+        decide$r_a$5 = ra_d$50$q;
         decide$r_b$5 = rb_dot$5$p;
-        decide$abs_p$6 = pa_d$24$q;
-        decide$r_a$6 = ra_d$33$q;
+        decide$abs_p$6 = pa_d$42$q;
+        decide$r_a$6 = ra_d$51$q;
         decide$r_b$6 = rb_dot$6$p;
-        decide$abs_p$7 = pa_d$25$q;
-        decide$r_a$7 = ra_d$34$q;
+        decide$abs_p$7 = pa_d$43$q;
+        decide$r_a$7 = ra_d$52$q;
         decide$r_b$7 = rb_dot$7$p;
-        decide$abs_p$8 = pa_d$26$q;
-        decide$r_a$8 = ra_d$35$q;
+        decide$abs_p$8 = pa_d$44$q;
+        decide$r_a$8 = ra_d$53$q;
         decide$r_b$8 = rb_dot$8$p;
-        valid_out = valid$9$q;
+        valid_out = valid$13$q;
         hit = decide$hit;
     end
     
@@ -33073,6 +32247,177 @@ module obb_core$sat$back$at_d$20(d,q,clock);
 endmodule // obb_core$sat$back$at_d$20
 
 
+module obb_core$sat$back$at_d$21(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$at_d$21
+
+
+module obb_core$sat$back$at_d$22(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$at_d$22
+
+
+module obb_core$sat$back$at_d$23(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$at_d$23
+
+
+module obb_core$sat$back$at_d$24(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$at_d$24
+
+
+module obb_core$sat$back$at_d$25(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$at_d$25
+
+
+module obb_core$sat$back$at_d$26(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$at_d$26
+
+
+module obb_core$sat$back$at_d$27(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$at_d$27
+
+
+module obb_core$sat$back$at_d$28(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$at_d$28
+
+
+module obb_core$sat$back$at_d$29(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$at_d$29
+
+
 module obb_core$sat$back$at_d$3(d,q,clock);
     
     // Module arguments
@@ -33090,6 +32435,63 @@ module obb_core$sat$back$at_d$3(d,q,clock);
     end
           
 endmodule // obb_core$sat$back$at_d$3
+
+
+module obb_core$sat$back$at_d$30(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$at_d$30
+
+
+module obb_core$sat$back$at_d$31(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$at_d$31
+
+
+module obb_core$sat$back$at_d$32(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$at_d$32
 
 
 module obb_core$sat$back$at_d$4(d,q,clock);
@@ -33472,6 +32874,177 @@ module obb_core$sat$back$au_d$20(d,q,clock);
 endmodule // obb_core$sat$back$au_d$20
 
 
+module obb_core$sat$back$au_d$21(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$au_d$21
+
+
+module obb_core$sat$back$au_d$22(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$au_d$22
+
+
+module obb_core$sat$back$au_d$23(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$au_d$23
+
+
+module obb_core$sat$back$au_d$24(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$au_d$24
+
+
+module obb_core$sat$back$au_d$25(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$au_d$25
+
+
+module obb_core$sat$back$au_d$26(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$au_d$26
+
+
+module obb_core$sat$back$au_d$27(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$au_d$27
+
+
+module obb_core$sat$back$au_d$28(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$au_d$28
+
+
+module obb_core$sat$back$au_d$29(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$au_d$29
+
+
 module obb_core$sat$back$au_d$3(d,q,clock);
     
     // Module arguments
@@ -33489,6 +33062,63 @@ module obb_core$sat$back$au_d$3(d,q,clock);
     end
           
 endmodule // obb_core$sat$back$au_d$3
+
+
+module obb_core$sat$back$au_d$30(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$au_d$30
+
+
+module obb_core$sat$back$au_d$31(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$au_d$31
+
+
+module obb_core$sat$back$au_d$32(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$au_d$32
 
 
 module obb_core$sat$back$au_d$4(d,q,clock);
@@ -33794,6 +33424,120 @@ module obb_core$sat$back$fa_d$11(d,q,clock);
 endmodule // obb_core$sat$back$fa_d$11
 
 
+module obb_core$sat$back$fa_d$12(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$fa_d$12
+
+
+module obb_core$sat$back$fa_d$13(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$fa_d$13
+
+
+module obb_core$sat$back$fa_d$14(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$fa_d$14
+
+
+module obb_core$sat$back$fa_d$15(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$fa_d$15
+
+
+module obb_core$sat$back$fa_d$16(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$fa_d$16
+
+
+module obb_core$sat$back$fa_d$17(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$fa_d$17
+
+
 module obb_core$sat$back$fa_d$2(d,q,clock);
     
     // Module arguments
@@ -33958,29 +33702,33 @@ module obb_core$sat$back$face_a_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [38:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [18:0] a0_r;
-    reg signed [18:0] a1_r;
-    reg signed [18:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [38:0] m0;
-    reg signed [38:0] m1;
-    reg signed [38:0] m2;
-    
     // Update code (custom)
+    reg signed [18:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [36:0] m0, m1, m2;
+    reg signed [38:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$back$face_a_dot$0
 
@@ -33997,29 +33745,33 @@ module obb_core$sat$back$face_a_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [38:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [18:0] a0_r;
-    reg signed [18:0] a1_r;
-    reg signed [18:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [38:0] m0;
-    reg signed [38:0] m1;
-    reg signed [38:0] m2;
-    
     // Update code (custom)
+    reg signed [18:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [36:0] m0, m1, m2;
+    reg signed [38:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$back$face_a_dot$1
 
@@ -34036,29 +33788,33 @@ module obb_core$sat$back$face_a_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [38:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [18:0] a0_r;
-    reg signed [18:0] a1_r;
-    reg signed [18:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [38:0] m0;
-    reg signed [38:0] m1;
-    reg signed [38:0] m2;
-    
     // Update code (custom)
+    reg signed [18:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [36:0] m0, m1, m2;
+    reg signed [38:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$back$face_a_dot$2
 
@@ -34075,29 +33831,33 @@ module obb_core$sat$back$face_b_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [38:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [18:0] a0_r;
-    reg signed [18:0] a1_r;
-    reg signed [18:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [38:0] m0;
-    reg signed [38:0] m1;
-    reg signed [38:0] m2;
-    
     // Update code (custom)
+    reg signed [18:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [36:0] m0, m1, m2;
+    reg signed [38:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$back$face_b_dot$0
 
@@ -34114,29 +33874,33 @@ module obb_core$sat$back$face_b_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [38:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [18:0] a0_r;
-    reg signed [18:0] a1_r;
-    reg signed [18:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [38:0] m0;
-    reg signed [38:0] m1;
-    reg signed [38:0] m2;
-    
     // Update code (custom)
+    reg signed [18:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [36:0] m0, m1, m2;
+    reg signed [38:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$back$face_b_dot$1
 
@@ -34153,29 +33917,33 @@ module obb_core$sat$back$face_b_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [38:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [18:0] a0_r;
-    reg signed [18:0] a1_r;
-    reg signed [18:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [38:0] m0;
-    reg signed [38:0] m1;
-    reg signed [38:0] m2;
-    
     // Update code (custom)
+    reg signed [18:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [36:0] m0, m1, m2;
+    reg signed [38:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$back$face_b_dot$2
 
@@ -34254,6 +34022,120 @@ module obb_core$sat$back$fb_d$11(d,q,clock);
     end
           
 endmodule // obb_core$sat$back$fb_d$11
+
+
+module obb_core$sat$back$fb_d$12(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$fb_d$12
+
+
+module obb_core$sat$back$fb_d$13(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$fb_d$13
+
+
+module obb_core$sat$back$fb_d$14(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$fb_d$14
+
+
+module obb_core$sat$back$fb_d$15(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$fb_d$15
+
+
+module obb_core$sat$back$fb_d$16(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$fb_d$16
+
+
+module obb_core$sat$back$fb_d$17(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$fb_d$17
 
 
 module obb_core$sat$back$fb_d$2(d,q,clock);
@@ -34731,6 +34613,120 @@ module obb_core$sat$back$ha$23(d,q,clock);
 endmodule // obb_core$sat$back$ha$23
 
 
+module obb_core$sat$back$ha$24(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ha$24
+
+
+module obb_core$sat$back$ha$25(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ha$25
+
+
+module obb_core$sat$back$ha$26(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ha$26
+
+
+module obb_core$sat$back$ha$27(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ha$27
+
+
+module obb_core$sat$back$ha$28(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ha$28
+
+
+module obb_core$sat$back$ha$29(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ha$29
+
+
 module obb_core$sat$back$ha$3(d,q,clock);
     
     // Module arguments
@@ -34748,6 +34744,120 @@ module obb_core$sat$back$ha$3(d,q,clock);
     end
           
 endmodule // obb_core$sat$back$ha$3
+
+
+module obb_core$sat$back$ha$30(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ha$30
+
+
+module obb_core$sat$back$ha$31(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ha$31
+
+
+module obb_core$sat$back$ha$32(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ha$32
+
+
+module obb_core$sat$back$ha$33(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ha$33
+
+
+module obb_core$sat$back$ha$34(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ha$34
+
+
+module obb_core$sat$back$ha$35(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ha$35
 
 
 module obb_core$sat$back$ha$4(d,q,clock);
@@ -35187,6 +35297,120 @@ module obb_core$sat$back$hb$23(d,q,clock);
 endmodule // obb_core$sat$back$hb$23
 
 
+module obb_core$sat$back$hb$24(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$hb$24
+
+
+module obb_core$sat$back$hb$25(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$hb$25
+
+
+module obb_core$sat$back$hb$26(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$hb$26
+
+
+module obb_core$sat$back$hb$27(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$hb$27
+
+
+module obb_core$sat$back$hb$28(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$hb$28
+
+
+module obb_core$sat$back$hb$29(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$hb$29
+
+
 module obb_core$sat$back$hb$3(d,q,clock);
     
     // Module arguments
@@ -35204,6 +35428,120 @@ module obb_core$sat$back$hb$3(d,q,clock);
     end
           
 endmodule // obb_core$sat$back$hb$3
+
+
+module obb_core$sat$back$hb$30(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$hb$30
+
+
+module obb_core$sat$back$hb$31(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$hb$31
+
+
+module obb_core$sat$back$hb$32(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$hb$32
+
+
+module obb_core$sat$back$hb$33(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$hb$33
+
+
+module obb_core$sat$back$hb$34(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$hb$34
+
+
+module obb_core$sat$back$hb$35(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$hb$35
 
 
 module obb_core$sat$back$hb$4(d,q,clock);
@@ -35492,23 +35830,31 @@ module obb_core$sat$back$minor_dot$0(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$minor_dot$0
 
@@ -35523,23 +35869,31 @@ module obb_core$sat$back$minor_dot$1(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$minor_dot$1
 
@@ -35554,23 +35908,31 @@ module obb_core$sat$back$minor_dot$2(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$minor_dot$2
 
@@ -35585,23 +35947,31 @@ module obb_core$sat$back$minor_dot$3(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$minor_dot$3
 
@@ -35616,23 +35986,31 @@ module obb_core$sat$back$minor_dot$4(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$minor_dot$4
 
@@ -35647,23 +36025,31 @@ module obb_core$sat$back$minor_dot$5(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$minor_dot$5
 
@@ -35678,23 +36064,31 @@ module obb_core$sat$back$minor_dot$6(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$minor_dot$6
 
@@ -35709,23 +36103,31 @@ module obb_core$sat$back$minor_dot$7(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$minor_dot$7
 
@@ -35740,23 +36142,31 @@ module obb_core$sat$back$minor_dot$8(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$minor_dot$8
 
@@ -35933,23 +36343,31 @@ module obb_core$sat$back$p_dot$0(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$p_dot$0
 
@@ -35964,23 +36382,31 @@ module obb_core$sat$back$p_dot$1(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$p_dot$1
 
@@ -35995,23 +36421,31 @@ module obb_core$sat$back$p_dot$2(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$p_dot$2
 
@@ -36026,23 +36460,31 @@ module obb_core$sat$back$p_dot$3(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$p_dot$3
 
@@ -36057,23 +36499,31 @@ module obb_core$sat$back$p_dot$4(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$p_dot$4
 
@@ -36088,23 +36538,31 @@ module obb_core$sat$back$p_dot$5(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$p_dot$5
 
@@ -36119,23 +36577,31 @@ module obb_core$sat$back$p_dot$6(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$p_dot$6
 
@@ -36150,23 +36616,31 @@ module obb_core$sat$back$p_dot$7(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$p_dot$7
 
@@ -36181,23 +36655,31 @@ module obb_core$sat$back$p_dot$8(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$p_dot$8
 
@@ -36582,6 +37064,63 @@ module obb_core$sat$back$pa_d$26(d,q,clock);
 endmodule // obb_core$sat$back$pa_d$26
 
 
+module obb_core$sat$back$pa_d$27(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$27
+
+
+module obb_core$sat$back$pa_d$28(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$28
+
+
+module obb_core$sat$back$pa_d$29(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$29
+
+
 module obb_core$sat$back$pa_d$3(d,q,clock);
     
     // Module arguments
@@ -36601,6 +37140,196 @@ module obb_core$sat$back$pa_d$3(d,q,clock);
 endmodule // obb_core$sat$back$pa_d$3
 
 
+module obb_core$sat$back$pa_d$30(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$30
+
+
+module obb_core$sat$back$pa_d$31(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$31
+
+
+module obb_core$sat$back$pa_d$32(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$32
+
+
+module obb_core$sat$back$pa_d$33(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$33
+
+
+module obb_core$sat$back$pa_d$34(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$34
+
+
+module obb_core$sat$back$pa_d$35(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$35
+
+
+module obb_core$sat$back$pa_d$36(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$36
+
+
+module obb_core$sat$back$pa_d$37(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$37
+
+
+module obb_core$sat$back$pa_d$38(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$38
+
+
+module obb_core$sat$back$pa_d$39(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$39
+
+
 module obb_core$sat$back$pa_d$4(d,q,clock);
     
     // Module arguments
@@ -36618,6 +37347,101 @@ module obb_core$sat$back$pa_d$4(d,q,clock);
     end
           
 endmodule // obb_core$sat$back$pa_d$4
+
+
+module obb_core$sat$back$pa_d$40(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$40
+
+
+module obb_core$sat$back$pa_d$41(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$41
+
+
+module obb_core$sat$back$pa_d$42(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$42
+
+
+module obb_core$sat$back$pa_d$43(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$43
+
+
+module obb_core$sat$back$pa_d$44(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pa_d$44
 
 
 module obb_core$sat$back$pa_d$5(d,q,clock);
@@ -36753,6 +37577,44 @@ module obb_core$sat$back$pm$1(d,q,clock);
 endmodule // obb_core$sat$back$pm$1
 
 
+module obb_core$sat$back$pm$10(d,q,clock);
+    
+    // Module arguments
+    input wire  [28:0] d;
+    output reg  [28:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 29'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pm$10
+
+
+module obb_core$sat$back$pm$11(d,q,clock);
+    
+    // Module arguments
+    input wire  [28:0] d;
+    output reg  [28:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 29'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pm$11
+
+
 module obb_core$sat$back$pm$2(d,q,clock);
     
     // Module arguments
@@ -36865,6 +37727,44 @@ module obb_core$sat$back$pm$7(d,q,clock);
     end
           
 endmodule // obb_core$sat$back$pm$7
+
+
+module obb_core$sat$back$pm$8(d,q,clock);
+    
+    // Module arguments
+    input wire  [28:0] d;
+    output reg  [28:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 29'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pm$8
+
+
+module obb_core$sat$back$pm$9(d,q,clock);
+    
+    // Module arguments
+    input wire  [28:0] d;
+    output reg  [28:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 29'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$pm$9
 
 
 module obb_core$sat$back$ra_d$0(d,q,clock);
@@ -37437,6 +38337,82 @@ module obb_core$sat$back$ra_d$35(d,q,clock);
 endmodule // obb_core$sat$back$ra_d$35
 
 
+module obb_core$sat$back$ra_d$36(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$36
+
+
+module obb_core$sat$back$ra_d$37(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$37
+
+
+module obb_core$sat$back$ra_d$38(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$38
+
+
+module obb_core$sat$back$ra_d$39(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$39
+
+
 module obb_core$sat$back$ra_d$4(d,q,clock);
     
     // Module arguments
@@ -37456,6 +38432,196 @@ module obb_core$sat$back$ra_d$4(d,q,clock);
 endmodule // obb_core$sat$back$ra_d$4
 
 
+module obb_core$sat$back$ra_d$40(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$40
+
+
+module obb_core$sat$back$ra_d$41(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$41
+
+
+module obb_core$sat$back$ra_d$42(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$42
+
+
+module obb_core$sat$back$ra_d$43(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$43
+
+
+module obb_core$sat$back$ra_d$44(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$44
+
+
+module obb_core$sat$back$ra_d$45(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$45
+
+
+module obb_core$sat$back$ra_d$46(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$46
+
+
+module obb_core$sat$back$ra_d$47(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$47
+
+
+module obb_core$sat$back$ra_d$48(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$48
+
+
+module obb_core$sat$back$ra_d$49(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$49
+
+
 module obb_core$sat$back$ra_d$5(d,q,clock);
     
     // Module arguments
@@ -37473,6 +38639,82 @@ module obb_core$sat$back$ra_d$5(d,q,clock);
     end
           
 endmodule // obb_core$sat$back$ra_d$5
+
+
+module obb_core$sat$back$ra_d$50(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$50
+
+
+module obb_core$sat$back$ra_d$51(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$51
+
+
+module obb_core$sat$back$ra_d$52(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$52
+
+
+module obb_core$sat$back$ra_d$53(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$ra_d$53
 
 
 module obb_core$sat$back$ra_d$6(d,q,clock);
@@ -37561,23 +38803,31 @@ module obb_core$sat$back$ra_dot$0(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$ra_dot$0
 
@@ -37592,23 +38842,31 @@ module obb_core$sat$back$ra_dot$1(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$ra_dot$1
 
@@ -37623,23 +38881,31 @@ module obb_core$sat$back$ra_dot$2(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$ra_dot$2
 
@@ -37654,23 +38920,31 @@ module obb_core$sat$back$ra_dot$3(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$ra_dot$3
 
@@ -37685,23 +38959,31 @@ module obb_core$sat$back$ra_dot$4(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$ra_dot$4
 
@@ -37716,23 +38998,31 @@ module obb_core$sat$back$ra_dot$5(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$ra_dot$5
 
@@ -37747,23 +39037,31 @@ module obb_core$sat$back$ra_dot$6(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$ra_dot$6
 
@@ -37778,23 +39076,31 @@ module obb_core$sat$back$ra_dot$7(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$ra_dot$7
 
@@ -37809,23 +39115,31 @@ module obb_core$sat$back$ra_dot$8(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$ra_dot$8
 
@@ -37840,23 +39154,31 @@ module obb_core$sat$back$rb_dot$0(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$rb_dot$0
 
@@ -37871,23 +39193,31 @@ module obb_core$sat$back$rb_dot$1(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$rb_dot$1
 
@@ -37902,23 +39232,31 @@ module obb_core$sat$back$rb_dot$2(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$rb_dot$2
 
@@ -37933,23 +39271,31 @@ module obb_core$sat$back$rb_dot$3(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$rb_dot$3
 
@@ -37964,23 +39310,31 @@ module obb_core$sat$back$rb_dot$4(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$rb_dot$4
 
@@ -37995,23 +39349,31 @@ module obb_core$sat$back$rb_dot$5(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$rb_dot$5
 
@@ -38026,23 +39388,31 @@ module obb_core$sat$back$rb_dot$6(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$rb_dot$6
 
@@ -38057,23 +39427,31 @@ module obb_core$sat$back$rb_dot$7(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$rb_dot$7
 
@@ -38088,23 +39466,31 @@ module obb_core$sat$back$rb_dot$8(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // obb_core$sat$back$rb_dot$8
 
@@ -38289,6 +39675,82 @@ module obb_core$sat$back$valid$1(d,q,clock);
     end
           
 endmodule // obb_core$sat$back$valid$1
+
+
+module obb_core$sat$back$valid$10(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$valid$10
+
+
+module obb_core$sat$back$valid$11(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$valid$11
+
+
+module obb_core$sat$back$valid$12(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$valid$12
+
+
+module obb_core$sat$back$valid$13(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$valid$13
 
 
 module obb_core$sat$back$valid$2(d,q,clock);
@@ -38502,6 +39964,12 @@ module obb_core$sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center
     reg  valid$3$d;
     wire  valid$3$q;
     reg  valid$3$clock;
+    reg  valid$4$d;
+    wire  valid$4$q;
+    reg  valid$4$clock;
+    reg  valid$5$d;
+    wire  valid$5$q;
+    reg  valid$5$clock;
     reg  [22:0] world$0$a;
     reg  [22:0] world$0$b;
     wire signed [23:0] world$0$d;
@@ -38709,6 +40177,16 @@ module obb_core$sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center
         .d(valid$3$d),
         .q(valid$3$q),
         .clock(valid$3$clock)
+    );
+    obb_core$sat$front$valid$4 valid$4(
+        .d(valid$4$d),
+        .q(valid$4$q),
+        .clock(valid$4$clock)
+    );
+    obb_core$sat$front$valid$5 valid$5(
+        .d(valid$5$d),
+        .q(valid$5$q),
+        .clock(valid$5$clock)
     );
     obb_core$sat$front$world$0 world$0(
         .a(world$0$a),
@@ -38975,6 +40453,8 @@ module obb_core$sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center
         valid$1$clock = clock;
         valid$2$clock = clock;
         valid$3$clock = clock;
+        valid$4$clock = clock;
+        valid$5$clock = clock;
         world$0$clock = clock;
         t_dot$0$clock = clock;
         u_dot$0$clock = clock;
@@ -39015,6 +40495,8 @@ module obb_core$sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center
         valid$1$d = valid$0$q;
         valid$2$d = valid$1$q;
         valid$3$d = valid$2$q;
+        valid$4$d = valid$3$q;
+        valid$5$d = valid$4$q;
         world$0$a = center_a$0;
         world$0$b = center_b$0;
         world$1$a = center_a$1;
@@ -39144,7 +40626,7 @@ module obb_core$sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center
         r_dot$8$b1 = axes_b_r$7$q;
         r_dot$8$b2 = axes_b_r$8$q;
         r$8 = r_dot$8$p;
-        valid_out = valid$3$q;
+        valid_out = valid$5$q;
     end
     
 endmodule // obb_core$sat$front
@@ -39504,29 +40986,33 @@ module obb_core$sat$front$r_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$front$r_dot$0
 
@@ -39543,29 +41029,33 @@ module obb_core$sat$front$r_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$front$r_dot$1
 
@@ -39582,29 +41072,33 @@ module obb_core$sat$front$r_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$front$r_dot$2
 
@@ -39621,29 +41115,33 @@ module obb_core$sat$front$r_dot$3(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$front$r_dot$3
 
@@ -39660,29 +41158,33 @@ module obb_core$sat$front$r_dot$4(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$front$r_dot$4
 
@@ -39699,29 +41201,33 @@ module obb_core$sat$front$r_dot$5(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$front$r_dot$5
 
@@ -39738,29 +41244,33 @@ module obb_core$sat$front$r_dot$6(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$front$r_dot$6
 
@@ -39777,29 +41287,33 @@ module obb_core$sat$front$r_dot$7(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$front$r_dot$7
 
@@ -39816,29 +41330,33 @@ module obb_core$sat$front$r_dot$8(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$front$r_dot$8
 
@@ -39855,29 +41373,33 @@ module obb_core$sat$front$t_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [23:0] b0_r;
-    reg signed [23:0] b1_r;
-    reg signed [23:0] b2_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    reg signed [43:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [41:0] m0, m1, m2;
+    reg signed [43:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$front$t_dot$0
 
@@ -39894,29 +41416,33 @@ module obb_core$sat$front$t_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [23:0] b0_r;
-    reg signed [23:0] b1_r;
-    reg signed [23:0] b2_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    reg signed [43:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [41:0] m0, m1, m2;
+    reg signed [43:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$front$t_dot$1
 
@@ -39933,29 +41459,33 @@ module obb_core$sat$front$t_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [23:0] b0_r;
-    reg signed [23:0] b1_r;
-    reg signed [23:0] b2_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    reg signed [43:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [41:0] m0, m1, m2;
+    reg signed [43:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$front$t_dot$2
 
@@ -39972,29 +41502,33 @@ module obb_core$sat$front$u_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [23:0] b0_r;
-    reg signed [23:0] b1_r;
-    reg signed [23:0] b2_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    reg signed [43:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [41:0] m0, m1, m2;
+    reg signed [43:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$front$u_dot$0
 
@@ -40011,29 +41545,33 @@ module obb_core$sat$front$u_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [23:0] b0_r;
-    reg signed [23:0] b1_r;
-    reg signed [23:0] b2_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    reg signed [43:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [41:0] m0, m1, m2;
+    reg signed [43:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$front$u_dot$1
 
@@ -40050,29 +41588,33 @@ module obb_core$sat$front$u_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [23:0] b0_r;
-    reg signed [23:0] b1_r;
-    reg signed [23:0] b2_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    reg signed [43:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [41:0] m0, m1, m2;
+    reg signed [43:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // obb_core$sat$front$u_dot$2
 
@@ -40151,6 +41693,44 @@ module obb_core$sat$front$valid$3(d,q,clock);
     end
           
 endmodule // obb_core$sat$front$valid$3
+
+
+module obb_core$sat$front$valid$4(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$front$valid$4
+
+
+module obb_core$sat$front$valid$5(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$front$valid$5
 
 
 module obb_core$sat$front$world$0(a,b,d,clock);
@@ -40272,6 +41852,120 @@ module obb_core$sat$ha$11(d,q,clock);
     end
           
 endmodule // obb_core$sat$ha$11
+
+
+module obb_core$sat$ha$12(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$ha$12
+
+
+module obb_core$sat$ha$13(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$ha$13
+
+
+module obb_core$sat$ha$14(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$ha$14
+
+
+module obb_core$sat$ha$15(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$ha$15
+
+
+module obb_core$sat$ha$16(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$ha$16
+
+
+module obb_core$sat$ha$17(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$ha$17
 
 
 module obb_core$sat$ha$2(d,q,clock);
@@ -40502,6 +42196,120 @@ module obb_core$sat$hb$11(d,q,clock);
 endmodule // obb_core$sat$hb$11
 
 
+module obb_core$sat$hb$12(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$hb$12
+
+
+module obb_core$sat$hb$13(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$hb$13
+
+
+module obb_core$sat$hb$14(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$hb$14
+
+
+module obb_core$sat$hb$15(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$hb$15
+
+
+module obb_core$sat$hb$16(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$hb$16
+
+
+module obb_core$sat$hb$17(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$hb$17
+
+
 module obb_core$sat$hb$2(d,q,clock);
     
     // Module arguments
@@ -40730,6 +42538,44 @@ module obb_core$sat$pm$3(d,q,clock);
 endmodule // obb_core$sat$pm$3
 
 
+module obb_core$sat$pm$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [28:0] d;
+    output reg  [28:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 29'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$pm$4
+
+
+module obb_core$sat$pm$5(d,q,clock);
+    
+    // Module arguments
+    input wire  [28:0] d;
+    output reg  [28:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 29'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$pm$5
+
+
 module obb_core$state(d,q,clock);
     
     // Module arguments
@@ -40870,6 +42716,120 @@ module obb_core$tag_a$13(d,q,clock);
     end
           
 endmodule // obb_core$tag_a$13
+
+
+module obb_core$tag_a$14(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_a$14
+
+
+module obb_core$tag_a$15(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_a$15
+
+
+module obb_core$tag_a$16(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_a$16
+
+
+module obb_core$tag_a$17(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_a$17
+
+
+module obb_core$tag_a$18(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_a$18
+
+
+module obb_core$tag_a$19(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_a$19
 
 
 module obb_core$tag_a$2(d,q,clock);
@@ -41136,6 +43096,120 @@ module obb_core$tag_b$13(d,q,clock);
     end
           
 endmodule // obb_core$tag_b$13
+
+
+module obb_core$tag_b$14(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_b$14
+
+
+module obb_core$tag_b$15(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_b$15
+
+
+module obb_core$tag_b$16(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_b$16
+
+
+module obb_core$tag_b$17(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_b$17
+
+
+module obb_core$tag_b$18(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_b$18
+
+
+module obb_core$tag_b$19(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_b$19
 
 
 module obb_core$tag_b$2(d,q,clock);

@@ -147,6 +147,24 @@ module sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,hal
     reg signed [17:0] ha$11$d;
     wire signed [17:0] ha$11$q;
     reg  ha$11$clock;
+    reg signed [17:0] ha$12$d;
+    wire signed [17:0] ha$12$q;
+    reg  ha$12$clock;
+    reg signed [17:0] ha$13$d;
+    wire signed [17:0] ha$13$q;
+    reg  ha$13$clock;
+    reg signed [17:0] ha$14$d;
+    wire signed [17:0] ha$14$q;
+    reg  ha$14$clock;
+    reg signed [17:0] ha$15$d;
+    wire signed [17:0] ha$15$q;
+    reg  ha$15$clock;
+    reg signed [17:0] ha$16$d;
+    wire signed [17:0] ha$16$q;
+    reg  ha$16$clock;
+    reg signed [17:0] ha$17$d;
+    wire signed [17:0] ha$17$q;
+    reg  ha$17$clock;
     reg signed [17:0] hb$0$d;
     wire signed [17:0] hb$0$q;
     reg  hb$0$clock;
@@ -183,6 +201,24 @@ module sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,hal
     reg signed [17:0] hb$11$d;
     wire signed [17:0] hb$11$q;
     reg  hb$11$clock;
+    reg signed [17:0] hb$12$d;
+    wire signed [17:0] hb$12$q;
+    reg  hb$12$clock;
+    reg signed [17:0] hb$13$d;
+    wire signed [17:0] hb$13$q;
+    reg  hb$13$clock;
+    reg signed [17:0] hb$14$d;
+    wire signed [17:0] hb$14$q;
+    reg  hb$14$clock;
+    reg signed [17:0] hb$15$d;
+    wire signed [17:0] hb$15$q;
+    reg  hb$15$clock;
+    reg signed [17:0] hb$16$d;
+    wire signed [17:0] hb$16$q;
+    reg  hb$16$clock;
+    reg signed [17:0] hb$17$d;
+    wire signed [17:0] hb$17$q;
+    reg  hb$17$clock;
     reg  [28:0] pm$0$d;
     wire  [28:0] pm$0$q;
     reg  pm$0$clock;
@@ -195,6 +231,12 @@ module sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,hal
     reg  [28:0] pm$3$d;
     wire  [28:0] pm$3$q;
     reg  pm$3$clock;
+    reg  [28:0] pm$4$d;
+    wire  [28:0] pm$4$q;
+    reg  pm$4$clock;
+    reg  [28:0] pm$5$d;
+    wire  [28:0] pm$5$q;
+    reg  pm$5$clock;
     
     // Local signals
     reg signed [17:0] ha_s$0;
@@ -338,6 +380,36 @@ module sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,hal
         .q(ha$11$q),
         .clock(ha$11$clock)
     );
+    sat$ha$12 ha$12(
+        .d(ha$12$d),
+        .q(ha$12$q),
+        .clock(ha$12$clock)
+    );
+    sat$ha$13 ha$13(
+        .d(ha$13$d),
+        .q(ha$13$q),
+        .clock(ha$13$clock)
+    );
+    sat$ha$14 ha$14(
+        .d(ha$14$d),
+        .q(ha$14$q),
+        .clock(ha$14$clock)
+    );
+    sat$ha$15 ha$15(
+        .d(ha$15$d),
+        .q(ha$15$q),
+        .clock(ha$15$clock)
+    );
+    sat$ha$16 ha$16(
+        .d(ha$16$d),
+        .q(ha$16$q),
+        .clock(ha$16$clock)
+    );
+    sat$ha$17 ha$17(
+        .d(ha$17$d),
+        .q(ha$17$q),
+        .clock(ha$17$clock)
+    );
     sat$hb$0 hb$0(
         .d(hb$0$d),
         .q(hb$0$q),
@@ -398,6 +470,36 @@ module sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,hal
         .q(hb$11$q),
         .clock(hb$11$clock)
     );
+    sat$hb$12 hb$12(
+        .d(hb$12$d),
+        .q(hb$12$q),
+        .clock(hb$12$clock)
+    );
+    sat$hb$13 hb$13(
+        .d(hb$13$d),
+        .q(hb$13$q),
+        .clock(hb$13$clock)
+    );
+    sat$hb$14 hb$14(
+        .d(hb$14$d),
+        .q(hb$14$q),
+        .clock(hb$14$clock)
+    );
+    sat$hb$15 hb$15(
+        .d(hb$15$d),
+        .q(hb$15$q),
+        .clock(hb$15$clock)
+    );
+    sat$hb$16 hb$16(
+        .d(hb$16$d),
+        .q(hb$16$q),
+        .clock(hb$16$clock)
+    );
+    sat$hb$17 hb$17(
+        .d(hb$17$d),
+        .q(hb$17$q),
+        .clock(hb$17$clock)
+    );
     sat$pm$0 pm$0(
         .d(pm$0$d),
         .q(pm$0$q),
@@ -417,6 +519,16 @@ module sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,hal
         .d(pm$3$d),
         .q(pm$3$q),
         .clock(pm$3$clock)
+    );
+    sat$pm$4 pm$4(
+        .d(pm$4$d),
+        .q(pm$4$q),
+        .clock(pm$4$clock)
+    );
+    sat$pm$5 pm$5(
+        .d(pm$5$d),
+        .q(pm$5$q),
+        .clock(pm$5$clock)
     );
     
     // Update code
@@ -447,10 +559,24 @@ module sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,hal
         hb$10$clock = clock;
         ha$11$clock = clock;
         hb$11$clock = clock;
+        ha$12$clock = clock;
+        hb$12$clock = clock;
+        ha$13$clock = clock;
+        hb$13$clock = clock;
+        ha$14$clock = clock;
+        hb$14$clock = clock;
+        ha$15$clock = clock;
+        hb$15$clock = clock;
+        ha$16$clock = clock;
+        hb$16$clock = clock;
+        ha$17$clock = clock;
+        hb$17$clock = clock;
         pm$0$clock = clock;
         pm$1$clock = clock;
         pm$2$clock = clock;
         pm$3$clock = clock;
+        pm$4$clock = clock;
+        pm$5$clock = clock;
         front$valid_in = valid_in;
         front$center_a$0 = center_a$0;
         front$center_b$0 = center_b$0;
@@ -507,23 +633,37 @@ module sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,hal
         hb$10$d = hb$7$q;
         ha$11$d = ha$8$q;
         hb$11$d = hb$8$q;
+        ha$12$d = ha$9$q;
+        hb$12$d = hb$9$q;
+        ha$13$d = ha$10$q;
+        hb$13$d = hb$10$q;
+        ha$14$d = ha$11$q;
+        hb$14$d = hb$11$q;
+        ha$15$d = ha$12$q;
+        hb$15$d = hb$12$q;
+        ha$16$d = ha$13$q;
+        hb$16$d = hb$13$q;
+        ha$17$d = ha$14$q;
+        hb$17$d = hb$14$q;
         pm$0$d = pair;
         pm$1$d = pm$0$q;
         pm$2$d = pm$1$q;
         pm$3$d = pm$2$q;
+        pm$4$d = pm$3$q;
+        pm$5$d = pm$4$q;
         back$valid_in = front$valid_out;
         back$t$0 = front$t$0;
         back$u$0 = front$u$0;
-        back$half_a$0 = ha$9$q;
-        back$half_b$0 = hb$9$q;
+        back$half_a$0 = ha$15$q;
+        back$half_b$0 = hb$15$q;
         back$t$1 = front$t$1;
         back$u$1 = front$u$1;
-        back$half_a$1 = ha$10$q;
-        back$half_b$1 = hb$10$q;
+        back$half_a$1 = ha$16$q;
+        back$half_b$1 = hb$16$q;
         back$t$2 = front$t$2;
         back$u$2 = front$u$2;
-        back$half_a$2 = ha$11$q;
-        back$half_b$2 = hb$11$q;
+        back$half_a$2 = ha$17$q;
+        back$half_b$2 = hb$17$q;
         back$r$0 = front$r$0;
         back$r$1 = front$r$1;
         back$r$2 = front$r$2;
@@ -533,7 +673,7 @@ module sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,hal
         back$r$6 = front$r$6;
         back$r$7 = front$r$7;
         back$r$8 = front$r$8;
-        back$pair_margin = pm$3$q;
+        back$pair_margin = pm$5$q;
         valid_out = back$valid_out;
         hit = back$hit;
     end
@@ -609,6 +749,18 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     reg  valid$9$d;
     wire  valid$9$q;
     reg  valid$9$clock;
+    reg  valid$10$d;
+    wire  valid$10$q;
+    reg  valid$10$clock;
+    reg  valid$11$d;
+    wire  valid$11$q;
+    reg  valid$11$clock;
+    reg  valid$12$d;
+    wire  valid$12$q;
+    reg  valid$12$clock;
+    reg  valid$13$d;
+    wire  valid$13$q;
+    reg  valid$13$clock;
     reg signed [43:0] round$t$0;
     reg signed [43:0] round$t$1;
     reg signed [43:0] round$t$2;
@@ -734,6 +886,42 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     reg signed [17:0] ha$23$d;
     wire signed [17:0] ha$23$q;
     reg  ha$23$clock;
+    reg signed [17:0] ha$24$d;
+    wire signed [17:0] ha$24$q;
+    reg  ha$24$clock;
+    reg signed [17:0] ha$25$d;
+    wire signed [17:0] ha$25$q;
+    reg  ha$25$clock;
+    reg signed [17:0] ha$26$d;
+    wire signed [17:0] ha$26$q;
+    reg  ha$26$clock;
+    reg signed [17:0] ha$27$d;
+    wire signed [17:0] ha$27$q;
+    reg  ha$27$clock;
+    reg signed [17:0] ha$28$d;
+    wire signed [17:0] ha$28$q;
+    reg  ha$28$clock;
+    reg signed [17:0] ha$29$d;
+    wire signed [17:0] ha$29$q;
+    reg  ha$29$clock;
+    reg signed [17:0] ha$30$d;
+    wire signed [17:0] ha$30$q;
+    reg  ha$30$clock;
+    reg signed [17:0] ha$31$d;
+    wire signed [17:0] ha$31$q;
+    reg  ha$31$clock;
+    reg signed [17:0] ha$32$d;
+    wire signed [17:0] ha$32$q;
+    reg  ha$32$clock;
+    reg signed [17:0] ha$33$d;
+    wire signed [17:0] ha$33$q;
+    reg  ha$33$clock;
+    reg signed [17:0] ha$34$d;
+    wire signed [17:0] ha$34$q;
+    reg  ha$34$clock;
+    reg signed [17:0] ha$35$d;
+    wire signed [17:0] ha$35$q;
+    reg  ha$35$clock;
     reg signed [17:0] hb$0$d;
     wire signed [17:0] hb$0$q;
     reg  hb$0$clock;
@@ -806,6 +994,42 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     reg signed [17:0] hb$23$d;
     wire signed [17:0] hb$23$q;
     reg  hb$23$clock;
+    reg signed [17:0] hb$24$d;
+    wire signed [17:0] hb$24$q;
+    reg  hb$24$clock;
+    reg signed [17:0] hb$25$d;
+    wire signed [17:0] hb$25$q;
+    reg  hb$25$clock;
+    reg signed [17:0] hb$26$d;
+    wire signed [17:0] hb$26$q;
+    reg  hb$26$clock;
+    reg signed [17:0] hb$27$d;
+    wire signed [17:0] hb$27$q;
+    reg  hb$27$clock;
+    reg signed [17:0] hb$28$d;
+    wire signed [17:0] hb$28$q;
+    reg  hb$28$clock;
+    reg signed [17:0] hb$29$d;
+    wire signed [17:0] hb$29$q;
+    reg  hb$29$clock;
+    reg signed [17:0] hb$30$d;
+    wire signed [17:0] hb$30$q;
+    reg  hb$30$clock;
+    reg signed [17:0] hb$31$d;
+    wire signed [17:0] hb$31$q;
+    reg  hb$31$clock;
+    reg signed [17:0] hb$32$d;
+    wire signed [17:0] hb$32$q;
+    reg  hb$32$clock;
+    reg signed [17:0] hb$33$d;
+    wire signed [17:0] hb$33$q;
+    reg  hb$33$clock;
+    reg signed [17:0] hb$34$d;
+    wire signed [17:0] hb$34$q;
+    reg  hb$34$clock;
+    reg signed [17:0] hb$35$d;
+    wire signed [17:0] hb$35$q;
+    reg  hb$35$clock;
     reg  [28:0] pm$0$d;
     wire  [28:0] pm$0$q;
     reg  pm$0$clock;
@@ -830,6 +1054,18 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     reg  [28:0] pm$7$d;
     wire  [28:0] pm$7$q;
     reg  pm$7$clock;
+    reg  [28:0] pm$8$d;
+    wire  [28:0] pm$8$q;
+    reg  pm$8$clock;
+    reg  [28:0] pm$9$d;
+    wire  [28:0] pm$9$q;
+    reg  pm$9$clock;
+    reg  [28:0] pm$10$d;
+    wire  [28:0] pm$10$q;
+    reg  pm$10$clock;
+    reg  [28:0] pm$11$d;
+    wire  [28:0] pm$11$q;
+    reg  pm$11$clock;
     reg signed [18:0] face_a_dot$0$a0;
     reg signed [18:0] face_a_dot$0$a1;
     reg signed [18:0] face_a_dot$0$a2;
@@ -1229,6 +1465,42 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     reg  [42:0] at_d$20$d;
     wire  [42:0] at_d$20$q;
     reg  at_d$20$clock;
+    reg  [42:0] at_d$21$d;
+    wire  [42:0] at_d$21$q;
+    reg  at_d$21$clock;
+    reg  [42:0] at_d$22$d;
+    wire  [42:0] at_d$22$q;
+    reg  at_d$22$clock;
+    reg  [42:0] at_d$23$d;
+    wire  [42:0] at_d$23$q;
+    reg  at_d$23$clock;
+    reg  [42:0] at_d$24$d;
+    wire  [42:0] at_d$24$q;
+    reg  at_d$24$clock;
+    reg  [42:0] at_d$25$d;
+    wire  [42:0] at_d$25$q;
+    reg  at_d$25$clock;
+    reg  [42:0] at_d$26$d;
+    wire  [42:0] at_d$26$q;
+    reg  at_d$26$clock;
+    reg  [42:0] at_d$27$d;
+    wire  [42:0] at_d$27$q;
+    reg  at_d$27$clock;
+    reg  [42:0] at_d$28$d;
+    wire  [42:0] at_d$28$q;
+    reg  at_d$28$clock;
+    reg  [42:0] at_d$29$d;
+    wire  [42:0] at_d$29$q;
+    reg  at_d$29$clock;
+    reg  [42:0] at_d$30$d;
+    wire  [42:0] at_d$30$q;
+    reg  at_d$30$clock;
+    reg  [42:0] at_d$31$d;
+    wire  [42:0] at_d$31$q;
+    reg  at_d$31$clock;
+    reg  [42:0] at_d$32$d;
+    wire  [42:0] at_d$32$q;
+    reg  at_d$32$clock;
     reg  [42:0] au_d$0$d;
     wire  [42:0] au_d$0$q;
     reg  au_d$0$clock;
@@ -1292,6 +1564,42 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     reg  [42:0] au_d$20$d;
     wire  [42:0] au_d$20$q;
     reg  au_d$20$clock;
+    reg  [42:0] au_d$21$d;
+    wire  [42:0] au_d$21$q;
+    reg  au_d$21$clock;
+    reg  [42:0] au_d$22$d;
+    wire  [42:0] au_d$22$q;
+    reg  au_d$22$clock;
+    reg  [42:0] au_d$23$d;
+    wire  [42:0] au_d$23$q;
+    reg  au_d$23$clock;
+    reg  [42:0] au_d$24$d;
+    wire  [42:0] au_d$24$q;
+    reg  au_d$24$clock;
+    reg  [42:0] au_d$25$d;
+    wire  [42:0] au_d$25$q;
+    reg  au_d$25$clock;
+    reg  [42:0] au_d$26$d;
+    wire  [42:0] au_d$26$q;
+    reg  au_d$26$clock;
+    reg  [42:0] au_d$27$d;
+    wire  [42:0] au_d$27$q;
+    reg  au_d$27$clock;
+    reg  [42:0] au_d$28$d;
+    wire  [42:0] au_d$28$q;
+    reg  au_d$28$clock;
+    reg  [42:0] au_d$29$d;
+    wire  [42:0] au_d$29$q;
+    reg  au_d$29$clock;
+    reg  [42:0] au_d$30$d;
+    wire  [42:0] au_d$30$q;
+    reg  au_d$30$clock;
+    reg  [42:0] au_d$31$d;
+    wire  [42:0] au_d$31$q;
+    reg  au_d$31$clock;
+    reg  [42:0] au_d$32$d;
+    wire  [42:0] au_d$32$q;
+    reg  au_d$32$clock;
     reg signed [38:0] fa_d$0$d;
     wire signed [38:0] fa_d$0$q;
     reg  fa_d$0$clock;
@@ -1328,6 +1636,24 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     reg signed [38:0] fa_d$11$d;
     wire signed [38:0] fa_d$11$q;
     reg  fa_d$11$clock;
+    reg signed [38:0] fa_d$12$d;
+    wire signed [38:0] fa_d$12$q;
+    reg  fa_d$12$clock;
+    reg signed [38:0] fa_d$13$d;
+    wire signed [38:0] fa_d$13$q;
+    reg  fa_d$13$clock;
+    reg signed [38:0] fa_d$14$d;
+    wire signed [38:0] fa_d$14$q;
+    reg  fa_d$14$clock;
+    reg signed [38:0] fa_d$15$d;
+    wire signed [38:0] fa_d$15$q;
+    reg  fa_d$15$clock;
+    reg signed [38:0] fa_d$16$d;
+    wire signed [38:0] fa_d$16$q;
+    reg  fa_d$16$clock;
+    reg signed [38:0] fa_d$17$d;
+    wire signed [38:0] fa_d$17$q;
+    reg  fa_d$17$clock;
     reg signed [38:0] fb_d$0$d;
     wire signed [38:0] fb_d$0$q;
     reg  fb_d$0$clock;
@@ -1364,6 +1690,24 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     reg signed [38:0] fb_d$11$d;
     wire signed [38:0] fb_d$11$q;
     reg  fb_d$11$clock;
+    reg signed [38:0] fb_d$12$d;
+    wire signed [38:0] fb_d$12$q;
+    reg  fb_d$12$clock;
+    reg signed [38:0] fb_d$13$d;
+    wire signed [38:0] fb_d$13$q;
+    reg  fb_d$13$clock;
+    reg signed [38:0] fb_d$14$d;
+    wire signed [38:0] fb_d$14$q;
+    reg  fb_d$14$clock;
+    reg signed [38:0] fb_d$15$d;
+    wire signed [38:0] fb_d$15$q;
+    reg  fb_d$15$clock;
+    reg signed [38:0] fb_d$16$d;
+    wire signed [38:0] fb_d$16$q;
+    reg  fb_d$16$clock;
+    reg signed [38:0] fb_d$17$d;
+    wire signed [38:0] fb_d$17$q;
+    reg  fb_d$17$clock;
     reg signed [36:0] ra_d$0$d;
     wire signed [36:0] ra_d$0$q;
     reg  ra_d$0$clock;
@@ -1472,6 +1816,60 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     reg signed [36:0] ra_d$35$d;
     wire signed [36:0] ra_d$35$q;
     reg  ra_d$35$clock;
+    reg signed [36:0] ra_d$36$d;
+    wire signed [36:0] ra_d$36$q;
+    reg  ra_d$36$clock;
+    reg signed [36:0] ra_d$37$d;
+    wire signed [36:0] ra_d$37$q;
+    reg  ra_d$37$clock;
+    reg signed [36:0] ra_d$38$d;
+    wire signed [36:0] ra_d$38$q;
+    reg  ra_d$38$clock;
+    reg signed [36:0] ra_d$39$d;
+    wire signed [36:0] ra_d$39$q;
+    reg  ra_d$39$clock;
+    reg signed [36:0] ra_d$40$d;
+    wire signed [36:0] ra_d$40$q;
+    reg  ra_d$40$clock;
+    reg signed [36:0] ra_d$41$d;
+    wire signed [36:0] ra_d$41$q;
+    reg  ra_d$41$clock;
+    reg signed [36:0] ra_d$42$d;
+    wire signed [36:0] ra_d$42$q;
+    reg  ra_d$42$clock;
+    reg signed [36:0] ra_d$43$d;
+    wire signed [36:0] ra_d$43$q;
+    reg  ra_d$43$clock;
+    reg signed [36:0] ra_d$44$d;
+    wire signed [36:0] ra_d$44$q;
+    reg  ra_d$44$clock;
+    reg signed [36:0] ra_d$45$d;
+    wire signed [36:0] ra_d$45$q;
+    reg  ra_d$45$clock;
+    reg signed [36:0] ra_d$46$d;
+    wire signed [36:0] ra_d$46$q;
+    reg  ra_d$46$clock;
+    reg signed [36:0] ra_d$47$d;
+    wire signed [36:0] ra_d$47$q;
+    reg  ra_d$47$clock;
+    reg signed [36:0] ra_d$48$d;
+    wire signed [36:0] ra_d$48$q;
+    reg  ra_d$48$clock;
+    reg signed [36:0] ra_d$49$d;
+    wire signed [36:0] ra_d$49$q;
+    reg  ra_d$49$clock;
+    reg signed [36:0] ra_d$50$d;
+    wire signed [36:0] ra_d$50$q;
+    reg  ra_d$50$clock;
+    reg signed [36:0] ra_d$51$d;
+    wire signed [36:0] ra_d$51$q;
+    reg  ra_d$51$clock;
+    reg signed [36:0] ra_d$52$d;
+    wire signed [36:0] ra_d$52$q;
+    reg  ra_d$52$clock;
+    reg signed [36:0] ra_d$53$d;
+    wire signed [36:0] ra_d$53$q;
+    reg  ra_d$53$clock;
     reg  [43:0] pa_d$0$d;
     wire  [43:0] pa_d$0$q;
     reg  pa_d$0$clock;
@@ -1553,6 +1951,60 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     reg  [43:0] pa_d$26$d;
     wire  [43:0] pa_d$26$q;
     reg  pa_d$26$clock;
+    reg  [43:0] pa_d$27$d;
+    wire  [43:0] pa_d$27$q;
+    reg  pa_d$27$clock;
+    reg  [43:0] pa_d$28$d;
+    wire  [43:0] pa_d$28$q;
+    reg  pa_d$28$clock;
+    reg  [43:0] pa_d$29$d;
+    wire  [43:0] pa_d$29$q;
+    reg  pa_d$29$clock;
+    reg  [43:0] pa_d$30$d;
+    wire  [43:0] pa_d$30$q;
+    reg  pa_d$30$clock;
+    reg  [43:0] pa_d$31$d;
+    wire  [43:0] pa_d$31$q;
+    reg  pa_d$31$clock;
+    reg  [43:0] pa_d$32$d;
+    wire  [43:0] pa_d$32$q;
+    reg  pa_d$32$clock;
+    reg  [43:0] pa_d$33$d;
+    wire  [43:0] pa_d$33$q;
+    reg  pa_d$33$clock;
+    reg  [43:0] pa_d$34$d;
+    wire  [43:0] pa_d$34$q;
+    reg  pa_d$34$clock;
+    reg  [43:0] pa_d$35$d;
+    wire  [43:0] pa_d$35$q;
+    reg  pa_d$35$clock;
+    reg  [43:0] pa_d$36$d;
+    wire  [43:0] pa_d$36$q;
+    reg  pa_d$36$clock;
+    reg  [43:0] pa_d$37$d;
+    wire  [43:0] pa_d$37$q;
+    reg  pa_d$37$clock;
+    reg  [43:0] pa_d$38$d;
+    wire  [43:0] pa_d$38$q;
+    reg  pa_d$38$clock;
+    reg  [43:0] pa_d$39$d;
+    wire  [43:0] pa_d$39$q;
+    reg  pa_d$39$clock;
+    reg  [43:0] pa_d$40$d;
+    wire  [43:0] pa_d$40$q;
+    reg  pa_d$40$clock;
+    reg  [43:0] pa_d$41$d;
+    wire  [43:0] pa_d$41$q;
+    reg  pa_d$41$clock;
+    reg  [43:0] pa_d$42$d;
+    wire  [43:0] pa_d$42$q;
+    reg  pa_d$42$clock;
+    reg  [43:0] pa_d$43$d;
+    wire  [43:0] pa_d$43$q;
+    reg  pa_d$43$clock;
+    reg  [43:0] pa_d$44$d;
+    wire  [43:0] pa_d$44$q;
+    reg  pa_d$44$clock;
     reg  [42:0] decide$abs_t$0;
     reg  [42:0] decide$abs_t$1;
     reg  [42:0] decide$abs_t$2;
@@ -1667,6 +2119,26 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         .d(valid$9$d),
         .q(valid$9$q),
         .clock(valid$9$clock)
+    );
+    sat$back$valid$10 valid$10(
+        .d(valid$10$d),
+        .q(valid$10$q),
+        .clock(valid$10$clock)
+    );
+    sat$back$valid$11 valid$11(
+        .d(valid$11$d),
+        .q(valid$11$q),
+        .clock(valid$11$clock)
+    );
+    sat$back$valid$12 valid$12(
+        .d(valid$12$d),
+        .q(valid$12$q),
+        .clock(valid$12$clock)
+    );
+    sat$back$valid$13 valid$13(
+        .d(valid$13$d),
+        .q(valid$13$q),
+        .clock(valid$13$clock)
     );
     sat$back$round round(
         .t$0(round$t$0),
@@ -1843,6 +2315,66 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         .q(ha$23$q),
         .clock(ha$23$clock)
     );
+    sat$back$ha$24 ha$24(
+        .d(ha$24$d),
+        .q(ha$24$q),
+        .clock(ha$24$clock)
+    );
+    sat$back$ha$25 ha$25(
+        .d(ha$25$d),
+        .q(ha$25$q),
+        .clock(ha$25$clock)
+    );
+    sat$back$ha$26 ha$26(
+        .d(ha$26$d),
+        .q(ha$26$q),
+        .clock(ha$26$clock)
+    );
+    sat$back$ha$27 ha$27(
+        .d(ha$27$d),
+        .q(ha$27$q),
+        .clock(ha$27$clock)
+    );
+    sat$back$ha$28 ha$28(
+        .d(ha$28$d),
+        .q(ha$28$q),
+        .clock(ha$28$clock)
+    );
+    sat$back$ha$29 ha$29(
+        .d(ha$29$d),
+        .q(ha$29$q),
+        .clock(ha$29$clock)
+    );
+    sat$back$ha$30 ha$30(
+        .d(ha$30$d),
+        .q(ha$30$q),
+        .clock(ha$30$clock)
+    );
+    sat$back$ha$31 ha$31(
+        .d(ha$31$d),
+        .q(ha$31$q),
+        .clock(ha$31$clock)
+    );
+    sat$back$ha$32 ha$32(
+        .d(ha$32$d),
+        .q(ha$32$q),
+        .clock(ha$32$clock)
+    );
+    sat$back$ha$33 ha$33(
+        .d(ha$33$d),
+        .q(ha$33$q),
+        .clock(ha$33$clock)
+    );
+    sat$back$ha$34 ha$34(
+        .d(ha$34$d),
+        .q(ha$34$q),
+        .clock(ha$34$clock)
+    );
+    sat$back$ha$35 ha$35(
+        .d(ha$35$d),
+        .q(ha$35$q),
+        .clock(ha$35$clock)
+    );
     sat$back$hb$0 hb$0(
         .d(hb$0$d),
         .q(hb$0$q),
@@ -1963,6 +2495,66 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         .q(hb$23$q),
         .clock(hb$23$clock)
     );
+    sat$back$hb$24 hb$24(
+        .d(hb$24$d),
+        .q(hb$24$q),
+        .clock(hb$24$clock)
+    );
+    sat$back$hb$25 hb$25(
+        .d(hb$25$d),
+        .q(hb$25$q),
+        .clock(hb$25$clock)
+    );
+    sat$back$hb$26 hb$26(
+        .d(hb$26$d),
+        .q(hb$26$q),
+        .clock(hb$26$clock)
+    );
+    sat$back$hb$27 hb$27(
+        .d(hb$27$d),
+        .q(hb$27$q),
+        .clock(hb$27$clock)
+    );
+    sat$back$hb$28 hb$28(
+        .d(hb$28$d),
+        .q(hb$28$q),
+        .clock(hb$28$clock)
+    );
+    sat$back$hb$29 hb$29(
+        .d(hb$29$d),
+        .q(hb$29$q),
+        .clock(hb$29$clock)
+    );
+    sat$back$hb$30 hb$30(
+        .d(hb$30$d),
+        .q(hb$30$q),
+        .clock(hb$30$clock)
+    );
+    sat$back$hb$31 hb$31(
+        .d(hb$31$d),
+        .q(hb$31$q),
+        .clock(hb$31$clock)
+    );
+    sat$back$hb$32 hb$32(
+        .d(hb$32$d),
+        .q(hb$32$q),
+        .clock(hb$32$clock)
+    );
+    sat$back$hb$33 hb$33(
+        .d(hb$33$d),
+        .q(hb$33$q),
+        .clock(hb$33$clock)
+    );
+    sat$back$hb$34 hb$34(
+        .d(hb$34$d),
+        .q(hb$34$q),
+        .clock(hb$34$clock)
+    );
+    sat$back$hb$35 hb$35(
+        .d(hb$35$d),
+        .q(hb$35$q),
+        .clock(hb$35$clock)
+    );
     sat$back$pm$0 pm$0(
         .d(pm$0$d),
         .q(pm$0$q),
@@ -2002,6 +2594,26 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         .d(pm$7$d),
         .q(pm$7$q),
         .clock(pm$7$clock)
+    );
+    sat$back$pm$8 pm$8(
+        .d(pm$8$d),
+        .q(pm$8$q),
+        .clock(pm$8$clock)
+    );
+    sat$back$pm$9 pm$9(
+        .d(pm$9$d),
+        .q(pm$9$q),
+        .clock(pm$9$clock)
+    );
+    sat$back$pm$10 pm$10(
+        .d(pm$10$d),
+        .q(pm$10$q),
+        .clock(pm$10$clock)
+    );
+    sat$back$pm$11 pm$11(
+        .d(pm$11$d),
+        .q(pm$11$q),
+        .clock(pm$11$clock)
     );
     sat$back$face_a_dot$0 face_a_dot$0(
         .a0(face_a_dot$0$a0),
@@ -2564,6 +3176,66 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         .q(at_d$20$q),
         .clock(at_d$20$clock)
     );
+    sat$back$at_d$21 at_d$21(
+        .d(at_d$21$d),
+        .q(at_d$21$q),
+        .clock(at_d$21$clock)
+    );
+    sat$back$at_d$22 at_d$22(
+        .d(at_d$22$d),
+        .q(at_d$22$q),
+        .clock(at_d$22$clock)
+    );
+    sat$back$at_d$23 at_d$23(
+        .d(at_d$23$d),
+        .q(at_d$23$q),
+        .clock(at_d$23$clock)
+    );
+    sat$back$at_d$24 at_d$24(
+        .d(at_d$24$d),
+        .q(at_d$24$q),
+        .clock(at_d$24$clock)
+    );
+    sat$back$at_d$25 at_d$25(
+        .d(at_d$25$d),
+        .q(at_d$25$q),
+        .clock(at_d$25$clock)
+    );
+    sat$back$at_d$26 at_d$26(
+        .d(at_d$26$d),
+        .q(at_d$26$q),
+        .clock(at_d$26$clock)
+    );
+    sat$back$at_d$27 at_d$27(
+        .d(at_d$27$d),
+        .q(at_d$27$q),
+        .clock(at_d$27$clock)
+    );
+    sat$back$at_d$28 at_d$28(
+        .d(at_d$28$d),
+        .q(at_d$28$q),
+        .clock(at_d$28$clock)
+    );
+    sat$back$at_d$29 at_d$29(
+        .d(at_d$29$d),
+        .q(at_d$29$q),
+        .clock(at_d$29$clock)
+    );
+    sat$back$at_d$30 at_d$30(
+        .d(at_d$30$d),
+        .q(at_d$30$q),
+        .clock(at_d$30$clock)
+    );
+    sat$back$at_d$31 at_d$31(
+        .d(at_d$31$d),
+        .q(at_d$31$q),
+        .clock(at_d$31$clock)
+    );
+    sat$back$at_d$32 at_d$32(
+        .d(at_d$32$d),
+        .q(at_d$32$q),
+        .clock(at_d$32$clock)
+    );
     sat$back$au_d$0 au_d$0(
         .d(au_d$0$d),
         .q(au_d$0$q),
@@ -2669,6 +3341,66 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         .q(au_d$20$q),
         .clock(au_d$20$clock)
     );
+    sat$back$au_d$21 au_d$21(
+        .d(au_d$21$d),
+        .q(au_d$21$q),
+        .clock(au_d$21$clock)
+    );
+    sat$back$au_d$22 au_d$22(
+        .d(au_d$22$d),
+        .q(au_d$22$q),
+        .clock(au_d$22$clock)
+    );
+    sat$back$au_d$23 au_d$23(
+        .d(au_d$23$d),
+        .q(au_d$23$q),
+        .clock(au_d$23$clock)
+    );
+    sat$back$au_d$24 au_d$24(
+        .d(au_d$24$d),
+        .q(au_d$24$q),
+        .clock(au_d$24$clock)
+    );
+    sat$back$au_d$25 au_d$25(
+        .d(au_d$25$d),
+        .q(au_d$25$q),
+        .clock(au_d$25$clock)
+    );
+    sat$back$au_d$26 au_d$26(
+        .d(au_d$26$d),
+        .q(au_d$26$q),
+        .clock(au_d$26$clock)
+    );
+    sat$back$au_d$27 au_d$27(
+        .d(au_d$27$d),
+        .q(au_d$27$q),
+        .clock(au_d$27$clock)
+    );
+    sat$back$au_d$28 au_d$28(
+        .d(au_d$28$d),
+        .q(au_d$28$q),
+        .clock(au_d$28$clock)
+    );
+    sat$back$au_d$29 au_d$29(
+        .d(au_d$29$d),
+        .q(au_d$29$q),
+        .clock(au_d$29$clock)
+    );
+    sat$back$au_d$30 au_d$30(
+        .d(au_d$30$d),
+        .q(au_d$30$q),
+        .clock(au_d$30$clock)
+    );
+    sat$back$au_d$31 au_d$31(
+        .d(au_d$31$d),
+        .q(au_d$31$q),
+        .clock(au_d$31$clock)
+    );
+    sat$back$au_d$32 au_d$32(
+        .d(au_d$32$d),
+        .q(au_d$32$q),
+        .clock(au_d$32$clock)
+    );
     sat$back$fa_d$0 fa_d$0(
         .d(fa_d$0$d),
         .q(fa_d$0$q),
@@ -2729,6 +3461,36 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         .q(fa_d$11$q),
         .clock(fa_d$11$clock)
     );
+    sat$back$fa_d$12 fa_d$12(
+        .d(fa_d$12$d),
+        .q(fa_d$12$q),
+        .clock(fa_d$12$clock)
+    );
+    sat$back$fa_d$13 fa_d$13(
+        .d(fa_d$13$d),
+        .q(fa_d$13$q),
+        .clock(fa_d$13$clock)
+    );
+    sat$back$fa_d$14 fa_d$14(
+        .d(fa_d$14$d),
+        .q(fa_d$14$q),
+        .clock(fa_d$14$clock)
+    );
+    sat$back$fa_d$15 fa_d$15(
+        .d(fa_d$15$d),
+        .q(fa_d$15$q),
+        .clock(fa_d$15$clock)
+    );
+    sat$back$fa_d$16 fa_d$16(
+        .d(fa_d$16$d),
+        .q(fa_d$16$q),
+        .clock(fa_d$16$clock)
+    );
+    sat$back$fa_d$17 fa_d$17(
+        .d(fa_d$17$d),
+        .q(fa_d$17$q),
+        .clock(fa_d$17$clock)
+    );
     sat$back$fb_d$0 fb_d$0(
         .d(fb_d$0$d),
         .q(fb_d$0$q),
@@ -2788,6 +3550,36 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         .d(fb_d$11$d),
         .q(fb_d$11$q),
         .clock(fb_d$11$clock)
+    );
+    sat$back$fb_d$12 fb_d$12(
+        .d(fb_d$12$d),
+        .q(fb_d$12$q),
+        .clock(fb_d$12$clock)
+    );
+    sat$back$fb_d$13 fb_d$13(
+        .d(fb_d$13$d),
+        .q(fb_d$13$q),
+        .clock(fb_d$13$clock)
+    );
+    sat$back$fb_d$14 fb_d$14(
+        .d(fb_d$14$d),
+        .q(fb_d$14$q),
+        .clock(fb_d$14$clock)
+    );
+    sat$back$fb_d$15 fb_d$15(
+        .d(fb_d$15$d),
+        .q(fb_d$15$q),
+        .clock(fb_d$15$clock)
+    );
+    sat$back$fb_d$16 fb_d$16(
+        .d(fb_d$16$d),
+        .q(fb_d$16$q),
+        .clock(fb_d$16$clock)
+    );
+    sat$back$fb_d$17 fb_d$17(
+        .d(fb_d$17$d),
+        .q(fb_d$17$q),
+        .clock(fb_d$17$clock)
     );
     sat$back$ra_d$0 ra_d$0(
         .d(ra_d$0$d),
@@ -2969,6 +3761,96 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         .q(ra_d$35$q),
         .clock(ra_d$35$clock)
     );
+    sat$back$ra_d$36 ra_d$36(
+        .d(ra_d$36$d),
+        .q(ra_d$36$q),
+        .clock(ra_d$36$clock)
+    );
+    sat$back$ra_d$37 ra_d$37(
+        .d(ra_d$37$d),
+        .q(ra_d$37$q),
+        .clock(ra_d$37$clock)
+    );
+    sat$back$ra_d$38 ra_d$38(
+        .d(ra_d$38$d),
+        .q(ra_d$38$q),
+        .clock(ra_d$38$clock)
+    );
+    sat$back$ra_d$39 ra_d$39(
+        .d(ra_d$39$d),
+        .q(ra_d$39$q),
+        .clock(ra_d$39$clock)
+    );
+    sat$back$ra_d$40 ra_d$40(
+        .d(ra_d$40$d),
+        .q(ra_d$40$q),
+        .clock(ra_d$40$clock)
+    );
+    sat$back$ra_d$41 ra_d$41(
+        .d(ra_d$41$d),
+        .q(ra_d$41$q),
+        .clock(ra_d$41$clock)
+    );
+    sat$back$ra_d$42 ra_d$42(
+        .d(ra_d$42$d),
+        .q(ra_d$42$q),
+        .clock(ra_d$42$clock)
+    );
+    sat$back$ra_d$43 ra_d$43(
+        .d(ra_d$43$d),
+        .q(ra_d$43$q),
+        .clock(ra_d$43$clock)
+    );
+    sat$back$ra_d$44 ra_d$44(
+        .d(ra_d$44$d),
+        .q(ra_d$44$q),
+        .clock(ra_d$44$clock)
+    );
+    sat$back$ra_d$45 ra_d$45(
+        .d(ra_d$45$d),
+        .q(ra_d$45$q),
+        .clock(ra_d$45$clock)
+    );
+    sat$back$ra_d$46 ra_d$46(
+        .d(ra_d$46$d),
+        .q(ra_d$46$q),
+        .clock(ra_d$46$clock)
+    );
+    sat$back$ra_d$47 ra_d$47(
+        .d(ra_d$47$d),
+        .q(ra_d$47$q),
+        .clock(ra_d$47$clock)
+    );
+    sat$back$ra_d$48 ra_d$48(
+        .d(ra_d$48$d),
+        .q(ra_d$48$q),
+        .clock(ra_d$48$clock)
+    );
+    sat$back$ra_d$49 ra_d$49(
+        .d(ra_d$49$d),
+        .q(ra_d$49$q),
+        .clock(ra_d$49$clock)
+    );
+    sat$back$ra_d$50 ra_d$50(
+        .d(ra_d$50$d),
+        .q(ra_d$50$q),
+        .clock(ra_d$50$clock)
+    );
+    sat$back$ra_d$51 ra_d$51(
+        .d(ra_d$51$d),
+        .q(ra_d$51$q),
+        .clock(ra_d$51$clock)
+    );
+    sat$back$ra_d$52 ra_d$52(
+        .d(ra_d$52$d),
+        .q(ra_d$52$q),
+        .clock(ra_d$52$clock)
+    );
+    sat$back$ra_d$53 ra_d$53(
+        .d(ra_d$53$d),
+        .q(ra_d$53$q),
+        .clock(ra_d$53$clock)
+    );
     sat$back$pa_d$0 pa_d$0(
         .d(pa_d$0$d),
         .q(pa_d$0$q),
@@ -3104,6 +3986,96 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         .q(pa_d$26$q),
         .clock(pa_d$26$clock)
     );
+    sat$back$pa_d$27 pa_d$27(
+        .d(pa_d$27$d),
+        .q(pa_d$27$q),
+        .clock(pa_d$27$clock)
+    );
+    sat$back$pa_d$28 pa_d$28(
+        .d(pa_d$28$d),
+        .q(pa_d$28$q),
+        .clock(pa_d$28$clock)
+    );
+    sat$back$pa_d$29 pa_d$29(
+        .d(pa_d$29$d),
+        .q(pa_d$29$q),
+        .clock(pa_d$29$clock)
+    );
+    sat$back$pa_d$30 pa_d$30(
+        .d(pa_d$30$d),
+        .q(pa_d$30$q),
+        .clock(pa_d$30$clock)
+    );
+    sat$back$pa_d$31 pa_d$31(
+        .d(pa_d$31$d),
+        .q(pa_d$31$q),
+        .clock(pa_d$31$clock)
+    );
+    sat$back$pa_d$32 pa_d$32(
+        .d(pa_d$32$d),
+        .q(pa_d$32$q),
+        .clock(pa_d$32$clock)
+    );
+    sat$back$pa_d$33 pa_d$33(
+        .d(pa_d$33$d),
+        .q(pa_d$33$q),
+        .clock(pa_d$33$clock)
+    );
+    sat$back$pa_d$34 pa_d$34(
+        .d(pa_d$34$d),
+        .q(pa_d$34$q),
+        .clock(pa_d$34$clock)
+    );
+    sat$back$pa_d$35 pa_d$35(
+        .d(pa_d$35$d),
+        .q(pa_d$35$q),
+        .clock(pa_d$35$clock)
+    );
+    sat$back$pa_d$36 pa_d$36(
+        .d(pa_d$36$d),
+        .q(pa_d$36$q),
+        .clock(pa_d$36$clock)
+    );
+    sat$back$pa_d$37 pa_d$37(
+        .d(pa_d$37$d),
+        .q(pa_d$37$q),
+        .clock(pa_d$37$clock)
+    );
+    sat$back$pa_d$38 pa_d$38(
+        .d(pa_d$38$d),
+        .q(pa_d$38$q),
+        .clock(pa_d$38$clock)
+    );
+    sat$back$pa_d$39 pa_d$39(
+        .d(pa_d$39$d),
+        .q(pa_d$39$q),
+        .clock(pa_d$39$clock)
+    );
+    sat$back$pa_d$40 pa_d$40(
+        .d(pa_d$40$d),
+        .q(pa_d$40$q),
+        .clock(pa_d$40$clock)
+    );
+    sat$back$pa_d$41 pa_d$41(
+        .d(pa_d$41$d),
+        .q(pa_d$41$q),
+        .clock(pa_d$41$clock)
+    );
+    sat$back$pa_d$42 pa_d$42(
+        .d(pa_d$42$d),
+        .q(pa_d$42$q),
+        .clock(pa_d$42$clock)
+    );
+    sat$back$pa_d$43 pa_d$43(
+        .d(pa_d$43$d),
+        .q(pa_d$43$q),
+        .clock(pa_d$43$clock)
+    );
+    sat$back$pa_d$44 pa_d$44(
+        .d(pa_d$44$d),
+        .q(pa_d$44$q),
+        .clock(pa_d$44$clock)
+    );
     sat$back$decide decide(
         .abs_t$0(decide$abs_t$0),
         .abs_t$1(decide$abs_t$1),
@@ -3171,6 +4143,10 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         valid$7$clock = clock;
         valid$8$clock = clock;
         valid$9$clock = clock;
+        valid$10$clock = clock;
+        valid$11$clock = clock;
+        valid$12$clock = clock;
+        valid$13$clock = clock;
         ha$0$clock = clock;
         ha$1$clock = clock;
         ha$2$clock = clock;
@@ -3195,6 +4171,18 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         ha$21$clock = clock;
         ha$22$clock = clock;
         ha$23$clock = clock;
+        ha$24$clock = clock;
+        ha$25$clock = clock;
+        ha$26$clock = clock;
+        ha$27$clock = clock;
+        ha$28$clock = clock;
+        ha$29$clock = clock;
+        ha$30$clock = clock;
+        ha$31$clock = clock;
+        ha$32$clock = clock;
+        ha$33$clock = clock;
+        ha$34$clock = clock;
+        ha$35$clock = clock;
         hb$0$clock = clock;
         hb$1$clock = clock;
         hb$2$clock = clock;
@@ -3219,6 +4207,18 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         hb$21$clock = clock;
         hb$22$clock = clock;
         hb$23$clock = clock;
+        hb$24$clock = clock;
+        hb$25$clock = clock;
+        hb$26$clock = clock;
+        hb$27$clock = clock;
+        hb$28$clock = clock;
+        hb$29$clock = clock;
+        hb$30$clock = clock;
+        hb$31$clock = clock;
+        hb$32$clock = clock;
+        hb$33$clock = clock;
+        hb$34$clock = clock;
+        hb$35$clock = clock;
         pm$0$clock = clock;
         pm$1$clock = clock;
         pm$2$clock = clock;
@@ -3227,6 +4227,10 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         pm$5$clock = clock;
         pm$6$clock = clock;
         pm$7$clock = clock;
+        pm$8$clock = clock;
+        pm$9$clock = clock;
+        pm$10$clock = clock;
+        pm$11$clock = clock;
         face_a_dot$0$clock = clock;
         face_a_dot$1$clock = clock;
         face_a_dot$2$clock = clock;
@@ -3308,6 +4312,18 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         at_d$18$clock = clock;
         at_d$19$clock = clock;
         at_d$20$clock = clock;
+        at_d$21$clock = clock;
+        at_d$22$clock = clock;
+        at_d$23$clock = clock;
+        at_d$24$clock = clock;
+        at_d$25$clock = clock;
+        at_d$26$clock = clock;
+        at_d$27$clock = clock;
+        at_d$28$clock = clock;
+        at_d$29$clock = clock;
+        at_d$30$clock = clock;
+        at_d$31$clock = clock;
+        at_d$32$clock = clock;
         au_d$0$clock = clock;
         au_d$1$clock = clock;
         au_d$2$clock = clock;
@@ -3329,6 +4345,18 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         au_d$18$clock = clock;
         au_d$19$clock = clock;
         au_d$20$clock = clock;
+        au_d$21$clock = clock;
+        au_d$22$clock = clock;
+        au_d$23$clock = clock;
+        au_d$24$clock = clock;
+        au_d$25$clock = clock;
+        au_d$26$clock = clock;
+        au_d$27$clock = clock;
+        au_d$28$clock = clock;
+        au_d$29$clock = clock;
+        au_d$30$clock = clock;
+        au_d$31$clock = clock;
+        au_d$32$clock = clock;
         fa_d$0$clock = clock;
         fa_d$1$clock = clock;
         fa_d$2$clock = clock;
@@ -3341,6 +4369,12 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         fa_d$9$clock = clock;
         fa_d$10$clock = clock;
         fa_d$11$clock = clock;
+        fa_d$12$clock = clock;
+        fa_d$13$clock = clock;
+        fa_d$14$clock = clock;
+        fa_d$15$clock = clock;
+        fa_d$16$clock = clock;
+        fa_d$17$clock = clock;
         fb_d$0$clock = clock;
         fb_d$1$clock = clock;
         fb_d$2$clock = clock;
@@ -3353,6 +4387,12 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         fb_d$9$clock = clock;
         fb_d$10$clock = clock;
         fb_d$11$clock = clock;
+        fb_d$12$clock = clock;
+        fb_d$13$clock = clock;
+        fb_d$14$clock = clock;
+        fb_d$15$clock = clock;
+        fb_d$16$clock = clock;
+        fb_d$17$clock = clock;
         ra_d$0$clock = clock;
         ra_d$1$clock = clock;
         ra_d$2$clock = clock;
@@ -3389,6 +4429,24 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         ra_d$33$clock = clock;
         ra_d$34$clock = clock;
         ra_d$35$clock = clock;
+        ra_d$36$clock = clock;
+        ra_d$37$clock = clock;
+        ra_d$38$clock = clock;
+        ra_d$39$clock = clock;
+        ra_d$40$clock = clock;
+        ra_d$41$clock = clock;
+        ra_d$42$clock = clock;
+        ra_d$43$clock = clock;
+        ra_d$44$clock = clock;
+        ra_d$45$clock = clock;
+        ra_d$46$clock = clock;
+        ra_d$47$clock = clock;
+        ra_d$48$clock = clock;
+        ra_d$49$clock = clock;
+        ra_d$50$clock = clock;
+        ra_d$51$clock = clock;
+        ra_d$52$clock = clock;
+        ra_d$53$clock = clock;
         pa_d$0$clock = clock;
         pa_d$1$clock = clock;
         pa_d$2$clock = clock;
@@ -3416,6 +4474,24 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         pa_d$24$clock = clock;
         pa_d$25$clock = clock;
         pa_d$26$clock = clock;
+        pa_d$27$clock = clock;
+        pa_d$28$clock = clock;
+        pa_d$29$clock = clock;
+        pa_d$30$clock = clock;
+        pa_d$31$clock = clock;
+        pa_d$32$clock = clock;
+        pa_d$33$clock = clock;
+        pa_d$34$clock = clock;
+        pa_d$35$clock = clock;
+        pa_d$36$clock = clock;
+        pa_d$37$clock = clock;
+        pa_d$38$clock = clock;
+        pa_d$39$clock = clock;
+        pa_d$40$clock = clock;
+        pa_d$41$clock = clock;
+        pa_d$42$clock = clock;
+        pa_d$43$clock = clock;
+        pa_d$44$clock = clock;
         round$clock = clock;
         decide$clock = clock;
         valid$0$d = valid_in;
@@ -3428,6 +4504,10 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         valid$7$d = valid$6$q;
         valid$8$d = valid$7$q;
         valid$9$d = valid$8$q;
+        valid$10$d = valid$9$q;
+        valid$11$d = valid$10$q;
+        valid$12$d = valid$11$q;
+        valid$13$d = valid$12$q;
         pm$0$d = pair_margin;
         pm$1$d = pm$0$q;
         pm$2$d = pm$1$q;
@@ -3436,6 +4516,10 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         pm$5$d = pm$4$q;
         pm$6$d = pm$5$q;
         pm$7$d = pm$6$q;
+        pm$8$d = pm$7$q;
+        pm$9$d = pm$8$q;
+        pm$10$d = pm$9$q;
+        pm$11$d = pm$10$q;
         ha$0$d = half_a$0;
         hb$0$d = half_b$0;
         ha$1$d = half_a$1;
@@ -3484,6 +4568,30 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         hb$22$d = hb$19$q;
         ha$23$d = ha$20$q;
         hb$23$d = hb$20$q;
+        ha$24$d = ha$21$q;
+        hb$24$d = hb$21$q;
+        ha$25$d = ha$22$q;
+        hb$25$d = hb$22$q;
+        ha$26$d = ha$23$q;
+        hb$26$d = hb$23$q;
+        ha$27$d = ha$24$q;
+        hb$27$d = hb$24$q;
+        ha$28$d = ha$25$q;
+        hb$28$d = hb$25$q;
+        ha$29$d = ha$26$q;
+        hb$29$d = hb$26$q;
+        ha$30$d = ha$27$q;
+        hb$30$d = hb$27$q;
+        ha$31$d = ha$28$q;
+        hb$31$d = hb$28$q;
+        ha$32$d = ha$29$q;
+        hb$32$d = hb$29$q;
+        ha$33$d = ha$30$q;
+        hb$33$d = hb$30$q;
+        ha$34$d = ha$31$q;
+        hb$34$d = hb$31$q;
+        ha$35$d = ha$32$q;
+        hb$35$d = hb$32$q;
         round$f = frac;
         round$t$0 = t$0;
         round$u$0 = u$0;
@@ -3690,41 +4798,41 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         minor_s$7 = $signed(minor_abs$7$y);
         minor_s$8 = $signed(minor_abs$8$y);
         rb_dot$0$a0 = minor_s$0;
-        rb_dot$0$b0 = hb$13$q;
+        rb_dot$0$b0 = hb$19$q;
         rb_dot$0$a1 = minor_s$1;
-        rb_dot$0$b1 = hb$14$q;
+        rb_dot$0$b1 = hb$20$q;
         rb_dot$1$a0 = minor_s$0;
-        rb_dot$1$b0 = hb$12$q;
+        rb_dot$1$b0 = hb$18$q;
         rb_dot$1$a1 = minor_s$2;
-        rb_dot$1$b1 = hb$14$q;
+        rb_dot$1$b1 = hb$20$q;
         rb_dot$2$a0 = minor_s$1;
-        rb_dot$2$b0 = hb$12$q;
+        rb_dot$2$b0 = hb$18$q;
         rb_dot$2$a1 = minor_s$2;
-        rb_dot$2$b1 = hb$13$q;
+        rb_dot$2$b1 = hb$19$q;
         rb_dot$3$a0 = minor_s$3;
-        rb_dot$3$b0 = hb$13$q;
+        rb_dot$3$b0 = hb$19$q;
         rb_dot$3$a1 = minor_s$4;
-        rb_dot$3$b1 = hb$14$q;
+        rb_dot$3$b1 = hb$20$q;
         rb_dot$4$a0 = minor_s$3;
-        rb_dot$4$b0 = hb$12$q;
+        rb_dot$4$b0 = hb$18$q;
         rb_dot$4$a1 = minor_s$5;
-        rb_dot$4$b1 = hb$14$q;
+        rb_dot$4$b1 = hb$20$q;
         rb_dot$5$a0 = minor_s$4;
-        rb_dot$5$b0 = hb$12$q;
+        rb_dot$5$b0 = hb$18$q;
         rb_dot$5$a1 = minor_s$5;
-        rb_dot$5$b1 = hb$13$q;
+        rb_dot$5$b1 = hb$19$q;
         rb_dot$6$a0 = minor_s$6;
-        rb_dot$6$b0 = hb$13$q;
+        rb_dot$6$b0 = hb$19$q;
         rb_dot$6$a1 = minor_s$7;
-        rb_dot$6$b1 = hb$14$q;
+        rb_dot$6$b1 = hb$20$q;
         rb_dot$7$a0 = minor_s$6;
-        rb_dot$7$b0 = hb$12$q;
+        rb_dot$7$b0 = hb$18$q;
         rb_dot$7$a1 = minor_s$8;
-        rb_dot$7$b1 = hb$14$q;
+        rb_dot$7$b1 = hb$20$q;
         rb_dot$8$a0 = minor_s$7;
-        rb_dot$8$b0 = hb$12$q;
+        rb_dot$8$b0 = hb$18$q;
         rb_dot$8$a1 = minor_s$8;
-        rb_dot$8$b1 = hb$13$q;
+        rb_dot$8$b1 = hb$19$q;
         at_d$0$d = round$abs_t$0;
         au_d$0$d = round$abs_u$0;
         fa_d$0$d = face_a_dot$0$p;
@@ -3773,6 +4881,30 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         au_d$19$d = au_d$16$q;
         at_d$20$d = at_d$17$q;
         au_d$20$d = au_d$17$q;
+        at_d$21$d = at_d$18$q;
+        au_d$21$d = au_d$18$q;
+        at_d$22$d = at_d$19$q;
+        au_d$22$d = au_d$19$q;
+        at_d$23$d = at_d$20$q;
+        au_d$23$d = au_d$20$q;
+        at_d$24$d = at_d$21$q;
+        au_d$24$d = au_d$21$q;
+        at_d$25$d = at_d$22$q;
+        au_d$25$d = au_d$22$q;
+        at_d$26$d = at_d$23$q;
+        au_d$26$d = au_d$23$q;
+        at_d$27$d = at_d$24$q;
+        au_d$27$d = au_d$24$q;
+        at_d$28$d = at_d$25$q;
+        au_d$28$d = au_d$25$q;
+        at_d$29$d = at_d$26$q;
+        au_d$29$d = au_d$26$q;
+        at_d$30$d = at_d$27$q;
+        au_d$30$d = au_d$27$q;
+        at_d$31$d = at_d$28$q;
+        au_d$31$d = au_d$28$q;
+        at_d$32$d = at_d$29$q;
+        au_d$32$d = au_d$29$q;
         fa_d$3$d = fa_d$0$q;
         fb_d$3$d = fb_d$0$q;
         fa_d$4$d = fa_d$1$q;
@@ -3791,6 +4923,18 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         fb_d$10$d = fb_d$7$q;
         fa_d$11$d = fa_d$8$q;
         fb_d$11$d = fb_d$8$q;
+        fa_d$12$d = fa_d$9$q;
+        fb_d$12$d = fb_d$9$q;
+        fa_d$13$d = fa_d$10$q;
+        fb_d$13$d = fb_d$10$q;
+        fa_d$14$d = fa_d$11$q;
+        fb_d$14$d = fb_d$11$q;
+        fa_d$15$d = fa_d$12$q;
+        fb_d$15$d = fb_d$12$q;
+        fa_d$16$d = fa_d$13$q;
+        fb_d$16$d = fb_d$13$q;
+        fa_d$17$d = fa_d$14$q;
+        fb_d$17$d = fb_d$14$q;
         ra_d$0$d = ra_dot$0$p;
         pa_d$0$d = p_abs$0$y;
         ra_d$1$d = ra_dot$1$p;
@@ -3836,6 +4980,24 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         ra_d$33$d = ra_d$24$q;
         ra_d$34$d = ra_d$25$q;
         ra_d$35$d = ra_d$26$q;
+        ra_d$36$d = ra_d$27$q;
+        ra_d$37$d = ra_d$28$q;
+        ra_d$38$d = ra_d$29$q;
+        ra_d$39$d = ra_d$30$q;
+        ra_d$40$d = ra_d$31$q;
+        ra_d$41$d = ra_d$32$q;
+        ra_d$42$d = ra_d$33$q;
+        ra_d$43$d = ra_d$34$q;
+        ra_d$44$d = ra_d$35$q;
+        ra_d$45$d = ra_d$36$q;
+        ra_d$46$d = ra_d$37$q;
+        ra_d$47$d = ra_d$38$q;
+        ra_d$48$d = ra_d$39$q;
+        ra_d$49$d = ra_d$40$q;
+        ra_d$50$d = ra_d$41$q;
+        ra_d$51$d = ra_d$42$q;
+        ra_d$52$d = ra_d$43$q;
+        ra_d$53$d = ra_d$44$q;
         pa_d$9$d = pa_d$0$q;
         pa_d$10$d = pa_d$1$q;
         pa_d$11$d = pa_d$2$q;
@@ -3854,57 +5016,75 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         pa_d$24$d = pa_d$15$q;
         pa_d$25$d = pa_d$16$q;
         pa_d$26$d = pa_d$17$q;
+        pa_d$27$d = pa_d$18$q;
+        pa_d$28$d = pa_d$19$q;
+        pa_d$29$d = pa_d$20$q;
+        pa_d$30$d = pa_d$21$q;
+        pa_d$31$d = pa_d$22$q;
+        pa_d$32$d = pa_d$23$q;
+        pa_d$33$d = pa_d$24$q;
+        pa_d$34$d = pa_d$25$q;
+        pa_d$35$d = pa_d$26$q;
+        pa_d$36$d = pa_d$27$q;
+        pa_d$37$d = pa_d$28$q;
+        pa_d$38$d = pa_d$29$q;
+        pa_d$39$d = pa_d$30$q;
+        pa_d$40$d = pa_d$31$q;
+        pa_d$41$d = pa_d$32$q;
+        pa_d$42$d = pa_d$33$q;
+        pa_d$43$d = pa_d$34$q;
+        pa_d$44$d = pa_d$35$q;
         decide$f = frac;
         decide$k = shift;
         decide$face_margin = face_margin;
         decide$cross_margin = cross_margin;
-        decide$pair_margin = pm$7$q;
-        decide$abs_t$0 = at_d$18$q;
-        decide$abs_u$0 = au_d$18$q;
-        decide$face_a$0 = fa_d$9$q;
-        decide$face_b$0 = fb_d$9$q;
-        decide$half_a$0 = ha$21$q;
-        decide$half_b$0 = hb$21$q;
-        decide$abs_t$1 = at_d$19$q;
-        decide$abs_u$1 = au_d$19$q;
-        decide$face_a$1 = fa_d$10$q;
-        decide$face_b$1 = fb_d$10$q;
-        decide$half_a$1 = ha$22$q;
-        decide$half_b$1 = hb$22$q;
-        decide$abs_t$2 = at_d$20$q;
-        decide$abs_u$2 = au_d$20$q;
-        decide$face_a$2 = fa_d$11$q;
-        decide$face_b$2 = fb_d$11$q;
-        decide$half_a$2 = ha$23$q;
-        decide$half_b$2 = hb$23$q;
-        decide$abs_p$0 = pa_d$18$q;
-        decide$r_a$0 = ra_d$27$q;
+        decide$pair_margin = pm$11$q;
+        decide$abs_t$0 = at_d$30$q;
+        decide$abs_u$0 = au_d$30$q;
+        decide$face_a$0 = fa_d$15$q;
+        decide$face_b$0 = fb_d$15$q;
+        decide$half_a$0 = ha$33$q;
+        decide$half_b$0 = hb$33$q;
+        decide$abs_t$1 = at_d$31$q;
+        decide$abs_u$1 = au_d$31$q;
+        decide$face_a$1 = fa_d$16$q;
+        decide$face_b$1 = fb_d$16$q;
+        decide$half_a$1 = ha$34$q;
+        decide$half_b$1 = hb$34$q;
+        decide$abs_t$2 = at_d$32$q;
+        decide$abs_u$2 = au_d$32$q;
+        decide$face_a$2 = fa_d$17$q;
+        decide$face_b$2 = fb_d$17$q;
+        decide$half_a$2 = ha$35$q;
+        decide$half_b$2 = hb$35$q;
+        decide$abs_p$0 = pa_d$36$q;
+        decide$r_a$0 = ra_d$45$q;
         decide$r_b$0 = rb_dot$0$p;
-        decide$abs_p$1 = pa_d$19$q;
-        decide$r_a$1 = ra_d$28$q;
+        decide$abs_p$1 = pa_d$37$q;
+        decide$r_a$1 = ra_d$46$q;
         decide$r_b$1 = rb_dot$1$p;
-        decide$abs_p$2 = pa_d$20$q;
-        decide$r_a$2 = ra_d$29$q;
+        decide$abs_p$2 = pa_d$38$q;
+        decide$r_a$2 = ra_d$47$q;
         decide$r_b$2 = rb_dot$2$p;
-        decide$abs_p$3 = pa_d$21$q;
-        decide$r_a$3 = ra_d$30$q;
+        decide$abs_p$3 = pa_d$39$q;
+        decide$r_a$3 = ra_d$48$q;
         decide$r_b$3 = rb_dot$3$p;
-        decide$abs_p$4 = pa_d$22$q;
-        decide$r_a$4 = ra_d$31$q;
+        decide$abs_p$4 = pa_d$40$q;
+        decide$r_a$4 = ra_d$49$q;
         decide$r_b$4 = rb_dot$4$p;
-        decide$abs_p$5 = pa_d$23$q;
-        decide$r_a$5 = ra_d$32$q;
+        decide$abs_p$5 = pa_d$41$q;
+        decide$r_a$5 = ra_d$50$q;
         decide$r_b$5 = rb_dot$5$p;
-        decide$abs_p$6 = pa_d$24$q;
-        decide$r_a$6 = ra_d$33$q;
+        decide$abs_p$6 = pa_d$42$q;
+        decide$r_a$6 = ra_d$51$q;
         decide$r_b$6 = rb_dot$6$p;
-        decide$abs_p$7 = pa_d$25$q;
-        decide$r_a$7 = ra_d$34$q;
+        decide$abs_p$7 = pa_d$43$q;
+        decide$r_a$7 = ra_d$52$q;
         decide$r_b$7 = rb_dot$7$p;
-        decide$abs_p$8 = pa_d$26$q;
-        decide$r_a$8 = ra_d$35$q;
+        decide$abs_p$8 = pa_d$44$q;
+        decide$r_a$8 = ra_d$53$q;
         decide$r_b$8 = rb_dot$8$p;
-        valid_out = valid$9$q;
+        valid_out = valid$13$q;
         hit = decide$hit;
     end
     
@@ -4177,6 +5357,177 @@ module sat$back$at_d$20(d,q,clock);
 endmodule // sat$back$at_d$20
 
 
+module sat$back$at_d$21(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$at_d$21
+
+
+module sat$back$at_d$22(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$at_d$22
+
+
+module sat$back$at_d$23(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$at_d$23
+
+
+module sat$back$at_d$24(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$at_d$24
+
+
+module sat$back$at_d$25(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$at_d$25
+
+
+module sat$back$at_d$26(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$at_d$26
+
+
+module sat$back$at_d$27(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$at_d$27
+
+
+module sat$back$at_d$28(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$at_d$28
+
+
+module sat$back$at_d$29(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$at_d$29
+
+
 module sat$back$at_d$3(d,q,clock);
     
     // Module arguments
@@ -4194,6 +5545,63 @@ module sat$back$at_d$3(d,q,clock);
     end
           
 endmodule // sat$back$at_d$3
+
+
+module sat$back$at_d$30(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$at_d$30
+
+
+module sat$back$at_d$31(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$at_d$31
+
+
+module sat$back$at_d$32(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$at_d$32
 
 
 module sat$back$at_d$4(d,q,clock);
@@ -4576,6 +5984,177 @@ module sat$back$au_d$20(d,q,clock);
 endmodule // sat$back$au_d$20
 
 
+module sat$back$au_d$21(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$au_d$21
+
+
+module sat$back$au_d$22(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$au_d$22
+
+
+module sat$back$au_d$23(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$au_d$23
+
+
+module sat$back$au_d$24(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$au_d$24
+
+
+module sat$back$au_d$25(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$au_d$25
+
+
+module sat$back$au_d$26(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$au_d$26
+
+
+module sat$back$au_d$27(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$au_d$27
+
+
+module sat$back$au_d$28(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$au_d$28
+
+
+module sat$back$au_d$29(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$au_d$29
+
+
 module sat$back$au_d$3(d,q,clock);
     
     // Module arguments
@@ -4593,6 +6172,63 @@ module sat$back$au_d$3(d,q,clock);
     end
           
 endmodule // sat$back$au_d$3
+
+
+module sat$back$au_d$30(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$au_d$30
+
+
+module sat$back$au_d$31(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$au_d$31
+
+
+module sat$back$au_d$32(d,q,clock);
+    
+    // Module arguments
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 43'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$au_d$32
 
 
 module sat$back$au_d$4(d,q,clock);
@@ -4898,6 +6534,120 @@ module sat$back$fa_d$11(d,q,clock);
 endmodule // sat$back$fa_d$11
 
 
+module sat$back$fa_d$12(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$fa_d$12
+
+
+module sat$back$fa_d$13(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$fa_d$13
+
+
+module sat$back$fa_d$14(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$fa_d$14
+
+
+module sat$back$fa_d$15(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$fa_d$15
+
+
+module sat$back$fa_d$16(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$fa_d$16
+
+
+module sat$back$fa_d$17(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$fa_d$17
+
+
 module sat$back$fa_d$2(d,q,clock);
     
     // Module arguments
@@ -5062,29 +6812,33 @@ module sat$back$face_a_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [38:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [18:0] a0_r;
-    reg signed [18:0] a1_r;
-    reg signed [18:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [38:0] m0;
-    reg signed [38:0] m1;
-    reg signed [38:0] m2;
-    
     // Update code (custom)
+    reg signed [18:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [36:0] m0, m1, m2;
+    reg signed [38:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$back$face_a_dot$0
 
@@ -5101,29 +6855,33 @@ module sat$back$face_a_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [38:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [18:0] a0_r;
-    reg signed [18:0] a1_r;
-    reg signed [18:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [38:0] m0;
-    reg signed [38:0] m1;
-    reg signed [38:0] m2;
-    
     // Update code (custom)
+    reg signed [18:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [36:0] m0, m1, m2;
+    reg signed [38:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$back$face_a_dot$1
 
@@ -5140,29 +6898,33 @@ module sat$back$face_a_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [38:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [18:0] a0_r;
-    reg signed [18:0] a1_r;
-    reg signed [18:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [38:0] m0;
-    reg signed [38:0] m1;
-    reg signed [38:0] m2;
-    
     // Update code (custom)
+    reg signed [18:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [36:0] m0, m1, m2;
+    reg signed [38:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$back$face_a_dot$2
 
@@ -5179,29 +6941,33 @@ module sat$back$face_b_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [38:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [18:0] a0_r;
-    reg signed [18:0] a1_r;
-    reg signed [18:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [38:0] m0;
-    reg signed [38:0] m1;
-    reg signed [38:0] m2;
-    
     // Update code (custom)
+    reg signed [18:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [36:0] m0, m1, m2;
+    reg signed [38:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$back$face_b_dot$0
 
@@ -5218,29 +6984,33 @@ module sat$back$face_b_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [38:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [18:0] a0_r;
-    reg signed [18:0] a1_r;
-    reg signed [18:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [38:0] m0;
-    reg signed [38:0] m1;
-    reg signed [38:0] m2;
-    
     // Update code (custom)
+    reg signed [18:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [36:0] m0, m1, m2;
+    reg signed [38:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$back$face_b_dot$1
 
@@ -5257,29 +7027,33 @@ module sat$back$face_b_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [38:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [18:0] a0_r;
-    reg signed [18:0] a1_r;
-    reg signed [18:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [38:0] m0;
-    reg signed [38:0] m1;
-    reg signed [38:0] m2;
-    
     // Update code (custom)
+    reg signed [18:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [36:0] m0, m1, m2;
+    reg signed [38:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$back$face_b_dot$2
 
@@ -5358,6 +7132,120 @@ module sat$back$fb_d$11(d,q,clock);
     end
           
 endmodule // sat$back$fb_d$11
+
+
+module sat$back$fb_d$12(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$fb_d$12
+
+
+module sat$back$fb_d$13(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$fb_d$13
+
+
+module sat$back$fb_d$14(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$fb_d$14
+
+
+module sat$back$fb_d$15(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$fb_d$15
+
+
+module sat$back$fb_d$16(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$fb_d$16
+
+
+module sat$back$fb_d$17(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$fb_d$17
 
 
 module sat$back$fb_d$2(d,q,clock);
@@ -5835,6 +7723,120 @@ module sat$back$ha$23(d,q,clock);
 endmodule // sat$back$ha$23
 
 
+module sat$back$ha$24(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ha$24
+
+
+module sat$back$ha$25(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ha$25
+
+
+module sat$back$ha$26(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ha$26
+
+
+module sat$back$ha$27(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ha$27
+
+
+module sat$back$ha$28(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ha$28
+
+
+module sat$back$ha$29(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ha$29
+
+
 module sat$back$ha$3(d,q,clock);
     
     // Module arguments
@@ -5852,6 +7854,120 @@ module sat$back$ha$3(d,q,clock);
     end
           
 endmodule // sat$back$ha$3
+
+
+module sat$back$ha$30(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ha$30
+
+
+module sat$back$ha$31(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ha$31
+
+
+module sat$back$ha$32(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ha$32
+
+
+module sat$back$ha$33(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ha$33
+
+
+module sat$back$ha$34(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ha$34
+
+
+module sat$back$ha$35(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ha$35
 
 
 module sat$back$ha$4(d,q,clock);
@@ -6291,6 +8407,120 @@ module sat$back$hb$23(d,q,clock);
 endmodule // sat$back$hb$23
 
 
+module sat$back$hb$24(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$hb$24
+
+
+module sat$back$hb$25(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$hb$25
+
+
+module sat$back$hb$26(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$hb$26
+
+
+module sat$back$hb$27(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$hb$27
+
+
+module sat$back$hb$28(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$hb$28
+
+
+module sat$back$hb$29(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$hb$29
+
+
 module sat$back$hb$3(d,q,clock);
     
     // Module arguments
@@ -6308,6 +8538,120 @@ module sat$back$hb$3(d,q,clock);
     end
           
 endmodule // sat$back$hb$3
+
+
+module sat$back$hb$30(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$hb$30
+
+
+module sat$back$hb$31(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$hb$31
+
+
+module sat$back$hb$32(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$hb$32
+
+
+module sat$back$hb$33(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$hb$33
+
+
+module sat$back$hb$34(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$hb$34
+
+
+module sat$back$hb$35(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$hb$35
 
 
 module sat$back$hb$4(d,q,clock);
@@ -6596,23 +8940,31 @@ module sat$back$minor_dot$0(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$minor_dot$0
 
@@ -6627,23 +8979,31 @@ module sat$back$minor_dot$1(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$minor_dot$1
 
@@ -6658,23 +9018,31 @@ module sat$back$minor_dot$2(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$minor_dot$2
 
@@ -6689,23 +9057,31 @@ module sat$back$minor_dot$3(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$minor_dot$3
 
@@ -6720,23 +9096,31 @@ module sat$back$minor_dot$4(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$minor_dot$4
 
@@ -6751,23 +9135,31 @@ module sat$back$minor_dot$5(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$minor_dot$5
 
@@ -6782,23 +9174,31 @@ module sat$back$minor_dot$6(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$minor_dot$6
 
@@ -6813,23 +9213,31 @@ module sat$back$minor_dot$7(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$minor_dot$7
 
@@ -6844,23 +9252,31 @@ module sat$back$minor_dot$8(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$minor_dot$8
 
@@ -7037,23 +9453,31 @@ module sat$back$p_dot$0(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$p_dot$0
 
@@ -7068,23 +9492,31 @@ module sat$back$p_dot$1(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$p_dot$1
 
@@ -7099,23 +9531,31 @@ module sat$back$p_dot$2(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$p_dot$2
 
@@ -7130,23 +9570,31 @@ module sat$back$p_dot$3(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$p_dot$3
 
@@ -7161,23 +9609,31 @@ module sat$back$p_dot$4(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$p_dot$4
 
@@ -7192,23 +9648,31 @@ module sat$back$p_dot$5(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$p_dot$5
 
@@ -7223,23 +9687,31 @@ module sat$back$p_dot$6(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$p_dot$6
 
@@ -7254,23 +9726,31 @@ module sat$back$p_dot$7(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$p_dot$7
 
@@ -7285,23 +9765,31 @@ module sat$back$p_dot$8(a0,a1,b0,b1,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [24:0] a0_r;
-    reg signed [24:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    
     // Update code (custom)
+    reg signed [24:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [42:0] m0, m1;
+    reg signed [43:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= ~b1;
+       c_f <= a1;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 - m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$p_dot$8
 
@@ -7686,6 +10174,63 @@ module sat$back$pa_d$26(d,q,clock);
 endmodule // sat$back$pa_d$26
 
 
+module sat$back$pa_d$27(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$27
+
+
+module sat$back$pa_d$28(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$28
+
+
+module sat$back$pa_d$29(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$29
+
+
 module sat$back$pa_d$3(d,q,clock);
     
     // Module arguments
@@ -7705,6 +10250,196 @@ module sat$back$pa_d$3(d,q,clock);
 endmodule // sat$back$pa_d$3
 
 
+module sat$back$pa_d$30(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$30
+
+
+module sat$back$pa_d$31(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$31
+
+
+module sat$back$pa_d$32(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$32
+
+
+module sat$back$pa_d$33(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$33
+
+
+module sat$back$pa_d$34(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$34
+
+
+module sat$back$pa_d$35(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$35
+
+
+module sat$back$pa_d$36(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$36
+
+
+module sat$back$pa_d$37(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$37
+
+
+module sat$back$pa_d$38(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$38
+
+
+module sat$back$pa_d$39(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$39
+
+
 module sat$back$pa_d$4(d,q,clock);
     
     // Module arguments
@@ -7722,6 +10457,101 @@ module sat$back$pa_d$4(d,q,clock);
     end
           
 endmodule // sat$back$pa_d$4
+
+
+module sat$back$pa_d$40(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$40
+
+
+module sat$back$pa_d$41(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$41
+
+
+module sat$back$pa_d$42(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$42
+
+
+module sat$back$pa_d$43(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$43
+
+
+module sat$back$pa_d$44(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pa_d$44
 
 
 module sat$back$pa_d$5(d,q,clock);
@@ -7857,6 +10687,44 @@ module sat$back$pm$1(d,q,clock);
 endmodule // sat$back$pm$1
 
 
+module sat$back$pm$10(d,q,clock);
+    
+    // Module arguments
+    input wire  [28:0] d;
+    output reg  [28:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 29'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pm$10
+
+
+module sat$back$pm$11(d,q,clock);
+    
+    // Module arguments
+    input wire  [28:0] d;
+    output reg  [28:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 29'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pm$11
+
+
 module sat$back$pm$2(d,q,clock);
     
     // Module arguments
@@ -7969,6 +10837,44 @@ module sat$back$pm$7(d,q,clock);
     end
           
 endmodule // sat$back$pm$7
+
+
+module sat$back$pm$8(d,q,clock);
+    
+    // Module arguments
+    input wire  [28:0] d;
+    output reg  [28:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 29'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pm$8
+
+
+module sat$back$pm$9(d,q,clock);
+    
+    // Module arguments
+    input wire  [28:0] d;
+    output reg  [28:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 29'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$pm$9
 
 
 module sat$back$ra_d$0(d,q,clock);
@@ -8541,6 +11447,82 @@ module sat$back$ra_d$35(d,q,clock);
 endmodule // sat$back$ra_d$35
 
 
+module sat$back$ra_d$36(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$36
+
+
+module sat$back$ra_d$37(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$37
+
+
+module sat$back$ra_d$38(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$38
+
+
+module sat$back$ra_d$39(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$39
+
+
 module sat$back$ra_d$4(d,q,clock);
     
     // Module arguments
@@ -8560,6 +11542,196 @@ module sat$back$ra_d$4(d,q,clock);
 endmodule // sat$back$ra_d$4
 
 
+module sat$back$ra_d$40(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$40
+
+
+module sat$back$ra_d$41(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$41
+
+
+module sat$back$ra_d$42(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$42
+
+
+module sat$back$ra_d$43(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$43
+
+
+module sat$back$ra_d$44(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$44
+
+
+module sat$back$ra_d$45(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$45
+
+
+module sat$back$ra_d$46(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$46
+
+
+module sat$back$ra_d$47(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$47
+
+
+module sat$back$ra_d$48(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$48
+
+
+module sat$back$ra_d$49(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$49
+
+
 module sat$back$ra_d$5(d,q,clock);
     
     // Module arguments
@@ -8577,6 +11749,82 @@ module sat$back$ra_d$5(d,q,clock);
     end
           
 endmodule // sat$back$ra_d$5
+
+
+module sat$back$ra_d$50(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$50
+
+
+module sat$back$ra_d$51(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$51
+
+
+module sat$back$ra_d$52(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$52
+
+
+module sat$back$ra_d$53(d,q,clock);
+    
+    // Module arguments
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 37'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$ra_d$53
 
 
 module sat$back$ra_d$6(d,q,clock);
@@ -8665,23 +11913,31 @@ module sat$back$ra_dot$0(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$ra_dot$0
 
@@ -8696,23 +11952,31 @@ module sat$back$ra_dot$1(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$ra_dot$1
 
@@ -8727,23 +11991,31 @@ module sat$back$ra_dot$2(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$ra_dot$2
 
@@ -8758,23 +12030,31 @@ module sat$back$ra_dot$3(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$ra_dot$3
 
@@ -8789,23 +12069,31 @@ module sat$back$ra_dot$4(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$ra_dot$4
 
@@ -8820,23 +12108,31 @@ module sat$back$ra_dot$5(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$ra_dot$5
 
@@ -8851,23 +12147,31 @@ module sat$back$ra_dot$6(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$ra_dot$6
 
@@ -8882,23 +12186,31 @@ module sat$back$ra_dot$7(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$ra_dot$7
 
@@ -8913,23 +12225,31 @@ module sat$back$ra_dot$8(a0,a1,b0,b1,p,clock);
     output reg signed [36:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [36:0] m0;
-    reg signed [36:0] m1;
-    
     // Update code (custom)
+    reg signed [17:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [35:0] m0, m1;
+    reg signed [36:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$ra_dot$8
 
@@ -8944,23 +12264,31 @@ module sat$back$rb_dot$0(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$rb_dot$0
 
@@ -8975,23 +12303,31 @@ module sat$back$rb_dot$1(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$rb_dot$1
 
@@ -9006,23 +12342,31 @@ module sat$back$rb_dot$2(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$rb_dot$2
 
@@ -9037,23 +12381,31 @@ module sat$back$rb_dot$3(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$rb_dot$3
 
@@ -9068,23 +12420,31 @@ module sat$back$rb_dot$4(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$rb_dot$4
 
@@ -9099,23 +12459,31 @@ module sat$back$rb_dot$5(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$rb_dot$5
 
@@ -9130,23 +12498,31 @@ module sat$back$rb_dot$6(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$rb_dot$6
 
@@ -9161,23 +12537,31 @@ module sat$back$rb_dot$7(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$rb_dot$7
 
@@ -9192,23 +12576,31 @@ module sat$back$rb_dot$8(a0,a1,b0,b1,p,clock);
     output reg signed [39:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [20:0] a0_r;
-    reg signed [20:0] a1_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [39:0] m0;
-    reg signed [39:0] m1;
-    
     // Update code (custom)
+    reg signed [20:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+    reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+    reg signed [38:0] m0, m1;
+    reg signed [39:0] p0;
     always @(posedge clock) begin
-       a0_r <= a0;
-       a1_r <= a1;
-       b0_r <= b0;
-       b1_r <= b1;
+       a0_f <= a0;
+       b0_f <= b0;
+       a1_f <= a1;
+       b1_f <= b1;
+       c_f <= 0;
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+       a0_r <= a0_f;
+       b0_r <= b0_f;
+       c_r <= c_f;
+       c_rr <= c_r;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       p <= m0 + m1;
+       p0 <= m0 + c_rr;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1_f;
+       b1_r <= b1_f;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p <= m1 + p0;
     end
 endmodule // sat$back$rb_dot$8
 
@@ -9393,6 +12785,82 @@ module sat$back$valid$1(d,q,clock);
     end
           
 endmodule // sat$back$valid$1
+
+
+module sat$back$valid$10(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$valid$10
+
+
+module sat$back$valid$11(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$valid$11
+
+
+module sat$back$valid$12(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$valid$12
+
+
+module sat$back$valid$13(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$valid$13
 
 
 module sat$back$valid$2(d,q,clock);
@@ -9606,6 +13074,12 @@ module sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center_b$0,cent
     reg  valid$3$d;
     wire  valid$3$q;
     reg  valid$3$clock;
+    reg  valid$4$d;
+    wire  valid$4$q;
+    reg  valid$4$clock;
+    reg  valid$5$d;
+    wire  valid$5$q;
+    reg  valid$5$clock;
     reg  [22:0] world$0$a;
     reg  [22:0] world$0$b;
     wire signed [23:0] world$0$d;
@@ -9813,6 +13287,16 @@ module sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center_b$0,cent
         .d(valid$3$d),
         .q(valid$3$q),
         .clock(valid$3$clock)
+    );
+    sat$front$valid$4 valid$4(
+        .d(valid$4$d),
+        .q(valid$4$q),
+        .clock(valid$4$clock)
+    );
+    sat$front$valid$5 valid$5(
+        .d(valid$5$d),
+        .q(valid$5$q),
+        .clock(valid$5$clock)
     );
     sat$front$world$0 world$0(
         .a(world$0$a),
@@ -10079,6 +13563,8 @@ module sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center_b$0,cent
         valid$1$clock = clock;
         valid$2$clock = clock;
         valid$3$clock = clock;
+        valid$4$clock = clock;
+        valid$5$clock = clock;
         world$0$clock = clock;
         t_dot$0$clock = clock;
         u_dot$0$clock = clock;
@@ -10119,6 +13605,8 @@ module sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center_b$0,cent
         valid$1$d = valid$0$q;
         valid$2$d = valid$1$q;
         valid$3$d = valid$2$q;
+        valid$4$d = valid$3$q;
+        valid$5$d = valid$4$q;
         world$0$a = center_a$0;
         world$0$b = center_b$0;
         world$1$a = center_a$1;
@@ -10248,7 +13736,7 @@ module sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center_b$0,cent
         r_dot$8$b1 = axes_b_r$7$q;
         r_dot$8$b2 = axes_b_r$8$q;
         r$8 = r_dot$8$p;
-        valid_out = valid$3$q;
+        valid_out = valid$5$q;
     end
     
 endmodule // sat$front
@@ -10608,29 +14096,33 @@ module sat$front$r_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$front$r_dot$0
 
@@ -10647,29 +14139,33 @@ module sat$front$r_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$front$r_dot$1
 
@@ -10686,29 +14182,33 @@ module sat$front$r_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$front$r_dot$2
 
@@ -10725,29 +14225,33 @@ module sat$front$r_dot$3(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$front$r_dot$3
 
@@ -10764,29 +14268,33 @@ module sat$front$r_dot$4(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$front$r_dot$4
 
@@ -10803,29 +14311,33 @@ module sat$front$r_dot$5(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$front$r_dot$5
 
@@ -10842,29 +14354,33 @@ module sat$front$r_dot$6(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$front$r_dot$6
 
@@ -10881,29 +14397,33 @@ module sat$front$r_dot$7(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$front$r_dot$7
 
@@ -10920,29 +14440,33 @@ module sat$front$r_dot$8(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [37:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [17:0] b0_r;
-    reg signed [17:0] b1_r;
-    reg signed [17:0] b2_r;
-    reg signed [37:0] m0;
-    reg signed [37:0] m1;
-    reg signed [37:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [35:0] m0, m1, m2;
+    reg signed [37:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$front$r_dot$8
 
@@ -10959,29 +14483,33 @@ module sat$front$t_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [23:0] b0_r;
-    reg signed [23:0] b1_r;
-    reg signed [23:0] b2_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    reg signed [43:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [41:0] m0, m1, m2;
+    reg signed [43:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$front$t_dot$0
 
@@ -10998,29 +14526,33 @@ module sat$front$t_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [23:0] b0_r;
-    reg signed [23:0] b1_r;
-    reg signed [23:0] b2_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    reg signed [43:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [41:0] m0, m1, m2;
+    reg signed [43:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$front$t_dot$1
 
@@ -11037,29 +14569,33 @@ module sat$front$t_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [23:0] b0_r;
-    reg signed [23:0] b1_r;
-    reg signed [23:0] b2_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    reg signed [43:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [41:0] m0, m1, m2;
+    reg signed [43:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$front$t_dot$2
 
@@ -11076,29 +14612,33 @@ module sat$front$u_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [23:0] b0_r;
-    reg signed [23:0] b1_r;
-    reg signed [23:0] b2_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    reg signed [43:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [41:0] m0, m1, m2;
+    reg signed [43:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$front$u_dot$0
 
@@ -11115,29 +14655,33 @@ module sat$front$u_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [23:0] b0_r;
-    reg signed [23:0] b1_r;
-    reg signed [23:0] b2_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    reg signed [43:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [41:0] m0, m1, m2;
+    reg signed [43:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$front$u_dot$1
 
@@ -11154,29 +14698,33 @@ module sat$front$u_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     output reg signed [43:0] p;
     input wire  clock;
     
-    // Local signals
-    reg signed [17:0] a0_r;
-    reg signed [17:0] a1_r;
-    reg signed [17:0] a2_r;
-    reg signed [23:0] b0_r;
-    reg signed [23:0] b1_r;
-    reg signed [23:0] b2_r;
-    reg signed [43:0] m0;
-    reg signed [43:0] m1;
-    reg signed [43:0] m2;
-    
     // Update code (custom)
+    reg signed [17:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+    reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+    reg signed [41:0] m0, m1, m2;
+    reg signed [43:0] p0, p1;
     always @(posedge clock) begin
+       // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
-       a1_r <= a1;
-       a2_r <= a2;
        b0_r <= b0;
-       b1_r <= b1;
-       b2_r <= b2;
        m0 <= a0_r * b0_r;
-       m1 <= a1_r * b1_r;
-       m2 <= a2_r * b2_r;
-       p <= m0 + m1 + m2;
+       p0 <= m0;
+       // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+       a1_r <= a1;
+       b1_r <= b1;
+       a1_rr <= a1_r;
+       b1_rr <= b1_r;
+       m1 <= a1_rr * b1_rr;
+       p1 <= m1 + p0;
+       // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+       a2_r <= a2;
+       b2_r <= b2;
+       a2_rr <= a2_r;
+       b2_rr <= b2_r;
+       a2_rrr <= a2_rr;
+       b2_rrr <= b2_rr;
+       m2 <= a2_rrr * b2_rrr;
+       p <= m2 + p1;
     end
 endmodule // sat$front$u_dot$2
 
@@ -11255,6 +14803,44 @@ module sat$front$valid$3(d,q,clock);
     end
           
 endmodule // sat$front$valid$3
+
+
+module sat$front$valid$4(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$front$valid$4
+
+
+module sat$front$valid$5(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$front$valid$5
 
 
 module sat$front$world$0(a,b,d,clock);
@@ -11376,6 +14962,120 @@ module sat$ha$11(d,q,clock);
     end
           
 endmodule // sat$ha$11
+
+
+module sat$ha$12(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$ha$12
+
+
+module sat$ha$13(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$ha$13
+
+
+module sat$ha$14(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$ha$14
+
+
+module sat$ha$15(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$ha$15
+
+
+module sat$ha$16(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$ha$16
+
+
+module sat$ha$17(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$ha$17
 
 
 module sat$ha$2(d,q,clock);
@@ -11606,6 +15306,120 @@ module sat$hb$11(d,q,clock);
 endmodule // sat$hb$11
 
 
+module sat$hb$12(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$hb$12
+
+
+module sat$hb$13(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$hb$13
+
+
+module sat$hb$14(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$hb$14
+
+
+module sat$hb$15(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$hb$15
+
+
+module sat$hb$16(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$hb$16
+
+
+module sat$hb$17(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$hb$17
+
+
 module sat$hb$2(d,q,clock);
     
     // Module arguments
@@ -11832,3 +15646,41 @@ module sat$pm$3(d,q,clock);
     end
           
 endmodule // sat$pm$3
+
+
+module sat$pm$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [28:0] d;
+    output reg  [28:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 29'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$pm$4
+
+
+module sat$pm$5(d,q,clock);
+    
+    // Module arguments
+    input wire  [28:0] d;
+    output reg  [28:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 29'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$pm$5

@@ -11,13 +11,13 @@
 //! | V | the walker's visit (i, j); the key table is read for i (port A) and j (port B) |
 //! | V+1 | keys overlap on x, y, z and the mask allows the groups: a candidate (a < b) |
 //! | V+2 | the geometry table is read for a (port A) and b (port B) |
-//! | V+3 .. V+17 | the SAT pipeline; a hit enters the output FIFO |
+//! | V+3 .. V+23 | the SAT pipeline; a hit enters the output FIFO |
 
 use crate::generate::{address_bits, sort_key_bits};
 use crate::projection::{Projection, CENTER, HALF, MARGIN, ROT};
 use crate::radix::{KeySort, KEY, VAL};
 use crate::sat::{self, Sat};
-use crate::two_read::TwoReadRam;
+use crate::table_ram::TableRam;
 use crate::walker::{WalkMode, Walker};
 use obb_model::fixed::config::GROUP_BITS;
 use obb_model::fixed::cycles::{LAT_BROAD, LAT_SAT};
@@ -39,6 +39,8 @@ const PAIR: usize = 2 * INDEX;
 pub const FIFO_DEPTH: u64 = 64;
 pub const FIFO_STALL: u64 = 32;
 const _: () = assert!(sat::LATENCY == LAT_SAT);
+// `tag_*` and `k_overlap` below are one register per clock of the SAT (literal indices).
+const _: () = assert!(sat::LATENCY == 20);
 const _: () = assert!(FIFO_STALL + LAT_BROAD + sat::LATENCY + 2 < FIFO_DEPTH);
 /// Clocks after the walker's last visit until its SAT verdict is in the FIFO.
 const DRAIN: u64 = LAT_BROAD + sat::LATENCY - 1;
@@ -103,13 +105,13 @@ pub struct ObbCore<const A: usize, const C: usize> {
     sat: Sat,
     fifo: SynchronousFIFO<Bits<PAIR>, 6, 7, { FIFO_STALL as u32 }>,
     // Box tables: geometry written on load, keys, margin and group when projected.
-    center: [TwoReadRam<Bits<CENTER>, A>; 3],
-    half: [TwoReadRam<Bits<HALF>, A>; 3],
-    axes: [TwoReadRam<Signed<ROT>, A>; 9],
-    kmin: [TwoReadRam<Bits<CENTER>, A>; 3],
-    kmax: [TwoReadRam<Bits<CENTER>, A>; 3],
-    margin: TwoReadRam<Bits<MARGIN>, A>,
-    group: TwoReadRam<Bits<GROUP>, A>,
+    center: [TableRam<Bits<CENTER>, A>; 3],
+    half: [TableRam<Bits<HALF>, A>; 3],
+    axes: [TableRam<Signed<ROT>, A>; 9],
+    kmin: [TableRam<Bits<CENTER>, A>; 3],
+    kmax: [TableRam<Bits<CENTER>, A>; 3],
+    margin: TableRam<Bits<MARGIN>, A>,
+    group: TableRam<Bits<GROUP>, A>,
     /// The group alongside the projection pipeline.
     gdelay: [DFF<Bits<GROUP>>; 8],
     // Control.
@@ -137,10 +139,10 @@ pub struct ObbCore<const A: usize, const C: usize> {
     g_b: DFF<Bits<A>>,
     g_ma: DFF<Bits<MARGIN>>,
     g_mb: DFF<Bits<MARGIN>>,
-    tag_a: [DFF<Bits<A>>; 14],
-    tag_b: [DFF<Bits<A>>; 14],
+    tag_a: [DFF<Bits<A>>; 20],
+    tag_b: [DFF<Bits<A>>; 20],
     /// The candidate's keys overlap on all three axes (always, but with improved-sap).
-    k_overlap: [DFF<Bit>; 16],
+    k_overlap: [DFF<Bit>; 22],
     /// A hit entered the FIFO one or two clocks ago: the FIFO shows it as not empty only two
     /// clocks after its write.
     recent: [DFF<Bit>; 2],
@@ -274,12 +276,12 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         for s in 0..8 {
             self.gdelay[s].clock.next = self.clock.val();
         }
-        for s in 0..16 {
+        for s in 0..22 {
             self.k_overlap[s].clock.next = self.clock.val();
         }
         self.recent[0].clock.next = self.clock.val();
         self.recent[1].clock.next = self.clock.val();
-        for s in 0..14 {
+        for s in 0..20 {
             self.tag_a[s].clock.next = self.clock.val();
             self.tag_b[s].clock.next = self.clock.val();
         }
@@ -381,7 +383,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             & (self.overlap.val() | self.sap.val())
             & self.shifted.val().get_bit(0);
         self.k_overlap[0].d.next = self.overlap.val();
-        for s in 1..16 {
+        for s in 1..22 {
             self.k_overlap[s].d.next = self.k_overlap[s - 1].q.val();
         }
         // The lower index is box A of the SAT.
@@ -437,18 +439,18 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.sat.margin_b.next = self.g_mb.q.val();
         self.tag_a[0].d.next = self.g_a.q.val();
         self.tag_b[0].d.next = self.g_b.q.val();
-        for s in 1..14 {
+        for s in 1..20 {
             self.tag_a[s].d.next = self.tag_a[s - 1].q.val();
             self.tag_b[s].d.next = self.tag_b[s - 1].q.val();
         }
 
-        // V+17: a hit enters the FIFO; the stream takes pairs from it.
-        self.hit.next = self.sat.valid_out.val() & self.sat.hit.val() & self.k_overlap[15].q.val();
+        // V+23: a hit enters the FIFO; the stream takes pairs from it.
+        self.hit.next = self.sat.valid_out.val() & self.sat.hit.val() & self.k_overlap[21].q.val();
         self.fifo.write.next = self.hit.val();
         self.recent[0].d.next = self.hit.val();
         self.recent[1].d.next = self.recent[0].q.val();
-        self.fifo.data_in.next = (bit_cast::<PAIR, A>(self.tag_a[13].q.val()) << 20_u64)
-            | bit_cast::<PAIR, A>(self.tag_b[13].q.val());
+        self.fifo.data_in.next = (bit_cast::<PAIR, A>(self.tag_a[19].q.val()) << 20_u64)
+            | bit_cast::<PAIR, A>(self.tag_b[19].q.val());
         if self.hit.val() {
             self.n_pairs.d.next = self.n_pairs.q.val() + 1;
         }

@@ -158,9 +158,40 @@ end
     }
 }
 
-/// A signed dot product of three terms, `a0 b0 + a1 b1 + a2 b2`, three DSP48E1: inputs,
-/// products and sum registered, so `p` follows the operands by three clocks. (Scalar ports: an
-/// array port of a block in an array of blocks emits invalid Verilog in rust-hdl.)
+/// Clocks from the operands of a dot product (`SDot3`, `SDot2`) to its sum. Each product is a
+/// DSP48E1 with every pipeline register (AREG/BREG, MREG, PREG), and the products are summed in
+/// the DSP48E1s' post-adders, one DSP after another, so no sum is left to the fabric: product k
+/// enters its DSP k clocks after product 0 (AREG/BREG = 2, and a fabric register before that
+/// for the third) and adds the previous DSP's P. Both shapes take the same number of clocks so
+/// that the SAT's stages line up.
+pub const DOT_LATENCY: u64 = 5;
+
+/// Signed operands of `a` and `b` bits fit one DSP48E1 multiplier (25 x 18 bits).
+const fn one_dsp(a: usize, b: usize) -> bool {
+    (a <= 25 && b <= 18) || (a <= 18 && b <= 25)
+}
+
+/// The simulation model of a dot product: the sum of clock k's operands leaves after the rising
+/// edge of clock k + DOT_LATENCY - 1 (registers start at zero, like the Verilog's).
+#[derive(Clone, Debug, Default)]
+struct DotPipe {
+    sums: [i64; DOT_LATENCY as usize - 1],
+}
+
+impl DotPipe {
+    /// One rising edge: takes this clock's sum, gives the one that is due.
+    fn edge(&mut self, sum: i64) -> i64 {
+        let due = self.sums[self.sums.len() - 1];
+        self.sums.rotate_right(1);
+        self.sums[0] = sum;
+        due
+    }
+}
+
+/// A signed dot product of three terms, `a0 b0 + a1 b1 + a2 b2`, as a cascade of three DSP48E1
+/// (see `DOT_LATENCY`): `p` follows the operands by `DOT_LATENCY` clocks, one sum per clock.
+/// (Scalar ports: an array port of a block in an array of blocks emits invalid Verilog in
+/// rust-hdl.)
 #[derive(Clone, Debug, Default, LogicBlock)]
 pub struct SDot3<const A: usize, const B: usize, const P: usize> {
     pub a0: Signal<In, Signed<A>>,
@@ -171,86 +202,76 @@ pub struct SDot3<const A: usize, const B: usize, const P: usize> {
     pub b2: Signal<In, Signed<B>>,
     pub p: Signal<Out, Signed<P>>,
     pub clock: Signal<In, Clock>,
-    a0_r: Signal<Local, Signed<A>>,
-    a1_r: Signal<Local, Signed<A>>,
-    a2_r: Signal<Local, Signed<A>>,
-    b0_r: Signal<Local, Signed<B>>,
-    b1_r: Signal<Local, Signed<B>>,
-    b2_r: Signal<Local, Signed<B>>,
-    m0: Signal<Local, Signed<P>>,
-    m1: Signal<Local, Signed<P>>,
-    m2: Signal<Local, Signed<P>>,
+    _pipe: DotPipe,
 }
 
 impl<const A: usize, const B: usize, const P: usize> SDot3<A, B, P> {
     /// Clocks from operands to the dot product.
-    pub const LATENCY: u64 = 3;
-    const FITS: () = assert!(A + B + 2 <= P && P <= 64);
+    pub const LATENCY: u64 = DOT_LATENCY;
+    /// The sum fits P bits, and P the 48-bit post-adder.
+    const FITS: () = assert!(A + B + 2 <= P && P <= 48 && one_dsp(A, B));
 }
 
 impl<const A: usize, const B: usize, const P: usize> Logic for SDot3<A, B, P> {
     fn update(&mut self) {
         let () = Self::FITS;
         if self.clock.pos_edge() {
-            // Read every stage before writing any (see `UMul`).
-            let (a0, a1, a2) = (
-                sval(self.a0_r.val()),
-                sval(self.a1_r.val()),
-                sval(self.a2_r.val()),
-            );
-            let (b0, b1, b2) = (
-                sval(self.b0_r.val()),
-                sval(self.b1_r.val()),
-                sval(self.b2_r.val()),
-            );
-            let sum = sval(self.m0.val()) + sval(self.m1.val()) + sval(self.m2.val());
-            self.a0_r.next = self.a0.val();
-            self.a1_r.next = self.a1.val();
-            self.a2_r.next = self.a2.val();
-            self.b0_r.next = self.b0.val();
-            self.b1_r.next = self.b1.val();
-            self.b2_r.next = self.b2.val();
-            self.m0.next = sbits(a0 * b0);
-            self.m1.next = sbits(a1 * b1);
-            self.m2.next = sbits(a2 * b2);
-            self.p.next = sbits(sum);
+            let term = |a: Signed<A>, b: Signed<B>| sval(a) * sval(b);
+            let sum = term(self.a0.val(), self.b0.val())
+                + term(self.a1.val(), self.b1.val())
+                + term(self.a2.val(), self.b2.val());
+            self.p.next = sbits(self._pipe.edge(sum));
         }
     }
     fn connect(&mut self) {
-        self.a0_r.connect();
-        self.a1_r.connect();
-        self.a2_r.connect();
-        self.b0_r.connect();
-        self.b1_r.connect();
-        self.b2_r.connect();
-        self.m0.connect();
-        self.m1.connect();
-        self.m2.connect();
         self.p.connect();
     }
     fn hdl(&self) -> Verilog {
-        Verilog::Custom(
+        // The products are declared at their exact width (A + B bits): wider, and yosys leaves
+        // the post-adders and the P registers to the fabric once the core is flattened.
+        Verilog::Custom(format!(
             "\
+reg signed [{a}:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
+reg signed [{b}:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
+reg signed [{m}:0] m0, m1, m2;
+reg signed [{p}:0] p0, p1;
 always @(posedge clock) begin
+   // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
    a0_r <= a0;
-   a1_r <= a1;
-   a2_r <= a2;
    b0_r <= b0;
-   b1_r <= b1;
-   b2_r <= b2;
    m0 <= a0_r * b0_r;
-   m1 <= a1_r * b1_r;
-   m2 <= a2_r * b2_r;
-   p <= m0 + m1 + m2;
+   p0 <= m0;
+   // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+   a1_r <= a1;
+   b1_r <= b1;
+   a1_rr <= a1_r;
+   b1_rr <= b1_r;
+   m1 <= a1_rr * b1_rr;
+   p1 <= m1 + p0;
+   // DSP 2: two clocks later (a fabric register, then AREG/BREG = 2), plus DSP 1's P.
+   a2_r <= a2;
+   b2_r <= b2;
+   a2_rr <= a2_r;
+   b2_rr <= b2_r;
+   a2_rrr <= a2_rr;
+   b2_rrr <= b2_rr;
+   m2 <= a2_rrr * b2_rrr;
+   p <= m2 + p1;
 end
-"
-            .into(),
-        )
+",
+            a = A - 1,
+            b = B - 1,
+            m = A + B - 1,
+            p = P - 1,
+        ))
     }
 }
 
-/// `a0 b0 + a1 b1` (or `a0 b0 - a1 b1` when `SUB`), signed, two DSP48E1: inputs, products and
-/// result registered, so `p` follows the operands by three clocks. Scalar ports (see `SDot3`).
+/// `a0 b0 + a1 b1` (or `a0 b0 - a1 b1` when `SUB`), signed, as a cascade of two DSP48E1 (see
+/// `DOT_LATENCY`): `p` follows the operands by `DOT_LATENCY` clocks. A DSP48E1 post-adder that
+/// yosys infers only adds, so `SUB` adds `a1 ~b1 + a1` (= `-a1 b1`, and `~b1` cannot overflow
+/// where `-b1` could): `a1` enters DSP 0's post-adder through its C port. Scalar ports (see
+/// `SDot3`).
 #[derive(Clone, Debug, Default, LogicBlock)]
 pub struct SDot2<const A: usize, const B: usize, const P: usize, const SUB: bool> {
     pub a0: Signal<In, Signed<A>>,
@@ -259,18 +280,14 @@ pub struct SDot2<const A: usize, const B: usize, const P: usize, const SUB: bool
     pub b1: Signal<In, Signed<B>>,
     pub p: Signal<Out, Signed<P>>,
     pub clock: Signal<In, Clock>,
-    a0_r: Signal<Local, Signed<A>>,
-    a1_r: Signal<Local, Signed<A>>,
-    b0_r: Signal<Local, Signed<B>>,
-    b1_r: Signal<Local, Signed<B>>,
-    m0: Signal<Local, Signed<P>>,
-    m1: Signal<Local, Signed<P>>,
+    _pipe: DotPipe,
 }
 
 impl<const A: usize, const B: usize, const P: usize, const SUB: bool> SDot2<A, B, P, SUB> {
     /// Clocks from operands to result.
-    pub const LATENCY: u64 = 3;
-    const FITS: () = assert!(A + B < P && P <= 64);
+    pub const LATENCY: u64 = DOT_LATENCY;
+    /// As `SDot3`'s.
+    const FITS: () = assert!(A + B < P && P <= 48 && one_dsp(A, B));
 }
 
 impl<const A: usize, const B: usize, const P: usize, const SUB: bool> Logic
@@ -279,42 +296,56 @@ impl<const A: usize, const B: usize, const P: usize, const SUB: bool> Logic
     fn update(&mut self) {
         let () = Self::FITS;
         if self.clock.pos_edge() {
-            // Read every stage before writing any (see `UMul`).
-            let (a0, a1) = (sval(self.a0_r.val()), sval(self.a1_r.val()));
-            let (b0, b1) = (sval(self.b0_r.val()), sval(self.b1_r.val()));
-            let (m0, m1) = (sval(self.m0.val()), sval(self.m1.val()));
-            self.a0_r.next = self.a0.val();
-            self.a1_r.next = self.a1.val();
-            self.b0_r.next = self.b0.val();
-            self.b1_r.next = self.b1.val();
-            self.m0.next = sbits(a0 * b0);
-            self.m1.next = sbits(a1 * b1);
-            self.p.next = sbits(if SUB { m0 - m1 } else { m0 + m1 });
+            let (a0, b0) = (sval(self.a0.val()), sval(self.b0.val()));
+            let (a1, b1) = (sval(self.a1.val()), sval(self.b1.val()));
+            let sum = if SUB {
+                a0 * b0 - a1 * b1
+            } else {
+                a0 * b0 + a1 * b1
+            };
+            self.p.next = sbits(self._pipe.edge(sum));
         }
     }
     fn connect(&mut self) {
-        self.a0_r.connect();
-        self.a1_r.connect();
-        self.b0_r.connect();
-        self.b1_r.connect();
-        self.m0.connect();
-        self.m1.connect();
         self.p.connect();
     }
     fn hdl(&self) -> Verilog {
+        // Every operand first passes a fabric register (where `SUB` inverts b1), so that the
+        // sum takes as long as `SDot3`'s. (Products are declared at their exact width, as in
+        // `SDot3`.)
+        let (b1, c) = if SUB { ("~b1", "a1") } else { ("b1", "0") };
         Verilog::Custom(format!(
             "\
+reg signed [{a}:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
+reg signed [{b}:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
+reg signed [{m}:0] m0, m1;
+reg signed [{p}:0] p0;
 always @(posedge clock) begin
-   a0_r <= a0;
-   a1_r <= a1;
-   b0_r <= b0;
-   b1_r <= b1;
+   a0_f <= a0;
+   b0_f <= b0;
+   a1_f <= a1;
+   b1_f <= {b1};
+   c_f <= {c};
+   // DSP 0: a0 b0 (AREG/BREG, MREG, PREG), plus C.
+   a0_r <= a0_f;
+   b0_r <= b0_f;
+   c_r <= c_f;
+   c_rr <= c_r;
    m0 <= a0_r * b0_r;
-   m1 <= a1_r * b1_r;
-   p <= m0 {} m1;
+   p0 <= m0 + c_rr;
+   // DSP 1: a clock later (AREG/BREG = 2), plus DSP 0's P.
+   a1_r <= a1_f;
+   b1_r <= b1_f;
+   a1_rr <= a1_r;
+   b1_rr <= b1_r;
+   m1 <= a1_rr * b1_rr;
+   p <= m1 + p0;
 end
 ",
-            if SUB { "-" } else { "+" }
+            a = A - 1,
+            b = B - 1,
+            m = A + B - 1,
+            p = P - 1,
         ))
     }
 }

@@ -15,6 +15,6 @@ pub mod sat_back;
 pub mod sat_front;
 pub mod sat_round;
 pub mod synth;
-pub mod two_read;
+pub mod table_ram;
 pub mod verilator;
 pub mod walker;

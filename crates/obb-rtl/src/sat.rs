@@ -10,6 +10,8 @@ use rust_hdl::prelude::*;
 
 /// Clocks from a pair on the inputs to its verdict.
 pub const LATENCY: u64 = sat_front::LATENCY + crate::sat_back::LATENCY;
+// `ha`, `hb` and `pm` are one register per clock of the front (literal indices).
+const _: () = assert!(sat_front::LATENCY == 6);
 
 #[derive(Clone, Debug, LogicBlock)]
 pub struct Sat {
@@ -32,9 +34,9 @@ pub struct Sat {
     back: SatBack,
     /// The half-lengths, signed, and the pair margin, delayed to the back end's inputs:
     /// `ha[3 s + x]` after clock s + 1.
-    ha: [DFF<Signed<HALF_S>>; 12],
-    hb: [DFF<Signed<HALF_S>>; 12],
-    pm: [DFF<Bits<PAIR_MARGIN>>; 4],
+    ha: [DFF<Signed<HALF_S>>; 18],
+    hb: [DFF<Signed<HALF_S>>; 18],
+    pm: [DFF<Bits<PAIR_MARGIN>>; 6],
     ha_s: [Signal<Local, Signed<HALF_S>>; 3],
     hb_s: [Signal<Local, Signed<HALF_S>>; 3],
     pair: Signal<Local, Bits<PAIR_MARGIN>>,
@@ -72,11 +74,11 @@ impl Logic for Sat {
     fn update(&mut self) {
         self.front.clock.next = self.clock.val();
         self.back.clock.next = self.clock.val();
-        for i in 0..12 {
+        for i in 0..18 {
             self.ha[i].clock.next = self.clock.val();
             self.hb[i].clock.next = self.clock.val();
         }
-        for i in 0..4 {
+        for i in 0..6 {
             self.pm[i].clock.next = self.clock.val();
         }
         self.front.valid_in.next = self.valid_in.val();
@@ -101,12 +103,12 @@ impl Logic for Sat {
             self.ha[x].d.next = self.ha_s[x].val();
             self.hb[x].d.next = self.hb_s[x].val();
         }
-        for i in 3..12 {
+        for i in 3..18 {
             self.ha[i].d.next = self.ha[i - 3].q.val();
             self.hb[i].d.next = self.hb[i - 3].q.val();
         }
         self.pm[0].d.next = self.pair.val();
-        for i in 1..4 {
+        for i in 1..6 {
             self.pm[i].d.next = self.pm[i - 1].q.val();
         }
         // The back end takes the products with the box data delayed by the front's latency.
@@ -114,13 +116,13 @@ impl Logic for Sat {
         for i in 0..3 {
             self.back.t[i].next = self.front.t[i].val();
             self.back.u[i].next = self.front.u[i].val();
-            self.back.half_a[i].next = self.ha[9 + i].q.val();
-            self.back.half_b[i].next = self.hb[9 + i].q.val();
+            self.back.half_a[i].next = self.ha[15 + i].q.val();
+            self.back.half_b[i].next = self.hb[15 + i].q.val();
         }
         for i in 0..9 {
             self.back.r[i].next = self.front.r[i].val();
         }
-        self.back.pair_margin.next = self.pm[3].q.val();
+        self.back.pair_margin.next = self.pm[5].q.val();
         self.valid_out.next = self.back.valid_out.val();
         self.hit.next = self.back.hit.val();
     }

@@ -5,12 +5,12 @@
 //! | clock | stage |
 //! | --- | --- |
 //! | 1 | `SatRound`: |t|, |u|, `ceil(|R|/2^f)`, `round(R/2^f)` and its magnitude, `floor(t/2^f)` |
-//! | 2-4 | 51 DSP48E1: face radii (6 `SDot3`), `P` (9 `SDot2`), `r_A` (9), the 9 minors |
-//! | 5 | `ceil(|minor|/2^f)` and `|P|` (`AbsShift`) |
-//! | 6-8 | `r_B` (9 `SDot2`) |
-//! | 9-10 | `SatDecide`: radius sums with the margins, then the 15 comparisons and their OR |
+//! | 2-6 | 51 DSP48E1: face radii (6 `SDot3`), `P` (9 `SDot2`), `r_A` (9), the 9 minors |
+//! | 7 | `ceil(|minor|/2^f)` and `|P|` (`AbsShift`) |
+//! | 8-12 | `r_B` (9 `SDot2`) |
+//! | 13-14 | `SatDecide`: radius sums with the margins, then the 15 comparisons and their OR |
 
-use crate::leaf::{sval, uval, AbsShift, SDot2, SDot3};
+use crate::leaf::{sval, uval, AbsShift, SDot2, SDot3, DOT_LATENCY};
 use crate::sat_front::{RR, TU};
 use crate::sat_round::{SatRound, ABS_TU, RT, R_UP, TH};
 use obb_model::fixed::sat::{sat_decide, SatRounded, SatTerms};
@@ -33,7 +33,10 @@ const MINOR: usize = 21;
 /// `r_B` (21 x 18 bits, two terms).
 const RB: usize = MINOR + HALF_S + 1;
 /// Clocks from a pair's products on the inputs to its verdict.
-pub const LATENCY: u64 = 10;
+pub const LATENCY: u64 = 2 * DOT_LATENCY + 4;
+// The delay lines below are one register per clock, and rust-hdl needs literal indices: they
+// are laid out for this latency.
+const _: () = assert!(DOT_LATENCY == 5);
 
 /// The radius sums and the 15 comparisons as one leaf (its arithmetic mixes signed products
 /// with unsigned sums, which rust-hdl's Verilog gets wrong): two clocks, sums then verdict.
@@ -207,12 +210,12 @@ pub struct SatBack {
     shift: Constant<Bits<8>>,
     face_margin: Constant<Bits<24>>,
     cross_margin: Constant<Bits<24>>,
-    valid: [DFF<Bit>; 10],
+    valid: [DFF<Bit>; 14],
     round: SatRound,
-    /// Half-lengths delayed: `ha[3 s + x]` after clock s + 1 (s = 0..7).
-    ha: [DFF<Signed<HALF_S>>; 24],
-    hb: [DFF<Signed<HALF_S>>; 24],
-    pm: [DFF<Bits<PAIR_MARGIN>>; 8],
+    /// Half-lengths delayed: `ha[3 s + x]` after clock s + 1 (s = 0..11).
+    ha: [DFF<Signed<HALF_S>>; 36],
+    hb: [DFF<Signed<HALF_S>>; 36],
+    pm: [DFF<Bits<PAIR_MARGIN>>; 12],
     face_a_dot: [SDot3<R_UP, HALF_S, FACE>; 3],
     face_b_dot: [SDot3<R_UP, HALF_S, FACE>; 3],
     p_dot: [SDot2<TH, RT, P_BITS, true>; 9],
@@ -222,16 +225,16 @@ pub struct SatBack {
     minor_s: [Signal<Local, Signed<MINOR>>; 9],
     p_abs: [AbsShift<P_BITS, P_BITS>; 9],
     rb_dot: [SDot2<MINOR, HALF_S, RB, false>; 9],
-    /// |t|, |u| from clock 1 to 8: `at_d[3 s + i]` after clock s + 2.
-    at_d: [DFF<Bits<ABS_TU>>; 21],
-    au_d: [DFF<Bits<ABS_TU>>; 21],
-    /// Face radii from clock 4 to 8: `fa_d[3 s + i]` after clock s + 5.
-    fa_d: [DFF<Signed<FACE>>; 12],
-    fb_d: [DFF<Signed<FACE>>; 12],
-    /// r_A from clock 4 to 8: `ra_d[9 s + c]` after clock s + 5.
-    ra_d: [DFF<Signed<PAIR2>>; 36],
-    /// |P| from clock 5 to 8: `pa_d[9 s + c]` after clock s + 6.
-    pa_d: [DFF<Bits<P_BITS>>; 27],
+    /// |t|, |u| from clock 1 to 12: `at_d[3 s + i]` after clock s + 2.
+    at_d: [DFF<Bits<ABS_TU>>; 33],
+    au_d: [DFF<Bits<ABS_TU>>; 33],
+    /// Face radii from clock 6 to 12: `fa_d[3 s + i]` after clock s + 7.
+    fa_d: [DFF<Signed<FACE>>; 18],
+    fb_d: [DFF<Signed<FACE>>; 18],
+    /// r_A from clock 6 to 12: `ra_d[9 s + c]` after clock s + 7.
+    ra_d: [DFF<Signed<PAIR2>>; 54],
+    /// |P| from clock 7 to 12: `pa_d[9 s + c]` after clock s + 8.
+    pa_d: [DFF<Bits<P_BITS>>; 45],
     decide: SatDecide,
 }
 
@@ -269,12 +272,12 @@ impl SatBack {
             minor_s: Default::default(),
             p_abs: Default::default(),
             rb_dot: Default::default(),
-            at_d: Default::default(),
-            au_d: Default::default(),
+            at_d: std::array::from_fn(|_| Default::default()),
+            au_d: std::array::from_fn(|_| Default::default()),
             fa_d: Default::default(),
             fb_d: Default::default(),
             ra_d: std::array::from_fn(|_| Default::default()),
-            pa_d: Default::default(),
+            pa_d: std::array::from_fn(|_| Default::default()),
             decide: Default::default(),
         }
     }
@@ -283,16 +286,16 @@ impl SatBack {
 impl Logic for SatBack {
     #[hdl_gen]
     fn update(&mut self) {
-        for i in 0..10 {
+        for i in 0..14 {
             self.valid[i].clock.next = self.clock.val();
         }
-        for i in 0..24 {
+        for i in 0..36 {
             self.ha[i].clock.next = self.clock.val();
         }
-        for i in 0..24 {
+        for i in 0..36 {
             self.hb[i].clock.next = self.clock.val();
         }
-        for i in 0..8 {
+        for i in 0..12 {
             self.pm[i].clock.next = self.clock.val();
         }
         for i in 0..3 {
@@ -319,40 +322,40 @@ impl Logic for SatBack {
         for i in 0..9 {
             self.rb_dot[i].clock.next = self.clock.val();
         }
-        for i in 0..21 {
+        for i in 0..33 {
             self.at_d[i].clock.next = self.clock.val();
         }
-        for i in 0..21 {
+        for i in 0..33 {
             self.au_d[i].clock.next = self.clock.val();
         }
-        for i in 0..12 {
+        for i in 0..18 {
             self.fa_d[i].clock.next = self.clock.val();
         }
-        for i in 0..12 {
+        for i in 0..18 {
             self.fb_d[i].clock.next = self.clock.val();
         }
-        for i in 0..36 {
+        for i in 0..54 {
             self.ra_d[i].clock.next = self.clock.val();
         }
-        for i in 0..27 {
+        for i in 0..45 {
             self.pa_d[i].clock.next = self.clock.val();
         }
         self.round.clock.next = self.clock.val();
         self.decide.clock.next = self.clock.val();
         // Valid, half-lengths and the pair margin ride along.
         self.valid[0].d.next = self.valid_in.val();
-        for i in 1..10 {
+        for i in 1..14 {
             self.valid[i].d.next = self.valid[i - 1].q.val();
         }
         self.pm[0].d.next = self.pair_margin.val();
-        for i in 1..8 {
+        for i in 1..12 {
             self.pm[i].d.next = self.pm[i - 1].q.val();
         }
         for x in 0..3 {
             self.ha[x].d.next = self.half_a[x].val();
             self.hb[x].d.next = self.half_b[x].val();
         }
-        for i in 3..24 {
+        for i in 3..36 {
             self.ha[i].d.next = self.ha[i - 3].q.val();
             self.hb[i].d.next = self.hb[i - 3].q.val();
         }
@@ -365,7 +368,7 @@ impl Logic for SatBack {
         for i in 0..9 {
             self.round.r[i].next = self.r[i].val();
         }
-        // Clocks 2-4: face radii, P, r_A and the minors (halves after clock 1: ha[0..3]).
+        // Clocks 2-6: face radii, P, r_A and the minors (halves after clock 1: ha[0..3]).
         self.face_a_dot[0].a0.next = self.round.r_up[0].val();
         self.face_a_dot[0].a1.next = self.round.r_up[1].val();
         self.face_a_dot[0].a2.next = self.round.r_up[2].val();
@@ -510,7 +513,7 @@ impl Logic for SatBack {
         self.minor_dot[8].b0.next = self.round.rt[5].val();
         self.minor_dot[8].a1.next = self.round.rt[4].val();
         self.minor_dot[8].b1.next = self.round.rt[2].val();
-        // Clock 5: ceil(|minor| / 2^f) and |P|.
+        // Clock 7: ceil(|minor| / 2^f) and |P|.
         for c in 0..9 {
             self.minor_abs[c].x.next = self.minor_dot[c].p.val();
             self.minor_abs[c].s.next = self.frac.val();
@@ -526,55 +529,55 @@ impl Logic for SatBack {
         self.minor_s[6].next = signed_cast::<MINOR>(self.minor_abs[6].y.val());
         self.minor_s[7].next = signed_cast::<MINOR>(self.minor_abs[7].y.val());
         self.minor_s[8].next = signed_cast::<MINOR>(self.minor_abs[8].y.val());
-        // Clocks 6-8: r_B = Σ_(l != j) h^B_l minor(i, {j, l}) (halves after clock 5: hb[12..15]).
+        // Clocks 8-12: r_B = Σ_(l != j) h^B_l minor(i, {j, l}) (halves after clock 7: hb[18..21]).
         self.rb_dot[0].a0.next = self.minor_s[0].val();
-        self.rb_dot[0].b0.next = self.hb[13].q.val();
+        self.rb_dot[0].b0.next = self.hb[19].q.val();
         self.rb_dot[0].a1.next = self.minor_s[1].val();
-        self.rb_dot[0].b1.next = self.hb[14].q.val();
+        self.rb_dot[0].b1.next = self.hb[20].q.val();
         self.rb_dot[1].a0.next = self.minor_s[0].val();
-        self.rb_dot[1].b0.next = self.hb[12].q.val();
+        self.rb_dot[1].b0.next = self.hb[18].q.val();
         self.rb_dot[1].a1.next = self.minor_s[2].val();
-        self.rb_dot[1].b1.next = self.hb[14].q.val();
+        self.rb_dot[1].b1.next = self.hb[20].q.val();
         self.rb_dot[2].a0.next = self.minor_s[1].val();
-        self.rb_dot[2].b0.next = self.hb[12].q.val();
+        self.rb_dot[2].b0.next = self.hb[18].q.val();
         self.rb_dot[2].a1.next = self.minor_s[2].val();
-        self.rb_dot[2].b1.next = self.hb[13].q.val();
+        self.rb_dot[2].b1.next = self.hb[19].q.val();
         self.rb_dot[3].a0.next = self.minor_s[3].val();
-        self.rb_dot[3].b0.next = self.hb[13].q.val();
+        self.rb_dot[3].b0.next = self.hb[19].q.val();
         self.rb_dot[3].a1.next = self.minor_s[4].val();
-        self.rb_dot[3].b1.next = self.hb[14].q.val();
+        self.rb_dot[3].b1.next = self.hb[20].q.val();
         self.rb_dot[4].a0.next = self.minor_s[3].val();
-        self.rb_dot[4].b0.next = self.hb[12].q.val();
+        self.rb_dot[4].b0.next = self.hb[18].q.val();
         self.rb_dot[4].a1.next = self.minor_s[5].val();
-        self.rb_dot[4].b1.next = self.hb[14].q.val();
+        self.rb_dot[4].b1.next = self.hb[20].q.val();
         self.rb_dot[5].a0.next = self.minor_s[4].val();
-        self.rb_dot[5].b0.next = self.hb[12].q.val();
+        self.rb_dot[5].b0.next = self.hb[18].q.val();
         self.rb_dot[5].a1.next = self.minor_s[5].val();
-        self.rb_dot[5].b1.next = self.hb[13].q.val();
+        self.rb_dot[5].b1.next = self.hb[19].q.val();
         self.rb_dot[6].a0.next = self.minor_s[6].val();
-        self.rb_dot[6].b0.next = self.hb[13].q.val();
+        self.rb_dot[6].b0.next = self.hb[19].q.val();
         self.rb_dot[6].a1.next = self.minor_s[7].val();
-        self.rb_dot[6].b1.next = self.hb[14].q.val();
+        self.rb_dot[6].b1.next = self.hb[20].q.val();
         self.rb_dot[7].a0.next = self.minor_s[6].val();
-        self.rb_dot[7].b0.next = self.hb[12].q.val();
+        self.rb_dot[7].b0.next = self.hb[18].q.val();
         self.rb_dot[7].a1.next = self.minor_s[8].val();
-        self.rb_dot[7].b1.next = self.hb[14].q.val();
+        self.rb_dot[7].b1.next = self.hb[20].q.val();
         self.rb_dot[8].a0.next = self.minor_s[7].val();
-        self.rb_dot[8].b0.next = self.hb[12].q.val();
+        self.rb_dot[8].b0.next = self.hb[18].q.val();
         self.rb_dot[8].a1.next = self.minor_s[8].val();
-        self.rb_dot[8].b1.next = self.hb[13].q.val();
-        // Delay lines to clock 8.
+        self.rb_dot[8].b1.next = self.hb[19].q.val();
+        // Delay lines to clock 12.
         for i in 0..3 {
             self.at_d[i].d.next = self.round.abs_t[i].val();
             self.au_d[i].d.next = self.round.abs_u[i].val();
             self.fa_d[i].d.next = self.face_a_dot[i].p.val();
             self.fb_d[i].d.next = self.face_b_dot[i].p.val();
         }
-        for i in 3..21 {
+        for i in 3..33 {
             self.at_d[i].d.next = self.at_d[i - 3].q.val();
             self.au_d[i].d.next = self.au_d[i - 3].q.val();
         }
-        for i in 3..12 {
+        for i in 3..18 {
             self.fa_d[i].d.next = self.fa_d[i - 3].q.val();
             self.fb_d[i].d.next = self.fb_d[i - 3].q.val();
         }
@@ -582,32 +585,32 @@ impl Logic for SatBack {
             self.ra_d[c].d.next = self.ra_dot[c].p.val();
             self.pa_d[c].d.next = self.p_abs[c].y.val();
         }
-        for c in 9..36 {
+        for c in 9..54 {
             self.ra_d[c].d.next = self.ra_d[c - 9].q.val();
         }
-        for c in 9..27 {
+        for c in 9..45 {
             self.pa_d[c].d.next = self.pa_d[c - 9].q.val();
         }
-        // Clocks 9-10: the decision (halves and margin after clock 8: ha[21..24], pm[7]).
+        // Clocks 13-14: the decision (halves and margin after clock 12: ha[33..36], pm[11]).
         self.decide.f.next = self.frac.val();
         self.decide.k.next = self.shift.val();
         self.decide.face_margin.next = self.face_margin.val();
         self.decide.cross_margin.next = self.cross_margin.val();
-        self.decide.pair_margin.next = self.pm[7].q.val();
+        self.decide.pair_margin.next = self.pm[11].q.val();
         for i in 0..3 {
-            self.decide.abs_t[i].next = self.at_d[18 + i].q.val();
-            self.decide.abs_u[i].next = self.au_d[18 + i].q.val();
-            self.decide.face_a[i].next = self.fa_d[9 + i].q.val();
-            self.decide.face_b[i].next = self.fb_d[9 + i].q.val();
-            self.decide.half_a[i].next = self.ha[21 + i].q.val();
-            self.decide.half_b[i].next = self.hb[21 + i].q.val();
+            self.decide.abs_t[i].next = self.at_d[30 + i].q.val();
+            self.decide.abs_u[i].next = self.au_d[30 + i].q.val();
+            self.decide.face_a[i].next = self.fa_d[15 + i].q.val();
+            self.decide.face_b[i].next = self.fb_d[15 + i].q.val();
+            self.decide.half_a[i].next = self.ha[33 + i].q.val();
+            self.decide.half_b[i].next = self.hb[33 + i].q.val();
         }
         for c in 0..9 {
-            self.decide.abs_p[c].next = self.pa_d[18 + c].q.val();
-            self.decide.r_a[c].next = self.ra_d[27 + c].q.val();
+            self.decide.abs_p[c].next = self.pa_d[36 + c].q.val();
+            self.decide.r_a[c].next = self.ra_d[45 + c].q.val();
             self.decide.r_b[c].next = self.rb_dot[c].p.val();
         }
-        self.valid_out.next = self.valid[9].q.val();
+        self.valid_out.next = self.valid[13].q.val();
         self.hit.next = self.decide.hit.val();
     }
 }

@@ -5,9 +5,9 @@
 //! | clock | stage |
 //! | --- | --- |
 //! | 1 | `T = c_B - c_A` (offset centers, so the offsets cancel); the axes registered alongside |
-//! | 2-4 | 15 three-term dot products (`SDot3`): 3 for t, 3 for u, 9 for R |
+//! | 2-6 | 15 three-term dot products (`SDot3`, `DOT_LATENCY` clocks): 3 for t, 3 for u, 9 for R |
 
-use crate::leaf::{Diff, SDot3};
+use crate::leaf::{Diff, SDot3, DOT_LATENCY};
 use crate::projection::{CENTER, ROT};
 use rust_hdl::prelude::*;
 
@@ -18,7 +18,9 @@ pub const TU: usize = ROT + T_WORLD + 2;
 /// Width of `R`.
 pub const RR: usize = 2 * ROT + 2;
 /// Clocks from a pair on the inputs to its products on the outputs.
-pub const LATENCY: u64 = 4;
+pub const LATENCY: u64 = 1 + DOT_LATENCY;
+// The valid bits below are one register per clock, and rust-hdl needs literal indices.
+const _: () = assert!(LATENCY == 6);
 
 #[derive(Clone, Debug, Default, LogicBlock)]
 pub struct SatFront {
@@ -34,7 +36,7 @@ pub struct SatFront {
     pub u: [Signal<Out, Signed<TU>>; 3],
     /// `r[3i + j]` = `R_ij`.
     pub r: [Signal<Out, Signed<RR>>; 9],
-    valid: [DFF<Bit>; 4],
+    valid: [DFF<Bit>; 6],
     world: [Diff<CENTER, T_WORLD>; 3],
     axes_a_r: [DFF<Signed<ROT>>; 9],
     axes_b_r: [DFF<Signed<ROT>>; 9],
@@ -46,7 +48,7 @@ pub struct SatFront {
 impl Logic for SatFront {
     #[hdl_gen]
     fn update(&mut self) {
-        for i in 0..4 {
+        for i in 0..6 {
             self.valid[i].clock.next = self.clock.val();
         }
         for i in 0..3 {
@@ -61,7 +63,7 @@ impl Logic for SatFront {
         }
         // Clock 1.
         self.valid[0].d.next = self.valid_in.val();
-        for i in 1..4 {
+        for i in 1..6 {
             self.valid[i].d.next = self.valid[i - 1].q.val();
         }
         for x in 0..3 {
@@ -72,7 +74,7 @@ impl Logic for SatFront {
             self.axes_a_r[i].d.next = self.axes_a[i].val();
             self.axes_b_r[i].d.next = self.axes_b[i].val();
         }
-        // Clocks 2-4.
+        // Clocks 2-6.
         for i in 0..3 {
             self.t_dot[i].a0.next = self.axes_a_r[i * 3].q.val();
             self.t_dot[i].a1.next = self.axes_a_r[i * 3 + 1].q.val();
@@ -100,6 +102,6 @@ impl Logic for SatFront {
                 self.r[i * 3 + j].next = self.r_dot[i * 3 + j].p.val();
             }
         }
-        self.valid_out.next = self.valid[3].q.val();
+        self.valid_out.next = self.valid[5].q.val();
     }
 }

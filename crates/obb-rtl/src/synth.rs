@@ -172,24 +172,45 @@ pub struct Report {
     pub delays: DelayModel,
 }
 
-/// The yosys netlist of `verilog` (top `obb_core`), from `cache` or synthesized into it:
-/// returns the entry's directory, with `net.json` (for `analyze`), `syn.v` (for gate-level
-/// simulation), yosys' own cell counts `stat.txt` and `yosys.log`, and whether it was cached.
-pub fn netlist(verilog: &str, cache: &Path) -> Result<(PathBuf, bool)> {
+/// What a netlist is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mapping {
+    /// The resource and depth report: block RAMs as the device has them.
+    Report,
+    /// Gate-level simulation: yosys 0.23's `cells_sim.v` declares RAMB18E1/RAMB36E1 without
+    /// any behaviour (their outputs float), so the memories are mapped to distributed RAM and
+    /// registers instead (`-nobram`), which it does simulate. Everything else (DSP48E1 cascades
+    /// and post-adders, LUTs, carry chains) is mapped as for the report.
+    Simulation,
+}
+
+/// The yosys netlist of `verilog` (top `obb_core`) mapped for `mapping`, from `cache` or
+/// synthesized into it: returns the entry's directory, with `net.json` (for `analyze`),
+/// `syn.v` (for gate-level simulation), yosys' own cell counts `stat.txt` and `yosys.log`, and
+/// whether it was cached.
+pub fn netlist(verilog: &str, mapping: Mapping, cache: &Path) -> Result<(PathBuf, bool)> {
     let version = Command::new("yosys")
         .arg("-V")
         .output()
         .context("cannot run yosys: is it installed? (scripts/test.sh installs it)")?
         .stdout;
+    let script = format!(
+        "read_verilog core.v; synth_xilinx -family xc6v -top obb_core -flatten -noiopad{}; \
+         tee -q -o stat.txt stat -tech xilinx; write_json net.json; write_verilog -noattr syn.v",
+        match mapping {
+            Mapping::Report => "",
+            Mapping::Simulation => " -nobram",
+        }
+    );
     let name = format!(
         "yosys-{}",
-        cache::key(&[verilog.as_bytes(), &version, SCRIPT.as_bytes()])
+        cache::key(&[verilog.as_bytes(), &version, script.as_bytes()])
     );
     cache::entry(cache, &name, |dir| {
         std::fs::write(dir.join("core.v"), verilog)?;
         let out = Command::new("yosys")
             .current_dir(dir)
-            .args(["-q", "-l", "yosys.log", "-p", SCRIPT])
+            .args(["-q", "-l", "yosys.log", "-p", &script])
             .output()
             .context("cannot run yosys")?;
         if !out.status.success() {
@@ -202,12 +223,6 @@ pub fn netlist(verilog: &str, cache: &Path) -> Result<(PathBuf, bool)> {
         Ok(())
     })
 }
-
-/// The synthesis: Virtex-6 primitives, flattened, no I/O buffers (the core is a block inside a
-/// larger design).
-const SCRIPT: &str = "read_verilog core.v; synth_xilinx -family xc6v -top obb_core -flatten \
-                      -noiopad; tee -q -o stat.txt stat -tech xilinx; write_json net.json; \
-                      write_verilog -noattr syn.v";
 
 /// A parameter's value: yosys writes numbers as binary strings.
 fn param(params: &Value, name: &str) -> Option<u64> {

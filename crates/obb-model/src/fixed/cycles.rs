@@ -22,8 +22,10 @@ pub fn sort_cycles(n: u64, passes: u32, digit_bits: u32) -> u64 {
 /// Clocks from a visit of the broad phase to its candidate on the SAT's inputs: the key table
 /// read, the key and group check, the geometry read (`obb_rtl::core`).
 pub const LAT_BROAD: u64 = 3;
-/// Pipeline depth of the SAT stage (products, minors, radius sums, compares, OR of 15 axes).
-pub const LAT_SAT: u64 = 14;
+/// Pipeline depth of the SAT stage (products, minors, radius sums, compares, OR of 15 axes):
+/// the center difference, two rounds of dot products of 5 clocks each (cascaded DSP48E1s with
+/// every pipeline register), the rounding, `|minor|`, and the two-clock decision.
+pub const LAT_SAT: u64 = 20;
 /// The clock after the last projection output, when its keys are in the key table.
 pub const LAT_KEY_WRITE: u64 = 1;
 
