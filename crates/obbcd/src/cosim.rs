@@ -30,7 +30,9 @@ pub struct CosimArgs {
     #[arg(long, value_enum, default_value = "verilator")]
     simulator: SimulatorArg,
     /// Simulate yosys' netlist of the core (Virtex-6 primitives) instead of the RTL: a check
-    /// of the DSP and block RAM mapping; slow to synthesize (cached) and to simulate.
+    /// of the DSP48E1, LUT and carry mapping. The memories are mapped to distributed RAM, as
+    /// yosys' simulation models of the block RAMs have no behaviour; slow to synthesize
+    /// (cached) and to simulate.
     #[arg(long)]
     gate_level: bool,
     /// The receiver takes a pair one clock in N (back-pressure on the pair stream).
@@ -70,7 +72,7 @@ pub fn run(a: CosimArgs) -> Result<()> {
     let mut design = generate::core(&cfg)?;
     let level = if a.gate_level {
         let bar = spinner("synthesizing the core with yosys (cached after the first time)".into());
-        let (dir, _) = synth::netlist(&design, &cache.join("synth"))?;
+        let (dir, _) = synth::netlist(&design, synth::Mapping::Simulation, &cache.join("synth"))?;
         bar.finish_and_clear();
         design = std::fs::read_to_string(dir.join("syn.v"))?;
         Level::Gates

@@ -42,7 +42,7 @@ pub fn run(a: SynthArgs) -> Result<()> {
     let bar = ProgressBar::new_spinner()
         .with_message("yosys synth_xilinx -family xc6v (the default core takes about 12 minutes)");
     bar.enable_steady_tick(Duration::from_millis(200));
-    let netlist = synth::netlist(&verilog, &cache.join("synth"));
+    let netlist = synth::netlist(&verilog, synth::Mapping::Report, &cache.join("synth"));
     bar.finish_and_clear();
     let (dir, cached) = netlist?;
     eprintln!(
