@@ -194,6 +194,8 @@ pub fn netlist(verilog: &str, mapping: Mapping, cache: &Path) -> Result<(PathBuf
         .output()
         .context("cannot run yosys: is it installed? (scripts/test.sh installs it)")?
         .stdout;
+    // Virtex-6 primitives, flattened, no I/O buffers (the core is a block inside a larger
+    // design).
     let script = format!(
         "read_verilog core.v; synth_xilinx -family xc6v -top obb_core -flatten -noiopad{}; \
          tee -q -o stat.txt stat -tech xilinx; write_json net.json; write_verilog -noattr syn.v",
