@@ -82,7 +82,8 @@ pub struct CoreInfo {
     /// Clocks from a broad-phase visit to the SAT's inputs, and of the SAT.
     pub lat_broad: u64,
     pub lat_sat: u64,
-    /// Radix sort: digit bits, passes; each pass `2^digit + n + 1` clocks, plus 1 per sort.
+    /// Radix sort: digit bits, passes; each pass `2^digit + n + 6` clocks, plus 3 per sort
+    /// (`cycles::sort_cycles`).
     pub sort_digit_bits: u32,
     pub sort_passes: u32,
     /// Entries of every per-box table (a power of two at least `capacity`).

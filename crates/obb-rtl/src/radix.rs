@@ -1,16 +1,24 @@
 //! Stable LSD radix sort of (key, value) entries in block RAM, as `obb_model::radix::RadixSorter`
 //! sorts them (a stable sort has one result). Ping-pong RAMs; per pass a prefix sum over the
 //! digit's bins turns the histogram into write pointers, then every entry is read and written
-//! to its bin's next slot while the next digit's histogram is counted.
+//! to its bin's next slot while the next digit's histogram is counted. The bins are a
+//! [`BinTable`]; every path between registers here passes at most 3 LUT levels: the entries and
+//! digits move through registered stages, and every end-of-loop test is a flag registered one
+//! clock ahead.
 //!
-//! Protocol: pulse `start` (clears the count and the histogram), stream the entries on
-//! `in_valid`/`in_key`/`in_val` one per clock (the first digit's histogram is counted as they
-//! arrive), then pulse `go`. `done` rises when the entries are sorted; `rd_addr` then reads
+//! Protocol: pulse `start` (clears the count and the histogram, and drops whatever is in
+//! flight: a frame may end a sort early), stream the entries on `in_valid`/`in_key`/`in_val` one
+//! per clock (the first digit's histogram is counted as they arrive), then pulse `go`, at the
+//! earliest with the last entry. `done` rises when the entries are sorted; `rd_addr` then reads
 //! entry i of the result (`rd_key`, `rd_val`) one clock later.
 //!
-//! Cycles from `go`: per pass `2^d` (the prefix sum) plus `n + 1` (reads, with the write of
-//! each entry one clock behind its read): the model's `n + 2^d + LAT_SORT_PASS`.
+//! Clocks from `go` to `done`: [`START`] (the last entries' counts settle), then per pass `2^d`
+//! (the prefix sum) plus `n` reads plus [`PASS`] (the last entry's way through the scatter
+//! pipeline to its write): the model's `sort_cycles`. The scatter pipeline, by the clock after
+//! an entry's read: 1 the RAM's output, 2 the entry registered, 3 its digits registered (the
+//! bin table's inputs), 6 its write pointer (`TAKE_LATENCY` later), written that clock.
 
+use crate::bin_table::{BinTable, COUNT_LATENCY, TAKE_LATENCY};
 use obb_model::radix::RadixSorter;
 use rust_hdl::prelude::*;
 
@@ -21,11 +29,23 @@ pub const KEY: usize = 24;
 pub const VAL: usize = 20;
 /// Entry bits of the core's sorts: key above value.
 pub const ENTRY: usize = KEY + VAL;
-/// Digit bits at most: the histogram and the pointers are registers, one per bin.
+/// Digit bits at most (256 bins).
 pub const MAX_DIGIT: u32 = 8;
-const BINS: usize = 1 << MAX_DIGIT;
+/// Passes at most: 63-bit keys in 8-bit digits.
+const MAX_PASSES: usize = 8;
 /// Address bits at least: the counters (one bit wider) also step through the bins.
 pub const MIN_ADDRESS: usize = MAX_DIGIT as usize;
+/// Clocks from an entry's read to its write, the clock of the write included.
+const SCATTER_DEPTH: u64 = 3 + TAKE_LATENCY;
+/// Clocks of a pass besides its prefix sum and its reads (`cycles::LAT_SORT_PASS`).
+pub const PASS: u64 = SCATTER_DEPTH;
+/// Clocks from `go` to the first prefix step: `go`, and the last entry's count, which may
+/// arrive with `go` (`cycles::LAT_SORT_START`).
+pub const START: u64 = 1 + COUNT_LATENCY;
+const _: () = assert!(
+    PASS == 6 && START == 3,
+    "the drain and settle counters' last values"
+);
 
 /// The core's sort: 24-bit keys.
 pub type KeySort<const A: usize, const C: usize> = RadixSort<A, C, KEY, ENTRY>;
@@ -33,10 +53,15 @@ pub type KeySort<const A: usize, const C: usize> = RadixSort<A, C, KEY, ENTRY>;
 #[derive(Copy, Clone, Debug, PartialEq, LogicState)]
 pub enum Phase {
     Load,
+    /// The last entries' counts reach the histogram.
+    Settle,
     Prefix,
     Scatter,
     Finished,
 }
+
+/// Scatter stages after the entry register: the entry waits for its write pointer.
+const STAGES: usize = 5;
 
 #[derive(LogicBlock)]
 pub struct RadixSort<const A: usize, const C: usize, const K: usize, const E: usize> {
@@ -51,35 +76,52 @@ pub struct RadixSort<const A: usize, const C: usize, const K: usize, const E: us
     pub rd_key: Signal<Out, Bits<K>>,
     pub rd_val: Signal<Out, Bits<VAL>>,
     // Configuration.
-    digit: Constant<Bits<8>>,
-    mask: Constant<Bits<K>>,
+    mask: Constant<Bits<8>>,
     last_bin: Constant<Bits<C>>,
-    passes: Constant<Bits<8>>,
-    bins: [Constant<Bits<K>>; BINS],
-    binc: [Constant<Bits<C>>; BINS],
+    /// One pass only; else the pass before the last (mod 8).
+    one_pass: Constant<Bit>,
+    penultimate: Constant<Bits<3>>,
+    /// Pass p's digit starts at entry bit `offsets[p]`.
+    offsets: [Constant<Bits<8>>; MAX_PASSES + 1],
+    passc: [Constant<Bits<3>>; MAX_PASSES],
     // State.
     phase: DFF<Phase>,
     ram: [RAM<Bits<E>, A>; 2],
+    bin_table: BinTable<C>,
     /// RAM the current pass reads (0 or 1); the other is written.
     src: DFF<Bit>,
     count: DFF<Bits<C>>,
-    pass: DFF<Bits<8>>,
-    shift: DFF<Bits<8>>,
+    /// From the count, for the scatter's end test one clock ahead: `count - 2`, `count == 1`,
+    /// `count != 0`.
+    second_last: DFF<Bits<C>>,
+    single: DFF<Bit>,
+    nonempty: DFF<Bit>,
+    pass: DFF<Bits<3>>,
+    final_pass: DFF<Bit>,
+    /// The prefix step, or the scatter's read address.
     idx: DFF<Bits<C>>,
-    sum: DFF<Bits<C>>,
-    hist: [DFF<Bits<C>>; BINS],
-    ptr: [DFF<Bits<C>>; BINS],
-    /// The entry read last clock is being written (scatter).
-    busy: DFF<Bit>,
+    reading: DFF<Bit>,
+    last_read: DFF<Bit>,
+    /// Clocks of the settle and of the scatter's drain.
+    ticks: DFF<Bits<3>>,
+    /// The loaded entry, written the next clock.
+    l_valid: DFF<Bit>,
+    l_entry: DFF<Bits<E>>,
+    /// The RAM's output holds an entry of the pass.
+    r_valid: DFF<Bit>,
+    /// The entry (from the RAM's output) and its way to the write.
+    e: [DFF<Bits<E>>; STAGES],
+    v: [DFF<Bit>; STAGES],
+    /// The bin table's inputs: this pass's digit (take) and the next pass's (count).
+    t_valid: DFF<Bit>,
+    t_bin: DFF<Bits<8>>,
+    c_valid: DFF<Bit>,
+    c_bin: DFF<Bits<8>>,
     // Combinational.
     entry: Signal<Local, Bits<E>>,
-    key: Signal<Local, Bits<K>>,
-    dig: Signal<Local, Bits<K>>,
-    next_dig: Signal<Local, Bits<K>>,
-    in_dig: Signal<Local, Bits<K>>,
-    waddr: Signal<Local, Bits<C>>,
+    this_digit: Signal<Local, Bits<E>>,
+    next_digit: Signal<Local, Bits<E>>,
     new_entry: Signal<Local, Bits<E>>,
-    scatter: Signal<Local, Bit>,
 }
 
 impl<const A: usize, const C: usize, const K: usize, const E: usize> RadixSort<A, C, K, E> {
@@ -93,6 +135,8 @@ impl<const A: usize, const C: usize, const K: usize, const E: usize> RadixSort<A
         assert!(key_bits as usize <= K && K < 64 && max_digit_bits <= MAX_DIGIT);
         let model = RadixSorter::<u32>::new(max_digit_bits);
         let d = model.digit_bits(key_bits);
+        let passes = model.passes(key_bits);
+        assert!((1..=MAX_PASSES as u32).contains(&passes));
         RadixSort {
             clock: Default::default(),
             start: Default::default(),
@@ -104,31 +148,41 @@ impl<const A: usize, const C: usize, const K: usize, const E: usize> RadixSort<A
             rd_addr: Default::default(),
             rd_key: Default::default(),
             rd_val: Default::default(),
-            digit: Constant::new(u64::from(d).into()),
             mask: Constant::new(((1u64 << d) - 1).into()),
             last_bin: Constant::new(((1u64 << d) - 1).into()),
-            passes: Constant::new(u64::from(model.passes(key_bits)).into()),
-            bins: std::array::from_fn(|b| Constant::new((b as u64).into())),
-            binc: std::array::from_fn(|b| Constant::new((b as u64).into())),
+            one_pass: Constant::new(passes == 1),
+            penultimate: Constant::new(u64::from((passes + 6) % 8).into()),
+            offsets: std::array::from_fn(|p| {
+                Constant::new((VAL as u64 + p as u64 * u64::from(d)).into())
+            }),
+            passc: std::array::from_fn(|p| Constant::new((p as u64).into())),
             phase: Default::default(),
             ram: Default::default(),
+            bin_table: BinTable::new(d),
             src: Default::default(),
             count: Default::default(),
+            second_last: Default::default(),
+            single: Default::default(),
+            nonempty: Default::default(),
             pass: Default::default(),
-            shift: Default::default(),
+            final_pass: Default::default(),
             idx: Default::default(),
-            sum: Default::default(),
-            hist: std::array::from_fn(|_| Default::default()),
-            ptr: std::array::from_fn(|_| Default::default()),
-            busy: Default::default(),
+            reading: Default::default(),
+            last_read: Default::default(),
+            ticks: Default::default(),
+            l_valid: Default::default(),
+            l_entry: Default::default(),
+            r_valid: Default::default(),
+            e: Default::default(),
+            v: Default::default(),
+            t_valid: Default::default(),
+            t_bin: Default::default(),
+            c_valid: Default::default(),
+            c_bin: Default::default(),
             entry: Default::default(),
-            key: Default::default(),
-            dig: Default::default(),
-            next_dig: Default::default(),
-            in_dig: Default::default(),
-            waddr: Default::default(),
+            this_digit: Default::default(),
+            next_digit: Default::default(),
             new_entry: Default::default(),
-            scatter: Default::default(),
         }
     }
 }
@@ -139,133 +193,174 @@ impl<const A: usize, const C: usize, const K: usize, const E: usize> Logic
     #[hdl_gen]
     fn update(&mut self) {
         // Clocks; every register holds unless told otherwise.
-        dff_setup!(self, clock, phase, src, count, pass, shift, idx, sum, busy);
-        for b in 0..256 {
-            self.hist[b].clock.next = self.clock.val();
-            self.hist[b].d.next = self.hist[b].q.val();
-            self.ptr[b].clock.next = self.clock.val();
-            self.ptr[b].d.next = self.ptr[b].q.val();
-        }
-        // The entry read last clock, its digit for this pass and for the next.
+        dff_setup!(
+            self,
+            clock,
+            phase,
+            src,
+            count,
+            second_last,
+            single,
+            nonempty,
+            pass,
+            final_pass,
+            idx,
+            reading,
+            last_read,
+            ticks,
+            l_valid,
+            l_entry,
+            r_valid,
+            t_valid,
+            t_bin,
+            c_valid,
+            c_bin
+        );
+        self.bin_table.clock.next = self.clock.val();
+        // The RAM's output (the pass's source), registered; then its way to the write.
         self.entry.next = self.ram[0].read_data.val();
         if self.src.q.val() {
             self.entry.next = self.ram[1].read_data.val();
         }
+        for k in 0..5 {
+            self.e[k].clock.next = self.clock.val();
+            self.v[k].clock.next = self.clock.val();
+        }
+        self.e[0].d.next = self.entry.val();
+        self.v[0].d.next = self.r_valid.q.val();
+        for k in 1..5 {
+            self.e[k].d.next = self.e[k - 1].q.val();
+            self.v[k].d.next = self.v[k - 1].q.val();
+        }
+        self.r_valid.d.next = self.reading.q.val();
         // The key sits above the value (VAL = 20 bits; rust-hdl writes a named constant here
         // into the Verilog as a name, so the literal is spelled out).
-        self.key.next = self.entry.val().get_bits::<K>(20);
-        self.dig.next = (self.key.val() >> self.shift.q.val()) & self.mask.val();
-        self.next_dig.next =
-            (self.key.val() >> (self.shift.q.val() + self.digit.val())) & self.mask.val();
-        self.in_dig.next = self.in_key.val() & self.mask.val();
-        self.new_entry.next =
-            (bit_cast::<E, K>(self.in_key.val()) << 20_u64) | bit_cast::<E, VAL>(self.in_val.val());
-        // Reads: the result in the source RAM by `rd_addr`, or the pass's next entry.
-        self.ram[0].read_address.next = self.rd_addr.val();
-        self.ram[1].read_address.next = self.rd_addr.val();
-        self.rd_key.next = self.key.val();
+        self.rd_key.next = self.entry.val().get_bits::<K>(20);
         self.rd_val.next = self.entry.val().get_bits::<VAL>(0);
         self.done.next = self.phase.q.val() == Phase::Finished;
-        self.scatter.next = (self.phase.q.val() == Phase::Scatter) & self.busy.q.val();
-        // The write pointer of the entry's bin.
-        self.waddr.next = 0.into();
-        for b in 0..256 {
-            if self.dig.val() == self.bins[b].val() {
-                self.waddr.next = self.ptr[b].q.val();
+        // The registered entry's digit for this pass and for the next: a multiplexer by the
+        // pass over fixed slices, not a shifter.
+        self.this_digit.next = 0.into();
+        self.next_digit.next = 0.into();
+        for p in 0..8 {
+            if self.pass.q.val() == self.passc[p].val() {
+                self.this_digit.next = self.e[0].q.val() >> self.offsets[p].val();
+                self.next_digit.next = self.e[0].q.val() >> self.offsets[p + 1].val();
             }
         }
-        // Each value above is computed before it is used (rust-hdl rejects, as a logic loop,
-        // a local read before it is written in the same update).
+        self.t_valid.d.next = self.v[0].q.val();
+        self.t_bin.d.next = self.this_digit.val().get_bits::<8>(0) & self.mask.val();
+        self.c_valid.d.next = self.v[0].q.val() & !self.final_pass.q.val();
+        self.c_bin.d.next = self.next_digit.val().get_bits::<8>(0) & self.mask.val();
+        // Loads: registered, written the next clock; the first digit is counted.
+        self.new_entry.next =
+            (bit_cast::<E, K>(self.in_key.val()) << 20_u64) | bit_cast::<E, VAL>(self.in_val.val());
+        self.l_entry.d.next = self.new_entry.val();
+        self.l_valid.d.next = self.in_valid.val() & (self.phase.q.val() == Phase::Load);
+        if self.phase.q.val() == Phase::Load {
+            self.c_valid.d.next = self.in_valid.val();
+            self.c_bin.d.next = self.in_key.val().get_bits::<8>(0) & self.mask.val();
+        }
+        self.bin_table.clear.next = self.start.val();
+        self.bin_table.count_valid.next = self.c_valid.q.val();
+        self.bin_table.count_bin.next = self.c_bin.q.val();
+        self.bin_table.take_valid.next = self.t_valid.q.val();
+        self.bin_table.take_bin.next = self.t_bin.q.val();
+        self.bin_table.step.next = self.phase.q.val() == Phase::Prefix;
+        // Reads: the result in the source RAM by `rd_addr`, or the pass's next entry. Writes:
+        // a loaded entry to RAM 0, or an entry to its bin's next slot in the other RAM.
         for i in 0..2 {
             self.ram[i].read_clock.next = self.clock.val();
             self.ram[i].write_clock.next = self.clock.val();
+            self.ram[i].read_address.next = self.rd_addr.val();
+            if self.phase.q.val() == Phase::Scatter {
+                self.ram[i].read_address.next = bit_cast::<A, C>(self.idx.q.val());
+            }
             self.ram[i].write_enable.next = false;
-            self.ram[i].write_address.next = bit_cast::<A, C>(self.waddr.val());
-            self.ram[i].write_data.next = self.entry.val();
+            self.ram[i].write_address.next = bit_cast::<A, C>(self.bin_table.take_ptr.val());
+            self.ram[i].write_data.next = self.e[4].q.val();
         }
-        match self.phase.q.val() {
-            Phase::Load => {
-                self.ram[0].write_address.next = bit_cast::<A, C>(self.count.q.val());
-                self.ram[0].write_data.next = self.new_entry.val();
-                if self.in_valid.val() {
-                    self.ram[0].write_enable.next = true;
-                    self.count.d.next = self.count.q.val() + 1;
-                    for b in 0..256 {
-                        if self.in_dig.val() == self.bins[b].val() {
-                            self.hist[b].d.next = self.hist[b].q.val() + 1;
-                        }
-                    }
-                }
-                if self.go.val() {
-                    self.phase.d.next = Phase::Prefix;
-                    self.idx.d.next = 0.into();
-                    self.sum.d.next = 0.into();
-                }
-            }
-            Phase::Prefix => {
-                // Bin idx: its pointer is the running sum; its count restarts for the next
-                // digit.
-                for b in 0..256 {
-                    if self.idx.q.val() == self.binc[b].val() {
-                        self.ptr[b].d.next = self.sum.q.val();
-                        self.hist[b].d.next = 0.into();
-                        self.sum.d.next = self.sum.q.val() + self.hist[b].q.val();
-                    }
-                }
-                self.idx.d.next = self.idx.q.val() + 1;
-                if self.idx.q.val() == self.last_bin.val() {
-                    self.phase.d.next = Phase::Scatter;
-                    self.idx.d.next = 0.into();
-                }
-            }
-            Phase::Scatter => {
-                // Read entry idx; write the entry read last clock to its bin's next slot.
-                self.ram[0].read_address.next = bit_cast::<A, C>(self.idx.q.val());
-                self.ram[1].read_address.next = bit_cast::<A, C>(self.idx.q.val());
-                self.busy.d.next = false;
-                if self.idx.q.val() != self.count.q.val() {
-                    self.idx.d.next = self.idx.q.val() + 1;
-                    self.busy.d.next = true;
-                }
-                if self.idx.q.val() == self.count.q.val() {
-                    // The last entry is written this clock: the pass ends.
-                    self.pass.d.next = self.pass.q.val() + 1;
-                    self.shift.d.next = self.shift.q.val() + self.digit.val();
-                    self.src.d.next = !self.src.q.val();
-                    self.idx.d.next = 0.into();
-                    self.sum.d.next = 0.into();
-                    self.phase.d.next = Phase::Prefix;
-                    if self.pass.q.val() + 1 == self.passes.val() {
-                        self.phase.d.next = Phase::Finished;
-                    }
-                }
-            }
-            Phase::Finished => {}
-        }
-        if self.scatter.val() {
+        if self.v[4].q.val() {
             if self.src.q.val() {
                 self.ram[0].write_enable.next = true;
             } else {
                 self.ram[1].write_enable.next = true;
             }
-            for b in 0..256 {
-                if self.dig.val() == self.bins[b].val() {
-                    self.ptr[b].d.next = self.ptr[b].q.val() + 1;
-                }
-                if self.next_dig.val() == self.bins[b].val() {
-                    self.hist[b].d.next = self.hist[b].q.val() + 1;
+        }
+        if self.l_valid.q.val() {
+            self.ram[0].write_enable.next = true;
+            self.ram[0].write_address.next = bit_cast::<A, C>(self.count.q.val());
+            self.ram[0].write_data.next = self.l_entry.q.val();
+            self.count.d.next = self.count.q.val() + 1;
+        }
+        match self.phase.q.val() {
+            Phase::Load => {
+                if self.go.val() {
+                    self.phase.d.next = Phase::Settle;
+                    self.ticks.d.next = 0.into();
                 }
             }
+            Phase::Settle => {
+                // The count is final by the second clock (the last load is written the clock
+                // after it arrives): what the scatter's end test needs.
+                self.ticks.d.next = self.ticks.q.val() + 1;
+                if self.ticks.q.val() == 1 {
+                    self.phase.d.next = Phase::Prefix;
+                    self.idx.d.next = 0.into();
+                    self.second_last.d.next = self.count.q.val() - 2;
+                    self.single.d.next = self.count.q.val() == 1;
+                    self.nonempty.d.next = self.count.q.val() != 0;
+                    self.final_pass.d.next = self.one_pass.val();
+                }
+            }
+            Phase::Prefix => {
+                self.idx.d.next = self.idx.q.val() + 1;
+                if self.idx.q.val() == self.last_bin.val() {
+                    self.phase.d.next = Phase::Scatter;
+                    self.idx.d.next = 0.into();
+                    self.reading.d.next = self.nonempty.q.val();
+                    self.last_read.d.next = self.single.q.val();
+                    self.ticks.d.next = 0.into();
+                }
+            }
+            Phase::Scatter => {
+                if self.reading.q.val() {
+                    // Read entry idx; whether the next read is the last one, a clock ahead.
+                    self.idx.d.next = self.idx.q.val() + 1;
+                    self.last_read.d.next = self.idx.q.val() == self.second_last.q.val();
+                    if self.last_read.q.val() {
+                        self.reading.d.next = false;
+                    }
+                } else {
+                    // The last entries' way to their writes; the last is written on the sixth
+                    // clock, and the pass ends.
+                    self.ticks.d.next = self.ticks.q.val() + 1;
+                    if self.ticks.q.val() == 5 {
+                        self.pass.d.next = self.pass.q.val() + 1;
+                        self.src.d.next = !self.src.q.val();
+                        self.final_pass.d.next = self.pass.q.val() == self.penultimate.val();
+                        self.idx.d.next = 0.into();
+                        self.phase.d.next = Phase::Prefix;
+                        if self.final_pass.q.val() {
+                            self.phase.d.next = Phase::Finished;
+                        }
+                    }
+                }
+            }
+            Phase::Finished => {}
         }
         if self.start.val() {
             self.phase.d.next = Phase::Load;
             self.count.d.next = 0.into();
             self.src.d.next = false;
             self.pass.d.next = 0.into();
-            self.shift.d.next = 0.into();
-            self.busy.d.next = false;
-            for b in 0..256 {
-                self.hist[b].d.next = 0.into();
+            self.reading.d.next = false;
+            self.l_valid.d.next = false;
+            self.r_valid.d.next = false;
+            self.t_valid.d.next = false;
+            self.c_valid.d.next = false;
+            for k in 0..5 {
+                self.v[k].d.next = false;
             }
         }
     }

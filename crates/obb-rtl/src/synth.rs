@@ -155,6 +155,17 @@ pub struct DeepPath {
     pub to: String,
 }
 
+/// Path endpoints behind more than 3 LUT levels between two register families (a register's
+/// name without its bit index, e.g. `radix.idx`).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct DeepGroup {
+    pub from: String,
+    pub to: String,
+    /// Endpoints (bits) in the group, and the most LUT levels among them.
+    pub endpoints: u64,
+    pub luts: u32,
+}
+
 /// What the netlist says.
 #[derive(Clone, Debug, Serialize)]
 pub struct Report {
@@ -166,6 +177,8 @@ pub struct Report {
     pub bram_without_output_register: u64,
     /// Path endpoints (bits) fed through more than 3 LUT levels.
     pub endpoints_over_3_luts: u64,
+    /// Those endpoints by the register families they run between, deepest first.
+    pub deep_groups: Vec<DeepGroup>,
     /// The slowest path under the delay model, and the one with the most LUT levels.
     pub worst: PathInfo,
     pub deepest: DeepPath,
@@ -184,11 +197,16 @@ pub enum Mapping {
     Simulation,
 }
 
-/// The yosys netlist of `verilog` (top `obb_core`) mapped for `mapping`, from `cache` or
+/// The yosys netlist of `verilog` (top module `top`) mapped for `mapping`, from `cache` or
 /// synthesized into it: returns the entry's directory, with `net.json` (for `analyze`),
 /// `syn.v` (for gate-level simulation), yosys' own cell counts `stat.txt` and `yosys.log`, and
 /// whether it was cached.
-pub fn netlist(verilog: &str, mapping: Mapping, cache: &Path) -> Result<(PathBuf, bool)> {
+pub fn netlist(
+    verilog: &str,
+    top: &str,
+    mapping: Mapping,
+    cache: &Path,
+) -> Result<(PathBuf, bool)> {
     let version = Command::new("yosys")
         .arg("-V")
         .output()
@@ -197,7 +215,7 @@ pub fn netlist(verilog: &str, mapping: Mapping, cache: &Path) -> Result<(PathBuf
     // Virtex-6 primitives, flattened, no I/O buffers (the core is a block inside a larger
     // design).
     let script = format!(
-        "read_verilog core.v; synth_xilinx -family xc6v -top obb_core -flatten -noiopad{}; \
+        "read_verilog core.v; synth_xilinx -family xc6v -top {top} -flatten -noiopad{}; \
          tee -q -o stat.txt stat -tech xilinx; write_json net.json; write_verilog -noattr syn.v",
         match mapping {
             Mapping::Report => "",
@@ -455,6 +473,13 @@ fn capture(c: &Cell, pin: &str, d: &DelayModel) -> Option<f64> {
     }
 }
 
+/// A cell's register family: its name up to the bit index or yosys' suffix (`radix.idx$q[8]`
+/// and `radix.idx$q[0]` are both `radix.idx`; `core.hist[3]$q` is `core.hist`).
+fn family(name: &str) -> String {
+    let end = name.find(['$', '[']).unwrap_or(name.len());
+    name[..end].trim_start_matches('\\').to_string()
+}
+
 /// Walks every path from a launching output through the combinational cells to a capturing
 /// input, in topological order.
 fn walk(cells: &[Cell], d: &DelayModel) -> Report {
@@ -574,6 +599,7 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
     let mut worst = PathInfo::default();
     let mut deepest = DeepPath::default();
     let mut over = 0;
+    let mut groups: HashMap<(String, String), DeepGroup> = HashMap::new();
     for c in cells {
         for (pin, bs) in &c.inputs {
             let Some(setup) = capture(c, pin, d) else {
@@ -598,7 +624,19 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
                         to: format!("{}.{pin}", c.name),
                     };
                 }
-                over += u64::from(a.depth > 3);
+                if a.depth > 3 {
+                    over += 1;
+                    let (from, to) = (family(&cells[a.depth_from].name), family(&c.name));
+                    let g = groups
+                        .entry((from.clone(), to.clone()))
+                        .or_insert(DeepGroup {
+                            from,
+                            to,
+                            ..Default::default()
+                        });
+                    g.endpoints += 1;
+                    g.luts = g.luts.max(a.depth);
+                }
             }
         }
     }
@@ -635,6 +673,11 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
         dsp_without_preg,
         bram_without_output_register,
         endpoints_over_3_luts: over,
+        deep_groups: {
+            let mut g: Vec<DeepGroup> = groups.into_values().collect();
+            g.sort_by(|a, b| (b.luts, b.endpoints, &a.from).cmp(&(a.luts, a.endpoints, &b.from)));
+            g
+        },
         worst,
         deepest,
         delays: d.clone(),

@@ -160,8 +160,13 @@ fn the_netlist_matches_the_model_and_the_analysis_counts_what_yosys_counts() {
         ..HwConfig::default()
     };
     let rtl = obb_rtl::generate::core(&cfg).unwrap();
-    let (dir, _) =
-        synth::netlist(&rtl, synth::Mapping::Simulation, &cache().join("synth")).unwrap();
+    let (dir, _) = synth::netlist(
+        &rtl,
+        "obb_core",
+        synth::Mapping::Simulation,
+        &cache().join("synth"),
+    )
+    .unwrap();
     let gates = std::fs::read_to_string(dir.join("syn.v")).unwrap();
     for (name, scene) in [("touching", touching_pairs()), ("stiff", stiff())] {
         let rtl_frame = cosim(

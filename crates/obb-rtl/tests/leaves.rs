@@ -2,6 +2,7 @@
 //! Verilator, clock by clock, on random operands including the extremes; and the latencies the
 //! model's cycle count assumes.
 
+use obb_rtl::bin_table::BinTable;
 use obb_rtl::leaf::{sbits, uval, AbsTwice, UMul};
 use obb_rtl::table_ram::TableRam;
 use obb_rtl::verilator::{self, Port};
@@ -161,4 +162,131 @@ fn model_latencies_are_the_hardware_latencies() {
         obb_rtl::projection::LATENCY,
         obb_model::fixed::cycles::LAT_PROJECT
     );
+    assert_eq!(
+        (obb_rtl::radix::PASS, obb_rtl::radix::START),
+        (
+            obb_model::fixed::cycles::LAT_SORT_PASS,
+            obb_model::fixed::cycles::LAT_SORT_START
+        )
+    );
+}
+
+/// One clock of the bin table's inputs: clear, count_valid, count_bin, step, take_valid,
+/// take_bin.
+fn bin_table_clock(u: &mut BinTable<BT_C>, x: &[u64]) -> u64 {
+    u.clear.next = x[0] == 1;
+    u.count_valid.next = x[1] == 1;
+    u.count_bin.next = x[2].into();
+    u.step.next = x[3] == 1;
+    u.take_valid.next = x[4] == 1;
+    u.take_bin.next = x[5].into();
+    tick(u, |u, c| u.clock.next = Clock::from(c));
+    uval(u.take_ptr.val())
+}
+
+const BT_C: usize = 9;
+
+/// The bin table against what a radix pass needs of it, on rounds of count, prefix steps and
+/// takes: each take of digit x gets the number of counted digits below x plus the number of
+/// earlier takes of x, `TAKE_LATENCY` clocks later. The rounds run without a clear between them
+/// (the steps must leave the counts at zero), and one round is cut short by a clear. Then its
+/// Verilog against its model, clock by clock, on random traffic, for one group of bins (3-bit
+/// digits) and for 8 groups of 16 (7-bit digits).
+#[test]
+fn bin_table_matches_a_radix_pass_and_its_verilog() {
+    use obb_rtl::bin_table::{COUNT_LATENCY, TAKE_LATENCY};
+    for d in [3u32, 7] {
+        let bins = 1u64 << d;
+        let mut runner = proptest::test_runner::TestRunner::deterministic();
+        let mut u = BinTable::<BT_C>::new(d);
+        u.connect_all();
+        let idle = [0u64; 6];
+        let mut clocks: Vec<Vec<u64>> = Vec::new();
+        let mut run = |u: &mut BinTable<BT_C>, x: Vec<u64>| {
+            clocks.push(x.clone());
+            bin_table_clock(u, &x)
+        };
+        for round in 0..4 {
+            let xs =
+                proptest::collection::vec(prop_oneof![0..bins, Just(bins - 1), Just(0)], 0..60)
+                    .new_tree(&mut runner)
+                    .unwrap()
+                    .current();
+            if round == 2 {
+                // Counts of a frame cut short, then cleared.
+                for &x in &xs {
+                    run(&mut u, vec![0, 1, x, 0, 0, 0]);
+                }
+                run(&mut u, vec![1, 0, 0, 0, 0, 0]);
+            }
+            for &x in &xs {
+                run(&mut u, vec![0, 1, x, 0, 0, 0]);
+            }
+            for _ in 0..COUNT_LATENCY {
+                run(&mut u, idle.to_vec());
+            }
+            for _ in 0..bins {
+                run(&mut u, vec![0, 0, 0, 1, 0, 0]);
+            }
+            let mut got = Vec::new();
+            for k in 0..xs.len() as u64 + TAKE_LATENCY {
+                let take = xs
+                    .get(k as usize)
+                    .map_or(idle.to_vec(), |&x| vec![0, 0, 0, 0, 1, x]);
+                let p = run(&mut u, take);
+                if k + 1 >= TAKE_LATENCY {
+                    got.push(p);
+                }
+            }
+            let want: Vec<u64> = xs
+                .iter()
+                .enumerate()
+                .map(|(k, &x)| {
+                    (xs.iter().filter(|&&y| y < x).count()
+                        + xs[..k].iter().filter(|&&y| y == x).count()) as u64
+                })
+                .collect();
+            assert_eq!(got[..xs.len()], want[..], "{d}-bit digits, round {round}");
+        }
+        // Random traffic, every input at once at times.
+        let bit = prop_oneof![3 => Just(0u64), 1 => Just(1u64)];
+        let traffic = (
+            bit.clone(),
+            bit.clone(),
+            0..256u64,
+            bit.clone(),
+            bit,
+            0..256u64,
+        )
+            .prop_map(|(a, b, c, s, e, f)| vec![a, b, c, s, e, f]);
+        clocks.extend(vectors(traffic, 300));
+        let mut u = BinTable::<BT_C>::new(d);
+        u.connect_all();
+        let model: Vec<Vec<u64>> = clocks
+            .iter()
+            .map(|x| vec![bin_table_clock(&mut u, x)])
+            .collect();
+        let verilog = obb_rtl::emit::verilog(&mut BinTable::<BT_C>::new(d), "bin_table").unwrap();
+        let dir = verilator::scratch_dir(&format!("bin_table_{d}")).unwrap();
+        verilator::lint(&dir, &verilog, "bin_table").unwrap();
+        let inputs = [
+            Port::new("clear", 1),
+            Port::new("count_valid", 1),
+            Port::new("count_bin", 8),
+            Port::new("step", 1),
+            Port::new("take_valid", 1),
+            Port::new("take_bin", 8),
+        ];
+        let out = verilator::simulate(
+            &dir,
+            &verilog,
+            "bin_table",
+            "clock",
+            &inputs,
+            &[Port::new("take_ptr", BT_C)],
+            &clocks,
+        )
+        .unwrap();
+        assert_eq!(out, model, "{d}-bit digits");
+    }
 }

@@ -72,7 +72,12 @@ pub fn run(a: CosimArgs) -> Result<()> {
     let mut design = generate::core(&cfg)?;
     let level = if a.gate_level {
         let bar = spinner("synthesizing the core with yosys (cached after the first time)".into());
-        let (dir, _) = synth::netlist(&design, synth::Mapping::Simulation, &cache.join("synth"))?;
+        let (dir, _) = synth::netlist(
+            &design,
+            "obb_core",
+            synth::Mapping::Simulation,
+            &cache.join("synth"),
+        )?;
         bar.finish_and_clear();
         design = std::fs::read_to_string(dir.join("syn.v"))?;
         Level::Gates

@@ -13,6 +13,9 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Duration;
 
+/// Rows of the report's table of deep paths.
+const DEEP_ROWS: usize = 25;
+
 #[derive(Args)]
 pub struct SynthArgs {
     /// Hardware configuration (TOML); default: the built-in one.
@@ -24,25 +27,58 @@ pub struct SynthArgs {
     /// Cache of netlists (default: $OBBCD_CACHE, else ~/.cache/obbcd).
     #[arg(long)]
     cache: Option<PathBuf>,
+    /// One block alone, as `gen-rtl` writes it to `blocks/` (minutes, not the whole core's
+    /// quarter of an hour): its resources and its logic depth.
+    #[arg(long, value_enum)]
+    block: Option<Block>,
+}
+
+/// The blocks `gen-rtl` writes on their own (`rtl-out/blocks/`).
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Block {
+    Projection,
+    Sat,
+    RadixSort,
+}
+
+impl Block {
+    fn module(self) -> &'static str {
+        match self {
+            Block::Projection => "projection",
+            Block::Sat => "sat",
+            Block::RadixSort => "radix_sort",
+        }
+    }
 }
 
 /// The line of the report that names the RTL it was made from (a test compares it with
 /// `rtl-out/obb_core.v`).
-pub fn rtl_line(verilog: &str) -> String {
+pub fn rtl_line(file: &str, verilog: &str) -> String {
     format!(
-        "RTL: `obb_core.v` with SHA-256 prefix `{}`.",
+        "RTL: `{file}` with SHA-256 prefix `{}`.",
         cache::key(&[verilog.as_bytes()])
     )
 }
 
 pub fn run(a: SynthArgs) -> Result<()> {
     let cfg = load_config(a.config.as_deref())?;
-    let verilog = generate::core(&cfg)?;
+    let (top, file, verilog) = match a.block {
+        None => ("obb_core", "obb_core.v".to_string(), generate::core(&cfg)?),
+        Some(b) => {
+            let file = format!("blocks/{}.v", b.module());
+            let text = generate::files(&cfg)?
+                .into_iter()
+                .find(|(f, _)| *f == file)
+                .map(|(_, t)| t)
+                .with_context(|| format!("gen-rtl wrote no {file}"))?;
+            (b.module(), file, text)
+        }
+    };
     let cache = a.cache.clone().unwrap_or_else(cache::default_dir);
     let bar = ProgressBar::new_spinner()
         .with_message("yosys synth_xilinx -family xc6v (the default core takes about 12 minutes)");
     bar.enable_steady_tick(Duration::from_millis(200));
-    let netlist = synth::netlist(&verilog, synth::Mapping::Report, &cache.join("synth"));
+    let netlist = synth::netlist(&verilog, top, synth::Mapping::Report, &cache.join("synth"));
     bar.finish_and_clear();
     let (dir, cached) = netlist?;
     eprintln!(
@@ -50,8 +86,8 @@ pub fn run(a: SynthArgs) -> Result<()> {
         dir.display(),
         if cached { "cached" } else { "new" }
     );
-    let report = synth::analyze(&dir.join("net.json"), "obb_core")?;
-    let text = markdown(&cfg, &verilog, &report);
+    let report = synth::analyze(&dir.join("net.json"), top)?;
+    let text = markdown(&cfg, top, &rtl_line(&file, &verilog), &report);
     if let Some(parent) = a.output.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(parent)
             .with_context(|| format!("cannot create {}", parent.display()))?;
@@ -67,13 +103,13 @@ fn pct(used: f64, of: u64) -> String {
     format!("{:.1} %", 100.0 * used / of as f64)
 }
 
-fn markdown(cfg: &HwConfig, verilog: &str, r: &Report) -> String {
+fn markdown(cfg: &HwConfig, top: &str, rtl: &str, r: &Report) -> String {
     let res = &r.resources;
     let d = &r.delays;
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "# Synthesis estimate: `obb_core` on the {}\n\n\
+        "# Synthesis estimate: `{top}` on the {}\n\n\
          Written by `obbcd synth` (yosys `synth_xilinx -family xc6v -flatten -noiopad`, which \
          stands in for ISE's XST). {}\n\
          Configuration: capacity {}, broad phase `{}`, groups `{}`, center/half/rot/key bits \
@@ -82,7 +118,7 @@ fn markdown(cfg: &HwConfig, verilog: &str, r: &Report) -> String {
          nothing; the delay model below turns logic depth into nanoseconds. ISE's timing report \
          (`scripts/ise/build.tcl`) is the authority.\n",
         XC6VHX565T.name,
-        rtl_line(verilog),
+        rtl,
         cfg.capacity,
         cfg.broad_phase,
         cfg.groups,
@@ -95,7 +131,7 @@ fn markdown(cfg: &HwConfig, verilog: &str, r: &Report) -> String {
     let _ = writeln!(
         s,
         "## Resources\n\n\
-         | resource | obb_core | of the device | {} | {} |\n| --- | --- | --- | --- | --- |",
+         | resource | {top} | of the device | {} | {} |\n| --- | --- | --- | --- | --- |",
         PAPER[0].what, PAPER[1].what
     );
     let ram = res.ramb36_equivalent();
@@ -186,6 +222,24 @@ fn markdown(cfg: &HwConfig, verilog: &str, r: &Report) -> String {
         PAPER[0].period_ns,
         PAPER[1].period_ns,
     );
+    if !r.deep_groups.is_empty() {
+        let _ = writeln!(
+            s,
+            "Endpoints behind more than 3 LUT levels, by the register families they run \
+             between (deepest first; {} of {} groups):\n\n\
+             | from | to | LUT levels | endpoints |\n| --- | --- | --- | --- |",
+            r.deep_groups.len().min(DEEP_ROWS),
+            r.deep_groups.len()
+        );
+        for g in r.deep_groups.iter().take(DEEP_ROWS) {
+            let _ = writeln!(
+                s,
+                "| `{}` | `{}` | {} | {} |",
+                g.from, g.to, g.luts, g.endpoints
+            );
+        }
+        let _ = writeln!(s);
+    }
     let met = |ok: bool| if ok { "met" } else { "**not met**" };
     let paper = &PAPER[1];
     let _ = writeln!(

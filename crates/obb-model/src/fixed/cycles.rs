@@ -7,11 +7,13 @@ use super::broad::BroadWork;
 /// Pipeline depth of the projection stage: input registers, `2|r|+1`, three DSP stages, sums,
 /// end points, keys (`obb_rtl::projection`, checked equal by its test).
 pub const LAT_PROJECT: u64 = 8;
-/// Clocks of one radix pass besides its keys and its prefix sum: the write of the last entry,
-/// one clock behind its read (`obb_rtl::radix`).
-pub const LAT_SORT_PASS: u64 = 1;
-/// Clocks of a sort besides its passes: the clock that takes `go`.
-pub const LAT_SORT_START: u64 = 1;
+/// Clocks of one radix pass besides its keys and its prefix sum: the last entry's way from its
+/// read to its write, through the registered stages and the bin table's pointer read
+/// (`obb_rtl::radix::PASS`).
+pub const LAT_SORT_PASS: u64 = 6;
+/// Clocks of a sort besides its passes: the clock that takes `go`, and the last entry's count
+/// reaching the histogram (`obb_rtl::radix::START`).
+pub const LAT_SORT_START: u64 = 3;
 
 /// Clocks of one radix sort of `n` keys in `passes` passes of `digit_bits`-bit digits: each
 /// pass a prefix sum over the `2^digit_bits` bins, then one key per clock (the histogram of the
