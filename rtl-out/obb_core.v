@@ -41,7 +41,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     // Constant declarations
     localparam  sweep = 1'b1;
     localparam  sap = 1'b0;
-    localparam  capacity = 16'h8000;
+    localparam  last_slot = 16'h7fff;
     localparam  mask = 64'h7fbfdfeff7fbfdfe;
     localparam  drain = 8'h16;
     
@@ -376,6 +376,12 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [15:0] loaded$d;
     wire  [15:0] loaded$q;
     reg  loaded$clock;
+    reg  ready$d;
+    wire  ready$q;
+    reg  ready$clock;
+    reg  room$d;
+    wire  room$q;
+    reg  room$clock;
     reg  [15:0] projected$d;
     wire  [15:0] projected$q;
     reg  projected$clock;
@@ -1036,6 +1042,16 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .q(loaded$q),
         .clock(loaded$clock)
     );
+    obb_core$ready ready(
+        .d(ready$d),
+        .q(ready$q),
+        .clock(ready$clock)
+    );
+    obb_core$room room(
+        .d(room$d),
+        .q(room$q),
+        .clock(room$clock)
+    );
     obb_core$projected projected(
         .d(projected$d),
         .q(projected$q),
@@ -1461,6 +1477,8 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     always @(*) begin
         state$clock = clock;
         loaded$clock = clock;
+        ready$clock = clock;
+        room$clock = clock;
         projected$clock = clock;
         over$clock = clock;
         countdown$clock = clock;
@@ -1483,6 +1501,8 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         g_mb$clock = clock;
         state$d = state$q;
         loaded$d = loaded$q;
+        ready$d = ready$q;
+        room$d = room$q;
         projected$d = projected$q;
         over$d = over$q;
         countdown$d = countdown$q;
@@ -1603,8 +1623,8 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         tag_b$18$clock = clock;
         tag_a$19$clock = clock;
         tag_b$19$clock = clock;
-        obb_ready = state$q == CoreState$Load;
-        accept = (state$q == CoreState$Load) & obb_valid & (loaded$q != capacity);
+        obb_ready = ready$q;
+        accept = ready$q & obb_valid & room$q;
         center$0$write_enable = accept;
         center$0$write_address = ((loaded$q) & 15'h7fff);
         center$0$write_data = obb_center$0;
@@ -1676,6 +1696,9 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         gdelay$7$d = gdelay$6$q;
         if (accept) begin
             loaded$d = loaded$q + 32'h1;
+            if (loaded$q == last_slot) begin
+                room$d = 1'b0;
+            end
         end
         kmin$0$write_enable = projection$valid_out;
         kmin$0$write_address = ((projected$q) & 15'h7fff);
@@ -1926,11 +1949,12 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
                 end
             CoreState$Load:
                 begin
-                    if (obb_valid & (loaded$q == capacity)) begin
+                    if (obb_valid & ~room$q) begin
                         over$d = 1'b1;
                     end
                     if (obb_last) begin
                         state$d = CoreState$Project;
+                        ready$d = 1'b0;
                     end
                 end
             CoreState$Project:
@@ -1976,6 +2000,8 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         endcase
         if (frame_start) begin
             state$d = CoreState$Load;
+            ready$d = 1'b1;
+            room$d = 1'b1;
             loaded$d = 32'h0;
             projected$d = 32'h0;
             over$d = 1'b0;
@@ -7661,6 +7687,25 @@ module obb_core$radix$v$4(d,q,clock);
 endmodule // obb_core$radix$v$4
 
 
+module obb_core$ready(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$ready
+
+
 module obb_core$recent$0(d,q,clock);
     
     // Module arguments
@@ -7697,6 +7742,25 @@ module obb_core$recent$1(d,q,clock);
     end
           
 endmodule // obb_core$recent$1
+
+
+module obb_core$room(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$room
 
 
 module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,half_a$2,axes_a$0,axes_a$1,axes_a$2,axes_a$3,axes_a$4,axes_a$5,axes_a$6,axes_a$7,axes_a$8,margin_a,center_b$0,center_b$1,center_b$2,half_b$0,half_b$1,half_b$2,axes_b$0,axes_b$1,axes_b$2,axes_b$3,axes_b$4,axes_b$5,axes_b$6,axes_b$7,axes_b$8,margin_b,valid_out,hit);

@@ -95,7 +95,8 @@ pub struct ObbCore<const A: usize, const C: usize> {
     /// Improved-sap: the walker drives the radix sort, and the keys are checked only at the
     /// SAT's output (the paper's Algorithm 2 sends every pair it meets).
     sap: Constant<Bit>,
-    capacity: Constant<Bits<C>>,
+    /// The last index a box may take: `capacity - 1`.
+    last_slot: Constant<Bits<C>>,
     mask: Constant<Bits<MASK>>,
     drain: Constant<Bits<8>>,
     // Stages.
@@ -117,6 +118,11 @@ pub struct ObbCore<const A: usize, const C: usize> {
     // Control.
     state: DFF<CoreState>,
     loaded: DFF<Bits<C>>,
+    /// Registered rather than decoded from `state` and `loaded`, so that accepting a box (the
+    /// write enable and address multiplexer of 15 tables) is one LUT from registers:
+    /// `obb_ready` (the state is Load) and `room` (`loaded != capacity`).
+    ready: DFF<Bit>,
+    room: DFF<Bit>,
     projected: DFF<Bits<C>>,
     over: DFF<Bit>,
     countdown: DFF<Bits<8>>,
@@ -202,7 +208,7 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             pairs: Default::default(),
             sweep: Constant::new(mode == WalkMode::Sweep),
             sap: Constant::new(mode == WalkMode::ImprovedSap),
-            capacity: Constant::new(u64::from(cfg.capacity).into()),
+            last_slot: Constant::new(u64::from(cfg.capacity - 1).into()),
             mask: Constant::new(mask),
             drain: Constant::new(DRAIN.into()),
             projection: Projection::new(cfg),
@@ -220,6 +226,8 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             gdelay: Default::default(),
             state: Default::default(),
             loaded: Default::default(),
+            ready: Default::default(),
+            room: Default::default(),
             projected: Default::default(),
             over: Default::default(),
             countdown: Default::default(),
@@ -259,9 +267,9 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, state, loaded, projected, over, countdown, n_cycles, n_visits, n_tests,
-            n_pairs, k_valid, k_i, k_j, c_valid, c_a, c_b, c_ma, c_mb, g_valid, g_a, g_b, g_ma,
-            g_mb
+            self, clock, state, loaded, ready, room, projected, over, countdown, n_cycles,
+            n_visits, n_tests, n_pairs, k_valid, k_i, k_j, c_valid, c_a, c_b, c_ma, c_mb, g_valid,
+            g_a, g_b, g_ma, g_mb
         );
         clock!(self, clock, projection, radix, walker, sat, fifo, margin, group);
         for x in 0..3 {
@@ -287,10 +295,8 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         }
 
         // Load: a box is accepted while loading, stored at its index and projected.
-        self.obb_ready.next = self.state.q.val() == CoreState::Load;
-        self.accept.next = (self.state.q.val() == CoreState::Load)
-            & self.obb_valid.val()
-            & (self.loaded.q.val() != self.capacity.val());
+        self.obb_ready.next = self.ready.q.val();
+        self.accept.next = self.ready.q.val() & self.obb_valid.val() & self.room.q.val();
         for x in 0..3 {
             self.center[x].write_enable.next = self.accept.val();
             self.center[x].write_address.next = bit_cast::<A, C>(self.loaded.q.val());
@@ -314,6 +320,9 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         }
         if self.accept.val() {
             self.loaded.d.next = self.loaded.q.val() + 1;
+            if self.loaded.q.val() == self.last_slot.val() {
+                self.room.d.next = false;
+            }
         }
 
         // Projected: keys, margin and group stored at the box's index; sweep sorts min x.
@@ -479,11 +488,12 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         match self.state.q.val() {
             CoreState::Idle => {}
             CoreState::Load => {
-                if self.obb_valid.val() & (self.loaded.q.val() == self.capacity.val()) {
+                if self.obb_valid.val() & !self.room.q.val() {
                     self.over.d.next = true;
                 }
                 if self.obb_last.val() {
                     self.state.d.next = CoreState::Project;
+                    self.ready.d.next = false;
                 }
             }
             CoreState::Project => {
@@ -524,6 +534,8 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         }
         if self.frame_start.val() {
             self.state.d.next = CoreState::Load;
+            self.ready.d.next = true;
+            self.room.d.next = true;
             self.loaded.d.next = 0.into();
             self.projected.d.next = 0.into();
             self.over.d.next = false;
