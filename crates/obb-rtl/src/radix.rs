@@ -62,6 +62,9 @@ pub enum Phase {
 
 /// Scatter stages after the entry register: the entry waits for its write pointer.
 const STAGES: usize = 5;
+// The update's loops spell these bounds out as literals (`for k in 0..5`, `for p in 0..8`), as
+// the crate's other blocks do; this ties them to the constants.
+const _: () = assert!(STAGES == 5 && MAX_PASSES == 8 && STAGES as u64 == SCATTER_DEPTH - 1);
 
 #[derive(LogicBlock)]
 pub struct RadixSort<const A: usize, const C: usize, const K: usize, const E: usize> {
