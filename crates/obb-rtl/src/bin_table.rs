@@ -118,7 +118,7 @@ impl<const C: usize> Logic for BinTable<C> {
         m.hi = taken >> lo_bits;
         let clear = self.clear.val();
         m.hot_count = (self.count_valid.val() & !clear).then(|| bin(self.count_bin.val()));
-        m.hot_take = (self.take_valid.val() & !clear).then(|| bin(self.take_bin.val()));
+        m.hot_take = (self.take_valid.val() & !clear).then_some(taken);
         if self.step.val() {
             m.sum = wrap(old.sum + old.hist[0]);
             m.hist.rotate_left(1);
