@@ -43,7 +43,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     localparam  sap = 1'b0;
     localparam  last_slot = 16'h7fff;
     localparam  mask = 64'h7fbfdfeff7fbfdfe;
-    localparam  drain = 8'h16;
+    localparam  drain = 8'h17;
     
     // Enums
     localparam CoreState$Idle = 0;
@@ -90,12 +90,25 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [14:0] radix$rd_addr;
     wire  [23:0] radix$rd_key;
     wire  [19:0] radix$rd_val;
+    reg  sweep_walker$clock;
+    reg  sweep_walker$start;
+    reg  [15:0] sweep_walker$n;
+    reg  sweep_walker$stall;
+    wire  [14:0] sweep_walker$rd_addr;
+    reg  [23:0] sweep_walker$rd_key;
+    reg  [19:0] sweep_walker$rd_val;
+    wire  [14:0] sweep_walker$a_addr;
+    wire  [14:0] sweep_walker$b_addr;
+    reg  [22:0] sweep_walker$a_max;
+    wire  sweep_walker$visit;
+    wire  [14:0] sweep_walker$vi;
+    wire  [14:0] sweep_walker$vj;
+    wire  sweep_walker$finished;
     reg  walker$clock;
     reg  walker$start;
     reg  [15:0] walker$n;
     reg  walker$stall;
     wire  [14:0] walker$rd_addr;
-    reg  [23:0] walker$rd_key;
     reg  [19:0] walker$rd_val;
     wire  [14:0] walker$a_addr;
     wire  [14:0] walker$b_addr;
@@ -152,16 +165,13 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     wire  sat$valid_out;
     wire  sat$hit;
     reg  fifo$clock;
-    reg  fifo$read;
-    wire  [39:0] fifo$data_out;
-    wire  fifo$empty;
-    wire  fifo$almost_empty;
-    wire  fifo$underflow;
     reg  fifo$write;
     reg  [39:0] fifo$data_in;
-    wire  fifo$full;
+    reg  fifo$ready;
+    wire  fifo$valid;
+    wire  [39:0] fifo$data_out;
+    wire  fifo$empty;
     wire  fifo$almost_full;
-    wire  fifo$overflow;
     reg  center$0$clock;
     reg  center$0$write_enable;
     reg  [14:0] center$0$write_address;
@@ -373,6 +383,9 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [2:0] state$d;
     wire  [2:0] state$q;
     reg  state$clock;
+    reg  stall$d;
+    wire  stall$q;
+    reg  stall$clock;
     reg  [15:0] loaded$d;
     wire  [15:0] loaded$q;
     reg  loaded$clock;
@@ -502,6 +515,9 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [14:0] tag_a$19$d;
     wire  [14:0] tag_a$19$q;
     reg  tag_a$19$clock;
+    reg  [14:0] tag_a$20$d;
+    wire  [14:0] tag_a$20$q;
+    reg  tag_a$20$clock;
     reg  [14:0] tag_b$0$d;
     wire  [14:0] tag_b$0$q;
     reg  tag_b$0$clock;
@@ -562,6 +578,9 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [14:0] tag_b$19$d;
     wire  [14:0] tag_b$19$q;
     reg  tag_b$19$clock;
+    reg  [14:0] tag_b$20$d;
+    wire  [14:0] tag_b$20$q;
+    reg  tag_b$20$clock;
     reg  k_overlap$0$d;
     wire  k_overlap$0$q;
     reg  k_overlap$0$clock;
@@ -628,14 +647,18 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  k_overlap$21$d;
     wire  k_overlap$21$q;
     reg  k_overlap$21$clock;
-    reg  recent$0$d;
-    wire  recent$0$q;
-    reg  recent$0$clock;
-    reg  recent$1$d;
-    wire  recent$1$q;
-    reg  recent$1$clock;
+    reg  k_overlap$22$d;
+    wire  k_overlap$22$q;
+    reg  k_overlap$22$clock;
     
     // Local signals
+    reg  walk_start;
+    reg  visit;
+    reg  [14:0] vi;
+    reg  [14:0] vj;
+    reg  [14:0] a_addr;
+    reg  [14:0] b_addr;
+    reg  walked;
     reg  accept;
     reg  overlap;
     reg  [63:0] gidx;
@@ -684,13 +707,28 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .rd_key(radix$rd_key),
         .rd_val(radix$rd_val)
     );
+    obb_core$sweep_walker sweep_walker(
+        .clock(sweep_walker$clock),
+        .start(sweep_walker$start),
+        .n(sweep_walker$n),
+        .stall(sweep_walker$stall),
+        .rd_addr(sweep_walker$rd_addr),
+        .rd_key(sweep_walker$rd_key),
+        .rd_val(sweep_walker$rd_val),
+        .a_addr(sweep_walker$a_addr),
+        .b_addr(sweep_walker$b_addr),
+        .a_max(sweep_walker$a_max),
+        .visit(sweep_walker$visit),
+        .vi(sweep_walker$vi),
+        .vj(sweep_walker$vj),
+        .finished(sweep_walker$finished)
+    );
     obb_core$walker walker(
         .clock(walker$clock),
         .start(walker$start),
         .n(walker$n),
         .stall(walker$stall),
         .rd_addr(walker$rd_addr),
-        .rd_key(walker$rd_key),
         .rd_val(walker$rd_val),
         .a_addr(walker$a_addr),
         .b_addr(walker$b_addr),
@@ -751,16 +789,13 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     );
     obb_core$fifo fifo(
         .clock(fifo$clock),
-        .read(fifo$read),
-        .data_out(fifo$data_out),
-        .empty(fifo$empty),
-        .almost_empty(fifo$almost_empty),
-        .underflow(fifo$underflow),
         .write(fifo$write),
         .data_in(fifo$data_in),
-        .full(fifo$full),
-        .almost_full(fifo$almost_full),
-        .overflow(fifo$overflow)
+        .ready(fifo$ready),
+        .valid(fifo$valid),
+        .data_out(fifo$data_out),
+        .empty(fifo$empty),
+        .almost_full(fifo$almost_full)
     );
     obb_core$center$0 center$0(
         .clock(center$0$clock),
@@ -1037,6 +1072,11 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .q(state$q),
         .clock(state$clock)
     );
+    obb_core$stall stall(
+        .d(stall$d),
+        .q(stall$q),
+        .clock(stall$clock)
+    );
     obb_core$loaded loaded(
         .d(loaded$d),
         .q(loaded$q),
@@ -1252,6 +1292,11 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .q(tag_a$19$q),
         .clock(tag_a$19$clock)
     );
+    obb_core$tag_a$20 tag_a$20(
+        .d(tag_a$20$d),
+        .q(tag_a$20$q),
+        .clock(tag_a$20$clock)
+    );
     obb_core$tag_b$0 tag_b$0(
         .d(tag_b$0$d),
         .q(tag_b$0$q),
@@ -1351,6 +1396,11 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .d(tag_b$19$d),
         .q(tag_b$19$q),
         .clock(tag_b$19$clock)
+    );
+    obb_core$tag_b$20 tag_b$20(
+        .d(tag_b$20$d),
+        .q(tag_b$20$q),
+        .clock(tag_b$20$clock)
     );
     obb_core$k_overlap$0 k_overlap$0(
         .d(k_overlap$0$d),
@@ -1462,20 +1512,16 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .q(k_overlap$21$q),
         .clock(k_overlap$21$clock)
     );
-    obb_core$recent$0 recent$0(
-        .d(recent$0$d),
-        .q(recent$0$q),
-        .clock(recent$0$clock)
-    );
-    obb_core$recent$1 recent$1(
-        .d(recent$1$d),
-        .q(recent$1$q),
-        .clock(recent$1$clock)
+    obb_core$k_overlap$22 k_overlap$22(
+        .d(k_overlap$22$d),
+        .q(k_overlap$22$q),
+        .clock(k_overlap$22$clock)
     );
     
     // Update code
     always @(*) begin
         state$clock = clock;
+        stall$clock = clock;
         loaded$clock = clock;
         ready$clock = clock;
         room$clock = clock;
@@ -1500,6 +1546,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         g_ma$clock = clock;
         g_mb$clock = clock;
         state$d = state$q;
+        stall$d = stall$q;
         loaded$d = loaded$q;
         ready$d = ready$q;
         room$d = room$q;
@@ -1525,6 +1572,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         g_mb$d = g_mb$q;
         projection$clock = clock;
         radix$clock = clock;
+        sweep_walker$clock = clock;
         walker$clock = clock;
         sat$clock = clock;
         fifo$clock = clock;
@@ -1581,8 +1629,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         k_overlap$19$clock = clock;
         k_overlap$20$clock = clock;
         k_overlap$21$clock = clock;
-        recent$0$clock = clock;
-        recent$1$clock = clock;
+        k_overlap$22$clock = clock;
         tag_a$0$clock = clock;
         tag_b$0$clock = clock;
         tag_a$1$clock = clock;
@@ -1623,6 +1670,8 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         tag_b$18$clock = clock;
         tag_a$19$clock = clock;
         tag_b$19$clock = clock;
+        tag_a$20$clock = clock;
+        tag_b$20$clock = clock;
         obb_ready = ready$q;
         accept = ready$q & obb_valid & room$q;
         center$0$write_enable = accept;
@@ -1735,40 +1784,60 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         if (projection$valid_out) begin
             projected$d = projected$q + 32'h1;
         end
-        radix$start = frame_start | walker$sort_start;
-        radix$go = walker$sort_go;
+        radix$start = frame_start | (walker$sort_start & sap);
+        radix$go = walker$sort_go & sap;
         walker$sort_done = radix$done;
-        radix$rd_addr = walker$rd_addr;
-        walker$rd_key = radix$rd_key;
-        walker$rd_val = radix$rd_val;
+        stall$d = fifo$almost_full;
+        walk_start = 1'b0;
+        sweep_walker$n = loaded$q;
+        sweep_walker$stall = stall$q;
+        sweep_walker$rd_key = radix$rd_key;
+        sweep_walker$rd_val = radix$rd_val;
+        sweep_walker$a_max = kmax$0$read_data_a;
         walker$n = loaded$q;
-        walker$start = 1'b0;
-        walker$stall = fifo$almost_full;
+        walker$stall = stall$q;
+        walker$rd_val = radix$rd_val;
         walker$a_min$0 = kmin$0$read_data_a;
         walker$a_max$0 = kmax$0$read_data_a;
-        kmin$0$read_address_a = walker$a_addr;
-        kmin$0$read_address_b = walker$b_addr;
-        kmax$0$read_address_a = walker$a_addr;
-        kmax$0$read_address_b = walker$b_addr;
         walker$a_min$1 = kmin$1$read_data_a;
         walker$a_max$1 = kmax$1$read_data_a;
-        kmin$1$read_address_a = walker$a_addr;
-        kmin$1$read_address_b = walker$b_addr;
-        kmax$1$read_address_a = walker$a_addr;
-        kmax$1$read_address_b = walker$b_addr;
         walker$a_min$2 = kmin$2$read_data_a;
         walker$a_max$2 = kmax$2$read_data_a;
-        kmin$2$read_address_a = walker$a_addr;
-        kmin$2$read_address_b = walker$b_addr;
-        kmax$2$read_address_a = walker$a_addr;
-        kmax$2$read_address_b = walker$b_addr;
-        margin$read_address_a = walker$a_addr;
-        margin$read_address_b = walker$b_addr;
-        group$read_address_a = walker$a_addr;
-        group$read_address_b = walker$b_addr;
-        k_valid$d = walker$visit;
-        k_i$d = walker$vi;
-        k_j$d = walker$vj;
+        radix$rd_addr = walker$rd_addr;
+        visit = walker$visit;
+        vi = walker$vi;
+        vj = walker$vj;
+        a_addr = walker$a_addr;
+        b_addr = walker$b_addr;
+        walked = walker$finished;
+        if (sweep) begin
+            radix$rd_addr = sweep_walker$rd_addr;
+            visit = sweep_walker$visit;
+            vi = sweep_walker$vi;
+            vj = sweep_walker$vj;
+            a_addr = sweep_walker$a_addr;
+            b_addr = sweep_walker$b_addr;
+            walked = sweep_walker$finished;
+        end
+        kmin$0$read_address_a = a_addr;
+        kmin$0$read_address_b = b_addr;
+        kmax$0$read_address_a = a_addr;
+        kmax$0$read_address_b = b_addr;
+        kmin$1$read_address_a = a_addr;
+        kmin$1$read_address_b = b_addr;
+        kmax$1$read_address_a = a_addr;
+        kmax$1$read_address_b = b_addr;
+        kmin$2$read_address_a = a_addr;
+        kmin$2$read_address_b = b_addr;
+        kmax$2$read_address_a = a_addr;
+        kmax$2$read_address_b = b_addr;
+        margin$read_address_a = a_addr;
+        margin$read_address_b = b_addr;
+        group$read_address_a = a_addr;
+        group$read_address_b = b_addr;
+        k_valid$d = visit;
+        k_i$d = vi;
+        k_j$d = vj;
         overlap = (kmin$0$read_data_a <= kmax$0$read_data_b) & (kmin$0$read_data_b <= kmax$0$read_data_a) & (kmin$1$read_data_a <= kmax$1$read_data_b) & (kmin$1$read_data_b <= kmax$1$read_data_a) & (kmin$2$read_data_a <= kmax$2$read_data_b) & (kmin$2$read_data_b <= kmax$2$read_data_a);
         gidx = (((group$read_data_a) & 64'hffffffffffffffff) << 64'h3) | ((group$read_data_b) & 64'hffffffffffffffff);
         shifted = mask >> gidx;
@@ -1795,6 +1864,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         k_overlap$19$d = k_overlap$18$q;
         k_overlap$20$d = k_overlap$19$q;
         k_overlap$21$d = k_overlap$20$q;
+        k_overlap$22$d = k_overlap$21$q;
         swap = k_j$q < k_i$q;
         c_valid$d = candidate;
         c_a$d = k_i$q;
@@ -1921,20 +1991,20 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         tag_b$18$d = tag_b$17$q;
         tag_a$19$d = tag_a$18$q;
         tag_b$19$d = tag_b$18$q;
-        hit = sat$valid_out & sat$hit & k_overlap$21$q;
+        tag_a$20$d = tag_a$19$q;
+        tag_b$20$d = tag_b$19$q;
+        hit = sat$valid_out & sat$hit & k_overlap$22$q;
         fifo$write = hit;
-        recent$0$d = hit;
-        recent$1$d = recent$0$q;
-        fifo$data_in = (((tag_a$19$q) & 40'hffffffffff) << 64'h14) | ((tag_b$19$q) & 40'hffffffffff);
+        fifo$data_in = (((tag_a$20$q) & 40'hffffffffff) << 64'h14) | ((tag_b$20$q) & 40'hffffffffff);
         if (hit) begin
             n_pairs$d = n_pairs$q + 32'h1;
         end
-        pair_valid = ~fifo$empty;
+        pair_valid = fifo$valid;
         pair_a = fifo$data_out[(32'h14)+:(20)];
         pair_b = fifo$data_out[(32'h0)+:(20)];
-        fifo$read = pair_ready;
+        fifo$ready = pair_ready;
         busy = (state$q != CoreState$Idle) & (state$q != CoreState$Done);
-        done = (state$q == CoreState$Done) & fifo$empty & ~recent$0$q & ~recent$1$q;
+        done = (state$q == CoreState$Done) & fifo$empty;
         capacity_exceeded = over$q;
         cycles = n_cycles$q;
         candidates = n_visits$q;
@@ -1968,7 +2038,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
                             state$d = CoreState$Sort;
                         end
                         else begin
-                            walker$start = 1'b1;
+                            walk_start = 1'b1;
                             state$d = CoreState$Walk;
                         end
                     end
@@ -1976,13 +2046,13 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
             CoreState$Sort:
                 begin
                     if (radix$done) begin
-                        walker$start = 1'b1;
+                        walk_start = 1'b1;
                         state$d = CoreState$Walk;
                     end
                 end
             CoreState$Walk:
                 begin
-                    if (walker$finished) begin
+                    if (walked) begin
                         countdown$d = drain;
                         state$d = CoreState$Drain;
                     end
@@ -1998,6 +2068,8 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
                 begin
                 end
         endcase
+        sweep_walker$start = walk_start & sweep;
+        walker$start = walk_start & ~sweep;
         if (frame_start) begin
             state$d = CoreState$Load;
             ready$d = 1'b1;
@@ -2453,230 +2525,269 @@ module obb_core$countdown(d,q,clock);
 endmodule // obb_core$countdown
 
 
-module obb_core$fifo(clock,read,data_out,empty,almost_empty,underflow,write,data_in,full,almost_full,overflow);
+module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full);
     
     // Module arguments
     input wire  clock;
-    input wire  read;
-    output reg  [39:0] data_out;
-    output reg  empty;
-    output reg  almost_empty;
-    output reg  underflow;
     input wire  write;
     input wire  [39:0] data_in;
-    output reg  full;
+    input wire  ready;
+    output reg  valid;
+    output reg  [39:0] data_out;
+    output reg  empty;
     output reg  almost_full;
-    output reg  overflow;
+    
+    // Constant declarations
+    localparam  stall_at = 7'b100000;
     
     // Stub signals
-    reg  [5:0] ram$read_address;
-    reg  ram$read_clock;
-    wire  [39:0] ram$read_data;
-    reg  [5:0] ram$write_address;
-    reg  ram$write_clock;
-    reg  [39:0] ram$write_data;
+    reg  ram$clock;
     reg  ram$write_enable;
-    reg  read_logic$clock;
-    reg  read_logic$read;
-    wire  [39:0] read_logic$data_out;
-    wire  read_logic$empty;
-    wire  read_logic$almost_empty;
-    wire  read_logic$underflow;
-    reg  [6:0] read_logic$write_address_delayed;
-    wire  [5:0] read_logic$ram_read_address;
-    reg  [39:0] read_logic$ram_read_data;
-    wire  read_logic$ram_read_clock;
-    wire  [6:0] read_logic$read_address_out;
-    wire  [6:0] read_logic$fill_level;
-    reg  write_logic$write;
-    reg  [39:0] write_logic$data_in;
-    wire  write_logic$full;
-    wire  write_logic$almost_full;
-    wire  write_logic$overflow;
-    reg  write_logic$clock;
-    wire  [5:0] write_logic$ram_write_address;
-    wire  write_logic$ram_write_clock;
-    wire  [39:0] write_logic$ram_write_data;
-    wire  write_logic$ram_write_enable;
-    reg  [6:0] write_logic$read_address;
-    wire  [6:0] write_logic$write_address_delayed;
-    wire  [6:0] write_logic$fill_level;
+    reg  [5:0] ram$write_address;
+    reg  [39:0] ram$write_data;
+    reg  [5:0] ram$read_address;
+    wire  [39:0] ram$read_data;
+    reg  [5:0] wptr$d;
+    wire  [5:0] wptr$q;
+    reg  wptr$clock;
+    reg  [5:0] rptr$d;
+    wire  [5:0] rptr$q;
+    reg  rptr$clock;
+    reg  [6:0] count$d;
+    wire  [6:0] count$q;
+    reg  count$clock;
+    reg  stored$d;
+    wire  stored$q;
+    reg  stored$clock;
+    reg  one$d;
+    wire  one$q;
+    reg  one$clock;
+    reg  out_valid$d;
+    wire  out_valid$q;
+    reg  out_valid$clock;
+    reg  [39:0] out_data$d;
+    wire  [39:0] out_data$q;
+    reg  out_data$clock;
+    
+    // Local signals
+    reg  load;
+    reg  two;
     
     // Sub module instances
     obb_core$fifo$ram ram(
-        .read_address(ram$read_address),
-        .read_clock(ram$read_clock),
-        .read_data(ram$read_data),
+        .clock(ram$clock),
+        .write_enable(ram$write_enable),
         .write_address(ram$write_address),
-        .write_clock(ram$write_clock),
         .write_data(ram$write_data),
-        .write_enable(ram$write_enable)
+        .read_address(ram$read_address),
+        .read_data(ram$read_data)
     );
-    obb_core$fifo$read_logic read_logic(
-        .clock(read_logic$clock),
-        .read(read_logic$read),
-        .data_out(read_logic$data_out),
-        .empty(read_logic$empty),
-        .almost_empty(read_logic$almost_empty),
-        .underflow(read_logic$underflow),
-        .write_address_delayed(read_logic$write_address_delayed),
-        .ram_read_address(read_logic$ram_read_address),
-        .ram_read_data(read_logic$ram_read_data),
-        .ram_read_clock(read_logic$ram_read_clock),
-        .read_address_out(read_logic$read_address_out),
-        .fill_level(read_logic$fill_level)
+    obb_core$fifo$wptr wptr(
+        .d(wptr$d),
+        .q(wptr$q),
+        .clock(wptr$clock)
     );
-    obb_core$fifo$write_logic write_logic(
-        .write(write_logic$write),
-        .data_in(write_logic$data_in),
-        .full(write_logic$full),
-        .almost_full(write_logic$almost_full),
-        .overflow(write_logic$overflow),
-        .clock(write_logic$clock),
-        .ram_write_address(write_logic$ram_write_address),
-        .ram_write_clock(write_logic$ram_write_clock),
-        .ram_write_data(write_logic$ram_write_data),
-        .ram_write_enable(write_logic$ram_write_enable),
-        .read_address(write_logic$read_address),
-        .write_address_delayed(write_logic$write_address_delayed),
-        .fill_level(write_logic$fill_level)
+    obb_core$fifo$rptr rptr(
+        .d(rptr$d),
+        .q(rptr$q),
+        .clock(rptr$clock)
+    );
+    obb_core$fifo$count count(
+        .d(count$d),
+        .q(count$q),
+        .clock(count$clock)
+    );
+    obb_core$fifo$stored stored(
+        .d(stored$d),
+        .q(stored$q),
+        .clock(stored$clock)
+    );
+    obb_core$fifo$one one(
+        .d(one$d),
+        .q(one$q),
+        .clock(one$clock)
+    );
+    obb_core$fifo$out_valid out_valid(
+        .d(out_valid$d),
+        .q(out_valid$q),
+        .clock(out_valid$clock)
+    );
+    obb_core$fifo$out_data out_data(
+        .d(out_data$d),
+        .q(out_data$q),
+        .clock(out_data$clock)
     );
     
     // Update code
     always @(*) begin
-        read_logic$clock = clock;
-        write_logic$clock = clock;
-        read_logic$read = read;
-        empty = read_logic$empty;
-        almost_empty = read_logic$almost_empty;
-        data_out = read_logic$data_out;
-        underflow = read_logic$underflow;
-        overflow = write_logic$overflow;
-        almost_full = write_logic$almost_full;
-        full = write_logic$full;
-        write_logic$write = write;
-        write_logic$data_in = data_in;
-        ram$write_clock = clock;
-        ram$write_enable = write_logic$ram_write_enable;
-        ram$write_address = write_logic$ram_write_address;
-        ram$write_data = write_logic$ram_write_data;
-        ram$read_clock = clock;
-        ram$read_address = read_logic$ram_read_address;
-        read_logic$ram_read_data = ram$read_data;
-        read_logic$write_address_delayed = write_logic$write_address_delayed;
-        write_logic$read_address = read_logic$read_address_out;
+        wptr$clock = clock;
+        rptr$clock = clock;
+        count$clock = clock;
+        stored$clock = clock;
+        one$clock = clock;
+        out_valid$clock = clock;
+        out_data$clock = clock;
+        wptr$d = wptr$q;
+        rptr$d = rptr$q;
+        count$d = count$q;
+        stored$d = stored$q;
+        one$d = one$q;
+        out_valid$d = out_valid$q;
+        out_data$d = out_data$q;
+        ram$clock = clock;
+        ram$write_enable = write;
+        ram$write_address = wptr$q;
+        ram$write_data = data_in;
+        ram$read_address = rptr$q;
+        load = stored$q & (~out_valid$q | ready);
+        if (write) begin
+            wptr$d = wptr$q + 32'h1;
+        end
+        if (load) begin
+            rptr$d = rptr$q + 32'h1;
+            out_data$d = ram$read_data;
+            out_valid$d = 1'b1;
+        end
+        else if (ready) begin
+            out_valid$d = 1'b0;
+        end
+        if (write & ~load) begin
+            count$d = count$q + 32'h1;
+        end
+        if (load & ~write) begin
+            count$d = count$q - 32'h1;
+        end
+        two = count$q == 32'h2;
+        stored$d = write | (stored$q & ~(one$q & load));
+        one$d = (~stored$q & write) | (one$q & (write == load)) | (two & load & ~write);
+        valid = out_valid$q;
+        data_out = out_data$q;
+        empty = ~stored$q & ~out_valid$q;
+        almost_full = count$q >= stall_at;
     end
     
 endmodule // obb_core$fifo
 
 
-module obb_core$fifo$ram(read_address,read_clock,read_data,write_address,write_clock,write_data,write_enable);
+module obb_core$fifo$count(d,q,clock);
     
     // Module arguments
-    input wire  [5:0] read_address;
-    input wire  read_clock;
-    output reg  [39:0] read_data;
-    input wire  [5:0] write_address;
-    input wire  write_clock;
-    input wire  [39:0] write_data;
-    input wire  write_enable;
+    input wire  [6:0] d;
+    output reg  [6:0] q;
+    input wire  clock;
     
     // Update code (custom)
-    reg[39:0] mem[63:0];
-    
-    
-    
-    always @(posedge read_clock) begin
-       read_data <= mem[read_address];
+    initial begin
+       q = 7'h0;
     end
     
-    always @(posedge write_clock) begin
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fifo$count
+
+
+module obb_core$fifo$one(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fifo$one
+
+
+module obb_core$fifo$out_data(d,q,clock);
+    
+    // Module arguments
+    input wire  [39:0] d;
+    output reg  [39:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 40'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fifo$out_data
+
+
+module obb_core$fifo$out_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fifo$out_valid
+
+
+module obb_core$fifo$ram(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [5:0] write_address;
+    input wire  [39:0] write_data;
+    input wire  [5:0] read_address;
+    output reg  [39:0] read_data;
+    
+    // Update code (custom)
+    reg [39:0] mem [0:63];
+    always @(posedge clock) begin
        if (write_enable) begin
           mem[write_address] <= write_data;
        end
     end
-                
+    always @(*) begin
+       read_data = mem[read_address];
+    end
 endmodule // obb_core$fifo$ram
 
 
-module obb_core$fifo$read_logic(clock,read,data_out,empty,almost_empty,underflow,write_address_delayed,ram_read_address,ram_read_data,ram_read_clock,read_address_out,fill_level);
+module obb_core$fifo$rptr(d,q,clock);
     
     // Module arguments
+    input wire  [5:0] d;
+    output reg  [5:0] q;
     input wire  clock;
-    input wire  read;
-    output reg  [39:0] data_out;
-    output reg  empty;
-    output reg  almost_empty;
-    output reg  underflow;
-    input wire  [6:0] write_address_delayed;
-    output reg  [5:0] ram_read_address;
-    input wire  [39:0] ram_read_data;
-    output reg  ram_read_clock;
-    output reg  [6:0] read_address_out;
-    output reg  [6:0] fill_level;
     
-    // Constant declarations
-    localparam  fifo_address_mask = 7'b111111;
-    localparam  fifo_size = 7'b1000000;
-    localparam  block_size = 7'b100000;
-    
-    // Stub signals
-    reg  [6:0] read_address$d;
-    wire  [6:0] read_address$q;
-    reg  read_address$clock;
-    reg  dff_underflow$d;
-    wire  dff_underflow$q;
-    reg  dff_underflow$clock;
-    
-    // Local signals
-    reg  is_empty;
-    reg  is_full;
-    
-    // Sub module instances
-    obb_core$fifo$read_logic$read_address read_address(
-        .d(read_address$d),
-        .q(read_address$q),
-        .clock(read_address$clock)
-    );
-    obb_core$fifo$read_logic$dff_underflow dff_underflow(
-        .d(dff_underflow$d),
-        .q(dff_underflow$q),
-        .clock(dff_underflow$clock)
-    );
-    
-    // Update code
-    always @(*) begin
-        read_address$clock = clock;
-        dff_underflow$clock = clock;
-        read_address$d = read_address$q;
-        dff_underflow$d = dff_underflow$q;
-        ram_read_clock = clock;
-        is_empty = (read_address$q == write_address_delayed);
-        is_full = ~is_empty & ((read_address$q & fifo_address_mask) == (write_address_delayed & fifo_address_mask));
-        fill_level = ((write_address_delayed & fifo_address_mask) + fifo_size - (read_address$q & fifo_address_mask)) & fifo_address_mask;
-        if (is_full) begin
-            fill_level = fifo_size;
-        end
-        almost_empty = (fill_level < block_size);
-        empty = is_empty;
-        ram_read_address = ((read_address$q & fifo_address_mask) & 6'h3f);
-        data_out = ram_read_data;
-        if (read & ~is_empty) begin
-            read_address$d = read_address$q + 32'h1;
-            ram_read_address = (((read_address$q + 32'h1) & fifo_address_mask) & 6'h3f);
-        end
-        else begin
-            read_address$d = read_address$q;
-        end
-        dff_underflow$d = dff_underflow$q | (is_empty & read);
-        underflow = dff_underflow$q;
-        read_address_out = read_address$q;
+    // Update code (custom)
+    initial begin
+       q = 6'h0;
     end
     
-endmodule // obb_core$fifo$read_logic
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fifo$rptr
 
 
-module obb_core$fifo$read_logic$dff_underflow(d,q,clock);
+module obb_core$fifo$stored(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -2692,174 +2803,26 @@ module obb_core$fifo$read_logic$dff_underflow(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$fifo$read_logic$dff_underflow
+endmodule // obb_core$fifo$stored
 
 
-module obb_core$fifo$read_logic$read_address(d,q,clock);
+module obb_core$fifo$wptr(d,q,clock);
     
     // Module arguments
-    input wire  [6:0] d;
-    output reg  [6:0] q;
+    input wire  [5:0] d;
+    output reg  [5:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 7'h0;
+       q = 6'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$fifo$read_logic$read_address
-
-
-module obb_core$fifo$write_logic(write,data_in,full,almost_full,overflow,clock,ram_write_address,ram_write_clock,ram_write_data,ram_write_enable,read_address,write_address_delayed,fill_level);
-    
-    // Module arguments
-    input wire  write;
-    input wire  [39:0] data_in;
-    output reg  full;
-    output reg  almost_full;
-    output reg  overflow;
-    input wire  clock;
-    output reg  [5:0] ram_write_address;
-    output reg  ram_write_clock;
-    output reg  [39:0] ram_write_data;
-    output reg  ram_write_enable;
-    input wire  [6:0] read_address;
-    output reg  [6:0] write_address_delayed;
-    output reg  [6:0] fill_level;
-    
-    // Constant declarations
-    localparam  fifo_address_mask = 7'b111111;
-    localparam  fifo_size = 7'b1000000;
-    localparam  almost_full_level = 7'b100000;
-    
-    // Stub signals
-    reg  [6:0] write_address$d;
-    wire  [6:0] write_address$q;
-    reg  write_address$clock;
-    reg  [6:0] dff_write_address_delay$d;
-    wire  [6:0] dff_write_address_delay$q;
-    reg  dff_write_address_delay$clock;
-    reg  dff_overflow$d;
-    wire  dff_overflow$q;
-    reg  dff_overflow$clock;
-    
-    // Local signals
-    reg  is_empty;
-    reg  is_full;
-    
-    // Sub module instances
-    obb_core$fifo$write_logic$write_address write_address(
-        .d(write_address$d),
-        .q(write_address$q),
-        .clock(write_address$clock)
-    );
-    obb_core$fifo$write_logic$dff_write_address_delay dff_write_address_delay(
-        .d(dff_write_address_delay$d),
-        .q(dff_write_address_delay$q),
-        .clock(dff_write_address_delay$clock)
-    );
-    obb_core$fifo$write_logic$dff_overflow dff_overflow(
-        .d(dff_overflow$d),
-        .q(dff_overflow$q),
-        .clock(dff_overflow$clock)
-    );
-    
-    // Update code
-    always @(*) begin
-        dff_overflow$clock = clock;
-        write_address$clock = clock;
-        dff_write_address_delay$clock = clock;
-        dff_overflow$d = dff_overflow$q;
-        write_address$d = write_address$q;
-        dff_write_address_delay$d = dff_write_address_delay$q;
-        ram_write_clock = clock;
-        dff_write_address_delay$d = write_address$q;
-        write_address_delayed = dff_write_address_delay$q;
-        ram_write_enable = 1'b0;
-        is_empty = (read_address == dff_write_address_delay$q);
-        is_full = ~is_empty & ((read_address & fifo_address_mask) == (write_address$q & fifo_address_mask));
-        fill_level = ((dff_write_address_delay$q & fifo_address_mask) + fifo_size - (read_address & fifo_address_mask)) & fifo_address_mask;
-        if (is_full) begin
-            fill_level = fifo_size;
-        end
-        almost_full = (fill_level >= almost_full_level);
-        full = is_full;
-        ram_write_address = ((write_address$q & fifo_address_mask) & 6'h3f);
-        ram_write_data = data_in;
-        if (write & ~is_full) begin
-            write_address$d = write_address$q + 32'h1;
-            ram_write_enable = 1'b1;
-        end
-        else begin
-            write_address$d = write_address$q;
-            ram_write_enable = 1'b0;
-        end
-        dff_overflow$d = dff_overflow$q | (is_full & write);
-        overflow = dff_overflow$q;
-    end
-    
-endmodule // obb_core$fifo$write_logic
-
-
-module obb_core$fifo$write_logic$dff_overflow(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$fifo$write_logic$dff_overflow
-
-
-module obb_core$fifo$write_logic$dff_write_address_delay(d,q,clock);
-    
-    // Module arguments
-    input wire  [6:0] d;
-    output reg  [6:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 7'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$fifo$write_logic$dff_write_address_delay
-
-
-module obb_core$fifo$write_logic$write_address(d,q,clock);
-    
-    // Module arguments
-    input wire  [6:0] d;
-    output reg  [6:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 7'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$fifo$write_logic$write_address
+endmodule // obb_core$fifo$wptr
 
 
 module obb_core$g_a(d,q,clock);
@@ -3538,6 +3501,25 @@ module obb_core$k_overlap$21(d,q,clock);
     end
           
 endmodule // obb_core$k_overlap$21
+
+
+module obb_core$k_overlap$22(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$22
 
 
 module obb_core$k_overlap$3(d,q,clock);
@@ -7706,44 +7688,6 @@ module obb_core$ready(d,q,clock);
 endmodule // obb_core$ready
 
 
-module obb_core$recent$0(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$recent$0
-
-
-module obb_core$recent$1(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$recent$1
-
-
 module obb_core$room(d,q,clock);
     
     // Module arguments
@@ -8522,6 +8466,9 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     reg  valid$13$d;
     wire  valid$13$q;
     reg  valid$13$clock;
+    reg  valid$14$d;
+    wire  valid$14$q;
+    reg  valid$14$clock;
     reg signed [43:0] round$t$0;
     reg signed [43:0] round$t$1;
     reg signed [43:0] round$t$2;
@@ -9900,6 +9847,11 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         .d(valid$13$d),
         .q(valid$13$q),
         .clock(valid$13$clock)
+    );
+    obb_core$sat$back$valid$14 valid$14(
+        .d(valid$14$d),
+        .q(valid$14$q),
+        .clock(valid$14$clock)
     );
     obb_core$sat$back$round round(
         .t$0(round$t$0),
@@ -11908,6 +11860,7 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         valid$11$clock = clock;
         valid$12$clock = clock;
         valid$13$clock = clock;
+        valid$14$clock = clock;
         ha$0$clock = clock;
         ha$1$clock = clock;
         ha$2$clock = clock;
@@ -12269,6 +12222,7 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         valid$11$d = valid$10$q;
         valid$12$d = valid$11$q;
         valid$13$d = valid$12$q;
+        valid$14$d = valid$13$q;
         pm$0$d = pair_margin;
         pm$1$d = pm$0$q;
         pm$2$d = pm$1$q;
@@ -12845,7 +12799,7 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         decide$abs_p$8 = pa_d$44$q;
         decide$r_a$8 = ra_d$53$q;
         decide$r_b$8 = rb_dot$8$p;
-        valid_out = valid$13$q;
+        valid_out = valid$14$q;
         hit = decide$hit;
     end
     
@@ -14164,6 +14118,7 @@ module obb_core$sat$back$decide(abs_t$0,abs_t$1,abs_t$2,abs_u$0,abs_u$1,abs_u$2,
     
     // Local signals
     reg  verdict;
+    reg  verdict_q;
     
     // Update code (custom)
     wire [45:0] ra_face0 = ({{46{1'b0}}, half_a$0} << f) + {{46{1'b0}}, face_a$0} + {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
@@ -14183,6 +14138,7 @@ module obb_core$sat$back$decide(abs_t$0,abs_t$1,abs_t$2,abs_u$0,abs_u$1,abs_u$2,
     wire [45:0] r_cross8 = {{46{1'b0}}, r_a$8} + {{46{1'b0}}, r_b$8} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
     reg [45:0] lhs [0:14];
     reg [45:0] rhs [0:14];
+    reg [14:0] apart;
     always @(posedge clock) begin
        lhs[0] <= {{46{1'b0}}, abs_t$0};
        rhs[0] <= ra_face0;
@@ -14214,7 +14170,22 @@ module obb_core$sat$back$decide(abs_t$0,abs_t$1,abs_t$2,abs_u$0,abs_u$1,abs_u$2,
        rhs[13] <= r_cross7;
        lhs[14] <= {{46{1'b0}}, abs_p$8};
        rhs[14] <= r_cross8;
-       hit <= !(((lhs[0] >> k) > (rhs[0] >> k)) || ((lhs[1] >> k) > (rhs[1] >> k)) || ((lhs[2] >> k) > (rhs[2] >> k)) || ((lhs[3] >> k) > (rhs[3] >> k)) || ((lhs[4] >> k) > (rhs[4] >> k)) || ((lhs[5] >> k) > (rhs[5] >> k)) || ((lhs[6] >> k) > (rhs[6] >> k)) || ((lhs[7] >> k) > (rhs[7] >> k)) || ((lhs[8] >> k) > (rhs[8] >> k)) || ((lhs[9] >> k) > (rhs[9] >> k)) || ((lhs[10] >> k) > (rhs[10] >> k)) || ((lhs[11] >> k) > (rhs[11] >> k)) || ((lhs[12] >> k) > (rhs[12] >> k)) || ((lhs[13] >> k) > (rhs[13] >> k)) || ((lhs[14] >> k) > (rhs[14] >> k)));
+       apart[0] <= (lhs[0] >> k) > (rhs[0] >> k);
+       apart[1] <= (lhs[1] >> k) > (rhs[1] >> k);
+       apart[2] <= (lhs[2] >> k) > (rhs[2] >> k);
+       apart[3] <= (lhs[3] >> k) > (rhs[3] >> k);
+       apart[4] <= (lhs[4] >> k) > (rhs[4] >> k);
+       apart[5] <= (lhs[5] >> k) > (rhs[5] >> k);
+       apart[6] <= (lhs[6] >> k) > (rhs[6] >> k);
+       apart[7] <= (lhs[7] >> k) > (rhs[7] >> k);
+       apart[8] <= (lhs[8] >> k) > (rhs[8] >> k);
+       apart[9] <= (lhs[9] >> k) > (rhs[9] >> k);
+       apart[10] <= (lhs[10] >> k) > (rhs[10] >> k);
+       apart[11] <= (lhs[11] >> k) > (rhs[11] >> k);
+       apart[12] <= (lhs[12] >> k) > (rhs[12] >> k);
+       apart[13] <= (lhs[13] >> k) > (rhs[13] >> k);
+       apart[14] <= (lhs[14] >> k) > (rhs[14] >> k);
+       hit <= !(|apart);
     end
 endmodule // obb_core$sat$back$decide
 
@@ -20624,6 +20595,25 @@ module obb_core$sat$back$valid$13(d,q,clock);
 endmodule // obb_core$sat$back$valid$13
 
 
+module obb_core$sat$back$valid$14(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$valid$14
+
+
 module obb_core$sat$back$valid$2(d,q,clock);
     
     // Module arguments
@@ -23447,6 +23437,25 @@ module obb_core$sat$pm$5(d,q,clock);
 endmodule // obb_core$sat$pm$5
 
 
+module obb_core$stall(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$stall
+
+
 module obb_core$state(d,q,clock);
     
     // Module arguments
@@ -23473,6 +23482,791 @@ module obb_core$state(d,q,clock);
     end
           
 endmodule // obb_core$state
+
+
+module obb_core$sweep_walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a_max,visit,vi,vj,finished);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  start;
+    input wire  [15:0] n;
+    input wire  stall;
+    output reg  [14:0] rd_addr;
+    input wire  [23:0] rd_key;
+    input wire  [19:0] rd_val;
+    output reg  [14:0] a_addr;
+    output reg  [14:0] b_addr;
+    input wire  [22:0] a_max;
+    output reg  visit;
+    output reg  [14:0] vi;
+    output reg  [14:0] vj;
+    output reg  finished;
+    
+    // Stub signals
+    reg  running$d;
+    wire  running$q;
+    reg  running$clock;
+    reg  finished_q$d;
+    wire  finished_q$q;
+    reg  finished_q$clock;
+    reg  [15:0] raddr$d;
+    wire  [15:0] raddr$q;
+    reg  raddr$clock;
+    reg  rfirst$d;
+    wire  rfirst$q;
+    reg  rfirst$clock;
+    reg  f_valid$d;
+    wire  f_valid$q;
+    reg  f_valid$clock;
+    reg  f_first$d;
+    wire  f_first$q;
+    reg  f_first$clock;
+    reg  f_end$d;
+    wire  f_end$q;
+    reg  f_end$clock;
+    reg  e_valid$d;
+    wire  e_valid$q;
+    reg  e_valid$clock;
+    reg  e_first$d;
+    wire  e_first$q;
+    reg  e_first$clock;
+    reg  e_end$d;
+    wire  e_end$q;
+    reg  e_end$clock;
+    reg  [23:0] e_key$d;
+    wire  [23:0] e_key$q;
+    reg  e_key$clock;
+    reg  [14:0] e_val$d;
+    wire  [14:0] e_val$q;
+    reg  e_val$clock;
+    reg  stop$d;
+    wire  stop$q;
+    reg  stop$clock;
+    reg  primed$d;
+    wire  primed$q;
+    reg  primed$clock;
+    reg  [14:0] i$d;
+    wire  [14:0] i$q;
+    reg  i$clock;
+    reg  [23:0] maxk$d;
+    wire  [23:0] maxk$q;
+    reg  maxk$clock;
+    reg  [14:0] nxt_i$d;
+    wire  [14:0] nxt_i$q;
+    reg  nxt_i$clock;
+    reg  [15:0] nxt_pos$d;
+    wire  [15:0] nxt_pos$q;
+    reg  nxt_pos$clock;
+    reg  [15:0] n_last$d;
+    wire  [15:0] n_last$q;
+    reg  n_last$clock;
+    reg  last_outer$d;
+    wire  last_outer$q;
+    reg  last_outer$clock;
+    reg  load1$d;
+    wire  load1$q;
+    reg  load1$clock;
+    reg  load2$d;
+    wire  load2$q;
+    reg  load2$clock;
+    reg  visit_q$d;
+    wire  visit_q$q;
+    reg  visit_q$clock;
+    reg  [14:0] vj_q$d;
+    wire  [14:0] vj_q$q;
+    reg  vj_q$clock;
+    
+    // Local signals
+    reg  beyond;
+    
+    // Sub module instances
+    obb_core$sweep_walker$running running(
+        .d(running$d),
+        .q(running$q),
+        .clock(running$clock)
+    );
+    obb_core$sweep_walker$finished_q finished_q(
+        .d(finished_q$d),
+        .q(finished_q$q),
+        .clock(finished_q$clock)
+    );
+    obb_core$sweep_walker$raddr raddr(
+        .d(raddr$d),
+        .q(raddr$q),
+        .clock(raddr$clock)
+    );
+    obb_core$sweep_walker$rfirst rfirst(
+        .d(rfirst$d),
+        .q(rfirst$q),
+        .clock(rfirst$clock)
+    );
+    obb_core$sweep_walker$f_valid f_valid(
+        .d(f_valid$d),
+        .q(f_valid$q),
+        .clock(f_valid$clock)
+    );
+    obb_core$sweep_walker$f_first f_first(
+        .d(f_first$d),
+        .q(f_first$q),
+        .clock(f_first$clock)
+    );
+    obb_core$sweep_walker$f_end f_end(
+        .d(f_end$d),
+        .q(f_end$q),
+        .clock(f_end$clock)
+    );
+    obb_core$sweep_walker$e_valid e_valid(
+        .d(e_valid$d),
+        .q(e_valid$q),
+        .clock(e_valid$clock)
+    );
+    obb_core$sweep_walker$e_first e_first(
+        .d(e_first$d),
+        .q(e_first$q),
+        .clock(e_first$clock)
+    );
+    obb_core$sweep_walker$e_end e_end(
+        .d(e_end$d),
+        .q(e_end$q),
+        .clock(e_end$clock)
+    );
+    obb_core$sweep_walker$e_key e_key(
+        .d(e_key$d),
+        .q(e_key$q),
+        .clock(e_key$clock)
+    );
+    obb_core$sweep_walker$e_val e_val(
+        .d(e_val$d),
+        .q(e_val$q),
+        .clock(e_val$clock)
+    );
+    obb_core$sweep_walker$stop stop(
+        .d(stop$d),
+        .q(stop$q),
+        .clock(stop$clock)
+    );
+    obb_core$sweep_walker$primed primed(
+        .d(primed$d),
+        .q(primed$q),
+        .clock(primed$clock)
+    );
+    obb_core$sweep_walker$i i(
+        .d(i$d),
+        .q(i$q),
+        .clock(i$clock)
+    );
+    obb_core$sweep_walker$maxk maxk(
+        .d(maxk$d),
+        .q(maxk$q),
+        .clock(maxk$clock)
+    );
+    obb_core$sweep_walker$nxt_i nxt_i(
+        .d(nxt_i$d),
+        .q(nxt_i$q),
+        .clock(nxt_i$clock)
+    );
+    obb_core$sweep_walker$nxt_pos nxt_pos(
+        .d(nxt_pos$d),
+        .q(nxt_pos$q),
+        .clock(nxt_pos$clock)
+    );
+    obb_core$sweep_walker$n_last n_last(
+        .d(n_last$d),
+        .q(n_last$q),
+        .clock(n_last$clock)
+    );
+    obb_core$sweep_walker$last_outer last_outer(
+        .d(last_outer$d),
+        .q(last_outer$q),
+        .clock(last_outer$clock)
+    );
+    obb_core$sweep_walker$load1 load1(
+        .d(load1$d),
+        .q(load1$q),
+        .clock(load1$clock)
+    );
+    obb_core$sweep_walker$load2 load2(
+        .d(load2$d),
+        .q(load2$q),
+        .clock(load2$clock)
+    );
+    obb_core$sweep_walker$visit_q visit_q(
+        .d(visit_q$d),
+        .q(visit_q$q),
+        .clock(visit_q$clock)
+    );
+    obb_core$sweep_walker$vj_q vj_q(
+        .d(vj_q$d),
+        .q(vj_q$q),
+        .clock(vj_q$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        running$clock = clock;
+        finished_q$clock = clock;
+        raddr$clock = clock;
+        rfirst$clock = clock;
+        f_valid$clock = clock;
+        f_first$clock = clock;
+        f_end$clock = clock;
+        e_valid$clock = clock;
+        e_first$clock = clock;
+        e_end$clock = clock;
+        e_key$clock = clock;
+        e_val$clock = clock;
+        stop$clock = clock;
+        primed$clock = clock;
+        i$clock = clock;
+        maxk$clock = clock;
+        nxt_i$clock = clock;
+        nxt_pos$clock = clock;
+        n_last$clock = clock;
+        last_outer$clock = clock;
+        load1$clock = clock;
+        load2$clock = clock;
+        visit_q$clock = clock;
+        vj_q$clock = clock;
+        running$d = running$q;
+        finished_q$d = finished_q$q;
+        raddr$d = raddr$q;
+        rfirst$d = rfirst$q;
+        f_valid$d = f_valid$q;
+        f_first$d = f_first$q;
+        f_end$d = f_end$q;
+        e_valid$d = e_valid$q;
+        e_first$d = e_first$q;
+        e_end$d = e_end$q;
+        e_key$d = e_key$q;
+        e_val$d = e_val$q;
+        stop$d = stop$q;
+        primed$d = primed$q;
+        i$d = i$q;
+        maxk$d = maxk$q;
+        nxt_i$d = nxt_i$q;
+        nxt_pos$d = nxt_pos$q;
+        n_last$d = n_last$q;
+        last_outer$d = last_outer$q;
+        load1$d = load1$q;
+        load2$d = load2$q;
+        visit_q$d = visit_q$q;
+        vj_q$d = vj_q$q;
+        rd_addr = ((raddr$q) & 15'h7fff);
+        a_addr = i$q;
+        vi = i$q;
+        b_addr = vj_q$q;
+        vj = vj_q$q;
+        visit = visit_q$q;
+        finished = finished_q$q;
+        n_last$d = n - 32'h1;
+        e_valid$d = f_valid$q & ~stop$q;
+        e_first$d = f_first$q;
+        e_end$d = f_end$q;
+        e_key$d = rd_key;
+        e_val$d = ((rd_val) & 15'h7fff);
+        beyond = e_key$q > maxk$q;
+        stop$d = e_valid$q & ~stop$q & (e_end$q | ~primed$q | beyond);
+        visit_q$d = e_valid$q & ~stop$q & primed$q & ~e_end$q & ~beyond;
+        vj_q$d = e_val$q;
+        if (e_valid$q & e_first$q) begin
+            nxt_i$d = e_val$q;
+        end
+        load1$d = stop$q;
+        load2$d = load1$q;
+        if (load2$q) begin
+            maxk$d = ((a_max) & 24'hffffff);
+        end
+        f_valid$d = running$q & ~stall & ~stop$q;
+        f_first$d = rfirst$q;
+        f_end$d = raddr$q == n;
+        if (f_valid$d) begin
+            raddr$d = raddr$q + 32'h1;
+            rfirst$d = 1'b0;
+        end
+        if (stop$q) begin
+            if (last_outer$q) begin
+                running$d = 1'b0;
+                finished_q$d = 1'b1;
+            end
+            else begin
+                raddr$d = nxt_pos$q;
+                rfirst$d = 1'b1;
+                nxt_pos$d = nxt_pos$q + 32'h1;
+                last_outer$d = nxt_pos$q == n_last$q;
+                primed$d = 1'b1;
+                i$d = nxt_i$q;
+            end
+        end
+        if (~running$q) begin
+            raddr$d = 32'h0;
+            rfirst$d = 1'b1;
+            primed$d = 1'b0;
+            nxt_pos$d = 32'h1;
+            last_outer$d = 1'b0;
+        end
+        if (start) begin
+            running$d = n > 32'h1;
+            finished_q$d = n <= 32'h1;
+        end
+    end
+    
+endmodule // obb_core$sweep_walker
+
+
+module obb_core$sweep_walker$e_end(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$e_end
+
+
+module obb_core$sweep_walker$e_first(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$e_first
+
+
+module obb_core$sweep_walker$e_key(d,q,clock);
+    
+    // Module arguments
+    input wire  [23:0] d;
+    output reg  [23:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 24'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$e_key
+
+
+module obb_core$sweep_walker$e_val(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$e_val
+
+
+module obb_core$sweep_walker$e_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$e_valid
+
+
+module obb_core$sweep_walker$f_end(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$f_end
+
+
+module obb_core$sweep_walker$f_first(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$f_first
+
+
+module obb_core$sweep_walker$f_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$f_valid
+
+
+module obb_core$sweep_walker$finished_q(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$finished_q
+
+
+module obb_core$sweep_walker$i(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$i
+
+
+module obb_core$sweep_walker$last_outer(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$last_outer
+
+
+module obb_core$sweep_walker$load1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$load1
+
+
+module obb_core$sweep_walker$load2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$load2
+
+
+module obb_core$sweep_walker$maxk(d,q,clock);
+    
+    // Module arguments
+    input wire  [23:0] d;
+    output reg  [23:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 24'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$maxk
+
+
+module obb_core$sweep_walker$n_last(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$n_last
+
+
+module obb_core$sweep_walker$nxt_i(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$nxt_i
+
+
+module obb_core$sweep_walker$nxt_pos(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$nxt_pos
+
+
+module obb_core$sweep_walker$primed(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$primed
+
+
+module obb_core$sweep_walker$raddr(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$raddr
+
+
+module obb_core$sweep_walker$rfirst(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$rfirst
+
+
+module obb_core$sweep_walker$running(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$running
+
+
+module obb_core$sweep_walker$stop(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$stop
+
+
+module obb_core$sweep_walker$visit_q(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$visit_q
+
+
+module obb_core$sweep_walker$vj_q(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sweep_walker$vj_q
 
 
 module obb_core$tag_a$0(d,q,clock);
@@ -23720,6 +24514,25 @@ module obb_core$tag_a$2(d,q,clock);
     end
           
 endmodule // obb_core$tag_a$2
+
+
+module obb_core$tag_a$20(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_a$20
 
 
 module obb_core$tag_a$3(d,q,clock);
@@ -24102,6 +24915,25 @@ module obb_core$tag_b$2(d,q,clock);
 endmodule // obb_core$tag_b$2
 
 
+module obb_core$tag_b$20(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_b$20
+
+
 module obb_core$tag_b$3(d,q,clock);
     
     // Module arguments
@@ -24235,7 +25067,7 @@ module obb_core$tag_b$9(d,q,clock);
 endmodule // obb_core$tag_b$9
 
 
-module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a_min$0,a_min$1,a_min$2,a_max$0,a_max$1,a_max$2,sort_start,sort_valid,sort_key,sort_val,sort_go,sort_done,visit,vi,vj,finished);
+module obb_core$walker(clock,start,n,stall,rd_addr,rd_val,a_addr,b_addr,a_min$0,a_min$1,a_min$2,a_max$0,a_max$1,a_max$2,sort_start,sort_valid,sort_key,sort_val,sort_go,sort_done,visit,vi,vj,finished);
     
     // Module arguments
     input wire  clock;
@@ -24243,7 +25075,6 @@ module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a
     input wire  [15:0] n;
     input wire  stall;
     output reg  [14:0] rd_addr;
-    input wire  [23:0] rd_key;
     input wire  [19:0] rd_val;
     output reg  [14:0] a_addr;
     output reg  [14:0] b_addr;
@@ -24265,21 +25096,18 @@ module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a
     output reg  finished;
     
     // Constant declarations
-    localparam  sweep = 1'b1;
     localparam  sap = 1'b0;
     
     // Enums
     localparam WalkState$Idle = 0;
-    localparam WalkState$Head = 1;
-    localparam WalkState$Walk = 2;
-    localparam WalkState$Pairs = 3;
-    localparam WalkState$Ends = 4;
-    localparam WalkState$EndsGo = 5;
-    localparam WalkState$EndsSort = 6;
-    localparam WalkState$SapHead = 7;
-    localparam WalkState$SapWalk = 8;
-    localparam WalkState$NextAxis = 9;
-    localparam WalkState$Finished = 10;
+    localparam WalkState$Pairs = 1;
+    localparam WalkState$Ends = 2;
+    localparam WalkState$EndsGo = 3;
+    localparam WalkState$EndsSort = 4;
+    localparam WalkState$SapHead = 5;
+    localparam WalkState$SapWalk = 6;
+    localparam WalkState$NextAxis = 7;
+    localparam WalkState$Finished = 8;
     
     // Stub signals
     reg  [3:0] state$d;
@@ -24310,8 +25138,6 @@ module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a
     reg  [22:0] key_lo;
     reg  [22:0] key_hi;
     reg  [14:0] end_box;
-    reg  beyond;
-    reg  move_on;
     
     // Sub module instances
     obb_core$walker$state state(
@@ -24384,8 +25210,6 @@ module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a
         sort_go = 1'b0;
         sort_key = ((key_lo) & 24'hffffff) << 64'h1;
         sort_val = ((i$q) & 20'hfffff) << 64'h1;
-        beyond = rd_key > ((a_max$0) & 24'hffffff);
-        move_on = (pending$q & beyond) | (succ$q == n);
         finished = state$q == WalkState$Finished;
         rd_addr = ((succ$q) & 15'h7fff);
         a_addr = i$q;
@@ -24397,31 +25221,6 @@ module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a
         case (state$q)
             WalkState$Idle:
                 begin
-                end
-            WalkState$Head:
-                begin
-                    i$d = ((rd_val) & 15'h7fff);
-                    a_addr = ((rd_val) & 15'h7fff);
-                    succ$d = p$q + 32'h1;
-                    state$d = WalkState$Walk;
-                end
-            WalkState$Walk:
-                begin
-                    if (pending$q & ~beyond) begin
-                        visit = 1'b1;
-                    end
-                    if (move_on) begin
-                        rd_addr = ((p$q + 32'h1) & 15'h7fff);
-                        p$d = p$q + 32'h1;
-                        state$d = WalkState$Head;
-                        if (p$q + 32'h1 == last) begin
-                            state$d = WalkState$Finished;
-                        end
-                    end
-                    else if (~stall) begin
-                        succ$d = succ$q + 32'h1;
-                        pending$d = 1'b1;
-                    end
                 end
             WalkState$Pairs:
                 begin
@@ -24525,10 +25324,6 @@ module obb_core$walker(clock,start,n,stall,rd_addr,rd_key,rd_val,a_addr,b_addr,a
             state$d = WalkState$Finished;
             if (n > 32'h1) begin
                 state$d = WalkState$Pairs;
-                if (sweep) begin
-                    rd_addr = 32'h0;
-                    state$d = WalkState$Head;
-                end
                 if (sap) begin
                     axis$d = 32'h0;
                     upper$d = 1'b0;
@@ -24628,16 +25423,14 @@ module obb_core$walker$state(d,q,clock);
     
     // Enums
     localparam WalkState$Idle = 0;
-    localparam WalkState$Head = 1;
-    localparam WalkState$Walk = 2;
-    localparam WalkState$Pairs = 3;
-    localparam WalkState$Ends = 4;
-    localparam WalkState$EndsGo = 5;
-    localparam WalkState$EndsSort = 6;
-    localparam WalkState$SapHead = 7;
-    localparam WalkState$SapWalk = 8;
-    localparam WalkState$NextAxis = 9;
-    localparam WalkState$Finished = 10;
+    localparam WalkState$Pairs = 1;
+    localparam WalkState$Ends = 2;
+    localparam WalkState$EndsGo = 3;
+    localparam WalkState$EndsSort = 4;
+    localparam WalkState$SapHead = 5;
+    localparam WalkState$SapWalk = 6;
+    localparam WalkState$NextAxis = 7;
+    localparam WalkState$Finished = 8;
     
     // Update code (custom)
     initial begin

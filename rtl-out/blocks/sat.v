@@ -761,6 +761,9 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     reg  valid$13$d;
     wire  valid$13$q;
     reg  valid$13$clock;
+    reg  valid$14$d;
+    wire  valid$14$q;
+    reg  valid$14$clock;
     reg signed [43:0] round$t$0;
     reg signed [43:0] round$t$1;
     reg signed [43:0] round$t$2;
@@ -2139,6 +2142,11 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         .d(valid$13$d),
         .q(valid$13$q),
         .clock(valid$13$clock)
+    );
+    sat$back$valid$14 valid$14(
+        .d(valid$14$d),
+        .q(valid$14$q),
+        .clock(valid$14$clock)
     );
     sat$back$round round(
         .t$0(round$t$0),
@@ -4147,6 +4155,7 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         valid$11$clock = clock;
         valid$12$clock = clock;
         valid$13$clock = clock;
+        valid$14$clock = clock;
         ha$0$clock = clock;
         ha$1$clock = clock;
         ha$2$clock = clock;
@@ -4508,6 +4517,7 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         valid$11$d = valid$10$q;
         valid$12$d = valid$11$q;
         valid$13$d = valid$12$q;
+        valid$14$d = valid$13$q;
         pm$0$d = pair_margin;
         pm$1$d = pm$0$q;
         pm$2$d = pm$1$q;
@@ -5084,7 +5094,7 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         decide$abs_p$8 = pa_d$44$q;
         decide$r_a$8 = ra_d$53$q;
         decide$r_b$8 = rb_dot$8$p;
-        valid_out = valid$13$q;
+        valid_out = valid$14$q;
         hit = decide$hit;
     end
     
@@ -6403,6 +6413,7 @@ module sat$back$decide(abs_t$0,abs_t$1,abs_t$2,abs_u$0,abs_u$1,abs_u$2,face_a$0,
     
     // Local signals
     reg  verdict;
+    reg  verdict_q;
     
     // Update code (custom)
     wire [45:0] ra_face0 = ({{46{1'b0}}, half_a$0} << f) + {{46{1'b0}}, face_a$0} + {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
@@ -6422,6 +6433,7 @@ module sat$back$decide(abs_t$0,abs_t$1,abs_t$2,abs_u$0,abs_u$1,abs_u$2,face_a$0,
     wire [45:0] r_cross8 = {{46{1'b0}}, r_a$8} + {{46{1'b0}}, r_b$8} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
     reg [45:0] lhs [0:14];
     reg [45:0] rhs [0:14];
+    reg [14:0] apart;
     always @(posedge clock) begin
        lhs[0] <= {{46{1'b0}}, abs_t$0};
        rhs[0] <= ra_face0;
@@ -6453,7 +6465,22 @@ module sat$back$decide(abs_t$0,abs_t$1,abs_t$2,abs_u$0,abs_u$1,abs_u$2,face_a$0,
        rhs[13] <= r_cross7;
        lhs[14] <= {{46{1'b0}}, abs_p$8};
        rhs[14] <= r_cross8;
-       hit <= !(((lhs[0] >> k) > (rhs[0] >> k)) || ((lhs[1] >> k) > (rhs[1] >> k)) || ((lhs[2] >> k) > (rhs[2] >> k)) || ((lhs[3] >> k) > (rhs[3] >> k)) || ((lhs[4] >> k) > (rhs[4] >> k)) || ((lhs[5] >> k) > (rhs[5] >> k)) || ((lhs[6] >> k) > (rhs[6] >> k)) || ((lhs[7] >> k) > (rhs[7] >> k)) || ((lhs[8] >> k) > (rhs[8] >> k)) || ((lhs[9] >> k) > (rhs[9] >> k)) || ((lhs[10] >> k) > (rhs[10] >> k)) || ((lhs[11] >> k) > (rhs[11] >> k)) || ((lhs[12] >> k) > (rhs[12] >> k)) || ((lhs[13] >> k) > (rhs[13] >> k)) || ((lhs[14] >> k) > (rhs[14] >> k)));
+       apart[0] <= (lhs[0] >> k) > (rhs[0] >> k);
+       apart[1] <= (lhs[1] >> k) > (rhs[1] >> k);
+       apart[2] <= (lhs[2] >> k) > (rhs[2] >> k);
+       apart[3] <= (lhs[3] >> k) > (rhs[3] >> k);
+       apart[4] <= (lhs[4] >> k) > (rhs[4] >> k);
+       apart[5] <= (lhs[5] >> k) > (rhs[5] >> k);
+       apart[6] <= (lhs[6] >> k) > (rhs[6] >> k);
+       apart[7] <= (lhs[7] >> k) > (rhs[7] >> k);
+       apart[8] <= (lhs[8] >> k) > (rhs[8] >> k);
+       apart[9] <= (lhs[9] >> k) > (rhs[9] >> k);
+       apart[10] <= (lhs[10] >> k) > (rhs[10] >> k);
+       apart[11] <= (lhs[11] >> k) > (rhs[11] >> k);
+       apart[12] <= (lhs[12] >> k) > (rhs[12] >> k);
+       apart[13] <= (lhs[13] >> k) > (rhs[13] >> k);
+       apart[14] <= (lhs[14] >> k) > (rhs[14] >> k);
+       hit <= !(|apart);
     end
 endmodule // sat$back$decide
 
@@ -12861,6 +12888,25 @@ module sat$back$valid$13(d,q,clock);
     end
           
 endmodule // sat$back$valid$13
+
+
+module sat$back$valid$14(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$valid$14
 
 
 module sat$back$valid$2(d,q,clock);

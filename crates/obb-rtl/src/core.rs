@@ -1,6 +1,7 @@
 //! `obb_core`: the whole collision-detection core for one frame. The OBBs stream in (one per
 //! clock), each is projected to its keys and margin and kept in the box tables; the broad
-//! phase (`walker`: brute, or sweep over the radix-sorted min x keys) visits index pairs; each
+//! phase (`sweep` over the radix-sorted min x keys, or `walker`: brute, improved-sap) visits
+//! index pairs; each
 //! visit's keys are checked on all three axes and its groups against the mask; candidates go
 //! through the 15-axis SAT; colliding pairs leave on a valid/ready stream through a FIFO. The
 //! pairs, the counters and the clock count equal `obb_model::fixed::ModelFrame::run`'s
@@ -11,12 +12,14 @@
 //! | V | the walker's visit (i, j); the key table is read for i (port A) and j (port B) |
 //! | V+1 | keys overlap on x, y, z and the mask allows the groups: a candidate (a < b) |
 //! | V+2 | the geometry table is read for a (port A) and b (port B) |
-//! | V+3 .. V+23 | the SAT pipeline; a hit enters the output FIFO |
+//! | V+3 .. V+24 | the SAT pipeline; a hit enters the output FIFO |
 
 use crate::generate::{address_bits, sort_key_bits};
+use crate::pair_fifo::{self, PairFifo};
 use crate::projection::{Projection, CENTER, HALF, MARGIN, ROT};
 use crate::radix::{KeySort, KEY, VAL};
 use crate::sat::{self, Sat};
+use crate::sweep::{self, SweepWalker};
 use crate::table_ram::TableRam;
 use crate::walker::{WalkMode, Walker};
 use obb_model::fixed::config::GROUP_BITS;
@@ -33,15 +36,16 @@ const GROUP: usize = GROUP_BITS as usize;
 const MASK: usize = 1 << (2 * GROUP);
 /// A pair in the output FIFO: a above b.
 const PAIR: usize = 2 * INDEX;
-/// Entries of the pair FIFO (2^6), and the fill at which the walker stalls: the pairs in flight
-/// behind it (at most `LAT_BROAD + sat::LATENCY`, plus the FIFO's two-clock view of its own
-/// writes) still fit.
-pub const FIFO_DEPTH: u64 = 64;
+/// Entries of the pair FIFO, and the fill at which the walker stalls: the pairs in flight
+/// behind it still fit: the clock that registers the stall, the visits the walker makes after
+/// it (`sweep::RUN_ON`), and those in the key check, the geometry read and the SAT
+/// (`LAT_BROAD + sat::LATENCY`).
+pub const FIFO_DEPTH: u64 = pair_fifo::DEPTH;
 pub const FIFO_STALL: u64 = 32;
 const _: () = assert!(sat::LATENCY == LAT_SAT);
 // `tag_*` and `k_overlap` below are one register per clock of the SAT (literal indices).
-const _: () = assert!(sat::LATENCY == 20);
-const _: () = assert!(FIFO_STALL + LAT_BROAD + sat::LATENCY + 2 < FIFO_DEPTH);
+const _: () = assert!(sat::LATENCY == 21);
+const _: () = assert!(FIFO_STALL + 1 + sweep::RUN_ON + LAT_BROAD + sat::LATENCY <= FIFO_DEPTH);
 /// Clocks after the walker's last visit until its SAT verdict is in the FIFO.
 const DRAIN: u64 = LAT_BROAD + sat::LATENCY - 1;
 
@@ -102,9 +106,10 @@ pub struct ObbCore<const A: usize, const C: usize> {
     // Stages.
     projection: Projection,
     radix: KeySort<A, C>,
+    sweep_walker: SweepWalker<A, C>,
     walker: Walker<A, C>,
     sat: Sat,
-    fifo: SynchronousFIFO<Bits<PAIR>, 6, 7, { FIFO_STALL as u32 }>,
+    fifo: PairFifo<PAIR>,
     // Box tables: geometry written on load, keys, margin and group when projected.
     center: [TableRam<Bits<CENTER>, A>; 3],
     half: [TableRam<Bits<HALF>, A>; 3],
@@ -117,6 +122,8 @@ pub struct ObbCore<const A: usize, const C: usize> {
     gdelay: [DFF<Bits<GROUP>>; 8],
     // Control.
     state: DFF<CoreState>,
+    /// The FIFO's `almost_full`, registered: the walker's stall.
+    stall: DFF<Bit>,
     loaded: DFF<Bits<C>>,
     /// Registered rather than decoded from `state` and `loaded`, so that accepting a box (the
     /// write enable and address multiplexer of 15 tables) is one LUT from registers:
@@ -145,14 +152,20 @@ pub struct ObbCore<const A: usize, const C: usize> {
     g_b: DFF<Bits<A>>,
     g_ma: DFF<Bits<MARGIN>>,
     g_mb: DFF<Bits<MARGIN>>,
-    tag_a: [DFF<Bits<A>>; 20],
-    tag_b: [DFF<Bits<A>>; 20],
+    tag_a: [DFF<Bits<A>>; 21],
+    tag_b: [DFF<Bits<A>>; 21],
     /// The candidate's keys overlap on all three axes (always, but with improved-sap).
-    k_overlap: [DFF<Bit>; 22],
-    /// A hit entered the FIFO one or two clocks ago: the FIFO shows it as not empty only two
-    /// clocks after its write.
-    recent: [DFF<Bit>; 2],
+    k_overlap: [DFF<Bit>; 23],
     // Combinational.
+    /// The broad phase: the walk starts; the visit (i, j) and the key table's addresses; the
+    /// walk is over. From the sweep walker or the other one, as configured.
+    walk_start: Signal<Local, Bit>,
+    visit: Signal<Local, Bit>,
+    vi: Signal<Local, Bits<A>>,
+    vj: Signal<Local, Bits<A>>,
+    a_addr: Signal<Local, Bits<A>>,
+    b_addr: Signal<Local, Bits<A>>,
+    walked: Signal<Local, Bit>,
     accept: Signal<Local, Bit>,
     overlap: Signal<Local, Bit>,
     gidx: Signal<Local, Bits<MASK>>,
@@ -167,9 +180,10 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
     /// (`generate::check_supported`): brute or sweep, one lane, capacity within 2^A.
     pub fn new(cfg: &HwConfig) -> ObbCore<A, C> {
         assert!(C == A + 1, "counts need one bit more than addresses");
+        // Sweep has a walker of its own; the other walker, unused then, is left to synthesis
+        // to remove.
         let mode = match cfg.broad_phase {
-            BroadPhase::Sweep => WalkMode::Sweep,
-            BroadPhase::Brute => WalkMode::Brute,
+            BroadPhase::Sweep | BroadPhase::Brute => WalkMode::Brute,
             BroadPhase::ImprovedSap => WalkMode::ImprovedSap,
             BroadPhase::Grid => panic!("broad phase grid is not in the hardware"),
         };
@@ -206,16 +220,17 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             candidates: Default::default(),
             sat_tests: Default::default(),
             pairs: Default::default(),
-            sweep: Constant::new(mode == WalkMode::Sweep),
+            sweep: Constant::new(cfg.broad_phase == BroadPhase::Sweep),
             sap: Constant::new(mode == WalkMode::ImprovedSap),
             last_slot: Constant::new(u64::from(cfg.capacity - 1).into()),
             mask: Constant::new(mask),
             drain: Constant::new(DRAIN.into()),
             projection: Projection::new(cfg),
             radix: KeySort::new(sort_key_bits(cfg), cfg.radix_digit_bits),
+            sweep_walker: Default::default(),
             walker: Walker::new(mode),
             sat: Sat::new(cfg),
-            fifo: Default::default(),
+            fifo: PairFifo::new(FIFO_STALL),
             center: Default::default(),
             half: Default::default(),
             axes: Default::default(),
@@ -225,6 +240,7 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             group: Default::default(),
             gdelay: Default::default(),
             state: Default::default(),
+            stall: Default::default(),
             loaded: Default::default(),
             ready: Default::default(),
             room: Default::default(),
@@ -250,8 +266,14 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             g_mb: Default::default(),
             tag_a: Default::default(),
             tag_b: Default::default(),
-            recent: Default::default(),
             k_overlap: Default::default(),
+            walk_start: Default::default(),
+            visit: Default::default(),
+            vi: Default::default(),
+            vj: Default::default(),
+            a_addr: Default::default(),
+            b_addr: Default::default(),
+            walked: Default::default(),
             accept: Default::default(),
             overlap: Default::default(),
             gidx: Default::default(),
@@ -267,11 +289,22 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, state, loaded, ready, room, projected, over, countdown, n_cycles,
+            self, clock, state, stall, loaded, ready, room, projected, over, countdown, n_cycles,
             n_visits, n_tests, n_pairs, k_valid, k_i, k_j, c_valid, c_a, c_b, c_ma, c_mb, g_valid,
             g_a, g_b, g_ma, g_mb
         );
-        clock!(self, clock, projection, radix, walker, sat, fifo, margin, group);
+        clock!(
+            self,
+            clock,
+            projection,
+            radix,
+            sweep_walker,
+            walker,
+            sat,
+            fifo,
+            margin,
+            group
+        );
         for x in 0..3 {
             self.center[x].clock.next = self.clock.val();
             self.half[x].clock.next = self.clock.val();
@@ -284,12 +317,10 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         for s in 0..8 {
             self.gdelay[s].clock.next = self.clock.val();
         }
-        for s in 0..22 {
+        for s in 0..23 {
             self.k_overlap[s].clock.next = self.clock.val();
         }
-        self.recent[0].clock.next = self.clock.val();
-        self.recent[1].clock.next = self.clock.val();
-        for s in 0..20 {
+        for s in 0..21 {
             self.tag_a[s].clock.next = self.clock.val();
             self.tag_b[s].clock.next = self.clock.val();
         }
@@ -352,33 +383,57 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.projected.d.next = self.projected.q.val() + 1;
         }
 
-        // The broad phase: the walker reads the sorted entries and the key table.
-        self.radix.start.next = self.frame_start.val() | self.walker.sort_start.val();
-        self.radix.go.next = self.walker.sort_go.val();
+        // The broad phase: a walker reads the sorted entries and the key table.
+        // (Gated by the mode, so that synthesis drops the walker that is not configured.)
+        self.radix.start.next =
+            self.frame_start.val() | (self.walker.sort_start.val() & self.sap.val());
+        self.radix.go.next = self.walker.sort_go.val() & self.sap.val();
         self.walker.sort_done.next = self.radix.done.val();
-        self.radix.rd_addr.next = self.walker.rd_addr.val();
-        self.walker.rd_key.next = self.radix.rd_key.val();
-        self.walker.rd_val.next = self.radix.rd_val.val();
+        self.stall.d.next = self.fifo.almost_full.val();
+        self.walk_start.next = false;
+        self.sweep_walker.n.next = self.loaded.q.val();
+        self.sweep_walker.stall.next = self.stall.q.val();
+        self.sweep_walker.rd_key.next = self.radix.rd_key.val();
+        self.sweep_walker.rd_val.next = self.radix.rd_val.val();
+        self.sweep_walker.a_max.next = self.kmax[0].read_data_a.val();
         self.walker.n.next = self.loaded.q.val();
-        self.walker.start.next = false;
-        self.walker.stall.next = self.fifo.almost_full.val();
+        self.walker.stall.next = self.stall.q.val();
+        self.walker.rd_val.next = self.radix.rd_val.val();
         for x in 0..3 {
             self.walker.a_min[x].next = self.kmin[x].read_data_a.val();
             self.walker.a_max[x].next = self.kmax[x].read_data_a.val();
-            self.kmin[x].read_address_a.next = self.walker.a_addr.val();
-            self.kmin[x].read_address_b.next = self.walker.b_addr.val();
-            self.kmax[x].read_address_a.next = self.walker.a_addr.val();
-            self.kmax[x].read_address_b.next = self.walker.b_addr.val();
         }
-        self.margin.read_address_a.next = self.walker.a_addr.val();
-        self.margin.read_address_b.next = self.walker.b_addr.val();
-        self.group.read_address_a.next = self.walker.a_addr.val();
-        self.group.read_address_b.next = self.walker.b_addr.val();
+        self.radix.rd_addr.next = self.walker.rd_addr.val();
+        self.visit.next = self.walker.visit.val();
+        self.vi.next = self.walker.vi.val();
+        self.vj.next = self.walker.vj.val();
+        self.a_addr.next = self.walker.a_addr.val();
+        self.b_addr.next = self.walker.b_addr.val();
+        self.walked.next = self.walker.finished.val();
+        if self.sweep.val() {
+            self.radix.rd_addr.next = self.sweep_walker.rd_addr.val();
+            self.visit.next = self.sweep_walker.visit.val();
+            self.vi.next = self.sweep_walker.vi.val();
+            self.vj.next = self.sweep_walker.vj.val();
+            self.a_addr.next = self.sweep_walker.a_addr.val();
+            self.b_addr.next = self.sweep_walker.b_addr.val();
+            self.walked.next = self.sweep_walker.finished.val();
+        }
+        for x in 0..3 {
+            self.kmin[x].read_address_a.next = self.a_addr.val();
+            self.kmin[x].read_address_b.next = self.b_addr.val();
+            self.kmax[x].read_address_a.next = self.a_addr.val();
+            self.kmax[x].read_address_b.next = self.b_addr.val();
+        }
+        self.margin.read_address_a.next = self.a_addr.val();
+        self.margin.read_address_b.next = self.b_addr.val();
+        self.group.read_address_a.next = self.a_addr.val();
+        self.group.read_address_b.next = self.b_addr.val();
 
         // V+1: the keys of i and j overlap on all three axes, and the mask allows the groups.
-        self.k_valid.d.next = self.walker.visit.val();
-        self.k_i.d.next = self.walker.vi.val();
-        self.k_j.d.next = self.walker.vj.val();
+        self.k_valid.d.next = self.visit.val();
+        self.k_i.d.next = self.vi.val();
+        self.k_j.d.next = self.vj.val();
         self.overlap.next = (self.kmin[0].read_data_a.val() <= self.kmax[0].read_data_b.val())
             & (self.kmin[0].read_data_b.val() <= self.kmax[0].read_data_a.val())
             & (self.kmin[1].read_data_a.val() <= self.kmax[1].read_data_b.val())
@@ -392,7 +447,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             & (self.overlap.val() | self.sap.val())
             & self.shifted.val().get_bit(0);
         self.k_overlap[0].d.next = self.overlap.val();
-        for s in 1..22 {
+        for s in 1..23 {
             self.k_overlap[s].d.next = self.k_overlap[s - 1].q.val();
         }
         // The lower index is box A of the SAT.
@@ -448,35 +503,29 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.sat.margin_b.next = self.g_mb.q.val();
         self.tag_a[0].d.next = self.g_a.q.val();
         self.tag_b[0].d.next = self.g_b.q.val();
-        for s in 1..20 {
+        for s in 1..21 {
             self.tag_a[s].d.next = self.tag_a[s - 1].q.val();
             self.tag_b[s].d.next = self.tag_b[s - 1].q.val();
         }
 
-        // V+23: a hit enters the FIFO; the stream takes pairs from it.
-        self.hit.next = self.sat.valid_out.val() & self.sat.hit.val() & self.k_overlap[21].q.val();
+        // V+24: a hit enters the FIFO; the stream takes pairs from it.
+        self.hit.next = self.sat.valid_out.val() & self.sat.hit.val() & self.k_overlap[22].q.val();
         self.fifo.write.next = self.hit.val();
-        self.recent[0].d.next = self.hit.val();
-        self.recent[1].d.next = self.recent[0].q.val();
-        self.fifo.data_in.next = (bit_cast::<PAIR, A>(self.tag_a[19].q.val()) << 20_u64)
-            | bit_cast::<PAIR, A>(self.tag_b[19].q.val());
+        self.fifo.data_in.next = (bit_cast::<PAIR, A>(self.tag_a[20].q.val()) << 20_u64)
+            | bit_cast::<PAIR, A>(self.tag_b[20].q.val());
         if self.hit.val() {
             self.n_pairs.d.next = self.n_pairs.q.val() + 1;
         }
-        self.pair_valid.next = !self.fifo.empty.val();
+        self.pair_valid.next = self.fifo.valid.val();
         self.pair_a.next = self.fifo.data_out.val().get_bits::<INDEX>(20);
         self.pair_b.next = self.fifo.data_out.val().get_bits::<INDEX>(0);
-        // The FIFO ignores a read while empty; gating it with `empty` here would close a
-        // combinational loop through the FIFO's read logic.
-        self.fifo.read.next = self.pair_ready.val();
+        self.fifo.ready.next = self.pair_ready.val();
 
         // Control and status.
         self.busy.next =
             (self.state.q.val() != CoreState::Idle) & (self.state.q.val() != CoreState::Done);
-        self.done.next = (self.state.q.val() == CoreState::Done)
-            & self.fifo.empty.val()
-            & !self.recent[0].q.val()
-            & !self.recent[1].q.val();
+        // A hit written on the edge into Done already makes the FIFO not empty.
+        self.done.next = (self.state.q.val() == CoreState::Done) & self.fifo.empty.val();
         self.capacity_exceeded.next = self.over.q.val();
         self.cycles.next = self.n_cycles.q.val();
         self.candidates.next = self.n_visits.q.val();
@@ -507,19 +556,19 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
                         self.radix.go.next = true;
                         self.state.d.next = CoreState::Sort;
                     } else {
-                        self.walker.start.next = true;
+                        self.walk_start.next = true;
                         self.state.d.next = CoreState::Walk;
                     }
                 }
             }
             CoreState::Sort => {
                 if self.radix.done.val() {
-                    self.walker.start.next = true;
+                    self.walk_start.next = true;
                     self.state.d.next = CoreState::Walk;
                 }
             }
             CoreState::Walk => {
-                if self.walker.finished.val() {
+                if self.walked.val() {
                     self.countdown.d.next = self.drain.val();
                     self.state.d.next = CoreState::Drain;
                 }
@@ -532,6 +581,9 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             }
             CoreState::Done => {}
         }
+        // (After the states that set it: a local is read where it is written in the Verilog.)
+        self.sweep_walker.start.next = self.walk_start.val() & self.sweep.val();
+        self.walker.start.next = self.walk_start.val() & !self.sweep.val();
         if self.frame_start.val() {
             self.state.d.next = CoreState::Load;
             self.ready.d.next = true;

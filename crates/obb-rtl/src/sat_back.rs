@@ -33,13 +33,14 @@ const MINOR: usize = 21;
 /// `r_B` (21 x 18 bits, two terms).
 const RB: usize = MINOR + HALF_S + 1;
 /// Clocks from a pair's products on the inputs to its verdict.
-pub const LATENCY: u64 = 2 * DOT_LATENCY + 4;
+pub const LATENCY: u64 = 2 * DOT_LATENCY + 5;
 // The delay lines below are one register per clock, and rust-hdl needs literal indices: they
 // are laid out for this latency.
 const _: () = assert!(DOT_LATENCY == 5);
 
 /// The radius sums and the 15 comparisons as one leaf (its arithmetic mixes signed products
-/// with unsigned sums, which rust-hdl's Verilog gets wrong): two clocks, sums then verdict.
+/// with unsigned sums, which rust-hdl's Verilog gets wrong): three clocks, the sums, the 15
+/// comparisons (registered: with their OR in the same clock they took 5 LUT levels), their OR.
 /// Its Rust model calls `obb_model::fixed::sat::sat_decide`.
 #[derive(Clone, Debug, Default, LogicBlock)]
 pub struct SatDecide {
@@ -60,8 +61,10 @@ pub struct SatDecide {
     /// No axis separates the pair.
     pub hit: Signal<Out, Bit>,
     pub clock: Signal<In, Clock>,
-    /// The verdict one clock before it shows on `hit` (the sums' stage in the Verilog).
+    /// The verdict two clocks and one clock before it shows on `hit` (the sums' and the
+    /// comparisons' stages in the Verilog).
     verdict: Signal<Local, Bit>,
+    verdict_q: Signal<Local, Bit>,
 }
 
 /// Width of the radius sums and of the compared values.
@@ -70,7 +73,8 @@ const SUM: usize = 46;
 impl Logic for SatDecide {
     fn update(&mut self) {
         if self.clock.pos_edge() {
-            let shown = self.verdict.val();
+            let shown = self.verdict_q.val();
+            self.verdict_q.next = self.verdict.val();
             let f = uval(self.f.val()) as u32;
             let k = uval(self.k.val()) as u32;
             let half = |h: &[Signal<In, Signed<HALF_S>>; 3]| h.each_ref().map(|s| sval(s.val()));
@@ -111,6 +115,7 @@ impl Logic for SatDecide {
     }
     fn connect(&mut self) {
         self.verdict.connect();
+        self.verdict_q.connect();
         self.hit.connect();
     }
     fn hdl(&self) -> Verilog {
@@ -158,7 +163,10 @@ impl Logic for SatDecide {
                 ),
             );
         }
-        let _ = writeln!(v, "reg [{s1}:0] lhs [0:14];\nreg [{s1}:0] rhs [0:14];");
+        let _ = writeln!(
+            v,
+            "reg [{s1}:0] lhs [0:14];\nreg [{s1}:0] rhs [0:14];\nreg [14:0] apart;"
+        );
         v.push_str("always @(posedge clock) begin\n");
         for i in 0..3 {
             let _ = writeln!(
@@ -183,10 +191,10 @@ impl Logic for SatDecide {
                 6 + c
             );
         }
-        let apart: Vec<String> = (0..15)
-            .map(|x| format!("((lhs[{x}] >> k) > (rhs[{x}] >> k))"))
-            .collect();
-        let _ = writeln!(v, "   hit <= !({});", apart.join(" || "));
+        for x in 0..15 {
+            let _ = writeln!(v, "   apart[{x}] <= (lhs[{x}] >> k) > (rhs[{x}] >> k);");
+        }
+        v.push_str("   hit <= !(|apart);\n");
         v.push_str("end\n");
         Verilog::Custom(v)
     }
@@ -210,7 +218,7 @@ pub struct SatBack {
     shift: Constant<Bits<8>>,
     face_margin: Constant<Bits<24>>,
     cross_margin: Constant<Bits<24>>,
-    valid: [DFF<Bit>; 14],
+    valid: [DFF<Bit>; 15],
     round: SatRound,
     /// Half-lengths delayed: `ha[3 s + x]` after clock s + 1 (s = 0..11).
     ha: [DFF<Signed<HALF_S>>; 36],
@@ -286,7 +294,7 @@ impl SatBack {
 impl Logic for SatBack {
     #[hdl_gen]
     fn update(&mut self) {
-        for i in 0..14 {
+        for i in 0..15 {
             self.valid[i].clock.next = self.clock.val();
         }
         for i in 0..36 {
@@ -344,7 +352,7 @@ impl Logic for SatBack {
         self.decide.clock.next = self.clock.val();
         // Valid, half-lengths and the pair margin ride along.
         self.valid[0].d.next = self.valid_in.val();
-        for i in 1..14 {
+        for i in 1..15 {
             self.valid[i].d.next = self.valid[i - 1].q.val();
         }
         self.pm[0].d.next = self.pair_margin.val();
@@ -610,7 +618,7 @@ impl Logic for SatBack {
             self.decide.r_a[c].next = self.ra_d[45 + c].q.val();
             self.decide.r_b[c].next = self.rb_dot[c].p.val();
         }
-        self.valid_out.next = self.valid[13].q.val();
+        self.valid_out.next = self.valid[14].q.val();
         self.hit.next = self.decide.hit.val();
     }
 }

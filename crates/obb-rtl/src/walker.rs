@@ -1,16 +1,9 @@
-//! The broad phase's walker: it visits index pairs (i, j), at most one per clock, in the order
-//! of `obb_model::fixed::broad` for `brute` and `sweep`. It drives the read addresses of the
-//! sorted entries (sweep) and of the key table (box i on port A, box j on port B); the core
-//! checks each visit's keys and groups one clock later.
+//! The broad phase's walker for `brute` and `improved-sap` (`sweep` has its own, `sweep.rs`):
+//! it visits index pairs (i, j), at most one per clock, in the order of
+//! `obb_model::fixed::broad`. It drives the read addresses of the key table (box i on port A,
+//! box j on port B); the core checks each visit's keys and groups one clock later.
 //!
 //! - `brute`: i = 0, 1, ...; j = i+1, ..., n-1; one visit per clock, no overhead.
-//! - `sweep` over the entries sorted by min x key (`radix`): per outer position p, one clock
-//!   reads entry p (its box i) while the key table is addressed for i's max x key, then each
-//!   clock reads the next entry q = p+1, p+2, ...; a read whose key is within i's max is a
-//!   visit, one beyond it (seen the clock after its read) or the end of the entries ends p.
-//!   Outer p costs 2 + its reads (visits plus the one read beyond), one clock more starts the
-//!   walk: `obb_model::fixed::cycles` counts the same.
-//!
 //! - `improved-sap` (the paper's Algorithm 2), per axis x, y, z: the walker loads the 2n end
 //!   points (box 0 min, box 0 max, box 1 min, ...: key `2k + is_max`, value `2b + is_max`) into
 //!   the radix sort from the key table, two clocks per box, sorts them, then reads them in
@@ -27,10 +20,6 @@ use rust_hdl::prelude::*;
 #[derive(Copy, Clone, Debug, PartialEq, LogicState)]
 pub enum WalkState {
     Idle,
-    /// Sweep: the entry of outer position p is on the sorted entries' read port.
-    Head,
-    /// Sweep: the walk over the successors of p.
-    Walk,
     /// Brute: the pairs (i, j).
     Pairs,
     /// Improved-sap: the end points of the axis into the radix sort, two clocks per box.
@@ -49,14 +38,13 @@ pub enum WalkState {
 #[derive(LogicBlock)]
 pub struct Walker<const A: usize, const C: usize> {
     pub clock: Signal<In, Clock>,
-    /// Begin a walk over `n` boxes (keys in the key table; sweep: entries sorted).
+    /// Begin a walk over `n` boxes (keys in the key table).
     pub start: Signal<In, Bit>,
     pub n: Signal<In, Bits<C>>,
     /// Do not visit this clock.
     pub stall: Signal<In, Bit>,
-    /// Sweep: the sorted entries' read port (address out, key and box one clock later).
+    /// Improved-sap: the sorted end points' read port (address out, entry one clock later).
     pub rd_addr: Signal<Out, Bits<A>>,
-    pub rd_key: Signal<In, Bits<KEY>>,
     pub rd_val: Signal<In, Bits<VAL>>,
     /// The key table: port A reads box i, port B box j; `a_min`, `a_max` are port A's keys.
     pub a_addr: Signal<Out, Bits<A>>,
@@ -75,16 +63,15 @@ pub struct Walker<const A: usize, const C: usize> {
     pub vi: Signal<Out, Bits<A>>,
     pub vj: Signal<Out, Bits<A>>,
     pub finished: Signal<Out, Bit>,
-    /// Sweep, improved-sap, or (neither) brute.
-    sweep: Constant<Bit>,
+    /// Improved-sap, or brute.
     sap: Constant<Bit>,
     state: DFF<WalkState>,
-    /// Outer position (sweep) or box i (brute), and its box (sweep).
+    /// Improved-sap: the end point's position; box i.
     p: DFF<Bits<C>>,
     i: DFF<Bits<A>>,
-    /// Next successor to read (sweep) or box j (brute).
+    /// Next end point to read (improved-sap) or box j (brute).
     succ: DFF<Bits<C>>,
-    /// A successor was read last clock: its key and box are on `rd_key`, `rd_val`.
+    /// Improved-sap: an end point was read last clock: it is on `rd_val`.
     pending: DFF<Bit>,
     /// Improved-sap: the axis, and which end point of box `i` goes into the sort next.
     axis: DFF<Bits<2>>,
@@ -95,15 +82,12 @@ pub struct Walker<const A: usize, const C: usize> {
     key_lo: Signal<Local, Bits<CENTER>>,
     key_hi: Signal<Local, Bits<CENTER>>,
     end_box: Signal<Local, Bits<A>>,
-    beyond: Signal<Local, Bit>,
-    move_on: Signal<Local, Bit>,
 }
 
 /// What the walker walks.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum WalkMode {
     Brute,
-    Sweep,
     ImprovedSap,
 }
 
@@ -116,7 +100,6 @@ impl<const A: usize, const C: usize> Walker<A, C> {
             n: Default::default(),
             stall: Default::default(),
             rd_addr: Default::default(),
-            rd_key: Default::default(),
             rd_val: Default::default(),
             a_addr: Default::default(),
             b_addr: Default::default(),
@@ -132,7 +115,6 @@ impl<const A: usize, const C: usize> Walker<A, C> {
             vi: Default::default(),
             vj: Default::default(),
             finished: Default::default(),
-            sweep: Constant::new(mode == WalkMode::Sweep),
             sap: Constant::new(mode == WalkMode::ImprovedSap),
             state: Default::default(),
             p: Default::default(),
@@ -146,8 +128,6 @@ impl<const A: usize, const C: usize> Walker<A, C> {
             key_lo: Default::default(),
             key_hi: Default::default(),
             end_box: Default::default(),
-            beyond: Default::default(),
-            move_on: Default::default(),
         }
     }
 }
@@ -174,10 +154,6 @@ impl<const A: usize, const C: usize> Logic for Walker<A, C> {
         self.sort_go.next = false;
         self.sort_key.next = bit_cast::<KEY, CENTER>(self.key_lo.val()) << 1_u64;
         self.sort_val.next = bit_cast::<VAL, A>(self.i.q.val()) << 1_u64;
-        // Sweep: the successor read last clock starts beyond box i's max x key.
-        self.beyond.next = self.rd_key.val() > bit_cast::<KEY, CENTER>(self.a_max[0].val());
-        self.move_on.next =
-            (self.pending.q.val() & self.beyond.val()) | (self.succ.q.val() == self.n.val());
         self.finished.next = self.state.q.val() == WalkState::Finished;
         self.rd_addr.next = bit_cast::<A, C>(self.succ.q.val());
         self.a_addr.next = self.i.q.val();
@@ -188,31 +164,6 @@ impl<const A: usize, const C: usize> Logic for Walker<A, C> {
         self.pending.d.next = false;
         match self.state.q.val() {
             WalkState::Idle => {}
-            WalkState::Head => {
-                // Entry p arrives: it is box i, and the key table reads i's keys for the walk.
-                self.i.d.next = bit_cast::<A, VAL>(self.rd_val.val());
-                self.a_addr.next = bit_cast::<A, VAL>(self.rd_val.val());
-                self.succ.d.next = self.p.q.val() + 1;
-                self.state.d.next = WalkState::Walk;
-            }
-            WalkState::Walk => {
-                // The successor read last clock is a visit unless it starts beyond i.
-                if self.pending.q.val() & !self.beyond.val() {
-                    self.visit.next = true;
-                }
-                if self.move_on.val() {
-                    // This clock reads the next outer position's entry.
-                    self.rd_addr.next = bit_cast::<A, C>(self.p.q.val() + 1);
-                    self.p.d.next = self.p.q.val() + 1;
-                    self.state.d.next = WalkState::Head;
-                    if self.p.q.val() + 1 == self.last.val() {
-                        self.state.d.next = WalkState::Finished;
-                    }
-                } else if !self.stall.val() {
-                    self.succ.d.next = self.succ.q.val() + 1;
-                    self.pending.d.next = true;
-                }
-            }
             WalkState::Pairs => {
                 self.b_addr.next = bit_cast::<A, C>(self.succ.q.val());
                 self.vj.next = bit_cast::<A, C>(self.succ.q.val());
@@ -316,11 +267,6 @@ impl<const A: usize, const C: usize> Logic for Walker<A, C> {
             self.state.d.next = WalkState::Finished;
             if self.n.val() > 1 {
                 self.state.d.next = WalkState::Pairs;
-                if self.sweep.val() {
-                    // The start clock reads entry 0.
-                    self.rd_addr.next = 0.into();
-                    self.state.d.next = WalkState::Head;
-                }
                 if self.sap.val() {
                     // The start clock clears the sort and addresses box 0's keys.
                     self.axis.d.next = 0.into();

@@ -140,11 +140,13 @@ pub fn run(
     w
 }
 
-/// Clocks the broad phase's walk takes besides its sorts (`obb_rtl::walker`).
+/// Clocks the broad phase's walk takes besides its sorts (`obb_rtl::walker`, `obb_rtl::sweep`).
 /// - `brute` visits one pair per clock.
-/// - `sweep` spends per outer box except the last one clock reading its entry, one clock per
-///   successor read (its visits, and the one read beyond its max key, if any), and one clock
-///   deciding to move on.
+/// - `sweep` (two boxes or more) spends per outer box except the last four clocks (reading its
+///   first successor, the block RAM's output, the entry's register, the restart after the
+///   entry that ends it) plus one per visit; the entry beyond its max key, or the end of the
+///   entries, ends it and the reads behind it are dropped. Four clocks start the walk at entry
+///   0, which becomes the first outer box. `4n + visited` (`obb_rtl::sweep`).
 /// - `improved-sap` (two boxes or more) spends per axis 2n clocks loading the end points into
 ///   the sort and one reading the first sorted one; then one clock per max end point, and per
 ///   min end point one clock, one per visit and one for the box's own max: `5n + 1` per axis
@@ -153,7 +155,8 @@ pub fn run(
 pub fn walk_cycles(mode: BroadPhase, n: u64, w: &BroadWork, lanes: u32) -> u64 {
     match mode {
         BroadPhase::Brute => w.visited,
-        BroadPhase::Sweep => 2 * n.saturating_sub(1) + w.visited + w.breaks,
+        BroadPhase::Sweep if n < 2 => 0,
+        BroadPhase::Sweep => 4 * n + w.visited,
         BroadPhase::ImprovedSap if n < 2 => 0,
         BroadPhase::ImprovedSap => 3 * (5 * n + 1) + 2 + w.visited,
         BroadPhase::Grid => w.visited.div_ceil(u64::from(lanes)),

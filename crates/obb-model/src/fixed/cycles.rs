@@ -26,8 +26,9 @@ pub fn sort_cycles(n: u64, passes: u32, digit_bits: u32) -> u64 {
 pub const LAT_BROAD: u64 = 3;
 /// Pipeline depth of the SAT stage (products, minors, radius sums, compares, OR of 15 axes):
 /// the center difference, two rounds of dot products of 5 clocks each (cascaded DSP48E1s with
-/// every pipeline register), the rounding, `|minor|`, and the two-clock decision.
-pub const LAT_SAT: u64 = 20;
+/// every pipeline register), the rounding, `|minor|`, and the three-clock decision (sums, the
+/// 15 comparisons, their OR).
+pub const LAT_SAT: u64 = 21;
 /// The clock after the last projection output, when its keys are in the key table.
 pub const LAT_KEY_WRITE: u64 = 1;
 
