@@ -155,15 +155,54 @@ pub struct DeepPath {
     pub to: String,
 }
 
-/// Path endpoints behind more than 3 LUT levels between two register families (a register's
-/// name without its bit index, e.g. `radix.idx`).
+/// The period the issue aims at (ns): the report lists the paths slower than it.
+pub const AIM_NS: f64 = 4.0;
+
+/// Path endpoints between two register families (a register's name without its bit index,
+/// e.g. `radix.idx`): those behind more than 3 LUT levels, or those slower than [`AIM_NS`].
 #[derive(Clone, Debug, Default, Serialize)]
-pub struct DeepGroup {
+pub struct PathGroup {
     pub from: String,
     pub to: String,
-    /// Endpoints (bits) in the group, and the most LUT levels among them.
+    /// Endpoints (bits) in the group, the most LUT levels and the slowest delay among them.
     pub endpoints: u64,
     pub luts: u32,
+    pub ns: f64,
+}
+
+/// Groups endpoints by the register families of their path's start and end.
+#[derive(Default)]
+struct Grouping(HashMap<(String, String), PathGroup>);
+
+impl Grouping {
+    fn add(&mut self, from: &str, to: &str, luts: u32, ns: f64) {
+        let (from, to) = (family(from), family(to));
+        let g = self
+            .0
+            .entry((from.clone(), to.clone()))
+            .or_insert(PathGroup {
+                from,
+                to,
+                ..Default::default()
+            });
+        g.endpoints += 1;
+        g.luts = g.luts.max(luts);
+        g.ns = g.ns.max(ns);
+    }
+
+    /// The groups, worst first by `key`.
+    fn sorted<K: PartialOrd>(self, key: impl Fn(&PathGroup) -> K) -> Vec<PathGroup> {
+        let mut g: Vec<PathGroup> = self.0.into_values().collect();
+        g.sort_by(|a, b| {
+            key(b)
+                .partial_cmp(&key(a))
+                .unwrap_or(std::cmp::Ordering::Equal)
+                .then(b.endpoints.cmp(&a.endpoints))
+                .then(a.from.cmp(&b.from))
+                .then(a.to.cmp(&b.to))
+        });
+        g
+    }
 }
 
 /// What the netlist says.
@@ -178,7 +217,11 @@ pub struct Report {
     /// Path endpoints (bits) fed through more than 3 LUT levels.
     pub endpoints_over_3_luts: u64,
     /// Those endpoints by the register families they run between, deepest first.
-    pub deep_groups: Vec<DeepGroup>,
+    pub deep_groups: Vec<PathGroup>,
+    /// Path endpoints slower than [`AIM_NS`] under the delay model, and by families, slowest
+    /// first.
+    pub endpoints_over_aim: u64,
+    pub slow_groups: Vec<PathGroup>,
     /// The slowest path under the delay model, and the one with the most LUT levels.
     pub worst: PathInfo,
     pub deepest: DeepPath,
@@ -599,7 +642,9 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
     let mut worst = PathInfo::default();
     let mut deepest = DeepPath::default();
     let mut over = 0;
-    let mut groups: HashMap<(String, String), DeepGroup> = HashMap::new();
+    let mut slow = 0;
+    let mut deep_groups = Grouping::default();
+    let mut slow_groups = Grouping::default();
     for c in cells {
         for (pin, bs) in &c.inputs {
             let Some(setup) = capture(c, pin, d) else {
@@ -626,16 +671,11 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
                 }
                 if a.depth > 3 {
                     over += 1;
-                    let (from, to) = (family(&cells[a.depth_from].name), family(&c.name));
-                    let g = groups
-                        .entry((from.clone(), to.clone()))
-                        .or_insert(DeepGroup {
-                            from,
-                            to,
-                            ..Default::default()
-                        });
-                    g.endpoints += 1;
-                    g.luts = g.luts.max(a.depth);
+                    deep_groups.add(&cells[a.depth_from].name, &c.name, a.depth, total);
+                }
+                if total > AIM_NS {
+                    slow += 1;
+                    slow_groups.add(&cells[a.from].name, &c.name, a.luts, total);
                 }
             }
         }
@@ -673,11 +713,9 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
         dsp_without_preg,
         bram_without_output_register,
         endpoints_over_3_luts: over,
-        deep_groups: {
-            let mut g: Vec<DeepGroup> = groups.into_values().collect();
-            g.sort_by(|a, b| (b.luts, b.endpoints, &a.from).cmp(&(a.luts, a.endpoints, &b.from)));
-            g
-        },
+        deep_groups: deep_groups.sorted(|g| g.luts),
+        endpoints_over_aim: slow,
+        slow_groups: slow_groups.sorted(|g| g.ns),
         worst,
         deepest,
         delays: d.clone(),
