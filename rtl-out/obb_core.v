@@ -43,7 +43,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     localparam  sap = 1'b0;
     localparam  last_slot = 16'h7fff;
     localparam  mask = 64'h7fbfdfeff7fbfdfe;
-    localparam  drain = 8'h17;
+    localparam  drain = 8'h1a;
     
     // Enums
     localparam CoreState$Idle = 0;
@@ -425,6 +425,63 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [14:0] k_j$d;
     wire  [14:0] k_j$q;
     reg  k_j$clock;
+    reg  [22:0] key_min_a$0$d;
+    wire  [22:0] key_min_a$0$q;
+    reg  key_min_a$0$clock;
+    reg  [22:0] key_min_a$1$d;
+    wire  [22:0] key_min_a$1$q;
+    reg  key_min_a$1$clock;
+    reg  [22:0] key_min_a$2$d;
+    wire  [22:0] key_min_a$2$q;
+    reg  key_min_a$2$clock;
+    reg  [22:0] key_min_b$0$d;
+    wire  [22:0] key_min_b$0$q;
+    reg  key_min_b$0$clock;
+    reg  [22:0] key_min_b$1$d;
+    wire  [22:0] key_min_b$1$q;
+    reg  key_min_b$1$clock;
+    reg  [22:0] key_min_b$2$d;
+    wire  [22:0] key_min_b$2$q;
+    reg  key_min_b$2$clock;
+    reg  [22:0] key_max_a$0$d;
+    wire  [22:0] key_max_a$0$q;
+    reg  key_max_a$0$clock;
+    reg  [22:0] key_max_a$1$d;
+    wire  [22:0] key_max_a$1$q;
+    reg  key_max_a$1$clock;
+    reg  [22:0] key_max_a$2$d;
+    wire  [22:0] key_max_a$2$q;
+    reg  key_max_a$2$clock;
+    reg  [22:0] key_max_b$0$d;
+    wire  [22:0] key_max_b$0$q;
+    reg  key_max_b$0$clock;
+    reg  [22:0] key_max_b$1$d;
+    wire  [22:0] key_max_b$1$q;
+    reg  key_max_b$1$clock;
+    reg  [22:0] key_max_b$2$d;
+    wire  [22:0] key_max_b$2$q;
+    reg  key_max_b$2$clock;
+    reg  [27:0] margin_a$d;
+    wire  [27:0] margin_a$q;
+    reg  margin_a$clock;
+    reg  [27:0] margin_b$d;
+    wire  [27:0] margin_b$q;
+    reg  margin_b$clock;
+    reg  [2:0] group_a$d;
+    wire  [2:0] group_a$q;
+    reg  group_a$clock;
+    reg  [2:0] group_b$d;
+    wire  [2:0] group_b$q;
+    reg  group_b$clock;
+    reg  r_valid$d;
+    wire  r_valid$q;
+    reg  r_valid$clock;
+    reg  [14:0] r_i$d;
+    wire  [14:0] r_i$q;
+    reg  r_i$clock;
+    reg  [14:0] r_j$d;
+    wire  [14:0] r_j$q;
+    reg  r_j$clock;
     reg  c_valid$d;
     wire  c_valid$q;
     reg  c_valid$clock;
@@ -455,6 +512,111 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [27:0] g_mb$d;
     wire  [27:0] g_mb$q;
     reg  g_mb$clock;
+    reg  h_valid$d;
+    wire  h_valid$q;
+    reg  h_valid$clock;
+    reg  [14:0] h_a$d;
+    wire  [14:0] h_a$q;
+    reg  h_a$clock;
+    reg  [14:0] h_b$d;
+    wire  [14:0] h_b$q;
+    reg  h_b$clock;
+    reg  [27:0] h_ma$d;
+    wire  [27:0] h_ma$q;
+    reg  h_ma$clock;
+    reg  [27:0] h_mb$d;
+    wire  [27:0] h_mb$q;
+    reg  h_mb$clock;
+    reg  [22:0] geo_center_a$0$d;
+    wire  [22:0] geo_center_a$0$q;
+    reg  geo_center_a$0$clock;
+    reg  [22:0] geo_center_a$1$d;
+    wire  [22:0] geo_center_a$1$q;
+    reg  geo_center_a$1$clock;
+    reg  [22:0] geo_center_a$2$d;
+    wire  [22:0] geo_center_a$2$q;
+    reg  geo_center_a$2$clock;
+    reg  [22:0] geo_center_b$0$d;
+    wire  [22:0] geo_center_b$0$q;
+    reg  geo_center_b$0$clock;
+    reg  [22:0] geo_center_b$1$d;
+    wire  [22:0] geo_center_b$1$q;
+    reg  geo_center_b$1$clock;
+    reg  [22:0] geo_center_b$2$d;
+    wire  [22:0] geo_center_b$2$q;
+    reg  geo_center_b$2$clock;
+    reg  [16:0] geo_half_a$0$d;
+    wire  [16:0] geo_half_a$0$q;
+    reg  geo_half_a$0$clock;
+    reg  [16:0] geo_half_a$1$d;
+    wire  [16:0] geo_half_a$1$q;
+    reg  geo_half_a$1$clock;
+    reg  [16:0] geo_half_a$2$d;
+    wire  [16:0] geo_half_a$2$q;
+    reg  geo_half_a$2$clock;
+    reg  [16:0] geo_half_b$0$d;
+    wire  [16:0] geo_half_b$0$q;
+    reg  geo_half_b$0$clock;
+    reg  [16:0] geo_half_b$1$d;
+    wire  [16:0] geo_half_b$1$q;
+    reg  geo_half_b$1$clock;
+    reg  [16:0] geo_half_b$2$d;
+    wire  [16:0] geo_half_b$2$q;
+    reg  geo_half_b$2$clock;
+    reg signed [17:0] geo_axes_a$0$d;
+    wire signed [17:0] geo_axes_a$0$q;
+    reg  geo_axes_a$0$clock;
+    reg signed [17:0] geo_axes_a$1$d;
+    wire signed [17:0] geo_axes_a$1$q;
+    reg  geo_axes_a$1$clock;
+    reg signed [17:0] geo_axes_a$2$d;
+    wire signed [17:0] geo_axes_a$2$q;
+    reg  geo_axes_a$2$clock;
+    reg signed [17:0] geo_axes_a$3$d;
+    wire signed [17:0] geo_axes_a$3$q;
+    reg  geo_axes_a$3$clock;
+    reg signed [17:0] geo_axes_a$4$d;
+    wire signed [17:0] geo_axes_a$4$q;
+    reg  geo_axes_a$4$clock;
+    reg signed [17:0] geo_axes_a$5$d;
+    wire signed [17:0] geo_axes_a$5$q;
+    reg  geo_axes_a$5$clock;
+    reg signed [17:0] geo_axes_a$6$d;
+    wire signed [17:0] geo_axes_a$6$q;
+    reg  geo_axes_a$6$clock;
+    reg signed [17:0] geo_axes_a$7$d;
+    wire signed [17:0] geo_axes_a$7$q;
+    reg  geo_axes_a$7$clock;
+    reg signed [17:0] geo_axes_a$8$d;
+    wire signed [17:0] geo_axes_a$8$q;
+    reg  geo_axes_a$8$clock;
+    reg signed [17:0] geo_axes_b$0$d;
+    wire signed [17:0] geo_axes_b$0$q;
+    reg  geo_axes_b$0$clock;
+    reg signed [17:0] geo_axes_b$1$d;
+    wire signed [17:0] geo_axes_b$1$q;
+    reg  geo_axes_b$1$clock;
+    reg signed [17:0] geo_axes_b$2$d;
+    wire signed [17:0] geo_axes_b$2$q;
+    reg  geo_axes_b$2$clock;
+    reg signed [17:0] geo_axes_b$3$d;
+    wire signed [17:0] geo_axes_b$3$q;
+    reg  geo_axes_b$3$clock;
+    reg signed [17:0] geo_axes_b$4$d;
+    wire signed [17:0] geo_axes_b$4$q;
+    reg  geo_axes_b$4$clock;
+    reg signed [17:0] geo_axes_b$5$d;
+    wire signed [17:0] geo_axes_b$5$q;
+    reg  geo_axes_b$5$clock;
+    reg signed [17:0] geo_axes_b$6$d;
+    wire signed [17:0] geo_axes_b$6$q;
+    reg  geo_axes_b$6$clock;
+    reg signed [17:0] geo_axes_b$7$d;
+    wire signed [17:0] geo_axes_b$7$q;
+    reg  geo_axes_b$7$clock;
+    reg signed [17:0] geo_axes_b$8$d;
+    wire signed [17:0] geo_axes_b$8$q;
+    reg  geo_axes_b$8$clock;
     reg  [14:0] tag_a$0$d;
     wire  [14:0] tag_a$0$q;
     reg  tag_a$0$clock;
@@ -518,6 +680,9 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [14:0] tag_a$20$d;
     wire  [14:0] tag_a$20$q;
     reg  tag_a$20$clock;
+    reg  [14:0] tag_a$21$d;
+    wire  [14:0] tag_a$21$q;
+    reg  tag_a$21$clock;
     reg  [14:0] tag_b$0$d;
     wire  [14:0] tag_b$0$q;
     reg  tag_b$0$clock;
@@ -581,6 +746,9 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [14:0] tag_b$20$d;
     wire  [14:0] tag_b$20$q;
     reg  tag_b$20$clock;
+    reg  [14:0] tag_b$21$d;
+    wire  [14:0] tag_b$21$q;
+    reg  tag_b$21$clock;
     reg  k_overlap$0$d;
     wire  k_overlap$0$q;
     reg  k_overlap$0$clock;
@@ -650,6 +818,12 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  k_overlap$22$d;
     wire  k_overlap$22$q;
     reg  k_overlap$22$clock;
+    reg  k_overlap$23$d;
+    wire  k_overlap$23$q;
+    reg  k_overlap$23$clock;
+    reg  k_overlap$24$d;
+    wire  k_overlap$24$q;
+    reg  k_overlap$24$clock;
     
     // Local signals
     reg  walk_start;
@@ -1142,6 +1316,101 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .q(k_j$q),
         .clock(k_j$clock)
     );
+    obb_core$key_min_a$0 key_min_a$0(
+        .d(key_min_a$0$d),
+        .q(key_min_a$0$q),
+        .clock(key_min_a$0$clock)
+    );
+    obb_core$key_min_a$1 key_min_a$1(
+        .d(key_min_a$1$d),
+        .q(key_min_a$1$q),
+        .clock(key_min_a$1$clock)
+    );
+    obb_core$key_min_a$2 key_min_a$2(
+        .d(key_min_a$2$d),
+        .q(key_min_a$2$q),
+        .clock(key_min_a$2$clock)
+    );
+    obb_core$key_min_b$0 key_min_b$0(
+        .d(key_min_b$0$d),
+        .q(key_min_b$0$q),
+        .clock(key_min_b$0$clock)
+    );
+    obb_core$key_min_b$1 key_min_b$1(
+        .d(key_min_b$1$d),
+        .q(key_min_b$1$q),
+        .clock(key_min_b$1$clock)
+    );
+    obb_core$key_min_b$2 key_min_b$2(
+        .d(key_min_b$2$d),
+        .q(key_min_b$2$q),
+        .clock(key_min_b$2$clock)
+    );
+    obb_core$key_max_a$0 key_max_a$0(
+        .d(key_max_a$0$d),
+        .q(key_max_a$0$q),
+        .clock(key_max_a$0$clock)
+    );
+    obb_core$key_max_a$1 key_max_a$1(
+        .d(key_max_a$1$d),
+        .q(key_max_a$1$q),
+        .clock(key_max_a$1$clock)
+    );
+    obb_core$key_max_a$2 key_max_a$2(
+        .d(key_max_a$2$d),
+        .q(key_max_a$2$q),
+        .clock(key_max_a$2$clock)
+    );
+    obb_core$key_max_b$0 key_max_b$0(
+        .d(key_max_b$0$d),
+        .q(key_max_b$0$q),
+        .clock(key_max_b$0$clock)
+    );
+    obb_core$key_max_b$1 key_max_b$1(
+        .d(key_max_b$1$d),
+        .q(key_max_b$1$q),
+        .clock(key_max_b$1$clock)
+    );
+    obb_core$key_max_b$2 key_max_b$2(
+        .d(key_max_b$2$d),
+        .q(key_max_b$2$q),
+        .clock(key_max_b$2$clock)
+    );
+    obb_core$margin_a margin_a(
+        .d(margin_a$d),
+        .q(margin_a$q),
+        .clock(margin_a$clock)
+    );
+    obb_core$margin_b margin_b(
+        .d(margin_b$d),
+        .q(margin_b$q),
+        .clock(margin_b$clock)
+    );
+    obb_core$group_a group_a(
+        .d(group_a$d),
+        .q(group_a$q),
+        .clock(group_a$clock)
+    );
+    obb_core$group_b group_b(
+        .d(group_b$d),
+        .q(group_b$q),
+        .clock(group_b$clock)
+    );
+    obb_core$r_valid r_valid(
+        .d(r_valid$d),
+        .q(r_valid$q),
+        .clock(r_valid$clock)
+    );
+    obb_core$r_i r_i(
+        .d(r_i$d),
+        .q(r_i$q),
+        .clock(r_i$clock)
+    );
+    obb_core$r_j r_j(
+        .d(r_j$d),
+        .q(r_j$q),
+        .clock(r_j$clock)
+    );
     obb_core$c_valid c_valid(
         .d(c_valid$d),
         .q(c_valid$q),
@@ -1191,6 +1460,181 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .d(g_mb$d),
         .q(g_mb$q),
         .clock(g_mb$clock)
+    );
+    obb_core$h_valid h_valid(
+        .d(h_valid$d),
+        .q(h_valid$q),
+        .clock(h_valid$clock)
+    );
+    obb_core$h_a h_a(
+        .d(h_a$d),
+        .q(h_a$q),
+        .clock(h_a$clock)
+    );
+    obb_core$h_b h_b(
+        .d(h_b$d),
+        .q(h_b$q),
+        .clock(h_b$clock)
+    );
+    obb_core$h_ma h_ma(
+        .d(h_ma$d),
+        .q(h_ma$q),
+        .clock(h_ma$clock)
+    );
+    obb_core$h_mb h_mb(
+        .d(h_mb$d),
+        .q(h_mb$q),
+        .clock(h_mb$clock)
+    );
+    obb_core$geo_center_a$0 geo_center_a$0(
+        .d(geo_center_a$0$d),
+        .q(geo_center_a$0$q),
+        .clock(geo_center_a$0$clock)
+    );
+    obb_core$geo_center_a$1 geo_center_a$1(
+        .d(geo_center_a$1$d),
+        .q(geo_center_a$1$q),
+        .clock(geo_center_a$1$clock)
+    );
+    obb_core$geo_center_a$2 geo_center_a$2(
+        .d(geo_center_a$2$d),
+        .q(geo_center_a$2$q),
+        .clock(geo_center_a$2$clock)
+    );
+    obb_core$geo_center_b$0 geo_center_b$0(
+        .d(geo_center_b$0$d),
+        .q(geo_center_b$0$q),
+        .clock(geo_center_b$0$clock)
+    );
+    obb_core$geo_center_b$1 geo_center_b$1(
+        .d(geo_center_b$1$d),
+        .q(geo_center_b$1$q),
+        .clock(geo_center_b$1$clock)
+    );
+    obb_core$geo_center_b$2 geo_center_b$2(
+        .d(geo_center_b$2$d),
+        .q(geo_center_b$2$q),
+        .clock(geo_center_b$2$clock)
+    );
+    obb_core$geo_half_a$0 geo_half_a$0(
+        .d(geo_half_a$0$d),
+        .q(geo_half_a$0$q),
+        .clock(geo_half_a$0$clock)
+    );
+    obb_core$geo_half_a$1 geo_half_a$1(
+        .d(geo_half_a$1$d),
+        .q(geo_half_a$1$q),
+        .clock(geo_half_a$1$clock)
+    );
+    obb_core$geo_half_a$2 geo_half_a$2(
+        .d(geo_half_a$2$d),
+        .q(geo_half_a$2$q),
+        .clock(geo_half_a$2$clock)
+    );
+    obb_core$geo_half_b$0 geo_half_b$0(
+        .d(geo_half_b$0$d),
+        .q(geo_half_b$0$q),
+        .clock(geo_half_b$0$clock)
+    );
+    obb_core$geo_half_b$1 geo_half_b$1(
+        .d(geo_half_b$1$d),
+        .q(geo_half_b$1$q),
+        .clock(geo_half_b$1$clock)
+    );
+    obb_core$geo_half_b$2 geo_half_b$2(
+        .d(geo_half_b$2$d),
+        .q(geo_half_b$2$q),
+        .clock(geo_half_b$2$clock)
+    );
+    obb_core$geo_axes_a$0 geo_axes_a$0(
+        .d(geo_axes_a$0$d),
+        .q(geo_axes_a$0$q),
+        .clock(geo_axes_a$0$clock)
+    );
+    obb_core$geo_axes_a$1 geo_axes_a$1(
+        .d(geo_axes_a$1$d),
+        .q(geo_axes_a$1$q),
+        .clock(geo_axes_a$1$clock)
+    );
+    obb_core$geo_axes_a$2 geo_axes_a$2(
+        .d(geo_axes_a$2$d),
+        .q(geo_axes_a$2$q),
+        .clock(geo_axes_a$2$clock)
+    );
+    obb_core$geo_axes_a$3 geo_axes_a$3(
+        .d(geo_axes_a$3$d),
+        .q(geo_axes_a$3$q),
+        .clock(geo_axes_a$3$clock)
+    );
+    obb_core$geo_axes_a$4 geo_axes_a$4(
+        .d(geo_axes_a$4$d),
+        .q(geo_axes_a$4$q),
+        .clock(geo_axes_a$4$clock)
+    );
+    obb_core$geo_axes_a$5 geo_axes_a$5(
+        .d(geo_axes_a$5$d),
+        .q(geo_axes_a$5$q),
+        .clock(geo_axes_a$5$clock)
+    );
+    obb_core$geo_axes_a$6 geo_axes_a$6(
+        .d(geo_axes_a$6$d),
+        .q(geo_axes_a$6$q),
+        .clock(geo_axes_a$6$clock)
+    );
+    obb_core$geo_axes_a$7 geo_axes_a$7(
+        .d(geo_axes_a$7$d),
+        .q(geo_axes_a$7$q),
+        .clock(geo_axes_a$7$clock)
+    );
+    obb_core$geo_axes_a$8 geo_axes_a$8(
+        .d(geo_axes_a$8$d),
+        .q(geo_axes_a$8$q),
+        .clock(geo_axes_a$8$clock)
+    );
+    obb_core$geo_axes_b$0 geo_axes_b$0(
+        .d(geo_axes_b$0$d),
+        .q(geo_axes_b$0$q),
+        .clock(geo_axes_b$0$clock)
+    );
+    obb_core$geo_axes_b$1 geo_axes_b$1(
+        .d(geo_axes_b$1$d),
+        .q(geo_axes_b$1$q),
+        .clock(geo_axes_b$1$clock)
+    );
+    obb_core$geo_axes_b$2 geo_axes_b$2(
+        .d(geo_axes_b$2$d),
+        .q(geo_axes_b$2$q),
+        .clock(geo_axes_b$2$clock)
+    );
+    obb_core$geo_axes_b$3 geo_axes_b$3(
+        .d(geo_axes_b$3$d),
+        .q(geo_axes_b$3$q),
+        .clock(geo_axes_b$3$clock)
+    );
+    obb_core$geo_axes_b$4 geo_axes_b$4(
+        .d(geo_axes_b$4$d),
+        .q(geo_axes_b$4$q),
+        .clock(geo_axes_b$4$clock)
+    );
+    obb_core$geo_axes_b$5 geo_axes_b$5(
+        .d(geo_axes_b$5$d),
+        .q(geo_axes_b$5$q),
+        .clock(geo_axes_b$5$clock)
+    );
+    obb_core$geo_axes_b$6 geo_axes_b$6(
+        .d(geo_axes_b$6$d),
+        .q(geo_axes_b$6$q),
+        .clock(geo_axes_b$6$clock)
+    );
+    obb_core$geo_axes_b$7 geo_axes_b$7(
+        .d(geo_axes_b$7$d),
+        .q(geo_axes_b$7$q),
+        .clock(geo_axes_b$7$clock)
+    );
+    obb_core$geo_axes_b$8 geo_axes_b$8(
+        .d(geo_axes_b$8$d),
+        .q(geo_axes_b$8$q),
+        .clock(geo_axes_b$8$clock)
     );
     obb_core$tag_a$0 tag_a$0(
         .d(tag_a$0$d),
@@ -1297,6 +1741,11 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .q(tag_a$20$q),
         .clock(tag_a$20$clock)
     );
+    obb_core$tag_a$21 tag_a$21(
+        .d(tag_a$21$d),
+        .q(tag_a$21$q),
+        .clock(tag_a$21$clock)
+    );
     obb_core$tag_b$0 tag_b$0(
         .d(tag_b$0$d),
         .q(tag_b$0$q),
@@ -1401,6 +1850,11 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .d(tag_b$20$d),
         .q(tag_b$20$q),
         .clock(tag_b$20$clock)
+    );
+    obb_core$tag_b$21 tag_b$21(
+        .d(tag_b$21$d),
+        .q(tag_b$21$q),
+        .clock(tag_b$21$clock)
     );
     obb_core$k_overlap$0 k_overlap$0(
         .d(k_overlap$0$d),
@@ -1517,6 +1971,16 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .q(k_overlap$22$q),
         .clock(k_overlap$22$clock)
     );
+    obb_core$k_overlap$23 k_overlap$23(
+        .d(k_overlap$23$d),
+        .q(k_overlap$23$q),
+        .clock(k_overlap$23$clock)
+    );
+    obb_core$k_overlap$24 k_overlap$24(
+        .d(k_overlap$24$d),
+        .q(k_overlap$24$q),
+        .clock(k_overlap$24$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -1535,6 +1999,13 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         k_valid$clock = clock;
         k_i$clock = clock;
         k_j$clock = clock;
+        margin_a$clock = clock;
+        margin_b$clock = clock;
+        group_a$clock = clock;
+        group_b$clock = clock;
+        r_valid$clock = clock;
+        r_i$clock = clock;
+        r_j$clock = clock;
         c_valid$clock = clock;
         c_a$clock = clock;
         c_b$clock = clock;
@@ -1545,6 +2016,11 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         g_b$clock = clock;
         g_ma$clock = clock;
         g_mb$clock = clock;
+        h_valid$clock = clock;
+        h_a$clock = clock;
+        h_b$clock = clock;
+        h_ma$clock = clock;
+        h_mb$clock = clock;
         state$d = state$q;
         stall$d = stall$q;
         loaded$d = loaded$q;
@@ -1560,6 +2036,13 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         k_valid$d = k_valid$q;
         k_i$d = k_i$q;
         k_j$d = k_j$q;
+        margin_a$d = margin_a$q;
+        margin_b$d = margin_b$q;
+        group_a$d = group_a$q;
+        group_b$d = group_b$q;
+        r_valid$d = r_valid$q;
+        r_i$d = r_i$q;
+        r_j$d = r_j$q;
         c_valid$d = c_valid$q;
         c_a$d = c_a$q;
         c_b$d = c_b$q;
@@ -1570,6 +2053,11 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         g_b$d = g_b$q;
         g_ma$d = g_ma$q;
         g_mb$d = g_mb$q;
+        h_valid$d = h_valid$q;
+        h_a$d = h_a$q;
+        h_b$d = h_b$q;
+        h_ma$d = h_ma$q;
+        h_mb$d = h_mb$q;
         projection$clock = clock;
         radix$clock = clock;
         sweep_walker$clock = clock;
@@ -1591,14 +2079,56 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         kmin$2$clock = clock;
         kmax$2$clock = clock;
         axes$0$clock = clock;
+        geo_axes_a$0$clock = clock;
+        geo_axes_b$0$clock = clock;
         axes$1$clock = clock;
+        geo_axes_a$1$clock = clock;
+        geo_axes_b$1$clock = clock;
         axes$2$clock = clock;
+        geo_axes_a$2$clock = clock;
+        geo_axes_b$2$clock = clock;
         axes$3$clock = clock;
+        geo_axes_a$3$clock = clock;
+        geo_axes_b$3$clock = clock;
         axes$4$clock = clock;
+        geo_axes_a$4$clock = clock;
+        geo_axes_b$4$clock = clock;
         axes$5$clock = clock;
+        geo_axes_a$5$clock = clock;
+        geo_axes_b$5$clock = clock;
         axes$6$clock = clock;
+        geo_axes_a$6$clock = clock;
+        geo_axes_b$6$clock = clock;
         axes$7$clock = clock;
+        geo_axes_a$7$clock = clock;
+        geo_axes_b$7$clock = clock;
         axes$8$clock = clock;
+        geo_axes_a$8$clock = clock;
+        geo_axes_b$8$clock = clock;
+        key_min_a$0$clock = clock;
+        key_min_b$0$clock = clock;
+        key_max_a$0$clock = clock;
+        key_max_b$0$clock = clock;
+        geo_center_a$0$clock = clock;
+        geo_center_b$0$clock = clock;
+        geo_half_a$0$clock = clock;
+        geo_half_b$0$clock = clock;
+        key_min_a$1$clock = clock;
+        key_min_b$1$clock = clock;
+        key_max_a$1$clock = clock;
+        key_max_b$1$clock = clock;
+        geo_center_a$1$clock = clock;
+        geo_center_b$1$clock = clock;
+        geo_half_a$1$clock = clock;
+        geo_half_b$1$clock = clock;
+        key_min_a$2$clock = clock;
+        key_min_b$2$clock = clock;
+        key_max_a$2$clock = clock;
+        key_max_b$2$clock = clock;
+        geo_center_a$2$clock = clock;
+        geo_center_b$2$clock = clock;
+        geo_half_a$2$clock = clock;
+        geo_half_b$2$clock = clock;
         gdelay$0$clock = clock;
         gdelay$1$clock = clock;
         gdelay$2$clock = clock;
@@ -1630,6 +2160,8 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         k_overlap$20$clock = clock;
         k_overlap$21$clock = clock;
         k_overlap$22$clock = clock;
+        k_overlap$23$clock = clock;
+        k_overlap$24$clock = clock;
         tag_a$0$clock = clock;
         tag_b$0$clock = clock;
         tag_a$1$clock = clock;
@@ -1672,6 +2204,8 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         tag_b$19$clock = clock;
         tag_a$20$clock = clock;
         tag_b$20$clock = clock;
+        tag_a$21$clock = clock;
+        tag_b$21$clock = clock;
         obb_ready = ready$q;
         accept = ready$q & obb_valid & room$q;
         center$0$write_enable = accept;
@@ -1838,10 +2372,32 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         k_valid$d = visit;
         k_i$d = vi;
         k_j$d = vj;
-        overlap = (kmin$0$read_data_a <= kmax$0$read_data_b) & (kmin$0$read_data_b <= kmax$0$read_data_a) & (kmin$1$read_data_a <= kmax$1$read_data_b) & (kmin$1$read_data_b <= kmax$1$read_data_a) & (kmin$2$read_data_a <= kmax$2$read_data_b) & (kmin$2$read_data_b <= kmax$2$read_data_a);
-        gidx = (((group$read_data_a) & 64'hffffffffffffffff) << 64'h3) | ((group$read_data_b) & 64'hffffffffffffffff);
+        key_min_a$0$d = kmin$0$read_data_a;
+        key_min_b$0$d = kmin$0$read_data_b;
+        key_max_a$0$d = kmax$0$read_data_a;
+        key_max_b$0$d = kmax$0$read_data_b;
+        key_min_a$1$d = kmin$1$read_data_a;
+        key_min_b$1$d = kmin$1$read_data_b;
+        key_max_a$1$d = kmax$1$read_data_a;
+        key_max_b$1$d = kmax$1$read_data_b;
+        key_min_a$2$d = kmin$2$read_data_a;
+        key_min_b$2$d = kmin$2$read_data_b;
+        key_max_a$2$d = kmax$2$read_data_a;
+        key_max_b$2$d = kmax$2$read_data_b;
+        margin_a$d = margin$read_data_a;
+        margin_b$d = margin$read_data_b;
+        group_a$d = group$read_data_a;
+        group_b$d = group$read_data_b;
+        r_valid$d = k_valid$q;
+        r_i$d = k_i$q;
+        r_j$d = k_j$q;
+        if (k_valid$q) begin
+            n_visits$d = n_visits$q + 32'h1;
+        end
+        overlap = (key_min_a$0$q <= key_max_b$0$q) & (key_min_b$0$q <= key_max_a$0$q) & (key_min_a$1$q <= key_max_b$1$q) & (key_min_b$1$q <= key_max_a$1$q) & (key_min_a$2$q <= key_max_b$2$q) & (key_min_b$2$q <= key_max_a$2$q);
+        gidx = (((group_a$q) & 64'hffffffffffffffff) << 64'h3) | ((group_b$q) & 64'hffffffffffffffff);
         shifted = mask >> gidx;
-        candidate = k_valid$q & (overlap | sap) & shifted[32'h0];
+        candidate = r_valid$q & (overlap | sap) & shifted[32'h0];
         k_overlap$0$d = overlap;
         k_overlap$1$d = k_overlap$0$q;
         k_overlap$2$d = k_overlap$1$q;
@@ -1865,23 +2421,19 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         k_overlap$20$d = k_overlap$19$q;
         k_overlap$21$d = k_overlap$20$q;
         k_overlap$22$d = k_overlap$21$q;
-        swap = k_j$q < k_i$q;
+        k_overlap$23$d = k_overlap$22$q;
+        k_overlap$24$d = k_overlap$23$q;
+        swap = r_j$q < r_i$q;
         c_valid$d = candidate;
-        c_a$d = k_i$q;
-        c_b$d = k_j$q;
-        c_ma$d = margin$read_data_a;
-        c_mb$d = margin$read_data_b;
+        c_a$d = r_i$q;
+        c_b$d = r_j$q;
+        c_ma$d = margin_a$q;
+        c_mb$d = margin_b$q;
         if (swap) begin
-            c_a$d = k_j$q;
-            c_b$d = k_i$q;
-            c_ma$d = margin$read_data_b;
-            c_mb$d = margin$read_data_a;
-        end
-        if (k_valid$q) begin
-            n_visits$d = n_visits$q + 32'h1;
-        end
-        if (candidate) begin
-            n_tests$d = n_tests$q + 32'h1;
+            c_a$d = r_j$q;
+            c_b$d = r_i$q;
+            c_ma$d = margin_b$q;
+            c_mb$d = margin_a$q;
         end
         center$0$read_address_a = c_a$q;
         center$0$read_address_b = c_b$q;
@@ -1918,41 +2470,79 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         g_b$d = c_b$q;
         g_ma$d = c_ma$q;
         g_mb$d = c_mb$q;
-        sat$valid_in = g_valid$q;
-        sat$center_a$0 = center$0$read_data_a;
-        sat$center_b$0 = center$0$read_data_b;
-        sat$half_a$0 = half$0$read_data_a;
-        sat$half_b$0 = half$0$read_data_b;
-        sat$center_a$1 = center$1$read_data_a;
-        sat$center_b$1 = center$1$read_data_b;
-        sat$half_a$1 = half$1$read_data_a;
-        sat$half_b$1 = half$1$read_data_b;
-        sat$center_a$2 = center$2$read_data_a;
-        sat$center_b$2 = center$2$read_data_b;
-        sat$half_a$2 = half$2$read_data_a;
-        sat$half_b$2 = half$2$read_data_b;
-        sat$axes_a$0 = axes$0$read_data_a;
-        sat$axes_b$0 = axes$0$read_data_b;
-        sat$axes_a$1 = axes$1$read_data_a;
-        sat$axes_b$1 = axes$1$read_data_b;
-        sat$axes_a$2 = axes$2$read_data_a;
-        sat$axes_b$2 = axes$2$read_data_b;
-        sat$axes_a$3 = axes$3$read_data_a;
-        sat$axes_b$3 = axes$3$read_data_b;
-        sat$axes_a$4 = axes$4$read_data_a;
-        sat$axes_b$4 = axes$4$read_data_b;
-        sat$axes_a$5 = axes$5$read_data_a;
-        sat$axes_b$5 = axes$5$read_data_b;
-        sat$axes_a$6 = axes$6$read_data_a;
-        sat$axes_b$6 = axes$6$read_data_b;
-        sat$axes_a$7 = axes$7$read_data_a;
-        sat$axes_b$7 = axes$7$read_data_b;
-        sat$axes_a$8 = axes$8$read_data_a;
-        sat$axes_b$8 = axes$8$read_data_b;
-        sat$margin_a = g_ma$q;
-        sat$margin_b = g_mb$q;
-        tag_a$0$d = g_a$q;
-        tag_b$0$d = g_b$q;
+        if (c_valid$q) begin
+            n_tests$d = n_tests$q + 32'h1;
+        end
+        geo_center_a$0$d = center$0$read_data_a;
+        geo_center_b$0$d = center$0$read_data_b;
+        geo_half_a$0$d = half$0$read_data_a;
+        geo_half_b$0$d = half$0$read_data_b;
+        geo_center_a$1$d = center$1$read_data_a;
+        geo_center_b$1$d = center$1$read_data_b;
+        geo_half_a$1$d = half$1$read_data_a;
+        geo_half_b$1$d = half$1$read_data_b;
+        geo_center_a$2$d = center$2$read_data_a;
+        geo_center_b$2$d = center$2$read_data_b;
+        geo_half_a$2$d = half$2$read_data_a;
+        geo_half_b$2$d = half$2$read_data_b;
+        geo_axes_a$0$d = axes$0$read_data_a;
+        geo_axes_b$0$d = axes$0$read_data_b;
+        geo_axes_a$1$d = axes$1$read_data_a;
+        geo_axes_b$1$d = axes$1$read_data_b;
+        geo_axes_a$2$d = axes$2$read_data_a;
+        geo_axes_b$2$d = axes$2$read_data_b;
+        geo_axes_a$3$d = axes$3$read_data_a;
+        geo_axes_b$3$d = axes$3$read_data_b;
+        geo_axes_a$4$d = axes$4$read_data_a;
+        geo_axes_b$4$d = axes$4$read_data_b;
+        geo_axes_a$5$d = axes$5$read_data_a;
+        geo_axes_b$5$d = axes$5$read_data_b;
+        geo_axes_a$6$d = axes$6$read_data_a;
+        geo_axes_b$6$d = axes$6$read_data_b;
+        geo_axes_a$7$d = axes$7$read_data_a;
+        geo_axes_b$7$d = axes$7$read_data_b;
+        geo_axes_a$8$d = axes$8$read_data_a;
+        geo_axes_b$8$d = axes$8$read_data_b;
+        h_valid$d = g_valid$q;
+        h_a$d = g_a$q;
+        h_b$d = g_b$q;
+        h_ma$d = g_ma$q;
+        h_mb$d = g_mb$q;
+        sat$valid_in = h_valid$q;
+        sat$center_a$0 = geo_center_a$0$q;
+        sat$center_b$0 = geo_center_b$0$q;
+        sat$half_a$0 = geo_half_a$0$q;
+        sat$half_b$0 = geo_half_b$0$q;
+        sat$center_a$1 = geo_center_a$1$q;
+        sat$center_b$1 = geo_center_b$1$q;
+        sat$half_a$1 = geo_half_a$1$q;
+        sat$half_b$1 = geo_half_b$1$q;
+        sat$center_a$2 = geo_center_a$2$q;
+        sat$center_b$2 = geo_center_b$2$q;
+        sat$half_a$2 = geo_half_a$2$q;
+        sat$half_b$2 = geo_half_b$2$q;
+        sat$axes_a$0 = geo_axes_a$0$q;
+        sat$axes_b$0 = geo_axes_b$0$q;
+        sat$axes_a$1 = geo_axes_a$1$q;
+        sat$axes_b$1 = geo_axes_b$1$q;
+        sat$axes_a$2 = geo_axes_a$2$q;
+        sat$axes_b$2 = geo_axes_b$2$q;
+        sat$axes_a$3 = geo_axes_a$3$q;
+        sat$axes_b$3 = geo_axes_b$3$q;
+        sat$axes_a$4 = geo_axes_a$4$q;
+        sat$axes_b$4 = geo_axes_b$4$q;
+        sat$axes_a$5 = geo_axes_a$5$q;
+        sat$axes_b$5 = geo_axes_b$5$q;
+        sat$axes_a$6 = geo_axes_a$6$q;
+        sat$axes_b$6 = geo_axes_b$6$q;
+        sat$axes_a$7 = geo_axes_a$7$q;
+        sat$axes_b$7 = geo_axes_b$7$q;
+        sat$axes_a$8 = geo_axes_a$8$q;
+        sat$axes_b$8 = geo_axes_b$8$q;
+        sat$margin_a = h_ma$q;
+        sat$margin_b = h_mb$q;
+        tag_a$0$d = h_a$q;
+        tag_b$0$d = h_b$q;
         tag_a$1$d = tag_a$0$q;
         tag_b$1$d = tag_b$0$q;
         tag_a$2$d = tag_a$1$q;
@@ -1993,9 +2583,11 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         tag_b$19$d = tag_b$18$q;
         tag_a$20$d = tag_a$19$q;
         tag_b$20$d = tag_b$19$q;
-        hit = sat$valid_out & sat$hit & k_overlap$22$q;
+        tag_a$21$d = tag_a$20$q;
+        tag_b$21$d = tag_b$20$q;
+        hit = sat$valid_out & sat$hit & k_overlap$24$q;
         fifo$write = hit;
-        fifo$data_in = (((tag_a$20$q) & 40'hffffffffff) << 64'h14) | ((tag_b$20$q) & 40'hffffffffff);
+        fifo$data_in = (((tag_a$21$q) & 40'hffffffffff) << 64'h14) | ((tag_b$21$q) & 40'hffffffffff);
         if (hit) begin
             n_pairs$d = n_pairs$q + 32'h1;
         end
@@ -3072,6 +3664,576 @@ module obb_core$gdelay$7(d,q,clock);
 endmodule // obb_core$gdelay$7
 
 
+module obb_core$geo_axes_a$0(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_a$0
+
+
+module obb_core$geo_axes_a$1(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_a$1
+
+
+module obb_core$geo_axes_a$2(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_a$2
+
+
+module obb_core$geo_axes_a$3(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_a$3
+
+
+module obb_core$geo_axes_a$4(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_a$4
+
+
+module obb_core$geo_axes_a$5(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_a$5
+
+
+module obb_core$geo_axes_a$6(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_a$6
+
+
+module obb_core$geo_axes_a$7(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_a$7
+
+
+module obb_core$geo_axes_a$8(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_a$8
+
+
+module obb_core$geo_axes_b$0(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_b$0
+
+
+module obb_core$geo_axes_b$1(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_b$1
+
+
+module obb_core$geo_axes_b$2(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_b$2
+
+
+module obb_core$geo_axes_b$3(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_b$3
+
+
+module obb_core$geo_axes_b$4(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_b$4
+
+
+module obb_core$geo_axes_b$5(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_b$5
+
+
+module obb_core$geo_axes_b$6(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_b$6
+
+
+module obb_core$geo_axes_b$7(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_b$7
+
+
+module obb_core$geo_axes_b$8(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_axes_b$8
+
+
+module obb_core$geo_center_a$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_center_a$0
+
+
+module obb_core$geo_center_a$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_center_a$1
+
+
+module obb_core$geo_center_a$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_center_a$2
+
+
+module obb_core$geo_center_b$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_center_b$0
+
+
+module obb_core$geo_center_b$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_center_b$1
+
+
+module obb_core$geo_center_b$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_center_b$2
+
+
+module obb_core$geo_half_a$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [16:0] d;
+    output reg  [16:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 17'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_half_a$0
+
+
+module obb_core$geo_half_a$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [16:0] d;
+    output reg  [16:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 17'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_half_a$1
+
+
+module obb_core$geo_half_a$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [16:0] d;
+    output reg  [16:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 17'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_half_a$2
+
+
+module obb_core$geo_half_b$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [16:0] d;
+    output reg  [16:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 17'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_half_b$0
+
+
+module obb_core$geo_half_b$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [16:0] d;
+    output reg  [16:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 17'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_half_b$1
+
+
+module obb_core$geo_half_b$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [16:0] d;
+    output reg  [16:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 17'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$geo_half_b$2
+
+
 module obb_core$group(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
     
     // Module arguments
@@ -3097,6 +4259,139 @@ module obb_core$group(clock,write_enable,write_address,write_data,read_address_a
        read_data_b <= mem[read_address_b];
     end
 endmodule // obb_core$group
+
+
+module obb_core$group_a(d,q,clock);
+    
+    // Module arguments
+    input wire  [2:0] d;
+    output reg  [2:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 3'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$group_a
+
+
+module obb_core$group_b(d,q,clock);
+    
+    // Module arguments
+    input wire  [2:0] d;
+    output reg  [2:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 3'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$group_b
+
+
+module obb_core$h_a(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$h_a
+
+
+module obb_core$h_b(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$h_b
+
+
+module obb_core$h_ma(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$h_ma
+
+
+module obb_core$h_mb(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$h_mb
+
+
+module obb_core$h_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$h_valid
 
 
 module obb_core$half$0(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -3522,6 +4817,44 @@ module obb_core$k_overlap$22(d,q,clock);
 endmodule // obb_core$k_overlap$22
 
 
+module obb_core$k_overlap$23(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$23
+
+
+module obb_core$k_overlap$24(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$k_overlap$24
+
+
 module obb_core$k_overlap$3(d,q,clock);
     
     // Module arguments
@@ -3672,6 +5005,234 @@ module obb_core$k_valid(d,q,clock);
     end
           
 endmodule // obb_core$k_valid
+
+
+module obb_core$key_max_a$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$key_max_a$0
+
+
+module obb_core$key_max_a$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$key_max_a$1
+
+
+module obb_core$key_max_a$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$key_max_a$2
+
+
+module obb_core$key_max_b$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$key_max_b$0
+
+
+module obb_core$key_max_b$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$key_max_b$1
+
+
+module obb_core$key_max_b$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$key_max_b$2
+
+
+module obb_core$key_min_a$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$key_min_a$0
+
+
+module obb_core$key_min_a$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$key_min_a$1
+
+
+module obb_core$key_min_a$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$key_min_a$2
+
+
+module obb_core$key_min_b$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$key_min_b$0
+
+
+module obb_core$key_min_b$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$key_min_b$1
+
+
+module obb_core$key_min_b$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$key_min_b$2
 
 
 module obb_core$kmax$0(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -3880,6 +5441,44 @@ module obb_core$margin(clock,write_enable,write_address,write_data,read_address_
        read_data_b <= mem[read_address_b];
     end
 endmodule // obb_core$margin
+
+
+module obb_core$margin_a(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$margin_a
+
+
+module obb_core$margin_b(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$margin_b
 
 
 module obb_core$n_cycles(d,q,clock);
@@ -6429,6 +8028,63 @@ module obb_core$projection$valid$7(d,q,clock);
 endmodule // obb_core$projection$valid$7
 
 
+module obb_core$r_i(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$r_i
+
+
+module obb_core$r_j(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$r_j
+
+
+module obb_core$r_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$r_valid
+
+
 module obb_core$radix(clock,start,in_valid,in_key,in_val,go,done,rd_addr,rd_key,rd_val);
     
     // Module arguments
@@ -8469,6 +10125,9 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     reg  valid$14$d;
     wire  valid$14$q;
     reg  valid$14$clock;
+    reg  valid$15$d;
+    wire  valid$15$q;
+    reg  valid$15$clock;
     reg signed [43:0] round$t$0;
     reg signed [43:0] round$t$1;
     reg signed [43:0] round$t$2;
@@ -9852,6 +11511,11 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         .d(valid$14$d),
         .q(valid$14$q),
         .clock(valid$14$clock)
+    );
+    obb_core$sat$back$valid$15 valid$15(
+        .d(valid$15$d),
+        .q(valid$15$q),
+        .clock(valid$15$clock)
     );
     obb_core$sat$back$round round(
         .t$0(round$t$0),
@@ -11861,6 +13525,7 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         valid$12$clock = clock;
         valid$13$clock = clock;
         valid$14$clock = clock;
+        valid$15$clock = clock;
         ha$0$clock = clock;
         ha$1$clock = clock;
         ha$2$clock = clock;
@@ -12223,6 +13888,7 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         valid$12$d = valid$11$q;
         valid$13$d = valid$12$q;
         valid$14$d = valid$13$q;
+        valid$15$d = valid$14$q;
         pm$0$d = pair_margin;
         pm$1$d = pm$0$q;
         pm$2$d = pm$1$q;
@@ -12799,7 +14465,7 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         decide$abs_p$8 = pa_d$44$q;
         decide$r_a$8 = ra_d$53$q;
         decide$r_b$8 = rb_dot$8$p;
-        valid_out = valid$14$q;
+        valid_out = valid$15$q;
         hit = decide$hit;
     end
     
@@ -14119,71 +15785,93 @@ module obb_core$sat$back$decide(abs_t$0,abs_t$1,abs_t$2,abs_u$0,abs_u$1,abs_u$2,
     // Local signals
     reg  verdict;
     reg  verdict_q;
+    reg  verdict_qq;
     
     // Update code (custom)
-    wire [45:0] ra_face0 = ({{46{1'b0}}, half_a$0} << f) + {{46{1'b0}}, face_a$0} + {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] rb_face0 = ({{46{1'b0}}, half_b$0} << f) + {{46{1'b0}}, face_b$0} + {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] ra_face1 = ({{46{1'b0}}, half_a$1} << f) + {{46{1'b0}}, face_a$1} + {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] rb_face1 = ({{46{1'b0}}, half_b$1} << f) + {{46{1'b0}}, face_b$1} + {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] ra_face2 = ({{46{1'b0}}, half_a$2} << f) + {{46{1'b0}}, face_a$2} + {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] rb_face2 = ({{46{1'b0}}, half_b$2} << f) + {{46{1'b0}}, face_b$2} + {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross0 = {{46{1'b0}}, r_a$0} + {{46{1'b0}}, r_b$0} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross1 = {{46{1'b0}}, r_a$1} + {{46{1'b0}}, r_b$1} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross2 = {{46{1'b0}}, r_a$2} + {{46{1'b0}}, r_b$2} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross3 = {{46{1'b0}}, r_a$3} + {{46{1'b0}}, r_b$3} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross4 = {{46{1'b0}}, r_a$4} + {{46{1'b0}}, r_b$4} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross5 = {{46{1'b0}}, r_a$5} + {{46{1'b0}}, r_b$5} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross6 = {{46{1'b0}}, r_a$6} + {{46{1'b0}}, r_b$6} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross7 = {{46{1'b0}}, r_a$7} + {{46{1'b0}}, r_b$7} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross8 = {{46{1'b0}}, r_a$8} + {{46{1'b0}}, r_b$8} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
+    reg [45:0] part [0:14];
+    reg [45:0] face_m;
+    reg [45:0] cross_m;
+    reg [45:0] lhs1 [0:14];
     reg [45:0] lhs [0:14];
     reg [45:0] rhs [0:14];
     reg [14:0] apart;
     always @(posedge clock) begin
-       lhs[0] <= {{46{1'b0}}, abs_t$0};
-       rhs[0] <= ra_face0;
-       lhs[3] <= {{46{1'b0}}, abs_u$0};
-       rhs[3] <= rb_face0;
-       lhs[1] <= {{46{1'b0}}, abs_t$1};
-       rhs[1] <= ra_face1;
-       lhs[4] <= {{46{1'b0}}, abs_u$1};
-       rhs[4] <= rb_face1;
-       lhs[2] <= {{46{1'b0}}, abs_t$2};
-       rhs[2] <= ra_face2;
-       lhs[5] <= {{46{1'b0}}, abs_u$2};
-       rhs[5] <= rb_face2;
-       lhs[6] <= {{46{1'b0}}, abs_p$0};
-       rhs[6] <= r_cross0;
-       lhs[7] <= {{46{1'b0}}, abs_p$1};
-       rhs[7] <= r_cross1;
-       lhs[8] <= {{46{1'b0}}, abs_p$2};
-       rhs[8] <= r_cross2;
-       lhs[9] <= {{46{1'b0}}, abs_p$3};
-       rhs[9] <= r_cross3;
-       lhs[10] <= {{46{1'b0}}, abs_p$4};
-       rhs[10] <= r_cross4;
-       lhs[11] <= {{46{1'b0}}, abs_p$5};
-       rhs[11] <= r_cross5;
-       lhs[12] <= {{46{1'b0}}, abs_p$6};
-       rhs[12] <= r_cross6;
-       lhs[13] <= {{46{1'b0}}, abs_p$7};
-       rhs[13] <= r_cross7;
-       lhs[14] <= {{46{1'b0}}, abs_p$8};
-       rhs[14] <= r_cross8;
+       part[0] <= ({{46{1'b0}}, half_a$0} << f) + {{46{1'b0}}, face_a$0};
+       lhs1[0] <= {{46{1'b0}}, abs_t$0};
+       part[3] <= ({{46{1'b0}}, half_b$0} << f) + {{46{1'b0}}, face_b$0};
+       lhs1[3] <= {{46{1'b0}}, abs_u$0};
+       part[1] <= ({{46{1'b0}}, half_a$1} << f) + {{46{1'b0}}, face_a$1};
+       lhs1[1] <= {{46{1'b0}}, abs_t$1};
+       part[4] <= ({{46{1'b0}}, half_b$1} << f) + {{46{1'b0}}, face_b$1};
+       lhs1[4] <= {{46{1'b0}}, abs_u$1};
+       part[2] <= ({{46{1'b0}}, half_a$2} << f) + {{46{1'b0}}, face_a$2};
+       lhs1[2] <= {{46{1'b0}}, abs_t$2};
+       part[5] <= ({{46{1'b0}}, half_b$2} << f) + {{46{1'b0}}, face_b$2};
+       lhs1[5] <= {{46{1'b0}}, abs_u$2};
+       part[6] <= {{46{1'b0}}, r_a$0} + {{46{1'b0}}, r_b$0};
+       lhs1[6] <= {{46{1'b0}}, abs_p$0};
+       part[7] <= {{46{1'b0}}, r_a$1} + {{46{1'b0}}, r_b$1};
+       lhs1[7] <= {{46{1'b0}}, abs_p$1};
+       part[8] <= {{46{1'b0}}, r_a$2} + {{46{1'b0}}, r_b$2};
+       lhs1[8] <= {{46{1'b0}}, abs_p$2};
+       part[9] <= {{46{1'b0}}, r_a$3} + {{46{1'b0}}, r_b$3};
+       lhs1[9] <= {{46{1'b0}}, abs_p$3};
+       part[10] <= {{46{1'b0}}, r_a$4} + {{46{1'b0}}, r_b$4};
+       lhs1[10] <= {{46{1'b0}}, abs_p$4};
+       part[11] <= {{46{1'b0}}, r_a$5} + {{46{1'b0}}, r_b$5};
+       lhs1[11] <= {{46{1'b0}}, abs_p$5};
+       part[12] <= {{46{1'b0}}, r_a$6} + {{46{1'b0}}, r_b$6};
+       lhs1[12] <= {{46{1'b0}}, abs_p$6};
+       part[13] <= {{46{1'b0}}, r_a$7} + {{46{1'b0}}, r_b$7};
+       lhs1[13] <= {{46{1'b0}}, abs_p$7};
+       part[14] <= {{46{1'b0}}, r_a$8} + {{46{1'b0}}, r_b$8};
+       lhs1[14] <= {{46{1'b0}}, abs_p$8};
+       face_m <= {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
+       cross_m <= {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
+       lhs[0] <= lhs1[0];
+       rhs[0] <= part[0] + face_m;
        apart[0] <= (lhs[0] >> k) > (rhs[0] >> k);
+       lhs[1] <= lhs1[1];
+       rhs[1] <= part[1] + face_m;
        apart[1] <= (lhs[1] >> k) > (rhs[1] >> k);
+       lhs[2] <= lhs1[2];
+       rhs[2] <= part[2] + face_m;
        apart[2] <= (lhs[2] >> k) > (rhs[2] >> k);
+       lhs[3] <= lhs1[3];
+       rhs[3] <= part[3] + face_m;
        apart[3] <= (lhs[3] >> k) > (rhs[3] >> k);
+       lhs[4] <= lhs1[4];
+       rhs[4] <= part[4] + face_m;
        apart[4] <= (lhs[4] >> k) > (rhs[4] >> k);
+       lhs[5] <= lhs1[5];
+       rhs[5] <= part[5] + face_m;
        apart[5] <= (lhs[5] >> k) > (rhs[5] >> k);
+       lhs[6] <= lhs1[6];
+       rhs[6] <= part[6] + cross_m;
        apart[6] <= (lhs[6] >> k) > (rhs[6] >> k);
+       lhs[7] <= lhs1[7];
+       rhs[7] <= part[7] + cross_m;
        apart[7] <= (lhs[7] >> k) > (rhs[7] >> k);
+       lhs[8] <= lhs1[8];
+       rhs[8] <= part[8] + cross_m;
        apart[8] <= (lhs[8] >> k) > (rhs[8] >> k);
+       lhs[9] <= lhs1[9];
+       rhs[9] <= part[9] + cross_m;
        apart[9] <= (lhs[9] >> k) > (rhs[9] >> k);
+       lhs[10] <= lhs1[10];
+       rhs[10] <= part[10] + cross_m;
        apart[10] <= (lhs[10] >> k) > (rhs[10] >> k);
+       lhs[11] <= lhs1[11];
+       rhs[11] <= part[11] + cross_m;
        apart[11] <= (lhs[11] >> k) > (rhs[11] >> k);
+       lhs[12] <= lhs1[12];
+       rhs[12] <= part[12] + cross_m;
        apart[12] <= (lhs[12] >> k) > (rhs[12] >> k);
+       lhs[13] <= lhs1[13];
+       rhs[13] <= part[13] + cross_m;
        apart[13] <= (lhs[13] >> k) > (rhs[13] >> k);
+       lhs[14] <= lhs1[14];
+       rhs[14] <= part[14] + cross_m;
        apart[14] <= (lhs[14] >> k) > (rhs[14] >> k);
        hit <= !(|apart);
     end
@@ -20404,42 +22092,42 @@ module obb_core$sat$back$round(t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     wire [43:0] mu1 = u$1[43] ? -u$1 : u$1;
     wire [43:0] mt2 = t$2[43] ? -t$2 : t$2;
     wire [43:0] mu2 = u$2[43] ? -u$2 : u$2;
-    wire [37:0] mr0 = r$0[37] ? -r$0 : r$0;
-    wire [38:0] up0 = ({1'b0, mr0} + ones) >> f;
+    wire [37:0] xr0 = r$0[37] ? ~r$0 : r$0;
+    wire [38:0] up0 = ({1'b0, xr0} + ones + r$0[37]) >> f;
     wire signed [38:0] near0 = ($signed({r$0[37], r$0}) + half) >>> f;
-    wire [38:0] anear0 = near0[38] ? -near0 : near0;
-    wire [37:0] mr1 = r$1[37] ? -r$1 : r$1;
-    wire [38:0] up1 = ({1'b0, mr1} + ones) >> f;
+    wire [38:0] anear0 = ({1'b0, xr0} + half_u) >> f;
+    wire [37:0] xr1 = r$1[37] ? ~r$1 : r$1;
+    wire [38:0] up1 = ({1'b0, xr1} + ones + r$1[37]) >> f;
     wire signed [38:0] near1 = ($signed({r$1[37], r$1}) + half) >>> f;
-    wire [38:0] anear1 = near1[38] ? -near1 : near1;
-    wire [37:0] mr2 = r$2[37] ? -r$2 : r$2;
-    wire [38:0] up2 = ({1'b0, mr2} + ones) >> f;
+    wire [38:0] anear1 = ({1'b0, xr1} + half_u) >> f;
+    wire [37:0] xr2 = r$2[37] ? ~r$2 : r$2;
+    wire [38:0] up2 = ({1'b0, xr2} + ones + r$2[37]) >> f;
     wire signed [38:0] near2 = ($signed({r$2[37], r$2}) + half) >>> f;
-    wire [38:0] anear2 = near2[38] ? -near2 : near2;
-    wire [37:0] mr3 = r$3[37] ? -r$3 : r$3;
-    wire [38:0] up3 = ({1'b0, mr3} + ones) >> f;
+    wire [38:0] anear2 = ({1'b0, xr2} + half_u) >> f;
+    wire [37:0] xr3 = r$3[37] ? ~r$3 : r$3;
+    wire [38:0] up3 = ({1'b0, xr3} + ones + r$3[37]) >> f;
     wire signed [38:0] near3 = ($signed({r$3[37], r$3}) + half) >>> f;
-    wire [38:0] anear3 = near3[38] ? -near3 : near3;
-    wire [37:0] mr4 = r$4[37] ? -r$4 : r$4;
-    wire [38:0] up4 = ({1'b0, mr4} + ones) >> f;
+    wire [38:0] anear3 = ({1'b0, xr3} + half_u) >> f;
+    wire [37:0] xr4 = r$4[37] ? ~r$4 : r$4;
+    wire [38:0] up4 = ({1'b0, xr4} + ones + r$4[37]) >> f;
     wire signed [38:0] near4 = ($signed({r$4[37], r$4}) + half) >>> f;
-    wire [38:0] anear4 = near4[38] ? -near4 : near4;
-    wire [37:0] mr5 = r$5[37] ? -r$5 : r$5;
-    wire [38:0] up5 = ({1'b0, mr5} + ones) >> f;
+    wire [38:0] anear4 = ({1'b0, xr4} + half_u) >> f;
+    wire [37:0] xr5 = r$5[37] ? ~r$5 : r$5;
+    wire [38:0] up5 = ({1'b0, xr5} + ones + r$5[37]) >> f;
     wire signed [38:0] near5 = ($signed({r$5[37], r$5}) + half) >>> f;
-    wire [38:0] anear5 = near5[38] ? -near5 : near5;
-    wire [37:0] mr6 = r$6[37] ? -r$6 : r$6;
-    wire [38:0] up6 = ({1'b0, mr6} + ones) >> f;
+    wire [38:0] anear5 = ({1'b0, xr5} + half_u) >> f;
+    wire [37:0] xr6 = r$6[37] ? ~r$6 : r$6;
+    wire [38:0] up6 = ({1'b0, xr6} + ones + r$6[37]) >> f;
     wire signed [38:0] near6 = ($signed({r$6[37], r$6}) + half) >>> f;
-    wire [38:0] anear6 = near6[38] ? -near6 : near6;
-    wire [37:0] mr7 = r$7[37] ? -r$7 : r$7;
-    wire [38:0] up7 = ({1'b0, mr7} + ones) >> f;
+    wire [38:0] anear6 = ({1'b0, xr6} + half_u) >> f;
+    wire [37:0] xr7 = r$7[37] ? ~r$7 : r$7;
+    wire [38:0] up7 = ({1'b0, xr7} + ones + r$7[37]) >> f;
     wire signed [38:0] near7 = ($signed({r$7[37], r$7}) + half) >>> f;
-    wire [38:0] anear7 = near7[38] ? -near7 : near7;
-    wire [37:0] mr8 = r$8[37] ? -r$8 : r$8;
-    wire [38:0] up8 = ({1'b0, mr8} + ones) >> f;
+    wire [38:0] anear7 = ({1'b0, xr7} + half_u) >> f;
+    wire [37:0] xr8 = r$8[37] ? ~r$8 : r$8;
+    wire [38:0] up8 = ({1'b0, xr8} + ones + r$8[37]) >> f;
     wire signed [38:0] near8 = ($signed({r$8[37], r$8}) + half) >>> f;
-    wire [38:0] anear8 = near8[38] ? -near8 : near8;
+    wire [38:0] anear8 = ({1'b0, xr8} + half_u) >> f;
     always @(posedge clock) begin
        abs_t$0 <= mt0;
        abs_u$0 <= mu0;
@@ -20612,6 +22300,25 @@ module obb_core$sat$back$valid$14(d,q,clock);
     end
           
 endmodule // obb_core$sat$back$valid$14
+
+
+module obb_core$sat$back$valid$15(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$valid$15
 
 
 module obb_core$sat$back$valid$2(d,q,clock);
@@ -24535,6 +26242,25 @@ module obb_core$tag_a$20(d,q,clock);
 endmodule // obb_core$tag_a$20
 
 
+module obb_core$tag_a$21(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_a$21
+
+
 module obb_core$tag_a$3(d,q,clock);
     
     // Module arguments
@@ -24932,6 +26658,25 @@ module obb_core$tag_b$20(d,q,clock);
     end
           
 endmodule // obb_core$tag_b$20
+
+
+module obb_core$tag_b$21(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$tag_b$21
 
 
 module obb_core$tag_b$3(d,q,clock);

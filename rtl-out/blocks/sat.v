@@ -764,6 +764,9 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     reg  valid$14$d;
     wire  valid$14$q;
     reg  valid$14$clock;
+    reg  valid$15$d;
+    wire  valid$15$q;
+    reg  valid$15$clock;
     reg signed [43:0] round$t$0;
     reg signed [43:0] round$t$1;
     reg signed [43:0] round$t$2;
@@ -2147,6 +2150,11 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         .d(valid$14$d),
         .q(valid$14$q),
         .clock(valid$14$clock)
+    );
+    sat$back$valid$15 valid$15(
+        .d(valid$15$d),
+        .q(valid$15$q),
+        .clock(valid$15$clock)
     );
     sat$back$round round(
         .t$0(round$t$0),
@@ -4156,6 +4164,7 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         valid$12$clock = clock;
         valid$13$clock = clock;
         valid$14$clock = clock;
+        valid$15$clock = clock;
         ha$0$clock = clock;
         ha$1$clock = clock;
         ha$2$clock = clock;
@@ -4518,6 +4527,7 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         valid$12$d = valid$11$q;
         valid$13$d = valid$12$q;
         valid$14$d = valid$13$q;
+        valid$15$d = valid$14$q;
         pm$0$d = pair_margin;
         pm$1$d = pm$0$q;
         pm$2$d = pm$1$q;
@@ -5094,7 +5104,7 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         decide$abs_p$8 = pa_d$44$q;
         decide$r_a$8 = ra_d$53$q;
         decide$r_b$8 = rb_dot$8$p;
-        valid_out = valid$14$q;
+        valid_out = valid$15$q;
         hit = decide$hit;
     end
     
@@ -6414,71 +6424,93 @@ module sat$back$decide(abs_t$0,abs_t$1,abs_t$2,abs_u$0,abs_u$1,abs_u$2,face_a$0,
     // Local signals
     reg  verdict;
     reg  verdict_q;
+    reg  verdict_qq;
     
     // Update code (custom)
-    wire [45:0] ra_face0 = ({{46{1'b0}}, half_a$0} << f) + {{46{1'b0}}, face_a$0} + {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] rb_face0 = ({{46{1'b0}}, half_b$0} << f) + {{46{1'b0}}, face_b$0} + {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] ra_face1 = ({{46{1'b0}}, half_a$1} << f) + {{46{1'b0}}, face_a$1} + {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] rb_face1 = ({{46{1'b0}}, half_b$1} << f) + {{46{1'b0}}, face_b$1} + {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] ra_face2 = ({{46{1'b0}}, half_a$2} << f) + {{46{1'b0}}, face_a$2} + {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] rb_face2 = ({{46{1'b0}}, half_b$2} << f) + {{46{1'b0}}, face_b$2} + {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross0 = {{46{1'b0}}, r_a$0} + {{46{1'b0}}, r_b$0} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross1 = {{46{1'b0}}, r_a$1} + {{46{1'b0}}, r_b$1} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross2 = {{46{1'b0}}, r_a$2} + {{46{1'b0}}, r_b$2} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross3 = {{46{1'b0}}, r_a$3} + {{46{1'b0}}, r_b$3} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross4 = {{46{1'b0}}, r_a$4} + {{46{1'b0}}, r_b$4} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross5 = {{46{1'b0}}, r_a$5} + {{46{1'b0}}, r_b$5} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross6 = {{46{1'b0}}, r_a$6} + {{46{1'b0}}, r_b$6} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross7 = {{46{1'b0}}, r_a$7} + {{46{1'b0}}, r_b$7} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
-    wire [45:0] r_cross8 = {{46{1'b0}}, r_a$8} + {{46{1'b0}}, r_b$8} + {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
+    reg [45:0] part [0:14];
+    reg [45:0] face_m;
+    reg [45:0] cross_m;
+    reg [45:0] lhs1 [0:14];
     reg [45:0] lhs [0:14];
     reg [45:0] rhs [0:14];
     reg [14:0] apart;
     always @(posedge clock) begin
-       lhs[0] <= {{46{1'b0}}, abs_t$0};
-       rhs[0] <= ra_face0;
-       lhs[3] <= {{46{1'b0}}, abs_u$0};
-       rhs[3] <= rb_face0;
-       lhs[1] <= {{46{1'b0}}, abs_t$1};
-       rhs[1] <= ra_face1;
-       lhs[4] <= {{46{1'b0}}, abs_u$1};
-       rhs[4] <= rb_face1;
-       lhs[2] <= {{46{1'b0}}, abs_t$2};
-       rhs[2] <= ra_face2;
-       lhs[5] <= {{46{1'b0}}, abs_u$2};
-       rhs[5] <= rb_face2;
-       lhs[6] <= {{46{1'b0}}, abs_p$0};
-       rhs[6] <= r_cross0;
-       lhs[7] <= {{46{1'b0}}, abs_p$1};
-       rhs[7] <= r_cross1;
-       lhs[8] <= {{46{1'b0}}, abs_p$2};
-       rhs[8] <= r_cross2;
-       lhs[9] <= {{46{1'b0}}, abs_p$3};
-       rhs[9] <= r_cross3;
-       lhs[10] <= {{46{1'b0}}, abs_p$4};
-       rhs[10] <= r_cross4;
-       lhs[11] <= {{46{1'b0}}, abs_p$5};
-       rhs[11] <= r_cross5;
-       lhs[12] <= {{46{1'b0}}, abs_p$6};
-       rhs[12] <= r_cross6;
-       lhs[13] <= {{46{1'b0}}, abs_p$7};
-       rhs[13] <= r_cross7;
-       lhs[14] <= {{46{1'b0}}, abs_p$8};
-       rhs[14] <= r_cross8;
+       part[0] <= ({{46{1'b0}}, half_a$0} << f) + {{46{1'b0}}, face_a$0};
+       lhs1[0] <= {{46{1'b0}}, abs_t$0};
+       part[3] <= ({{46{1'b0}}, half_b$0} << f) + {{46{1'b0}}, face_b$0};
+       lhs1[3] <= {{46{1'b0}}, abs_u$0};
+       part[1] <= ({{46{1'b0}}, half_a$1} << f) + {{46{1'b0}}, face_a$1};
+       lhs1[1] <= {{46{1'b0}}, abs_t$1};
+       part[4] <= ({{46{1'b0}}, half_b$1} << f) + {{46{1'b0}}, face_b$1};
+       lhs1[4] <= {{46{1'b0}}, abs_u$1};
+       part[2] <= ({{46{1'b0}}, half_a$2} << f) + {{46{1'b0}}, face_a$2};
+       lhs1[2] <= {{46{1'b0}}, abs_t$2};
+       part[5] <= ({{46{1'b0}}, half_b$2} << f) + {{46{1'b0}}, face_b$2};
+       lhs1[5] <= {{46{1'b0}}, abs_u$2};
+       part[6] <= {{46{1'b0}}, r_a$0} + {{46{1'b0}}, r_b$0};
+       lhs1[6] <= {{46{1'b0}}, abs_p$0};
+       part[7] <= {{46{1'b0}}, r_a$1} + {{46{1'b0}}, r_b$1};
+       lhs1[7] <= {{46{1'b0}}, abs_p$1};
+       part[8] <= {{46{1'b0}}, r_a$2} + {{46{1'b0}}, r_b$2};
+       lhs1[8] <= {{46{1'b0}}, abs_p$2};
+       part[9] <= {{46{1'b0}}, r_a$3} + {{46{1'b0}}, r_b$3};
+       lhs1[9] <= {{46{1'b0}}, abs_p$3};
+       part[10] <= {{46{1'b0}}, r_a$4} + {{46{1'b0}}, r_b$4};
+       lhs1[10] <= {{46{1'b0}}, abs_p$4};
+       part[11] <= {{46{1'b0}}, r_a$5} + {{46{1'b0}}, r_b$5};
+       lhs1[11] <= {{46{1'b0}}, abs_p$5};
+       part[12] <= {{46{1'b0}}, r_a$6} + {{46{1'b0}}, r_b$6};
+       lhs1[12] <= {{46{1'b0}}, abs_p$6};
+       part[13] <= {{46{1'b0}}, r_a$7} + {{46{1'b0}}, r_b$7};
+       lhs1[13] <= {{46{1'b0}}, abs_p$7};
+       part[14] <= {{46{1'b0}}, r_a$8} + {{46{1'b0}}, r_b$8};
+       lhs1[14] <= {{46{1'b0}}, abs_p$8};
+       face_m <= {{46{1'b0}}, face_margin} + {{46{1'b0}}, pair_margin};
+       cross_m <= {{46{1'b0}}, cross_margin} + {{46{1'b0}}, pair_margin};
+       lhs[0] <= lhs1[0];
+       rhs[0] <= part[0] + face_m;
        apart[0] <= (lhs[0] >> k) > (rhs[0] >> k);
+       lhs[1] <= lhs1[1];
+       rhs[1] <= part[1] + face_m;
        apart[1] <= (lhs[1] >> k) > (rhs[1] >> k);
+       lhs[2] <= lhs1[2];
+       rhs[2] <= part[2] + face_m;
        apart[2] <= (lhs[2] >> k) > (rhs[2] >> k);
+       lhs[3] <= lhs1[3];
+       rhs[3] <= part[3] + face_m;
        apart[3] <= (lhs[3] >> k) > (rhs[3] >> k);
+       lhs[4] <= lhs1[4];
+       rhs[4] <= part[4] + face_m;
        apart[4] <= (lhs[4] >> k) > (rhs[4] >> k);
+       lhs[5] <= lhs1[5];
+       rhs[5] <= part[5] + face_m;
        apart[5] <= (lhs[5] >> k) > (rhs[5] >> k);
+       lhs[6] <= lhs1[6];
+       rhs[6] <= part[6] + cross_m;
        apart[6] <= (lhs[6] >> k) > (rhs[6] >> k);
+       lhs[7] <= lhs1[7];
+       rhs[7] <= part[7] + cross_m;
        apart[7] <= (lhs[7] >> k) > (rhs[7] >> k);
+       lhs[8] <= lhs1[8];
+       rhs[8] <= part[8] + cross_m;
        apart[8] <= (lhs[8] >> k) > (rhs[8] >> k);
+       lhs[9] <= lhs1[9];
+       rhs[9] <= part[9] + cross_m;
        apart[9] <= (lhs[9] >> k) > (rhs[9] >> k);
+       lhs[10] <= lhs1[10];
+       rhs[10] <= part[10] + cross_m;
        apart[10] <= (lhs[10] >> k) > (rhs[10] >> k);
+       lhs[11] <= lhs1[11];
+       rhs[11] <= part[11] + cross_m;
        apart[11] <= (lhs[11] >> k) > (rhs[11] >> k);
+       lhs[12] <= lhs1[12];
+       rhs[12] <= part[12] + cross_m;
        apart[12] <= (lhs[12] >> k) > (rhs[12] >> k);
+       lhs[13] <= lhs1[13];
+       rhs[13] <= part[13] + cross_m;
        apart[13] <= (lhs[13] >> k) > (rhs[13] >> k);
+       lhs[14] <= lhs1[14];
+       rhs[14] <= part[14] + cross_m;
        apart[14] <= (lhs[14] >> k) > (rhs[14] >> k);
        hit <= !(|apart);
     end
@@ -12699,42 +12731,42 @@ module sat$back$round(t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r$6,r$7,r$
     wire [43:0] mu1 = u$1[43] ? -u$1 : u$1;
     wire [43:0] mt2 = t$2[43] ? -t$2 : t$2;
     wire [43:0] mu2 = u$2[43] ? -u$2 : u$2;
-    wire [37:0] mr0 = r$0[37] ? -r$0 : r$0;
-    wire [38:0] up0 = ({1'b0, mr0} + ones) >> f;
+    wire [37:0] xr0 = r$0[37] ? ~r$0 : r$0;
+    wire [38:0] up0 = ({1'b0, xr0} + ones + r$0[37]) >> f;
     wire signed [38:0] near0 = ($signed({r$0[37], r$0}) + half) >>> f;
-    wire [38:0] anear0 = near0[38] ? -near0 : near0;
-    wire [37:0] mr1 = r$1[37] ? -r$1 : r$1;
-    wire [38:0] up1 = ({1'b0, mr1} + ones) >> f;
+    wire [38:0] anear0 = ({1'b0, xr0} + half_u) >> f;
+    wire [37:0] xr1 = r$1[37] ? ~r$1 : r$1;
+    wire [38:0] up1 = ({1'b0, xr1} + ones + r$1[37]) >> f;
     wire signed [38:0] near1 = ($signed({r$1[37], r$1}) + half) >>> f;
-    wire [38:0] anear1 = near1[38] ? -near1 : near1;
-    wire [37:0] mr2 = r$2[37] ? -r$2 : r$2;
-    wire [38:0] up2 = ({1'b0, mr2} + ones) >> f;
+    wire [38:0] anear1 = ({1'b0, xr1} + half_u) >> f;
+    wire [37:0] xr2 = r$2[37] ? ~r$2 : r$2;
+    wire [38:0] up2 = ({1'b0, xr2} + ones + r$2[37]) >> f;
     wire signed [38:0] near2 = ($signed({r$2[37], r$2}) + half) >>> f;
-    wire [38:0] anear2 = near2[38] ? -near2 : near2;
-    wire [37:0] mr3 = r$3[37] ? -r$3 : r$3;
-    wire [38:0] up3 = ({1'b0, mr3} + ones) >> f;
+    wire [38:0] anear2 = ({1'b0, xr2} + half_u) >> f;
+    wire [37:0] xr3 = r$3[37] ? ~r$3 : r$3;
+    wire [38:0] up3 = ({1'b0, xr3} + ones + r$3[37]) >> f;
     wire signed [38:0] near3 = ($signed({r$3[37], r$3}) + half) >>> f;
-    wire [38:0] anear3 = near3[38] ? -near3 : near3;
-    wire [37:0] mr4 = r$4[37] ? -r$4 : r$4;
-    wire [38:0] up4 = ({1'b0, mr4} + ones) >> f;
+    wire [38:0] anear3 = ({1'b0, xr3} + half_u) >> f;
+    wire [37:0] xr4 = r$4[37] ? ~r$4 : r$4;
+    wire [38:0] up4 = ({1'b0, xr4} + ones + r$4[37]) >> f;
     wire signed [38:0] near4 = ($signed({r$4[37], r$4}) + half) >>> f;
-    wire [38:0] anear4 = near4[38] ? -near4 : near4;
-    wire [37:0] mr5 = r$5[37] ? -r$5 : r$5;
-    wire [38:0] up5 = ({1'b0, mr5} + ones) >> f;
+    wire [38:0] anear4 = ({1'b0, xr4} + half_u) >> f;
+    wire [37:0] xr5 = r$5[37] ? ~r$5 : r$5;
+    wire [38:0] up5 = ({1'b0, xr5} + ones + r$5[37]) >> f;
     wire signed [38:0] near5 = ($signed({r$5[37], r$5}) + half) >>> f;
-    wire [38:0] anear5 = near5[38] ? -near5 : near5;
-    wire [37:0] mr6 = r$6[37] ? -r$6 : r$6;
-    wire [38:0] up6 = ({1'b0, mr6} + ones) >> f;
+    wire [38:0] anear5 = ({1'b0, xr5} + half_u) >> f;
+    wire [37:0] xr6 = r$6[37] ? ~r$6 : r$6;
+    wire [38:0] up6 = ({1'b0, xr6} + ones + r$6[37]) >> f;
     wire signed [38:0] near6 = ($signed({r$6[37], r$6}) + half) >>> f;
-    wire [38:0] anear6 = near6[38] ? -near6 : near6;
-    wire [37:0] mr7 = r$7[37] ? -r$7 : r$7;
-    wire [38:0] up7 = ({1'b0, mr7} + ones) >> f;
+    wire [38:0] anear6 = ({1'b0, xr6} + half_u) >> f;
+    wire [37:0] xr7 = r$7[37] ? ~r$7 : r$7;
+    wire [38:0] up7 = ({1'b0, xr7} + ones + r$7[37]) >> f;
     wire signed [38:0] near7 = ($signed({r$7[37], r$7}) + half) >>> f;
-    wire [38:0] anear7 = near7[38] ? -near7 : near7;
-    wire [37:0] mr8 = r$8[37] ? -r$8 : r$8;
-    wire [38:0] up8 = ({1'b0, mr8} + ones) >> f;
+    wire [38:0] anear7 = ({1'b0, xr7} + half_u) >> f;
+    wire [37:0] xr8 = r$8[37] ? ~r$8 : r$8;
+    wire [38:0] up8 = ({1'b0, xr8} + ones + r$8[37]) >> f;
     wire signed [38:0] near8 = ($signed({r$8[37], r$8}) + half) >>> f;
-    wire [38:0] anear8 = near8[38] ? -near8 : near8;
+    wire [38:0] anear8 = ({1'b0, xr8} + half_u) >> f;
     always @(posedge clock) begin
        abs_t$0 <= mt0;
        abs_u$0 <= mu0;
@@ -12907,6 +12939,25 @@ module sat$back$valid$14(d,q,clock);
     end
           
 endmodule // sat$back$valid$14
+
+
+module sat$back$valid$15(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$valid$15
 
 
 module sat$back$valid$2(d,q,clock);

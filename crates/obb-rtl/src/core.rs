@@ -10,9 +10,14 @@
 //! | clock | stage |
 //! | --- | --- |
 //! | V | the walker's visit (i, j); the key table is read for i (port A) and j (port B) |
-//! | V+1 | keys overlap on x, y, z and the mask allows the groups: a candidate (a < b) |
-//! | V+2 | the geometry table is read for a (port A) and b (port B) |
-//! | V+3 .. V+24 | the SAT pipeline; a hit enters the output FIFO |
+//! | V+1 | the keys, margins and groups registered |
+//! | V+2 | keys overlap on x, y, z and the mask allows the groups: a candidate (a < b) |
+//! | V+3 | the geometry table is read for a (port A) and b (port B) |
+//! | V+4 | the geometry registered |
+//! | V+5 .. V+27 | the SAT pipeline; a hit enters the output FIFO |
+//!
+//! Every block RAM output goes straight into a register (the RAMB36E1's output register,
+//! DO_REG, is not inferred by yosys): 2.45 ns from the clock, no logic after it.
 
 use crate::generate::{address_bits, sort_key_bits};
 use crate::pair_fifo::{self, PairFifo};
@@ -44,7 +49,7 @@ pub const FIFO_DEPTH: u64 = pair_fifo::DEPTH;
 pub const FIFO_STALL: u64 = 32;
 const _: () = assert!(sat::LATENCY == LAT_SAT);
 // `tag_*` and `k_overlap` below are one register per clock of the SAT (literal indices).
-const _: () = assert!(sat::LATENCY == 21);
+const _: () = assert!(sat::LATENCY == 22 && LAT_BROAD == 5);
 const _: () = assert!(FIFO_STALL + 1 + sweep::RUN_ON + LAT_BROAD + sat::LATENCY <= FIFO_DEPTH);
 /// Clocks after the walker's last visit until its SAT verdict is in the FIFO.
 const DRAIN: u64 = LAT_BROAD + sat::LATENCY - 1;
@@ -137,11 +142,23 @@ pub struct ObbCore<const A: usize, const C: usize> {
     n_visits: DFF<Bits<COUNT>>,
     n_tests: DFF<Bits<COUNT>>,
     n_pairs: DFF<Bits<COUNT>>,
-    // Pipeline registers: the visit (K), the candidate (C), its geometry read (G), the pair's
-    // indices alongside the SAT (tag_*).
+    // Pipeline registers: the visit (K) and its keys read (key_*, margin_*, group_*), the
+    // keys registered (R), the candidate (C), its geometry read (G) and registered (H,
+    // geo_*), the pair's indices alongside the SAT (tag_*).
     k_valid: DFF<Bit>,
     k_i: DFF<Bits<A>>,
     k_j: DFF<Bits<A>>,
+    key_min_a: [DFF<Bits<CENTER>>; 3],
+    key_min_b: [DFF<Bits<CENTER>>; 3],
+    key_max_a: [DFF<Bits<CENTER>>; 3],
+    key_max_b: [DFF<Bits<CENTER>>; 3],
+    margin_a: DFF<Bits<MARGIN>>,
+    margin_b: DFF<Bits<MARGIN>>,
+    group_a: DFF<Bits<GROUP>>,
+    group_b: DFF<Bits<GROUP>>,
+    r_valid: DFF<Bit>,
+    r_i: DFF<Bits<A>>,
+    r_j: DFF<Bits<A>>,
     c_valid: DFF<Bit>,
     c_a: DFF<Bits<A>>,
     c_b: DFF<Bits<A>>,
@@ -152,10 +169,21 @@ pub struct ObbCore<const A: usize, const C: usize> {
     g_b: DFF<Bits<A>>,
     g_ma: DFF<Bits<MARGIN>>,
     g_mb: DFF<Bits<MARGIN>>,
-    tag_a: [DFF<Bits<A>>; 21],
-    tag_b: [DFF<Bits<A>>; 21],
+    h_valid: DFF<Bit>,
+    h_a: DFF<Bits<A>>,
+    h_b: DFF<Bits<A>>,
+    h_ma: DFF<Bits<MARGIN>>,
+    h_mb: DFF<Bits<MARGIN>>,
+    geo_center_a: [DFF<Bits<CENTER>>; 3],
+    geo_center_b: [DFF<Bits<CENTER>>; 3],
+    geo_half_a: [DFF<Bits<HALF>>; 3],
+    geo_half_b: [DFF<Bits<HALF>>; 3],
+    geo_axes_a: [DFF<Signed<ROT>>; 9],
+    geo_axes_b: [DFF<Signed<ROT>>; 9],
+    tag_a: [DFF<Bits<A>>; 22],
+    tag_b: [DFF<Bits<A>>; 22],
     /// The candidate's keys overlap on all three axes (always, but with improved-sap).
-    k_overlap: [DFF<Bit>; 23],
+    k_overlap: [DFF<Bit>; 25],
     // Combinational.
     /// The broad phase: the walk starts; the visit (i, j) and the key table's addresses; the
     /// walk is over. From the sweep walker or the other one, as configured.
@@ -254,6 +282,17 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             k_valid: Default::default(),
             k_i: Default::default(),
             k_j: Default::default(),
+            key_min_a: Default::default(),
+            key_min_b: Default::default(),
+            key_max_a: Default::default(),
+            key_max_b: Default::default(),
+            margin_a: Default::default(),
+            margin_b: Default::default(),
+            group_a: Default::default(),
+            group_b: Default::default(),
+            r_valid: Default::default(),
+            r_i: Default::default(),
+            r_j: Default::default(),
             c_valid: Default::default(),
             c_a: Default::default(),
             c_b: Default::default(),
@@ -264,6 +303,17 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             g_b: Default::default(),
             g_ma: Default::default(),
             g_mb: Default::default(),
+            h_valid: Default::default(),
+            h_a: Default::default(),
+            h_b: Default::default(),
+            h_ma: Default::default(),
+            h_mb: Default::default(),
+            geo_center_a: Default::default(),
+            geo_center_b: Default::default(),
+            geo_half_a: Default::default(),
+            geo_half_b: Default::default(),
+            geo_axes_a: Default::default(),
+            geo_axes_b: Default::default(),
             tag_a: Default::default(),
             tag_b: Default::default(),
             k_overlap: Default::default(),
@@ -290,8 +340,9 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
     fn update(&mut self) {
         dff_setup!(
             self, clock, state, stall, loaded, ready, room, projected, over, countdown, n_cycles,
-            n_visits, n_tests, n_pairs, k_valid, k_i, k_j, c_valid, c_a, c_b, c_ma, c_mb, g_valid,
-            g_a, g_b, g_ma, g_mb
+            n_visits, n_tests, n_pairs, k_valid, k_i, k_j, margin_a, margin_b, group_a, group_b,
+            r_valid, r_i, r_j, c_valid, c_a, c_b, c_ma, c_mb, g_valid, g_a, g_b, g_ma, g_mb,
+            h_valid, h_a, h_b, h_ma, h_mb
         );
         clock!(
             self,
@@ -313,14 +364,26 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         }
         for k in 0..9 {
             self.axes[k].clock.next = self.clock.val();
+            self.geo_axes_a[k].clock.next = self.clock.val();
+            self.geo_axes_b[k].clock.next = self.clock.val();
+        }
+        for x in 0..3 {
+            self.key_min_a[x].clock.next = self.clock.val();
+            self.key_min_b[x].clock.next = self.clock.val();
+            self.key_max_a[x].clock.next = self.clock.val();
+            self.key_max_b[x].clock.next = self.clock.val();
+            self.geo_center_a[x].clock.next = self.clock.val();
+            self.geo_center_b[x].clock.next = self.clock.val();
+            self.geo_half_a[x].clock.next = self.clock.val();
+            self.geo_half_b[x].clock.next = self.clock.val();
         }
         for s in 0..8 {
             self.gdelay[s].clock.next = self.clock.val();
         }
-        for s in 0..23 {
+        for s in 0..25 {
             self.k_overlap[s].clock.next = self.clock.val();
         }
-        for s in 0..21 {
+        for s in 0..22 {
             self.tag_a[s].clock.next = self.clock.val();
             self.tag_b[s].clock.next = self.clock.val();
         }
@@ -430,47 +493,59 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.group.read_address_a.next = self.a_addr.val();
         self.group.read_address_b.next = self.b_addr.val();
 
-        // V+1: the keys of i and j overlap on all three axes, and the mask allows the groups.
+        // V+1: the keys, margins and groups of i and j arrive and are registered.
         self.k_valid.d.next = self.visit.val();
         self.k_i.d.next = self.vi.val();
         self.k_j.d.next = self.vj.val();
-        self.overlap.next = (self.kmin[0].read_data_a.val() <= self.kmax[0].read_data_b.val())
-            & (self.kmin[0].read_data_b.val() <= self.kmax[0].read_data_a.val())
-            & (self.kmin[1].read_data_a.val() <= self.kmax[1].read_data_b.val())
-            & (self.kmin[1].read_data_b.val() <= self.kmax[1].read_data_a.val())
-            & (self.kmin[2].read_data_a.val() <= self.kmax[2].read_data_b.val())
-            & (self.kmin[2].read_data_b.val() <= self.kmax[2].read_data_a.val());
-        self.gidx.next = (bit_cast::<MASK, GROUP>(self.group.read_data_a.val()) << 3_u64)
-            | bit_cast::<MASK, GROUP>(self.group.read_data_b.val());
-        self.shifted.next = self.mask.val() >> self.gidx.val();
-        self.candidate.next = self.k_valid.q.val()
-            & (self.overlap.val() | self.sap.val())
-            & self.shifted.val().get_bit(0);
-        self.k_overlap[0].d.next = self.overlap.val();
-        for s in 1..23 {
-            self.k_overlap[s].d.next = self.k_overlap[s - 1].q.val();
+        for x in 0..3 {
+            self.key_min_a[x].d.next = self.kmin[x].read_data_a.val();
+            self.key_min_b[x].d.next = self.kmin[x].read_data_b.val();
+            self.key_max_a[x].d.next = self.kmax[x].read_data_a.val();
+            self.key_max_b[x].d.next = self.kmax[x].read_data_b.val();
         }
-        // The lower index is box A of the SAT.
-        self.swap.next = self.k_j.q.val() < self.k_i.q.val();
-        self.c_valid.d.next = self.candidate.val();
-        self.c_a.d.next = self.k_i.q.val();
-        self.c_b.d.next = self.k_j.q.val();
-        self.c_ma.d.next = self.margin.read_data_a.val();
-        self.c_mb.d.next = self.margin.read_data_b.val();
-        if self.swap.val() {
-            self.c_a.d.next = self.k_j.q.val();
-            self.c_b.d.next = self.k_i.q.val();
-            self.c_ma.d.next = self.margin.read_data_b.val();
-            self.c_mb.d.next = self.margin.read_data_a.val();
-        }
+        self.margin_a.d.next = self.margin.read_data_a.val();
+        self.margin_b.d.next = self.margin.read_data_b.val();
+        self.group_a.d.next = self.group.read_data_a.val();
+        self.group_b.d.next = self.group.read_data_b.val();
+        self.r_valid.d.next = self.k_valid.q.val();
+        self.r_i.d.next = self.k_i.q.val();
+        self.r_j.d.next = self.k_j.q.val();
         if self.k_valid.q.val() {
             self.n_visits.d.next = self.n_visits.q.val() + 1;
         }
-        if self.candidate.val() {
-            self.n_tests.d.next = self.n_tests.q.val() + 1;
+
+        // V+2: the keys of i and j overlap on all three axes, and the mask allows the groups.
+        self.overlap.next = (self.key_min_a[0].q.val() <= self.key_max_b[0].q.val())
+            & (self.key_min_b[0].q.val() <= self.key_max_a[0].q.val())
+            & (self.key_min_a[1].q.val() <= self.key_max_b[1].q.val())
+            & (self.key_min_b[1].q.val() <= self.key_max_a[1].q.val())
+            & (self.key_min_a[2].q.val() <= self.key_max_b[2].q.val())
+            & (self.key_min_b[2].q.val() <= self.key_max_a[2].q.val());
+        self.gidx.next = (bit_cast::<MASK, GROUP>(self.group_a.q.val()) << 3_u64)
+            | bit_cast::<MASK, GROUP>(self.group_b.q.val());
+        self.shifted.next = self.mask.val() >> self.gidx.val();
+        self.candidate.next = self.r_valid.q.val()
+            & (self.overlap.val() | self.sap.val())
+            & self.shifted.val().get_bit(0);
+        self.k_overlap[0].d.next = self.overlap.val();
+        for s in 1..25 {
+            self.k_overlap[s].d.next = self.k_overlap[s - 1].q.val();
+        }
+        // The lower index is box A of the SAT.
+        self.swap.next = self.r_j.q.val() < self.r_i.q.val();
+        self.c_valid.d.next = self.candidate.val();
+        self.c_a.d.next = self.r_i.q.val();
+        self.c_b.d.next = self.r_j.q.val();
+        self.c_ma.d.next = self.margin_a.q.val();
+        self.c_mb.d.next = self.margin_b.q.val();
+        if self.swap.val() {
+            self.c_a.d.next = self.r_j.q.val();
+            self.c_b.d.next = self.r_i.q.val();
+            self.c_ma.d.next = self.margin_b.q.val();
+            self.c_mb.d.next = self.margin_a.q.val();
         }
 
-        // V+2: the geometry of a and b is read.
+        // V+3: the geometry of a and b is read.
         for x in 0..3 {
             self.center[x].read_address_a.next = self.c_a.q.val();
             self.center[x].read_address_b.next = self.c_b.q.val();
@@ -486,33 +561,53 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.g_b.d.next = self.c_b.q.val();
         self.g_ma.d.next = self.c_ma.q.val();
         self.g_mb.d.next = self.c_mb.q.val();
+        if self.c_valid.q.val() {
+            self.n_tests.d.next = self.n_tests.q.val() + 1;
+        }
 
-        // V+3: the SAT; the indices ride alongside.
-        self.sat.valid_in.next = self.g_valid.q.val();
+        // V+4: the geometry arrives and is registered.
         for x in 0..3 {
-            self.sat.center_a[x].next = self.center[x].read_data_a.val();
-            self.sat.center_b[x].next = self.center[x].read_data_b.val();
-            self.sat.half_a[x].next = self.half[x].read_data_a.val();
-            self.sat.half_b[x].next = self.half[x].read_data_b.val();
+            self.geo_center_a[x].d.next = self.center[x].read_data_a.val();
+            self.geo_center_b[x].d.next = self.center[x].read_data_b.val();
+            self.geo_half_a[x].d.next = self.half[x].read_data_a.val();
+            self.geo_half_b[x].d.next = self.half[x].read_data_b.val();
         }
         for k in 0..9 {
-            self.sat.axes_a[k].next = self.axes[k].read_data_a.val();
-            self.sat.axes_b[k].next = self.axes[k].read_data_b.val();
+            self.geo_axes_a[k].d.next = self.axes[k].read_data_a.val();
+            self.geo_axes_b[k].d.next = self.axes[k].read_data_b.val();
         }
-        self.sat.margin_a.next = self.g_ma.q.val();
-        self.sat.margin_b.next = self.g_mb.q.val();
-        self.tag_a[0].d.next = self.g_a.q.val();
-        self.tag_b[0].d.next = self.g_b.q.val();
-        for s in 1..21 {
+        self.h_valid.d.next = self.g_valid.q.val();
+        self.h_a.d.next = self.g_a.q.val();
+        self.h_b.d.next = self.g_b.q.val();
+        self.h_ma.d.next = self.g_ma.q.val();
+        self.h_mb.d.next = self.g_mb.q.val();
+
+        // V+5: the SAT; the indices ride alongside.
+        self.sat.valid_in.next = self.h_valid.q.val();
+        for x in 0..3 {
+            self.sat.center_a[x].next = self.geo_center_a[x].q.val();
+            self.sat.center_b[x].next = self.geo_center_b[x].q.val();
+            self.sat.half_a[x].next = self.geo_half_a[x].q.val();
+            self.sat.half_b[x].next = self.geo_half_b[x].q.val();
+        }
+        for k in 0..9 {
+            self.sat.axes_a[k].next = self.geo_axes_a[k].q.val();
+            self.sat.axes_b[k].next = self.geo_axes_b[k].q.val();
+        }
+        self.sat.margin_a.next = self.h_ma.q.val();
+        self.sat.margin_b.next = self.h_mb.q.val();
+        self.tag_a[0].d.next = self.h_a.q.val();
+        self.tag_b[0].d.next = self.h_b.q.val();
+        for s in 1..22 {
             self.tag_a[s].d.next = self.tag_a[s - 1].q.val();
             self.tag_b[s].d.next = self.tag_b[s - 1].q.val();
         }
 
-        // V+24: a hit enters the FIFO; the stream takes pairs from it.
-        self.hit.next = self.sat.valid_out.val() & self.sat.hit.val() & self.k_overlap[22].q.val();
+        // V+27: a hit enters the FIFO; the stream takes pairs from it.
+        self.hit.next = self.sat.valid_out.val() & self.sat.hit.val() & self.k_overlap[24].q.val();
         self.fifo.write.next = self.hit.val();
-        self.fifo.data_in.next = (bit_cast::<PAIR, A>(self.tag_a[20].q.val()) << 20_u64)
-            | bit_cast::<PAIR, A>(self.tag_b[20].q.val());
+        self.fifo.data_in.next = (bit_cast::<PAIR, A>(self.tag_a[21].q.val()) << 20_u64)
+            | bit_cast::<PAIR, A>(self.tag_b[21].q.val());
         if self.hit.val() {
             self.n_pairs.d.next = self.n_pairs.q.val() + 1;
         }

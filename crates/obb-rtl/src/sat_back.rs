@@ -33,13 +33,14 @@ const MINOR: usize = 21;
 /// `r_B` (21 x 18 bits, two terms).
 const RB: usize = MINOR + HALF_S + 1;
 /// Clocks from a pair's products on the inputs to its verdict.
-pub const LATENCY: u64 = 2 * DOT_LATENCY + 5;
+pub const LATENCY: u64 = 2 * DOT_LATENCY + 6;
 // The delay lines below are one register per clock, and rust-hdl needs literal indices: they
 // are laid out for this latency.
 const _: () = assert!(DOT_LATENCY == 5);
 
 /// The radius sums and the 15 comparisons as one leaf (its arithmetic mixes signed products
-/// with unsigned sums, which rust-hdl's Verilog gets wrong): three clocks, the sums, the 15
+/// with unsigned sums, which rust-hdl's Verilog gets wrong): four clocks, the sums in two
+/// clocks of two-operand adds (a four-operand sum in one clock took 5.1 ns), the 15
 /// comparisons (registered: with their OR in the same clock they took 5 LUT levels), their OR.
 /// Its Rust model calls `obb_model::fixed::sat::sat_decide`.
 #[derive(Clone, Debug, Default, LogicBlock)]
@@ -61,10 +62,11 @@ pub struct SatDecide {
     /// No axis separates the pair.
     pub hit: Signal<Out, Bit>,
     pub clock: Signal<In, Clock>,
-    /// The verdict two clocks and one clock before it shows on `hit` (the sums' and the
+    /// The verdict three, two and one clocks before it shows on `hit` (the sums' and the
     /// comparisons' stages in the Verilog).
     verdict: Signal<Local, Bit>,
     verdict_q: Signal<Local, Bit>,
+    verdict_qq: Signal<Local, Bit>,
 }
 
 /// Width of the radius sums and of the compared values.
@@ -73,7 +75,8 @@ const SUM: usize = 46;
 impl Logic for SatDecide {
     fn update(&mut self) {
         if self.clock.pos_edge() {
-            let shown = self.verdict_q.val();
+            let shown = self.verdict_qq.val();
+            self.verdict_qq.next = self.verdict_q.val();
             self.verdict_q.next = self.verdict.val();
             let f = uval(self.f.val()) as u32;
             let k = uval(self.k.val()) as u32;
@@ -116,86 +119,69 @@ impl Logic for SatDecide {
     fn connect(&mut self) {
         self.verdict.connect();
         self.verdict_q.connect();
+        self.verdict_qq.connect();
         self.hit.connect();
     }
     fn hdl(&self) -> Verilog {
         let mut v = String::new();
         let s1 = SUM - 1;
-        let w = |v: &mut String, name: String, expr: String| {
-            let _ = writeln!(v, "wire [{s1}:0] {name} = {expr};");
-        };
         // Every operand is non-negative: zero-extend and add unsigned.
         let z = |name: &str| format!("{{{{{SUM}{{1'b0}}}}, {name}}}");
-        for i in 0..3 {
-            w(
-                &mut v,
-                format!("ra_face{i}"),
-                format!(
-                    "({} << f) + {} + {} + {}",
-                    z(&format!("half_a${i}")),
-                    z(&format!("face_a${i}")),
-                    z("face_margin"),
-                    z("pair_margin")
-                ),
-            );
-            w(
-                &mut v,
-                format!("rb_face{i}"),
-                format!(
-                    "({} << f) + {} + {} + {}",
-                    z(&format!("half_b${i}")),
-                    z(&format!("face_b${i}")),
-                    z("face_margin"),
-                    z("pair_margin")
-                ),
-            );
-        }
-        for c in 0..9 {
-            w(
-                &mut v,
-                format!("r_cross{c}"),
-                format!(
-                    "{} + {} + {} + {}",
-                    z(&format!("r_a${c}")),
-                    z(&format!("r_b${c}")),
-                    z("cross_margin"),
-                    z("pair_margin")
-                ),
-            );
-        }
         let _ = writeln!(
             v,
-            "reg [{s1}:0] lhs [0:14];\nreg [{s1}:0] rhs [0:14];\nreg [14:0] apart;"
+            "reg [{s1}:0] part [0:14];\nreg [{s1}:0] face_m;\nreg [{s1}:0] cross_m;\n\
+             reg [{s1}:0] lhs1 [0:14];\nreg [{s1}:0] lhs [0:14];\nreg [{s1}:0] rhs [0:14];\n\
+             reg [14:0] apart;"
         );
         v.push_str("always @(posedge clock) begin\n");
+        // Clock 1: the sums' two halves, each of two operands (one carry chain).
         for i in 0..3 {
             let _ = writeln!(
                 v,
-                "   lhs[{i}] <= {};\n   rhs[{i}] <= ra_face{i};",
+                "   part[{i}] <= ({} << f) + {};\n   lhs1[{i}] <= {};",
+                z(&format!("half_a${i}")),
+                z(&format!("face_a${i}")),
                 z(&format!("abs_t${i}"))
             );
             let _ = writeln!(
                 v,
-                "   lhs[{}] <= {};\n   rhs[{}] <= rb_face{i};",
+                "   part[{}] <= ({} << f) + {};\n   lhs1[{}] <= {};",
                 3 + i,
-                z(&format!("abs_u${i}")),
-                3 + i
+                z(&format!("half_b${i}")),
+                z(&format!("face_b${i}")),
+                3 + i,
+                z(&format!("abs_u${i}"))
             );
         }
         for c in 0..9 {
             let _ = writeln!(
                 v,
-                "   lhs[{}] <= {};\n   rhs[{}] <= r_cross{c};",
+                "   part[{}] <= {} + {};\n   lhs1[{}] <= {};",
                 6 + c,
-                z(&format!("abs_p${c}")),
-                6 + c
+                z(&format!("r_a${c}")),
+                z(&format!("r_b${c}")),
+                6 + c,
+                z(&format!("abs_p${c}"))
             );
         }
+        let _ = writeln!(
+            v,
+            "   face_m <= {} + {};\n   cross_m <= {} + {};",
+            z("face_margin"),
+            z("pair_margin"),
+            z("cross_margin"),
+            z("pair_margin")
+        );
+        // Clock 2: the radius sums; clock 3: the comparisons; clock 4: their OR.
         for x in 0..15 {
-            let _ = writeln!(v, "   apart[{x}] <= (lhs[{x}] >> k) > (rhs[{x}] >> k);");
+            let m = if x < 6 { "face_m" } else { "cross_m" };
+            let _ = writeln!(
+                v,
+                "   lhs[{x}] <= lhs1[{x}];\n   rhs[{x}] <= part[{x}] + {m};\n   \
+                 apart[{x}] <= (lhs[{x}] >> k) > (rhs[{x}] >> k);"
+            );
         }
-        v.push_str("   hit <= !(|apart);\n");
-        v.push_str("end\n");
+        v.push_str("   hit <= !(|apart);\nend\n");
         Verilog::Custom(v)
     }
 }
@@ -218,7 +204,7 @@ pub struct SatBack {
     shift: Constant<Bits<8>>,
     face_margin: Constant<Bits<24>>,
     cross_margin: Constant<Bits<24>>,
-    valid: [DFF<Bit>; 15],
+    valid: [DFF<Bit>; 16],
     round: SatRound,
     /// Half-lengths delayed: `ha[3 s + x]` after clock s + 1 (s = 0..11).
     ha: [DFF<Signed<HALF_S>>; 36],
@@ -294,7 +280,7 @@ impl SatBack {
 impl Logic for SatBack {
     #[hdl_gen]
     fn update(&mut self) {
-        for i in 0..15 {
+        for i in 0..16 {
             self.valid[i].clock.next = self.clock.val();
         }
         for i in 0..36 {
@@ -352,7 +338,7 @@ impl Logic for SatBack {
         self.decide.clock.next = self.clock.val();
         // Valid, half-lengths and the pair margin ride along.
         self.valid[0].d.next = self.valid_in.val();
-        for i in 1..15 {
+        for i in 1..16 {
             self.valid[i].d.next = self.valid[i - 1].q.val();
         }
         self.pm[0].d.next = self.pair_margin.val();
@@ -618,7 +604,7 @@ impl Logic for SatBack {
             self.decide.r_a[c].next = self.ra_d[45 + c].q.val();
             self.decide.r_b[c].next = self.rb_dot[c].p.val();
         }
-        self.valid_out.next = self.valid[14].q.val();
+        self.valid_out.next = self.valid[15].q.val();
         self.hit.next = self.decide.hit.val();
     }
 }

@@ -89,11 +89,15 @@ impl Logic for SatRound {
             let _ = writeln!(v, "wire [{tu1}:0] mt{i} = t${i}[{tu1}] ? -t${i} : t${i};");
             let _ = writeln!(v, "wire [{tu1}:0] mu{i} = u${i}[{tu1}] ? -u${i} : u${i};");
         }
+        // The magnitudes take one carry chain each, not a negation and then an add: with
+        // x = (R < 0 ? ~R : R) = |R| - (R < 0), `ceil(|R|/2^f) = (x + 2^f - 1 + (R < 0)) >> f`
+        // and `|round(R/2^f)| = (x + 2^(f-1)) >> f` (for R < 0, -floor((R + 2^(f-1)) / 2^f)
+        // = floor((|R| + 2^(f-1) - 1) / 2^f)).
         for k in 0..9 {
-            let _ = writeln!(v, "wire [{rr1}:0] mr{k} = r${k}[{rr1}] ? -r${k} : r${k};");
+            let _ = writeln!(v, "wire [{rr1}:0] xr{k} = r${k}[{rr1}] ? ~r${k} : r${k};");
             let _ = writeln!(
                 v,
-                "wire [{rr}:0] up{k} = ({{1'b0, mr{k}}} + ones) >> f;",
+                "wire [{rr}:0] up{k} = ({{1'b0, xr{k}}} + ones + r${k}[{rr1}]) >> f;",
                 rr = RR
             );
             let _ = writeln!(
@@ -103,7 +107,7 @@ impl Logic for SatRound {
             );
             let _ = writeln!(
                 v,
-                "wire [{rr}:0] anear{k} = near{k}[{rr}] ? -near{k} : near{k};",
+                "wire [{rr}:0] anear{k} = ({{1'b0, xr{k}}} + half_u) >> f;",
                 rr = RR
             );
         }

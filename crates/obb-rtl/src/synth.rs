@@ -501,12 +501,21 @@ fn capture(c: &Cell, pin: &str, d: &DelayModel) -> Option<f64> {
         Kind::LutRam => Some(d.setup),
         Kind::Bram => Some(d.bram_setup),
         Kind::Dsp => {
-            let (ab, m, _, _) = dsp_regs(&c.params);
-            Some(if pin.starts_with("PCIN") {
-                d.dsp_setup_pcin
-            } else if ab {
+            let (_, m, _, _) = dsp_regs(&c.params);
+            // A pin's own input register (A with AREG, B with BREG, ...) captures it; without
+            // one, the multiplier's (A, B, D) or the post-adder's (C) inputs do.
+            let own = match pin.chars().next() {
+                _ if pin.starts_with("PCIN") => return Some(d.dsp_setup_pcin),
+                Some('A') if !pin.starts_with("ACIN") && !pin.starts_with("ALU") => "AREG",
+                Some('B') if !pin.starts_with("BCIN") => "BREG",
+                Some('C') if !pin.starts_with("CARRY") && !pin.starts_with("CE") => "CREG",
+                Some('D') => "DREG",
+                _ => "",
+            };
+            let registered = !own.is_empty() && param(&c.params, own).unwrap_or(0) > 0;
+            Some(if registered {
                 d.dsp_setup
-            } else if m {
+            } else if m && own != "CREG" {
                 d.dsp_setup_m
             } else {
                 d.dsp_setup_p
@@ -719,5 +728,37 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
         worst,
         deepest,
         delays: d.clone(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dsp(params: serde_json::Value) -> Cell {
+        Cell {
+            name: "dsp".into(),
+            kind: Kind::Dsp,
+            inputs: Vec::new(),
+            outputs: Vec::new(),
+            ty: "DSP48E1".into(),
+            params,
+        }
+    }
+
+    /// Each DSP48E1 input pin is captured by its own input register when that one is on: a
+    /// multiplier fed on A through AREG, with a constant on B (no BREG), has A registered.
+    #[test]
+    fn dsp_pins_are_captured_by_their_own_registers() {
+        let d = &DELAYS;
+        let c = dsp(serde_json::json!({"AREG": "10", "BREG": "0", "MREG": "1", "PREG": "1"}));
+        assert_eq!(capture(&c, "A[3]", d), Some(d.dsp_setup));
+        assert_eq!(capture(&c, "B[0]", d), Some(d.dsp_setup_m));
+        assert_eq!(capture(&c, "C[0]", d), Some(d.dsp_setup_p));
+        assert_eq!(capture(&c, "PCIN[5]", d), Some(d.dsp_setup_pcin));
+        assert_eq!(capture(&c, "CLK", d), None);
+        let c = dsp(serde_json::json!({"AREG": "0", "CREG": "1", "MREG": "0", "PREG": "1"}));
+        assert_eq!(capture(&c, "A[0]", d), Some(d.dsp_setup_p));
+        assert_eq!(capture(&c, "C[0]", d), Some(d.dsp_setup));
     }
 }

@@ -75,7 +75,9 @@ fn unpack(ports: &[Port], word: &str) -> Result<Vec<u64>> {
     Ok(out)
 }
 
-/// The test bench: clock low, apply word k, rising edge, write the outputs, falling edge.
+/// The test bench: clock low, apply word k, rising edge, write the outputs, falling edge. Its
+/// own names start with `tb_` or end with `_file`, apart from any port's (a port `f` once met
+/// the bench's file handle `f`).
 fn testbench(top: &str, clock: &str, inputs: &[Port], outputs: &[Port], n: usize) -> String {
     let iw: usize = inputs.iter().map(|p| p.bits).sum();
     let mut v = String::new();
@@ -110,20 +112,20 @@ fn testbench(top: &str, clock: &str, inputs: &[Port], outputs: &[Port], n: usize
     let packed: Vec<&str> = outputs.iter().rev().map(|p| p.name.as_str()).collect();
     let _ = writeln!(
         v,
-        "integer f, k;
+        "integer tb_fd, tb_k;
 reg [1023:0] stim_file, out_file;
 initial begin
   if (!$value$plusargs(\"stim=%s\", stim_file)) $fatal(1, \"no +stim\");
   if (!$value$plusargs(\"out=%s\", out_file)) $fatal(1, \"no +out\");
   $readmemh(stim_file, stim);
-  f = $fopen(out_file, \"w\");
-  for (k = 0; k < {n}; k = k + 1) begin
-    cur = stim[k];
+  tb_fd = $fopen(out_file, \"w\");
+  for (tb_k = 0; tb_k < {n}; tb_k = tb_k + 1) begin
+    cur = stim[tb_k];
     #1 {clock} = 1;
-    #1 $fwrite(f, \"%h\\n\", {{{}}});
+    #1 $fwrite(tb_fd, \"%h\\n\", {{{}}});
     #1 {clock} = 0;
   end
-  $fclose(f);
+  $fclose(tb_fd);
   $finish;
 end
 endmodule",

@@ -22,13 +22,14 @@ pub fn sort_cycles(n: u64, passes: u32, digit_bits: u32) -> u64 {
     u64::from(passes) * ((1u64 << digit_bits) + n + LAT_SORT_PASS) + LAT_SORT_START
 }
 /// Clocks from a visit of the broad phase to its candidate on the SAT's inputs: the key table
-/// read, the key and group check, the geometry read (`obb_rtl::core`).
-pub const LAT_BROAD: u64 = 3;
+/// read and its registered output, the key and group check, the geometry read and its
+/// registered output (`obb_rtl::core`: no logic follows a block RAM's output in its clock).
+pub const LAT_BROAD: u64 = 5;
 /// Pipeline depth of the SAT stage (products, minors, radius sums, compares, OR of 15 axes):
 /// the center difference, two rounds of dot products of 5 clocks each (cascaded DSP48E1s with
-/// every pipeline register), the rounding, `|minor|`, and the three-clock decision (sums, the
-/// 15 comparisons, their OR).
-pub const LAT_SAT: u64 = 21;
+/// every pipeline register), the rounding, `|minor|`, and the four-clock decision (two of
+/// two-operand sums, the 15 comparisons, their OR).
+pub const LAT_SAT: u64 = 22;
 /// The clock after the last projection output, when its keys are in the key table.
 pub const LAT_KEY_WRITE: u64 = 1;
 
