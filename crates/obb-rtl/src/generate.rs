@@ -186,6 +186,18 @@ pub fn core(cfg: &HwConfig) -> Result<String> {
 }
 
 /// The files for configuration `cfg`: (path below the output directory, contents). The top,
+/// One block of the core as its own top module: `projection`, `sat` or `radix_sort`.
+pub fn block(cfg: &HwConfig, module: &str) -> Result<String> {
+    check_supported(cfg)?;
+    let body = match module {
+        "projection" => emit::verilog(&mut Projection::new(cfg), "projection")?,
+        "sat" => emit::verilog(&mut Sat::new(cfg), "sat")?,
+        "radix_sort" => by_address_bits!(address_bits(cfg), radix_verilog(cfg))?,
+        _ => bail!("no block `{module}`: projection, sat or radix_sort"),
+    };
+    Ok(header(cfg) + &body)
+}
+
 /// `obb_core.v`, holds the whole core; `blocks/` holds each block as its own top module (for
 /// per-block synthesis estimates); the manifest comes last.
 pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
@@ -205,25 +217,19 @@ pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
     };
     // The core works on frames: its clocks per frame are `cycles::frame_cycles`.
     add("obb_core", "obb_core.v".into(), core(cfg)?, 0);
-    add(
-        "projection",
-        "blocks/projection.v".into(),
-        header(cfg) + &emit::verilog(&mut Projection::new(cfg), "projection")?,
-        projection::LATENCY,
-    );
-    add(
-        "sat",
-        "blocks/sat.v".into(),
-        header(cfg) + &emit::verilog(&mut Sat::new(cfg), "sat")?,
-        sat::LATENCY,
-    );
-    // Not a pipeline: the sort's clocks are `cycles::sort_cycles` after `go`.
-    add(
-        "radix_sort",
-        "blocks/radix_sort.v".into(),
-        header(cfg) + &by_address_bits!(a, radix_verilog(cfg))?,
-        0,
-    );
+    // The radix sort is not a pipeline: its clocks are `cycles::sort_cycles` after `go`.
+    for (module, latency) in [
+        ("projection", projection::LATENCY),
+        ("sat", sat::LATENCY),
+        ("radix_sort", 0),
+    ] {
+        add(
+            module,
+            format!("blocks/{module}.v"),
+            block(cfg, module)?,
+            latency,
+        );
+    }
     let sorter = RadixSorter::<u32>::new(cfg.radix_digit_bits);
     let core = CoreInfo {
         lat_project: cycles::LAT_PROJECT,

@@ -526,9 +526,13 @@ fn capture(c: &Cell, pin: &str, d: &DelayModel) -> Option<f64> {
 }
 
 /// A cell's register family: its name up to the bit index or yosys' suffix (`radix.idx$q[8]`
-/// and `radix.idx$q[0]` are both `radix.idx`; `core.hist[3]$q` is `core.hist`).
+/// and `radix.idx$q[0]` are both `radix.idx`; `core.hist[3]$q` is `core.hist`), and a memory's
+/// slices one family (`fifo.ram.mem.0.9` is `fifo.ram.mem`).
 fn family(name: &str) -> String {
-    let end = name.find(['$', '[']).unwrap_or(name.len());
+    let mut end = name.find(['$', '[']).unwrap_or(name.len());
+    if let Some(m) = name[..end].find(".mem.") {
+        end = m + ".mem".len();
+    }
     name[..end].trim_start_matches('\\').to_string()
 }
 
@@ -744,6 +748,14 @@ mod tests {
             ty: "DSP48E1".into(),
             params,
         }
+    }
+
+    #[test]
+    fn families_drop_bit_indices_and_memory_slices() {
+        assert_eq!(family("radix.idx$q[8]"), "radix.idx");
+        assert_eq!(family("\\core.hist[3]$q"), "core.hist");
+        assert_eq!(family("fifo.ram.mem.0.9"), "fifo.ram.mem");
+        assert_eq!(family("radix.ram$1.mem.0.10"), "radix.ram");
     }
 
     /// Each DSP48E1 input pin is captured by its own input register when that one is on: a

@@ -30,6 +30,20 @@ fn vectors(strategy: impl Strategy<Value = Vec<u64>>, n: usize) -> Vec<Vec<u64>>
         .collect()
 }
 
+/// 400 clocks of memory traffic, [write enable, write address, write data, read addresses..]
+/// on `address_bits`-bit addresses: small, so that reads meet writes often.
+fn memory_traffic(address_bits: usize, data_bits: usize, reads: usize) -> Vec<Vec<u64>> {
+    let address = 0..(1u64 << address_bits);
+    let traffic = (
+        prop_oneof![Just(0u64), Just(1u64)],
+        address.clone(),
+        0..(1u64 << data_bits),
+        proptest::collection::vec(address, reads),
+    )
+        .prop_map(|(we, wa, wd, ra)| [vec![we, wa, wd], ra].concat());
+    vectors(traffic, 400)
+}
+
 #[test]
 fn unsigned_multiplier_matches_its_verilog() {
     const A: usize = 19;
@@ -115,16 +129,7 @@ fn abs_twice_plus_one_matches_its_verilog() {
 fn table_ram_matches_its_verilog() {
     const A: usize = 4;
     const D: usize = 9;
-    let address = 0..(1u64 << A);
-    let traffic = (
-        prop_oneof![Just(0u64), Just(1u64)],
-        address.clone(),
-        0..(1u64 << D),
-        address.clone(),
-        address,
-    )
-        .prop_map(|(we, wa, wd, ra, rb)| vec![we, wa, wd, ra, rb]);
-    let v = vectors(traffic, 400);
+    let v = memory_traffic(A, D, 2);
     let mut uut: TableRam<Bits<D>, A> = Default::default();
     uut.connect_all();
     let mut mem = [0u64; 1 << A];
@@ -167,15 +172,7 @@ fn table_ram_matches_its_verilog() {
 fn dist_ram_matches_its_verilog() {
     const A: usize = 4;
     const D: usize = 9;
-    let address = 0..(1u64 << A);
-    let traffic = (
-        prop_oneof![Just(0u64), Just(1u64)],
-        address.clone(),
-        0..(1u64 << D),
-        address,
-    )
-        .prop_map(|(we, wa, wd, ra)| vec![we, wa, wd, ra]);
-    let v = vectors(traffic, 400);
+    let v = memory_traffic(A, D, 1);
     let mut uut: DistRam<Bits<D>, A> = Default::default();
     uut.connect_all();
     let mut mem = [0u64; 1 << A];

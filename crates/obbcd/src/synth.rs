@@ -64,15 +64,11 @@ pub fn run(a: SynthArgs) -> Result<()> {
     let cfg = load_config(a.config.as_deref())?;
     let (top, file, verilog) = match a.block {
         None => ("obb_core", "obb_core.v".to_string(), generate::core(&cfg)?),
-        Some(b) => {
-            let file = format!("blocks/{}.v", b.module());
-            let text = generate::files(&cfg)?
-                .into_iter()
-                .find(|(f, _)| *f == file)
-                .map(|(_, t)| t)
-                .with_context(|| format!("gen-rtl wrote no {file}"))?;
-            (b.module(), file, text)
-        }
+        Some(b) => (
+            b.module(),
+            format!("blocks/{}.v", b.module()),
+            generate::block(&cfg, b.module())?,
+        ),
     };
     let cache = a.cache.clone().unwrap_or_else(cache::default_dir);
     let bar = ProgressBar::new_spinner()
