@@ -24,10 +24,10 @@
 //!   once: entry 0's box becomes the first outer box like any other.
 //! - Between walks the reader rests at its starting point, so `start` only sets `running`.
 //!
-//! Clocks, from `start` to `finished` (n >= 2): 4 until the virtual position restarts the
+//! Clocks (n >= 2), from the one after `start`: 4 until the virtual position restarts the
 //! reader, then per outer position p < n-1 four (the read of p+1, the RAM's output, the entry
-//! register, the restart) plus its visits, and one for `finished`: `4n + visits`, the model's
-//! `broad::walk_cycles`. Fewer than two boxes finish at once.
+//! register, the restart) plus its visits: `4n + visits` up to the last restart, the model's
+//! `broad::walk_cycles`; `finished` rises the clock after. Fewer than two boxes finish at once.
 //!
 //! `stall` stops the reads; the entries already read still arrive and may be visits: at most
 //! [`RUN_ON`] visits after `stall` rises.

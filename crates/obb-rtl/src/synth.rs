@@ -155,7 +155,7 @@ pub struct DeepPath {
     pub to: String,
 }
 
-/// The period the issue aims at (ns): the report lists the paths slower than it.
+/// The period the core aims at (ns): the report lists the paths slower than it.
 pub const AIM_NS: f64 = 4.0;
 
 /// Path endpoints between two register families (a register's name without its bit index,
@@ -501,11 +501,13 @@ fn capture(c: &Cell, pin: &str, d: &DelayModel) -> Option<f64> {
         Kind::LutRam => Some(d.setup),
         Kind::Bram => Some(d.bram_setup),
         Kind::Dsp => {
+            if pin.starts_with("PCIN") {
+                return Some(d.dsp_setup_pcin);
+            }
             let (_, m, _, _) = dsp_regs(&c.params);
             // A pin's own input register (A with AREG, B with BREG, ...) captures it; without
             // one, the multiplier's (A, B, D) or the post-adder's (C) inputs do.
             let own = match pin.chars().next() {
-                _ if pin.starts_with("PCIN") => return Some(d.dsp_setup_pcin),
                 Some('A') if !pin.starts_with("ACIN") && !pin.starts_with("ALU") => "AREG",
                 Some('B') if !pin.starts_with("BCIN") => "BREG",
                 Some('C') if !pin.starts_with("CARRY") && !pin.starts_with("CE") => "CREG",

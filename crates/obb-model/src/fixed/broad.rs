@@ -33,8 +33,6 @@ pub struct BroadWork {
     pub sort_cycles: u64,
     /// Index pairs the broad phase visits (one per clock per lane).
     pub visited: u64,
-    /// Sweep: walks that ended on a box beyond the outer box's max key (not at the end).
-    pub breaks: u64,
     /// Clocks of the walk (`walk_cycles`).
     pub walk: u64,
     /// Pairs sent to the SAT stage.
@@ -90,7 +88,6 @@ pub fn run(
                 for &j in &order[p + 1..] {
                     let j = j as usize;
                     if frame.keys[j].0[0] > frame.keys[i].1[0] {
-                        w.breaks += 1;
                         break;
                     }
                     w.visited += 1;
