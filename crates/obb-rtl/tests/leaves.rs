@@ -30,6 +30,30 @@ fn vectors(strategy: impl Strategy<Value = Vec<u64>>, n: usize) -> Vec<Vec<u64>>
         .collect()
 }
 
+/// `block`'s Verilog, top module `name`, linted and run in Verilator on `vectors` (one per
+/// clock): the outputs after each rising edge.
+fn in_verilator<B: Block>(
+    block: &mut B,
+    name: &str,
+    inputs: &[Port],
+    outputs: &[Port],
+    vectors: &[Vec<u64>],
+) -> Vec<Vec<u64>> {
+    let verilog = obb_rtl::emit::verilog(block, name).unwrap();
+    let dir = verilator::scratch_dir(name).unwrap();
+    verilator::lint(&dir, &verilog, name).unwrap();
+    verilator::simulate(&dir, &verilog, name, "clock", inputs, outputs, vectors).unwrap()
+}
+
+/// A memory's write port, the first three fields of `memory_traffic`'s vectors.
+fn write_ports(address_bits: usize, data_bits: usize) -> Vec<Port> {
+    vec![
+        Port::new("write_enable", 1),
+        Port::new("write_address", address_bits),
+        Port::new("write_data", data_bits),
+    ]
+}
+
 /// 400 clocks of memory traffic, [write enable, write address, write data, read addresses..]
 /// on `address_bits`-bit addresses: small, so that reads meet writes often.
 fn memory_traffic(address_bits: usize, data_bits: usize, reads: usize) -> Vec<Vec<u64>> {
@@ -66,20 +90,13 @@ fn unsigned_multiplier_matches_its_verilog() {
     for k in 0..v.len() - lat {
         assert_eq!(model[k + lat - 1], v[k][0] * v[k][1], "clock {k}");
     }
-    let verilog = obb_rtl::emit::verilog(&mut UMul::<A, B, { A + B }>::default(), "umul").unwrap();
-    let dir = verilator::scratch_dir("umul").unwrap();
-    verilator::lint(&dir, &verilog, "umul").unwrap();
-    let inputs = [Port::new("a", A), Port::new("b", B)];
-    let out = verilator::simulate(
-        &dir,
-        &verilog,
+    let out = in_verilator(
+        &mut UMul::<A, B, { A + B }>::default(),
         "umul",
-        "clock",
-        &inputs,
+        &[Port::new("a", A), Port::new("b", B)],
         &[Port::new("p", A + B)],
         &v,
-    )
-    .unwrap();
+    );
     // From the first product on, the Verilog equals the model clock for clock.
     for k in lat - 1..v.len() {
         assert_eq!(out[k][0], model[k], "clock {k}");
@@ -104,19 +121,13 @@ fn abs_twice_plus_one_matches_its_verilog() {
         assert_eq!(uval(uut.t.val()), 2 * r.unsigned_abs() + 1, "r = {r}");
         model.push(uval(uut.t.val()));
     }
-    let verilog = obb_rtl::emit::verilog(&mut AbsTwice::<N, M>::default(), "abs2").unwrap();
-    let dir = verilator::scratch_dir("abs2").unwrap();
-    verilator::lint(&dir, &verilog, "abs2").unwrap();
-    let out = verilator::simulate(
-        &dir,
-        &verilog,
+    let out = in_verilator(
+        &mut AbsTwice::<N, M>::default(),
         "abs2",
-        "clock",
         &[Port::new("r", N)],
         &[Port::new("t", M)],
         &v,
-    )
-    .unwrap();
+    );
     for (k, o) in out.iter().enumerate() {
         assert_eq!(o[0], model[k], "clock {k}");
     }
@@ -149,20 +160,17 @@ fn table_ram_matches_its_verilog() {
         }
         model.push(got.to_vec());
     }
-    let verilog =
-        obb_rtl::emit::verilog(&mut TableRam::<Bits<D>, A>::default(), "table_ram").unwrap();
-    let dir = verilator::scratch_dir("table_ram").unwrap();
-    verilator::lint(&dir, &verilog, "table_ram").unwrap();
-    let inputs = [
-        Port::new("write_enable", 1),
-        Port::new("write_address", A),
-        Port::new("write_data", D),
-        Port::new("read_address_a", A),
-        Port::new("read_address_b", A),
-    ];
+    let mut inputs = write_ports(A, D);
+    inputs.push(Port::new("read_address_a", A));
+    inputs.push(Port::new("read_address_b", A));
     let outputs = [Port::new("read_data_a", D), Port::new("read_data_b", D)];
-    let out =
-        verilator::simulate(&dir, &verilog, "table_ram", "clock", &inputs, &outputs, &v).unwrap();
+    let out = in_verilator(
+        &mut TableRam::<Bits<D>, A>::default(),
+        "table_ram",
+        &inputs,
+        &outputs,
+        &v,
+    );
     assert_eq!(out, model);
 }
 
@@ -190,19 +198,15 @@ fn dist_ram_matches_its_verilog() {
         assert_eq!(got, mem[x[3] as usize], "model, {x:?}");
         model.push(vec![got]);
     }
-    let verilog =
-        obb_rtl::emit::verilog(&mut DistRam::<Bits<D>, A>::default(), "dist_ram").unwrap();
-    let dir = verilator::scratch_dir("dist_ram").unwrap();
-    verilator::lint(&dir, &verilog, "dist_ram").unwrap();
-    let inputs = [
-        Port::new("write_enable", 1),
-        Port::new("write_address", A),
-        Port::new("write_data", D),
-        Port::new("read_address", A),
-    ];
-    let outputs = [Port::new("read_data", D)];
-    let out =
-        verilator::simulate(&dir, &verilog, "dist_ram", "clock", &inputs, &outputs, &v).unwrap();
+    let mut inputs = write_ports(A, D);
+    inputs.push(Port::new("read_address", A));
+    let out = in_verilator(
+        &mut DistRam::<Bits<D>, A>::default(),
+        "dist_ram",
+        &inputs,
+        &[Port::new("read_data", D)],
+        &v,
+    );
     assert_eq!(out, model);
 }
 
@@ -314,10 +318,6 @@ fn pair_fifo_matches_its_specification_and_its_verilog() {
         let have = uut.valid.val().then(|| uval(uut.data_out.val()));
         assert_eq!(have, want, "clock {k}");
     }
-    let verilog =
-        obb_rtl::emit::verilog(&mut PairFifo::<W>::new(stall_at as u64), "pair_fifo").unwrap();
-    let dir = verilator::scratch_dir("pair_fifo").unwrap();
-    verilator::lint(&dir, &verilog, "pair_fifo").unwrap();
     let inputs = [
         Port::new("write", 1),
         Port::new("data_in", W),
@@ -329,8 +329,13 @@ fn pair_fifo_matches_its_specification_and_its_verilog() {
         Port::new("empty", 1),
         Port::new("almost_full", 1),
     ];
-    let out =
-        verilator::simulate(&dir, &verilog, "pair_fifo", "clock", &inputs, &outputs, &v).unwrap();
+    let out = in_verilator(
+        &mut PairFifo::<W>::new(stall_at as u64),
+        "pair_fifo",
+        &inputs,
+        &outputs,
+        &v,
+    );
     assert_eq!(out, got, "Verilator against rust-hdl");
 }
 
@@ -409,9 +414,6 @@ fn sat_round_matches_its_verilog() {
         }
         model.push(out);
     }
-    let verilog = obb_rtl::emit::verilog(&mut SatRound::default(), "sat_round").unwrap();
-    let dir = verilator::scratch_dir("sat_round").unwrap();
-    verilator::lint(&dir, &verilog, "sat_round").unwrap();
     let mut inputs = Vec::new();
     for i in 0..3 {
         inputs.push(Port::new(format!("t${i}"), TU));
@@ -434,8 +436,7 @@ fn sat_round_matches_its_verilog() {
         outputs.push(Port::new(format!("rt${k}"), RT));
         outputs.push(Port::new(format!("art${k}"), RT));
     }
-    let out =
-        verilator::simulate(&dir, &verilog, "sat_round", "clock", &inputs, &outputs, &v).unwrap();
+    let out = in_verilator(&mut SatRound::default(), "sat_round", &inputs, &outputs, &v);
     assert_eq!(out, model);
 }
 
@@ -554,9 +555,6 @@ fn bin_table_matches_a_radix_pass_and_its_verilog() {
             .iter()
             .map(|x| vec![bin_table_clock(&mut u, x)])
             .collect();
-        let verilog = obb_rtl::emit::verilog(&mut BinTable::<BT_C>::new(d), "bin_table").unwrap();
-        let dir = verilator::scratch_dir(&format!("bin_table_{d}")).unwrap();
-        verilator::lint(&dir, &verilog, "bin_table").unwrap();
         let inputs = [
             Port::new("clear", 1),
             Port::new("count_valid", 1),
@@ -565,16 +563,13 @@ fn bin_table_matches_a_radix_pass_and_its_verilog() {
             Port::new("take_valid", 1),
             Port::new("take_bin", 8),
         ];
-        let out = verilator::simulate(
-            &dir,
-            &verilog,
+        let out = in_verilator(
+            &mut BinTable::<BT_C>::new(d),
             "bin_table",
-            "clock",
             &inputs,
             &[Port::new("take_ptr", BT_C)],
             &clocks,
-        )
-        .unwrap();
+        );
         assert_eq!(out, model, "{d}-bit digits");
     }
 }
