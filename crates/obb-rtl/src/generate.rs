@@ -113,15 +113,10 @@ pub fn check_supported(cfg: &HwConfig) -> Result<()> {
             }
         }
         BroadPhase::Grid => bail!(
-            "configuration key `broad_phase`: `grid` is modelled (obbcd detect --engine model) \
-             but not in the hardware yet; the core has `sweep`, `brute` and `improved-sap`"
+            "configuration key `broad_phase`: `grid` is modelled clock by clock (obbcd detect \
+             --engine model) but not in the hardware yet; the core has `sweep`, `brute` and \
+             `improved-sap`"
         ),
-    }
-    if cfg.lanes != 1 {
-        bail!(
-            "configuration key `lanes`: {} lanes are modelled but the hardware has one lane so far",
-            cfg.lanes
-        );
     }
     Ok(())
 }

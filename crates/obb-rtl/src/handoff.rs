@@ -1,7 +1,7 @@
 //! The ISE hand-off: a UCF with the clock constraint, and an xtclsh script that creates the
 //! XC6VHX565T project, adds the core's Verilog and the UCF, and runs synthesis, implementation
-//! and the bitstream (`../shared/hdl-flow-notes.md`). Neither can run here; `tests/handoff.rs`
-//! checks what can be checked.
+//! and the bitstream (docs/hardware.md, README "Handing the core to Xilinx ISE"). Neither can
+//! run here; `tests/handoff.rs` checks what can be checked.
 
 use obb_model::fixed::HwConfig;
 

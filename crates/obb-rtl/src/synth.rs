@@ -61,9 +61,10 @@ pub const PAPER: [PaperTable; 2] = [
     },
 ];
 
-/// The delay model that turns logic depth into a period (ns). Fabric figures are those of
-/// `../shared/hdl-flow-notes.md` (a LUT with its input route; a carry chain's entry, blocks and
-/// exit); the block RAM and DSP figures are yosys' `cells_sim.v` (Artix-7, prjxray) rounded up.
+/// The delay model that turns logic depth into a period (ns). Fabric figures are yosys'
+/// `cells_sim.v` delays (Artix-7, prjxray) with a route allowance per LUT level, checked on small
+/// probe designs (docs/hardware.md, "Synthesis estimate"): a LUT with its input route; a carry
+/// chain's entry, blocks and exit. The block RAM and DSP figures are `cells_sim.v`'s rounded up.
 /// No placement: every LUT level pays the same route.
 #[derive(Clone, Debug, Serialize)]
 pub struct DelayModel {

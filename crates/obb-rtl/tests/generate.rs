@@ -153,7 +153,7 @@ fn unsupported_configurations_are_rejected() {
         assert!(
             e.contains(key)
                 && (e.contains("not in the hardware")
-                    || e.contains("one lane")
+                    || e.contains("one walker")
                     || e.contains("two end points")),
             "{e}"
         );

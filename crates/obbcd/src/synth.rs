@@ -287,9 +287,10 @@ fn markdown(cfg: &HwConfig, top: &str, rtl: &str, r: &Report) -> String {
         s,
         "## Delay model (ns)\n\n\
          A path is clock-to-output + each LUT level (LUT with its input route) + each MUXF7/F8 \
-         + each carry chain (entry, blocks, exit) + setup. Fabric figures from \
-         `../shared/hdl-flow-notes.md`; block RAM and DSP48E1 figures from yosys' `cells_sim.v` \
-         (Artix-7, prjxray), rounded up. No placement, no clock skew, no routing congestion.\n\n\
+         + each carry chain (entry, blocks, exit) + setup. Fabric figures from yosys' \
+         `cells_sim.v` (Artix-7, prjxray) with a route allowance per LUT level, checked on small \
+         probes (docs/hardware.md, \"Synthesis estimate\"); block RAM and DSP48E1 figures from \
+         `cells_sim.v`, rounded up. No placement, no clock skew, no routing congestion.\n\n\
          | element | ns |\n| --- | --- |\n\
          | flip-flop clock to Q | {} |\n| LUT level (LUT + route) | {} |\n| MUXF7/F8 | {} |\n\
          | carry chain entry / per CARRY4 / exit | {} / {} / {} |\n| flip-flop setup | {} |\n\

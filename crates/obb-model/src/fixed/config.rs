@@ -65,10 +65,18 @@ pub struct HwConfig {
     pub broad_phase: BroadPhase,
     /// Which group pairs are reported (`all`, `cross`, or a list like `0-1,0-2,1-2`).
     pub groups: GroupMask,
-    /// SAT lanes (pairs per clock).
+    /// Walker and SAT lanes (visits and pairs per clock); 1 so far.
     pub lanes: u32,
     /// Digit width of the radix sort.
     pub radix_digit_bits: u32,
+    /// Grid: the cell edge in mm, a power of two (at least one key unit is used). Boxes whose
+    /// AABB spans more than a cell on some axis take the slow path.
+    pub grid_cell_mm: f64,
+    /// Grid: buckets per bank are `2^grid_hash_bits`.
+    pub grid_hash_bits: u32,
+    /// Grid: groups with lists of their own, 0 to `grid_groups - 1`; a box of a higher group
+    /// is rejected on the host.
+    pub grid_groups: u32,
     /// Width of the SAT's 15 comparisons: both sides drop their low bits down to this width
     /// when their full width, center_bits + rot_bits + 2, is wider.
     pub sat_bits: u32,
@@ -80,7 +88,8 @@ pub struct HwConfig {
 
 impl Default for HwConfig {
     /// The surgical scene: ±512 mm at 2^-10 mm (about 1 µm), half-lengths up to 128 mm, 20-bit
-    /// sort keys (the paper's narrower width), cross-group pairs, 32,768 OBBs.
+    /// sort keys (the paper's narrower width), cross-group pairs, 32,768 OBBs, 2 mm grid cells
+    /// (its largest AABB spans 1.71 mm).
     fn default() -> Self {
         HwConfig {
             lsb_mm: 1.0 / 1024.0,
@@ -94,6 +103,9 @@ impl Default for HwConfig {
             groups: GroupMask::Cross,
             lanes: 1,
             radix_digit_bits: 8,
+            grid_cell_mm: 2.0,
+            grid_hash_bits: 10,
+            grid_groups: 3,
             sat_bits: 40,
             clock_ns: 4.0,
             speed_grade: 2,
@@ -116,6 +128,11 @@ pub enum ConfigError {
     },
     #[error("configuration key `{key}`: {problem}")]
     Invalid { key: &'static str, problem: String },
+}
+
+/// A positive, normal power of two: scaling by it is exact.
+fn is_power_of_two(v: f64) -> bool {
+    v.is_normal() && v > 0.0 && v.to_bits() & ((1 << 52) - 1) == 0
 }
 
 fn invalid(key: &'static str, problem: impl Into<String>) -> ConfigError {
@@ -165,13 +182,38 @@ impl HwConfig {
 
     /// Checks that the formats are consistent and fit the DSP48E1 operands (docs/numerics.md).
     pub fn validate(&self) -> Result<(), ConfigError> {
-        let q = self.lsb_mm;
-        if !(q.is_finite() && q > 0.0 && q.is_normal()) || q.to_bits() & ((1 << 52) - 1) != 0 {
+        if !is_power_of_two(self.lsb_mm) {
             return Err(invalid(
                 "lsb_mm",
-                format!("{q} is not a positive power of two (such as 0.0009765625 = 2^-10)"),
+                format!(
+                    "{} is not a positive power of two (such as 0.0009765625 = 2^-10)",
+                    self.lsb_mm
+                ),
             ));
         }
+        if !is_power_of_two(self.grid_cell_mm) {
+            return Err(invalid(
+                "grid_cell_mm",
+                format!(
+                    "{} is not a positive power of two (such as 2)",
+                    self.grid_cell_mm
+                ),
+            ));
+        }
+        in_range(
+            "grid_hash_bits",
+            self.grid_hash_bits,
+            1,
+            super::grid::MAX_HASH_BITS,
+            "a bank's buckets, one list head per bucket and group",
+        )?;
+        in_range(
+            "grid_groups",
+            self.grid_groups,
+            1,
+            1 << GROUP_BITS,
+            "groups are 3 bits in the core",
+        )?;
         // The SAT truncates t = T·a to center_bits + 2 bits, one DSP A port.
         in_range(
             "center_bits",
@@ -216,7 +258,13 @@ impl HwConfig {
             1 << 20,
             "box indices are 20 bits",
         )?;
-        in_range("lanes", self.lanes, 1, 16, "SAT lanes")?;
+        in_range(
+            "lanes",
+            self.lanes,
+            1,
+            1,
+            "the core and its cycle model have one walker and one SAT so far",
+        )?;
         in_range(
             "radix_digit_bits",
             self.radix_digit_bits,
@@ -287,9 +335,26 @@ impl HwConfig {
         self.rot_bits - 2
     }
 
+    /// How many groups a box may be in: `grid_groups` with the grid, else every group the core
+    /// knows.
+    pub fn groups_allowed(&self) -> u32 {
+        match self.broad_phase {
+            BroadPhase::Grid => self.grid_groups,
+            _ => 1 << GROUP_BITS,
+        }
+    }
+
     /// Bits dropped from an end point to make its sort key.
     pub fn key_shift(&self) -> u32 {
         self.center_bits - self.key_bits
+    }
+
+    /// log2 of the grid's cell edge in key units: `grid_cell_mm` over the key unit
+    /// (`lsb_mm · 2^key_shift`), at least one unit and at most the whole key range.
+    pub fn grid_cell_bits(&self) -> u32 {
+        let exp = |v: f64| ((v.to_bits() >> 52) & 0x7ff) as i64;
+        let cell = exp(self.grid_cell_mm) - exp(self.lsb_mm) - i64::from(self.key_shift());
+        cell.clamp(0, i64::from(self.key_bits)) as u32
     }
 
     /// The same configuration with the finest power-of-two LSB at which every box of `scene`

@@ -33,6 +33,22 @@ pub const LAT_SAT: u64 = 22;
 /// The clock after the last projection output, when its keys are in the key table.
 pub const LAT_KEY_WRITE: u64 = 1;
 
+/// Grid: clocks from a box's keys leaving the projection to its first visit: the window's cells
+/// registered, their banks and buckets, the list heads read (and the box entered), the first
+/// list chosen (`grid_clocks`).
+pub const LAT_PROBE: u64 = 4;
+/// Grid: boxes accepted and not yet retired (probed without visits, or walked): the record
+/// queue between the probe and the walker holds them all, so the load waits instead.
+pub const GRID_CREDITS: usize = 32;
+/// Grid: the candidate queue's fill at which the walker pauses.
+pub const GRID_CAND_STALL: usize = 32;
+/// Grid: clocks from a visit to its candidate's first possible issue: the keys read and
+/// registered, compared and registered, written to the candidate queue.
+pub const LAT_GRID_CHECK: u64 = 3;
+/// Grid: clocks a large box spends before its first visit on the slow path (its keys read and
+/// registered).
+pub const GRID_LARGE_START: u64 = 2;
+
 /// Cycles per stage of one frame, from the first clock the core accepts a box to the last SAT
 /// verdict (the core's `cycles` counter).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -40,12 +56,11 @@ pub struct FrameCycles {
     /// Boxes streamed in at one per clock, then the projection pipeline drains and its last
     /// keys are written (an empty frame: its end marker and one clock).
     pub load: u64,
-    /// Grid cell entries written at one per clock.
-    pub enter: u64,
     /// The radix sorts (`sort_cycles`).
     pub sort: u64,
-    /// The broad phase's walk (`broad::walk_cycles`): at most one visit per clock and lane; the
-    /// SAT and the output stream take one pair per clock alongside.
+    /// The broad phase's walk (`broad::walk_cycles`): at most one visit per clock; the SAT and
+    /// the output stream take one pair per clock alongside. The grid walks during the load:
+    /// here only what is left after it.
     pub walk: u64,
     /// The last visit's way through the key check and the SAT.
     pub drain: u64,
@@ -54,21 +69,19 @@ pub struct FrameCycles {
 
 /// The modelled cycles of a frame of `n` boxes whose broad phase did `work`.
 pub fn frame_cycles(n: u64, work: &BroadWork) -> FrameCycles {
-    let load = if n == 0 {
-        1 + LAT_KEY_WRITE
-    } else {
-        n + LAT_PROJECT + LAT_KEY_WRITE
+    let load = match work.grid {
+        Some(g) => g.load,
+        None if n == 0 => 1 + LAT_KEY_WRITE,
+        None => n + LAT_PROJECT + LAT_KEY_WRITE,
     };
-    let enter = work.entered;
     let sort = work.sort_cycles;
     let walk = work.walk;
     let drain = LAT_BROAD + LAT_SAT;
     FrameCycles {
         load,
-        enter,
         sort,
         walk,
         drain,
-        total: load + enter + sort + walk + drain,
+        total: load + sort + walk + drain,
     }
 }

@@ -7,6 +7,8 @@ pub mod broad;
 pub mod config;
 pub mod cycles;
 pub mod frame;
+pub mod grid;
+pub mod grid_clocks;
 pub mod margins;
 pub mod quantize;
 pub mod sat;

@@ -41,7 +41,10 @@ pub enum QuantizeError {
         value: f64,
         limit: f64,
     },
-    #[error("obb {index}: group {group} is beyond the core's {groups} groups")]
+    #[error(
+        "obb {index}: group {group} is beyond the configuration's {groups} groups (8 in the \
+         core; with the grid, `grid_groups`)"
+    )]
     Group {
         index: usize,
         group: u32,
@@ -86,7 +89,7 @@ pub fn quantize(scene: &Scene, cfg: &HwConfig) -> Result<Vec<QObb>, QuantizeErro
 pub fn quantize_obb(index: usize, o: &Obb, cfg: &HwConfig) -> Result<QObb, QuantizeError> {
     // Scenes read from files are validated already; one built in code may not be.
     o.validate(index)?;
-    let groups = 1 << super::config::GROUP_BITS;
+    let groups = cfg.groups_allowed();
     if o.group >= groups {
         return Err(QuantizeError::Group {
             index,

@@ -1,0 +1,354 @@
+//! The hardware grid (`broad_phase = "grid"`): a spatial hash built while the boxes arrive, so
+//! that the broad phase's work follows the real overlaps and runs during the load
+//! (docs/hardware.md, "The grid"; docs/numerics.md has the proof that no pair is lost).
+//!
+//! Cells are `2^g` key units on a side (`HwConfig::grid_cell_mm`). A box is *small* when its
+//! keys span at most one cell on every axis; it is entered in one cell only, the one holding
+//! its lower corner. Any small box whose keys overlap a small box `i` has its lower corner in
+//! `i`'s *window*: per axis the cells from `kmin >> g` to `(kmax >> g) + 1` in offset
+//! coordinates (`(key >> g) + 1`), two or three cells. So when box `i` arrives it reads the
+//! lists of its window's cells (only the groups the mask pairs with its own), and every earlier
+//! box it must meet is on one of them; then it enters itself. A pair is met once: each box is on
+//! one list, and the window's cells lie in 27 different banks (coordinates mod 3), so no list is
+//! read twice for one box.
+//!
+//! A bank holds, per bucket (an H3 hash of the cell's coordinates on `grid_hash_bits` bits)
+//! and per group (`grid_groups`), a list of box indices (latest first) with the fingerprint (8
+//! more bits of the hash) of the cell that entered it first and whether a box of a cell with
+//! another fingerprint entered it too (*mixed*); each box's successor is in one per-box table.
+//! A probe skips a pure list of another fingerprint without a visit (it holds no box of the
+//! probed cell); any other list is walked whole, and the key check removes the other cells'
+//! boxes, so a hash collision costs visits, never a pair. Boxes larger than a cell (*large*) are entered nowhere: after the load each reads its
+//! whole window, 3 x 3 x 3 cells a round, meeting a box only in its home cell (or, past
+//! `MAX_ROUNDS` rounds, meets every small box), and then the large boxes after it.
+
+use super::broad::BroadWork;
+use super::config::HwConfig;
+use super::frame::ModelFrame;
+use crate::groups::GroupMask;
+
+/// Banks of list heads: a cell's bank is its coordinates mod 3, `x + 3 y + 9 z`.
+pub const BANKS: usize = 27;
+/// Bits of a cell's fingerprint, which a list keeps of the cell that entered it first.
+pub const FINGERPRINT_BITS: u32 = 8;
+/// Rounds of 27 cells a large box reads at most; a larger window meets every small box.
+pub const MAX_ROUNDS: u64 = 64;
+/// The end of a list.
+const NONE: u32 = u32::MAX;
+
+/// The grid's geometry under one configuration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GridShape {
+    /// log2 of the cell edge in key units.
+    pub cell_bits: u32,
+    /// Bits of an offset cell coordinate: `key_bits - g + 1`.
+    pub coord_bits: u32,
+    /// Bits of a bucket within a bank.
+    pub hash_bits: u32,
+    /// Lists per bucket: one per group a box may be in (`HwConfig::groups_allowed`).
+    pub groups: u32,
+}
+
+impl GridShape {
+    pub fn new(cfg: &HwConfig) -> GridShape {
+        let cell_bits = cfg.grid_cell_bits();
+        GridShape {
+            cell_bits,
+            coord_bits: cfg.key_bits - cell_bits + 1,
+            hash_bits: cfg.grid_hash_bits,
+            groups: cfg.groups_allowed(),
+        }
+    }
+
+    /// Keys spanning at most one cell edge on every axis: the window covers every box that can
+    /// overlap them.
+    pub fn is_small(&self, lo: &[u64; 3], hi: &[u64; 3]) -> bool {
+        (0..3).all(|x| hi[x] - lo[x] <= 1 << self.cell_bits)
+    }
+
+    /// The cell a small box is entered in (offset coordinates): its lower corner's.
+    pub fn home(&self, lo: &[u64; 3]) -> [u64; 3] {
+        lo.map(|k| (k >> self.cell_bits) + 1)
+    }
+
+    /// The first and last cell of the window per axis (offset coordinates).
+    pub fn window(&self, lo: &[u64; 3], hi: &[u64; 3]) -> ([u64; 3], [u64; 3]) {
+        (
+            lo.map(|k| k >> self.cell_bits),
+            hi.map(|k| (k >> self.cell_bits) + 1),
+        )
+    }
+
+    /// A cell's bank: its coordinates mod 3.
+    pub fn bank(c: &[u64; 3]) -> usize {
+        (c[0] % 3 + 3 * (c[1] % 3) + 9 * (c[2] % 3)) as usize
+    }
+
+    /// A cell's bucket in its bank: an H3 hash of the coordinates concatenated (x lowest):
+    /// bucket bit k is the parity of the coordinate bits selected by `hash_row(k)`. Such a
+    /// hash is linear, so the hardware hashes each axis apart and XORs the three; and a random
+    /// matrix spreads any set of cells evenly, where folding or selecting bits gives whole
+    /// planes of a surface one bucket.
+    pub fn bucket(&self, c: &[u64; 3]) -> usize {
+        self.hash(c, 0, self.hash_bits)
+    }
+
+    /// A cell's fingerprint: the same hash on the matrix rows after the bucket's widest.
+    pub fn fingerprint(&self, c: &[u64; 3]) -> usize {
+        self.hash(c, MAX_HASH_BITS, FINGERPRINT_BITS)
+    }
+
+    /// Bits `0..bits` of the H3 hash on matrix rows `first..first + bits`.
+    fn hash(&self, c: &[u64; 3], first: u32, bits: u32) -> usize {
+        let a = self.coord_bits;
+        let word = u128::from(c[0]) | u128::from(c[1]) << a | u128::from(c[2]) << (2 * a);
+        (0..bits)
+            .map(|k| ((word & hash_row(first + k)).count_ones() as usize & 1) << k)
+            .sum()
+    }
+
+    /// The window's cell in bank `b`, if it has one: per axis the cell whose coordinate mod 3 is
+    /// the bank's (a window has at most three cells per axis).
+    pub fn cell_in_bank(b: usize, first: &[u64; 3], last: &[u64; 3]) -> Option<[u64; 3]> {
+        let want = [b % 3, b / 3 % 3, b / 9];
+        let mut c = [0; 3];
+        for x in 0..3 {
+            let up = (want[x] as u64 + 3 - first[x] % 3) % 3;
+            c[x] = first[x] + up;
+            if c[x] > last[x] {
+                return None;
+            }
+        }
+        Some(c)
+    }
+}
+
+/// The most bucket bits (`grid_hash_bits`): the fingerprint's rows come after them.
+pub const MAX_HASH_BITS: u32 = 12;
+
+/// Row `k` of the bucket hash's bit matrix: 128 pseudo-random bits (SplitMix64 from a fixed
+/// seed), the same for every configuration; a configuration uses the columns of its
+/// coordinate bits.
+pub fn hash_row(k: u32) -> u128 {
+    let split_mix = |i: u64| {
+        let mut z = 0x6f62_6263_645f_6772u64.wrapping_add(i.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    };
+    let k = u64::from(k);
+    u128::from(split_mix(2 * k)) | u128::from(split_mix(2 * k + 1)) << 64
+}
+
+/// One group's list in a bucket of a bank: the fingerprint of the cell that entered it first
+/// this frame, whether a box of a cell with another fingerprint entered it too, and the latest
+/// box.
+#[derive(Clone, Copy, Debug)]
+struct List {
+    owner: Option<usize>,
+    mixed: bool,
+    head: u32,
+}
+
+impl Default for List {
+    fn default() -> Self {
+        List {
+            owner: None,
+            mixed: false,
+            head: NONE,
+        }
+    }
+}
+
+impl List {
+    /// The first box to visit for a cell of fingerprint `fp`: the head, if the list may hold
+    /// boxes of that cell (the owner has its fingerprint, or the list is mixed). A pure list of
+    /// another fingerprint holds none, and is skipped without a visit.
+    fn first_for(&self, fp: usize) -> u32 {
+        if self.mixed || self.owner == Some(fp) {
+            self.head
+        } else {
+            NONE
+        }
+    }
+
+    /// Box `i` of a cell of fingerprint `fp` enters: the first owns the list, a box of another
+    /// fingerprint mixes it. Returns the box it follows.
+    fn enter(&mut self, fp: usize, i: usize) -> u32 {
+        match self.owner {
+            None => self.owner = Some(fp),
+            Some(o) if o != fp => self.mixed = true,
+            Some(_) => {}
+        }
+        std::mem::replace(&mut self.head, i as u32)
+    }
+}
+
+/// The lists of one frame: per bank, bucket and group a `List`, and each box's successor.
+struct Lists {
+    shape: GridShape,
+    buckets: usize,
+    lists: Vec<List>,
+    next: Vec<u32>,
+}
+
+impl Lists {
+    fn new(shape: GridShape, n: usize) -> Lists {
+        let buckets = 1usize << shape.hash_bits;
+        Lists {
+            shape,
+            buckets,
+            lists: vec![List::default(); BANKS * buckets * shape.groups as usize],
+            next: vec![NONE; n],
+        }
+    }
+
+    /// Where `cell`'s lists start (group 0's) in `lists`.
+    fn base(&self, cell: &[u64; 3]) -> usize {
+        (GridShape::bank(cell) * self.buckets + self.shape.bucket(cell))
+            * self.shape.groups as usize
+    }
+
+    /// Box `i` of group `g` enters the list of its home cell.
+    fn enter(&mut self, home: &[u64; 3], g: u32, i: usize) {
+        let slot = self.base(home) + g as usize;
+        self.next[i] = self.lists[slot].enter(self.shape.fingerprint(home), i);
+    }
+
+    /// `meet(cell, j)` for every box `j` on the lists of the cells `first..=last` (at most 3
+    /// per axis, so one per bank) that a box of group `g` may meet under `mask`, in the
+    /// walker's order: bank, group, latest box first.
+    fn probe(
+        &self,
+        (first, last): (&[u64; 3], &[u64; 3]),
+        g: u32,
+        mask: &GroupMask,
+        mut meet: impl FnMut(&[u64; 3], usize),
+    ) {
+        for b in 0..BANKS {
+            let Some(cell) = GridShape::cell_in_bank(b, first, last) else {
+                continue;
+            };
+            let (base, fp) = (self.base(&cell), self.shape.fingerprint(&cell));
+            for h in (0..self.shape.groups).filter(|&h| mask.allows(g, h)) {
+                let mut j = self.lists[base + h as usize].first_for(fp);
+                while j != NONE {
+                    meet(&cell, j as usize);
+                    j = self.next[j as usize];
+                }
+            }
+        }
+    }
+}
+
+/// What the grid's walk met, in the order the walker meets it: the clock model's input.
+#[derive(Clone, Debug, Default)]
+pub struct GridWalk {
+    /// Per box, the index of its first visit in `passes` and its visits (none for a large box).
+    pub visits: Vec<(usize, usize)>,
+    /// Per visit, in order: the pair passed the key check (and, on the slow path, the mask and
+    /// the home cell).
+    pub passes: Vec<bool>,
+    /// The slow path, per large box in index order.
+    pub large: Vec<LargeWalk>,
+}
+
+/// A large box's slow path, after the load: its window read in rounds of 3 x 3 x 3 cells (one
+/// cell per bank), then the large boxes after it.
+#[derive(Clone, Debug, Default)]
+pub struct LargeWalk {
+    pub index: usize,
+    /// Visits per round.
+    pub rounds: Vec<usize>,
+    /// Visits to the large boxes after it.
+    pub partners: usize,
+}
+
+/// Runs the grid on `frame`: every visit in the hardware's order goes to `send`, which emits the
+/// pair when the mask allows it and the keys overlap. Fills `w.visited` and `w.large`.
+pub(super) fn walk(
+    frame: &ModelFrame,
+    mask: &GroupMask,
+    w: &mut BroadWork,
+    send: &mut impl FnMut(&mut BroadWork, usize, usize),
+) -> GridWalk {
+    let shape = GridShape::new(&frame.cfg);
+    let n = frame.obbs.len();
+    let mut lists = Lists::new(shape, n);
+    let mut out = GridWalk {
+        visits: Vec::with_capacity(n),
+        ..GridWalk::default()
+    };
+    // `send` checks the mask and the keys and counts what it emits; a visit outside its home
+    // cell (`at_home` false, the slow path only) is not sent.
+    let mut visit = |w: &mut BroadWork, out: &mut GridWalk, i: usize, j: usize, at_home: bool| {
+        let emitted = w.emitted;
+        w.visited += 1;
+        if at_home {
+            send(w, i, j);
+        }
+        out.passes.push(w.emitted > emitted);
+    };
+    let mut large = Vec::new();
+    for i in 0..n {
+        let (lo, hi) = &frame.keys[i];
+        let first = out.passes.len();
+        if !shape.is_small(lo, hi) {
+            large.push(i);
+            out.visits.push((first, 0));
+            continue;
+        }
+        let g = frame.obbs[i].group;
+        let (wlo, whi) = shape.window(lo, hi);
+        lists.probe((&wlo, &whi), g, mask, |_, j| visit(w, &mut out, i, j, true));
+        out.visits.push((first, out.passes.len() - first));
+        lists.enter(&shape.home(lo), g, i);
+    }
+    // The slow path. A large box reads its whole window, 3 x 3 x 3 cells a round, after every
+    // small box has entered; a box is met only in its home cell (a mixed list can be read in
+    // two rounds). A window of more than `MAX_ROUNDS` rounds is not read: the box meets every
+    // small box instead, in index order. Then the large boxes after it.
+    let mut is_large = vec![false; n];
+    for &l in &large {
+        is_large[l] = true;
+    }
+    for (k, &l) in large.iter().enumerate() {
+        let (lo, hi) = &frame.keys[l];
+        let g = frame.obbs[l].group;
+        let (wlo, whi) = shape.window(lo, hi);
+        let mut walk = LargeWalk {
+            index: l,
+            ..LargeWalk::default()
+        };
+        let rounds: u64 = (0..3).map(|x| (whi[x] - wlo[x]) / 3 + 1).product();
+        if rounds > MAX_ROUNDS {
+            let first = out.passes.len();
+            for j in (0..n).filter(|&j| !is_large[j]) {
+                visit(w, &mut out, l, j, true);
+            }
+            walk.rounds.push(out.passes.len() - first);
+        } else {
+            for z in (wlo[2]..=whi[2]).step_by(3) {
+                for y in (wlo[1]..=whi[1]).step_by(3) {
+                    for x in (wlo[0]..=whi[0]).step_by(3) {
+                        let first = out.passes.len();
+                        let rlo = [x, y, z];
+                        let rhi = [0, 1, 2].map(|a| (rlo[a] + 2).min(whi[a]));
+                        lists.probe((&rlo, &rhi), g, mask, |cell, j| {
+                            let home = shape.home(&frame.keys[j].0) == *cell;
+                            visit(w, &mut out, l, j, home);
+                        });
+                        walk.rounds.push(out.passes.len() - first);
+                    }
+                }
+            }
+        }
+        for &m in &large[k + 1..] {
+            visit(w, &mut out, l, m, true);
+        }
+        walk.partners = large.len() - k - 1;
+        out.large.push(walk);
+    }
+    w.large = large.len() as u64;
+    out
+}

@@ -1,0 +1,275 @@
+//! The hardware grid's model (`fixed/grid.rs`, `fixed/grid_clocks.rs`): the window's cells fall
+//! in 27 different banks, hash collisions cost visits and never a pair, large boxes take the
+//! slow path, and the clock model follows its rules on frames worked out by hand.
+//! (`tests/fixed.rs` checks on random scenes and configurations that the grid emits every pair
+//! whose keys overlap, each once.)
+
+use obb_model::fixed::cycles::{LAT_BROAD, LAT_KEY_WRITE, LAT_PROBE, LAT_PROJECT, LAT_SAT};
+use obb_model::fixed::grid::{GridShape, BANKS};
+use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame};
+use obb_model::generate::{surgical, SURGICAL_DEFAULT_N};
+use obb_model::{GroupMask, Obb, Scene};
+use proptest::prelude::*;
+
+mod common;
+
+fn grid(cfg: HwConfig) -> HwConfig {
+    HwConfig {
+        broad_phase: BroadPhase::Grid,
+        ..cfg
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+
+    /// The 27 banks hold each cell of a small box's window exactly once, and nothing else.
+    #[test]
+    fn window_cells_fall_in_distinct_banks(
+        g in 0u32..12, lo in proptest::array::uniform3(0u64..1 << 20), ext in proptest::array::uniform3(0u64..=4096),
+    ) {
+        let shape = GridShape { cell_bits: g, coord_bits: 20 - g + 1, hash_bits: 10, groups: 3 };
+        let hi = [0, 1, 2].map(|x| (lo[x] + ext[x].min(1 << g)).min((1 << 20) - 1));
+        prop_assert!(shape.is_small(&lo, &hi));
+        let (first, last) = shape.window(&lo, &hi);
+        let mut cells: Vec<[u64; 3]> =
+            (0..BANKS).filter_map(|b| GridShape::cell_in_bank(b, &first, &last)).collect();
+        for (b, c) in (0..BANKS).filter_map(|b| GridShape::cell_in_bank(b, &first, &last).map(|c| (b, c))) {
+            prop_assert_eq!(GridShape::bank(&c), b);
+        }
+        let mut window = Vec::new();
+        for z in first[2]..=last[2] {
+            for y in first[1]..=last[1] {
+                for x in first[0]..=last[0] {
+                    window.push([x, y, z]);
+                }
+            }
+        }
+        prop_assert!((8..=27).contains(&window.len()));
+        cells.sort_unstable();
+        window.sort_unstable();
+        prop_assert_eq!(cells, window);
+        // The box's own home cell is in its window; a bucket fits its bits.
+        let home = shape.home(&lo);
+        prop_assert!((0..3).all(|x| first[x] <= home[x] && home[x] <= last[x]));
+        prop_assert!(shape.bucket(&home) < 1 << 10);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(3000))]
+
+    /// Boxes spread over many cells, with few buckets (most lists mixed, some owned by another
+    /// cell), small cells (some boxes large) and every mask: the grid reports brute force's
+    /// pairs, each once.
+    #[test]
+    fn spread_scenes_with_few_buckets(
+        obbs in proptest::collection::vec(common::obb(40.0, 2.5, 3), 0..80),
+        cell_exp in 0i32..=3,
+        grid_hash_bits in 1u32..=4,
+        mask in common::mask(),
+    ) {
+        let scene = Scene { obbs };
+        let cfg = grid(HwConfig { grid_cell_mm: 2f64.powi(cell_exp), grid_hash_bits, ..HwConfig::default() });
+        let m = ModelFrame::new(&scene, &cfg).unwrap();
+        let run = m.detect(BroadPhase::Grid, &mask);
+        let brute = m.detect(BroadPhase::Brute, &mask);
+        prop_assert_eq!(&run.pairs, &brute.pairs);
+        prop_assert_eq!(run.reported(), brute.reported(), "each pair once");
+        prop_assert_eq!(run.work.emitted, brute.work.emitted);
+    }
+}
+
+/// `n` boxes in the same place, all in group 0.
+fn coincident(n: u64) -> Scene {
+    Scene {
+        obbs: (0..n)
+            .map(|_| Obb::aligned([1.0; 3], [0.25; 3], 0))
+            .collect(),
+    }
+}
+
+/// Ten coincident boxes (all pairs): box k visits the k boxes before it. Worked out by hand from
+/// the rules in `grid_clocks.rs`.
+#[test]
+fn clock_model_by_hand() {
+    let n = 10u64;
+    let scene = coincident(n);
+    let cfg = grid(HwConfig::default());
+    let run = ModelFrame::new(&scene, &cfg)
+        .unwrap()
+        .detect(BroadPhase::Grid, &GroupMask::All);
+    assert_eq!(run.work.visited, n * (n - 1) / 2);
+    assert_eq!(run.pairs.len() as u64, n * (n - 1) / 2);
+    // Box k is accepted at clock k + 1 and probed LAT_PROJECT + LAT_PROBE later; box 1's visit
+    // comes on its probe clock, and each later record is probed before the walker is free, so
+    // the 45 visits run back to back. Each candidate issues LAT_GRID_CHECK after its visit (no
+    // box is accepted then), so the last event is the last visit.
+    let first_visit = 2 + LAT_PROJECT + LAT_PROBE;
+    let last_visit = first_visit + run.work.visited - 1;
+    let load = n + LAT_PROJECT + LAT_KEY_WRITE;
+    let c = run.cycles;
+    assert_eq!((c.load, c.sort, c.drain), (load, 0, LAT_BROAD + LAT_SAT));
+    assert_eq!(c.walk, last_visit - load);
+    assert_eq!(c.total, last_visit + LAT_BROAD + LAT_SAT);
+
+    // Three boxes, cross-group: 0 and 1 touch, 2 is far. Box 1 visits box 0 on its probe clock;
+    // box 2, probed a clock later, ends the frame.
+    let scene = Scene {
+        obbs: vec![
+            Obb::aligned([0.0; 3], [0.5; 3], 0),
+            Obb::aligned([1.0, 0.0, 0.0], [0.5; 3], 1),
+            Obb::aligned([40.0, 0.0, 0.0], [0.5; 3], 1),
+        ],
+    };
+    let run = ModelFrame::new(&scene, &cfg).unwrap().run();
+    assert_eq!(run.pairs, vec![[0, 1]]);
+    assert_eq!(run.work.visited, 1);
+    let last_probe = 3 + LAT_PROJECT + LAT_PROBE;
+    assert_eq!(run.cycles.total, last_probe + LAT_BROAD + LAT_SAT);
+}
+
+/// 200 coincident boxes: the walker falls behind, the boxes waiting for it use up the credits,
+/// and the load waits (no record is lost: every pair is reported once).
+#[test]
+fn credits_hold_the_load_back() {
+    let n = 200u64;
+    let scene = coincident(n);
+    let run = ModelFrame::new(&scene, &grid(HwConfig::default()))
+        .unwrap()
+        .detect(BroadPhase::Grid, &GroupMask::All);
+    assert_eq!(run.reported(), n * (n - 1) / 2);
+    assert!(
+        run.cycles.load > n + LAT_PROJECT + LAT_KEY_WRITE + 1_000,
+        "{:?}",
+        run.cycles
+    );
+    // One visit per clock at most, and every candidate waits for the load to leave port A free.
+    assert!(run.cycles.total >= run.work.visited + LAT_PROJECT + LAT_PROBE + LAT_BROAD + LAT_SAT);
+}
+
+/// With two buckets per bank every list is mixed: more visits, the same pairs, each once.
+#[test]
+fn hash_collisions_cost_visits_not_pairs() {
+    // 2,000 boxes tessellate the surgical surfaces coarsely: 8 mm cells hold them all.
+    let scene = surgical(2_000, 3).unwrap();
+    let mask = GroupMask::All;
+    let run = |hash_bits| {
+        let cfg = grid(HwConfig {
+            grid_hash_bits: hash_bits,
+            grid_cell_mm: 8.0,
+            ..HwConfig::default()
+        });
+        ModelFrame::new(&scene, &cfg)
+            .unwrap()
+            .detect(BroadPhase::Grid, &mask)
+    };
+    let (fine, coarse) = (run(10), run(1));
+    let brute = ModelFrame::new(&scene, &HwConfig::default())
+        .unwrap()
+        .detect(BroadPhase::Brute, &mask);
+    assert_eq!(fine.work.large, 0);
+    assert_eq!(fine.pairs, brute.pairs);
+    assert_eq!(coarse.pairs, brute.pairs);
+    assert_eq!(coarse.work.emitted, fine.work.emitted);
+    assert_eq!(coarse.reported(), fine.reported(), "each pair once");
+    assert!(
+        coarse.work.visited > 2 * fine.work.visited,
+        "{} vs {}",
+        coarse.work.visited,
+        fine.work.visited
+    );
+}
+
+/// Boxes wider than a cell: the slow path meets every pair of them, with small boxes and with
+/// each other, once.
+#[test]
+fn large_boxes_take_the_slow_path() {
+    let mut obbs: Vec<Obb> = (0..40)
+        .map(|k| {
+            Obb::aligned(
+                [f64::from(k % 8) * 0.9, f64::from(k / 8) * 0.9, 0.0],
+                [0.4; 3],
+                k % 2,
+            )
+        })
+        .collect();
+    // Two slabs across the small boxes, and one far away.
+    obbs.insert(5, Obb::aligned([3.0, 2.0, 0.0], [4.0, 0.3, 0.3], 2));
+    obbs.push(Obb::aligned([3.0, 2.0, 0.5], [0.3, 3.0, 0.3], 3));
+    obbs.push(Obb::aligned([90.0, 0.0, 0.0], [5.0; 3], 3));
+    let scene = Scene { obbs };
+    // 2 mm cells: three large boxes, whose windows are read in rounds; 1/64 mm cells: every box
+    // is large, and windows of more than MAX_ROUNDS rounds meet every small box instead.
+    for (cell, large) in [(2.0, 3), (1.0 / 64.0, 43)] {
+        for mask in [GroupMask::All, GroupMask::Cross, "0-2,2-3".parse().unwrap()] {
+            let cfg = grid(HwConfig {
+                grid_cell_mm: cell,
+                grid_groups: 4,
+                ..HwConfig::default()
+            });
+            let m = ModelFrame::new(&scene, &cfg).unwrap();
+            let run = m.detect(BroadPhase::Grid, &mask);
+            let brute = m.detect(BroadPhase::Brute, &mask);
+            assert_eq!(run.work.large, large);
+            assert_eq!(run.pairs, brute.pairs, "{mask}");
+            assert_eq!(run.reported(), brute.reported(), "{mask}: each pair once");
+            assert!(run.pairs.iter().any(|p| p[0] == 5 || p[1] == 5));
+        }
+    }
+}
+
+/// The surgical scene's cross-group frame fits the 25,000-clock budget (10 kHz at 4 ns) in the
+/// model, which the core is to match clock for clock.
+#[test]
+fn surgical_cross_group_fits_the_budget() {
+    let scene = surgical(SURGICAL_DEFAULT_N, 1).unwrap();
+    let cfg = grid(HwConfig::default());
+    let run = ModelFrame::new(&scene, &cfg).unwrap().run();
+    assert_eq!(run.work.large, 0);
+    assert!(
+        run.cycles.total <= 25_000,
+        "{:?} {:?}",
+        run.cycles,
+        run.work
+    );
+}
+
+#[test]
+fn grid_keys_are_checked() {
+    let bad = |text: &str| HwConfig::parse(text, "t").unwrap_err().to_string();
+    assert!(bad("grid_groups = 0").contains("grid_groups"));
+    assert!(bad("grid_groups = 9").contains("grid_groups"));
+    // With the grid, a box's group must have lists; the other broad phases take groups 0..=7.
+    let scene = Scene {
+        obbs: vec![Obb::aligned([0.0; 3], [1.0; 3], 3)],
+    };
+    let e = ModelFrame::new(&scene, &grid(HwConfig::default())).unwrap_err();
+    assert!(
+        e.to_string().contains("obb 0: group 3") && e.to_string().contains("grid_groups"),
+        "{e}"
+    );
+    assert!(ModelFrame::new(&scene, &HwConfig::default()).is_ok());
+    assert!(bad("grid_cell_mm = 3.0").contains("grid_cell_mm"));
+    assert!(bad("grid_cell_mm = 0.0").contains("grid_cell_mm"));
+    assert!(bad("grid_hash_bits = 0").contains("grid_hash_bits"));
+    assert!(bad("grid_hash_bits = 13").contains("grid_hash_bits"));
+    // 2 mm at 2^-10 mm and 20-bit keys: 2^11 key units; never finer than a key unit nor wider
+    // than the key range.
+    assert_eq!(HwConfig::default().grid_cell_bits(), 11);
+    let tiny = HwConfig {
+        grid_cell_mm: 2f64.powi(-20),
+        ..HwConfig::default()
+    };
+    assert_eq!(tiny.grid_cell_bits(), 0);
+    let huge = HwConfig {
+        grid_cell_mm: 2f64.powi(30),
+        ..HwConfig::default()
+    };
+    assert_eq!(huge.grid_cell_bits(), 20);
+    let narrow = HwConfig {
+        key_bits: 16,
+        ..HwConfig::default()
+    };
+    assert_eq!(narrow.grid_cell_bits(), 7);
+}
