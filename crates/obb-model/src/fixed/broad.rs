@@ -18,7 +18,7 @@ use crate::radix::RadixSorter;
 /// The work of one broad phase on one frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BroadWork {
-    /// Grid: boxes larger than a cell, paired with every box on the slow path.
+    /// Grid: boxes larger than a cell, met on the slow path after the load.
     pub large: u64,
     /// Radix passes, summed over the sorts.
     pub passes: u64,

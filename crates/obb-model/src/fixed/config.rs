@@ -130,9 +130,16 @@ pub enum ConfigError {
     Invalid { key: &'static str, problem: String },
 }
 
-/// A positive, normal power of two: scaling by it is exact.
-fn is_power_of_two(v: f64) -> bool {
-    v.is_normal() && v > 0.0 && v.to_bits() & ((1 << 52) - 1) == 0
+/// `value` must be a positive, normal power of two (scaling by it is exact), such as `example`.
+fn power_of_two(key: &'static str, value: f64, example: &str) -> Result<(), ConfigError> {
+    if value.is_normal() && value > 0.0 && value.to_bits() & ((1 << 52) - 1) == 0 {
+        Ok(())
+    } else {
+        Err(invalid(
+            key,
+            format!("{value} is not a positive power of two (such as {example})"),
+        ))
+    }
 }
 
 fn invalid(key: &'static str, problem: impl Into<String>) -> ConfigError {
@@ -182,24 +189,8 @@ impl HwConfig {
 
     /// Checks that the formats are consistent and fit the DSP48E1 operands (docs/numerics.md).
     pub fn validate(&self) -> Result<(), ConfigError> {
-        if !is_power_of_two(self.lsb_mm) {
-            return Err(invalid(
-                "lsb_mm",
-                format!(
-                    "{} is not a positive power of two (such as 0.0009765625 = 2^-10)",
-                    self.lsb_mm
-                ),
-            ));
-        }
-        if !is_power_of_two(self.grid_cell_mm) {
-            return Err(invalid(
-                "grid_cell_mm",
-                format!(
-                    "{} is not a positive power of two (such as 2)",
-                    self.grid_cell_mm
-                ),
-            ));
-        }
+        power_of_two("lsb_mm", self.lsb_mm, "0.0009765625 = 2^-10")?;
+        power_of_two("grid_cell_mm", self.grid_cell_mm, "2")?;
         in_range(
             "grid_hash_bits",
             self.grid_hash_bits,
