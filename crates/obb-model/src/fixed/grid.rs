@@ -18,9 +18,11 @@
 //! another fingerprint entered it too (*mixed*); each box's successor is in one per-box table.
 //! A probe skips a pure list of another fingerprint without a visit (it holds no box of the
 //! probed cell); any other list is walked whole, and the key check removes the other cells'
-//! boxes, so a hash collision costs visits, never a pair. Boxes larger than a cell (*large*) are entered nowhere: after the load each reads its
-//! whole window, 3 x 3 x 3 cells a round, meeting a box only in its home cell (or, past
-//! `MAX_ROUNDS` rounds, meets every small box), and then the large boxes after it.
+//! boxes, so a hash collision costs visits, never a pair.
+//!
+//! Boxes larger than a cell (*large*) are entered nowhere: after the load each reads its whole
+//! window, 3 x 3 x 3 cells a round, meeting a box only in its home cell (or, past `MAX_ROUNDS`
+//! rounds, meets every small box), and then the large boxes after it.
 
 use super::broad::BroadWork;
 use super::config::HwConfig;
@@ -29,6 +31,8 @@ use crate::groups::GroupMask;
 
 /// Banks of list heads: a cell's bank is its coordinates mod 3, `x + 3 y + 9 z`.
 pub const BANKS: usize = 27;
+/// The most bucket bits (`grid_hash_bits`): the fingerprint's rows come after them.
+pub const MAX_HASH_BITS: u32 = 12;
 /// Bits of a cell's fingerprint, which a list keeps of the cell that entered it first.
 pub const FINGERPRINT_BITS: u32 = 8;
 /// Rounds of 27 cells a large box reads at most; a larger window meets every small box.
@@ -122,9 +126,6 @@ impl GridShape {
         Some(c)
     }
 }
-
-/// The most bucket bits (`grid_hash_bits`): the fingerprint's rows come after them.
-pub const MAX_HASH_BITS: u32 = 12;
 
 /// Row `k` of the bucket hash's bit matrix: 128 pseudo-random bits (SplitMix64 from a fixed
 /// seed), the same for every configuration; a configuration uses the columns of its
