@@ -4,8 +4,11 @@
 //! (`tests/fixed.rs` checks on random scenes and configurations that the grid emits every pair
 //! whose keys overlap, each once.)
 
-use obb_model::fixed::cycles::{LAT_BROAD, LAT_KEY_WRITE, LAT_PROBE, LAT_PROJECT, LAT_SAT};
+use obb_model::fixed::cycles::{
+    LAT_BROAD, LAT_GRID_CHECK, LAT_KEY_WRITE, LAT_PROBE, LAT_PROJECT, LAT_SAT,
+};
 use obb_model::fixed::grid::{GridShape, BANKS};
+use obb_model::fixed::grid_clocks::grid_schedule;
 use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame};
 use obb_model::generate::{surgical, SURGICAL_DEFAULT_N};
 use obb_model::{GroupMask, Obb, Scene};
@@ -96,25 +99,41 @@ fn clock_model_by_hand() {
     let n = 10u64;
     let scene = coincident(n);
     let cfg = grid(HwConfig::default());
-    let run = ModelFrame::new(&scene, &cfg)
-        .unwrap()
-        .detect(BroadPhase::Grid, &GroupMask::All);
+    let frame = ModelFrame::new(&scene, &cfg).unwrap();
+    let run = frame.detect(BroadPhase::Grid, &GroupMask::All);
     assert_eq!(run.work.visited, n * (n - 1) / 2);
     assert_eq!(run.pairs.len() as u64, n * (n - 1) / 2);
-    // Box k is accepted at clock k + 1 and probed LAT_PROJECT + LAT_PROBE later; box 1's visit
-    // comes on its probe clock, and each later record is probed before the walker is free, so
-    // the 45 visits run back to back. Each candidate issues LAT_GRID_CHECK after its visit (no
-    // box is accepted then), so the last event is the last visit.
+    // Box k is accepted at clock k + 1; its record is the walker's LAT_PROJECT + LAT_PROBE
+    // later. Box 1's first visit comes then, and each later record is written before the walker
+    // is free, so the 45 visits run back to back. The last record retires the clock after its
+    // last visit, and the walk is over the clock after that. No box is accepted once the
+    // candidates come out of their queue, so each issues LAT_GRID_CHECK after its visit.
     let first_visit = 2 + LAT_PROJECT + LAT_PROBE;
     let last_visit = first_visit + run.work.visited - 1;
+    let walked = last_visit + 2;
+    let schedule = grid_schedule(&frame.grid_walk(&GroupMask::All));
+    assert_eq!(
+        schedule.visits,
+        (first_visit..=last_visit).collect::<Vec<_>>()
+    );
+    assert_eq!(
+        schedule.issues,
+        schedule
+            .visits
+            .iter()
+            .map(|v| v + LAT_GRID_CHECK)
+            .collect::<Vec<_>>()
+    );
+    assert_eq!(schedule.walked, walked);
     let load = n + LAT_PROJECT + LAT_KEY_WRITE;
+    let clear = 1 << cfg.grid_hash_bits;
     let c = run.cycles;
-    assert_eq!((c.load, c.sort, c.drain), (load, 0, LAT_BROAD + LAT_SAT));
-    assert_eq!(c.walk, last_visit - load);
-    assert_eq!(c.total, last_visit + LAT_BROAD + LAT_SAT);
+    assert_eq!((c.load, c.sort, c.walk), (load, 0, walked - load));
+    assert_eq!(c.total, walked + clear);
 
-    // Three boxes, cross-group: 0 and 1 touch, 2 is far. Box 1 visits box 0 on its probe clock;
-    // box 2, probed a clock later, ends the frame.
+    // Three boxes, cross-group: 0 and 1 touch, 2 is far. Box 1 visits box 0 on the first clock
+    // its record is the walker's; box 2 has no record and retires on its probe clock, the same
+    // clock; box 1 retires a clock later.
     let scene = Scene {
         obbs: vec![
             Obb::aligned([0.0; 3], [0.5; 3], 0),
@@ -122,11 +141,15 @@ fn clock_model_by_hand() {
             Obb::aligned([40.0, 0.0, 0.0], [0.5; 3], 1),
         ],
     };
-    let run = ModelFrame::new(&scene, &cfg).unwrap().run();
+    let frame = ModelFrame::new(&scene, &cfg).unwrap();
+    let run = frame.run();
     assert_eq!(run.pairs, vec![[0, 1]]);
     assert_eq!(run.work.visited, 1);
-    let last_probe = 3 + LAT_PROJECT + LAT_PROBE;
-    assert_eq!(run.cycles.total, last_probe + LAT_BROAD + LAT_SAT);
+    let visit = 2 + LAT_PROJECT + LAT_PROBE;
+    let schedule = grid_schedule(&frame.grid_walk(&cfg.groups));
+    assert_eq!(schedule.visits, vec![visit]);
+    assert_eq!(schedule.walked, visit + 2);
+    assert_eq!(run.cycles.total, visit + 2 + clear);
 }
 
 /// 200 coincident boxes: the walker falls behind, the boxes waiting for it use up the credits,

@@ -1,13 +1,15 @@
 //! A small memory with one write port and an unregistered read port: distributed RAM
 //! (RAM64M / RAM32M on the Virtex-6), which rust-hdl's `RAM` (registered read, block RAM) cannot
 //! say. Writes take effect at the clock edge; `read_data` shows the memory at `read_address`
-//! at once, including a write of the edge just past. A Rust simulation model plus hand-written
-//! Verilog, co-simulated in `tests/leaves.rs`.
+//! at once, including a write of the edge just past. `zeroed` makes a memory that holds zeros
+//! from power-up (the LUTs' INIT; the simulation model's too) with fewer entries than the
+//! address reaches (the caller never addresses beyond them). A Rust simulation model plus
+//! hand-written Verilog, co-simulated in `tests/leaves.rs`.
 
 use rust_hdl::prelude::*;
 use std::collections::BTreeMap;
 
-#[derive(LogicBlock, Default)]
+#[derive(LogicBlock)]
 pub struct DistRam<D: Synth, const A: usize> {
     pub clock: Signal<In, Clock>,
     pub write_enable: Signal<In, Bit>,
@@ -17,6 +19,40 @@ pub struct DistRam<D: Synth, const A: usize> {
     pub read_data: Signal<Out, D>,
     /// The simulation model's memory (not a port: rust-hdl skips fields named with `_`).
     _mem: BTreeMap<Bits<A>, D>,
+    /// Entries held, and whether the Verilog states their zeros at power-up.
+    _depth: u64,
+    _zeroed: bool,
+}
+
+impl<D: Synth, const A: usize> Default for DistRam<D, A> {
+    fn default() -> Self {
+        Self::new(1 << A, false)
+    }
+}
+
+impl<D: Synth, const A: usize> DistRam<D, A> {
+    /// A memory of `depth` entries, at most `2^A`, zero from power-up.
+    pub fn zeroed(depth: u64) -> Self {
+        Self::new(depth, true)
+    }
+
+    fn new(depth: u64, zeroed: bool) -> Self {
+        assert!(
+            depth >= 1 && depth <= 1 << A,
+            "the depth is within the address"
+        );
+        DistRam {
+            clock: Default::default(),
+            write_enable: Default::default(),
+            write_address: Default::default(),
+            write_data: Default::default(),
+            read_address: Default::default(),
+            read_data: Default::default(),
+            _mem: BTreeMap::new(),
+            _depth: depth,
+            _zeroed: zeroed,
+        }
+    }
 }
 
 impl<D: Synth, const A: usize> Logic for DistRam<D, A> {
@@ -38,7 +74,7 @@ impl<D: Synth, const A: usize> Logic for DistRam<D, A> {
         Verilog::Custom(format!(
             "\
 reg [{d}:0] mem [0:{last}];
-always @(posedge clock) begin
+{init}always @(posedge clock) begin
    if (write_enable) begin
       mem[write_address] <= write_data;
    end
@@ -48,7 +84,16 @@ always @(*) begin
 end
 ",
             d = D::BITS - 1,
-            last = (1u64 << A) - 1,
+            last = self._depth - 1,
+            init = if self._zeroed {
+                format!(
+                    "integer k;\ninitial begin\n   for (k = 0; k < {}; k = k + 1) begin\n      \
+                     mem[k] = 0;\n   end\nend\n",
+                    self._depth
+                )
+            } else {
+                String::new()
+            },
         ))
     }
 }

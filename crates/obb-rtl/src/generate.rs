@@ -4,6 +4,7 @@
 
 use crate::core::{self, ObbCore};
 use crate::emit;
+use crate::grid::GridPhase;
 use crate::projection::{self, Projection};
 use crate::radix::KeySort;
 use crate::sat::{self, Sat};
@@ -181,16 +182,42 @@ pub fn core(cfg: &HwConfig) -> Result<String> {
 }
 
 /// The files for configuration `cfg`: (path below the output directory, contents). The top,
-/// One block of the core as its own top module: `projection`, `sat` or `radix_sort`.
+/// One block of the core as its own top module: `projection`, `sat`, `radix_sort`, or the
+/// grid's `grid_phase` (built and tested as a block; the core does not hold it yet).
 pub fn block(cfg: &HwConfig, module: &str) -> Result<String> {
-    check_supported(cfg)?;
-    let body = match module {
-        "projection" => emit::verilog(&mut Projection::new(cfg), "projection")?,
-        "sat" => emit::verilog(&mut Sat::new(cfg), "sat")?,
-        "radix_sort" => by_address_bits!(address_bits(cfg), radix_verilog(cfg))?,
-        _ => bail!("no block `{module}`: projection, sat or radix_sort"),
+    let body = if module == "grid_phase" {
+        check_grid(cfg)?;
+        by_address_bits!(address_bits(cfg), grid_verilog(cfg))?
+    } else {
+        check_supported(cfg)?;
+        match module {
+            "projection" => emit::verilog(&mut Projection::new(cfg), "projection")?,
+            "sat" => emit::verilog(&mut Sat::new(cfg), "sat")?,
+            "radix_sort" => by_address_bits!(address_bits(cfg), radix_verilog(cfg))?,
+            _ => bail!("no block `{module}`: projection, sat, radix_sort or grid_phase"),
+        }
     };
     Ok(header(cfg) + &body)
+}
+
+/// Checks that the grid block supports `cfg`: valid, and cell coordinates (keys shifted by the
+/// cell bits, plus 2) within the keys' width.
+pub fn check_grid(cfg: &HwConfig) -> Result<()> {
+    cfg.validate()?;
+    if cfg.key_bits >= crate::grid_cells::COORD as u32 {
+        bail!(
+            "configuration key `key_bits`: {} with the grid, whose cell coordinates take up to \
+             `key_bits` + 1 bits of {}: at most {}",
+            cfg.key_bits,
+            crate::grid_cells::COORD,
+            crate::grid_cells::COORD - 1
+        );
+    }
+    Ok(())
+}
+
+fn grid_verilog<const A: usize, const C: usize>(cfg: &HwConfig) -> Result<String> {
+    emit::verilog(&mut GridPhase::<A, C>::new(cfg), "grid_phase")
 }
 
 /// `obb_core.v`, holds the whole core; `blocks/` holds each block as its own top module (for

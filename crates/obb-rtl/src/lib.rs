@@ -8,6 +8,8 @@ pub mod cosim;
 pub mod dist_ram;
 pub mod emit;
 pub mod generate;
+pub mod grid;
+pub mod grid_cells;
 pub mod handoff;
 pub mod leaf;
 pub mod pair_fifo;

@@ -39,6 +39,8 @@ enum Block {
     Projection,
     Sat,
     RadixSort,
+    /// The grid broad phase (`broad_phase = "grid"`), not yet in the core.
+    GridPhase,
 }
 
 impl Block {
@@ -47,6 +49,7 @@ impl Block {
             Block::Projection => "projection",
             Block::Sat => "sat",
             Block::RadixSort => "radix_sort",
+            Block::GridPhase => "grid_phase",
         }
     }
 }

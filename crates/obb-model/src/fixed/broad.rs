@@ -10,7 +10,7 @@
 use super::config::BroadPhase;
 use super::cycles::sort_cycles;
 use super::frame::ModelFrame;
-use super::grid;
+use super::grid::{self, GridWalk};
 use super::grid_clocks::{grid_clocks, GridClocks};
 use crate::groups::GroupMask;
 use crate::radix::RadixSorter;
@@ -42,9 +42,20 @@ pub fn run(
     frame: &ModelFrame,
     mode: BroadPhase,
     mask: &GroupMask,
-    mut emit: impl FnMut(usize, usize),
+    emit: impl FnMut(usize, usize),
 ) -> BroadWork {
+    run_keeping(frame, mode, mask, emit).0
+}
+
+/// `run`, keeping the grid's walk (visit by visit, the grid block's reference).
+pub fn run_keeping(
+    frame: &ModelFrame,
+    mode: BroadPhase,
+    mask: &GroupMask,
+    mut emit: impl FnMut(usize, usize),
+) -> (BroadWork, Option<GridWalk>) {
     let mut w = BroadWork::default();
+    let mut kept = None;
     // The paper's Algorithm 2 checks no other axis; the other modes check all three.
     let check_keys = mode != BroadPhase::ImprovedSap;
     let wanted = |i: usize, j: usize| {
@@ -131,10 +142,11 @@ pub fn run(
         BroadPhase::Grid => {
             let walk = grid::walk(frame, mask, &mut w, &mut send);
             w.grid = Some(grid_clocks(&walk));
+            kept = Some(walk);
         }
     }
     w.walk = walk_cycles(mode, n as u64, &w);
-    w
+    (w, kept)
 }
 
 /// Clocks the broad phase's walk takes besides its sorts (`obb_rtl::walker`, `obb_rtl::sweep`).

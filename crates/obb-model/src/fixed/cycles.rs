@@ -33,18 +33,21 @@ pub const LAT_SAT: u64 = 22;
 /// The clock after the last projection output, when its keys are in the key table.
 pub const LAT_KEY_WRITE: u64 = 1;
 
-/// Grid: clocks from a box's keys leaving the projection to its first visit: the window's cells
-/// registered, their banks and buckets, the list heads read (and the box entered), the first
-/// list chosen (`grid_clocks`).
-pub const LAT_PROBE: u64 = 4;
+/// Grid: clocks from a box's keys leaving the projection to its first possible visit: the
+/// window's cells registered, their hashes, their banks and buckets, the list heads read (and
+/// the box entered), the lists to walk registered and written to the record queue
+/// (`grid_clocks`).
+pub const LAT_PROBE: u64 = 5;
 /// Grid: boxes accepted and not yet retired (probed without visits, or walked): the record
 /// queue between the probe and the walker holds them all, so the load waits instead.
 pub const GRID_CREDITS: usize = 32;
-/// Grid: the candidate queue's fill at which the walker pauses.
+/// Grid: the candidate queue's stored entries at which the walker pauses.
 pub const GRID_CAND_STALL: usize = 32;
 /// Grid: clocks from a visit to its candidate's first possible issue: the keys read and
-/// registered, compared and registered, written to the candidate queue.
-pub const LAT_GRID_CHECK: u64 = 3;
+/// registered, compared and written to the candidate queue, loaded on its output register.
+pub const LAT_GRID_CHECK: u64 = 4;
+/// Grid: clocks from a candidate's issue to the SAT's inputs: its geometry read and registered.
+pub const GRID_ISSUE_TO_SAT: u64 = 2;
 /// Grid: clocks a large box spends before its first visit on the slow path (its keys read and
 /// registered).
 pub const GRID_LARGE_START: u64 = 2;
@@ -62,7 +65,8 @@ pub struct FrameCycles {
     /// the output stream take one pair per clock alongside. The grid walks during the load:
     /// here only what is left after it.
     pub walk: u64,
-    /// The last visit's way through the key check and the SAT.
+    /// The last visit's way through the key check and the SAT (the grid: also the clear of its
+    /// list heads).
     pub drain: u64,
     pub total: u64,
 }
@@ -76,7 +80,7 @@ pub fn frame_cycles(n: u64, work: &BroadWork) -> FrameCycles {
     };
     let sort = work.sort_cycles;
     let walk = work.walk;
-    let drain = LAT_BROAD + LAT_SAT;
+    let drain = work.grid.map_or(LAT_BROAD + LAT_SAT, |g| g.drain);
     FrameCycles {
         load,
         sort,

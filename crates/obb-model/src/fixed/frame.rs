@@ -5,6 +5,7 @@
 use super::broad::{self, BroadWork};
 use super::config::{BroadPhase, HwConfig};
 use super::cycles::{frame_cycles, FrameCycles};
+use super::grid::GridWalk;
 use super::margins::Margins;
 use super::quantize::{keys, project, quantize, Projected, QObb, QuantizeError};
 use super::sat::collide;
@@ -55,6 +56,13 @@ impl ModelFrame {
             &self.margins,
             self.cfg.frac_bits(),
         )
+    }
+
+    /// The grid's walk of this frame under `mask`, visit by visit (`grid_clocks::grid_schedule`
+    /// plays it clock by clock).
+    pub fn grid_walk(&self, mask: &GroupMask) -> GridWalk {
+        let (_, walk) = broad::run_keeping(self, BroadPhase::Grid, mask, |_, _| {});
+        walk.expect("the grid keeps its walk")
     }
 
     /// The frame with the configured broad phase and group mask.

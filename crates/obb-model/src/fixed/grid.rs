@@ -250,8 +250,12 @@ pub struct GridWalk {
     /// Per visit, in order: the pair passed the key check (and, on the slow path, the mask and
     /// the home cell).
     pub passes: Vec<bool>,
+    /// Per visit, in order: the box walking and the box it meets.
+    pub pairs: Vec<(u32, u32)>,
     /// The slow path, per large box in index order.
     pub large: Vec<LargeWalk>,
+    /// Bucket bits of a bank: the list heads take `2^hash_bits` clocks to clear.
+    pub hash_bits: u32,
 }
 
 /// A large box's slow path, after the load: its window read in rounds of 3 x 3 x 3 cells (one
@@ -278,6 +282,7 @@ pub(super) fn walk(
     let mut lists = Lists::new(shape, n);
     let mut out = GridWalk {
         visits: Vec::with_capacity(n),
+        hash_bits: shape.hash_bits,
         ..GridWalk::default()
     };
     // `send` checks the mask and the keys and counts what it emits; a visit outside its home
@@ -289,6 +294,7 @@ pub(super) fn walk(
             send(w, i, j);
         }
         out.passes.push(w.emitted > emitted);
+        out.pairs.push((i as u32, j as u32));
     };
     let mut large = Vec::new();
     for i in 0..n {

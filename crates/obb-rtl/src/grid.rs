@@ -1,0 +1,844 @@
+//! `GridPhase`: the grid broad phase (`broad_phase = "grid"`), the spatial hash of
+//! `obb_model::fixed::grid` built while the boxes arrive, on the clocks of
+//! `obb_model::fixed::grid_clocks` (docs/hardware.md, "The grid"). Small boxes only: a box
+//! larger than a cell is neither entered nor walked, and raises the sticky `oversize` (its slow
+//! path is not built yet).
+//!
+//! | clock | stage |
+//! | --- | --- |
+//! | K | a box's keys leave the projection (`key_valid`) |
+//! | K+1 to K+3 | `GridCells`: the window's cells, and per bank (cell coordinates mod 3) its cell's bucket and fingerprint |
+//! | K+3 | the list heads of every bank and group are read (distributed RAM, at once); the box is entered in its home cell's list and its successor written |
+//! | K+4 | the lists to walk registered; written to the record queue, or the box retires |
+//! | K+5 | the walker may take the record |
+//!
+//! Lists are stored at `27 q + b` for bank b and group `h = groups - 1 - q`, so that every
+//! index the Verilog needs is a literal expression of loop variables. The walker takes them
+//! bank by bank, group by group, as the model does: its choice is written from the last list to
+//! the first, so the first list left is the one written last (no priority chain).
+//!
+//! The walker makes one visit per clock: the successor table's output addresses the next visit
+//! (the list goes on), or a held visit (a stall held it), or the next list's head, or, when
+//! the record is over, the next record's first list. A visit's keys are read on the key table's
+//! port B (`rd_addr`; the walking box's keys ride in its record), compared two clocks later
+//! and, if they overlap, written to the candidate queue (`PairFifo`), which the core drains on
+//! clocks it does not accept a box. At the end of the walk every bucket is written empty, one
+//! a clock, so that the next frame finds the lists clear.
+
+use crate::dist_ram::DistRam;
+use crate::grid_cells::{vec, GridCells, BUCKET, FP};
+use crate::pair_fifo::{self, PairFifo};
+use crate::projection::{CENTER, MARGIN};
+use crate::radix::VAL;
+use crate::table_ram::TableRam;
+use obb_model::fixed::config::GROUP_BITS;
+use obb_model::fixed::cycles::{GRID_CAND_STALL, GRID_CREDITS};
+use obb_model::fixed::grid::{GridShape, BANKS};
+use obb_model::fixed::HwConfig;
+use rust_hdl::prelude::*;
+
+/// A list's owner cell: valid, mixed, fingerprint.
+const META: usize = FP + 2;
+const GROUP: usize = GROUP_BITS as usize;
+/// The group mask: bit `8 g + h` says whether groups g and h are paired.
+const MASK: usize = 1 << (2 * GROUP);
+/// Records (boxes waiting for the walker): the credits bound them.
+const SLOT: usize = 5;
+const _: () = assert!(GRID_CREDITS <= 1 << SLOT);
+/// Width of a box index in the candidate queue (as on the core's pair stream).
+const INDEX: usize = VAL;
+/// A candidate: a, b (a < b), their margins.
+const CAND: usize = 2 * INDEX + 2 * MARGIN;
+const COUNT: usize = SLOT + 2;
+const _: () = assert!(GRID_CAND_STALL as u64 + 2 < pair_fifo::DEPTH);
+
+#[derive(LogicBlock)]
+pub struct GridPhase<const A: usize, const C: usize> {
+    pub clock: Signal<In, Clock>,
+    /// Pulse: a new frame (the list heads were cleared at the end of the last).
+    pub start: Signal<In, Bit>,
+    /// A box is accepted this clock (the core's load).
+    pub accept: Signal<In, Bit>,
+    /// Every box of the frame has been accepted.
+    pub loaded: Signal<In, Bit>,
+    /// Fewer than `GRID_CREDITS` boxes accepted and not retired: the core may accept.
+    pub credit: Signal<Out, Bit>,
+    /// A box's keys, margin and group from the projection, and its index.
+    pub key_valid: Signal<In, Bit>,
+    pub key_index: Signal<In, Bits<A>>,
+    pub key_min: [Signal<In, Bits<CENTER>>; 3],
+    pub key_max: [Signal<In, Bits<CENTER>>; 3],
+    pub key_margin: Signal<In, Bits<MARGIN>>,
+    pub key_group: Signal<In, Bits<GROUP>>,
+    /// The key table's port B: the visited box (`visit`), its keys and margin a clock later.
+    pub visit: Signal<Out, Bit>,
+    pub visit_i: Signal<Out, Bits<A>>,
+    pub rd_addr: Signal<Out, Bits<A>>,
+    pub rd_min: [Signal<In, Bits<CENTER>>; 3],
+    pub rd_max: [Signal<In, Bits<CENTER>>; 3],
+    pub rd_margin: Signal<In, Bits<MARGIN>>,
+    /// The candidate stream (first word fall-through): taken on a clock with `cand_ready`.
+    pub cand_valid: Signal<Out, Bit>,
+    pub cand_ready: Signal<In, Bit>,
+    pub cand_a: Signal<Out, Bits<A>>,
+    pub cand_b: Signal<Out, Bits<A>>,
+    pub cand_ma: Signal<Out, Bits<MARGIN>>,
+    pub cand_mb: Signal<Out, Bits<MARGIN>>,
+    /// Every box has retired: the walk is over (the list heads are being cleared).
+    pub walked: Signal<Out, Bit>,
+    /// The list heads are clear, the candidate queue is empty: the grid's frame is over.
+    pub finished: Signal<Out, Bit>,
+    /// Sticky for the frame: a box larger than a cell arrived (not walked: no slow path yet).
+    pub oversize: Signal<Out, Bit>,
+    // Configuration.
+    /// Groups with lists (`grid_groups`), and lists: 27 per group.
+    _groups: usize,
+    _lists: usize,
+    last_bucket: Constant<Bits<BUCKET>>,
+    mask: Constant<Bits<MASK>>,
+    credits: Constant<Bits<COUNT>>,
+    /// A successor's or a record head's flag bit (`2^A`).
+    top: Constant<Bits<C>>,
+    /// Per list (stored at `27 q + b`, q = groups - 1 - h): its number, and its group h.
+    list_id: Vec<Constant<Bits<8>>>,
+    list_group: Vec<Constant<Bits<GROUP>>>,
+    /// The candidate's fields' places in the queue's word.
+    at_a: Constant<Bits<8>>,
+    at_b: Constant<Bits<8>>,
+    at_ma: Constant<Bits<8>>,
+    /// K+1 to K+3: the window's cells, banks, buckets, fingerprints.
+    cells: GridCells,
+    // The box alongside: K+1.
+    s1_valid: DFF<Bit>,
+    s1_index: DFF<Bits<C>>,
+    s1_min: [DFF<Bits<CENTER>>; 3],
+    s1_max: [DFF<Bits<CENTER>>; 3],
+    s1_margin: DFF<Bits<MARGIN>>,
+    s1_group: DFF<Bits<GROUP>>,
+    // K+2.
+    s2_valid: DFF<Bit>,
+    s2_index: DFF<Bits<C>>,
+    s2_min: [DFF<Bits<CENTER>>; 3],
+    s2_max: [DFF<Bits<CENTER>>; 3],
+    s2_margin: DFF<Bits<MARGIN>>,
+    s2_group: DFF<Bits<GROUP>>,
+    // K+3.
+    s3_valid: DFF<Bit>,
+    s3_index: DFF<Bits<C>>,
+    s3_min: [DFF<Bits<CENTER>>; 3],
+    s3_max: [DFF<Bits<CENTER>>; 3],
+    s3_margin: DFF<Bits<MARGIN>>,
+    s3_group: DFF<Bits<GROUP>>,
+    /// The mask's bits for the box's group: bit h pairs it with group h.
+    s3_allowed: DFF<Bits<MASK>>,
+    // K+4.
+    s4_valid: DFF<Bit>,
+    s4_any: DFF<Bit>,
+    s4_index: DFF<Bits<C>>,
+    s4_min: [DFF<Bits<CENTER>>; 3],
+    s4_max: [DFF<Bits<CENTER>>; 3],
+    s4_margin: DFF<Bits<MARGIN>>,
+    s4_live: Vec<DFF<Bit>>,
+    s4_head: Vec<DFF<Bits<C>>>,
+    // Memories.
+    /// Per list: the owner (valid, mixed, fingerprint) and the latest box, by bucket.
+    meta: Vec<DistRam<Bits<META>, BUCKET>>,
+    head: Vec<DistRam<Bits<C>, BUCKET>>,
+    /// Each box's successor on its list (the top bit: there is one).
+    succ: TableRam<Bits<C>, A>,
+    /// The record queue: per list its head (top bit: walk it), and the box's index, keys, margin.
+    rec: Vec<DistRam<Bits<C>, SLOT>>,
+    rec_index: DistRam<Bits<C>, SLOT>,
+    rec_min: [DistRam<Bits<CENTER>, SLOT>; 3],
+    rec_max: [DistRam<Bits<CENTER>, SLOT>; 3],
+    rec_margin: DistRam<Bits<MARGIN>, SLOT>,
+    wp: DFF<Bits<SLOT>>,
+    rp: DFF<Bits<SLOT>>,
+    count: DFF<Bits<COUNT>>,
+    inflight: DFF<Bits<COUNT>>,
+    // The walker: the record it walks, lists started, the visit held by a stall.
+    cur_valid: DFF<Bit>,
+    cur_live: Vec<DFF<Bit>>,
+    cur_head: Vec<DFF<Bits<C>>>,
+    started: Vec<DFF<Bit>>,
+    cur_index: DFF<Bits<C>>,
+    cur_min: [DFF<Bits<CENTER>>; 3],
+    cur_max: [DFF<Bits<CENTER>>; 3],
+    cur_margin: DFF<Bits<MARGIN>>,
+    /// Last clock made a visit: its successor is on the successor table's port B.
+    chase: DFF<Bit>,
+    held_valid: DFF<Bit>,
+    held: DFF<Bits<C>>,
+    // The key check: the visit (V+1), the keys of both boxes (V+2).
+    v1_valid: DFF<Bit>,
+    v1_i: DFF<Bits<C>>,
+    v1_j: DFF<Bits<C>>,
+    v1_min: [DFF<Bits<CENTER>>; 3],
+    v1_max: [DFF<Bits<CENTER>>; 3],
+    v1_margin: DFF<Bits<MARGIN>>,
+    v2_valid: DFF<Bit>,
+    v2_i: DFF<Bits<C>>,
+    v2_j: DFF<Bits<C>>,
+    v2_min_i: [DFF<Bits<CENTER>>; 3],
+    v2_max_i: [DFF<Bits<CENTER>>; 3],
+    v2_min_j: [DFF<Bits<CENTER>>; 3],
+    v2_max_j: [DFF<Bits<CENTER>>; 3],
+    v2_margin_i: DFF<Bits<MARGIN>>,
+    v2_margin_j: DFF<Bits<MARGIN>>,
+    fifo: PairFifo<CAND>,
+    // End of frame.
+    clearing: DFF<Bit>,
+    cleared: DFF<Bit>,
+    clear_at: DFF<Bits<BUCKET>>,
+    large_seen: DFF<Bit>,
+    // Combinational.
+    allowed: Signal<Local, Bits<MASK>>,
+    /// Per list: the box's mask bits shifted to the list's group.
+    allow: Vec<Signal<Local, Bits<MASK>>>,
+    /// K+3, per list: walk it; enter the box in it; its owner after the entry.
+    live: Vec<Signal<Local, Bit>>,
+    enter: Vec<Signal<Local, Bit>>,
+    succ_data: Signal<Local, Bits<C>>,
+    // The walker.
+    list_open: Signal<Local, Bit>,
+    need: Signal<Local, Bit>,
+    cur_rem: Vec<Signal<Local, Bit>>,
+    load_next: Signal<Local, Bit>,
+    retire_rec: Signal<Local, Bit>,
+    take: Signal<Local, Bit>,
+    /// The lists the walker chooses from (the next record's when it loads it), and their heads.
+    rem: Vec<Signal<Local, Bit>>,
+    rem_head: Vec<Signal<Local, Bits<C>>>,
+    /// Some list is left in the current record.
+    rem_any: Signal<Local, Bit>,
+    /// The first list left (bank, then group): its head and its number.
+    pick_head: Signal<Local, Bits<C>>,
+    pick_id: Signal<Local, Bits<8>>,
+    rd_live: Vec<Signal<Local, Bit>>,
+    /// Credits and records: this clock's changes.
+    inflight_up: Signal<Local, Bits<COUNT>>,
+    inflight_down: Signal<Local, Bits<COUNT>>,
+    retire_down: Signal<Local, Bits<COUNT>>,
+    count_up: Signal<Local, Bits<COUNT>>,
+    count_down: Signal<Local, Bits<COUNT>>,
+    cand_word: Signal<Local, Bits<CAND>>,
+    unpack_a: Signal<Local, Bits<CAND>>,
+    unpack_b: Signal<Local, Bits<CAND>>,
+    unpack_ma: Signal<Local, Bits<CAND>>,
+    cand: Signal<Local, Bits<C>>,
+    /// The arriving box's index with the flag bit: a list head.
+    entry: Signal<Local, Bits<C>>,
+    cand_ok: Signal<Local, Bit>,
+    go: Signal<Local, Bit>,
+    stall: Signal<Local, Bit>,
+    retire_probe: Signal<Local, Bit>,
+    rec_write: Signal<Local, Bit>,
+    overlap: Signal<Local, Bit>,
+    swap: Signal<Local, Bit>,
+    cand_lo: Signal<Local, Bits<INDEX>>,
+    cand_hi: Signal<Local, Bits<INDEX>>,
+    margin_lo: Signal<Local, Bits<MARGIN>>,
+    margin_hi: Signal<Local, Bits<MARGIN>>,
+    done_walk: Signal<Local, Bit>,
+}
+
+impl<const A: usize, const C: usize> GridPhase<A, C> {
+    /// The grid of configuration `cfg` (valid; its cell edge fits the keys).
+    pub fn new(cfg: &HwConfig) -> GridPhase<A, C> {
+        assert!(C == A + 1, "successors need one bit more than indices");
+        let shape = GridShape::new(cfg);
+        let groups = shape.groups as usize;
+        let lists = BANKS * groups;
+        let mut mask = Bits::<MASK>::default();
+        for g in 0..1u32 << GROUP {
+            for h in 0..1u32 << GROUP {
+                if cfg.groups.allows(g, h) {
+                    mask = mask.replace_bit((g << GROUP | h) as usize, true);
+                }
+            }
+        }
+        let buckets = 1u64 << shape.hash_bits;
+        GridPhase {
+            clock: Default::default(),
+            start: Default::default(),
+            accept: Default::default(),
+            loaded: Default::default(),
+            credit: Default::default(),
+            key_valid: Default::default(),
+            key_index: Default::default(),
+            key_min: Default::default(),
+            key_max: Default::default(),
+            key_margin: Default::default(),
+            key_group: Default::default(),
+            visit: Default::default(),
+            visit_i: Default::default(),
+            rd_addr: Default::default(),
+            rd_min: Default::default(),
+            rd_max: Default::default(),
+            rd_margin: Default::default(),
+            cand_valid: Default::default(),
+            cand_ready: Default::default(),
+            cand_a: Default::default(),
+            cand_b: Default::default(),
+            cand_ma: Default::default(),
+            cand_mb: Default::default(),
+            walked: Default::default(),
+            finished: Default::default(),
+            oversize: Default::default(),
+            _groups: groups,
+            _lists: lists,
+            last_bucket: Constant::new((buckets - 1).into()),
+            mask: Constant::new(mask),
+            credits: Constant::new((GRID_CREDITS as u64).into()),
+            top: Constant::new((1u64 << A).into()),
+            list_id: (0..lists)
+                .map(|l| Constant::new((l as u64).into()))
+                .collect(),
+            list_group: (0..lists)
+                .map(|l| Constant::new(((groups - 1 - l / BANKS) as u64).into()))
+                .collect(),
+            at_a: Constant::new(((INDEX + 2 * MARGIN) as u64).into()),
+            at_b: Constant::new(((2 * MARGIN) as u64).into()),
+            at_ma: Constant::new((MARGIN as u64).into()),
+            cells: GridCells::new(cfg),
+            s1_valid: Default::default(),
+            s1_index: Default::default(),
+            s1_min: Default::default(),
+            s1_max: Default::default(),
+            s1_margin: Default::default(),
+            s1_group: Default::default(),
+            s2_valid: Default::default(),
+            s2_index: Default::default(),
+            s2_min: Default::default(),
+            s2_max: Default::default(),
+            s2_margin: Default::default(),
+            s2_group: Default::default(),
+            s3_valid: Default::default(),
+            s3_index: Default::default(),
+            s3_min: Default::default(),
+            s3_max: Default::default(),
+            s3_margin: Default::default(),
+            s3_group: Default::default(),
+            s3_allowed: Default::default(),
+            s4_valid: Default::default(),
+            s4_any: Default::default(),
+            s4_index: Default::default(),
+            s4_min: Default::default(),
+            s4_max: Default::default(),
+            s4_margin: Default::default(),
+            s4_live: vec(lists),
+            s4_head: vec(lists),
+            meta: (0..lists).map(|_| DistRam::zeroed(buckets)).collect(),
+            head: (0..lists).map(|_| DistRam::zeroed(buckets)).collect(),
+            succ: Default::default(),
+            rec: vec(lists),
+            rec_index: Default::default(),
+            rec_min: Default::default(),
+            rec_max: Default::default(),
+            rec_margin: Default::default(),
+            wp: Default::default(),
+            rp: Default::default(),
+            count: Default::default(),
+            inflight: Default::default(),
+            cur_valid: Default::default(),
+            cur_live: vec(lists),
+            cur_head: vec(lists),
+            started: vec(lists),
+            cur_index: Default::default(),
+            cur_min: Default::default(),
+            cur_max: Default::default(),
+            cur_margin: Default::default(),
+            chase: Default::default(),
+            held_valid: Default::default(),
+            held: Default::default(),
+            v1_valid: Default::default(),
+            v1_i: Default::default(),
+            v1_j: Default::default(),
+            v1_min: Default::default(),
+            v1_max: Default::default(),
+            v1_margin: Default::default(),
+            v2_valid: Default::default(),
+            v2_i: Default::default(),
+            v2_j: Default::default(),
+            v2_min_i: Default::default(),
+            v2_max_i: Default::default(),
+            v2_min_j: Default::default(),
+            v2_max_j: Default::default(),
+            v2_margin_i: Default::default(),
+            v2_margin_j: Default::default(),
+            fifo: PairFifo::new(GRID_CAND_STALL as u64),
+            clearing: Default::default(),
+            cleared: Default::default(),
+            clear_at: Default::default(),
+            large_seen: Default::default(),
+            allowed: Default::default(),
+            allow: vec(lists),
+            live: vec(lists),
+            enter: vec(lists),
+            succ_data: Default::default(),
+            list_open: Default::default(),
+            need: Default::default(),
+            cur_rem: vec(lists),
+            load_next: Default::default(),
+            retire_rec: Default::default(),
+            take: Default::default(),
+            rem: vec(lists),
+            rem_head: vec(lists),
+            rem_any: Default::default(),
+            pick_head: Default::default(),
+            pick_id: Default::default(),
+            rd_live: vec(lists),
+            inflight_up: Default::default(),
+            inflight_down: Default::default(),
+            retire_down: Default::default(),
+            count_up: Default::default(),
+            count_down: Default::default(),
+            cand_word: Default::default(),
+            unpack_a: Default::default(),
+            unpack_b: Default::default(),
+            unpack_ma: Default::default(),
+            cand: Default::default(),
+            entry: Default::default(),
+            cand_ok: Default::default(),
+            go: Default::default(),
+            stall: Default::default(),
+            retire_probe: Default::default(),
+            rec_write: Default::default(),
+            overlap: Default::default(),
+            swap: Default::default(),
+            cand_lo: Default::default(),
+            cand_hi: Default::default(),
+            margin_lo: Default::default(),
+            margin_hi: Default::default(),
+            done_walk: Default::default(),
+        }
+    }
+}
+
+impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(
+            self,
+            clock,
+            s1_valid,
+            s1_index,
+            s1_margin,
+            s1_group,
+            s2_valid,
+            s2_index,
+            s2_margin,
+            s2_group,
+            s3_valid,
+            s3_index,
+            s3_margin,
+            s3_group,
+            s3_allowed,
+            s4_valid,
+            s4_any,
+            s4_index,
+            s4_margin,
+            wp,
+            rp,
+            count,
+            inflight,
+            cur_valid,
+            cur_index,
+            cur_margin,
+            chase,
+            held_valid,
+            held,
+            v1_valid,
+            v1_i,
+            v1_j,
+            v1_margin,
+            v2_valid,
+            v2_i,
+            v2_j,
+            v2_margin_i,
+            v2_margin_j,
+            clearing,
+            cleared,
+            clear_at,
+            large_seen
+        );
+        clock!(self, clock, cells, succ, rec_index, rec_margin, fifo);
+        for x in 0..3 {
+            self.s1_min[x].clock.next = self.clock.val();
+            self.s1_max[x].clock.next = self.clock.val();
+            self.s2_min[x].clock.next = self.clock.val();
+            self.s2_max[x].clock.next = self.clock.val();
+            self.s3_min[x].clock.next = self.clock.val();
+            self.s3_max[x].clock.next = self.clock.val();
+            self.s4_min[x].clock.next = self.clock.val();
+            self.s4_max[x].clock.next = self.clock.val();
+            self.rec_min[x].clock.next = self.clock.val();
+            self.rec_max[x].clock.next = self.clock.val();
+            self.cur_min[x].clock.next = self.clock.val();
+            self.cur_max[x].clock.next = self.clock.val();
+            self.v1_min[x].clock.next = self.clock.val();
+            self.v1_max[x].clock.next = self.clock.val();
+            self.v2_min_i[x].clock.next = self.clock.val();
+            self.v2_max_i[x].clock.next = self.clock.val();
+            self.v2_min_j[x].clock.next = self.clock.val();
+            self.v2_max_j[x].clock.next = self.clock.val();
+        }
+        for l in 0..self._lists {
+            self.s4_live[l].clock.next = self.clock.val();
+            self.s4_head[l].clock.next = self.clock.val();
+            self.meta[l].clock.next = self.clock.val();
+            self.head[l].clock.next = self.clock.val();
+            self.rec[l].clock.next = self.clock.val();
+            self.cur_live[l].clock.next = self.clock.val();
+            self.cur_head[l].clock.next = self.clock.val();
+            self.started[l].clock.next = self.clock.val();
+            self.cur_live[l].d.next = self.cur_live[l].q.val();
+            self.cur_head[l].d.next = self.cur_head[l].q.val();
+            self.started[l].d.next = self.started[l].q.val();
+        }
+        for x in 0..3 {
+            self.cur_min[x].d.next = self.cur_min[x].q.val();
+            self.cur_max[x].d.next = self.cur_max[x].q.val();
+        }
+
+        // K+1 to K+3: the cells of the box's window (`GridCells`); its index, keys, margin and
+        // group alongside.
+        self.cells.key_valid.next = self.key_valid.val();
+        self.s1_valid.d.next = self.key_valid.val();
+        self.s1_index.d.next = bit_cast::<C, A>(self.key_index.val());
+        self.s1_margin.d.next = self.key_margin.val();
+        self.s1_group.d.next = self.key_group.val();
+        self.s2_valid.d.next = self.s1_valid.q.val();
+        self.s2_index.d.next = self.s1_index.q.val();
+        self.s2_margin.d.next = self.s1_margin.q.val();
+        self.s2_group.d.next = self.s1_group.q.val();
+        self.s3_valid.d.next = self.s2_valid.q.val();
+        self.s3_index.d.next = self.s2_index.q.val();
+        self.s3_margin.d.next = self.s2_margin.q.val();
+        self.s3_group.d.next = self.s2_group.q.val();
+        for x in 0..3 {
+            self.cells.key_min[x].next = self.key_min[x].val();
+            self.cells.key_max[x].next = self.key_max[x].val();
+            self.s1_min[x].d.next = self.key_min[x].val();
+            self.s1_max[x].d.next = self.key_max[x].val();
+            self.s2_min[x].d.next = self.s1_min[x].q.val();
+            self.s2_max[x].d.next = self.s1_max[x].q.val();
+            self.s3_min[x].d.next = self.s2_min[x].q.val();
+            self.s3_max[x].d.next = self.s2_max[x].q.val();
+        }
+        self.allowed.next =
+            self.mask.val() >> (bit_cast::<MASK, GROUP>(self.s2_group.q.val()) << 3_u64);
+        self.s3_allowed.d.next = self.allowed.val();
+
+        // K+3, per list (bank b, group h): the list heads are read at the bank's bucket. The
+        // box walks a list of a group its own pairs with, of a cell in its window, that may
+        // hold a box of that cell: its owner has the cell's fingerprint, or it is mixed. A
+        // small box enters its home cell's list of its own group: the first owns the list,
+        // a box of another fingerprint mixes it; the list's head becomes the box's successor.
+        // At the end of a frame the clear writes every bucket empty.
+        self.succ_data.next = 0.into();
+        self.entry.next = self.s3_index.q.val() | self.top.val();
+        self.s4_any.d.next = false;
+        for q in 0..self._groups {
+            for b in 0..27 {
+                self.meta[27 * q + b].read_address.next = self.cells.bucket[b].val();
+                self.head[27 * q + b].read_address.next = self.cells.bucket[b].val();
+                self.allow[27 * q + b].next =
+                    self.s3_allowed.q.val() >> self.list_group[27 * q + b].val();
+                self.live[27 * q + b].next = self.s3_valid.q.val()
+                    & self.cells.small_box.val()
+                    & self.cells.inside[b].val()
+                    & self.allow[27 * q + b].val().get_bit(0)
+                    & self.meta[27 * q + b].read_data.val().get_bit(9)
+                    & (self.meta[27 * q + b].read_data.val().get_bit(8)
+                        | (self.meta[27 * q + b].read_data.val().get_bits::<FP>(0)
+                            == self.cells.fp[b].val()));
+                self.enter[27 * q + b].next = self.s3_valid.q.val()
+                    & self.cells.small_box.val()
+                    & self.cells.home[b].val()
+                    & (self.s3_group.q.val() == self.list_group[27 * q + b].val());
+                self.meta[27 * q + b].write_enable.next = self.enter[27 * q + b].val();
+                self.meta[27 * q + b].write_address.next = self.cells.bucket[b].val();
+                self.head[27 * q + b].write_enable.next = self.enter[27 * q + b].val();
+                self.head[27 * q + b].write_address.next = self.cells.bucket[b].val();
+                self.head[27 * q + b].write_data.next = self.entry.val();
+                // Owned: kept, and mixed by another fingerprint; free: owned by this one.
+                self.meta[27 * q + b].write_data.next =
+                    bit_cast::<META, FP>(self.cells.home_fp.val()) | 512_u64;
+                if self.meta[27 * q + b].read_data.val().get_bit(9) {
+                    self.meta[27 * q + b].write_data.next = self.meta[27 * q + b].read_data.val();
+                    if self.meta[27 * q + b].read_data.val().get_bits::<FP>(0)
+                        != self.cells.home_fp.val()
+                    {
+                        self.meta[27 * q + b].write_data.next =
+                            self.meta[27 * q + b].read_data.val() | 256_u64;
+                    }
+                }
+                if self.enter[27 * q + b].val() & self.meta[27 * q + b].read_data.val().get_bit(9) {
+                    self.succ_data.next = self.head[27 * q + b].read_data.val();
+                }
+                if self.clearing.q.val() {
+                    self.meta[27 * q + b].write_enable.next = true;
+                    self.meta[27 * q + b].write_address.next = self.clear_at.q.val();
+                    self.meta[27 * q + b].write_data.next = 0.into();
+                    self.head[27 * q + b].write_enable.next = true;
+                    self.head[27 * q + b].write_address.next = self.clear_at.q.val();
+                    self.head[27 * q + b].write_data.next = 0.into();
+                }
+                self.s4_live[27 * q + b].d.next = self.live[27 * q + b].val();
+                self.s4_head[27 * q + b].d.next = self.head[27 * q + b].read_data.val();
+                if self.live[27 * q + b].val() {
+                    self.s4_any.d.next = true;
+                }
+            }
+        }
+        self.succ.write_enable.next = self.s3_valid.q.val() & self.cells.small_box.val();
+        self.succ.write_address.next = bit_cast::<A, C>(self.s3_index.q.val());
+        self.succ.write_data.next = self.succ_data.val();
+        self.s4_valid.d.next = self.s3_valid.q.val();
+        self.s4_index.d.next = self.s3_index.q.val();
+        self.s4_margin.d.next = self.s3_margin.q.val();
+        for x in 0..3 {
+            self.s4_min[x].d.next = self.s3_min[x].q.val();
+            self.s4_max[x].d.next = self.s3_max[x].q.val();
+        }
+        if self.cells.valid.val() & !self.cells.small_box.val() {
+            self.large_seen.d.next = true;
+        }
+
+        // K+4: a box with lists to walk is written to the record queue; any other retires.
+        self.rec_write.next = self.s4_valid.q.val() & self.s4_any.q.val();
+        self.retire_probe.next = self.s4_valid.q.val() & !self.s4_any.q.val();
+        for l in 0..self._lists {
+            self.rec[l].write_enable.next = self.rec_write.val();
+            self.rec[l].write_address.next = self.wp.q.val();
+            // A list head has the flag bit set; a list not to walk is written as none.
+            self.rec[l].write_data.next = 0.into();
+            if self.s4_live[l].q.val() {
+                self.rec[l].write_data.next = self.s4_head[l].q.val();
+            }
+            self.rec[l].read_address.next = self.rp.q.val();
+        }
+        self.rec_index.write_enable.next = self.rec_write.val();
+        self.rec_index.write_address.next = self.wp.q.val();
+        self.rec_index.write_data.next = self.s4_index.q.val();
+        self.rec_index.read_address.next = self.rp.q.val();
+        self.rec_margin.write_enable.next = self.rec_write.val();
+        self.rec_margin.write_address.next = self.wp.q.val();
+        self.rec_margin.write_data.next = self.s4_margin.q.val();
+        self.rec_margin.read_address.next = self.rp.q.val();
+        for x in 0..3 {
+            self.rec_min[x].write_enable.next = self.rec_write.val();
+            self.rec_min[x].write_address.next = self.wp.q.val();
+            self.rec_min[x].write_data.next = self.s4_min[x].q.val();
+            self.rec_min[x].read_address.next = self.rp.q.val();
+            self.rec_max[x].write_enable.next = self.rec_write.val();
+            self.rec_max[x].write_address.next = self.wp.q.val();
+            self.rec_max[x].write_data.next = self.s4_max[x].q.val();
+            self.rec_max[x].read_address.next = self.rp.q.val();
+        }
+        if self.rec_write.val() {
+            self.wp.d.next = self.wp.q.val() + 1;
+        }
+
+        // The walker. The list goes on (the successor table's output), or a stalled visit is
+        // held, or the next list of the record starts, or the record is over and the next one
+        // is loaded (its first list starts the same clock). Lists are taken bank by bank, group
+        // by group: written from the last to the first, so the first left is written last.
+        self.list_open.next = self.chase.q.val() & (self.succ.read_data_b.val() >= self.top.val());
+        self.need.next = !self.list_open.val() & !self.held_valid.q.val();
+        self.rem_any.next = false;
+        for l in 0..self._lists {
+            self.cur_rem[l].next = self.cur_live[l].q.val() & !self.started[l].q.val();
+            if self.cur_rem[l].val() {
+                self.rem_any.next = true;
+            }
+            self.rd_live[l].next = self.rec[l].read_data.val() >= self.top.val();
+        }
+        self.load_next.next = self.need.val()
+            & !(self.cur_valid.q.val() & self.rem_any.val())
+            & (self.count.q.val() != 0);
+        self.retire_rec.next = self.need.val() & self.cur_valid.q.val() & !self.rem_any.val();
+        self.take.next = self.need.val()
+            & ((self.cur_valid.q.val() & self.rem_any.val()) | self.load_next.val());
+        self.pick_head.next = 0.into();
+        self.pick_id.next = 0.into();
+        for bb in 0..27 {
+            for q in 0..self._groups {
+                self.rem[27 * q + 26 - bb].next = self.cur_rem[27 * q + 26 - bb].val();
+                self.rem_head[27 * q + 26 - bb].next = self.cur_head[27 * q + 26 - bb].q.val();
+                if self.load_next.val() {
+                    self.rem[27 * q + 26 - bb].next = self.rd_live[27 * q + 26 - bb].val();
+                    self.rem_head[27 * q + 26 - bb].next =
+                        self.rec[27 * q + 26 - bb].read_data.val();
+                }
+                if self.rem[27 * q + 26 - bb].val() {
+                    self.pick_head.next = self.rem_head[27 * q + 26 - bb].val();
+                    self.pick_id.next = self.list_id[27 * q + 26 - bb].val();
+                }
+            }
+        }
+        self.cand.next = self.pick_head.val();
+        if self.held_valid.q.val() {
+            self.cand.next = self.held.q.val();
+        }
+        if self.list_open.val() {
+            self.cand.next = self.succ.read_data_b.val();
+        }
+        self.cand_ok.next = self.list_open.val() | self.held_valid.q.val() | self.take.val();
+        self.stall.next = self.fifo.almost_full.val();
+        self.go.next = self.cand_ok.val() & !self.stall.val();
+        self.chase.d.next = self.go.val();
+        if self.go.val() {
+            self.held_valid.d.next = false;
+        } else if self.cand_ok.val() {
+            self.held_valid.d.next = true;
+            self.held.d.next = self.cand.val();
+        }
+        for l in 0..self._lists {
+            if self.take.val() & (self.pick_id.val() == self.list_id[l].val()) {
+                self.started[l].d.next = true;
+            }
+            if self.load_next.val() {
+                self.started[l].d.next = self.pick_id.val() == self.list_id[l].val();
+                self.cur_live[l].d.next = self.rd_live[l].val();
+                self.cur_head[l].d.next = self.rec[l].read_data.val();
+            }
+        }
+        // The visit's box i: the record's, or the one loaded this clock.
+        self.v1_i.d.next = self.cur_index.q.val();
+        self.v1_margin.d.next = self.cur_margin.q.val();
+        for x in 0..3 {
+            self.v1_min[x].d.next = self.cur_min[x].q.val();
+            self.v1_max[x].d.next = self.cur_max[x].q.val();
+        }
+        if self.load_next.val() {
+            self.rp.d.next = self.rp.q.val() + 1;
+            self.cur_valid.d.next = true;
+            self.cur_index.d.next = self.rec_index.read_data.val();
+            self.cur_margin.d.next = self.rec_margin.read_data.val();
+            self.v1_i.d.next = self.rec_index.read_data.val();
+            self.v1_margin.d.next = self.rec_margin.read_data.val();
+            for x in 0..3 {
+                self.cur_min[x].d.next = self.rec_min[x].read_data.val();
+                self.cur_max[x].d.next = self.rec_max[x].read_data.val();
+                self.v1_min[x].d.next = self.rec_min[x].read_data.val();
+                self.v1_max[x].d.next = self.rec_max[x].read_data.val();
+            }
+        } else if self.retire_rec.val() {
+            self.cur_valid.d.next = false;
+        }
+        self.visit.next = self.go.val();
+        self.visit_i.next = bit_cast::<A, C>(self.v1_i.d.val());
+        self.rd_addr.next = bit_cast::<A, C>(self.cand.val());
+        self.succ.read_address_a.next = 0.into();
+        self.succ.read_address_b.next = bit_cast::<A, C>(self.cand.val());
+
+        // Credits and records.
+        self.inflight_up.next = 0.into();
+        self.inflight_down.next = 0.into();
+        self.retire_down.next = 0.into();
+        if self.accept.val() {
+            self.inflight_up.next = 1.into();
+        }
+        if self.retire_probe.val() {
+            self.inflight_down.next = 1.into();
+        }
+        if self.retire_rec.val() {
+            self.retire_down.next = 1.into();
+        }
+        self.inflight.d.next = self.inflight.q.val() + self.inflight_up.val()
+            - self.inflight_down.val()
+            - self.retire_down.val();
+        self.credit.next = self.inflight.q.val() < self.credits.val();
+        self.count_up.next = 0.into();
+        self.count_down.next = 0.into();
+        if self.rec_write.val() {
+            self.count_up.next = 1.into();
+        }
+        if self.load_next.val() {
+            self.count_down.next = 1.into();
+        }
+        self.count.d.next = self.count.q.val() + self.count_up.val() - self.count_down.val();
+
+        // The key check: V+1 the visited box's keys come from port B; V+2 they are compared
+        // with the walking box's, and a candidate (lower index first) enters the queue.
+        self.v1_valid.d.next = self.go.val();
+        self.v1_j.d.next = bit_cast::<C, A>(bit_cast::<A, C>(self.cand.val()));
+        self.v2_valid.d.next = self.v1_valid.q.val();
+        self.v2_i.d.next = self.v1_i.q.val();
+        self.v2_j.d.next = self.v1_j.q.val();
+        self.v2_margin_i.d.next = self.v1_margin.q.val();
+        self.v2_margin_j.d.next = self.rd_margin.val();
+        for x in 0..3 {
+            self.v2_min_i[x].d.next = self.v1_min[x].q.val();
+            self.v2_max_i[x].d.next = self.v1_max[x].q.val();
+            self.v2_min_j[x].d.next = self.rd_min[x].val();
+            self.v2_max_j[x].d.next = self.rd_max[x].val();
+        }
+        self.overlap.next = (self.v2_min_i[0].q.val() <= self.v2_max_j[0].q.val())
+            & (self.v2_min_j[0].q.val() <= self.v2_max_i[0].q.val())
+            & (self.v2_min_i[1].q.val() <= self.v2_max_j[1].q.val())
+            & (self.v2_min_j[1].q.val() <= self.v2_max_i[1].q.val())
+            & (self.v2_min_i[2].q.val() <= self.v2_max_j[2].q.val())
+            & (self.v2_min_j[2].q.val() <= self.v2_max_i[2].q.val());
+        self.swap.next = self.v2_i.q.val() < self.v2_j.q.val();
+        self.cand_lo.next = bit_cast::<INDEX, C>(self.v2_j.q.val());
+        self.cand_hi.next = bit_cast::<INDEX, C>(self.v2_i.q.val());
+        self.margin_lo.next = self.v2_margin_j.q.val();
+        self.margin_hi.next = self.v2_margin_i.q.val();
+        if self.swap.val() {
+            self.cand_lo.next = bit_cast::<INDEX, C>(self.v2_i.q.val());
+            self.cand_hi.next = bit_cast::<INDEX, C>(self.v2_j.q.val());
+            self.margin_lo.next = self.v2_margin_i.q.val();
+            self.margin_hi.next = self.v2_margin_j.q.val();
+        }
+        self.cand_word.next = (bit_cast::<CAND, INDEX>(self.cand_lo.val()) << self.at_a.val())
+            | (bit_cast::<CAND, INDEX>(self.cand_hi.val()) << self.at_b.val())
+            | (bit_cast::<CAND, MARGIN>(self.margin_lo.val()) << self.at_ma.val())
+            | bit_cast::<CAND, MARGIN>(self.margin_hi.val());
+        self.fifo.write.next = self.v2_valid.q.val() & self.overlap.val();
+        self.fifo.data_in.next = self.cand_word.val();
+        self.fifo.ready.next = self.cand_ready.val();
+        self.cand_valid.next = self.fifo.valid.val();
+        self.unpack_a.next = self.fifo.data_out.val() >> self.at_a.val();
+        self.unpack_b.next = self.fifo.data_out.val() >> self.at_b.val();
+        self.unpack_ma.next = self.fifo.data_out.val() >> self.at_ma.val();
+        self.cand_a.next = bit_cast::<A, CAND>(self.unpack_a.val());
+        self.cand_b.next = bit_cast::<A, CAND>(self.unpack_b.val());
+        self.cand_ma.next = bit_cast::<MARGIN, CAND>(self.unpack_ma.val());
+        self.cand_mb.next = bit_cast::<MARGIN, CAND>(self.fifo.data_out.val());
+
+        // The end: every box accepted and retired; then the clear, one bucket a clock.
+        self.done_walk.next = self.loaded.val() & (self.inflight.q.val() == 0);
+        self.walked.next = self.done_walk.val();
+        if self.done_walk.val() & !self.clearing.q.val() & !self.cleared.q.val() {
+            self.clearing.d.next = true;
+            self.clear_at.d.next = 0.into();
+        }
+        if self.clearing.q.val() {
+            self.clear_at.d.next = self.clear_at.q.val() + 1;
+            if self.clear_at.q.val() == self.last_bucket.val() {
+                self.clearing.d.next = false;
+                self.cleared.d.next = true;
+            }
+        }
+        self.finished.next = self.cleared.q.val()
+            & self.fifo.empty.val()
+            & !self.v1_valid.q.val()
+            & !self.v2_valid.q.val();
+        self.oversize.next = self.large_seen.q.val();
+        if self.start.val() {
+            self.wp.d.next = 0.into();
+            self.rp.d.next = 0.into();
+            self.count.d.next = 0.into();
+            self.inflight.d.next = 0.into();
+            self.cur_valid.d.next = false;
+            self.held_valid.d.next = false;
+            self.chase.d.next = false;
+            self.clearing.d.next = false;
+            self.cleared.d.next = false;
+            self.large_seen.d.next = false;
+        }
+    }
+}

@@ -1,0 +1,301 @@
+//! `GridCells`: the grid's probe front end. From a box's keys it finds, in three registered
+//! stages, the cells of its window and their banks, buckets and fingerprints, exactly as
+//! `obb_model::fixed::grid::GridShape` defines them (checked against it in `tests/grid.rs`):
+//!
+//! | clock | stage |
+//! | --- | --- |
+//! | K | the keys |
+//! | K+1 | per axis the window's cells first, first + 1, first + 2 (offset coordinates: the first is kmin >> g, the home cell first + 1), whether the third is in the window (kmax reaches the next cell), whether the box is small |
+//! | K+2 | each cell's H3 hash, the first cell's coordinate mod 3 |
+//! | K+3 | per bank (coordinates mod 3 on each axis) its cell's bucket, fingerprint, whether the window has a cell there, whether it is the home cell; the home cell's fingerprint |
+
+use crate::projection::CENTER;
+use obb_model::fixed::grid::{hash_row, GridShape, BANKS, FINGERPRINT_BITS, MAX_HASH_BITS};
+use obb_model::fixed::HwConfig;
+use rust_hdl::prelude::*;
+
+/// Bits of an offset cell coordinate: keys shifted by the cell bits, plus 2, within the keys'
+/// width (`generate::check_supported` keeps `key_bits` below it). Every value the stages
+/// compute per axis has this width: rust-hdl cannot emit a width cast of a loop-indexed signal.
+pub const COORD: usize = CENTER;
+/// Bits of a cell's hash: the widest bucket, then the fingerprint.
+pub const HASH: usize = (MAX_HASH_BITS + FINGERPRINT_BITS) as usize;
+/// A bucket: the hash's width (only `grid_hash_bits` low bits are ever set).
+pub const BUCKET: usize = HASH;
+pub const FP: usize = FINGERPRINT_BITS as usize;
+/// Clocks from the keys to the banks' cells.
+pub const LATENCY: u64 = 3;
+const _: () = assert!(BANKS == 27 && COORD == 23 && HASH == 20 && MAX_HASH_BITS == 12);
+
+#[derive(LogicBlock)]
+pub struct GridCells {
+    pub clock: Signal<In, Clock>,
+    pub key_valid: Signal<In, Bit>,
+    pub key_min: [Signal<In, Bits<CENTER>>; 3],
+    pub key_max: [Signal<In, Bits<CENTER>>; 3],
+    /// `LATENCY` clocks later: the box's keys span at most one cell edge on every axis.
+    pub valid: Signal<Out, Bit>,
+    pub small_box: Signal<Out, Bit>,
+    /// Per bank: its cell's bucket and fingerprint, whether the window has a cell there, whether
+    /// that is the home cell.
+    pub bucket: [Signal<Out, Bits<BUCKET>>; 27],
+    pub fp: [Signal<Out, Bits<FP>>; 27],
+    pub inside: [Signal<Out, Bit>; 27],
+    pub home: [Signal<Out, Bit>; 27],
+    pub home_fp: Signal<Out, Bits<FP>>,
+    /// The cell edge in key units (a box at most this wide on every axis is small), its log2.
+    cell_edge: Constant<Bits<CENTER>>,
+    cell_bits: Constant<Bits<8>>,
+    /// Per axis and coordinate bit, the hash's column (`23 x + i`).
+    column: Vec<Constant<Bits<HASH>>>,
+    bucket_mask: Constant<Bits<HASH>>,
+    /// 3, and per base-4 digit of a coordinate its shift.
+    three: Constant<Bits<COORD>>,
+    digit_at: Vec<Constant<Bits<8>>>,
+    valid1: DFF<Bit>,
+    valid2: DFF<Bit>,
+    valid3: DFF<Bit>,
+    small1: DFF<Bit>,
+    small2: DFF<Bit>,
+    small3: DFF<Bit>,
+    /// Per axis the window's cells `3 x + d` (first + d), and whether the third is in it.
+    cell1: [DFF<Bits<COORD>>; 9],
+    third1: [DFF<Bit>; 3],
+    hash2: [DFF<Bits<HASH>>; 9],
+    third2: [DFF<Bit>; 3],
+    /// The first cell's coordinate mod 3, per axis.
+    res2: [DFF<Bits<COORD>>; 3],
+    bucket_r: [DFF<Bits<BUCKET>>; 27],
+    fp_r: [DFF<Bits<FP>>; 27],
+    inside_r: [DFF<Bit>; 27],
+    home_r: [DFF<Bit>; 27],
+    home_fp_r: DFF<Bits<FP>>,
+    width: [Signal<Local, Bits<CENTER>>; 3],
+    /// Per axis and cell: the hash accumulated over the coordinate's bits (`24 (3 x + d) + i`).
+    hacc: Vec<Signal<Local, Bits<HASH>>>,
+    /// Per axis: the first cell's base-4 digits summed (`13 x + i`), then reduced mod 3.
+    racc: Vec<Signal<Local, Bits<COORD>>>,
+    rsum: [Signal<Local, Bits<COORD>>; 3],
+    /// Per axis and residue `3 x + r`: the window cell's hash, whether it is in the window,
+    /// whether it is the home cell.
+    slot_hash: [Signal<Local, Bits<HASH>>; 9],
+    slot_in: [Signal<Local, Bit>; 9],
+    slot_home: [Signal<Local, Bit>; 9],
+    bank_hash: [Signal<Local, Bits<HASH>>; 27],
+    home_hash: Signal<Local, Bits<HASH>>,
+}
+
+/// `k` blocks of a kind.
+pub fn vec<T: Default>(k: usize) -> Vec<T> {
+    (0..k).map(|_| T::default()).collect()
+}
+
+impl GridCells {
+    pub fn new(cfg: &HwConfig) -> GridCells {
+        let shape = GridShape::new(cfg);
+        let a = shape.coord_bits as usize;
+        assert!(a < COORD, "cell coordinates fit the stages");
+        let mut column = Vec::with_capacity(3 * COORD);
+        for x in 0..3 {
+            for i in 0..COORD {
+                // Hash bit k is matrix row k: the bucket's rows, then the fingerprint's.
+                let mut col = 0u64;
+                for k in 0..HASH as u32 {
+                    if i < a && hash_row(k) >> (x * a + i) & 1 == 1 {
+                        col |= 1 << k;
+                    }
+                }
+                column.push(Constant::new(col.into()));
+            }
+        }
+        GridCells {
+            clock: Default::default(),
+            key_valid: Default::default(),
+            key_min: Default::default(),
+            key_max: Default::default(),
+            valid: Default::default(),
+            small_box: Default::default(),
+            bucket: Default::default(),
+            fp: Default::default(),
+            inside: Default::default(),
+            home: Default::default(),
+            home_fp: Default::default(),
+            cell_edge: Constant::new((1u64 << shape.cell_bits).into()),
+            cell_bits: Constant::new(u64::from(shape.cell_bits).into()),
+            column,
+            bucket_mask: Constant::new(((1u64 << shape.hash_bits) - 1).into()),
+            three: Constant::new(3u64.into()),
+            digit_at: (0..COORD / 2 + 1)
+                .map(|i| Constant::new(((2 * i) as u64).into()))
+                .collect(),
+            valid1: Default::default(),
+            valid2: Default::default(),
+            valid3: Default::default(),
+            small1: Default::default(),
+            small2: Default::default(),
+            small3: Default::default(),
+            cell1: Default::default(),
+            third1: Default::default(),
+            hash2: Default::default(),
+            third2: Default::default(),
+            res2: Default::default(),
+            bucket_r: Default::default(),
+            fp_r: Default::default(),
+            inside_r: Default::default(),
+            home_r: Default::default(),
+            home_fp_r: Default::default(),
+            width: Default::default(),
+            hacc: vec(9 * (COORD + 1)),
+            racc: vec(3 * 13),
+            rsum: Default::default(),
+            slot_hash: Default::default(),
+            slot_in: Default::default(),
+            slot_home: Default::default(),
+            bank_hash: Default::default(),
+            home_hash: Default::default(),
+        }
+    }
+}
+
+impl Logic for GridCells {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, valid1, valid2, valid3, small1, small2, small3, home_fp_r);
+        for x in 0..3 {
+            self.third1[x].clock.next = self.clock.val();
+            self.third2[x].clock.next = self.clock.val();
+            self.res2[x].clock.next = self.clock.val();
+        }
+        for c in 0..9 {
+            self.cell1[c].clock.next = self.clock.val();
+            self.hash2[c].clock.next = self.clock.val();
+        }
+        for b in 0..27 {
+            self.bucket_r[b].clock.next = self.clock.val();
+            self.fp_r[b].clock.next = self.clock.val();
+            self.inside_r[b].clock.next = self.clock.val();
+            self.home_r[b].clock.next = self.clock.val();
+        }
+        self.valid1.d.next = self.key_valid.val();
+        self.valid2.d.next = self.valid1.q.val();
+        self.valid3.d.next = self.valid2.q.val();
+        self.small3.d.next = self.small2.q.val();
+        // K+1: the window's cells per axis, first to first + 2 (offset coordinates: the first
+        // is kmin >> g, the home cell first + 1); the third is in the window when kmax reaches
+        // the next cell. A small box spans at most one cell edge on every axis.
+        self.small1.d.next = true;
+        for x in 0..3 {
+            self.width[x].next = self.key_max[x].val() - self.key_min[x].val();
+            if self.width[x].val() > self.cell_edge.val() {
+                self.small1.d.next = false;
+            }
+            self.cell1[3 * x].d.next = self.key_min[x].val() >> self.cell_bits.val();
+            self.cell1[3 * x + 1].d.next = (self.key_min[x].val() >> self.cell_bits.val()) + 1;
+            self.cell1[3 * x + 2].d.next = (self.key_min[x].val() >> self.cell_bits.val()) + 2;
+            self.third1[x].d.next = (self.key_max[x].val() >> self.cell_bits.val())
+                != (self.key_min[x].val() >> self.cell_bits.val());
+        }
+
+        // K+2: each cell's hash (bit k the parity of the coordinate bits row k selects: the
+        // XOR of the columns of its set bits), and the first cell's residue mod 3 (4 = 1 mod 3,
+        // so the sum of its base-4 digits, reduced).
+        self.small2.d.next = self.small1.q.val();
+        for x in 0..3 {
+            self.third2[x].d.next = self.third1[x].q.val();
+            for d in 0..3 {
+                self.hacc[24 * (3 * x + d)].next = 0.into();
+                for i in 0..23 {
+                    self.hacc[24 * (3 * x + d) + i + 1].next =
+                        self.hacc[24 * (3 * x + d) + i].val();
+                    if self.cell1[3 * x + d].q.val().get_bit(i) {
+                        self.hacc[24 * (3 * x + d) + i + 1].next =
+                            self.hacc[24 * (3 * x + d) + i].val() ^ self.column[23 * x + i].val();
+                    }
+                }
+                self.hash2[3 * x + d].d.next = self.hacc[24 * (3 * x + d) + 23].val();
+            }
+            self.racc[13 * x].next = 0.into();
+            for i in 0..12 {
+                self.racc[13 * x + i + 1].next = self.racc[13 * x + i].val()
+                    + ((self.cell1[3 * x].q.val() >> self.digit_at[i].val()) & self.three.val());
+            }
+            // At most 12 x 3 = 36: three more digits, at most 8.
+            self.rsum[x].next = (self.racc[13 * x + 12].val() & self.three.val())
+                + ((self.racc[13 * x + 12].val() >> 2_u64) & self.three.val())
+                + ((self.racc[13 * x + 12].val() >> 4_u64) & self.three.val());
+            self.res2[x].d.next = self.rsum[x].val();
+            if self.rsum[x].val() >= 3 {
+                self.res2[x].d.next = self.rsum[x].val() - 3;
+            }
+            if self.rsum[x].val() >= 6 {
+                self.res2[x].d.next = self.rsum[x].val() - 6;
+            }
+        }
+
+        // K+3: per axis, the window's cell with each residue (`3 x + r`): first + d has residue
+        // (res + d) mod 3; the home cell is first + 1. A bank's cell is the one with its
+        // residues on the three axes; its hash is the XOR of theirs (the hash is linear).
+        for x in 0..3 {
+            self.slot_hash[3 * x].next = self.hash2[3 * x].q.val();
+            self.slot_hash[3 * x + 1].next = self.hash2[3 * x + 1].q.val();
+            self.slot_hash[3 * x + 2].next = self.hash2[3 * x + 2].q.val();
+            self.slot_in[3 * x].next = true;
+            self.slot_in[3 * x + 1].next = true;
+            self.slot_in[3 * x + 2].next = self.third2[x].q.val();
+            self.slot_home[3 * x].next = false;
+            self.slot_home[3 * x + 1].next = true;
+            self.slot_home[3 * x + 2].next = false;
+            if self.res2[x].q.val() == 1 {
+                self.slot_hash[3 * x + 1].next = self.hash2[3 * x].q.val();
+                self.slot_hash[3 * x + 2].next = self.hash2[3 * x + 1].q.val();
+                self.slot_hash[3 * x].next = self.hash2[3 * x + 2].q.val();
+                self.slot_in[3 * x + 1].next = true;
+                self.slot_in[3 * x + 2].next = true;
+                self.slot_in[3 * x].next = self.third2[x].q.val();
+                self.slot_home[3 * x + 1].next = false;
+                self.slot_home[3 * x + 2].next = true;
+            }
+            if self.res2[x].q.val() == 2 {
+                self.slot_hash[3 * x + 2].next = self.hash2[3 * x].q.val();
+                self.slot_hash[3 * x].next = self.hash2[3 * x + 1].q.val();
+                self.slot_hash[3 * x + 1].next = self.hash2[3 * x + 2].q.val();
+                self.slot_in[3 * x + 2].next = true;
+                self.slot_in[3 * x].next = true;
+                self.slot_in[3 * x + 1].next = self.third2[x].q.val();
+                self.slot_home[3 * x + 1].next = false;
+                self.slot_home[3 * x].next = true;
+            }
+        }
+        for z in 0..3 {
+            for y in 0..3 {
+                for x in 0..3 {
+                    self.bank_hash[x + 3 * y + 9 * z].next = self.slot_hash[x].val()
+                        ^ self.slot_hash[3 + y].val()
+                        ^ self.slot_hash[6 + z].val();
+                    self.bucket_r[x + 3 * y + 9 * z].d.next =
+                        self.bank_hash[x + 3 * y + 9 * z].val() & self.bucket_mask.val();
+                    self.fp_r[x + 3 * y + 9 * z].d.next =
+                        self.bank_hash[x + 3 * y + 9 * z].val().get_bits::<FP>(12);
+                    self.inside_r[x + 3 * y + 9 * z].d.next = self.slot_in[x].val()
+                        & self.slot_in[3 + y].val()
+                        & self.slot_in[6 + z].val();
+                    self.home_r[x + 3 * y + 9 * z].d.next = self.slot_home[x].val()
+                        & self.slot_home[3 + y].val()
+                        & self.slot_home[6 + z].val();
+                }
+            }
+        }
+        self.home_hash.next = self.hash2[1].q.val() ^ self.hash2[4].q.val() ^ self.hash2[7].q.val();
+        self.home_fp_r.d.next = self.home_hash.val().get_bits::<FP>(12);
+
+        self.valid.next = self.valid3.q.val();
+        self.small_box.next = self.small3.q.val();
+        self.home_fp.next = self.home_fp_r.q.val();
+        for b in 0..27 {
+            self.bucket[b].next = self.bucket_r[b].q.val();
+            self.fp[b].next = self.fp_r[b].q.val();
+            self.inside[b].next = self.inside_r[b].q.val();
+            self.home[b].next = self.home_r[b].q.val();
+        }
+    }
+}
