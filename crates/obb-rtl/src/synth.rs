@@ -428,12 +428,23 @@ pub fn analyze(json: &Path, top: &str) -> Result<Report> {
     Ok(walk(&cells, &DELAYS))
 }
 
+/// LUTs a distributed RAM primitive takes: the multi-port RAM32M/RAM64M four (three write ports'
+/// data and a read-only port), the dual-port `X1D` two, deeper single-port ones one per 64 bits.
+fn lutram_luts(ty: &str) -> u64 {
+    match ty {
+        "RAM32M" | "RAM64M" | "RAM128X1D" | "RAM256X1S" => 4,
+        "RAM32X1D" | "RAM64X1D" | "RAM128X1S" => 2,
+        _ => 1,
+    }
+}
+
 fn count(cells: &[Cell]) -> Resources {
     let mut r = Resources::default();
     for c in cells {
         match c.kind {
             Kind::Lut => r.luts += 1,
-            Kind::LutRam | Kind::Srl => r.lutram += 1,
+            Kind::LutRam => r.lutram += lutram_luts(&c.ty),
+            Kind::Srl => r.lutram += 1,
             Kind::Flop => r.registers += 1,
             Kind::Carry => r.carry4 += 1,
             Kind::Muxf => r.muxf += 1,

@@ -218,6 +218,12 @@ fn the_netlist_matches_the_model_and_the_analysis_counts_what_yosys_counts() {
     assert_eq!(r.luts, luts, "LUTs");
     let flops: u64 = ["FDRE", "FDSE", "FDCE", "FDPE"].map(yosys).iter().sum();
     assert_eq!(r.registers, flops, "registers");
+    // A RAM32M or RAM64M is four LUTs of a SLICEM, a RAM64X1D two, a shift register one.
+    let sum = |cells: &[&str]| -> u64 { cells.iter().map(|c| yosys(c)).sum() };
+    let lutram = 4 * sum(&["RAM32M", "RAM64M", "RAM128X1D", "RAM256X1S"])
+        + 2 * sum(&["RAM32X1D", "RAM64X1D", "RAM128X1S"])
+        + sum(&["RAM32X1S", "RAM64X1S", "SRL16E", "SRLC32E"]);
+    assert_eq!(r.lutram, lutram, "LUTs as memory");
     assert!(r.dsp > 0, "DSP48E1s in {stat}");
     assert_eq!(
         (report.dsp_without_mreg, report.dsp_without_preg),
