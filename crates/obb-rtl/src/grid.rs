@@ -14,8 +14,8 @@
 //!
 //! Lists are stored at `27 q + b` for bank b and group `h = groups - 1 - q`, so that every
 //! index the Verilog needs is a literal expression of loop variables. The walker takes them
-//! bank by bank, group by group, as the model does: its choice is written from the last list to
-//! the first, so the first list left is the one written last (no priority chain).
+//! bank by bank, group by group, as the model does: per bank the lowest group left is written
+//! last, then the first bank with a list left is written last among the banks.
 //!
 //! The walker makes one visit per clock: the successor table's output addresses the next visit
 //! (the list goes on), or a held visit (a stall held it), or the next list's head, or, when
@@ -198,6 +198,10 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// K+3, per list: walk it; enter the box in it; its owner after the entry.
     live: Vec<Signal<Local, Bit>>,
     enter: Vec<Signal<Local, Bit>>,
+    /// Per bank the old head of the list the box enters (zero where it enters none), and
+    /// their OR: the box's successor.
+    home_head: [Signal<Local, Bits<C>>; 27],
+    succ_acc: [Signal<Local, Bits<C>>; 28],
     succ_data: Signal<Local, Bits<C>>,
     // The walker.
     list_open: Signal<Local, Bit>,
@@ -214,6 +218,10 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// The first list left (bank, then group): its head and its number.
     pick_head: Signal<Local, Bits<C>>,
     pick_id: Signal<Local, Bits<8>>,
+    /// Per bank: a list is left in it, and its first list's head and number.
+    bank_any: [Signal<Local, Bit>; 27],
+    bank_head: [Signal<Local, Bits<C>>; 27],
+    bank_id: [Signal<Local, Bits<8>>; 27],
     rd_live: Vec<Signal<Local, Bit>>,
     /// Credits and records: this clock's changes.
     inflight_up: Signal<Local, Bits<COUNT>>,
@@ -375,6 +383,8 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             allow: vec(lists),
             live: vec(lists),
             enter: vec(lists),
+            home_head: Default::default(),
+            succ_acc: Default::default(),
             succ_data: Default::default(),
             list_open: Default::default(),
             need: Default::default(),
@@ -387,6 +397,9 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             rem_any: Default::default(),
             pick_head: Default::default(),
             pick_id: Default::default(),
+            bank_any: Default::default(),
+            bank_head: Default::default(),
+            bank_id: Default::default(),
             rd_live: vec(lists),
             inflight_up: Default::default(),
             inflight_down: Default::default(),
@@ -536,7 +549,9 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         // small box enters its home cell's list of its own group: the first owns the list,
         // a box of another fingerprint mixes it; the list's head becomes the box's successor.
         // At the end of a frame the clear writes every bucket empty.
-        self.succ_data.next = 0.into();
+        for b in 0..27 {
+            self.home_head[b].next = 0.into();
+        }
         self.entry.next = self.s3_index.q.val() | self.top.val();
         self.s4_any.d.next = false;
         for q in 0..self._groups {
@@ -575,7 +590,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     }
                 }
                 if self.enter[27 * q + b].val() & self.meta[27 * q + b].read_data.val().get_bit(9) {
-                    self.succ_data.next = self.head[27 * q + b].read_data.val();
+                    self.home_head[b].next = self.head[27 * q + b].read_data.val();
                 }
                 if self.clearing.q.val() {
                     self.meta[27 * q + b].write_enable.next = true;
@@ -592,6 +607,12 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 }
             }
         }
+        // One bank enters the box: its old head, ORed over the banks (zero elsewhere).
+        self.succ_acc[0].next = 0.into();
+        for b in 0..27 {
+            self.succ_acc[b + 1].next = self.succ_acc[b].val() | self.home_head[b].val();
+        }
+        self.succ_data.next = self.succ_acc[27].val();
         self.succ.write_enable.next = self.s3_valid.q.val() & self.cells.small_box.val();
         self.succ.write_address.next = bit_cast::<A, C>(self.s3_index.q.val());
         self.succ.write_data.next = self.succ_data.val();
@@ -661,21 +682,34 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.retire_rec.next = self.need.val() & self.cur_valid.q.val() & !self.rem_any.val();
         self.take.next = self.need.val()
             & ((self.cur_valid.q.val() & self.rem_any.val()) | self.load_next.val());
+        // Per bank its first list left (the lowest group: written last), then the first bank
+        // with one: two short chains of choices rather than one through every list.
+        for b in 0..27 {
+            self.bank_any[b].next = false;
+            self.bank_head[b].next = 0.into();
+            self.bank_id[b].next = 0.into();
+        }
+        for q in 0..self._groups {
+            for b in 0..27 {
+                self.rem[27 * q + b].next = self.cur_rem[27 * q + b].val();
+                self.rem_head[27 * q + b].next = self.cur_head[27 * q + b].q.val();
+                if self.load_next.val() {
+                    self.rem[27 * q + b].next = self.rd_live[27 * q + b].val();
+                    self.rem_head[27 * q + b].next = self.rec[27 * q + b].read_data.val();
+                }
+                if self.rem[27 * q + b].val() {
+                    self.bank_any[b].next = true;
+                    self.bank_head[b].next = self.rem_head[27 * q + b].val();
+                    self.bank_id[b].next = self.list_id[27 * q + b].val();
+                }
+            }
+        }
         self.pick_head.next = 0.into();
         self.pick_id.next = 0.into();
         for bb in 0..27 {
-            for q in 0..self._groups {
-                self.rem[27 * q + 26 - bb].next = self.cur_rem[27 * q + 26 - bb].val();
-                self.rem_head[27 * q + 26 - bb].next = self.cur_head[27 * q + 26 - bb].q.val();
-                if self.load_next.val() {
-                    self.rem[27 * q + 26 - bb].next = self.rd_live[27 * q + 26 - bb].val();
-                    self.rem_head[27 * q + 26 - bb].next =
-                        self.rec[27 * q + 26 - bb].read_data.val();
-                }
-                if self.rem[27 * q + 26 - bb].val() {
-                    self.pick_head.next = self.rem_head[27 * q + 26 - bb].val();
-                    self.pick_id.next = self.list_id[27 * q + 26 - bb].val();
-                }
+            if self.bank_any[26 - bb].val() {
+                self.pick_head.next = self.bank_head[26 - bb].val();
+                self.pick_id.next = self.bank_id[26 - bb].val();
             }
         }
         self.cand.next = self.pick_head.val();
