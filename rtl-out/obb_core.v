@@ -40,10 +40,12 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     
     // Constant declarations
     localparam  sweep = 1'b1;
+    localparam  grid_mode = 1'b0;
     localparam  sap = 1'b0;
     localparam  last_slot = 16'h7fff;
     localparam  mask = 64'h7fbfdfeff7fbfdfe;
     localparam  drain = 8'h1a;
+    localparam  grid_drain = 8'h17;
     
     // Enums
     localparam CoreState$Idle = 0;
@@ -128,6 +130,40 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     wire  [14:0] walker$vi;
     wire  [14:0] walker$vj;
     wire  walker$finished;
+    reg  grid$clock;
+    reg  grid$start;
+    reg  grid$accept;
+    reg  grid$loaded;
+    wire  grid$credit;
+    reg  grid$key_valid;
+    reg  [14:0] grid$key_index;
+    reg  [22:0] grid$key_min$0;
+    reg  [22:0] grid$key_min$1;
+    reg  [22:0] grid$key_min$2;
+    reg  [22:0] grid$key_max$0;
+    reg  [22:0] grid$key_max$1;
+    reg  [22:0] grid$key_max$2;
+    reg  [27:0] grid$key_margin;
+    reg  [2:0] grid$key_group;
+    wire  grid$visit;
+    wire  [14:0] grid$visit_i;
+    wire  [14:0] grid$rd_addr;
+    reg  [22:0] grid$rd_min$0;
+    reg  [22:0] grid$rd_min$1;
+    reg  [22:0] grid$rd_min$2;
+    reg  [22:0] grid$rd_max$0;
+    reg  [22:0] grid$rd_max$1;
+    reg  [22:0] grid$rd_max$2;
+    reg  [27:0] grid$rd_margin;
+    wire  grid$cand_valid;
+    reg  grid$cand_ready;
+    wire  [14:0] grid$cand_a;
+    wire  [14:0] grid$cand_b;
+    wire  [27:0] grid$cand_ma;
+    wire  [27:0] grid$cand_mb;
+    wire  grid$walked;
+    wire  grid$finished;
+    wire  grid$oversize;
     reg  sat$clock;
     reg  sat$valid_in;
     reg  [22:0] sat$center_a$0;
@@ -404,6 +440,9 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [7:0] countdown$d;
     wire  [7:0] countdown$q;
     reg  countdown$clock;
+    reg  [7:0] pending$d;
+    wire  [7:0] pending$q;
+    reg  pending$clock;
     reg  [39:0] n_cycles$d;
     wire  [39:0] n_cycles$q;
     reg  n_cycles$clock;
@@ -833,7 +872,9 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [14:0] a_addr;
     reg  [14:0] b_addr;
     reg  walked;
+    reg  credit;
     reg  accept;
+    reg  issue;
     reg  overlap;
     reg  [63:0] gidx;
     reg  [63:0] shifted;
@@ -922,6 +963,42 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .vi(walker$vi),
         .vj(walker$vj),
         .finished(walker$finished)
+    );
+    obb_core$grid grid(
+        .clock(grid$clock),
+        .start(grid$start),
+        .accept(grid$accept),
+        .loaded(grid$loaded),
+        .credit(grid$credit),
+        .key_valid(grid$key_valid),
+        .key_index(grid$key_index),
+        .key_min$0(grid$key_min$0),
+        .key_min$1(grid$key_min$1),
+        .key_min$2(grid$key_min$2),
+        .key_max$0(grid$key_max$0),
+        .key_max$1(grid$key_max$1),
+        .key_max$2(grid$key_max$2),
+        .key_margin(grid$key_margin),
+        .key_group(grid$key_group),
+        .visit(grid$visit),
+        .visit_i(grid$visit_i),
+        .rd_addr(grid$rd_addr),
+        .rd_min$0(grid$rd_min$0),
+        .rd_min$1(grid$rd_min$1),
+        .rd_min$2(grid$rd_min$2),
+        .rd_max$0(grid$rd_max$0),
+        .rd_max$1(grid$rd_max$1),
+        .rd_max$2(grid$rd_max$2),
+        .rd_margin(grid$rd_margin),
+        .cand_valid(grid$cand_valid),
+        .cand_ready(grid$cand_ready),
+        .cand_a(grid$cand_a),
+        .cand_b(grid$cand_b),
+        .cand_ma(grid$cand_ma),
+        .cand_mb(grid$cand_mb),
+        .walked(grid$walked),
+        .finished(grid$finished),
+        .oversize(grid$oversize)
     );
     obb_core$sat sat(
         .clock(sat$clock),
@@ -1280,6 +1357,11 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .d(countdown$d),
         .q(countdown$q),
         .clock(countdown$clock)
+    );
+    obb_core$pending pending(
+        .d(pending$d),
+        .q(pending$q),
+        .clock(pending$clock)
     );
     obb_core$n_cycles n_cycles(
         .d(n_cycles$d),
@@ -1996,6 +2078,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         n_visits$clock = clock;
         n_tests$clock = clock;
         n_pairs$clock = clock;
+        pending$clock = clock;
         k_valid$clock = clock;
         k_i$clock = clock;
         k_j$clock = clock;
@@ -2033,6 +2116,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         n_visits$d = n_visits$q;
         n_tests$d = n_tests$q;
         n_pairs$d = n_pairs$q;
+        pending$d = pending$q;
         k_valid$d = k_valid$q;
         k_i$d = k_i$q;
         k_j$d = k_j$q;
@@ -2062,6 +2146,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         radix$clock = clock;
         sweep_walker$clock = clock;
         walker$clock = clock;
+        grid$clock = clock;
         sat$clock = clock;
         fifo$clock = clock;
         margin$clock = clock;
@@ -2206,8 +2291,9 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         tag_b$20$clock = clock;
         tag_a$21$clock = clock;
         tag_b$21$clock = clock;
-        obb_ready = ready$q;
-        accept = ready$q & obb_valid & room$q;
+        credit = grid$credit | ~grid_mode | ~room$q;
+        obb_ready = ready$q & credit;
+        accept = obb_ready & obb_valid & room$q;
         center$0$write_enable = accept;
         center$0$write_address = ((loaded$q) & 15'h7fff);
         center$0$write_data = obb_center$0;
@@ -2318,6 +2404,26 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         if (projection$valid_out) begin
             projected$d = projected$q + 32'h1;
         end
+        grid$start = frame_start;
+        grid$accept = accept & grid_mode;
+        grid$loaded = ~ready$q & ~frame_start;
+        grid$key_valid = projection$valid_out & grid_mode;
+        grid$key_index = ((projected$q) & 15'h7fff);
+        grid$key_min$0 = projection$key_min$0;
+        grid$key_max$0 = projection$key_max$0;
+        grid$rd_min$0 = kmin$0$read_data_b;
+        grid$rd_max$0 = kmax$0$read_data_b;
+        grid$key_min$1 = projection$key_min$1;
+        grid$key_max$1 = projection$key_max$1;
+        grid$rd_min$1 = kmin$1$read_data_b;
+        grid$rd_max$1 = kmax$1$read_data_b;
+        grid$key_min$2 = projection$key_min$2;
+        grid$key_max$2 = projection$key_max$2;
+        grid$rd_min$2 = kmin$2$read_data_b;
+        grid$rd_max$2 = kmax$2$read_data_b;
+        grid$key_margin = projection$margin;
+        grid$key_group = gdelay$7$q;
+        grid$rd_margin = margin$read_data_b;
         radix$start = frame_start | (walker$sort_start & sap);
         radix$go = walker$sort_go & sap;
         walker$sort_done = radix$done;
@@ -2352,6 +2458,11 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
             a_addr = sweep_walker$a_addr;
             b_addr = sweep_walker$b_addr;
             walked = sweep_walker$finished;
+        end
+        if (grid_mode) begin
+            visit = grid$visit;
+            a_addr = grid$rd_addr;
+            b_addr = grid$rd_addr;
         end
         kmin$0$read_address_a = a_addr;
         kmin$0$read_address_b = b_addr;
@@ -2391,13 +2502,13 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         r_valid$d = k_valid$q;
         r_i$d = k_i$q;
         r_j$d = k_j$q;
-        if (k_valid$q) begin
+        if (k_valid$q & ~over$q) begin
             n_visits$d = n_visits$q + 32'h1;
         end
         overlap = (key_min_a$0$q <= key_max_b$0$q) & (key_min_b$0$q <= key_max_a$0$q) & (key_min_a$1$q <= key_max_b$1$q) & (key_min_b$1$q <= key_max_a$1$q) & (key_min_a$2$q <= key_max_b$2$q) & (key_min_b$2$q <= key_max_a$2$q);
         gidx = (((group_a$q) & 64'hffffffffffffffff) << 64'h3) | ((group_b$q) & 64'hffffffffffffffff);
         shifted = mask >> gidx;
-        candidate = r_valid$q & (overlap | sap) & shifted[32'h0];
+        candidate = r_valid$q & (overlap | sap) & shifted[32'h0] & ~grid_mode;
         k_overlap$0$d = overlap;
         k_overlap$1$d = k_overlap$0$q;
         k_overlap$2$d = k_overlap$1$q;
@@ -2435,42 +2546,51 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
             c_ma$d = margin_b$q;
             c_mb$d = margin_a$q;
         end
-        center$0$read_address_a = c_a$q;
-        center$0$read_address_b = c_b$q;
-        half$0$read_address_a = c_a$q;
-        half$0$read_address_b = c_b$q;
-        center$1$read_address_a = c_a$q;
-        center$1$read_address_b = c_b$q;
-        half$1$read_address_a = c_a$q;
-        half$1$read_address_b = c_b$q;
-        center$2$read_address_a = c_a$q;
-        center$2$read_address_b = c_b$q;
-        half$2$read_address_a = c_a$q;
-        half$2$read_address_b = c_b$q;
-        axes$0$read_address_a = c_a$q;
-        axes$0$read_address_b = c_b$q;
-        axes$1$read_address_a = c_a$q;
-        axes$1$read_address_b = c_b$q;
-        axes$2$read_address_a = c_a$q;
-        axes$2$read_address_b = c_b$q;
-        axes$3$read_address_a = c_a$q;
-        axes$3$read_address_b = c_b$q;
-        axes$4$read_address_a = c_a$q;
-        axes$4$read_address_b = c_b$q;
-        axes$5$read_address_a = c_a$q;
-        axes$5$read_address_b = c_b$q;
-        axes$6$read_address_a = c_a$q;
-        axes$6$read_address_b = c_b$q;
-        axes$7$read_address_a = c_a$q;
-        axes$7$read_address_b = c_b$q;
-        axes$8$read_address_a = c_a$q;
-        axes$8$read_address_b = c_b$q;
+        issue = grid$cand_valid & ~accept & ~stall$q & grid_mode;
+        grid$cand_ready = issue;
         g_valid$d = c_valid$q;
         g_a$d = c_a$q;
         g_b$d = c_b$q;
         g_ma$d = c_ma$q;
         g_mb$d = c_mb$q;
-        if (c_valid$q) begin
+        if (grid_mode) begin
+            g_valid$d = issue;
+            g_a$d = grid$cand_a;
+            g_b$d = grid$cand_b;
+            g_ma$d = grid$cand_ma;
+            g_mb$d = grid$cand_mb;
+        end
+        center$0$read_address_a = g_a$d;
+        center$0$read_address_b = g_b$d;
+        half$0$read_address_a = g_a$d;
+        half$0$read_address_b = g_b$d;
+        center$1$read_address_a = g_a$d;
+        center$1$read_address_b = g_b$d;
+        half$1$read_address_a = g_a$d;
+        half$1$read_address_b = g_b$d;
+        center$2$read_address_a = g_a$d;
+        center$2$read_address_b = g_b$d;
+        half$2$read_address_a = g_a$d;
+        half$2$read_address_b = g_b$d;
+        axes$0$read_address_a = g_a$d;
+        axes$0$read_address_b = g_b$d;
+        axes$1$read_address_a = g_a$d;
+        axes$1$read_address_b = g_b$d;
+        axes$2$read_address_a = g_a$d;
+        axes$2$read_address_b = g_b$d;
+        axes$3$read_address_a = g_a$d;
+        axes$3$read_address_b = g_b$d;
+        axes$4$read_address_a = g_a$d;
+        axes$4$read_address_b = g_b$d;
+        axes$5$read_address_a = g_a$d;
+        axes$5$read_address_b = g_b$d;
+        axes$6$read_address_a = g_a$d;
+        axes$6$read_address_b = g_b$d;
+        axes$7$read_address_a = g_a$d;
+        axes$7$read_address_b = g_b$d;
+        axes$8$read_address_a = g_a$d;
+        axes$8$read_address_b = g_b$d;
+        if (g_valid$q & ~over$q) begin
             n_tests$d = n_tests$q + 32'h1;
         end
         geo_center_a$0$d = center$0$read_data_a;
@@ -2585,7 +2705,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         tag_b$20$d = tag_b$19$q;
         tag_a$21$d = tag_a$20$q;
         tag_b$21$d = tag_b$20$q;
-        hit = sat$valid_out & sat$hit & k_overlap$24$q;
+        hit = sat$valid_out & sat$hit & (k_overlap$24$q | grid_mode) & ~over$q;
         fifo$write = hit;
         fifo$data_in = (((tag_a$21$q) & 40'hffffffffff) << 64'h14) | ((tag_b$21$q) & 40'hffffffffff);
         if (hit) begin
@@ -2598,6 +2718,9 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         busy = (state$q != CoreState$Idle) & (state$q != CoreState$Done);
         done = (state$q == CoreState$Done) & fifo$empty;
         capacity_exceeded = over$q;
+        if (grid$oversize & grid_mode) begin
+            over$d = 1'b1;
+        end
         cycles = n_cycles$q;
         candidates = n_visits$q;
         sat_tests = n_tests$q;
@@ -2614,7 +2737,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
                     if (obb_valid & ~room$q) begin
                         over$d = 1'b1;
                     end
-                    if (obb_last) begin
+                    if (obb_last & (obb_ready | ~obb_valid)) begin
                         state$d = CoreState$Project;
                         ready$d = 1'b0;
                     end
@@ -2622,7 +2745,10 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
             CoreState$Project:
                 begin
                     if (projected$q == loaded$q) begin
-                        if (over$q) begin
+                        if (grid_mode) begin
+                            state$d = CoreState$Walk;
+                        end
+                        else if (over$q) begin
                             state$d = CoreState$Done;
                         end
                         else if (sweep) begin
@@ -2644,7 +2770,12 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
                 end
             CoreState$Walk:
                 begin
-                    if (walked) begin
+                    if (grid_mode) begin
+                        if (grid$finished & (pending$q == 32'h0) & ~issue) begin
+                            state$d = CoreState$Done;
+                        end
+                    end
+                    else if (walked) begin
                         countdown$d = drain;
                         state$d = CoreState$Drain;
                     end
@@ -2660,6 +2791,12 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
                 begin
                 end
         endcase
+        if (issue) begin
+            pending$d = grid_drain;
+        end
+        else if (pending$q != 32'h0) begin
+            pending$d = pending$q - 32'h1;
+        end
         sweep_walker$start = walk_start & sweep;
         walker$start = walk_start & ~sweep;
         if (frame_start) begin
@@ -2669,6 +2806,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
             loaded$d = 32'h0;
             projected$d = 32'h0;
             over$d = 1'b0;
+            pending$d = 32'h0;
             n_cycles$d = 32'h0;
             n_visits$d = 32'h0;
             n_tests$d = 32'h0;
@@ -4234,6 +4372,19181 @@ module obb_core$geo_half_b$2(d,q,clock);
 endmodule // obb_core$geo_half_b$2
 
 
+module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_min$0,key_min$1,key_min$2,key_max$0,key_max$1,key_max$2,key_margin,key_group,visit,visit_i,rd_addr,rd_min$0,rd_min$1,rd_min$2,rd_max$0,rd_max$1,rd_max$2,rd_margin,cand_valid,cand_ready,cand_a,cand_b,cand_ma,cand_mb,walked,finished,oversize);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  start;
+    input wire  accept;
+    input wire  loaded;
+    output reg  credit;
+    input wire  key_valid;
+    input wire  [14:0] key_index;
+    input wire  [22:0] key_min$0;
+    input wire  [22:0] key_min$1;
+    input wire  [22:0] key_min$2;
+    input wire  [22:0] key_max$0;
+    input wire  [22:0] key_max$1;
+    input wire  [22:0] key_max$2;
+    input wire  [27:0] key_margin;
+    input wire  [2:0] key_group;
+    output reg  visit;
+    output reg  [14:0] visit_i;
+    output reg  [14:0] rd_addr;
+    input wire  [22:0] rd_min$0;
+    input wire  [22:0] rd_min$1;
+    input wire  [22:0] rd_min$2;
+    input wire  [22:0] rd_max$0;
+    input wire  [22:0] rd_max$1;
+    input wire  [22:0] rd_max$2;
+    input wire  [27:0] rd_margin;
+    output reg  cand_valid;
+    input wire  cand_ready;
+    output reg  [14:0] cand_a;
+    output reg  [14:0] cand_b;
+    output reg  [27:0] cand_ma;
+    output reg  [27:0] cand_mb;
+    output reg  walked;
+    output reg  finished;
+    output reg  oversize;
+    
+    // Constant declarations
+    localparam  last_bucket = 20'h1;
+    localparam  mask = 64'h7fbfdfeff7fbfdfe;
+    localparam  credits = 7'b100000;
+    localparam  top = 16'h8000;
+    localparam  list_id$0 = 8'h0;
+    localparam  list_id$1 = 8'h1;
+    localparam  list_id$2 = 8'h2;
+    localparam  list_id$3 = 8'h3;
+    localparam  list_id$4 = 8'h4;
+    localparam  list_id$5 = 8'h5;
+    localparam  list_id$6 = 8'h6;
+    localparam  list_id$7 = 8'h7;
+    localparam  list_id$8 = 8'h8;
+    localparam  list_id$9 = 8'h9;
+    localparam  list_id$10 = 8'ha;
+    localparam  list_id$11 = 8'hb;
+    localparam  list_id$12 = 8'hc;
+    localparam  list_id$13 = 8'hd;
+    localparam  list_id$14 = 8'he;
+    localparam  list_id$15 = 8'hf;
+    localparam  list_id$16 = 8'h10;
+    localparam  list_id$17 = 8'h11;
+    localparam  list_id$18 = 8'h12;
+    localparam  list_id$19 = 8'h13;
+    localparam  list_id$20 = 8'h14;
+    localparam  list_id$21 = 8'h15;
+    localparam  list_id$22 = 8'h16;
+    localparam  list_id$23 = 8'h17;
+    localparam  list_id$24 = 8'h18;
+    localparam  list_id$25 = 8'h19;
+    localparam  list_id$26 = 8'h1a;
+    localparam  list_group$0 = 3'b0;
+    localparam  list_group$1 = 3'b0;
+    localparam  list_group$2 = 3'b0;
+    localparam  list_group$3 = 3'b0;
+    localparam  list_group$4 = 3'b0;
+    localparam  list_group$5 = 3'b0;
+    localparam  list_group$6 = 3'b0;
+    localparam  list_group$7 = 3'b0;
+    localparam  list_group$8 = 3'b0;
+    localparam  list_group$9 = 3'b0;
+    localparam  list_group$10 = 3'b0;
+    localparam  list_group$11 = 3'b0;
+    localparam  list_group$12 = 3'b0;
+    localparam  list_group$13 = 3'b0;
+    localparam  list_group$14 = 3'b0;
+    localparam  list_group$15 = 3'b0;
+    localparam  list_group$16 = 3'b0;
+    localparam  list_group$17 = 3'b0;
+    localparam  list_group$18 = 3'b0;
+    localparam  list_group$19 = 3'b0;
+    localparam  list_group$20 = 3'b0;
+    localparam  list_group$21 = 3'b0;
+    localparam  list_group$22 = 3'b0;
+    localparam  list_group$23 = 3'b0;
+    localparam  list_group$24 = 3'b0;
+    localparam  list_group$25 = 3'b0;
+    localparam  list_group$26 = 3'b0;
+    localparam  at_a = 8'h4c;
+    localparam  at_b = 8'h38;
+    localparam  at_ma = 8'h1c;
+    
+    // Stub signals
+    reg  cells$clock;
+    reg  cells$key_valid;
+    reg  [22:0] cells$key_min$0;
+    reg  [22:0] cells$key_min$1;
+    reg  [22:0] cells$key_min$2;
+    reg  [22:0] cells$key_max$0;
+    reg  [22:0] cells$key_max$1;
+    reg  [22:0] cells$key_max$2;
+    wire  cells$valid;
+    wire  cells$small_box;
+    wire  [19:0] cells$bucket$0;
+    wire  [19:0] cells$bucket$1;
+    wire  [19:0] cells$bucket$2;
+    wire  [19:0] cells$bucket$3;
+    wire  [19:0] cells$bucket$4;
+    wire  [19:0] cells$bucket$5;
+    wire  [19:0] cells$bucket$6;
+    wire  [19:0] cells$bucket$7;
+    wire  [19:0] cells$bucket$8;
+    wire  [19:0] cells$bucket$9;
+    wire  [19:0] cells$bucket$10;
+    wire  [19:0] cells$bucket$11;
+    wire  [19:0] cells$bucket$12;
+    wire  [19:0] cells$bucket$13;
+    wire  [19:0] cells$bucket$14;
+    wire  [19:0] cells$bucket$15;
+    wire  [19:0] cells$bucket$16;
+    wire  [19:0] cells$bucket$17;
+    wire  [19:0] cells$bucket$18;
+    wire  [19:0] cells$bucket$19;
+    wire  [19:0] cells$bucket$20;
+    wire  [19:0] cells$bucket$21;
+    wire  [19:0] cells$bucket$22;
+    wire  [19:0] cells$bucket$23;
+    wire  [19:0] cells$bucket$24;
+    wire  [19:0] cells$bucket$25;
+    wire  [19:0] cells$bucket$26;
+    wire  [7:0] cells$fp$0;
+    wire  [7:0] cells$fp$1;
+    wire  [7:0] cells$fp$2;
+    wire  [7:0] cells$fp$3;
+    wire  [7:0] cells$fp$4;
+    wire  [7:0] cells$fp$5;
+    wire  [7:0] cells$fp$6;
+    wire  [7:0] cells$fp$7;
+    wire  [7:0] cells$fp$8;
+    wire  [7:0] cells$fp$9;
+    wire  [7:0] cells$fp$10;
+    wire  [7:0] cells$fp$11;
+    wire  [7:0] cells$fp$12;
+    wire  [7:0] cells$fp$13;
+    wire  [7:0] cells$fp$14;
+    wire  [7:0] cells$fp$15;
+    wire  [7:0] cells$fp$16;
+    wire  [7:0] cells$fp$17;
+    wire  [7:0] cells$fp$18;
+    wire  [7:0] cells$fp$19;
+    wire  [7:0] cells$fp$20;
+    wire  [7:0] cells$fp$21;
+    wire  [7:0] cells$fp$22;
+    wire  [7:0] cells$fp$23;
+    wire  [7:0] cells$fp$24;
+    wire  [7:0] cells$fp$25;
+    wire  [7:0] cells$fp$26;
+    wire  cells$inside$0;
+    wire  cells$inside$1;
+    wire  cells$inside$2;
+    wire  cells$inside$3;
+    wire  cells$inside$4;
+    wire  cells$inside$5;
+    wire  cells$inside$6;
+    wire  cells$inside$7;
+    wire  cells$inside$8;
+    wire  cells$inside$9;
+    wire  cells$inside$10;
+    wire  cells$inside$11;
+    wire  cells$inside$12;
+    wire  cells$inside$13;
+    wire  cells$inside$14;
+    wire  cells$inside$15;
+    wire  cells$inside$16;
+    wire  cells$inside$17;
+    wire  cells$inside$18;
+    wire  cells$inside$19;
+    wire  cells$inside$20;
+    wire  cells$inside$21;
+    wire  cells$inside$22;
+    wire  cells$inside$23;
+    wire  cells$inside$24;
+    wire  cells$inside$25;
+    wire  cells$inside$26;
+    wire  cells$home$0;
+    wire  cells$home$1;
+    wire  cells$home$2;
+    wire  cells$home$3;
+    wire  cells$home$4;
+    wire  cells$home$5;
+    wire  cells$home$6;
+    wire  cells$home$7;
+    wire  cells$home$8;
+    wire  cells$home$9;
+    wire  cells$home$10;
+    wire  cells$home$11;
+    wire  cells$home$12;
+    wire  cells$home$13;
+    wire  cells$home$14;
+    wire  cells$home$15;
+    wire  cells$home$16;
+    wire  cells$home$17;
+    wire  cells$home$18;
+    wire  cells$home$19;
+    wire  cells$home$20;
+    wire  cells$home$21;
+    wire  cells$home$22;
+    wire  cells$home$23;
+    wire  cells$home$24;
+    wire  cells$home$25;
+    wire  cells$home$26;
+    wire  [7:0] cells$home_fp;
+    reg  s1_valid$d;
+    wire  s1_valid$q;
+    reg  s1_valid$clock;
+    reg  [15:0] s1_index$d;
+    wire  [15:0] s1_index$q;
+    reg  s1_index$clock;
+    reg  [22:0] s1_min$0$d;
+    wire  [22:0] s1_min$0$q;
+    reg  s1_min$0$clock;
+    reg  [22:0] s1_min$1$d;
+    wire  [22:0] s1_min$1$q;
+    reg  s1_min$1$clock;
+    reg  [22:0] s1_min$2$d;
+    wire  [22:0] s1_min$2$q;
+    reg  s1_min$2$clock;
+    reg  [22:0] s1_max$0$d;
+    wire  [22:0] s1_max$0$q;
+    reg  s1_max$0$clock;
+    reg  [22:0] s1_max$1$d;
+    wire  [22:0] s1_max$1$q;
+    reg  s1_max$1$clock;
+    reg  [22:0] s1_max$2$d;
+    wire  [22:0] s1_max$2$q;
+    reg  s1_max$2$clock;
+    reg  [27:0] s1_margin$d;
+    wire  [27:0] s1_margin$q;
+    reg  s1_margin$clock;
+    reg  [2:0] s1_group$d;
+    wire  [2:0] s1_group$q;
+    reg  s1_group$clock;
+    reg  s2_valid$d;
+    wire  s2_valid$q;
+    reg  s2_valid$clock;
+    reg  [15:0] s2_index$d;
+    wire  [15:0] s2_index$q;
+    reg  s2_index$clock;
+    reg  [22:0] s2_min$0$d;
+    wire  [22:0] s2_min$0$q;
+    reg  s2_min$0$clock;
+    reg  [22:0] s2_min$1$d;
+    wire  [22:0] s2_min$1$q;
+    reg  s2_min$1$clock;
+    reg  [22:0] s2_min$2$d;
+    wire  [22:0] s2_min$2$q;
+    reg  s2_min$2$clock;
+    reg  [22:0] s2_max$0$d;
+    wire  [22:0] s2_max$0$q;
+    reg  s2_max$0$clock;
+    reg  [22:0] s2_max$1$d;
+    wire  [22:0] s2_max$1$q;
+    reg  s2_max$1$clock;
+    reg  [22:0] s2_max$2$d;
+    wire  [22:0] s2_max$2$q;
+    reg  s2_max$2$clock;
+    reg  [27:0] s2_margin$d;
+    wire  [27:0] s2_margin$q;
+    reg  s2_margin$clock;
+    reg  [2:0] s2_group$d;
+    wire  [2:0] s2_group$q;
+    reg  s2_group$clock;
+    reg  s3_valid$d;
+    wire  s3_valid$q;
+    reg  s3_valid$clock;
+    reg  [15:0] s3_index$d;
+    wire  [15:0] s3_index$q;
+    reg  s3_index$clock;
+    reg  [22:0] s3_min$0$d;
+    wire  [22:0] s3_min$0$q;
+    reg  s3_min$0$clock;
+    reg  [22:0] s3_min$1$d;
+    wire  [22:0] s3_min$1$q;
+    reg  s3_min$1$clock;
+    reg  [22:0] s3_min$2$d;
+    wire  [22:0] s3_min$2$q;
+    reg  s3_min$2$clock;
+    reg  [22:0] s3_max$0$d;
+    wire  [22:0] s3_max$0$q;
+    reg  s3_max$0$clock;
+    reg  [22:0] s3_max$1$d;
+    wire  [22:0] s3_max$1$q;
+    reg  s3_max$1$clock;
+    reg  [22:0] s3_max$2$d;
+    wire  [22:0] s3_max$2$q;
+    reg  s3_max$2$clock;
+    reg  [27:0] s3_margin$d;
+    wire  [27:0] s3_margin$q;
+    reg  s3_margin$clock;
+    reg  [2:0] s3_group$d;
+    wire  [2:0] s3_group$q;
+    reg  s3_group$clock;
+    reg  [63:0] s3_allowed$d;
+    wire  [63:0] s3_allowed$q;
+    reg  s3_allowed$clock;
+    reg  s4_valid$d;
+    wire  s4_valid$q;
+    reg  s4_valid$clock;
+    reg  s4_any$d;
+    wire  s4_any$q;
+    reg  s4_any$clock;
+    reg  [15:0] s4_index$d;
+    wire  [15:0] s4_index$q;
+    reg  s4_index$clock;
+    reg  [22:0] s4_min$0$d;
+    wire  [22:0] s4_min$0$q;
+    reg  s4_min$0$clock;
+    reg  [22:0] s4_min$1$d;
+    wire  [22:0] s4_min$1$q;
+    reg  s4_min$1$clock;
+    reg  [22:0] s4_min$2$d;
+    wire  [22:0] s4_min$2$q;
+    reg  s4_min$2$clock;
+    reg  [22:0] s4_max$0$d;
+    wire  [22:0] s4_max$0$q;
+    reg  s4_max$0$clock;
+    reg  [22:0] s4_max$1$d;
+    wire  [22:0] s4_max$1$q;
+    reg  s4_max$1$clock;
+    reg  [22:0] s4_max$2$d;
+    wire  [22:0] s4_max$2$q;
+    reg  s4_max$2$clock;
+    reg  [27:0] s4_margin$d;
+    wire  [27:0] s4_margin$q;
+    reg  s4_margin$clock;
+    reg  s4_live$0$d;
+    wire  s4_live$0$q;
+    reg  s4_live$0$clock;
+    reg  s4_live$1$d;
+    wire  s4_live$1$q;
+    reg  s4_live$1$clock;
+    reg  s4_live$2$d;
+    wire  s4_live$2$q;
+    reg  s4_live$2$clock;
+    reg  s4_live$3$d;
+    wire  s4_live$3$q;
+    reg  s4_live$3$clock;
+    reg  s4_live$4$d;
+    wire  s4_live$4$q;
+    reg  s4_live$4$clock;
+    reg  s4_live$5$d;
+    wire  s4_live$5$q;
+    reg  s4_live$5$clock;
+    reg  s4_live$6$d;
+    wire  s4_live$6$q;
+    reg  s4_live$6$clock;
+    reg  s4_live$7$d;
+    wire  s4_live$7$q;
+    reg  s4_live$7$clock;
+    reg  s4_live$8$d;
+    wire  s4_live$8$q;
+    reg  s4_live$8$clock;
+    reg  s4_live$9$d;
+    wire  s4_live$9$q;
+    reg  s4_live$9$clock;
+    reg  s4_live$10$d;
+    wire  s4_live$10$q;
+    reg  s4_live$10$clock;
+    reg  s4_live$11$d;
+    wire  s4_live$11$q;
+    reg  s4_live$11$clock;
+    reg  s4_live$12$d;
+    wire  s4_live$12$q;
+    reg  s4_live$12$clock;
+    reg  s4_live$13$d;
+    wire  s4_live$13$q;
+    reg  s4_live$13$clock;
+    reg  s4_live$14$d;
+    wire  s4_live$14$q;
+    reg  s4_live$14$clock;
+    reg  s4_live$15$d;
+    wire  s4_live$15$q;
+    reg  s4_live$15$clock;
+    reg  s4_live$16$d;
+    wire  s4_live$16$q;
+    reg  s4_live$16$clock;
+    reg  s4_live$17$d;
+    wire  s4_live$17$q;
+    reg  s4_live$17$clock;
+    reg  s4_live$18$d;
+    wire  s4_live$18$q;
+    reg  s4_live$18$clock;
+    reg  s4_live$19$d;
+    wire  s4_live$19$q;
+    reg  s4_live$19$clock;
+    reg  s4_live$20$d;
+    wire  s4_live$20$q;
+    reg  s4_live$20$clock;
+    reg  s4_live$21$d;
+    wire  s4_live$21$q;
+    reg  s4_live$21$clock;
+    reg  s4_live$22$d;
+    wire  s4_live$22$q;
+    reg  s4_live$22$clock;
+    reg  s4_live$23$d;
+    wire  s4_live$23$q;
+    reg  s4_live$23$clock;
+    reg  s4_live$24$d;
+    wire  s4_live$24$q;
+    reg  s4_live$24$clock;
+    reg  s4_live$25$d;
+    wire  s4_live$25$q;
+    reg  s4_live$25$clock;
+    reg  s4_live$26$d;
+    wire  s4_live$26$q;
+    reg  s4_live$26$clock;
+    reg  [15:0] s4_head$0$d;
+    wire  [15:0] s4_head$0$q;
+    reg  s4_head$0$clock;
+    reg  [15:0] s4_head$1$d;
+    wire  [15:0] s4_head$1$q;
+    reg  s4_head$1$clock;
+    reg  [15:0] s4_head$2$d;
+    wire  [15:0] s4_head$2$q;
+    reg  s4_head$2$clock;
+    reg  [15:0] s4_head$3$d;
+    wire  [15:0] s4_head$3$q;
+    reg  s4_head$3$clock;
+    reg  [15:0] s4_head$4$d;
+    wire  [15:0] s4_head$4$q;
+    reg  s4_head$4$clock;
+    reg  [15:0] s4_head$5$d;
+    wire  [15:0] s4_head$5$q;
+    reg  s4_head$5$clock;
+    reg  [15:0] s4_head$6$d;
+    wire  [15:0] s4_head$6$q;
+    reg  s4_head$6$clock;
+    reg  [15:0] s4_head$7$d;
+    wire  [15:0] s4_head$7$q;
+    reg  s4_head$7$clock;
+    reg  [15:0] s4_head$8$d;
+    wire  [15:0] s4_head$8$q;
+    reg  s4_head$8$clock;
+    reg  [15:0] s4_head$9$d;
+    wire  [15:0] s4_head$9$q;
+    reg  s4_head$9$clock;
+    reg  [15:0] s4_head$10$d;
+    wire  [15:0] s4_head$10$q;
+    reg  s4_head$10$clock;
+    reg  [15:0] s4_head$11$d;
+    wire  [15:0] s4_head$11$q;
+    reg  s4_head$11$clock;
+    reg  [15:0] s4_head$12$d;
+    wire  [15:0] s4_head$12$q;
+    reg  s4_head$12$clock;
+    reg  [15:0] s4_head$13$d;
+    wire  [15:0] s4_head$13$q;
+    reg  s4_head$13$clock;
+    reg  [15:0] s4_head$14$d;
+    wire  [15:0] s4_head$14$q;
+    reg  s4_head$14$clock;
+    reg  [15:0] s4_head$15$d;
+    wire  [15:0] s4_head$15$q;
+    reg  s4_head$15$clock;
+    reg  [15:0] s4_head$16$d;
+    wire  [15:0] s4_head$16$q;
+    reg  s4_head$16$clock;
+    reg  [15:0] s4_head$17$d;
+    wire  [15:0] s4_head$17$q;
+    reg  s4_head$17$clock;
+    reg  [15:0] s4_head$18$d;
+    wire  [15:0] s4_head$18$q;
+    reg  s4_head$18$clock;
+    reg  [15:0] s4_head$19$d;
+    wire  [15:0] s4_head$19$q;
+    reg  s4_head$19$clock;
+    reg  [15:0] s4_head$20$d;
+    wire  [15:0] s4_head$20$q;
+    reg  s4_head$20$clock;
+    reg  [15:0] s4_head$21$d;
+    wire  [15:0] s4_head$21$q;
+    reg  s4_head$21$clock;
+    reg  [15:0] s4_head$22$d;
+    wire  [15:0] s4_head$22$q;
+    reg  s4_head$22$clock;
+    reg  [15:0] s4_head$23$d;
+    wire  [15:0] s4_head$23$q;
+    reg  s4_head$23$clock;
+    reg  [15:0] s4_head$24$d;
+    wire  [15:0] s4_head$24$q;
+    reg  s4_head$24$clock;
+    reg  [15:0] s4_head$25$d;
+    wire  [15:0] s4_head$25$q;
+    reg  s4_head$25$clock;
+    reg  [15:0] s4_head$26$d;
+    wire  [15:0] s4_head$26$q;
+    reg  s4_head$26$clock;
+    reg  meta$0$clock;
+    reg  meta$0$write_enable;
+    reg  [19:0] meta$0$write_address;
+    reg  [9:0] meta$0$write_data;
+    reg  [19:0] meta$0$read_address;
+    wire  [9:0] meta$0$read_data;
+    reg  meta$1$clock;
+    reg  meta$1$write_enable;
+    reg  [19:0] meta$1$write_address;
+    reg  [9:0] meta$1$write_data;
+    reg  [19:0] meta$1$read_address;
+    wire  [9:0] meta$1$read_data;
+    reg  meta$2$clock;
+    reg  meta$2$write_enable;
+    reg  [19:0] meta$2$write_address;
+    reg  [9:0] meta$2$write_data;
+    reg  [19:0] meta$2$read_address;
+    wire  [9:0] meta$2$read_data;
+    reg  meta$3$clock;
+    reg  meta$3$write_enable;
+    reg  [19:0] meta$3$write_address;
+    reg  [9:0] meta$3$write_data;
+    reg  [19:0] meta$3$read_address;
+    wire  [9:0] meta$3$read_data;
+    reg  meta$4$clock;
+    reg  meta$4$write_enable;
+    reg  [19:0] meta$4$write_address;
+    reg  [9:0] meta$4$write_data;
+    reg  [19:0] meta$4$read_address;
+    wire  [9:0] meta$4$read_data;
+    reg  meta$5$clock;
+    reg  meta$5$write_enable;
+    reg  [19:0] meta$5$write_address;
+    reg  [9:0] meta$5$write_data;
+    reg  [19:0] meta$5$read_address;
+    wire  [9:0] meta$5$read_data;
+    reg  meta$6$clock;
+    reg  meta$6$write_enable;
+    reg  [19:0] meta$6$write_address;
+    reg  [9:0] meta$6$write_data;
+    reg  [19:0] meta$6$read_address;
+    wire  [9:0] meta$6$read_data;
+    reg  meta$7$clock;
+    reg  meta$7$write_enable;
+    reg  [19:0] meta$7$write_address;
+    reg  [9:0] meta$7$write_data;
+    reg  [19:0] meta$7$read_address;
+    wire  [9:0] meta$7$read_data;
+    reg  meta$8$clock;
+    reg  meta$8$write_enable;
+    reg  [19:0] meta$8$write_address;
+    reg  [9:0] meta$8$write_data;
+    reg  [19:0] meta$8$read_address;
+    wire  [9:0] meta$8$read_data;
+    reg  meta$9$clock;
+    reg  meta$9$write_enable;
+    reg  [19:0] meta$9$write_address;
+    reg  [9:0] meta$9$write_data;
+    reg  [19:0] meta$9$read_address;
+    wire  [9:0] meta$9$read_data;
+    reg  meta$10$clock;
+    reg  meta$10$write_enable;
+    reg  [19:0] meta$10$write_address;
+    reg  [9:0] meta$10$write_data;
+    reg  [19:0] meta$10$read_address;
+    wire  [9:0] meta$10$read_data;
+    reg  meta$11$clock;
+    reg  meta$11$write_enable;
+    reg  [19:0] meta$11$write_address;
+    reg  [9:0] meta$11$write_data;
+    reg  [19:0] meta$11$read_address;
+    wire  [9:0] meta$11$read_data;
+    reg  meta$12$clock;
+    reg  meta$12$write_enable;
+    reg  [19:0] meta$12$write_address;
+    reg  [9:0] meta$12$write_data;
+    reg  [19:0] meta$12$read_address;
+    wire  [9:0] meta$12$read_data;
+    reg  meta$13$clock;
+    reg  meta$13$write_enable;
+    reg  [19:0] meta$13$write_address;
+    reg  [9:0] meta$13$write_data;
+    reg  [19:0] meta$13$read_address;
+    wire  [9:0] meta$13$read_data;
+    reg  meta$14$clock;
+    reg  meta$14$write_enable;
+    reg  [19:0] meta$14$write_address;
+    reg  [9:0] meta$14$write_data;
+    reg  [19:0] meta$14$read_address;
+    wire  [9:0] meta$14$read_data;
+    reg  meta$15$clock;
+    reg  meta$15$write_enable;
+    reg  [19:0] meta$15$write_address;
+    reg  [9:0] meta$15$write_data;
+    reg  [19:0] meta$15$read_address;
+    wire  [9:0] meta$15$read_data;
+    reg  meta$16$clock;
+    reg  meta$16$write_enable;
+    reg  [19:0] meta$16$write_address;
+    reg  [9:0] meta$16$write_data;
+    reg  [19:0] meta$16$read_address;
+    wire  [9:0] meta$16$read_data;
+    reg  meta$17$clock;
+    reg  meta$17$write_enable;
+    reg  [19:0] meta$17$write_address;
+    reg  [9:0] meta$17$write_data;
+    reg  [19:0] meta$17$read_address;
+    wire  [9:0] meta$17$read_data;
+    reg  meta$18$clock;
+    reg  meta$18$write_enable;
+    reg  [19:0] meta$18$write_address;
+    reg  [9:0] meta$18$write_data;
+    reg  [19:0] meta$18$read_address;
+    wire  [9:0] meta$18$read_data;
+    reg  meta$19$clock;
+    reg  meta$19$write_enable;
+    reg  [19:0] meta$19$write_address;
+    reg  [9:0] meta$19$write_data;
+    reg  [19:0] meta$19$read_address;
+    wire  [9:0] meta$19$read_data;
+    reg  meta$20$clock;
+    reg  meta$20$write_enable;
+    reg  [19:0] meta$20$write_address;
+    reg  [9:0] meta$20$write_data;
+    reg  [19:0] meta$20$read_address;
+    wire  [9:0] meta$20$read_data;
+    reg  meta$21$clock;
+    reg  meta$21$write_enable;
+    reg  [19:0] meta$21$write_address;
+    reg  [9:0] meta$21$write_data;
+    reg  [19:0] meta$21$read_address;
+    wire  [9:0] meta$21$read_data;
+    reg  meta$22$clock;
+    reg  meta$22$write_enable;
+    reg  [19:0] meta$22$write_address;
+    reg  [9:0] meta$22$write_data;
+    reg  [19:0] meta$22$read_address;
+    wire  [9:0] meta$22$read_data;
+    reg  meta$23$clock;
+    reg  meta$23$write_enable;
+    reg  [19:0] meta$23$write_address;
+    reg  [9:0] meta$23$write_data;
+    reg  [19:0] meta$23$read_address;
+    wire  [9:0] meta$23$read_data;
+    reg  meta$24$clock;
+    reg  meta$24$write_enable;
+    reg  [19:0] meta$24$write_address;
+    reg  [9:0] meta$24$write_data;
+    reg  [19:0] meta$24$read_address;
+    wire  [9:0] meta$24$read_data;
+    reg  meta$25$clock;
+    reg  meta$25$write_enable;
+    reg  [19:0] meta$25$write_address;
+    reg  [9:0] meta$25$write_data;
+    reg  [19:0] meta$25$read_address;
+    wire  [9:0] meta$25$read_data;
+    reg  meta$26$clock;
+    reg  meta$26$write_enable;
+    reg  [19:0] meta$26$write_address;
+    reg  [9:0] meta$26$write_data;
+    reg  [19:0] meta$26$read_address;
+    wire  [9:0] meta$26$read_data;
+    reg  head$0$clock;
+    reg  head$0$write_enable;
+    reg  [19:0] head$0$write_address;
+    reg  [15:0] head$0$write_data;
+    reg  [19:0] head$0$read_address;
+    wire  [15:0] head$0$read_data;
+    reg  head$1$clock;
+    reg  head$1$write_enable;
+    reg  [19:0] head$1$write_address;
+    reg  [15:0] head$1$write_data;
+    reg  [19:0] head$1$read_address;
+    wire  [15:0] head$1$read_data;
+    reg  head$2$clock;
+    reg  head$2$write_enable;
+    reg  [19:0] head$2$write_address;
+    reg  [15:0] head$2$write_data;
+    reg  [19:0] head$2$read_address;
+    wire  [15:0] head$2$read_data;
+    reg  head$3$clock;
+    reg  head$3$write_enable;
+    reg  [19:0] head$3$write_address;
+    reg  [15:0] head$3$write_data;
+    reg  [19:0] head$3$read_address;
+    wire  [15:0] head$3$read_data;
+    reg  head$4$clock;
+    reg  head$4$write_enable;
+    reg  [19:0] head$4$write_address;
+    reg  [15:0] head$4$write_data;
+    reg  [19:0] head$4$read_address;
+    wire  [15:0] head$4$read_data;
+    reg  head$5$clock;
+    reg  head$5$write_enable;
+    reg  [19:0] head$5$write_address;
+    reg  [15:0] head$5$write_data;
+    reg  [19:0] head$5$read_address;
+    wire  [15:0] head$5$read_data;
+    reg  head$6$clock;
+    reg  head$6$write_enable;
+    reg  [19:0] head$6$write_address;
+    reg  [15:0] head$6$write_data;
+    reg  [19:0] head$6$read_address;
+    wire  [15:0] head$6$read_data;
+    reg  head$7$clock;
+    reg  head$7$write_enable;
+    reg  [19:0] head$7$write_address;
+    reg  [15:0] head$7$write_data;
+    reg  [19:0] head$7$read_address;
+    wire  [15:0] head$7$read_data;
+    reg  head$8$clock;
+    reg  head$8$write_enable;
+    reg  [19:0] head$8$write_address;
+    reg  [15:0] head$8$write_data;
+    reg  [19:0] head$8$read_address;
+    wire  [15:0] head$8$read_data;
+    reg  head$9$clock;
+    reg  head$9$write_enable;
+    reg  [19:0] head$9$write_address;
+    reg  [15:0] head$9$write_data;
+    reg  [19:0] head$9$read_address;
+    wire  [15:0] head$9$read_data;
+    reg  head$10$clock;
+    reg  head$10$write_enable;
+    reg  [19:0] head$10$write_address;
+    reg  [15:0] head$10$write_data;
+    reg  [19:0] head$10$read_address;
+    wire  [15:0] head$10$read_data;
+    reg  head$11$clock;
+    reg  head$11$write_enable;
+    reg  [19:0] head$11$write_address;
+    reg  [15:0] head$11$write_data;
+    reg  [19:0] head$11$read_address;
+    wire  [15:0] head$11$read_data;
+    reg  head$12$clock;
+    reg  head$12$write_enable;
+    reg  [19:0] head$12$write_address;
+    reg  [15:0] head$12$write_data;
+    reg  [19:0] head$12$read_address;
+    wire  [15:0] head$12$read_data;
+    reg  head$13$clock;
+    reg  head$13$write_enable;
+    reg  [19:0] head$13$write_address;
+    reg  [15:0] head$13$write_data;
+    reg  [19:0] head$13$read_address;
+    wire  [15:0] head$13$read_data;
+    reg  head$14$clock;
+    reg  head$14$write_enable;
+    reg  [19:0] head$14$write_address;
+    reg  [15:0] head$14$write_data;
+    reg  [19:0] head$14$read_address;
+    wire  [15:0] head$14$read_data;
+    reg  head$15$clock;
+    reg  head$15$write_enable;
+    reg  [19:0] head$15$write_address;
+    reg  [15:0] head$15$write_data;
+    reg  [19:0] head$15$read_address;
+    wire  [15:0] head$15$read_data;
+    reg  head$16$clock;
+    reg  head$16$write_enable;
+    reg  [19:0] head$16$write_address;
+    reg  [15:0] head$16$write_data;
+    reg  [19:0] head$16$read_address;
+    wire  [15:0] head$16$read_data;
+    reg  head$17$clock;
+    reg  head$17$write_enable;
+    reg  [19:0] head$17$write_address;
+    reg  [15:0] head$17$write_data;
+    reg  [19:0] head$17$read_address;
+    wire  [15:0] head$17$read_data;
+    reg  head$18$clock;
+    reg  head$18$write_enable;
+    reg  [19:0] head$18$write_address;
+    reg  [15:0] head$18$write_data;
+    reg  [19:0] head$18$read_address;
+    wire  [15:0] head$18$read_data;
+    reg  head$19$clock;
+    reg  head$19$write_enable;
+    reg  [19:0] head$19$write_address;
+    reg  [15:0] head$19$write_data;
+    reg  [19:0] head$19$read_address;
+    wire  [15:0] head$19$read_data;
+    reg  head$20$clock;
+    reg  head$20$write_enable;
+    reg  [19:0] head$20$write_address;
+    reg  [15:0] head$20$write_data;
+    reg  [19:0] head$20$read_address;
+    wire  [15:0] head$20$read_data;
+    reg  head$21$clock;
+    reg  head$21$write_enable;
+    reg  [19:0] head$21$write_address;
+    reg  [15:0] head$21$write_data;
+    reg  [19:0] head$21$read_address;
+    wire  [15:0] head$21$read_data;
+    reg  head$22$clock;
+    reg  head$22$write_enable;
+    reg  [19:0] head$22$write_address;
+    reg  [15:0] head$22$write_data;
+    reg  [19:0] head$22$read_address;
+    wire  [15:0] head$22$read_data;
+    reg  head$23$clock;
+    reg  head$23$write_enable;
+    reg  [19:0] head$23$write_address;
+    reg  [15:0] head$23$write_data;
+    reg  [19:0] head$23$read_address;
+    wire  [15:0] head$23$read_data;
+    reg  head$24$clock;
+    reg  head$24$write_enable;
+    reg  [19:0] head$24$write_address;
+    reg  [15:0] head$24$write_data;
+    reg  [19:0] head$24$read_address;
+    wire  [15:0] head$24$read_data;
+    reg  head$25$clock;
+    reg  head$25$write_enable;
+    reg  [19:0] head$25$write_address;
+    reg  [15:0] head$25$write_data;
+    reg  [19:0] head$25$read_address;
+    wire  [15:0] head$25$read_data;
+    reg  head$26$clock;
+    reg  head$26$write_enable;
+    reg  [19:0] head$26$write_address;
+    reg  [15:0] head$26$write_data;
+    reg  [19:0] head$26$read_address;
+    wire  [15:0] head$26$read_data;
+    reg  succ$clock;
+    reg  succ$write_enable;
+    reg  [14:0] succ$write_address;
+    reg  [15:0] succ$write_data;
+    reg  [14:0] succ$read_address_a;
+    reg  [14:0] succ$read_address_b;
+    wire  [15:0] succ$read_data_a;
+    wire  [15:0] succ$read_data_b;
+    reg  rec$0$clock;
+    reg  rec$0$write_enable;
+    reg  [4:0] rec$0$write_address;
+    reg  [15:0] rec$0$write_data;
+    reg  [4:0] rec$0$read_address;
+    wire  [15:0] rec$0$read_data;
+    reg  rec$1$clock;
+    reg  rec$1$write_enable;
+    reg  [4:0] rec$1$write_address;
+    reg  [15:0] rec$1$write_data;
+    reg  [4:0] rec$1$read_address;
+    wire  [15:0] rec$1$read_data;
+    reg  rec$2$clock;
+    reg  rec$2$write_enable;
+    reg  [4:0] rec$2$write_address;
+    reg  [15:0] rec$2$write_data;
+    reg  [4:0] rec$2$read_address;
+    wire  [15:0] rec$2$read_data;
+    reg  rec$3$clock;
+    reg  rec$3$write_enable;
+    reg  [4:0] rec$3$write_address;
+    reg  [15:0] rec$3$write_data;
+    reg  [4:0] rec$3$read_address;
+    wire  [15:0] rec$3$read_data;
+    reg  rec$4$clock;
+    reg  rec$4$write_enable;
+    reg  [4:0] rec$4$write_address;
+    reg  [15:0] rec$4$write_data;
+    reg  [4:0] rec$4$read_address;
+    wire  [15:0] rec$4$read_data;
+    reg  rec$5$clock;
+    reg  rec$5$write_enable;
+    reg  [4:0] rec$5$write_address;
+    reg  [15:0] rec$5$write_data;
+    reg  [4:0] rec$5$read_address;
+    wire  [15:0] rec$5$read_data;
+    reg  rec$6$clock;
+    reg  rec$6$write_enable;
+    reg  [4:0] rec$6$write_address;
+    reg  [15:0] rec$6$write_data;
+    reg  [4:0] rec$6$read_address;
+    wire  [15:0] rec$6$read_data;
+    reg  rec$7$clock;
+    reg  rec$7$write_enable;
+    reg  [4:0] rec$7$write_address;
+    reg  [15:0] rec$7$write_data;
+    reg  [4:0] rec$7$read_address;
+    wire  [15:0] rec$7$read_data;
+    reg  rec$8$clock;
+    reg  rec$8$write_enable;
+    reg  [4:0] rec$8$write_address;
+    reg  [15:0] rec$8$write_data;
+    reg  [4:0] rec$8$read_address;
+    wire  [15:0] rec$8$read_data;
+    reg  rec$9$clock;
+    reg  rec$9$write_enable;
+    reg  [4:0] rec$9$write_address;
+    reg  [15:0] rec$9$write_data;
+    reg  [4:0] rec$9$read_address;
+    wire  [15:0] rec$9$read_data;
+    reg  rec$10$clock;
+    reg  rec$10$write_enable;
+    reg  [4:0] rec$10$write_address;
+    reg  [15:0] rec$10$write_data;
+    reg  [4:0] rec$10$read_address;
+    wire  [15:0] rec$10$read_data;
+    reg  rec$11$clock;
+    reg  rec$11$write_enable;
+    reg  [4:0] rec$11$write_address;
+    reg  [15:0] rec$11$write_data;
+    reg  [4:0] rec$11$read_address;
+    wire  [15:0] rec$11$read_data;
+    reg  rec$12$clock;
+    reg  rec$12$write_enable;
+    reg  [4:0] rec$12$write_address;
+    reg  [15:0] rec$12$write_data;
+    reg  [4:0] rec$12$read_address;
+    wire  [15:0] rec$12$read_data;
+    reg  rec$13$clock;
+    reg  rec$13$write_enable;
+    reg  [4:0] rec$13$write_address;
+    reg  [15:0] rec$13$write_data;
+    reg  [4:0] rec$13$read_address;
+    wire  [15:0] rec$13$read_data;
+    reg  rec$14$clock;
+    reg  rec$14$write_enable;
+    reg  [4:0] rec$14$write_address;
+    reg  [15:0] rec$14$write_data;
+    reg  [4:0] rec$14$read_address;
+    wire  [15:0] rec$14$read_data;
+    reg  rec$15$clock;
+    reg  rec$15$write_enable;
+    reg  [4:0] rec$15$write_address;
+    reg  [15:0] rec$15$write_data;
+    reg  [4:0] rec$15$read_address;
+    wire  [15:0] rec$15$read_data;
+    reg  rec$16$clock;
+    reg  rec$16$write_enable;
+    reg  [4:0] rec$16$write_address;
+    reg  [15:0] rec$16$write_data;
+    reg  [4:0] rec$16$read_address;
+    wire  [15:0] rec$16$read_data;
+    reg  rec$17$clock;
+    reg  rec$17$write_enable;
+    reg  [4:0] rec$17$write_address;
+    reg  [15:0] rec$17$write_data;
+    reg  [4:0] rec$17$read_address;
+    wire  [15:0] rec$17$read_data;
+    reg  rec$18$clock;
+    reg  rec$18$write_enable;
+    reg  [4:0] rec$18$write_address;
+    reg  [15:0] rec$18$write_data;
+    reg  [4:0] rec$18$read_address;
+    wire  [15:0] rec$18$read_data;
+    reg  rec$19$clock;
+    reg  rec$19$write_enable;
+    reg  [4:0] rec$19$write_address;
+    reg  [15:0] rec$19$write_data;
+    reg  [4:0] rec$19$read_address;
+    wire  [15:0] rec$19$read_data;
+    reg  rec$20$clock;
+    reg  rec$20$write_enable;
+    reg  [4:0] rec$20$write_address;
+    reg  [15:0] rec$20$write_data;
+    reg  [4:0] rec$20$read_address;
+    wire  [15:0] rec$20$read_data;
+    reg  rec$21$clock;
+    reg  rec$21$write_enable;
+    reg  [4:0] rec$21$write_address;
+    reg  [15:0] rec$21$write_data;
+    reg  [4:0] rec$21$read_address;
+    wire  [15:0] rec$21$read_data;
+    reg  rec$22$clock;
+    reg  rec$22$write_enable;
+    reg  [4:0] rec$22$write_address;
+    reg  [15:0] rec$22$write_data;
+    reg  [4:0] rec$22$read_address;
+    wire  [15:0] rec$22$read_data;
+    reg  rec$23$clock;
+    reg  rec$23$write_enable;
+    reg  [4:0] rec$23$write_address;
+    reg  [15:0] rec$23$write_data;
+    reg  [4:0] rec$23$read_address;
+    wire  [15:0] rec$23$read_data;
+    reg  rec$24$clock;
+    reg  rec$24$write_enable;
+    reg  [4:0] rec$24$write_address;
+    reg  [15:0] rec$24$write_data;
+    reg  [4:0] rec$24$read_address;
+    wire  [15:0] rec$24$read_data;
+    reg  rec$25$clock;
+    reg  rec$25$write_enable;
+    reg  [4:0] rec$25$write_address;
+    reg  [15:0] rec$25$write_data;
+    reg  [4:0] rec$25$read_address;
+    wire  [15:0] rec$25$read_data;
+    reg  rec$26$clock;
+    reg  rec$26$write_enable;
+    reg  [4:0] rec$26$write_address;
+    reg  [15:0] rec$26$write_data;
+    reg  [4:0] rec$26$read_address;
+    wire  [15:0] rec$26$read_data;
+    reg  rec_index$clock;
+    reg  rec_index$write_enable;
+    reg  [4:0] rec_index$write_address;
+    reg  [15:0] rec_index$write_data;
+    reg  [4:0] rec_index$read_address;
+    wire  [15:0] rec_index$read_data;
+    reg  rec_min$0$clock;
+    reg  rec_min$0$write_enable;
+    reg  [4:0] rec_min$0$write_address;
+    reg  [22:0] rec_min$0$write_data;
+    reg  [4:0] rec_min$0$read_address;
+    wire  [22:0] rec_min$0$read_data;
+    reg  rec_min$1$clock;
+    reg  rec_min$1$write_enable;
+    reg  [4:0] rec_min$1$write_address;
+    reg  [22:0] rec_min$1$write_data;
+    reg  [4:0] rec_min$1$read_address;
+    wire  [22:0] rec_min$1$read_data;
+    reg  rec_min$2$clock;
+    reg  rec_min$2$write_enable;
+    reg  [4:0] rec_min$2$write_address;
+    reg  [22:0] rec_min$2$write_data;
+    reg  [4:0] rec_min$2$read_address;
+    wire  [22:0] rec_min$2$read_data;
+    reg  rec_max$0$clock;
+    reg  rec_max$0$write_enable;
+    reg  [4:0] rec_max$0$write_address;
+    reg  [22:0] rec_max$0$write_data;
+    reg  [4:0] rec_max$0$read_address;
+    wire  [22:0] rec_max$0$read_data;
+    reg  rec_max$1$clock;
+    reg  rec_max$1$write_enable;
+    reg  [4:0] rec_max$1$write_address;
+    reg  [22:0] rec_max$1$write_data;
+    reg  [4:0] rec_max$1$read_address;
+    wire  [22:0] rec_max$1$read_data;
+    reg  rec_max$2$clock;
+    reg  rec_max$2$write_enable;
+    reg  [4:0] rec_max$2$write_address;
+    reg  [22:0] rec_max$2$write_data;
+    reg  [4:0] rec_max$2$read_address;
+    wire  [22:0] rec_max$2$read_data;
+    reg  rec_margin$clock;
+    reg  rec_margin$write_enable;
+    reg  [4:0] rec_margin$write_address;
+    reg  [27:0] rec_margin$write_data;
+    reg  [4:0] rec_margin$read_address;
+    wire  [27:0] rec_margin$read_data;
+    reg  [4:0] wp$d;
+    wire  [4:0] wp$q;
+    reg  wp$clock;
+    reg  [4:0] rp$d;
+    wire  [4:0] rp$q;
+    reg  rp$clock;
+    reg  [6:0] count$d;
+    wire  [6:0] count$q;
+    reg  count$clock;
+    reg  [6:0] inflight$d;
+    wire  [6:0] inflight$q;
+    reg  inflight$clock;
+    reg  cur_valid$d;
+    wire  cur_valid$q;
+    reg  cur_valid$clock;
+    reg  cur_live$0$d;
+    wire  cur_live$0$q;
+    reg  cur_live$0$clock;
+    reg  cur_live$1$d;
+    wire  cur_live$1$q;
+    reg  cur_live$1$clock;
+    reg  cur_live$2$d;
+    wire  cur_live$2$q;
+    reg  cur_live$2$clock;
+    reg  cur_live$3$d;
+    wire  cur_live$3$q;
+    reg  cur_live$3$clock;
+    reg  cur_live$4$d;
+    wire  cur_live$4$q;
+    reg  cur_live$4$clock;
+    reg  cur_live$5$d;
+    wire  cur_live$5$q;
+    reg  cur_live$5$clock;
+    reg  cur_live$6$d;
+    wire  cur_live$6$q;
+    reg  cur_live$6$clock;
+    reg  cur_live$7$d;
+    wire  cur_live$7$q;
+    reg  cur_live$7$clock;
+    reg  cur_live$8$d;
+    wire  cur_live$8$q;
+    reg  cur_live$8$clock;
+    reg  cur_live$9$d;
+    wire  cur_live$9$q;
+    reg  cur_live$9$clock;
+    reg  cur_live$10$d;
+    wire  cur_live$10$q;
+    reg  cur_live$10$clock;
+    reg  cur_live$11$d;
+    wire  cur_live$11$q;
+    reg  cur_live$11$clock;
+    reg  cur_live$12$d;
+    wire  cur_live$12$q;
+    reg  cur_live$12$clock;
+    reg  cur_live$13$d;
+    wire  cur_live$13$q;
+    reg  cur_live$13$clock;
+    reg  cur_live$14$d;
+    wire  cur_live$14$q;
+    reg  cur_live$14$clock;
+    reg  cur_live$15$d;
+    wire  cur_live$15$q;
+    reg  cur_live$15$clock;
+    reg  cur_live$16$d;
+    wire  cur_live$16$q;
+    reg  cur_live$16$clock;
+    reg  cur_live$17$d;
+    wire  cur_live$17$q;
+    reg  cur_live$17$clock;
+    reg  cur_live$18$d;
+    wire  cur_live$18$q;
+    reg  cur_live$18$clock;
+    reg  cur_live$19$d;
+    wire  cur_live$19$q;
+    reg  cur_live$19$clock;
+    reg  cur_live$20$d;
+    wire  cur_live$20$q;
+    reg  cur_live$20$clock;
+    reg  cur_live$21$d;
+    wire  cur_live$21$q;
+    reg  cur_live$21$clock;
+    reg  cur_live$22$d;
+    wire  cur_live$22$q;
+    reg  cur_live$22$clock;
+    reg  cur_live$23$d;
+    wire  cur_live$23$q;
+    reg  cur_live$23$clock;
+    reg  cur_live$24$d;
+    wire  cur_live$24$q;
+    reg  cur_live$24$clock;
+    reg  cur_live$25$d;
+    wire  cur_live$25$q;
+    reg  cur_live$25$clock;
+    reg  cur_live$26$d;
+    wire  cur_live$26$q;
+    reg  cur_live$26$clock;
+    reg  [15:0] cur_head$0$d;
+    wire  [15:0] cur_head$0$q;
+    reg  cur_head$0$clock;
+    reg  [15:0] cur_head$1$d;
+    wire  [15:0] cur_head$1$q;
+    reg  cur_head$1$clock;
+    reg  [15:0] cur_head$2$d;
+    wire  [15:0] cur_head$2$q;
+    reg  cur_head$2$clock;
+    reg  [15:0] cur_head$3$d;
+    wire  [15:0] cur_head$3$q;
+    reg  cur_head$3$clock;
+    reg  [15:0] cur_head$4$d;
+    wire  [15:0] cur_head$4$q;
+    reg  cur_head$4$clock;
+    reg  [15:0] cur_head$5$d;
+    wire  [15:0] cur_head$5$q;
+    reg  cur_head$5$clock;
+    reg  [15:0] cur_head$6$d;
+    wire  [15:0] cur_head$6$q;
+    reg  cur_head$6$clock;
+    reg  [15:0] cur_head$7$d;
+    wire  [15:0] cur_head$7$q;
+    reg  cur_head$7$clock;
+    reg  [15:0] cur_head$8$d;
+    wire  [15:0] cur_head$8$q;
+    reg  cur_head$8$clock;
+    reg  [15:0] cur_head$9$d;
+    wire  [15:0] cur_head$9$q;
+    reg  cur_head$9$clock;
+    reg  [15:0] cur_head$10$d;
+    wire  [15:0] cur_head$10$q;
+    reg  cur_head$10$clock;
+    reg  [15:0] cur_head$11$d;
+    wire  [15:0] cur_head$11$q;
+    reg  cur_head$11$clock;
+    reg  [15:0] cur_head$12$d;
+    wire  [15:0] cur_head$12$q;
+    reg  cur_head$12$clock;
+    reg  [15:0] cur_head$13$d;
+    wire  [15:0] cur_head$13$q;
+    reg  cur_head$13$clock;
+    reg  [15:0] cur_head$14$d;
+    wire  [15:0] cur_head$14$q;
+    reg  cur_head$14$clock;
+    reg  [15:0] cur_head$15$d;
+    wire  [15:0] cur_head$15$q;
+    reg  cur_head$15$clock;
+    reg  [15:0] cur_head$16$d;
+    wire  [15:0] cur_head$16$q;
+    reg  cur_head$16$clock;
+    reg  [15:0] cur_head$17$d;
+    wire  [15:0] cur_head$17$q;
+    reg  cur_head$17$clock;
+    reg  [15:0] cur_head$18$d;
+    wire  [15:0] cur_head$18$q;
+    reg  cur_head$18$clock;
+    reg  [15:0] cur_head$19$d;
+    wire  [15:0] cur_head$19$q;
+    reg  cur_head$19$clock;
+    reg  [15:0] cur_head$20$d;
+    wire  [15:0] cur_head$20$q;
+    reg  cur_head$20$clock;
+    reg  [15:0] cur_head$21$d;
+    wire  [15:0] cur_head$21$q;
+    reg  cur_head$21$clock;
+    reg  [15:0] cur_head$22$d;
+    wire  [15:0] cur_head$22$q;
+    reg  cur_head$22$clock;
+    reg  [15:0] cur_head$23$d;
+    wire  [15:0] cur_head$23$q;
+    reg  cur_head$23$clock;
+    reg  [15:0] cur_head$24$d;
+    wire  [15:0] cur_head$24$q;
+    reg  cur_head$24$clock;
+    reg  [15:0] cur_head$25$d;
+    wire  [15:0] cur_head$25$q;
+    reg  cur_head$25$clock;
+    reg  [15:0] cur_head$26$d;
+    wire  [15:0] cur_head$26$q;
+    reg  cur_head$26$clock;
+    reg  started$0$d;
+    wire  started$0$q;
+    reg  started$0$clock;
+    reg  started$1$d;
+    wire  started$1$q;
+    reg  started$1$clock;
+    reg  started$2$d;
+    wire  started$2$q;
+    reg  started$2$clock;
+    reg  started$3$d;
+    wire  started$3$q;
+    reg  started$3$clock;
+    reg  started$4$d;
+    wire  started$4$q;
+    reg  started$4$clock;
+    reg  started$5$d;
+    wire  started$5$q;
+    reg  started$5$clock;
+    reg  started$6$d;
+    wire  started$6$q;
+    reg  started$6$clock;
+    reg  started$7$d;
+    wire  started$7$q;
+    reg  started$7$clock;
+    reg  started$8$d;
+    wire  started$8$q;
+    reg  started$8$clock;
+    reg  started$9$d;
+    wire  started$9$q;
+    reg  started$9$clock;
+    reg  started$10$d;
+    wire  started$10$q;
+    reg  started$10$clock;
+    reg  started$11$d;
+    wire  started$11$q;
+    reg  started$11$clock;
+    reg  started$12$d;
+    wire  started$12$q;
+    reg  started$12$clock;
+    reg  started$13$d;
+    wire  started$13$q;
+    reg  started$13$clock;
+    reg  started$14$d;
+    wire  started$14$q;
+    reg  started$14$clock;
+    reg  started$15$d;
+    wire  started$15$q;
+    reg  started$15$clock;
+    reg  started$16$d;
+    wire  started$16$q;
+    reg  started$16$clock;
+    reg  started$17$d;
+    wire  started$17$q;
+    reg  started$17$clock;
+    reg  started$18$d;
+    wire  started$18$q;
+    reg  started$18$clock;
+    reg  started$19$d;
+    wire  started$19$q;
+    reg  started$19$clock;
+    reg  started$20$d;
+    wire  started$20$q;
+    reg  started$20$clock;
+    reg  started$21$d;
+    wire  started$21$q;
+    reg  started$21$clock;
+    reg  started$22$d;
+    wire  started$22$q;
+    reg  started$22$clock;
+    reg  started$23$d;
+    wire  started$23$q;
+    reg  started$23$clock;
+    reg  started$24$d;
+    wire  started$24$q;
+    reg  started$24$clock;
+    reg  started$25$d;
+    wire  started$25$q;
+    reg  started$25$clock;
+    reg  started$26$d;
+    wire  started$26$q;
+    reg  started$26$clock;
+    reg  [15:0] cur_index$d;
+    wire  [15:0] cur_index$q;
+    reg  cur_index$clock;
+    reg  [22:0] cur_min$0$d;
+    wire  [22:0] cur_min$0$q;
+    reg  cur_min$0$clock;
+    reg  [22:0] cur_min$1$d;
+    wire  [22:0] cur_min$1$q;
+    reg  cur_min$1$clock;
+    reg  [22:0] cur_min$2$d;
+    wire  [22:0] cur_min$2$q;
+    reg  cur_min$2$clock;
+    reg  [22:0] cur_max$0$d;
+    wire  [22:0] cur_max$0$q;
+    reg  cur_max$0$clock;
+    reg  [22:0] cur_max$1$d;
+    wire  [22:0] cur_max$1$q;
+    reg  cur_max$1$clock;
+    reg  [22:0] cur_max$2$d;
+    wire  [22:0] cur_max$2$q;
+    reg  cur_max$2$clock;
+    reg  [27:0] cur_margin$d;
+    wire  [27:0] cur_margin$q;
+    reg  cur_margin$clock;
+    reg  chase$d;
+    wire  chase$q;
+    reg  chase$clock;
+    reg  held_valid$d;
+    wire  held_valid$q;
+    reg  held_valid$clock;
+    reg  [15:0] held$d;
+    wire  [15:0] held$q;
+    reg  held$clock;
+    reg  v1_valid$d;
+    wire  v1_valid$q;
+    reg  v1_valid$clock;
+    reg  [15:0] v1_i$d;
+    wire  [15:0] v1_i$q;
+    reg  v1_i$clock;
+    reg  [15:0] v1_j$d;
+    wire  [15:0] v1_j$q;
+    reg  v1_j$clock;
+    reg  [22:0] v1_min$0$d;
+    wire  [22:0] v1_min$0$q;
+    reg  v1_min$0$clock;
+    reg  [22:0] v1_min$1$d;
+    wire  [22:0] v1_min$1$q;
+    reg  v1_min$1$clock;
+    reg  [22:0] v1_min$2$d;
+    wire  [22:0] v1_min$2$q;
+    reg  v1_min$2$clock;
+    reg  [22:0] v1_max$0$d;
+    wire  [22:0] v1_max$0$q;
+    reg  v1_max$0$clock;
+    reg  [22:0] v1_max$1$d;
+    wire  [22:0] v1_max$1$q;
+    reg  v1_max$1$clock;
+    reg  [22:0] v1_max$2$d;
+    wire  [22:0] v1_max$2$q;
+    reg  v1_max$2$clock;
+    reg  [27:0] v1_margin$d;
+    wire  [27:0] v1_margin$q;
+    reg  v1_margin$clock;
+    reg  v2_valid$d;
+    wire  v2_valid$q;
+    reg  v2_valid$clock;
+    reg  [15:0] v2_i$d;
+    wire  [15:0] v2_i$q;
+    reg  v2_i$clock;
+    reg  [15:0] v2_j$d;
+    wire  [15:0] v2_j$q;
+    reg  v2_j$clock;
+    reg  [22:0] v2_min_i$0$d;
+    wire  [22:0] v2_min_i$0$q;
+    reg  v2_min_i$0$clock;
+    reg  [22:0] v2_min_i$1$d;
+    wire  [22:0] v2_min_i$1$q;
+    reg  v2_min_i$1$clock;
+    reg  [22:0] v2_min_i$2$d;
+    wire  [22:0] v2_min_i$2$q;
+    reg  v2_min_i$2$clock;
+    reg  [22:0] v2_max_i$0$d;
+    wire  [22:0] v2_max_i$0$q;
+    reg  v2_max_i$0$clock;
+    reg  [22:0] v2_max_i$1$d;
+    wire  [22:0] v2_max_i$1$q;
+    reg  v2_max_i$1$clock;
+    reg  [22:0] v2_max_i$2$d;
+    wire  [22:0] v2_max_i$2$q;
+    reg  v2_max_i$2$clock;
+    reg  [22:0] v2_min_j$0$d;
+    wire  [22:0] v2_min_j$0$q;
+    reg  v2_min_j$0$clock;
+    reg  [22:0] v2_min_j$1$d;
+    wire  [22:0] v2_min_j$1$q;
+    reg  v2_min_j$1$clock;
+    reg  [22:0] v2_min_j$2$d;
+    wire  [22:0] v2_min_j$2$q;
+    reg  v2_min_j$2$clock;
+    reg  [22:0] v2_max_j$0$d;
+    wire  [22:0] v2_max_j$0$q;
+    reg  v2_max_j$0$clock;
+    reg  [22:0] v2_max_j$1$d;
+    wire  [22:0] v2_max_j$1$q;
+    reg  v2_max_j$1$clock;
+    reg  [22:0] v2_max_j$2$d;
+    wire  [22:0] v2_max_j$2$q;
+    reg  v2_max_j$2$clock;
+    reg  [27:0] v2_margin_i$d;
+    wire  [27:0] v2_margin_i$q;
+    reg  v2_margin_i$clock;
+    reg  [27:0] v2_margin_j$d;
+    wire  [27:0] v2_margin_j$q;
+    reg  v2_margin_j$clock;
+    reg  fifo$clock;
+    reg  fifo$write;
+    reg  [95:0] fifo$data_in;
+    reg  fifo$ready;
+    wire  fifo$valid;
+    wire  [95:0] fifo$data_out;
+    wire  fifo$empty;
+    wire  fifo$almost_full;
+    reg  clearing$d;
+    wire  clearing$q;
+    reg  clearing$clock;
+    reg  cleared$d;
+    wire  cleared$q;
+    reg  cleared$clock;
+    reg  [19:0] clear_at$d;
+    wire  [19:0] clear_at$q;
+    reg  clear_at$clock;
+    reg  large_seen$d;
+    wire  large_seen$q;
+    reg  large_seen$clock;
+    
+    // Local signals
+    reg  [63:0] allowed;
+    reg  [63:0] allow$0;
+    reg  [63:0] allow$1;
+    reg  [63:0] allow$2;
+    reg  [63:0] allow$3;
+    reg  [63:0] allow$4;
+    reg  [63:0] allow$5;
+    reg  [63:0] allow$6;
+    reg  [63:0] allow$7;
+    reg  [63:0] allow$8;
+    reg  [63:0] allow$9;
+    reg  [63:0] allow$10;
+    reg  [63:0] allow$11;
+    reg  [63:0] allow$12;
+    reg  [63:0] allow$13;
+    reg  [63:0] allow$14;
+    reg  [63:0] allow$15;
+    reg  [63:0] allow$16;
+    reg  [63:0] allow$17;
+    reg  [63:0] allow$18;
+    reg  [63:0] allow$19;
+    reg  [63:0] allow$20;
+    reg  [63:0] allow$21;
+    reg  [63:0] allow$22;
+    reg  [63:0] allow$23;
+    reg  [63:0] allow$24;
+    reg  [63:0] allow$25;
+    reg  [63:0] allow$26;
+    reg  live$0;
+    reg  live$1;
+    reg  live$2;
+    reg  live$3;
+    reg  live$4;
+    reg  live$5;
+    reg  live$6;
+    reg  live$7;
+    reg  live$8;
+    reg  live$9;
+    reg  live$10;
+    reg  live$11;
+    reg  live$12;
+    reg  live$13;
+    reg  live$14;
+    reg  live$15;
+    reg  live$16;
+    reg  live$17;
+    reg  live$18;
+    reg  live$19;
+    reg  live$20;
+    reg  live$21;
+    reg  live$22;
+    reg  live$23;
+    reg  live$24;
+    reg  live$25;
+    reg  live$26;
+    reg  enter$0;
+    reg  enter$1;
+    reg  enter$2;
+    reg  enter$3;
+    reg  enter$4;
+    reg  enter$5;
+    reg  enter$6;
+    reg  enter$7;
+    reg  enter$8;
+    reg  enter$9;
+    reg  enter$10;
+    reg  enter$11;
+    reg  enter$12;
+    reg  enter$13;
+    reg  enter$14;
+    reg  enter$15;
+    reg  enter$16;
+    reg  enter$17;
+    reg  enter$18;
+    reg  enter$19;
+    reg  enter$20;
+    reg  enter$21;
+    reg  enter$22;
+    reg  enter$23;
+    reg  enter$24;
+    reg  enter$25;
+    reg  enter$26;
+    reg  [15:0] home_head$0;
+    reg  [15:0] home_head$1;
+    reg  [15:0] home_head$2;
+    reg  [15:0] home_head$3;
+    reg  [15:0] home_head$4;
+    reg  [15:0] home_head$5;
+    reg  [15:0] home_head$6;
+    reg  [15:0] home_head$7;
+    reg  [15:0] home_head$8;
+    reg  [15:0] home_head$9;
+    reg  [15:0] home_head$10;
+    reg  [15:0] home_head$11;
+    reg  [15:0] home_head$12;
+    reg  [15:0] home_head$13;
+    reg  [15:0] home_head$14;
+    reg  [15:0] home_head$15;
+    reg  [15:0] home_head$16;
+    reg  [15:0] home_head$17;
+    reg  [15:0] home_head$18;
+    reg  [15:0] home_head$19;
+    reg  [15:0] home_head$20;
+    reg  [15:0] home_head$21;
+    reg  [15:0] home_head$22;
+    reg  [15:0] home_head$23;
+    reg  [15:0] home_head$24;
+    reg  [15:0] home_head$25;
+    reg  [15:0] home_head$26;
+    reg  [15:0] succ_acc$0;
+    reg  [15:0] succ_acc$1;
+    reg  [15:0] succ_acc$2;
+    reg  [15:0] succ_acc$3;
+    reg  [15:0] succ_acc$4;
+    reg  [15:0] succ_acc$5;
+    reg  [15:0] succ_acc$6;
+    reg  [15:0] succ_acc$7;
+    reg  [15:0] succ_acc$8;
+    reg  [15:0] succ_acc$9;
+    reg  [15:0] succ_acc$10;
+    reg  [15:0] succ_acc$11;
+    reg  [15:0] succ_acc$12;
+    reg  [15:0] succ_acc$13;
+    reg  [15:0] succ_acc$14;
+    reg  [15:0] succ_acc$15;
+    reg  [15:0] succ_acc$16;
+    reg  [15:0] succ_acc$17;
+    reg  [15:0] succ_acc$18;
+    reg  [15:0] succ_acc$19;
+    reg  [15:0] succ_acc$20;
+    reg  [15:0] succ_acc$21;
+    reg  [15:0] succ_acc$22;
+    reg  [15:0] succ_acc$23;
+    reg  [15:0] succ_acc$24;
+    reg  [15:0] succ_acc$25;
+    reg  [15:0] succ_acc$26;
+    reg  [15:0] succ_acc$27;
+    reg  [15:0] succ_data;
+    reg  list_open;
+    reg  need;
+    reg  cur_rem$0;
+    reg  cur_rem$1;
+    reg  cur_rem$2;
+    reg  cur_rem$3;
+    reg  cur_rem$4;
+    reg  cur_rem$5;
+    reg  cur_rem$6;
+    reg  cur_rem$7;
+    reg  cur_rem$8;
+    reg  cur_rem$9;
+    reg  cur_rem$10;
+    reg  cur_rem$11;
+    reg  cur_rem$12;
+    reg  cur_rem$13;
+    reg  cur_rem$14;
+    reg  cur_rem$15;
+    reg  cur_rem$16;
+    reg  cur_rem$17;
+    reg  cur_rem$18;
+    reg  cur_rem$19;
+    reg  cur_rem$20;
+    reg  cur_rem$21;
+    reg  cur_rem$22;
+    reg  cur_rem$23;
+    reg  cur_rem$24;
+    reg  cur_rem$25;
+    reg  cur_rem$26;
+    reg  load_next;
+    reg  retire_rec;
+    reg  take;
+    reg  rem$0;
+    reg  rem$1;
+    reg  rem$2;
+    reg  rem$3;
+    reg  rem$4;
+    reg  rem$5;
+    reg  rem$6;
+    reg  rem$7;
+    reg  rem$8;
+    reg  rem$9;
+    reg  rem$10;
+    reg  rem$11;
+    reg  rem$12;
+    reg  rem$13;
+    reg  rem$14;
+    reg  rem$15;
+    reg  rem$16;
+    reg  rem$17;
+    reg  rem$18;
+    reg  rem$19;
+    reg  rem$20;
+    reg  rem$21;
+    reg  rem$22;
+    reg  rem$23;
+    reg  rem$24;
+    reg  rem$25;
+    reg  rem$26;
+    reg  [15:0] rem_head$0;
+    reg  [15:0] rem_head$1;
+    reg  [15:0] rem_head$2;
+    reg  [15:0] rem_head$3;
+    reg  [15:0] rem_head$4;
+    reg  [15:0] rem_head$5;
+    reg  [15:0] rem_head$6;
+    reg  [15:0] rem_head$7;
+    reg  [15:0] rem_head$8;
+    reg  [15:0] rem_head$9;
+    reg  [15:0] rem_head$10;
+    reg  [15:0] rem_head$11;
+    reg  [15:0] rem_head$12;
+    reg  [15:0] rem_head$13;
+    reg  [15:0] rem_head$14;
+    reg  [15:0] rem_head$15;
+    reg  [15:0] rem_head$16;
+    reg  [15:0] rem_head$17;
+    reg  [15:0] rem_head$18;
+    reg  [15:0] rem_head$19;
+    reg  [15:0] rem_head$20;
+    reg  [15:0] rem_head$21;
+    reg  [15:0] rem_head$22;
+    reg  [15:0] rem_head$23;
+    reg  [15:0] rem_head$24;
+    reg  [15:0] rem_head$25;
+    reg  [15:0] rem_head$26;
+    reg  rem_any;
+    reg  [15:0] pick_head;
+    reg  [7:0] pick_id;
+    reg  bank_any$0;
+    reg  bank_any$1;
+    reg  bank_any$2;
+    reg  bank_any$3;
+    reg  bank_any$4;
+    reg  bank_any$5;
+    reg  bank_any$6;
+    reg  bank_any$7;
+    reg  bank_any$8;
+    reg  bank_any$9;
+    reg  bank_any$10;
+    reg  bank_any$11;
+    reg  bank_any$12;
+    reg  bank_any$13;
+    reg  bank_any$14;
+    reg  bank_any$15;
+    reg  bank_any$16;
+    reg  bank_any$17;
+    reg  bank_any$18;
+    reg  bank_any$19;
+    reg  bank_any$20;
+    reg  bank_any$21;
+    reg  bank_any$22;
+    reg  bank_any$23;
+    reg  bank_any$24;
+    reg  bank_any$25;
+    reg  bank_any$26;
+    reg  [15:0] bank_head$0;
+    reg  [15:0] bank_head$1;
+    reg  [15:0] bank_head$2;
+    reg  [15:0] bank_head$3;
+    reg  [15:0] bank_head$4;
+    reg  [15:0] bank_head$5;
+    reg  [15:0] bank_head$6;
+    reg  [15:0] bank_head$7;
+    reg  [15:0] bank_head$8;
+    reg  [15:0] bank_head$9;
+    reg  [15:0] bank_head$10;
+    reg  [15:0] bank_head$11;
+    reg  [15:0] bank_head$12;
+    reg  [15:0] bank_head$13;
+    reg  [15:0] bank_head$14;
+    reg  [15:0] bank_head$15;
+    reg  [15:0] bank_head$16;
+    reg  [15:0] bank_head$17;
+    reg  [15:0] bank_head$18;
+    reg  [15:0] bank_head$19;
+    reg  [15:0] bank_head$20;
+    reg  [15:0] bank_head$21;
+    reg  [15:0] bank_head$22;
+    reg  [15:0] bank_head$23;
+    reg  [15:0] bank_head$24;
+    reg  [15:0] bank_head$25;
+    reg  [15:0] bank_head$26;
+    reg  [7:0] bank_id$0;
+    reg  [7:0] bank_id$1;
+    reg  [7:0] bank_id$2;
+    reg  [7:0] bank_id$3;
+    reg  [7:0] bank_id$4;
+    reg  [7:0] bank_id$5;
+    reg  [7:0] bank_id$6;
+    reg  [7:0] bank_id$7;
+    reg  [7:0] bank_id$8;
+    reg  [7:0] bank_id$9;
+    reg  [7:0] bank_id$10;
+    reg  [7:0] bank_id$11;
+    reg  [7:0] bank_id$12;
+    reg  [7:0] bank_id$13;
+    reg  [7:0] bank_id$14;
+    reg  [7:0] bank_id$15;
+    reg  [7:0] bank_id$16;
+    reg  [7:0] bank_id$17;
+    reg  [7:0] bank_id$18;
+    reg  [7:0] bank_id$19;
+    reg  [7:0] bank_id$20;
+    reg  [7:0] bank_id$21;
+    reg  [7:0] bank_id$22;
+    reg  [7:0] bank_id$23;
+    reg  [7:0] bank_id$24;
+    reg  [7:0] bank_id$25;
+    reg  [7:0] bank_id$26;
+    reg  rd_live$0;
+    reg  rd_live$1;
+    reg  rd_live$2;
+    reg  rd_live$3;
+    reg  rd_live$4;
+    reg  rd_live$5;
+    reg  rd_live$6;
+    reg  rd_live$7;
+    reg  rd_live$8;
+    reg  rd_live$9;
+    reg  rd_live$10;
+    reg  rd_live$11;
+    reg  rd_live$12;
+    reg  rd_live$13;
+    reg  rd_live$14;
+    reg  rd_live$15;
+    reg  rd_live$16;
+    reg  rd_live$17;
+    reg  rd_live$18;
+    reg  rd_live$19;
+    reg  rd_live$20;
+    reg  rd_live$21;
+    reg  rd_live$22;
+    reg  rd_live$23;
+    reg  rd_live$24;
+    reg  rd_live$25;
+    reg  rd_live$26;
+    reg  [6:0] inflight_up;
+    reg  [6:0] inflight_down;
+    reg  [6:0] retire_down;
+    reg  [6:0] count_up;
+    reg  [6:0] count_down;
+    reg  [95:0] cand_word;
+    reg  [95:0] unpack_a;
+    reg  [95:0] unpack_b;
+    reg  [95:0] unpack_ma;
+    reg  [15:0] cand;
+    reg  [15:0] entry;
+    reg  cand_ok;
+    reg  go;
+    reg  stall;
+    reg  retire_probe;
+    reg  rec_write;
+    reg  overlap;
+    reg  swap;
+    reg  [19:0] cand_lo;
+    reg  [19:0] cand_hi;
+    reg  [27:0] margin_lo;
+    reg  [27:0] margin_hi;
+    reg  done_walk;
+    
+    // Sub module instances
+    obb_core$grid$cells cells(
+        .clock(cells$clock),
+        .key_valid(cells$key_valid),
+        .key_min$0(cells$key_min$0),
+        .key_min$1(cells$key_min$1),
+        .key_min$2(cells$key_min$2),
+        .key_max$0(cells$key_max$0),
+        .key_max$1(cells$key_max$1),
+        .key_max$2(cells$key_max$2),
+        .valid(cells$valid),
+        .small_box(cells$small_box),
+        .bucket$0(cells$bucket$0),
+        .bucket$1(cells$bucket$1),
+        .bucket$2(cells$bucket$2),
+        .bucket$3(cells$bucket$3),
+        .bucket$4(cells$bucket$4),
+        .bucket$5(cells$bucket$5),
+        .bucket$6(cells$bucket$6),
+        .bucket$7(cells$bucket$7),
+        .bucket$8(cells$bucket$8),
+        .bucket$9(cells$bucket$9),
+        .bucket$10(cells$bucket$10),
+        .bucket$11(cells$bucket$11),
+        .bucket$12(cells$bucket$12),
+        .bucket$13(cells$bucket$13),
+        .bucket$14(cells$bucket$14),
+        .bucket$15(cells$bucket$15),
+        .bucket$16(cells$bucket$16),
+        .bucket$17(cells$bucket$17),
+        .bucket$18(cells$bucket$18),
+        .bucket$19(cells$bucket$19),
+        .bucket$20(cells$bucket$20),
+        .bucket$21(cells$bucket$21),
+        .bucket$22(cells$bucket$22),
+        .bucket$23(cells$bucket$23),
+        .bucket$24(cells$bucket$24),
+        .bucket$25(cells$bucket$25),
+        .bucket$26(cells$bucket$26),
+        .fp$0(cells$fp$0),
+        .fp$1(cells$fp$1),
+        .fp$2(cells$fp$2),
+        .fp$3(cells$fp$3),
+        .fp$4(cells$fp$4),
+        .fp$5(cells$fp$5),
+        .fp$6(cells$fp$6),
+        .fp$7(cells$fp$7),
+        .fp$8(cells$fp$8),
+        .fp$9(cells$fp$9),
+        .fp$10(cells$fp$10),
+        .fp$11(cells$fp$11),
+        .fp$12(cells$fp$12),
+        .fp$13(cells$fp$13),
+        .fp$14(cells$fp$14),
+        .fp$15(cells$fp$15),
+        .fp$16(cells$fp$16),
+        .fp$17(cells$fp$17),
+        .fp$18(cells$fp$18),
+        .fp$19(cells$fp$19),
+        .fp$20(cells$fp$20),
+        .fp$21(cells$fp$21),
+        .fp$22(cells$fp$22),
+        .fp$23(cells$fp$23),
+        .fp$24(cells$fp$24),
+        .fp$25(cells$fp$25),
+        .fp$26(cells$fp$26),
+        .inside$0(cells$inside$0),
+        .inside$1(cells$inside$1),
+        .inside$2(cells$inside$2),
+        .inside$3(cells$inside$3),
+        .inside$4(cells$inside$4),
+        .inside$5(cells$inside$5),
+        .inside$6(cells$inside$6),
+        .inside$7(cells$inside$7),
+        .inside$8(cells$inside$8),
+        .inside$9(cells$inside$9),
+        .inside$10(cells$inside$10),
+        .inside$11(cells$inside$11),
+        .inside$12(cells$inside$12),
+        .inside$13(cells$inside$13),
+        .inside$14(cells$inside$14),
+        .inside$15(cells$inside$15),
+        .inside$16(cells$inside$16),
+        .inside$17(cells$inside$17),
+        .inside$18(cells$inside$18),
+        .inside$19(cells$inside$19),
+        .inside$20(cells$inside$20),
+        .inside$21(cells$inside$21),
+        .inside$22(cells$inside$22),
+        .inside$23(cells$inside$23),
+        .inside$24(cells$inside$24),
+        .inside$25(cells$inside$25),
+        .inside$26(cells$inside$26),
+        .home$0(cells$home$0),
+        .home$1(cells$home$1),
+        .home$2(cells$home$2),
+        .home$3(cells$home$3),
+        .home$4(cells$home$4),
+        .home$5(cells$home$5),
+        .home$6(cells$home$6),
+        .home$7(cells$home$7),
+        .home$8(cells$home$8),
+        .home$9(cells$home$9),
+        .home$10(cells$home$10),
+        .home$11(cells$home$11),
+        .home$12(cells$home$12),
+        .home$13(cells$home$13),
+        .home$14(cells$home$14),
+        .home$15(cells$home$15),
+        .home$16(cells$home$16),
+        .home$17(cells$home$17),
+        .home$18(cells$home$18),
+        .home$19(cells$home$19),
+        .home$20(cells$home$20),
+        .home$21(cells$home$21),
+        .home$22(cells$home$22),
+        .home$23(cells$home$23),
+        .home$24(cells$home$24),
+        .home$25(cells$home$25),
+        .home$26(cells$home$26),
+        .home_fp(cells$home_fp)
+    );
+    obb_core$grid$s1_valid s1_valid(
+        .d(s1_valid$d),
+        .q(s1_valid$q),
+        .clock(s1_valid$clock)
+    );
+    obb_core$grid$s1_index s1_index(
+        .d(s1_index$d),
+        .q(s1_index$q),
+        .clock(s1_index$clock)
+    );
+    obb_core$grid$s1_min$0 s1_min$0(
+        .d(s1_min$0$d),
+        .q(s1_min$0$q),
+        .clock(s1_min$0$clock)
+    );
+    obb_core$grid$s1_min$1 s1_min$1(
+        .d(s1_min$1$d),
+        .q(s1_min$1$q),
+        .clock(s1_min$1$clock)
+    );
+    obb_core$grid$s1_min$2 s1_min$2(
+        .d(s1_min$2$d),
+        .q(s1_min$2$q),
+        .clock(s1_min$2$clock)
+    );
+    obb_core$grid$s1_max$0 s1_max$0(
+        .d(s1_max$0$d),
+        .q(s1_max$0$q),
+        .clock(s1_max$0$clock)
+    );
+    obb_core$grid$s1_max$1 s1_max$1(
+        .d(s1_max$1$d),
+        .q(s1_max$1$q),
+        .clock(s1_max$1$clock)
+    );
+    obb_core$grid$s1_max$2 s1_max$2(
+        .d(s1_max$2$d),
+        .q(s1_max$2$q),
+        .clock(s1_max$2$clock)
+    );
+    obb_core$grid$s1_margin s1_margin(
+        .d(s1_margin$d),
+        .q(s1_margin$q),
+        .clock(s1_margin$clock)
+    );
+    obb_core$grid$s1_group s1_group(
+        .d(s1_group$d),
+        .q(s1_group$q),
+        .clock(s1_group$clock)
+    );
+    obb_core$grid$s2_valid s2_valid(
+        .d(s2_valid$d),
+        .q(s2_valid$q),
+        .clock(s2_valid$clock)
+    );
+    obb_core$grid$s2_index s2_index(
+        .d(s2_index$d),
+        .q(s2_index$q),
+        .clock(s2_index$clock)
+    );
+    obb_core$grid$s2_min$0 s2_min$0(
+        .d(s2_min$0$d),
+        .q(s2_min$0$q),
+        .clock(s2_min$0$clock)
+    );
+    obb_core$grid$s2_min$1 s2_min$1(
+        .d(s2_min$1$d),
+        .q(s2_min$1$q),
+        .clock(s2_min$1$clock)
+    );
+    obb_core$grid$s2_min$2 s2_min$2(
+        .d(s2_min$2$d),
+        .q(s2_min$2$q),
+        .clock(s2_min$2$clock)
+    );
+    obb_core$grid$s2_max$0 s2_max$0(
+        .d(s2_max$0$d),
+        .q(s2_max$0$q),
+        .clock(s2_max$0$clock)
+    );
+    obb_core$grid$s2_max$1 s2_max$1(
+        .d(s2_max$1$d),
+        .q(s2_max$1$q),
+        .clock(s2_max$1$clock)
+    );
+    obb_core$grid$s2_max$2 s2_max$2(
+        .d(s2_max$2$d),
+        .q(s2_max$2$q),
+        .clock(s2_max$2$clock)
+    );
+    obb_core$grid$s2_margin s2_margin(
+        .d(s2_margin$d),
+        .q(s2_margin$q),
+        .clock(s2_margin$clock)
+    );
+    obb_core$grid$s2_group s2_group(
+        .d(s2_group$d),
+        .q(s2_group$q),
+        .clock(s2_group$clock)
+    );
+    obb_core$grid$s3_valid s3_valid(
+        .d(s3_valid$d),
+        .q(s3_valid$q),
+        .clock(s3_valid$clock)
+    );
+    obb_core$grid$s3_index s3_index(
+        .d(s3_index$d),
+        .q(s3_index$q),
+        .clock(s3_index$clock)
+    );
+    obb_core$grid$s3_min$0 s3_min$0(
+        .d(s3_min$0$d),
+        .q(s3_min$0$q),
+        .clock(s3_min$0$clock)
+    );
+    obb_core$grid$s3_min$1 s3_min$1(
+        .d(s3_min$1$d),
+        .q(s3_min$1$q),
+        .clock(s3_min$1$clock)
+    );
+    obb_core$grid$s3_min$2 s3_min$2(
+        .d(s3_min$2$d),
+        .q(s3_min$2$q),
+        .clock(s3_min$2$clock)
+    );
+    obb_core$grid$s3_max$0 s3_max$0(
+        .d(s3_max$0$d),
+        .q(s3_max$0$q),
+        .clock(s3_max$0$clock)
+    );
+    obb_core$grid$s3_max$1 s3_max$1(
+        .d(s3_max$1$d),
+        .q(s3_max$1$q),
+        .clock(s3_max$1$clock)
+    );
+    obb_core$grid$s3_max$2 s3_max$2(
+        .d(s3_max$2$d),
+        .q(s3_max$2$q),
+        .clock(s3_max$2$clock)
+    );
+    obb_core$grid$s3_margin s3_margin(
+        .d(s3_margin$d),
+        .q(s3_margin$q),
+        .clock(s3_margin$clock)
+    );
+    obb_core$grid$s3_group s3_group(
+        .d(s3_group$d),
+        .q(s3_group$q),
+        .clock(s3_group$clock)
+    );
+    obb_core$grid$s3_allowed s3_allowed(
+        .d(s3_allowed$d),
+        .q(s3_allowed$q),
+        .clock(s3_allowed$clock)
+    );
+    obb_core$grid$s4_valid s4_valid(
+        .d(s4_valid$d),
+        .q(s4_valid$q),
+        .clock(s4_valid$clock)
+    );
+    obb_core$grid$s4_any s4_any(
+        .d(s4_any$d),
+        .q(s4_any$q),
+        .clock(s4_any$clock)
+    );
+    obb_core$grid$s4_index s4_index(
+        .d(s4_index$d),
+        .q(s4_index$q),
+        .clock(s4_index$clock)
+    );
+    obb_core$grid$s4_min$0 s4_min$0(
+        .d(s4_min$0$d),
+        .q(s4_min$0$q),
+        .clock(s4_min$0$clock)
+    );
+    obb_core$grid$s4_min$1 s4_min$1(
+        .d(s4_min$1$d),
+        .q(s4_min$1$q),
+        .clock(s4_min$1$clock)
+    );
+    obb_core$grid$s4_min$2 s4_min$2(
+        .d(s4_min$2$d),
+        .q(s4_min$2$q),
+        .clock(s4_min$2$clock)
+    );
+    obb_core$grid$s4_max$0 s4_max$0(
+        .d(s4_max$0$d),
+        .q(s4_max$0$q),
+        .clock(s4_max$0$clock)
+    );
+    obb_core$grid$s4_max$1 s4_max$1(
+        .d(s4_max$1$d),
+        .q(s4_max$1$q),
+        .clock(s4_max$1$clock)
+    );
+    obb_core$grid$s4_max$2 s4_max$2(
+        .d(s4_max$2$d),
+        .q(s4_max$2$q),
+        .clock(s4_max$2$clock)
+    );
+    obb_core$grid$s4_margin s4_margin(
+        .d(s4_margin$d),
+        .q(s4_margin$q),
+        .clock(s4_margin$clock)
+    );
+    obb_core$grid$s4_live$0 s4_live$0(
+        .d(s4_live$0$d),
+        .q(s4_live$0$q),
+        .clock(s4_live$0$clock)
+    );
+    obb_core$grid$s4_live$1 s4_live$1(
+        .d(s4_live$1$d),
+        .q(s4_live$1$q),
+        .clock(s4_live$1$clock)
+    );
+    obb_core$grid$s4_live$2 s4_live$2(
+        .d(s4_live$2$d),
+        .q(s4_live$2$q),
+        .clock(s4_live$2$clock)
+    );
+    obb_core$grid$s4_live$3 s4_live$3(
+        .d(s4_live$3$d),
+        .q(s4_live$3$q),
+        .clock(s4_live$3$clock)
+    );
+    obb_core$grid$s4_live$4 s4_live$4(
+        .d(s4_live$4$d),
+        .q(s4_live$4$q),
+        .clock(s4_live$4$clock)
+    );
+    obb_core$grid$s4_live$5 s4_live$5(
+        .d(s4_live$5$d),
+        .q(s4_live$5$q),
+        .clock(s4_live$5$clock)
+    );
+    obb_core$grid$s4_live$6 s4_live$6(
+        .d(s4_live$6$d),
+        .q(s4_live$6$q),
+        .clock(s4_live$6$clock)
+    );
+    obb_core$grid$s4_live$7 s4_live$7(
+        .d(s4_live$7$d),
+        .q(s4_live$7$q),
+        .clock(s4_live$7$clock)
+    );
+    obb_core$grid$s4_live$8 s4_live$8(
+        .d(s4_live$8$d),
+        .q(s4_live$8$q),
+        .clock(s4_live$8$clock)
+    );
+    obb_core$grid$s4_live$9 s4_live$9(
+        .d(s4_live$9$d),
+        .q(s4_live$9$q),
+        .clock(s4_live$9$clock)
+    );
+    obb_core$grid$s4_live$10 s4_live$10(
+        .d(s4_live$10$d),
+        .q(s4_live$10$q),
+        .clock(s4_live$10$clock)
+    );
+    obb_core$grid$s4_live$11 s4_live$11(
+        .d(s4_live$11$d),
+        .q(s4_live$11$q),
+        .clock(s4_live$11$clock)
+    );
+    obb_core$grid$s4_live$12 s4_live$12(
+        .d(s4_live$12$d),
+        .q(s4_live$12$q),
+        .clock(s4_live$12$clock)
+    );
+    obb_core$grid$s4_live$13 s4_live$13(
+        .d(s4_live$13$d),
+        .q(s4_live$13$q),
+        .clock(s4_live$13$clock)
+    );
+    obb_core$grid$s4_live$14 s4_live$14(
+        .d(s4_live$14$d),
+        .q(s4_live$14$q),
+        .clock(s4_live$14$clock)
+    );
+    obb_core$grid$s4_live$15 s4_live$15(
+        .d(s4_live$15$d),
+        .q(s4_live$15$q),
+        .clock(s4_live$15$clock)
+    );
+    obb_core$grid$s4_live$16 s4_live$16(
+        .d(s4_live$16$d),
+        .q(s4_live$16$q),
+        .clock(s4_live$16$clock)
+    );
+    obb_core$grid$s4_live$17 s4_live$17(
+        .d(s4_live$17$d),
+        .q(s4_live$17$q),
+        .clock(s4_live$17$clock)
+    );
+    obb_core$grid$s4_live$18 s4_live$18(
+        .d(s4_live$18$d),
+        .q(s4_live$18$q),
+        .clock(s4_live$18$clock)
+    );
+    obb_core$grid$s4_live$19 s4_live$19(
+        .d(s4_live$19$d),
+        .q(s4_live$19$q),
+        .clock(s4_live$19$clock)
+    );
+    obb_core$grid$s4_live$20 s4_live$20(
+        .d(s4_live$20$d),
+        .q(s4_live$20$q),
+        .clock(s4_live$20$clock)
+    );
+    obb_core$grid$s4_live$21 s4_live$21(
+        .d(s4_live$21$d),
+        .q(s4_live$21$q),
+        .clock(s4_live$21$clock)
+    );
+    obb_core$grid$s4_live$22 s4_live$22(
+        .d(s4_live$22$d),
+        .q(s4_live$22$q),
+        .clock(s4_live$22$clock)
+    );
+    obb_core$grid$s4_live$23 s4_live$23(
+        .d(s4_live$23$d),
+        .q(s4_live$23$q),
+        .clock(s4_live$23$clock)
+    );
+    obb_core$grid$s4_live$24 s4_live$24(
+        .d(s4_live$24$d),
+        .q(s4_live$24$q),
+        .clock(s4_live$24$clock)
+    );
+    obb_core$grid$s4_live$25 s4_live$25(
+        .d(s4_live$25$d),
+        .q(s4_live$25$q),
+        .clock(s4_live$25$clock)
+    );
+    obb_core$grid$s4_live$26 s4_live$26(
+        .d(s4_live$26$d),
+        .q(s4_live$26$q),
+        .clock(s4_live$26$clock)
+    );
+    obb_core$grid$s4_head$0 s4_head$0(
+        .d(s4_head$0$d),
+        .q(s4_head$0$q),
+        .clock(s4_head$0$clock)
+    );
+    obb_core$grid$s4_head$1 s4_head$1(
+        .d(s4_head$1$d),
+        .q(s4_head$1$q),
+        .clock(s4_head$1$clock)
+    );
+    obb_core$grid$s4_head$2 s4_head$2(
+        .d(s4_head$2$d),
+        .q(s4_head$2$q),
+        .clock(s4_head$2$clock)
+    );
+    obb_core$grid$s4_head$3 s4_head$3(
+        .d(s4_head$3$d),
+        .q(s4_head$3$q),
+        .clock(s4_head$3$clock)
+    );
+    obb_core$grid$s4_head$4 s4_head$4(
+        .d(s4_head$4$d),
+        .q(s4_head$4$q),
+        .clock(s4_head$4$clock)
+    );
+    obb_core$grid$s4_head$5 s4_head$5(
+        .d(s4_head$5$d),
+        .q(s4_head$5$q),
+        .clock(s4_head$5$clock)
+    );
+    obb_core$grid$s4_head$6 s4_head$6(
+        .d(s4_head$6$d),
+        .q(s4_head$6$q),
+        .clock(s4_head$6$clock)
+    );
+    obb_core$grid$s4_head$7 s4_head$7(
+        .d(s4_head$7$d),
+        .q(s4_head$7$q),
+        .clock(s4_head$7$clock)
+    );
+    obb_core$grid$s4_head$8 s4_head$8(
+        .d(s4_head$8$d),
+        .q(s4_head$8$q),
+        .clock(s4_head$8$clock)
+    );
+    obb_core$grid$s4_head$9 s4_head$9(
+        .d(s4_head$9$d),
+        .q(s4_head$9$q),
+        .clock(s4_head$9$clock)
+    );
+    obb_core$grid$s4_head$10 s4_head$10(
+        .d(s4_head$10$d),
+        .q(s4_head$10$q),
+        .clock(s4_head$10$clock)
+    );
+    obb_core$grid$s4_head$11 s4_head$11(
+        .d(s4_head$11$d),
+        .q(s4_head$11$q),
+        .clock(s4_head$11$clock)
+    );
+    obb_core$grid$s4_head$12 s4_head$12(
+        .d(s4_head$12$d),
+        .q(s4_head$12$q),
+        .clock(s4_head$12$clock)
+    );
+    obb_core$grid$s4_head$13 s4_head$13(
+        .d(s4_head$13$d),
+        .q(s4_head$13$q),
+        .clock(s4_head$13$clock)
+    );
+    obb_core$grid$s4_head$14 s4_head$14(
+        .d(s4_head$14$d),
+        .q(s4_head$14$q),
+        .clock(s4_head$14$clock)
+    );
+    obb_core$grid$s4_head$15 s4_head$15(
+        .d(s4_head$15$d),
+        .q(s4_head$15$q),
+        .clock(s4_head$15$clock)
+    );
+    obb_core$grid$s4_head$16 s4_head$16(
+        .d(s4_head$16$d),
+        .q(s4_head$16$q),
+        .clock(s4_head$16$clock)
+    );
+    obb_core$grid$s4_head$17 s4_head$17(
+        .d(s4_head$17$d),
+        .q(s4_head$17$q),
+        .clock(s4_head$17$clock)
+    );
+    obb_core$grid$s4_head$18 s4_head$18(
+        .d(s4_head$18$d),
+        .q(s4_head$18$q),
+        .clock(s4_head$18$clock)
+    );
+    obb_core$grid$s4_head$19 s4_head$19(
+        .d(s4_head$19$d),
+        .q(s4_head$19$q),
+        .clock(s4_head$19$clock)
+    );
+    obb_core$grid$s4_head$20 s4_head$20(
+        .d(s4_head$20$d),
+        .q(s4_head$20$q),
+        .clock(s4_head$20$clock)
+    );
+    obb_core$grid$s4_head$21 s4_head$21(
+        .d(s4_head$21$d),
+        .q(s4_head$21$q),
+        .clock(s4_head$21$clock)
+    );
+    obb_core$grid$s4_head$22 s4_head$22(
+        .d(s4_head$22$d),
+        .q(s4_head$22$q),
+        .clock(s4_head$22$clock)
+    );
+    obb_core$grid$s4_head$23 s4_head$23(
+        .d(s4_head$23$d),
+        .q(s4_head$23$q),
+        .clock(s4_head$23$clock)
+    );
+    obb_core$grid$s4_head$24 s4_head$24(
+        .d(s4_head$24$d),
+        .q(s4_head$24$q),
+        .clock(s4_head$24$clock)
+    );
+    obb_core$grid$s4_head$25 s4_head$25(
+        .d(s4_head$25$d),
+        .q(s4_head$25$q),
+        .clock(s4_head$25$clock)
+    );
+    obb_core$grid$s4_head$26 s4_head$26(
+        .d(s4_head$26$d),
+        .q(s4_head$26$q),
+        .clock(s4_head$26$clock)
+    );
+    obb_core$grid$meta$0 meta$0(
+        .clock(meta$0$clock),
+        .write_enable(meta$0$write_enable),
+        .write_address(meta$0$write_address),
+        .write_data(meta$0$write_data),
+        .read_address(meta$0$read_address),
+        .read_data(meta$0$read_data)
+    );
+    obb_core$grid$meta$1 meta$1(
+        .clock(meta$1$clock),
+        .write_enable(meta$1$write_enable),
+        .write_address(meta$1$write_address),
+        .write_data(meta$1$write_data),
+        .read_address(meta$1$read_address),
+        .read_data(meta$1$read_data)
+    );
+    obb_core$grid$meta$2 meta$2(
+        .clock(meta$2$clock),
+        .write_enable(meta$2$write_enable),
+        .write_address(meta$2$write_address),
+        .write_data(meta$2$write_data),
+        .read_address(meta$2$read_address),
+        .read_data(meta$2$read_data)
+    );
+    obb_core$grid$meta$3 meta$3(
+        .clock(meta$3$clock),
+        .write_enable(meta$3$write_enable),
+        .write_address(meta$3$write_address),
+        .write_data(meta$3$write_data),
+        .read_address(meta$3$read_address),
+        .read_data(meta$3$read_data)
+    );
+    obb_core$grid$meta$4 meta$4(
+        .clock(meta$4$clock),
+        .write_enable(meta$4$write_enable),
+        .write_address(meta$4$write_address),
+        .write_data(meta$4$write_data),
+        .read_address(meta$4$read_address),
+        .read_data(meta$4$read_data)
+    );
+    obb_core$grid$meta$5 meta$5(
+        .clock(meta$5$clock),
+        .write_enable(meta$5$write_enable),
+        .write_address(meta$5$write_address),
+        .write_data(meta$5$write_data),
+        .read_address(meta$5$read_address),
+        .read_data(meta$5$read_data)
+    );
+    obb_core$grid$meta$6 meta$6(
+        .clock(meta$6$clock),
+        .write_enable(meta$6$write_enable),
+        .write_address(meta$6$write_address),
+        .write_data(meta$6$write_data),
+        .read_address(meta$6$read_address),
+        .read_data(meta$6$read_data)
+    );
+    obb_core$grid$meta$7 meta$7(
+        .clock(meta$7$clock),
+        .write_enable(meta$7$write_enable),
+        .write_address(meta$7$write_address),
+        .write_data(meta$7$write_data),
+        .read_address(meta$7$read_address),
+        .read_data(meta$7$read_data)
+    );
+    obb_core$grid$meta$8 meta$8(
+        .clock(meta$8$clock),
+        .write_enable(meta$8$write_enable),
+        .write_address(meta$8$write_address),
+        .write_data(meta$8$write_data),
+        .read_address(meta$8$read_address),
+        .read_data(meta$8$read_data)
+    );
+    obb_core$grid$meta$9 meta$9(
+        .clock(meta$9$clock),
+        .write_enable(meta$9$write_enable),
+        .write_address(meta$9$write_address),
+        .write_data(meta$9$write_data),
+        .read_address(meta$9$read_address),
+        .read_data(meta$9$read_data)
+    );
+    obb_core$grid$meta$10 meta$10(
+        .clock(meta$10$clock),
+        .write_enable(meta$10$write_enable),
+        .write_address(meta$10$write_address),
+        .write_data(meta$10$write_data),
+        .read_address(meta$10$read_address),
+        .read_data(meta$10$read_data)
+    );
+    obb_core$grid$meta$11 meta$11(
+        .clock(meta$11$clock),
+        .write_enable(meta$11$write_enable),
+        .write_address(meta$11$write_address),
+        .write_data(meta$11$write_data),
+        .read_address(meta$11$read_address),
+        .read_data(meta$11$read_data)
+    );
+    obb_core$grid$meta$12 meta$12(
+        .clock(meta$12$clock),
+        .write_enable(meta$12$write_enable),
+        .write_address(meta$12$write_address),
+        .write_data(meta$12$write_data),
+        .read_address(meta$12$read_address),
+        .read_data(meta$12$read_data)
+    );
+    obb_core$grid$meta$13 meta$13(
+        .clock(meta$13$clock),
+        .write_enable(meta$13$write_enable),
+        .write_address(meta$13$write_address),
+        .write_data(meta$13$write_data),
+        .read_address(meta$13$read_address),
+        .read_data(meta$13$read_data)
+    );
+    obb_core$grid$meta$14 meta$14(
+        .clock(meta$14$clock),
+        .write_enable(meta$14$write_enable),
+        .write_address(meta$14$write_address),
+        .write_data(meta$14$write_data),
+        .read_address(meta$14$read_address),
+        .read_data(meta$14$read_data)
+    );
+    obb_core$grid$meta$15 meta$15(
+        .clock(meta$15$clock),
+        .write_enable(meta$15$write_enable),
+        .write_address(meta$15$write_address),
+        .write_data(meta$15$write_data),
+        .read_address(meta$15$read_address),
+        .read_data(meta$15$read_data)
+    );
+    obb_core$grid$meta$16 meta$16(
+        .clock(meta$16$clock),
+        .write_enable(meta$16$write_enable),
+        .write_address(meta$16$write_address),
+        .write_data(meta$16$write_data),
+        .read_address(meta$16$read_address),
+        .read_data(meta$16$read_data)
+    );
+    obb_core$grid$meta$17 meta$17(
+        .clock(meta$17$clock),
+        .write_enable(meta$17$write_enable),
+        .write_address(meta$17$write_address),
+        .write_data(meta$17$write_data),
+        .read_address(meta$17$read_address),
+        .read_data(meta$17$read_data)
+    );
+    obb_core$grid$meta$18 meta$18(
+        .clock(meta$18$clock),
+        .write_enable(meta$18$write_enable),
+        .write_address(meta$18$write_address),
+        .write_data(meta$18$write_data),
+        .read_address(meta$18$read_address),
+        .read_data(meta$18$read_data)
+    );
+    obb_core$grid$meta$19 meta$19(
+        .clock(meta$19$clock),
+        .write_enable(meta$19$write_enable),
+        .write_address(meta$19$write_address),
+        .write_data(meta$19$write_data),
+        .read_address(meta$19$read_address),
+        .read_data(meta$19$read_data)
+    );
+    obb_core$grid$meta$20 meta$20(
+        .clock(meta$20$clock),
+        .write_enable(meta$20$write_enable),
+        .write_address(meta$20$write_address),
+        .write_data(meta$20$write_data),
+        .read_address(meta$20$read_address),
+        .read_data(meta$20$read_data)
+    );
+    obb_core$grid$meta$21 meta$21(
+        .clock(meta$21$clock),
+        .write_enable(meta$21$write_enable),
+        .write_address(meta$21$write_address),
+        .write_data(meta$21$write_data),
+        .read_address(meta$21$read_address),
+        .read_data(meta$21$read_data)
+    );
+    obb_core$grid$meta$22 meta$22(
+        .clock(meta$22$clock),
+        .write_enable(meta$22$write_enable),
+        .write_address(meta$22$write_address),
+        .write_data(meta$22$write_data),
+        .read_address(meta$22$read_address),
+        .read_data(meta$22$read_data)
+    );
+    obb_core$grid$meta$23 meta$23(
+        .clock(meta$23$clock),
+        .write_enable(meta$23$write_enable),
+        .write_address(meta$23$write_address),
+        .write_data(meta$23$write_data),
+        .read_address(meta$23$read_address),
+        .read_data(meta$23$read_data)
+    );
+    obb_core$grid$meta$24 meta$24(
+        .clock(meta$24$clock),
+        .write_enable(meta$24$write_enable),
+        .write_address(meta$24$write_address),
+        .write_data(meta$24$write_data),
+        .read_address(meta$24$read_address),
+        .read_data(meta$24$read_data)
+    );
+    obb_core$grid$meta$25 meta$25(
+        .clock(meta$25$clock),
+        .write_enable(meta$25$write_enable),
+        .write_address(meta$25$write_address),
+        .write_data(meta$25$write_data),
+        .read_address(meta$25$read_address),
+        .read_data(meta$25$read_data)
+    );
+    obb_core$grid$meta$26 meta$26(
+        .clock(meta$26$clock),
+        .write_enable(meta$26$write_enable),
+        .write_address(meta$26$write_address),
+        .write_data(meta$26$write_data),
+        .read_address(meta$26$read_address),
+        .read_data(meta$26$read_data)
+    );
+    obb_core$grid$head$0 head$0(
+        .clock(head$0$clock),
+        .write_enable(head$0$write_enable),
+        .write_address(head$0$write_address),
+        .write_data(head$0$write_data),
+        .read_address(head$0$read_address),
+        .read_data(head$0$read_data)
+    );
+    obb_core$grid$head$1 head$1(
+        .clock(head$1$clock),
+        .write_enable(head$1$write_enable),
+        .write_address(head$1$write_address),
+        .write_data(head$1$write_data),
+        .read_address(head$1$read_address),
+        .read_data(head$1$read_data)
+    );
+    obb_core$grid$head$2 head$2(
+        .clock(head$2$clock),
+        .write_enable(head$2$write_enable),
+        .write_address(head$2$write_address),
+        .write_data(head$2$write_data),
+        .read_address(head$2$read_address),
+        .read_data(head$2$read_data)
+    );
+    obb_core$grid$head$3 head$3(
+        .clock(head$3$clock),
+        .write_enable(head$3$write_enable),
+        .write_address(head$3$write_address),
+        .write_data(head$3$write_data),
+        .read_address(head$3$read_address),
+        .read_data(head$3$read_data)
+    );
+    obb_core$grid$head$4 head$4(
+        .clock(head$4$clock),
+        .write_enable(head$4$write_enable),
+        .write_address(head$4$write_address),
+        .write_data(head$4$write_data),
+        .read_address(head$4$read_address),
+        .read_data(head$4$read_data)
+    );
+    obb_core$grid$head$5 head$5(
+        .clock(head$5$clock),
+        .write_enable(head$5$write_enable),
+        .write_address(head$5$write_address),
+        .write_data(head$5$write_data),
+        .read_address(head$5$read_address),
+        .read_data(head$5$read_data)
+    );
+    obb_core$grid$head$6 head$6(
+        .clock(head$6$clock),
+        .write_enable(head$6$write_enable),
+        .write_address(head$6$write_address),
+        .write_data(head$6$write_data),
+        .read_address(head$6$read_address),
+        .read_data(head$6$read_data)
+    );
+    obb_core$grid$head$7 head$7(
+        .clock(head$7$clock),
+        .write_enable(head$7$write_enable),
+        .write_address(head$7$write_address),
+        .write_data(head$7$write_data),
+        .read_address(head$7$read_address),
+        .read_data(head$7$read_data)
+    );
+    obb_core$grid$head$8 head$8(
+        .clock(head$8$clock),
+        .write_enable(head$8$write_enable),
+        .write_address(head$8$write_address),
+        .write_data(head$8$write_data),
+        .read_address(head$8$read_address),
+        .read_data(head$8$read_data)
+    );
+    obb_core$grid$head$9 head$9(
+        .clock(head$9$clock),
+        .write_enable(head$9$write_enable),
+        .write_address(head$9$write_address),
+        .write_data(head$9$write_data),
+        .read_address(head$9$read_address),
+        .read_data(head$9$read_data)
+    );
+    obb_core$grid$head$10 head$10(
+        .clock(head$10$clock),
+        .write_enable(head$10$write_enable),
+        .write_address(head$10$write_address),
+        .write_data(head$10$write_data),
+        .read_address(head$10$read_address),
+        .read_data(head$10$read_data)
+    );
+    obb_core$grid$head$11 head$11(
+        .clock(head$11$clock),
+        .write_enable(head$11$write_enable),
+        .write_address(head$11$write_address),
+        .write_data(head$11$write_data),
+        .read_address(head$11$read_address),
+        .read_data(head$11$read_data)
+    );
+    obb_core$grid$head$12 head$12(
+        .clock(head$12$clock),
+        .write_enable(head$12$write_enable),
+        .write_address(head$12$write_address),
+        .write_data(head$12$write_data),
+        .read_address(head$12$read_address),
+        .read_data(head$12$read_data)
+    );
+    obb_core$grid$head$13 head$13(
+        .clock(head$13$clock),
+        .write_enable(head$13$write_enable),
+        .write_address(head$13$write_address),
+        .write_data(head$13$write_data),
+        .read_address(head$13$read_address),
+        .read_data(head$13$read_data)
+    );
+    obb_core$grid$head$14 head$14(
+        .clock(head$14$clock),
+        .write_enable(head$14$write_enable),
+        .write_address(head$14$write_address),
+        .write_data(head$14$write_data),
+        .read_address(head$14$read_address),
+        .read_data(head$14$read_data)
+    );
+    obb_core$grid$head$15 head$15(
+        .clock(head$15$clock),
+        .write_enable(head$15$write_enable),
+        .write_address(head$15$write_address),
+        .write_data(head$15$write_data),
+        .read_address(head$15$read_address),
+        .read_data(head$15$read_data)
+    );
+    obb_core$grid$head$16 head$16(
+        .clock(head$16$clock),
+        .write_enable(head$16$write_enable),
+        .write_address(head$16$write_address),
+        .write_data(head$16$write_data),
+        .read_address(head$16$read_address),
+        .read_data(head$16$read_data)
+    );
+    obb_core$grid$head$17 head$17(
+        .clock(head$17$clock),
+        .write_enable(head$17$write_enable),
+        .write_address(head$17$write_address),
+        .write_data(head$17$write_data),
+        .read_address(head$17$read_address),
+        .read_data(head$17$read_data)
+    );
+    obb_core$grid$head$18 head$18(
+        .clock(head$18$clock),
+        .write_enable(head$18$write_enable),
+        .write_address(head$18$write_address),
+        .write_data(head$18$write_data),
+        .read_address(head$18$read_address),
+        .read_data(head$18$read_data)
+    );
+    obb_core$grid$head$19 head$19(
+        .clock(head$19$clock),
+        .write_enable(head$19$write_enable),
+        .write_address(head$19$write_address),
+        .write_data(head$19$write_data),
+        .read_address(head$19$read_address),
+        .read_data(head$19$read_data)
+    );
+    obb_core$grid$head$20 head$20(
+        .clock(head$20$clock),
+        .write_enable(head$20$write_enable),
+        .write_address(head$20$write_address),
+        .write_data(head$20$write_data),
+        .read_address(head$20$read_address),
+        .read_data(head$20$read_data)
+    );
+    obb_core$grid$head$21 head$21(
+        .clock(head$21$clock),
+        .write_enable(head$21$write_enable),
+        .write_address(head$21$write_address),
+        .write_data(head$21$write_data),
+        .read_address(head$21$read_address),
+        .read_data(head$21$read_data)
+    );
+    obb_core$grid$head$22 head$22(
+        .clock(head$22$clock),
+        .write_enable(head$22$write_enable),
+        .write_address(head$22$write_address),
+        .write_data(head$22$write_data),
+        .read_address(head$22$read_address),
+        .read_data(head$22$read_data)
+    );
+    obb_core$grid$head$23 head$23(
+        .clock(head$23$clock),
+        .write_enable(head$23$write_enable),
+        .write_address(head$23$write_address),
+        .write_data(head$23$write_data),
+        .read_address(head$23$read_address),
+        .read_data(head$23$read_data)
+    );
+    obb_core$grid$head$24 head$24(
+        .clock(head$24$clock),
+        .write_enable(head$24$write_enable),
+        .write_address(head$24$write_address),
+        .write_data(head$24$write_data),
+        .read_address(head$24$read_address),
+        .read_data(head$24$read_data)
+    );
+    obb_core$grid$head$25 head$25(
+        .clock(head$25$clock),
+        .write_enable(head$25$write_enable),
+        .write_address(head$25$write_address),
+        .write_data(head$25$write_data),
+        .read_address(head$25$read_address),
+        .read_data(head$25$read_data)
+    );
+    obb_core$grid$head$26 head$26(
+        .clock(head$26$clock),
+        .write_enable(head$26$write_enable),
+        .write_address(head$26$write_address),
+        .write_data(head$26$write_data),
+        .read_address(head$26$read_address),
+        .read_data(head$26$read_data)
+    );
+    obb_core$grid$succ succ(
+        .clock(succ$clock),
+        .write_enable(succ$write_enable),
+        .write_address(succ$write_address),
+        .write_data(succ$write_data),
+        .read_address_a(succ$read_address_a),
+        .read_address_b(succ$read_address_b),
+        .read_data_a(succ$read_data_a),
+        .read_data_b(succ$read_data_b)
+    );
+    obb_core$grid$rec$0 rec$0(
+        .clock(rec$0$clock),
+        .write_enable(rec$0$write_enable),
+        .write_address(rec$0$write_address),
+        .write_data(rec$0$write_data),
+        .read_address(rec$0$read_address),
+        .read_data(rec$0$read_data)
+    );
+    obb_core$grid$rec$1 rec$1(
+        .clock(rec$1$clock),
+        .write_enable(rec$1$write_enable),
+        .write_address(rec$1$write_address),
+        .write_data(rec$1$write_data),
+        .read_address(rec$1$read_address),
+        .read_data(rec$1$read_data)
+    );
+    obb_core$grid$rec$2 rec$2(
+        .clock(rec$2$clock),
+        .write_enable(rec$2$write_enable),
+        .write_address(rec$2$write_address),
+        .write_data(rec$2$write_data),
+        .read_address(rec$2$read_address),
+        .read_data(rec$2$read_data)
+    );
+    obb_core$grid$rec$3 rec$3(
+        .clock(rec$3$clock),
+        .write_enable(rec$3$write_enable),
+        .write_address(rec$3$write_address),
+        .write_data(rec$3$write_data),
+        .read_address(rec$3$read_address),
+        .read_data(rec$3$read_data)
+    );
+    obb_core$grid$rec$4 rec$4(
+        .clock(rec$4$clock),
+        .write_enable(rec$4$write_enable),
+        .write_address(rec$4$write_address),
+        .write_data(rec$4$write_data),
+        .read_address(rec$4$read_address),
+        .read_data(rec$4$read_data)
+    );
+    obb_core$grid$rec$5 rec$5(
+        .clock(rec$5$clock),
+        .write_enable(rec$5$write_enable),
+        .write_address(rec$5$write_address),
+        .write_data(rec$5$write_data),
+        .read_address(rec$5$read_address),
+        .read_data(rec$5$read_data)
+    );
+    obb_core$grid$rec$6 rec$6(
+        .clock(rec$6$clock),
+        .write_enable(rec$6$write_enable),
+        .write_address(rec$6$write_address),
+        .write_data(rec$6$write_data),
+        .read_address(rec$6$read_address),
+        .read_data(rec$6$read_data)
+    );
+    obb_core$grid$rec$7 rec$7(
+        .clock(rec$7$clock),
+        .write_enable(rec$7$write_enable),
+        .write_address(rec$7$write_address),
+        .write_data(rec$7$write_data),
+        .read_address(rec$7$read_address),
+        .read_data(rec$7$read_data)
+    );
+    obb_core$grid$rec$8 rec$8(
+        .clock(rec$8$clock),
+        .write_enable(rec$8$write_enable),
+        .write_address(rec$8$write_address),
+        .write_data(rec$8$write_data),
+        .read_address(rec$8$read_address),
+        .read_data(rec$8$read_data)
+    );
+    obb_core$grid$rec$9 rec$9(
+        .clock(rec$9$clock),
+        .write_enable(rec$9$write_enable),
+        .write_address(rec$9$write_address),
+        .write_data(rec$9$write_data),
+        .read_address(rec$9$read_address),
+        .read_data(rec$9$read_data)
+    );
+    obb_core$grid$rec$10 rec$10(
+        .clock(rec$10$clock),
+        .write_enable(rec$10$write_enable),
+        .write_address(rec$10$write_address),
+        .write_data(rec$10$write_data),
+        .read_address(rec$10$read_address),
+        .read_data(rec$10$read_data)
+    );
+    obb_core$grid$rec$11 rec$11(
+        .clock(rec$11$clock),
+        .write_enable(rec$11$write_enable),
+        .write_address(rec$11$write_address),
+        .write_data(rec$11$write_data),
+        .read_address(rec$11$read_address),
+        .read_data(rec$11$read_data)
+    );
+    obb_core$grid$rec$12 rec$12(
+        .clock(rec$12$clock),
+        .write_enable(rec$12$write_enable),
+        .write_address(rec$12$write_address),
+        .write_data(rec$12$write_data),
+        .read_address(rec$12$read_address),
+        .read_data(rec$12$read_data)
+    );
+    obb_core$grid$rec$13 rec$13(
+        .clock(rec$13$clock),
+        .write_enable(rec$13$write_enable),
+        .write_address(rec$13$write_address),
+        .write_data(rec$13$write_data),
+        .read_address(rec$13$read_address),
+        .read_data(rec$13$read_data)
+    );
+    obb_core$grid$rec$14 rec$14(
+        .clock(rec$14$clock),
+        .write_enable(rec$14$write_enable),
+        .write_address(rec$14$write_address),
+        .write_data(rec$14$write_data),
+        .read_address(rec$14$read_address),
+        .read_data(rec$14$read_data)
+    );
+    obb_core$grid$rec$15 rec$15(
+        .clock(rec$15$clock),
+        .write_enable(rec$15$write_enable),
+        .write_address(rec$15$write_address),
+        .write_data(rec$15$write_data),
+        .read_address(rec$15$read_address),
+        .read_data(rec$15$read_data)
+    );
+    obb_core$grid$rec$16 rec$16(
+        .clock(rec$16$clock),
+        .write_enable(rec$16$write_enable),
+        .write_address(rec$16$write_address),
+        .write_data(rec$16$write_data),
+        .read_address(rec$16$read_address),
+        .read_data(rec$16$read_data)
+    );
+    obb_core$grid$rec$17 rec$17(
+        .clock(rec$17$clock),
+        .write_enable(rec$17$write_enable),
+        .write_address(rec$17$write_address),
+        .write_data(rec$17$write_data),
+        .read_address(rec$17$read_address),
+        .read_data(rec$17$read_data)
+    );
+    obb_core$grid$rec$18 rec$18(
+        .clock(rec$18$clock),
+        .write_enable(rec$18$write_enable),
+        .write_address(rec$18$write_address),
+        .write_data(rec$18$write_data),
+        .read_address(rec$18$read_address),
+        .read_data(rec$18$read_data)
+    );
+    obb_core$grid$rec$19 rec$19(
+        .clock(rec$19$clock),
+        .write_enable(rec$19$write_enable),
+        .write_address(rec$19$write_address),
+        .write_data(rec$19$write_data),
+        .read_address(rec$19$read_address),
+        .read_data(rec$19$read_data)
+    );
+    obb_core$grid$rec$20 rec$20(
+        .clock(rec$20$clock),
+        .write_enable(rec$20$write_enable),
+        .write_address(rec$20$write_address),
+        .write_data(rec$20$write_data),
+        .read_address(rec$20$read_address),
+        .read_data(rec$20$read_data)
+    );
+    obb_core$grid$rec$21 rec$21(
+        .clock(rec$21$clock),
+        .write_enable(rec$21$write_enable),
+        .write_address(rec$21$write_address),
+        .write_data(rec$21$write_data),
+        .read_address(rec$21$read_address),
+        .read_data(rec$21$read_data)
+    );
+    obb_core$grid$rec$22 rec$22(
+        .clock(rec$22$clock),
+        .write_enable(rec$22$write_enable),
+        .write_address(rec$22$write_address),
+        .write_data(rec$22$write_data),
+        .read_address(rec$22$read_address),
+        .read_data(rec$22$read_data)
+    );
+    obb_core$grid$rec$23 rec$23(
+        .clock(rec$23$clock),
+        .write_enable(rec$23$write_enable),
+        .write_address(rec$23$write_address),
+        .write_data(rec$23$write_data),
+        .read_address(rec$23$read_address),
+        .read_data(rec$23$read_data)
+    );
+    obb_core$grid$rec$24 rec$24(
+        .clock(rec$24$clock),
+        .write_enable(rec$24$write_enable),
+        .write_address(rec$24$write_address),
+        .write_data(rec$24$write_data),
+        .read_address(rec$24$read_address),
+        .read_data(rec$24$read_data)
+    );
+    obb_core$grid$rec$25 rec$25(
+        .clock(rec$25$clock),
+        .write_enable(rec$25$write_enable),
+        .write_address(rec$25$write_address),
+        .write_data(rec$25$write_data),
+        .read_address(rec$25$read_address),
+        .read_data(rec$25$read_data)
+    );
+    obb_core$grid$rec$26 rec$26(
+        .clock(rec$26$clock),
+        .write_enable(rec$26$write_enable),
+        .write_address(rec$26$write_address),
+        .write_data(rec$26$write_data),
+        .read_address(rec$26$read_address),
+        .read_data(rec$26$read_data)
+    );
+    obb_core$grid$rec_index rec_index(
+        .clock(rec_index$clock),
+        .write_enable(rec_index$write_enable),
+        .write_address(rec_index$write_address),
+        .write_data(rec_index$write_data),
+        .read_address(rec_index$read_address),
+        .read_data(rec_index$read_data)
+    );
+    obb_core$grid$rec_min$0 rec_min$0(
+        .clock(rec_min$0$clock),
+        .write_enable(rec_min$0$write_enable),
+        .write_address(rec_min$0$write_address),
+        .write_data(rec_min$0$write_data),
+        .read_address(rec_min$0$read_address),
+        .read_data(rec_min$0$read_data)
+    );
+    obb_core$grid$rec_min$1 rec_min$1(
+        .clock(rec_min$1$clock),
+        .write_enable(rec_min$1$write_enable),
+        .write_address(rec_min$1$write_address),
+        .write_data(rec_min$1$write_data),
+        .read_address(rec_min$1$read_address),
+        .read_data(rec_min$1$read_data)
+    );
+    obb_core$grid$rec_min$2 rec_min$2(
+        .clock(rec_min$2$clock),
+        .write_enable(rec_min$2$write_enable),
+        .write_address(rec_min$2$write_address),
+        .write_data(rec_min$2$write_data),
+        .read_address(rec_min$2$read_address),
+        .read_data(rec_min$2$read_data)
+    );
+    obb_core$grid$rec_max$0 rec_max$0(
+        .clock(rec_max$0$clock),
+        .write_enable(rec_max$0$write_enable),
+        .write_address(rec_max$0$write_address),
+        .write_data(rec_max$0$write_data),
+        .read_address(rec_max$0$read_address),
+        .read_data(rec_max$0$read_data)
+    );
+    obb_core$grid$rec_max$1 rec_max$1(
+        .clock(rec_max$1$clock),
+        .write_enable(rec_max$1$write_enable),
+        .write_address(rec_max$1$write_address),
+        .write_data(rec_max$1$write_data),
+        .read_address(rec_max$1$read_address),
+        .read_data(rec_max$1$read_data)
+    );
+    obb_core$grid$rec_max$2 rec_max$2(
+        .clock(rec_max$2$clock),
+        .write_enable(rec_max$2$write_enable),
+        .write_address(rec_max$2$write_address),
+        .write_data(rec_max$2$write_data),
+        .read_address(rec_max$2$read_address),
+        .read_data(rec_max$2$read_data)
+    );
+    obb_core$grid$rec_margin rec_margin(
+        .clock(rec_margin$clock),
+        .write_enable(rec_margin$write_enable),
+        .write_address(rec_margin$write_address),
+        .write_data(rec_margin$write_data),
+        .read_address(rec_margin$read_address),
+        .read_data(rec_margin$read_data)
+    );
+    obb_core$grid$wp wp(
+        .d(wp$d),
+        .q(wp$q),
+        .clock(wp$clock)
+    );
+    obb_core$grid$rp rp(
+        .d(rp$d),
+        .q(rp$q),
+        .clock(rp$clock)
+    );
+    obb_core$grid$count count(
+        .d(count$d),
+        .q(count$q),
+        .clock(count$clock)
+    );
+    obb_core$grid$inflight inflight(
+        .d(inflight$d),
+        .q(inflight$q),
+        .clock(inflight$clock)
+    );
+    obb_core$grid$cur_valid cur_valid(
+        .d(cur_valid$d),
+        .q(cur_valid$q),
+        .clock(cur_valid$clock)
+    );
+    obb_core$grid$cur_live$0 cur_live$0(
+        .d(cur_live$0$d),
+        .q(cur_live$0$q),
+        .clock(cur_live$0$clock)
+    );
+    obb_core$grid$cur_live$1 cur_live$1(
+        .d(cur_live$1$d),
+        .q(cur_live$1$q),
+        .clock(cur_live$1$clock)
+    );
+    obb_core$grid$cur_live$2 cur_live$2(
+        .d(cur_live$2$d),
+        .q(cur_live$2$q),
+        .clock(cur_live$2$clock)
+    );
+    obb_core$grid$cur_live$3 cur_live$3(
+        .d(cur_live$3$d),
+        .q(cur_live$3$q),
+        .clock(cur_live$3$clock)
+    );
+    obb_core$grid$cur_live$4 cur_live$4(
+        .d(cur_live$4$d),
+        .q(cur_live$4$q),
+        .clock(cur_live$4$clock)
+    );
+    obb_core$grid$cur_live$5 cur_live$5(
+        .d(cur_live$5$d),
+        .q(cur_live$5$q),
+        .clock(cur_live$5$clock)
+    );
+    obb_core$grid$cur_live$6 cur_live$6(
+        .d(cur_live$6$d),
+        .q(cur_live$6$q),
+        .clock(cur_live$6$clock)
+    );
+    obb_core$grid$cur_live$7 cur_live$7(
+        .d(cur_live$7$d),
+        .q(cur_live$7$q),
+        .clock(cur_live$7$clock)
+    );
+    obb_core$grid$cur_live$8 cur_live$8(
+        .d(cur_live$8$d),
+        .q(cur_live$8$q),
+        .clock(cur_live$8$clock)
+    );
+    obb_core$grid$cur_live$9 cur_live$9(
+        .d(cur_live$9$d),
+        .q(cur_live$9$q),
+        .clock(cur_live$9$clock)
+    );
+    obb_core$grid$cur_live$10 cur_live$10(
+        .d(cur_live$10$d),
+        .q(cur_live$10$q),
+        .clock(cur_live$10$clock)
+    );
+    obb_core$grid$cur_live$11 cur_live$11(
+        .d(cur_live$11$d),
+        .q(cur_live$11$q),
+        .clock(cur_live$11$clock)
+    );
+    obb_core$grid$cur_live$12 cur_live$12(
+        .d(cur_live$12$d),
+        .q(cur_live$12$q),
+        .clock(cur_live$12$clock)
+    );
+    obb_core$grid$cur_live$13 cur_live$13(
+        .d(cur_live$13$d),
+        .q(cur_live$13$q),
+        .clock(cur_live$13$clock)
+    );
+    obb_core$grid$cur_live$14 cur_live$14(
+        .d(cur_live$14$d),
+        .q(cur_live$14$q),
+        .clock(cur_live$14$clock)
+    );
+    obb_core$grid$cur_live$15 cur_live$15(
+        .d(cur_live$15$d),
+        .q(cur_live$15$q),
+        .clock(cur_live$15$clock)
+    );
+    obb_core$grid$cur_live$16 cur_live$16(
+        .d(cur_live$16$d),
+        .q(cur_live$16$q),
+        .clock(cur_live$16$clock)
+    );
+    obb_core$grid$cur_live$17 cur_live$17(
+        .d(cur_live$17$d),
+        .q(cur_live$17$q),
+        .clock(cur_live$17$clock)
+    );
+    obb_core$grid$cur_live$18 cur_live$18(
+        .d(cur_live$18$d),
+        .q(cur_live$18$q),
+        .clock(cur_live$18$clock)
+    );
+    obb_core$grid$cur_live$19 cur_live$19(
+        .d(cur_live$19$d),
+        .q(cur_live$19$q),
+        .clock(cur_live$19$clock)
+    );
+    obb_core$grid$cur_live$20 cur_live$20(
+        .d(cur_live$20$d),
+        .q(cur_live$20$q),
+        .clock(cur_live$20$clock)
+    );
+    obb_core$grid$cur_live$21 cur_live$21(
+        .d(cur_live$21$d),
+        .q(cur_live$21$q),
+        .clock(cur_live$21$clock)
+    );
+    obb_core$grid$cur_live$22 cur_live$22(
+        .d(cur_live$22$d),
+        .q(cur_live$22$q),
+        .clock(cur_live$22$clock)
+    );
+    obb_core$grid$cur_live$23 cur_live$23(
+        .d(cur_live$23$d),
+        .q(cur_live$23$q),
+        .clock(cur_live$23$clock)
+    );
+    obb_core$grid$cur_live$24 cur_live$24(
+        .d(cur_live$24$d),
+        .q(cur_live$24$q),
+        .clock(cur_live$24$clock)
+    );
+    obb_core$grid$cur_live$25 cur_live$25(
+        .d(cur_live$25$d),
+        .q(cur_live$25$q),
+        .clock(cur_live$25$clock)
+    );
+    obb_core$grid$cur_live$26 cur_live$26(
+        .d(cur_live$26$d),
+        .q(cur_live$26$q),
+        .clock(cur_live$26$clock)
+    );
+    obb_core$grid$cur_head$0 cur_head$0(
+        .d(cur_head$0$d),
+        .q(cur_head$0$q),
+        .clock(cur_head$0$clock)
+    );
+    obb_core$grid$cur_head$1 cur_head$1(
+        .d(cur_head$1$d),
+        .q(cur_head$1$q),
+        .clock(cur_head$1$clock)
+    );
+    obb_core$grid$cur_head$2 cur_head$2(
+        .d(cur_head$2$d),
+        .q(cur_head$2$q),
+        .clock(cur_head$2$clock)
+    );
+    obb_core$grid$cur_head$3 cur_head$3(
+        .d(cur_head$3$d),
+        .q(cur_head$3$q),
+        .clock(cur_head$3$clock)
+    );
+    obb_core$grid$cur_head$4 cur_head$4(
+        .d(cur_head$4$d),
+        .q(cur_head$4$q),
+        .clock(cur_head$4$clock)
+    );
+    obb_core$grid$cur_head$5 cur_head$5(
+        .d(cur_head$5$d),
+        .q(cur_head$5$q),
+        .clock(cur_head$5$clock)
+    );
+    obb_core$grid$cur_head$6 cur_head$6(
+        .d(cur_head$6$d),
+        .q(cur_head$6$q),
+        .clock(cur_head$6$clock)
+    );
+    obb_core$grid$cur_head$7 cur_head$7(
+        .d(cur_head$7$d),
+        .q(cur_head$7$q),
+        .clock(cur_head$7$clock)
+    );
+    obb_core$grid$cur_head$8 cur_head$8(
+        .d(cur_head$8$d),
+        .q(cur_head$8$q),
+        .clock(cur_head$8$clock)
+    );
+    obb_core$grid$cur_head$9 cur_head$9(
+        .d(cur_head$9$d),
+        .q(cur_head$9$q),
+        .clock(cur_head$9$clock)
+    );
+    obb_core$grid$cur_head$10 cur_head$10(
+        .d(cur_head$10$d),
+        .q(cur_head$10$q),
+        .clock(cur_head$10$clock)
+    );
+    obb_core$grid$cur_head$11 cur_head$11(
+        .d(cur_head$11$d),
+        .q(cur_head$11$q),
+        .clock(cur_head$11$clock)
+    );
+    obb_core$grid$cur_head$12 cur_head$12(
+        .d(cur_head$12$d),
+        .q(cur_head$12$q),
+        .clock(cur_head$12$clock)
+    );
+    obb_core$grid$cur_head$13 cur_head$13(
+        .d(cur_head$13$d),
+        .q(cur_head$13$q),
+        .clock(cur_head$13$clock)
+    );
+    obb_core$grid$cur_head$14 cur_head$14(
+        .d(cur_head$14$d),
+        .q(cur_head$14$q),
+        .clock(cur_head$14$clock)
+    );
+    obb_core$grid$cur_head$15 cur_head$15(
+        .d(cur_head$15$d),
+        .q(cur_head$15$q),
+        .clock(cur_head$15$clock)
+    );
+    obb_core$grid$cur_head$16 cur_head$16(
+        .d(cur_head$16$d),
+        .q(cur_head$16$q),
+        .clock(cur_head$16$clock)
+    );
+    obb_core$grid$cur_head$17 cur_head$17(
+        .d(cur_head$17$d),
+        .q(cur_head$17$q),
+        .clock(cur_head$17$clock)
+    );
+    obb_core$grid$cur_head$18 cur_head$18(
+        .d(cur_head$18$d),
+        .q(cur_head$18$q),
+        .clock(cur_head$18$clock)
+    );
+    obb_core$grid$cur_head$19 cur_head$19(
+        .d(cur_head$19$d),
+        .q(cur_head$19$q),
+        .clock(cur_head$19$clock)
+    );
+    obb_core$grid$cur_head$20 cur_head$20(
+        .d(cur_head$20$d),
+        .q(cur_head$20$q),
+        .clock(cur_head$20$clock)
+    );
+    obb_core$grid$cur_head$21 cur_head$21(
+        .d(cur_head$21$d),
+        .q(cur_head$21$q),
+        .clock(cur_head$21$clock)
+    );
+    obb_core$grid$cur_head$22 cur_head$22(
+        .d(cur_head$22$d),
+        .q(cur_head$22$q),
+        .clock(cur_head$22$clock)
+    );
+    obb_core$grid$cur_head$23 cur_head$23(
+        .d(cur_head$23$d),
+        .q(cur_head$23$q),
+        .clock(cur_head$23$clock)
+    );
+    obb_core$grid$cur_head$24 cur_head$24(
+        .d(cur_head$24$d),
+        .q(cur_head$24$q),
+        .clock(cur_head$24$clock)
+    );
+    obb_core$grid$cur_head$25 cur_head$25(
+        .d(cur_head$25$d),
+        .q(cur_head$25$q),
+        .clock(cur_head$25$clock)
+    );
+    obb_core$grid$cur_head$26 cur_head$26(
+        .d(cur_head$26$d),
+        .q(cur_head$26$q),
+        .clock(cur_head$26$clock)
+    );
+    obb_core$grid$started$0 started$0(
+        .d(started$0$d),
+        .q(started$0$q),
+        .clock(started$0$clock)
+    );
+    obb_core$grid$started$1 started$1(
+        .d(started$1$d),
+        .q(started$1$q),
+        .clock(started$1$clock)
+    );
+    obb_core$grid$started$2 started$2(
+        .d(started$2$d),
+        .q(started$2$q),
+        .clock(started$2$clock)
+    );
+    obb_core$grid$started$3 started$3(
+        .d(started$3$d),
+        .q(started$3$q),
+        .clock(started$3$clock)
+    );
+    obb_core$grid$started$4 started$4(
+        .d(started$4$d),
+        .q(started$4$q),
+        .clock(started$4$clock)
+    );
+    obb_core$grid$started$5 started$5(
+        .d(started$5$d),
+        .q(started$5$q),
+        .clock(started$5$clock)
+    );
+    obb_core$grid$started$6 started$6(
+        .d(started$6$d),
+        .q(started$6$q),
+        .clock(started$6$clock)
+    );
+    obb_core$grid$started$7 started$7(
+        .d(started$7$d),
+        .q(started$7$q),
+        .clock(started$7$clock)
+    );
+    obb_core$grid$started$8 started$8(
+        .d(started$8$d),
+        .q(started$8$q),
+        .clock(started$8$clock)
+    );
+    obb_core$grid$started$9 started$9(
+        .d(started$9$d),
+        .q(started$9$q),
+        .clock(started$9$clock)
+    );
+    obb_core$grid$started$10 started$10(
+        .d(started$10$d),
+        .q(started$10$q),
+        .clock(started$10$clock)
+    );
+    obb_core$grid$started$11 started$11(
+        .d(started$11$d),
+        .q(started$11$q),
+        .clock(started$11$clock)
+    );
+    obb_core$grid$started$12 started$12(
+        .d(started$12$d),
+        .q(started$12$q),
+        .clock(started$12$clock)
+    );
+    obb_core$grid$started$13 started$13(
+        .d(started$13$d),
+        .q(started$13$q),
+        .clock(started$13$clock)
+    );
+    obb_core$grid$started$14 started$14(
+        .d(started$14$d),
+        .q(started$14$q),
+        .clock(started$14$clock)
+    );
+    obb_core$grid$started$15 started$15(
+        .d(started$15$d),
+        .q(started$15$q),
+        .clock(started$15$clock)
+    );
+    obb_core$grid$started$16 started$16(
+        .d(started$16$d),
+        .q(started$16$q),
+        .clock(started$16$clock)
+    );
+    obb_core$grid$started$17 started$17(
+        .d(started$17$d),
+        .q(started$17$q),
+        .clock(started$17$clock)
+    );
+    obb_core$grid$started$18 started$18(
+        .d(started$18$d),
+        .q(started$18$q),
+        .clock(started$18$clock)
+    );
+    obb_core$grid$started$19 started$19(
+        .d(started$19$d),
+        .q(started$19$q),
+        .clock(started$19$clock)
+    );
+    obb_core$grid$started$20 started$20(
+        .d(started$20$d),
+        .q(started$20$q),
+        .clock(started$20$clock)
+    );
+    obb_core$grid$started$21 started$21(
+        .d(started$21$d),
+        .q(started$21$q),
+        .clock(started$21$clock)
+    );
+    obb_core$grid$started$22 started$22(
+        .d(started$22$d),
+        .q(started$22$q),
+        .clock(started$22$clock)
+    );
+    obb_core$grid$started$23 started$23(
+        .d(started$23$d),
+        .q(started$23$q),
+        .clock(started$23$clock)
+    );
+    obb_core$grid$started$24 started$24(
+        .d(started$24$d),
+        .q(started$24$q),
+        .clock(started$24$clock)
+    );
+    obb_core$grid$started$25 started$25(
+        .d(started$25$d),
+        .q(started$25$q),
+        .clock(started$25$clock)
+    );
+    obb_core$grid$started$26 started$26(
+        .d(started$26$d),
+        .q(started$26$q),
+        .clock(started$26$clock)
+    );
+    obb_core$grid$cur_index cur_index(
+        .d(cur_index$d),
+        .q(cur_index$q),
+        .clock(cur_index$clock)
+    );
+    obb_core$grid$cur_min$0 cur_min$0(
+        .d(cur_min$0$d),
+        .q(cur_min$0$q),
+        .clock(cur_min$0$clock)
+    );
+    obb_core$grid$cur_min$1 cur_min$1(
+        .d(cur_min$1$d),
+        .q(cur_min$1$q),
+        .clock(cur_min$1$clock)
+    );
+    obb_core$grid$cur_min$2 cur_min$2(
+        .d(cur_min$2$d),
+        .q(cur_min$2$q),
+        .clock(cur_min$2$clock)
+    );
+    obb_core$grid$cur_max$0 cur_max$0(
+        .d(cur_max$0$d),
+        .q(cur_max$0$q),
+        .clock(cur_max$0$clock)
+    );
+    obb_core$grid$cur_max$1 cur_max$1(
+        .d(cur_max$1$d),
+        .q(cur_max$1$q),
+        .clock(cur_max$1$clock)
+    );
+    obb_core$grid$cur_max$2 cur_max$2(
+        .d(cur_max$2$d),
+        .q(cur_max$2$q),
+        .clock(cur_max$2$clock)
+    );
+    obb_core$grid$cur_margin cur_margin(
+        .d(cur_margin$d),
+        .q(cur_margin$q),
+        .clock(cur_margin$clock)
+    );
+    obb_core$grid$chase chase(
+        .d(chase$d),
+        .q(chase$q),
+        .clock(chase$clock)
+    );
+    obb_core$grid$held_valid held_valid(
+        .d(held_valid$d),
+        .q(held_valid$q),
+        .clock(held_valid$clock)
+    );
+    obb_core$grid$held held(
+        .d(held$d),
+        .q(held$q),
+        .clock(held$clock)
+    );
+    obb_core$grid$v1_valid v1_valid(
+        .d(v1_valid$d),
+        .q(v1_valid$q),
+        .clock(v1_valid$clock)
+    );
+    obb_core$grid$v1_i v1_i(
+        .d(v1_i$d),
+        .q(v1_i$q),
+        .clock(v1_i$clock)
+    );
+    obb_core$grid$v1_j v1_j(
+        .d(v1_j$d),
+        .q(v1_j$q),
+        .clock(v1_j$clock)
+    );
+    obb_core$grid$v1_min$0 v1_min$0(
+        .d(v1_min$0$d),
+        .q(v1_min$0$q),
+        .clock(v1_min$0$clock)
+    );
+    obb_core$grid$v1_min$1 v1_min$1(
+        .d(v1_min$1$d),
+        .q(v1_min$1$q),
+        .clock(v1_min$1$clock)
+    );
+    obb_core$grid$v1_min$2 v1_min$2(
+        .d(v1_min$2$d),
+        .q(v1_min$2$q),
+        .clock(v1_min$2$clock)
+    );
+    obb_core$grid$v1_max$0 v1_max$0(
+        .d(v1_max$0$d),
+        .q(v1_max$0$q),
+        .clock(v1_max$0$clock)
+    );
+    obb_core$grid$v1_max$1 v1_max$1(
+        .d(v1_max$1$d),
+        .q(v1_max$1$q),
+        .clock(v1_max$1$clock)
+    );
+    obb_core$grid$v1_max$2 v1_max$2(
+        .d(v1_max$2$d),
+        .q(v1_max$2$q),
+        .clock(v1_max$2$clock)
+    );
+    obb_core$grid$v1_margin v1_margin(
+        .d(v1_margin$d),
+        .q(v1_margin$q),
+        .clock(v1_margin$clock)
+    );
+    obb_core$grid$v2_valid v2_valid(
+        .d(v2_valid$d),
+        .q(v2_valid$q),
+        .clock(v2_valid$clock)
+    );
+    obb_core$grid$v2_i v2_i(
+        .d(v2_i$d),
+        .q(v2_i$q),
+        .clock(v2_i$clock)
+    );
+    obb_core$grid$v2_j v2_j(
+        .d(v2_j$d),
+        .q(v2_j$q),
+        .clock(v2_j$clock)
+    );
+    obb_core$grid$v2_min_i$0 v2_min_i$0(
+        .d(v2_min_i$0$d),
+        .q(v2_min_i$0$q),
+        .clock(v2_min_i$0$clock)
+    );
+    obb_core$grid$v2_min_i$1 v2_min_i$1(
+        .d(v2_min_i$1$d),
+        .q(v2_min_i$1$q),
+        .clock(v2_min_i$1$clock)
+    );
+    obb_core$grid$v2_min_i$2 v2_min_i$2(
+        .d(v2_min_i$2$d),
+        .q(v2_min_i$2$q),
+        .clock(v2_min_i$2$clock)
+    );
+    obb_core$grid$v2_max_i$0 v2_max_i$0(
+        .d(v2_max_i$0$d),
+        .q(v2_max_i$0$q),
+        .clock(v2_max_i$0$clock)
+    );
+    obb_core$grid$v2_max_i$1 v2_max_i$1(
+        .d(v2_max_i$1$d),
+        .q(v2_max_i$1$q),
+        .clock(v2_max_i$1$clock)
+    );
+    obb_core$grid$v2_max_i$2 v2_max_i$2(
+        .d(v2_max_i$2$d),
+        .q(v2_max_i$2$q),
+        .clock(v2_max_i$2$clock)
+    );
+    obb_core$grid$v2_min_j$0 v2_min_j$0(
+        .d(v2_min_j$0$d),
+        .q(v2_min_j$0$q),
+        .clock(v2_min_j$0$clock)
+    );
+    obb_core$grid$v2_min_j$1 v2_min_j$1(
+        .d(v2_min_j$1$d),
+        .q(v2_min_j$1$q),
+        .clock(v2_min_j$1$clock)
+    );
+    obb_core$grid$v2_min_j$2 v2_min_j$2(
+        .d(v2_min_j$2$d),
+        .q(v2_min_j$2$q),
+        .clock(v2_min_j$2$clock)
+    );
+    obb_core$grid$v2_max_j$0 v2_max_j$0(
+        .d(v2_max_j$0$d),
+        .q(v2_max_j$0$q),
+        .clock(v2_max_j$0$clock)
+    );
+    obb_core$grid$v2_max_j$1 v2_max_j$1(
+        .d(v2_max_j$1$d),
+        .q(v2_max_j$1$q),
+        .clock(v2_max_j$1$clock)
+    );
+    obb_core$grid$v2_max_j$2 v2_max_j$2(
+        .d(v2_max_j$2$d),
+        .q(v2_max_j$2$q),
+        .clock(v2_max_j$2$clock)
+    );
+    obb_core$grid$v2_margin_i v2_margin_i(
+        .d(v2_margin_i$d),
+        .q(v2_margin_i$q),
+        .clock(v2_margin_i$clock)
+    );
+    obb_core$grid$v2_margin_j v2_margin_j(
+        .d(v2_margin_j$d),
+        .q(v2_margin_j$q),
+        .clock(v2_margin_j$clock)
+    );
+    obb_core$grid$fifo fifo(
+        .clock(fifo$clock),
+        .write(fifo$write),
+        .data_in(fifo$data_in),
+        .ready(fifo$ready),
+        .valid(fifo$valid),
+        .data_out(fifo$data_out),
+        .empty(fifo$empty),
+        .almost_full(fifo$almost_full)
+    );
+    obb_core$grid$clearing clearing(
+        .d(clearing$d),
+        .q(clearing$q),
+        .clock(clearing$clock)
+    );
+    obb_core$grid$cleared cleared(
+        .d(cleared$d),
+        .q(cleared$q),
+        .clock(cleared$clock)
+    );
+    obb_core$grid$clear_at clear_at(
+        .d(clear_at$d),
+        .q(clear_at$q),
+        .clock(clear_at$clock)
+    );
+    obb_core$grid$large_seen large_seen(
+        .d(large_seen$d),
+        .q(large_seen$q),
+        .clock(large_seen$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        s1_valid$clock = clock;
+        s1_index$clock = clock;
+        s1_margin$clock = clock;
+        s1_group$clock = clock;
+        s2_valid$clock = clock;
+        s2_index$clock = clock;
+        s2_margin$clock = clock;
+        s2_group$clock = clock;
+        s3_valid$clock = clock;
+        s3_index$clock = clock;
+        s3_margin$clock = clock;
+        s3_group$clock = clock;
+        s3_allowed$clock = clock;
+        s4_valid$clock = clock;
+        s4_any$clock = clock;
+        s4_index$clock = clock;
+        s4_margin$clock = clock;
+        wp$clock = clock;
+        rp$clock = clock;
+        count$clock = clock;
+        inflight$clock = clock;
+        cur_valid$clock = clock;
+        cur_index$clock = clock;
+        cur_margin$clock = clock;
+        chase$clock = clock;
+        held_valid$clock = clock;
+        held$clock = clock;
+        v1_valid$clock = clock;
+        v1_i$clock = clock;
+        v1_j$clock = clock;
+        v1_margin$clock = clock;
+        v2_valid$clock = clock;
+        v2_i$clock = clock;
+        v2_j$clock = clock;
+        v2_margin_i$clock = clock;
+        v2_margin_j$clock = clock;
+        clearing$clock = clock;
+        cleared$clock = clock;
+        clear_at$clock = clock;
+        large_seen$clock = clock;
+        s1_valid$d = s1_valid$q;
+        s1_index$d = s1_index$q;
+        s1_margin$d = s1_margin$q;
+        s1_group$d = s1_group$q;
+        s2_valid$d = s2_valid$q;
+        s2_index$d = s2_index$q;
+        s2_margin$d = s2_margin$q;
+        s2_group$d = s2_group$q;
+        s3_valid$d = s3_valid$q;
+        s3_index$d = s3_index$q;
+        s3_margin$d = s3_margin$q;
+        s3_group$d = s3_group$q;
+        s3_allowed$d = s3_allowed$q;
+        s4_valid$d = s4_valid$q;
+        s4_any$d = s4_any$q;
+        s4_index$d = s4_index$q;
+        s4_margin$d = s4_margin$q;
+        wp$d = wp$q;
+        rp$d = rp$q;
+        count$d = count$q;
+        inflight$d = inflight$q;
+        cur_valid$d = cur_valid$q;
+        cur_index$d = cur_index$q;
+        cur_margin$d = cur_margin$q;
+        chase$d = chase$q;
+        held_valid$d = held_valid$q;
+        held$d = held$q;
+        v1_valid$d = v1_valid$q;
+        v1_i$d = v1_i$q;
+        v1_j$d = v1_j$q;
+        v1_margin$d = v1_margin$q;
+        v2_valid$d = v2_valid$q;
+        v2_i$d = v2_i$q;
+        v2_j$d = v2_j$q;
+        v2_margin_i$d = v2_margin_i$q;
+        v2_margin_j$d = v2_margin_j$q;
+        clearing$d = clearing$q;
+        cleared$d = cleared$q;
+        clear_at$d = clear_at$q;
+        large_seen$d = large_seen$q;
+        cells$clock = clock;
+        succ$clock = clock;
+        rec_index$clock = clock;
+        rec_margin$clock = clock;
+        fifo$clock = clock;
+        s1_min$0$clock = clock;
+        s1_max$0$clock = clock;
+        s2_min$0$clock = clock;
+        s2_max$0$clock = clock;
+        s3_min$0$clock = clock;
+        s3_max$0$clock = clock;
+        s4_min$0$clock = clock;
+        s4_max$0$clock = clock;
+        rec_min$0$clock = clock;
+        rec_max$0$clock = clock;
+        cur_min$0$clock = clock;
+        cur_max$0$clock = clock;
+        v1_min$0$clock = clock;
+        v1_max$0$clock = clock;
+        v2_min_i$0$clock = clock;
+        v2_max_i$0$clock = clock;
+        v2_min_j$0$clock = clock;
+        v2_max_j$0$clock = clock;
+        s1_min$1$clock = clock;
+        s1_max$1$clock = clock;
+        s2_min$1$clock = clock;
+        s2_max$1$clock = clock;
+        s3_min$1$clock = clock;
+        s3_max$1$clock = clock;
+        s4_min$1$clock = clock;
+        s4_max$1$clock = clock;
+        rec_min$1$clock = clock;
+        rec_max$1$clock = clock;
+        cur_min$1$clock = clock;
+        cur_max$1$clock = clock;
+        v1_min$1$clock = clock;
+        v1_max$1$clock = clock;
+        v2_min_i$1$clock = clock;
+        v2_max_i$1$clock = clock;
+        v2_min_j$1$clock = clock;
+        v2_max_j$1$clock = clock;
+        s1_min$2$clock = clock;
+        s1_max$2$clock = clock;
+        s2_min$2$clock = clock;
+        s2_max$2$clock = clock;
+        s3_min$2$clock = clock;
+        s3_max$2$clock = clock;
+        s4_min$2$clock = clock;
+        s4_max$2$clock = clock;
+        rec_min$2$clock = clock;
+        rec_max$2$clock = clock;
+        cur_min$2$clock = clock;
+        cur_max$2$clock = clock;
+        v1_min$2$clock = clock;
+        v1_max$2$clock = clock;
+        v2_min_i$2$clock = clock;
+        v2_max_i$2$clock = clock;
+        v2_min_j$2$clock = clock;
+        v2_max_j$2$clock = clock;
+        s4_live$0$clock = clock;
+        s4_head$0$clock = clock;
+        meta$0$clock = clock;
+        head$0$clock = clock;
+        rec$0$clock = clock;
+        cur_live$0$clock = clock;
+        cur_head$0$clock = clock;
+        started$0$clock = clock;
+        cur_live$0$d = cur_live$0$q;
+        cur_head$0$d = cur_head$0$q;
+        started$0$d = started$0$q;
+        s4_live$1$clock = clock;
+        s4_head$1$clock = clock;
+        meta$1$clock = clock;
+        head$1$clock = clock;
+        rec$1$clock = clock;
+        cur_live$1$clock = clock;
+        cur_head$1$clock = clock;
+        started$1$clock = clock;
+        cur_live$1$d = cur_live$1$q;
+        cur_head$1$d = cur_head$1$q;
+        started$1$d = started$1$q;
+        s4_live$2$clock = clock;
+        s4_head$2$clock = clock;
+        meta$2$clock = clock;
+        head$2$clock = clock;
+        rec$2$clock = clock;
+        cur_live$2$clock = clock;
+        cur_head$2$clock = clock;
+        started$2$clock = clock;
+        cur_live$2$d = cur_live$2$q;
+        cur_head$2$d = cur_head$2$q;
+        started$2$d = started$2$q;
+        s4_live$3$clock = clock;
+        s4_head$3$clock = clock;
+        meta$3$clock = clock;
+        head$3$clock = clock;
+        rec$3$clock = clock;
+        cur_live$3$clock = clock;
+        cur_head$3$clock = clock;
+        started$3$clock = clock;
+        cur_live$3$d = cur_live$3$q;
+        cur_head$3$d = cur_head$3$q;
+        started$3$d = started$3$q;
+        s4_live$4$clock = clock;
+        s4_head$4$clock = clock;
+        meta$4$clock = clock;
+        head$4$clock = clock;
+        rec$4$clock = clock;
+        cur_live$4$clock = clock;
+        cur_head$4$clock = clock;
+        started$4$clock = clock;
+        cur_live$4$d = cur_live$4$q;
+        cur_head$4$d = cur_head$4$q;
+        started$4$d = started$4$q;
+        s4_live$5$clock = clock;
+        s4_head$5$clock = clock;
+        meta$5$clock = clock;
+        head$5$clock = clock;
+        rec$5$clock = clock;
+        cur_live$5$clock = clock;
+        cur_head$5$clock = clock;
+        started$5$clock = clock;
+        cur_live$5$d = cur_live$5$q;
+        cur_head$5$d = cur_head$5$q;
+        started$5$d = started$5$q;
+        s4_live$6$clock = clock;
+        s4_head$6$clock = clock;
+        meta$6$clock = clock;
+        head$6$clock = clock;
+        rec$6$clock = clock;
+        cur_live$6$clock = clock;
+        cur_head$6$clock = clock;
+        started$6$clock = clock;
+        cur_live$6$d = cur_live$6$q;
+        cur_head$6$d = cur_head$6$q;
+        started$6$d = started$6$q;
+        s4_live$7$clock = clock;
+        s4_head$7$clock = clock;
+        meta$7$clock = clock;
+        head$7$clock = clock;
+        rec$7$clock = clock;
+        cur_live$7$clock = clock;
+        cur_head$7$clock = clock;
+        started$7$clock = clock;
+        cur_live$7$d = cur_live$7$q;
+        cur_head$7$d = cur_head$7$q;
+        started$7$d = started$7$q;
+        s4_live$8$clock = clock;
+        s4_head$8$clock = clock;
+        meta$8$clock = clock;
+        head$8$clock = clock;
+        rec$8$clock = clock;
+        cur_live$8$clock = clock;
+        cur_head$8$clock = clock;
+        started$8$clock = clock;
+        cur_live$8$d = cur_live$8$q;
+        cur_head$8$d = cur_head$8$q;
+        started$8$d = started$8$q;
+        s4_live$9$clock = clock;
+        s4_head$9$clock = clock;
+        meta$9$clock = clock;
+        head$9$clock = clock;
+        rec$9$clock = clock;
+        cur_live$9$clock = clock;
+        cur_head$9$clock = clock;
+        started$9$clock = clock;
+        cur_live$9$d = cur_live$9$q;
+        cur_head$9$d = cur_head$9$q;
+        started$9$d = started$9$q;
+        s4_live$10$clock = clock;
+        s4_head$10$clock = clock;
+        meta$10$clock = clock;
+        head$10$clock = clock;
+        rec$10$clock = clock;
+        cur_live$10$clock = clock;
+        cur_head$10$clock = clock;
+        started$10$clock = clock;
+        cur_live$10$d = cur_live$10$q;
+        cur_head$10$d = cur_head$10$q;
+        started$10$d = started$10$q;
+        s4_live$11$clock = clock;
+        s4_head$11$clock = clock;
+        meta$11$clock = clock;
+        head$11$clock = clock;
+        rec$11$clock = clock;
+        cur_live$11$clock = clock;
+        cur_head$11$clock = clock;
+        started$11$clock = clock;
+        cur_live$11$d = cur_live$11$q;
+        cur_head$11$d = cur_head$11$q;
+        started$11$d = started$11$q;
+        s4_live$12$clock = clock;
+        s4_head$12$clock = clock;
+        meta$12$clock = clock;
+        head$12$clock = clock;
+        rec$12$clock = clock;
+        cur_live$12$clock = clock;
+        cur_head$12$clock = clock;
+        started$12$clock = clock;
+        cur_live$12$d = cur_live$12$q;
+        cur_head$12$d = cur_head$12$q;
+        started$12$d = started$12$q;
+        s4_live$13$clock = clock;
+        s4_head$13$clock = clock;
+        meta$13$clock = clock;
+        head$13$clock = clock;
+        rec$13$clock = clock;
+        cur_live$13$clock = clock;
+        cur_head$13$clock = clock;
+        started$13$clock = clock;
+        cur_live$13$d = cur_live$13$q;
+        cur_head$13$d = cur_head$13$q;
+        started$13$d = started$13$q;
+        s4_live$14$clock = clock;
+        s4_head$14$clock = clock;
+        meta$14$clock = clock;
+        head$14$clock = clock;
+        rec$14$clock = clock;
+        cur_live$14$clock = clock;
+        cur_head$14$clock = clock;
+        started$14$clock = clock;
+        cur_live$14$d = cur_live$14$q;
+        cur_head$14$d = cur_head$14$q;
+        started$14$d = started$14$q;
+        s4_live$15$clock = clock;
+        s4_head$15$clock = clock;
+        meta$15$clock = clock;
+        head$15$clock = clock;
+        rec$15$clock = clock;
+        cur_live$15$clock = clock;
+        cur_head$15$clock = clock;
+        started$15$clock = clock;
+        cur_live$15$d = cur_live$15$q;
+        cur_head$15$d = cur_head$15$q;
+        started$15$d = started$15$q;
+        s4_live$16$clock = clock;
+        s4_head$16$clock = clock;
+        meta$16$clock = clock;
+        head$16$clock = clock;
+        rec$16$clock = clock;
+        cur_live$16$clock = clock;
+        cur_head$16$clock = clock;
+        started$16$clock = clock;
+        cur_live$16$d = cur_live$16$q;
+        cur_head$16$d = cur_head$16$q;
+        started$16$d = started$16$q;
+        s4_live$17$clock = clock;
+        s4_head$17$clock = clock;
+        meta$17$clock = clock;
+        head$17$clock = clock;
+        rec$17$clock = clock;
+        cur_live$17$clock = clock;
+        cur_head$17$clock = clock;
+        started$17$clock = clock;
+        cur_live$17$d = cur_live$17$q;
+        cur_head$17$d = cur_head$17$q;
+        started$17$d = started$17$q;
+        s4_live$18$clock = clock;
+        s4_head$18$clock = clock;
+        meta$18$clock = clock;
+        head$18$clock = clock;
+        rec$18$clock = clock;
+        cur_live$18$clock = clock;
+        cur_head$18$clock = clock;
+        started$18$clock = clock;
+        cur_live$18$d = cur_live$18$q;
+        cur_head$18$d = cur_head$18$q;
+        started$18$d = started$18$q;
+        s4_live$19$clock = clock;
+        s4_head$19$clock = clock;
+        meta$19$clock = clock;
+        head$19$clock = clock;
+        rec$19$clock = clock;
+        cur_live$19$clock = clock;
+        cur_head$19$clock = clock;
+        started$19$clock = clock;
+        cur_live$19$d = cur_live$19$q;
+        cur_head$19$d = cur_head$19$q;
+        started$19$d = started$19$q;
+        s4_live$20$clock = clock;
+        s4_head$20$clock = clock;
+        meta$20$clock = clock;
+        head$20$clock = clock;
+        rec$20$clock = clock;
+        cur_live$20$clock = clock;
+        cur_head$20$clock = clock;
+        started$20$clock = clock;
+        cur_live$20$d = cur_live$20$q;
+        cur_head$20$d = cur_head$20$q;
+        started$20$d = started$20$q;
+        s4_live$21$clock = clock;
+        s4_head$21$clock = clock;
+        meta$21$clock = clock;
+        head$21$clock = clock;
+        rec$21$clock = clock;
+        cur_live$21$clock = clock;
+        cur_head$21$clock = clock;
+        started$21$clock = clock;
+        cur_live$21$d = cur_live$21$q;
+        cur_head$21$d = cur_head$21$q;
+        started$21$d = started$21$q;
+        s4_live$22$clock = clock;
+        s4_head$22$clock = clock;
+        meta$22$clock = clock;
+        head$22$clock = clock;
+        rec$22$clock = clock;
+        cur_live$22$clock = clock;
+        cur_head$22$clock = clock;
+        started$22$clock = clock;
+        cur_live$22$d = cur_live$22$q;
+        cur_head$22$d = cur_head$22$q;
+        started$22$d = started$22$q;
+        s4_live$23$clock = clock;
+        s4_head$23$clock = clock;
+        meta$23$clock = clock;
+        head$23$clock = clock;
+        rec$23$clock = clock;
+        cur_live$23$clock = clock;
+        cur_head$23$clock = clock;
+        started$23$clock = clock;
+        cur_live$23$d = cur_live$23$q;
+        cur_head$23$d = cur_head$23$q;
+        started$23$d = started$23$q;
+        s4_live$24$clock = clock;
+        s4_head$24$clock = clock;
+        meta$24$clock = clock;
+        head$24$clock = clock;
+        rec$24$clock = clock;
+        cur_live$24$clock = clock;
+        cur_head$24$clock = clock;
+        started$24$clock = clock;
+        cur_live$24$d = cur_live$24$q;
+        cur_head$24$d = cur_head$24$q;
+        started$24$d = started$24$q;
+        s4_live$25$clock = clock;
+        s4_head$25$clock = clock;
+        meta$25$clock = clock;
+        head$25$clock = clock;
+        rec$25$clock = clock;
+        cur_live$25$clock = clock;
+        cur_head$25$clock = clock;
+        started$25$clock = clock;
+        cur_live$25$d = cur_live$25$q;
+        cur_head$25$d = cur_head$25$q;
+        started$25$d = started$25$q;
+        s4_live$26$clock = clock;
+        s4_head$26$clock = clock;
+        meta$26$clock = clock;
+        head$26$clock = clock;
+        rec$26$clock = clock;
+        cur_live$26$clock = clock;
+        cur_head$26$clock = clock;
+        started$26$clock = clock;
+        cur_live$26$d = cur_live$26$q;
+        cur_head$26$d = cur_head$26$q;
+        started$26$d = started$26$q;
+        cur_min$0$d = cur_min$0$q;
+        cur_max$0$d = cur_max$0$q;
+        cur_min$1$d = cur_min$1$q;
+        cur_max$1$d = cur_max$1$q;
+        cur_min$2$d = cur_min$2$q;
+        cur_max$2$d = cur_max$2$q;
+        cells$key_valid = key_valid;
+        s1_valid$d = key_valid;
+        s1_index$d = ((key_index) & 16'hffff);
+        s1_margin$d = key_margin;
+        s1_group$d = key_group;
+        s2_valid$d = s1_valid$q;
+        s2_index$d = s1_index$q;
+        s2_margin$d = s1_margin$q;
+        s2_group$d = s1_group$q;
+        s3_valid$d = s2_valid$q;
+        s3_index$d = s2_index$q;
+        s3_margin$d = s2_margin$q;
+        s3_group$d = s2_group$q;
+        cells$key_min$0 = key_min$0;
+        cells$key_max$0 = key_max$0;
+        s1_min$0$d = key_min$0;
+        s1_max$0$d = key_max$0;
+        s2_min$0$d = s1_min$0$q;
+        s2_max$0$d = s1_max$0$q;
+        s3_min$0$d = s2_min$0$q;
+        s3_max$0$d = s2_max$0$q;
+        cells$key_min$1 = key_min$1;
+        cells$key_max$1 = key_max$1;
+        s1_min$1$d = key_min$1;
+        s1_max$1$d = key_max$1;
+        s2_min$1$d = s1_min$1$q;
+        s2_max$1$d = s1_max$1$q;
+        s3_min$1$d = s2_min$1$q;
+        s3_max$1$d = s2_max$1$q;
+        cells$key_min$2 = key_min$2;
+        cells$key_max$2 = key_max$2;
+        s1_min$2$d = key_min$2;
+        s1_max$2$d = key_max$2;
+        s2_min$2$d = s1_min$2$q;
+        s2_max$2$d = s1_max$2$q;
+        s3_min$2$d = s2_min$2$q;
+        s3_max$2$d = s2_max$2$q;
+        allowed = mask >> (((s2_group$q) & 64'hffffffffffffffff) << 64'h3);
+        s3_allowed$d = allowed;
+        home_head$0 = 32'h0;
+        home_head$1 = 32'h0;
+        home_head$2 = 32'h0;
+        home_head$3 = 32'h0;
+        home_head$4 = 32'h0;
+        home_head$5 = 32'h0;
+        home_head$6 = 32'h0;
+        home_head$7 = 32'h0;
+        home_head$8 = 32'h0;
+        home_head$9 = 32'h0;
+        home_head$10 = 32'h0;
+        home_head$11 = 32'h0;
+        home_head$12 = 32'h0;
+        home_head$13 = 32'h0;
+        home_head$14 = 32'h0;
+        home_head$15 = 32'h0;
+        home_head$16 = 32'h0;
+        home_head$17 = 32'h0;
+        home_head$18 = 32'h0;
+        home_head$19 = 32'h0;
+        home_head$20 = 32'h0;
+        home_head$21 = 32'h0;
+        home_head$22 = 32'h0;
+        home_head$23 = 32'h0;
+        home_head$24 = 32'h0;
+        home_head$25 = 32'h0;
+        home_head$26 = 32'h0;
+        entry = s3_index$q | top;
+        s4_any$d = 1'b0;
+        meta$0$read_address = cells$bucket$0;
+        head$0$read_address = cells$bucket$0;
+        allow$0 = s3_allowed$q >> list_group$0;
+        live$0 = s3_valid$q & cells$small_box & cells$inside$0 & allow$0[32'h0] & meta$0$read_data[32'h9] & (meta$0$read_data[32'h8] | (meta$0$read_data[(32'h0)+:(8)] == cells$fp$0));
+        enter$0 = s3_valid$q & cells$small_box & cells$home$0 & (s3_group$q == list_group$0);
+        meta$0$write_enable = enter$0;
+        meta$0$write_address = cells$bucket$0;
+        head$0$write_enable = enter$0;
+        head$0$write_address = cells$bucket$0;
+        head$0$write_data = entry;
+        meta$0$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$0$read_data[32'h9]) begin
+            meta$0$write_data = meta$0$read_data;
+            if (meta$0$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$0$write_data = meta$0$read_data | 64'h100;
+            end
+        end
+        if (enter$0 & meta$0$read_data[32'h9]) begin
+            home_head$0 = head$0$read_data;
+        end
+        if (clearing$q) begin
+            meta$0$write_enable = 1'b1;
+            meta$0$write_address = clear_at$q;
+            meta$0$write_data = 32'h0;
+            head$0$write_enable = 1'b1;
+            head$0$write_address = clear_at$q;
+            head$0$write_data = 32'h0;
+        end
+        s4_live$0$d = live$0;
+        s4_head$0$d = head$0$read_data;
+        if (live$0) begin
+            s4_any$d = 1'b1;
+        end
+        meta$1$read_address = cells$bucket$1;
+        head$1$read_address = cells$bucket$1;
+        allow$1 = s3_allowed$q >> list_group$1;
+        live$1 = s3_valid$q & cells$small_box & cells$inside$1 & allow$1[32'h0] & meta$1$read_data[32'h9] & (meta$1$read_data[32'h8] | (meta$1$read_data[(32'h0)+:(8)] == cells$fp$1));
+        enter$1 = s3_valid$q & cells$small_box & cells$home$1 & (s3_group$q == list_group$1);
+        meta$1$write_enable = enter$1;
+        meta$1$write_address = cells$bucket$1;
+        head$1$write_enable = enter$1;
+        head$1$write_address = cells$bucket$1;
+        head$1$write_data = entry;
+        meta$1$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$1$read_data[32'h9]) begin
+            meta$1$write_data = meta$1$read_data;
+            if (meta$1$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$1$write_data = meta$1$read_data | 64'h100;
+            end
+        end
+        if (enter$1 & meta$1$read_data[32'h9]) begin
+            home_head$1 = head$1$read_data;
+        end
+        if (clearing$q) begin
+            meta$1$write_enable = 1'b1;
+            meta$1$write_address = clear_at$q;
+            meta$1$write_data = 32'h0;
+            head$1$write_enable = 1'b1;
+            head$1$write_address = clear_at$q;
+            head$1$write_data = 32'h0;
+        end
+        s4_live$1$d = live$1;
+        s4_head$1$d = head$1$read_data;
+        if (live$1) begin
+            s4_any$d = 1'b1;
+        end
+        meta$2$read_address = cells$bucket$2;
+        head$2$read_address = cells$bucket$2;
+        allow$2 = s3_allowed$q >> list_group$2;
+        live$2 = s3_valid$q & cells$small_box & cells$inside$2 & allow$2[32'h0] & meta$2$read_data[32'h9] & (meta$2$read_data[32'h8] | (meta$2$read_data[(32'h0)+:(8)] == cells$fp$2));
+        enter$2 = s3_valid$q & cells$small_box & cells$home$2 & (s3_group$q == list_group$2);
+        meta$2$write_enable = enter$2;
+        meta$2$write_address = cells$bucket$2;
+        head$2$write_enable = enter$2;
+        head$2$write_address = cells$bucket$2;
+        head$2$write_data = entry;
+        meta$2$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$2$read_data[32'h9]) begin
+            meta$2$write_data = meta$2$read_data;
+            if (meta$2$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$2$write_data = meta$2$read_data | 64'h100;
+            end
+        end
+        if (enter$2 & meta$2$read_data[32'h9]) begin
+            home_head$2 = head$2$read_data;
+        end
+        if (clearing$q) begin
+            meta$2$write_enable = 1'b1;
+            meta$2$write_address = clear_at$q;
+            meta$2$write_data = 32'h0;
+            head$2$write_enable = 1'b1;
+            head$2$write_address = clear_at$q;
+            head$2$write_data = 32'h0;
+        end
+        s4_live$2$d = live$2;
+        s4_head$2$d = head$2$read_data;
+        if (live$2) begin
+            s4_any$d = 1'b1;
+        end
+        meta$3$read_address = cells$bucket$3;
+        head$3$read_address = cells$bucket$3;
+        allow$3 = s3_allowed$q >> list_group$3;
+        live$3 = s3_valid$q & cells$small_box & cells$inside$3 & allow$3[32'h0] & meta$3$read_data[32'h9] & (meta$3$read_data[32'h8] | (meta$3$read_data[(32'h0)+:(8)] == cells$fp$3));
+        enter$3 = s3_valid$q & cells$small_box & cells$home$3 & (s3_group$q == list_group$3);
+        meta$3$write_enable = enter$3;
+        meta$3$write_address = cells$bucket$3;
+        head$3$write_enable = enter$3;
+        head$3$write_address = cells$bucket$3;
+        head$3$write_data = entry;
+        meta$3$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$3$read_data[32'h9]) begin
+            meta$3$write_data = meta$3$read_data;
+            if (meta$3$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$3$write_data = meta$3$read_data | 64'h100;
+            end
+        end
+        if (enter$3 & meta$3$read_data[32'h9]) begin
+            home_head$3 = head$3$read_data;
+        end
+        if (clearing$q) begin
+            meta$3$write_enable = 1'b1;
+            meta$3$write_address = clear_at$q;
+            meta$3$write_data = 32'h0;
+            head$3$write_enable = 1'b1;
+            head$3$write_address = clear_at$q;
+            head$3$write_data = 32'h0;
+        end
+        s4_live$3$d = live$3;
+        s4_head$3$d = head$3$read_data;
+        if (live$3) begin
+            s4_any$d = 1'b1;
+        end
+        meta$4$read_address = cells$bucket$4;
+        head$4$read_address = cells$bucket$4;
+        allow$4 = s3_allowed$q >> list_group$4;
+        live$4 = s3_valid$q & cells$small_box & cells$inside$4 & allow$4[32'h0] & meta$4$read_data[32'h9] & (meta$4$read_data[32'h8] | (meta$4$read_data[(32'h0)+:(8)] == cells$fp$4));
+        enter$4 = s3_valid$q & cells$small_box & cells$home$4 & (s3_group$q == list_group$4);
+        meta$4$write_enable = enter$4;
+        meta$4$write_address = cells$bucket$4;
+        head$4$write_enable = enter$4;
+        head$4$write_address = cells$bucket$4;
+        head$4$write_data = entry;
+        meta$4$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$4$read_data[32'h9]) begin
+            meta$4$write_data = meta$4$read_data;
+            if (meta$4$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$4$write_data = meta$4$read_data | 64'h100;
+            end
+        end
+        if (enter$4 & meta$4$read_data[32'h9]) begin
+            home_head$4 = head$4$read_data;
+        end
+        if (clearing$q) begin
+            meta$4$write_enable = 1'b1;
+            meta$4$write_address = clear_at$q;
+            meta$4$write_data = 32'h0;
+            head$4$write_enable = 1'b1;
+            head$4$write_address = clear_at$q;
+            head$4$write_data = 32'h0;
+        end
+        s4_live$4$d = live$4;
+        s4_head$4$d = head$4$read_data;
+        if (live$4) begin
+            s4_any$d = 1'b1;
+        end
+        meta$5$read_address = cells$bucket$5;
+        head$5$read_address = cells$bucket$5;
+        allow$5 = s3_allowed$q >> list_group$5;
+        live$5 = s3_valid$q & cells$small_box & cells$inside$5 & allow$5[32'h0] & meta$5$read_data[32'h9] & (meta$5$read_data[32'h8] | (meta$5$read_data[(32'h0)+:(8)] == cells$fp$5));
+        enter$5 = s3_valid$q & cells$small_box & cells$home$5 & (s3_group$q == list_group$5);
+        meta$5$write_enable = enter$5;
+        meta$5$write_address = cells$bucket$5;
+        head$5$write_enable = enter$5;
+        head$5$write_address = cells$bucket$5;
+        head$5$write_data = entry;
+        meta$5$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$5$read_data[32'h9]) begin
+            meta$5$write_data = meta$5$read_data;
+            if (meta$5$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$5$write_data = meta$5$read_data | 64'h100;
+            end
+        end
+        if (enter$5 & meta$5$read_data[32'h9]) begin
+            home_head$5 = head$5$read_data;
+        end
+        if (clearing$q) begin
+            meta$5$write_enable = 1'b1;
+            meta$5$write_address = clear_at$q;
+            meta$5$write_data = 32'h0;
+            head$5$write_enable = 1'b1;
+            head$5$write_address = clear_at$q;
+            head$5$write_data = 32'h0;
+        end
+        s4_live$5$d = live$5;
+        s4_head$5$d = head$5$read_data;
+        if (live$5) begin
+            s4_any$d = 1'b1;
+        end
+        meta$6$read_address = cells$bucket$6;
+        head$6$read_address = cells$bucket$6;
+        allow$6 = s3_allowed$q >> list_group$6;
+        live$6 = s3_valid$q & cells$small_box & cells$inside$6 & allow$6[32'h0] & meta$6$read_data[32'h9] & (meta$6$read_data[32'h8] | (meta$6$read_data[(32'h0)+:(8)] == cells$fp$6));
+        enter$6 = s3_valid$q & cells$small_box & cells$home$6 & (s3_group$q == list_group$6);
+        meta$6$write_enable = enter$6;
+        meta$6$write_address = cells$bucket$6;
+        head$6$write_enable = enter$6;
+        head$6$write_address = cells$bucket$6;
+        head$6$write_data = entry;
+        meta$6$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$6$read_data[32'h9]) begin
+            meta$6$write_data = meta$6$read_data;
+            if (meta$6$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$6$write_data = meta$6$read_data | 64'h100;
+            end
+        end
+        if (enter$6 & meta$6$read_data[32'h9]) begin
+            home_head$6 = head$6$read_data;
+        end
+        if (clearing$q) begin
+            meta$6$write_enable = 1'b1;
+            meta$6$write_address = clear_at$q;
+            meta$6$write_data = 32'h0;
+            head$6$write_enable = 1'b1;
+            head$6$write_address = clear_at$q;
+            head$6$write_data = 32'h0;
+        end
+        s4_live$6$d = live$6;
+        s4_head$6$d = head$6$read_data;
+        if (live$6) begin
+            s4_any$d = 1'b1;
+        end
+        meta$7$read_address = cells$bucket$7;
+        head$7$read_address = cells$bucket$7;
+        allow$7 = s3_allowed$q >> list_group$7;
+        live$7 = s3_valid$q & cells$small_box & cells$inside$7 & allow$7[32'h0] & meta$7$read_data[32'h9] & (meta$7$read_data[32'h8] | (meta$7$read_data[(32'h0)+:(8)] == cells$fp$7));
+        enter$7 = s3_valid$q & cells$small_box & cells$home$7 & (s3_group$q == list_group$7);
+        meta$7$write_enable = enter$7;
+        meta$7$write_address = cells$bucket$7;
+        head$7$write_enable = enter$7;
+        head$7$write_address = cells$bucket$7;
+        head$7$write_data = entry;
+        meta$7$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$7$read_data[32'h9]) begin
+            meta$7$write_data = meta$7$read_data;
+            if (meta$7$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$7$write_data = meta$7$read_data | 64'h100;
+            end
+        end
+        if (enter$7 & meta$7$read_data[32'h9]) begin
+            home_head$7 = head$7$read_data;
+        end
+        if (clearing$q) begin
+            meta$7$write_enable = 1'b1;
+            meta$7$write_address = clear_at$q;
+            meta$7$write_data = 32'h0;
+            head$7$write_enable = 1'b1;
+            head$7$write_address = clear_at$q;
+            head$7$write_data = 32'h0;
+        end
+        s4_live$7$d = live$7;
+        s4_head$7$d = head$7$read_data;
+        if (live$7) begin
+            s4_any$d = 1'b1;
+        end
+        meta$8$read_address = cells$bucket$8;
+        head$8$read_address = cells$bucket$8;
+        allow$8 = s3_allowed$q >> list_group$8;
+        live$8 = s3_valid$q & cells$small_box & cells$inside$8 & allow$8[32'h0] & meta$8$read_data[32'h9] & (meta$8$read_data[32'h8] | (meta$8$read_data[(32'h0)+:(8)] == cells$fp$8));
+        enter$8 = s3_valid$q & cells$small_box & cells$home$8 & (s3_group$q == list_group$8);
+        meta$8$write_enable = enter$8;
+        meta$8$write_address = cells$bucket$8;
+        head$8$write_enable = enter$8;
+        head$8$write_address = cells$bucket$8;
+        head$8$write_data = entry;
+        meta$8$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$8$read_data[32'h9]) begin
+            meta$8$write_data = meta$8$read_data;
+            if (meta$8$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$8$write_data = meta$8$read_data | 64'h100;
+            end
+        end
+        if (enter$8 & meta$8$read_data[32'h9]) begin
+            home_head$8 = head$8$read_data;
+        end
+        if (clearing$q) begin
+            meta$8$write_enable = 1'b1;
+            meta$8$write_address = clear_at$q;
+            meta$8$write_data = 32'h0;
+            head$8$write_enable = 1'b1;
+            head$8$write_address = clear_at$q;
+            head$8$write_data = 32'h0;
+        end
+        s4_live$8$d = live$8;
+        s4_head$8$d = head$8$read_data;
+        if (live$8) begin
+            s4_any$d = 1'b1;
+        end
+        meta$9$read_address = cells$bucket$9;
+        head$9$read_address = cells$bucket$9;
+        allow$9 = s3_allowed$q >> list_group$9;
+        live$9 = s3_valid$q & cells$small_box & cells$inside$9 & allow$9[32'h0] & meta$9$read_data[32'h9] & (meta$9$read_data[32'h8] | (meta$9$read_data[(32'h0)+:(8)] == cells$fp$9));
+        enter$9 = s3_valid$q & cells$small_box & cells$home$9 & (s3_group$q == list_group$9);
+        meta$9$write_enable = enter$9;
+        meta$9$write_address = cells$bucket$9;
+        head$9$write_enable = enter$9;
+        head$9$write_address = cells$bucket$9;
+        head$9$write_data = entry;
+        meta$9$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$9$read_data[32'h9]) begin
+            meta$9$write_data = meta$9$read_data;
+            if (meta$9$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$9$write_data = meta$9$read_data | 64'h100;
+            end
+        end
+        if (enter$9 & meta$9$read_data[32'h9]) begin
+            home_head$9 = head$9$read_data;
+        end
+        if (clearing$q) begin
+            meta$9$write_enable = 1'b1;
+            meta$9$write_address = clear_at$q;
+            meta$9$write_data = 32'h0;
+            head$9$write_enable = 1'b1;
+            head$9$write_address = clear_at$q;
+            head$9$write_data = 32'h0;
+        end
+        s4_live$9$d = live$9;
+        s4_head$9$d = head$9$read_data;
+        if (live$9) begin
+            s4_any$d = 1'b1;
+        end
+        meta$10$read_address = cells$bucket$10;
+        head$10$read_address = cells$bucket$10;
+        allow$10 = s3_allowed$q >> list_group$10;
+        live$10 = s3_valid$q & cells$small_box & cells$inside$10 & allow$10[32'h0] & meta$10$read_data[32'h9] & (meta$10$read_data[32'h8] | (meta$10$read_data[(32'h0)+:(8)] == cells$fp$10));
+        enter$10 = s3_valid$q & cells$small_box & cells$home$10 & (s3_group$q == list_group$10);
+        meta$10$write_enable = enter$10;
+        meta$10$write_address = cells$bucket$10;
+        head$10$write_enable = enter$10;
+        head$10$write_address = cells$bucket$10;
+        head$10$write_data = entry;
+        meta$10$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$10$read_data[32'h9]) begin
+            meta$10$write_data = meta$10$read_data;
+            if (meta$10$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$10$write_data = meta$10$read_data | 64'h100;
+            end
+        end
+        if (enter$10 & meta$10$read_data[32'h9]) begin
+            home_head$10 = head$10$read_data;
+        end
+        if (clearing$q) begin
+            meta$10$write_enable = 1'b1;
+            meta$10$write_address = clear_at$q;
+            meta$10$write_data = 32'h0;
+            head$10$write_enable = 1'b1;
+            head$10$write_address = clear_at$q;
+            head$10$write_data = 32'h0;
+        end
+        s4_live$10$d = live$10;
+        s4_head$10$d = head$10$read_data;
+        if (live$10) begin
+            s4_any$d = 1'b1;
+        end
+        meta$11$read_address = cells$bucket$11;
+        head$11$read_address = cells$bucket$11;
+        allow$11 = s3_allowed$q >> list_group$11;
+        live$11 = s3_valid$q & cells$small_box & cells$inside$11 & allow$11[32'h0] & meta$11$read_data[32'h9] & (meta$11$read_data[32'h8] | (meta$11$read_data[(32'h0)+:(8)] == cells$fp$11));
+        enter$11 = s3_valid$q & cells$small_box & cells$home$11 & (s3_group$q == list_group$11);
+        meta$11$write_enable = enter$11;
+        meta$11$write_address = cells$bucket$11;
+        head$11$write_enable = enter$11;
+        head$11$write_address = cells$bucket$11;
+        head$11$write_data = entry;
+        meta$11$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$11$read_data[32'h9]) begin
+            meta$11$write_data = meta$11$read_data;
+            if (meta$11$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$11$write_data = meta$11$read_data | 64'h100;
+            end
+        end
+        if (enter$11 & meta$11$read_data[32'h9]) begin
+            home_head$11 = head$11$read_data;
+        end
+        if (clearing$q) begin
+            meta$11$write_enable = 1'b1;
+            meta$11$write_address = clear_at$q;
+            meta$11$write_data = 32'h0;
+            head$11$write_enable = 1'b1;
+            head$11$write_address = clear_at$q;
+            head$11$write_data = 32'h0;
+        end
+        s4_live$11$d = live$11;
+        s4_head$11$d = head$11$read_data;
+        if (live$11) begin
+            s4_any$d = 1'b1;
+        end
+        meta$12$read_address = cells$bucket$12;
+        head$12$read_address = cells$bucket$12;
+        allow$12 = s3_allowed$q >> list_group$12;
+        live$12 = s3_valid$q & cells$small_box & cells$inside$12 & allow$12[32'h0] & meta$12$read_data[32'h9] & (meta$12$read_data[32'h8] | (meta$12$read_data[(32'h0)+:(8)] == cells$fp$12));
+        enter$12 = s3_valid$q & cells$small_box & cells$home$12 & (s3_group$q == list_group$12);
+        meta$12$write_enable = enter$12;
+        meta$12$write_address = cells$bucket$12;
+        head$12$write_enable = enter$12;
+        head$12$write_address = cells$bucket$12;
+        head$12$write_data = entry;
+        meta$12$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$12$read_data[32'h9]) begin
+            meta$12$write_data = meta$12$read_data;
+            if (meta$12$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$12$write_data = meta$12$read_data | 64'h100;
+            end
+        end
+        if (enter$12 & meta$12$read_data[32'h9]) begin
+            home_head$12 = head$12$read_data;
+        end
+        if (clearing$q) begin
+            meta$12$write_enable = 1'b1;
+            meta$12$write_address = clear_at$q;
+            meta$12$write_data = 32'h0;
+            head$12$write_enable = 1'b1;
+            head$12$write_address = clear_at$q;
+            head$12$write_data = 32'h0;
+        end
+        s4_live$12$d = live$12;
+        s4_head$12$d = head$12$read_data;
+        if (live$12) begin
+            s4_any$d = 1'b1;
+        end
+        meta$13$read_address = cells$bucket$13;
+        head$13$read_address = cells$bucket$13;
+        allow$13 = s3_allowed$q >> list_group$13;
+        live$13 = s3_valid$q & cells$small_box & cells$inside$13 & allow$13[32'h0] & meta$13$read_data[32'h9] & (meta$13$read_data[32'h8] | (meta$13$read_data[(32'h0)+:(8)] == cells$fp$13));
+        enter$13 = s3_valid$q & cells$small_box & cells$home$13 & (s3_group$q == list_group$13);
+        meta$13$write_enable = enter$13;
+        meta$13$write_address = cells$bucket$13;
+        head$13$write_enable = enter$13;
+        head$13$write_address = cells$bucket$13;
+        head$13$write_data = entry;
+        meta$13$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$13$read_data[32'h9]) begin
+            meta$13$write_data = meta$13$read_data;
+            if (meta$13$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$13$write_data = meta$13$read_data | 64'h100;
+            end
+        end
+        if (enter$13 & meta$13$read_data[32'h9]) begin
+            home_head$13 = head$13$read_data;
+        end
+        if (clearing$q) begin
+            meta$13$write_enable = 1'b1;
+            meta$13$write_address = clear_at$q;
+            meta$13$write_data = 32'h0;
+            head$13$write_enable = 1'b1;
+            head$13$write_address = clear_at$q;
+            head$13$write_data = 32'h0;
+        end
+        s4_live$13$d = live$13;
+        s4_head$13$d = head$13$read_data;
+        if (live$13) begin
+            s4_any$d = 1'b1;
+        end
+        meta$14$read_address = cells$bucket$14;
+        head$14$read_address = cells$bucket$14;
+        allow$14 = s3_allowed$q >> list_group$14;
+        live$14 = s3_valid$q & cells$small_box & cells$inside$14 & allow$14[32'h0] & meta$14$read_data[32'h9] & (meta$14$read_data[32'h8] | (meta$14$read_data[(32'h0)+:(8)] == cells$fp$14));
+        enter$14 = s3_valid$q & cells$small_box & cells$home$14 & (s3_group$q == list_group$14);
+        meta$14$write_enable = enter$14;
+        meta$14$write_address = cells$bucket$14;
+        head$14$write_enable = enter$14;
+        head$14$write_address = cells$bucket$14;
+        head$14$write_data = entry;
+        meta$14$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$14$read_data[32'h9]) begin
+            meta$14$write_data = meta$14$read_data;
+            if (meta$14$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$14$write_data = meta$14$read_data | 64'h100;
+            end
+        end
+        if (enter$14 & meta$14$read_data[32'h9]) begin
+            home_head$14 = head$14$read_data;
+        end
+        if (clearing$q) begin
+            meta$14$write_enable = 1'b1;
+            meta$14$write_address = clear_at$q;
+            meta$14$write_data = 32'h0;
+            head$14$write_enable = 1'b1;
+            head$14$write_address = clear_at$q;
+            head$14$write_data = 32'h0;
+        end
+        s4_live$14$d = live$14;
+        s4_head$14$d = head$14$read_data;
+        if (live$14) begin
+            s4_any$d = 1'b1;
+        end
+        meta$15$read_address = cells$bucket$15;
+        head$15$read_address = cells$bucket$15;
+        allow$15 = s3_allowed$q >> list_group$15;
+        live$15 = s3_valid$q & cells$small_box & cells$inside$15 & allow$15[32'h0] & meta$15$read_data[32'h9] & (meta$15$read_data[32'h8] | (meta$15$read_data[(32'h0)+:(8)] == cells$fp$15));
+        enter$15 = s3_valid$q & cells$small_box & cells$home$15 & (s3_group$q == list_group$15);
+        meta$15$write_enable = enter$15;
+        meta$15$write_address = cells$bucket$15;
+        head$15$write_enable = enter$15;
+        head$15$write_address = cells$bucket$15;
+        head$15$write_data = entry;
+        meta$15$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$15$read_data[32'h9]) begin
+            meta$15$write_data = meta$15$read_data;
+            if (meta$15$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$15$write_data = meta$15$read_data | 64'h100;
+            end
+        end
+        if (enter$15 & meta$15$read_data[32'h9]) begin
+            home_head$15 = head$15$read_data;
+        end
+        if (clearing$q) begin
+            meta$15$write_enable = 1'b1;
+            meta$15$write_address = clear_at$q;
+            meta$15$write_data = 32'h0;
+            head$15$write_enable = 1'b1;
+            head$15$write_address = clear_at$q;
+            head$15$write_data = 32'h0;
+        end
+        s4_live$15$d = live$15;
+        s4_head$15$d = head$15$read_data;
+        if (live$15) begin
+            s4_any$d = 1'b1;
+        end
+        meta$16$read_address = cells$bucket$16;
+        head$16$read_address = cells$bucket$16;
+        allow$16 = s3_allowed$q >> list_group$16;
+        live$16 = s3_valid$q & cells$small_box & cells$inside$16 & allow$16[32'h0] & meta$16$read_data[32'h9] & (meta$16$read_data[32'h8] | (meta$16$read_data[(32'h0)+:(8)] == cells$fp$16));
+        enter$16 = s3_valid$q & cells$small_box & cells$home$16 & (s3_group$q == list_group$16);
+        meta$16$write_enable = enter$16;
+        meta$16$write_address = cells$bucket$16;
+        head$16$write_enable = enter$16;
+        head$16$write_address = cells$bucket$16;
+        head$16$write_data = entry;
+        meta$16$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$16$read_data[32'h9]) begin
+            meta$16$write_data = meta$16$read_data;
+            if (meta$16$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$16$write_data = meta$16$read_data | 64'h100;
+            end
+        end
+        if (enter$16 & meta$16$read_data[32'h9]) begin
+            home_head$16 = head$16$read_data;
+        end
+        if (clearing$q) begin
+            meta$16$write_enable = 1'b1;
+            meta$16$write_address = clear_at$q;
+            meta$16$write_data = 32'h0;
+            head$16$write_enable = 1'b1;
+            head$16$write_address = clear_at$q;
+            head$16$write_data = 32'h0;
+        end
+        s4_live$16$d = live$16;
+        s4_head$16$d = head$16$read_data;
+        if (live$16) begin
+            s4_any$d = 1'b1;
+        end
+        meta$17$read_address = cells$bucket$17;
+        head$17$read_address = cells$bucket$17;
+        allow$17 = s3_allowed$q >> list_group$17;
+        live$17 = s3_valid$q & cells$small_box & cells$inside$17 & allow$17[32'h0] & meta$17$read_data[32'h9] & (meta$17$read_data[32'h8] | (meta$17$read_data[(32'h0)+:(8)] == cells$fp$17));
+        enter$17 = s3_valid$q & cells$small_box & cells$home$17 & (s3_group$q == list_group$17);
+        meta$17$write_enable = enter$17;
+        meta$17$write_address = cells$bucket$17;
+        head$17$write_enable = enter$17;
+        head$17$write_address = cells$bucket$17;
+        head$17$write_data = entry;
+        meta$17$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$17$read_data[32'h9]) begin
+            meta$17$write_data = meta$17$read_data;
+            if (meta$17$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$17$write_data = meta$17$read_data | 64'h100;
+            end
+        end
+        if (enter$17 & meta$17$read_data[32'h9]) begin
+            home_head$17 = head$17$read_data;
+        end
+        if (clearing$q) begin
+            meta$17$write_enable = 1'b1;
+            meta$17$write_address = clear_at$q;
+            meta$17$write_data = 32'h0;
+            head$17$write_enable = 1'b1;
+            head$17$write_address = clear_at$q;
+            head$17$write_data = 32'h0;
+        end
+        s4_live$17$d = live$17;
+        s4_head$17$d = head$17$read_data;
+        if (live$17) begin
+            s4_any$d = 1'b1;
+        end
+        meta$18$read_address = cells$bucket$18;
+        head$18$read_address = cells$bucket$18;
+        allow$18 = s3_allowed$q >> list_group$18;
+        live$18 = s3_valid$q & cells$small_box & cells$inside$18 & allow$18[32'h0] & meta$18$read_data[32'h9] & (meta$18$read_data[32'h8] | (meta$18$read_data[(32'h0)+:(8)] == cells$fp$18));
+        enter$18 = s3_valid$q & cells$small_box & cells$home$18 & (s3_group$q == list_group$18);
+        meta$18$write_enable = enter$18;
+        meta$18$write_address = cells$bucket$18;
+        head$18$write_enable = enter$18;
+        head$18$write_address = cells$bucket$18;
+        head$18$write_data = entry;
+        meta$18$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$18$read_data[32'h9]) begin
+            meta$18$write_data = meta$18$read_data;
+            if (meta$18$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$18$write_data = meta$18$read_data | 64'h100;
+            end
+        end
+        if (enter$18 & meta$18$read_data[32'h9]) begin
+            home_head$18 = head$18$read_data;
+        end
+        if (clearing$q) begin
+            meta$18$write_enable = 1'b1;
+            meta$18$write_address = clear_at$q;
+            meta$18$write_data = 32'h0;
+            head$18$write_enable = 1'b1;
+            head$18$write_address = clear_at$q;
+            head$18$write_data = 32'h0;
+        end
+        s4_live$18$d = live$18;
+        s4_head$18$d = head$18$read_data;
+        if (live$18) begin
+            s4_any$d = 1'b1;
+        end
+        meta$19$read_address = cells$bucket$19;
+        head$19$read_address = cells$bucket$19;
+        allow$19 = s3_allowed$q >> list_group$19;
+        live$19 = s3_valid$q & cells$small_box & cells$inside$19 & allow$19[32'h0] & meta$19$read_data[32'h9] & (meta$19$read_data[32'h8] | (meta$19$read_data[(32'h0)+:(8)] == cells$fp$19));
+        enter$19 = s3_valid$q & cells$small_box & cells$home$19 & (s3_group$q == list_group$19);
+        meta$19$write_enable = enter$19;
+        meta$19$write_address = cells$bucket$19;
+        head$19$write_enable = enter$19;
+        head$19$write_address = cells$bucket$19;
+        head$19$write_data = entry;
+        meta$19$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$19$read_data[32'h9]) begin
+            meta$19$write_data = meta$19$read_data;
+            if (meta$19$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$19$write_data = meta$19$read_data | 64'h100;
+            end
+        end
+        if (enter$19 & meta$19$read_data[32'h9]) begin
+            home_head$19 = head$19$read_data;
+        end
+        if (clearing$q) begin
+            meta$19$write_enable = 1'b1;
+            meta$19$write_address = clear_at$q;
+            meta$19$write_data = 32'h0;
+            head$19$write_enable = 1'b1;
+            head$19$write_address = clear_at$q;
+            head$19$write_data = 32'h0;
+        end
+        s4_live$19$d = live$19;
+        s4_head$19$d = head$19$read_data;
+        if (live$19) begin
+            s4_any$d = 1'b1;
+        end
+        meta$20$read_address = cells$bucket$20;
+        head$20$read_address = cells$bucket$20;
+        allow$20 = s3_allowed$q >> list_group$20;
+        live$20 = s3_valid$q & cells$small_box & cells$inside$20 & allow$20[32'h0] & meta$20$read_data[32'h9] & (meta$20$read_data[32'h8] | (meta$20$read_data[(32'h0)+:(8)] == cells$fp$20));
+        enter$20 = s3_valid$q & cells$small_box & cells$home$20 & (s3_group$q == list_group$20);
+        meta$20$write_enable = enter$20;
+        meta$20$write_address = cells$bucket$20;
+        head$20$write_enable = enter$20;
+        head$20$write_address = cells$bucket$20;
+        head$20$write_data = entry;
+        meta$20$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$20$read_data[32'h9]) begin
+            meta$20$write_data = meta$20$read_data;
+            if (meta$20$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$20$write_data = meta$20$read_data | 64'h100;
+            end
+        end
+        if (enter$20 & meta$20$read_data[32'h9]) begin
+            home_head$20 = head$20$read_data;
+        end
+        if (clearing$q) begin
+            meta$20$write_enable = 1'b1;
+            meta$20$write_address = clear_at$q;
+            meta$20$write_data = 32'h0;
+            head$20$write_enable = 1'b1;
+            head$20$write_address = clear_at$q;
+            head$20$write_data = 32'h0;
+        end
+        s4_live$20$d = live$20;
+        s4_head$20$d = head$20$read_data;
+        if (live$20) begin
+            s4_any$d = 1'b1;
+        end
+        meta$21$read_address = cells$bucket$21;
+        head$21$read_address = cells$bucket$21;
+        allow$21 = s3_allowed$q >> list_group$21;
+        live$21 = s3_valid$q & cells$small_box & cells$inside$21 & allow$21[32'h0] & meta$21$read_data[32'h9] & (meta$21$read_data[32'h8] | (meta$21$read_data[(32'h0)+:(8)] == cells$fp$21));
+        enter$21 = s3_valid$q & cells$small_box & cells$home$21 & (s3_group$q == list_group$21);
+        meta$21$write_enable = enter$21;
+        meta$21$write_address = cells$bucket$21;
+        head$21$write_enable = enter$21;
+        head$21$write_address = cells$bucket$21;
+        head$21$write_data = entry;
+        meta$21$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$21$read_data[32'h9]) begin
+            meta$21$write_data = meta$21$read_data;
+            if (meta$21$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$21$write_data = meta$21$read_data | 64'h100;
+            end
+        end
+        if (enter$21 & meta$21$read_data[32'h9]) begin
+            home_head$21 = head$21$read_data;
+        end
+        if (clearing$q) begin
+            meta$21$write_enable = 1'b1;
+            meta$21$write_address = clear_at$q;
+            meta$21$write_data = 32'h0;
+            head$21$write_enable = 1'b1;
+            head$21$write_address = clear_at$q;
+            head$21$write_data = 32'h0;
+        end
+        s4_live$21$d = live$21;
+        s4_head$21$d = head$21$read_data;
+        if (live$21) begin
+            s4_any$d = 1'b1;
+        end
+        meta$22$read_address = cells$bucket$22;
+        head$22$read_address = cells$bucket$22;
+        allow$22 = s3_allowed$q >> list_group$22;
+        live$22 = s3_valid$q & cells$small_box & cells$inside$22 & allow$22[32'h0] & meta$22$read_data[32'h9] & (meta$22$read_data[32'h8] | (meta$22$read_data[(32'h0)+:(8)] == cells$fp$22));
+        enter$22 = s3_valid$q & cells$small_box & cells$home$22 & (s3_group$q == list_group$22);
+        meta$22$write_enable = enter$22;
+        meta$22$write_address = cells$bucket$22;
+        head$22$write_enable = enter$22;
+        head$22$write_address = cells$bucket$22;
+        head$22$write_data = entry;
+        meta$22$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$22$read_data[32'h9]) begin
+            meta$22$write_data = meta$22$read_data;
+            if (meta$22$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$22$write_data = meta$22$read_data | 64'h100;
+            end
+        end
+        if (enter$22 & meta$22$read_data[32'h9]) begin
+            home_head$22 = head$22$read_data;
+        end
+        if (clearing$q) begin
+            meta$22$write_enable = 1'b1;
+            meta$22$write_address = clear_at$q;
+            meta$22$write_data = 32'h0;
+            head$22$write_enable = 1'b1;
+            head$22$write_address = clear_at$q;
+            head$22$write_data = 32'h0;
+        end
+        s4_live$22$d = live$22;
+        s4_head$22$d = head$22$read_data;
+        if (live$22) begin
+            s4_any$d = 1'b1;
+        end
+        meta$23$read_address = cells$bucket$23;
+        head$23$read_address = cells$bucket$23;
+        allow$23 = s3_allowed$q >> list_group$23;
+        live$23 = s3_valid$q & cells$small_box & cells$inside$23 & allow$23[32'h0] & meta$23$read_data[32'h9] & (meta$23$read_data[32'h8] | (meta$23$read_data[(32'h0)+:(8)] == cells$fp$23));
+        enter$23 = s3_valid$q & cells$small_box & cells$home$23 & (s3_group$q == list_group$23);
+        meta$23$write_enable = enter$23;
+        meta$23$write_address = cells$bucket$23;
+        head$23$write_enable = enter$23;
+        head$23$write_address = cells$bucket$23;
+        head$23$write_data = entry;
+        meta$23$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$23$read_data[32'h9]) begin
+            meta$23$write_data = meta$23$read_data;
+            if (meta$23$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$23$write_data = meta$23$read_data | 64'h100;
+            end
+        end
+        if (enter$23 & meta$23$read_data[32'h9]) begin
+            home_head$23 = head$23$read_data;
+        end
+        if (clearing$q) begin
+            meta$23$write_enable = 1'b1;
+            meta$23$write_address = clear_at$q;
+            meta$23$write_data = 32'h0;
+            head$23$write_enable = 1'b1;
+            head$23$write_address = clear_at$q;
+            head$23$write_data = 32'h0;
+        end
+        s4_live$23$d = live$23;
+        s4_head$23$d = head$23$read_data;
+        if (live$23) begin
+            s4_any$d = 1'b1;
+        end
+        meta$24$read_address = cells$bucket$24;
+        head$24$read_address = cells$bucket$24;
+        allow$24 = s3_allowed$q >> list_group$24;
+        live$24 = s3_valid$q & cells$small_box & cells$inside$24 & allow$24[32'h0] & meta$24$read_data[32'h9] & (meta$24$read_data[32'h8] | (meta$24$read_data[(32'h0)+:(8)] == cells$fp$24));
+        enter$24 = s3_valid$q & cells$small_box & cells$home$24 & (s3_group$q == list_group$24);
+        meta$24$write_enable = enter$24;
+        meta$24$write_address = cells$bucket$24;
+        head$24$write_enable = enter$24;
+        head$24$write_address = cells$bucket$24;
+        head$24$write_data = entry;
+        meta$24$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$24$read_data[32'h9]) begin
+            meta$24$write_data = meta$24$read_data;
+            if (meta$24$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$24$write_data = meta$24$read_data | 64'h100;
+            end
+        end
+        if (enter$24 & meta$24$read_data[32'h9]) begin
+            home_head$24 = head$24$read_data;
+        end
+        if (clearing$q) begin
+            meta$24$write_enable = 1'b1;
+            meta$24$write_address = clear_at$q;
+            meta$24$write_data = 32'h0;
+            head$24$write_enable = 1'b1;
+            head$24$write_address = clear_at$q;
+            head$24$write_data = 32'h0;
+        end
+        s4_live$24$d = live$24;
+        s4_head$24$d = head$24$read_data;
+        if (live$24) begin
+            s4_any$d = 1'b1;
+        end
+        meta$25$read_address = cells$bucket$25;
+        head$25$read_address = cells$bucket$25;
+        allow$25 = s3_allowed$q >> list_group$25;
+        live$25 = s3_valid$q & cells$small_box & cells$inside$25 & allow$25[32'h0] & meta$25$read_data[32'h9] & (meta$25$read_data[32'h8] | (meta$25$read_data[(32'h0)+:(8)] == cells$fp$25));
+        enter$25 = s3_valid$q & cells$small_box & cells$home$25 & (s3_group$q == list_group$25);
+        meta$25$write_enable = enter$25;
+        meta$25$write_address = cells$bucket$25;
+        head$25$write_enable = enter$25;
+        head$25$write_address = cells$bucket$25;
+        head$25$write_data = entry;
+        meta$25$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$25$read_data[32'h9]) begin
+            meta$25$write_data = meta$25$read_data;
+            if (meta$25$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$25$write_data = meta$25$read_data | 64'h100;
+            end
+        end
+        if (enter$25 & meta$25$read_data[32'h9]) begin
+            home_head$25 = head$25$read_data;
+        end
+        if (clearing$q) begin
+            meta$25$write_enable = 1'b1;
+            meta$25$write_address = clear_at$q;
+            meta$25$write_data = 32'h0;
+            head$25$write_enable = 1'b1;
+            head$25$write_address = clear_at$q;
+            head$25$write_data = 32'h0;
+        end
+        s4_live$25$d = live$25;
+        s4_head$25$d = head$25$read_data;
+        if (live$25) begin
+            s4_any$d = 1'b1;
+        end
+        meta$26$read_address = cells$bucket$26;
+        head$26$read_address = cells$bucket$26;
+        allow$26 = s3_allowed$q >> list_group$26;
+        live$26 = s3_valid$q & cells$small_box & cells$inside$26 & allow$26[32'h0] & meta$26$read_data[32'h9] & (meta$26$read_data[32'h8] | (meta$26$read_data[(32'h0)+:(8)] == cells$fp$26));
+        enter$26 = s3_valid$q & cells$small_box & cells$home$26 & (s3_group$q == list_group$26);
+        meta$26$write_enable = enter$26;
+        meta$26$write_address = cells$bucket$26;
+        head$26$write_enable = enter$26;
+        head$26$write_address = cells$bucket$26;
+        head$26$write_data = entry;
+        meta$26$write_data = ((cells$home_fp) & 10'h3ff) | 64'h200;
+        if (meta$26$read_data[32'h9]) begin
+            meta$26$write_data = meta$26$read_data;
+            if (meta$26$read_data[(32'h0)+:(8)] != cells$home_fp) begin
+                meta$26$write_data = meta$26$read_data | 64'h100;
+            end
+        end
+        if (enter$26 & meta$26$read_data[32'h9]) begin
+            home_head$26 = head$26$read_data;
+        end
+        if (clearing$q) begin
+            meta$26$write_enable = 1'b1;
+            meta$26$write_address = clear_at$q;
+            meta$26$write_data = 32'h0;
+            head$26$write_enable = 1'b1;
+            head$26$write_address = clear_at$q;
+            head$26$write_data = 32'h0;
+        end
+        s4_live$26$d = live$26;
+        s4_head$26$d = head$26$read_data;
+        if (live$26) begin
+            s4_any$d = 1'b1;
+        end
+        succ_acc$0 = 32'h0;
+        succ_acc$1 = succ_acc$0 | home_head$0;
+        succ_acc$2 = succ_acc$1 | home_head$1;
+        succ_acc$3 = succ_acc$2 | home_head$2;
+        succ_acc$4 = succ_acc$3 | home_head$3;
+        succ_acc$5 = succ_acc$4 | home_head$4;
+        succ_acc$6 = succ_acc$5 | home_head$5;
+        succ_acc$7 = succ_acc$6 | home_head$6;
+        succ_acc$8 = succ_acc$7 | home_head$7;
+        succ_acc$9 = succ_acc$8 | home_head$8;
+        succ_acc$10 = succ_acc$9 | home_head$9;
+        succ_acc$11 = succ_acc$10 | home_head$10;
+        succ_acc$12 = succ_acc$11 | home_head$11;
+        succ_acc$13 = succ_acc$12 | home_head$12;
+        succ_acc$14 = succ_acc$13 | home_head$13;
+        succ_acc$15 = succ_acc$14 | home_head$14;
+        succ_acc$16 = succ_acc$15 | home_head$15;
+        succ_acc$17 = succ_acc$16 | home_head$16;
+        succ_acc$18 = succ_acc$17 | home_head$17;
+        succ_acc$19 = succ_acc$18 | home_head$18;
+        succ_acc$20 = succ_acc$19 | home_head$19;
+        succ_acc$21 = succ_acc$20 | home_head$20;
+        succ_acc$22 = succ_acc$21 | home_head$21;
+        succ_acc$23 = succ_acc$22 | home_head$22;
+        succ_acc$24 = succ_acc$23 | home_head$23;
+        succ_acc$25 = succ_acc$24 | home_head$24;
+        succ_acc$26 = succ_acc$25 | home_head$25;
+        succ_acc$27 = succ_acc$26 | home_head$26;
+        succ_data = succ_acc$27;
+        succ$write_enable = s3_valid$q & cells$small_box;
+        succ$write_address = ((s3_index$q) & 15'h7fff);
+        succ$write_data = succ_data;
+        s4_valid$d = s3_valid$q;
+        s4_index$d = s3_index$q;
+        s4_margin$d = s3_margin$q;
+        s4_min$0$d = s3_min$0$q;
+        s4_max$0$d = s3_max$0$q;
+        s4_min$1$d = s3_min$1$q;
+        s4_max$1$d = s3_max$1$q;
+        s4_min$2$d = s3_min$2$q;
+        s4_max$2$d = s3_max$2$q;
+        if (cells$valid & ~cells$small_box) begin
+            large_seen$d = 1'b1;
+        end
+        rec_write = s4_valid$q & s4_any$q;
+        retire_probe = s4_valid$q & ~s4_any$q;
+        rec$0$write_enable = rec_write;
+        rec$0$write_address = wp$q;
+        rec$0$write_data = 32'h0;
+        if (s4_live$0$q) begin
+            rec$0$write_data = s4_head$0$q;
+        end
+        rec$0$read_address = rp$q;
+        rec$1$write_enable = rec_write;
+        rec$1$write_address = wp$q;
+        rec$1$write_data = 32'h0;
+        if (s4_live$1$q) begin
+            rec$1$write_data = s4_head$1$q;
+        end
+        rec$1$read_address = rp$q;
+        rec$2$write_enable = rec_write;
+        rec$2$write_address = wp$q;
+        rec$2$write_data = 32'h0;
+        if (s4_live$2$q) begin
+            rec$2$write_data = s4_head$2$q;
+        end
+        rec$2$read_address = rp$q;
+        rec$3$write_enable = rec_write;
+        rec$3$write_address = wp$q;
+        rec$3$write_data = 32'h0;
+        if (s4_live$3$q) begin
+            rec$3$write_data = s4_head$3$q;
+        end
+        rec$3$read_address = rp$q;
+        rec$4$write_enable = rec_write;
+        rec$4$write_address = wp$q;
+        rec$4$write_data = 32'h0;
+        if (s4_live$4$q) begin
+            rec$4$write_data = s4_head$4$q;
+        end
+        rec$4$read_address = rp$q;
+        rec$5$write_enable = rec_write;
+        rec$5$write_address = wp$q;
+        rec$5$write_data = 32'h0;
+        if (s4_live$5$q) begin
+            rec$5$write_data = s4_head$5$q;
+        end
+        rec$5$read_address = rp$q;
+        rec$6$write_enable = rec_write;
+        rec$6$write_address = wp$q;
+        rec$6$write_data = 32'h0;
+        if (s4_live$6$q) begin
+            rec$6$write_data = s4_head$6$q;
+        end
+        rec$6$read_address = rp$q;
+        rec$7$write_enable = rec_write;
+        rec$7$write_address = wp$q;
+        rec$7$write_data = 32'h0;
+        if (s4_live$7$q) begin
+            rec$7$write_data = s4_head$7$q;
+        end
+        rec$7$read_address = rp$q;
+        rec$8$write_enable = rec_write;
+        rec$8$write_address = wp$q;
+        rec$8$write_data = 32'h0;
+        if (s4_live$8$q) begin
+            rec$8$write_data = s4_head$8$q;
+        end
+        rec$8$read_address = rp$q;
+        rec$9$write_enable = rec_write;
+        rec$9$write_address = wp$q;
+        rec$9$write_data = 32'h0;
+        if (s4_live$9$q) begin
+            rec$9$write_data = s4_head$9$q;
+        end
+        rec$9$read_address = rp$q;
+        rec$10$write_enable = rec_write;
+        rec$10$write_address = wp$q;
+        rec$10$write_data = 32'h0;
+        if (s4_live$10$q) begin
+            rec$10$write_data = s4_head$10$q;
+        end
+        rec$10$read_address = rp$q;
+        rec$11$write_enable = rec_write;
+        rec$11$write_address = wp$q;
+        rec$11$write_data = 32'h0;
+        if (s4_live$11$q) begin
+            rec$11$write_data = s4_head$11$q;
+        end
+        rec$11$read_address = rp$q;
+        rec$12$write_enable = rec_write;
+        rec$12$write_address = wp$q;
+        rec$12$write_data = 32'h0;
+        if (s4_live$12$q) begin
+            rec$12$write_data = s4_head$12$q;
+        end
+        rec$12$read_address = rp$q;
+        rec$13$write_enable = rec_write;
+        rec$13$write_address = wp$q;
+        rec$13$write_data = 32'h0;
+        if (s4_live$13$q) begin
+            rec$13$write_data = s4_head$13$q;
+        end
+        rec$13$read_address = rp$q;
+        rec$14$write_enable = rec_write;
+        rec$14$write_address = wp$q;
+        rec$14$write_data = 32'h0;
+        if (s4_live$14$q) begin
+            rec$14$write_data = s4_head$14$q;
+        end
+        rec$14$read_address = rp$q;
+        rec$15$write_enable = rec_write;
+        rec$15$write_address = wp$q;
+        rec$15$write_data = 32'h0;
+        if (s4_live$15$q) begin
+            rec$15$write_data = s4_head$15$q;
+        end
+        rec$15$read_address = rp$q;
+        rec$16$write_enable = rec_write;
+        rec$16$write_address = wp$q;
+        rec$16$write_data = 32'h0;
+        if (s4_live$16$q) begin
+            rec$16$write_data = s4_head$16$q;
+        end
+        rec$16$read_address = rp$q;
+        rec$17$write_enable = rec_write;
+        rec$17$write_address = wp$q;
+        rec$17$write_data = 32'h0;
+        if (s4_live$17$q) begin
+            rec$17$write_data = s4_head$17$q;
+        end
+        rec$17$read_address = rp$q;
+        rec$18$write_enable = rec_write;
+        rec$18$write_address = wp$q;
+        rec$18$write_data = 32'h0;
+        if (s4_live$18$q) begin
+            rec$18$write_data = s4_head$18$q;
+        end
+        rec$18$read_address = rp$q;
+        rec$19$write_enable = rec_write;
+        rec$19$write_address = wp$q;
+        rec$19$write_data = 32'h0;
+        if (s4_live$19$q) begin
+            rec$19$write_data = s4_head$19$q;
+        end
+        rec$19$read_address = rp$q;
+        rec$20$write_enable = rec_write;
+        rec$20$write_address = wp$q;
+        rec$20$write_data = 32'h0;
+        if (s4_live$20$q) begin
+            rec$20$write_data = s4_head$20$q;
+        end
+        rec$20$read_address = rp$q;
+        rec$21$write_enable = rec_write;
+        rec$21$write_address = wp$q;
+        rec$21$write_data = 32'h0;
+        if (s4_live$21$q) begin
+            rec$21$write_data = s4_head$21$q;
+        end
+        rec$21$read_address = rp$q;
+        rec$22$write_enable = rec_write;
+        rec$22$write_address = wp$q;
+        rec$22$write_data = 32'h0;
+        if (s4_live$22$q) begin
+            rec$22$write_data = s4_head$22$q;
+        end
+        rec$22$read_address = rp$q;
+        rec$23$write_enable = rec_write;
+        rec$23$write_address = wp$q;
+        rec$23$write_data = 32'h0;
+        if (s4_live$23$q) begin
+            rec$23$write_data = s4_head$23$q;
+        end
+        rec$23$read_address = rp$q;
+        rec$24$write_enable = rec_write;
+        rec$24$write_address = wp$q;
+        rec$24$write_data = 32'h0;
+        if (s4_live$24$q) begin
+            rec$24$write_data = s4_head$24$q;
+        end
+        rec$24$read_address = rp$q;
+        rec$25$write_enable = rec_write;
+        rec$25$write_address = wp$q;
+        rec$25$write_data = 32'h0;
+        if (s4_live$25$q) begin
+            rec$25$write_data = s4_head$25$q;
+        end
+        rec$25$read_address = rp$q;
+        rec$26$write_enable = rec_write;
+        rec$26$write_address = wp$q;
+        rec$26$write_data = 32'h0;
+        if (s4_live$26$q) begin
+            rec$26$write_data = s4_head$26$q;
+        end
+        rec$26$read_address = rp$q;
+        rec_index$write_enable = rec_write;
+        rec_index$write_address = wp$q;
+        rec_index$write_data = s4_index$q;
+        rec_index$read_address = rp$q;
+        rec_margin$write_enable = rec_write;
+        rec_margin$write_address = wp$q;
+        rec_margin$write_data = s4_margin$q;
+        rec_margin$read_address = rp$q;
+        rec_min$0$write_enable = rec_write;
+        rec_min$0$write_address = wp$q;
+        rec_min$0$write_data = s4_min$0$q;
+        rec_min$0$read_address = rp$q;
+        rec_max$0$write_enable = rec_write;
+        rec_max$0$write_address = wp$q;
+        rec_max$0$write_data = s4_max$0$q;
+        rec_max$0$read_address = rp$q;
+        rec_min$1$write_enable = rec_write;
+        rec_min$1$write_address = wp$q;
+        rec_min$1$write_data = s4_min$1$q;
+        rec_min$1$read_address = rp$q;
+        rec_max$1$write_enable = rec_write;
+        rec_max$1$write_address = wp$q;
+        rec_max$1$write_data = s4_max$1$q;
+        rec_max$1$read_address = rp$q;
+        rec_min$2$write_enable = rec_write;
+        rec_min$2$write_address = wp$q;
+        rec_min$2$write_data = s4_min$2$q;
+        rec_min$2$read_address = rp$q;
+        rec_max$2$write_enable = rec_write;
+        rec_max$2$write_address = wp$q;
+        rec_max$2$write_data = s4_max$2$q;
+        rec_max$2$read_address = rp$q;
+        if (rec_write) begin
+            wp$d = wp$q + 32'h1;
+        end
+        list_open = chase$q & (succ$read_data_b >= top);
+        need = ~list_open & ~held_valid$q;
+        rem_any = 1'b0;
+        cur_rem$0 = cur_live$0$q & ~started$0$q;
+        if (cur_rem$0) begin
+            rem_any = 1'b1;
+        end
+        rd_live$0 = rec$0$read_data >= top;
+        cur_rem$1 = cur_live$1$q & ~started$1$q;
+        if (cur_rem$1) begin
+            rem_any = 1'b1;
+        end
+        rd_live$1 = rec$1$read_data >= top;
+        cur_rem$2 = cur_live$2$q & ~started$2$q;
+        if (cur_rem$2) begin
+            rem_any = 1'b1;
+        end
+        rd_live$2 = rec$2$read_data >= top;
+        cur_rem$3 = cur_live$3$q & ~started$3$q;
+        if (cur_rem$3) begin
+            rem_any = 1'b1;
+        end
+        rd_live$3 = rec$3$read_data >= top;
+        cur_rem$4 = cur_live$4$q & ~started$4$q;
+        if (cur_rem$4) begin
+            rem_any = 1'b1;
+        end
+        rd_live$4 = rec$4$read_data >= top;
+        cur_rem$5 = cur_live$5$q & ~started$5$q;
+        if (cur_rem$5) begin
+            rem_any = 1'b1;
+        end
+        rd_live$5 = rec$5$read_data >= top;
+        cur_rem$6 = cur_live$6$q & ~started$6$q;
+        if (cur_rem$6) begin
+            rem_any = 1'b1;
+        end
+        rd_live$6 = rec$6$read_data >= top;
+        cur_rem$7 = cur_live$7$q & ~started$7$q;
+        if (cur_rem$7) begin
+            rem_any = 1'b1;
+        end
+        rd_live$7 = rec$7$read_data >= top;
+        cur_rem$8 = cur_live$8$q & ~started$8$q;
+        if (cur_rem$8) begin
+            rem_any = 1'b1;
+        end
+        rd_live$8 = rec$8$read_data >= top;
+        cur_rem$9 = cur_live$9$q & ~started$9$q;
+        if (cur_rem$9) begin
+            rem_any = 1'b1;
+        end
+        rd_live$9 = rec$9$read_data >= top;
+        cur_rem$10 = cur_live$10$q & ~started$10$q;
+        if (cur_rem$10) begin
+            rem_any = 1'b1;
+        end
+        rd_live$10 = rec$10$read_data >= top;
+        cur_rem$11 = cur_live$11$q & ~started$11$q;
+        if (cur_rem$11) begin
+            rem_any = 1'b1;
+        end
+        rd_live$11 = rec$11$read_data >= top;
+        cur_rem$12 = cur_live$12$q & ~started$12$q;
+        if (cur_rem$12) begin
+            rem_any = 1'b1;
+        end
+        rd_live$12 = rec$12$read_data >= top;
+        cur_rem$13 = cur_live$13$q & ~started$13$q;
+        if (cur_rem$13) begin
+            rem_any = 1'b1;
+        end
+        rd_live$13 = rec$13$read_data >= top;
+        cur_rem$14 = cur_live$14$q & ~started$14$q;
+        if (cur_rem$14) begin
+            rem_any = 1'b1;
+        end
+        rd_live$14 = rec$14$read_data >= top;
+        cur_rem$15 = cur_live$15$q & ~started$15$q;
+        if (cur_rem$15) begin
+            rem_any = 1'b1;
+        end
+        rd_live$15 = rec$15$read_data >= top;
+        cur_rem$16 = cur_live$16$q & ~started$16$q;
+        if (cur_rem$16) begin
+            rem_any = 1'b1;
+        end
+        rd_live$16 = rec$16$read_data >= top;
+        cur_rem$17 = cur_live$17$q & ~started$17$q;
+        if (cur_rem$17) begin
+            rem_any = 1'b1;
+        end
+        rd_live$17 = rec$17$read_data >= top;
+        cur_rem$18 = cur_live$18$q & ~started$18$q;
+        if (cur_rem$18) begin
+            rem_any = 1'b1;
+        end
+        rd_live$18 = rec$18$read_data >= top;
+        cur_rem$19 = cur_live$19$q & ~started$19$q;
+        if (cur_rem$19) begin
+            rem_any = 1'b1;
+        end
+        rd_live$19 = rec$19$read_data >= top;
+        cur_rem$20 = cur_live$20$q & ~started$20$q;
+        if (cur_rem$20) begin
+            rem_any = 1'b1;
+        end
+        rd_live$20 = rec$20$read_data >= top;
+        cur_rem$21 = cur_live$21$q & ~started$21$q;
+        if (cur_rem$21) begin
+            rem_any = 1'b1;
+        end
+        rd_live$21 = rec$21$read_data >= top;
+        cur_rem$22 = cur_live$22$q & ~started$22$q;
+        if (cur_rem$22) begin
+            rem_any = 1'b1;
+        end
+        rd_live$22 = rec$22$read_data >= top;
+        cur_rem$23 = cur_live$23$q & ~started$23$q;
+        if (cur_rem$23) begin
+            rem_any = 1'b1;
+        end
+        rd_live$23 = rec$23$read_data >= top;
+        cur_rem$24 = cur_live$24$q & ~started$24$q;
+        if (cur_rem$24) begin
+            rem_any = 1'b1;
+        end
+        rd_live$24 = rec$24$read_data >= top;
+        cur_rem$25 = cur_live$25$q & ~started$25$q;
+        if (cur_rem$25) begin
+            rem_any = 1'b1;
+        end
+        rd_live$25 = rec$25$read_data >= top;
+        cur_rem$26 = cur_live$26$q & ~started$26$q;
+        if (cur_rem$26) begin
+            rem_any = 1'b1;
+        end
+        rd_live$26 = rec$26$read_data >= top;
+        load_next = need & ~(cur_valid$q & rem_any) & (count$q != 32'h0);
+        retire_rec = need & cur_valid$q & ~rem_any;
+        take = need & ((cur_valid$q & rem_any) | load_next);
+        bank_any$0 = 1'b0;
+        bank_head$0 = 32'h0;
+        bank_id$0 = 32'h0;
+        bank_any$1 = 1'b0;
+        bank_head$1 = 32'h0;
+        bank_id$1 = 32'h0;
+        bank_any$2 = 1'b0;
+        bank_head$2 = 32'h0;
+        bank_id$2 = 32'h0;
+        bank_any$3 = 1'b0;
+        bank_head$3 = 32'h0;
+        bank_id$3 = 32'h0;
+        bank_any$4 = 1'b0;
+        bank_head$4 = 32'h0;
+        bank_id$4 = 32'h0;
+        bank_any$5 = 1'b0;
+        bank_head$5 = 32'h0;
+        bank_id$5 = 32'h0;
+        bank_any$6 = 1'b0;
+        bank_head$6 = 32'h0;
+        bank_id$6 = 32'h0;
+        bank_any$7 = 1'b0;
+        bank_head$7 = 32'h0;
+        bank_id$7 = 32'h0;
+        bank_any$8 = 1'b0;
+        bank_head$8 = 32'h0;
+        bank_id$8 = 32'h0;
+        bank_any$9 = 1'b0;
+        bank_head$9 = 32'h0;
+        bank_id$9 = 32'h0;
+        bank_any$10 = 1'b0;
+        bank_head$10 = 32'h0;
+        bank_id$10 = 32'h0;
+        bank_any$11 = 1'b0;
+        bank_head$11 = 32'h0;
+        bank_id$11 = 32'h0;
+        bank_any$12 = 1'b0;
+        bank_head$12 = 32'h0;
+        bank_id$12 = 32'h0;
+        bank_any$13 = 1'b0;
+        bank_head$13 = 32'h0;
+        bank_id$13 = 32'h0;
+        bank_any$14 = 1'b0;
+        bank_head$14 = 32'h0;
+        bank_id$14 = 32'h0;
+        bank_any$15 = 1'b0;
+        bank_head$15 = 32'h0;
+        bank_id$15 = 32'h0;
+        bank_any$16 = 1'b0;
+        bank_head$16 = 32'h0;
+        bank_id$16 = 32'h0;
+        bank_any$17 = 1'b0;
+        bank_head$17 = 32'h0;
+        bank_id$17 = 32'h0;
+        bank_any$18 = 1'b0;
+        bank_head$18 = 32'h0;
+        bank_id$18 = 32'h0;
+        bank_any$19 = 1'b0;
+        bank_head$19 = 32'h0;
+        bank_id$19 = 32'h0;
+        bank_any$20 = 1'b0;
+        bank_head$20 = 32'h0;
+        bank_id$20 = 32'h0;
+        bank_any$21 = 1'b0;
+        bank_head$21 = 32'h0;
+        bank_id$21 = 32'h0;
+        bank_any$22 = 1'b0;
+        bank_head$22 = 32'h0;
+        bank_id$22 = 32'h0;
+        bank_any$23 = 1'b0;
+        bank_head$23 = 32'h0;
+        bank_id$23 = 32'h0;
+        bank_any$24 = 1'b0;
+        bank_head$24 = 32'h0;
+        bank_id$24 = 32'h0;
+        bank_any$25 = 1'b0;
+        bank_head$25 = 32'h0;
+        bank_id$25 = 32'h0;
+        bank_any$26 = 1'b0;
+        bank_head$26 = 32'h0;
+        bank_id$26 = 32'h0;
+        rem$0 = cur_rem$0;
+        rem_head$0 = cur_head$0$q;
+        if (load_next) begin
+            rem$0 = rd_live$0;
+            rem_head$0 = rec$0$read_data;
+        end
+        if (rem$0) begin
+            bank_any$0 = 1'b1;
+            bank_head$0 = rem_head$0;
+            bank_id$0 = list_id$0;
+        end
+        rem$1 = cur_rem$1;
+        rem_head$1 = cur_head$1$q;
+        if (load_next) begin
+            rem$1 = rd_live$1;
+            rem_head$1 = rec$1$read_data;
+        end
+        if (rem$1) begin
+            bank_any$1 = 1'b1;
+            bank_head$1 = rem_head$1;
+            bank_id$1 = list_id$1;
+        end
+        rem$2 = cur_rem$2;
+        rem_head$2 = cur_head$2$q;
+        if (load_next) begin
+            rem$2 = rd_live$2;
+            rem_head$2 = rec$2$read_data;
+        end
+        if (rem$2) begin
+            bank_any$2 = 1'b1;
+            bank_head$2 = rem_head$2;
+            bank_id$2 = list_id$2;
+        end
+        rem$3 = cur_rem$3;
+        rem_head$3 = cur_head$3$q;
+        if (load_next) begin
+            rem$3 = rd_live$3;
+            rem_head$3 = rec$3$read_data;
+        end
+        if (rem$3) begin
+            bank_any$3 = 1'b1;
+            bank_head$3 = rem_head$3;
+            bank_id$3 = list_id$3;
+        end
+        rem$4 = cur_rem$4;
+        rem_head$4 = cur_head$4$q;
+        if (load_next) begin
+            rem$4 = rd_live$4;
+            rem_head$4 = rec$4$read_data;
+        end
+        if (rem$4) begin
+            bank_any$4 = 1'b1;
+            bank_head$4 = rem_head$4;
+            bank_id$4 = list_id$4;
+        end
+        rem$5 = cur_rem$5;
+        rem_head$5 = cur_head$5$q;
+        if (load_next) begin
+            rem$5 = rd_live$5;
+            rem_head$5 = rec$5$read_data;
+        end
+        if (rem$5) begin
+            bank_any$5 = 1'b1;
+            bank_head$5 = rem_head$5;
+            bank_id$5 = list_id$5;
+        end
+        rem$6 = cur_rem$6;
+        rem_head$6 = cur_head$6$q;
+        if (load_next) begin
+            rem$6 = rd_live$6;
+            rem_head$6 = rec$6$read_data;
+        end
+        if (rem$6) begin
+            bank_any$6 = 1'b1;
+            bank_head$6 = rem_head$6;
+            bank_id$6 = list_id$6;
+        end
+        rem$7 = cur_rem$7;
+        rem_head$7 = cur_head$7$q;
+        if (load_next) begin
+            rem$7 = rd_live$7;
+            rem_head$7 = rec$7$read_data;
+        end
+        if (rem$7) begin
+            bank_any$7 = 1'b1;
+            bank_head$7 = rem_head$7;
+            bank_id$7 = list_id$7;
+        end
+        rem$8 = cur_rem$8;
+        rem_head$8 = cur_head$8$q;
+        if (load_next) begin
+            rem$8 = rd_live$8;
+            rem_head$8 = rec$8$read_data;
+        end
+        if (rem$8) begin
+            bank_any$8 = 1'b1;
+            bank_head$8 = rem_head$8;
+            bank_id$8 = list_id$8;
+        end
+        rem$9 = cur_rem$9;
+        rem_head$9 = cur_head$9$q;
+        if (load_next) begin
+            rem$9 = rd_live$9;
+            rem_head$9 = rec$9$read_data;
+        end
+        if (rem$9) begin
+            bank_any$9 = 1'b1;
+            bank_head$9 = rem_head$9;
+            bank_id$9 = list_id$9;
+        end
+        rem$10 = cur_rem$10;
+        rem_head$10 = cur_head$10$q;
+        if (load_next) begin
+            rem$10 = rd_live$10;
+            rem_head$10 = rec$10$read_data;
+        end
+        if (rem$10) begin
+            bank_any$10 = 1'b1;
+            bank_head$10 = rem_head$10;
+            bank_id$10 = list_id$10;
+        end
+        rem$11 = cur_rem$11;
+        rem_head$11 = cur_head$11$q;
+        if (load_next) begin
+            rem$11 = rd_live$11;
+            rem_head$11 = rec$11$read_data;
+        end
+        if (rem$11) begin
+            bank_any$11 = 1'b1;
+            bank_head$11 = rem_head$11;
+            bank_id$11 = list_id$11;
+        end
+        rem$12 = cur_rem$12;
+        rem_head$12 = cur_head$12$q;
+        if (load_next) begin
+            rem$12 = rd_live$12;
+            rem_head$12 = rec$12$read_data;
+        end
+        if (rem$12) begin
+            bank_any$12 = 1'b1;
+            bank_head$12 = rem_head$12;
+            bank_id$12 = list_id$12;
+        end
+        rem$13 = cur_rem$13;
+        rem_head$13 = cur_head$13$q;
+        if (load_next) begin
+            rem$13 = rd_live$13;
+            rem_head$13 = rec$13$read_data;
+        end
+        if (rem$13) begin
+            bank_any$13 = 1'b1;
+            bank_head$13 = rem_head$13;
+            bank_id$13 = list_id$13;
+        end
+        rem$14 = cur_rem$14;
+        rem_head$14 = cur_head$14$q;
+        if (load_next) begin
+            rem$14 = rd_live$14;
+            rem_head$14 = rec$14$read_data;
+        end
+        if (rem$14) begin
+            bank_any$14 = 1'b1;
+            bank_head$14 = rem_head$14;
+            bank_id$14 = list_id$14;
+        end
+        rem$15 = cur_rem$15;
+        rem_head$15 = cur_head$15$q;
+        if (load_next) begin
+            rem$15 = rd_live$15;
+            rem_head$15 = rec$15$read_data;
+        end
+        if (rem$15) begin
+            bank_any$15 = 1'b1;
+            bank_head$15 = rem_head$15;
+            bank_id$15 = list_id$15;
+        end
+        rem$16 = cur_rem$16;
+        rem_head$16 = cur_head$16$q;
+        if (load_next) begin
+            rem$16 = rd_live$16;
+            rem_head$16 = rec$16$read_data;
+        end
+        if (rem$16) begin
+            bank_any$16 = 1'b1;
+            bank_head$16 = rem_head$16;
+            bank_id$16 = list_id$16;
+        end
+        rem$17 = cur_rem$17;
+        rem_head$17 = cur_head$17$q;
+        if (load_next) begin
+            rem$17 = rd_live$17;
+            rem_head$17 = rec$17$read_data;
+        end
+        if (rem$17) begin
+            bank_any$17 = 1'b1;
+            bank_head$17 = rem_head$17;
+            bank_id$17 = list_id$17;
+        end
+        rem$18 = cur_rem$18;
+        rem_head$18 = cur_head$18$q;
+        if (load_next) begin
+            rem$18 = rd_live$18;
+            rem_head$18 = rec$18$read_data;
+        end
+        if (rem$18) begin
+            bank_any$18 = 1'b1;
+            bank_head$18 = rem_head$18;
+            bank_id$18 = list_id$18;
+        end
+        rem$19 = cur_rem$19;
+        rem_head$19 = cur_head$19$q;
+        if (load_next) begin
+            rem$19 = rd_live$19;
+            rem_head$19 = rec$19$read_data;
+        end
+        if (rem$19) begin
+            bank_any$19 = 1'b1;
+            bank_head$19 = rem_head$19;
+            bank_id$19 = list_id$19;
+        end
+        rem$20 = cur_rem$20;
+        rem_head$20 = cur_head$20$q;
+        if (load_next) begin
+            rem$20 = rd_live$20;
+            rem_head$20 = rec$20$read_data;
+        end
+        if (rem$20) begin
+            bank_any$20 = 1'b1;
+            bank_head$20 = rem_head$20;
+            bank_id$20 = list_id$20;
+        end
+        rem$21 = cur_rem$21;
+        rem_head$21 = cur_head$21$q;
+        if (load_next) begin
+            rem$21 = rd_live$21;
+            rem_head$21 = rec$21$read_data;
+        end
+        if (rem$21) begin
+            bank_any$21 = 1'b1;
+            bank_head$21 = rem_head$21;
+            bank_id$21 = list_id$21;
+        end
+        rem$22 = cur_rem$22;
+        rem_head$22 = cur_head$22$q;
+        if (load_next) begin
+            rem$22 = rd_live$22;
+            rem_head$22 = rec$22$read_data;
+        end
+        if (rem$22) begin
+            bank_any$22 = 1'b1;
+            bank_head$22 = rem_head$22;
+            bank_id$22 = list_id$22;
+        end
+        rem$23 = cur_rem$23;
+        rem_head$23 = cur_head$23$q;
+        if (load_next) begin
+            rem$23 = rd_live$23;
+            rem_head$23 = rec$23$read_data;
+        end
+        if (rem$23) begin
+            bank_any$23 = 1'b1;
+            bank_head$23 = rem_head$23;
+            bank_id$23 = list_id$23;
+        end
+        rem$24 = cur_rem$24;
+        rem_head$24 = cur_head$24$q;
+        if (load_next) begin
+            rem$24 = rd_live$24;
+            rem_head$24 = rec$24$read_data;
+        end
+        if (rem$24) begin
+            bank_any$24 = 1'b1;
+            bank_head$24 = rem_head$24;
+            bank_id$24 = list_id$24;
+        end
+        rem$25 = cur_rem$25;
+        rem_head$25 = cur_head$25$q;
+        if (load_next) begin
+            rem$25 = rd_live$25;
+            rem_head$25 = rec$25$read_data;
+        end
+        if (rem$25) begin
+            bank_any$25 = 1'b1;
+            bank_head$25 = rem_head$25;
+            bank_id$25 = list_id$25;
+        end
+        rem$26 = cur_rem$26;
+        rem_head$26 = cur_head$26$q;
+        if (load_next) begin
+            rem$26 = rd_live$26;
+            rem_head$26 = rec$26$read_data;
+        end
+        if (rem$26) begin
+            bank_any$26 = 1'b1;
+            bank_head$26 = rem_head$26;
+            bank_id$26 = list_id$26;
+        end
+        pick_head = 32'h0;
+        pick_id = 32'h0;
+        if (bank_any$26) begin
+            pick_head = bank_head$26;
+            pick_id = bank_id$26;
+        end
+        if (bank_any$25) begin
+            pick_head = bank_head$25;
+            pick_id = bank_id$25;
+        end
+        if (bank_any$24) begin
+            pick_head = bank_head$24;
+            pick_id = bank_id$24;
+        end
+        if (bank_any$23) begin
+            pick_head = bank_head$23;
+            pick_id = bank_id$23;
+        end
+        if (bank_any$22) begin
+            pick_head = bank_head$22;
+            pick_id = bank_id$22;
+        end
+        if (bank_any$21) begin
+            pick_head = bank_head$21;
+            pick_id = bank_id$21;
+        end
+        if (bank_any$20) begin
+            pick_head = bank_head$20;
+            pick_id = bank_id$20;
+        end
+        if (bank_any$19) begin
+            pick_head = bank_head$19;
+            pick_id = bank_id$19;
+        end
+        if (bank_any$18) begin
+            pick_head = bank_head$18;
+            pick_id = bank_id$18;
+        end
+        if (bank_any$17) begin
+            pick_head = bank_head$17;
+            pick_id = bank_id$17;
+        end
+        if (bank_any$16) begin
+            pick_head = bank_head$16;
+            pick_id = bank_id$16;
+        end
+        if (bank_any$15) begin
+            pick_head = bank_head$15;
+            pick_id = bank_id$15;
+        end
+        if (bank_any$14) begin
+            pick_head = bank_head$14;
+            pick_id = bank_id$14;
+        end
+        if (bank_any$13) begin
+            pick_head = bank_head$13;
+            pick_id = bank_id$13;
+        end
+        if (bank_any$12) begin
+            pick_head = bank_head$12;
+            pick_id = bank_id$12;
+        end
+        if (bank_any$11) begin
+            pick_head = bank_head$11;
+            pick_id = bank_id$11;
+        end
+        if (bank_any$10) begin
+            pick_head = bank_head$10;
+            pick_id = bank_id$10;
+        end
+        if (bank_any$9) begin
+            pick_head = bank_head$9;
+            pick_id = bank_id$9;
+        end
+        if (bank_any$8) begin
+            pick_head = bank_head$8;
+            pick_id = bank_id$8;
+        end
+        if (bank_any$7) begin
+            pick_head = bank_head$7;
+            pick_id = bank_id$7;
+        end
+        if (bank_any$6) begin
+            pick_head = bank_head$6;
+            pick_id = bank_id$6;
+        end
+        if (bank_any$5) begin
+            pick_head = bank_head$5;
+            pick_id = bank_id$5;
+        end
+        if (bank_any$4) begin
+            pick_head = bank_head$4;
+            pick_id = bank_id$4;
+        end
+        if (bank_any$3) begin
+            pick_head = bank_head$3;
+            pick_id = bank_id$3;
+        end
+        if (bank_any$2) begin
+            pick_head = bank_head$2;
+            pick_id = bank_id$2;
+        end
+        if (bank_any$1) begin
+            pick_head = bank_head$1;
+            pick_id = bank_id$1;
+        end
+        if (bank_any$0) begin
+            pick_head = bank_head$0;
+            pick_id = bank_id$0;
+        end
+        cand = pick_head;
+        if (held_valid$q) begin
+            cand = held$q;
+        end
+        if (list_open) begin
+            cand = succ$read_data_b;
+        end
+        cand_ok = list_open | held_valid$q | take;
+        stall = fifo$almost_full;
+        go = cand_ok & ~stall;
+        chase$d = go;
+        if (go) begin
+            held_valid$d = 1'b0;
+        end
+        else if (cand_ok) begin
+            held_valid$d = 1'b1;
+            held$d = cand;
+        end
+        if (take & (pick_id == list_id$0)) begin
+            started$0$d = 1'b1;
+        end
+        if (load_next) begin
+            started$0$d = pick_id == list_id$0;
+            cur_live$0$d = rd_live$0;
+            cur_head$0$d = rec$0$read_data;
+        end
+        if (take & (pick_id == list_id$1)) begin
+            started$1$d = 1'b1;
+        end
+        if (load_next) begin
+            started$1$d = pick_id == list_id$1;
+            cur_live$1$d = rd_live$1;
+            cur_head$1$d = rec$1$read_data;
+        end
+        if (take & (pick_id == list_id$2)) begin
+            started$2$d = 1'b1;
+        end
+        if (load_next) begin
+            started$2$d = pick_id == list_id$2;
+            cur_live$2$d = rd_live$2;
+            cur_head$2$d = rec$2$read_data;
+        end
+        if (take & (pick_id == list_id$3)) begin
+            started$3$d = 1'b1;
+        end
+        if (load_next) begin
+            started$3$d = pick_id == list_id$3;
+            cur_live$3$d = rd_live$3;
+            cur_head$3$d = rec$3$read_data;
+        end
+        if (take & (pick_id == list_id$4)) begin
+            started$4$d = 1'b1;
+        end
+        if (load_next) begin
+            started$4$d = pick_id == list_id$4;
+            cur_live$4$d = rd_live$4;
+            cur_head$4$d = rec$4$read_data;
+        end
+        if (take & (pick_id == list_id$5)) begin
+            started$5$d = 1'b1;
+        end
+        if (load_next) begin
+            started$5$d = pick_id == list_id$5;
+            cur_live$5$d = rd_live$5;
+            cur_head$5$d = rec$5$read_data;
+        end
+        if (take & (pick_id == list_id$6)) begin
+            started$6$d = 1'b1;
+        end
+        if (load_next) begin
+            started$6$d = pick_id == list_id$6;
+            cur_live$6$d = rd_live$6;
+            cur_head$6$d = rec$6$read_data;
+        end
+        if (take & (pick_id == list_id$7)) begin
+            started$7$d = 1'b1;
+        end
+        if (load_next) begin
+            started$7$d = pick_id == list_id$7;
+            cur_live$7$d = rd_live$7;
+            cur_head$7$d = rec$7$read_data;
+        end
+        if (take & (pick_id == list_id$8)) begin
+            started$8$d = 1'b1;
+        end
+        if (load_next) begin
+            started$8$d = pick_id == list_id$8;
+            cur_live$8$d = rd_live$8;
+            cur_head$8$d = rec$8$read_data;
+        end
+        if (take & (pick_id == list_id$9)) begin
+            started$9$d = 1'b1;
+        end
+        if (load_next) begin
+            started$9$d = pick_id == list_id$9;
+            cur_live$9$d = rd_live$9;
+            cur_head$9$d = rec$9$read_data;
+        end
+        if (take & (pick_id == list_id$10)) begin
+            started$10$d = 1'b1;
+        end
+        if (load_next) begin
+            started$10$d = pick_id == list_id$10;
+            cur_live$10$d = rd_live$10;
+            cur_head$10$d = rec$10$read_data;
+        end
+        if (take & (pick_id == list_id$11)) begin
+            started$11$d = 1'b1;
+        end
+        if (load_next) begin
+            started$11$d = pick_id == list_id$11;
+            cur_live$11$d = rd_live$11;
+            cur_head$11$d = rec$11$read_data;
+        end
+        if (take & (pick_id == list_id$12)) begin
+            started$12$d = 1'b1;
+        end
+        if (load_next) begin
+            started$12$d = pick_id == list_id$12;
+            cur_live$12$d = rd_live$12;
+            cur_head$12$d = rec$12$read_data;
+        end
+        if (take & (pick_id == list_id$13)) begin
+            started$13$d = 1'b1;
+        end
+        if (load_next) begin
+            started$13$d = pick_id == list_id$13;
+            cur_live$13$d = rd_live$13;
+            cur_head$13$d = rec$13$read_data;
+        end
+        if (take & (pick_id == list_id$14)) begin
+            started$14$d = 1'b1;
+        end
+        if (load_next) begin
+            started$14$d = pick_id == list_id$14;
+            cur_live$14$d = rd_live$14;
+            cur_head$14$d = rec$14$read_data;
+        end
+        if (take & (pick_id == list_id$15)) begin
+            started$15$d = 1'b1;
+        end
+        if (load_next) begin
+            started$15$d = pick_id == list_id$15;
+            cur_live$15$d = rd_live$15;
+            cur_head$15$d = rec$15$read_data;
+        end
+        if (take & (pick_id == list_id$16)) begin
+            started$16$d = 1'b1;
+        end
+        if (load_next) begin
+            started$16$d = pick_id == list_id$16;
+            cur_live$16$d = rd_live$16;
+            cur_head$16$d = rec$16$read_data;
+        end
+        if (take & (pick_id == list_id$17)) begin
+            started$17$d = 1'b1;
+        end
+        if (load_next) begin
+            started$17$d = pick_id == list_id$17;
+            cur_live$17$d = rd_live$17;
+            cur_head$17$d = rec$17$read_data;
+        end
+        if (take & (pick_id == list_id$18)) begin
+            started$18$d = 1'b1;
+        end
+        if (load_next) begin
+            started$18$d = pick_id == list_id$18;
+            cur_live$18$d = rd_live$18;
+            cur_head$18$d = rec$18$read_data;
+        end
+        if (take & (pick_id == list_id$19)) begin
+            started$19$d = 1'b1;
+        end
+        if (load_next) begin
+            started$19$d = pick_id == list_id$19;
+            cur_live$19$d = rd_live$19;
+            cur_head$19$d = rec$19$read_data;
+        end
+        if (take & (pick_id == list_id$20)) begin
+            started$20$d = 1'b1;
+        end
+        if (load_next) begin
+            started$20$d = pick_id == list_id$20;
+            cur_live$20$d = rd_live$20;
+            cur_head$20$d = rec$20$read_data;
+        end
+        if (take & (pick_id == list_id$21)) begin
+            started$21$d = 1'b1;
+        end
+        if (load_next) begin
+            started$21$d = pick_id == list_id$21;
+            cur_live$21$d = rd_live$21;
+            cur_head$21$d = rec$21$read_data;
+        end
+        if (take & (pick_id == list_id$22)) begin
+            started$22$d = 1'b1;
+        end
+        if (load_next) begin
+            started$22$d = pick_id == list_id$22;
+            cur_live$22$d = rd_live$22;
+            cur_head$22$d = rec$22$read_data;
+        end
+        if (take & (pick_id == list_id$23)) begin
+            started$23$d = 1'b1;
+        end
+        if (load_next) begin
+            started$23$d = pick_id == list_id$23;
+            cur_live$23$d = rd_live$23;
+            cur_head$23$d = rec$23$read_data;
+        end
+        if (take & (pick_id == list_id$24)) begin
+            started$24$d = 1'b1;
+        end
+        if (load_next) begin
+            started$24$d = pick_id == list_id$24;
+            cur_live$24$d = rd_live$24;
+            cur_head$24$d = rec$24$read_data;
+        end
+        if (take & (pick_id == list_id$25)) begin
+            started$25$d = 1'b1;
+        end
+        if (load_next) begin
+            started$25$d = pick_id == list_id$25;
+            cur_live$25$d = rd_live$25;
+            cur_head$25$d = rec$25$read_data;
+        end
+        if (take & (pick_id == list_id$26)) begin
+            started$26$d = 1'b1;
+        end
+        if (load_next) begin
+            started$26$d = pick_id == list_id$26;
+            cur_live$26$d = rd_live$26;
+            cur_head$26$d = rec$26$read_data;
+        end
+        v1_i$d = cur_index$q;
+        v1_margin$d = cur_margin$q;
+        v1_min$0$d = cur_min$0$q;
+        v1_max$0$d = cur_max$0$q;
+        v1_min$1$d = cur_min$1$q;
+        v1_max$1$d = cur_max$1$q;
+        v1_min$2$d = cur_min$2$q;
+        v1_max$2$d = cur_max$2$q;
+        if (load_next) begin
+            rp$d = rp$q + 32'h1;
+            cur_valid$d = 1'b1;
+            cur_index$d = rec_index$read_data;
+            cur_margin$d = rec_margin$read_data;
+            v1_i$d = rec_index$read_data;
+            v1_margin$d = rec_margin$read_data;
+            cur_min$0$d = rec_min$0$read_data;
+            cur_max$0$d = rec_max$0$read_data;
+            v1_min$0$d = rec_min$0$read_data;
+            v1_max$0$d = rec_max$0$read_data;
+            cur_min$1$d = rec_min$1$read_data;
+            cur_max$1$d = rec_max$1$read_data;
+            v1_min$1$d = rec_min$1$read_data;
+            v1_max$1$d = rec_max$1$read_data;
+            cur_min$2$d = rec_min$2$read_data;
+            cur_max$2$d = rec_max$2$read_data;
+            v1_min$2$d = rec_min$2$read_data;
+            v1_max$2$d = rec_max$2$read_data;
+        end
+        else if (retire_rec) begin
+            cur_valid$d = 1'b0;
+        end
+        visit = go;
+        visit_i = ((v1_i$d) & 15'h7fff);
+        rd_addr = ((cand) & 15'h7fff);
+        succ$read_address_a = 32'h0;
+        succ$read_address_b = ((cand) & 15'h7fff);
+        inflight_up = 32'h0;
+        inflight_down = 32'h0;
+        retire_down = 32'h0;
+        if (accept) begin
+            inflight_up = 32'h1;
+        end
+        if (retire_probe) begin
+            inflight_down = 32'h1;
+        end
+        if (retire_rec) begin
+            retire_down = 32'h1;
+        end
+        inflight$d = inflight$q + inflight_up - inflight_down - retire_down;
+        credit = inflight$q < credits;
+        count_up = 32'h0;
+        count_down = 32'h0;
+        if (rec_write) begin
+            count_up = 32'h1;
+        end
+        if (load_next) begin
+            count_down = 32'h1;
+        end
+        count$d = count$q + count_up - count_down;
+        v1_valid$d = go;
+        v1_j$d = ((((cand) & 15'h7fff)) & 16'hffff);
+        v2_valid$d = v1_valid$q;
+        v2_i$d = v1_i$q;
+        v2_j$d = v1_j$q;
+        v2_margin_i$d = v1_margin$q;
+        v2_margin_j$d = rd_margin;
+        v2_min_i$0$d = v1_min$0$q;
+        v2_max_i$0$d = v1_max$0$q;
+        v2_min_j$0$d = rd_min$0;
+        v2_max_j$0$d = rd_max$0;
+        v2_min_i$1$d = v1_min$1$q;
+        v2_max_i$1$d = v1_max$1$q;
+        v2_min_j$1$d = rd_min$1;
+        v2_max_j$1$d = rd_max$1;
+        v2_min_i$2$d = v1_min$2$q;
+        v2_max_i$2$d = v1_max$2$q;
+        v2_min_j$2$d = rd_min$2;
+        v2_max_j$2$d = rd_max$2;
+        overlap = (v2_min_i$0$q <= v2_max_j$0$q) & (v2_min_j$0$q <= v2_max_i$0$q) & (v2_min_i$1$q <= v2_max_j$1$q) & (v2_min_j$1$q <= v2_max_i$1$q) & (v2_min_i$2$q <= v2_max_j$2$q) & (v2_min_j$2$q <= v2_max_i$2$q);
+        swap = v2_i$q < v2_j$q;
+        cand_lo = ((v2_j$q) & 20'hfffff);
+        cand_hi = ((v2_i$q) & 20'hfffff);
+        margin_lo = v2_margin_j$q;
+        margin_hi = v2_margin_i$q;
+        if (swap) begin
+            cand_lo = ((v2_i$q) & 20'hfffff);
+            cand_hi = ((v2_j$q) & 20'hfffff);
+            margin_lo = v2_margin_i$q;
+            margin_hi = v2_margin_j$q;
+        end
+        cand_word = (((cand_lo) & 96'hffffffffffffffffffffffff) << at_a) | (((cand_hi) & 96'hffffffffffffffffffffffff) << at_b) | (((margin_lo) & 96'hffffffffffffffffffffffff) << at_ma) | ((margin_hi) & 96'hffffffffffffffffffffffff);
+        fifo$write = v2_valid$q & overlap;
+        fifo$data_in = cand_word;
+        fifo$ready = cand_ready;
+        cand_valid = fifo$valid;
+        unpack_a = fifo$data_out >> at_a;
+        unpack_b = fifo$data_out >> at_b;
+        unpack_ma = fifo$data_out >> at_ma;
+        cand_a = ((unpack_a) & 15'h7fff);
+        cand_b = ((unpack_b) & 15'h7fff);
+        cand_ma = ((unpack_ma) & 28'hfffffff);
+        cand_mb = ((fifo$data_out) & 28'hfffffff);
+        done_walk = loaded & (inflight$q == 32'h0);
+        walked = done_walk;
+        if (done_walk & ~clearing$q & ~cleared$q) begin
+            clearing$d = 1'b1;
+            clear_at$d = 32'h0;
+        end
+        if (clearing$q) begin
+            clear_at$d = clear_at$q + 32'h1;
+            if (clear_at$q == last_bucket) begin
+                clearing$d = 1'b0;
+                cleared$d = 1'b1;
+            end
+        end
+        finished = cleared$q & fifo$empty & ~v1_valid$q & ~v2_valid$q;
+        oversize = large_seen$q;
+        if (start) begin
+            wp$d = 32'h0;
+            rp$d = 32'h0;
+            count$d = 32'h0;
+            inflight$d = 32'h0;
+            cur_valid$d = 1'b0;
+            held_valid$d = 1'b0;
+            chase$d = 1'b0;
+            clearing$d = 1'b0;
+            cleared$d = 1'b0;
+            large_seen$d = 1'b0;
+        end
+    end
+    
+endmodule // obb_core$grid
+
+
+module obb_core$grid$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_max$0,key_max$1,key_max$2,valid,small_box,bucket$0,bucket$1,bucket$2,bucket$3,bucket$4,bucket$5,bucket$6,bucket$7,bucket$8,bucket$9,bucket$10,bucket$11,bucket$12,bucket$13,bucket$14,bucket$15,bucket$16,bucket$17,bucket$18,bucket$19,bucket$20,bucket$21,bucket$22,bucket$23,bucket$24,bucket$25,bucket$26,fp$0,fp$1,fp$2,fp$3,fp$4,fp$5,fp$6,fp$7,fp$8,fp$9,fp$10,fp$11,fp$12,fp$13,fp$14,fp$15,fp$16,fp$17,fp$18,fp$19,fp$20,fp$21,fp$22,fp$23,fp$24,fp$25,fp$26,inside$0,inside$1,inside$2,inside$3,inside$4,inside$5,inside$6,inside$7,inside$8,inside$9,inside$10,inside$11,inside$12,inside$13,inside$14,inside$15,inside$16,inside$17,inside$18,inside$19,inside$20,inside$21,inside$22,inside$23,inside$24,inside$25,inside$26,home$0,home$1,home$2,home$3,home$4,home$5,home$6,home$7,home$8,home$9,home$10,home$11,home$12,home$13,home$14,home$15,home$16,home$17,home$18,home$19,home$20,home$21,home$22,home$23,home$24,home$25,home$26,home_fp);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  key_valid;
+    input wire  [22:0] key_min$0;
+    input wire  [22:0] key_min$1;
+    input wire  [22:0] key_min$2;
+    input wire  [22:0] key_max$0;
+    input wire  [22:0] key_max$1;
+    input wire  [22:0] key_max$2;
+    output reg  valid;
+    output reg  small_box;
+    output reg  [19:0] bucket$0;
+    output reg  [19:0] bucket$1;
+    output reg  [19:0] bucket$2;
+    output reg  [19:0] bucket$3;
+    output reg  [19:0] bucket$4;
+    output reg  [19:0] bucket$5;
+    output reg  [19:0] bucket$6;
+    output reg  [19:0] bucket$7;
+    output reg  [19:0] bucket$8;
+    output reg  [19:0] bucket$9;
+    output reg  [19:0] bucket$10;
+    output reg  [19:0] bucket$11;
+    output reg  [19:0] bucket$12;
+    output reg  [19:0] bucket$13;
+    output reg  [19:0] bucket$14;
+    output reg  [19:0] bucket$15;
+    output reg  [19:0] bucket$16;
+    output reg  [19:0] bucket$17;
+    output reg  [19:0] bucket$18;
+    output reg  [19:0] bucket$19;
+    output reg  [19:0] bucket$20;
+    output reg  [19:0] bucket$21;
+    output reg  [19:0] bucket$22;
+    output reg  [19:0] bucket$23;
+    output reg  [19:0] bucket$24;
+    output reg  [19:0] bucket$25;
+    output reg  [19:0] bucket$26;
+    output reg  [7:0] fp$0;
+    output reg  [7:0] fp$1;
+    output reg  [7:0] fp$2;
+    output reg  [7:0] fp$3;
+    output reg  [7:0] fp$4;
+    output reg  [7:0] fp$5;
+    output reg  [7:0] fp$6;
+    output reg  [7:0] fp$7;
+    output reg  [7:0] fp$8;
+    output reg  [7:0] fp$9;
+    output reg  [7:0] fp$10;
+    output reg  [7:0] fp$11;
+    output reg  [7:0] fp$12;
+    output reg  [7:0] fp$13;
+    output reg  [7:0] fp$14;
+    output reg  [7:0] fp$15;
+    output reg  [7:0] fp$16;
+    output reg  [7:0] fp$17;
+    output reg  [7:0] fp$18;
+    output reg  [7:0] fp$19;
+    output reg  [7:0] fp$20;
+    output reg  [7:0] fp$21;
+    output reg  [7:0] fp$22;
+    output reg  [7:0] fp$23;
+    output reg  [7:0] fp$24;
+    output reg  [7:0] fp$25;
+    output reg  [7:0] fp$26;
+    output reg  inside$0;
+    output reg  inside$1;
+    output reg  inside$2;
+    output reg  inside$3;
+    output reg  inside$4;
+    output reg  inside$5;
+    output reg  inside$6;
+    output reg  inside$7;
+    output reg  inside$8;
+    output reg  inside$9;
+    output reg  inside$10;
+    output reg  inside$11;
+    output reg  inside$12;
+    output reg  inside$13;
+    output reg  inside$14;
+    output reg  inside$15;
+    output reg  inside$16;
+    output reg  inside$17;
+    output reg  inside$18;
+    output reg  inside$19;
+    output reg  inside$20;
+    output reg  inside$21;
+    output reg  inside$22;
+    output reg  inside$23;
+    output reg  inside$24;
+    output reg  inside$25;
+    output reg  inside$26;
+    output reg  home$0;
+    output reg  home$1;
+    output reg  home$2;
+    output reg  home$3;
+    output reg  home$4;
+    output reg  home$5;
+    output reg  home$6;
+    output reg  home$7;
+    output reg  home$8;
+    output reg  home$9;
+    output reg  home$10;
+    output reg  home$11;
+    output reg  home$12;
+    output reg  home$13;
+    output reg  home$14;
+    output reg  home$15;
+    output reg  home$16;
+    output reg  home$17;
+    output reg  home$18;
+    output reg  home$19;
+    output reg  home$20;
+    output reg  home$21;
+    output reg  home$22;
+    output reg  home$23;
+    output reg  home$24;
+    output reg  home$25;
+    output reg  home$26;
+    output reg  [7:0] home_fp;
+    
+    // Constant declarations
+    localparam  cell_edge = 23'h800;
+    localparam  cell_bits = 8'hb;
+    localparam  column$0 = 20'h80094;
+    localparam  column$1 = 20'hdba6f;
+    localparam  column$2 = 20'h2818b;
+    localparam  column$3 = 20'h819a8;
+    localparam  column$4 = 20'ha722e;
+    localparam  column$5 = 20'hf0c48;
+    localparam  column$6 = 20'h9b81f;
+    localparam  column$7 = 20'h61d67;
+    localparam  column$8 = 20'h962fa;
+    localparam  column$9 = 20'he5f7f;
+    localparam  column$10 = 20'h0;
+    localparam  column$11 = 20'h0;
+    localparam  column$12 = 20'h0;
+    localparam  column$13 = 20'h0;
+    localparam  column$14 = 20'h0;
+    localparam  column$15 = 20'h0;
+    localparam  column$16 = 20'h0;
+    localparam  column$17 = 20'h0;
+    localparam  column$18 = 20'h0;
+    localparam  column$19 = 20'h0;
+    localparam  column$20 = 20'h0;
+    localparam  column$21 = 20'h0;
+    localparam  column$22 = 20'h0;
+    localparam  column$23 = 20'hf5f3c;
+    localparam  column$24 = 20'hcecd7;
+    localparam  column$25 = 20'h67019;
+    localparam  column$26 = 20'h3b3f8;
+    localparam  column$27 = 20'h7adf0;
+    localparam  column$28 = 20'ha8d03;
+    localparam  column$29 = 20'h5831;
+    localparam  column$30 = 20'h142c6;
+    localparam  column$31 = 20'h37417;
+    localparam  column$32 = 20'ha4aa5;
+    localparam  column$33 = 20'h0;
+    localparam  column$34 = 20'h0;
+    localparam  column$35 = 20'h0;
+    localparam  column$36 = 20'h0;
+    localparam  column$37 = 20'h0;
+    localparam  column$38 = 20'h0;
+    localparam  column$39 = 20'h0;
+    localparam  column$40 = 20'h0;
+    localparam  column$41 = 20'h0;
+    localparam  column$42 = 20'h0;
+    localparam  column$43 = 20'h0;
+    localparam  column$44 = 20'h0;
+    localparam  column$45 = 20'h0;
+    localparam  column$46 = 20'h36297;
+    localparam  column$47 = 20'h4a002;
+    localparam  column$48 = 20'h77a79;
+    localparam  column$49 = 20'hb3237;
+    localparam  column$50 = 20'h69a70;
+    localparam  column$51 = 20'hd971b;
+    localparam  column$52 = 20'ha50ce;
+    localparam  column$53 = 20'h4a9e4;
+    localparam  column$54 = 20'ha73b1;
+    localparam  column$55 = 20'hd4223;
+    localparam  column$56 = 20'h0;
+    localparam  column$57 = 20'h0;
+    localparam  column$58 = 20'h0;
+    localparam  column$59 = 20'h0;
+    localparam  column$60 = 20'h0;
+    localparam  column$61 = 20'h0;
+    localparam  column$62 = 20'h0;
+    localparam  column$63 = 20'h0;
+    localparam  column$64 = 20'h0;
+    localparam  column$65 = 20'h0;
+    localparam  column$66 = 20'h0;
+    localparam  column$67 = 20'h0;
+    localparam  column$68 = 20'h0;
+    localparam  bucket_mask = 20'h1;
+    localparam  three = 23'h3;
+    localparam  digit_at$0 = 8'h0;
+    localparam  digit_at$1 = 8'h2;
+    localparam  digit_at$2 = 8'h4;
+    localparam  digit_at$3 = 8'h6;
+    localparam  digit_at$4 = 8'h8;
+    localparam  digit_at$5 = 8'ha;
+    localparam  digit_at$6 = 8'hc;
+    localparam  digit_at$7 = 8'he;
+    localparam  digit_at$8 = 8'h10;
+    localparam  digit_at$9 = 8'h12;
+    localparam  digit_at$10 = 8'h14;
+    localparam  digit_at$11 = 8'h16;
+    
+    // Stub signals
+    reg  valid1$d;
+    wire  valid1$q;
+    reg  valid1$clock;
+    reg  valid2$d;
+    wire  valid2$q;
+    reg  valid2$clock;
+    reg  valid3$d;
+    wire  valid3$q;
+    reg  valid3$clock;
+    reg  small1$d;
+    wire  small1$q;
+    reg  small1$clock;
+    reg  small2$d;
+    wire  small2$q;
+    reg  small2$clock;
+    reg  small3$d;
+    wire  small3$q;
+    reg  small3$clock;
+    reg  [22:0] cell1$0$d;
+    wire  [22:0] cell1$0$q;
+    reg  cell1$0$clock;
+    reg  [22:0] cell1$1$d;
+    wire  [22:0] cell1$1$q;
+    reg  cell1$1$clock;
+    reg  [22:0] cell1$2$d;
+    wire  [22:0] cell1$2$q;
+    reg  cell1$2$clock;
+    reg  [22:0] cell1$3$d;
+    wire  [22:0] cell1$3$q;
+    reg  cell1$3$clock;
+    reg  [22:0] cell1$4$d;
+    wire  [22:0] cell1$4$q;
+    reg  cell1$4$clock;
+    reg  [22:0] cell1$5$d;
+    wire  [22:0] cell1$5$q;
+    reg  cell1$5$clock;
+    reg  [22:0] cell1$6$d;
+    wire  [22:0] cell1$6$q;
+    reg  cell1$6$clock;
+    reg  [22:0] cell1$7$d;
+    wire  [22:0] cell1$7$q;
+    reg  cell1$7$clock;
+    reg  [22:0] cell1$8$d;
+    wire  [22:0] cell1$8$q;
+    reg  cell1$8$clock;
+    reg  third1$0$d;
+    wire  third1$0$q;
+    reg  third1$0$clock;
+    reg  third1$1$d;
+    wire  third1$1$q;
+    reg  third1$1$clock;
+    reg  third1$2$d;
+    wire  third1$2$q;
+    reg  third1$2$clock;
+    reg  [19:0] hash2$0$d;
+    wire  [19:0] hash2$0$q;
+    reg  hash2$0$clock;
+    reg  [19:0] hash2$1$d;
+    wire  [19:0] hash2$1$q;
+    reg  hash2$1$clock;
+    reg  [19:0] hash2$2$d;
+    wire  [19:0] hash2$2$q;
+    reg  hash2$2$clock;
+    reg  [19:0] hash2$3$d;
+    wire  [19:0] hash2$3$q;
+    reg  hash2$3$clock;
+    reg  [19:0] hash2$4$d;
+    wire  [19:0] hash2$4$q;
+    reg  hash2$4$clock;
+    reg  [19:0] hash2$5$d;
+    wire  [19:0] hash2$5$q;
+    reg  hash2$5$clock;
+    reg  [19:0] hash2$6$d;
+    wire  [19:0] hash2$6$q;
+    reg  hash2$6$clock;
+    reg  [19:0] hash2$7$d;
+    wire  [19:0] hash2$7$q;
+    reg  hash2$7$clock;
+    reg  [19:0] hash2$8$d;
+    wire  [19:0] hash2$8$q;
+    reg  hash2$8$clock;
+    reg  third2$0$d;
+    wire  third2$0$q;
+    reg  third2$0$clock;
+    reg  third2$1$d;
+    wire  third2$1$q;
+    reg  third2$1$clock;
+    reg  third2$2$d;
+    wire  third2$2$q;
+    reg  third2$2$clock;
+    reg  [22:0] res2$0$d;
+    wire  [22:0] res2$0$q;
+    reg  res2$0$clock;
+    reg  [22:0] res2$1$d;
+    wire  [22:0] res2$1$q;
+    reg  res2$1$clock;
+    reg  [22:0] res2$2$d;
+    wire  [22:0] res2$2$q;
+    reg  res2$2$clock;
+    reg  [19:0] bucket_r$0$d;
+    wire  [19:0] bucket_r$0$q;
+    reg  bucket_r$0$clock;
+    reg  [19:0] bucket_r$1$d;
+    wire  [19:0] bucket_r$1$q;
+    reg  bucket_r$1$clock;
+    reg  [19:0] bucket_r$2$d;
+    wire  [19:0] bucket_r$2$q;
+    reg  bucket_r$2$clock;
+    reg  [19:0] bucket_r$3$d;
+    wire  [19:0] bucket_r$3$q;
+    reg  bucket_r$3$clock;
+    reg  [19:0] bucket_r$4$d;
+    wire  [19:0] bucket_r$4$q;
+    reg  bucket_r$4$clock;
+    reg  [19:0] bucket_r$5$d;
+    wire  [19:0] bucket_r$5$q;
+    reg  bucket_r$5$clock;
+    reg  [19:0] bucket_r$6$d;
+    wire  [19:0] bucket_r$6$q;
+    reg  bucket_r$6$clock;
+    reg  [19:0] bucket_r$7$d;
+    wire  [19:0] bucket_r$7$q;
+    reg  bucket_r$7$clock;
+    reg  [19:0] bucket_r$8$d;
+    wire  [19:0] bucket_r$8$q;
+    reg  bucket_r$8$clock;
+    reg  [19:0] bucket_r$9$d;
+    wire  [19:0] bucket_r$9$q;
+    reg  bucket_r$9$clock;
+    reg  [19:0] bucket_r$10$d;
+    wire  [19:0] bucket_r$10$q;
+    reg  bucket_r$10$clock;
+    reg  [19:0] bucket_r$11$d;
+    wire  [19:0] bucket_r$11$q;
+    reg  bucket_r$11$clock;
+    reg  [19:0] bucket_r$12$d;
+    wire  [19:0] bucket_r$12$q;
+    reg  bucket_r$12$clock;
+    reg  [19:0] bucket_r$13$d;
+    wire  [19:0] bucket_r$13$q;
+    reg  bucket_r$13$clock;
+    reg  [19:0] bucket_r$14$d;
+    wire  [19:0] bucket_r$14$q;
+    reg  bucket_r$14$clock;
+    reg  [19:0] bucket_r$15$d;
+    wire  [19:0] bucket_r$15$q;
+    reg  bucket_r$15$clock;
+    reg  [19:0] bucket_r$16$d;
+    wire  [19:0] bucket_r$16$q;
+    reg  bucket_r$16$clock;
+    reg  [19:0] bucket_r$17$d;
+    wire  [19:0] bucket_r$17$q;
+    reg  bucket_r$17$clock;
+    reg  [19:0] bucket_r$18$d;
+    wire  [19:0] bucket_r$18$q;
+    reg  bucket_r$18$clock;
+    reg  [19:0] bucket_r$19$d;
+    wire  [19:0] bucket_r$19$q;
+    reg  bucket_r$19$clock;
+    reg  [19:0] bucket_r$20$d;
+    wire  [19:0] bucket_r$20$q;
+    reg  bucket_r$20$clock;
+    reg  [19:0] bucket_r$21$d;
+    wire  [19:0] bucket_r$21$q;
+    reg  bucket_r$21$clock;
+    reg  [19:0] bucket_r$22$d;
+    wire  [19:0] bucket_r$22$q;
+    reg  bucket_r$22$clock;
+    reg  [19:0] bucket_r$23$d;
+    wire  [19:0] bucket_r$23$q;
+    reg  bucket_r$23$clock;
+    reg  [19:0] bucket_r$24$d;
+    wire  [19:0] bucket_r$24$q;
+    reg  bucket_r$24$clock;
+    reg  [19:0] bucket_r$25$d;
+    wire  [19:0] bucket_r$25$q;
+    reg  bucket_r$25$clock;
+    reg  [19:0] bucket_r$26$d;
+    wire  [19:0] bucket_r$26$q;
+    reg  bucket_r$26$clock;
+    reg  [7:0] fp_r$0$d;
+    wire  [7:0] fp_r$0$q;
+    reg  fp_r$0$clock;
+    reg  [7:0] fp_r$1$d;
+    wire  [7:0] fp_r$1$q;
+    reg  fp_r$1$clock;
+    reg  [7:0] fp_r$2$d;
+    wire  [7:0] fp_r$2$q;
+    reg  fp_r$2$clock;
+    reg  [7:0] fp_r$3$d;
+    wire  [7:0] fp_r$3$q;
+    reg  fp_r$3$clock;
+    reg  [7:0] fp_r$4$d;
+    wire  [7:0] fp_r$4$q;
+    reg  fp_r$4$clock;
+    reg  [7:0] fp_r$5$d;
+    wire  [7:0] fp_r$5$q;
+    reg  fp_r$5$clock;
+    reg  [7:0] fp_r$6$d;
+    wire  [7:0] fp_r$6$q;
+    reg  fp_r$6$clock;
+    reg  [7:0] fp_r$7$d;
+    wire  [7:0] fp_r$7$q;
+    reg  fp_r$7$clock;
+    reg  [7:0] fp_r$8$d;
+    wire  [7:0] fp_r$8$q;
+    reg  fp_r$8$clock;
+    reg  [7:0] fp_r$9$d;
+    wire  [7:0] fp_r$9$q;
+    reg  fp_r$9$clock;
+    reg  [7:0] fp_r$10$d;
+    wire  [7:0] fp_r$10$q;
+    reg  fp_r$10$clock;
+    reg  [7:0] fp_r$11$d;
+    wire  [7:0] fp_r$11$q;
+    reg  fp_r$11$clock;
+    reg  [7:0] fp_r$12$d;
+    wire  [7:0] fp_r$12$q;
+    reg  fp_r$12$clock;
+    reg  [7:0] fp_r$13$d;
+    wire  [7:0] fp_r$13$q;
+    reg  fp_r$13$clock;
+    reg  [7:0] fp_r$14$d;
+    wire  [7:0] fp_r$14$q;
+    reg  fp_r$14$clock;
+    reg  [7:0] fp_r$15$d;
+    wire  [7:0] fp_r$15$q;
+    reg  fp_r$15$clock;
+    reg  [7:0] fp_r$16$d;
+    wire  [7:0] fp_r$16$q;
+    reg  fp_r$16$clock;
+    reg  [7:0] fp_r$17$d;
+    wire  [7:0] fp_r$17$q;
+    reg  fp_r$17$clock;
+    reg  [7:0] fp_r$18$d;
+    wire  [7:0] fp_r$18$q;
+    reg  fp_r$18$clock;
+    reg  [7:0] fp_r$19$d;
+    wire  [7:0] fp_r$19$q;
+    reg  fp_r$19$clock;
+    reg  [7:0] fp_r$20$d;
+    wire  [7:0] fp_r$20$q;
+    reg  fp_r$20$clock;
+    reg  [7:0] fp_r$21$d;
+    wire  [7:0] fp_r$21$q;
+    reg  fp_r$21$clock;
+    reg  [7:0] fp_r$22$d;
+    wire  [7:0] fp_r$22$q;
+    reg  fp_r$22$clock;
+    reg  [7:0] fp_r$23$d;
+    wire  [7:0] fp_r$23$q;
+    reg  fp_r$23$clock;
+    reg  [7:0] fp_r$24$d;
+    wire  [7:0] fp_r$24$q;
+    reg  fp_r$24$clock;
+    reg  [7:0] fp_r$25$d;
+    wire  [7:0] fp_r$25$q;
+    reg  fp_r$25$clock;
+    reg  [7:0] fp_r$26$d;
+    wire  [7:0] fp_r$26$q;
+    reg  fp_r$26$clock;
+    reg  inside_r$0$d;
+    wire  inside_r$0$q;
+    reg  inside_r$0$clock;
+    reg  inside_r$1$d;
+    wire  inside_r$1$q;
+    reg  inside_r$1$clock;
+    reg  inside_r$2$d;
+    wire  inside_r$2$q;
+    reg  inside_r$2$clock;
+    reg  inside_r$3$d;
+    wire  inside_r$3$q;
+    reg  inside_r$3$clock;
+    reg  inside_r$4$d;
+    wire  inside_r$4$q;
+    reg  inside_r$4$clock;
+    reg  inside_r$5$d;
+    wire  inside_r$5$q;
+    reg  inside_r$5$clock;
+    reg  inside_r$6$d;
+    wire  inside_r$6$q;
+    reg  inside_r$6$clock;
+    reg  inside_r$7$d;
+    wire  inside_r$7$q;
+    reg  inside_r$7$clock;
+    reg  inside_r$8$d;
+    wire  inside_r$8$q;
+    reg  inside_r$8$clock;
+    reg  inside_r$9$d;
+    wire  inside_r$9$q;
+    reg  inside_r$9$clock;
+    reg  inside_r$10$d;
+    wire  inside_r$10$q;
+    reg  inside_r$10$clock;
+    reg  inside_r$11$d;
+    wire  inside_r$11$q;
+    reg  inside_r$11$clock;
+    reg  inside_r$12$d;
+    wire  inside_r$12$q;
+    reg  inside_r$12$clock;
+    reg  inside_r$13$d;
+    wire  inside_r$13$q;
+    reg  inside_r$13$clock;
+    reg  inside_r$14$d;
+    wire  inside_r$14$q;
+    reg  inside_r$14$clock;
+    reg  inside_r$15$d;
+    wire  inside_r$15$q;
+    reg  inside_r$15$clock;
+    reg  inside_r$16$d;
+    wire  inside_r$16$q;
+    reg  inside_r$16$clock;
+    reg  inside_r$17$d;
+    wire  inside_r$17$q;
+    reg  inside_r$17$clock;
+    reg  inside_r$18$d;
+    wire  inside_r$18$q;
+    reg  inside_r$18$clock;
+    reg  inside_r$19$d;
+    wire  inside_r$19$q;
+    reg  inside_r$19$clock;
+    reg  inside_r$20$d;
+    wire  inside_r$20$q;
+    reg  inside_r$20$clock;
+    reg  inside_r$21$d;
+    wire  inside_r$21$q;
+    reg  inside_r$21$clock;
+    reg  inside_r$22$d;
+    wire  inside_r$22$q;
+    reg  inside_r$22$clock;
+    reg  inside_r$23$d;
+    wire  inside_r$23$q;
+    reg  inside_r$23$clock;
+    reg  inside_r$24$d;
+    wire  inside_r$24$q;
+    reg  inside_r$24$clock;
+    reg  inside_r$25$d;
+    wire  inside_r$25$q;
+    reg  inside_r$25$clock;
+    reg  inside_r$26$d;
+    wire  inside_r$26$q;
+    reg  inside_r$26$clock;
+    reg  home_r$0$d;
+    wire  home_r$0$q;
+    reg  home_r$0$clock;
+    reg  home_r$1$d;
+    wire  home_r$1$q;
+    reg  home_r$1$clock;
+    reg  home_r$2$d;
+    wire  home_r$2$q;
+    reg  home_r$2$clock;
+    reg  home_r$3$d;
+    wire  home_r$3$q;
+    reg  home_r$3$clock;
+    reg  home_r$4$d;
+    wire  home_r$4$q;
+    reg  home_r$4$clock;
+    reg  home_r$5$d;
+    wire  home_r$5$q;
+    reg  home_r$5$clock;
+    reg  home_r$6$d;
+    wire  home_r$6$q;
+    reg  home_r$6$clock;
+    reg  home_r$7$d;
+    wire  home_r$7$q;
+    reg  home_r$7$clock;
+    reg  home_r$8$d;
+    wire  home_r$8$q;
+    reg  home_r$8$clock;
+    reg  home_r$9$d;
+    wire  home_r$9$q;
+    reg  home_r$9$clock;
+    reg  home_r$10$d;
+    wire  home_r$10$q;
+    reg  home_r$10$clock;
+    reg  home_r$11$d;
+    wire  home_r$11$q;
+    reg  home_r$11$clock;
+    reg  home_r$12$d;
+    wire  home_r$12$q;
+    reg  home_r$12$clock;
+    reg  home_r$13$d;
+    wire  home_r$13$q;
+    reg  home_r$13$clock;
+    reg  home_r$14$d;
+    wire  home_r$14$q;
+    reg  home_r$14$clock;
+    reg  home_r$15$d;
+    wire  home_r$15$q;
+    reg  home_r$15$clock;
+    reg  home_r$16$d;
+    wire  home_r$16$q;
+    reg  home_r$16$clock;
+    reg  home_r$17$d;
+    wire  home_r$17$q;
+    reg  home_r$17$clock;
+    reg  home_r$18$d;
+    wire  home_r$18$q;
+    reg  home_r$18$clock;
+    reg  home_r$19$d;
+    wire  home_r$19$q;
+    reg  home_r$19$clock;
+    reg  home_r$20$d;
+    wire  home_r$20$q;
+    reg  home_r$20$clock;
+    reg  home_r$21$d;
+    wire  home_r$21$q;
+    reg  home_r$21$clock;
+    reg  home_r$22$d;
+    wire  home_r$22$q;
+    reg  home_r$22$clock;
+    reg  home_r$23$d;
+    wire  home_r$23$q;
+    reg  home_r$23$clock;
+    reg  home_r$24$d;
+    wire  home_r$24$q;
+    reg  home_r$24$clock;
+    reg  home_r$25$d;
+    wire  home_r$25$q;
+    reg  home_r$25$clock;
+    reg  home_r$26$d;
+    wire  home_r$26$q;
+    reg  home_r$26$clock;
+    reg  [7:0] home_fp_r$d;
+    wire  [7:0] home_fp_r$q;
+    reg  home_fp_r$clock;
+    
+    // Local signals
+    reg  [22:0] width$0;
+    reg  [22:0] width$1;
+    reg  [22:0] width$2;
+    reg  [19:0] hacc$0;
+    reg  [19:0] hacc$1;
+    reg  [19:0] hacc$2;
+    reg  [19:0] hacc$3;
+    reg  [19:0] hacc$4;
+    reg  [19:0] hacc$5;
+    reg  [19:0] hacc$6;
+    reg  [19:0] hacc$7;
+    reg  [19:0] hacc$8;
+    reg  [19:0] hacc$9;
+    reg  [19:0] hacc$10;
+    reg  [19:0] hacc$11;
+    reg  [19:0] hacc$12;
+    reg  [19:0] hacc$13;
+    reg  [19:0] hacc$14;
+    reg  [19:0] hacc$15;
+    reg  [19:0] hacc$16;
+    reg  [19:0] hacc$17;
+    reg  [19:0] hacc$18;
+    reg  [19:0] hacc$19;
+    reg  [19:0] hacc$20;
+    reg  [19:0] hacc$21;
+    reg  [19:0] hacc$22;
+    reg  [19:0] hacc$23;
+    reg  [19:0] hacc$24;
+    reg  [19:0] hacc$25;
+    reg  [19:0] hacc$26;
+    reg  [19:0] hacc$27;
+    reg  [19:0] hacc$28;
+    reg  [19:0] hacc$29;
+    reg  [19:0] hacc$30;
+    reg  [19:0] hacc$31;
+    reg  [19:0] hacc$32;
+    reg  [19:0] hacc$33;
+    reg  [19:0] hacc$34;
+    reg  [19:0] hacc$35;
+    reg  [19:0] hacc$36;
+    reg  [19:0] hacc$37;
+    reg  [19:0] hacc$38;
+    reg  [19:0] hacc$39;
+    reg  [19:0] hacc$40;
+    reg  [19:0] hacc$41;
+    reg  [19:0] hacc$42;
+    reg  [19:0] hacc$43;
+    reg  [19:0] hacc$44;
+    reg  [19:0] hacc$45;
+    reg  [19:0] hacc$46;
+    reg  [19:0] hacc$47;
+    reg  [19:0] hacc$48;
+    reg  [19:0] hacc$49;
+    reg  [19:0] hacc$50;
+    reg  [19:0] hacc$51;
+    reg  [19:0] hacc$52;
+    reg  [19:0] hacc$53;
+    reg  [19:0] hacc$54;
+    reg  [19:0] hacc$55;
+    reg  [19:0] hacc$56;
+    reg  [19:0] hacc$57;
+    reg  [19:0] hacc$58;
+    reg  [19:0] hacc$59;
+    reg  [19:0] hacc$60;
+    reg  [19:0] hacc$61;
+    reg  [19:0] hacc$62;
+    reg  [19:0] hacc$63;
+    reg  [19:0] hacc$64;
+    reg  [19:0] hacc$65;
+    reg  [19:0] hacc$66;
+    reg  [19:0] hacc$67;
+    reg  [19:0] hacc$68;
+    reg  [19:0] hacc$69;
+    reg  [19:0] hacc$70;
+    reg  [19:0] hacc$71;
+    reg  [19:0] hacc$72;
+    reg  [19:0] hacc$73;
+    reg  [19:0] hacc$74;
+    reg  [19:0] hacc$75;
+    reg  [19:0] hacc$76;
+    reg  [19:0] hacc$77;
+    reg  [19:0] hacc$78;
+    reg  [19:0] hacc$79;
+    reg  [19:0] hacc$80;
+    reg  [19:0] hacc$81;
+    reg  [19:0] hacc$82;
+    reg  [19:0] hacc$83;
+    reg  [19:0] hacc$84;
+    reg  [19:0] hacc$85;
+    reg  [19:0] hacc$86;
+    reg  [19:0] hacc$87;
+    reg  [19:0] hacc$88;
+    reg  [19:0] hacc$89;
+    reg  [19:0] hacc$90;
+    reg  [19:0] hacc$91;
+    reg  [19:0] hacc$92;
+    reg  [19:0] hacc$93;
+    reg  [19:0] hacc$94;
+    reg  [19:0] hacc$95;
+    reg  [19:0] hacc$96;
+    reg  [19:0] hacc$97;
+    reg  [19:0] hacc$98;
+    reg  [19:0] hacc$99;
+    reg  [19:0] hacc$100;
+    reg  [19:0] hacc$101;
+    reg  [19:0] hacc$102;
+    reg  [19:0] hacc$103;
+    reg  [19:0] hacc$104;
+    reg  [19:0] hacc$105;
+    reg  [19:0] hacc$106;
+    reg  [19:0] hacc$107;
+    reg  [19:0] hacc$108;
+    reg  [19:0] hacc$109;
+    reg  [19:0] hacc$110;
+    reg  [19:0] hacc$111;
+    reg  [19:0] hacc$112;
+    reg  [19:0] hacc$113;
+    reg  [19:0] hacc$114;
+    reg  [19:0] hacc$115;
+    reg  [19:0] hacc$116;
+    reg  [19:0] hacc$117;
+    reg  [19:0] hacc$118;
+    reg  [19:0] hacc$119;
+    reg  [19:0] hacc$120;
+    reg  [19:0] hacc$121;
+    reg  [19:0] hacc$122;
+    reg  [19:0] hacc$123;
+    reg  [19:0] hacc$124;
+    reg  [19:0] hacc$125;
+    reg  [19:0] hacc$126;
+    reg  [19:0] hacc$127;
+    reg  [19:0] hacc$128;
+    reg  [19:0] hacc$129;
+    reg  [19:0] hacc$130;
+    reg  [19:0] hacc$131;
+    reg  [19:0] hacc$132;
+    reg  [19:0] hacc$133;
+    reg  [19:0] hacc$134;
+    reg  [19:0] hacc$135;
+    reg  [19:0] hacc$136;
+    reg  [19:0] hacc$137;
+    reg  [19:0] hacc$138;
+    reg  [19:0] hacc$139;
+    reg  [19:0] hacc$140;
+    reg  [19:0] hacc$141;
+    reg  [19:0] hacc$142;
+    reg  [19:0] hacc$143;
+    reg  [19:0] hacc$144;
+    reg  [19:0] hacc$145;
+    reg  [19:0] hacc$146;
+    reg  [19:0] hacc$147;
+    reg  [19:0] hacc$148;
+    reg  [19:0] hacc$149;
+    reg  [19:0] hacc$150;
+    reg  [19:0] hacc$151;
+    reg  [19:0] hacc$152;
+    reg  [19:0] hacc$153;
+    reg  [19:0] hacc$154;
+    reg  [19:0] hacc$155;
+    reg  [19:0] hacc$156;
+    reg  [19:0] hacc$157;
+    reg  [19:0] hacc$158;
+    reg  [19:0] hacc$159;
+    reg  [19:0] hacc$160;
+    reg  [19:0] hacc$161;
+    reg  [19:0] hacc$162;
+    reg  [19:0] hacc$163;
+    reg  [19:0] hacc$164;
+    reg  [19:0] hacc$165;
+    reg  [19:0] hacc$166;
+    reg  [19:0] hacc$167;
+    reg  [19:0] hacc$168;
+    reg  [19:0] hacc$169;
+    reg  [19:0] hacc$170;
+    reg  [19:0] hacc$171;
+    reg  [19:0] hacc$172;
+    reg  [19:0] hacc$173;
+    reg  [19:0] hacc$174;
+    reg  [19:0] hacc$175;
+    reg  [19:0] hacc$176;
+    reg  [19:0] hacc$177;
+    reg  [19:0] hacc$178;
+    reg  [19:0] hacc$179;
+    reg  [19:0] hacc$180;
+    reg  [19:0] hacc$181;
+    reg  [19:0] hacc$182;
+    reg  [19:0] hacc$183;
+    reg  [19:0] hacc$184;
+    reg  [19:0] hacc$185;
+    reg  [19:0] hacc$186;
+    reg  [19:0] hacc$187;
+    reg  [19:0] hacc$188;
+    reg  [19:0] hacc$189;
+    reg  [19:0] hacc$190;
+    reg  [19:0] hacc$191;
+    reg  [19:0] hacc$192;
+    reg  [19:0] hacc$193;
+    reg  [19:0] hacc$194;
+    reg  [19:0] hacc$195;
+    reg  [19:0] hacc$196;
+    reg  [19:0] hacc$197;
+    reg  [19:0] hacc$198;
+    reg  [19:0] hacc$199;
+    reg  [19:0] hacc$200;
+    reg  [19:0] hacc$201;
+    reg  [19:0] hacc$202;
+    reg  [19:0] hacc$203;
+    reg  [19:0] hacc$204;
+    reg  [19:0] hacc$205;
+    reg  [19:0] hacc$206;
+    reg  [19:0] hacc$207;
+    reg  [19:0] hacc$208;
+    reg  [19:0] hacc$209;
+    reg  [19:0] hacc$210;
+    reg  [19:0] hacc$211;
+    reg  [19:0] hacc$212;
+    reg  [19:0] hacc$213;
+    reg  [19:0] hacc$214;
+    reg  [19:0] hacc$215;
+    reg  [22:0] racc$0;
+    reg  [22:0] racc$1;
+    reg  [22:0] racc$2;
+    reg  [22:0] racc$3;
+    reg  [22:0] racc$4;
+    reg  [22:0] racc$5;
+    reg  [22:0] racc$6;
+    reg  [22:0] racc$7;
+    reg  [22:0] racc$8;
+    reg  [22:0] racc$9;
+    reg  [22:0] racc$10;
+    reg  [22:0] racc$11;
+    reg  [22:0] racc$12;
+    reg  [22:0] racc$13;
+    reg  [22:0] racc$14;
+    reg  [22:0] racc$15;
+    reg  [22:0] racc$16;
+    reg  [22:0] racc$17;
+    reg  [22:0] racc$18;
+    reg  [22:0] racc$19;
+    reg  [22:0] racc$20;
+    reg  [22:0] racc$21;
+    reg  [22:0] racc$22;
+    reg  [22:0] racc$23;
+    reg  [22:0] racc$24;
+    reg  [22:0] racc$25;
+    reg  [22:0] racc$26;
+    reg  [22:0] racc$27;
+    reg  [22:0] racc$28;
+    reg  [22:0] racc$29;
+    reg  [22:0] racc$30;
+    reg  [22:0] racc$31;
+    reg  [22:0] racc$32;
+    reg  [22:0] racc$33;
+    reg  [22:0] racc$34;
+    reg  [22:0] racc$35;
+    reg  [22:0] racc$36;
+    reg  [22:0] racc$37;
+    reg  [22:0] racc$38;
+    reg  [22:0] rsum$0;
+    reg  [22:0] rsum$1;
+    reg  [22:0] rsum$2;
+    reg  [19:0] slot_hash$0;
+    reg  [19:0] slot_hash$1;
+    reg  [19:0] slot_hash$2;
+    reg  [19:0] slot_hash$3;
+    reg  [19:0] slot_hash$4;
+    reg  [19:0] slot_hash$5;
+    reg  [19:0] slot_hash$6;
+    reg  [19:0] slot_hash$7;
+    reg  [19:0] slot_hash$8;
+    reg  slot_in$0;
+    reg  slot_in$1;
+    reg  slot_in$2;
+    reg  slot_in$3;
+    reg  slot_in$4;
+    reg  slot_in$5;
+    reg  slot_in$6;
+    reg  slot_in$7;
+    reg  slot_in$8;
+    reg  slot_home$0;
+    reg  slot_home$1;
+    reg  slot_home$2;
+    reg  slot_home$3;
+    reg  slot_home$4;
+    reg  slot_home$5;
+    reg  slot_home$6;
+    reg  slot_home$7;
+    reg  slot_home$8;
+    reg  [19:0] bank_hash$0;
+    reg  [19:0] bank_hash$1;
+    reg  [19:0] bank_hash$2;
+    reg  [19:0] bank_hash$3;
+    reg  [19:0] bank_hash$4;
+    reg  [19:0] bank_hash$5;
+    reg  [19:0] bank_hash$6;
+    reg  [19:0] bank_hash$7;
+    reg  [19:0] bank_hash$8;
+    reg  [19:0] bank_hash$9;
+    reg  [19:0] bank_hash$10;
+    reg  [19:0] bank_hash$11;
+    reg  [19:0] bank_hash$12;
+    reg  [19:0] bank_hash$13;
+    reg  [19:0] bank_hash$14;
+    reg  [19:0] bank_hash$15;
+    reg  [19:0] bank_hash$16;
+    reg  [19:0] bank_hash$17;
+    reg  [19:0] bank_hash$18;
+    reg  [19:0] bank_hash$19;
+    reg  [19:0] bank_hash$20;
+    reg  [19:0] bank_hash$21;
+    reg  [19:0] bank_hash$22;
+    reg  [19:0] bank_hash$23;
+    reg  [19:0] bank_hash$24;
+    reg  [19:0] bank_hash$25;
+    reg  [19:0] bank_hash$26;
+    reg  [19:0] home_hash;
+    
+    // Sub module instances
+    obb_core$grid$cells$valid1 valid1(
+        .d(valid1$d),
+        .q(valid1$q),
+        .clock(valid1$clock)
+    );
+    obb_core$grid$cells$valid2 valid2(
+        .d(valid2$d),
+        .q(valid2$q),
+        .clock(valid2$clock)
+    );
+    obb_core$grid$cells$valid3 valid3(
+        .d(valid3$d),
+        .q(valid3$q),
+        .clock(valid3$clock)
+    );
+    obb_core$grid$cells$small1 small1(
+        .d(small1$d),
+        .q(small1$q),
+        .clock(small1$clock)
+    );
+    obb_core$grid$cells$small2 small2(
+        .d(small2$d),
+        .q(small2$q),
+        .clock(small2$clock)
+    );
+    obb_core$grid$cells$small3 small3(
+        .d(small3$d),
+        .q(small3$q),
+        .clock(small3$clock)
+    );
+    obb_core$grid$cells$cell1$0 cell1$0(
+        .d(cell1$0$d),
+        .q(cell1$0$q),
+        .clock(cell1$0$clock)
+    );
+    obb_core$grid$cells$cell1$1 cell1$1(
+        .d(cell1$1$d),
+        .q(cell1$1$q),
+        .clock(cell1$1$clock)
+    );
+    obb_core$grid$cells$cell1$2 cell1$2(
+        .d(cell1$2$d),
+        .q(cell1$2$q),
+        .clock(cell1$2$clock)
+    );
+    obb_core$grid$cells$cell1$3 cell1$3(
+        .d(cell1$3$d),
+        .q(cell1$3$q),
+        .clock(cell1$3$clock)
+    );
+    obb_core$grid$cells$cell1$4 cell1$4(
+        .d(cell1$4$d),
+        .q(cell1$4$q),
+        .clock(cell1$4$clock)
+    );
+    obb_core$grid$cells$cell1$5 cell1$5(
+        .d(cell1$5$d),
+        .q(cell1$5$q),
+        .clock(cell1$5$clock)
+    );
+    obb_core$grid$cells$cell1$6 cell1$6(
+        .d(cell1$6$d),
+        .q(cell1$6$q),
+        .clock(cell1$6$clock)
+    );
+    obb_core$grid$cells$cell1$7 cell1$7(
+        .d(cell1$7$d),
+        .q(cell1$7$q),
+        .clock(cell1$7$clock)
+    );
+    obb_core$grid$cells$cell1$8 cell1$8(
+        .d(cell1$8$d),
+        .q(cell1$8$q),
+        .clock(cell1$8$clock)
+    );
+    obb_core$grid$cells$third1$0 third1$0(
+        .d(third1$0$d),
+        .q(third1$0$q),
+        .clock(third1$0$clock)
+    );
+    obb_core$grid$cells$third1$1 third1$1(
+        .d(third1$1$d),
+        .q(third1$1$q),
+        .clock(third1$1$clock)
+    );
+    obb_core$grid$cells$third1$2 third1$2(
+        .d(third1$2$d),
+        .q(third1$2$q),
+        .clock(third1$2$clock)
+    );
+    obb_core$grid$cells$hash2$0 hash2$0(
+        .d(hash2$0$d),
+        .q(hash2$0$q),
+        .clock(hash2$0$clock)
+    );
+    obb_core$grid$cells$hash2$1 hash2$1(
+        .d(hash2$1$d),
+        .q(hash2$1$q),
+        .clock(hash2$1$clock)
+    );
+    obb_core$grid$cells$hash2$2 hash2$2(
+        .d(hash2$2$d),
+        .q(hash2$2$q),
+        .clock(hash2$2$clock)
+    );
+    obb_core$grid$cells$hash2$3 hash2$3(
+        .d(hash2$3$d),
+        .q(hash2$3$q),
+        .clock(hash2$3$clock)
+    );
+    obb_core$grid$cells$hash2$4 hash2$4(
+        .d(hash2$4$d),
+        .q(hash2$4$q),
+        .clock(hash2$4$clock)
+    );
+    obb_core$grid$cells$hash2$5 hash2$5(
+        .d(hash2$5$d),
+        .q(hash2$5$q),
+        .clock(hash2$5$clock)
+    );
+    obb_core$grid$cells$hash2$6 hash2$6(
+        .d(hash2$6$d),
+        .q(hash2$6$q),
+        .clock(hash2$6$clock)
+    );
+    obb_core$grid$cells$hash2$7 hash2$7(
+        .d(hash2$7$d),
+        .q(hash2$7$q),
+        .clock(hash2$7$clock)
+    );
+    obb_core$grid$cells$hash2$8 hash2$8(
+        .d(hash2$8$d),
+        .q(hash2$8$q),
+        .clock(hash2$8$clock)
+    );
+    obb_core$grid$cells$third2$0 third2$0(
+        .d(third2$0$d),
+        .q(third2$0$q),
+        .clock(third2$0$clock)
+    );
+    obb_core$grid$cells$third2$1 third2$1(
+        .d(third2$1$d),
+        .q(third2$1$q),
+        .clock(third2$1$clock)
+    );
+    obb_core$grid$cells$third2$2 third2$2(
+        .d(third2$2$d),
+        .q(third2$2$q),
+        .clock(third2$2$clock)
+    );
+    obb_core$grid$cells$res2$0 res2$0(
+        .d(res2$0$d),
+        .q(res2$0$q),
+        .clock(res2$0$clock)
+    );
+    obb_core$grid$cells$res2$1 res2$1(
+        .d(res2$1$d),
+        .q(res2$1$q),
+        .clock(res2$1$clock)
+    );
+    obb_core$grid$cells$res2$2 res2$2(
+        .d(res2$2$d),
+        .q(res2$2$q),
+        .clock(res2$2$clock)
+    );
+    obb_core$grid$cells$bucket_r$0 bucket_r$0(
+        .d(bucket_r$0$d),
+        .q(bucket_r$0$q),
+        .clock(bucket_r$0$clock)
+    );
+    obb_core$grid$cells$bucket_r$1 bucket_r$1(
+        .d(bucket_r$1$d),
+        .q(bucket_r$1$q),
+        .clock(bucket_r$1$clock)
+    );
+    obb_core$grid$cells$bucket_r$2 bucket_r$2(
+        .d(bucket_r$2$d),
+        .q(bucket_r$2$q),
+        .clock(bucket_r$2$clock)
+    );
+    obb_core$grid$cells$bucket_r$3 bucket_r$3(
+        .d(bucket_r$3$d),
+        .q(bucket_r$3$q),
+        .clock(bucket_r$3$clock)
+    );
+    obb_core$grid$cells$bucket_r$4 bucket_r$4(
+        .d(bucket_r$4$d),
+        .q(bucket_r$4$q),
+        .clock(bucket_r$4$clock)
+    );
+    obb_core$grid$cells$bucket_r$5 bucket_r$5(
+        .d(bucket_r$5$d),
+        .q(bucket_r$5$q),
+        .clock(bucket_r$5$clock)
+    );
+    obb_core$grid$cells$bucket_r$6 bucket_r$6(
+        .d(bucket_r$6$d),
+        .q(bucket_r$6$q),
+        .clock(bucket_r$6$clock)
+    );
+    obb_core$grid$cells$bucket_r$7 bucket_r$7(
+        .d(bucket_r$7$d),
+        .q(bucket_r$7$q),
+        .clock(bucket_r$7$clock)
+    );
+    obb_core$grid$cells$bucket_r$8 bucket_r$8(
+        .d(bucket_r$8$d),
+        .q(bucket_r$8$q),
+        .clock(bucket_r$8$clock)
+    );
+    obb_core$grid$cells$bucket_r$9 bucket_r$9(
+        .d(bucket_r$9$d),
+        .q(bucket_r$9$q),
+        .clock(bucket_r$9$clock)
+    );
+    obb_core$grid$cells$bucket_r$10 bucket_r$10(
+        .d(bucket_r$10$d),
+        .q(bucket_r$10$q),
+        .clock(bucket_r$10$clock)
+    );
+    obb_core$grid$cells$bucket_r$11 bucket_r$11(
+        .d(bucket_r$11$d),
+        .q(bucket_r$11$q),
+        .clock(bucket_r$11$clock)
+    );
+    obb_core$grid$cells$bucket_r$12 bucket_r$12(
+        .d(bucket_r$12$d),
+        .q(bucket_r$12$q),
+        .clock(bucket_r$12$clock)
+    );
+    obb_core$grid$cells$bucket_r$13 bucket_r$13(
+        .d(bucket_r$13$d),
+        .q(bucket_r$13$q),
+        .clock(bucket_r$13$clock)
+    );
+    obb_core$grid$cells$bucket_r$14 bucket_r$14(
+        .d(bucket_r$14$d),
+        .q(bucket_r$14$q),
+        .clock(bucket_r$14$clock)
+    );
+    obb_core$grid$cells$bucket_r$15 bucket_r$15(
+        .d(bucket_r$15$d),
+        .q(bucket_r$15$q),
+        .clock(bucket_r$15$clock)
+    );
+    obb_core$grid$cells$bucket_r$16 bucket_r$16(
+        .d(bucket_r$16$d),
+        .q(bucket_r$16$q),
+        .clock(bucket_r$16$clock)
+    );
+    obb_core$grid$cells$bucket_r$17 bucket_r$17(
+        .d(bucket_r$17$d),
+        .q(bucket_r$17$q),
+        .clock(bucket_r$17$clock)
+    );
+    obb_core$grid$cells$bucket_r$18 bucket_r$18(
+        .d(bucket_r$18$d),
+        .q(bucket_r$18$q),
+        .clock(bucket_r$18$clock)
+    );
+    obb_core$grid$cells$bucket_r$19 bucket_r$19(
+        .d(bucket_r$19$d),
+        .q(bucket_r$19$q),
+        .clock(bucket_r$19$clock)
+    );
+    obb_core$grid$cells$bucket_r$20 bucket_r$20(
+        .d(bucket_r$20$d),
+        .q(bucket_r$20$q),
+        .clock(bucket_r$20$clock)
+    );
+    obb_core$grid$cells$bucket_r$21 bucket_r$21(
+        .d(bucket_r$21$d),
+        .q(bucket_r$21$q),
+        .clock(bucket_r$21$clock)
+    );
+    obb_core$grid$cells$bucket_r$22 bucket_r$22(
+        .d(bucket_r$22$d),
+        .q(bucket_r$22$q),
+        .clock(bucket_r$22$clock)
+    );
+    obb_core$grid$cells$bucket_r$23 bucket_r$23(
+        .d(bucket_r$23$d),
+        .q(bucket_r$23$q),
+        .clock(bucket_r$23$clock)
+    );
+    obb_core$grid$cells$bucket_r$24 bucket_r$24(
+        .d(bucket_r$24$d),
+        .q(bucket_r$24$q),
+        .clock(bucket_r$24$clock)
+    );
+    obb_core$grid$cells$bucket_r$25 bucket_r$25(
+        .d(bucket_r$25$d),
+        .q(bucket_r$25$q),
+        .clock(bucket_r$25$clock)
+    );
+    obb_core$grid$cells$bucket_r$26 bucket_r$26(
+        .d(bucket_r$26$d),
+        .q(bucket_r$26$q),
+        .clock(bucket_r$26$clock)
+    );
+    obb_core$grid$cells$fp_r$0 fp_r$0(
+        .d(fp_r$0$d),
+        .q(fp_r$0$q),
+        .clock(fp_r$0$clock)
+    );
+    obb_core$grid$cells$fp_r$1 fp_r$1(
+        .d(fp_r$1$d),
+        .q(fp_r$1$q),
+        .clock(fp_r$1$clock)
+    );
+    obb_core$grid$cells$fp_r$2 fp_r$2(
+        .d(fp_r$2$d),
+        .q(fp_r$2$q),
+        .clock(fp_r$2$clock)
+    );
+    obb_core$grid$cells$fp_r$3 fp_r$3(
+        .d(fp_r$3$d),
+        .q(fp_r$3$q),
+        .clock(fp_r$3$clock)
+    );
+    obb_core$grid$cells$fp_r$4 fp_r$4(
+        .d(fp_r$4$d),
+        .q(fp_r$4$q),
+        .clock(fp_r$4$clock)
+    );
+    obb_core$grid$cells$fp_r$5 fp_r$5(
+        .d(fp_r$5$d),
+        .q(fp_r$5$q),
+        .clock(fp_r$5$clock)
+    );
+    obb_core$grid$cells$fp_r$6 fp_r$6(
+        .d(fp_r$6$d),
+        .q(fp_r$6$q),
+        .clock(fp_r$6$clock)
+    );
+    obb_core$grid$cells$fp_r$7 fp_r$7(
+        .d(fp_r$7$d),
+        .q(fp_r$7$q),
+        .clock(fp_r$7$clock)
+    );
+    obb_core$grid$cells$fp_r$8 fp_r$8(
+        .d(fp_r$8$d),
+        .q(fp_r$8$q),
+        .clock(fp_r$8$clock)
+    );
+    obb_core$grid$cells$fp_r$9 fp_r$9(
+        .d(fp_r$9$d),
+        .q(fp_r$9$q),
+        .clock(fp_r$9$clock)
+    );
+    obb_core$grid$cells$fp_r$10 fp_r$10(
+        .d(fp_r$10$d),
+        .q(fp_r$10$q),
+        .clock(fp_r$10$clock)
+    );
+    obb_core$grid$cells$fp_r$11 fp_r$11(
+        .d(fp_r$11$d),
+        .q(fp_r$11$q),
+        .clock(fp_r$11$clock)
+    );
+    obb_core$grid$cells$fp_r$12 fp_r$12(
+        .d(fp_r$12$d),
+        .q(fp_r$12$q),
+        .clock(fp_r$12$clock)
+    );
+    obb_core$grid$cells$fp_r$13 fp_r$13(
+        .d(fp_r$13$d),
+        .q(fp_r$13$q),
+        .clock(fp_r$13$clock)
+    );
+    obb_core$grid$cells$fp_r$14 fp_r$14(
+        .d(fp_r$14$d),
+        .q(fp_r$14$q),
+        .clock(fp_r$14$clock)
+    );
+    obb_core$grid$cells$fp_r$15 fp_r$15(
+        .d(fp_r$15$d),
+        .q(fp_r$15$q),
+        .clock(fp_r$15$clock)
+    );
+    obb_core$grid$cells$fp_r$16 fp_r$16(
+        .d(fp_r$16$d),
+        .q(fp_r$16$q),
+        .clock(fp_r$16$clock)
+    );
+    obb_core$grid$cells$fp_r$17 fp_r$17(
+        .d(fp_r$17$d),
+        .q(fp_r$17$q),
+        .clock(fp_r$17$clock)
+    );
+    obb_core$grid$cells$fp_r$18 fp_r$18(
+        .d(fp_r$18$d),
+        .q(fp_r$18$q),
+        .clock(fp_r$18$clock)
+    );
+    obb_core$grid$cells$fp_r$19 fp_r$19(
+        .d(fp_r$19$d),
+        .q(fp_r$19$q),
+        .clock(fp_r$19$clock)
+    );
+    obb_core$grid$cells$fp_r$20 fp_r$20(
+        .d(fp_r$20$d),
+        .q(fp_r$20$q),
+        .clock(fp_r$20$clock)
+    );
+    obb_core$grid$cells$fp_r$21 fp_r$21(
+        .d(fp_r$21$d),
+        .q(fp_r$21$q),
+        .clock(fp_r$21$clock)
+    );
+    obb_core$grid$cells$fp_r$22 fp_r$22(
+        .d(fp_r$22$d),
+        .q(fp_r$22$q),
+        .clock(fp_r$22$clock)
+    );
+    obb_core$grid$cells$fp_r$23 fp_r$23(
+        .d(fp_r$23$d),
+        .q(fp_r$23$q),
+        .clock(fp_r$23$clock)
+    );
+    obb_core$grid$cells$fp_r$24 fp_r$24(
+        .d(fp_r$24$d),
+        .q(fp_r$24$q),
+        .clock(fp_r$24$clock)
+    );
+    obb_core$grid$cells$fp_r$25 fp_r$25(
+        .d(fp_r$25$d),
+        .q(fp_r$25$q),
+        .clock(fp_r$25$clock)
+    );
+    obb_core$grid$cells$fp_r$26 fp_r$26(
+        .d(fp_r$26$d),
+        .q(fp_r$26$q),
+        .clock(fp_r$26$clock)
+    );
+    obb_core$grid$cells$inside_r$0 inside_r$0(
+        .d(inside_r$0$d),
+        .q(inside_r$0$q),
+        .clock(inside_r$0$clock)
+    );
+    obb_core$grid$cells$inside_r$1 inside_r$1(
+        .d(inside_r$1$d),
+        .q(inside_r$1$q),
+        .clock(inside_r$1$clock)
+    );
+    obb_core$grid$cells$inside_r$2 inside_r$2(
+        .d(inside_r$2$d),
+        .q(inside_r$2$q),
+        .clock(inside_r$2$clock)
+    );
+    obb_core$grid$cells$inside_r$3 inside_r$3(
+        .d(inside_r$3$d),
+        .q(inside_r$3$q),
+        .clock(inside_r$3$clock)
+    );
+    obb_core$grid$cells$inside_r$4 inside_r$4(
+        .d(inside_r$4$d),
+        .q(inside_r$4$q),
+        .clock(inside_r$4$clock)
+    );
+    obb_core$grid$cells$inside_r$5 inside_r$5(
+        .d(inside_r$5$d),
+        .q(inside_r$5$q),
+        .clock(inside_r$5$clock)
+    );
+    obb_core$grid$cells$inside_r$6 inside_r$6(
+        .d(inside_r$6$d),
+        .q(inside_r$6$q),
+        .clock(inside_r$6$clock)
+    );
+    obb_core$grid$cells$inside_r$7 inside_r$7(
+        .d(inside_r$7$d),
+        .q(inside_r$7$q),
+        .clock(inside_r$7$clock)
+    );
+    obb_core$grid$cells$inside_r$8 inside_r$8(
+        .d(inside_r$8$d),
+        .q(inside_r$8$q),
+        .clock(inside_r$8$clock)
+    );
+    obb_core$grid$cells$inside_r$9 inside_r$9(
+        .d(inside_r$9$d),
+        .q(inside_r$9$q),
+        .clock(inside_r$9$clock)
+    );
+    obb_core$grid$cells$inside_r$10 inside_r$10(
+        .d(inside_r$10$d),
+        .q(inside_r$10$q),
+        .clock(inside_r$10$clock)
+    );
+    obb_core$grid$cells$inside_r$11 inside_r$11(
+        .d(inside_r$11$d),
+        .q(inside_r$11$q),
+        .clock(inside_r$11$clock)
+    );
+    obb_core$grid$cells$inside_r$12 inside_r$12(
+        .d(inside_r$12$d),
+        .q(inside_r$12$q),
+        .clock(inside_r$12$clock)
+    );
+    obb_core$grid$cells$inside_r$13 inside_r$13(
+        .d(inside_r$13$d),
+        .q(inside_r$13$q),
+        .clock(inside_r$13$clock)
+    );
+    obb_core$grid$cells$inside_r$14 inside_r$14(
+        .d(inside_r$14$d),
+        .q(inside_r$14$q),
+        .clock(inside_r$14$clock)
+    );
+    obb_core$grid$cells$inside_r$15 inside_r$15(
+        .d(inside_r$15$d),
+        .q(inside_r$15$q),
+        .clock(inside_r$15$clock)
+    );
+    obb_core$grid$cells$inside_r$16 inside_r$16(
+        .d(inside_r$16$d),
+        .q(inside_r$16$q),
+        .clock(inside_r$16$clock)
+    );
+    obb_core$grid$cells$inside_r$17 inside_r$17(
+        .d(inside_r$17$d),
+        .q(inside_r$17$q),
+        .clock(inside_r$17$clock)
+    );
+    obb_core$grid$cells$inside_r$18 inside_r$18(
+        .d(inside_r$18$d),
+        .q(inside_r$18$q),
+        .clock(inside_r$18$clock)
+    );
+    obb_core$grid$cells$inside_r$19 inside_r$19(
+        .d(inside_r$19$d),
+        .q(inside_r$19$q),
+        .clock(inside_r$19$clock)
+    );
+    obb_core$grid$cells$inside_r$20 inside_r$20(
+        .d(inside_r$20$d),
+        .q(inside_r$20$q),
+        .clock(inside_r$20$clock)
+    );
+    obb_core$grid$cells$inside_r$21 inside_r$21(
+        .d(inside_r$21$d),
+        .q(inside_r$21$q),
+        .clock(inside_r$21$clock)
+    );
+    obb_core$grid$cells$inside_r$22 inside_r$22(
+        .d(inside_r$22$d),
+        .q(inside_r$22$q),
+        .clock(inside_r$22$clock)
+    );
+    obb_core$grid$cells$inside_r$23 inside_r$23(
+        .d(inside_r$23$d),
+        .q(inside_r$23$q),
+        .clock(inside_r$23$clock)
+    );
+    obb_core$grid$cells$inside_r$24 inside_r$24(
+        .d(inside_r$24$d),
+        .q(inside_r$24$q),
+        .clock(inside_r$24$clock)
+    );
+    obb_core$grid$cells$inside_r$25 inside_r$25(
+        .d(inside_r$25$d),
+        .q(inside_r$25$q),
+        .clock(inside_r$25$clock)
+    );
+    obb_core$grid$cells$inside_r$26 inside_r$26(
+        .d(inside_r$26$d),
+        .q(inside_r$26$q),
+        .clock(inside_r$26$clock)
+    );
+    obb_core$grid$cells$home_r$0 home_r$0(
+        .d(home_r$0$d),
+        .q(home_r$0$q),
+        .clock(home_r$0$clock)
+    );
+    obb_core$grid$cells$home_r$1 home_r$1(
+        .d(home_r$1$d),
+        .q(home_r$1$q),
+        .clock(home_r$1$clock)
+    );
+    obb_core$grid$cells$home_r$2 home_r$2(
+        .d(home_r$2$d),
+        .q(home_r$2$q),
+        .clock(home_r$2$clock)
+    );
+    obb_core$grid$cells$home_r$3 home_r$3(
+        .d(home_r$3$d),
+        .q(home_r$3$q),
+        .clock(home_r$3$clock)
+    );
+    obb_core$grid$cells$home_r$4 home_r$4(
+        .d(home_r$4$d),
+        .q(home_r$4$q),
+        .clock(home_r$4$clock)
+    );
+    obb_core$grid$cells$home_r$5 home_r$5(
+        .d(home_r$5$d),
+        .q(home_r$5$q),
+        .clock(home_r$5$clock)
+    );
+    obb_core$grid$cells$home_r$6 home_r$6(
+        .d(home_r$6$d),
+        .q(home_r$6$q),
+        .clock(home_r$6$clock)
+    );
+    obb_core$grid$cells$home_r$7 home_r$7(
+        .d(home_r$7$d),
+        .q(home_r$7$q),
+        .clock(home_r$7$clock)
+    );
+    obb_core$grid$cells$home_r$8 home_r$8(
+        .d(home_r$8$d),
+        .q(home_r$8$q),
+        .clock(home_r$8$clock)
+    );
+    obb_core$grid$cells$home_r$9 home_r$9(
+        .d(home_r$9$d),
+        .q(home_r$9$q),
+        .clock(home_r$9$clock)
+    );
+    obb_core$grid$cells$home_r$10 home_r$10(
+        .d(home_r$10$d),
+        .q(home_r$10$q),
+        .clock(home_r$10$clock)
+    );
+    obb_core$grid$cells$home_r$11 home_r$11(
+        .d(home_r$11$d),
+        .q(home_r$11$q),
+        .clock(home_r$11$clock)
+    );
+    obb_core$grid$cells$home_r$12 home_r$12(
+        .d(home_r$12$d),
+        .q(home_r$12$q),
+        .clock(home_r$12$clock)
+    );
+    obb_core$grid$cells$home_r$13 home_r$13(
+        .d(home_r$13$d),
+        .q(home_r$13$q),
+        .clock(home_r$13$clock)
+    );
+    obb_core$grid$cells$home_r$14 home_r$14(
+        .d(home_r$14$d),
+        .q(home_r$14$q),
+        .clock(home_r$14$clock)
+    );
+    obb_core$grid$cells$home_r$15 home_r$15(
+        .d(home_r$15$d),
+        .q(home_r$15$q),
+        .clock(home_r$15$clock)
+    );
+    obb_core$grid$cells$home_r$16 home_r$16(
+        .d(home_r$16$d),
+        .q(home_r$16$q),
+        .clock(home_r$16$clock)
+    );
+    obb_core$grid$cells$home_r$17 home_r$17(
+        .d(home_r$17$d),
+        .q(home_r$17$q),
+        .clock(home_r$17$clock)
+    );
+    obb_core$grid$cells$home_r$18 home_r$18(
+        .d(home_r$18$d),
+        .q(home_r$18$q),
+        .clock(home_r$18$clock)
+    );
+    obb_core$grid$cells$home_r$19 home_r$19(
+        .d(home_r$19$d),
+        .q(home_r$19$q),
+        .clock(home_r$19$clock)
+    );
+    obb_core$grid$cells$home_r$20 home_r$20(
+        .d(home_r$20$d),
+        .q(home_r$20$q),
+        .clock(home_r$20$clock)
+    );
+    obb_core$grid$cells$home_r$21 home_r$21(
+        .d(home_r$21$d),
+        .q(home_r$21$q),
+        .clock(home_r$21$clock)
+    );
+    obb_core$grid$cells$home_r$22 home_r$22(
+        .d(home_r$22$d),
+        .q(home_r$22$q),
+        .clock(home_r$22$clock)
+    );
+    obb_core$grid$cells$home_r$23 home_r$23(
+        .d(home_r$23$d),
+        .q(home_r$23$q),
+        .clock(home_r$23$clock)
+    );
+    obb_core$grid$cells$home_r$24 home_r$24(
+        .d(home_r$24$d),
+        .q(home_r$24$q),
+        .clock(home_r$24$clock)
+    );
+    obb_core$grid$cells$home_r$25 home_r$25(
+        .d(home_r$25$d),
+        .q(home_r$25$q),
+        .clock(home_r$25$clock)
+    );
+    obb_core$grid$cells$home_r$26 home_r$26(
+        .d(home_r$26$d),
+        .q(home_r$26$q),
+        .clock(home_r$26$clock)
+    );
+    obb_core$grid$cells$home_fp_r home_fp_r(
+        .d(home_fp_r$d),
+        .q(home_fp_r$q),
+        .clock(home_fp_r$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        valid1$clock = clock;
+        valid2$clock = clock;
+        valid3$clock = clock;
+        small1$clock = clock;
+        small2$clock = clock;
+        small3$clock = clock;
+        home_fp_r$clock = clock;
+        valid1$d = valid1$q;
+        valid2$d = valid2$q;
+        valid3$d = valid3$q;
+        small1$d = small1$q;
+        small2$d = small2$q;
+        small3$d = small3$q;
+        home_fp_r$d = home_fp_r$q;
+        third1$0$clock = clock;
+        third2$0$clock = clock;
+        res2$0$clock = clock;
+        third1$1$clock = clock;
+        third2$1$clock = clock;
+        res2$1$clock = clock;
+        third1$2$clock = clock;
+        third2$2$clock = clock;
+        res2$2$clock = clock;
+        cell1$0$clock = clock;
+        hash2$0$clock = clock;
+        cell1$1$clock = clock;
+        hash2$1$clock = clock;
+        cell1$2$clock = clock;
+        hash2$2$clock = clock;
+        cell1$3$clock = clock;
+        hash2$3$clock = clock;
+        cell1$4$clock = clock;
+        hash2$4$clock = clock;
+        cell1$5$clock = clock;
+        hash2$5$clock = clock;
+        cell1$6$clock = clock;
+        hash2$6$clock = clock;
+        cell1$7$clock = clock;
+        hash2$7$clock = clock;
+        cell1$8$clock = clock;
+        hash2$8$clock = clock;
+        bucket_r$0$clock = clock;
+        fp_r$0$clock = clock;
+        inside_r$0$clock = clock;
+        home_r$0$clock = clock;
+        bucket_r$1$clock = clock;
+        fp_r$1$clock = clock;
+        inside_r$1$clock = clock;
+        home_r$1$clock = clock;
+        bucket_r$2$clock = clock;
+        fp_r$2$clock = clock;
+        inside_r$2$clock = clock;
+        home_r$2$clock = clock;
+        bucket_r$3$clock = clock;
+        fp_r$3$clock = clock;
+        inside_r$3$clock = clock;
+        home_r$3$clock = clock;
+        bucket_r$4$clock = clock;
+        fp_r$4$clock = clock;
+        inside_r$4$clock = clock;
+        home_r$4$clock = clock;
+        bucket_r$5$clock = clock;
+        fp_r$5$clock = clock;
+        inside_r$5$clock = clock;
+        home_r$5$clock = clock;
+        bucket_r$6$clock = clock;
+        fp_r$6$clock = clock;
+        inside_r$6$clock = clock;
+        home_r$6$clock = clock;
+        bucket_r$7$clock = clock;
+        fp_r$7$clock = clock;
+        inside_r$7$clock = clock;
+        home_r$7$clock = clock;
+        bucket_r$8$clock = clock;
+        fp_r$8$clock = clock;
+        inside_r$8$clock = clock;
+        home_r$8$clock = clock;
+        bucket_r$9$clock = clock;
+        fp_r$9$clock = clock;
+        inside_r$9$clock = clock;
+        home_r$9$clock = clock;
+        bucket_r$10$clock = clock;
+        fp_r$10$clock = clock;
+        inside_r$10$clock = clock;
+        home_r$10$clock = clock;
+        bucket_r$11$clock = clock;
+        fp_r$11$clock = clock;
+        inside_r$11$clock = clock;
+        home_r$11$clock = clock;
+        bucket_r$12$clock = clock;
+        fp_r$12$clock = clock;
+        inside_r$12$clock = clock;
+        home_r$12$clock = clock;
+        bucket_r$13$clock = clock;
+        fp_r$13$clock = clock;
+        inside_r$13$clock = clock;
+        home_r$13$clock = clock;
+        bucket_r$14$clock = clock;
+        fp_r$14$clock = clock;
+        inside_r$14$clock = clock;
+        home_r$14$clock = clock;
+        bucket_r$15$clock = clock;
+        fp_r$15$clock = clock;
+        inside_r$15$clock = clock;
+        home_r$15$clock = clock;
+        bucket_r$16$clock = clock;
+        fp_r$16$clock = clock;
+        inside_r$16$clock = clock;
+        home_r$16$clock = clock;
+        bucket_r$17$clock = clock;
+        fp_r$17$clock = clock;
+        inside_r$17$clock = clock;
+        home_r$17$clock = clock;
+        bucket_r$18$clock = clock;
+        fp_r$18$clock = clock;
+        inside_r$18$clock = clock;
+        home_r$18$clock = clock;
+        bucket_r$19$clock = clock;
+        fp_r$19$clock = clock;
+        inside_r$19$clock = clock;
+        home_r$19$clock = clock;
+        bucket_r$20$clock = clock;
+        fp_r$20$clock = clock;
+        inside_r$20$clock = clock;
+        home_r$20$clock = clock;
+        bucket_r$21$clock = clock;
+        fp_r$21$clock = clock;
+        inside_r$21$clock = clock;
+        home_r$21$clock = clock;
+        bucket_r$22$clock = clock;
+        fp_r$22$clock = clock;
+        inside_r$22$clock = clock;
+        home_r$22$clock = clock;
+        bucket_r$23$clock = clock;
+        fp_r$23$clock = clock;
+        inside_r$23$clock = clock;
+        home_r$23$clock = clock;
+        bucket_r$24$clock = clock;
+        fp_r$24$clock = clock;
+        inside_r$24$clock = clock;
+        home_r$24$clock = clock;
+        bucket_r$25$clock = clock;
+        fp_r$25$clock = clock;
+        inside_r$25$clock = clock;
+        home_r$25$clock = clock;
+        bucket_r$26$clock = clock;
+        fp_r$26$clock = clock;
+        inside_r$26$clock = clock;
+        home_r$26$clock = clock;
+        valid1$d = key_valid;
+        valid2$d = valid1$q;
+        valid3$d = valid2$q;
+        small3$d = small2$q;
+        small1$d = 1'b1;
+        width$0 = key_max$0 - key_min$0;
+        if (width$0 > cell_edge) begin
+            small1$d = 1'b0;
+        end
+        cell1$0$d = key_min$0 >> cell_bits;
+        cell1$1$d = (key_min$0 >> cell_bits) + 32'h1;
+        cell1$2$d = (key_min$0 >> cell_bits) + 32'h2;
+        third1$0$d = (key_max$0 >> cell_bits) != (key_min$0 >> cell_bits);
+        width$1 = key_max$1 - key_min$1;
+        if (width$1 > cell_edge) begin
+            small1$d = 1'b0;
+        end
+        cell1$3$d = key_min$1 >> cell_bits;
+        cell1$4$d = (key_min$1 >> cell_bits) + 32'h1;
+        cell1$5$d = (key_min$1 >> cell_bits) + 32'h2;
+        third1$1$d = (key_max$1 >> cell_bits) != (key_min$1 >> cell_bits);
+        width$2 = key_max$2 - key_min$2;
+        if (width$2 > cell_edge) begin
+            small1$d = 1'b0;
+        end
+        cell1$6$d = key_min$2 >> cell_bits;
+        cell1$7$d = (key_min$2 >> cell_bits) + 32'h1;
+        cell1$8$d = (key_min$2 >> cell_bits) + 32'h2;
+        third1$2$d = (key_max$2 >> cell_bits) != (key_min$2 >> cell_bits);
+        small2$d = small1$q;
+        third2$0$d = third1$0$q;
+        hacc$0 = 32'h0;
+        hacc$1 = hacc$0;
+        if (cell1$0$q[0]) begin
+            hacc$1 = hacc$0 ^ column$0;
+        end
+        hacc$2 = hacc$1;
+        if (cell1$0$q[1]) begin
+            hacc$2 = hacc$1 ^ column$1;
+        end
+        hacc$3 = hacc$2;
+        if (cell1$0$q[2]) begin
+            hacc$3 = hacc$2 ^ column$2;
+        end
+        hacc$4 = hacc$3;
+        if (cell1$0$q[3]) begin
+            hacc$4 = hacc$3 ^ column$3;
+        end
+        hacc$5 = hacc$4;
+        if (cell1$0$q[4]) begin
+            hacc$5 = hacc$4 ^ column$4;
+        end
+        hacc$6 = hacc$5;
+        if (cell1$0$q[5]) begin
+            hacc$6 = hacc$5 ^ column$5;
+        end
+        hacc$7 = hacc$6;
+        if (cell1$0$q[6]) begin
+            hacc$7 = hacc$6 ^ column$6;
+        end
+        hacc$8 = hacc$7;
+        if (cell1$0$q[7]) begin
+            hacc$8 = hacc$7 ^ column$7;
+        end
+        hacc$9 = hacc$8;
+        if (cell1$0$q[8]) begin
+            hacc$9 = hacc$8 ^ column$8;
+        end
+        hacc$10 = hacc$9;
+        if (cell1$0$q[9]) begin
+            hacc$10 = hacc$9 ^ column$9;
+        end
+        hacc$11 = hacc$10;
+        if (cell1$0$q[10]) begin
+            hacc$11 = hacc$10 ^ column$10;
+        end
+        hacc$12 = hacc$11;
+        if (cell1$0$q[11]) begin
+            hacc$12 = hacc$11 ^ column$11;
+        end
+        hacc$13 = hacc$12;
+        if (cell1$0$q[12]) begin
+            hacc$13 = hacc$12 ^ column$12;
+        end
+        hacc$14 = hacc$13;
+        if (cell1$0$q[13]) begin
+            hacc$14 = hacc$13 ^ column$13;
+        end
+        hacc$15 = hacc$14;
+        if (cell1$0$q[14]) begin
+            hacc$15 = hacc$14 ^ column$14;
+        end
+        hacc$16 = hacc$15;
+        if (cell1$0$q[15]) begin
+            hacc$16 = hacc$15 ^ column$15;
+        end
+        hacc$17 = hacc$16;
+        if (cell1$0$q[16]) begin
+            hacc$17 = hacc$16 ^ column$16;
+        end
+        hacc$18 = hacc$17;
+        if (cell1$0$q[17]) begin
+            hacc$18 = hacc$17 ^ column$17;
+        end
+        hacc$19 = hacc$18;
+        if (cell1$0$q[18]) begin
+            hacc$19 = hacc$18 ^ column$18;
+        end
+        hacc$20 = hacc$19;
+        if (cell1$0$q[19]) begin
+            hacc$20 = hacc$19 ^ column$19;
+        end
+        hacc$21 = hacc$20;
+        if (cell1$0$q[20]) begin
+            hacc$21 = hacc$20 ^ column$20;
+        end
+        hacc$22 = hacc$21;
+        if (cell1$0$q[21]) begin
+            hacc$22 = hacc$21 ^ column$21;
+        end
+        hacc$23 = hacc$22;
+        if (cell1$0$q[22]) begin
+            hacc$23 = hacc$22 ^ column$22;
+        end
+        hash2$0$d = hacc$23;
+        hacc$24 = 32'h0;
+        hacc$25 = hacc$24;
+        if (cell1$1$q[0]) begin
+            hacc$25 = hacc$24 ^ column$0;
+        end
+        hacc$26 = hacc$25;
+        if (cell1$1$q[1]) begin
+            hacc$26 = hacc$25 ^ column$1;
+        end
+        hacc$27 = hacc$26;
+        if (cell1$1$q[2]) begin
+            hacc$27 = hacc$26 ^ column$2;
+        end
+        hacc$28 = hacc$27;
+        if (cell1$1$q[3]) begin
+            hacc$28 = hacc$27 ^ column$3;
+        end
+        hacc$29 = hacc$28;
+        if (cell1$1$q[4]) begin
+            hacc$29 = hacc$28 ^ column$4;
+        end
+        hacc$30 = hacc$29;
+        if (cell1$1$q[5]) begin
+            hacc$30 = hacc$29 ^ column$5;
+        end
+        hacc$31 = hacc$30;
+        if (cell1$1$q[6]) begin
+            hacc$31 = hacc$30 ^ column$6;
+        end
+        hacc$32 = hacc$31;
+        if (cell1$1$q[7]) begin
+            hacc$32 = hacc$31 ^ column$7;
+        end
+        hacc$33 = hacc$32;
+        if (cell1$1$q[8]) begin
+            hacc$33 = hacc$32 ^ column$8;
+        end
+        hacc$34 = hacc$33;
+        if (cell1$1$q[9]) begin
+            hacc$34 = hacc$33 ^ column$9;
+        end
+        hacc$35 = hacc$34;
+        if (cell1$1$q[10]) begin
+            hacc$35 = hacc$34 ^ column$10;
+        end
+        hacc$36 = hacc$35;
+        if (cell1$1$q[11]) begin
+            hacc$36 = hacc$35 ^ column$11;
+        end
+        hacc$37 = hacc$36;
+        if (cell1$1$q[12]) begin
+            hacc$37 = hacc$36 ^ column$12;
+        end
+        hacc$38 = hacc$37;
+        if (cell1$1$q[13]) begin
+            hacc$38 = hacc$37 ^ column$13;
+        end
+        hacc$39 = hacc$38;
+        if (cell1$1$q[14]) begin
+            hacc$39 = hacc$38 ^ column$14;
+        end
+        hacc$40 = hacc$39;
+        if (cell1$1$q[15]) begin
+            hacc$40 = hacc$39 ^ column$15;
+        end
+        hacc$41 = hacc$40;
+        if (cell1$1$q[16]) begin
+            hacc$41 = hacc$40 ^ column$16;
+        end
+        hacc$42 = hacc$41;
+        if (cell1$1$q[17]) begin
+            hacc$42 = hacc$41 ^ column$17;
+        end
+        hacc$43 = hacc$42;
+        if (cell1$1$q[18]) begin
+            hacc$43 = hacc$42 ^ column$18;
+        end
+        hacc$44 = hacc$43;
+        if (cell1$1$q[19]) begin
+            hacc$44 = hacc$43 ^ column$19;
+        end
+        hacc$45 = hacc$44;
+        if (cell1$1$q[20]) begin
+            hacc$45 = hacc$44 ^ column$20;
+        end
+        hacc$46 = hacc$45;
+        if (cell1$1$q[21]) begin
+            hacc$46 = hacc$45 ^ column$21;
+        end
+        hacc$47 = hacc$46;
+        if (cell1$1$q[22]) begin
+            hacc$47 = hacc$46 ^ column$22;
+        end
+        hash2$1$d = hacc$47;
+        hacc$48 = 32'h0;
+        hacc$49 = hacc$48;
+        if (cell1$2$q[0]) begin
+            hacc$49 = hacc$48 ^ column$0;
+        end
+        hacc$50 = hacc$49;
+        if (cell1$2$q[1]) begin
+            hacc$50 = hacc$49 ^ column$1;
+        end
+        hacc$51 = hacc$50;
+        if (cell1$2$q[2]) begin
+            hacc$51 = hacc$50 ^ column$2;
+        end
+        hacc$52 = hacc$51;
+        if (cell1$2$q[3]) begin
+            hacc$52 = hacc$51 ^ column$3;
+        end
+        hacc$53 = hacc$52;
+        if (cell1$2$q[4]) begin
+            hacc$53 = hacc$52 ^ column$4;
+        end
+        hacc$54 = hacc$53;
+        if (cell1$2$q[5]) begin
+            hacc$54 = hacc$53 ^ column$5;
+        end
+        hacc$55 = hacc$54;
+        if (cell1$2$q[6]) begin
+            hacc$55 = hacc$54 ^ column$6;
+        end
+        hacc$56 = hacc$55;
+        if (cell1$2$q[7]) begin
+            hacc$56 = hacc$55 ^ column$7;
+        end
+        hacc$57 = hacc$56;
+        if (cell1$2$q[8]) begin
+            hacc$57 = hacc$56 ^ column$8;
+        end
+        hacc$58 = hacc$57;
+        if (cell1$2$q[9]) begin
+            hacc$58 = hacc$57 ^ column$9;
+        end
+        hacc$59 = hacc$58;
+        if (cell1$2$q[10]) begin
+            hacc$59 = hacc$58 ^ column$10;
+        end
+        hacc$60 = hacc$59;
+        if (cell1$2$q[11]) begin
+            hacc$60 = hacc$59 ^ column$11;
+        end
+        hacc$61 = hacc$60;
+        if (cell1$2$q[12]) begin
+            hacc$61 = hacc$60 ^ column$12;
+        end
+        hacc$62 = hacc$61;
+        if (cell1$2$q[13]) begin
+            hacc$62 = hacc$61 ^ column$13;
+        end
+        hacc$63 = hacc$62;
+        if (cell1$2$q[14]) begin
+            hacc$63 = hacc$62 ^ column$14;
+        end
+        hacc$64 = hacc$63;
+        if (cell1$2$q[15]) begin
+            hacc$64 = hacc$63 ^ column$15;
+        end
+        hacc$65 = hacc$64;
+        if (cell1$2$q[16]) begin
+            hacc$65 = hacc$64 ^ column$16;
+        end
+        hacc$66 = hacc$65;
+        if (cell1$2$q[17]) begin
+            hacc$66 = hacc$65 ^ column$17;
+        end
+        hacc$67 = hacc$66;
+        if (cell1$2$q[18]) begin
+            hacc$67 = hacc$66 ^ column$18;
+        end
+        hacc$68 = hacc$67;
+        if (cell1$2$q[19]) begin
+            hacc$68 = hacc$67 ^ column$19;
+        end
+        hacc$69 = hacc$68;
+        if (cell1$2$q[20]) begin
+            hacc$69 = hacc$68 ^ column$20;
+        end
+        hacc$70 = hacc$69;
+        if (cell1$2$q[21]) begin
+            hacc$70 = hacc$69 ^ column$21;
+        end
+        hacc$71 = hacc$70;
+        if (cell1$2$q[22]) begin
+            hacc$71 = hacc$70 ^ column$22;
+        end
+        hash2$2$d = hacc$71;
+        racc$0 = 32'h0;
+        racc$1 = racc$0 + ((cell1$0$q >> digit_at$0) & three);
+        racc$2 = racc$1 + ((cell1$0$q >> digit_at$1) & three);
+        racc$3 = racc$2 + ((cell1$0$q >> digit_at$2) & three);
+        racc$4 = racc$3 + ((cell1$0$q >> digit_at$3) & three);
+        racc$5 = racc$4 + ((cell1$0$q >> digit_at$4) & three);
+        racc$6 = racc$5 + ((cell1$0$q >> digit_at$5) & three);
+        racc$7 = racc$6 + ((cell1$0$q >> digit_at$6) & three);
+        racc$8 = racc$7 + ((cell1$0$q >> digit_at$7) & three);
+        racc$9 = racc$8 + ((cell1$0$q >> digit_at$8) & three);
+        racc$10 = racc$9 + ((cell1$0$q >> digit_at$9) & three);
+        racc$11 = racc$10 + ((cell1$0$q >> digit_at$10) & three);
+        racc$12 = racc$11 + ((cell1$0$q >> digit_at$11) & three);
+        rsum$0 = (racc$12 & three) + ((racc$12 >> 64'h2) & three) + ((racc$12 >> 64'h4) & three);
+        res2$0$d = rsum$0;
+        if (rsum$0 >= 32'h3) begin
+            res2$0$d = rsum$0 - 32'h3;
+        end
+        if (rsum$0 >= 32'h6) begin
+            res2$0$d = rsum$0 - 32'h6;
+        end
+        third2$1$d = third1$1$q;
+        hacc$72 = 32'h0;
+        hacc$73 = hacc$72;
+        if (cell1$3$q[0]) begin
+            hacc$73 = hacc$72 ^ column$23;
+        end
+        hacc$74 = hacc$73;
+        if (cell1$3$q[1]) begin
+            hacc$74 = hacc$73 ^ column$24;
+        end
+        hacc$75 = hacc$74;
+        if (cell1$3$q[2]) begin
+            hacc$75 = hacc$74 ^ column$25;
+        end
+        hacc$76 = hacc$75;
+        if (cell1$3$q[3]) begin
+            hacc$76 = hacc$75 ^ column$26;
+        end
+        hacc$77 = hacc$76;
+        if (cell1$3$q[4]) begin
+            hacc$77 = hacc$76 ^ column$27;
+        end
+        hacc$78 = hacc$77;
+        if (cell1$3$q[5]) begin
+            hacc$78 = hacc$77 ^ column$28;
+        end
+        hacc$79 = hacc$78;
+        if (cell1$3$q[6]) begin
+            hacc$79 = hacc$78 ^ column$29;
+        end
+        hacc$80 = hacc$79;
+        if (cell1$3$q[7]) begin
+            hacc$80 = hacc$79 ^ column$30;
+        end
+        hacc$81 = hacc$80;
+        if (cell1$3$q[8]) begin
+            hacc$81 = hacc$80 ^ column$31;
+        end
+        hacc$82 = hacc$81;
+        if (cell1$3$q[9]) begin
+            hacc$82 = hacc$81 ^ column$32;
+        end
+        hacc$83 = hacc$82;
+        if (cell1$3$q[10]) begin
+            hacc$83 = hacc$82 ^ column$33;
+        end
+        hacc$84 = hacc$83;
+        if (cell1$3$q[11]) begin
+            hacc$84 = hacc$83 ^ column$34;
+        end
+        hacc$85 = hacc$84;
+        if (cell1$3$q[12]) begin
+            hacc$85 = hacc$84 ^ column$35;
+        end
+        hacc$86 = hacc$85;
+        if (cell1$3$q[13]) begin
+            hacc$86 = hacc$85 ^ column$36;
+        end
+        hacc$87 = hacc$86;
+        if (cell1$3$q[14]) begin
+            hacc$87 = hacc$86 ^ column$37;
+        end
+        hacc$88 = hacc$87;
+        if (cell1$3$q[15]) begin
+            hacc$88 = hacc$87 ^ column$38;
+        end
+        hacc$89 = hacc$88;
+        if (cell1$3$q[16]) begin
+            hacc$89 = hacc$88 ^ column$39;
+        end
+        hacc$90 = hacc$89;
+        if (cell1$3$q[17]) begin
+            hacc$90 = hacc$89 ^ column$40;
+        end
+        hacc$91 = hacc$90;
+        if (cell1$3$q[18]) begin
+            hacc$91 = hacc$90 ^ column$41;
+        end
+        hacc$92 = hacc$91;
+        if (cell1$3$q[19]) begin
+            hacc$92 = hacc$91 ^ column$42;
+        end
+        hacc$93 = hacc$92;
+        if (cell1$3$q[20]) begin
+            hacc$93 = hacc$92 ^ column$43;
+        end
+        hacc$94 = hacc$93;
+        if (cell1$3$q[21]) begin
+            hacc$94 = hacc$93 ^ column$44;
+        end
+        hacc$95 = hacc$94;
+        if (cell1$3$q[22]) begin
+            hacc$95 = hacc$94 ^ column$45;
+        end
+        hash2$3$d = hacc$95;
+        hacc$96 = 32'h0;
+        hacc$97 = hacc$96;
+        if (cell1$4$q[0]) begin
+            hacc$97 = hacc$96 ^ column$23;
+        end
+        hacc$98 = hacc$97;
+        if (cell1$4$q[1]) begin
+            hacc$98 = hacc$97 ^ column$24;
+        end
+        hacc$99 = hacc$98;
+        if (cell1$4$q[2]) begin
+            hacc$99 = hacc$98 ^ column$25;
+        end
+        hacc$100 = hacc$99;
+        if (cell1$4$q[3]) begin
+            hacc$100 = hacc$99 ^ column$26;
+        end
+        hacc$101 = hacc$100;
+        if (cell1$4$q[4]) begin
+            hacc$101 = hacc$100 ^ column$27;
+        end
+        hacc$102 = hacc$101;
+        if (cell1$4$q[5]) begin
+            hacc$102 = hacc$101 ^ column$28;
+        end
+        hacc$103 = hacc$102;
+        if (cell1$4$q[6]) begin
+            hacc$103 = hacc$102 ^ column$29;
+        end
+        hacc$104 = hacc$103;
+        if (cell1$4$q[7]) begin
+            hacc$104 = hacc$103 ^ column$30;
+        end
+        hacc$105 = hacc$104;
+        if (cell1$4$q[8]) begin
+            hacc$105 = hacc$104 ^ column$31;
+        end
+        hacc$106 = hacc$105;
+        if (cell1$4$q[9]) begin
+            hacc$106 = hacc$105 ^ column$32;
+        end
+        hacc$107 = hacc$106;
+        if (cell1$4$q[10]) begin
+            hacc$107 = hacc$106 ^ column$33;
+        end
+        hacc$108 = hacc$107;
+        if (cell1$4$q[11]) begin
+            hacc$108 = hacc$107 ^ column$34;
+        end
+        hacc$109 = hacc$108;
+        if (cell1$4$q[12]) begin
+            hacc$109 = hacc$108 ^ column$35;
+        end
+        hacc$110 = hacc$109;
+        if (cell1$4$q[13]) begin
+            hacc$110 = hacc$109 ^ column$36;
+        end
+        hacc$111 = hacc$110;
+        if (cell1$4$q[14]) begin
+            hacc$111 = hacc$110 ^ column$37;
+        end
+        hacc$112 = hacc$111;
+        if (cell1$4$q[15]) begin
+            hacc$112 = hacc$111 ^ column$38;
+        end
+        hacc$113 = hacc$112;
+        if (cell1$4$q[16]) begin
+            hacc$113 = hacc$112 ^ column$39;
+        end
+        hacc$114 = hacc$113;
+        if (cell1$4$q[17]) begin
+            hacc$114 = hacc$113 ^ column$40;
+        end
+        hacc$115 = hacc$114;
+        if (cell1$4$q[18]) begin
+            hacc$115 = hacc$114 ^ column$41;
+        end
+        hacc$116 = hacc$115;
+        if (cell1$4$q[19]) begin
+            hacc$116 = hacc$115 ^ column$42;
+        end
+        hacc$117 = hacc$116;
+        if (cell1$4$q[20]) begin
+            hacc$117 = hacc$116 ^ column$43;
+        end
+        hacc$118 = hacc$117;
+        if (cell1$4$q[21]) begin
+            hacc$118 = hacc$117 ^ column$44;
+        end
+        hacc$119 = hacc$118;
+        if (cell1$4$q[22]) begin
+            hacc$119 = hacc$118 ^ column$45;
+        end
+        hash2$4$d = hacc$119;
+        hacc$120 = 32'h0;
+        hacc$121 = hacc$120;
+        if (cell1$5$q[0]) begin
+            hacc$121 = hacc$120 ^ column$23;
+        end
+        hacc$122 = hacc$121;
+        if (cell1$5$q[1]) begin
+            hacc$122 = hacc$121 ^ column$24;
+        end
+        hacc$123 = hacc$122;
+        if (cell1$5$q[2]) begin
+            hacc$123 = hacc$122 ^ column$25;
+        end
+        hacc$124 = hacc$123;
+        if (cell1$5$q[3]) begin
+            hacc$124 = hacc$123 ^ column$26;
+        end
+        hacc$125 = hacc$124;
+        if (cell1$5$q[4]) begin
+            hacc$125 = hacc$124 ^ column$27;
+        end
+        hacc$126 = hacc$125;
+        if (cell1$5$q[5]) begin
+            hacc$126 = hacc$125 ^ column$28;
+        end
+        hacc$127 = hacc$126;
+        if (cell1$5$q[6]) begin
+            hacc$127 = hacc$126 ^ column$29;
+        end
+        hacc$128 = hacc$127;
+        if (cell1$5$q[7]) begin
+            hacc$128 = hacc$127 ^ column$30;
+        end
+        hacc$129 = hacc$128;
+        if (cell1$5$q[8]) begin
+            hacc$129 = hacc$128 ^ column$31;
+        end
+        hacc$130 = hacc$129;
+        if (cell1$5$q[9]) begin
+            hacc$130 = hacc$129 ^ column$32;
+        end
+        hacc$131 = hacc$130;
+        if (cell1$5$q[10]) begin
+            hacc$131 = hacc$130 ^ column$33;
+        end
+        hacc$132 = hacc$131;
+        if (cell1$5$q[11]) begin
+            hacc$132 = hacc$131 ^ column$34;
+        end
+        hacc$133 = hacc$132;
+        if (cell1$5$q[12]) begin
+            hacc$133 = hacc$132 ^ column$35;
+        end
+        hacc$134 = hacc$133;
+        if (cell1$5$q[13]) begin
+            hacc$134 = hacc$133 ^ column$36;
+        end
+        hacc$135 = hacc$134;
+        if (cell1$5$q[14]) begin
+            hacc$135 = hacc$134 ^ column$37;
+        end
+        hacc$136 = hacc$135;
+        if (cell1$5$q[15]) begin
+            hacc$136 = hacc$135 ^ column$38;
+        end
+        hacc$137 = hacc$136;
+        if (cell1$5$q[16]) begin
+            hacc$137 = hacc$136 ^ column$39;
+        end
+        hacc$138 = hacc$137;
+        if (cell1$5$q[17]) begin
+            hacc$138 = hacc$137 ^ column$40;
+        end
+        hacc$139 = hacc$138;
+        if (cell1$5$q[18]) begin
+            hacc$139 = hacc$138 ^ column$41;
+        end
+        hacc$140 = hacc$139;
+        if (cell1$5$q[19]) begin
+            hacc$140 = hacc$139 ^ column$42;
+        end
+        hacc$141 = hacc$140;
+        if (cell1$5$q[20]) begin
+            hacc$141 = hacc$140 ^ column$43;
+        end
+        hacc$142 = hacc$141;
+        if (cell1$5$q[21]) begin
+            hacc$142 = hacc$141 ^ column$44;
+        end
+        hacc$143 = hacc$142;
+        if (cell1$5$q[22]) begin
+            hacc$143 = hacc$142 ^ column$45;
+        end
+        hash2$5$d = hacc$143;
+        racc$13 = 32'h0;
+        racc$14 = racc$13 + ((cell1$3$q >> digit_at$0) & three);
+        racc$15 = racc$14 + ((cell1$3$q >> digit_at$1) & three);
+        racc$16 = racc$15 + ((cell1$3$q >> digit_at$2) & three);
+        racc$17 = racc$16 + ((cell1$3$q >> digit_at$3) & three);
+        racc$18 = racc$17 + ((cell1$3$q >> digit_at$4) & three);
+        racc$19 = racc$18 + ((cell1$3$q >> digit_at$5) & three);
+        racc$20 = racc$19 + ((cell1$3$q >> digit_at$6) & three);
+        racc$21 = racc$20 + ((cell1$3$q >> digit_at$7) & three);
+        racc$22 = racc$21 + ((cell1$3$q >> digit_at$8) & three);
+        racc$23 = racc$22 + ((cell1$3$q >> digit_at$9) & three);
+        racc$24 = racc$23 + ((cell1$3$q >> digit_at$10) & three);
+        racc$25 = racc$24 + ((cell1$3$q >> digit_at$11) & three);
+        rsum$1 = (racc$25 & three) + ((racc$25 >> 64'h2) & three) + ((racc$25 >> 64'h4) & three);
+        res2$1$d = rsum$1;
+        if (rsum$1 >= 32'h3) begin
+            res2$1$d = rsum$1 - 32'h3;
+        end
+        if (rsum$1 >= 32'h6) begin
+            res2$1$d = rsum$1 - 32'h6;
+        end
+        third2$2$d = third1$2$q;
+        hacc$144 = 32'h0;
+        hacc$145 = hacc$144;
+        if (cell1$6$q[0]) begin
+            hacc$145 = hacc$144 ^ column$46;
+        end
+        hacc$146 = hacc$145;
+        if (cell1$6$q[1]) begin
+            hacc$146 = hacc$145 ^ column$47;
+        end
+        hacc$147 = hacc$146;
+        if (cell1$6$q[2]) begin
+            hacc$147 = hacc$146 ^ column$48;
+        end
+        hacc$148 = hacc$147;
+        if (cell1$6$q[3]) begin
+            hacc$148 = hacc$147 ^ column$49;
+        end
+        hacc$149 = hacc$148;
+        if (cell1$6$q[4]) begin
+            hacc$149 = hacc$148 ^ column$50;
+        end
+        hacc$150 = hacc$149;
+        if (cell1$6$q[5]) begin
+            hacc$150 = hacc$149 ^ column$51;
+        end
+        hacc$151 = hacc$150;
+        if (cell1$6$q[6]) begin
+            hacc$151 = hacc$150 ^ column$52;
+        end
+        hacc$152 = hacc$151;
+        if (cell1$6$q[7]) begin
+            hacc$152 = hacc$151 ^ column$53;
+        end
+        hacc$153 = hacc$152;
+        if (cell1$6$q[8]) begin
+            hacc$153 = hacc$152 ^ column$54;
+        end
+        hacc$154 = hacc$153;
+        if (cell1$6$q[9]) begin
+            hacc$154 = hacc$153 ^ column$55;
+        end
+        hacc$155 = hacc$154;
+        if (cell1$6$q[10]) begin
+            hacc$155 = hacc$154 ^ column$56;
+        end
+        hacc$156 = hacc$155;
+        if (cell1$6$q[11]) begin
+            hacc$156 = hacc$155 ^ column$57;
+        end
+        hacc$157 = hacc$156;
+        if (cell1$6$q[12]) begin
+            hacc$157 = hacc$156 ^ column$58;
+        end
+        hacc$158 = hacc$157;
+        if (cell1$6$q[13]) begin
+            hacc$158 = hacc$157 ^ column$59;
+        end
+        hacc$159 = hacc$158;
+        if (cell1$6$q[14]) begin
+            hacc$159 = hacc$158 ^ column$60;
+        end
+        hacc$160 = hacc$159;
+        if (cell1$6$q[15]) begin
+            hacc$160 = hacc$159 ^ column$61;
+        end
+        hacc$161 = hacc$160;
+        if (cell1$6$q[16]) begin
+            hacc$161 = hacc$160 ^ column$62;
+        end
+        hacc$162 = hacc$161;
+        if (cell1$6$q[17]) begin
+            hacc$162 = hacc$161 ^ column$63;
+        end
+        hacc$163 = hacc$162;
+        if (cell1$6$q[18]) begin
+            hacc$163 = hacc$162 ^ column$64;
+        end
+        hacc$164 = hacc$163;
+        if (cell1$6$q[19]) begin
+            hacc$164 = hacc$163 ^ column$65;
+        end
+        hacc$165 = hacc$164;
+        if (cell1$6$q[20]) begin
+            hacc$165 = hacc$164 ^ column$66;
+        end
+        hacc$166 = hacc$165;
+        if (cell1$6$q[21]) begin
+            hacc$166 = hacc$165 ^ column$67;
+        end
+        hacc$167 = hacc$166;
+        if (cell1$6$q[22]) begin
+            hacc$167 = hacc$166 ^ column$68;
+        end
+        hash2$6$d = hacc$167;
+        hacc$168 = 32'h0;
+        hacc$169 = hacc$168;
+        if (cell1$7$q[0]) begin
+            hacc$169 = hacc$168 ^ column$46;
+        end
+        hacc$170 = hacc$169;
+        if (cell1$7$q[1]) begin
+            hacc$170 = hacc$169 ^ column$47;
+        end
+        hacc$171 = hacc$170;
+        if (cell1$7$q[2]) begin
+            hacc$171 = hacc$170 ^ column$48;
+        end
+        hacc$172 = hacc$171;
+        if (cell1$7$q[3]) begin
+            hacc$172 = hacc$171 ^ column$49;
+        end
+        hacc$173 = hacc$172;
+        if (cell1$7$q[4]) begin
+            hacc$173 = hacc$172 ^ column$50;
+        end
+        hacc$174 = hacc$173;
+        if (cell1$7$q[5]) begin
+            hacc$174 = hacc$173 ^ column$51;
+        end
+        hacc$175 = hacc$174;
+        if (cell1$7$q[6]) begin
+            hacc$175 = hacc$174 ^ column$52;
+        end
+        hacc$176 = hacc$175;
+        if (cell1$7$q[7]) begin
+            hacc$176 = hacc$175 ^ column$53;
+        end
+        hacc$177 = hacc$176;
+        if (cell1$7$q[8]) begin
+            hacc$177 = hacc$176 ^ column$54;
+        end
+        hacc$178 = hacc$177;
+        if (cell1$7$q[9]) begin
+            hacc$178 = hacc$177 ^ column$55;
+        end
+        hacc$179 = hacc$178;
+        if (cell1$7$q[10]) begin
+            hacc$179 = hacc$178 ^ column$56;
+        end
+        hacc$180 = hacc$179;
+        if (cell1$7$q[11]) begin
+            hacc$180 = hacc$179 ^ column$57;
+        end
+        hacc$181 = hacc$180;
+        if (cell1$7$q[12]) begin
+            hacc$181 = hacc$180 ^ column$58;
+        end
+        hacc$182 = hacc$181;
+        if (cell1$7$q[13]) begin
+            hacc$182 = hacc$181 ^ column$59;
+        end
+        hacc$183 = hacc$182;
+        if (cell1$7$q[14]) begin
+            hacc$183 = hacc$182 ^ column$60;
+        end
+        hacc$184 = hacc$183;
+        if (cell1$7$q[15]) begin
+            hacc$184 = hacc$183 ^ column$61;
+        end
+        hacc$185 = hacc$184;
+        if (cell1$7$q[16]) begin
+            hacc$185 = hacc$184 ^ column$62;
+        end
+        hacc$186 = hacc$185;
+        if (cell1$7$q[17]) begin
+            hacc$186 = hacc$185 ^ column$63;
+        end
+        hacc$187 = hacc$186;
+        if (cell1$7$q[18]) begin
+            hacc$187 = hacc$186 ^ column$64;
+        end
+        hacc$188 = hacc$187;
+        if (cell1$7$q[19]) begin
+            hacc$188 = hacc$187 ^ column$65;
+        end
+        hacc$189 = hacc$188;
+        if (cell1$7$q[20]) begin
+            hacc$189 = hacc$188 ^ column$66;
+        end
+        hacc$190 = hacc$189;
+        if (cell1$7$q[21]) begin
+            hacc$190 = hacc$189 ^ column$67;
+        end
+        hacc$191 = hacc$190;
+        if (cell1$7$q[22]) begin
+            hacc$191 = hacc$190 ^ column$68;
+        end
+        hash2$7$d = hacc$191;
+        hacc$192 = 32'h0;
+        hacc$193 = hacc$192;
+        if (cell1$8$q[0]) begin
+            hacc$193 = hacc$192 ^ column$46;
+        end
+        hacc$194 = hacc$193;
+        if (cell1$8$q[1]) begin
+            hacc$194 = hacc$193 ^ column$47;
+        end
+        hacc$195 = hacc$194;
+        if (cell1$8$q[2]) begin
+            hacc$195 = hacc$194 ^ column$48;
+        end
+        hacc$196 = hacc$195;
+        if (cell1$8$q[3]) begin
+            hacc$196 = hacc$195 ^ column$49;
+        end
+        hacc$197 = hacc$196;
+        if (cell1$8$q[4]) begin
+            hacc$197 = hacc$196 ^ column$50;
+        end
+        hacc$198 = hacc$197;
+        if (cell1$8$q[5]) begin
+            hacc$198 = hacc$197 ^ column$51;
+        end
+        hacc$199 = hacc$198;
+        if (cell1$8$q[6]) begin
+            hacc$199 = hacc$198 ^ column$52;
+        end
+        hacc$200 = hacc$199;
+        if (cell1$8$q[7]) begin
+            hacc$200 = hacc$199 ^ column$53;
+        end
+        hacc$201 = hacc$200;
+        if (cell1$8$q[8]) begin
+            hacc$201 = hacc$200 ^ column$54;
+        end
+        hacc$202 = hacc$201;
+        if (cell1$8$q[9]) begin
+            hacc$202 = hacc$201 ^ column$55;
+        end
+        hacc$203 = hacc$202;
+        if (cell1$8$q[10]) begin
+            hacc$203 = hacc$202 ^ column$56;
+        end
+        hacc$204 = hacc$203;
+        if (cell1$8$q[11]) begin
+            hacc$204 = hacc$203 ^ column$57;
+        end
+        hacc$205 = hacc$204;
+        if (cell1$8$q[12]) begin
+            hacc$205 = hacc$204 ^ column$58;
+        end
+        hacc$206 = hacc$205;
+        if (cell1$8$q[13]) begin
+            hacc$206 = hacc$205 ^ column$59;
+        end
+        hacc$207 = hacc$206;
+        if (cell1$8$q[14]) begin
+            hacc$207 = hacc$206 ^ column$60;
+        end
+        hacc$208 = hacc$207;
+        if (cell1$8$q[15]) begin
+            hacc$208 = hacc$207 ^ column$61;
+        end
+        hacc$209 = hacc$208;
+        if (cell1$8$q[16]) begin
+            hacc$209 = hacc$208 ^ column$62;
+        end
+        hacc$210 = hacc$209;
+        if (cell1$8$q[17]) begin
+            hacc$210 = hacc$209 ^ column$63;
+        end
+        hacc$211 = hacc$210;
+        if (cell1$8$q[18]) begin
+            hacc$211 = hacc$210 ^ column$64;
+        end
+        hacc$212 = hacc$211;
+        if (cell1$8$q[19]) begin
+            hacc$212 = hacc$211 ^ column$65;
+        end
+        hacc$213 = hacc$212;
+        if (cell1$8$q[20]) begin
+            hacc$213 = hacc$212 ^ column$66;
+        end
+        hacc$214 = hacc$213;
+        if (cell1$8$q[21]) begin
+            hacc$214 = hacc$213 ^ column$67;
+        end
+        hacc$215 = hacc$214;
+        if (cell1$8$q[22]) begin
+            hacc$215 = hacc$214 ^ column$68;
+        end
+        hash2$8$d = hacc$215;
+        racc$26 = 32'h0;
+        racc$27 = racc$26 + ((cell1$6$q >> digit_at$0) & three);
+        racc$28 = racc$27 + ((cell1$6$q >> digit_at$1) & three);
+        racc$29 = racc$28 + ((cell1$6$q >> digit_at$2) & three);
+        racc$30 = racc$29 + ((cell1$6$q >> digit_at$3) & three);
+        racc$31 = racc$30 + ((cell1$6$q >> digit_at$4) & three);
+        racc$32 = racc$31 + ((cell1$6$q >> digit_at$5) & three);
+        racc$33 = racc$32 + ((cell1$6$q >> digit_at$6) & three);
+        racc$34 = racc$33 + ((cell1$6$q >> digit_at$7) & three);
+        racc$35 = racc$34 + ((cell1$6$q >> digit_at$8) & three);
+        racc$36 = racc$35 + ((cell1$6$q >> digit_at$9) & three);
+        racc$37 = racc$36 + ((cell1$6$q >> digit_at$10) & three);
+        racc$38 = racc$37 + ((cell1$6$q >> digit_at$11) & three);
+        rsum$2 = (racc$38 & three) + ((racc$38 >> 64'h2) & three) + ((racc$38 >> 64'h4) & three);
+        res2$2$d = rsum$2;
+        if (rsum$2 >= 32'h3) begin
+            res2$2$d = rsum$2 - 32'h3;
+        end
+        if (rsum$2 >= 32'h6) begin
+            res2$2$d = rsum$2 - 32'h6;
+        end
+        slot_hash$0 = hash2$0$q;
+        slot_hash$1 = hash2$1$q;
+        slot_hash$2 = hash2$2$q;
+        slot_in$0 = 1'b1;
+        slot_in$1 = 1'b1;
+        slot_in$2 = third2$0$q;
+        slot_home$0 = 1'b0;
+        slot_home$1 = 1'b1;
+        slot_home$2 = 1'b0;
+        if (res2$0$q == 32'h1) begin
+            slot_hash$1 = hash2$0$q;
+            slot_hash$2 = hash2$1$q;
+            slot_hash$0 = hash2$2$q;
+            slot_in$1 = 1'b1;
+            slot_in$2 = 1'b1;
+            slot_in$0 = third2$0$q;
+            slot_home$1 = 1'b0;
+            slot_home$2 = 1'b1;
+        end
+        if (res2$0$q == 32'h2) begin
+            slot_hash$2 = hash2$0$q;
+            slot_hash$0 = hash2$1$q;
+            slot_hash$1 = hash2$2$q;
+            slot_in$2 = 1'b1;
+            slot_in$0 = 1'b1;
+            slot_in$1 = third2$0$q;
+            slot_home$1 = 1'b0;
+            slot_home$0 = 1'b1;
+        end
+        slot_hash$3 = hash2$3$q;
+        slot_hash$4 = hash2$4$q;
+        slot_hash$5 = hash2$5$q;
+        slot_in$3 = 1'b1;
+        slot_in$4 = 1'b1;
+        slot_in$5 = third2$1$q;
+        slot_home$3 = 1'b0;
+        slot_home$4 = 1'b1;
+        slot_home$5 = 1'b0;
+        if (res2$1$q == 32'h1) begin
+            slot_hash$4 = hash2$3$q;
+            slot_hash$5 = hash2$4$q;
+            slot_hash$3 = hash2$5$q;
+            slot_in$4 = 1'b1;
+            slot_in$5 = 1'b1;
+            slot_in$3 = third2$1$q;
+            slot_home$4 = 1'b0;
+            slot_home$5 = 1'b1;
+        end
+        if (res2$1$q == 32'h2) begin
+            slot_hash$5 = hash2$3$q;
+            slot_hash$3 = hash2$4$q;
+            slot_hash$4 = hash2$5$q;
+            slot_in$5 = 1'b1;
+            slot_in$3 = 1'b1;
+            slot_in$4 = third2$1$q;
+            slot_home$4 = 1'b0;
+            slot_home$3 = 1'b1;
+        end
+        slot_hash$6 = hash2$6$q;
+        slot_hash$7 = hash2$7$q;
+        slot_hash$8 = hash2$8$q;
+        slot_in$6 = 1'b1;
+        slot_in$7 = 1'b1;
+        slot_in$8 = third2$2$q;
+        slot_home$6 = 1'b0;
+        slot_home$7 = 1'b1;
+        slot_home$8 = 1'b0;
+        if (res2$2$q == 32'h1) begin
+            slot_hash$7 = hash2$6$q;
+            slot_hash$8 = hash2$7$q;
+            slot_hash$6 = hash2$8$q;
+            slot_in$7 = 1'b1;
+            slot_in$8 = 1'b1;
+            slot_in$6 = third2$2$q;
+            slot_home$7 = 1'b0;
+            slot_home$8 = 1'b1;
+        end
+        if (res2$2$q == 32'h2) begin
+            slot_hash$8 = hash2$6$q;
+            slot_hash$6 = hash2$7$q;
+            slot_hash$7 = hash2$8$q;
+            slot_in$8 = 1'b1;
+            slot_in$6 = 1'b1;
+            slot_in$7 = third2$2$q;
+            slot_home$7 = 1'b0;
+            slot_home$6 = 1'b1;
+        end
+        bank_hash$0 = slot_hash$0 ^ slot_hash$3 ^ slot_hash$6;
+        bucket_r$0$d = bank_hash$0 & bucket_mask;
+        fp_r$0$d = bank_hash$0[(32'hc)+:(8)];
+        inside_r$0$d = slot_in$0 & slot_in$3 & slot_in$6;
+        home_r$0$d = slot_home$0 & slot_home$3 & slot_home$6;
+        bank_hash$1 = slot_hash$1 ^ slot_hash$3 ^ slot_hash$6;
+        bucket_r$1$d = bank_hash$1 & bucket_mask;
+        fp_r$1$d = bank_hash$1[(32'hc)+:(8)];
+        inside_r$1$d = slot_in$1 & slot_in$3 & slot_in$6;
+        home_r$1$d = slot_home$1 & slot_home$3 & slot_home$6;
+        bank_hash$2 = slot_hash$2 ^ slot_hash$3 ^ slot_hash$6;
+        bucket_r$2$d = bank_hash$2 & bucket_mask;
+        fp_r$2$d = bank_hash$2[(32'hc)+:(8)];
+        inside_r$2$d = slot_in$2 & slot_in$3 & slot_in$6;
+        home_r$2$d = slot_home$2 & slot_home$3 & slot_home$6;
+        bank_hash$3 = slot_hash$0 ^ slot_hash$4 ^ slot_hash$6;
+        bucket_r$3$d = bank_hash$3 & bucket_mask;
+        fp_r$3$d = bank_hash$3[(32'hc)+:(8)];
+        inside_r$3$d = slot_in$0 & slot_in$4 & slot_in$6;
+        home_r$3$d = slot_home$0 & slot_home$4 & slot_home$6;
+        bank_hash$4 = slot_hash$1 ^ slot_hash$4 ^ slot_hash$6;
+        bucket_r$4$d = bank_hash$4 & bucket_mask;
+        fp_r$4$d = bank_hash$4[(32'hc)+:(8)];
+        inside_r$4$d = slot_in$1 & slot_in$4 & slot_in$6;
+        home_r$4$d = slot_home$1 & slot_home$4 & slot_home$6;
+        bank_hash$5 = slot_hash$2 ^ slot_hash$4 ^ slot_hash$6;
+        bucket_r$5$d = bank_hash$5 & bucket_mask;
+        fp_r$5$d = bank_hash$5[(32'hc)+:(8)];
+        inside_r$5$d = slot_in$2 & slot_in$4 & slot_in$6;
+        home_r$5$d = slot_home$2 & slot_home$4 & slot_home$6;
+        bank_hash$6 = slot_hash$0 ^ slot_hash$5 ^ slot_hash$6;
+        bucket_r$6$d = bank_hash$6 & bucket_mask;
+        fp_r$6$d = bank_hash$6[(32'hc)+:(8)];
+        inside_r$6$d = slot_in$0 & slot_in$5 & slot_in$6;
+        home_r$6$d = slot_home$0 & slot_home$5 & slot_home$6;
+        bank_hash$7 = slot_hash$1 ^ slot_hash$5 ^ slot_hash$6;
+        bucket_r$7$d = bank_hash$7 & bucket_mask;
+        fp_r$7$d = bank_hash$7[(32'hc)+:(8)];
+        inside_r$7$d = slot_in$1 & slot_in$5 & slot_in$6;
+        home_r$7$d = slot_home$1 & slot_home$5 & slot_home$6;
+        bank_hash$8 = slot_hash$2 ^ slot_hash$5 ^ slot_hash$6;
+        bucket_r$8$d = bank_hash$8 & bucket_mask;
+        fp_r$8$d = bank_hash$8[(32'hc)+:(8)];
+        inside_r$8$d = slot_in$2 & slot_in$5 & slot_in$6;
+        home_r$8$d = slot_home$2 & slot_home$5 & slot_home$6;
+        bank_hash$9 = slot_hash$0 ^ slot_hash$3 ^ slot_hash$7;
+        bucket_r$9$d = bank_hash$9 & bucket_mask;
+        fp_r$9$d = bank_hash$9[(32'hc)+:(8)];
+        inside_r$9$d = slot_in$0 & slot_in$3 & slot_in$7;
+        home_r$9$d = slot_home$0 & slot_home$3 & slot_home$7;
+        bank_hash$10 = slot_hash$1 ^ slot_hash$3 ^ slot_hash$7;
+        bucket_r$10$d = bank_hash$10 & bucket_mask;
+        fp_r$10$d = bank_hash$10[(32'hc)+:(8)];
+        inside_r$10$d = slot_in$1 & slot_in$3 & slot_in$7;
+        home_r$10$d = slot_home$1 & slot_home$3 & slot_home$7;
+        bank_hash$11 = slot_hash$2 ^ slot_hash$3 ^ slot_hash$7;
+        bucket_r$11$d = bank_hash$11 & bucket_mask;
+        fp_r$11$d = bank_hash$11[(32'hc)+:(8)];
+        inside_r$11$d = slot_in$2 & slot_in$3 & slot_in$7;
+        home_r$11$d = slot_home$2 & slot_home$3 & slot_home$7;
+        bank_hash$12 = slot_hash$0 ^ slot_hash$4 ^ slot_hash$7;
+        bucket_r$12$d = bank_hash$12 & bucket_mask;
+        fp_r$12$d = bank_hash$12[(32'hc)+:(8)];
+        inside_r$12$d = slot_in$0 & slot_in$4 & slot_in$7;
+        home_r$12$d = slot_home$0 & slot_home$4 & slot_home$7;
+        bank_hash$13 = slot_hash$1 ^ slot_hash$4 ^ slot_hash$7;
+        bucket_r$13$d = bank_hash$13 & bucket_mask;
+        fp_r$13$d = bank_hash$13[(32'hc)+:(8)];
+        inside_r$13$d = slot_in$1 & slot_in$4 & slot_in$7;
+        home_r$13$d = slot_home$1 & slot_home$4 & slot_home$7;
+        bank_hash$14 = slot_hash$2 ^ slot_hash$4 ^ slot_hash$7;
+        bucket_r$14$d = bank_hash$14 & bucket_mask;
+        fp_r$14$d = bank_hash$14[(32'hc)+:(8)];
+        inside_r$14$d = slot_in$2 & slot_in$4 & slot_in$7;
+        home_r$14$d = slot_home$2 & slot_home$4 & slot_home$7;
+        bank_hash$15 = slot_hash$0 ^ slot_hash$5 ^ slot_hash$7;
+        bucket_r$15$d = bank_hash$15 & bucket_mask;
+        fp_r$15$d = bank_hash$15[(32'hc)+:(8)];
+        inside_r$15$d = slot_in$0 & slot_in$5 & slot_in$7;
+        home_r$15$d = slot_home$0 & slot_home$5 & slot_home$7;
+        bank_hash$16 = slot_hash$1 ^ slot_hash$5 ^ slot_hash$7;
+        bucket_r$16$d = bank_hash$16 & bucket_mask;
+        fp_r$16$d = bank_hash$16[(32'hc)+:(8)];
+        inside_r$16$d = slot_in$1 & slot_in$5 & slot_in$7;
+        home_r$16$d = slot_home$1 & slot_home$5 & slot_home$7;
+        bank_hash$17 = slot_hash$2 ^ slot_hash$5 ^ slot_hash$7;
+        bucket_r$17$d = bank_hash$17 & bucket_mask;
+        fp_r$17$d = bank_hash$17[(32'hc)+:(8)];
+        inside_r$17$d = slot_in$2 & slot_in$5 & slot_in$7;
+        home_r$17$d = slot_home$2 & slot_home$5 & slot_home$7;
+        bank_hash$18 = slot_hash$0 ^ slot_hash$3 ^ slot_hash$8;
+        bucket_r$18$d = bank_hash$18 & bucket_mask;
+        fp_r$18$d = bank_hash$18[(32'hc)+:(8)];
+        inside_r$18$d = slot_in$0 & slot_in$3 & slot_in$8;
+        home_r$18$d = slot_home$0 & slot_home$3 & slot_home$8;
+        bank_hash$19 = slot_hash$1 ^ slot_hash$3 ^ slot_hash$8;
+        bucket_r$19$d = bank_hash$19 & bucket_mask;
+        fp_r$19$d = bank_hash$19[(32'hc)+:(8)];
+        inside_r$19$d = slot_in$1 & slot_in$3 & slot_in$8;
+        home_r$19$d = slot_home$1 & slot_home$3 & slot_home$8;
+        bank_hash$20 = slot_hash$2 ^ slot_hash$3 ^ slot_hash$8;
+        bucket_r$20$d = bank_hash$20 & bucket_mask;
+        fp_r$20$d = bank_hash$20[(32'hc)+:(8)];
+        inside_r$20$d = slot_in$2 & slot_in$3 & slot_in$8;
+        home_r$20$d = slot_home$2 & slot_home$3 & slot_home$8;
+        bank_hash$21 = slot_hash$0 ^ slot_hash$4 ^ slot_hash$8;
+        bucket_r$21$d = bank_hash$21 & bucket_mask;
+        fp_r$21$d = bank_hash$21[(32'hc)+:(8)];
+        inside_r$21$d = slot_in$0 & slot_in$4 & slot_in$8;
+        home_r$21$d = slot_home$0 & slot_home$4 & slot_home$8;
+        bank_hash$22 = slot_hash$1 ^ slot_hash$4 ^ slot_hash$8;
+        bucket_r$22$d = bank_hash$22 & bucket_mask;
+        fp_r$22$d = bank_hash$22[(32'hc)+:(8)];
+        inside_r$22$d = slot_in$1 & slot_in$4 & slot_in$8;
+        home_r$22$d = slot_home$1 & slot_home$4 & slot_home$8;
+        bank_hash$23 = slot_hash$2 ^ slot_hash$4 ^ slot_hash$8;
+        bucket_r$23$d = bank_hash$23 & bucket_mask;
+        fp_r$23$d = bank_hash$23[(32'hc)+:(8)];
+        inside_r$23$d = slot_in$2 & slot_in$4 & slot_in$8;
+        home_r$23$d = slot_home$2 & slot_home$4 & slot_home$8;
+        bank_hash$24 = slot_hash$0 ^ slot_hash$5 ^ slot_hash$8;
+        bucket_r$24$d = bank_hash$24 & bucket_mask;
+        fp_r$24$d = bank_hash$24[(32'hc)+:(8)];
+        inside_r$24$d = slot_in$0 & slot_in$5 & slot_in$8;
+        home_r$24$d = slot_home$0 & slot_home$5 & slot_home$8;
+        bank_hash$25 = slot_hash$1 ^ slot_hash$5 ^ slot_hash$8;
+        bucket_r$25$d = bank_hash$25 & bucket_mask;
+        fp_r$25$d = bank_hash$25[(32'hc)+:(8)];
+        inside_r$25$d = slot_in$1 & slot_in$5 & slot_in$8;
+        home_r$25$d = slot_home$1 & slot_home$5 & slot_home$8;
+        bank_hash$26 = slot_hash$2 ^ slot_hash$5 ^ slot_hash$8;
+        bucket_r$26$d = bank_hash$26 & bucket_mask;
+        fp_r$26$d = bank_hash$26[(32'hc)+:(8)];
+        inside_r$26$d = slot_in$2 & slot_in$5 & slot_in$8;
+        home_r$26$d = slot_home$2 & slot_home$5 & slot_home$8;
+        home_hash = hash2$1$q ^ hash2$4$q ^ hash2$7$q;
+        home_fp_r$d = home_hash[(32'hc)+:(8)];
+        valid = valid3$q;
+        small_box = small3$q;
+        home_fp = home_fp_r$q;
+        bucket$0 = bucket_r$0$q;
+        fp$0 = fp_r$0$q;
+        inside$0 = inside_r$0$q;
+        home$0 = home_r$0$q;
+        bucket$1 = bucket_r$1$q;
+        fp$1 = fp_r$1$q;
+        inside$1 = inside_r$1$q;
+        home$1 = home_r$1$q;
+        bucket$2 = bucket_r$2$q;
+        fp$2 = fp_r$2$q;
+        inside$2 = inside_r$2$q;
+        home$2 = home_r$2$q;
+        bucket$3 = bucket_r$3$q;
+        fp$3 = fp_r$3$q;
+        inside$3 = inside_r$3$q;
+        home$3 = home_r$3$q;
+        bucket$4 = bucket_r$4$q;
+        fp$4 = fp_r$4$q;
+        inside$4 = inside_r$4$q;
+        home$4 = home_r$4$q;
+        bucket$5 = bucket_r$5$q;
+        fp$5 = fp_r$5$q;
+        inside$5 = inside_r$5$q;
+        home$5 = home_r$5$q;
+        bucket$6 = bucket_r$6$q;
+        fp$6 = fp_r$6$q;
+        inside$6 = inside_r$6$q;
+        home$6 = home_r$6$q;
+        bucket$7 = bucket_r$7$q;
+        fp$7 = fp_r$7$q;
+        inside$7 = inside_r$7$q;
+        home$7 = home_r$7$q;
+        bucket$8 = bucket_r$8$q;
+        fp$8 = fp_r$8$q;
+        inside$8 = inside_r$8$q;
+        home$8 = home_r$8$q;
+        bucket$9 = bucket_r$9$q;
+        fp$9 = fp_r$9$q;
+        inside$9 = inside_r$9$q;
+        home$9 = home_r$9$q;
+        bucket$10 = bucket_r$10$q;
+        fp$10 = fp_r$10$q;
+        inside$10 = inside_r$10$q;
+        home$10 = home_r$10$q;
+        bucket$11 = bucket_r$11$q;
+        fp$11 = fp_r$11$q;
+        inside$11 = inside_r$11$q;
+        home$11 = home_r$11$q;
+        bucket$12 = bucket_r$12$q;
+        fp$12 = fp_r$12$q;
+        inside$12 = inside_r$12$q;
+        home$12 = home_r$12$q;
+        bucket$13 = bucket_r$13$q;
+        fp$13 = fp_r$13$q;
+        inside$13 = inside_r$13$q;
+        home$13 = home_r$13$q;
+        bucket$14 = bucket_r$14$q;
+        fp$14 = fp_r$14$q;
+        inside$14 = inside_r$14$q;
+        home$14 = home_r$14$q;
+        bucket$15 = bucket_r$15$q;
+        fp$15 = fp_r$15$q;
+        inside$15 = inside_r$15$q;
+        home$15 = home_r$15$q;
+        bucket$16 = bucket_r$16$q;
+        fp$16 = fp_r$16$q;
+        inside$16 = inside_r$16$q;
+        home$16 = home_r$16$q;
+        bucket$17 = bucket_r$17$q;
+        fp$17 = fp_r$17$q;
+        inside$17 = inside_r$17$q;
+        home$17 = home_r$17$q;
+        bucket$18 = bucket_r$18$q;
+        fp$18 = fp_r$18$q;
+        inside$18 = inside_r$18$q;
+        home$18 = home_r$18$q;
+        bucket$19 = bucket_r$19$q;
+        fp$19 = fp_r$19$q;
+        inside$19 = inside_r$19$q;
+        home$19 = home_r$19$q;
+        bucket$20 = bucket_r$20$q;
+        fp$20 = fp_r$20$q;
+        inside$20 = inside_r$20$q;
+        home$20 = home_r$20$q;
+        bucket$21 = bucket_r$21$q;
+        fp$21 = fp_r$21$q;
+        inside$21 = inside_r$21$q;
+        home$21 = home_r$21$q;
+        bucket$22 = bucket_r$22$q;
+        fp$22 = fp_r$22$q;
+        inside$22 = inside_r$22$q;
+        home$22 = home_r$22$q;
+        bucket$23 = bucket_r$23$q;
+        fp$23 = fp_r$23$q;
+        inside$23 = inside_r$23$q;
+        home$23 = home_r$23$q;
+        bucket$24 = bucket_r$24$q;
+        fp$24 = fp_r$24$q;
+        inside$24 = inside_r$24$q;
+        home$24 = home_r$24$q;
+        bucket$25 = bucket_r$25$q;
+        fp$25 = fp_r$25$q;
+        inside$25 = inside_r$25$q;
+        home$25 = home_r$25$q;
+        bucket$26 = bucket_r$26$q;
+        fp$26 = fp_r$26$q;
+        inside$26 = inside_r$26$q;
+        home$26 = home_r$26$q;
+    end
+    
+endmodule // obb_core$grid$cells
+
+
+module obb_core$grid$cells$bucket_r$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$0
+
+
+module obb_core$grid$cells$bucket_r$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$1
+
+
+module obb_core$grid$cells$bucket_r$10(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$10
+
+
+module obb_core$grid$cells$bucket_r$11(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$11
+
+
+module obb_core$grid$cells$bucket_r$12(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$12
+
+
+module obb_core$grid$cells$bucket_r$13(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$13
+
+
+module obb_core$grid$cells$bucket_r$14(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$14
+
+
+module obb_core$grid$cells$bucket_r$15(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$15
+
+
+module obb_core$grid$cells$bucket_r$16(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$16
+
+
+module obb_core$grid$cells$bucket_r$17(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$17
+
+
+module obb_core$grid$cells$bucket_r$18(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$18
+
+
+module obb_core$grid$cells$bucket_r$19(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$19
+
+
+module obb_core$grid$cells$bucket_r$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$2
+
+
+module obb_core$grid$cells$bucket_r$20(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$20
+
+
+module obb_core$grid$cells$bucket_r$21(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$21
+
+
+module obb_core$grid$cells$bucket_r$22(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$22
+
+
+module obb_core$grid$cells$bucket_r$23(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$23
+
+
+module obb_core$grid$cells$bucket_r$24(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$24
+
+
+module obb_core$grid$cells$bucket_r$25(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$25
+
+
+module obb_core$grid$cells$bucket_r$26(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$26
+
+
+module obb_core$grid$cells$bucket_r$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$3
+
+
+module obb_core$grid$cells$bucket_r$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$4
+
+
+module obb_core$grid$cells$bucket_r$5(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$5
+
+
+module obb_core$grid$cells$bucket_r$6(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$6
+
+
+module obb_core$grid$cells$bucket_r$7(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$7
+
+
+module obb_core$grid$cells$bucket_r$8(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$8
+
+
+module obb_core$grid$cells$bucket_r$9(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$bucket_r$9
+
+
+module obb_core$grid$cells$cell1$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$cell1$0
+
+
+module obb_core$grid$cells$cell1$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$cell1$1
+
+
+module obb_core$grid$cells$cell1$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$cell1$2
+
+
+module obb_core$grid$cells$cell1$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$cell1$3
+
+
+module obb_core$grid$cells$cell1$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$cell1$4
+
+
+module obb_core$grid$cells$cell1$5(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$cell1$5
+
+
+module obb_core$grid$cells$cell1$6(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$cell1$6
+
+
+module obb_core$grid$cells$cell1$7(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$cell1$7
+
+
+module obb_core$grid$cells$cell1$8(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$cell1$8
+
+
+module obb_core$grid$cells$fp_r$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$0
+
+
+module obb_core$grid$cells$fp_r$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$1
+
+
+module obb_core$grid$cells$fp_r$10(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$10
+
+
+module obb_core$grid$cells$fp_r$11(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$11
+
+
+module obb_core$grid$cells$fp_r$12(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$12
+
+
+module obb_core$grid$cells$fp_r$13(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$13
+
+
+module obb_core$grid$cells$fp_r$14(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$14
+
+
+module obb_core$grid$cells$fp_r$15(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$15
+
+
+module obb_core$grid$cells$fp_r$16(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$16
+
+
+module obb_core$grid$cells$fp_r$17(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$17
+
+
+module obb_core$grid$cells$fp_r$18(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$18
+
+
+module obb_core$grid$cells$fp_r$19(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$19
+
+
+module obb_core$grid$cells$fp_r$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$2
+
+
+module obb_core$grid$cells$fp_r$20(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$20
+
+
+module obb_core$grid$cells$fp_r$21(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$21
+
+
+module obb_core$grid$cells$fp_r$22(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$22
+
+
+module obb_core$grid$cells$fp_r$23(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$23
+
+
+module obb_core$grid$cells$fp_r$24(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$24
+
+
+module obb_core$grid$cells$fp_r$25(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$25
+
+
+module obb_core$grid$cells$fp_r$26(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$26
+
+
+module obb_core$grid$cells$fp_r$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$3
+
+
+module obb_core$grid$cells$fp_r$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$4
+
+
+module obb_core$grid$cells$fp_r$5(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$5
+
+
+module obb_core$grid$cells$fp_r$6(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$6
+
+
+module obb_core$grid$cells$fp_r$7(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$7
+
+
+module obb_core$grid$cells$fp_r$8(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$8
+
+
+module obb_core$grid$cells$fp_r$9(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$fp_r$9
+
+
+module obb_core$grid$cells$hash2$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$hash2$0
+
+
+module obb_core$grid$cells$hash2$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$hash2$1
+
+
+module obb_core$grid$cells$hash2$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$hash2$2
+
+
+module obb_core$grid$cells$hash2$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$hash2$3
+
+
+module obb_core$grid$cells$hash2$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$hash2$4
+
+
+module obb_core$grid$cells$hash2$5(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$hash2$5
+
+
+module obb_core$grid$cells$hash2$6(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$hash2$6
+
+
+module obb_core$grid$cells$hash2$7(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$hash2$7
+
+
+module obb_core$grid$cells$hash2$8(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$hash2$8
+
+
+module obb_core$grid$cells$home_fp_r(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_fp_r
+
+
+module obb_core$grid$cells$home_r$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$0
+
+
+module obb_core$grid$cells$home_r$1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$1
+
+
+module obb_core$grid$cells$home_r$10(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$10
+
+
+module obb_core$grid$cells$home_r$11(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$11
+
+
+module obb_core$grid$cells$home_r$12(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$12
+
+
+module obb_core$grid$cells$home_r$13(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$13
+
+
+module obb_core$grid$cells$home_r$14(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$14
+
+
+module obb_core$grid$cells$home_r$15(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$15
+
+
+module obb_core$grid$cells$home_r$16(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$16
+
+
+module obb_core$grid$cells$home_r$17(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$17
+
+
+module obb_core$grid$cells$home_r$18(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$18
+
+
+module obb_core$grid$cells$home_r$19(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$19
+
+
+module obb_core$grid$cells$home_r$2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$2
+
+
+module obb_core$grid$cells$home_r$20(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$20
+
+
+module obb_core$grid$cells$home_r$21(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$21
+
+
+module obb_core$grid$cells$home_r$22(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$22
+
+
+module obb_core$grid$cells$home_r$23(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$23
+
+
+module obb_core$grid$cells$home_r$24(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$24
+
+
+module obb_core$grid$cells$home_r$25(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$25
+
+
+module obb_core$grid$cells$home_r$26(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$26
+
+
+module obb_core$grid$cells$home_r$3(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$3
+
+
+module obb_core$grid$cells$home_r$4(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$4
+
+
+module obb_core$grid$cells$home_r$5(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$5
+
+
+module obb_core$grid$cells$home_r$6(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$6
+
+
+module obb_core$grid$cells$home_r$7(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$7
+
+
+module obb_core$grid$cells$home_r$8(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$8
+
+
+module obb_core$grid$cells$home_r$9(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$home_r$9
+
+
+module obb_core$grid$cells$inside_r$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$0
+
+
+module obb_core$grid$cells$inside_r$1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$1
+
+
+module obb_core$grid$cells$inside_r$10(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$10
+
+
+module obb_core$grid$cells$inside_r$11(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$11
+
+
+module obb_core$grid$cells$inside_r$12(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$12
+
+
+module obb_core$grid$cells$inside_r$13(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$13
+
+
+module obb_core$grid$cells$inside_r$14(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$14
+
+
+module obb_core$grid$cells$inside_r$15(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$15
+
+
+module obb_core$grid$cells$inside_r$16(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$16
+
+
+module obb_core$grid$cells$inside_r$17(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$17
+
+
+module obb_core$grid$cells$inside_r$18(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$18
+
+
+module obb_core$grid$cells$inside_r$19(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$19
+
+
+module obb_core$grid$cells$inside_r$2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$2
+
+
+module obb_core$grid$cells$inside_r$20(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$20
+
+
+module obb_core$grid$cells$inside_r$21(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$21
+
+
+module obb_core$grid$cells$inside_r$22(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$22
+
+
+module obb_core$grid$cells$inside_r$23(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$23
+
+
+module obb_core$grid$cells$inside_r$24(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$24
+
+
+module obb_core$grid$cells$inside_r$25(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$25
+
+
+module obb_core$grid$cells$inside_r$26(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$26
+
+
+module obb_core$grid$cells$inside_r$3(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$3
+
+
+module obb_core$grid$cells$inside_r$4(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$4
+
+
+module obb_core$grid$cells$inside_r$5(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$5
+
+
+module obb_core$grid$cells$inside_r$6(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$6
+
+
+module obb_core$grid$cells$inside_r$7(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$7
+
+
+module obb_core$grid$cells$inside_r$8(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$8
+
+
+module obb_core$grid$cells$inside_r$9(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$inside_r$9
+
+
+module obb_core$grid$cells$res2$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$res2$0
+
+
+module obb_core$grid$cells$res2$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$res2$1
+
+
+module obb_core$grid$cells$res2$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$res2$2
+
+
+module obb_core$grid$cells$small1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$small1
+
+
+module obb_core$grid$cells$small2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$small2
+
+
+module obb_core$grid$cells$small3(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$small3
+
+
+module obb_core$grid$cells$third1$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$third1$0
+
+
+module obb_core$grid$cells$third1$1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$third1$1
+
+
+module obb_core$grid$cells$third1$2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$third1$2
+
+
+module obb_core$grid$cells$third2$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$third2$0
+
+
+module obb_core$grid$cells$third2$1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$third2$1
+
+
+module obb_core$grid$cells$third2$2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$third2$2
+
+
+module obb_core$grid$cells$valid1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$valid1
+
+
+module obb_core$grid$cells$valid2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$valid2
+
+
+module obb_core$grid$cells$valid3(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$valid3
+
+
+module obb_core$grid$chase(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$chase
+
+
+module obb_core$grid$clear_at(d,q,clock);
+    
+    // Module arguments
+    input wire  [19:0] d;
+    output reg  [19:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 20'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$clear_at
+
+
+module obb_core$grid$cleared(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cleared
+
+
+module obb_core$grid$clearing(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$clearing
+
+
+module obb_core$grid$count(d,q,clock);
+    
+    // Module arguments
+    input wire  [6:0] d;
+    output reg  [6:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 7'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$count
+
+
+module obb_core$grid$cur_head$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$0
+
+
+module obb_core$grid$cur_head$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$1
+
+
+module obb_core$grid$cur_head$10(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$10
+
+
+module obb_core$grid$cur_head$11(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$11
+
+
+module obb_core$grid$cur_head$12(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$12
+
+
+module obb_core$grid$cur_head$13(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$13
+
+
+module obb_core$grid$cur_head$14(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$14
+
+
+module obb_core$grid$cur_head$15(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$15
+
+
+module obb_core$grid$cur_head$16(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$16
+
+
+module obb_core$grid$cur_head$17(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$17
+
+
+module obb_core$grid$cur_head$18(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$18
+
+
+module obb_core$grid$cur_head$19(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$19
+
+
+module obb_core$grid$cur_head$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$2
+
+
+module obb_core$grid$cur_head$20(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$20
+
+
+module obb_core$grid$cur_head$21(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$21
+
+
+module obb_core$grid$cur_head$22(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$22
+
+
+module obb_core$grid$cur_head$23(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$23
+
+
+module obb_core$grid$cur_head$24(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$24
+
+
+module obb_core$grid$cur_head$25(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$25
+
+
+module obb_core$grid$cur_head$26(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$26
+
+
+module obb_core$grid$cur_head$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$3
+
+
+module obb_core$grid$cur_head$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$4
+
+
+module obb_core$grid$cur_head$5(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$5
+
+
+module obb_core$grid$cur_head$6(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$6
+
+
+module obb_core$grid$cur_head$7(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$7
+
+
+module obb_core$grid$cur_head$8(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$8
+
+
+module obb_core$grid$cur_head$9(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_head$9
+
+
+module obb_core$grid$cur_index(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_index
+
+
+module obb_core$grid$cur_live$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$0
+
+
+module obb_core$grid$cur_live$1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$1
+
+
+module obb_core$grid$cur_live$10(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$10
+
+
+module obb_core$grid$cur_live$11(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$11
+
+
+module obb_core$grid$cur_live$12(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$12
+
+
+module obb_core$grid$cur_live$13(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$13
+
+
+module obb_core$grid$cur_live$14(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$14
+
+
+module obb_core$grid$cur_live$15(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$15
+
+
+module obb_core$grid$cur_live$16(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$16
+
+
+module obb_core$grid$cur_live$17(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$17
+
+
+module obb_core$grid$cur_live$18(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$18
+
+
+module obb_core$grid$cur_live$19(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$19
+
+
+module obb_core$grid$cur_live$2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$2
+
+
+module obb_core$grid$cur_live$20(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$20
+
+
+module obb_core$grid$cur_live$21(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$21
+
+
+module obb_core$grid$cur_live$22(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$22
+
+
+module obb_core$grid$cur_live$23(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$23
+
+
+module obb_core$grid$cur_live$24(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$24
+
+
+module obb_core$grid$cur_live$25(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$25
+
+
+module obb_core$grid$cur_live$26(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$26
+
+
+module obb_core$grid$cur_live$3(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$3
+
+
+module obb_core$grid$cur_live$4(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$4
+
+
+module obb_core$grid$cur_live$5(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$5
+
+
+module obb_core$grid$cur_live$6(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$6
+
+
+module obb_core$grid$cur_live$7(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$7
+
+
+module obb_core$grid$cur_live$8(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$8
+
+
+module obb_core$grid$cur_live$9(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_live$9
+
+
+module obb_core$grid$cur_margin(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_margin
+
+
+module obb_core$grid$cur_max$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_max$0
+
+
+module obb_core$grid$cur_max$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_max$1
+
+
+module obb_core$grid$cur_max$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_max$2
+
+
+module obb_core$grid$cur_min$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_min$0
+
+
+module obb_core$grid$cur_min$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_min$1
+
+
+module obb_core$grid$cur_min$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_min$2
+
+
+module obb_core$grid$cur_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_valid
+
+
+module obb_core$grid$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write;
+    input wire  [95:0] data_in;
+    input wire  ready;
+    output reg  valid;
+    output reg  [95:0] data_out;
+    output reg  empty;
+    output reg  almost_full;
+    
+    // Constant declarations
+    localparam  stall_at = 7'b100000;
+    
+    // Stub signals
+    reg  ram$clock;
+    reg  ram$write_enable;
+    reg  [5:0] ram$write_address;
+    reg  [95:0] ram$write_data;
+    reg  [5:0] ram$read_address;
+    wire  [95:0] ram$read_data;
+    reg  [5:0] wptr$d;
+    wire  [5:0] wptr$q;
+    reg  wptr$clock;
+    reg  [5:0] rptr$d;
+    wire  [5:0] rptr$q;
+    reg  rptr$clock;
+    reg  [6:0] count$d;
+    wire  [6:0] count$q;
+    reg  count$clock;
+    reg  stored$d;
+    wire  stored$q;
+    reg  stored$clock;
+    reg  one$d;
+    wire  one$q;
+    reg  one$clock;
+    reg  out_valid$d;
+    wire  out_valid$q;
+    reg  out_valid$clock;
+    reg  [95:0] out_data$d;
+    wire  [95:0] out_data$q;
+    reg  out_data$clock;
+    
+    // Local signals
+    reg  load;
+    reg  two;
+    
+    // Sub module instances
+    obb_core$grid$fifo$ram ram(
+        .clock(ram$clock),
+        .write_enable(ram$write_enable),
+        .write_address(ram$write_address),
+        .write_data(ram$write_data),
+        .read_address(ram$read_address),
+        .read_data(ram$read_data)
+    );
+    obb_core$grid$fifo$wptr wptr(
+        .d(wptr$d),
+        .q(wptr$q),
+        .clock(wptr$clock)
+    );
+    obb_core$grid$fifo$rptr rptr(
+        .d(rptr$d),
+        .q(rptr$q),
+        .clock(rptr$clock)
+    );
+    obb_core$grid$fifo$count count(
+        .d(count$d),
+        .q(count$q),
+        .clock(count$clock)
+    );
+    obb_core$grid$fifo$stored stored(
+        .d(stored$d),
+        .q(stored$q),
+        .clock(stored$clock)
+    );
+    obb_core$grid$fifo$one one(
+        .d(one$d),
+        .q(one$q),
+        .clock(one$clock)
+    );
+    obb_core$grid$fifo$out_valid out_valid(
+        .d(out_valid$d),
+        .q(out_valid$q),
+        .clock(out_valid$clock)
+    );
+    obb_core$grid$fifo$out_data out_data(
+        .d(out_data$d),
+        .q(out_data$q),
+        .clock(out_data$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        wptr$clock = clock;
+        rptr$clock = clock;
+        count$clock = clock;
+        stored$clock = clock;
+        one$clock = clock;
+        out_valid$clock = clock;
+        out_data$clock = clock;
+        wptr$d = wptr$q;
+        rptr$d = rptr$q;
+        count$d = count$q;
+        stored$d = stored$q;
+        one$d = one$q;
+        out_valid$d = out_valid$q;
+        out_data$d = out_data$q;
+        ram$clock = clock;
+        ram$write_enable = write;
+        ram$write_address = wptr$q;
+        ram$write_data = data_in;
+        ram$read_address = rptr$q;
+        load = stored$q & (~out_valid$q | ready);
+        if (write) begin
+            wptr$d = wptr$q + 32'h1;
+        end
+        if (load) begin
+            rptr$d = rptr$q + 32'h1;
+            out_data$d = ram$read_data;
+            out_valid$d = 1'b1;
+        end
+        else if (ready) begin
+            out_valid$d = 1'b0;
+        end
+        if (write & ~load) begin
+            count$d = count$q + 32'h1;
+        end
+        if (load & ~write) begin
+            count$d = count$q - 32'h1;
+        end
+        two = count$q == 32'h2;
+        stored$d = write | (stored$q & ~(one$q & load));
+        one$d = (~stored$q & write) | (one$q & (write == load)) | (two & load & ~write);
+        valid = out_valid$q;
+        data_out = out_data$q;
+        empty = ~stored$q & ~out_valid$q;
+        almost_full = count$q >= stall_at;
+    end
+    
+endmodule // obb_core$grid$fifo
+
+
+module obb_core$grid$fifo$count(d,q,clock);
+    
+    // Module arguments
+    input wire  [6:0] d;
+    output reg  [6:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 7'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$fifo$count
+
+
+module obb_core$grid$fifo$one(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$fifo$one
+
+
+module obb_core$grid$fifo$out_data(d,q,clock);
+    
+    // Module arguments
+    input wire  [95:0] d;
+    output reg  [95:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 96'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$fifo$out_data
+
+
+module obb_core$grid$fifo$out_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$fifo$out_valid
+
+
+module obb_core$grid$fifo$ram(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [5:0] write_address;
+    input wire  [95:0] write_data;
+    input wire  [5:0] read_address;
+    output reg  [95:0] read_data;
+    
+    // Update code (custom)
+    reg [95:0] mem [0:63];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$fifo$ram
+
+
+module obb_core$grid$fifo$rptr(d,q,clock);
+    
+    // Module arguments
+    input wire  [5:0] d;
+    output reg  [5:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 6'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$fifo$rptr
+
+
+module obb_core$grid$fifo$stored(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$fifo$stored
+
+
+module obb_core$grid$fifo$wptr(d,q,clock);
+    
+    // Module arguments
+    input wire  [5:0] d;
+    output reg  [5:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 6'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$fifo$wptr
+
+
+module obb_core$grid$head$0(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$0
+
+
+module obb_core$grid$head$1(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$1
+
+
+module obb_core$grid$head$10(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$10
+
+
+module obb_core$grid$head$11(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$11
+
+
+module obb_core$grid$head$12(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$12
+
+
+module obb_core$grid$head$13(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$13
+
+
+module obb_core$grid$head$14(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$14
+
+
+module obb_core$grid$head$15(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$15
+
+
+module obb_core$grid$head$16(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$16
+
+
+module obb_core$grid$head$17(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$17
+
+
+module obb_core$grid$head$18(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$18
+
+
+module obb_core$grid$head$19(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$19
+
+
+module obb_core$grid$head$2(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$2
+
+
+module obb_core$grid$head$20(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$20
+
+
+module obb_core$grid$head$21(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$21
+
+
+module obb_core$grid$head$22(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$22
+
+
+module obb_core$grid$head$23(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$23
+
+
+module obb_core$grid$head$24(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$24
+
+
+module obb_core$grid$head$25(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$25
+
+
+module obb_core$grid$head$26(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$26
+
+
+module obb_core$grid$head$3(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$3
+
+
+module obb_core$grid$head$4(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$4
+
+
+module obb_core$grid$head$5(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$5
+
+
+module obb_core$grid$head$6(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$6
+
+
+module obb_core$grid$head$7(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$7
+
+
+module obb_core$grid$head$8(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$8
+
+
+module obb_core$grid$head$9(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$head$9
+
+
+module obb_core$grid$held(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$held
+
+
+module obb_core$grid$held_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$held_valid
+
+
+module obb_core$grid$inflight(d,q,clock);
+    
+    // Module arguments
+    input wire  [6:0] d;
+    output reg  [6:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 7'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$inflight
+
+
+module obb_core$grid$large_seen(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$large_seen
+
+
+module obb_core$grid$meta$0(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$0
+
+
+module obb_core$grid$meta$1(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$1
+
+
+module obb_core$grid$meta$10(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$10
+
+
+module obb_core$grid$meta$11(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$11
+
+
+module obb_core$grid$meta$12(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$12
+
+
+module obb_core$grid$meta$13(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$13
+
+
+module obb_core$grid$meta$14(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$14
+
+
+module obb_core$grid$meta$15(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$15
+
+
+module obb_core$grid$meta$16(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$16
+
+
+module obb_core$grid$meta$17(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$17
+
+
+module obb_core$grid$meta$18(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$18
+
+
+module obb_core$grid$meta$19(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$19
+
+
+module obb_core$grid$meta$2(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$2
+
+
+module obb_core$grid$meta$20(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$20
+
+
+module obb_core$grid$meta$21(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$21
+
+
+module obb_core$grid$meta$22(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$22
+
+
+module obb_core$grid$meta$23(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$23
+
+
+module obb_core$grid$meta$24(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$24
+
+
+module obb_core$grid$meta$25(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$25
+
+
+module obb_core$grid$meta$26(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$26
+
+
+module obb_core$grid$meta$3(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$3
+
+
+module obb_core$grid$meta$4(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$4
+
+
+module obb_core$grid$meta$5(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$5
+
+
+module obb_core$grid$meta$6(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$6
+
+
+module obb_core$grid$meta$7(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$7
+
+
+module obb_core$grid$meta$8(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$8
+
+
+module obb_core$grid$meta$9(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [9:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [9:0] read_data;
+    
+    // Update code (custom)
+    reg [9:0] mem [0:1];
+    integer k;
+    initial begin
+       for (k = 0; k < 2; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$meta$9
+
+
+module obb_core$grid$rec$0(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$0
+
+
+module obb_core$grid$rec$1(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$1
+
+
+module obb_core$grid$rec$10(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$10
+
+
+module obb_core$grid$rec$11(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$11
+
+
+module obb_core$grid$rec$12(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$12
+
+
+module obb_core$grid$rec$13(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$13
+
+
+module obb_core$grid$rec$14(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$14
+
+
+module obb_core$grid$rec$15(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$15
+
+
+module obb_core$grid$rec$16(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$16
+
+
+module obb_core$grid$rec$17(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$17
+
+
+module obb_core$grid$rec$18(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$18
+
+
+module obb_core$grid$rec$19(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$19
+
+
+module obb_core$grid$rec$2(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$2
+
+
+module obb_core$grid$rec$20(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$20
+
+
+module obb_core$grid$rec$21(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$21
+
+
+module obb_core$grid$rec$22(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$22
+
+
+module obb_core$grid$rec$23(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$23
+
+
+module obb_core$grid$rec$24(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$24
+
+
+module obb_core$grid$rec$25(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$25
+
+
+module obb_core$grid$rec$26(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$26
+
+
+module obb_core$grid$rec$3(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$3
+
+
+module obb_core$grid$rec$4(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$4
+
+
+module obb_core$grid$rec$5(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$5
+
+
+module obb_core$grid$rec$6(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$6
+
+
+module obb_core$grid$rec$7(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$7
+
+
+module obb_core$grid$rec$8(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$8
+
+
+module obb_core$grid$rec$9(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec$9
+
+
+module obb_core$grid$rec_index(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec_index
+
+
+module obb_core$grid$rec_margin(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [27:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [27:0] read_data;
+    
+    // Update code (custom)
+    reg [27:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec_margin
+
+
+module obb_core$grid$rec_max$0(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [22:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [22:0] read_data;
+    
+    // Update code (custom)
+    reg [22:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec_max$0
+
+
+module obb_core$grid$rec_max$1(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [22:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [22:0] read_data;
+    
+    // Update code (custom)
+    reg [22:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec_max$1
+
+
+module obb_core$grid$rec_max$2(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [22:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [22:0] read_data;
+    
+    // Update code (custom)
+    reg [22:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec_max$2
+
+
+module obb_core$grid$rec_min$0(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [22:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [22:0] read_data;
+    
+    // Update code (custom)
+    reg [22:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec_min$0
+
+
+module obb_core$grid$rec_min$1(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [22:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [22:0] read_data;
+    
+    // Update code (custom)
+    reg [22:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec_min$1
+
+
+module obb_core$grid$rec_min$2(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [22:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [22:0] read_data;
+    
+    // Update code (custom)
+    reg [22:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec_min$2
+
+
+module obb_core$grid$rp(d,q,clock);
+    
+    // Module arguments
+    input wire  [4:0] d;
+    output reg  [4:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 5'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$rp
+
+
+module obb_core$grid$s1_group(d,q,clock);
+    
+    // Module arguments
+    input wire  [2:0] d;
+    output reg  [2:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 3'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s1_group
+
+
+module obb_core$grid$s1_index(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s1_index
+
+
+module obb_core$grid$s1_margin(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s1_margin
+
+
+module obb_core$grid$s1_max$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s1_max$0
+
+
+module obb_core$grid$s1_max$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s1_max$1
+
+
+module obb_core$grid$s1_max$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s1_max$2
+
+
+module obb_core$grid$s1_min$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s1_min$0
+
+
+module obb_core$grid$s1_min$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s1_min$1
+
+
+module obb_core$grid$s1_min$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s1_min$2
+
+
+module obb_core$grid$s1_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s1_valid
+
+
+module obb_core$grid$s2_group(d,q,clock);
+    
+    // Module arguments
+    input wire  [2:0] d;
+    output reg  [2:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 3'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s2_group
+
+
+module obb_core$grid$s2_index(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s2_index
+
+
+module obb_core$grid$s2_margin(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s2_margin
+
+
+module obb_core$grid$s2_max$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s2_max$0
+
+
+module obb_core$grid$s2_max$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s2_max$1
+
+
+module obb_core$grid$s2_max$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s2_max$2
+
+
+module obb_core$grid$s2_min$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s2_min$0
+
+
+module obb_core$grid$s2_min$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s2_min$1
+
+
+module obb_core$grid$s2_min$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s2_min$2
+
+
+module obb_core$grid$s2_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s2_valid
+
+
+module obb_core$grid$s3_allowed(d,q,clock);
+    
+    // Module arguments
+    input wire  [63:0] d;
+    output reg  [63:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 64'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s3_allowed
+
+
+module obb_core$grid$s3_group(d,q,clock);
+    
+    // Module arguments
+    input wire  [2:0] d;
+    output reg  [2:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 3'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s3_group
+
+
+module obb_core$grid$s3_index(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s3_index
+
+
+module obb_core$grid$s3_margin(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s3_margin
+
+
+module obb_core$grid$s3_max$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s3_max$0
+
+
+module obb_core$grid$s3_max$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s3_max$1
+
+
+module obb_core$grid$s3_max$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s3_max$2
+
+
+module obb_core$grid$s3_min$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s3_min$0
+
+
+module obb_core$grid$s3_min$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s3_min$1
+
+
+module obb_core$grid$s3_min$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s3_min$2
+
+
+module obb_core$grid$s3_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s3_valid
+
+
+module obb_core$grid$s4_any(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_any
+
+
+module obb_core$grid$s4_head$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$0
+
+
+module obb_core$grid$s4_head$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$1
+
+
+module obb_core$grid$s4_head$10(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$10
+
+
+module obb_core$grid$s4_head$11(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$11
+
+
+module obb_core$grid$s4_head$12(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$12
+
+
+module obb_core$grid$s4_head$13(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$13
+
+
+module obb_core$grid$s4_head$14(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$14
+
+
+module obb_core$grid$s4_head$15(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$15
+
+
+module obb_core$grid$s4_head$16(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$16
+
+
+module obb_core$grid$s4_head$17(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$17
+
+
+module obb_core$grid$s4_head$18(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$18
+
+
+module obb_core$grid$s4_head$19(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$19
+
+
+module obb_core$grid$s4_head$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$2
+
+
+module obb_core$grid$s4_head$20(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$20
+
+
+module obb_core$grid$s4_head$21(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$21
+
+
+module obb_core$grid$s4_head$22(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$22
+
+
+module obb_core$grid$s4_head$23(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$23
+
+
+module obb_core$grid$s4_head$24(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$24
+
+
+module obb_core$grid$s4_head$25(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$25
+
+
+module obb_core$grid$s4_head$26(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$26
+
+
+module obb_core$grid$s4_head$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$3
+
+
+module obb_core$grid$s4_head$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$4
+
+
+module obb_core$grid$s4_head$5(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$5
+
+
+module obb_core$grid$s4_head$6(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$6
+
+
+module obb_core$grid$s4_head$7(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$7
+
+
+module obb_core$grid$s4_head$8(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$8
+
+
+module obb_core$grid$s4_head$9(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_head$9
+
+
+module obb_core$grid$s4_index(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_index
+
+
+module obb_core$grid$s4_live$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$0
+
+
+module obb_core$grid$s4_live$1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$1
+
+
+module obb_core$grid$s4_live$10(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$10
+
+
+module obb_core$grid$s4_live$11(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$11
+
+
+module obb_core$grid$s4_live$12(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$12
+
+
+module obb_core$grid$s4_live$13(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$13
+
+
+module obb_core$grid$s4_live$14(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$14
+
+
+module obb_core$grid$s4_live$15(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$15
+
+
+module obb_core$grid$s4_live$16(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$16
+
+
+module obb_core$grid$s4_live$17(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$17
+
+
+module obb_core$grid$s4_live$18(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$18
+
+
+module obb_core$grid$s4_live$19(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$19
+
+
+module obb_core$grid$s4_live$2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$2
+
+
+module obb_core$grid$s4_live$20(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$20
+
+
+module obb_core$grid$s4_live$21(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$21
+
+
+module obb_core$grid$s4_live$22(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$22
+
+
+module obb_core$grid$s4_live$23(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$23
+
+
+module obb_core$grid$s4_live$24(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$24
+
+
+module obb_core$grid$s4_live$25(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$25
+
+
+module obb_core$grid$s4_live$26(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$26
+
+
+module obb_core$grid$s4_live$3(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$3
+
+
+module obb_core$grid$s4_live$4(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$4
+
+
+module obb_core$grid$s4_live$5(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$5
+
+
+module obb_core$grid$s4_live$6(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$6
+
+
+module obb_core$grid$s4_live$7(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$7
+
+
+module obb_core$grid$s4_live$8(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$8
+
+
+module obb_core$grid$s4_live$9(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_live$9
+
+
+module obb_core$grid$s4_margin(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_margin
+
+
+module obb_core$grid$s4_max$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_max$0
+
+
+module obb_core$grid$s4_max$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_max$1
+
+
+module obb_core$grid$s4_max$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_max$2
+
+
+module obb_core$grid$s4_min$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_min$0
+
+
+module obb_core$grid$s4_min$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_min$1
+
+
+module obb_core$grid$s4_min$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_min$2
+
+
+module obb_core$grid$s4_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_valid
+
+
+module obb_core$grid$started$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$0
+
+
+module obb_core$grid$started$1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$1
+
+
+module obb_core$grid$started$10(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$10
+
+
+module obb_core$grid$started$11(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$11
+
+
+module obb_core$grid$started$12(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$12
+
+
+module obb_core$grid$started$13(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$13
+
+
+module obb_core$grid$started$14(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$14
+
+
+module obb_core$grid$started$15(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$15
+
+
+module obb_core$grid$started$16(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$16
+
+
+module obb_core$grid$started$17(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$17
+
+
+module obb_core$grid$started$18(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$18
+
+
+module obb_core$grid$started$19(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$19
+
+
+module obb_core$grid$started$2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$2
+
+
+module obb_core$grid$started$20(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$20
+
+
+module obb_core$grid$started$21(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$21
+
+
+module obb_core$grid$started$22(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$22
+
+
+module obb_core$grid$started$23(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$23
+
+
+module obb_core$grid$started$24(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$24
+
+
+module obb_core$grid$started$25(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$25
+
+
+module obb_core$grid$started$26(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$26
+
+
+module obb_core$grid$started$3(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$3
+
+
+module obb_core$grid$started$4(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$4
+
+
+module obb_core$grid$started$5(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$5
+
+
+module obb_core$grid$started$6(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$6
+
+
+module obb_core$grid$started$7(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$7
+
+
+module obb_core$grid$started$8(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$8
+
+
+module obb_core$grid$started$9(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$started$9
+
+
+module obb_core$grid$succ(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [14:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [14:0] read_address_a;
+    input wire  [14:0] read_address_b;
+    output reg  [15:0] read_data_a;
+    output reg  [15:0] read_data_b;
+    
+    // Update code (custom)
+    reg [15:0] mem [0:32767];
+    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
+    end
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
+endmodule // obb_core$grid$succ
+
+
+module obb_core$grid$v1_i(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v1_i
+
+
+module obb_core$grid$v1_j(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v1_j
+
+
+module obb_core$grid$v1_margin(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v1_margin
+
+
+module obb_core$grid$v1_max$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v1_max$0
+
+
+module obb_core$grid$v1_max$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v1_max$1
+
+
+module obb_core$grid$v1_max$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v1_max$2
+
+
+module obb_core$grid$v1_min$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v1_min$0
+
+
+module obb_core$grid$v1_min$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v1_min$1
+
+
+module obb_core$grid$v1_min$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v1_min$2
+
+
+module obb_core$grid$v1_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v1_valid
+
+
+module obb_core$grid$v2_i(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_i
+
+
+module obb_core$grid$v2_j(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_j
+
+
+module obb_core$grid$v2_margin_i(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_margin_i
+
+
+module obb_core$grid$v2_margin_j(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_margin_j
+
+
+module obb_core$grid$v2_max_i$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_max_i$0
+
+
+module obb_core$grid$v2_max_i$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_max_i$1
+
+
+module obb_core$grid$v2_max_i$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_max_i$2
+
+
+module obb_core$grid$v2_max_j$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_max_j$0
+
+
+module obb_core$grid$v2_max_j$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_max_j$1
+
+
+module obb_core$grid$v2_max_j$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_max_j$2
+
+
+module obb_core$grid$v2_min_i$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_min_i$0
+
+
+module obb_core$grid$v2_min_i$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_min_i$1
+
+
+module obb_core$grid$v2_min_i$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_min_i$2
+
+
+module obb_core$grid$v2_min_j$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_min_j$0
+
+
+module obb_core$grid$v2_min_j$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_min_j$1
+
+
+module obb_core$grid$v2_min_j$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_min_j$2
+
+
+module obb_core$grid$v2_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_valid
+
+
+module obb_core$grid$wp(d,q,clock);
+    
+    // Module arguments
+    input wire  [4:0] d;
+    output reg  [4:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 5'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$wp
+
+
 module obb_core$group(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
     
     // Module arguments
@@ -5574,6 +24887,25 @@ module obb_core$over(d,q,clock);
     end
           
 endmodule // obb_core$over
+
+
+module obb_core$pending(d,q,clock);
+    
+    // Module arguments
+    input wire  [7:0] d;
+    output reg  [7:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 8'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$pending
 
 
 module obb_core$projected(d,q,clock);

@@ -20,6 +20,7 @@
 //! DO_REG, is not inferred by yosys): 2.45 ns from the clock, no logic after it.
 
 use crate::generate::{address_bits, sort_key_bits};
+use crate::grid::GridPhase;
 use crate::pair_fifo::{self, PairFifo};
 use crate::projection::{Projection, CENTER, HALF, MARGIN, ROT};
 use crate::radix::{KeySort, KEY, VAL};
@@ -28,7 +29,7 @@ use crate::sweep::{self, SweepWalker};
 use crate::table_ram::TableRam;
 use crate::walker::{WalkMode, Walker};
 use obb_model::fixed::config::GROUP_BITS;
-use obb_model::fixed::cycles::{LAT_BROAD, LAT_SAT};
+use obb_model::fixed::cycles::{GRID_ISSUE_TO_SAT, LAT_BROAD, LAT_SAT};
 use obb_model::fixed::{BroadPhase, HwConfig};
 use rust_hdl::prelude::*;
 
@@ -53,6 +54,8 @@ const _: () = assert!(sat::LATENCY == 22 && LAT_BROAD == 5);
 const _: () = assert!(FIFO_STALL + 1 + sweep::RUN_ON + LAT_BROAD + sat::LATENCY <= FIFO_DEPTH);
 /// Clocks after the walker's last visit until its SAT verdict is in the FIFO.
 const DRAIN: u64 = LAT_BROAD + sat::LATENCY - 1;
+/// Grid: clocks after a candidate's issue until its SAT verdict is in the FIFO.
+const GRID_DRAIN: u64 = GRID_ISSUE_TO_SAT + sat::LATENCY - 1;
 
 #[derive(Copy, Clone, Debug, PartialEq, LogicState)]
 pub enum CoreState {
@@ -91,7 +94,9 @@ pub struct ObbCore<const A: usize, const C: usize> {
     /// The frame is computed and every pair has left; held until the next `frame_start`.
     pub done: Signal<Out, Bit>,
     pub busy: Signal<Out, Bit>,
-    /// Sticky for the frame: more boxes than `capacity` arrived; the frame reports no pairs.
+    /// Sticky for the frame: more boxes than `capacity` arrived, or (grid) a box larger than a
+    /// cell: the frame is incomplete. From then on it reports and counts nothing; with the
+    /// grid, which reports pairs while boxes arrive, pairs sent before are true pairs.
     pub capacity_exceeded: Signal<Out, Bit>,
     /// Clocks from the first load clock to the last SAT verdict.
     pub cycles: Signal<Out, Bits<COUNT>>,
@@ -101,6 +106,8 @@ pub struct ObbCore<const A: usize, const C: usize> {
     pub pairs: Signal<Out, Bits<COUNT>>,
     // Configuration.
     sweep: Constant<Bit>,
+    /// The grid: it walks while the boxes arrive, and its candidates come key-checked.
+    grid_mode: Constant<Bit>,
     /// Improved-sap: the walker drives the radix sort, and the keys are checked only at the
     /// SAT's output (the paper's Algorithm 2 sends every pair it meets).
     sap: Constant<Bit>,
@@ -108,11 +115,13 @@ pub struct ObbCore<const A: usize, const C: usize> {
     last_slot: Constant<Bits<C>>,
     mask: Constant<Bits<MASK>>,
     drain: Constant<Bits<8>>,
+    grid_drain: Constant<Bits<8>>,
     // Stages.
     projection: Projection,
     radix: KeySort<A, C>,
     sweep_walker: SweepWalker<A, C>,
     walker: Walker<A, C>,
+    grid: GridPhase<A, C>,
     sat: Sat,
     fifo: PairFifo<PAIR>,
     // Box tables: geometry written on load, keys, margin and group when projected.
@@ -138,6 +147,8 @@ pub struct ObbCore<const A: usize, const C: usize> {
     projected: DFF<Bits<C>>,
     over: DFF<Bit>,
     countdown: DFF<Bits<8>>,
+    /// Grid: clocks until the last issued candidate's verdict is in the FIFO.
+    pending: DFF<Bits<8>>,
     n_cycles: DFF<Bits<COUNT>>,
     n_visits: DFF<Bits<COUNT>>,
     n_tests: DFF<Bits<COUNT>>,
@@ -194,7 +205,11 @@ pub struct ObbCore<const A: usize, const C: usize> {
     a_addr: Signal<Local, Bits<A>>,
     b_addr: Signal<Local, Bits<A>>,
     walked: Signal<Local, Bit>,
+    /// The grid has a record free for the box (always, with the other broad phases).
+    credit: Signal<Local, Bit>,
     accept: Signal<Local, Bit>,
+    /// Grid: its candidate goes to the geometry read this clock.
+    issue: Signal<Local, Bit>,
     overlap: Signal<Local, Bit>,
     gidx: Signal<Local, Bits<MASK>>,
     shifted: Signal<Local, Bits<MASK>>,
@@ -213,8 +228,9 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
         let mode = match cfg.broad_phase {
             BroadPhase::Sweep | BroadPhase::Brute => WalkMode::Brute,
             BroadPhase::ImprovedSap => WalkMode::ImprovedSap,
-            BroadPhase::Grid => panic!("broad phase grid is not in the hardware"),
+            BroadPhase::Grid => WalkMode::Brute,
         };
+        let grid = cfg.broad_phase == BroadPhase::Grid;
         assert!(
             address_bits(cfg) <= A,
             "capacity fits the tables and the sort"
@@ -249,14 +265,17 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             sat_tests: Default::default(),
             pairs: Default::default(),
             sweep: Constant::new(cfg.broad_phase == BroadPhase::Sweep),
+            grid_mode: Constant::new(grid),
             sap: Constant::new(mode == WalkMode::ImprovedSap),
             last_slot: Constant::new(u64::from(cfg.capacity - 1).into()),
             mask: Constant::new(mask),
             drain: Constant::new(DRAIN.into()),
+            grid_drain: Constant::new(GRID_DRAIN.into()),
             projection: Projection::new(cfg),
             radix: KeySort::new(sort_key_bits(cfg), cfg.radix_digit_bits),
             sweep_walker: Default::default(),
             walker: Walker::new(mode),
+            grid: GridPhase::new(&dormant_grid(cfg)),
             sat: Sat::new(cfg),
             fifo: PairFifo::new(FIFO_STALL),
             center: Default::default(),
@@ -275,6 +294,7 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             projected: Default::default(),
             over: Default::default(),
             countdown: Default::default(),
+            pending: Default::default(),
             n_cycles: Default::default(),
             n_visits: Default::default(),
             n_tests: Default::default(),
@@ -324,7 +344,9 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             a_addr: Default::default(),
             b_addr: Default::default(),
             walked: Default::default(),
+            credit: Default::default(),
             accept: Default::default(),
+            issue: Default::default(),
             overlap: Default::default(),
             gidx: Default::default(),
             shifted: Default::default(),
@@ -335,14 +357,29 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
     }
 }
 
+/// The grid block's configuration: `cfg` itself with the grid; with another broad phase, the
+/// smallest grid (one group, two buckets), whose inputs are held idle so that synthesis
+/// removes it.
+fn dormant_grid(cfg: &HwConfig) -> HwConfig {
+    match cfg.broad_phase {
+        BroadPhase::Grid => cfg.clone(),
+        _ => HwConfig {
+            broad_phase: BroadPhase::Grid,
+            grid_hash_bits: 1,
+            grid_groups: 1,
+            ..cfg.clone()
+        },
+    }
+}
+
 impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
             self, clock, state, stall, loaded, ready, room, projected, over, countdown, n_cycles,
-            n_visits, n_tests, n_pairs, k_valid, k_i, k_j, margin_a, margin_b, group_a, group_b,
-            r_valid, r_i, r_j, c_valid, c_a, c_b, c_ma, c_mb, g_valid, g_a, g_b, g_ma, g_mb,
-            h_valid, h_a, h_b, h_ma, h_mb
+            n_visits, n_tests, n_pairs, pending, k_valid, k_i, k_j, margin_a, margin_b, group_a,
+            group_b, r_valid, r_i, r_j, c_valid, c_a, c_b, c_ma, c_mb, g_valid, g_a, g_b, g_ma,
+            g_mb, h_valid, h_a, h_b, h_ma, h_mb
         );
         clock!(
             self,
@@ -351,6 +388,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             radix,
             sweep_walker,
             walker,
+            grid,
             sat,
             fifo,
             margin,
@@ -388,9 +426,12 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.tag_b[s].clock.next = self.clock.val();
         }
 
-        // Load: a box is accepted while loading, stored at its index and projected.
-        self.obb_ready.next = self.ready.q.val();
-        self.accept.next = self.ready.q.val() & self.obb_valid.val() & self.room.q.val();
+        // Load: a box is accepted while loading, stored at its index and projected. The grid
+        // takes a box only with a record free for it (a box over capacity is taken and
+        // dropped).
+        self.credit.next = self.grid.credit.val() | !self.grid_mode.val() | !self.room.q.val();
+        self.obb_ready.next = self.ready.q.val() & self.credit.val();
+        self.accept.next = self.obb_ready.val() & self.obb_valid.val() & self.room.q.val();
         for x in 0..3 {
             self.center[x].write_enable.next = self.accept.val();
             self.center[x].write_address.next = bit_cast::<A, C>(self.loaded.q.val());
@@ -445,6 +486,22 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         if self.projection.valid_out.val() {
             self.projected.d.next = self.projected.q.val() + 1;
         }
+        // The grid probes each box as its keys arrive, and reads visited boxes' keys on the
+        // key table's port B.
+        self.grid.start.next = self.frame_start.val();
+        self.grid.accept.next = self.accept.val() & self.grid_mode.val();
+        self.grid.loaded.next = !self.ready.q.val() & !self.frame_start.val();
+        self.grid.key_valid.next = self.projection.valid_out.val() & self.grid_mode.val();
+        self.grid.key_index.next = bit_cast::<A, C>(self.projected.q.val());
+        for x in 0..3 {
+            self.grid.key_min[x].next = self.projection.key_min[x].val();
+            self.grid.key_max[x].next = self.projection.key_max[x].val();
+            self.grid.rd_min[x].next = self.kmin[x].read_data_b.val();
+            self.grid.rd_max[x].next = self.kmax[x].read_data_b.val();
+        }
+        self.grid.key_margin.next = self.projection.margin.val();
+        self.grid.key_group.next = self.gdelay[7].q.val();
+        self.grid.rd_margin.next = self.margin.read_data_b.val();
 
         // The broad phase: a walker reads the sorted entries and the key table.
         // (Gated by the mode, so that synthesis drops the walker that is not configured.)
@@ -482,6 +539,11 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.b_addr.next = self.sweep_walker.b_addr.val();
             self.walked.next = self.sweep_walker.finished.val();
         }
+        if self.grid_mode.val() {
+            self.visit.next = self.grid.visit.val();
+            self.a_addr.next = self.grid.rd_addr.val();
+            self.b_addr.next = self.grid.rd_addr.val();
+        }
         for x in 0..3 {
             self.kmin[x].read_address_a.next = self.a_addr.val();
             self.kmin[x].read_address_b.next = self.b_addr.val();
@@ -510,7 +572,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.r_valid.d.next = self.k_valid.q.val();
         self.r_i.d.next = self.k_i.q.val();
         self.r_j.d.next = self.k_j.q.val();
-        if self.k_valid.q.val() {
+        if self.k_valid.q.val() & !self.over.q.val() {
             self.n_visits.d.next = self.n_visits.q.val() + 1;
         }
 
@@ -526,7 +588,8 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.shifted.next = self.mask.val() >> self.gidx.val();
         self.candidate.next = self.r_valid.q.val()
             & (self.overlap.val() | self.sap.val())
-            & self.shifted.val().get_bit(0);
+            & self.shifted.val().get_bit(0)
+            & !self.grid_mode.val();
         self.k_overlap[0].d.next = self.overlap.val();
         for s in 1..25 {
             self.k_overlap[s].d.next = self.k_overlap[s - 1].q.val();
@@ -545,23 +608,36 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.c_mb.d.next = self.margin_a.q.val();
         }
 
-        // V+3: the geometry of a and b is read.
-        for x in 0..3 {
-            self.center[x].read_address_a.next = self.c_a.q.val();
-            self.center[x].read_address_b.next = self.c_b.q.val();
-            self.half[x].read_address_a.next = self.c_a.q.val();
-            self.half[x].read_address_b.next = self.c_b.q.val();
-        }
-        for k in 0..9 {
-            self.axes[k].read_address_a.next = self.c_a.q.val();
-            self.axes[k].read_address_b.next = self.c_b.q.val();
-        }
+        // V+3: the geometry of a and b is read. The grid's candidate is read on a clock that
+        // accepts no box (the box's write takes port A) and when the pair FIFO has room.
+        self.issue.next = self.grid.cand_valid.val()
+            & !self.accept.val()
+            & !self.stall.q.val()
+            & self.grid_mode.val();
+        self.grid.cand_ready.next = self.issue.val();
         self.g_valid.d.next = self.c_valid.q.val();
         self.g_a.d.next = self.c_a.q.val();
         self.g_b.d.next = self.c_b.q.val();
         self.g_ma.d.next = self.c_ma.q.val();
         self.g_mb.d.next = self.c_mb.q.val();
-        if self.c_valid.q.val() {
+        if self.grid_mode.val() {
+            self.g_valid.d.next = self.issue.val();
+            self.g_a.d.next = self.grid.cand_a.val();
+            self.g_b.d.next = self.grid.cand_b.val();
+            self.g_ma.d.next = self.grid.cand_ma.val();
+            self.g_mb.d.next = self.grid.cand_mb.val();
+        }
+        for x in 0..3 {
+            self.center[x].read_address_a.next = self.g_a.d.val();
+            self.center[x].read_address_b.next = self.g_b.d.val();
+            self.half[x].read_address_a.next = self.g_a.d.val();
+            self.half[x].read_address_b.next = self.g_b.d.val();
+        }
+        for k in 0..9 {
+            self.axes[k].read_address_a.next = self.g_a.d.val();
+            self.axes[k].read_address_b.next = self.g_b.d.val();
+        }
+        if self.g_valid.q.val() & !self.over.q.val() {
             self.n_tests.d.next = self.n_tests.q.val() + 1;
         }
 
@@ -604,7 +680,12 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         }
 
         // V+27: a hit enters the FIFO; the stream takes pairs from it.
-        self.hit.next = self.sat.valid_out.val() & self.sat.hit.val() & self.k_overlap[24].q.val();
+        // (A frame over capacity reports and counts nothing from then on; the grid walks it to
+        // its end, so that its lists are clear for the next frame.)
+        self.hit.next = self.sat.valid_out.val()
+            & self.sat.hit.val()
+            & (self.k_overlap[24].q.val() | self.grid_mode.val())
+            & !self.over.q.val();
         self.fifo.write.next = self.hit.val();
         self.fifo.data_in.next = (bit_cast::<PAIR, A>(self.tag_a[21].q.val()) << 20_u64)
             | bit_cast::<PAIR, A>(self.tag_b[21].q.val());
@@ -622,6 +703,11 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         // A hit written on the edge into Done already makes the FIFO not empty.
         self.done.next = (self.state.q.val() == CoreState::Done) & self.fifo.empty.val();
         self.capacity_exceeded.next = self.over.q.val();
+        // A box larger than a grid cell is not walked (no slow path yet): the frame is
+        // incomplete, as one over capacity is.
+        if self.grid.oversize.val() & self.grid_mode.val() {
+            self.over.d.next = true;
+        }
         self.cycles.next = self.n_cycles.q.val();
         self.candidates.next = self.n_visits.q.val();
         self.sat_tests.next = self.n_tests.q.val();
@@ -635,7 +721,8 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
                 if self.obb_valid.val() & !self.room.q.val() {
                     self.over.d.next = true;
                 }
-                if self.obb_last.val() {
+                // The last box taken, or the end marker alone.
+                if self.obb_last.val() & (self.obb_ready.val() | !self.obb_valid.val()) {
                     self.state.d.next = CoreState::Project;
                     self.ready.d.next = false;
                 }
@@ -644,7 +731,10 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
                 // Every box is in the key table: sort (sweep) or walk (brute); a frame over
                 // capacity ends here with no pairs.
                 if self.projected.q.val() == self.loaded.q.val() {
-                    if self.over.q.val() {
+                    if self.grid_mode.val() {
+                        // (The grid walks while boxes arrive.)
+                        self.state.d.next = CoreState::Walk;
+                    } else if self.over.q.val() {
                         self.state.d.next = CoreState::Done;
                     } else if self.sweep.val() {
                         // (Improved-sap sorts in the walker, axis by axis.)
@@ -663,7 +753,11 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
                 }
             }
             CoreState::Walk => {
-                if self.walked.val() {
+                if self.grid_mode.val() {
+                    if self.grid.finished.val() & (self.pending.q.val() == 0) & !self.issue.val() {
+                        self.state.d.next = CoreState::Done;
+                    }
+                } else if self.walked.val() {
                     self.countdown.d.next = self.drain.val();
                     self.state.d.next = CoreState::Drain;
                 }
@@ -676,6 +770,11 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             }
             CoreState::Done => {}
         }
+        if self.issue.val() {
+            self.pending.d.next = self.grid_drain.val();
+        } else if self.pending.q.val() != 0 {
+            self.pending.d.next = self.pending.q.val() - 1;
+        }
         // (After the states that set it: a local is read where it is written in the Verilog.)
         self.sweep_walker.start.next = self.walk_start.val() & self.sweep.val();
         self.walker.start.next = self.walk_start.val() & !self.sweep.val();
@@ -686,6 +785,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.loaded.d.next = 0.into();
             self.projected.d.next = 0.into();
             self.over.d.next = false;
+            self.pending.d.next = 0.into();
             self.n_cycles.d.next = 0.into();
             self.n_visits.d.next = 0.into();
             self.n_tests.d.next = 0.into();

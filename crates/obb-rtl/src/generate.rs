@@ -93,13 +93,33 @@ pub struct CoreInfo {
     pub fifo_depth: u64,
     pub fifo_stall_fill: u64,
     pub counter_bits: usize,
+    /// The grid's clocks (`obb_model::fixed::grid_clocks`), with `broad_phase = "grid"`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub grid: Option<GridInfo>,
+}
+
+/// The grid's latencies and queues, for the manifest (`obb_model::fixed::cycles`).
+#[derive(Clone, Debug, Serialize)]
+pub struct GridInfo {
+    /// Clocks from a box's keys to its first possible visit.
+    pub lat_probe: u64,
+    /// Boxes accepted and not retired, at most: the load waits beyond.
+    pub credits: usize,
+    /// Clocks from a visit to its candidate's first possible issue, and from the issue to the
+    /// SAT's inputs.
+    pub lat_check: u64,
+    pub issue_to_sat: u64,
+    /// The candidate queue's fill at which the walker pauses.
+    pub candidate_stall_fill: usize,
+    /// Buckets a bank: the clocks of the list heads' clear at the end of a frame.
+    pub buckets: u64,
 }
 
 // Improved-sap's end point keys take one bit more than `key_bits`, which `validate` bounds by
 // `center_bits` and so by the DSP port: the core's sort keys always hold them.
 const _: () = assert!(obb_model::fixed::config::DSP_A_BITS as usize - 2 < crate::radix::KEY);
 
-/// Checks that the hardware supports `cfg` (valid, not the grid, one lane).
+/// Checks that the hardware supports `cfg` (valid; improved-sap's and the grid's bounds).
 pub fn check_supported(cfg: &HwConfig) -> Result<()> {
     cfg.validate()?;
     match cfg.broad_phase {
@@ -113,11 +133,7 @@ pub fn check_supported(cfg: &HwConfig) -> Result<()> {
                 );
             }
         }
-        BroadPhase::Grid => bail!(
-            "configuration key `broad_phase`: `grid` is modelled clock by clock (obbcd detect \
-             --engine model) but not in the hardware yet; the core has `sweep`, `brute` and \
-             `improved-sap`"
-        ),
+        BroadPhase::Grid => check_grid(cfg)?,
     }
     Ok(())
 }
@@ -183,7 +199,7 @@ pub fn core(cfg: &HwConfig) -> Result<String> {
 
 /// The files for configuration `cfg`: (path below the output directory, contents). The top,
 /// One block of the core as its own top module: `projection`, `sat`, `radix_sort`, or the
-/// grid's `grid_phase` (built and tested as a block; the core does not hold it yet).
+/// grid's `grid_phase`.
 pub fn block(cfg: &HwConfig, module: &str) -> Result<String> {
     let body = if module == "grid_phase" {
         check_grid(cfg)?;
@@ -240,11 +256,16 @@ pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
     // The core works on frames: its clocks per frame are `cycles::frame_cycles`.
     add("obb_core", "obb_core.v".into(), core(cfg)?, 0);
     // The radix sort is not a pipeline: its clocks are `cycles::sort_cycles` after `go`.
+    // The grid is not a pipeline either: its clocks are `grid_clocks`'.
+    let grid = (cfg.broad_phase == BroadPhase::Grid).then_some(("grid_phase", 0));
     for (module, latency) in [
         ("projection", projection::LATENCY),
         ("sat", sat::LATENCY),
         ("radix_sort", 0),
-    ] {
+    ]
+    .into_iter()
+    .chain(grid)
+    {
         add(
             module,
             format!("blocks/{module}.v"),
@@ -264,6 +285,14 @@ pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
         fifo_depth: core::FIFO_DEPTH,
         fifo_stall_fill: core::FIFO_STALL,
         counter_bits: core::COUNT,
+        grid: (cfg.broad_phase == BroadPhase::Grid).then(|| GridInfo {
+            lat_probe: cycles::LAT_PROBE,
+            credits: cycles::GRID_CREDITS,
+            lat_check: cycles::LAT_GRID_CHECK,
+            issue_to_sat: cycles::GRID_ISSUE_TO_SAT,
+            candidate_stall_fill: cycles::GRID_CAND_STALL,
+            buckets: 1 << cfg.grid_hash_bits,
+        }),
     };
     let manifest = Manifest {
         generator: format!(

@@ -124,14 +124,16 @@ fn unsupported_configurations_are_rejected() {
     };
     let e = files(&bad).unwrap_err().to_string();
     assert!(e.contains("rot_bits"), "{e}");
-    // Modelled but not built yet: said so, naming the key.
+    // Beyond what the blocks hold, or modelled but not built yet: said so, naming the key.
     for (cfg, key) in [
         (
             HwConfig {
                 broad_phase: obb_model::fixed::BroadPhase::Grid,
+                center_bits: 23,
+                key_bits: 23,
                 ..HwConfig::default()
             },
-            "broad_phase",
+            "key_bits",
         ),
         (
             HwConfig {
@@ -152,7 +154,7 @@ fn unsupported_configurations_are_rejected() {
         let e = files(&cfg).unwrap_err().to_string();
         assert!(
             e.contains(key)
-                && (e.contains("not in the hardware")
+                && (e.contains("with the grid")
                     || e.contains("one walker")
                     || e.contains("two end points")),
             "{e}"
@@ -168,6 +170,7 @@ fn the_smallest_capacities_generate() {
         (1, obb_model::fixed::BroadPhase::Sweep),
         (16, obb_model::fixed::BroadPhase::Brute),
         (2, obb_model::fixed::BroadPhase::ImprovedSap),
+        (1, obb_model::fixed::BroadPhase::Grid),
     ] {
         let cfg = HwConfig {
             capacity,

@@ -124,7 +124,7 @@ pub fn run(a: CosimArgs) -> Result<()> {
     let mut pairs = got.stream.clone();
     pairs.sort_unstable();
     pairs.dedup();
-    let want = run.as_ref().map_or(Expected::OverCapacity, Expected::Frame);
+    let want = Expected::of(run.as_ref());
     let verdict = compare(&got, &want, a.ready_every > 1);
     println!(
         "simulator={} level={} obbs={} pairs={} reported={} candidates={} sat={} cycles={} \
@@ -151,6 +151,16 @@ pub fn run(a: CosimArgs) -> Result<()> {
              capacity_exceeded and reported no pair, as it must; no pairs file was written",
             boxes.len(),
             cfg.capacity
+        );
+    }
+    if let Expected::Incomplete(r) = want {
+        bail!(
+            "{} box(es) are larger than a grid cell of {} mm, whose slow path the core does not \
+             have yet: the core flagged capacity_exceeded, and the {} pair(s) it sent are the \
+             model's; no pairs file was written (a larger `grid_cell_mm` takes them)",
+            r.work.large,
+            cfg.grid_cell_mm,
+            got.stream.len()
         );
     }
     if let Some(path) = &a.output {

@@ -39,7 +39,7 @@ enum Block {
     Projection,
     Sat,
     RadixSort,
-    /// The grid broad phase (`broad_phase = "grid"`), not yet in the core.
+    /// The grid broad phase (`broad_phase = "grid"`).
     GridPhase,
 }
 

@@ -28,9 +28,10 @@
 //!   `LAT_PROBE` clocks (cells, banks, heads, first list) and its visits one per clock; then,
 //!   if a large box follows, `LAT_PROBE` clocks and a visit per later large box.
 //! - **End.** The walk is over on the clock after the last retirement (or the slow path's last
-//!   clock). Then every list head is cleared for the next frame, one bucket of every bank a
-//!   clock (`2^grid_hash_bits` clocks), while the last candidates leave; the frame ends with
-//!   the later of the clear and the last verdict.
+//!   clock); the block sees it on the next. From the clock after that, every list head is
+//!   cleared for the next frame, one bucket of every bank a clock (`2^grid_hash_bits` clocks),
+//!   while the last candidates leave; the frame ends with the later of the clear and the last
+//!   verdict.
 
 use super::cycles::{
     GRID_CAND_STALL, GRID_CREDITS, GRID_ISSUE_TO_SAT, GRID_LARGE_START, LAT_KEY_WRITE, LAT_PROBE,
@@ -185,7 +186,10 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
             s.visits.push(t);
             in_check.push_back((t, walk.passes[v]));
         }
-        if s.accepts.len() == n && retired == n && s.walked == 0 && walk.large.is_empty() {
+        // (A frame of no box: its end marker comes at clock 1, and is seen from clock 2.)
+        let marked = n > 0 || t > 1;
+        if s.accepts.len() == n && retired == n && marked && s.walked == 0 && walk.large.is_empty()
+        {
             s.walked = t;
         }
         let drained = in_check.is_empty() && queue.stored.is_empty() && queue.out.is_none();
@@ -200,7 +204,7 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
     } else {
         last_issue + GRID_ISSUE_TO_SAT + LAT_SAT
     };
-    let end = (s.walked + clear).max(verdict).max(load);
+    let end = (s.walked + 1 + clear).max(verdict).max(load);
     s.clocks = GridClocks {
         load,
         walk: s.walked.max(load) - load,
