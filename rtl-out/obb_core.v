@@ -2763,7 +2763,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
                 end
             CoreState$Sort:
                 begin
-                    if (radix$done) begin
+                    if (radix$done & sweep) begin
                         walk_start = 1'b1;
                         state$d = CoreState$Walk;
                     end
@@ -6039,6 +6039,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
     reg  [15:0] rem_head$25;
     reg  [15:0] rem_head$26;
     reg  rem_any;
+    reg  use_cur;
     reg  [15:0] pick_head;
     reg  [7:0] pick_id;
     reg  bank_any$0;
@@ -6122,6 +6123,171 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
     reg  [7:0] bank_id$24;
     reg  [7:0] bank_id$25;
     reg  [7:0] bank_id$26;
+    reg  bank_prior$0;
+    reg  bank_prior$1;
+    reg  bank_prior$2;
+    reg  bank_prior$3;
+    reg  bank_prior$4;
+    reg  bank_prior$5;
+    reg  bank_prior$6;
+    reg  bank_prior$7;
+    reg  bank_prior$8;
+    reg  bank_prior$9;
+    reg  bank_prior$10;
+    reg  bank_prior$11;
+    reg  bank_prior$12;
+    reg  bank_prior$13;
+    reg  bank_prior$14;
+    reg  bank_prior$15;
+    reg  bank_prior$16;
+    reg  bank_prior$17;
+    reg  bank_prior$18;
+    reg  bank_prior$19;
+    reg  bank_prior$20;
+    reg  bank_prior$21;
+    reg  bank_prior$22;
+    reg  bank_prior$23;
+    reg  bank_prior$24;
+    reg  bank_prior$25;
+    reg  bank_prior$26;
+    reg  bank_prior$27;
+    reg  bank_first$0;
+    reg  bank_first$1;
+    reg  bank_first$2;
+    reg  bank_first$3;
+    reg  bank_first$4;
+    reg  bank_first$5;
+    reg  bank_first$6;
+    reg  bank_first$7;
+    reg  bank_first$8;
+    reg  bank_first$9;
+    reg  bank_first$10;
+    reg  bank_first$11;
+    reg  bank_first$12;
+    reg  bank_first$13;
+    reg  bank_first$14;
+    reg  bank_first$15;
+    reg  bank_first$16;
+    reg  bank_first$17;
+    reg  bank_first$18;
+    reg  bank_first$19;
+    reg  bank_first$20;
+    reg  bank_first$21;
+    reg  bank_first$22;
+    reg  bank_first$23;
+    reg  bank_first$24;
+    reg  bank_first$25;
+    reg  bank_first$26;
+    reg  [15:0] first_head$0;
+    reg  [15:0] first_head$1;
+    reg  [15:0] first_head$2;
+    reg  [15:0] first_head$3;
+    reg  [15:0] first_head$4;
+    reg  [15:0] first_head$5;
+    reg  [15:0] first_head$6;
+    reg  [15:0] first_head$7;
+    reg  [15:0] first_head$8;
+    reg  [15:0] first_head$9;
+    reg  [15:0] first_head$10;
+    reg  [15:0] first_head$11;
+    reg  [15:0] first_head$12;
+    reg  [15:0] first_head$13;
+    reg  [15:0] first_head$14;
+    reg  [15:0] first_head$15;
+    reg  [15:0] first_head$16;
+    reg  [15:0] first_head$17;
+    reg  [15:0] first_head$18;
+    reg  [15:0] first_head$19;
+    reg  [15:0] first_head$20;
+    reg  [15:0] first_head$21;
+    reg  [15:0] first_head$22;
+    reg  [15:0] first_head$23;
+    reg  [15:0] first_head$24;
+    reg  [15:0] first_head$25;
+    reg  [15:0] first_head$26;
+    reg  [7:0] first_id$0;
+    reg  [7:0] first_id$1;
+    reg  [7:0] first_id$2;
+    reg  [7:0] first_id$3;
+    reg  [7:0] first_id$4;
+    reg  [7:0] first_id$5;
+    reg  [7:0] first_id$6;
+    reg  [7:0] first_id$7;
+    reg  [7:0] first_id$8;
+    reg  [7:0] first_id$9;
+    reg  [7:0] first_id$10;
+    reg  [7:0] first_id$11;
+    reg  [7:0] first_id$12;
+    reg  [7:0] first_id$13;
+    reg  [7:0] first_id$14;
+    reg  [7:0] first_id$15;
+    reg  [7:0] first_id$16;
+    reg  [7:0] first_id$17;
+    reg  [7:0] first_id$18;
+    reg  [7:0] first_id$19;
+    reg  [7:0] first_id$20;
+    reg  [7:0] first_id$21;
+    reg  [7:0] first_id$22;
+    reg  [7:0] first_id$23;
+    reg  [7:0] first_id$24;
+    reg  [7:0] first_id$25;
+    reg  [7:0] first_id$26;
+    reg  [15:0] head_acc$0;
+    reg  [15:0] head_acc$1;
+    reg  [15:0] head_acc$2;
+    reg  [15:0] head_acc$3;
+    reg  [15:0] head_acc$4;
+    reg  [15:0] head_acc$5;
+    reg  [15:0] head_acc$6;
+    reg  [15:0] head_acc$7;
+    reg  [15:0] head_acc$8;
+    reg  [15:0] head_acc$9;
+    reg  [15:0] head_acc$10;
+    reg  [15:0] head_acc$11;
+    reg  [15:0] head_acc$12;
+    reg  [15:0] head_acc$13;
+    reg  [15:0] head_acc$14;
+    reg  [15:0] head_acc$15;
+    reg  [15:0] head_acc$16;
+    reg  [15:0] head_acc$17;
+    reg  [15:0] head_acc$18;
+    reg  [15:0] head_acc$19;
+    reg  [15:0] head_acc$20;
+    reg  [15:0] head_acc$21;
+    reg  [15:0] head_acc$22;
+    reg  [15:0] head_acc$23;
+    reg  [15:0] head_acc$24;
+    reg  [15:0] head_acc$25;
+    reg  [15:0] head_acc$26;
+    reg  [15:0] head_acc$27;
+    reg  [7:0] id_acc$0;
+    reg  [7:0] id_acc$1;
+    reg  [7:0] id_acc$2;
+    reg  [7:0] id_acc$3;
+    reg  [7:0] id_acc$4;
+    reg  [7:0] id_acc$5;
+    reg  [7:0] id_acc$6;
+    reg  [7:0] id_acc$7;
+    reg  [7:0] id_acc$8;
+    reg  [7:0] id_acc$9;
+    reg  [7:0] id_acc$10;
+    reg  [7:0] id_acc$11;
+    reg  [7:0] id_acc$12;
+    reg  [7:0] id_acc$13;
+    reg  [7:0] id_acc$14;
+    reg  [7:0] id_acc$15;
+    reg  [7:0] id_acc$16;
+    reg  [7:0] id_acc$17;
+    reg  [7:0] id_acc$18;
+    reg  [7:0] id_acc$19;
+    reg  [7:0] id_acc$20;
+    reg  [7:0] id_acc$21;
+    reg  [7:0] id_acc$22;
+    reg  [7:0] id_acc$23;
+    reg  [7:0] id_acc$24;
+    reg  [7:0] id_acc$25;
+    reg  [7:0] id_acc$26;
+    reg  [7:0] id_acc$27;
     reg  rd_live$0;
     reg  rd_live$1;
     reg  rd_live$2;
@@ -9816,147 +9982,148 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         if (rec_write) begin
             wp$d = wp$q + 32'h1;
         end
-        list_open = chase$q & (succ$read_data_b >= top);
+        list_open = chase$q & ((succ$read_data_b & top) != 32'h0);
         need = ~list_open & ~held_valid$q;
         rem_any = 1'b0;
         cur_rem$0 = cur_live$0$q & ~started$0$q;
         if (cur_rem$0) begin
             rem_any = 1'b1;
         end
-        rd_live$0 = rec$0$read_data >= top;
+        rd_live$0 = (rec$0$read_data & top) != 32'h0;
         cur_rem$1 = cur_live$1$q & ~started$1$q;
         if (cur_rem$1) begin
             rem_any = 1'b1;
         end
-        rd_live$1 = rec$1$read_data >= top;
+        rd_live$1 = (rec$1$read_data & top) != 32'h0;
         cur_rem$2 = cur_live$2$q & ~started$2$q;
         if (cur_rem$2) begin
             rem_any = 1'b1;
         end
-        rd_live$2 = rec$2$read_data >= top;
+        rd_live$2 = (rec$2$read_data & top) != 32'h0;
         cur_rem$3 = cur_live$3$q & ~started$3$q;
         if (cur_rem$3) begin
             rem_any = 1'b1;
         end
-        rd_live$3 = rec$3$read_data >= top;
+        rd_live$3 = (rec$3$read_data & top) != 32'h0;
         cur_rem$4 = cur_live$4$q & ~started$4$q;
         if (cur_rem$4) begin
             rem_any = 1'b1;
         end
-        rd_live$4 = rec$4$read_data >= top;
+        rd_live$4 = (rec$4$read_data & top) != 32'h0;
         cur_rem$5 = cur_live$5$q & ~started$5$q;
         if (cur_rem$5) begin
             rem_any = 1'b1;
         end
-        rd_live$5 = rec$5$read_data >= top;
+        rd_live$5 = (rec$5$read_data & top) != 32'h0;
         cur_rem$6 = cur_live$6$q & ~started$6$q;
         if (cur_rem$6) begin
             rem_any = 1'b1;
         end
-        rd_live$6 = rec$6$read_data >= top;
+        rd_live$6 = (rec$6$read_data & top) != 32'h0;
         cur_rem$7 = cur_live$7$q & ~started$7$q;
         if (cur_rem$7) begin
             rem_any = 1'b1;
         end
-        rd_live$7 = rec$7$read_data >= top;
+        rd_live$7 = (rec$7$read_data & top) != 32'h0;
         cur_rem$8 = cur_live$8$q & ~started$8$q;
         if (cur_rem$8) begin
             rem_any = 1'b1;
         end
-        rd_live$8 = rec$8$read_data >= top;
+        rd_live$8 = (rec$8$read_data & top) != 32'h0;
         cur_rem$9 = cur_live$9$q & ~started$9$q;
         if (cur_rem$9) begin
             rem_any = 1'b1;
         end
-        rd_live$9 = rec$9$read_data >= top;
+        rd_live$9 = (rec$9$read_data & top) != 32'h0;
         cur_rem$10 = cur_live$10$q & ~started$10$q;
         if (cur_rem$10) begin
             rem_any = 1'b1;
         end
-        rd_live$10 = rec$10$read_data >= top;
+        rd_live$10 = (rec$10$read_data & top) != 32'h0;
         cur_rem$11 = cur_live$11$q & ~started$11$q;
         if (cur_rem$11) begin
             rem_any = 1'b1;
         end
-        rd_live$11 = rec$11$read_data >= top;
+        rd_live$11 = (rec$11$read_data & top) != 32'h0;
         cur_rem$12 = cur_live$12$q & ~started$12$q;
         if (cur_rem$12) begin
             rem_any = 1'b1;
         end
-        rd_live$12 = rec$12$read_data >= top;
+        rd_live$12 = (rec$12$read_data & top) != 32'h0;
         cur_rem$13 = cur_live$13$q & ~started$13$q;
         if (cur_rem$13) begin
             rem_any = 1'b1;
         end
-        rd_live$13 = rec$13$read_data >= top;
+        rd_live$13 = (rec$13$read_data & top) != 32'h0;
         cur_rem$14 = cur_live$14$q & ~started$14$q;
         if (cur_rem$14) begin
             rem_any = 1'b1;
         end
-        rd_live$14 = rec$14$read_data >= top;
+        rd_live$14 = (rec$14$read_data & top) != 32'h0;
         cur_rem$15 = cur_live$15$q & ~started$15$q;
         if (cur_rem$15) begin
             rem_any = 1'b1;
         end
-        rd_live$15 = rec$15$read_data >= top;
+        rd_live$15 = (rec$15$read_data & top) != 32'h0;
         cur_rem$16 = cur_live$16$q & ~started$16$q;
         if (cur_rem$16) begin
             rem_any = 1'b1;
         end
-        rd_live$16 = rec$16$read_data >= top;
+        rd_live$16 = (rec$16$read_data & top) != 32'h0;
         cur_rem$17 = cur_live$17$q & ~started$17$q;
         if (cur_rem$17) begin
             rem_any = 1'b1;
         end
-        rd_live$17 = rec$17$read_data >= top;
+        rd_live$17 = (rec$17$read_data & top) != 32'h0;
         cur_rem$18 = cur_live$18$q & ~started$18$q;
         if (cur_rem$18) begin
             rem_any = 1'b1;
         end
-        rd_live$18 = rec$18$read_data >= top;
+        rd_live$18 = (rec$18$read_data & top) != 32'h0;
         cur_rem$19 = cur_live$19$q & ~started$19$q;
         if (cur_rem$19) begin
             rem_any = 1'b1;
         end
-        rd_live$19 = rec$19$read_data >= top;
+        rd_live$19 = (rec$19$read_data & top) != 32'h0;
         cur_rem$20 = cur_live$20$q & ~started$20$q;
         if (cur_rem$20) begin
             rem_any = 1'b1;
         end
-        rd_live$20 = rec$20$read_data >= top;
+        rd_live$20 = (rec$20$read_data & top) != 32'h0;
         cur_rem$21 = cur_live$21$q & ~started$21$q;
         if (cur_rem$21) begin
             rem_any = 1'b1;
         end
-        rd_live$21 = rec$21$read_data >= top;
+        rd_live$21 = (rec$21$read_data & top) != 32'h0;
         cur_rem$22 = cur_live$22$q & ~started$22$q;
         if (cur_rem$22) begin
             rem_any = 1'b1;
         end
-        rd_live$22 = rec$22$read_data >= top;
+        rd_live$22 = (rec$22$read_data & top) != 32'h0;
         cur_rem$23 = cur_live$23$q & ~started$23$q;
         if (cur_rem$23) begin
             rem_any = 1'b1;
         end
-        rd_live$23 = rec$23$read_data >= top;
+        rd_live$23 = (rec$23$read_data & top) != 32'h0;
         cur_rem$24 = cur_live$24$q & ~started$24$q;
         if (cur_rem$24) begin
             rem_any = 1'b1;
         end
-        rd_live$24 = rec$24$read_data >= top;
+        rd_live$24 = (rec$24$read_data & top) != 32'h0;
         cur_rem$25 = cur_live$25$q & ~started$25$q;
         if (cur_rem$25) begin
             rem_any = 1'b1;
         end
-        rd_live$25 = rec$25$read_data >= top;
+        rd_live$25 = (rec$25$read_data & top) != 32'h0;
         cur_rem$26 = cur_live$26$q & ~started$26$q;
         if (cur_rem$26) begin
             rem_any = 1'b1;
         end
-        rd_live$26 = rec$26$read_data >= top;
-        load_next = need & ~(cur_valid$q & rem_any) & (count$q != 32'h0);
+        rd_live$26 = (rec$26$read_data & top) != 32'h0;
+        use_cur = cur_valid$q & rem_any;
+        load_next = need & ~use_cur & (count$q != 32'h0);
         retire_rec = need & cur_valid$q & ~rem_any;
-        take = need & ((cur_valid$q & rem_any) | load_next);
+        take = need & (use_cur | (count$q != 32'h0));
         bank_any$0 = 1'b0;
         bank_head$0 = 32'h0;
         bank_id$0 = 32'h0;
@@ -10040,7 +10207,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         bank_id$26 = 32'h0;
         rem$0 = cur_rem$0;
         rem_head$0 = cur_head$0$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$0 = rd_live$0;
             rem_head$0 = rec$0$read_data;
         end
@@ -10051,7 +10218,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$1 = cur_rem$1;
         rem_head$1 = cur_head$1$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$1 = rd_live$1;
             rem_head$1 = rec$1$read_data;
         end
@@ -10062,7 +10229,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$2 = cur_rem$2;
         rem_head$2 = cur_head$2$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$2 = rd_live$2;
             rem_head$2 = rec$2$read_data;
         end
@@ -10073,7 +10240,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$3 = cur_rem$3;
         rem_head$3 = cur_head$3$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$3 = rd_live$3;
             rem_head$3 = rec$3$read_data;
         end
@@ -10084,7 +10251,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$4 = cur_rem$4;
         rem_head$4 = cur_head$4$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$4 = rd_live$4;
             rem_head$4 = rec$4$read_data;
         end
@@ -10095,7 +10262,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$5 = cur_rem$5;
         rem_head$5 = cur_head$5$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$5 = rd_live$5;
             rem_head$5 = rec$5$read_data;
         end
@@ -10106,7 +10273,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$6 = cur_rem$6;
         rem_head$6 = cur_head$6$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$6 = rd_live$6;
             rem_head$6 = rec$6$read_data;
         end
@@ -10117,7 +10284,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$7 = cur_rem$7;
         rem_head$7 = cur_head$7$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$7 = rd_live$7;
             rem_head$7 = rec$7$read_data;
         end
@@ -10128,7 +10295,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$8 = cur_rem$8;
         rem_head$8 = cur_head$8$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$8 = rd_live$8;
             rem_head$8 = rec$8$read_data;
         end
@@ -10139,7 +10306,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$9 = cur_rem$9;
         rem_head$9 = cur_head$9$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$9 = rd_live$9;
             rem_head$9 = rec$9$read_data;
         end
@@ -10150,7 +10317,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$10 = cur_rem$10;
         rem_head$10 = cur_head$10$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$10 = rd_live$10;
             rem_head$10 = rec$10$read_data;
         end
@@ -10161,7 +10328,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$11 = cur_rem$11;
         rem_head$11 = cur_head$11$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$11 = rd_live$11;
             rem_head$11 = rec$11$read_data;
         end
@@ -10172,7 +10339,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$12 = cur_rem$12;
         rem_head$12 = cur_head$12$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$12 = rd_live$12;
             rem_head$12 = rec$12$read_data;
         end
@@ -10183,7 +10350,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$13 = cur_rem$13;
         rem_head$13 = cur_head$13$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$13 = rd_live$13;
             rem_head$13 = rec$13$read_data;
         end
@@ -10194,7 +10361,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$14 = cur_rem$14;
         rem_head$14 = cur_head$14$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$14 = rd_live$14;
             rem_head$14 = rec$14$read_data;
         end
@@ -10205,7 +10372,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$15 = cur_rem$15;
         rem_head$15 = cur_head$15$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$15 = rd_live$15;
             rem_head$15 = rec$15$read_data;
         end
@@ -10216,7 +10383,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$16 = cur_rem$16;
         rem_head$16 = cur_head$16$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$16 = rd_live$16;
             rem_head$16 = rec$16$read_data;
         end
@@ -10227,7 +10394,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$17 = cur_rem$17;
         rem_head$17 = cur_head$17$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$17 = rd_live$17;
             rem_head$17 = rec$17$read_data;
         end
@@ -10238,7 +10405,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$18 = cur_rem$18;
         rem_head$18 = cur_head$18$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$18 = rd_live$18;
             rem_head$18 = rec$18$read_data;
         end
@@ -10249,7 +10416,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$19 = cur_rem$19;
         rem_head$19 = cur_head$19$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$19 = rd_live$19;
             rem_head$19 = rec$19$read_data;
         end
@@ -10260,7 +10427,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$20 = cur_rem$20;
         rem_head$20 = cur_head$20$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$20 = rd_live$20;
             rem_head$20 = rec$20$read_data;
         end
@@ -10271,7 +10438,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$21 = cur_rem$21;
         rem_head$21 = cur_head$21$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$21 = rd_live$21;
             rem_head$21 = rec$21$read_data;
         end
@@ -10282,7 +10449,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$22 = cur_rem$22;
         rem_head$22 = cur_head$22$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$22 = rd_live$22;
             rem_head$22 = rec$22$read_data;
         end
@@ -10293,7 +10460,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$23 = cur_rem$23;
         rem_head$23 = cur_head$23$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$23 = rd_live$23;
             rem_head$23 = rec$23$read_data;
         end
@@ -10304,7 +10471,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$24 = cur_rem$24;
         rem_head$24 = cur_head$24$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$24 = rd_live$24;
             rem_head$24 = rec$24$read_data;
         end
@@ -10315,7 +10482,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$25 = cur_rem$25;
         rem_head$25 = cur_head$25$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$25 = rd_live$25;
             rem_head$25 = rec$25$read_data;
         end
@@ -10326,7 +10493,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         rem$26 = cur_rem$26;
         rem_head$26 = cur_head$26$q;
-        if (load_next) begin
+        if (~use_cur) begin
             rem$26 = rd_live$26;
             rem_head$26 = rec$26$read_data;
         end
@@ -10335,116 +10502,281 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
             bank_head$26 = rem_head$26;
             bank_id$26 = list_id$26;
         end
-        pick_head = 32'h0;
-        pick_id = 32'h0;
-        if (bank_any$26) begin
-            pick_head = bank_head$26;
-            pick_id = bank_id$26;
+        bank_prior$0 = 1'b0;
+        head_acc$0 = 32'h0;
+        id_acc$0 = 32'h0;
+        bank_first$0 = bank_any$0 & ~bank_prior$0;
+        bank_prior$1 = bank_prior$0 | bank_any$0;
+        first_head$0 = 32'h0;
+        first_id$0 = 32'h0;
+        if (bank_first$0) begin
+            first_head$0 = bank_head$0;
+            first_id$0 = bank_id$0;
         end
-        if (bank_any$25) begin
-            pick_head = bank_head$25;
-            pick_id = bank_id$25;
+        head_acc$1 = head_acc$0 | first_head$0;
+        id_acc$1 = id_acc$0 | first_id$0;
+        bank_first$1 = bank_any$1 & ~bank_prior$1;
+        bank_prior$2 = bank_prior$1 | bank_any$1;
+        first_head$1 = 32'h0;
+        first_id$1 = 32'h0;
+        if (bank_first$1) begin
+            first_head$1 = bank_head$1;
+            first_id$1 = bank_id$1;
         end
-        if (bank_any$24) begin
-            pick_head = bank_head$24;
-            pick_id = bank_id$24;
+        head_acc$2 = head_acc$1 | first_head$1;
+        id_acc$2 = id_acc$1 | first_id$1;
+        bank_first$2 = bank_any$2 & ~bank_prior$2;
+        bank_prior$3 = bank_prior$2 | bank_any$2;
+        first_head$2 = 32'h0;
+        first_id$2 = 32'h0;
+        if (bank_first$2) begin
+            first_head$2 = bank_head$2;
+            first_id$2 = bank_id$2;
         end
-        if (bank_any$23) begin
-            pick_head = bank_head$23;
-            pick_id = bank_id$23;
+        head_acc$3 = head_acc$2 | first_head$2;
+        id_acc$3 = id_acc$2 | first_id$2;
+        bank_first$3 = bank_any$3 & ~bank_prior$3;
+        bank_prior$4 = bank_prior$3 | bank_any$3;
+        first_head$3 = 32'h0;
+        first_id$3 = 32'h0;
+        if (bank_first$3) begin
+            first_head$3 = bank_head$3;
+            first_id$3 = bank_id$3;
         end
-        if (bank_any$22) begin
-            pick_head = bank_head$22;
-            pick_id = bank_id$22;
+        head_acc$4 = head_acc$3 | first_head$3;
+        id_acc$4 = id_acc$3 | first_id$3;
+        bank_first$4 = bank_any$4 & ~bank_prior$4;
+        bank_prior$5 = bank_prior$4 | bank_any$4;
+        first_head$4 = 32'h0;
+        first_id$4 = 32'h0;
+        if (bank_first$4) begin
+            first_head$4 = bank_head$4;
+            first_id$4 = bank_id$4;
         end
-        if (bank_any$21) begin
-            pick_head = bank_head$21;
-            pick_id = bank_id$21;
+        head_acc$5 = head_acc$4 | first_head$4;
+        id_acc$5 = id_acc$4 | first_id$4;
+        bank_first$5 = bank_any$5 & ~bank_prior$5;
+        bank_prior$6 = bank_prior$5 | bank_any$5;
+        first_head$5 = 32'h0;
+        first_id$5 = 32'h0;
+        if (bank_first$5) begin
+            first_head$5 = bank_head$5;
+            first_id$5 = bank_id$5;
         end
-        if (bank_any$20) begin
-            pick_head = bank_head$20;
-            pick_id = bank_id$20;
+        head_acc$6 = head_acc$5 | first_head$5;
+        id_acc$6 = id_acc$5 | first_id$5;
+        bank_first$6 = bank_any$6 & ~bank_prior$6;
+        bank_prior$7 = bank_prior$6 | bank_any$6;
+        first_head$6 = 32'h0;
+        first_id$6 = 32'h0;
+        if (bank_first$6) begin
+            first_head$6 = bank_head$6;
+            first_id$6 = bank_id$6;
         end
-        if (bank_any$19) begin
-            pick_head = bank_head$19;
-            pick_id = bank_id$19;
+        head_acc$7 = head_acc$6 | first_head$6;
+        id_acc$7 = id_acc$6 | first_id$6;
+        bank_first$7 = bank_any$7 & ~bank_prior$7;
+        bank_prior$8 = bank_prior$7 | bank_any$7;
+        first_head$7 = 32'h0;
+        first_id$7 = 32'h0;
+        if (bank_first$7) begin
+            first_head$7 = bank_head$7;
+            first_id$7 = bank_id$7;
         end
-        if (bank_any$18) begin
-            pick_head = bank_head$18;
-            pick_id = bank_id$18;
+        head_acc$8 = head_acc$7 | first_head$7;
+        id_acc$8 = id_acc$7 | first_id$7;
+        bank_first$8 = bank_any$8 & ~bank_prior$8;
+        bank_prior$9 = bank_prior$8 | bank_any$8;
+        first_head$8 = 32'h0;
+        first_id$8 = 32'h0;
+        if (bank_first$8) begin
+            first_head$8 = bank_head$8;
+            first_id$8 = bank_id$8;
         end
-        if (bank_any$17) begin
-            pick_head = bank_head$17;
-            pick_id = bank_id$17;
+        head_acc$9 = head_acc$8 | first_head$8;
+        id_acc$9 = id_acc$8 | first_id$8;
+        bank_first$9 = bank_any$9 & ~bank_prior$9;
+        bank_prior$10 = bank_prior$9 | bank_any$9;
+        first_head$9 = 32'h0;
+        first_id$9 = 32'h0;
+        if (bank_first$9) begin
+            first_head$9 = bank_head$9;
+            first_id$9 = bank_id$9;
         end
-        if (bank_any$16) begin
-            pick_head = bank_head$16;
-            pick_id = bank_id$16;
+        head_acc$10 = head_acc$9 | first_head$9;
+        id_acc$10 = id_acc$9 | first_id$9;
+        bank_first$10 = bank_any$10 & ~bank_prior$10;
+        bank_prior$11 = bank_prior$10 | bank_any$10;
+        first_head$10 = 32'h0;
+        first_id$10 = 32'h0;
+        if (bank_first$10) begin
+            first_head$10 = bank_head$10;
+            first_id$10 = bank_id$10;
         end
-        if (bank_any$15) begin
-            pick_head = bank_head$15;
-            pick_id = bank_id$15;
+        head_acc$11 = head_acc$10 | first_head$10;
+        id_acc$11 = id_acc$10 | first_id$10;
+        bank_first$11 = bank_any$11 & ~bank_prior$11;
+        bank_prior$12 = bank_prior$11 | bank_any$11;
+        first_head$11 = 32'h0;
+        first_id$11 = 32'h0;
+        if (bank_first$11) begin
+            first_head$11 = bank_head$11;
+            first_id$11 = bank_id$11;
         end
-        if (bank_any$14) begin
-            pick_head = bank_head$14;
-            pick_id = bank_id$14;
+        head_acc$12 = head_acc$11 | first_head$11;
+        id_acc$12 = id_acc$11 | first_id$11;
+        bank_first$12 = bank_any$12 & ~bank_prior$12;
+        bank_prior$13 = bank_prior$12 | bank_any$12;
+        first_head$12 = 32'h0;
+        first_id$12 = 32'h0;
+        if (bank_first$12) begin
+            first_head$12 = bank_head$12;
+            first_id$12 = bank_id$12;
         end
-        if (bank_any$13) begin
-            pick_head = bank_head$13;
-            pick_id = bank_id$13;
+        head_acc$13 = head_acc$12 | first_head$12;
+        id_acc$13 = id_acc$12 | first_id$12;
+        bank_first$13 = bank_any$13 & ~bank_prior$13;
+        bank_prior$14 = bank_prior$13 | bank_any$13;
+        first_head$13 = 32'h0;
+        first_id$13 = 32'h0;
+        if (bank_first$13) begin
+            first_head$13 = bank_head$13;
+            first_id$13 = bank_id$13;
         end
-        if (bank_any$12) begin
-            pick_head = bank_head$12;
-            pick_id = bank_id$12;
+        head_acc$14 = head_acc$13 | first_head$13;
+        id_acc$14 = id_acc$13 | first_id$13;
+        bank_first$14 = bank_any$14 & ~bank_prior$14;
+        bank_prior$15 = bank_prior$14 | bank_any$14;
+        first_head$14 = 32'h0;
+        first_id$14 = 32'h0;
+        if (bank_first$14) begin
+            first_head$14 = bank_head$14;
+            first_id$14 = bank_id$14;
         end
-        if (bank_any$11) begin
-            pick_head = bank_head$11;
-            pick_id = bank_id$11;
+        head_acc$15 = head_acc$14 | first_head$14;
+        id_acc$15 = id_acc$14 | first_id$14;
+        bank_first$15 = bank_any$15 & ~bank_prior$15;
+        bank_prior$16 = bank_prior$15 | bank_any$15;
+        first_head$15 = 32'h0;
+        first_id$15 = 32'h0;
+        if (bank_first$15) begin
+            first_head$15 = bank_head$15;
+            first_id$15 = bank_id$15;
         end
-        if (bank_any$10) begin
-            pick_head = bank_head$10;
-            pick_id = bank_id$10;
+        head_acc$16 = head_acc$15 | first_head$15;
+        id_acc$16 = id_acc$15 | first_id$15;
+        bank_first$16 = bank_any$16 & ~bank_prior$16;
+        bank_prior$17 = bank_prior$16 | bank_any$16;
+        first_head$16 = 32'h0;
+        first_id$16 = 32'h0;
+        if (bank_first$16) begin
+            first_head$16 = bank_head$16;
+            first_id$16 = bank_id$16;
         end
-        if (bank_any$9) begin
-            pick_head = bank_head$9;
-            pick_id = bank_id$9;
+        head_acc$17 = head_acc$16 | first_head$16;
+        id_acc$17 = id_acc$16 | first_id$16;
+        bank_first$17 = bank_any$17 & ~bank_prior$17;
+        bank_prior$18 = bank_prior$17 | bank_any$17;
+        first_head$17 = 32'h0;
+        first_id$17 = 32'h0;
+        if (bank_first$17) begin
+            first_head$17 = bank_head$17;
+            first_id$17 = bank_id$17;
         end
-        if (bank_any$8) begin
-            pick_head = bank_head$8;
-            pick_id = bank_id$8;
+        head_acc$18 = head_acc$17 | first_head$17;
+        id_acc$18 = id_acc$17 | first_id$17;
+        bank_first$18 = bank_any$18 & ~bank_prior$18;
+        bank_prior$19 = bank_prior$18 | bank_any$18;
+        first_head$18 = 32'h0;
+        first_id$18 = 32'h0;
+        if (bank_first$18) begin
+            first_head$18 = bank_head$18;
+            first_id$18 = bank_id$18;
         end
-        if (bank_any$7) begin
-            pick_head = bank_head$7;
-            pick_id = bank_id$7;
+        head_acc$19 = head_acc$18 | first_head$18;
+        id_acc$19 = id_acc$18 | first_id$18;
+        bank_first$19 = bank_any$19 & ~bank_prior$19;
+        bank_prior$20 = bank_prior$19 | bank_any$19;
+        first_head$19 = 32'h0;
+        first_id$19 = 32'h0;
+        if (bank_first$19) begin
+            first_head$19 = bank_head$19;
+            first_id$19 = bank_id$19;
         end
-        if (bank_any$6) begin
-            pick_head = bank_head$6;
-            pick_id = bank_id$6;
+        head_acc$20 = head_acc$19 | first_head$19;
+        id_acc$20 = id_acc$19 | first_id$19;
+        bank_first$20 = bank_any$20 & ~bank_prior$20;
+        bank_prior$21 = bank_prior$20 | bank_any$20;
+        first_head$20 = 32'h0;
+        first_id$20 = 32'h0;
+        if (bank_first$20) begin
+            first_head$20 = bank_head$20;
+            first_id$20 = bank_id$20;
         end
-        if (bank_any$5) begin
-            pick_head = bank_head$5;
-            pick_id = bank_id$5;
+        head_acc$21 = head_acc$20 | first_head$20;
+        id_acc$21 = id_acc$20 | first_id$20;
+        bank_first$21 = bank_any$21 & ~bank_prior$21;
+        bank_prior$22 = bank_prior$21 | bank_any$21;
+        first_head$21 = 32'h0;
+        first_id$21 = 32'h0;
+        if (bank_first$21) begin
+            first_head$21 = bank_head$21;
+            first_id$21 = bank_id$21;
         end
-        if (bank_any$4) begin
-            pick_head = bank_head$4;
-            pick_id = bank_id$4;
+        head_acc$22 = head_acc$21 | first_head$21;
+        id_acc$22 = id_acc$21 | first_id$21;
+        bank_first$22 = bank_any$22 & ~bank_prior$22;
+        bank_prior$23 = bank_prior$22 | bank_any$22;
+        first_head$22 = 32'h0;
+        first_id$22 = 32'h0;
+        if (bank_first$22) begin
+            first_head$22 = bank_head$22;
+            first_id$22 = bank_id$22;
         end
-        if (bank_any$3) begin
-            pick_head = bank_head$3;
-            pick_id = bank_id$3;
+        head_acc$23 = head_acc$22 | first_head$22;
+        id_acc$23 = id_acc$22 | first_id$22;
+        bank_first$23 = bank_any$23 & ~bank_prior$23;
+        bank_prior$24 = bank_prior$23 | bank_any$23;
+        first_head$23 = 32'h0;
+        first_id$23 = 32'h0;
+        if (bank_first$23) begin
+            first_head$23 = bank_head$23;
+            first_id$23 = bank_id$23;
         end
-        if (bank_any$2) begin
-            pick_head = bank_head$2;
-            pick_id = bank_id$2;
+        head_acc$24 = head_acc$23 | first_head$23;
+        id_acc$24 = id_acc$23 | first_id$23;
+        bank_first$24 = bank_any$24 & ~bank_prior$24;
+        bank_prior$25 = bank_prior$24 | bank_any$24;
+        first_head$24 = 32'h0;
+        first_id$24 = 32'h0;
+        if (bank_first$24) begin
+            first_head$24 = bank_head$24;
+            first_id$24 = bank_id$24;
         end
-        if (bank_any$1) begin
-            pick_head = bank_head$1;
-            pick_id = bank_id$1;
+        head_acc$25 = head_acc$24 | first_head$24;
+        id_acc$25 = id_acc$24 | first_id$24;
+        bank_first$25 = bank_any$25 & ~bank_prior$25;
+        bank_prior$26 = bank_prior$25 | bank_any$25;
+        first_head$25 = 32'h0;
+        first_id$25 = 32'h0;
+        if (bank_first$25) begin
+            first_head$25 = bank_head$25;
+            first_id$25 = bank_id$25;
         end
-        if (bank_any$0) begin
-            pick_head = bank_head$0;
-            pick_id = bank_id$0;
+        head_acc$26 = head_acc$25 | first_head$25;
+        id_acc$26 = id_acc$25 | first_id$25;
+        bank_first$26 = bank_any$26 & ~bank_prior$26;
+        bank_prior$27 = bank_prior$26 | bank_any$26;
+        first_head$26 = 32'h0;
+        first_id$26 = 32'h0;
+        if (bank_first$26) begin
+            first_head$26 = bank_head$26;
+            first_id$26 = bank_id$26;
         end
+        head_acc$27 = head_acc$26 | first_head$26;
+        id_acc$27 = id_acc$26 | first_id$26;
+        pick_head = head_acc$27;
+        pick_id = id_acc$27;
         cand = pick_head;
         if (held_valid$q) begin
             cand = held$q;
@@ -11114,6 +11446,42 @@ module obb_core$grid$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_max
     reg  third2$2$d;
     wire  third2$2$q;
     reg  third2$2$clock;
+    reg  [22:0] res1$0$d;
+    wire  [22:0] res1$0$q;
+    reg  res1$0$clock;
+    reg  [22:0] res1$1$d;
+    wire  [22:0] res1$1$q;
+    reg  res1$1$clock;
+    reg  [22:0] res1$2$d;
+    wire  [22:0] res1$2$q;
+    reg  res1$2$clock;
+    reg  [22:0] res1$3$d;
+    wire  [22:0] res1$3$q;
+    reg  res1$3$clock;
+    reg  [22:0] res1$4$d;
+    wire  [22:0] res1$4$q;
+    reg  res1$4$clock;
+    reg  [22:0] res1$5$d;
+    wire  [22:0] res1$5$q;
+    reg  res1$5$clock;
+    reg  [22:0] res1$6$d;
+    wire  [22:0] res1$6$q;
+    reg  res1$6$clock;
+    reg  [22:0] res1$7$d;
+    wire  [22:0] res1$7$q;
+    reg  res1$7$clock;
+    reg  [22:0] res1$8$d;
+    wire  [22:0] res1$8$q;
+    reg  res1$8$clock;
+    reg  [22:0] res1$9$d;
+    wire  [22:0] res1$9$q;
+    reg  res1$9$clock;
+    reg  [22:0] res1$10$d;
+    wire  [22:0] res1$10$q;
+    reg  res1$10$clock;
+    reg  [22:0] res1$11$d;
+    wire  [22:0] res1$11$q;
+    reg  res1$11$clock;
     reg  [22:0] res2$0$d;
     wire  [22:0] res2$0$q;
     reg  res2$0$clock;
@@ -11671,45 +12039,21 @@ module obb_core$grid$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_max
     reg  [19:0] hacc$213;
     reg  [19:0] hacc$214;
     reg  [19:0] hacc$215;
-    reg  [22:0] racc$0;
-    reg  [22:0] racc$1;
-    reg  [22:0] racc$2;
-    reg  [22:0] racc$3;
-    reg  [22:0] racc$4;
-    reg  [22:0] racc$5;
-    reg  [22:0] racc$6;
-    reg  [22:0] racc$7;
-    reg  [22:0] racc$8;
-    reg  [22:0] racc$9;
-    reg  [22:0] racc$10;
-    reg  [22:0] racc$11;
-    reg  [22:0] racc$12;
-    reg  [22:0] racc$13;
-    reg  [22:0] racc$14;
-    reg  [22:0] racc$15;
-    reg  [22:0] racc$16;
-    reg  [22:0] racc$17;
-    reg  [22:0] racc$18;
-    reg  [22:0] racc$19;
-    reg  [22:0] racc$20;
-    reg  [22:0] racc$21;
-    reg  [22:0] racc$22;
-    reg  [22:0] racc$23;
-    reg  [22:0] racc$24;
-    reg  [22:0] racc$25;
-    reg  [22:0] racc$26;
-    reg  [22:0] racc$27;
-    reg  [22:0] racc$28;
-    reg  [22:0] racc$29;
-    reg  [22:0] racc$30;
-    reg  [22:0] racc$31;
-    reg  [22:0] racc$32;
-    reg  [22:0] racc$33;
-    reg  [22:0] racc$34;
-    reg  [22:0] racc$35;
-    reg  [22:0] racc$36;
-    reg  [22:0] racc$37;
-    reg  [22:0] racc$38;
+    reg  [22:0] first$0;
+    reg  [22:0] first$1;
+    reg  [22:0] first$2;
+    reg  [22:0] csum$0;
+    reg  [22:0] csum$1;
+    reg  [22:0] csum$2;
+    reg  [22:0] csum$3;
+    reg  [22:0] csum$4;
+    reg  [22:0] csum$5;
+    reg  [22:0] csum$6;
+    reg  [22:0] csum$7;
+    reg  [22:0] csum$8;
+    reg  [22:0] csum$9;
+    reg  [22:0] csum$10;
+    reg  [22:0] csum$11;
     reg  [22:0] rsum$0;
     reg  [22:0] rsum$1;
     reg  [22:0] rsum$2;
@@ -11919,6 +12263,66 @@ module obb_core$grid$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_max
         .d(third2$2$d),
         .q(third2$2$q),
         .clock(third2$2$clock)
+    );
+    obb_core$grid$cells$res1$0 res1$0(
+        .d(res1$0$d),
+        .q(res1$0$q),
+        .clock(res1$0$clock)
+    );
+    obb_core$grid$cells$res1$1 res1$1(
+        .d(res1$1$d),
+        .q(res1$1$q),
+        .clock(res1$1$clock)
+    );
+    obb_core$grid$cells$res1$2 res1$2(
+        .d(res1$2$d),
+        .q(res1$2$q),
+        .clock(res1$2$clock)
+    );
+    obb_core$grid$cells$res1$3 res1$3(
+        .d(res1$3$d),
+        .q(res1$3$q),
+        .clock(res1$3$clock)
+    );
+    obb_core$grid$cells$res1$4 res1$4(
+        .d(res1$4$d),
+        .q(res1$4$q),
+        .clock(res1$4$clock)
+    );
+    obb_core$grid$cells$res1$5 res1$5(
+        .d(res1$5$d),
+        .q(res1$5$q),
+        .clock(res1$5$clock)
+    );
+    obb_core$grid$cells$res1$6 res1$6(
+        .d(res1$6$d),
+        .q(res1$6$q),
+        .clock(res1$6$clock)
+    );
+    obb_core$grid$cells$res1$7 res1$7(
+        .d(res1$7$d),
+        .q(res1$7$q),
+        .clock(res1$7$clock)
+    );
+    obb_core$grid$cells$res1$8 res1$8(
+        .d(res1$8$d),
+        .q(res1$8$q),
+        .clock(res1$8$clock)
+    );
+    obb_core$grid$cells$res1$9 res1$9(
+        .d(res1$9$d),
+        .q(res1$9$q),
+        .clock(res1$9$clock)
+    );
+    obb_core$grid$cells$res1$10 res1$10(
+        .d(res1$10$d),
+        .q(res1$10$q),
+        .clock(res1$10$clock)
+    );
+    obb_core$grid$cells$res1$11 res1$11(
+        .d(res1$11$d),
+        .q(res1$11$q),
+        .clock(res1$11$clock)
     );
     obb_core$grid$cells$res2$0 res2$0(
         .d(res2$0$d),
@@ -12506,6 +12910,18 @@ module obb_core$grid$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_max
         third1$2$clock = clock;
         third2$2$clock = clock;
         res2$2$clock = clock;
+        res1$0$clock = clock;
+        res1$1$clock = clock;
+        res1$2$clock = clock;
+        res1$3$clock = clock;
+        res1$4$clock = clock;
+        res1$5$clock = clock;
+        res1$6$clock = clock;
+        res1$7$clock = clock;
+        res1$8$clock = clock;
+        res1$9$clock = clock;
+        res1$10$clock = clock;
+        res1$11$clock = clock;
         cell1$0$clock = clock;
         hash2$0$clock = clock;
         cell1$1$clock = clock;
@@ -12645,6 +13061,51 @@ module obb_core$grid$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_max
         cell1$1$d = (key_min$0 >> cell_bits) + 32'h1;
         cell1$2$d = (key_min$0 >> cell_bits) + 32'h2;
         third1$0$d = (key_max$0 >> cell_bits) != (key_min$0 >> cell_bits);
+        first$0 = key_min$0 >> cell_bits;
+        csum$0 = ((first$0 >> digit_at$0) & three) + ((first$0 >> digit_at$1) & three) + ((first$0 >> digit_at$2) & three);
+        res1$0$d = csum$0;
+        if (csum$0 >= 32'h3) begin
+            res1$0$d = (csum$0 - 32'h3) & three;
+        end
+        if (csum$0 >= 32'h6) begin
+            res1$0$d = (csum$0 - 32'h6) & three;
+        end
+        if (csum$0 >= 32'h9) begin
+            res1$0$d = (csum$0 - 32'h9) & three;
+        end
+        csum$1 = ((first$0 >> digit_at$3) & three) + ((first$0 >> digit_at$4) & three) + ((first$0 >> digit_at$5) & three);
+        res1$1$d = csum$1;
+        if (csum$1 >= 32'h3) begin
+            res1$1$d = (csum$1 - 32'h3) & three;
+        end
+        if (csum$1 >= 32'h6) begin
+            res1$1$d = (csum$1 - 32'h6) & three;
+        end
+        if (csum$1 >= 32'h9) begin
+            res1$1$d = (csum$1 - 32'h9) & three;
+        end
+        csum$2 = ((first$0 >> digit_at$6) & three) + ((first$0 >> digit_at$7) & three) + ((first$0 >> digit_at$8) & three);
+        res1$2$d = csum$2;
+        if (csum$2 >= 32'h3) begin
+            res1$2$d = (csum$2 - 32'h3) & three;
+        end
+        if (csum$2 >= 32'h6) begin
+            res1$2$d = (csum$2 - 32'h6) & three;
+        end
+        if (csum$2 >= 32'h9) begin
+            res1$2$d = (csum$2 - 32'h9) & three;
+        end
+        csum$3 = ((first$0 >> digit_at$9) & three) + ((first$0 >> digit_at$10) & three) + ((first$0 >> digit_at$11) & three);
+        res1$3$d = csum$3;
+        if (csum$3 >= 32'h3) begin
+            res1$3$d = (csum$3 - 32'h3) & three;
+        end
+        if (csum$3 >= 32'h6) begin
+            res1$3$d = (csum$3 - 32'h6) & three;
+        end
+        if (csum$3 >= 32'h9) begin
+            res1$3$d = (csum$3 - 32'h9) & three;
+        end
         width$1 = key_max$1 - key_min$1;
         if (width$1 > cell_edge) begin
             small1$d = 1'b0;
@@ -12653,6 +13114,51 @@ module obb_core$grid$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_max
         cell1$4$d = (key_min$1 >> cell_bits) + 32'h1;
         cell1$5$d = (key_min$1 >> cell_bits) + 32'h2;
         third1$1$d = (key_max$1 >> cell_bits) != (key_min$1 >> cell_bits);
+        first$1 = key_min$1 >> cell_bits;
+        csum$4 = ((first$1 >> digit_at$0) & three) + ((first$1 >> digit_at$1) & three) + ((first$1 >> digit_at$2) & three);
+        res1$4$d = csum$4;
+        if (csum$4 >= 32'h3) begin
+            res1$4$d = (csum$4 - 32'h3) & three;
+        end
+        if (csum$4 >= 32'h6) begin
+            res1$4$d = (csum$4 - 32'h6) & three;
+        end
+        if (csum$4 >= 32'h9) begin
+            res1$4$d = (csum$4 - 32'h9) & three;
+        end
+        csum$5 = ((first$1 >> digit_at$3) & three) + ((first$1 >> digit_at$4) & three) + ((first$1 >> digit_at$5) & three);
+        res1$5$d = csum$5;
+        if (csum$5 >= 32'h3) begin
+            res1$5$d = (csum$5 - 32'h3) & three;
+        end
+        if (csum$5 >= 32'h6) begin
+            res1$5$d = (csum$5 - 32'h6) & three;
+        end
+        if (csum$5 >= 32'h9) begin
+            res1$5$d = (csum$5 - 32'h9) & three;
+        end
+        csum$6 = ((first$1 >> digit_at$6) & three) + ((first$1 >> digit_at$7) & three) + ((first$1 >> digit_at$8) & three);
+        res1$6$d = csum$6;
+        if (csum$6 >= 32'h3) begin
+            res1$6$d = (csum$6 - 32'h3) & three;
+        end
+        if (csum$6 >= 32'h6) begin
+            res1$6$d = (csum$6 - 32'h6) & three;
+        end
+        if (csum$6 >= 32'h9) begin
+            res1$6$d = (csum$6 - 32'h9) & three;
+        end
+        csum$7 = ((first$1 >> digit_at$9) & three) + ((first$1 >> digit_at$10) & three) + ((first$1 >> digit_at$11) & three);
+        res1$7$d = csum$7;
+        if (csum$7 >= 32'h3) begin
+            res1$7$d = (csum$7 - 32'h3) & three;
+        end
+        if (csum$7 >= 32'h6) begin
+            res1$7$d = (csum$7 - 32'h6) & three;
+        end
+        if (csum$7 >= 32'h9) begin
+            res1$7$d = (csum$7 - 32'h9) & three;
+        end
         width$2 = key_max$2 - key_min$2;
         if (width$2 > cell_edge) begin
             small1$d = 1'b0;
@@ -12661,6 +13167,51 @@ module obb_core$grid$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_max
         cell1$7$d = (key_min$2 >> cell_bits) + 32'h1;
         cell1$8$d = (key_min$2 >> cell_bits) + 32'h2;
         third1$2$d = (key_max$2 >> cell_bits) != (key_min$2 >> cell_bits);
+        first$2 = key_min$2 >> cell_bits;
+        csum$8 = ((first$2 >> digit_at$0) & three) + ((first$2 >> digit_at$1) & three) + ((first$2 >> digit_at$2) & three);
+        res1$8$d = csum$8;
+        if (csum$8 >= 32'h3) begin
+            res1$8$d = (csum$8 - 32'h3) & three;
+        end
+        if (csum$8 >= 32'h6) begin
+            res1$8$d = (csum$8 - 32'h6) & three;
+        end
+        if (csum$8 >= 32'h9) begin
+            res1$8$d = (csum$8 - 32'h9) & three;
+        end
+        csum$9 = ((first$2 >> digit_at$3) & three) + ((first$2 >> digit_at$4) & three) + ((first$2 >> digit_at$5) & three);
+        res1$9$d = csum$9;
+        if (csum$9 >= 32'h3) begin
+            res1$9$d = (csum$9 - 32'h3) & three;
+        end
+        if (csum$9 >= 32'h6) begin
+            res1$9$d = (csum$9 - 32'h6) & three;
+        end
+        if (csum$9 >= 32'h9) begin
+            res1$9$d = (csum$9 - 32'h9) & three;
+        end
+        csum$10 = ((first$2 >> digit_at$6) & three) + ((first$2 >> digit_at$7) & three) + ((first$2 >> digit_at$8) & three);
+        res1$10$d = csum$10;
+        if (csum$10 >= 32'h3) begin
+            res1$10$d = (csum$10 - 32'h3) & three;
+        end
+        if (csum$10 >= 32'h6) begin
+            res1$10$d = (csum$10 - 32'h6) & three;
+        end
+        if (csum$10 >= 32'h9) begin
+            res1$10$d = (csum$10 - 32'h9) & three;
+        end
+        csum$11 = ((first$2 >> digit_at$9) & three) + ((first$2 >> digit_at$10) & three) + ((first$2 >> digit_at$11) & three);
+        res1$11$d = csum$11;
+        if (csum$11 >= 32'h3) begin
+            res1$11$d = (csum$11 - 32'h3) & three;
+        end
+        if (csum$11 >= 32'h6) begin
+            res1$11$d = (csum$11 - 32'h6) & three;
+        end
+        if (csum$11 >= 32'h9) begin
+            res1$11$d = (csum$11 - 32'h9) & three;
+        end
         small2$d = small1$q;
         third2$0$d = third1$0$q;
         hacc$0 = 32'h0;
@@ -12945,26 +13496,13 @@ module obb_core$grid$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_max
             hacc$71 = hacc$70 ^ column$22;
         end
         hash2$2$d = hacc$71;
-        racc$0 = 32'h0;
-        racc$1 = racc$0 + ((cell1$0$q >> digit_at$0) & three);
-        racc$2 = racc$1 + ((cell1$0$q >> digit_at$1) & three);
-        racc$3 = racc$2 + ((cell1$0$q >> digit_at$2) & three);
-        racc$4 = racc$3 + ((cell1$0$q >> digit_at$3) & three);
-        racc$5 = racc$4 + ((cell1$0$q >> digit_at$4) & three);
-        racc$6 = racc$5 + ((cell1$0$q >> digit_at$5) & three);
-        racc$7 = racc$6 + ((cell1$0$q >> digit_at$6) & three);
-        racc$8 = racc$7 + ((cell1$0$q >> digit_at$7) & three);
-        racc$9 = racc$8 + ((cell1$0$q >> digit_at$8) & three);
-        racc$10 = racc$9 + ((cell1$0$q >> digit_at$9) & three);
-        racc$11 = racc$10 + ((cell1$0$q >> digit_at$10) & three);
-        racc$12 = racc$11 + ((cell1$0$q >> digit_at$11) & three);
-        rsum$0 = (racc$12 & three) + ((racc$12 >> 64'h2) & three) + ((racc$12 >> 64'h4) & three);
+        rsum$0 = res1$0$q + res1$1$q + res1$2$q + res1$3$q;
         res2$0$d = rsum$0;
         if (rsum$0 >= 32'h3) begin
-            res2$0$d = rsum$0 - 32'h3;
+            res2$0$d = (rsum$0 - 32'h3) & three;
         end
         if (rsum$0 >= 32'h6) begin
-            res2$0$d = rsum$0 - 32'h6;
+            res2$0$d = (rsum$0 - 32'h6) & three;
         end
         third2$1$d = third1$1$q;
         hacc$72 = 32'h0;
@@ -13249,26 +13787,13 @@ module obb_core$grid$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_max
             hacc$143 = hacc$142 ^ column$45;
         end
         hash2$5$d = hacc$143;
-        racc$13 = 32'h0;
-        racc$14 = racc$13 + ((cell1$3$q >> digit_at$0) & three);
-        racc$15 = racc$14 + ((cell1$3$q >> digit_at$1) & three);
-        racc$16 = racc$15 + ((cell1$3$q >> digit_at$2) & three);
-        racc$17 = racc$16 + ((cell1$3$q >> digit_at$3) & three);
-        racc$18 = racc$17 + ((cell1$3$q >> digit_at$4) & three);
-        racc$19 = racc$18 + ((cell1$3$q >> digit_at$5) & three);
-        racc$20 = racc$19 + ((cell1$3$q >> digit_at$6) & three);
-        racc$21 = racc$20 + ((cell1$3$q >> digit_at$7) & three);
-        racc$22 = racc$21 + ((cell1$3$q >> digit_at$8) & three);
-        racc$23 = racc$22 + ((cell1$3$q >> digit_at$9) & three);
-        racc$24 = racc$23 + ((cell1$3$q >> digit_at$10) & three);
-        racc$25 = racc$24 + ((cell1$3$q >> digit_at$11) & three);
-        rsum$1 = (racc$25 & three) + ((racc$25 >> 64'h2) & three) + ((racc$25 >> 64'h4) & three);
+        rsum$1 = res1$4$q + res1$5$q + res1$6$q + res1$7$q;
         res2$1$d = rsum$1;
         if (rsum$1 >= 32'h3) begin
-            res2$1$d = rsum$1 - 32'h3;
+            res2$1$d = (rsum$1 - 32'h3) & three;
         end
         if (rsum$1 >= 32'h6) begin
-            res2$1$d = rsum$1 - 32'h6;
+            res2$1$d = (rsum$1 - 32'h6) & three;
         end
         third2$2$d = third1$2$q;
         hacc$144 = 32'h0;
@@ -13553,26 +14078,13 @@ module obb_core$grid$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_max
             hacc$215 = hacc$214 ^ column$68;
         end
         hash2$8$d = hacc$215;
-        racc$26 = 32'h0;
-        racc$27 = racc$26 + ((cell1$6$q >> digit_at$0) & three);
-        racc$28 = racc$27 + ((cell1$6$q >> digit_at$1) & three);
-        racc$29 = racc$28 + ((cell1$6$q >> digit_at$2) & three);
-        racc$30 = racc$29 + ((cell1$6$q >> digit_at$3) & three);
-        racc$31 = racc$30 + ((cell1$6$q >> digit_at$4) & three);
-        racc$32 = racc$31 + ((cell1$6$q >> digit_at$5) & three);
-        racc$33 = racc$32 + ((cell1$6$q >> digit_at$6) & three);
-        racc$34 = racc$33 + ((cell1$6$q >> digit_at$7) & three);
-        racc$35 = racc$34 + ((cell1$6$q >> digit_at$8) & three);
-        racc$36 = racc$35 + ((cell1$6$q >> digit_at$9) & three);
-        racc$37 = racc$36 + ((cell1$6$q >> digit_at$10) & three);
-        racc$38 = racc$37 + ((cell1$6$q >> digit_at$11) & three);
-        rsum$2 = (racc$38 & three) + ((racc$38 >> 64'h2) & three) + ((racc$38 >> 64'h4) & three);
+        rsum$2 = res1$8$q + res1$9$q + res1$10$q + res1$11$q;
         res2$2$d = rsum$2;
         if (rsum$2 >= 32'h3) begin
-            res2$2$d = rsum$2 - 32'h3;
+            res2$2$d = (rsum$2 - 32'h3) & three;
         end
         if (rsum$2 >= 32'h6) begin
-            res2$2$d = rsum$2 - 32'h6;
+            res2$2$d = (rsum$2 - 32'h6) & three;
         end
         slot_hash$0 = hash2$0$q;
         slot_hash$1 = hash2$1$q;
@@ -16325,6 +16837,234 @@ module obb_core$grid$cells$inside_r$9(d,q,clock);
     end
           
 endmodule // obb_core$grid$cells$inside_r$9
+
+
+module obb_core$grid$cells$res1$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$res1$0
+
+
+module obb_core$grid$cells$res1$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$res1$1
+
+
+module obb_core$grid$cells$res1$10(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$res1$10
+
+
+module obb_core$grid$cells$res1$11(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$res1$11
+
+
+module obb_core$grid$cells$res1$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$res1$2
+
+
+module obb_core$grid$cells$res1$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$res1$3
+
+
+module obb_core$grid$cells$res1$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$res1$4
+
+
+module obb_core$grid$cells$res1$5(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$res1$5
+
+
+module obb_core$grid$cells$res1$6(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$res1$6
+
+
+module obb_core$grid$cells$res1$7(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$res1$7
+
+
+module obb_core$grid$cells$res1$8(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$res1$8
+
+
+module obb_core$grid$cells$res1$9(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cells$res1$9
 
 
 module obb_core$grid$cells$res2$0(d,q,clock);

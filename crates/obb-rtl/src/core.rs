@@ -747,7 +747,9 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
                 }
             }
             CoreState::Sort => {
-                if self.radix.done.val() {
+                // (Only the sweep sorts here: gated, so that synthesis drops the sort for the
+                // grid and brute, which never enter this state.)
+                if self.radix.done.val() & self.sweep.val() {
                     self.walk_start.next = true;
                     self.state.d.next = CoreState::Walk;
                 }

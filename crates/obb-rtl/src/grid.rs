@@ -213,8 +213,10 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// The lists the walker chooses from (the next record's when it loads it), and their heads.
     rem: Vec<Signal<Local, Bit>>,
     rem_head: Vec<Signal<Local, Bits<C>>>,
-    /// Some list is left in the current record.
+    /// Some list is left in the current record; so the next list is the record's (else the
+    /// next record's first).
     rem_any: Signal<Local, Bit>,
+    use_cur: Signal<Local, Bit>,
     /// The first list left (bank, then group): its head and its number.
     pick_head: Signal<Local, Bits<C>>,
     pick_id: Signal<Local, Bits<8>>,
@@ -222,6 +224,15 @@ pub struct GridPhase<const A: usize, const C: usize> {
     bank_any: [Signal<Local, Bit>; 27],
     bank_head: [Signal<Local, Bits<C>>; 27],
     bank_id: [Signal<Local, Bits<8>>; 27],
+    /// The first bank with a list left, as an OR of one-hot terms (a chain of 27 priority
+    /// multiplexers was deeper): some bank before b has one; b is the first; b's terms; their
+    /// ORs so far.
+    bank_prior: [Signal<Local, Bit>; 28],
+    bank_first: [Signal<Local, Bit>; 27],
+    first_head: [Signal<Local, Bits<C>>; 27],
+    first_id: [Signal<Local, Bits<8>>; 27],
+    head_acc: [Signal<Local, Bits<C>>; 28],
+    id_acc: [Signal<Local, Bits<8>>; 28],
     rd_live: Vec<Signal<Local, Bit>>,
     /// Credits and records: this clock's changes.
     inflight_up: Signal<Local, Bits<COUNT>>,
@@ -395,11 +406,18 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             rem: vec(lists),
             rem_head: vec(lists),
             rem_any: Default::default(),
+            use_cur: Default::default(),
             pick_head: Default::default(),
             pick_id: Default::default(),
             bank_any: Default::default(),
             bank_head: Default::default(),
             bank_id: Default::default(),
+            bank_prior: Default::default(),
+            bank_first: Default::default(),
+            first_head: Default::default(),
+            first_id: Default::default(),
+            head_acc: Default::default(),
+            id_acc: Default::default(),
             rd_live: vec(lists),
             inflight_up: Default::default(),
             inflight_down: Default::default(),
@@ -666,7 +684,9 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         // held, or the next list of the record starts, or the record is over and the next one
         // is loaded (its first list starts the same clock). Lists are taken bank by bank, group
         // by group: written from the last to the first, so the first left is written last.
-        self.list_open.next = self.chase.q.val() & (self.succ.read_data_b.val() >= self.top.val());
+        // (Flags are tested by a mask, not `>= top`: a compare is a carry chain in synthesis.)
+        self.list_open.next =
+            self.chase.q.val() & ((self.succ.read_data_b.val() & self.top.val()) != 0);
         self.need.next = !self.list_open.val() & !self.held_valid.q.val();
         self.rem_any.next = false;
         for l in 0..self._lists {
@@ -674,16 +694,17 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             if self.cur_rem[l].val() {
                 self.rem_any.next = true;
             }
-            self.rd_live[l].next = self.rec[l].read_data.val() >= self.top.val();
+            self.rd_live[l].next = (self.rec[l].read_data.val() & self.top.val()) != 0;
         }
-        self.load_next.next = self.need.val()
-            & !(self.cur_valid.q.val() & self.rem_any.val())
-            & (self.count.q.val() != 0);
+        self.use_cur.next = self.cur_valid.q.val() & self.rem_any.val();
+        self.load_next.next = self.need.val() & !self.use_cur.val() & (self.count.q.val() != 0);
         self.retire_rec.next = self.need.val() & self.cur_valid.q.val() & !self.rem_any.val();
-        self.take.next = self.need.val()
-            & ((self.cur_valid.q.val() & self.rem_any.val()) | self.load_next.val());
+        self.take.next = self.need.val() & (self.use_cur.val() | (self.count.q.val() != 0));
         // Per bank its first list left (the lowest group: written last), then the first bank
-        // with one: two short chains of choices rather than one through every list.
+        // with one: two short chains of choices rather than one through every list. The
+        // choice is made from registers and the record queue alone, whether or not a list
+        // starts: the successor table's output only selects it (in the same clock it took 13
+        // LUT levels behind the block RAM).
         for b in 0..27 {
             self.bank_any[b].next = false;
             self.bank_head[b].next = 0.into();
@@ -693,7 +714,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             for b in 0..27 {
                 self.rem[27 * q + b].next = self.cur_rem[27 * q + b].val();
                 self.rem_head[27 * q + b].next = self.cur_head[27 * q + b].q.val();
-                if self.load_next.val() {
+                if !self.use_cur.val() {
                     self.rem[27 * q + b].next = self.rd_live[27 * q + b].val();
                     self.rem_head[27 * q + b].next = self.rec[27 * q + b].read_data.val();
                 }
@@ -704,14 +725,23 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 }
             }
         }
-        self.pick_head.next = 0.into();
-        self.pick_id.next = 0.into();
-        for bb in 0..27 {
-            if self.bank_any[26 - bb].val() {
-                self.pick_head.next = self.bank_head[26 - bb].val();
-                self.pick_id.next = self.bank_id[26 - bb].val();
+        self.bank_prior[0].next = false;
+        self.head_acc[0].next = 0.into();
+        self.id_acc[0].next = 0.into();
+        for b in 0..27 {
+            self.bank_first[b].next = self.bank_any[b].val() & !self.bank_prior[b].val();
+            self.bank_prior[b + 1].next = self.bank_prior[b].val() | self.bank_any[b].val();
+            self.first_head[b].next = 0.into();
+            self.first_id[b].next = 0.into();
+            if self.bank_first[b].val() {
+                self.first_head[b].next = self.bank_head[b].val();
+                self.first_id[b].next = self.bank_id[b].val();
             }
+            self.head_acc[b + 1].next = self.head_acc[b].val() | self.first_head[b].val();
+            self.id_acc[b + 1].next = self.id_acc[b].val() | self.first_id[b].val();
         }
+        self.pick_head.next = self.head_acc[27].val();
+        self.pick_id.next = self.id_acc[27].val();
         self.cand.next = self.pick_head.val();
         if self.held_valid.q.val() {
             self.cand.next = self.held.q.val();

@@ -5,8 +5,8 @@
 //! | clock | stage |
 //! | --- | --- |
 //! | K | the keys |
-//! | K+1 | per axis the window's cells first, first + 1, first + 2 (offset coordinates: the first is kmin >> g, the home cell first + 1), whether the third is in the window (kmax reaches the next cell), whether the box is small |
-//! | K+2 | each cell's H3 hash, the first cell's coordinate mod 3 |
+//! | K+1 | per axis the window's cells first, first + 1, first + 2 (offset coordinates: the first is kmin >> g, the home cell first + 1), whether the third is in the window (kmax reaches the next cell), whether the box is small; each 6-bit chunk of the first cell's coordinate mod 3 |
+//! | K+2 | each cell's H3 hash, the first cell's coordinate mod 3 (its chunks' residues summed) |
 //! | K+3 | per bank (coordinates mod 3 on each axis) its cell's bucket, fingerprint, whether the window has a cell there, whether it is the home cell; the home cell's fingerprint |
 
 use crate::projection::CENTER;
@@ -63,7 +63,9 @@ pub struct GridCells {
     third1: [DFF<Bit>; 3],
     hash2: [DFF<Bits<HASH>>; 9],
     third2: [DFF<Bit>; 3],
-    /// The first cell's coordinate mod 3, per axis.
+    /// Per axis and 6-bit chunk of the first cell's coordinate (`4 x + c`), the chunk mod 3;
+    /// then the coordinate mod 3, per axis.
+    res1: [DFF<Bits<COORD>>; 12],
     res2: [DFF<Bits<COORD>>; 3],
     bucket_r: [DFF<Bits<BUCKET>>; 27],
     fp_r: [DFF<Bits<FP>>; 27],
@@ -73,8 +75,10 @@ pub struct GridCells {
     width: [Signal<Local, Bits<CENTER>>; 3],
     /// Per axis and cell: the hash accumulated over the coordinate's bits (`24 (3 x + d) + i`).
     hacc: Vec<Signal<Local, Bits<HASH>>>,
-    /// Per axis: the first cell's base-4 digits summed (`13 x + i`), then reduced mod 3.
-    racc: Vec<Signal<Local, Bits<COORD>>>,
+    /// Per axis: the first cell; per chunk its three base-4 digits summed; per axis the
+    /// chunks' residues summed.
+    first: [Signal<Local, Bits<COORD>>; 3],
+    csum: [Signal<Local, Bits<COORD>>; 12],
     rsum: [Signal<Local, Bits<COORD>>; 3],
     /// Per axis and residue `3 x + r`: the window cell's hash, whether it is in the window,
     /// whether it is the home cell.
@@ -138,6 +142,7 @@ impl GridCells {
             third1: Default::default(),
             hash2: Default::default(),
             third2: Default::default(),
+            res1: Default::default(),
             res2: Default::default(),
             bucket_r: Default::default(),
             fp_r: Default::default(),
@@ -146,7 +151,8 @@ impl GridCells {
             home_fp_r: Default::default(),
             width: Default::default(),
             hacc: vec(9 * (COORD + 1)),
-            racc: vec(3 * 13),
+            first: Default::default(),
+            csum: Default::default(),
             rsum: Default::default(),
             slot_hash: Default::default(),
             slot_in: Default::default(),
@@ -165,6 +171,9 @@ impl Logic for GridCells {
             self.third1[x].clock.next = self.clock.val();
             self.third2[x].clock.next = self.clock.val();
             self.res2[x].clock.next = self.clock.val();
+        }
+        for c in 0..12 {
+            self.res1[c].clock.next = self.clock.val();
         }
         for c in 0..9 {
             self.cell1[c].clock.next = self.clock.val();
@@ -194,6 +203,30 @@ impl Logic for GridCells {
             self.cell1[3 * x + 2].d.next = (self.key_min[x].val() >> self.cell_bits.val()) + 2;
             self.third1[x].d.next = (self.key_max[x].val() >> self.cell_bits.val())
                 != (self.key_min[x].val() >> self.cell_bits.val());
+            // The first cell mod 3, in two steps of one or two LUT levels each (a chain of
+            // twelve digit sums took ten): 4 = 1 mod 3, so a chunk of three base-4 digits is
+            // their sum mod 3, a function of six bits. (Each residue is masked to its two bits,
+            // so that synthesis sees the rest of the register is zero.)
+            self.first[x].next = self.key_min[x].val() >> self.cell_bits.val();
+            for c in 0..4 {
+                self.csum[4 * x + c].next = ((self.first[x].val() >> self.digit_at[3 * c].val())
+                    & self.three.val())
+                    + ((self.first[x].val() >> self.digit_at[3 * c + 1].val()) & self.three.val())
+                    + ((self.first[x].val() >> self.digit_at[3 * c + 2].val()) & self.three.val());
+                self.res1[4 * x + c].d.next = self.csum[4 * x + c].val();
+                if self.csum[4 * x + c].val() >= 3 {
+                    self.res1[4 * x + c].d.next =
+                        (self.csum[4 * x + c].val() - 3) & self.three.val();
+                }
+                if self.csum[4 * x + c].val() >= 6 {
+                    self.res1[4 * x + c].d.next =
+                        (self.csum[4 * x + c].val() - 6) & self.three.val();
+                }
+                if self.csum[4 * x + c].val() >= 9 {
+                    self.res1[4 * x + c].d.next =
+                        (self.csum[4 * x + c].val() - 9) & self.three.val();
+                }
+            }
         }
 
         // K+2: each cell's hash (bit k the parity of the coordinate bits row k selects: the
@@ -214,21 +247,17 @@ impl Logic for GridCells {
                 }
                 self.hash2[3 * x + d].d.next = self.hacc[24 * (3 * x + d) + 23].val();
             }
-            self.racc[13 * x].next = 0.into();
-            for i in 0..12 {
-                self.racc[13 * x + i + 1].next = self.racc[13 * x + i].val()
-                    + ((self.cell1[3 * x].q.val() >> self.digit_at[i].val()) & self.three.val());
-            }
-            // At most 12 x 3 = 36: three more digits, at most 8.
-            self.rsum[x].next = (self.racc[13 * x + 12].val() & self.three.val())
-                + ((self.racc[13 * x + 12].val() >> 2_u64) & self.three.val())
-                + ((self.racc[13 * x + 12].val() >> 4_u64) & self.three.val());
+            // Four residues: at most 8.
+            self.rsum[x].next = self.res1[4 * x].q.val()
+                + self.res1[4 * x + 1].q.val()
+                + self.res1[4 * x + 2].q.val()
+                + self.res1[4 * x + 3].q.val();
             self.res2[x].d.next = self.rsum[x].val();
             if self.rsum[x].val() >= 3 {
-                self.res2[x].d.next = self.rsum[x].val() - 3;
+                self.res2[x].d.next = (self.rsum[x].val() - 3) & self.three.val();
             }
             if self.rsum[x].val() >= 6 {
-                self.res2[x].d.next = self.rsum[x].val() - 6;
+                self.res2[x].d.next = (self.rsum[x].val() - 6) & self.three.val();
             }
         }
 
