@@ -223,12 +223,11 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
     /// (`generate::check_supported`): brute or sweep, one lane, capacity within 2^A.
     pub fn new(cfg: &HwConfig) -> ObbCore<A, C> {
         assert!(C == A + 1, "counts need one bit more than addresses");
-        // Sweep has a walker of its own; the other walker, unused then, is left to synthesis
-        // to remove.
+        // Sweep and the grid have walkers of their own; the other walker, unused then, is left
+        // to synthesis to remove.
         let mode = match cfg.broad_phase {
-            BroadPhase::Sweep | BroadPhase::Brute => WalkMode::Brute,
+            BroadPhase::Sweep | BroadPhase::Brute | BroadPhase::Grid => WalkMode::Brute,
             BroadPhase::ImprovedSap => WalkMode::ImprovedSap,
-            BroadPhase::Grid => WalkMode::Brute,
         };
         let grid = cfg.broad_phase == BroadPhase::Grid;
         assert!(
@@ -358,8 +357,10 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
 }
 
 /// The grid block's configuration: `cfg` itself with the grid; with another broad phase, the
-/// smallest grid (one group, two buckets), whose inputs are held idle so that synthesis
-/// removes it.
+/// smallest grid (one group, two buckets, cells of half the key range), whose inputs are held
+/// idle so that synthesis removes it. (Its cell is set here, not taken from `cfg`: the grid
+/// keys of another broad phase are not checked, and a small cell with wide keys would not fit
+/// the grid's coordinates.)
 fn dormant_grid(cfg: &HwConfig) -> HwConfig {
     match cfg.broad_phase {
         BroadPhase::Grid => cfg.clone(),
@@ -367,6 +368,7 @@ fn dormant_grid(cfg: &HwConfig) -> HwConfig {
             broad_phase: BroadPhase::Grid,
             grid_hash_bits: 1,
             grid_groups: 1,
+            grid_cell_mm: cfg.lsb_mm * 2f64.powi(cfg.center_bits as i32 - 1),
             ..cfg.clone()
         },
     }

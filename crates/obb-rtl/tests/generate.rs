@@ -163,7 +163,8 @@ fn unsupported_configurations_are_rejected() {
 }
 
 /// The smallest capacities generate too: the tables and the sort never shrink below what the
-/// sort's bin counters need (this panicked in rust-hdl for capacities under 256).
+/// sort's bin counters need (this panicked in rust-hdl for capacities under 256); and so do the
+/// widest keys.
 #[test]
 fn the_smallest_capacities_generate() {
     for (capacity, mode) in [
@@ -180,6 +181,15 @@ fn the_smallest_capacities_generate() {
         let out = files(&cfg).unwrap();
         assert!(file(&out, "obb_core.v").contains("module obb_core("));
     }
+    // The idle grid inside another broad phase's core ignores the grid keys: the widest keys
+    // with the smallest cells generate (they once failed the grid's coordinate width).
+    let wide = HwConfig {
+        center_bits: 23,
+        key_bits: 23,
+        grid_cell_mm: 1.0 / 1024.0,
+        ..HwConfig::default()
+    };
+    assert!(file(&files(&wide).unwrap(), "obb_core.v").contains("module obb_core("));
 }
 
 /// `reports/synth.md` is `obbcd synth`'s report on the committed `rtl-out/obb_core.v`: when
