@@ -155,6 +155,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [22:0] grid$rd_max$1;
     reg  [22:0] grid$rd_max$2;
     reg  [27:0] grid$rd_margin;
+    reg  [2:0] grid$rd_group;
     wire  grid$cand_valid;
     reg  grid$cand_ready;
     wire  [14:0] grid$cand_a;
@@ -163,7 +164,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     wire  [27:0] grid$cand_mb;
     wire  grid$walked;
     wire  grid$finished;
-    wire  grid$oversize;
+    wire  grid$too_wide;
     reg  sat$clock;
     reg  sat$valid_in;
     reg  [22:0] sat$center_a$0;
@@ -990,6 +991,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .rd_max$1(grid$rd_max$1),
         .rd_max$2(grid$rd_max$2),
         .rd_margin(grid$rd_margin),
+        .rd_group(grid$rd_group),
         .cand_valid(grid$cand_valid),
         .cand_ready(grid$cand_ready),
         .cand_a(grid$cand_a),
@@ -998,7 +1000,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .cand_mb(grid$cand_mb),
         .walked(grid$walked),
         .finished(grid$finished),
-        .oversize(grid$oversize)
+        .too_wide(grid$too_wide)
     );
     obb_core$sat sat(
         .clock(sat$clock),
@@ -2424,6 +2426,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         grid$key_margin = projection$margin;
         grid$key_group = gdelay$7$q;
         grid$rd_margin = margin$read_data_b;
+        grid$rd_group = group$read_data_b;
         radix$start = frame_start | (walker$sort_start & sap);
         radix$go = walker$sort_go & sap;
         walker$sort_done = radix$done;
@@ -2718,7 +2721,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         busy = (state$q != CoreState$Idle) & (state$q != CoreState$Done);
         done = (state$q == CoreState$Done) & fifo$empty;
         capacity_exceeded = over$q;
-        if (grid$oversize & grid_mode) begin
+        if (grid$too_wide & grid_mode) begin
             over$d = 1'b1;
         end
         cycles = n_cycles$q;
@@ -4372,7 +4375,7 @@ module obb_core$geo_half_b$2(d,q,clock);
 endmodule // obb_core$geo_half_b$2
 
 
-module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_min$0,key_min$1,key_min$2,key_max$0,key_max$1,key_max$2,key_margin,key_group,visit,visit_i,rd_addr,rd_min$0,rd_min$1,rd_min$2,rd_max$0,rd_max$1,rd_max$2,rd_margin,cand_valid,cand_ready,cand_a,cand_b,cand_ma,cand_mb,walked,finished,oversize);
+module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_min$0,key_min$1,key_min$2,key_max$0,key_max$1,key_max$2,key_margin,key_group,visit,visit_i,rd_addr,rd_min$0,rd_min$1,rd_min$2,rd_max$0,rd_max$1,rd_max$2,rd_margin,rd_group,cand_valid,cand_ready,cand_a,cand_b,cand_ma,cand_mb,walked,finished,too_wide);
     
     // Module arguments
     input wire  clock;
@@ -4400,6 +4403,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
     input wire  [22:0] rd_max$1;
     input wire  [22:0] rd_max$2;
     input wire  [27:0] rd_margin;
+    input wire  [2:0] rd_group;
     output reg  cand_valid;
     input wire  cand_ready;
     output reg  [14:0] cand_a;
@@ -4408,7 +4412,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
     output reg  [27:0] cand_mb;
     output reg  walked;
     output reg  finished;
-    output reg  oversize;
+    output reg  too_wide;
     
     // Constant declarations
     localparam  last_bucket = 20'h1;
@@ -4469,9 +4473,19 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
     localparam  list_group$24 = 3'b0;
     localparam  list_group$25 = 3'b0;
     localparam  list_group$26 = 3'b0;
+    localparam  cell_bits = 8'h13;
+    localparam  max_span = 23'h16;
     localparam  at_a = 8'h4c;
     localparam  at_b = 8'h38;
     localparam  at_ma = 8'h1c;
+    
+    // Enums
+    localparam SlowState$Fetch = 0;
+    localparam SlowState$Read = 1;
+    localparam SlowState$Plan = 2;
+    localparam SlowState$Round = 3;
+    localparam SlowState$Partner = 4;
+    localparam SlowState$Over = 5;
     
     // Stub signals
     reg  cells$clock;
@@ -4623,6 +4637,9 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
     reg  [2:0] s1_group$d;
     wire  [2:0] s1_group$q;
     reg  s1_group$clock;
+    reg  [1:0] s1_kind$d;
+    wire  [1:0] s1_kind$q;
+    reg  s1_kind$clock;
     reg  s2_valid$d;
     wire  s2_valid$q;
     reg  s2_valid$clock;
@@ -4653,6 +4670,9 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
     reg  [2:0] s2_group$d;
     wire  [2:0] s2_group$q;
     reg  s2_group$clock;
+    reg  [1:0] s2_kind$d;
+    wire  [1:0] s2_kind$q;
+    reg  s2_kind$clock;
     reg  s3_valid$d;
     wire  s3_valid$q;
     reg  s3_valid$clock;
@@ -4683,6 +4703,9 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
     reg  [2:0] s3_group$d;
     wire  [2:0] s3_group$q;
     reg  s3_group$clock;
+    reg  [1:0] s3_kind$d;
+    wire  [1:0] s3_kind$q;
+    reg  s3_kind$clock;
     reg  [63:0] s3_allowed$d;
     wire  [63:0] s3_allowed$q;
     reg  s3_allowed$clock;
@@ -4716,6 +4739,9 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
     reg  [27:0] s4_margin$d;
     wire  [27:0] s4_margin$q;
     reg  s4_margin$clock;
+    reg  [1:0] s4_kind$d;
+    wire  [1:0] s4_kind$q;
+    reg  s4_kind$clock;
     reg  s4_live$0$d;
     wire  s4_live$0$q;
     reg  s4_live$0$clock;
@@ -5420,6 +5446,12 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
     reg  [27:0] rec_margin$write_data;
     reg  [4:0] rec_margin$read_address;
     wire  [27:0] rec_margin$read_data;
+    reg  rec_kind$clock;
+    reg  rec_kind$write_enable;
+    reg  [4:0] rec_kind$write_address;
+    reg  [1:0] rec_kind$write_data;
+    reg  [4:0] rec_kind$read_address;
+    wire  [1:0] rec_kind$read_data;
     reg  [4:0] wp$d;
     wire  [4:0] wp$q;
     reg  wp$clock;
@@ -5702,6 +5734,9 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
     reg  [27:0] cur_margin$d;
     wire  [27:0] cur_margin$q;
     reg  cur_margin$clock;
+    reg  [1:0] cur_kind$d;
+    wire  [1:0] cur_kind$q;
+    reg  cur_kind$clock;
     reg  chase$d;
     wire  chase$q;
     reg  chase$clock;
@@ -5741,6 +5776,9 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
     reg  [27:0] v1_margin$d;
     wire  [27:0] v1_margin$q;
     reg  v1_margin$clock;
+    reg  [1:0] v1_kind$d;
+    wire  [1:0] v1_kind$q;
+    reg  v1_kind$clock;
     reg  v2_valid$d;
     wire  v2_valid$q;
     reg  v2_valid$clock;
@@ -5792,6 +5830,39 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
     reg  [27:0] v2_margin_j$d;
     wire  [27:0] v2_margin_j$q;
     reg  v2_margin_j$clock;
+    reg  [1:0] v2_kind$d;
+    wire  [1:0] v2_kind$q;
+    reg  v2_kind$clock;
+    reg  [22:0] v2_wl$0$d;
+    wire  [22:0] v2_wl$0$q;
+    reg  v2_wl$0$clock;
+    reg  [22:0] v2_wl$1$d;
+    wire  [22:0] v2_wl$1$q;
+    reg  v2_wl$1$clock;
+    reg  [22:0] v2_wl$2$d;
+    wire  [22:0] v2_wl$2$q;
+    reg  v2_wl$2$clock;
+    reg  [22:0] v2_wh$0$d;
+    wire  [22:0] v2_wh$0$q;
+    reg  v2_wh$0$clock;
+    reg  [22:0] v2_wh$1$d;
+    wire  [22:0] v2_wh$1$q;
+    reg  v2_wh$1$clock;
+    reg  [22:0] v2_wh$2$d;
+    wire  [22:0] v2_wh$2$q;
+    reg  v2_wh$2$clock;
+    reg  [22:0] v2_jc$0$d;
+    wire  [22:0] v2_jc$0$q;
+    reg  v2_jc$0$clock;
+    reg  [22:0] v2_jc$1$d;
+    wire  [22:0] v2_jc$1$q;
+    reg  v2_jc$1$clock;
+    reg  [22:0] v2_jc$2$d;
+    wire  [22:0] v2_jc$2$q;
+    reg  v2_jc$2$clock;
+    reg  [2:0] v2_group_j$d;
+    wire  [2:0] v2_group_j$q;
+    reg  v2_group_j$clock;
     reg  fifo$clock;
     reg  fifo$write;
     reg  [95:0] fifo$data_in;
@@ -5809,9 +5880,69 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
     reg  [19:0] clear_at$d;
     wire  [19:0] clear_at$q;
     reg  clear_at$clock;
-    reg  large_seen$d;
-    wire  large_seen$q;
-    reg  large_seen$clock;
+    reg  [2:0] slow$d;
+    wire  [2:0] slow$q;
+    reg  slow$clock;
+    reg  [15:0] lnext$d;
+    wire  [15:0] lnext$q;
+    reg  lnext$clock;
+    reg  [15:0] lcur$d;
+    wire  [15:0] lcur$q;
+    reg  lcur$clock;
+    reg  [22:0] lk_min$0$d;
+    wire  [22:0] lk_min$0$q;
+    reg  lk_min$0$clock;
+    reg  [22:0] lk_min$1$d;
+    wire  [22:0] lk_min$1$q;
+    reg  lk_min$1$clock;
+    reg  [22:0] lk_min$2$d;
+    wire  [22:0] lk_min$2$q;
+    reg  lk_min$2$clock;
+    reg  [22:0] lk_max$0$d;
+    wire  [22:0] lk_max$0$q;
+    reg  lk_max$0$clock;
+    reg  [22:0] lk_max$1$d;
+    wire  [22:0] lk_max$1$q;
+    reg  lk_max$1$clock;
+    reg  [22:0] lk_max$2$d;
+    wire  [22:0] lk_max$2$q;
+    reg  lk_max$2$clock;
+    reg  [27:0] lmargin$d;
+    wire  [27:0] lmargin$q;
+    reg  lmargin$clock;
+    reg  [2:0] lgroup$d;
+    wire  [2:0] lgroup$q;
+    reg  lgroup$clock;
+    reg  [22:0] wlo$0$d;
+    wire  [22:0] wlo$0$q;
+    reg  wlo$0$clock;
+    reg  [22:0] wlo$1$d;
+    wire  [22:0] wlo$1$q;
+    reg  wlo$1$clock;
+    reg  [22:0] wlo$2$d;
+    wire  [22:0] wlo$2$q;
+    reg  wlo$2$clock;
+    reg  [22:0] whi$0$d;
+    wire  [22:0] whi$0$q;
+    reg  whi$0$clock;
+    reg  [22:0] whi$1$d;
+    wire  [22:0] whi$1$q;
+    reg  whi$1$clock;
+    reg  [22:0] whi$2$d;
+    wire  [22:0] whi$2$q;
+    reg  whi$2$clock;
+    reg  [22:0] rr$0$d;
+    wire  [22:0] rr$0$q;
+    reg  rr$0$clock;
+    reg  [22:0] rr$1$d;
+    wire  [22:0] rr$1$q;
+    reg  rr$1$clock;
+    reg  [22:0] rr$2$d;
+    wire  [22:0] rr$2$q;
+    reg  rr$2$clock;
+    reg  wide$d;
+    wire  wide$q;
+    reg  wide$clock;
     
     // Local signals
     reg  [63:0] allowed;
@@ -6338,6 +6469,40 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
     reg  [27:0] margin_lo;
     reg  [27:0] margin_hi;
     reg  done_walk;
+    reg  idle;
+    reg  fetch;
+    reg  inject;
+    reg  [1:0] inject_kind;
+    reg  [22:0] inject_min$0;
+    reg  [22:0] inject_min$1;
+    reg  [22:0] inject_min$2;
+    reg  [22:0] inject_max$0;
+    reg  [22:0] inject_max$1;
+    reg  [22:0] inject_max$2;
+    reg  [22:0] left$0;
+    reg  [22:0] left$1;
+    reg  [22:0] left$2;
+    reg  three_cells$0;
+    reg  three_cells$1;
+    reg  three_cells$2;
+    reg  last_round$0;
+    reg  last_round$1;
+    reg  last_round$2;
+    reg  [22:0] next_rr$0;
+    reg  [22:0] next_rr$1;
+    reg  [22:0] next_rr$2;
+    reg  [22:0] plan_lo$0;
+    reg  [22:0] plan_lo$1;
+    reg  [22:0] plan_lo$2;
+    reg  [22:0] plan_hi$0;
+    reg  [22:0] plan_hi$1;
+    reg  [22:0] plan_hi$2;
+    reg  plan_wide;
+    reg  large_in;
+    reg  home_ok;
+    reg  [63:0] mask_row;
+    reg  mask_ok;
+    reg  pass;
     
     // Sub module instances
     obb_core$grid$cells cells(
@@ -6511,6 +6676,11 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         .q(s1_group$q),
         .clock(s1_group$clock)
     );
+    obb_core$grid$s1_kind s1_kind(
+        .d(s1_kind$d),
+        .q(s1_kind$q),
+        .clock(s1_kind$clock)
+    );
     obb_core$grid$s2_valid s2_valid(
         .d(s2_valid$d),
         .q(s2_valid$q),
@@ -6561,6 +6731,11 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         .q(s2_group$q),
         .clock(s2_group$clock)
     );
+    obb_core$grid$s2_kind s2_kind(
+        .d(s2_kind$d),
+        .q(s2_kind$q),
+        .clock(s2_kind$clock)
+    );
     obb_core$grid$s3_valid s3_valid(
         .d(s3_valid$d),
         .q(s3_valid$q),
@@ -6610,6 +6785,11 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         .d(s3_group$d),
         .q(s3_group$q),
         .clock(s3_group$clock)
+    );
+    obb_core$grid$s3_kind s3_kind(
+        .d(s3_kind$d),
+        .q(s3_kind$q),
+        .clock(s3_kind$clock)
     );
     obb_core$grid$s3_allowed s3_allowed(
         .d(s3_allowed$d),
@@ -6665,6 +6845,11 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         .d(s4_margin$d),
         .q(s4_margin$q),
         .clock(s4_margin$clock)
+    );
+    obb_core$grid$s4_kind s4_kind(
+        .d(s4_kind$d),
+        .q(s4_kind$q),
+        .clock(s4_kind$clock)
     );
     obb_core$grid$s4_live$0 s4_live$0(
         .d(s4_live$0$d),
@@ -7658,6 +7843,14 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         .read_address(rec_margin$read_address),
         .read_data(rec_margin$read_data)
     );
+    obb_core$grid$rec_kind rec_kind(
+        .clock(rec_kind$clock),
+        .write_enable(rec_kind$write_enable),
+        .write_address(rec_kind$write_address),
+        .write_data(rec_kind$write_data),
+        .read_address(rec_kind$read_address),
+        .read_data(rec_kind$read_data)
+    );
     obb_core$grid$wp wp(
         .d(wp$d),
         .q(wp$q),
@@ -8128,6 +8321,11 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         .q(cur_margin$q),
         .clock(cur_margin$clock)
     );
+    obb_core$grid$cur_kind cur_kind(
+        .d(cur_kind$d),
+        .q(cur_kind$q),
+        .clock(cur_kind$clock)
+    );
     obb_core$grid$chase chase(
         .d(chase$d),
         .q(chase$q),
@@ -8192,6 +8390,11 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         .d(v1_margin$d),
         .q(v1_margin$q),
         .clock(v1_margin$clock)
+    );
+    obb_core$grid$v1_kind v1_kind(
+        .d(v1_kind$d),
+        .q(v1_kind$q),
+        .clock(v1_kind$clock)
     );
     obb_core$grid$v2_valid v2_valid(
         .d(v2_valid$d),
@@ -8278,6 +8481,61 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         .q(v2_margin_j$q),
         .clock(v2_margin_j$clock)
     );
+    obb_core$grid$v2_kind v2_kind(
+        .d(v2_kind$d),
+        .q(v2_kind$q),
+        .clock(v2_kind$clock)
+    );
+    obb_core$grid$v2_wl$0 v2_wl$0(
+        .d(v2_wl$0$d),
+        .q(v2_wl$0$q),
+        .clock(v2_wl$0$clock)
+    );
+    obb_core$grid$v2_wl$1 v2_wl$1(
+        .d(v2_wl$1$d),
+        .q(v2_wl$1$q),
+        .clock(v2_wl$1$clock)
+    );
+    obb_core$grid$v2_wl$2 v2_wl$2(
+        .d(v2_wl$2$d),
+        .q(v2_wl$2$q),
+        .clock(v2_wl$2$clock)
+    );
+    obb_core$grid$v2_wh$0 v2_wh$0(
+        .d(v2_wh$0$d),
+        .q(v2_wh$0$q),
+        .clock(v2_wh$0$clock)
+    );
+    obb_core$grid$v2_wh$1 v2_wh$1(
+        .d(v2_wh$1$d),
+        .q(v2_wh$1$q),
+        .clock(v2_wh$1$clock)
+    );
+    obb_core$grid$v2_wh$2 v2_wh$2(
+        .d(v2_wh$2$d),
+        .q(v2_wh$2$q),
+        .clock(v2_wh$2$clock)
+    );
+    obb_core$grid$v2_jc$0 v2_jc$0(
+        .d(v2_jc$0$d),
+        .q(v2_jc$0$q),
+        .clock(v2_jc$0$clock)
+    );
+    obb_core$grid$v2_jc$1 v2_jc$1(
+        .d(v2_jc$1$d),
+        .q(v2_jc$1$q),
+        .clock(v2_jc$1$clock)
+    );
+    obb_core$grid$v2_jc$2 v2_jc$2(
+        .d(v2_jc$2$d),
+        .q(v2_jc$2$q),
+        .clock(v2_jc$2$clock)
+    );
+    obb_core$grid$v2_group_j v2_group_j(
+        .d(v2_group_j$d),
+        .q(v2_group_j$q),
+        .clock(v2_group_j$clock)
+    );
     obb_core$grid$fifo fifo(
         .clock(fifo$clock),
         .write(fifo$write),
@@ -8303,10 +8561,110 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         .q(clear_at$q),
         .clock(clear_at$clock)
     );
-    obb_core$grid$large_seen large_seen(
-        .d(large_seen$d),
-        .q(large_seen$q),
-        .clock(large_seen$clock)
+    obb_core$grid$slow slow(
+        .d(slow$d),
+        .q(slow$q),
+        .clock(slow$clock)
+    );
+    obb_core$grid$lnext lnext(
+        .d(lnext$d),
+        .q(lnext$q),
+        .clock(lnext$clock)
+    );
+    obb_core$grid$lcur lcur(
+        .d(lcur$d),
+        .q(lcur$q),
+        .clock(lcur$clock)
+    );
+    obb_core$grid$lk_min$0 lk_min$0(
+        .d(lk_min$0$d),
+        .q(lk_min$0$q),
+        .clock(lk_min$0$clock)
+    );
+    obb_core$grid$lk_min$1 lk_min$1(
+        .d(lk_min$1$d),
+        .q(lk_min$1$q),
+        .clock(lk_min$1$clock)
+    );
+    obb_core$grid$lk_min$2 lk_min$2(
+        .d(lk_min$2$d),
+        .q(lk_min$2$q),
+        .clock(lk_min$2$clock)
+    );
+    obb_core$grid$lk_max$0 lk_max$0(
+        .d(lk_max$0$d),
+        .q(lk_max$0$q),
+        .clock(lk_max$0$clock)
+    );
+    obb_core$grid$lk_max$1 lk_max$1(
+        .d(lk_max$1$d),
+        .q(lk_max$1$q),
+        .clock(lk_max$1$clock)
+    );
+    obb_core$grid$lk_max$2 lk_max$2(
+        .d(lk_max$2$d),
+        .q(lk_max$2$q),
+        .clock(lk_max$2$clock)
+    );
+    obb_core$grid$lmargin lmargin(
+        .d(lmargin$d),
+        .q(lmargin$q),
+        .clock(lmargin$clock)
+    );
+    obb_core$grid$lgroup lgroup(
+        .d(lgroup$d),
+        .q(lgroup$q),
+        .clock(lgroup$clock)
+    );
+    obb_core$grid$wlo$0 wlo$0(
+        .d(wlo$0$d),
+        .q(wlo$0$q),
+        .clock(wlo$0$clock)
+    );
+    obb_core$grid$wlo$1 wlo$1(
+        .d(wlo$1$d),
+        .q(wlo$1$q),
+        .clock(wlo$1$clock)
+    );
+    obb_core$grid$wlo$2 wlo$2(
+        .d(wlo$2$d),
+        .q(wlo$2$q),
+        .clock(wlo$2$clock)
+    );
+    obb_core$grid$whi$0 whi$0(
+        .d(whi$0$d),
+        .q(whi$0$q),
+        .clock(whi$0$clock)
+    );
+    obb_core$grid$whi$1 whi$1(
+        .d(whi$1$d),
+        .q(whi$1$q),
+        .clock(whi$1$clock)
+    );
+    obb_core$grid$whi$2 whi$2(
+        .d(whi$2$d),
+        .q(whi$2$q),
+        .clock(whi$2$clock)
+    );
+    obb_core$grid$rr$0 rr$0(
+        .d(rr$0$d),
+        .q(rr$0$q),
+        .clock(rr$0$clock)
+    );
+    obb_core$grid$rr$1 rr$1(
+        .d(rr$1$d),
+        .q(rr$1$q),
+        .clock(rr$1$clock)
+    );
+    obb_core$grid$rr$2 rr$2(
+        .d(rr$2$d),
+        .q(rr$2$q),
+        .clock(rr$2$clock)
+    );
+    obb_core$grid$wide wide(
+        .d(wide$d),
+        .q(wide$q),
+        .clock(wide$clock)
     );
     
     // Update code
@@ -8350,7 +8708,20 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         clearing$clock = clock;
         cleared$clock = clock;
         clear_at$clock = clock;
-        large_seen$clock = clock;
+        s1_kind$clock = clock;
+        s2_kind$clock = clock;
+        s3_kind$clock = clock;
+        s4_kind$clock = clock;
+        cur_kind$clock = clock;
+        v1_kind$clock = clock;
+        v2_kind$clock = clock;
+        v2_group_j$clock = clock;
+        slow$clock = clock;
+        lnext$clock = clock;
+        lcur$clock = clock;
+        lmargin$clock = clock;
+        lgroup$clock = clock;
+        wide$clock = clock;
         s1_valid$d = s1_valid$q;
         s1_index$d = s1_index$q;
         s1_margin$d = s1_margin$q;
@@ -8390,11 +8761,25 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         clearing$d = clearing$q;
         cleared$d = cleared$q;
         clear_at$d = clear_at$q;
-        large_seen$d = large_seen$q;
+        s1_kind$d = s1_kind$q;
+        s2_kind$d = s2_kind$q;
+        s3_kind$d = s3_kind$q;
+        s4_kind$d = s4_kind$q;
+        cur_kind$d = cur_kind$q;
+        v1_kind$d = v1_kind$q;
+        v2_kind$d = v2_kind$q;
+        v2_group_j$d = v2_group_j$q;
+        slow$d = slow$q;
+        lnext$d = lnext$q;
+        lcur$d = lcur$q;
+        lmargin$d = lmargin$q;
+        lgroup$d = lgroup$q;
+        wide$d = wide$q;
         cells$clock = clock;
         succ$clock = clock;
         rec_index$clock = clock;
         rec_margin$clock = clock;
+        rec_kind$clock = clock;
         fifo$clock = clock;
         s1_min$0$clock = clock;
         s1_max$0$clock = clock;
@@ -8414,6 +8799,19 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         v2_max_i$0$clock = clock;
         v2_min_j$0$clock = clock;
         v2_max_j$0$clock = clock;
+        v2_wl$0$clock = clock;
+        v2_wh$0$clock = clock;
+        v2_jc$0$clock = clock;
+        lk_min$0$clock = clock;
+        lk_max$0$clock = clock;
+        wlo$0$clock = clock;
+        whi$0$clock = clock;
+        rr$0$clock = clock;
+        lk_min$0$d = lk_min$0$q;
+        lk_max$0$d = lk_max$0$q;
+        wlo$0$d = wlo$0$q;
+        whi$0$d = whi$0$q;
+        rr$0$d = rr$0$q;
         s1_min$1$clock = clock;
         s1_max$1$clock = clock;
         s2_min$1$clock = clock;
@@ -8432,6 +8830,19 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         v2_max_i$1$clock = clock;
         v2_min_j$1$clock = clock;
         v2_max_j$1$clock = clock;
+        v2_wl$1$clock = clock;
+        v2_wh$1$clock = clock;
+        v2_jc$1$clock = clock;
+        lk_min$1$clock = clock;
+        lk_max$1$clock = clock;
+        wlo$1$clock = clock;
+        whi$1$clock = clock;
+        rr$1$clock = clock;
+        lk_min$1$d = lk_min$1$q;
+        lk_max$1$d = lk_max$1$q;
+        wlo$1$d = wlo$1$q;
+        whi$1$d = whi$1$q;
+        rr$1$d = rr$1$q;
         s1_min$2$clock = clock;
         s1_max$2$clock = clock;
         s2_min$2$clock = clock;
@@ -8450,6 +8861,19 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         v2_max_i$2$clock = clock;
         v2_min_j$2$clock = clock;
         v2_max_j$2$clock = clock;
+        v2_wl$2$clock = clock;
+        v2_wh$2$clock = clock;
+        v2_jc$2$clock = clock;
+        lk_min$2$clock = clock;
+        lk_max$2$clock = clock;
+        wlo$2$clock = clock;
+        whi$2$clock = clock;
+        rr$2$clock = clock;
+        lk_min$2$d = lk_min$2$q;
+        lk_max$2$d = lk_max$2$q;
+        wlo$2$d = wlo$2$q;
+        whi$2$d = whi$2$q;
+        rr$2$d = rr$2$q;
         s4_live$0$clock = clock;
         s4_head$0$clock = clock;
         meta$0$clock = clock;
@@ -8753,11 +9177,166 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         cur_max$1$d = cur_max$1$q;
         cur_min$2$d = cur_min$2$q;
         cur_max$2$d = cur_max$2$q;
-        cells$key_valid = key_valid;
-        s1_valid$d = key_valid;
+        idle = loaded & (inflight$q == 32'h0);
+        fetch = 1'b0;
+        inject = 1'b0;
+        inject_kind = 32'h0;
+        plan_wide = 1'b0;
+        left$0 = whi$0$q - rr$0$q;
+        three_cells$0 = (left$0 == 32'h2) | (left$0 > 32'h3);
+        last_round$0 = left$0 < 32'h3;
+        next_rr$0 = rr$0$q + 32'h2;
+        inject_min$0 = rr$0$q << cell_bits;
+        inject_max$0 = rr$0$q << cell_bits;
+        if (three_cells$0) begin
+            next_rr$0 = rr$0$q + 32'h3;
+            inject_max$0 = (rr$0$q + 32'h1) << cell_bits;
+        end
+        if (slow$q == SlowState$Partner) begin
+            inject_min$0 = lk_min$0$q;
+            inject_max$0 = lk_max$0$q;
+        end
+        plan_lo$0 = lk_min$0$q >> cell_bits;
+        plan_hi$0 = (lk_max$0$q >> cell_bits) + 32'h1;
+        if ((lk_max$0$q >> cell_bits) - plan_lo$0 > max_span) begin
+            plan_wide = 1'b1;
+        end
+        left$1 = whi$1$q - rr$1$q;
+        three_cells$1 = (left$1 == 32'h2) | (left$1 > 32'h3);
+        last_round$1 = left$1 < 32'h3;
+        next_rr$1 = rr$1$q + 32'h2;
+        inject_min$1 = rr$1$q << cell_bits;
+        inject_max$1 = rr$1$q << cell_bits;
+        if (three_cells$1) begin
+            next_rr$1 = rr$1$q + 32'h3;
+            inject_max$1 = (rr$1$q + 32'h1) << cell_bits;
+        end
+        if (slow$q == SlowState$Partner) begin
+            inject_min$1 = lk_min$1$q;
+            inject_max$1 = lk_max$1$q;
+        end
+        plan_lo$1 = lk_min$1$q >> cell_bits;
+        plan_hi$1 = (lk_max$1$q >> cell_bits) + 32'h1;
+        if ((lk_max$1$q >> cell_bits) - plan_lo$1 > max_span) begin
+            plan_wide = 1'b1;
+        end
+        left$2 = whi$2$q - rr$2$q;
+        three_cells$2 = (left$2 == 32'h2) | (left$2 > 32'h3);
+        last_round$2 = left$2 < 32'h3;
+        next_rr$2 = rr$2$q + 32'h2;
+        inject_min$2 = rr$2$q << cell_bits;
+        inject_max$2 = rr$2$q << cell_bits;
+        if (three_cells$2) begin
+            next_rr$2 = rr$2$q + 32'h3;
+            inject_max$2 = (rr$2$q + 32'h1) << cell_bits;
+        end
+        if (slow$q == SlowState$Partner) begin
+            inject_min$2 = lk_min$2$q;
+            inject_max$2 = lk_max$2$q;
+        end
+        plan_lo$2 = lk_min$2$q >> cell_bits;
+        plan_hi$2 = (lk_max$2$q >> cell_bits) + 32'h1;
+        if ((lk_max$2$q >> cell_bits) - plan_lo$2 > max_span) begin
+            plan_wide = 1'b1;
+        end
+        case (slow$q)
+            SlowState$Fetch:
+                begin
+                    if (idle) begin
+                        if ((lnext$q & top) != 32'h0) begin
+                            fetch = 1'b1;
+                            lcur$d = lnext$q ^ top;
+                            slow$d = SlowState$Read;
+                        end
+                        else begin
+                            slow$d = SlowState$Over;
+                        end
+                    end
+                end
+            SlowState$Read:
+                begin
+                    lmargin$d = rd_margin;
+                    lgroup$d = rd_group;
+                    lnext$d = succ$read_data_b;
+                    lk_min$0$d = rd_min$0;
+                    lk_max$0$d = rd_max$0;
+                    lk_min$1$d = rd_min$1;
+                    lk_max$1$d = rd_max$1;
+                    lk_min$2$d = rd_min$2;
+                    lk_max$2$d = rd_max$2;
+                    slow$d = SlowState$Plan;
+                end
+            SlowState$Plan:
+                begin
+                    wlo$0$d = plan_lo$0;
+                    whi$0$d = plan_hi$0;
+                    rr$0$d = plan_lo$0;
+                    wlo$1$d = plan_lo$1;
+                    whi$1$d = plan_hi$1;
+                    rr$1$d = plan_lo$1;
+                    wlo$2$d = plan_lo$2;
+                    whi$2$d = plan_hi$2;
+                    rr$2$d = plan_lo$2;
+                    slow$d = SlowState$Round;
+                    if (plan_wide) begin
+                        wide$d = 1'b1;
+                        slow$d = SlowState$Over;
+                    end
+                end
+            SlowState$Round:
+                begin
+                    if (idle) begin
+                        inject = 1'b1;
+                        inject_kind = 32'h1;
+                        if (~last_round$0) begin
+                            rr$0$d = next_rr$0;
+                        end
+                        else begin
+                            rr$0$d = wlo$0$q;
+                            if (~last_round$1) begin
+                                rr$1$d = next_rr$1;
+                            end
+                            else begin
+                                rr$1$d = wlo$1$q;
+                                if (~last_round$2) begin
+                                    rr$2$d = next_rr$2;
+                                end
+                                else if ((lnext$q & top) != 32'h0) begin
+                                    slow$d = SlowState$Partner;
+                                end
+                                else begin
+                                    slow$d = SlowState$Fetch;
+                                end
+                            end
+                        end
+                    end
+                end
+            SlowState$Partner:
+                begin
+                    if (idle) begin
+                        inject = 1'b1;
+                        inject_kind = 32'h2;
+                        slow$d = SlowState$Fetch;
+                    end
+                end
+            SlowState$Over:
+                begin
+                end
+        endcase
+        cells$key_valid = key_valid | inject;
+        s1_valid$d = key_valid | inject;
         s1_index$d = ((key_index) & 16'hffff);
         s1_margin$d = key_margin;
         s1_group$d = key_group;
+        s1_kind$d = inject_kind;
+        if (inject) begin
+            s1_index$d = lcur$q;
+            s1_margin$d = lmargin$q;
+            s1_group$d = lgroup$q;
+        end
+        s2_kind$d = s1_kind$q;
+        s3_kind$d = s2_kind$q;
+        s4_kind$d = s3_kind$q;
         s2_valid$d = s1_valid$q;
         s2_index$d = s1_index$q;
         s2_margin$d = s1_margin$q;
@@ -8770,6 +9349,12 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         cells$key_max$0 = key_max$0;
         s1_min$0$d = key_min$0;
         s1_max$0$d = key_max$0;
+        if (inject) begin
+            cells$key_min$0 = inject_min$0;
+            cells$key_max$0 = inject_max$0;
+            s1_min$0$d = inject_min$0;
+            s1_max$0$d = inject_max$0;
+        end
         s2_min$0$d = s1_min$0$q;
         s2_max$0$d = s1_max$0$q;
         s3_min$0$d = s2_min$0$q;
@@ -8778,6 +9363,12 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         cells$key_max$1 = key_max$1;
         s1_min$1$d = key_min$1;
         s1_max$1$d = key_max$1;
+        if (inject) begin
+            cells$key_min$1 = inject_min$1;
+            cells$key_max$1 = inject_max$1;
+            s1_min$1$d = inject_min$1;
+            s1_max$1$d = inject_max$1;
+        end
         s2_min$1$d = s1_min$1$q;
         s2_max$1$d = s1_max$1$q;
         s3_min$1$d = s2_min$1$q;
@@ -8786,6 +9377,12 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         cells$key_max$2 = key_max$2;
         s1_min$2$d = key_min$2;
         s1_max$2$d = key_max$2;
+        if (inject) begin
+            cells$key_min$2 = inject_min$2;
+            cells$key_max$2 = inject_max$2;
+            s1_min$2$d = inject_min$2;
+            s1_max$2$d = inject_max$2;
+        end
         s2_min$2$d = s1_min$2$q;
         s2_max$2$d = s1_max$2$q;
         s3_min$2$d = s2_min$2$q;
@@ -8825,7 +9422,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$0$read_address = cells$bucket$0;
         allow$0 = s3_allowed$q >> list_group$0;
         live$0 = s3_valid$q & cells$small_box & cells$inside$0 & allow$0[32'h0] & meta$0$read_data[32'h9] & (meta$0$read_data[32'h8] | (meta$0$read_data[(32'h0)+:(8)] == cells$fp$0));
-        enter$0 = s3_valid$q & cells$small_box & cells$home$0 & (s3_group$q == list_group$0);
+        enter$0 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & (s3_group$q == list_group$0);
         meta$0$write_enable = enter$0;
         meta$0$write_address = cells$bucket$0;
         head$0$write_enable = enter$0;
@@ -8858,7 +9455,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$1$read_address = cells$bucket$1;
         allow$1 = s3_allowed$q >> list_group$1;
         live$1 = s3_valid$q & cells$small_box & cells$inside$1 & allow$1[32'h0] & meta$1$read_data[32'h9] & (meta$1$read_data[32'h8] | (meta$1$read_data[(32'h0)+:(8)] == cells$fp$1));
-        enter$1 = s3_valid$q & cells$small_box & cells$home$1 & (s3_group$q == list_group$1);
+        enter$1 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & (s3_group$q == list_group$1);
         meta$1$write_enable = enter$1;
         meta$1$write_address = cells$bucket$1;
         head$1$write_enable = enter$1;
@@ -8891,7 +9488,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$2$read_address = cells$bucket$2;
         allow$2 = s3_allowed$q >> list_group$2;
         live$2 = s3_valid$q & cells$small_box & cells$inside$2 & allow$2[32'h0] & meta$2$read_data[32'h9] & (meta$2$read_data[32'h8] | (meta$2$read_data[(32'h0)+:(8)] == cells$fp$2));
-        enter$2 = s3_valid$q & cells$small_box & cells$home$2 & (s3_group$q == list_group$2);
+        enter$2 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & (s3_group$q == list_group$2);
         meta$2$write_enable = enter$2;
         meta$2$write_address = cells$bucket$2;
         head$2$write_enable = enter$2;
@@ -8924,7 +9521,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$3$read_address = cells$bucket$3;
         allow$3 = s3_allowed$q >> list_group$3;
         live$3 = s3_valid$q & cells$small_box & cells$inside$3 & allow$3[32'h0] & meta$3$read_data[32'h9] & (meta$3$read_data[32'h8] | (meta$3$read_data[(32'h0)+:(8)] == cells$fp$3));
-        enter$3 = s3_valid$q & cells$small_box & cells$home$3 & (s3_group$q == list_group$3);
+        enter$3 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & (s3_group$q == list_group$3);
         meta$3$write_enable = enter$3;
         meta$3$write_address = cells$bucket$3;
         head$3$write_enable = enter$3;
@@ -8957,7 +9554,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$4$read_address = cells$bucket$4;
         allow$4 = s3_allowed$q >> list_group$4;
         live$4 = s3_valid$q & cells$small_box & cells$inside$4 & allow$4[32'h0] & meta$4$read_data[32'h9] & (meta$4$read_data[32'h8] | (meta$4$read_data[(32'h0)+:(8)] == cells$fp$4));
-        enter$4 = s3_valid$q & cells$small_box & cells$home$4 & (s3_group$q == list_group$4);
+        enter$4 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & (s3_group$q == list_group$4);
         meta$4$write_enable = enter$4;
         meta$4$write_address = cells$bucket$4;
         head$4$write_enable = enter$4;
@@ -8990,7 +9587,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$5$read_address = cells$bucket$5;
         allow$5 = s3_allowed$q >> list_group$5;
         live$5 = s3_valid$q & cells$small_box & cells$inside$5 & allow$5[32'h0] & meta$5$read_data[32'h9] & (meta$5$read_data[32'h8] | (meta$5$read_data[(32'h0)+:(8)] == cells$fp$5));
-        enter$5 = s3_valid$q & cells$small_box & cells$home$5 & (s3_group$q == list_group$5);
+        enter$5 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & (s3_group$q == list_group$5);
         meta$5$write_enable = enter$5;
         meta$5$write_address = cells$bucket$5;
         head$5$write_enable = enter$5;
@@ -9023,7 +9620,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$6$read_address = cells$bucket$6;
         allow$6 = s3_allowed$q >> list_group$6;
         live$6 = s3_valid$q & cells$small_box & cells$inside$6 & allow$6[32'h0] & meta$6$read_data[32'h9] & (meta$6$read_data[32'h8] | (meta$6$read_data[(32'h0)+:(8)] == cells$fp$6));
-        enter$6 = s3_valid$q & cells$small_box & cells$home$6 & (s3_group$q == list_group$6);
+        enter$6 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & (s3_group$q == list_group$6);
         meta$6$write_enable = enter$6;
         meta$6$write_address = cells$bucket$6;
         head$6$write_enable = enter$6;
@@ -9056,7 +9653,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$7$read_address = cells$bucket$7;
         allow$7 = s3_allowed$q >> list_group$7;
         live$7 = s3_valid$q & cells$small_box & cells$inside$7 & allow$7[32'h0] & meta$7$read_data[32'h9] & (meta$7$read_data[32'h8] | (meta$7$read_data[(32'h0)+:(8)] == cells$fp$7));
-        enter$7 = s3_valid$q & cells$small_box & cells$home$7 & (s3_group$q == list_group$7);
+        enter$7 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & (s3_group$q == list_group$7);
         meta$7$write_enable = enter$7;
         meta$7$write_address = cells$bucket$7;
         head$7$write_enable = enter$7;
@@ -9089,7 +9686,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$8$read_address = cells$bucket$8;
         allow$8 = s3_allowed$q >> list_group$8;
         live$8 = s3_valid$q & cells$small_box & cells$inside$8 & allow$8[32'h0] & meta$8$read_data[32'h9] & (meta$8$read_data[32'h8] | (meta$8$read_data[(32'h0)+:(8)] == cells$fp$8));
-        enter$8 = s3_valid$q & cells$small_box & cells$home$8 & (s3_group$q == list_group$8);
+        enter$8 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & (s3_group$q == list_group$8);
         meta$8$write_enable = enter$8;
         meta$8$write_address = cells$bucket$8;
         head$8$write_enable = enter$8;
@@ -9122,7 +9719,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$9$read_address = cells$bucket$9;
         allow$9 = s3_allowed$q >> list_group$9;
         live$9 = s3_valid$q & cells$small_box & cells$inside$9 & allow$9[32'h0] & meta$9$read_data[32'h9] & (meta$9$read_data[32'h8] | (meta$9$read_data[(32'h0)+:(8)] == cells$fp$9));
-        enter$9 = s3_valid$q & cells$small_box & cells$home$9 & (s3_group$q == list_group$9);
+        enter$9 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & (s3_group$q == list_group$9);
         meta$9$write_enable = enter$9;
         meta$9$write_address = cells$bucket$9;
         head$9$write_enable = enter$9;
@@ -9155,7 +9752,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$10$read_address = cells$bucket$10;
         allow$10 = s3_allowed$q >> list_group$10;
         live$10 = s3_valid$q & cells$small_box & cells$inside$10 & allow$10[32'h0] & meta$10$read_data[32'h9] & (meta$10$read_data[32'h8] | (meta$10$read_data[(32'h0)+:(8)] == cells$fp$10));
-        enter$10 = s3_valid$q & cells$small_box & cells$home$10 & (s3_group$q == list_group$10);
+        enter$10 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & (s3_group$q == list_group$10);
         meta$10$write_enable = enter$10;
         meta$10$write_address = cells$bucket$10;
         head$10$write_enable = enter$10;
@@ -9188,7 +9785,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$11$read_address = cells$bucket$11;
         allow$11 = s3_allowed$q >> list_group$11;
         live$11 = s3_valid$q & cells$small_box & cells$inside$11 & allow$11[32'h0] & meta$11$read_data[32'h9] & (meta$11$read_data[32'h8] | (meta$11$read_data[(32'h0)+:(8)] == cells$fp$11));
-        enter$11 = s3_valid$q & cells$small_box & cells$home$11 & (s3_group$q == list_group$11);
+        enter$11 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & (s3_group$q == list_group$11);
         meta$11$write_enable = enter$11;
         meta$11$write_address = cells$bucket$11;
         head$11$write_enable = enter$11;
@@ -9221,7 +9818,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$12$read_address = cells$bucket$12;
         allow$12 = s3_allowed$q >> list_group$12;
         live$12 = s3_valid$q & cells$small_box & cells$inside$12 & allow$12[32'h0] & meta$12$read_data[32'h9] & (meta$12$read_data[32'h8] | (meta$12$read_data[(32'h0)+:(8)] == cells$fp$12));
-        enter$12 = s3_valid$q & cells$small_box & cells$home$12 & (s3_group$q == list_group$12);
+        enter$12 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & (s3_group$q == list_group$12);
         meta$12$write_enable = enter$12;
         meta$12$write_address = cells$bucket$12;
         head$12$write_enable = enter$12;
@@ -9254,7 +9851,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$13$read_address = cells$bucket$13;
         allow$13 = s3_allowed$q >> list_group$13;
         live$13 = s3_valid$q & cells$small_box & cells$inside$13 & allow$13[32'h0] & meta$13$read_data[32'h9] & (meta$13$read_data[32'h8] | (meta$13$read_data[(32'h0)+:(8)] == cells$fp$13));
-        enter$13 = s3_valid$q & cells$small_box & cells$home$13 & (s3_group$q == list_group$13);
+        enter$13 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & (s3_group$q == list_group$13);
         meta$13$write_enable = enter$13;
         meta$13$write_address = cells$bucket$13;
         head$13$write_enable = enter$13;
@@ -9287,7 +9884,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$14$read_address = cells$bucket$14;
         allow$14 = s3_allowed$q >> list_group$14;
         live$14 = s3_valid$q & cells$small_box & cells$inside$14 & allow$14[32'h0] & meta$14$read_data[32'h9] & (meta$14$read_data[32'h8] | (meta$14$read_data[(32'h0)+:(8)] == cells$fp$14));
-        enter$14 = s3_valid$q & cells$small_box & cells$home$14 & (s3_group$q == list_group$14);
+        enter$14 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & (s3_group$q == list_group$14);
         meta$14$write_enable = enter$14;
         meta$14$write_address = cells$bucket$14;
         head$14$write_enable = enter$14;
@@ -9320,7 +9917,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$15$read_address = cells$bucket$15;
         allow$15 = s3_allowed$q >> list_group$15;
         live$15 = s3_valid$q & cells$small_box & cells$inside$15 & allow$15[32'h0] & meta$15$read_data[32'h9] & (meta$15$read_data[32'h8] | (meta$15$read_data[(32'h0)+:(8)] == cells$fp$15));
-        enter$15 = s3_valid$q & cells$small_box & cells$home$15 & (s3_group$q == list_group$15);
+        enter$15 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & (s3_group$q == list_group$15);
         meta$15$write_enable = enter$15;
         meta$15$write_address = cells$bucket$15;
         head$15$write_enable = enter$15;
@@ -9353,7 +9950,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$16$read_address = cells$bucket$16;
         allow$16 = s3_allowed$q >> list_group$16;
         live$16 = s3_valid$q & cells$small_box & cells$inside$16 & allow$16[32'h0] & meta$16$read_data[32'h9] & (meta$16$read_data[32'h8] | (meta$16$read_data[(32'h0)+:(8)] == cells$fp$16));
-        enter$16 = s3_valid$q & cells$small_box & cells$home$16 & (s3_group$q == list_group$16);
+        enter$16 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & (s3_group$q == list_group$16);
         meta$16$write_enable = enter$16;
         meta$16$write_address = cells$bucket$16;
         head$16$write_enable = enter$16;
@@ -9386,7 +9983,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$17$read_address = cells$bucket$17;
         allow$17 = s3_allowed$q >> list_group$17;
         live$17 = s3_valid$q & cells$small_box & cells$inside$17 & allow$17[32'h0] & meta$17$read_data[32'h9] & (meta$17$read_data[32'h8] | (meta$17$read_data[(32'h0)+:(8)] == cells$fp$17));
-        enter$17 = s3_valid$q & cells$small_box & cells$home$17 & (s3_group$q == list_group$17);
+        enter$17 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & (s3_group$q == list_group$17);
         meta$17$write_enable = enter$17;
         meta$17$write_address = cells$bucket$17;
         head$17$write_enable = enter$17;
@@ -9419,7 +10016,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$18$read_address = cells$bucket$18;
         allow$18 = s3_allowed$q >> list_group$18;
         live$18 = s3_valid$q & cells$small_box & cells$inside$18 & allow$18[32'h0] & meta$18$read_data[32'h9] & (meta$18$read_data[32'h8] | (meta$18$read_data[(32'h0)+:(8)] == cells$fp$18));
-        enter$18 = s3_valid$q & cells$small_box & cells$home$18 & (s3_group$q == list_group$18);
+        enter$18 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & (s3_group$q == list_group$18);
         meta$18$write_enable = enter$18;
         meta$18$write_address = cells$bucket$18;
         head$18$write_enable = enter$18;
@@ -9452,7 +10049,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$19$read_address = cells$bucket$19;
         allow$19 = s3_allowed$q >> list_group$19;
         live$19 = s3_valid$q & cells$small_box & cells$inside$19 & allow$19[32'h0] & meta$19$read_data[32'h9] & (meta$19$read_data[32'h8] | (meta$19$read_data[(32'h0)+:(8)] == cells$fp$19));
-        enter$19 = s3_valid$q & cells$small_box & cells$home$19 & (s3_group$q == list_group$19);
+        enter$19 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & (s3_group$q == list_group$19);
         meta$19$write_enable = enter$19;
         meta$19$write_address = cells$bucket$19;
         head$19$write_enable = enter$19;
@@ -9485,7 +10082,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$20$read_address = cells$bucket$20;
         allow$20 = s3_allowed$q >> list_group$20;
         live$20 = s3_valid$q & cells$small_box & cells$inside$20 & allow$20[32'h0] & meta$20$read_data[32'h9] & (meta$20$read_data[32'h8] | (meta$20$read_data[(32'h0)+:(8)] == cells$fp$20));
-        enter$20 = s3_valid$q & cells$small_box & cells$home$20 & (s3_group$q == list_group$20);
+        enter$20 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & (s3_group$q == list_group$20);
         meta$20$write_enable = enter$20;
         meta$20$write_address = cells$bucket$20;
         head$20$write_enable = enter$20;
@@ -9518,7 +10115,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$21$read_address = cells$bucket$21;
         allow$21 = s3_allowed$q >> list_group$21;
         live$21 = s3_valid$q & cells$small_box & cells$inside$21 & allow$21[32'h0] & meta$21$read_data[32'h9] & (meta$21$read_data[32'h8] | (meta$21$read_data[(32'h0)+:(8)] == cells$fp$21));
-        enter$21 = s3_valid$q & cells$small_box & cells$home$21 & (s3_group$q == list_group$21);
+        enter$21 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & (s3_group$q == list_group$21);
         meta$21$write_enable = enter$21;
         meta$21$write_address = cells$bucket$21;
         head$21$write_enable = enter$21;
@@ -9551,7 +10148,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$22$read_address = cells$bucket$22;
         allow$22 = s3_allowed$q >> list_group$22;
         live$22 = s3_valid$q & cells$small_box & cells$inside$22 & allow$22[32'h0] & meta$22$read_data[32'h9] & (meta$22$read_data[32'h8] | (meta$22$read_data[(32'h0)+:(8)] == cells$fp$22));
-        enter$22 = s3_valid$q & cells$small_box & cells$home$22 & (s3_group$q == list_group$22);
+        enter$22 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & (s3_group$q == list_group$22);
         meta$22$write_enable = enter$22;
         meta$22$write_address = cells$bucket$22;
         head$22$write_enable = enter$22;
@@ -9584,7 +10181,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$23$read_address = cells$bucket$23;
         allow$23 = s3_allowed$q >> list_group$23;
         live$23 = s3_valid$q & cells$small_box & cells$inside$23 & allow$23[32'h0] & meta$23$read_data[32'h9] & (meta$23$read_data[32'h8] | (meta$23$read_data[(32'h0)+:(8)] == cells$fp$23));
-        enter$23 = s3_valid$q & cells$small_box & cells$home$23 & (s3_group$q == list_group$23);
+        enter$23 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & (s3_group$q == list_group$23);
         meta$23$write_enable = enter$23;
         meta$23$write_address = cells$bucket$23;
         head$23$write_enable = enter$23;
@@ -9617,7 +10214,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$24$read_address = cells$bucket$24;
         allow$24 = s3_allowed$q >> list_group$24;
         live$24 = s3_valid$q & cells$small_box & cells$inside$24 & allow$24[32'h0] & meta$24$read_data[32'h9] & (meta$24$read_data[32'h8] | (meta$24$read_data[(32'h0)+:(8)] == cells$fp$24));
-        enter$24 = s3_valid$q & cells$small_box & cells$home$24 & (s3_group$q == list_group$24);
+        enter$24 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & (s3_group$q == list_group$24);
         meta$24$write_enable = enter$24;
         meta$24$write_address = cells$bucket$24;
         head$24$write_enable = enter$24;
@@ -9650,7 +10247,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$25$read_address = cells$bucket$25;
         allow$25 = s3_allowed$q >> list_group$25;
         live$25 = s3_valid$q & cells$small_box & cells$inside$25 & allow$25[32'h0] & meta$25$read_data[32'h9] & (meta$25$read_data[32'h8] | (meta$25$read_data[(32'h0)+:(8)] == cells$fp$25));
-        enter$25 = s3_valid$q & cells$small_box & cells$home$25 & (s3_group$q == list_group$25);
+        enter$25 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & (s3_group$q == list_group$25);
         meta$25$write_enable = enter$25;
         meta$25$write_address = cells$bucket$25;
         head$25$write_enable = enter$25;
@@ -9683,7 +10280,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         head$26$read_address = cells$bucket$26;
         allow$26 = s3_allowed$q >> list_group$26;
         live$26 = s3_valid$q & cells$small_box & cells$inside$26 & allow$26[32'h0] & meta$26$read_data[32'h9] & (meta$26$read_data[32'h8] | (meta$26$read_data[(32'h0)+:(8)] == cells$fp$26));
-        enter$26 = s3_valid$q & cells$small_box & cells$home$26 & (s3_group$q == list_group$26);
+        enter$26 = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & (s3_group$q == list_group$26);
         meta$26$write_enable = enter$26;
         meta$26$write_address = cells$bucket$26;
         head$26$write_enable = enter$26;
@@ -9712,7 +10309,12 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         if (live$26) begin
             s4_any$d = 1'b1;
         end
+        large_in = s3_valid$q & (s3_kind$q == 32'h0) & ~cells$small_box;
         succ_acc$0 = 32'h0;
+        if (large_in) begin
+            succ_acc$0 = lnext$q;
+            lnext$d = entry;
+        end
         succ_acc$1 = succ_acc$0 | home_head$0;
         succ_acc$2 = succ_acc$1 | home_head$1;
         succ_acc$3 = succ_acc$2 | home_head$2;
@@ -9741,7 +10343,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         succ_acc$26 = succ_acc$25 | home_head$25;
         succ_acc$27 = succ_acc$26 | home_head$26;
         succ_data = succ_acc$27;
-        succ$write_enable = s3_valid$q & cells$small_box;
+        succ$write_enable = s3_valid$q & (s3_kind$q == 32'h0);
         succ$write_address = ((s3_index$q) & 15'h7fff);
         succ$write_data = succ_data;
         s4_valid$d = s3_valid$q;
@@ -9753,11 +10355,8 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         s4_max$1$d = s3_max$1$q;
         s4_min$2$d = s3_min$2$q;
         s4_max$2$d = s3_max$2$q;
-        if (cells$valid & ~cells$small_box) begin
-            large_seen$d = 1'b1;
-        end
-        rec_write = s4_valid$q & s4_any$q;
-        retire_probe = s4_valid$q & ~s4_any$q;
+        rec_write = s4_valid$q & (s4_any$q | s4_kind$q[32'h1]);
+        retire_probe = s4_valid$q & ~rec_write;
         rec$0$write_enable = rec_write;
         rec$0$write_address = wp$q;
         rec$0$write_data = 32'h0;
@@ -9947,6 +10546,13 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
             rec$26$write_data = s4_head$26$q;
         end
         rec$26$read_address = rp$q;
+        if (s4_kind$q[32'h1]) begin
+            rec$0$write_data = lnext$q;
+        end
+        rec_kind$write_enable = rec_write;
+        rec_kind$write_address = wp$q;
+        rec_kind$write_data = s4_kind$q;
+        rec_kind$read_address = rp$q;
         rec_index$write_enable = rec_write;
         rec_index$write_address = wp$q;
         rec_index$write_data = s4_index$q;
@@ -11013,6 +11619,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         end
         v1_i$d = cur_index$q;
         v1_margin$d = cur_margin$q;
+        v1_kind$d = cur_kind$q;
         v1_min$0$d = cur_min$0$q;
         v1_max$0$d = cur_max$0$q;
         v1_min$1$d = cur_min$1$q;
@@ -11026,6 +11633,8 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
             cur_margin$d = rec_margin$read_data;
             v1_i$d = rec_index$read_data;
             v1_margin$d = rec_margin$read_data;
+            cur_kind$d = rec_kind$read_data;
+            v1_kind$d = rec_kind$read_data;
             cur_min$0$d = rec_min$0$read_data;
             cur_max$0$d = rec_max$0$read_data;
             v1_min$0$d = rec_min$0$read_data;
@@ -11047,10 +11656,14 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         rd_addr = ((cand) & 15'h7fff);
         succ$read_address_a = 32'h0;
         succ$read_address_b = ((cand) & 15'h7fff);
+        if (fetch) begin
+            rd_addr = ((lnext$q) & 15'h7fff);
+            succ$read_address_b = ((lnext$q) & 15'h7fff);
+        end
         inflight_up = 32'h0;
         inflight_down = 32'h0;
         retire_down = 32'h0;
-        if (accept) begin
+        if (accept | inject) begin
             inflight_up = 32'h1;
         end
         if (retire_probe) begin
@@ -11077,16 +11690,39 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         v2_j$d = v1_j$q;
         v2_margin_i$d = v1_margin$q;
         v2_margin_j$d = rd_margin;
+        v2_kind$d = v1_kind$q;
+        v2_group_j$d = rd_group;
         v2_min_i$0$d = v1_min$0$q;
         v2_max_i$0$d = v1_max$0$q;
+        if (v1_kind$q[32'h0]) begin
+            v2_min_i$0$d = lk_min$0$q;
+            v2_max_i$0$d = lk_max$0$q;
+        end
+        v2_wl$0$d = v1_min$0$q >> cell_bits;
+        v2_wh$0$d = (v1_max$0$q >> cell_bits) + 32'h1;
+        v2_jc$0$d = (rd_min$0 >> cell_bits) + 32'h1;
         v2_min_j$0$d = rd_min$0;
         v2_max_j$0$d = rd_max$0;
         v2_min_i$1$d = v1_min$1$q;
         v2_max_i$1$d = v1_max$1$q;
+        if (v1_kind$q[32'h0]) begin
+            v2_min_i$1$d = lk_min$1$q;
+            v2_max_i$1$d = lk_max$1$q;
+        end
+        v2_wl$1$d = v1_min$1$q >> cell_bits;
+        v2_wh$1$d = (v1_max$1$q >> cell_bits) + 32'h1;
+        v2_jc$1$d = (rd_min$1 >> cell_bits) + 32'h1;
         v2_min_j$1$d = rd_min$1;
         v2_max_j$1$d = rd_max$1;
         v2_min_i$2$d = v1_min$2$q;
         v2_max_i$2$d = v1_max$2$q;
+        if (v1_kind$q[32'h0]) begin
+            v2_min_i$2$d = lk_min$2$q;
+            v2_max_i$2$d = lk_max$2$q;
+        end
+        v2_wl$2$d = v1_min$2$q >> cell_bits;
+        v2_wh$2$d = (v1_max$2$q >> cell_bits) + 32'h1;
+        v2_jc$2$d = (rd_min$2 >> cell_bits) + 32'h1;
         v2_min_j$2$d = rd_min$2;
         v2_max_j$2$d = rd_max$2;
         overlap = (v2_min_i$0$q <= v2_max_j$0$q) & (v2_min_j$0$q <= v2_max_i$0$q) & (v2_min_i$1$q <= v2_max_j$1$q) & (v2_min_j$1$q <= v2_max_i$1$q) & (v2_min_i$2$q <= v2_max_j$2$q) & (v2_min_j$2$q <= v2_max_i$2$q);
@@ -11102,7 +11738,11 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
             margin_hi = v2_margin_j$q;
         end
         cand_word = (((cand_lo) & 96'hffffffffffffffffffffffff) << at_a) | (((cand_hi) & 96'hffffffffffffffffffffffff) << at_b) | (((margin_lo) & 96'hffffffffffffffffffffffff) << at_ma) | ((margin_hi) & 96'hffffffffffffffffffffffff);
-        fifo$write = v2_valid$q & overlap;
+        home_ok = (v2_wl$0$q <= v2_jc$0$q) & (v2_jc$0$q <= v2_wh$0$q) & (v2_wl$1$q <= v2_jc$1$q) & (v2_jc$1$q <= v2_wh$1$q) & (v2_wl$2$q <= v2_jc$2$q) & (v2_jc$2$q <= v2_wh$2$q);
+        mask_row = mask >> ((((lgroup$q) & 64'hffffffffffffffff) << 64'h3) | ((v2_group_j$q) & 64'hffffffffffffffff));
+        mask_ok = mask_row[32'h0];
+        pass = overlap & (home_ok | ~v2_kind$q[32'h0]) & (mask_ok | ~v2_kind$q[32'h1]);
+        fifo$write = v2_valid$q & pass;
         fifo$data_in = cand_word;
         fifo$ready = cand_ready;
         cand_valid = fifo$valid;
@@ -11113,7 +11753,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
         cand_b = ((unpack_b) & 15'h7fff);
         cand_ma = ((unpack_ma) & 28'hfffffff);
         cand_mb = ((fifo$data_out) & 28'hfffffff);
-        done_walk = loaded & (inflight$q == 32'h0);
+        done_walk = idle & ((slow$q == SlowState$Over) | ((slow$q == SlowState$Fetch) & ((lnext$q & top) == 32'h0)));
         walked = done_walk;
         if (done_walk & ~clearing$q & ~cleared$q) begin
             clearing$d = 1'b1;
@@ -11127,7 +11767,7 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
             end
         end
         finished = cleared$q & fifo$empty & ~v1_valid$q & ~v2_valid$q;
-        oversize = large_seen$q;
+        too_wide = wide$q;
         if (start) begin
             wp$d = 32'h0;
             rp$d = 32'h0;
@@ -11138,7 +11778,9 @@ module obb_core$grid(clock,start,accept,loaded,credit,key_valid,key_index,key_mi
             chase$d = 1'b0;
             clearing$d = 1'b0;
             cleared$d = 1'b0;
-            large_seen$d = 1'b0;
+            slow$d = SlowState$Fetch;
+            lnext$d = 32'h0;
+            wide$d = 1'b0;
         end
     end
     
@@ -17979,6 +18621,25 @@ module obb_core$grid$cur_index(d,q,clock);
 endmodule // obb_core$grid$cur_index
 
 
+module obb_core$grid$cur_kind(d,q,clock);
+    
+    // Module arguments
+    input wire  [1:0] d;
+    output reg  [1:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 2'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$cur_kind
+
+
 module obb_core$grid$cur_live$0(d,q,clock);
     
     // Module arguments
@@ -19784,23 +20445,194 @@ module obb_core$grid$inflight(d,q,clock);
 endmodule // obb_core$grid$inflight
 
 
-module obb_core$grid$large_seen(d,q,clock);
+module obb_core$grid$lcur(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$large_seen
+endmodule // obb_core$grid$lcur
+
+
+module obb_core$grid$lgroup(d,q,clock);
+    
+    // Module arguments
+    input wire  [2:0] d;
+    output reg  [2:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 3'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$lgroup
+
+
+module obb_core$grid$lk_max$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$lk_max$0
+
+
+module obb_core$grid$lk_max$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$lk_max$1
+
+
+module obb_core$grid$lk_max$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$lk_max$2
+
+
+module obb_core$grid$lk_min$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$lk_min$0
+
+
+module obb_core$grid$lk_min$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$lk_min$1
+
+
+module obb_core$grid$lk_min$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$lk_min$2
+
+
+module obb_core$grid$lmargin(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$lmargin
+
+
+module obb_core$grid$lnext(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$lnext
 
 
 module obb_core$grid$meta$0(clock,write_enable,write_address,write_data,read_address,read_data);
@@ -21230,6 +22062,29 @@ module obb_core$grid$rec_index(clock,write_enable,write_address,write_data,read_
 endmodule // obb_core$grid$rec_index
 
 
+module obb_core$grid$rec_kind(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [1:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [1:0] read_data;
+    
+    // Update code (custom)
+    reg [1:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$rec_kind
+
+
 module obb_core$grid$rec_margin(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
@@ -21410,6 +22265,63 @@ module obb_core$grid$rp(d,q,clock);
 endmodule // obb_core$grid$rp
 
 
+module obb_core$grid$rr$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$rr$0
+
+
+module obb_core$grid$rr$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$rr$1
+
+
+module obb_core$grid$rr$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$rr$2
+
+
 module obb_core$grid$s1_group(d,q,clock);
     
     // Module arguments
@@ -21446,6 +22358,25 @@ module obb_core$grid$s1_index(d,q,clock);
     end
           
 endmodule // obb_core$grid$s1_index
+
+
+module obb_core$grid$s1_kind(d,q,clock);
+    
+    // Module arguments
+    input wire  [1:0] d;
+    output reg  [1:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 2'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s1_kind
 
 
 module obb_core$grid$s1_margin(d,q,clock);
@@ -21636,6 +22567,25 @@ module obb_core$grid$s2_index(d,q,clock);
     end
           
 endmodule // obb_core$grid$s2_index
+
+
+module obb_core$grid$s2_kind(d,q,clock);
+    
+    // Module arguments
+    input wire  [1:0] d;
+    output reg  [1:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 2'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s2_kind
 
 
 module obb_core$grid$s2_margin(d,q,clock);
@@ -21845,6 +22795,25 @@ module obb_core$grid$s3_index(d,q,clock);
     end
           
 endmodule // obb_core$grid$s3_index
+
+
+module obb_core$grid$s3_kind(d,q,clock);
+    
+    // Module arguments
+    input wire  [1:0] d;
+    output reg  [1:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 2'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s3_kind
 
 
 module obb_core$grid$s3_margin(d,q,clock);
@@ -22550,6 +23519,25 @@ module obb_core$grid$s4_index(d,q,clock);
 endmodule // obb_core$grid$s4_index
 
 
+module obb_core$grid$s4_kind(d,q,clock);
+    
+    // Module arguments
+    input wire  [1:0] d;
+    output reg  [1:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 2'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$s4_kind
+
+
 module obb_core$grid$s4_live$0(d,q,clock);
     
     // Module arguments
@@ -23215,6 +24203,33 @@ module obb_core$grid$s4_valid(d,q,clock);
 endmodule // obb_core$grid$s4_valid
 
 
+module obb_core$grid$slow(d,q,clock);
+    
+    // Module arguments
+    input wire  [2:0] d;
+    output reg  [2:0] q;
+    input wire  clock;
+    
+    // Enums
+    localparam SlowState$Fetch = 0;
+    localparam SlowState$Read = 1;
+    localparam SlowState$Plan = 2;
+    localparam SlowState$Round = 3;
+    localparam SlowState$Partner = 4;
+    localparam SlowState$Over = 5;
+    
+    // Update code (custom)
+    initial begin
+       q = 64'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$slow
+
+
 module obb_core$grid$started$0(d,q,clock);
     
     // Module arguments
@@ -23793,6 +24808,25 @@ module obb_core$grid$v1_j(d,q,clock);
 endmodule // obb_core$grid$v1_j
 
 
+module obb_core$grid$v1_kind(d,q,clock);
+    
+    // Module arguments
+    input wire  [1:0] d;
+    output reg  [1:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 2'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v1_kind
+
+
 module obb_core$grid$v1_margin(d,q,clock);
     
     // Module arguments
@@ -23945,6 +24979,25 @@ module obb_core$grid$v1_valid(d,q,clock);
 endmodule // obb_core$grid$v1_valid
 
 
+module obb_core$grid$v2_group_j(d,q,clock);
+    
+    // Module arguments
+    input wire  [2:0] d;
+    output reg  [2:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 3'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_group_j
+
+
 module obb_core$grid$v2_i(d,q,clock);
     
     // Module arguments
@@ -23981,6 +25034,82 @@ module obb_core$grid$v2_j(d,q,clock);
     end
           
 endmodule // obb_core$grid$v2_j
+
+
+module obb_core$grid$v2_jc$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_jc$0
+
+
+module obb_core$grid$v2_jc$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_jc$1
+
+
+module obb_core$grid$v2_jc$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_jc$2
+
+
+module obb_core$grid$v2_kind(d,q,clock);
+    
+    // Module arguments
+    input wire  [1:0] d;
+    output reg  [1:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 2'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_kind
 
 
 module obb_core$grid$v2_margin_i(d,q,clock);
@@ -24266,6 +25395,253 @@ module obb_core$grid$v2_valid(d,q,clock);
     end
           
 endmodule // obb_core$grid$v2_valid
+
+
+module obb_core$grid$v2_wh$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_wh$0
+
+
+module obb_core$grid$v2_wh$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_wh$1
+
+
+module obb_core$grid$v2_wh$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_wh$2
+
+
+module obb_core$grid$v2_wl$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_wl$0
+
+
+module obb_core$grid$v2_wl$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_wl$1
+
+
+module obb_core$grid$v2_wl$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$v2_wl$2
+
+
+module obb_core$grid$whi$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$whi$0
+
+
+module obb_core$grid$whi$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$whi$1
+
+
+module obb_core$grid$whi$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$whi$2
+
+
+module obb_core$grid$wide(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$wide
+
+
+module obb_core$grid$wlo$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$wlo$0
+
+
+module obb_core$grid$wlo$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$wlo$1
+
+
+module obb_core$grid$wlo$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$wlo$2
 
 
 module obb_core$grid$wp(d,q,clock);

@@ -94,9 +94,10 @@ pub struct ObbCore<const A: usize, const C: usize> {
     /// The frame is computed and every pair has left; held until the next `frame_start`.
     pub done: Signal<Out, Bit>,
     pub busy: Signal<Out, Bit>,
-    /// Sticky for the frame: more boxes than `capacity` arrived, or (grid) a box larger than a
-    /// cell: the frame is incomplete. From then on it reports and counts nothing; with the
-    /// grid, which reports pairs while boxes arrive, pairs sent before are true pairs.
+    /// Sticky for the frame: more boxes than `capacity` arrived, or (grid) a large box's window
+    /// spans more than `MAX_WINDOW` cells on an axis: the frame is incomplete. From then on it
+    /// reports and counts nothing; with the grid, which reports pairs while boxes arrive, pairs
+    /// sent before are true pairs.
     pub capacity_exceeded: Signal<Out, Bit>,
     /// Clocks from the first load clock to the last SAT verdict.
     pub cycles: Signal<Out, Bits<COUNT>>,
@@ -504,6 +505,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.grid.key_margin.next = self.projection.margin.val();
         self.grid.key_group.next = self.gdelay[7].q.val();
         self.grid.rd_margin.next = self.margin.read_data_b.val();
+        self.grid.rd_group.next = self.group.read_data_b.val();
 
         // The broad phase: a walker reads the sorted entries and the key table.
         // (Gated by the mode, so that synthesis drops the walker that is not configured.)
@@ -705,9 +707,9 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         // A hit written on the edge into Done already makes the FIFO not empty.
         self.done.next = (self.state.q.val() == CoreState::Done) & self.fifo.empty.val();
         self.capacity_exceeded.next = self.over.q.val();
-        // A box larger than a grid cell is not walked (no slow path yet): the frame is
-        // incomplete, as one over capacity is.
-        if self.grid.oversize.val() & self.grid_mode.val() {
+        // A large box's window too wide for the grid's slow path: the frame is incomplete, as
+        // one over capacity is.
+        if self.grid.too_wide.val() & self.grid_mode.val() {
             self.over.d.next = true;
         }
         self.cycles.next = self.n_cycles.q.val();

@@ -322,8 +322,9 @@ fn parse_result(text: &str) -> Result<SimFrame> {
 pub enum Expected<'a> {
     Frame(&'a ModelRun),
     OverCapacity,
-    /// The grid met a box larger than a cell, whose slow path is not in the core yet: the core
-    /// flags the frame; the pairs it sent before are some of the model's.
+    /// The grid met a large box whose window spans more than `grid::MAX_WINDOW` cells on an
+    /// axis, which its slow path does not read: the core flags the frame; the pairs it sent
+    /// before are some of the model's.
     Incomplete(&'a ModelRun),
 }
 
@@ -332,7 +333,7 @@ impl<'a> Expected<'a> {
     pub fn of(run: Option<&'a ModelRun>) -> Expected<'a> {
         match run {
             None => Expected::OverCapacity,
-            Some(r) if r.work.large > 0 => Expected::Incomplete(r),
+            Some(r) if r.work.incomplete => Expected::Incomplete(r),
             Some(r) => Expected::Frame(r),
         }
     }
@@ -346,10 +347,10 @@ pub fn compare(got: &SimFrame, want: &Expected, throttled: bool) -> Result<(), S
     let run = match want {
         Expected::Incomplete(run) => {
             if !got.capacity_exceeded {
-                return Err(format!(
-                    "{} box(es) larger than a grid cell, but capacity_exceeded is low",
-                    run.work.large
-                ));
+                return Err(
+                    "a large box's window is too wide for the grid, but capacity_exceeded is low"
+                        .into(),
+                );
             }
             if let Some(p) = got.stream.iter().find(|p| !run.pairs.contains(p)) {
                 return Err(format!(

@@ -9,7 +9,7 @@ use crate::projection::{self, Projection};
 use crate::radix::KeySort;
 use crate::sat::{self, Sat};
 use anyhow::{bail, Context, Result};
-use obb_model::fixed::{cycles, BroadPhase, HwConfig};
+use obb_model::fixed::{cycles, grid, BroadPhase, HwConfig};
 use obb_model::radix::RadixSorter;
 use serde::Serialize;
 use std::path::Path;
@@ -113,6 +113,9 @@ pub struct GridInfo {
     pub candidate_stall_fill: usize,
     /// Buckets a bank: the clocks of the list heads' clear at the end of a frame.
     pub buckets: u64,
+    /// Cells per axis a large box's window may span on the slow path: a wider one raises
+    /// `capacity_exceeded` (the frame is incomplete).
+    pub max_window: u64,
 }
 
 // Improved-sap's end point keys take one bit more than `key_bits`, which `validate` bounds by
@@ -292,6 +295,7 @@ pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
             issue_to_sat: cycles::GRID_ISSUE_TO_SAT,
             candidate_stall_fill: cycles::GRID_CAND_STALL,
             buckets: 1 << cfg.grid_hash_bits,
+            max_window: grid::MAX_WINDOW,
         }),
     };
     let manifest = Manifest {

@@ -1,8 +1,6 @@
 //! `GridPhase`: the grid broad phase (`broad_phase = "grid"`), the spatial hash of
 //! `obb_model::fixed::grid` built while the boxes arrive, on the clocks of
-//! `obb_model::fixed::grid_clocks` (docs/hardware.md, "The grid"). Small boxes only: a box
-//! larger than a cell is neither entered nor walked, and raises the sticky `oversize` (its slow
-//! path is not built yet).
+//! `obb_model::fixed::grid_clocks` (docs/hardware.md, "The grid").
 //!
 //! | clock | stage |
 //! | --- | --- |
@@ -24,6 +22,17 @@
 //! and, if they overlap, written to the candidate queue (`PairFifo`), which the core drains on
 //! clocks it does not accept a box. At the end of the walk every bucket is written empty, one
 //! a clock, so that the next frame finds the lists clear.
+//!
+//! A box larger than a cell (*large*) is entered in no list: at K+3 its successor entry takes
+//! the chain of large boxes (`lnext`, latest first). The slow path runs when the load is over
+//! and nothing is in flight (*idle*): a sequencer fetches each large box of the chain (its keys
+//! on port B, its successor: the next large box), plans its window, and injects its *rounds*
+//! into the probe as boxes whose keys span two or three cells per axis (kind *round*: they read
+//! lists and enter none; the key check takes the large box's keys, and passes a box only if its
+//! home cell is in the round, so a list read in two rounds gives its pairs once); then, when
+//! large boxes follow, one record of one list, the rest of the chain (kind *partner*: the key
+//! check applies the group mask). A window of more than `MAX_WINDOW` cells on an axis ends the
+//! slow path and raises the sticky `too_wide`: the frame is incomplete.
 
 use crate::dist_ram::DistRam;
 use crate::grid_cells::{vec, GridCells, BUCKET, FP};
@@ -33,7 +42,7 @@ use crate::radix::VAL;
 use crate::table_ram::TableRam;
 use obb_model::fixed::config::GROUP_BITS;
 use obb_model::fixed::cycles::{GRID_CAND_STALL, GRID_CREDITS};
-use obb_model::fixed::grid::{GridShape, BANKS};
+use obb_model::fixed::grid::{GridShape, BANKS, MAX_WINDOW};
 use obb_model::fixed::HwConfig;
 use rust_hdl::prelude::*;
 
@@ -50,6 +59,25 @@ const INDEX: usize = VAL;
 /// A candidate: a, b (a < b), their margins.
 const CAND: usize = 2 * INDEX + 2 * MARGIN;
 const COUNT: usize = SLOT + 2;
+/// What a record is: bit 0 a round of a large box's window, bit 1 the rest of the large
+/// boxes' chain (neither: an arriving box).
+const KIND: usize = 2;
+
+/// The slow path's sequencer: what it does on its next idle clock (or its next clock).
+#[derive(Copy, Clone, Debug, PartialEq, LogicState)]
+pub enum SlowState {
+    /// Fetch the next large box (or, none left, be over).
+    Fetch,
+    /// Register its keys, group, margin and successor.
+    Read,
+    /// Its window's first and last cells, the first round; too wide: over.
+    Plan,
+    /// Inject the round at `rr`, step to the next.
+    Round,
+    /// Inject the record of the rest of the chain.
+    Partner,
+    Over,
+}
 const _: () = assert!(GRID_CAND_STALL as u64 + 2 < pair_fifo::DEPTH);
 
 #[derive(LogicBlock)]
@@ -77,6 +105,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     pub rd_min: [Signal<In, Bits<CENTER>>; 3],
     pub rd_max: [Signal<In, Bits<CENTER>>; 3],
     pub rd_margin: Signal<In, Bits<MARGIN>>,
+    pub rd_group: Signal<In, Bits<GROUP>>,
     /// The candidate stream (first word fall-through): taken on a clock with `cand_ready`.
     pub cand_valid: Signal<Out, Bit>,
     pub cand_ready: Signal<In, Bit>,
@@ -84,12 +113,14 @@ pub struct GridPhase<const A: usize, const C: usize> {
     pub cand_b: Signal<Out, Bits<A>>,
     pub cand_ma: Signal<Out, Bits<MARGIN>>,
     pub cand_mb: Signal<Out, Bits<MARGIN>>,
-    /// Every box has retired: the walk is over (the list heads are being cleared).
+    /// Every box has retired and the slow path is done: the walk is over (the list heads are
+    /// being cleared).
     pub walked: Signal<Out, Bit>,
     /// The list heads are clear, the candidate queue is empty: the grid's frame is over.
     pub finished: Signal<Out, Bit>,
-    /// Sticky for the frame: a box larger than a cell arrived (not walked: no slow path yet).
-    pub oversize: Signal<Out, Bit>,
+    /// Sticky for the frame: a large box's window spans more than `MAX_WINDOW` cells on an
+    /// axis; the slow path stopped, the frame is incomplete.
+    pub too_wide: Signal<Out, Bit>,
     // Configuration.
     /// Groups with lists (`grid_groups`), and lists: 27 per group.
     _groups: usize,
@@ -102,6 +133,9 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// Per list (stored at `27 q + b`, q = groups - 1 - h): its number, and its group h.
     list_id: Vec<Constant<Bits<8>>>,
     list_group: Vec<Constant<Bits<GROUP>>>,
+    /// log2 of the cell edge; the widest span of a large box in cells (`MAX_WINDOW - 2`).
+    cell_bits: Constant<Bits<8>>,
+    max_span: Constant<Bits<CENTER>>,
     /// The candidate's fields' places in the queue's word.
     at_a: Constant<Bits<8>>,
     at_b: Constant<Bits<8>>,
@@ -115,6 +149,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     s1_max: [DFF<Bits<CENTER>>; 3],
     s1_margin: DFF<Bits<MARGIN>>,
     s1_group: DFF<Bits<GROUP>>,
+    s1_kind: DFF<Bits<KIND>>,
     // K+2.
     s2_valid: DFF<Bit>,
     s2_index: DFF<Bits<C>>,
@@ -122,6 +157,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     s2_max: [DFF<Bits<CENTER>>; 3],
     s2_margin: DFF<Bits<MARGIN>>,
     s2_group: DFF<Bits<GROUP>>,
+    s2_kind: DFF<Bits<KIND>>,
     // K+3.
     s3_valid: DFF<Bit>,
     s3_index: DFF<Bits<C>>,
@@ -129,6 +165,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     s3_max: [DFF<Bits<CENTER>>; 3],
     s3_margin: DFF<Bits<MARGIN>>,
     s3_group: DFF<Bits<GROUP>>,
+    s3_kind: DFF<Bits<KIND>>,
     /// The mask's bits for the box's group: bit h pairs it with group h.
     s3_allowed: DFF<Bits<MASK>>,
     // K+4.
@@ -138,6 +175,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     s4_min: [DFF<Bits<CENTER>>; 3],
     s4_max: [DFF<Bits<CENTER>>; 3],
     s4_margin: DFF<Bits<MARGIN>>,
+    s4_kind: DFF<Bits<KIND>>,
     s4_live: Vec<DFF<Bit>>,
     s4_head: Vec<DFF<Bits<C>>>,
     // Memories.
@@ -152,6 +190,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     rec_min: [DistRam<Bits<CENTER>, SLOT>; 3],
     rec_max: [DistRam<Bits<CENTER>, SLOT>; 3],
     rec_margin: DistRam<Bits<MARGIN>, SLOT>,
+    rec_kind: DistRam<Bits<KIND>, SLOT>,
     wp: DFF<Bits<SLOT>>,
     rp: DFF<Bits<SLOT>>,
     count: DFF<Bits<COUNT>>,
@@ -165,6 +204,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     cur_min: [DFF<Bits<CENTER>>; 3],
     cur_max: [DFF<Bits<CENTER>>; 3],
     cur_margin: DFF<Bits<MARGIN>>,
+    cur_kind: DFF<Bits<KIND>>,
     /// Last clock made a visit: its successor is on the successor table's port B.
     chase: DFF<Bit>,
     held_valid: DFF<Bit>,
@@ -176,6 +216,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     v1_min: [DFF<Bits<CENTER>>; 3],
     v1_max: [DFF<Bits<CENTER>>; 3],
     v1_margin: DFF<Bits<MARGIN>>,
+    v1_kind: DFF<Bits<KIND>>,
     v2_valid: DFF<Bit>,
     v2_i: DFF<Bits<C>>,
     v2_j: DFF<Bits<C>>,
@@ -185,12 +226,31 @@ pub struct GridPhase<const A: usize, const C: usize> {
     v2_max_j: [DFF<Bits<CENTER>>; 3],
     v2_margin_i: DFF<Bits<MARGIN>>,
     v2_margin_j: DFF<Bits<MARGIN>>,
+    v2_kind: DFF<Bits<KIND>>,
+    /// A round's first and last cells (its keys shifted), the visited box's first cell (its
+    /// home is the next), its group.
+    v2_wl: [DFF<Bits<CENTER>>; 3],
+    v2_wh: [DFF<Bits<CENTER>>; 3],
+    v2_jc: [DFF<Bits<CENTER>>; 3],
+    v2_group_j: DFF<Bits<GROUP>>,
     fifo: PairFifo<CAND>,
     // End of frame.
     clearing: DFF<Bit>,
     cleared: DFF<Bit>,
     clear_at: DFF<Bits<BUCKET>>,
-    large_seen: DFF<Bit>,
+    // The slow path: the chain's next large box (top bit: there is one), the box on the path,
+    // its keys, margin and group, its window's first and last cells, the round's first cells.
+    slow: DFF<SlowState>,
+    lnext: DFF<Bits<C>>,
+    lcur: DFF<Bits<C>>,
+    lk_min: [DFF<Bits<CENTER>>; 3],
+    lk_max: [DFF<Bits<CENTER>>; 3],
+    lmargin: DFF<Bits<MARGIN>>,
+    lgroup: DFF<Bits<GROUP>>,
+    wlo: [DFF<Bits<CENTER>>; 3],
+    whi: [DFF<Bits<CENTER>>; 3],
+    rr: [DFF<Bits<CENTER>>; 3],
+    wide: DFF<Bit>,
     // Combinational.
     allowed: Signal<Local, Bits<MASK>>,
     /// Per list: the box's mask bits shifted to the list's group.
@@ -259,6 +319,30 @@ pub struct GridPhase<const A: usize, const C: usize> {
     margin_lo: Signal<Local, Bits<MARGIN>>,
     margin_hi: Signal<Local, Bits<MARGIN>>,
     done_walk: Signal<Local, Bit>,
+    /// The slow path: nothing in flight after the load; this clock fetches a large box,
+    /// injects a record (and of which kind, with which keys).
+    idle: Signal<Local, Bit>,
+    fetch: Signal<Local, Bit>,
+    inject: Signal<Local, Bit>,
+    inject_kind: Signal<Local, Bits<KIND>>,
+    inject_min: [Signal<Local, Bits<CENTER>>; 3],
+    inject_max: [Signal<Local, Bits<CENTER>>; 3],
+    /// Per axis: cells left after the round's first, less one; the round has three cells; it
+    /// is the axis's last; the next round's first cell.
+    left: [Signal<Local, Bits<CENTER>>; 3],
+    three_cells: [Signal<Local, Bit>; 3],
+    last_round: [Signal<Local, Bit>; 3],
+    next_rr: [Signal<Local, Bits<CENTER>>; 3],
+    plan_lo: [Signal<Local, Bits<CENTER>>; 3],
+    plan_hi: [Signal<Local, Bits<CENTER>>; 3],
+    plan_wide: Signal<Local, Bit>,
+    /// K+3: a large arriving box joins the chain.
+    large_in: Signal<Local, Bit>,
+    /// V+2: the visited box's home is in the round; the mask pairs the groups; the pair passes.
+    home_ok: Signal<Local, Bit>,
+    mask_row: Signal<Local, Bits<MASK>>,
+    mask_ok: Signal<Local, Bit>,
+    pass: Signal<Local, Bit>,
 }
 
 impl<const A: usize, const C: usize> GridPhase<A, C> {
@@ -295,6 +379,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             rd_min: Default::default(),
             rd_max: Default::default(),
             rd_margin: Default::default(),
+            rd_group: Default::default(),
             cand_valid: Default::default(),
             cand_ready: Default::default(),
             cand_a: Default::default(),
@@ -303,7 +388,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             cand_mb: Default::default(),
             walked: Default::default(),
             finished: Default::default(),
-            oversize: Default::default(),
+            too_wide: Default::default(),
             _groups: groups,
             _lists: lists,
             last_bucket: Constant::new((buckets - 1).into()),
@@ -316,6 +401,8 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             list_group: (0..lists)
                 .map(|l| Constant::new(((groups - 1 - l / BANKS) as u64).into()))
                 .collect(),
+            cell_bits: Constant::new(u64::from(shape.cell_bits).into()),
+            max_span: Constant::new((MAX_WINDOW - 2).into()),
             at_a: Constant::new(((INDEX + 2 * MARGIN) as u64).into()),
             at_b: Constant::new(((2 * MARGIN) as u64).into()),
             at_ma: Constant::new((MARGIN as u64).into()),
@@ -325,18 +412,21 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             s1_min: Default::default(),
             s1_max: Default::default(),
             s1_margin: Default::default(),
+            s1_kind: Default::default(),
             s1_group: Default::default(),
             s2_valid: Default::default(),
             s2_index: Default::default(),
             s2_min: Default::default(),
             s2_max: Default::default(),
             s2_margin: Default::default(),
+            s2_kind: Default::default(),
             s2_group: Default::default(),
             s3_valid: Default::default(),
             s3_index: Default::default(),
             s3_min: Default::default(),
             s3_max: Default::default(),
             s3_margin: Default::default(),
+            s3_kind: Default::default(),
             s3_group: Default::default(),
             s3_allowed: Default::default(),
             s4_valid: Default::default(),
@@ -345,6 +435,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             s4_min: Default::default(),
             s4_max: Default::default(),
             s4_margin: Default::default(),
+            s4_kind: Default::default(),
             s4_live: vec(lists),
             s4_head: vec(lists),
             meta: (0..lists).map(|_| DistRam::zeroed(buckets)).collect(),
@@ -355,6 +446,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             rec_min: Default::default(),
             rec_max: Default::default(),
             rec_margin: Default::default(),
+            rec_kind: Default::default(),
             wp: Default::default(),
             rp: Default::default(),
             count: Default::default(),
@@ -367,6 +459,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             cur_min: Default::default(),
             cur_max: Default::default(),
             cur_margin: Default::default(),
+            cur_kind: Default::default(),
             chase: Default::default(),
             held_valid: Default::default(),
             held: Default::default(),
@@ -376,6 +469,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             v1_min: Default::default(),
             v1_max: Default::default(),
             v1_margin: Default::default(),
+            v1_kind: Default::default(),
             v2_valid: Default::default(),
             v2_i: Default::default(),
             v2_j: Default::default(),
@@ -385,11 +479,26 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             v2_max_j: Default::default(),
             v2_margin_i: Default::default(),
             v2_margin_j: Default::default(),
+            v2_kind: Default::default(),
+            v2_wl: Default::default(),
+            v2_wh: Default::default(),
+            v2_jc: Default::default(),
+            v2_group_j: Default::default(),
             fifo: PairFifo::new(GRID_CAND_STALL as u64),
             clearing: Default::default(),
             cleared: Default::default(),
             clear_at: Default::default(),
-            large_seen: Default::default(),
+            slow: Default::default(),
+            lnext: Default::default(),
+            lcur: Default::default(),
+            lk_min: Default::default(),
+            lk_max: Default::default(),
+            lmargin: Default::default(),
+            lgroup: Default::default(),
+            wlo: Default::default(),
+            whi: Default::default(),
+            rr: Default::default(),
+            wide: Default::default(),
             allowed: Default::default(),
             allow: vec(lists),
             live: vec(lists),
@@ -442,6 +551,24 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             margin_lo: Default::default(),
             margin_hi: Default::default(),
             done_walk: Default::default(),
+            idle: Default::default(),
+            fetch: Default::default(),
+            inject: Default::default(),
+            inject_kind: Default::default(),
+            inject_min: Default::default(),
+            inject_max: Default::default(),
+            left: Default::default(),
+            three_cells: Default::default(),
+            last_round: Default::default(),
+            next_rr: Default::default(),
+            plan_lo: Default::default(),
+            plan_hi: Default::default(),
+            plan_wide: Default::default(),
+            large_in: Default::default(),
+            home_ok: Default::default(),
+            mask_row: Default::default(),
+            mask_ok: Default::default(),
+            pass: Default::default(),
         }
     }
 }
@@ -491,9 +618,22 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             clearing,
             cleared,
             clear_at,
-            large_seen
+            s1_kind,
+            s2_kind,
+            s3_kind,
+            s4_kind,
+            cur_kind,
+            v1_kind,
+            v2_kind,
+            v2_group_j,
+            slow,
+            lnext,
+            lcur,
+            lmargin,
+            lgroup,
+            wide
         );
-        clock!(self, clock, cells, succ, rec_index, rec_margin, fifo);
+        clock!(self, clock, cells, succ, rec_index, rec_margin, rec_kind, fifo);
         for x in 0..3 {
             self.s1_min[x].clock.next = self.clock.val();
             self.s1_max[x].clock.next = self.clock.val();
@@ -513,6 +653,19 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.v2_max_i[x].clock.next = self.clock.val();
             self.v2_min_j[x].clock.next = self.clock.val();
             self.v2_max_j[x].clock.next = self.clock.val();
+            self.v2_wl[x].clock.next = self.clock.val();
+            self.v2_wh[x].clock.next = self.clock.val();
+            self.v2_jc[x].clock.next = self.clock.val();
+            self.lk_min[x].clock.next = self.clock.val();
+            self.lk_max[x].clock.next = self.clock.val();
+            self.wlo[x].clock.next = self.clock.val();
+            self.whi[x].clock.next = self.clock.val();
+            self.rr[x].clock.next = self.clock.val();
+            self.lk_min[x].d.next = self.lk_min[x].q.val();
+            self.lk_max[x].d.next = self.lk_max[x].q.val();
+            self.wlo[x].d.next = self.wlo[x].q.val();
+            self.whi[x].d.next = self.whi[x].q.val();
+            self.rr[x].d.next = self.rr[x].q.val();
         }
         for l in 0..self._lists {
             self.s4_live[l].clock.next = self.clock.val();
@@ -532,13 +685,121 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.cur_max[x].d.next = self.cur_max[x].q.val();
         }
 
+        // The slow path's sequencer (it injects after the load, when no box arrives).
+        self.idle.next = self.loaded.val() & (self.inflight.q.val() == 0);
+        self.fetch.next = false;
+        self.inject.next = false;
+        self.inject_kind.next = 0.into();
+        self.plan_wide.next = false;
+        for x in 0..3 {
+            // A round spans three cells when three or five or more are left, else two.
+            self.left[x].next = self.whi[x].q.val() - self.rr[x].q.val();
+            self.three_cells[x].next = (self.left[x].val() == 2) | (self.left[x].val() > 3);
+            self.last_round[x].next = self.left[x].val() < 3;
+            self.next_rr[x].next = self.rr[x].q.val() + 2;
+            self.inject_min[x].next = self.rr[x].q.val() << self.cell_bits.val();
+            self.inject_max[x].next = self.rr[x].q.val() << self.cell_bits.val();
+            if self.three_cells[x].val() {
+                self.next_rr[x].next = self.rr[x].q.val() + 3;
+                self.inject_max[x].next = (self.rr[x].q.val() + 1) << self.cell_bits.val();
+            }
+            if self.slow.q.val() == SlowState::Partner {
+                self.inject_min[x].next = self.lk_min[x].q.val();
+                self.inject_max[x].next = self.lk_max[x].q.val();
+            }
+            self.plan_lo[x].next = self.lk_min[x].q.val() >> self.cell_bits.val();
+            self.plan_hi[x].next = (self.lk_max[x].q.val() >> self.cell_bits.val()) + 1;
+            if (self.lk_max[x].q.val() >> self.cell_bits.val()) - self.plan_lo[x].val()
+                > self.max_span.val()
+            {
+                self.plan_wide.next = true;
+            }
+        }
+        match self.slow.q.val() {
+            SlowState::Fetch => {
+                if self.idle.val() {
+                    if (self.lnext.q.val() & self.top.val()) != 0 {
+                        self.fetch.next = true;
+                        self.lcur.d.next = self.lnext.q.val() ^ self.top.val();
+                        self.slow.d.next = SlowState::Read;
+                    } else {
+                        self.slow.d.next = SlowState::Over;
+                    }
+                }
+            }
+            SlowState::Read => {
+                self.lmargin.d.next = self.rd_margin.val();
+                self.lgroup.d.next = self.rd_group.val();
+                self.lnext.d.next = self.succ.read_data_b.val();
+                for x in 0..3 {
+                    self.lk_min[x].d.next = self.rd_min[x].val();
+                    self.lk_max[x].d.next = self.rd_max[x].val();
+                }
+                self.slow.d.next = SlowState::Plan;
+            }
+            SlowState::Plan => {
+                for x in 0..3 {
+                    self.wlo[x].d.next = self.plan_lo[x].val();
+                    self.whi[x].d.next = self.plan_hi[x].val();
+                    self.rr[x].d.next = self.plan_lo[x].val();
+                }
+                self.slow.d.next = SlowState::Round;
+                if self.plan_wide.val() {
+                    self.wide.d.next = true;
+                    self.slow.d.next = SlowState::Over;
+                }
+            }
+            SlowState::Round => {
+                // Inject the round; step x, then y, then z; after the last, the rest of the
+                // chain (if any) or the next box.
+                if self.idle.val() {
+                    self.inject.next = true;
+                    self.inject_kind.next = 1.into();
+                    if !self.last_round[0].val() {
+                        self.rr[0].d.next = self.next_rr[0].val();
+                    } else {
+                        self.rr[0].d.next = self.wlo[0].q.val();
+                        if !self.last_round[1].val() {
+                            self.rr[1].d.next = self.next_rr[1].val();
+                        } else {
+                            self.rr[1].d.next = self.wlo[1].q.val();
+                            if !self.last_round[2].val() {
+                                self.rr[2].d.next = self.next_rr[2].val();
+                            } else if (self.lnext.q.val() & self.top.val()) != 0 {
+                                self.slow.d.next = SlowState::Partner;
+                            } else {
+                                self.slow.d.next = SlowState::Fetch;
+                            }
+                        }
+                    }
+                }
+            }
+            SlowState::Partner => {
+                if self.idle.val() {
+                    self.inject.next = true;
+                    self.inject_kind.next = 2.into();
+                    self.slow.d.next = SlowState::Fetch;
+                }
+            }
+            SlowState::Over => {}
+        }
+
         // K+1 to K+3: the cells of the box's window (`GridCells`); its index, keys, margin and
-        // group alongside.
-        self.cells.key_valid.next = self.key_valid.val();
-        self.s1_valid.d.next = self.key_valid.val();
+        // group alongside. An injected record takes the place of an arriving box.
+        self.cells.key_valid.next = self.key_valid.val() | self.inject.val();
+        self.s1_valid.d.next = self.key_valid.val() | self.inject.val();
         self.s1_index.d.next = bit_cast::<C, A>(self.key_index.val());
         self.s1_margin.d.next = self.key_margin.val();
         self.s1_group.d.next = self.key_group.val();
+        self.s1_kind.d.next = self.inject_kind.val();
+        if self.inject.val() {
+            self.s1_index.d.next = self.lcur.q.val();
+            self.s1_margin.d.next = self.lmargin.q.val();
+            self.s1_group.d.next = self.lgroup.q.val();
+        }
+        self.s2_kind.d.next = self.s1_kind.q.val();
+        self.s3_kind.d.next = self.s2_kind.q.val();
+        self.s4_kind.d.next = self.s3_kind.q.val();
         self.s2_valid.d.next = self.s1_valid.q.val();
         self.s2_index.d.next = self.s1_index.q.val();
         self.s2_margin.d.next = self.s1_margin.q.val();
@@ -552,6 +813,12 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.cells.key_max[x].next = self.key_max[x].val();
             self.s1_min[x].d.next = self.key_min[x].val();
             self.s1_max[x].d.next = self.key_max[x].val();
+            if self.inject.val() {
+                self.cells.key_min[x].next = self.inject_min[x].val();
+                self.cells.key_max[x].next = self.inject_max[x].val();
+                self.s1_min[x].d.next = self.inject_min[x].val();
+                self.s1_max[x].d.next = self.inject_max[x].val();
+            }
             self.s2_min[x].d.next = self.s1_min[x].q.val();
             self.s2_max[x].d.next = self.s1_max[x].q.val();
             self.s3_min[x].d.next = self.s2_min[x].q.val();
@@ -587,6 +854,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                         | (self.meta[27 * q + b].read_data.val().get_bits::<FP>(0)
                             == self.cells.fp[b].val()));
                 self.enter[27 * q + b].next = self.s3_valid.q.val()
+                    & (self.s3_kind.q.val() == 0)
                     & self.cells.small_box.val()
                     & self.cells.home[b].val()
                     & (self.s3_group.q.val() == self.list_group[27 * q + b].val());
@@ -625,13 +893,20 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 }
             }
         }
-        // One bank enters the box: its old head, ORed over the banks (zero elsewhere).
+        // One bank enters the box: its old head, ORed over the banks (zero elsewhere). A large
+        // box takes the chain of large boxes instead.
+        self.large_in.next =
+            self.s3_valid.q.val() & (self.s3_kind.q.val() == 0) & !self.cells.small_box.val();
         self.succ_acc[0].next = 0.into();
+        if self.large_in.val() {
+            self.succ_acc[0].next = self.lnext.q.val();
+            self.lnext.d.next = self.entry.val();
+        }
         for b in 0..27 {
             self.succ_acc[b + 1].next = self.succ_acc[b].val() | self.home_head[b].val();
         }
         self.succ_data.next = self.succ_acc[27].val();
-        self.succ.write_enable.next = self.s3_valid.q.val() & self.cells.small_box.val();
+        self.succ.write_enable.next = self.s3_valid.q.val() & (self.s3_kind.q.val() == 0);
         self.succ.write_address.next = bit_cast::<A, C>(self.s3_index.q.val());
         self.succ.write_data.next = self.succ_data.val();
         self.s4_valid.d.next = self.s3_valid.q.val();
@@ -641,13 +916,12 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.s4_min[x].d.next = self.s3_min[x].q.val();
             self.s4_max[x].d.next = self.s3_max[x].q.val();
         }
-        if self.cells.valid.val() & !self.cells.small_box.val() {
-            self.large_seen.d.next = true;
-        }
 
-        // K+4: a box with lists to walk is written to the record queue; any other retires.
-        self.rec_write.next = self.s4_valid.q.val() & self.s4_any.q.val();
-        self.retire_probe.next = self.s4_valid.q.val() & !self.s4_any.q.val();
+        // K+4: a box with lists to walk is written to the record queue; any other retires. The
+        // rest of the chain is one list (the first), from the large box's successor.
+        self.rec_write.next =
+            self.s4_valid.q.val() & (self.s4_any.q.val() | self.s4_kind.q.val().get_bit(1));
+        self.retire_probe.next = self.s4_valid.q.val() & !self.rec_write.val();
         for l in 0..self._lists {
             self.rec[l].write_enable.next = self.rec_write.val();
             self.rec[l].write_address.next = self.wp.q.val();
@@ -658,6 +932,13 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             }
             self.rec[l].read_address.next = self.rp.q.val();
         }
+        if self.s4_kind.q.val().get_bit(1) {
+            self.rec[0].write_data.next = self.lnext.q.val();
+        }
+        self.rec_kind.write_enable.next = self.rec_write.val();
+        self.rec_kind.write_address.next = self.wp.q.val();
+        self.rec_kind.write_data.next = self.s4_kind.q.val();
+        self.rec_kind.read_address.next = self.rp.q.val();
         self.rec_index.write_enable.next = self.rec_write.val();
         self.rec_index.write_address.next = self.wp.q.val();
         self.rec_index.write_data.next = self.s4_index.q.val();
@@ -772,6 +1053,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         // The visit's box i: the record's, or the one loaded this clock.
         self.v1_i.d.next = self.cur_index.q.val();
         self.v1_margin.d.next = self.cur_margin.q.val();
+        self.v1_kind.d.next = self.cur_kind.q.val();
         for x in 0..3 {
             self.v1_min[x].d.next = self.cur_min[x].q.val();
             self.v1_max[x].d.next = self.cur_max[x].q.val();
@@ -783,6 +1065,8 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.cur_margin.d.next = self.rec_margin.read_data.val();
             self.v1_i.d.next = self.rec_index.read_data.val();
             self.v1_margin.d.next = self.rec_margin.read_data.val();
+            self.cur_kind.d.next = self.rec_kind.read_data.val();
+            self.v1_kind.d.next = self.rec_kind.read_data.val();
             for x in 0..3 {
                 self.cur_min[x].d.next = self.rec_min[x].read_data.val();
                 self.cur_max[x].d.next = self.rec_max[x].read_data.val();
@@ -797,12 +1081,16 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.rd_addr.next = bit_cast::<A, C>(self.cand.val());
         self.succ.read_address_a.next = 0.into();
         self.succ.read_address_b.next = bit_cast::<A, C>(self.cand.val());
+        if self.fetch.val() {
+            self.rd_addr.next = bit_cast::<A, C>(self.lnext.q.val());
+            self.succ.read_address_b.next = bit_cast::<A, C>(self.lnext.q.val());
+        }
 
         // Credits and records.
         self.inflight_up.next = 0.into();
         self.inflight_down.next = 0.into();
         self.retire_down.next = 0.into();
-        if self.accept.val() {
+        if self.accept.val() | self.inject.val() {
             self.inflight_up.next = 1.into();
         }
         if self.retire_probe.val() {
@@ -834,9 +1122,20 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.v2_j.d.next = self.v1_j.q.val();
         self.v2_margin_i.d.next = self.v1_margin.q.val();
         self.v2_margin_j.d.next = self.rd_margin.val();
+        self.v2_kind.d.next = self.v1_kind.q.val();
+        self.v2_group_j.d.next = self.rd_group.val();
         for x in 0..3 {
+            // A round's record holds the round's cells; the large box's keys are the
+            // sequencer's.
             self.v2_min_i[x].d.next = self.v1_min[x].q.val();
             self.v2_max_i[x].d.next = self.v1_max[x].q.val();
+            if self.v1_kind.q.val().get_bit(0) {
+                self.v2_min_i[x].d.next = self.lk_min[x].q.val();
+                self.v2_max_i[x].d.next = self.lk_max[x].q.val();
+            }
+            self.v2_wl[x].d.next = self.v1_min[x].q.val() >> self.cell_bits.val();
+            self.v2_wh[x].d.next = (self.v1_max[x].q.val() >> self.cell_bits.val()) + 1;
+            self.v2_jc[x].d.next = (self.rd_min[x].val() >> self.cell_bits.val()) + 1;
             self.v2_min_j[x].d.next = self.rd_min[x].val();
             self.v2_max_j[x].d.next = self.rd_max[x].val();
         }
@@ -861,7 +1160,22 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             | (bit_cast::<CAND, INDEX>(self.cand_hi.val()) << self.at_b.val())
             | (bit_cast::<CAND, MARGIN>(self.margin_lo.val()) << self.at_ma.val())
             | bit_cast::<CAND, MARGIN>(self.margin_hi.val());
-        self.fifo.write.next = self.v2_valid.q.val() & self.overlap.val();
+        // A round passes a box whose home cell is in it; the chain's boxes pass if the mask
+        // pairs the groups.
+        self.home_ok.next = (self.v2_wl[0].q.val() <= self.v2_jc[0].q.val())
+            & (self.v2_jc[0].q.val() <= self.v2_wh[0].q.val())
+            & (self.v2_wl[1].q.val() <= self.v2_jc[1].q.val())
+            & (self.v2_jc[1].q.val() <= self.v2_wh[1].q.val())
+            & (self.v2_wl[2].q.val() <= self.v2_jc[2].q.val())
+            & (self.v2_jc[2].q.val() <= self.v2_wh[2].q.val());
+        self.mask_row.next = self.mask.val()
+            >> ((bit_cast::<MASK, GROUP>(self.lgroup.q.val()) << 3_u64)
+                | bit_cast::<MASK, GROUP>(self.v2_group_j.q.val()));
+        self.mask_ok.next = self.mask_row.val().get_bit(0);
+        self.pass.next = self.overlap.val()
+            & (self.home_ok.val() | !self.v2_kind.q.val().get_bit(0))
+            & (self.mask_ok.val() | !self.v2_kind.q.val().get_bit(1));
+        self.fifo.write.next = self.v2_valid.q.val() & self.pass.val();
         self.fifo.data_in.next = self.cand_word.val();
         self.fifo.ready.next = self.cand_ready.val();
         self.cand_valid.next = self.fifo.valid.val();
@@ -873,8 +1187,12 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.cand_ma.next = bit_cast::<MARGIN, CAND>(self.unpack_ma.val());
         self.cand_mb.next = bit_cast::<MARGIN, CAND>(self.fifo.data_out.val());
 
-        // The end: every box accepted and retired; then the clear, one bucket a clock.
-        self.done_walk.next = self.loaded.val() & (self.inflight.q.val() == 0);
+        // The end: every box accepted and retired, the slow path over; then the clear, one
+        // bucket a clock.
+        self.done_walk.next = self.idle.val()
+            & ((self.slow.q.val() == SlowState::Over)
+                | ((self.slow.q.val() == SlowState::Fetch)
+                    & ((self.lnext.q.val() & self.top.val()) == 0)));
         self.walked.next = self.done_walk.val();
         if self.done_walk.val() & !self.clearing.q.val() & !self.cleared.q.val() {
             self.clearing.d.next = true;
@@ -891,7 +1209,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             & self.fifo.empty.val()
             & !self.v1_valid.q.val()
             & !self.v2_valid.q.val();
-        self.oversize.next = self.large_seen.q.val();
+        self.too_wide.next = self.wide.q.val();
         if self.start.val() {
             self.wp.d.next = 0.into();
             self.rp.d.next = 0.into();
@@ -902,7 +1220,9 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.chase.d.next = false;
             self.clearing.d.next = false;
             self.cleared.d.next = false;
-            self.large_seen.d.next = false;
+            self.slow.d.next = SlowState::Fetch;
+            self.lnext.d.next = 0.into();
+            self.wide.d.next = false;
         }
     }
 }

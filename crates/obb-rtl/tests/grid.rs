@@ -37,6 +37,7 @@ fn input_ports() -> Vec<Port> {
     p.extend(common::ports("rd_min", 3, CENTER));
     p.extend(common::ports("rd_max", 3, CENTER));
     p.push(Port::new("rd_margin", MARGIN));
+    p.push(Port::new("rd_group", 3));
     p.push(Port::new("cand_ready", 1));
     p
 }
@@ -54,7 +55,7 @@ fn output_ports() -> Vec<Port> {
         Port::new("cand_ma", MARGIN),
         Port::new("cand_mb", MARGIN),
         Port::new("finished", 1),
-        Port::new("oversize", 1),
+        Port::new("too_wide", 1),
     ]
 }
 
@@ -70,13 +71,18 @@ struct Case {
     /// Per candidate: clock, a, b.
     issues: Vec<(u64, u64, u64)>,
     finished: u64,
+    /// The clock from which `too_wide` is high (the slow path planned a window too wide).
+    too_wide: Option<u64>,
 }
 
 fn case(scene: &Scene, cfg: &HwConfig, mask: &GroupMask) -> Case {
     let frame = ModelFrame::new(scene, cfg).unwrap();
     let walk = frame.grid_walk(mask);
-    assert!(walk.large.is_empty(), "{} large boxes", walk.large.len());
     let s = grid_schedule(&walk);
+    // Fetched at F, the box's keys are registered at F + 1 and its window planned at F + 2.
+    let too_wide = walk
+        .too_wide
+        .map(|l| s.fetches.iter().find(|f| f.1 == l).unwrap().0 + 3);
     // Over when the list heads are clear (from the clock after the walk, one bucket a clock)
     // and the last candidate has left the queue.
     let cleared = s.walked + (1 << cfg.grid_hash_bits) + 1;
@@ -128,14 +134,21 @@ fn case(scene: &Scene, cfg: &HwConfig, mask: &GroupMask) -> Case {
             }
             None => v.extend([0; 10]),
         }
-        match visits.iter().find(|v| v.0 + 1 == t) {
-            Some(&(_, _, j)) => {
-                let (lo, hi) = &frame.keys[j as usize];
+        // Port B: a visited box's keys, or a large box's fetched by the slow path.
+        let read = visits
+            .iter()
+            .find(|v| v.0 + 1 == t)
+            .map(|v| v.2 as usize)
+            .or_else(|| s.fetches.iter().find(|f| f.0 + 1 == t).map(|f| f.1));
+        match read {
+            Some(j) => {
+                let (lo, hi) = &frame.keys[j];
                 v.extend(lo);
                 v.extend(hi);
-                v.push(margin(j as usize));
+                v.push(margin(j));
+                v.push(u64::from(frame.obbs[j].group));
             }
-            None => v.extend([0; 7]),
+            None => v.extend([0; 8]),
         }
         v.push(u64::from(!accept[t as usize]));
         vectors.push(v);
@@ -147,6 +160,7 @@ fn case(scene: &Scene, cfg: &HwConfig, mask: &GroupMask) -> Case {
         visits,
         issues,
         finished,
+        too_wide,
     }
 }
 
@@ -184,7 +198,11 @@ fn check_against_model(c: &Case, rows: &[Vec<u64>], what: &str) {
         if row[9] == 1 && finished.is_none() {
             finished = Some(t);
         }
-        assert_eq!(row[10], 0, "{what}: no large box");
+        assert_eq!(
+            row[10] == 1,
+            c.too_wide.is_some_and(|w| t >= w),
+            "{what}: too_wide at clock {t}"
+        );
     }
     same(&visits, &c.visits, &format!("{what}: visits (clock, i, j)"));
     same(
@@ -228,7 +246,8 @@ fn rust_hdl_rows(cfg: &HwConfig, c: &Case) -> Vec<Vec<u64>> {
             u.key_margin.next = v[11].into();
             u.key_group.next = v[12].into();
             u.rd_margin.next = v[19].into();
-            u.cand_ready.next = v[20] == 1;
+            u.rd_group.next = v[20].into();
+            u.cand_ready.next = v[21] == 1;
         },
         |u, level| u.clock.next = Clock::from(level),
         |u| {
@@ -243,7 +262,7 @@ fn rust_hdl_rows(cfg: &HwConfig, c: &Case) -> Vec<Vec<u64>> {
                 u.cand_ma.val().to_u64(),
                 u.cand_mb.val().to_u64(),
                 u64::from(u.finished.val()),
-                u64::from(u.oversize.val()),
+                u64::from(u.too_wide.val()),
             ]
         },
     )
@@ -302,14 +321,64 @@ fn cases() -> Vec<(&'static str, HwConfig, Scene)> {
             grid_cfg(5, 16.0, GroupMask::Cross),
             surgical(300, 2).unwrap(),
         ),
+        (
+            "slabs over small boxes, 2 mm cells, groups 0-2 and 2-3: three large boxes, their \
+             rounds and the chain",
+            large_cfg(4, 2.0, "0-2,2-3".parse().unwrap()),
+            slabs(),
+        ),
+        (
+            "slabs over small boxes, 1 mm cells, all pairs, 2 buckets a bank: windows of \
+             several rounds, every list mixed and read in several",
+            large_cfg(1, 1.0, GroupMask::All),
+            slabs(),
+        ),
+        (
+            "slabs and a 1.5 mm box over small boxes, 1/8 mm cells: every box large, the 1.5 mm \
+             box meets the others on the chain, then the far box's window is too wide",
+            large_cfg(4, 1.0 / 8.0, GroupMask::All),
+            Scene {
+                obbs: [
+                    slabs().obbs,
+                    vec![Obb::aligned([1.0, 1.0, 0.0], [0.75; 3], 1)],
+                ]
+                .concat(),
+            },
+        ),
     ]
+}
+
+/// Four groups, for the slow path's masks.
+fn large_cfg(hash_bits: u32, cell_mm: f64, groups: GroupMask) -> HwConfig {
+    HwConfig {
+        grid_groups: 4,
+        ..grid_cfg(hash_bits, cell_mm, groups)
+    }
+}
+
+/// 40 small boxes in two groups on a plane, two slabs across them (groups 2 and 3, the first
+/// among the small boxes' indices) and a large box far away.
+fn slabs() -> Scene {
+    let mut obbs: Vec<Obb> = (0..40)
+        .map(|k| {
+            Obb::aligned(
+                [f64::from(k % 8) * 0.9, f64::from(k / 8) * 0.9, 0.0],
+                [0.4; 3],
+                k % 2,
+            )
+        })
+        .collect();
+    obbs.insert(5, Obb::aligned([3.0, 2.0, 0.0], [4.0, 0.3, 0.3], 2));
+    obbs.push(Obb::aligned([3.0, 2.0, 0.5], [0.3, 3.0, 0.3], 3));
+    obbs.push(Obb::aligned([90.0, 0.0, 0.0], [5.0; 3], 3));
+    Scene { obbs }
 }
 
 #[test]
 fn grid_block_matches_the_model_in_rust_hdl() {
     for (what, cfg, scene) in cases() {
         let c = case(&scene, &cfg, &cfg.groups);
-        assert!(c.issues.len() > 10, "{what}: candidates to check");
+        assert!(!c.issues.is_empty(), "{what}: candidates to check");
         eprintln!(
             "{what}: {} visits, {} candidates, {} clocks",
             c.visits.len(),

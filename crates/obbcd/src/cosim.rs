@@ -6,6 +6,7 @@ use crate::detect::{load_config, write_pairs};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
+use obb_model::fixed::grid::MAX_WINDOW;
 use obb_model::Scene;
 use obb_rtl::cosim::{self, compare, prepare, Expected, Level, RunOptions};
 use obb_rtl::verilator::Simulator;
@@ -153,12 +154,12 @@ pub fn run(a: CosimArgs) -> Result<()> {
             cfg.capacity
         );
     }
-    if let Expected::Incomplete(r) = want {
+    if let Expected::Incomplete(_) = want {
         bail!(
-            "{} box(es) are larger than a grid cell of {} mm, whose slow path the core does not \
-             have yet: the core flagged capacity_exceeded, and the {} pair(s) it sent are the \
-             model's; no pairs file was written (a larger `grid_cell_mm` takes them)",
-            r.work.large,
+            "a box spans more than {} grid cells of {} mm on an axis, a window the grid's slow \
+             path does not read: the core flagged capacity_exceeded, and the {} pair(s) it sent \
+             are the model's; no pairs file was written (a larger `grid_cell_mm` takes the box)",
+            MAX_WINDOW - 1,
             cfg.grid_cell_mm,
             got.stream.len()
         );

@@ -4,6 +4,7 @@
 use crate::timing::median_ms;
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use obb_model::fixed::grid::MAX_WINDOW;
 use obb_model::fixed::{HwConfig, ModelFrame};
 use obb_model::{detect, EngineKind, GroupMask, Pair, Prepared, Scene};
 use serde::Serialize;
@@ -150,6 +151,15 @@ fn run_model(a: &DetectArgs, scene: &Scene) -> Result<()> {
     let frame = ModelFrame::new(scene, &cfg)
         .context("the scene does not fit the hardware configuration")?;
     let (ms, run) = median_ms(a.repeat, || frame.run());
+    if run.work.incomplete {
+        bail!(
+            "a box spans more than {} grid cells of {} mm on an axis, a window the grid's slow \
+             path does not read: the frame is incomplete (the core flags capacity_exceeded); a \
+             larger `grid_cell_mm` takes the box",
+            MAX_WINDOW - 1,
+            cfg.grid_cell_mm
+        );
+    }
     let reference = reference_pairs(scene, &cfg.groups);
     let (fp, missed) = differences(&run.pairs, &reference);
     if let Some(path) = &a.output {

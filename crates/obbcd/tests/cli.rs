@@ -224,7 +224,12 @@ fn model_errors_name_the_problem() {
     let typo = tmp("typo.toml");
     std::fs::write(&typo, "keybits = 12\n").unwrap();
     let f = far.to_str().unwrap();
-    let cases: [(&[&str], &str); 5] = [
+    // A 100 mm plate on the grid's 2 mm cells: its window, 52 cells long, is not read.
+    let plate = tmp("plate.json");
+    std::fs::write(&plate, r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[50,1,1]},{"center":[0,0,1],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]}]}"#).unwrap();
+    let grid_cfg = tmp("grid.toml");
+    std::fs::write(&grid_cfg, "broad_phase = \"grid\"\ngroups = \"all\"\n").unwrap();
+    let cases: [(&[&str], &str); 6] = [
         (
             &["detect", "--scene", f, "--engine", "model"],
             "obb 1: center[0] 900 mm",
@@ -260,6 +265,18 @@ fn model_errors_name_the_problem() {
         (
             &["error", "--scene", f, "--widths", "12..36"],
             "width 24 is not supported",
+        ),
+        (
+            &[
+                "detect",
+                "--scene",
+                plate.to_str().unwrap(),
+                "--engine",
+                "model",
+                "--config",
+                grid_cfg.to_str().unwrap(),
+            ],
+            "spans more than 23 grid cells of 2 mm",
         ),
     ];
     fails_with(&cases);

@@ -20,6 +20,9 @@ use crate::radix::RadixSorter;
 pub struct BroadWork {
     /// Grid: boxes larger than a cell, met on the slow path after the load.
     pub large: u64,
+    /// Grid: a large box's window was too wide for the slow path (`grid::MAX_WINDOW`): the
+    /// frame's pairs are incomplete, and the core flags it.
+    pub incomplete: bool,
     /// Radix passes, summed over the sorts.
     pub passes: u64,
     /// Keys moved by the radix passes: each sort's length times its passes, summed.

@@ -20,9 +20,13 @@
 //! probed cell); any other list is walked whole, and the key check removes the other cells'
 //! boxes, so a hash collision costs visits, never a pair.
 //!
-//! Boxes larger than a cell (*large*) are entered nowhere: after the load each reads its whole
-//! window, 3 x 3 x 3 cells a round, meeting a box only in its home cell (or, past `MAX_ROUNDS`
-//! rounds, meets every small box), and then the large boxes after it.
+//! Boxes larger than a cell (*large*) are entered nowhere: they are chained, latest first, on
+//! their own successor entries. After the load each, in the chain's order, reads its whole
+//! window in *rounds* (`GridShape::rounds`: two or three cells per axis, as a small box's window
+//! has), meeting a small box only when the box's home cell is in the round, and then walks the
+//! chain after it (the large boxes before it). A window of more than `MAX_WINDOW` cells on an
+//! axis is not read: the slow path stops there, and the frame is *incomplete* (the core flags
+//! it; a larger cell takes the box).
 
 use super::broad::BroadWork;
 use super::config::HwConfig;
@@ -35,8 +39,9 @@ pub const BANKS: usize = 27;
 pub const MAX_HASH_BITS: u32 = 12;
 /// Bits of a cell's fingerprint, which a list keeps of the cell that entered it first.
 pub const FINGERPRINT_BITS: u32 = 8;
-/// Rounds of 27 cells a large box reads at most; a larger window meets every small box.
-pub const MAX_ROUNDS: u64 = 64;
+/// Cells per axis a large box's window may span (eight rounds): a wider one makes the frame
+/// incomplete.
+pub const MAX_WINDOW: u64 = 24;
 /// The end of a list.
 const NONE: u32 = u32::MAX;
 
@@ -81,6 +86,21 @@ impl GridShape {
             lo.map(|k| k >> self.cell_bits),
             hi.map(|k| (k >> self.cell_bits) + 1),
         )
+    }
+
+    /// The rounds of a large box's window on one axis, `first..=last` (at least two cells):
+    /// three cells each, but two and two where three would leave one alone, so that a round,
+    /// like a small box's window, has two or three cells per axis.
+    pub fn rounds(first: u64, last: u64) -> Vec<(u64, u64)> {
+        let mut out = Vec::new();
+        let mut r = first;
+        while r <= last {
+            let left = last - r + 1;
+            let width = if left == 3 || left >= 5 { 3 } else { 2 };
+            out.push((r, r + width - 1));
+            r += width;
+        }
+        out
     }
 
     /// A cell's bank: its coordinates mod 3.
@@ -252,25 +272,30 @@ pub struct GridWalk {
     pub passes: Vec<bool>,
     /// Per visit, in order: the box walking and the box it meets.
     pub pairs: Vec<(u32, u32)>,
-    /// The slow path, per large box in index order.
+    /// The slow path, per large box in the chain's order (latest first), up to and including
+    /// the first whose window is too wide.
     pub large: Vec<LargeWalk>,
+    /// The large box whose window spans more than `MAX_WINDOW` cells on an axis, if any: the
+    /// slow path stopped at it, and the frame is incomplete.
+    pub too_wide: Option<usize>,
     /// Bucket bits of a bank: the list heads take `2^hash_bits` clocks to clear.
     pub hash_bits: u32,
 }
 
-/// A large box's slow path, after the load: its window read in rounds of 3 x 3 x 3 cells (one
-/// cell per bank), then the large boxes after it.
+/// A large box's slow path, after the load: its window read in rounds (at most one cell per
+/// bank), then the large boxes after it in the chain.
 #[derive(Clone, Debug, Default)]
 pub struct LargeWalk {
     pub index: usize,
     /// Visits per round.
     pub rounds: Vec<usize>,
-    /// Visits to the large boxes after it.
+    /// Visits to the large boxes after it in the chain.
     pub partners: usize,
 }
 
 /// Runs the grid on `frame`: every visit in the hardware's order goes to `send`, which emits the
-/// pair when the mask allows it and the keys overlap. Fills `w.visited` and `w.large`.
+/// pair when the mask allows it and the keys overlap. Fills `w.visited`, `w.large` and
+/// `w.incomplete`.
 pub(super) fn walk(
     frame: &ModelFrame,
     mask: &GroupMask,
@@ -311,15 +336,12 @@ pub(super) fn walk(
         out.visits.push((first, out.passes.len() - first));
         lists.enter(&shape.home(lo), g, i);
     }
-    // The slow path. A large box reads its whole window, 3 x 3 x 3 cells a round, after every
-    // small box has entered; a box is met only in its home cell (a mixed list can be read in
-    // two rounds). A window of more than `MAX_ROUNDS` rounds is not read: the box meets every
-    // small box instead, in index order. Then the large boxes after it.
-    let mut is_large = vec![false; n];
-    for &l in &large {
-        is_large[l] = true;
-    }
-    for (k, &l) in large.iter().enumerate() {
+    // The slow path, after every small box has entered: the large boxes latest first (the
+    // hardware chains them on their successor entries). Each reads its window round by round (x
+    // fastest, then y, then z); a box is met only when its home cell is in the round (a mixed
+    // list can be read in two rounds); then it meets the large boxes after it in the chain.
+    let chain: Vec<usize> = large.iter().rev().copied().collect();
+    for (k, &l) in chain.iter().enumerate() {
         let (lo, hi) = &frame.keys[l];
         let g = frame.obbs[l].group;
         let (wlo, whi) = shape.window(lo, hi);
@@ -327,35 +349,31 @@ pub(super) fn walk(
             index: l,
             ..LargeWalk::default()
         };
-        let rounds: u64 = (0..3).map(|x| (whi[x] - wlo[x]) / 3 + 1).product();
-        if rounds > MAX_ROUNDS {
-            let first = out.passes.len();
-            for j in (0..n).filter(|&j| !is_large[j]) {
-                visit(w, &mut out, l, j, true);
-            }
-            walk.rounds.push(out.passes.len() - first);
-        } else {
-            for z in (wlo[2]..=whi[2]).step_by(3) {
-                for y in (wlo[1]..=whi[1]).step_by(3) {
-                    for x in (wlo[0]..=whi[0]).step_by(3) {
-                        let first = out.passes.len();
-                        let rlo = [x, y, z];
-                        let rhi = [0, 1, 2].map(|a| (rlo[a] + 2).min(whi[a]));
-                        lists.probe((&rlo, &rhi), g, mask, |cell, j| {
-                            let home = shape.home(&frame.keys[j].0) == *cell;
-                            visit(w, &mut out, l, j, home);
-                        });
-                        walk.rounds.push(out.passes.len() - first);
-                    }
+        if (0..3).any(|x| whi[x] - wlo[x] + 1 > MAX_WINDOW) {
+            out.too_wide = Some(l);
+            out.large.push(walk);
+            break;
+        }
+        let [xs, ys, zs] = [0, 1, 2].map(|x| GridShape::rounds(wlo[x], whi[x]));
+        for &(z0, z1) in &zs {
+            for &(y0, y1) in &ys {
+                for &(x0, x1) in &xs {
+                    let first = out.passes.len();
+                    lists.probe((&[x0, y0, z0], &[x1, y1, z1]), g, mask, |cell, j| {
+                        let home = shape.home(&frame.keys[j].0) == *cell;
+                        visit(w, &mut out, l, j, home);
+                    });
+                    walk.rounds.push(out.passes.len() - first);
                 }
             }
         }
-        for &m in &large[k + 1..] {
+        for &m in &chain[k + 1..] {
             visit(w, &mut out, l, m, true);
         }
-        walk.partners = large.len() - k - 1;
+        walk.partners = chain.len() - k - 1;
         out.large.push(walk);
     }
     w.large = large.len() as u64;
+    w.incomplete = out.too_wide.is_some();
     out
 }

@@ -23,19 +23,24 @@
 //!   (the geometry tables' port A writes the arriving box); the output register takes the next
 //!   stored entry on a clock it is empty or issued. An issued candidate is on the SAT's inputs
 //!   `GRID_ISSUE_TO_SAT` clocks later.
-//! - **Slow path.** When every box has been accepted and has retired, each large box in turn
-//!   spends `GRID_LARGE_START` clocks reading its keys; then per round of its window
-//!   `LAT_PROBE` clocks (cells, banks, heads, first list) and its visits one per clock; then,
-//!   if a large box follows, `LAT_PROBE` clocks and a visit per later large box.
-//! - **End.** The walk is over on the clock after the last retirement (or the slow path's last
-//!   clock); the block sees it on the next. From the clock after that, every list head is
+//! - **Slow path.** A sequencer works when every box has been accepted and nothing is in
+//!   flight (accepted or injected, not retired): call that clock *idle*. Per large box, in the
+//!   chain's order: an idle clock fetches it (its keys and its successor, the next large box,
+//!   are read), the next registers them, the next plans its window (or, too wide, ends the
+//!   slow path); then each round is *injected* on an idle clock as a box whose keys span the
+//!   round's cells, probed and walked as an arriving box is (its keys at the injection clock
+//!   K, its record the walker's from K + `LAT_PROBE`, retiring at K + 4 when it has no list);
+//!   then, if a large box follows, a record of one list, the rest of the chain, is injected
+//!   the same way.
+//! - **End.** The walk is over on the first idle clock with no large box left to fetch (or
+//!   after a window too wide). From the clock after that, every list head is
 //!   cleared for the next frame, one bucket of every bank a clock (`2^grid_hash_bits` clocks),
 //!   while the last candidates leave; the frame ends with the later of the clear and the last
 //!   verdict.
 
 use super::cycles::{
-    GRID_CAND_STALL, GRID_CREDITS, GRID_ISSUE_TO_SAT, GRID_LARGE_START, LAT_KEY_WRITE, LAT_PROBE,
-    LAT_PROJECT, LAT_SAT,
+    GRID_CAND_STALL, GRID_CREDITS, GRID_ISSUE_TO_SAT, LAT_KEY_WRITE, LAT_PROBE, LAT_PROJECT,
+    LAT_SAT,
 };
 use super::grid::GridWalk;
 use std::collections::VecDeque;
@@ -59,7 +64,9 @@ pub struct GridSchedule {
     pub visits: Vec<u64>,
     /// Per candidate (a visit that passed the key check), in order, the clock it is issued.
     pub issues: Vec<u64>,
-    /// The clock the walk is over (the block's `walked` rises on the next).
+    /// Per large box fetched by the slow path, in order: the clock its keys are read, its index.
+    pub fetches: Vec<(u64, usize)>,
+    /// The clock the walk is over (the block's `walked` is high from it).
     pub walked: u64,
     pub clocks: GridClocks,
 }
@@ -73,6 +80,25 @@ struct CandidateQueue {
     out: Option<u64>,
 }
 
+/// A record for the walker: the clock it may be taken, its first visit in `GridWalk::pairs`
+/// and its visits.
+struct Record {
+    ready: u64,
+    first: usize,
+    count: usize,
+}
+
+/// The slow path's sequencer: what it does on its next idle clock (or its next clock).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Slow {
+    Fetch,
+    Read,
+    Plan,
+    Round(usize),
+    Partner,
+    Over,
+}
+
 /// Plays the grid block clock by clock on the visits `walk` met.
 pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
     let n = walk.visits.len();
@@ -82,27 +108,34 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
         ..GridSchedule::default()
     };
     let keys_out = |accept: u64| accept + LAT_PROJECT;
-    let has_record = |k: usize| walk.visits[k].1 > 0;
-    let records: Vec<usize> = (0..n).filter(|&k| has_record(k)).collect();
-    // The slow path as one sequence of phases: clocks of start-up, then visits.
-    let mut slow: VecDeque<(u64, usize)> = VecDeque::new();
-    for (k, w) in walk.large.iter().enumerate() {
-        slow.push_back((GRID_LARGE_START, 0));
-        slow.extend(w.rounds.iter().map(|&v| (LAT_PROBE, v)));
-        if k + 1 < walk.large.len() {
-            slow.push_back((LAT_PROBE, w.partners));
-        }
-    }
-    let slow_first = walk.visits.iter().map(|v| v.0 + v.1).max().unwrap_or(0);
-    let mut slow_visit = slow_first;
-    // Retirements by clock, at the probe and by the walker (each in order), and the credits'
-    // count (accepted and not retired before t).
+    // Boxes and injected rounds enter the probe at K: a record from K + LAT_PROBE, or a
+    // retirement at K + 4.
+    let mut records: VecDeque<Record> = VecDeque::new();
     let mut retire_probe: VecDeque<u64> = VecDeque::new();
     let mut retire_walker: VecDeque<u64> = VecDeque::new();
+    let probe = |k: u64,
+                 first: usize,
+                 count: usize,
+                 records: &mut VecDeque<Record>,
+                 retire_probe: &mut VecDeque<u64>| {
+        if count == 0 {
+            retire_probe.push_back(k + 4);
+        } else {
+            records.push_back(Record {
+                ready: k + LAT_PROBE,
+                first,
+                count,
+            });
+        }
+    };
+    // In flight: accepted or injected, and not retired before t.
     let mut inflight = 0usize;
-    let mut retired = 0usize;
-    // The walker: the record it is on and the visit within it.
-    let (mut record, mut pos) = (0usize, 0usize);
+    // The slow path: its state, the large box (in `walk.large`) and its next visit.
+    let mut slow = Slow::Fetch;
+    let mut large = 0usize;
+    let mut slow_visit = walk.visits.iter().map(|v| v.0 + v.1).max().unwrap_or(0);
+    // The walker: the visit within its record.
+    let mut pos = 0usize;
     let mut queue = CandidateQueue::default();
     // Visit clocks in the key check, and whether they pass.
     let mut in_check: VecDeque<(u64, bool)> = VecDeque::new();
@@ -115,18 +148,58 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
             while q.front().is_some_and(|&r| r < t) {
                 q.pop_front();
                 inflight -= 1;
-                retired += 1;
             }
         }
+        // (A frame of no box: its end marker comes at clock 1, and is seen from clock 2.)
+        let marked = n > 0 || t > 1;
+        let idle = s.accepts.len() == n && inflight == 0 && marked;
+        // The slow path.
+        let more = large < walk.large.len();
+        if idle && s.walked == 0 && (slow == Slow::Over || (slow == Slow::Fetch && !more)) {
+            s.walked = t;
+        }
+        let mut inject =
+            |count: usize, records: &mut VecDeque<Record>, retire_probe: &mut VecDeque<u64>| {
+                inflight += 1;
+                probe(t, slow_visit, count, records, retire_probe);
+                slow_visit += count;
+            };
+        slow = match slow {
+            Slow::Fetch if idle && more => {
+                s.fetches.push((t, walk.large[large].index));
+                Slow::Read
+            }
+            Slow::Fetch if idle => Slow::Over,
+            Slow::Read => Slow::Plan,
+            Slow::Plan if walk.large[large].rounds.is_empty() => Slow::Over,
+            Slow::Plan => Slow::Round(0),
+            Slow::Round(r) if idle => {
+                let l = &walk.large[large];
+                inject(l.rounds[r], &mut records, &mut retire_probe);
+                if r + 1 < l.rounds.len() {
+                    Slow::Round(r + 1)
+                } else if l.partners > 0 {
+                    Slow::Partner
+                } else {
+                    large += 1;
+                    Slow::Fetch
+                }
+            }
+            Slow::Partner if idle => {
+                inject(walk.large[large].partners, &mut records, &mut retire_probe);
+                large += 1;
+                Slow::Fetch
+            }
+            other => other,
+        };
         // Accept.
         let accept = s.accepts.len() < n && inflight < GRID_CREDITS;
         if accept {
             let k = s.accepts.len();
             s.accepts.push(t);
             inflight += 1;
-            if !has_record(k) {
-                retire_probe.push_back(keys_out(t) + 4);
-            }
+            let (first, count) = walk.visits[k];
+            probe(keys_out(t), first, count, &mut records, &mut retire_probe);
         }
         // The candidate queue: issue from the output register, load it, store the write.
         let stall = queue.stored.len() >= GRID_CAND_STALL;
@@ -153,47 +226,19 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
             queue.stored.push_back(v);
         }
         // Walk.
-        let mut visit = None;
-        if record < records.len() {
-            let k = records[record];
-            let ready = k < s.accepts.len() && keys_out(s.accepts[k]) + LAT_PROBE <= t;
-            if !stall && ready {
-                let (first, count) = walk.visits[k];
-                visit = Some(first + pos);
-                pos += 1;
-                if pos == count {
-                    retire_walker.push_back(t + 1);
-                    record += 1;
-                    pos = 0;
-                }
+        if let Some(r) = records.front().filter(|r| r.ready <= t && !stall) {
+            let v = r.first + pos;
+            pos += 1;
+            if pos == r.count {
+                retire_walker.push_back(t + 1);
+                records.pop_front();
+                pos = 0;
             }
-        } else if s.accepts.len() == n && retired == n {
-            if let Some((start, visits)) = slow.front_mut() {
-                if *start > 0 {
-                    *start -= 1;
-                } else if *visits > 0 && !stall {
-                    visit = Some(slow_visit);
-                    slow_visit += 1;
-                    *visits -= 1;
-                }
-                if *start == 0 && *visits == 0 {
-                    slow.pop_front();
-                    s.walked = t;
-                }
-            }
-        }
-        if let Some(v) = visit {
             s.visits.push(t);
             in_check.push_back((t, walk.passes[v]));
         }
-        // (A frame of no box: its end marker comes at clock 1, and is seen from clock 2.)
-        let marked = n > 0 || t > 1;
-        if s.accepts.len() == n && retired == n && marked && s.walked == 0 && walk.large.is_empty()
-        {
-            s.walked = t;
-        }
         let drained = in_check.is_empty() && queue.stored.is_empty() && queue.out.is_none();
-        if s.walked > 0 && slow.is_empty() && drained {
+        if s.walked > 0 && drained {
             break;
         }
     }
