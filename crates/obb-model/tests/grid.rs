@@ -10,7 +10,7 @@ use obb_model::fixed::cycles::{
 use obb_model::fixed::grid::{GridShape, BANKS};
 use obb_model::fixed::grid_clocks::grid_schedule;
 use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame};
-use obb_model::generate::{surgical, SURGICAL_DEFAULT_N};
+use obb_model::generate::{slabs, surgical, SURGICAL_DEFAULT_N};
 use obb_model::{GroupMask, Obb, Scene};
 use proptest::prelude::*;
 
@@ -210,20 +210,7 @@ fn hash_collisions_cost_visits_not_pairs() {
 /// what it did report is true.
 #[test]
 fn large_boxes_take_the_slow_path() {
-    let mut obbs: Vec<Obb> = (0..40)
-        .map(|k| {
-            Obb::aligned(
-                [f64::from(k % 8) * 0.9, f64::from(k / 8) * 0.9, 0.0],
-                [0.4; 3],
-                k % 2,
-            )
-        })
-        .collect();
-    // Two slabs across the small boxes, and one far away.
-    obbs.insert(5, Obb::aligned([3.0, 2.0, 0.0], [4.0, 0.3, 0.3], 2));
-    obbs.push(Obb::aligned([3.0, 2.0, 0.5], [0.3, 3.0, 0.3], 3));
-    obbs.push(Obb::aligned([90.0, 0.0, 0.0], [5.0; 3], 3));
-    let scene = Scene { obbs };
+    let scene = slabs();
     // 2 mm cells: three large boxes, whose windows are read in rounds; 1/2 mm cells: every box
     // is large, every window within MAX_WINDOW; 1/64 mm cells: windows too wide.
     for (cell, large, whole) in [(2.0, 3, true), (0.5, 43, true), (1.0 / 64.0, 43, false)] {

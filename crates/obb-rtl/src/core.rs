@@ -1,9 +1,8 @@
 //! `obb_core`: the whole collision-detection core for one frame. The OBBs stream in (one per
 //! clock), each is projected to its keys and margin and kept in the box tables; the broad
 //! phase (`sweep` over the radix-sorted min x keys, or `walker`: brute, improved-sap) visits
-//! index pairs; each
-//! visit's keys are checked on all three axes and its groups against the mask; candidates go
-//! through the 15-axis SAT; colliding pairs leave on a valid/ready stream through a FIFO. The
+//! index pairs; each visit's keys are checked on all three axes and its groups against the
+//! mask (the `grid` sends pairs already checked); candidates go through the 15-axis SAT; colliding pairs leave on a valid/ready stream through a FIFO. The
 //! pairs, the counters and the clock count equal `obb_model::fixed::ModelFrame::run`'s
 //! (docs/hardware.md has the ports, the protocol and the cycle budget).
 //!
@@ -117,12 +116,18 @@ pub struct ObbCore<const A: usize, const C: usize> {
     mask: Constant<Bits<MASK>>,
     drain: Constant<Bits<8>>,
     grid_drain: Constant<Bits<8>>,
-    // Stages.
+    // Stages. The broad phase's blocks are there only when configured (each list holds one
+    // block or none): the radix sort for sweep and improved-sap, the sweep's walker, the other
+    // walker for brute and improved-sap, the grid.
     projection: Projection,
-    radix: KeySort<A, C>,
-    sweep_walker: SweepWalker<A, C>,
-    walker: Walker<A, C>,
-    grid: GridPhase<A, C>,
+    radix: Vec<KeySort<A, C>>,
+    sweep_walker: Vec<SweepWalker<A, C>>,
+    walker: Vec<Walker<A, C>>,
+    grid: Vec<GridPhase<A, C>>,
+    _radixes: usize,
+    _sweeps: usize,
+    _walkers: usize,
+    _grids: usize,
     sat: Sat,
     fifo: PairFifo<PAIR>,
     // Box tables: geometry written on load, keys, margin and group when projected.
@@ -208,6 +213,25 @@ pub struct ObbCore<const A: usize, const C: usize> {
     walked: Signal<Local, Bit>,
     /// The grid has a record free for the box (always, with the other broad phases).
     credit: Signal<Local, Bit>,
+    /// The radix sort's inputs and outputs (zero without one).
+    sort_in_valid: Signal<Local, Bit>,
+    sort_in_key: Signal<Local, Bits<KEY>>,
+    sort_in_val: Signal<Local, Bits<VAL>>,
+    sort_start: Signal<Local, Bit>,
+    sort_go: Signal<Local, Bit>,
+    sort_done: Signal<Local, Bit>,
+    sort_rd_addr: Signal<Local, Bits<A>>,
+    sorted_key: Signal<Local, Bits<KEY>>,
+    sorted_val: Signal<Local, Bits<VAL>>,
+    /// The grid's outputs (idle without it).
+    grid_credit: Signal<Local, Bit>,
+    grid_cand_valid: Signal<Local, Bit>,
+    grid_cand_a: Signal<Local, Bits<A>>,
+    grid_cand_b: Signal<Local, Bits<A>>,
+    grid_cand_ma: Signal<Local, Bits<MARGIN>>,
+    grid_cand_mb: Signal<Local, Bits<MARGIN>>,
+    grid_finished: Signal<Local, Bit>,
+    grid_too_wide: Signal<Local, Bit>,
     accept: Signal<Local, Bit>,
     /// Grid: its candidate goes to the geometry read this clock.
     issue: Signal<Local, Bit>,
@@ -224,12 +248,16 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
     /// (`generate::check_supported`): brute or sweep, one lane, capacity within 2^A.
     pub fn new(cfg: &HwConfig) -> ObbCore<A, C> {
         assert!(C == A + 1, "counts need one bit more than addresses");
-        // Sweep and the grid have walkers of their own; the other walker, unused then, is left
-        // to synthesis to remove.
         let mode = match cfg.broad_phase {
-            BroadPhase::Sweep | BroadPhase::Brute | BroadPhase::Grid => WalkMode::Brute,
             BroadPhase::ImprovedSap => WalkMode::ImprovedSap,
+            _ => WalkMode::Brute,
         };
+        // One block if the broad phase is one of `modes`, else none.
+        let uses = |modes: &[BroadPhase]| usize::from(modes.contains(&cfg.broad_phase));
+        let radixes = uses(&[BroadPhase::Sweep, BroadPhase::ImprovedSap]);
+        let sweeps = uses(&[BroadPhase::Sweep]);
+        let walkers = uses(&[BroadPhase::Brute, BroadPhase::ImprovedSap]);
+        let grids = uses(&[BroadPhase::Grid]);
         let grid = cfg.broad_phase == BroadPhase::Grid;
         assert!(
             address_bits(cfg) <= A,
@@ -272,10 +300,16 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             drain: Constant::new(DRAIN.into()),
             grid_drain: Constant::new(GRID_DRAIN.into()),
             projection: Projection::new(cfg),
-            radix: KeySort::new(sort_key_bits(cfg), cfg.radix_digit_bits),
-            sweep_walker: Default::default(),
-            walker: Walker::new(mode),
-            grid: GridPhase::new(&dormant_grid(cfg)),
+            radix: (0..radixes)
+                .map(|_| KeySort::new(sort_key_bits(cfg), cfg.radix_digit_bits))
+                .collect(),
+            sweep_walker: (0..sweeps).map(|_| SweepWalker::default()).collect(),
+            walker: (0..walkers).map(|_| Walker::new(mode)).collect(),
+            grid: (0..grids).map(|_| GridPhase::new(cfg)).collect(),
+            _radixes: radixes,
+            _sweeps: sweeps,
+            _walkers: walkers,
+            _grids: grids,
             sat: Sat::new(cfg),
             fifo: PairFifo::new(FIFO_STALL),
             center: Default::default(),
@@ -345,6 +379,23 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             b_addr: Default::default(),
             walked: Default::default(),
             credit: Default::default(),
+            sort_in_valid: Default::default(),
+            sort_in_key: Default::default(),
+            sort_in_val: Default::default(),
+            sort_start: Default::default(),
+            sort_go: Default::default(),
+            sort_done: Default::default(),
+            sort_rd_addr: Default::default(),
+            sorted_key: Default::default(),
+            sorted_val: Default::default(),
+            grid_credit: Default::default(),
+            grid_cand_valid: Default::default(),
+            grid_cand_a: Default::default(),
+            grid_cand_b: Default::default(),
+            grid_cand_ma: Default::default(),
+            grid_cand_mb: Default::default(),
+            grid_finished: Default::default(),
+            grid_too_wide: Default::default(),
             accept: Default::default(),
             issue: Default::default(),
             overlap: Default::default(),
@@ -357,24 +408,6 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
     }
 }
 
-/// The grid block's configuration: `cfg` itself with the grid; with another broad phase, the
-/// smallest grid (one group, two buckets, cells of half the key range), whose inputs are held
-/// idle so that synthesis removes it. (Its cell is set here, not taken from `cfg`: the grid
-/// keys of another broad phase are not checked, and a small cell with wide keys would not fit
-/// the grid's coordinates.)
-fn dormant_grid(cfg: &HwConfig) -> HwConfig {
-    match cfg.broad_phase {
-        BroadPhase::Grid => cfg.clone(),
-        _ => HwConfig {
-            broad_phase: BroadPhase::Grid,
-            grid_hash_bits: 1,
-            grid_groups: 1,
-            grid_cell_mm: cfg.lsb_mm * 2f64.powi(cfg.center_bits as i32 - 1),
-            ..cfg.clone()
-        },
-    }
-}
-
 impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
     #[hdl_gen]
     fn update(&mut self) {
@@ -384,19 +417,19 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             group_b, r_valid, r_i, r_j, c_valid, c_a, c_b, c_ma, c_mb, g_valid, g_a, g_b, g_ma,
             g_mb, h_valid, h_a, h_b, h_ma, h_mb
         );
-        clock!(
-            self,
-            clock,
-            projection,
-            radix,
-            sweep_walker,
-            walker,
-            grid,
-            sat,
-            fifo,
-            margin,
-            group
-        );
+        clock!(self, clock, projection, sat, fifo, margin, group);
+        for k in 0..self._radixes {
+            self.radix[k].clock.next = self.clock.val();
+        }
+        for k in 0..self._sweeps {
+            self.sweep_walker[k].clock.next = self.clock.val();
+        }
+        for k in 0..self._walkers {
+            self.walker[k].clock.next = self.clock.val();
+        }
+        for k in 0..self._grids {
+            self.grid[k].clock.next = self.clock.val();
+        }
         for x in 0..3 {
             self.center[x].clock.next = self.clock.val();
             self.half[x].clock.next = self.clock.val();
@@ -432,7 +465,76 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         // Load: a box is accepted while loading, stored at its index and projected. The grid
         // takes a box only with a record free for it (a box over capacity is taken and
         // dropped).
-        self.credit.next = self.grid.credit.val() | !self.grid_mode.val() | !self.room.q.val();
+        // The blocks' outputs, or their idle values without them.
+        self.grid_credit.next = false;
+        self.grid_cand_valid.next = false;
+        self.grid_cand_a.next = 0.into();
+        self.grid_cand_b.next = 0.into();
+        self.grid_cand_ma.next = 0.into();
+        self.grid_cand_mb.next = 0.into();
+        self.grid_finished.next = false;
+        self.grid_too_wide.next = false;
+        self.visit.next = false;
+        self.vi.next = 0.into();
+        self.vj.next = 0.into();
+        self.a_addr.next = 0.into();
+        self.b_addr.next = 0.into();
+        self.walked.next = false;
+        self.sort_done.next = false;
+        self.sorted_key.next = 0.into();
+        self.sorted_val.next = 0.into();
+        self.sort_rd_addr.next = 0.into();
+        self.sort_start.next = self.frame_start.val();
+        self.sort_go.next = false;
+        self.sort_in_valid.next = false;
+        self.sort_in_key.next = 0.into();
+        self.sort_in_val.next = 0.into();
+        for k in 0..self._radixes {
+            self.sort_done.next = self.radix[k].done.val();
+            self.sorted_key.next = self.radix[k].rd_key.val();
+            self.sorted_val.next = self.radix[k].rd_val.val();
+        }
+        for k in 0..self._grids {
+            self.grid_credit.next = self.grid[k].credit.val();
+            self.grid_cand_valid.next = self.grid[k].cand_valid.val();
+            self.grid_cand_a.next = self.grid[k].cand_a.val();
+            self.grid_cand_b.next = self.grid[k].cand_b.val();
+            self.grid_cand_ma.next = self.grid[k].cand_ma.val();
+            self.grid_cand_mb.next = self.grid[k].cand_mb.val();
+            self.grid_finished.next = self.grid[k].finished.val();
+            self.grid_too_wide.next = self.grid[k].too_wide.val();
+            self.visit.next = self.grid[k].visit.val();
+            self.a_addr.next = self.grid[k].rd_addr.val();
+            self.b_addr.next = self.grid[k].rd_addr.val();
+        }
+        for k in 0..self._sweeps {
+            self.sort_rd_addr.next = self.sweep_walker[k].rd_addr.val();
+            self.visit.next = self.sweep_walker[k].visit.val();
+            self.vi.next = self.sweep_walker[k].vi.val();
+            self.vj.next = self.sweep_walker[k].vj.val();
+            self.a_addr.next = self.sweep_walker[k].a_addr.val();
+            self.b_addr.next = self.sweep_walker[k].b_addr.val();
+            self.walked.next = self.sweep_walker[k].finished.val();
+        }
+        for k in 0..self._walkers {
+            self.sort_rd_addr.next = self.walker[k].rd_addr.val();
+            self.visit.next = self.walker[k].visit.val();
+            self.vi.next = self.walker[k].vi.val();
+            self.vj.next = self.walker[k].vj.val();
+            self.a_addr.next = self.walker[k].a_addr.val();
+            self.b_addr.next = self.walker[k].b_addr.val();
+            self.walked.next = self.walker[k].finished.val();
+            // Improved-sap: the walker drives the sort.
+            if self.sap.val() {
+                self.sort_start.next = self.frame_start.val() | self.walker[k].sort_start.val();
+                self.sort_go.next = self.walker[k].sort_go.val();
+                self.sort_in_valid.next = self.walker[k].sort_valid.val();
+                self.sort_in_key.next = self.walker[k].sort_key.val();
+                self.sort_in_val.next = self.walker[k].sort_val.val();
+            }
+        }
+
+        self.credit.next = self.grid_credit.val() | !self.grid_mode.val() | !self.room.q.val();
         self.obb_ready.next = self.ready.q.val() & self.credit.val();
         self.accept.next = self.obb_ready.val() & self.obb_valid.val() & self.room.q.val();
         for x in 0..3 {
@@ -478,75 +580,61 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.group.write_enable.next = self.projection.valid_out.val();
         self.group.write_address.next = bit_cast::<A, C>(self.projected.q.val());
         self.group.write_data.next = self.gdelay[7].q.val();
-        self.radix.in_valid.next = self.projection.valid_out.val() & self.sweep.val();
-        self.radix.in_key.next = bit_cast::<KEY, CENTER>(self.projection.key_min[0].val());
-        self.radix.in_val.next = bit_cast::<VAL, C>(self.projected.q.val());
-        if self.sap.val() {
-            self.radix.in_valid.next = self.walker.sort_valid.val();
-            self.radix.in_key.next = self.walker.sort_key.val();
-            self.radix.in_val.next = self.walker.sort_val.val();
+        if self.sweep.val() {
+            self.sort_in_valid.next = self.projection.valid_out.val();
+            self.sort_in_key.next = bit_cast::<KEY, CENTER>(self.projection.key_min[0].val());
+            self.sort_in_val.next = bit_cast::<VAL, C>(self.projected.q.val());
         }
         if self.projection.valid_out.val() {
             self.projected.d.next = self.projected.q.val() + 1;
         }
         // The grid probes each box as its keys arrive, and reads visited boxes' keys on the
         // key table's port B.
-        self.grid.start.next = self.frame_start.val();
-        self.grid.accept.next = self.accept.val() & self.grid_mode.val();
-        self.grid.loaded.next = !self.ready.q.val() & !self.frame_start.val();
-        self.grid.key_valid.next = self.projection.valid_out.val() & self.grid_mode.val();
-        self.grid.key_index.next = bit_cast::<A, C>(self.projected.q.val());
-        for x in 0..3 {
-            self.grid.key_min[x].next = self.projection.key_min[x].val();
-            self.grid.key_max[x].next = self.projection.key_max[x].val();
-            self.grid.rd_min[x].next = self.kmin[x].read_data_b.val();
-            self.grid.rd_max[x].next = self.kmax[x].read_data_b.val();
+        for k in 0..self._grids {
+            self.grid[k].start.next = self.frame_start.val();
+            self.grid[k].accept.next = self.accept.val();
+            self.grid[k].loaded.next = !self.ready.q.val() & !self.frame_start.val();
+            self.grid[k].key_valid.next = self.projection.valid_out.val();
+            self.grid[k].key_index.next = bit_cast::<A, C>(self.projected.q.val());
+            self.grid[k].key_min_x.next = self.projection.key_min[0].val();
+            self.grid[k].key_min_y.next = self.projection.key_min[1].val();
+            self.grid[k].key_min_z.next = self.projection.key_min[2].val();
+            self.grid[k].key_max_x.next = self.projection.key_max[0].val();
+            self.grid[k].key_max_y.next = self.projection.key_max[1].val();
+            self.grid[k].key_max_z.next = self.projection.key_max[2].val();
+            self.grid[k].rd_min_x.next = self.kmin[0].read_data_b.val();
+            self.grid[k].rd_min_y.next = self.kmin[1].read_data_b.val();
+            self.grid[k].rd_min_z.next = self.kmin[2].read_data_b.val();
+            self.grid[k].rd_max_x.next = self.kmax[0].read_data_b.val();
+            self.grid[k].rd_max_y.next = self.kmax[1].read_data_b.val();
+            self.grid[k].rd_max_z.next = self.kmax[2].read_data_b.val();
+            self.grid[k].key_margin.next = self.projection.margin.val();
+            self.grid[k].key_group.next = self.gdelay[7].q.val();
+            self.grid[k].rd_margin.next = self.margin.read_data_b.val();
+            self.grid[k].rd_group.next = self.group.read_data_b.val();
         }
-        self.grid.key_margin.next = self.projection.margin.val();
-        self.grid.key_group.next = self.gdelay[7].q.val();
-        self.grid.rd_margin.next = self.margin.read_data_b.val();
-        self.grid.rd_group.next = self.group.read_data_b.val();
 
         // The broad phase: a walker reads the sorted entries and the key table.
-        // (Gated by the mode, so that synthesis drops the walker that is not configured.)
-        self.radix.start.next =
-            self.frame_start.val() | (self.walker.sort_start.val() & self.sap.val());
-        self.radix.go.next = self.walker.sort_go.val() & self.sap.val();
-        self.walker.sort_done.next = self.radix.done.val();
         self.stall.d.next = self.fifo.almost_full.val();
         self.walk_start.next = false;
-        self.sweep_walker.n.next = self.loaded.q.val();
-        self.sweep_walker.stall.next = self.stall.q.val();
-        self.sweep_walker.rd_key.next = self.radix.rd_key.val();
-        self.sweep_walker.rd_val.next = self.radix.rd_val.val();
-        self.sweep_walker.a_max.next = self.kmax[0].read_data_a.val();
-        self.walker.n.next = self.loaded.q.val();
-        self.walker.stall.next = self.stall.q.val();
-        self.walker.rd_val.next = self.radix.rd_val.val();
-        for x in 0..3 {
-            self.walker.a_min[x].next = self.kmin[x].read_data_a.val();
-            self.walker.a_max[x].next = self.kmax[x].read_data_a.val();
+        for k in 0..self._sweeps {
+            self.sweep_walker[k].n.next = self.loaded.q.val();
+            self.sweep_walker[k].stall.next = self.stall.q.val();
+            self.sweep_walker[k].rd_key.next = self.sorted_key.val();
+            self.sweep_walker[k].rd_val.next = self.sorted_val.val();
+            self.sweep_walker[k].a_max.next = self.kmax[0].read_data_a.val();
         }
-        self.radix.rd_addr.next = self.walker.rd_addr.val();
-        self.visit.next = self.walker.visit.val();
-        self.vi.next = self.walker.vi.val();
-        self.vj.next = self.walker.vj.val();
-        self.a_addr.next = self.walker.a_addr.val();
-        self.b_addr.next = self.walker.b_addr.val();
-        self.walked.next = self.walker.finished.val();
-        if self.sweep.val() {
-            self.radix.rd_addr.next = self.sweep_walker.rd_addr.val();
-            self.visit.next = self.sweep_walker.visit.val();
-            self.vi.next = self.sweep_walker.vi.val();
-            self.vj.next = self.sweep_walker.vj.val();
-            self.a_addr.next = self.sweep_walker.a_addr.val();
-            self.b_addr.next = self.sweep_walker.b_addr.val();
-            self.walked.next = self.sweep_walker.finished.val();
-        }
-        if self.grid_mode.val() {
-            self.visit.next = self.grid.visit.val();
-            self.a_addr.next = self.grid.rd_addr.val();
-            self.b_addr.next = self.grid.rd_addr.val();
+        for k in 0..self._walkers {
+            self.walker[k].n.next = self.loaded.q.val();
+            self.walker[k].stall.next = self.stall.q.val();
+            self.walker[k].rd_val.next = self.sorted_val.val();
+            self.walker[k].sort_done.next = self.sort_done.val();
+            self.walker[k].a_min_x.next = self.kmin[0].read_data_a.val();
+            self.walker[k].a_min_y.next = self.kmin[1].read_data_a.val();
+            self.walker[k].a_min_z.next = self.kmin[2].read_data_a.val();
+            self.walker[k].a_max_x.next = self.kmax[0].read_data_a.val();
+            self.walker[k].a_max_y.next = self.kmax[1].read_data_a.val();
+            self.walker[k].a_max_z.next = self.kmax[2].read_data_a.val();
         }
         for x in 0..3 {
             self.kmin[x].read_address_a.next = self.a_addr.val();
@@ -614,11 +702,10 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
 
         // V+3: the geometry of a and b is read. The grid's candidate is read on a clock that
         // accepts no box (the box's write takes port A) and when the pair FIFO has room.
-        self.issue.next = self.grid.cand_valid.val()
-            & !self.accept.val()
-            & !self.stall.q.val()
-            & self.grid_mode.val();
-        self.grid.cand_ready.next = self.issue.val();
+        self.issue.next = self.grid_cand_valid.val() & !self.accept.val() & !self.stall.q.val();
+        for k in 0..self._grids {
+            self.grid[k].cand_ready.next = self.issue.val();
+        }
         self.g_valid.d.next = self.c_valid.q.val();
         self.g_a.d.next = self.c_a.q.val();
         self.g_b.d.next = self.c_b.q.val();
@@ -626,10 +713,10 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.g_mb.d.next = self.c_mb.q.val();
         if self.grid_mode.val() {
             self.g_valid.d.next = self.issue.val();
-            self.g_a.d.next = self.grid.cand_a.val();
-            self.g_b.d.next = self.grid.cand_b.val();
-            self.g_ma.d.next = self.grid.cand_ma.val();
-            self.g_mb.d.next = self.grid.cand_mb.val();
+            self.g_a.d.next = self.grid_cand_a.val();
+            self.g_b.d.next = self.grid_cand_b.val();
+            self.g_ma.d.next = self.grid_cand_ma.val();
+            self.g_mb.d.next = self.grid_cand_mb.val();
         }
         for x in 0..3 {
             self.center[x].read_address_a.next = self.g_a.d.val();
@@ -709,7 +796,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.capacity_exceeded.next = self.over.q.val();
         // A large box's window too wide for the grid's slow path: the frame is incomplete, as
         // one over capacity is.
-        if self.grid.too_wide.val() & self.grid_mode.val() {
+        if self.grid_too_wide.val() {
             self.over.d.next = true;
         }
         self.cycles.next = self.n_cycles.q.val();
@@ -742,7 +829,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
                         self.state.d.next = CoreState::Done;
                     } else if self.sweep.val() {
                         // (Improved-sap sorts in the walker, axis by axis.)
-                        self.radix.go.next = true;
+                        self.sort_go.next = true;
                         self.state.d.next = CoreState::Sort;
                     } else {
                         self.walk_start.next = true;
@@ -751,16 +838,15 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
                 }
             }
             CoreState::Sort => {
-                // (Only the sweep sorts here: gated, so that synthesis drops the sort for the
-                // grid and brute, which never enter this state.)
-                if self.radix.done.val() & self.sweep.val() {
+                // (Only the sweep sorts here.)
+                if self.sort_done.val() & self.sweep.val() {
                     self.walk_start.next = true;
                     self.state.d.next = CoreState::Walk;
                 }
             }
             CoreState::Walk => {
                 if self.grid_mode.val() {
-                    if self.grid.finished.val() & (self.pending.q.val() == 0) & !self.issue.val() {
+                    if self.grid_finished.val() & (self.pending.q.val() == 0) & !self.issue.val() {
                         self.state.d.next = CoreState::Done;
                     }
                 } else if self.walked.val() {
@@ -781,9 +867,21 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         } else if self.pending.q.val() != 0 {
             self.pending.d.next = self.pending.q.val() - 1;
         }
-        // (After the states that set it: a local is read where it is written in the Verilog.)
-        self.sweep_walker.start.next = self.walk_start.val() & self.sweep.val();
-        self.walker.start.next = self.walk_start.val() & !self.sweep.val();
+        // (After the states that set them: a local is read where it is written in the Verilog.)
+        for k in 0..self._sweeps {
+            self.sweep_walker[k].start.next = self.walk_start.val();
+        }
+        for k in 0..self._walkers {
+            self.walker[k].start.next = self.walk_start.val();
+        }
+        for k in 0..self._radixes {
+            self.radix[k].start.next = self.sort_start.val();
+            self.radix[k].go.next = self.sort_go.val();
+            self.radix[k].in_valid.next = self.sort_in_valid.val();
+            self.radix[k].in_key.next = self.sort_in_key.val();
+            self.radix[k].in_val.next = self.sort_in_val.val();
+            self.radix[k].rd_addr.next = self.sort_rd_addr.val();
+        }
         if self.frame_start.val() {
             self.state.d.next = CoreState::Load;
             self.ready.d.next = true;

@@ -68,13 +68,15 @@ const KIND: usize = 2;
 pub enum SlowState {
     /// Fetch the next large box (or, none left, be over).
     Fetch,
+    /// Its address on the key tables' and the successor table's port B.
+    Address,
     /// Register its keys, group, margin and successor.
     Read,
     /// Its window's first and last cells, the first round; too wide: over.
     Plan,
-    /// Inject the round at `rr`, step to the next.
+    /// Inject the round at `rr` (next clock), step to the next.
     Round,
-    /// Inject the record of the rest of the chain.
+    /// Inject the record of the rest of the chain (next clock).
     Partner,
     Over,
 }
@@ -94,16 +96,26 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// A box's keys, margin and group from the projection, and its index.
     pub key_valid: Signal<In, Bit>,
     pub key_index: Signal<In, Bits<A>>,
-    pub key_min: [Signal<In, Bits<CENTER>>; 3],
-    pub key_max: [Signal<In, Bits<CENTER>>; 3],
+    /// (Axis by axis, not arrays: the core holds the block in a list, and rust-hdl emits an
+    /// array port of a listed block wrongly.)
+    pub key_min_x: Signal<In, Bits<CENTER>>,
+    pub key_min_y: Signal<In, Bits<CENTER>>,
+    pub key_min_z: Signal<In, Bits<CENTER>>,
+    pub key_max_x: Signal<In, Bits<CENTER>>,
+    pub key_max_y: Signal<In, Bits<CENTER>>,
+    pub key_max_z: Signal<In, Bits<CENTER>>,
     pub key_margin: Signal<In, Bits<MARGIN>>,
     pub key_group: Signal<In, Bits<GROUP>>,
     /// The key table's port B: the visited box (`visit`), its keys and margin a clock later.
     pub visit: Signal<Out, Bit>,
     pub visit_i: Signal<Out, Bits<A>>,
     pub rd_addr: Signal<Out, Bits<A>>,
-    pub rd_min: [Signal<In, Bits<CENTER>>; 3],
-    pub rd_max: [Signal<In, Bits<CENTER>>; 3],
+    pub rd_min_x: Signal<In, Bits<CENTER>>,
+    pub rd_min_y: Signal<In, Bits<CENTER>>,
+    pub rd_min_z: Signal<In, Bits<CENTER>>,
+    pub rd_max_x: Signal<In, Bits<CENTER>>,
+    pub rd_max_y: Signal<In, Bits<CENTER>>,
+    pub rd_max_z: Signal<In, Bits<CENTER>>,
     pub rd_margin: Signal<In, Bits<MARGIN>>,
     pub rd_group: Signal<In, Bits<GROUP>>,
     /// The candidate stream (first word fall-through): taken on a clock with `cand_ready`.
@@ -130,8 +142,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     credits: Constant<Bits<COUNT>>,
     /// A successor's or a record head's flag bit (`2^A`).
     top: Constant<Bits<C>>,
-    /// Per list (stored at `27 q + b`, q = groups - 1 - h): its number, and its group h.
-    list_id: Vec<Constant<Bits<8>>>,
+    /// Per list (stored at `27 q + b`, q = groups - 1 - h): its group h.
     list_group: Vec<Constant<Bits<GROUP>>>,
     /// log2 of the cell edge; the widest span of a large box in cells (`MAX_WINDOW - 2`).
     cell_bits: Constant<Bits<8>>,
@@ -142,6 +153,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     at_ma: Constant<Bits<8>>,
     /// K+1 to K+3: the window's cells, banks, buckets, fingerprints.
     cells: GridCells,
+
     // The box alongside: K+1.
     s1_valid: DFF<Bit>,
     s1_index: DFF<Bits<C>>,
@@ -251,7 +263,21 @@ pub struct GridPhase<const A: usize, const C: usize> {
     whi: [DFF<Bits<CENTER>>; 3],
     rr: [DFF<Bits<CENTER>>; 3],
     wide: DFF<Bit>,
+    /// The fetched box's address is on port B (through `held`, so that the walker's address
+    /// multiplexer takes no more inputs).
+    fetch_q: DFF<Bit>,
+    /// The injected record (at K), its kind and its keys: registered, so that the probe's
+    /// first stage takes them through one multiplexer.
+    inj: DFF<Bit>,
+    inj_kind: DFF<Bits<KIND>>,
+    inj_min: [DFF<Bits<CENTER>>; 3],
+    inj_max: [DFF<Bits<CENTER>>; 3],
     // Combinational.
+    /// The ports' keys as arrays: the arriving box's, the box read on port B.
+    key_min: [Signal<Local, Bits<CENTER>>; 3],
+    key_max: [Signal<Local, Bits<CENTER>>; 3],
+    rd_min: [Signal<Local, Bits<CENTER>>; 3],
+    rd_max: [Signal<Local, Bits<CENTER>>; 3],
     allowed: Signal<Local, Bits<MASK>>,
     /// Per list: the box's mask bits shifted to the list's group.
     allow: Vec<Signal<Local, Bits<MASK>>>,
@@ -270,29 +296,32 @@ pub struct GridPhase<const A: usize, const C: usize> {
     load_next: Signal<Local, Bit>,
     retire_rec: Signal<Local, Bit>,
     take: Signal<Local, Bit>,
-    /// The lists the walker chooses from (the next record's when it loads it), and their heads.
-    rem: Vec<Signal<Local, Bit>>,
-    rem_head: Vec<Signal<Local, Bits<C>>>,
+    /// The walker's choice of the next list, made for two sides at once: side 0 the current
+    /// record (its lists left), side 1 the next record in the queue. Per list and side
+    /// (`2 l + k`): it is left, its head, it is the first.
+    side_live: Vec<Signal<Local, Bit>>,
+    side_head: Vec<Signal<Local, Bits<C>>>,
+    side_first: Vec<Signal<Local, Bit>>,
+    /// Per side: some list is left; the first one's head.
+    side_any: [Signal<Local, Bit>; 2],
+    side_pick: [Signal<Local, Bits<C>>; 2],
+    /// Per side and bank (`27 k + b`): a list is left in it; its first list's head and group
+    /// (the lowest group: written last).
+    bank_any: [Signal<Local, Bit>; 54],
+    bank_head: [Signal<Local, Bits<C>>; 54],
+    bank_group: [Signal<Local, Bits<GROUP>>; 54],
+    /// Per side, the first bank with a list left, as an OR of one-hot terms (a chain of 27
+    /// priority multiplexers was deeper): some bank before b has one (`28 k + b`); b is the
+    /// first; its head, masked; their ORs so far (`28 k + b`).
+    bank_prior: [Signal<Local, Bit>; 56],
+    bank_first: [Signal<Local, Bit>; 54],
+    first_head: [Signal<Local, Bits<C>>; 54],
+    head_acc: [Signal<Local, Bits<C>>; 56],
     /// Some list is left in the current record; so the next list is the record's (else the
     /// next record's first).
-    rem_any: Signal<Local, Bit>,
     use_cur: Signal<Local, Bit>,
-    /// The first list left (bank, then group): its head and its number.
+    /// The first list left (bank, then group): its head.
     pick_head: Signal<Local, Bits<C>>,
-    pick_id: Signal<Local, Bits<8>>,
-    /// Per bank: a list is left in it, and its first list's head and number.
-    bank_any: [Signal<Local, Bit>; 27],
-    bank_head: [Signal<Local, Bits<C>>; 27],
-    bank_id: [Signal<Local, Bits<8>>; 27],
-    /// The first bank with a list left, as an OR of one-hot terms (a chain of 27 priority
-    /// multiplexers was deeper): some bank before b has one; b is the first; b's terms; their
-    /// ORs so far.
-    bank_prior: [Signal<Local, Bit>; 28],
-    bank_first: [Signal<Local, Bit>; 27],
-    first_head: [Signal<Local, Bits<C>>; 27],
-    first_id: [Signal<Local, Bits<8>>; 27],
-    head_acc: [Signal<Local, Bits<C>>; 28],
-    id_acc: [Signal<Local, Bits<8>>; 28],
     rd_live: Vec<Signal<Local, Bit>>,
     /// Credits and records: this clock's changes.
     inflight_up: Signal<Local, Bits<COUNT>>,
@@ -369,15 +398,23 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             credit: Default::default(),
             key_valid: Default::default(),
             key_index: Default::default(),
-            key_min: Default::default(),
-            key_max: Default::default(),
+            key_min_x: Default::default(),
+            key_min_y: Default::default(),
+            key_min_z: Default::default(),
+            key_max_x: Default::default(),
+            key_max_y: Default::default(),
+            key_max_z: Default::default(),
             key_margin: Default::default(),
             key_group: Default::default(),
             visit: Default::default(),
             visit_i: Default::default(),
             rd_addr: Default::default(),
-            rd_min: Default::default(),
-            rd_max: Default::default(),
+            rd_min_x: Default::default(),
+            rd_min_y: Default::default(),
+            rd_min_z: Default::default(),
+            rd_max_x: Default::default(),
+            rd_max_y: Default::default(),
+            rd_max_z: Default::default(),
             rd_margin: Default::default(),
             rd_group: Default::default(),
             cand_valid: Default::default(),
@@ -395,9 +432,6 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             mask: Constant::new(mask),
             credits: Constant::new((GRID_CREDITS as u64).into()),
             top: Constant::new((1u64 << A).into()),
-            list_id: (0..lists)
-                .map(|l| Constant::new((l as u64).into()))
-                .collect(),
             list_group: (0..lists)
                 .map(|l| Constant::new(((groups - 1 - l / BANKS) as u64).into()))
                 .collect(),
@@ -407,6 +441,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             at_b: Constant::new(((2 * MARGIN) as u64).into()),
             at_ma: Constant::new((MARGIN as u64).into()),
             cells: GridCells::new(cfg),
+
             s1_valid: Default::default(),
             s1_index: Default::default(),
             s1_min: Default::default(),
@@ -499,6 +534,15 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             whi: Default::default(),
             rr: Default::default(),
             wide: Default::default(),
+            fetch_q: Default::default(),
+            inj: Default::default(),
+            inj_kind: Default::default(),
+            inj_min: Default::default(),
+            inj_max: Default::default(),
+            key_min: Default::default(),
+            key_max: Default::default(),
+            rd_min: Default::default(),
+            rd_max: Default::default(),
             allowed: Default::default(),
             allow: vec(lists),
             live: vec(lists),
@@ -512,21 +556,20 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             load_next: Default::default(),
             retire_rec: Default::default(),
             take: Default::default(),
-            rem: vec(lists),
-            rem_head: vec(lists),
-            rem_any: Default::default(),
             use_cur: Default::default(),
             pick_head: Default::default(),
-            pick_id: Default::default(),
-            bank_any: Default::default(),
-            bank_head: Default::default(),
-            bank_id: Default::default(),
-            bank_prior: Default::default(),
-            bank_first: Default::default(),
-            first_head: Default::default(),
-            first_id: Default::default(),
-            head_acc: Default::default(),
-            id_acc: Default::default(),
+            side_live: vec(2 * lists),
+            side_head: vec(2 * lists),
+            side_first: vec(2 * lists),
+            side_any: Default::default(),
+            side_pick: Default::default(),
+            bank_any: std::array::from_fn(|_| Default::default()),
+            bank_head: std::array::from_fn(|_| Default::default()),
+            bank_group: std::array::from_fn(|_| Default::default()),
+            bank_prior: std::array::from_fn(|_| Default::default()),
+            bank_first: std::array::from_fn(|_| Default::default()),
+            first_head: std::array::from_fn(|_| Default::default()),
+            head_acc: std::array::from_fn(|_| Default::default()),
             rd_live: vec(lists),
             inflight_up: Default::default(),
             inflight_down: Default::default(),
@@ -631,7 +674,10 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             lcur,
             lmargin,
             lgroup,
-            wide
+            wide,
+            fetch_q,
+            inj,
+            inj_kind
         );
         clock!(self, clock, cells, succ, rec_index, rec_margin, rec_kind, fifo);
         for x in 0..3 {
@@ -661,6 +707,8 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.wlo[x].clock.next = self.clock.val();
             self.whi[x].clock.next = self.clock.val();
             self.rr[x].clock.next = self.clock.val();
+            self.inj_min[x].clock.next = self.clock.val();
+            self.inj_max[x].clock.next = self.clock.val();
             self.lk_min[x].d.next = self.lk_min[x].q.val();
             self.lk_max[x].d.next = self.lk_max[x].q.val();
             self.wlo[x].d.next = self.wlo[x].q.val();
@@ -685,6 +733,19 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.cur_max[x].d.next = self.cur_max[x].q.val();
         }
 
+        self.key_min[0].next = self.key_min_x.val();
+        self.key_min[1].next = self.key_min_y.val();
+        self.key_min[2].next = self.key_min_z.val();
+        self.key_max[0].next = self.key_max_x.val();
+        self.key_max[1].next = self.key_max_y.val();
+        self.key_max[2].next = self.key_max_z.val();
+        self.rd_min[0].next = self.rd_min_x.val();
+        self.rd_min[1].next = self.rd_min_y.val();
+        self.rd_min[2].next = self.rd_min_z.val();
+        self.rd_max[0].next = self.rd_max_x.val();
+        self.rd_max[1].next = self.rd_max_y.val();
+        self.rd_max[2].next = self.rd_max_z.val();
+
         // The slow path's sequencer (it injects after the load, when no box arrives).
         self.idle.next = self.loaded.val() & (self.inflight.q.val() == 0);
         self.fetch.next = false;
@@ -707,6 +768,8 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 self.inject_min[x].next = self.lk_min[x].q.val();
                 self.inject_max[x].next = self.lk_max[x].q.val();
             }
+            self.inj_min[x].d.next = self.inject_min[x].val();
+            self.inj_max[x].d.next = self.inject_max[x].val();
             self.plan_lo[x].next = self.lk_min[x].q.val() >> self.cell_bits.val();
             self.plan_hi[x].next = (self.lk_max[x].q.val() >> self.cell_bits.val()) + 1;
             if (self.lk_max[x].q.val() >> self.cell_bits.val()) - self.plan_lo[x].val()
@@ -720,12 +783,16 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 if self.idle.val() {
                     if (self.lnext.q.val() & self.top.val()) != 0 {
                         self.fetch.next = true;
+                        self.held.d.next = self.lnext.q.val();
                         self.lcur.d.next = self.lnext.q.val() ^ self.top.val();
-                        self.slow.d.next = SlowState::Read;
+                        self.slow.d.next = SlowState::Address;
                     } else {
                         self.slow.d.next = SlowState::Over;
                     }
                 }
+            }
+            SlowState::Address => {
+                self.slow.d.next = SlowState::Read;
             }
             SlowState::Read => {
                 self.lmargin.d.next = self.rd_margin.val();
@@ -783,16 +850,20 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             }
             SlowState::Over => {}
         }
+        // (After the states that set them: a local is read where it is written.)
+        self.fetch_q.d.next = self.fetch.val();
+        self.inj.d.next = self.inject.val();
+        self.inj_kind.d.next = self.inject_kind.val();
 
         // K+1 to K+3: the cells of the box's window (`GridCells`); its index, keys, margin and
         // group alongside. An injected record takes the place of an arriving box.
-        self.cells.key_valid.next = self.key_valid.val() | self.inject.val();
-        self.s1_valid.d.next = self.key_valid.val() | self.inject.val();
+        self.cells.key_valid.next = self.key_valid.val() | self.inj.q.val();
+        self.s1_valid.d.next = self.key_valid.val() | self.inj.q.val();
         self.s1_index.d.next = bit_cast::<C, A>(self.key_index.val());
         self.s1_margin.d.next = self.key_margin.val();
         self.s1_group.d.next = self.key_group.val();
-        self.s1_kind.d.next = self.inject_kind.val();
-        if self.inject.val() {
+        self.s1_kind.d.next = self.inj_kind.q.val();
+        if self.inj.q.val() {
             self.s1_index.d.next = self.lcur.q.val();
             self.s1_margin.d.next = self.lmargin.q.val();
             self.s1_group.d.next = self.lgroup.q.val();
@@ -813,11 +884,11 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.cells.key_max[x].next = self.key_max[x].val();
             self.s1_min[x].d.next = self.key_min[x].val();
             self.s1_max[x].d.next = self.key_max[x].val();
-            if self.inject.val() {
-                self.cells.key_min[x].next = self.inject_min[x].val();
-                self.cells.key_max[x].next = self.inject_max[x].val();
-                self.s1_min[x].d.next = self.inject_min[x].val();
-                self.s1_max[x].d.next = self.inject_max[x].val();
+            if self.inj.q.val() {
+                self.cells.key_min[x].next = self.inj_min[x].q.val();
+                self.cells.key_max[x].next = self.inj_max[x].q.val();
+                self.s1_min[x].d.next = self.inj_min[x].q.val();
+                self.s1_max[x].d.next = self.inj_max[x].q.val();
             }
             self.s2_min[x].d.next = self.s1_min[x].q.val();
             self.s2_max[x].d.next = self.s1_max[x].q.val();
@@ -969,62 +1040,69 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.list_open.next =
             self.chase.q.val() & ((self.succ.read_data_b.val() & self.top.val()) != 0);
         self.need.next = !self.list_open.val() & !self.held_valid.q.val();
-        self.rem_any.next = false;
         for l in 0..self._lists {
             self.cur_rem[l].next = self.cur_live[l].q.val() & !self.started[l].q.val();
-            if self.cur_rem[l].val() {
-                self.rem_any.next = true;
-            }
             self.rd_live[l].next = (self.rec[l].read_data.val() & self.top.val()) != 0;
+            self.side_live[2 * l].next = self.cur_rem[l].val();
+            self.side_head[2 * l].next = self.cur_head[l].q.val();
+            self.side_live[2 * l + 1].next = self.rd_live[l].val();
+            self.side_head[2 * l + 1].next = self.rec[l].read_data.val();
         }
-        self.use_cur.next = self.cur_valid.q.val() & self.rem_any.val();
-        self.load_next.next = self.need.val() & !self.use_cur.val() & (self.count.q.val() != 0);
-        self.retire_rec.next = self.need.val() & self.cur_valid.q.val() & !self.rem_any.val();
-        self.take.next = self.need.val() & (self.use_cur.val() | (self.count.q.val() != 0));
-        // Per bank its first list left (the lowest group: written last), then the first bank
-        // with one: two short chains of choices rather than one through every list. The
-        // choice is made from registers and the record queue alone, whether or not a list
-        // starts: the successor table's output only selects it (in the same clock it took 13
-        // LUT levels behind the block RAM).
-        for b in 0..27 {
-            self.bank_any[b].next = false;
-            self.bank_head[b].next = 0.into();
-            self.bank_id[b].next = 0.into();
-        }
-        for q in 0..self._groups {
+        // Per side, per bank the lowest group left (written last), then the first bank with a
+        // list; the choice one-hot per list. Both sides at once, from registers and the record
+        // queue alone, whether or not a list starts: the successor table's output only
+        // selects it (in the same clock it took 13 LUT levels behind the block RAM), and the
+        // side only selects the choice (choosing after it put the 81-input "any list left" in
+        // front of the choice).
+        for k in 0..2 {
+            self.side_any[k].next = false;
             for b in 0..27 {
-                self.rem[27 * q + b].next = self.cur_rem[27 * q + b].val();
-                self.rem_head[27 * q + b].next = self.cur_head[27 * q + b].q.val();
-                if !self.use_cur.val() {
-                    self.rem[27 * q + b].next = self.rd_live[27 * q + b].val();
-                    self.rem_head[27 * q + b].next = self.rec[27 * q + b].read_data.val();
+                self.bank_any[27 * k + b].next = false;
+                self.bank_head[27 * k + b].next = 0.into();
+                self.bank_group[27 * k + b].next = 0.into();
+            }
+            for q in 0..self._groups {
+                for b in 0..27 {
+                    if self.side_live[54 * q + 2 * b + k].val() {
+                        self.side_any[k].next = true;
+                        self.bank_any[27 * k + b].next = true;
+                        self.bank_head[27 * k + b].next = self.side_head[54 * q + 2 * b + k].val();
+                        self.bank_group[27 * k + b].next = self.list_group[27 * q + b].val();
+                    }
                 }
-                if self.rem[27 * q + b].val() {
-                    self.bank_any[b].next = true;
-                    self.bank_head[b].next = self.rem_head[27 * q + b].val();
-                    self.bank_id[b].next = self.list_id[27 * q + b].val();
+            }
+            self.bank_prior[28 * k].next = false;
+            self.head_acc[28 * k].next = 0.into();
+            for b in 0..27 {
+                self.bank_first[27 * k + b].next =
+                    self.bank_any[27 * k + b].val() & !self.bank_prior[28 * k + b].val();
+                self.bank_prior[28 * k + b + 1].next =
+                    self.bank_prior[28 * k + b].val() | self.bank_any[27 * k + b].val();
+                self.first_head[27 * k + b].next = 0.into();
+                if self.bank_first[27 * k + b].val() {
+                    self.first_head[27 * k + b].next = self.bank_head[27 * k + b].val();
+                }
+                self.head_acc[28 * k + b + 1].next =
+                    self.head_acc[28 * k + b].val() | self.first_head[27 * k + b].val();
+            }
+            self.side_pick[k].next = self.head_acc[28 * k + 27].val();
+            for q in 0..self._groups {
+                for b in 0..27 {
+                    self.side_first[54 * q + 2 * b + k].next = self.bank_first[27 * k + b].val()
+                        & (self.bank_group[27 * k + b].val() == self.list_group[27 * q + b].val());
                 }
             }
         }
-        self.bank_prior[0].next = false;
-        self.head_acc[0].next = 0.into();
-        self.id_acc[0].next = 0.into();
-        for b in 0..27 {
-            self.bank_first[b].next = self.bank_any[b].val() & !self.bank_prior[b].val();
-            self.bank_prior[b + 1].next = self.bank_prior[b].val() | self.bank_any[b].val();
-            self.first_head[b].next = 0.into();
-            self.first_id[b].next = 0.into();
-            if self.bank_first[b].val() {
-                self.first_head[b].next = self.bank_head[b].val();
-                self.first_id[b].next = self.bank_id[b].val();
-            }
-            self.head_acc[b + 1].next = self.head_acc[b].val() | self.first_head[b].val();
-            self.id_acc[b + 1].next = self.id_acc[b].val() | self.first_id[b].val();
+        self.use_cur.next = self.cur_valid.q.val() & self.side_any[0].val();
+        self.load_next.next = self.need.val() & !self.use_cur.val() & (self.count.q.val() != 0);
+        self.retire_rec.next = self.need.val() & self.cur_valid.q.val() & !self.side_any[0].val();
+        self.take.next = self.need.val() & (self.use_cur.val() | (self.count.q.val() != 0));
+        self.pick_head.next = self.side_pick[1].val();
+        if self.use_cur.val() {
+            self.pick_head.next = self.side_pick[0].val();
         }
-        self.pick_head.next = self.head_acc[27].val();
-        self.pick_id.next = self.id_acc[27].val();
         self.cand.next = self.pick_head.val();
-        if self.held_valid.q.val() {
+        if self.held_valid.q.val() | self.fetch_q.q.val() {
             self.cand.next = self.held.q.val();
         }
         if self.list_open.val() {
@@ -1041,11 +1119,11 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.held.d.next = self.cand.val();
         }
         for l in 0..self._lists {
-            if self.take.val() & (self.pick_id.val() == self.list_id[l].val()) {
+            if self.take.val() & self.use_cur.val() & self.side_first[2 * l].val() {
                 self.started[l].d.next = true;
             }
             if self.load_next.val() {
-                self.started[l].d.next = self.pick_id.val() == self.list_id[l].val();
+                self.started[l].d.next = self.side_first[2 * l + 1].val();
                 self.cur_live[l].d.next = self.rd_live[l].val();
                 self.cur_head[l].d.next = self.rec[l].read_data.val();
             }
@@ -1081,10 +1159,6 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.rd_addr.next = bit_cast::<A, C>(self.cand.val());
         self.succ.read_address_a.next = 0.into();
         self.succ.read_address_b.next = bit_cast::<A, C>(self.cand.val());
-        if self.fetch.val() {
-            self.rd_addr.next = bit_cast::<A, C>(self.lnext.q.val());
-            self.succ.read_address_b.next = bit_cast::<A, C>(self.lnext.q.val());
-        }
 
         // Credits and records.
         self.inflight_up.next = 0.into();

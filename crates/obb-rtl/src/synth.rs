@@ -541,13 +541,30 @@ fn capture(c: &Cell, pin: &str, d: &DelayModel) -> Option<f64> {
 
 /// A cell's register family: its name up to the bit index or yosys' suffix (`radix.idx$q[8]`
 /// and `radix.idx$q[0]` are both `radix.idx`; `core.hist[3]$q` is `core.hist`), and a memory's
-/// slices one family (`fifo.ram.mem.0.9` is `fifo.ram.mem`).
+/// slices one family (`fifo.ram.mem.0.9` is `fifo.ram.mem`). A block in a list of blocks is
+/// named without its place (`grid$0.started$3$q` is `grid.started`).
 fn family(name: &str) -> String {
+    let mut name = name.to_string();
+    while let Some(p) = listed_block(&name) {
+        let dot = p + name[p..].find('.').expect("a listed block's path goes on");
+        name.replace_range(p..dot, "");
+    }
     let mut end = name.find(['$', '[']).unwrap_or(name.len());
     if let Some(m) = name[..end].find(".mem.") {
         end = m + ".mem".len();
     }
     name[..end].trim_start_matches('\\').to_string()
+}
+
+/// Where `$k.` (a block's place in its list: digits, then the path goes on) starts in `name`.
+fn listed_block(name: &str) -> Option<usize> {
+    name.match_indices('$').map(|(p, _)| p).find(|&p| {
+        let digits = name[p + 1..]
+            .chars()
+            .take_while(char::is_ascii_digit)
+            .count();
+        digits > 0 && name[p + 1 + digits..].starts_with('.')
+    })
 }
 
 /// Walks every path from a launching output through the combinational cells to a capturing
@@ -769,7 +786,9 @@ mod tests {
         assert_eq!(family("radix.idx$q[8]"), "radix.idx");
         assert_eq!(family("\\core.hist[3]$q"), "core.hist");
         assert_eq!(family("fifo.ram.mem.0.9"), "fifo.ram.mem");
-        assert_eq!(family("radix.ram$1.mem.0.10"), "radix.ram");
+        assert_eq!(family("radix.ram$1.mem.0.10"), "radix.ram.mem");
+        assert_eq!(family("grid$0.started$3$q[0]"), "grid.started");
+        assert_eq!(family("\\grid$0.cells.res1$4$q[1]"), "grid.cells.res1");
     }
 
     /// Each DSP48E1 input pin is captured by its own input register when that one is on: a

@@ -46,11 +46,17 @@ pub struct Walker<const A: usize, const C: usize> {
     /// Improved-sap: the sorted end points' read port (address out, entry one clock later).
     pub rd_addr: Signal<Out, Bits<A>>,
     pub rd_val: Signal<In, Bits<VAL>>,
-    /// The key table: port A reads box i, port B box j; `a_min`, `a_max` are port A's keys.
+    /// The key table: port A reads box i, port B box j; `a_min_*`, `a_max_*` are port A's keys
+    /// (axis by axis, not arrays: the core holds the walker in a list, and rust-hdl emits an
+    /// array port of a listed block wrongly).
     pub a_addr: Signal<Out, Bits<A>>,
     pub b_addr: Signal<Out, Bits<A>>,
-    pub a_min: [Signal<In, Bits<CENTER>>; 3],
-    pub a_max: [Signal<In, Bits<CENTER>>; 3],
+    pub a_min_x: Signal<In, Bits<CENTER>>,
+    pub a_min_y: Signal<In, Bits<CENTER>>,
+    pub a_min_z: Signal<In, Bits<CENTER>>,
+    pub a_max_x: Signal<In, Bits<CENTER>>,
+    pub a_max_y: Signal<In, Bits<CENTER>>,
+    pub a_max_z: Signal<In, Bits<CENTER>>,
     /// Improved-sap drives the radix sort: `start`, one entry per clock, `go`, `done`.
     pub sort_start: Signal<Out, Bit>,
     pub sort_valid: Signal<Out, Bit>,
@@ -103,8 +109,12 @@ impl<const A: usize, const C: usize> Walker<A, C> {
             rd_val: Default::default(),
             a_addr: Default::default(),
             b_addr: Default::default(),
-            a_min: Default::default(),
-            a_max: Default::default(),
+            a_min_x: Default::default(),
+            a_min_y: Default::default(),
+            a_min_z: Default::default(),
+            a_max_x: Default::default(),
+            a_max_y: Default::default(),
+            a_max_z: Default::default(),
             sort_start: Default::default(),
             sort_valid: Default::default(),
             sort_key: Default::default(),
@@ -138,15 +148,15 @@ impl<const A: usize, const C: usize> Logic for Walker<A, C> {
         dff_setup!(self, clock, state, p, i, succ, pending, axis, upper);
         self.last.next = self.n.val() - 1;
         self.ends.next = self.n.val() << 1_u64;
-        self.key_lo.next = self.a_min[0].val();
-        self.key_hi.next = self.a_max[0].val();
+        self.key_lo.next = self.a_min_x.val();
+        self.key_hi.next = self.a_max_x.val();
         if self.axis.q.val() == 1 {
-            self.key_lo.next = self.a_min[1].val();
-            self.key_hi.next = self.a_max[1].val();
+            self.key_lo.next = self.a_min_y.val();
+            self.key_hi.next = self.a_max_y.val();
         }
         if self.axis.q.val() == 2 {
-            self.key_lo.next = self.a_min[2].val();
-            self.key_hi.next = self.a_max[2].val();
+            self.key_lo.next = self.a_min_z.val();
+            self.key_hi.next = self.a_max_z.val();
         }
         self.end_box.next = bit_cast::<A, VAL>(self.rd_val.val() >> 1_u64);
         self.sort_start.next = false;

@@ -11,7 +11,7 @@ mod common;
 use obb_model::fixed::cycles::LAT_PROJECT;
 use obb_model::fixed::grid_clocks::grid_schedule;
 use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame};
-use obb_model::generate::{surgical, uniform};
+use obb_model::generate::{slabs, surgical, uniform};
 use obb_model::{GroupMask, Obb, Scene};
 use obb_rtl::grid::GridPhase;
 use obb_rtl::projection::{CENTER, MARGIN};
@@ -30,16 +30,25 @@ fn input_ports() -> Vec<Port> {
         Port::new("key_valid", 1),
         Port::new("key_index", A),
     ];
-    p.extend(common::ports("key_min", 3, CENTER));
-    p.extend(common::ports("key_max", 3, CENTER));
+    for name in ["key_min", "key_max"] {
+        p.extend(axes(name));
+    }
     p.push(Port::new("key_margin", MARGIN));
     p.push(Port::new("key_group", 3));
-    p.extend(common::ports("rd_min", 3, CENTER));
-    p.extend(common::ports("rd_max", 3, CENTER));
+    for name in ["rd_min", "rd_max"] {
+        p.extend(axes(name));
+    }
     p.push(Port::new("rd_margin", MARGIN));
     p.push(Port::new("rd_group", 3));
     p.push(Port::new("cand_ready", 1));
     p
+}
+
+/// A key per axis: `name_x`, `name_y`, `name_z`.
+fn axes(name: &str) -> Vec<Port> {
+    ["x", "y", "z"]
+        .map(|a| Port::new(format!("{name}_{a}"), CENTER))
+        .to_vec()
 }
 
 /// The outputs compared: all of them follow from registers only.
@@ -79,7 +88,7 @@ fn case(scene: &Scene, cfg: &HwConfig, mask: &GroupMask) -> Case {
     let frame = ModelFrame::new(scene, cfg).unwrap();
     let walk = frame.grid_walk(mask);
     let s = grid_schedule(&walk);
-    // Fetched at F, the box's keys are registered at F + 1 and its window planned at F + 2.
+    // Addressed at F, the box's keys are registered at F + 1 and its window planned at F + 2.
     let too_wide = walk
         .too_wide
         .map(|l| s.fetches.iter().find(|f| f.1 == l).unwrap().0 + 3);
@@ -237,12 +246,18 @@ fn rust_hdl_rows(cfg: &HwConfig, c: &Case) -> Vec<Vec<u64>> {
             u.loaded.next = v[2] == 1;
             u.key_valid.next = v[3] == 1;
             u.key_index.next = v[4].into();
-            for x in 0..3 {
-                u.key_min[x].next = v[5 + x].into();
-                u.key_max[x].next = v[8 + x].into();
-                u.rd_min[x].next = v[13 + x].into();
-                u.rd_max[x].next = v[16 + x].into();
-            }
+            u.key_min_x.next = v[5].into();
+            u.key_min_y.next = v[6].into();
+            u.key_min_z.next = v[7].into();
+            u.key_max_x.next = v[8].into();
+            u.key_max_y.next = v[9].into();
+            u.key_max_z.next = v[10].into();
+            u.rd_min_x.next = v[13].into();
+            u.rd_min_y.next = v[14].into();
+            u.rd_min_z.next = v[15].into();
+            u.rd_max_x.next = v[16].into();
+            u.rd_max_y.next = v[17].into();
+            u.rd_max_z.next = v[18].into();
             u.key_margin.next = v[11].into();
             u.key_group.next = v[12].into();
             u.rd_margin.next = v[19].into();
@@ -354,24 +369,6 @@ fn large_cfg(hash_bits: u32, cell_mm: f64, groups: GroupMask) -> HwConfig {
         grid_groups: 4,
         ..grid_cfg(hash_bits, cell_mm, groups)
     }
-}
-
-/// 40 small boxes in two groups on a plane, two slabs across them (groups 2 and 3, the first
-/// among the small boxes' indices) and a large box far away.
-fn slabs() -> Scene {
-    let mut obbs: Vec<Obb> = (0..40)
-        .map(|k| {
-            Obb::aligned(
-                [f64::from(k % 8) * 0.9, f64::from(k / 8) * 0.9, 0.0],
-                [0.4; 3],
-                k % 2,
-            )
-        })
-        .collect();
-    obbs.insert(5, Obb::aligned([3.0, 2.0, 0.0], [4.0, 0.3, 0.3], 2));
-    obbs.push(Obb::aligned([3.0, 2.0, 0.5], [0.3, 3.0, 0.3], 3));
-    obbs.push(Obb::aligned([90.0, 0.0, 0.0], [5.0; 3], 3));
-    Scene { obbs }
 }
 
 #[test]

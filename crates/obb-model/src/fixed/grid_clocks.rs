@@ -25,13 +25,13 @@
 //!   `GRID_ISSUE_TO_SAT` clocks later.
 //! - **Slow path.** A sequencer works when every box has been accepted and nothing is in
 //!   flight (accepted or injected, not retired): call that clock *idle*. Per large box, in the
-//!   chain's order: an idle clock fetches it (its keys and its successor, the next large box,
-//!   are read), the next registers them, the next plans its window (or, too wide, ends the
-//!   slow path); then each round is *injected* on an idle clock as a box whose keys span the
-//!   round's cells, probed and walked as an arriving box is (its keys at the injection clock
-//!   K, its record the walker's from K + `LAT_PROBE`, retiring at K + 4 when it has no list);
-//!   then, if a large box follows, a record of one list, the rest of the chain, is injected
-//!   the same way.
+//!   chain's order: an idle clock fetches it, the next puts its address on port B (its keys
+//!   and its successor, the next large box, are read), the next registers them, the next plans
+//!   its window (or, too wide, ends the slow path); then each round is *launched* on an idle
+//!   clock and injected on the next as a box whose keys span the round's cells, probed and
+//!   walked as an arriving box is (its keys at the injection clock K, its record the walker's
+//!   from K + `LAT_PROBE`, retiring at K + 4 when it has no list); then, if a large box
+//!   follows, a record of one list, the rest of the chain, is launched the same way.
 //! - **End.** The walk is over on the first idle clock with no large box left to fetch (or
 //!   after a window too wide). From the clock after that, every list head is
 //!   cleared for the next frame, one bucket of every bank a clock (`2^grid_hash_bits` clocks),
@@ -64,7 +64,8 @@ pub struct GridSchedule {
     pub visits: Vec<u64>,
     /// Per candidate (a visit that passed the key check), in order, the clock it is issued.
     pub issues: Vec<u64>,
-    /// Per large box fetched by the slow path, in order: the clock its keys are read, its index.
+    /// Per large box fetched by the slow path, in order: the clock its address is on port B (its
+    /// keys are read there), its index.
     pub fetches: Vec<(u64, usize)>,
     /// The clock the walk is over (the block's `walked` is high from it).
     pub walked: u64,
@@ -92,6 +93,7 @@ struct Record {
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Slow {
     Fetch,
+    Address,
     Read,
     Plan,
     Round(usize),
@@ -161,15 +163,16 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
         let mut inject =
             |count: usize, records: &mut VecDeque<Record>, retire_probe: &mut VecDeque<u64>| {
                 inflight += 1;
-                probe(t, slow_visit, count, records, retire_probe);
+                probe(t + 1, slow_visit, count, records, retire_probe);
                 slow_visit += count;
             };
         slow = match slow {
             Slow::Fetch if idle && more => {
-                s.fetches.push((t, walk.large[large].index));
-                Slow::Read
+                s.fetches.push((t + 1, walk.large[large].index));
+                Slow::Address
             }
             Slow::Fetch if idle => Slow::Over,
+            Slow::Address => Slow::Read,
             Slow::Read => Slow::Plan,
             Slow::Plan if walk.large[large].rounds.is_empty() => Slow::Over,
             Slow::Plan => Slow::Round(0),

@@ -1,8 +1,10 @@
 //! Scene generators, deterministic from a seed (ChaCha8, whose stream is fixed across platforms).
 
+mod slabs;
 mod surgical;
 mod uniform;
 
+pub use slabs::slabs;
 pub use surgical::{surgical, SURGICAL_DEFAULT_N};
 pub use uniform::{uniform, UNIFORM_DEFAULT_DENSITY};
 
