@@ -48,9 +48,6 @@ pub const GRID_CAND_STALL: usize = 32;
 pub const LAT_GRID_CHECK: u64 = 4;
 /// Grid: clocks from a candidate's issue to the SAT's inputs: its geometry read and registered.
 pub const GRID_ISSUE_TO_SAT: u64 = 2;
-/// Grid: clocks a large box spends before its first visit on the slow path (its keys read and
-/// registered).
-pub const GRID_LARGE_START: u64 = 2;
 
 /// Cycles per stage of one frame, from the first clock the core accepts a box to the last SAT
 /// verdict (the core's `cycles` counter).
