@@ -3362,6 +3362,7 @@ module obb_core$fifo$ram(clock,write_enable,write_address,write_data,read_addres
     output reg  [39:0] read_data;
     
     // Update code (custom)
+    (* ram_style = "distributed" *)
     reg [39:0] mem [0:63];
     always @(posedge clock) begin
        if (write_enable) begin

@@ -103,9 +103,10 @@ fn clock_model_by_hand() {
     let run = frame.detect(BroadPhase::Grid, &GroupMask::All);
     assert_eq!(run.work.visited, n * (n - 1) / 2);
     assert_eq!(run.pairs.len() as u64, n * (n - 1) / 2);
-    // Box k is accepted at clock k + 1; its record is the walker's LAT_PROJECT + LAT_PROBE
-    // later. Box 1's first visit comes then, and each later record is written before the walker
-    // is free, so the 45 visits run back to back. The last record retires the clock after its
+    // Box k is accepted at clock k + 1; its one list is the walker's LAT_PROJECT + LAT_PROBE
+    // later (the record, then the enumerator's load and write). Box 1's first visit comes then,
+    // and each later list is queued before the walker is free, so the 45 visits run back to
+    // back. The last record retires the clock after its
     // last visit, and the walk is over the clock after that. No box is accepted once the
     // candidates come out of their queue, so each issues LAT_GRID_CHECK after its visit.
     let first_visit = 2 + LAT_PROJECT + LAT_PROBE;
@@ -133,8 +134,8 @@ fn clock_model_by_hand() {
     assert_eq!(c.total, walked + 1 + clear);
 
     // Three boxes, cross-group: 0 and 1 touch, 2 is far. Box 1 visits box 0 on the first clock
-    // its record is the walker's; box 2 has no record and retires on its probe clock, the same
-    // clock; box 1 retires a clock later.
+    // its list is the walker's; box 2 has no record and retires on its probe clock (K + 4, before
+    // that visit); box 1 retires the clock after its visit.
     let scene = Scene {
         obbs: vec![
             Obb::aligned([0.0; 3], [0.5; 3], 0),

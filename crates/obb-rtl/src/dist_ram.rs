@@ -1,6 +1,8 @@
 //! A small memory with one write port and an unregistered read port: distributed RAM
 //! (RAM64M / RAM32M on the Virtex-6), which rust-hdl's `RAM` (registered read, block RAM) cannot
-//! say. Writes take effect at the clock edge; `read_data` shows the memory at `read_address`
+//! say (and its attribute `ram_style = "distributed"`, which XST and yosys both honour, keeps
+//! it so where the read feeds only a register and block RAM would also do). Writes take effect
+//! at the clock edge; `read_data` shows the memory at `read_address`
 //! at once, including a write of the edge just past. `zeroed` makes a memory that holds zeros
 //! from power-up (the LUTs' INIT; the simulation model's too) with fewer entries than the
 //! address reaches (the caller never addresses beyond them). A Rust simulation model plus
@@ -73,6 +75,7 @@ impl<D: Synth, const A: usize> Logic for DistRam<D, A> {
     fn hdl(&self) -> Verilog {
         Verilog::Custom(format!(
             "\
+(* ram_style = \"distributed\" *)
 reg [{d}:0] mem [0:{last}];
 {init}always @(posedge clock) begin
    if (write_enable) begin

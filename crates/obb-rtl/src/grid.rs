@@ -8,20 +8,22 @@
 //! | K+1 to K+3 | `GridCells`: the window's cells, and per bank (cell coordinates mod 3) its cell's bucket and fingerprint |
 //! | K+3 | the list heads of every bank and group are read (distributed RAM, at once); the box is entered in its home cell's list and its successor written |
 //! | K+4 | the lists to walk registered; written to the record queue, or the box retires |
-//! | K+5 | the walker may take the record |
+//! | K+5 | the enumerator may load the record |
+//! | K+6 | its first list written to the list queue |
+//! | K+7 | the walker may take it |
 //!
 //! Lists are stored at `27 q + b` for bank b and group `h = groups - 1 - q`, so that every
-//! index the Verilog needs is a literal expression of loop variables. The walker takes them
-//! bank by bank, group by group, as the model does: per bank the lowest group left is written
-//! last, then the first bank with a list left is written last among the banks.
+//! index the Verilog needs is a literal expression of loop variables. The enumerator writes them
+//! bank by bank, group by group, as the model walks them: per bank the lowest group left is
+//! written last, then the first bank with a list left is written last among the banks.
 //!
 //! The walker makes one visit per clock: the successor table's output addresses the next visit
-//! (the list goes on), or a held visit (a stall held it), or the next list's head, or, when
-//! the record is over, the next record's first list. A visit's keys are read on the key table's
-//! port B (`rd_addr`; the walking box's keys ride in its record), compared two clocks later
-//! and, if they overlap, written to the candidate queue (`PairFifo`), which the core drains on
-//! clocks it does not accept a box. At the end of the walk every bucket is written empty, one
-//! a clock, so that the next frame finds the lists clear.
+//! (the list goes on), or a held visit (a stall held it), or the list queue's next list. A
+//! visit's keys are read on the key table's port B (`rd_addr`; the walking box's keys ride in
+//! the list queue), compared two clocks later and, if they overlap, written to the candidate
+//! queue (`PairFifo`), which the core drains on clocks it does not accept a box. At the end of
+//! the walk every bucket is written empty, one a clock, so that the next frame finds the lists
+//! clear.
 //!
 //! A box larger than a cell (*large*) is entered in no list: at K+3 its successor entry takes
 //! the chain of large boxes (`lnext`, latest first). The slow path runs when the load is over
@@ -34,6 +36,7 @@
 //! check applies the group mask). A window of more than `MAX_WINDOW` cells on an axis ends the
 //! slow path and raises the sticky `too_wide`: the frame is incomplete.
 
+use crate::box_queue::{BoxQueue, KIND};
 use crate::dist_ram::DistRam;
 use crate::grid_cells::{vec, GridCells, BUCKET, FP};
 use crate::pair_fifo::{self, PairFifo};
@@ -53,15 +56,16 @@ const GROUP: usize = GROUP_BITS as usize;
 const MASK: usize = 1 << (2 * GROUP);
 /// Records (boxes waiting for the walker): the credits bound them.
 const SLOT: usize = 5;
-const _: () = assert!(GRID_CREDITS <= 1 << SLOT);
+const _: () = assert!(GRID_CREDITS <= 1 << SLOT && GRID_CREDITS.is_power_of_two());
 /// Width of a box index in the candidate queue (as on the core's pair stream).
 const INDEX: usize = VAL;
 /// A candidate: a, b (a < b), their margins.
 const CAND: usize = 2 * INDEX + 2 * MARGIN;
 const COUNT: usize = SLOT + 2;
-/// What a record is: bit 0 a round of a large box's window, bit 1 the rest of the large
-/// boxes' chain (neither: an arriving box).
-const KIND: usize = 2;
+/// The list queue between the enumerator and the walker: 4 entries (`LIST_QUEUE` of the model),
+/// and its count.
+const LQ: usize = 2;
+const LQ_COUNT: usize = LQ + 1;
 
 /// The slow path's sequencer: what it does on its next idle clock (or its next clock).
 #[derive(Copy, Clone, Debug, PartialEq, LogicState)]
@@ -139,7 +143,11 @@ pub struct GridPhase<const A: usize, const C: usize> {
     _lists: usize,
     last_bucket: Constant<Bits<BUCKET>>,
     mask: Constant<Bits<MASK>>,
-    credits: Constant<Bits<COUNT>>,
+    /// The bits of `inflight` at or above `GRID_CREDITS` (a power of two): none set, a credit
+    /// is left. (A mask, not a compare: a compare is a carry chain in synthesis.)
+    credits_used: Constant<Bits<COUNT>>,
+    /// Three lists queued (the most: the enumerator writes at two or fewer).
+    lq_three: Constant<Bits<LQ_COUNT>>,
     /// A successor's or a record head's flag bit (`2^A`).
     top: Constant<Bits<C>>,
     /// Per list (stored at `27 q + b`, q = groups - 1 - h): its group h.
@@ -182,7 +190,6 @@ pub struct GridPhase<const A: usize, const C: usize> {
     s3_allowed: DFF<Bits<MASK>>,
     // K+4.
     s4_valid: DFF<Bit>,
-    s4_any: DFF<Bit>,
     s4_index: DFF<Bits<C>>,
     s4_min: [DFF<Bits<CENTER>>; 3],
     s4_max: [DFF<Bits<CENTER>>; 3],
@@ -190,6 +197,11 @@ pub struct GridPhase<const A: usize, const C: usize> {
     s4_kind: DFF<Bits<KIND>>,
     s4_live: Vec<DFF<Bit>>,
     s4_head: Vec<DFF<Bits<C>>>,
+    /// Per list: the box entered it and it held a box (its old head is the box's successor).
+    s4_enter: Vec<DFF<Bit>>,
+    /// A large box arrived: the chain's old first is its successor.
+    s4_large: DFF<Bit>,
+    s4_lprev: DFF<Bits<C>>,
     // Memories.
     /// Per list: the owner (valid, mixed, fingerprint) and the latest box, by bucket.
     meta: Vec<DistRam<Bits<META>, BUCKET>>,
@@ -198,20 +210,32 @@ pub struct GridPhase<const A: usize, const C: usize> {
     succ: TableRam<Bits<C>, A>,
     /// The record queue: per list its head (top bit: walk it), and the box's index, keys, margin.
     rec: Vec<DistRam<Bits<C>, SLOT>>,
-    rec_index: DistRam<Bits<C>, SLOT>,
-    rec_min: [DistRam<Bits<CENTER>, SLOT>; 3],
-    rec_max: [DistRam<Bits<CENTER>, SLOT>; 3],
-    rec_margin: DistRam<Bits<MARGIN>, SLOT>,
-    rec_kind: DistRam<Bits<KIND>, SLOT>,
+    rec_box: BoxQueue<SLOT, C>,
     wp: DFF<Bits<SLOT>>,
     rp: DFF<Bits<SLOT>>,
     count: DFF<Bits<COUNT>>,
     inflight: DFF<Bits<COUNT>>,
-    // The walker: the record it walks, lists started, the visit held by a stall.
+    // The enumerator: it holds a record; its lists left, their heads; the box's index, keys,
+    // margin, kind.
+    e_busy: DFF<Bit>,
+    e_rem: Vec<DFF<Bit>>,
+    e_head: Vec<DFF<Bits<C>>>,
+    e_index: DFF<Bits<C>>,
+    e_min: [DFF<Bits<CENTER>>; 3],
+    e_max: [DFF<Bits<CENTER>>; 3],
+    e_margin: DFF<Bits<MARGIN>>,
+    e_kind: DFF<Bits<KIND>>,
+    /// The list queue: per entry a list's head, its box, whether it is its record's last.
+    lq_head: DistRam<Bits<C>, LQ>,
+    lq_box: BoxQueue<LQ, C>,
+    lq_last: DistRam<Bit, LQ>,
+    lq_wp: DFF<Bits<LQ>>,
+    lq_rp: DFF<Bits<LQ>>,
+    lq_count: DFF<Bits<LQ_COUNT>>,
+    // The walker: the list's box, whether the list is its record's last, the visit held by a
+    // stall.
     cur_valid: DFF<Bit>,
-    cur_live: Vec<DFF<Bit>>,
-    cur_head: Vec<DFF<Bits<C>>>,
-    started: Vec<DFF<Bit>>,
+    cur_last: DFF<Bit>,
     cur_index: DFF<Bits<C>>,
     cur_min: [DFF<Bits<CENTER>>; 3],
     cur_max: [DFF<Bits<CENTER>>; 3],
@@ -251,7 +275,8 @@ pub struct GridPhase<const A: usize, const C: usize> {
     cleared: DFF<Bit>,
     clear_at: DFF<Bits<BUCKET>>,
     // The slow path: the chain's next large box (top bit: there is one), the box on the path,
-    // its keys, margin and group, its window's first and last cells, the round's first cells.
+    // its keys, margin and group, its window's first cells and its cells less one, the round's
+    // first cells and the window's cells after them (less one).
     slow: DFF<SlowState>,
     lnext: DFF<Bits<C>>,
     lcur: DFF<Bits<C>>,
@@ -260,8 +285,9 @@ pub struct GridPhase<const A: usize, const C: usize> {
     lmargin: DFF<Bits<MARGIN>>,
     lgroup: DFF<Bits<GROUP>>,
     wlo: [DFF<Bits<CENTER>>; 3],
-    whi: [DFF<Bits<CENTER>>; 3],
+    wspan: [DFF<Bits<CENTER>>; 3],
     rr: [DFF<Bits<CENTER>>; 3],
+    rleft: [DFF<Bits<CENTER>>; 3],
     wide: DFF<Bit>,
     /// The fetched box's address is on port B (through `held`, so that the walker's address
     /// multiplexer takes no more inputs).
@@ -284,51 +310,57 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// K+3, per list: walk it; enter the box in it; its owner after the entry.
     live: Vec<Signal<Local, Bit>>,
     enter: Vec<Signal<Local, Bit>>,
-    /// Per bank the old head of the list the box enters (zero where it enters none), and
-    /// their OR: the box's successor.
-    home_head: [Signal<Local, Bits<C>>; 27],
+    /// K+4: per bank the old head of the list the box entered (zero where it entered none),
+    /// their OR bank by bank: the box's successor; the box has lists to walk.
+    bank_succ: [Signal<Local, Bits<C>>; 27],
     succ_acc: [Signal<Local, Bits<C>>; 28],
-    succ_data: Signal<Local, Bits<C>>,
+    any_live: Signal<Local, Bit>,
+    /// The enumerator's choice: per bank (lists `27 q + b`) a list is left in it; its first
+    /// list's head and group (the lowest group: written last); the first bank with a list left,
+    /// as an OR of one-hot terms (a chain of 27 priority multiplexers was deeper): some bank
+    /// before b has one; b is the first; its head, masked; their ORs so far.
+    bank_any: [Signal<Local, Bit>; 27],
+    bank_two: [Signal<Local, Bit>; 27],
+    bank_head: [Signal<Local, Bits<C>>; 27],
+    bank_group: [Signal<Local, Bits<GROUP>>; 27],
+    bank_prior: [Signal<Local, Bit>; 28],
+    bank_first: [Signal<Local, Bit>; 27],
+    first_head: [Signal<Local, Bits<C>>; 27],
+    head_acc: [Signal<Local, Bits<C>>; 28],
+    /// Per list: it is the first left (bank, then group).
+    e_first: Vec<Signal<Local, Bit>>,
+    /// Two lists or more are left; a list is written to the list queue (the record's last when
+    /// no other is left); a record is loaded.
+    e_multi: Signal<Local, Bit>,
+    e_push: Signal<Local, Bit>,
+    e_last: Signal<Local, Bit>,
+    e_load: Signal<Local, Bit>,
+    /// The list queue's count, one more and one less.
+    lq_inc: Signal<Local, Bits<LQ_COUNT>>,
+    lq_dec: Signal<Local, Bits<LQ_COUNT>>,
     // The walker.
     list_open: Signal<Local, Bit>,
     need: Signal<Local, Bit>,
-    cur_rem: Vec<Signal<Local, Bit>>,
-    load_next: Signal<Local, Bit>,
     retire_rec: Signal<Local, Bit>,
     take: Signal<Local, Bit>,
-    /// The walker's choice of the next list, made for two sides at once: side 0 the current
-    /// record (its lists left), side 1 the next record in the queue. Per list and side
-    /// (`2 l + k`): it is left, its head, it is the first.
-    side_live: Vec<Signal<Local, Bit>>,
-    side_head: Vec<Signal<Local, Bits<C>>>,
-    side_first: Vec<Signal<Local, Bit>>,
-    /// Per side: some list is left; the first one's head.
-    side_any: [Signal<Local, Bit>; 2],
-    side_pick: [Signal<Local, Bits<C>>; 2],
-    /// Per side and bank (`27 k + b`): a list is left in it; its first list's head and group
-    /// (the lowest group: written last).
-    bank_any: [Signal<Local, Bit>; 54],
-    bank_head: [Signal<Local, Bits<C>>; 54],
-    bank_group: [Signal<Local, Bits<GROUP>>; 54],
-    /// Per side, the first bank with a list left, as an OR of one-hot terms (a chain of 27
-    /// priority multiplexers was deeper): some bank before b has one (`28 k + b`); b is the
-    /// first; its head, masked; their ORs so far (`28 k + b`).
-    bank_prior: [Signal<Local, Bit>; 56],
-    bank_first: [Signal<Local, Bit>; 54],
-    first_head: [Signal<Local, Bits<C>>; 54],
-    head_acc: [Signal<Local, Bits<C>>; 56],
-    /// Some list is left in the current record; so the next list is the record's (else the
-    /// next record's first).
-    use_cur: Signal<Local, Bit>,
-    /// The first list left (bank, then group): its head.
-    pick_head: Signal<Local, Bits<C>>,
     rd_live: Vec<Signal<Local, Bit>>,
     /// Credits and records: this clock's changes.
-    inflight_up: Signal<Local, Bits<COUNT>>,
-    inflight_down: Signal<Local, Bits<COUNT>>,
-    retire_down: Signal<Local, Bits<COUNT>>,
-    count_up: Signal<Local, Bits<COUNT>>,
-    count_down: Signal<Local, Bits<COUNT>>,
+    /// Each count's next value is selected among its neighbours, computed from the register
+    /// alone, so that the late enables only pick: an adder after them was a carry chain behind
+    /// the walker's and the enumerator's decisions. The selection is an AND-OR of masks (all
+    /// ones where the enable picks): a multiplexer of sums is folded back by synthesis into
+    /// one adder of a selected operand, the carry chain again.
+    inflight_up: Signal<Local, Bit>,
+    inflight_inc: Signal<Local, Bits<COUNT>>,
+    inflight_dec: Signal<Local, Bits<COUNT>>,
+    inflight_dec2: Signal<Local, Bits<COUNT>>,
+    /// Masks: keep, one more, one less, two less.
+    inflight_m: [Signal<Local, Bits<COUNT>>; 4],
+    count_inc: Signal<Local, Bits<COUNT>>,
+    count_dec: Signal<Local, Bits<COUNT>>,
+    /// Masks: keep, one more, one less.
+    count_m: [Signal<Local, Bits<COUNT>>; 3],
+    ones: Constant<Bits<COUNT>>,
     cand_word: Signal<Local, Bits<CAND>>,
     unpack_a: Signal<Local, Bits<CAND>>,
     unpack_b: Signal<Local, Bits<CAND>>,
@@ -356,12 +388,27 @@ pub struct GridPhase<const A: usize, const C: usize> {
     inject_kind: Signal<Local, Bits<KIND>>,
     inject_min: [Signal<Local, Bits<CENTER>>; 3],
     inject_max: [Signal<Local, Bits<CENTER>>; 3],
-    /// Per axis: cells left after the round's first, less one; the round has three cells; it
-    /// is the axis's last; the next round's first cell.
+    /// Per axis: cells left after the round's first, less one (`rleft`, kept by steps: the
+    /// difference was a carry chain before the compares); the round has three cells; it is the
+    /// axis's last; the round's first cell plus 1, 2, 3; the cells left less 2, 3; masks (all
+    /// ones where the round has two, three cells: an AND-OR, which synthesis does not fold
+    /// into an adder of a selected operand); the next round's first cell and cells left.
     left: [Signal<Local, Bits<CENTER>>; 3],
     three_cells: [Signal<Local, Bit>; 3],
     last_round: [Signal<Local, Bit>; 3],
+    rr_p1: [Signal<Local, Bits<CENTER>>; 3],
+    rr_p2: [Signal<Local, Bits<CENTER>>; 3],
+    rr_p3: [Signal<Local, Bits<CENTER>>; 3],
+    left_m2: [Signal<Local, Bits<CENTER>>; 3],
+    left_m3: [Signal<Local, Bits<CENTER>>; 3],
+    two_m: [Signal<Local, Bits<CENTER>>; 3],
+    three_m: [Signal<Local, Bits<CENTER>>; 3],
     next_rr: [Signal<Local, Bits<CENTER>>; 3],
+    next_left: [Signal<Local, Bits<CENTER>>; 3],
+    plan_span: [Signal<Local, Bits<CENTER>>; 3],
+    /// All ones; all but the two low bits.
+    center_ones: Constant<Bits<CENTER>>,
+    above_three: Constant<Bits<CENTER>>,
     plan_lo: [Signal<Local, Bits<CENTER>>; 3],
     plan_hi: [Signal<Local, Bits<CENTER>>; 3],
     plan_wide: Signal<Local, Bit>,
@@ -430,7 +477,8 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             _lists: lists,
             last_bucket: Constant::new((buckets - 1).into()),
             mask: Constant::new(mask),
-            credits: Constant::new((GRID_CREDITS as u64).into()),
+            credits_used: Constant::new(((1u64 << COUNT) - GRID_CREDITS as u64).into()),
+            lq_three: Constant::new(3u64.into()),
             top: Constant::new((1u64 << A).into()),
             list_group: (0..lists)
                 .map(|l| Constant::new(((groups - 1 - l / BANKS) as u64).into()))
@@ -465,7 +513,6 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             s3_group: Default::default(),
             s3_allowed: Default::default(),
             s4_valid: Default::default(),
-            s4_any: Default::default(),
             s4_index: Default::default(),
             s4_min: Default::default(),
             s4_max: Default::default(),
@@ -473,23 +520,34 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             s4_kind: Default::default(),
             s4_live: vec(lists),
             s4_head: vec(lists),
+            s4_enter: vec(lists),
+            s4_large: Default::default(),
+            s4_lprev: Default::default(),
             meta: (0..lists).map(|_| DistRam::zeroed(buckets)).collect(),
             head: (0..lists).map(|_| DistRam::zeroed(buckets)).collect(),
             succ: Default::default(),
             rec: vec(lists),
-            rec_index: Default::default(),
-            rec_min: Default::default(),
-            rec_max: Default::default(),
-            rec_margin: Default::default(),
-            rec_kind: Default::default(),
+            rec_box: Default::default(),
             wp: Default::default(),
             rp: Default::default(),
             count: Default::default(),
             inflight: Default::default(),
+            e_busy: Default::default(),
+            e_rem: vec(lists),
+            e_head: vec(lists),
+            e_index: Default::default(),
+            e_min: Default::default(),
+            e_max: Default::default(),
+            e_margin: Default::default(),
+            e_kind: Default::default(),
+            lq_head: Default::default(),
+            lq_box: Default::default(),
+            lq_last: Default::default(),
+            lq_wp: Default::default(),
+            lq_rp: Default::default(),
+            lq_count: Default::default(),
             cur_valid: Default::default(),
-            cur_live: vec(lists),
-            cur_head: vec(lists),
-            started: vec(lists),
+            cur_last: Default::default(),
             cur_index: Default::default(),
             cur_min: Default::default(),
             cur_max: Default::default(),
@@ -531,7 +589,8 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             lmargin: Default::default(),
             lgroup: Default::default(),
             wlo: Default::default(),
-            whi: Default::default(),
+            wspan: Default::default(),
+            rleft: Default::default(),
             rr: Default::default(),
             wide: Default::default(),
             fetch_q: Default::default(),
@@ -547,35 +606,38 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             allow: vec(lists),
             live: vec(lists),
             enter: vec(lists),
-            home_head: Default::default(),
+            bank_succ: Default::default(),
             succ_acc: Default::default(),
-            succ_data: Default::default(),
+            any_live: Default::default(),
+            bank_any: Default::default(),
+            bank_two: Default::default(),
+            bank_head: Default::default(),
+            bank_group: Default::default(),
+            bank_prior: Default::default(),
+            bank_first: Default::default(),
+            first_head: Default::default(),
+            head_acc: Default::default(),
+            e_first: vec(lists),
+            e_multi: Default::default(),
+            e_push: Default::default(),
+            e_last: Default::default(),
+            e_load: Default::default(),
+            lq_inc: Default::default(),
+            lq_dec: Default::default(),
             list_open: Default::default(),
             need: Default::default(),
-            cur_rem: vec(lists),
-            load_next: Default::default(),
             retire_rec: Default::default(),
             take: Default::default(),
-            use_cur: Default::default(),
-            pick_head: Default::default(),
-            side_live: vec(2 * lists),
-            side_head: vec(2 * lists),
-            side_first: vec(2 * lists),
-            side_any: Default::default(),
-            side_pick: Default::default(),
-            bank_any: std::array::from_fn(|_| Default::default()),
-            bank_head: std::array::from_fn(|_| Default::default()),
-            bank_group: std::array::from_fn(|_| Default::default()),
-            bank_prior: std::array::from_fn(|_| Default::default()),
-            bank_first: std::array::from_fn(|_| Default::default()),
-            first_head: std::array::from_fn(|_| Default::default()),
-            head_acc: std::array::from_fn(|_| Default::default()),
             rd_live: vec(lists),
             inflight_up: Default::default(),
-            inflight_down: Default::default(),
-            retire_down: Default::default(),
-            count_up: Default::default(),
-            count_down: Default::default(),
+            inflight_inc: Default::default(),
+            inflight_dec: Default::default(),
+            inflight_dec2: Default::default(),
+            inflight_m: Default::default(),
+            count_inc: Default::default(),
+            count_dec: Default::default(),
+            count_m: Default::default(),
+            ones: Constant::new(((1u64 << COUNT) - 1).into()),
             cand_word: Default::default(),
             unpack_a: Default::default(),
             unpack_b: Default::default(),
@@ -603,7 +665,18 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             left: Default::default(),
             three_cells: Default::default(),
             last_round: Default::default(),
+            rr_p1: Default::default(),
+            rr_p2: Default::default(),
+            rr_p3: Default::default(),
+            left_m2: Default::default(),
+            left_m3: Default::default(),
+            two_m: Default::default(),
+            three_m: Default::default(),
             next_rr: Default::default(),
+            next_left: Default::default(),
+            plan_span: Default::default(),
+            center_ones: Constant::new(((1u64 << CENTER) - 1).into()),
+            above_three: Constant::new(((1u64 << CENTER) - 4).into()),
             plan_lo: Default::default(),
             plan_hi: Default::default(),
             plan_wide: Default::default(),
@@ -636,7 +709,8 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             s3_group,
             s3_allowed,
             s4_valid,
-            s4_any,
+            s4_large,
+            s4_lprev,
             s4_index,
             s4_margin,
             wp,
@@ -644,6 +718,14 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             count,
             inflight,
             cur_valid,
+            cur_last,
+            e_busy,
+            e_index,
+            e_margin,
+            e_kind,
+            lq_wp,
+            lq_rp,
+            lq_count,
             cur_index,
             cur_margin,
             chase,
@@ -679,7 +761,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             inj,
             inj_kind
         );
-        clock!(self, clock, cells, succ, rec_index, rec_margin, rec_kind, fifo);
+        clock!(self, clock, cells, succ, rec_box, fifo, lq_head, lq_box, lq_last);
         for x in 0..3 {
             self.s1_min[x].clock.next = self.clock.val();
             self.s1_max[x].clock.next = self.clock.val();
@@ -689,10 +771,10 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.s3_max[x].clock.next = self.clock.val();
             self.s4_min[x].clock.next = self.clock.val();
             self.s4_max[x].clock.next = self.clock.val();
-            self.rec_min[x].clock.next = self.clock.val();
-            self.rec_max[x].clock.next = self.clock.val();
             self.cur_min[x].clock.next = self.clock.val();
             self.cur_max[x].clock.next = self.clock.val();
+            self.e_min[x].clock.next = self.clock.val();
+            self.e_max[x].clock.next = self.clock.val();
             self.v1_min[x].clock.next = self.clock.val();
             self.v1_max[x].clock.next = self.clock.val();
             self.v2_min_i[x].clock.next = self.clock.val();
@@ -705,32 +787,35 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.lk_min[x].clock.next = self.clock.val();
             self.lk_max[x].clock.next = self.clock.val();
             self.wlo[x].clock.next = self.clock.val();
-            self.whi[x].clock.next = self.clock.val();
+            self.wspan[x].clock.next = self.clock.val();
+            self.rleft[x].clock.next = self.clock.val();
             self.rr[x].clock.next = self.clock.val();
             self.inj_min[x].clock.next = self.clock.val();
             self.inj_max[x].clock.next = self.clock.val();
             self.lk_min[x].d.next = self.lk_min[x].q.val();
             self.lk_max[x].d.next = self.lk_max[x].q.val();
             self.wlo[x].d.next = self.wlo[x].q.val();
-            self.whi[x].d.next = self.whi[x].q.val();
+            self.wspan[x].d.next = self.wspan[x].q.val();
+            self.rleft[x].d.next = self.rleft[x].q.val();
             self.rr[x].d.next = self.rr[x].q.val();
         }
         for l in 0..self._lists {
             self.s4_live[l].clock.next = self.clock.val();
             self.s4_head[l].clock.next = self.clock.val();
+            self.s4_enter[l].clock.next = self.clock.val();
             self.meta[l].clock.next = self.clock.val();
             self.head[l].clock.next = self.clock.val();
             self.rec[l].clock.next = self.clock.val();
-            self.cur_live[l].clock.next = self.clock.val();
-            self.cur_head[l].clock.next = self.clock.val();
-            self.started[l].clock.next = self.clock.val();
-            self.cur_live[l].d.next = self.cur_live[l].q.val();
-            self.cur_head[l].d.next = self.cur_head[l].q.val();
-            self.started[l].d.next = self.started[l].q.val();
+            self.e_rem[l].clock.next = self.clock.val();
+            self.e_head[l].clock.next = self.clock.val();
+            self.e_rem[l].d.next = self.e_rem[l].q.val();
+            self.e_head[l].d.next = self.e_head[l].q.val();
         }
         for x in 0..3 {
             self.cur_min[x].d.next = self.cur_min[x].q.val();
             self.cur_max[x].d.next = self.cur_max[x].q.val();
+            self.e_min[x].d.next = self.e_min[x].q.val();
+            self.e_max[x].d.next = self.e_max[x].q.val();
         }
 
         self.key_min[0].next = self.key_min_x.val();
@@ -754,16 +839,30 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.plan_wide.next = false;
         for x in 0..3 {
             // A round spans three cells when three or five or more are left, else two.
-            self.left[x].next = self.whi[x].q.val() - self.rr[x].q.val();
-            self.three_cells[x].next = (self.left[x].val() == 2) | (self.left[x].val() > 3);
-            self.last_round[x].next = self.left[x].val() < 3;
-            self.next_rr[x].next = self.rr[x].q.val() + 2;
-            self.inject_min[x].next = self.rr[x].q.val() << self.cell_bits.val();
-            self.inject_max[x].next = self.rr[x].q.val() << self.cell_bits.val();
+            self.left[x].next = self.rleft[x].q.val();
+            self.three_cells[x].next =
+                (self.left[x].val() == 2) | ((self.left[x].val() & self.above_three.val()) != 0);
+            self.last_round[x].next =
+                ((self.left[x].val() & self.above_three.val()) == 0) & (self.left[x].val() != 3);
+            self.rr_p1[x].next = self.rr[x].q.val() + 1;
+            self.rr_p2[x].next = self.rr[x].q.val() + 2;
+            self.rr_p3[x].next = self.rr[x].q.val() + 3;
+            self.left_m2[x].next = self.left[x].val() - 2;
+            self.left_m3[x].next = self.left[x].val() - 3;
+            self.two_m[x].next = self.center_ones.val();
+            self.three_m[x].next = 0.into();
             if self.three_cells[x].val() {
-                self.next_rr[x].next = self.rr[x].q.val() + 3;
-                self.inject_max[x].next = (self.rr[x].q.val() + 1) << self.cell_bits.val();
+                self.two_m[x].next = 0.into();
+                self.three_m[x].next = self.center_ones.val();
             }
+            self.next_rr[x].next = (self.rr_p2[x].val() & self.two_m[x].val())
+                | (self.rr_p3[x].val() & self.three_m[x].val());
+            self.next_left[x].next = (self.left_m2[x].val() & self.two_m[x].val())
+                | (self.left_m3[x].val() & self.three_m[x].val());
+            self.inject_min[x].next = self.rr[x].q.val() << self.cell_bits.val();
+            self.inject_max[x].next = ((self.rr[x].q.val() & self.two_m[x].val())
+                | (self.rr_p1[x].val() & self.three_m[x].val()))
+                << self.cell_bits.val();
             if self.slow.q.val() == SlowState::Partner {
                 self.inject_min[x].next = self.lk_min[x].q.val();
                 self.inject_max[x].next = self.lk_max[x].q.val();
@@ -772,6 +871,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.inj_max[x].d.next = self.inject_max[x].val();
             self.plan_lo[x].next = self.lk_min[x].q.val() >> self.cell_bits.val();
             self.plan_hi[x].next = (self.lk_max[x].q.val() >> self.cell_bits.val()) + 1;
+            self.plan_span[x].next = self.plan_hi[x].val() - self.plan_lo[x].val();
             if (self.lk_max[x].q.val() >> self.cell_bits.val()) - self.plan_lo[x].val()
                 > self.max_span.val()
             {
@@ -807,7 +907,8 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             SlowState::Plan => {
                 for x in 0..3 {
                     self.wlo[x].d.next = self.plan_lo[x].val();
-                    self.whi[x].d.next = self.plan_hi[x].val();
+                    self.wspan[x].d.next = self.plan_span[x].val();
+                    self.rleft[x].d.next = self.plan_span[x].val();
                     self.rr[x].d.next = self.plan_lo[x].val();
                 }
                 self.slow.d.next = SlowState::Round;
@@ -824,14 +925,19 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     self.inject_kind.next = 1.into();
                     if !self.last_round[0].val() {
                         self.rr[0].d.next = self.next_rr[0].val();
+                        self.rleft[0].d.next = self.next_left[0].val();
                     } else {
                         self.rr[0].d.next = self.wlo[0].q.val();
+                        self.rleft[0].d.next = self.wspan[0].q.val();
                         if !self.last_round[1].val() {
                             self.rr[1].d.next = self.next_rr[1].val();
+                            self.rleft[1].d.next = self.next_left[1].val();
                         } else {
                             self.rr[1].d.next = self.wlo[1].q.val();
+                            self.rleft[1].d.next = self.wspan[1].q.val();
                             if !self.last_round[2].val() {
                                 self.rr[2].d.next = self.next_rr[2].val();
+                                self.rleft[2].d.next = self.next_left[2].val();
                             } else if (self.lnext.q.val() & self.top.val()) != 0 {
                                 self.slow.d.next = SlowState::Partner;
                             } else {
@@ -903,13 +1009,9 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         // box walks a list of a group its own pairs with, of a cell in its window, that may
         // hold a box of that cell: its owner has the cell's fingerprint, or it is mixed. A
         // small box enters its home cell's list of its own group: the first owns the list,
-        // a box of another fingerprint mixes it; the list's head becomes the box's successor.
-        // At the end of a frame the clear writes every bucket empty.
-        for b in 0..27 {
-            self.home_head[b].next = 0.into();
-        }
+        // a box of another fingerprint mixes it; the list's head becomes the box's successor
+        // (written at K+4). At the end of a frame the clear writes every bucket empty.
         self.entry.next = self.s3_index.q.val() | self.top.val();
-        self.s4_any.d.next = false;
         for q in 0..self._groups {
             for b in 0..27 {
                 self.meta[27 * q + b].read_address.next = self.cells.bucket[b].val();
@@ -946,9 +1048,8 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                             self.meta[27 * q + b].read_data.val() | 256_u64;
                     }
                 }
-                if self.enter[27 * q + b].val() & self.meta[27 * q + b].read_data.val().get_bit(9) {
-                    self.home_head[b].next = self.head[27 * q + b].read_data.val();
-                }
+                self.s4_enter[27 * q + b].d.next =
+                    self.enter[27 * q + b].val() & self.meta[27 * q + b].read_data.val().get_bit(9);
                 if self.clearing.q.val() {
                     self.meta[27 * q + b].write_enable.next = true;
                     self.meta[27 * q + b].write_address.next = self.clear_at.q.val();
@@ -959,27 +1060,16 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 }
                 self.s4_live[27 * q + b].d.next = self.live[27 * q + b].val();
                 self.s4_head[27 * q + b].d.next = self.head[27 * q + b].read_data.val();
-                if self.live[27 * q + b].val() {
-                    self.s4_any.d.next = true;
-                }
             }
         }
-        // One bank enters the box: its old head, ORed over the banks (zero elsewhere). A large
-        // box takes the chain of large boxes instead.
+        // A large box takes the chain of large boxes instead of a list.
         self.large_in.next =
             self.s3_valid.q.val() & (self.s3_kind.q.val() == 0) & !self.cells.small_box.val();
-        self.succ_acc[0].next = 0.into();
+        self.s4_large.d.next = self.large_in.val();
+        self.s4_lprev.d.next = self.lnext.q.val();
         if self.large_in.val() {
-            self.succ_acc[0].next = self.lnext.q.val();
             self.lnext.d.next = self.entry.val();
         }
-        for b in 0..27 {
-            self.succ_acc[b + 1].next = self.succ_acc[b].val() | self.home_head[b].val();
-        }
-        self.succ_data.next = self.succ_acc[27].val();
-        self.succ.write_enable.next = self.s3_valid.q.val() & (self.s3_kind.q.val() == 0);
-        self.succ.write_address.next = bit_cast::<A, C>(self.s3_index.q.val());
-        self.succ.write_data.next = self.succ_data.val();
         self.s4_valid.d.next = self.s3_valid.q.val();
         self.s4_index.d.next = self.s3_index.q.val();
         self.s4_margin.d.next = self.s3_margin.q.val();
@@ -988,10 +1078,37 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.s4_max[x].d.next = self.s3_max[x].q.val();
         }
 
-        // K+4: a box with lists to walk is written to the record queue; any other retires. The
-        // rest of the chain is one list (the first), from the large box's successor.
+        // K+4: the box's successor is written: the old head of the list it entered (zero where
+        // it entered none), or the chain's old first. (A later box reads the box's entry at its
+        // K+3 at the earliest, and walks to its successor four clocks after that.) A box with
+        // lists to walk is written to the record queue; any other retires. The rest of the
+        // chain is one list (the first), from the large box's successor.
+        self.succ_acc[0].next = 0.into();
+        if self.s4_large.q.val() {
+            self.succ_acc[0].next = self.s4_lprev.q.val();
+        }
+        self.any_live.next = false;
+        for b in 0..27 {
+            self.bank_succ[b].next = 0.into();
+        }
+        for q in 0..self._groups {
+            for b in 0..27 {
+                if self.s4_enter[27 * q + b].q.val() {
+                    self.bank_succ[b].next = self.s4_head[27 * q + b].q.val();
+                }
+                if self.s4_live[27 * q + b].q.val() {
+                    self.any_live.next = true;
+                }
+            }
+        }
+        for b in 0..27 {
+            self.succ_acc[b + 1].next = self.succ_acc[b].val() | self.bank_succ[b].val();
+        }
+        self.succ.write_enable.next = self.s4_valid.q.val() & (self.s4_kind.q.val() == 0);
+        self.succ.write_address.next = bit_cast::<A, C>(self.s4_index.q.val());
+        self.succ.write_data.next = self.succ_acc[27].val();
         self.rec_write.next =
-            self.s4_valid.q.val() & (self.s4_any.q.val() | self.s4_kind.q.val().get_bit(1));
+            self.s4_valid.q.val() & (self.any_live.val() | self.s4_kind.q.val().get_bit(1));
         self.retire_probe.next = self.s4_valid.q.val() & !self.rec_write.val();
         for l in 0..self._lists {
             self.rec[l].write_enable.next = self.rec_write.val();
@@ -1006,102 +1123,125 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         if self.s4_kind.q.val().get_bit(1) {
             self.rec[0].write_data.next = self.lnext.q.val();
         }
-        self.rec_kind.write_enable.next = self.rec_write.val();
-        self.rec_kind.write_address.next = self.wp.q.val();
-        self.rec_kind.write_data.next = self.s4_kind.q.val();
-        self.rec_kind.read_address.next = self.rp.q.val();
-        self.rec_index.write_enable.next = self.rec_write.val();
-        self.rec_index.write_address.next = self.wp.q.val();
-        self.rec_index.write_data.next = self.s4_index.q.val();
-        self.rec_index.read_address.next = self.rp.q.val();
-        self.rec_margin.write_enable.next = self.rec_write.val();
-        self.rec_margin.write_address.next = self.wp.q.val();
-        self.rec_margin.write_data.next = self.s4_margin.q.val();
-        self.rec_margin.read_address.next = self.rp.q.val();
+        self.rec_box.write_enable.next = self.rec_write.val();
+        self.rec_box.write_address.next = self.wp.q.val();
+        self.rec_box.read_address.next = self.rp.q.val();
+        self.rec_box.in_index.next = self.s4_index.q.val();
+        self.rec_box.in_margin.next = self.s4_margin.q.val();
+        self.rec_box.in_kind.next = self.s4_kind.q.val();
         for x in 0..3 {
-            self.rec_min[x].write_enable.next = self.rec_write.val();
-            self.rec_min[x].write_address.next = self.wp.q.val();
-            self.rec_min[x].write_data.next = self.s4_min[x].q.val();
-            self.rec_min[x].read_address.next = self.rp.q.val();
-            self.rec_max[x].write_enable.next = self.rec_write.val();
-            self.rec_max[x].write_address.next = self.wp.q.val();
-            self.rec_max[x].write_data.next = self.s4_max[x].q.val();
-            self.rec_max[x].read_address.next = self.rp.q.val();
+            self.rec_box.in_min[x].next = self.s4_min[x].q.val();
+            self.rec_box.in_max[x].next = self.s4_max[x].q.val();
         }
         if self.rec_write.val() {
             self.wp.d.next = self.wp.q.val() + 1;
         }
 
+        // The enumerator: it takes the records in order and writes their lists, one a clock,
+        // to the list queue, bank by bank, group by group (written from the last to the first,
+        // so the first left is written last), with a queue of at most two lists so far (so
+        // that the clock's write finds room whatever the walker takes). It loads the next record
+        // when it holds none or writes its record's last list. Its choice runs from registers
+        // alone: the walker's loop through the successor table only picks the queue's output.
+        for b in 0..27 {
+            self.bank_any[b].next = false;
+            self.bank_two[b].next = false;
+            self.bank_head[b].next = 0.into();
+            self.bank_group[b].next = 0.into();
+        }
+        for q in 0..self._groups {
+            for b in 0..27 {
+                if self.e_rem[27 * q + b].q.val() {
+                    self.bank_two[b].next = self.bank_any[b].val();
+                    self.bank_any[b].next = true;
+                    self.bank_head[b].next = self.e_head[27 * q + b].q.val();
+                    self.bank_group[b].next = self.list_group[27 * q + b].val();
+                }
+            }
+        }
+        self.bank_prior[0].next = false;
+        self.head_acc[0].next = 0.into();
+        self.e_multi.next = false;
+        for b in 0..27 {
+            self.bank_first[b].next = self.bank_any[b].val() & !self.bank_prior[b].val();
+            self.bank_prior[b + 1].next = self.bank_prior[b].val() | self.bank_any[b].val();
+            self.first_head[b].next = 0.into();
+            if self.bank_first[b].val() {
+                self.first_head[b].next = self.bank_head[b].val();
+            }
+            self.head_acc[b + 1].next = self.head_acc[b].val() | self.first_head[b].val();
+            if self.bank_two[b].val() | (self.bank_any[b].val() & self.bank_prior[b].val()) {
+                self.e_multi.next = true;
+            }
+        }
+        for q in 0..self._groups {
+            for b in 0..27 {
+                self.e_first[27 * q + b].next = self.bank_first[b].val()
+                    & (self.bank_group[b].val() == self.list_group[27 * q + b].val());
+            }
+        }
+        self.e_push.next = self.e_busy.q.val() & (self.lq_count.q.val() != self.lq_three.val());
+        self.e_last.next = !self.e_multi.val();
+        self.e_load.next = (self.count.q.val() != 0)
+            & (!self.e_busy.q.val() | (self.e_push.val() & self.e_last.val()));
+        self.lq_head.write_enable.next = self.e_push.val();
+        self.lq_head.write_address.next = self.lq_wp.q.val();
+        self.lq_head.write_data.next = self.head_acc[27].val();
+        self.lq_head.read_address.next = self.lq_rp.q.val();
+        self.lq_last.write_enable.next = self.e_push.val();
+        self.lq_last.write_address.next = self.lq_wp.q.val();
+        self.lq_last.write_data.next = self.e_last.val();
+        self.lq_last.read_address.next = self.lq_rp.q.val();
+        self.lq_box.write_enable.next = self.e_push.val();
+        self.lq_box.write_address.next = self.lq_wp.q.val();
+        self.lq_box.read_address.next = self.lq_rp.q.val();
+        self.lq_box.in_index.next = self.e_index.q.val();
+        self.lq_box.in_margin.next = self.e_margin.q.val();
+        self.lq_box.in_kind.next = self.e_kind.q.val();
+        for x in 0..3 {
+            self.lq_box.in_min[x].next = self.e_min[x].q.val();
+            self.lq_box.in_max[x].next = self.e_max[x].q.val();
+        }
+        if self.e_push.val() {
+            self.lq_wp.d.next = self.lq_wp.q.val() + 1;
+            if self.e_last.val() {
+                self.e_busy.d.next = false;
+            }
+            for l in 0..self._lists {
+                if self.e_first[l].val() {
+                    self.e_rem[l].d.next = false;
+                }
+            }
+        }
+        for l in 0..self._lists {
+            self.rd_live[l].next = (self.rec[l].read_data.val() & self.top.val()) != 0;
+        }
+        if self.e_load.val() {
+            self.rp.d.next = self.rp.q.val() + 1;
+            self.e_busy.d.next = true;
+            self.e_index.d.next = self.rec_box.index.val();
+            self.e_margin.d.next = self.rec_box.margin.val();
+            self.e_kind.d.next = self.rec_box.kind.val();
+            for x in 0..3 {
+                self.e_min[x].d.next = self.rec_box.min[x].val();
+                self.e_max[x].d.next = self.rec_box.max[x].val();
+            }
+            for l in 0..self._lists {
+                self.e_rem[l].d.next = self.rd_live[l].val();
+                self.e_head[l].d.next = self.rec[l].read_data.val();
+            }
+        }
+
         // The walker. The list goes on (the successor table's output), or a stalled visit is
-        // held, or the next list of the record starts, or the record is over and the next one
-        // is loaded (its first list starts the same clock). Lists are taken bank by bank, group
-        // by group: written from the last to the first, so the first left is written last.
-        // (Flags are tested by a mask, not `>= top`: a compare is a carry chain in synthesis.)
+        // held, or it takes the list queue's next list (its record's last done, the record
+        // retires the same clock). (Flags are tested by a mask, not `>= top`: a compare is a
+        // carry chain in synthesis.)
         self.list_open.next =
             self.chase.q.val() & ((self.succ.read_data_b.val() & self.top.val()) != 0);
         self.need.next = !self.list_open.val() & !self.held_valid.q.val();
-        for l in 0..self._lists {
-            self.cur_rem[l].next = self.cur_live[l].q.val() & !self.started[l].q.val();
-            self.rd_live[l].next = (self.rec[l].read_data.val() & self.top.val()) != 0;
-            self.side_live[2 * l].next = self.cur_rem[l].val();
-            self.side_head[2 * l].next = self.cur_head[l].q.val();
-            self.side_live[2 * l + 1].next = self.rd_live[l].val();
-            self.side_head[2 * l + 1].next = self.rec[l].read_data.val();
-        }
-        // Per side, per bank the lowest group left (written last), then the first bank with a
-        // list; the choice one-hot per list. Both sides at once, from registers and the record
-        // queue alone, whether or not a list starts: the successor table's output only
-        // selects it (in the same clock it took 13 LUT levels behind the block RAM), and the
-        // side only selects the choice (choosing after it put the 81-input "any list left" in
-        // front of the choice).
-        for k in 0..2 {
-            self.side_any[k].next = false;
-            for b in 0..27 {
-                self.bank_any[27 * k + b].next = false;
-                self.bank_head[27 * k + b].next = 0.into();
-                self.bank_group[27 * k + b].next = 0.into();
-            }
-            for q in 0..self._groups {
-                for b in 0..27 {
-                    if self.side_live[54 * q + 2 * b + k].val() {
-                        self.side_any[k].next = true;
-                        self.bank_any[27 * k + b].next = true;
-                        self.bank_head[27 * k + b].next = self.side_head[54 * q + 2 * b + k].val();
-                        self.bank_group[27 * k + b].next = self.list_group[27 * q + b].val();
-                    }
-                }
-            }
-            self.bank_prior[28 * k].next = false;
-            self.head_acc[28 * k].next = 0.into();
-            for b in 0..27 {
-                self.bank_first[27 * k + b].next =
-                    self.bank_any[27 * k + b].val() & !self.bank_prior[28 * k + b].val();
-                self.bank_prior[28 * k + b + 1].next =
-                    self.bank_prior[28 * k + b].val() | self.bank_any[27 * k + b].val();
-                self.first_head[27 * k + b].next = 0.into();
-                if self.bank_first[27 * k + b].val() {
-                    self.first_head[27 * k + b].next = self.bank_head[27 * k + b].val();
-                }
-                self.head_acc[28 * k + b + 1].next =
-                    self.head_acc[28 * k + b].val() | self.first_head[27 * k + b].val();
-            }
-            self.side_pick[k].next = self.head_acc[28 * k + 27].val();
-            for q in 0..self._groups {
-                for b in 0..27 {
-                    self.side_first[54 * q + 2 * b + k].next = self.bank_first[27 * k + b].val()
-                        & (self.bank_group[27 * k + b].val() == self.list_group[27 * q + b].val());
-                }
-            }
-        }
-        self.use_cur.next = self.cur_valid.q.val() & self.side_any[0].val();
-        self.load_next.next = self.need.val() & !self.use_cur.val() & (self.count.q.val() != 0);
-        self.retire_rec.next = self.need.val() & self.cur_valid.q.val() & !self.side_any[0].val();
-        self.take.next = self.need.val() & (self.use_cur.val() | (self.count.q.val() != 0));
-        self.pick_head.next = self.side_pick[1].val();
-        if self.use_cur.val() {
-            self.pick_head.next = self.side_pick[0].val();
-        }
-        self.cand.next = self.pick_head.val();
+        self.take.next = self.need.val() & (self.lq_count.q.val() != 0);
+        self.retire_rec.next = self.need.val() & self.cur_valid.q.val() & self.cur_last.q.val();
+        self.cand.next = self.lq_head.read_data.val();
         if self.held_valid.q.val() | self.fetch_q.q.val() {
             self.cand.next = self.held.q.val();
         }
@@ -1118,17 +1258,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.held_valid.d.next = true;
             self.held.d.next = self.cand.val();
         }
-        for l in 0..self._lists {
-            if self.take.val() & self.use_cur.val() & self.side_first[2 * l].val() {
-                self.started[l].d.next = true;
-            }
-            if self.load_next.val() {
-                self.started[l].d.next = self.side_first[2 * l + 1].val();
-                self.cur_live[l].d.next = self.rd_live[l].val();
-                self.cur_head[l].d.next = self.rec[l].read_data.val();
-            }
-        }
-        // The visit's box i: the record's, or the one loaded this clock.
+        // The visit's box i: the list's, or the one taken this clock.
         self.v1_i.d.next = self.cur_index.q.val();
         self.v1_margin.d.next = self.cur_margin.q.val();
         self.v1_kind.d.next = self.cur_kind.q.val();
@@ -1136,23 +1266,32 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.v1_min[x].d.next = self.cur_min[x].q.val();
             self.v1_max[x].d.next = self.cur_max[x].q.val();
         }
-        if self.load_next.val() {
-            self.rp.d.next = self.rp.q.val() + 1;
+        if self.take.val() {
+            self.lq_rp.d.next = self.lq_rp.q.val() + 1;
             self.cur_valid.d.next = true;
-            self.cur_index.d.next = self.rec_index.read_data.val();
-            self.cur_margin.d.next = self.rec_margin.read_data.val();
-            self.v1_i.d.next = self.rec_index.read_data.val();
-            self.v1_margin.d.next = self.rec_margin.read_data.val();
-            self.cur_kind.d.next = self.rec_kind.read_data.val();
-            self.v1_kind.d.next = self.rec_kind.read_data.val();
+            self.cur_last.d.next = self.lq_last.read_data.val();
+            self.cur_index.d.next = self.lq_box.index.val();
+            self.cur_margin.d.next = self.lq_box.margin.val();
+            self.v1_i.d.next = self.lq_box.index.val();
+            self.v1_margin.d.next = self.lq_box.margin.val();
+            self.cur_kind.d.next = self.lq_box.kind.val();
+            self.v1_kind.d.next = self.lq_box.kind.val();
             for x in 0..3 {
-                self.cur_min[x].d.next = self.rec_min[x].read_data.val();
-                self.cur_max[x].d.next = self.rec_max[x].read_data.val();
-                self.v1_min[x].d.next = self.rec_min[x].read_data.val();
-                self.v1_max[x].d.next = self.rec_max[x].read_data.val();
+                self.cur_min[x].d.next = self.lq_box.min[x].val();
+                self.cur_max[x].d.next = self.lq_box.max[x].val();
+                self.v1_min[x].d.next = self.lq_box.min[x].val();
+                self.v1_max[x].d.next = self.lq_box.max[x].val();
             }
         } else if self.retire_rec.val() {
             self.cur_valid.d.next = false;
+        }
+        self.lq_inc.next = self.lq_count.q.val() + 1;
+        self.lq_dec.next = self.lq_count.q.val() - 1;
+        if self.e_push.val() & !self.take.val() {
+            self.lq_count.d.next = self.lq_inc.val();
+        }
+        if self.take.val() & !self.e_push.val() {
+            self.lq_count.d.next = self.lq_dec.val();
         }
         self.visit.next = self.go.val();
         self.visit_i.next = bit_cast::<A, C>(self.v1_i.d.val());
@@ -1161,31 +1300,46 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.succ.read_address_b.next = bit_cast::<A, C>(self.cand.val());
 
         // Credits and records.
-        self.inflight_up.next = 0.into();
-        self.inflight_down.next = 0.into();
-        self.retire_down.next = 0.into();
-        if self.accept.val() | self.inject.val() {
-            self.inflight_up.next = 1.into();
+        self.inflight_up.next = self.accept.val() | self.inject.val();
+        self.inflight_inc.next = self.inflight.q.val() + 1;
+        self.inflight_dec.next = self.inflight.q.val() - 1;
+        self.inflight_dec2.next = self.inflight.q.val() - 2;
+        for k in 0..4 {
+            self.inflight_m[k].next = 0.into();
         }
-        if self.retire_probe.val() {
-            self.inflight_down.next = 1.into();
+        if self.inflight_up.val() == (self.retire_probe.val() | self.retire_rec.val()) {
+            if self.inflight_up.val() & self.retire_probe.val() & self.retire_rec.val() {
+                self.inflight_m[2].next = self.ones.val();
+            } else {
+                self.inflight_m[0].next = self.ones.val();
+            }
+        } else if self.inflight_up.val() {
+            self.inflight_m[1].next = self.ones.val();
+        } else if self.retire_probe.val() & self.retire_rec.val() {
+            self.inflight_m[3].next = self.ones.val();
+        } else {
+            self.inflight_m[2].next = self.ones.val();
         }
-        if self.retire_rec.val() {
-            self.retire_down.next = 1.into();
+        self.inflight.d.next = (self.inflight.q.val() & self.inflight_m[0].val())
+            | (self.inflight_inc.val() & self.inflight_m[1].val())
+            | (self.inflight_dec.val() & self.inflight_m[2].val())
+            | (self.inflight_dec2.val() & self.inflight_m[3].val());
+        self.credit.next = (self.inflight.q.val() & self.credits_used.val()) == 0;
+        self.count_inc.next = self.count.q.val() + 1;
+        self.count_dec.next = self.count.q.val() - 1;
+        for k in 0..3 {
+            self.count_m[k].next = 0.into();
         }
-        self.inflight.d.next = self.inflight.q.val() + self.inflight_up.val()
-            - self.inflight_down.val()
-            - self.retire_down.val();
-        self.credit.next = self.inflight.q.val() < self.credits.val();
-        self.count_up.next = 0.into();
-        self.count_down.next = 0.into();
-        if self.rec_write.val() {
-            self.count_up.next = 1.into();
+        if self.rec_write.val() == self.e_load.val() {
+            self.count_m[0].next = self.ones.val();
+        } else if self.rec_write.val() {
+            self.count_m[1].next = self.ones.val();
+        } else {
+            self.count_m[2].next = self.ones.val();
         }
-        if self.load_next.val() {
-            self.count_down.next = 1.into();
-        }
-        self.count.d.next = self.count.q.val() + self.count_up.val() - self.count_down.val();
+        self.count.d.next = (self.count.q.val() & self.count_m[0].val())
+            | (self.count_inc.val() & self.count_m[1].val())
+            | (self.count_dec.val() & self.count_m[2].val());
 
         // The key check: V+1 the visited box's keys come from port B; V+2 they are compared
         // with the walking box's, and a candidate (lower index first) enters the queue.
@@ -1290,6 +1444,10 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.count.d.next = 0.into();
             self.inflight.d.next = 0.into();
             self.cur_valid.d.next = false;
+            self.e_busy.d.next = false;
+            self.lq_wp.d.next = 0.into();
+            self.lq_rp.d.next = 0.into();
+            self.lq_count.d.next = 0.into();
             self.held_valid.d.next = false;
             self.chase.d.next = false;
             self.clearing.d.next = false;

@@ -49,9 +49,13 @@ pub struct GridCells {
     /// Per axis and coordinate bit, the hash's column (`23 x + i`).
     column: Vec<Constant<Bits<HASH>>>,
     bucket_mask: Constant<Bits<HASH>>,
-    /// 3, and per base-4 digit of a coordinate its shift.
+    /// 3; per 6-bit chunk of a coordinate its shift, its mask, and per value of a chunk the
+    /// value and its residue mod 3.
     three: Constant<Bits<COORD>>,
-    digit_at: Vec<Constant<Bits<8>>>,
+    chunk_at: Vec<Constant<Bits<8>>>,
+    chunk_mask: Constant<Bits<COORD>>,
+    chunk_value: Vec<Constant<Bits<COORD>>>,
+    chunk_residue: Vec<Constant<Bits<COORD>>>,
     valid1: DFF<Bit>,
     valid2: DFF<Bit>,
     valid3: DFF<Bit>,
@@ -75,10 +79,10 @@ pub struct GridCells {
     width: [Signal<Local, Bits<CENTER>>; 3],
     /// Per axis and cell: the hash accumulated over the coordinate's bits (`24 (3 x + d) + i`).
     hacc: Vec<Signal<Local, Bits<HASH>>>,
-    /// Per axis: the first cell; per chunk its three base-4 digits summed; per axis the
-    /// chunks' residues summed.
+    /// Per axis: the first cell; per 6-bit chunk of it its value; per axis the chunks'
+    /// residues summed.
     first: [Signal<Local, Bits<COORD>>; 3],
-    csum: [Signal<Local, Bits<COORD>>; 12],
+    chunk: [Signal<Local, Bits<COORD>>; 12],
     rsum: [Signal<Local, Bits<COORD>>; 3],
     /// Per axis and residue `3 x + r`: the window cell's hash, whether it is in the window,
     /// whether it is the home cell.
@@ -129,9 +133,10 @@ impl GridCells {
             column,
             bucket_mask: Constant::new(((1u64 << shape.hash_bits) - 1).into()),
             three: Constant::new(3u64.into()),
-            digit_at: (0..COORD / 2 + 1)
-                .map(|i| Constant::new(((2 * i) as u64).into()))
-                .collect(),
+            chunk_at: (0..4u64).map(|c| Constant::new((6 * c).into())).collect(),
+            chunk_mask: Constant::new(63u64.into()),
+            chunk_value: (0..64u64).map(|v| Constant::new(v.into())).collect(),
+            chunk_residue: (0..64u64).map(|v| Constant::new((v % 3).into())).collect(),
             valid1: Default::default(),
             valid2: Default::default(),
             valid3: Default::default(),
@@ -152,7 +157,7 @@ impl GridCells {
             width: Default::default(),
             hacc: vec(9 * (COORD + 1)),
             first: Default::default(),
-            csum: Default::default(),
+            chunk: Default::default(),
             rsum: Default::default(),
             slot_hash: Default::default(),
             slot_in: Default::default(),
@@ -203,35 +208,27 @@ impl Logic for GridCells {
             self.cell1[3 * x + 2].d.next = (self.key_min[x].val() >> self.cell_bits.val()) + 2;
             self.third1[x].d.next = (self.key_max[x].val() >> self.cell_bits.val())
                 != (self.key_min[x].val() >> self.cell_bits.val());
-            // The first cell mod 3, in two steps of one or two LUT levels each (a chain of
-            // twelve digit sums took ten): 4 = 1 mod 3, so a chunk of three base-4 digits is
-            // their sum mod 3, a function of six bits. (Each residue is masked to its two bits,
-            // so that synthesis sees the rest of the register is zero.)
+            // The first cell mod 3, in two steps: 64 = 1 mod 3, so a number's residue is the
+            // sum of its 6-bit chunks' residues, and a chunk's residue is a function of its six
+            // bits, stated as a table so that synthesis makes it one LUT per bit (sums of the
+            // chunk's base-4 digits went through carry chains: 9 LUT levels). (Each residue is
+            // masked to its two bits, so that synthesis sees the rest of the register is zero.)
             self.first[x].next = self.key_min[x].val() >> self.cell_bits.val();
             for c in 0..4 {
-                self.csum[4 * x + c].next = ((self.first[x].val() >> self.digit_at[3 * c].val())
-                    & self.three.val())
-                    + ((self.first[x].val() >> self.digit_at[3 * c + 1].val()) & self.three.val())
-                    + ((self.first[x].val() >> self.digit_at[3 * c + 2].val()) & self.three.val());
-                self.res1[4 * x + c].d.next = self.csum[4 * x + c].val();
-                if self.csum[4 * x + c].val() >= 3 {
-                    self.res1[4 * x + c].d.next =
-                        (self.csum[4 * x + c].val() - 3) & self.three.val();
-                }
-                if self.csum[4 * x + c].val() >= 6 {
-                    self.res1[4 * x + c].d.next =
-                        (self.csum[4 * x + c].val() - 6) & self.three.val();
-                }
-                if self.csum[4 * x + c].val() >= 9 {
-                    self.res1[4 * x + c].d.next =
-                        (self.csum[4 * x + c].val() - 9) & self.three.val();
+                self.chunk[4 * x + c].next =
+                    (self.first[x].val() >> self.chunk_at[c].val()) & self.chunk_mask.val();
+                self.res1[4 * x + c].d.next = 0.into();
+                for v in 0..64 {
+                    if self.chunk[4 * x + c].val() == self.chunk_value[v].val() {
+                        self.res1[4 * x + c].d.next = self.chunk_residue[v].val();
+                    }
                 }
             }
         }
 
         // K+2: each cell's hash (bit k the parity of the coordinate bits row k selects: the
-        // XOR of the columns of its set bits), and the first cell's residue mod 3 (4 = 1 mod 3,
-        // so the sum of its base-4 digits, reduced).
+        // XOR of the columns of its set bits), and the first cell's residue mod 3 (its chunks'
+        // residues summed, reduced).
         self.small2.d.next = self.small1.q.val();
         for x in 0..3 {
             self.third2[x].d.next = self.third1[x].q.val();

@@ -2,6 +2,7 @@
 //! against the bit-exact model in `obb-model` (`obb_model::fixed`), and its Verilog generator.
 
 pub mod bin_table;
+pub mod box_queue;
 pub mod cache;
 pub mod core;
 pub mod cosim;

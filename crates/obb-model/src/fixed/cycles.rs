@@ -33,11 +33,14 @@ pub const LAT_SAT: u64 = 22;
 /// The clock after the last projection output, when its keys are in the key table.
 pub const LAT_KEY_WRITE: u64 = 1;
 
-/// Grid: clocks from a box's keys leaving the projection to its first possible visit: the
-/// window's cells registered, their hashes, their banks and buckets, the list heads read (and
-/// the box entered), the lists to walk registered and written to the record queue
+/// Grid: clocks from a box's keys leaving the projection to its record in the record queue:
+/// the window's cells registered, their hashes, their banks and buckets, the list heads read
+/// (and the box entered), the lists to walk registered and written to the record queue
 /// (`grid_clocks`).
-pub const LAT_PROBE: u64 = 5;
+pub const LAT_RECORD: u64 = 5;
+/// Grid: clocks from a box's keys to its first possible visit: its record, then the enumerator
+/// loads it and writes its first list to the list queue, from which the walker takes it.
+pub const LAT_PROBE: u64 = LAT_RECORD + 2;
 /// Grid: boxes accepted and not yet retired (probed without visits, or walked): the record
 /// queue between the probe and the walker holds them all, so the load waits instead.
 pub const GRID_CREDITS: usize = 32;

@@ -236,7 +236,7 @@ impl Lists {
         self.next[i] = self.lists[slot].enter(self.shape.fingerprint(home), i);
     }
 
-    /// `meet(cell, j)` for every box `j` on the lists of the cells `first..=last` (at most 3
+    /// `meet(cell, j, starts)` for every box `j` on the lists of the cells `first..=last` (at most 3
     /// per axis, so one per bank) that a box of group `g` may meet under `mask`, in the
     /// walker's order: bank, group, latest box first.
     fn probe(
@@ -244,7 +244,7 @@ impl Lists {
         (first, last): (&[u64; 3], &[u64; 3]),
         g: u32,
         mask: &GroupMask,
-        mut meet: impl FnMut(&[u64; 3], usize),
+        mut meet: impl FnMut(&[u64; 3], usize, bool),
     ) {
         for b in 0..BANKS {
             let Some(cell) = GridShape::cell_in_bank(b, first, last) else {
@@ -253,8 +253,10 @@ impl Lists {
             let (base, fp) = (self.base(&cell), self.shape.fingerprint(&cell));
             for h in (0..self.shape.groups).filter(|&h| mask.allows(g, h)) {
                 let mut j = self.lists[base + h as usize].first_for(fp);
+                let mut starts = true;
                 while j != NONE {
-                    meet(&cell, j as usize);
+                    meet(&cell, j as usize, starts);
+                    starts = false;
                     j = self.next[j as usize];
                 }
             }
@@ -272,6 +274,9 @@ pub struct GridWalk {
     pub passes: Vec<bool>,
     /// Per visit, in order: the box walking and the box it meets.
     pub pairs: Vec<(u32, u32)>,
+    /// Per list walked, in order: its visits (at least one). A box's, a round's or the rest of
+    /// the chain's visits are those of whole lists.
+    pub lists: Vec<usize>,
     /// The slow path, per large box in the chain's order (latest first), up to and including
     /// the first whose window is too wide.
     pub large: Vec<LargeWalk>,
@@ -312,7 +317,15 @@ pub(super) fn walk(
     };
     // `send` checks the mask and the keys and counts what it emits; a visit outside its home
     // cell (`at_home` false, the slow path only) is not sent.
-    let mut visit = |w: &mut BroadWork, out: &mut GridWalk, i: usize, j: usize, at_home: bool| {
+    let mut visit = |w: &mut BroadWork,
+                     out: &mut GridWalk,
+                     (i, j): (usize, usize),
+                     starts: bool,
+                     at_home: bool| {
+        if starts {
+            out.lists.push(0);
+        }
+        *out.lists.last_mut().expect("a list was started") += 1;
         let emitted = w.emitted;
         w.visited += 1;
         if at_home {
@@ -332,7 +345,9 @@ pub(super) fn walk(
         }
         let g = frame.obbs[i].group;
         let (wlo, whi) = shape.window(lo, hi);
-        lists.probe((&wlo, &whi), g, mask, |_, j| visit(w, &mut out, i, j, true));
+        lists.probe((&wlo, &whi), g, mask, |_, j, starts| {
+            visit(w, &mut out, (i, j), starts, true)
+        });
         out.visits.push((first, out.passes.len() - first));
         lists.enter(&shape.home(lo), g, i);
     }
@@ -359,16 +374,22 @@ pub(super) fn walk(
             for &(y0, y1) in &ys {
                 for &(x0, x1) in &xs {
                     let first = out.passes.len();
-                    lists.probe((&[x0, y0, z0], &[x1, y1, z1]), g, mask, |cell, j| {
-                        let home = shape.home(&frame.keys[j].0) == *cell;
-                        visit(w, &mut out, l, j, home);
-                    });
+                    lists.probe(
+                        (&[x0, y0, z0], &[x1, y1, z1]),
+                        g,
+                        mask,
+                        |cell, j, starts| {
+                            let home = shape.home(&frame.keys[j].0) == *cell;
+                            visit(w, &mut out, (l, j), starts, home);
+                        },
+                    );
                     walk.rounds.push(out.passes.len() - first);
                 }
             }
         }
-        for &m in &chain[k + 1..] {
-            visit(w, &mut out, l, m, true);
+        // One list: the chain from the large box's successor.
+        for (p, &m) in chain[k + 1..].iter().enumerate() {
+            visit(w, &mut out, (l, m), p == 0, true);
         }
         walk.partners = chain.len() - k - 1;
         out.large.push(walk);

@@ -10,12 +10,17 @@
 //! - **Probe.** The window's cells, their banks and buckets take three clocks; at K + 3 the list
 //!   heads are read and the box is entered; at K + 4 the lists it must walk are registered and
 //!   written to the record queue, or, when it has none (or is large), it retires. Its record is
-//!   the walker's from K + 5 = accept + `LAT_PROJECT` + `LAT_PROBE`.
-//! - **Walk.** The walker takes the records in box order and makes one visit per clock, from
-//!   list to list and from record to record without a gap; a record retires on the clock after
-//!   its last visit, when the walker reads that the list has ended. It pauses on a clock when
+//!   in the queue from K + 5 = accept + `LAT_PROJECT` + `LAT_RECORD`.
+//! - **Enumerate.** The enumerator takes the records in box order and writes their lists, one a
+//!   clock, to the list queue (`LIST_QUEUE` entries: it writes on a clock when at most
+//!   `LIST_QUEUE - 2` are queued, not counting that clock's). It loads a record on a clock it
+//!   has none, or writes its record's last list; the record's first list is written the clock
+//!   after, and the walker may take it the clock after that (`LAT_PROBE`).
+//! - **Walk.** The walker takes the lists in order and makes one visit per clock, from list to
+//!   list without a gap while lists are queued; a record retires on the clock after its last
+//!   visit, when the walker reads that its last list has ended. It pauses on a clock when
 //!   the candidate queue stores `GRID_CAND_STALL` entries or more (its output register not
-//!   counted).
+//!   counted); a list it takes on such a clock leaves the list queue then.
 //! - **Check.** A visit at V is read from the key table at V + 1, compared at V + 2 and, when the
 //!   keys overlap, written to the candidate queue (`obb_rtl::pair_fifo`): stored from V + 3, on
 //!   its output register from V + 4 at the earliest (`LAT_GRID_CHECK`).
@@ -29,8 +34,8 @@
 //!   and its successor, the next large box, are read), the next registers them, the next plans
 //!   its window (or, too wide, ends the slow path); then each round is *launched* on an idle
 //!   clock and injected on the next as a box whose keys span the round's cells, probed and
-//!   walked as an arriving box is (its keys at the injection clock K, its record the walker's
-//!   from K + `LAT_PROBE`, retiring at K + 4 when it has no list); then, if a large box
+//!   walked as an arriving box is (its keys at the injection clock K, its record in the queue
+//!   from K + `LAT_RECORD`, retiring at K + 4 when it has no list); then, if a large box
 //!   follows, a record of one list, the rest of the chain, is launched the same way.
 //! - **End.** The walk is over on the first idle clock with no large box left to fetch (or
 //!   after a window too wide). From the clock after that, every list head is
@@ -39,7 +44,7 @@
 //!   verdict.
 
 use super::cycles::{
-    GRID_CAND_STALL, GRID_CREDITS, GRID_ISSUE_TO_SAT, LAT_KEY_WRITE, LAT_PROBE, LAT_PROJECT,
+    GRID_CAND_STALL, GRID_CREDITS, GRID_ISSUE_TO_SAT, LAT_KEY_WRITE, LAT_PROJECT, LAT_RECORD,
     LAT_SAT,
 };
 use super::grid::GridWalk;
@@ -81,13 +86,16 @@ struct CandidateQueue {
     out: Option<u64>,
 }
 
-/// A record for the walker: the clock it may be taken, its first visit in `GridWalk::pairs`
-/// and its visits.
+/// A record in the record queue: the clock the enumerator may load it, its lists (a range of
+/// `GridWalk::lists`).
 struct Record {
     ready: u64,
-    first: usize,
-    count: usize,
+    lists: std::ops::Range<usize>,
 }
+
+/// The list queue's entries between the enumerator and the walker: a list's visits, and whether
+/// it is its record's last.
+const LIST_QUEUE: usize = 4;
 
 /// The slow path's sequencer: what it does on its next idle clock (or its next clock).
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -110,34 +118,43 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
         ..GridSchedule::default()
     };
     let keys_out = |accept: u64| accept + LAT_PROJECT;
-    // Boxes and injected rounds enter the probe at K: a record from K + LAT_PROBE, or a
-    // retirement at K + 4.
+    // Boxes and injected rounds enter the probe at K: a record from K + LAT_RECORD, or a
+    // retirement at K + 4. A record's lists are the next of `walk.lists` that hold its visits.
     let mut records: VecDeque<Record> = VecDeque::new();
     let mut retire_probe: VecDeque<u64> = VecDeque::new();
     let mut retire_walker: VecDeque<u64> = VecDeque::new();
-    let probe = |k: u64,
-                 first: usize,
-                 count: usize,
-                 records: &mut VecDeque<Record>,
-                 retire_probe: &mut VecDeque<u64>| {
-        if count == 0 {
-            retire_probe.push_back(k + 4);
-        } else {
-            records.push_back(Record {
-                ready: k + LAT_PROBE,
-                first,
-                count,
-            });
-        }
-    };
+    let mut next_list = 0usize;
+    let mut probe =
+        |k: u64, count: usize, records: &mut VecDeque<Record>, retire_probe: &mut VecDeque<u64>| {
+            if count == 0 {
+                retire_probe.push_back(k + 4);
+            } else {
+                let first = next_list;
+                let mut visits = 0;
+                while visits < count {
+                    visits += walk.lists[next_list];
+                    next_list += 1;
+                }
+                debug_assert_eq!(visits, count, "a record's visits are whole lists");
+                records.push_back(Record {
+                    ready: k + LAT_RECORD,
+                    lists: first..next_list,
+                });
+            }
+        };
     // In flight: accepted or injected, and not retired before t.
     let mut inflight = 0usize;
     // The slow path: its state, the large box (in `walk.large`) and its next visit.
     let mut slow = Slow::Fetch;
     let mut large = 0usize;
-    let mut slow_visit = walk.visits.iter().map(|v| v.0 + v.1).max().unwrap_or(0);
-    // The walker: the visit within its record.
-    let mut pos = 0usize;
+    // The enumerator: the lists of its record left; the list queue (visits, last of its
+    // record); the walker: its next visit, the visits left in its list (a held one included),
+    // whether that list is its record's last.
+    let mut enumerator: Option<std::ops::Range<usize>> = None;
+    let mut list_queue: VecDeque<(usize, bool)> = VecDeque::new();
+    let mut next_visit = 0usize;
+    let mut left = 0usize;
+    let mut last_list = false;
     let mut queue = CandidateQueue::default();
     // Visit clocks in the key check, and whether they pass.
     let mut in_check: VecDeque<(u64, bool)> = VecDeque::new();
@@ -163,8 +180,7 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
         let mut inject =
             |count: usize, records: &mut VecDeque<Record>, retire_probe: &mut VecDeque<u64>| {
                 inflight += 1;
-                probe(t + 1, slow_visit, count, records, retire_probe);
-                slow_visit += count;
+                probe(t + 1, count, records, retire_probe);
             };
         slow = match slow {
             Slow::Fetch if idle && more => {
@@ -201,8 +217,12 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
             let k = s.accepts.len();
             s.accepts.push(t);
             inflight += 1;
-            let (first, count) = walk.visits[k];
-            probe(keys_out(t), first, count, &mut records, &mut retire_probe);
+            probe(
+                keys_out(t),
+                walk.visits[k].1,
+                &mut records,
+                &mut retire_probe,
+            );
         }
         // The candidate queue: issue from the output register, load it, store the write.
         let stall = queue.stored.len() >= GRID_CAND_STALL;
@@ -228,18 +248,43 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
         if let Some((v, _)) = write {
             queue.stored.push_back(v);
         }
-        // Walk.
-        if let Some(r) = records.front().filter(|r| r.ready <= t && !stall) {
-            let v = r.first + pos;
-            pos += 1;
-            if pos == r.count {
-                retire_walker.push_back(t + 1);
-                records.pop_front();
-                pos = 0;
-            }
-            s.visits.push(t);
-            in_check.push_back((t, walk.passes[v]));
+        // Enumerate: with at most LIST_QUEUE - 2 lists queued (not counting this clock's), the
+        // enumerator writes its record's next list; it loads the next record when it has none
+        // or writes its last.
+        let mut written = None;
+        if let Some(lists) = enumerator
+            .as_mut()
+            .filter(|_| list_queue.len() <= LIST_QUEUE - 2)
+        {
+            let l = lists.next().expect("a record has lists");
+            written = Some((walk.lists[l], lists.start == lists.end));
         }
+        if enumerator.as_ref().is_none_or(|l| l.start == l.end) {
+            enumerator = records
+                .front()
+                .is_some_and(|r| r.ready <= t)
+                .then(|| records.pop_front().unwrap().lists);
+        }
+        // Walk: with no list left to go on, the walker takes the next queued (written before
+        // t), or, its record's last list done, retires the record; one visit per clock unless
+        // the candidate queue stalls it.
+        if left == 0 {
+            if last_list {
+                retire_walker.push_back(t);
+                last_list = false;
+            }
+            if let Some((visits, last)) = list_queue.pop_front() {
+                left = visits;
+                last_list = last;
+            }
+        }
+        if left > 0 && !stall {
+            left -= 1;
+            s.visits.push(t);
+            in_check.push_back((t, walk.passes[next_visit]));
+            next_visit += 1;
+        }
+        list_queue.extend(written);
         let drained = in_check.is_empty() && queue.stored.is_empty() && queue.out.is_none();
         if s.walked > 0 && drained {
             break;

@@ -1,0 +1,73 @@
+//! `BoxQueue`: a box as the grid's queues carry it (index, keys, margin, record kind), one
+//! distributed RAM per field, `2^A` entries, written at `write_address` when `write_enable`,
+//! read at `read_address` at once (`DistRam`). The grid's record queue and its list queue are
+//! two of them.
+
+use crate::dist_ram::DistRam;
+use crate::projection::{CENTER, MARGIN};
+use rust_hdl::prelude::*;
+
+/// What a record is: bit 0 a round of a large box's window, bit 1 the rest of the large boxes'
+/// chain (neither: an arriving box).
+pub const KIND: usize = 2;
+
+#[derive(LogicBlock, Default)]
+pub struct BoxQueue<const A: usize, const C: usize> {
+    pub clock: Signal<In, Clock>,
+    pub write_enable: Signal<In, Bit>,
+    pub write_address: Signal<In, Bits<A>>,
+    pub read_address: Signal<In, Bits<A>>,
+    /// The box written: its index (with the flag bit), keys, margin, record kind.
+    pub in_index: Signal<In, Bits<C>>,
+    pub in_min: [Signal<In, Bits<CENTER>>; 3],
+    pub in_max: [Signal<In, Bits<CENTER>>; 3],
+    pub in_margin: Signal<In, Bits<MARGIN>>,
+    pub in_kind: Signal<In, Bits<KIND>>,
+    /// The box at `read_address`.
+    pub index: Signal<Out, Bits<C>>,
+    pub min: [Signal<Out, Bits<CENTER>>; 3],
+    pub max: [Signal<Out, Bits<CENTER>>; 3],
+    pub margin: Signal<Out, Bits<MARGIN>>,
+    pub kind: Signal<Out, Bits<KIND>>,
+    index_ram: DistRam<Bits<C>, A>,
+    min_ram: [DistRam<Bits<CENTER>, A>; 3],
+    max_ram: [DistRam<Bits<CENTER>, A>; 3],
+    margin_ram: DistRam<Bits<MARGIN>, A>,
+    kind_ram: DistRam<Bits<KIND>, A>,
+}
+
+impl<const A: usize, const C: usize> Logic for BoxQueue<A, C> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        clock!(self, clock, index_ram, margin_ram, kind_ram);
+        self.index_ram.write_enable.next = self.write_enable.val();
+        self.index_ram.write_address.next = self.write_address.val();
+        self.index_ram.write_data.next = self.in_index.val();
+        self.index_ram.read_address.next = self.read_address.val();
+        self.index.next = self.index_ram.read_data.val();
+        self.margin_ram.write_enable.next = self.write_enable.val();
+        self.margin_ram.write_address.next = self.write_address.val();
+        self.margin_ram.write_data.next = self.in_margin.val();
+        self.margin_ram.read_address.next = self.read_address.val();
+        self.margin.next = self.margin_ram.read_data.val();
+        self.kind_ram.write_enable.next = self.write_enable.val();
+        self.kind_ram.write_address.next = self.write_address.val();
+        self.kind_ram.write_data.next = self.in_kind.val();
+        self.kind_ram.read_address.next = self.read_address.val();
+        self.kind.next = self.kind_ram.read_data.val();
+        for x in 0..3 {
+            self.min_ram[x].clock.next = self.clock.val();
+            self.min_ram[x].write_enable.next = self.write_enable.val();
+            self.min_ram[x].write_address.next = self.write_address.val();
+            self.min_ram[x].write_data.next = self.in_min[x].val();
+            self.min_ram[x].read_address.next = self.read_address.val();
+            self.min[x].next = self.min_ram[x].read_data.val();
+            self.max_ram[x].clock.next = self.clock.val();
+            self.max_ram[x].write_enable.next = self.write_enable.val();
+            self.max_ram[x].write_address.next = self.write_address.val();
+            self.max_ram[x].write_data.next = self.in_max[x].val();
+            self.max_ram[x].read_address.next = self.read_address.val();
+            self.max[x].next = self.max_ram[x].read_data.val();
+        }
+    }
+}
