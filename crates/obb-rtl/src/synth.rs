@@ -542,7 +542,7 @@ fn capture(c: &Cell, pin: &str, d: &DelayModel) -> Option<f64> {
 /// A cell's register family: its name up to the bit index or yosys' suffix (`radix.idx$q[8]`
 /// and `radix.idx$q[0]` are both `radix.idx`; `core.hist[3]$q` is `core.hist`), and a memory's
 /// slices one family (`fifo.ram.mem.0.9` is `fifo.ram.mem`). A block in a list of blocks is
-/// named without its place (`grid$0.started$3$q` is `grid.started`).
+/// named without its place (`grid$0.e_rem$3$q` is `grid.e_rem`).
 fn family(name: &str) -> String {
     let mut name = name.to_string();
     while let Some(p) = listed_block(&name) {
@@ -787,7 +787,7 @@ mod tests {
         assert_eq!(family("\\core.hist[3]$q"), "core.hist");
         assert_eq!(family("fifo.ram.mem.0.9"), "fifo.ram.mem");
         assert_eq!(family("radix.ram$1.mem.0.10"), "radix.ram.mem");
-        assert_eq!(family("grid$0.started$3$q[0]"), "grid.started");
+        assert_eq!(family("grid$0.e_rem$3$q[0]"), "grid.e_rem");
         assert_eq!(family("\\grid$0.cells.res1$4$q[1]"), "grid.cells.res1");
     }
 
