@@ -267,8 +267,8 @@ impl Lists {
 /// What the grid's walk met, in the order the walker meets it: the clock model's input.
 #[derive(Clone, Debug, Default)]
 pub struct GridWalk {
-    /// Per box, the index of its first visit in `passes` and its visits (none for a large box).
-    pub visits: Vec<(usize, usize)>,
+    /// Per box, its visits (none for a large box; they follow each other in `passes`).
+    pub visits: Vec<usize>,
     /// Per visit, in order: the pair passed the key check (and, on the slow path, the mask and
     /// the home cell).
     pub passes: Vec<bool>,
@@ -337,18 +337,18 @@ pub(super) fn walk(
     let mut large = Vec::new();
     for i in 0..n {
         let (lo, hi) = &frame.keys[i];
-        let first = out.passes.len();
         if !shape.is_small(lo, hi) {
             large.push(i);
-            out.visits.push((first, 0));
+            out.visits.push(0);
             continue;
         }
+        let first = out.passes.len();
         let g = frame.obbs[i].group;
         let (wlo, whi) = shape.window(lo, hi);
         lists.probe((&wlo, &whi), g, mask, |_, j, starts| {
             visit(w, &mut out, (i, j), starts, true)
         });
-        out.visits.push((first, out.passes.len() - first));
+        out.visits.push(out.passes.len() - first);
         lists.enter(&shape.home(lo), g, i);
     }
     // The slow path, after every small box has entered: the large boxes latest first (the

@@ -217,12 +217,7 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
             let k = s.accepts.len();
             s.accepts.push(t);
             inflight += 1;
-            probe(
-                keys_out(t),
-                walk.visits[k].1,
-                &mut records,
-                &mut retire_probe,
-            );
+            probe(keys_out(t), walk.visits[k], &mut records, &mut retire_probe);
         }
         // The candidate queue: issue from the output register, load it, store the write.
         let stall = queue.stored.len() >= GRID_CAND_STALL;
