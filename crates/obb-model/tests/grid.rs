@@ -104,19 +104,20 @@ fn clock_model_by_hand() {
     assert_eq!(run.work.visited, n * (n - 1) / 2);
     assert_eq!(run.pairs.len() as u64, n * (n - 1) / 2);
     // Box k is accepted at clock k + 1; its one list is the walker's LAT_PROJECT + LAT_PROBE
-    // later (the record, then the enumerator's load and write). Box 1's first visit comes then,
-    // and each later list is queued before the walker is free, so the 45 visits run back to
-    // back. The last record retires the clock after its
-    // last visit, and the walk is over the clock after that. No box is accepted once the
+    // later (the record, then the enumerator's load, choice and write). Box 1's one visit comes
+    // then. The enumerator takes three clocks a record (load, choose, write: it is free the
+    // clock after its write), so the walker waits two clocks after box 1's one visit and one
+    // after box 2's two; each later list (three visits or more) is queued before the walker is
+    // free, so the other 42 visits run back to back. The last record retires the clock after
+    // its last visit, and the walk is over the clock after that. No box is accepted once the
     // candidates come out of their queue, so each issues LAT_GRID_CHECK after its visit.
     let first_visit = 2 + LAT_PROJECT + LAT_PROBE;
-    let last_visit = first_visit + run.work.visited - 1;
+    let last_visit = first_visit + run.work.visited + 2;
     let walked = last_visit + 2;
     let schedule = grid_schedule(&frame.grid_walk(&GroupMask::All));
-    assert_eq!(
-        schedule.visits,
-        (first_visit..=last_visit).collect::<Vec<_>>()
-    );
+    let mut visits = vec![first_visit, first_visit + 3, first_visit + 4];
+    visits.extend(first_visit + 6..=last_visit);
+    assert_eq!(schedule.visits, visits);
     assert_eq!(
         schedule.issues,
         schedule

@@ -62,10 +62,8 @@ const INDEX: usize = VAL;
 /// A candidate: a, b (a < b), their margins.
 const CAND: usize = 2 * INDEX + 2 * MARGIN;
 const COUNT: usize = SLOT + 2;
-/// The list queue between the enumerator and the walker: 4 entries (`LIST_QUEUE` of the model),
-/// and its count.
+/// The list queue between the enumerator and the walker: 4 entries (`LIST_QUEUE` of the model).
 const LQ: usize = 2;
-const LQ_COUNT: usize = LQ + 1;
 
 /// The slow path's sequencer: what it does on its next idle clock (or its next clock).
 #[derive(Copy, Clone, Debug, PartialEq, LogicState)]
@@ -146,11 +144,9 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// The bits of `inflight` at or above `GRID_CREDITS` (a power of two): none set, a credit
     /// is left. (A mask, not a compare: a compare is a carry chain in synthesis.)
     credits_used: Constant<Bits<COUNT>>,
-    /// Three lists queued (the most: the enumerator writes at two or fewer).
-    lq_three: Constant<Bits<LQ_COUNT>>,
     /// A successor's or a record head's flag bit (`2^A`).
     top: Constant<Bits<C>>,
-    /// Per list (stored at `27 q + b`, q = groups - 1 - h): its group h.
+    /// Per list (stored at `27 h + b`): its group h.
     list_group: Vec<Constant<Bits<GROUP>>>,
     /// log2 of the cell edge; the widest span of a large box in cells (`MAX_WINDOW - 2`).
     cell_bits: Constant<Bits<8>>,
@@ -220,6 +216,9 @@ pub struct GridPhase<const A: usize, const C: usize> {
     e_busy: DFF<Bit>,
     e_rem: Vec<DFF<Bit>>,
     e_head: Vec<DFF<Bits<C>>>,
+    /// The list chosen on a clock before, to write next: one-hot.
+    e_chosen: DFF<Bit>,
+    e_sel: Vec<DFF<Bit>>,
     e_index: DFF<Bits<C>>,
     e_min: [DFF<Bits<CENTER>>; 3],
     e_max: [DFF<Bits<CENTER>>; 3],
@@ -231,7 +230,10 @@ pub struct GridPhase<const A: usize, const C: usize> {
     lq_last: DistRam<Bit, LQ>,
     lq_wp: DFF<Bits<LQ>>,
     lq_rp: DFF<Bits<LQ>>,
-    lq_count: DFF<Bits<LQ_COUNT>>,
+    /// Its fill as a thermometer code: `lq_fill[k]`, more than k lists are queued (at most three:
+    /// the enumerator writes at two or fewer). Each bit's next value is one LUT of the walker's
+    /// take, which comes late from the successor table's block RAM.
+    lq_fill: [DFF<Bit>; 3],
     // The walker: the list's box, whether the list is its record's last, the visit held by a
     // stall.
     cur_valid: DFF<Bit>,
@@ -310,34 +312,28 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// K+3, per list: walk it; enter the box in it; its owner after the entry.
     live: Vec<Signal<Local, Bit>>,
     enter: Vec<Signal<Local, Bit>>,
-    /// K+4: per bank the old head of the list the box entered (zero where it entered none),
-    /// their OR bank by bank: the box's successor; the box has lists to walk.
-    bank_succ: [Signal<Local, Bits<C>>; 27],
-    succ_acc: [Signal<Local, Bits<C>>; 28],
+    /// K+4: per list its old head if the box entered it (zero elsewhere: it entered one at
+    /// most), their OR: the box's successor; the box has lists to walk. (Pure ORs, balanced by
+    /// synthesis into trees.)
+    succ_pick: Vec<Signal<Local, Bits<C>>>,
+    succ_acc: Signal<Local, Bits<C>>,
     any_live: Signal<Local, Bit>,
-    /// The enumerator's choice: per bank (lists `27 q + b`) a list is left in it; its first
-    /// list's head and group (the lowest group: written last); the first bank with a list left,
-    /// as an OR of one-hot terms (a chain of 27 priority multiplexers was deeper): some bank
-    /// before b has one; b is the first; its head, masked; their ORs so far.
+    /// The enumerator's choice, in the walker's order (bank, then group): per bank, a list is
+    /// left in it; per list, a list of a lower group is left in its bank; a list is left in a
+    /// bank before b (`bank_prior[b]`); the list is the first left. Pure ANDs and ORs, which
+    /// synthesis balances into trees (written as `if`s, they became multiplexer chains).
     bank_any: [Signal<Local, Bit>; 27],
-    bank_two: [Signal<Local, Bit>; 27],
-    bank_head: [Signal<Local, Bits<C>>; 27],
-    bank_group: [Signal<Local, Bits<GROUP>>; 27],
+    group_prior: Vec<Signal<Local, Bit>>,
     bank_prior: [Signal<Local, Bit>; 28],
-    bank_first: [Signal<Local, Bit>; 27],
-    first_head: [Signal<Local, Bits<C>>; 27],
-    head_acc: [Signal<Local, Bits<C>>; 28],
-    /// Per list: it is the first left (bank, then group).
     e_first: Vec<Signal<Local, Bit>>,
-    /// Two lists or more are left; a list is written to the list queue (the record's last when
-    /// no other is left); a record is loaded.
-    e_multi: Signal<Local, Bit>,
+    /// A list is written to the list queue: its head (each list's masked by the one-hot choice,
+    /// then ORed); a list other than the chosen is left (none: it is the record's last).
     e_push: Signal<Local, Bit>,
-    e_last: Signal<Local, Bit>,
+    e_pick: Vec<Signal<Local, Bits<C>>>,
+    e_out: Signal<Local, Bits<C>>,
+    e_more: Signal<Local, Bit>,
+    /// A record is loaded.
     e_load: Signal<Local, Bit>,
-    /// The list queue's count, one more and one less.
-    lq_inc: Signal<Local, Bits<LQ_COUNT>>,
-    lq_dec: Signal<Local, Bits<LQ_COUNT>>,
     // The walker.
     list_open: Signal<Local, Bit>,
     need: Signal<Local, Bit>,
@@ -354,8 +350,12 @@ pub struct GridPhase<const A: usize, const C: usize> {
     inflight_inc: Signal<Local, Bits<COUNT>>,
     inflight_dec: Signal<Local, Bits<COUNT>>,
     inflight_dec2: Signal<Local, Bits<COUNT>>,
-    /// Masks: keep, one more, one less, two less.
-    inflight_m: [Signal<Local, Bits<COUNT>>; 4],
+    /// Masks of the early changes (the load's or the slow path's box, a probe's retirement):
+    /// they cancel, one more, one less. The values without and with a record's retirement,
+    /// which comes late from the successor table's block RAM and only picks one of them.
+    inflight_m: [Signal<Local, Bits<COUNT>>; 3],
+    inflight_n0: Signal<Local, Bits<COUNT>>,
+    inflight_n1: Signal<Local, Bits<COUNT>>,
     count_inc: Signal<Local, Bits<COUNT>>,
     count_dec: Signal<Local, Bits<COUNT>>,
     /// Masks: keep, one more, one less.
@@ -478,10 +478,9 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             last_bucket: Constant::new((buckets - 1).into()),
             mask: Constant::new(mask),
             credits_used: Constant::new(((1u64 << COUNT) - GRID_CREDITS as u64).into()),
-            lq_three: Constant::new(3u64.into()),
             top: Constant::new((1u64 << A).into()),
             list_group: (0..lists)
-                .map(|l| Constant::new(((groups - 1 - l / BANKS) as u64).into()))
+                .map(|l| Constant::new(((l / BANKS) as u64).into()))
                 .collect(),
             cell_bits: Constant::new(u64::from(shape.cell_bits).into()),
             max_span: Constant::new((MAX_WINDOW - 2).into()),
@@ -535,6 +534,8 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             e_busy: Default::default(),
             e_rem: vec(lists),
             e_head: vec(lists),
+            e_chosen: Default::default(),
+            e_sel: vec(lists),
             e_index: Default::default(),
             e_min: Default::default(),
             e_max: Default::default(),
@@ -545,7 +546,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             lq_last: Default::default(),
             lq_wp: Default::default(),
             lq_rp: Default::default(),
-            lq_count: Default::default(),
+            lq_fill: Default::default(),
             cur_valid: Default::default(),
             cur_last: Default::default(),
             cur_index: Default::default(),
@@ -606,24 +607,18 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             allow: vec(lists),
             live: vec(lists),
             enter: vec(lists),
-            bank_succ: Default::default(),
+            succ_pick: vec(lists),
             succ_acc: Default::default(),
             any_live: Default::default(),
             bank_any: Default::default(),
-            bank_two: Default::default(),
-            bank_head: Default::default(),
-            bank_group: Default::default(),
+            group_prior: vec(lists),
             bank_prior: Default::default(),
-            bank_first: Default::default(),
-            first_head: Default::default(),
-            head_acc: Default::default(),
             e_first: vec(lists),
-            e_multi: Default::default(),
             e_push: Default::default(),
-            e_last: Default::default(),
+            e_pick: vec(lists),
+            e_out: Default::default(),
+            e_more: Default::default(),
             e_load: Default::default(),
-            lq_inc: Default::default(),
-            lq_dec: Default::default(),
             list_open: Default::default(),
             need: Default::default(),
             retire_rec: Default::default(),
@@ -634,6 +629,8 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             inflight_dec: Default::default(),
             inflight_dec2: Default::default(),
             inflight_m: Default::default(),
+            inflight_n0: Default::default(),
+            inflight_n1: Default::default(),
             count_inc: Default::default(),
             count_dec: Default::default(),
             count_m: Default::default(),
@@ -720,12 +717,12 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             cur_valid,
             cur_last,
             e_busy,
+            e_chosen,
             e_index,
             e_margin,
             e_kind,
             lq_wp,
             lq_rp,
-            lq_count,
             cur_index,
             cur_margin,
             chase,
@@ -763,6 +760,8 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         );
         clock!(self, clock, cells, succ, rec_box, fifo, lq_head, lq_box, lq_last);
         for x in 0..3 {
+            self.lq_fill[x].clock.next = self.clock.val();
+            self.lq_fill[x].d.next = self.lq_fill[x].q.val();
             self.s1_min[x].clock.next = self.clock.val();
             self.s1_max[x].clock.next = self.clock.val();
             self.s2_min[x].clock.next = self.clock.val();
@@ -808,8 +807,10 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.rec[l].clock.next = self.clock.val();
             self.e_rem[l].clock.next = self.clock.val();
             self.e_head[l].clock.next = self.clock.val();
+            self.e_sel[l].clock.next = self.clock.val();
             self.e_rem[l].d.next = self.e_rem[l].q.val();
             self.e_head[l].d.next = self.e_head[l].q.val();
+            self.e_sel[l].d.next = self.e_sel[l].q.val();
         }
         for x in 0..3 {
             self.cur_min[x].d.next = self.cur_min[x].q.val();
@@ -1083,30 +1084,22 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         // K+3 at the earliest, and walks to its successor four clocks after that.) A box with
         // lists to walk is written to the record queue; any other retires. The rest of the
         // chain is one list (the first), from the large box's successor.
-        self.succ_acc[0].next = 0.into();
+        self.succ_acc.next = 0.into();
         if self.s4_large.q.val() {
-            self.succ_acc[0].next = self.s4_lprev.q.val();
+            self.succ_acc.next = self.s4_lprev.q.val();
         }
         self.any_live.next = false;
-        for b in 0..27 {
-            self.bank_succ[b].next = 0.into();
-        }
-        for q in 0..self._groups {
-            for b in 0..27 {
-                if self.s4_enter[27 * q + b].q.val() {
-                    self.bank_succ[b].next = self.s4_head[27 * q + b].q.val();
-                }
-                if self.s4_live[27 * q + b].q.val() {
-                    self.any_live.next = true;
-                }
+        for l in 0..self._lists {
+            self.succ_pick[l].next = 0.into();
+            if self.s4_enter[l].q.val() {
+                self.succ_pick[l].next = self.s4_head[l].q.val();
             }
-        }
-        for b in 0..27 {
-            self.succ_acc[b + 1].next = self.succ_acc[b].val() | self.bank_succ[b].val();
+            self.succ_acc.next = self.succ_acc.val() | self.succ_pick[l].val();
+            self.any_live.next = self.any_live.val() | self.s4_live[l].q.val();
         }
         self.succ.write_enable.next = self.s4_valid.q.val() & (self.s4_kind.q.val() == 0);
         self.succ.write_address.next = bit_cast::<A, C>(self.s4_index.q.val());
-        self.succ.write_data.next = self.succ_acc[27].val();
+        self.succ.write_data.next = self.succ_acc.val();
         self.rec_write.next =
             self.s4_valid.q.val() & (self.any_live.val() | self.s4_kind.q.val().get_bit(1));
         self.retire_probe.next = self.s4_valid.q.val() & !self.rec_write.val();
@@ -1137,60 +1130,52 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.wp.d.next = self.wp.q.val() + 1;
         }
 
-        // The enumerator: it takes the records in order and writes their lists, one a clock,
-        // to the list queue, bank by bank, group by group (written from the last to the first,
-        // so the first left is written last), with a queue of at most two lists so far (so
-        // that the clock's write finds room whatever the walker takes). It loads the next record
-        // when it holds none or writes its record's last list. Its choice runs from registers
-        // alone: the walker's loop through the successor table only picks the queue's output.
+        // The enumerator: it takes the records in order and writes their lists to the list
+        // queue in the walker's order (bank, then group), each over two clocks: on a clock it
+        // writes none it chooses the next list left (a one-hot), on a later clock it writes that
+        // list, when at most two are queued (so that the write finds room whatever the walker
+        // takes), and whether it is the record's last (no other list left). It loads the next
+        // record on a clock it holds none. Each clock's logic runs from registers alone: the
+        // walker's loop through the successor table only picks the queue's output.
         for b in 0..27 {
             self.bank_any[b].next = false;
-            self.bank_two[b].next = false;
-            self.bank_head[b].next = 0.into();
-            self.bank_group[b].next = 0.into();
         }
         for q in 0..self._groups {
             for b in 0..27 {
-                if self.e_rem[27 * q + b].q.val() {
-                    self.bank_two[b].next = self.bank_any[b].val();
-                    self.bank_any[b].next = true;
-                    self.bank_head[b].next = self.e_head[27 * q + b].q.val();
-                    self.bank_group[b].next = self.list_group[27 * q + b].val();
-                }
+                self.group_prior[27 * q + b].next = self.bank_any[b].val();
+                self.bank_any[b].next = self.bank_any[b].val() | self.e_rem[27 * q + b].q.val();
             }
         }
         self.bank_prior[0].next = false;
-        self.head_acc[0].next = 0.into();
-        self.e_multi.next = false;
         for b in 0..27 {
-            self.bank_first[b].next = self.bank_any[b].val() & !self.bank_prior[b].val();
             self.bank_prior[b + 1].next = self.bank_prior[b].val() | self.bank_any[b].val();
-            self.first_head[b].next = 0.into();
-            if self.bank_first[b].val() {
-                self.first_head[b].next = self.bank_head[b].val();
-            }
-            self.head_acc[b + 1].next = self.head_acc[b].val() | self.first_head[b].val();
-            if self.bank_two[b].val() | (self.bank_any[b].val() & self.bank_prior[b].val()) {
-                self.e_multi.next = true;
-            }
         }
         for q in 0..self._groups {
             for b in 0..27 {
-                self.e_first[27 * q + b].next = self.bank_first[b].val()
-                    & (self.bank_group[b].val() == self.list_group[27 * q + b].val());
+                self.e_first[27 * q + b].next = self.e_rem[27 * q + b].q.val()
+                    & !self.group_prior[27 * q + b].val()
+                    & !self.bank_prior[b].val();
             }
         }
-        self.e_push.next = self.e_busy.q.val() & (self.lq_count.q.val() != self.lq_three.val());
-        self.e_last.next = !self.e_multi.val();
-        self.e_load.next = (self.count.q.val() != 0)
-            & (!self.e_busy.q.val() | (self.e_push.val() & self.e_last.val()));
+        self.e_push.next = self.e_chosen.q.val() & !self.lq_fill[2].q.val();
+        self.e_load.next = (self.count.q.val() != 0) & !self.e_busy.q.val();
+        self.e_out.next = 0.into();
+        self.e_more.next = false;
+        for l in 0..self._lists {
+            self.e_pick[l].next = 0.into();
+            if self.e_sel[l].q.val() {
+                self.e_pick[l].next = self.e_head[l].q.val();
+            }
+            self.e_out.next = self.e_out.val() | self.e_pick[l].val();
+            self.e_more.next = self.e_more.val() | (self.e_rem[l].q.val() & !self.e_sel[l].q.val());
+        }
         self.lq_head.write_enable.next = self.e_push.val();
         self.lq_head.write_address.next = self.lq_wp.q.val();
-        self.lq_head.write_data.next = self.head_acc[27].val();
+        self.lq_head.write_data.next = self.e_out.val();
         self.lq_head.read_address.next = self.lq_rp.q.val();
         self.lq_last.write_enable.next = self.e_push.val();
         self.lq_last.write_address.next = self.lq_wp.q.val();
-        self.lq_last.write_data.next = self.e_last.val();
+        self.lq_last.write_data.next = !self.e_more.val();
         self.lq_last.read_address.next = self.lq_rp.q.val();
         self.lq_box.write_enable.next = self.e_push.val();
         self.lq_box.write_address.next = self.lq_wp.q.val();
@@ -1204,13 +1189,19 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         }
         if self.e_push.val() {
             self.lq_wp.d.next = self.lq_wp.q.val() + 1;
-            if self.e_last.val() {
+            self.e_chosen.d.next = false;
+            if !self.e_more.val() {
                 self.e_busy.d.next = false;
             }
             for l in 0..self._lists {
-                if self.e_first[l].val() {
+                if self.e_sel[l].q.val() {
                     self.e_rem[l].d.next = false;
                 }
+            }
+        } else if self.e_busy.q.val() {
+            self.e_chosen.d.next = true;
+            for l in 0..self._lists {
+                self.e_sel[l].d.next = self.e_first[l].val();
             }
         }
         for l in 0..self._lists {
@@ -1219,6 +1210,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         if self.e_load.val() {
             self.rp.d.next = self.rp.q.val() + 1;
             self.e_busy.d.next = true;
+            self.e_chosen.d.next = false;
             self.e_index.d.next = self.rec_box.index.val();
             self.e_margin.d.next = self.rec_box.margin.val();
             self.e_kind.d.next = self.rec_box.kind.val();
@@ -1239,7 +1231,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.list_open.next =
             self.chase.q.val() & ((self.succ.read_data_b.val() & self.top.val()) != 0);
         self.need.next = !self.list_open.val() & !self.held_valid.q.val();
-        self.take.next = self.need.val() & (self.lq_count.q.val() != 0);
+        self.take.next = self.need.val() & self.lq_fill[0].q.val();
         self.retire_rec.next = self.need.val() & self.cur_valid.q.val() & self.cur_last.q.val();
         self.cand.next = self.lq_head.read_data.val();
         if self.held_valid.q.val() | self.fetch_q.q.val() {
@@ -1285,13 +1277,15 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         } else if self.retire_rec.val() {
             self.cur_valid.d.next = false;
         }
-        self.lq_inc.next = self.lq_count.q.val() + 1;
-        self.lq_dec.next = self.lq_count.q.val() - 1;
         if self.e_push.val() & !self.take.val() {
-            self.lq_count.d.next = self.lq_inc.val();
+            self.lq_fill[0].d.next = true;
+            self.lq_fill[1].d.next = self.lq_fill[0].q.val();
+            self.lq_fill[2].d.next = self.lq_fill[1].q.val();
         }
         if self.take.val() & !self.e_push.val() {
-            self.lq_count.d.next = self.lq_dec.val();
+            self.lq_fill[0].d.next = self.lq_fill[1].q.val();
+            self.lq_fill[1].d.next = self.lq_fill[2].q.val();
+            self.lq_fill[2].d.next = false;
         }
         self.visit.next = self.go.val();
         self.visit_i.next = bit_cast::<A, C>(self.v1_i.d.val());
@@ -1304,26 +1298,26 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.inflight_inc.next = self.inflight.q.val() + 1;
         self.inflight_dec.next = self.inflight.q.val() - 1;
         self.inflight_dec2.next = self.inflight.q.val() - 2;
-        for k in 0..4 {
+        for k in 0..3 {
             self.inflight_m[k].next = 0.into();
         }
-        if self.inflight_up.val() == (self.retire_probe.val() | self.retire_rec.val()) {
-            if self.inflight_up.val() & self.retire_probe.val() & self.retire_rec.val() {
-                self.inflight_m[2].next = self.ones.val();
-            } else {
-                self.inflight_m[0].next = self.ones.val();
-            }
+        if self.inflight_up.val() == self.retire_probe.val() {
+            self.inflight_m[0].next = self.ones.val();
         } else if self.inflight_up.val() {
             self.inflight_m[1].next = self.ones.val();
-        } else if self.retire_probe.val() & self.retire_rec.val() {
-            self.inflight_m[3].next = self.ones.val();
         } else {
             self.inflight_m[2].next = self.ones.val();
         }
-        self.inflight.d.next = (self.inflight.q.val() & self.inflight_m[0].val())
+        self.inflight_n0.next = (self.inflight.q.val() & self.inflight_m[0].val())
             | (self.inflight_inc.val() & self.inflight_m[1].val())
-            | (self.inflight_dec.val() & self.inflight_m[2].val())
-            | (self.inflight_dec2.val() & self.inflight_m[3].val());
+            | (self.inflight_dec.val() & self.inflight_m[2].val());
+        self.inflight_n1.next = (self.inflight_dec.val() & self.inflight_m[0].val())
+            | (self.inflight.q.val() & self.inflight_m[1].val())
+            | (self.inflight_dec2.val() & self.inflight_m[2].val());
+        self.inflight.d.next = self.inflight_n0.val();
+        if self.retire_rec.val() {
+            self.inflight.d.next = self.inflight_n1.val();
+        }
         self.credit.next = (self.inflight.q.val() & self.credits_used.val()) == 0;
         self.count_inc.next = self.count.q.val() + 1;
         self.count_dec.next = self.count.q.val() - 1;
@@ -1445,9 +1439,12 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.inflight.d.next = 0.into();
             self.cur_valid.d.next = false;
             self.e_busy.d.next = false;
+            self.e_chosen.d.next = false;
             self.lq_wp.d.next = 0.into();
             self.lq_rp.d.next = 0.into();
-            self.lq_count.d.next = 0.into();
+            for k in 0..3 {
+                self.lq_fill[k].d.next = false;
+            }
             self.held_valid.d.next = false;
             self.chase.d.next = false;
             self.clearing.d.next = false;

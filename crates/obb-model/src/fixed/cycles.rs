@@ -40,7 +40,7 @@ pub const LAT_KEY_WRITE: u64 = 1;
 pub const LAT_RECORD: u64 = 5;
 /// Grid: clocks from a box's keys to its first possible visit: its record, then the enumerator
 /// loads it and writes its first list to the list queue, from which the walker takes it.
-pub const LAT_PROBE: u64 = LAT_RECORD + 2;
+pub const LAT_PROBE: u64 = LAT_RECORD + 3;
 /// Grid: boxes accepted and not yet retired (probed without visits, or walked): the record
 /// queue between the probe and the walker holds them all, so the load waits instead.
 pub const GRID_CREDITS: usize = 32;

@@ -11,11 +11,13 @@
 //!   heads are read and the box is entered; at K + 4 the lists it must walk are registered and
 //!   written to the record queue, or, when it has none (or is large), it retires. Its record is
 //!   in the queue from K + 5 = accept + `LAT_PROJECT` + `LAT_RECORD`.
-//! - **Enumerate.** The enumerator takes the records in box order and writes their lists, one a
-//!   clock, to the list queue (`LIST_QUEUE` entries: it writes on a clock when at most
-//!   `LIST_QUEUE - 2` are queued, not counting that clock's). It loads a record on a clock it
-//!   has none, or writes its record's last list; the record's first list is written the clock
-//!   after, and the walker may take it the clock after that (`LAT_PROBE`).
+//! - **Enumerate.** The enumerator takes the records in box order and writes their lists to the
+//!   list queue (`LIST_QUEUE` entries), each over two clocks: on a clock it writes none it
+//!   chooses its record's next list; a chosen list is written on a clock when at most
+//!   `LIST_QUEUE - 2` are queued, not counting that clock's. It loads a record on a clock it
+//!   holds none (from the clock after it writes its record's last list); it chooses the
+//!   record's first list the clock after, writes it the clock after that, and the walker may
+//!   take it the clock after that (`LAT_PROBE`).
 //! - **Walk.** The walker takes the lists in order and makes one visit per clock, from list to
 //!   list without a gap while lists are queued; a record retires on the clock after its last
 //!   visit, when the walker reads that its last list has ended. It pauses on a clock when
@@ -93,6 +95,13 @@ struct Record {
     lists: std::ops::Range<usize>,
 }
 
+/// The enumerator's record: its lists left, and whether the next is chosen (a clock's choice
+/// is written on a later clock).
+struct Enumerator {
+    lists: std::ops::Range<usize>,
+    chosen: bool,
+}
+
 /// The list queue's entries between the enumerator and the walker: a list's visits, and whether
 /// it is its record's last.
 const LIST_QUEUE: usize = 4;
@@ -150,7 +159,7 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
     // The enumerator: the lists of its record left; the list queue (visits, last of its
     // record); the walker: its next visit, the visits left in its list (a held one included),
     // whether that list is its record's last.
-    let mut enumerator: Option<std::ops::Range<usize>> = None;
+    let mut enumerator: Option<Enumerator> = None;
     let mut list_queue: VecDeque<(usize, bool)> = VecDeque::new();
     let mut next_visit = 0usize;
     let mut left = 0usize;
@@ -243,22 +252,34 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
         if let Some((v, _)) = write {
             queue.stored.push_back(v);
         }
-        // Enumerate: with at most LIST_QUEUE - 2 lists queued (not counting this clock's), the
-        // enumerator writes its record's next list; it loads the next record when it has none
-        // or writes its last.
+        // Enumerate: a list chosen on a clock before is written when at most LIST_QUEUE - 2
+        // lists are queued (not counting this clock's); on a clock it writes none, the
+        // enumerator chooses its record's next list. It loads the next record on a clock it
+        // holds none: its last list written, it is free from the next clock.
         let mut written = None;
-        if let Some(lists) = enumerator
-            .as_mut()
-            .filter(|_| list_queue.len() <= LIST_QUEUE - 2)
-        {
-            let l = lists.next().expect("a record has lists");
-            written = Some((walk.lists[l], lists.start == lists.end));
+        let mut wrote_last = false;
+        let free = enumerator.is_none();
+        if let Some(e) = enumerator.as_mut() {
+            if e.chosen && list_queue.len() <= LIST_QUEUE - 2 {
+                let l = e.lists.next().expect("a record has lists");
+                wrote_last = e.lists.start == e.lists.end;
+                written = Some((walk.lists[l], wrote_last));
+                e.chosen = false;
+            } else {
+                e.chosen = true;
+            }
         }
-        if enumerator.as_ref().is_none_or(|l| l.start == l.end) {
+        if wrote_last {
+            enumerator = None;
+        }
+        if free {
             enumerator = records
                 .front()
                 .is_some_and(|r| r.ready <= t)
-                .then(|| records.pop_front().unwrap().lists);
+                .then(|| Enumerator {
+                    lists: records.pop_front().unwrap().lists,
+                    chosen: false,
+                });
         }
         // Walk: with no list left to go on, the walker takes the next queued (written before
         // t), or, its record's last list done, retires the record; one visit per clock unless
