@@ -135,7 +135,7 @@ fn clock_model_by_hand() {
     assert_eq!(c.total, walked + 1 + clear);
 
     // Three boxes, cross-group: 0 and 1 touch, 2 is far. Box 1 visits box 0 on the first clock
-    // its list is the walker's; box 2 has no record and retires on its probe clock (K + 4, before
+    // its list is the walker's; box 2 has no record and retires on its probe clock (K + 5, before
     // that visit); box 1 retires the clock after its visit.
     let scene = Scene {
         obbs: vec![

@@ -6,16 +6,17 @@
 //! | --- | --- |
 //! | K | a box's keys leave the projection (`key_valid`) |
 //! | K+1 to K+3 | `GridCells`: the window's cells, and per bank (cell coordinates mod 3) its cell's bucket and fingerprint |
-//! | K+3 | the list heads of every bank and group are read (distributed RAM, at once); the box is entered in its home cell's list and its successor written |
-//! | K+4 | the lists to walk registered; written to the record queue, or the box retires |
-//! | K+5 | the enumerator may load the record |
-//! | K+6 | its first list written to the list queue |
-//! | K+7 | the walker may take it |
+//! | K+3 | the list heads of every bank and group are read (distributed RAM, at once) and registered |
+//! | K+4 | the lists to walk decided; the box is entered in its home cell's list (the entry the box before wrote at K+3 forwarded) |
+//! | K+5 | its successor written; the lists to walk written to the record queue, or the box retires |
+//! | K+6 | the enumerator may load the record |
+//! | K+7 | it chooses the record's first list |
+//! | K+8 | it writes it to the list queue |
+//! | K+9 | the walker may take it |
 //!
-//! Lists are stored at `27 q + b` for bank b and group `h = groups - 1 - q`, so that every
-//! index the Verilog needs is a literal expression of loop variables. The enumerator writes them
-//! bank by bank, group by group, as the model walks them: per bank the lowest group left is
-//! written last, then the first bank with a list left is written last among the banks.
+//! Lists are stored at `27 h + b` for bank b and group h, so that every index the Verilog needs
+//! is a literal expression of loop variables. The enumerator writes them bank by bank, group by
+//! group, as the model walks them.
 //!
 //! The walker makes one visit per clock: the successor table's output addresses the next visit
 //! (the list goes on), or a held visit (a stall held it), or the list queue's next list. A
@@ -184,20 +185,42 @@ pub struct GridPhase<const A: usize, const C: usize> {
     s3_kind: DFF<Bits<KIND>>,
     /// The mask's bits for the box's group: bit h pairs it with group h.
     s3_allowed: DFF<Bits<MASK>>,
-    // K+4.
+    // K+4: the box; per list its head and owner as read, walk it if the owner allows, enter
+    // it; per bank the bucket, the fingerprint, and whether the bucket is the one the box
+    // before (then at K+4) writes: its entry, which the read missed, is forwarded.
     s4_valid: DFF<Bit>,
     s4_index: DFF<Bits<C>>,
     s4_min: [DFF<Bits<CENTER>>; 3],
     s4_max: [DFF<Bits<CENTER>>; 3],
     s4_margin: DFF<Bits<MARGIN>>,
     s4_kind: DFF<Bits<KIND>>,
-    s4_live: Vec<DFF<Bit>>,
-    s4_head: Vec<DFF<Bits<C>>>,
-    /// Per list: the box entered it and it held a box (its old head is the box's successor).
+    s4_meta: Vec<DFF<Bits<META>>>,
+    s4_old: Vec<DFF<Bits<C>>>,
+    s4_walk: Vec<DFF<Bit>>,
     s4_enter: Vec<DFF<Bit>>,
-    /// A large box arrived: the chain's old first is its successor.
+    s4_bucket: [DFF<Bits<BUCKET>>; 27],
+    s4_fp: [DFF<Bits<FP>>; 27],
+    s4_same: [DFF<Bit>; 27],
+    s4_home_fp: DFF<Bits<FP>>,
     s4_large: DFF<Bit>,
     s4_lprev: DFF<Bits<C>>,
+    // K+5.
+    s5_valid: DFF<Bit>,
+    s5_index: DFF<Bits<C>>,
+    s5_min: [DFF<Bits<CENTER>>; 3],
+    s5_max: [DFF<Bits<CENTER>>; 3],
+    s5_margin: DFF<Bits<MARGIN>>,
+    s5_kind: DFF<Bits<KIND>>,
+    s5_live: Vec<DFF<Bit>>,
+    s5_head: Vec<DFF<Bits<C>>>,
+    /// Per list: the box entered it and it held a box (its old head is the box's successor).
+    s5_enter: Vec<DFF<Bit>>,
+    /// Per list: the box entered it, and the owner it wrote (forwarded to the next box).
+    s5_wrote: Vec<DFF<Bit>>,
+    s5_meta_w: Vec<DFF<Bits<META>>>,
+    /// A large box arrived: the chain's old first is its successor.
+    s5_large: DFF<Bit>,
+    s5_lprev: DFF<Bits<C>>,
     // Memories.
     /// Per list: the owner (valid, mixed, fingerprint) and the latest box, by bucket.
     meta: Vec<DistRam<Bits<META>, BUCKET>>,
@@ -309,9 +332,13 @@ pub struct GridPhase<const A: usize, const C: usize> {
     allowed: Signal<Local, Bits<MASK>>,
     /// Per list: the box's mask bits shifted to the list's group.
     allow: Vec<Signal<Local, Bits<MASK>>>,
-    /// K+3, per list: walk it; enter the box in it; its owner after the entry.
+    /// K+4, per list: the entry the box before wrote is this box's (same bucket, written); the
+    /// owner and the head the box sees; walk it; its owner after the entry.
+    fwd: Vec<Signal<Local, Bit>>,
+    meta_eff: Vec<Signal<Local, Bits<META>>>,
+    old_eff: Vec<Signal<Local, Bits<C>>>,
     live: Vec<Signal<Local, Bit>>,
-    enter: Vec<Signal<Local, Bit>>,
+    meta_new: Vec<Signal<Local, Bits<META>>>,
     /// K+4: per list its old head if the box entered it (zero elsewhere: it entered one at
     /// most), their OR: the box's successor; the box has lists to walk. (Pure ORs, balanced by
     /// synthesis into trees.)
@@ -366,8 +393,11 @@ pub struct GridPhase<const A: usize, const C: usize> {
     unpack_b: Signal<Local, Bits<CAND>>,
     unpack_ma: Signal<Local, Bits<CAND>>,
     cand: Signal<Local, Bits<C>>,
-    /// The arriving box's index with the flag bit: a list head.
+    /// The box's index with the flag bit, a list head: at K+3 (a large box joins the chain), at
+    /// K+4 (it enters a list), at K+5 (forwarded).
     entry: Signal<Local, Bits<C>>,
+    entry4: Signal<Local, Bits<C>>,
+    entry5: Signal<Local, Bits<C>>,
     cand_ok: Signal<Local, Bit>,
     go: Signal<Local, Bit>,
     stall: Signal<Local, Bit>,
@@ -517,11 +547,29 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             s4_max: Default::default(),
             s4_margin: Default::default(),
             s4_kind: Default::default(),
-            s4_live: vec(lists),
-            s4_head: vec(lists),
+            s4_meta: vec(lists),
+            s4_old: vec(lists),
+            s4_walk: vec(lists),
             s4_enter: vec(lists),
+            s4_bucket: Default::default(),
+            s4_fp: Default::default(),
+            s4_same: Default::default(),
+            s4_home_fp: Default::default(),
             s4_large: Default::default(),
             s4_lprev: Default::default(),
+            s5_valid: Default::default(),
+            s5_index: Default::default(),
+            s5_min: Default::default(),
+            s5_max: Default::default(),
+            s5_margin: Default::default(),
+            s5_kind: Default::default(),
+            s5_live: vec(lists),
+            s5_head: vec(lists),
+            s5_enter: vec(lists),
+            s5_wrote: vec(lists),
+            s5_meta_w: vec(lists),
+            s5_large: Default::default(),
+            s5_lprev: Default::default(),
             meta: (0..lists).map(|_| DistRam::zeroed(buckets)).collect(),
             head: (0..lists).map(|_| DistRam::zeroed(buckets)).collect(),
             succ: Default::default(),
@@ -605,8 +653,11 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             rd_max: Default::default(),
             allowed: Default::default(),
             allow: vec(lists),
+            fwd: vec(lists),
+            meta_eff: vec(lists),
+            old_eff: vec(lists),
             live: vec(lists),
-            enter: vec(lists),
+            meta_new: vec(lists),
             succ_pick: vec(lists),
             succ_acc: Default::default(),
             any_live: Default::default(),
@@ -641,6 +692,8 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             unpack_ma: Default::default(),
             cand: Default::default(),
             entry: Default::default(),
+            entry4: Default::default(),
+            entry5: Default::default(),
             cand_ok: Default::default(),
             go: Default::default(),
             stall: Default::default(),
@@ -710,6 +763,13 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             s4_lprev,
             s4_index,
             s4_margin,
+            s4_kind,
+            s4_home_fp,
+            s5_valid,
+            s5_large,
+            s5_lprev,
+            s5_index,
+            s5_margin,
             wp,
             rp,
             count,
@@ -743,7 +803,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             s1_kind,
             s2_kind,
             s3_kind,
-            s4_kind,
+            s5_kind,
             cur_kind,
             v1_kind,
             v2_kind,
@@ -759,6 +819,11 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             inj_kind
         );
         clock!(self, clock, cells, succ, rec_box, fifo, lq_head, lq_box, lq_last);
+        for b in 0..27 {
+            self.s4_bucket[b].clock.next = self.clock.val();
+            self.s4_fp[b].clock.next = self.clock.val();
+            self.s4_same[b].clock.next = self.clock.val();
+        }
         for x in 0..3 {
             self.lq_fill[x].clock.next = self.clock.val();
             self.lq_fill[x].d.next = self.lq_fill[x].q.val();
@@ -770,6 +835,8 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.s3_max[x].clock.next = self.clock.val();
             self.s4_min[x].clock.next = self.clock.val();
             self.s4_max[x].clock.next = self.clock.val();
+            self.s5_min[x].clock.next = self.clock.val();
+            self.s5_max[x].clock.next = self.clock.val();
             self.cur_min[x].clock.next = self.clock.val();
             self.cur_max[x].clock.next = self.clock.val();
             self.e_min[x].clock.next = self.clock.val();
@@ -799,8 +866,14 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.rr[x].d.next = self.rr[x].q.val();
         }
         for l in 0..self._lists {
-            self.s4_live[l].clock.next = self.clock.val();
-            self.s4_head[l].clock.next = self.clock.val();
+            self.s5_live[l].clock.next = self.clock.val();
+            self.s5_head[l].clock.next = self.clock.val();
+            self.s5_enter[l].clock.next = self.clock.val();
+            self.s5_wrote[l].clock.next = self.clock.val();
+            self.s5_meta_w[l].clock.next = self.clock.val();
+            self.s4_meta[l].clock.next = self.clock.val();
+            self.s4_old[l].clock.next = self.clock.val();
+            self.s4_walk[l].clock.next = self.clock.val();
             self.s4_enter[l].clock.next = self.clock.val();
             self.meta[l].clock.next = self.clock.val();
             self.head[l].clock.next = self.clock.val();
@@ -977,7 +1050,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         }
         self.s2_kind.d.next = self.s1_kind.q.val();
         self.s3_kind.d.next = self.s2_kind.q.val();
-        self.s4_kind.d.next = self.s3_kind.q.val();
+        self.s5_kind.d.next = self.s4_kind.q.val();
         self.s2_valid.d.next = self.s1_valid.q.val();
         self.s2_index.d.next = self.s1_index.q.val();
         self.s2_margin.d.next = self.s1_margin.q.val();
@@ -1006,12 +1079,10 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.mask.val() >> (bit_cast::<MASK, GROUP>(self.s2_group.q.val()) << 3_u64);
         self.s3_allowed.d.next = self.allowed.val();
 
-        // K+3, per list (bank b, group h): the list heads are read at the bank's bucket. The
-        // box walks a list of a group its own pairs with, of a cell in its window, that may
-        // hold a box of that cell: its owner has the cell's fingerprint, or it is mixed. A
-        // small box enters its home cell's list of its own group: the first owns the list,
-        // a box of another fingerprint mixes it; the list's head becomes the box's successor
-        // (written at K+4). At the end of a frame the clear writes every bucket empty.
+        // K+3, per list (bank b, group h): the list heads are read at the bank's bucket and
+        // registered, with what decides the lists to walk and the entry. (The box one ahead
+        // writes its entry on this clock: the read misses it, so the banks whose bucket it
+        // writes are marked, and its entry is forwarded at K+4.)
         self.entry.next = self.s3_index.q.val() | self.top.val();
         for q in 0..self._groups {
             for b in 0..27 {
@@ -1019,50 +1090,25 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 self.head[27 * q + b].read_address.next = self.cells.bucket[b].val();
                 self.allow[27 * q + b].next =
                     self.s3_allowed.q.val() >> self.list_group[27 * q + b].val();
-                self.live[27 * q + b].next = self.s3_valid.q.val()
+                self.s4_meta[27 * q + b].d.next = self.meta[27 * q + b].read_data.val();
+                self.s4_old[27 * q + b].d.next = self.head[27 * q + b].read_data.val();
+                self.s4_walk[27 * q + b].d.next = self.s3_valid.q.val()
                     & self.cells.small_box.val()
                     & self.cells.inside[b].val()
-                    & self.allow[27 * q + b].val().get_bit(0)
-                    & self.meta[27 * q + b].read_data.val().get_bit(9)
-                    & (self.meta[27 * q + b].read_data.val().get_bit(8)
-                        | (self.meta[27 * q + b].read_data.val().get_bits::<FP>(0)
-                            == self.cells.fp[b].val()));
-                self.enter[27 * q + b].next = self.s3_valid.q.val()
+                    & self.allow[27 * q + b].val().get_bit(0);
+                self.s4_enter[27 * q + b].d.next = self.s3_valid.q.val()
                     & (self.s3_kind.q.val() == 0)
                     & self.cells.small_box.val()
                     & self.cells.home[b].val()
                     & (self.s3_group.q.val() == self.list_group[27 * q + b].val());
-                self.meta[27 * q + b].write_enable.next = self.enter[27 * q + b].val();
-                self.meta[27 * q + b].write_address.next = self.cells.bucket[b].val();
-                self.head[27 * q + b].write_enable.next = self.enter[27 * q + b].val();
-                self.head[27 * q + b].write_address.next = self.cells.bucket[b].val();
-                self.head[27 * q + b].write_data.next = self.entry.val();
-                // Owned: kept, and mixed by another fingerprint; free: owned by this one.
-                self.meta[27 * q + b].write_data.next =
-                    bit_cast::<META, FP>(self.cells.home_fp.val()) | 512_u64;
-                if self.meta[27 * q + b].read_data.val().get_bit(9) {
-                    self.meta[27 * q + b].write_data.next = self.meta[27 * q + b].read_data.val();
-                    if self.meta[27 * q + b].read_data.val().get_bits::<FP>(0)
-                        != self.cells.home_fp.val()
-                    {
-                        self.meta[27 * q + b].write_data.next =
-                            self.meta[27 * q + b].read_data.val() | 256_u64;
-                    }
-                }
-                self.s4_enter[27 * q + b].d.next =
-                    self.enter[27 * q + b].val() & self.meta[27 * q + b].read_data.val().get_bit(9);
-                if self.clearing.q.val() {
-                    self.meta[27 * q + b].write_enable.next = true;
-                    self.meta[27 * q + b].write_address.next = self.clear_at.q.val();
-                    self.meta[27 * q + b].write_data.next = 0.into();
-                    self.head[27 * q + b].write_enable.next = true;
-                    self.head[27 * q + b].write_address.next = self.clear_at.q.val();
-                    self.head[27 * q + b].write_data.next = 0.into();
-                }
-                self.s4_live[27 * q + b].d.next = self.live[27 * q + b].val();
-                self.s4_head[27 * q + b].d.next = self.head[27 * q + b].read_data.val();
             }
         }
+        for b in 0..27 {
+            self.s4_bucket[b].d.next = self.cells.bucket[b].val();
+            self.s4_fp[b].d.next = self.cells.fp[b].val();
+            self.s4_same[b].d.next = self.cells.bucket[b].val() == self.s4_bucket[b].q.val();
+        }
+        self.s4_home_fp.d.next = self.cells.home_fp.val();
         // A large box takes the chain of large boxes instead of a list.
         self.large_in.next =
             self.s3_valid.q.val() & (self.s3_kind.q.val() == 0) & !self.cells.small_box.val();
@@ -1074,57 +1120,124 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.s4_valid.d.next = self.s3_valid.q.val();
         self.s4_index.d.next = self.s3_index.q.val();
         self.s4_margin.d.next = self.s3_margin.q.val();
+        self.s4_kind.d.next = self.s3_kind.q.val();
         for x in 0..3 {
             self.s4_min[x].d.next = self.s3_min[x].q.val();
             self.s4_max[x].d.next = self.s3_max[x].q.val();
         }
 
-        // K+4: the box's successor is written: the old head of the list it entered (zero where
-        // it entered none), or the chain's old first. (A later box reads the box's entry at its
-        // K+3 at the earliest, and walks to its successor four clocks after that.) A box with
+        // K+4, per list: the owner and head the box sees (the box before's entry where it
+        // wrote the same bucket on the clock of this box's read). The box walks a list of a
+        // group its own pairs with, of a cell in its window, that may hold a box of that cell:
+        // its owner has the cell's fingerprint, or it is mixed. A small box enters its home
+        // cell's list of its own group: the first owns the list, a box of another fingerprint
+        // mixes it; the list's head becomes the box's successor (written at K+5). At the end
+        // of a frame the clear writes every bucket empty.
+        self.entry4.next = self.s4_index.q.val() | self.top.val();
+        self.entry5.next = self.s5_index.q.val() | self.top.val();
+        for q in 0..self._groups {
+            for b in 0..27 {
+                self.fwd[27 * q + b].next =
+                    self.s4_same[b].q.val() & self.s5_wrote[27 * q + b].q.val();
+                self.meta_eff[27 * q + b].next = self.s4_meta[27 * q + b].q.val();
+                self.old_eff[27 * q + b].next = self.s4_old[27 * q + b].q.val();
+                if self.fwd[27 * q + b].val() {
+                    self.meta_eff[27 * q + b].next = self.s5_meta_w[27 * q + b].q.val();
+                    self.old_eff[27 * q + b].next = self.entry5.val();
+                }
+                self.live[27 * q + b].next = self.s4_walk[27 * q + b].q.val()
+                    & self.meta_eff[27 * q + b].val().get_bit(9)
+                    & (self.meta_eff[27 * q + b].val().get_bit(8)
+                        | (self.meta_eff[27 * q + b].val().get_bits::<FP>(0)
+                            == self.s4_fp[b].q.val()));
+                // Owned: kept, and mixed by another fingerprint; free: owned by this one.
+                self.meta_new[27 * q + b].next =
+                    bit_cast::<META, FP>(self.s4_home_fp.q.val()) | 512_u64;
+                if self.meta_eff[27 * q + b].val().get_bit(9) {
+                    self.meta_new[27 * q + b].next = self.meta_eff[27 * q + b].val();
+                    if self.meta_eff[27 * q + b].val().get_bits::<FP>(0) != self.s4_home_fp.q.val()
+                    {
+                        self.meta_new[27 * q + b].next = self.meta_eff[27 * q + b].val() | 256_u64;
+                    }
+                }
+                self.meta[27 * q + b].write_enable.next = self.s4_enter[27 * q + b].q.val();
+                self.meta[27 * q + b].write_address.next = self.s4_bucket[b].q.val();
+                self.meta[27 * q + b].write_data.next = self.meta_new[27 * q + b].val();
+                self.head[27 * q + b].write_enable.next = self.s4_enter[27 * q + b].q.val();
+                self.head[27 * q + b].write_address.next = self.s4_bucket[b].q.val();
+                self.head[27 * q + b].write_data.next = self.entry4.val();
+                if self.clearing.q.val() {
+                    self.meta[27 * q + b].write_enable.next = true;
+                    self.meta[27 * q + b].write_address.next = self.clear_at.q.val();
+                    self.meta[27 * q + b].write_data.next = 0.into();
+                    self.head[27 * q + b].write_enable.next = true;
+                    self.head[27 * q + b].write_address.next = self.clear_at.q.val();
+                    self.head[27 * q + b].write_data.next = 0.into();
+                }
+                self.s5_enter[27 * q + b].d.next =
+                    self.s4_enter[27 * q + b].q.val() & self.meta_eff[27 * q + b].val().get_bit(9);
+                self.s5_wrote[27 * q + b].d.next = self.s4_enter[27 * q + b].q.val();
+                self.s5_meta_w[27 * q + b].d.next = self.meta_new[27 * q + b].val();
+                self.s5_live[27 * q + b].d.next = self.live[27 * q + b].val();
+                self.s5_head[27 * q + b].d.next = self.old_eff[27 * q + b].val();
+            }
+        }
+        self.s5_large.d.next = self.s4_large.q.val();
+        self.s5_lprev.d.next = self.s4_lprev.q.val();
+        self.s5_valid.d.next = self.s4_valid.q.val();
+        self.s5_index.d.next = self.s4_index.q.val();
+        self.s5_margin.d.next = self.s4_margin.q.val();
+        for x in 0..3 {
+            self.s5_min[x].d.next = self.s4_min[x].q.val();
+            self.s5_max[x].d.next = self.s4_max[x].q.val();
+        }
+
+        // K+5: the box's successor is written: the old head of the list it entered (zero where
+        // it entered none), or the chain's old first. (A later box sees the box's entry at its
+        // K+4 at the earliest, and walks to its successor four clocks after that.) A box with
         // lists to walk is written to the record queue; any other retires. The rest of the
         // chain is one list (the first), from the large box's successor.
         self.succ_acc.next = 0.into();
-        if self.s4_large.q.val() {
-            self.succ_acc.next = self.s4_lprev.q.val();
+        if self.s5_large.q.val() {
+            self.succ_acc.next = self.s5_lprev.q.val();
         }
         self.any_live.next = false;
         for l in 0..self._lists {
             self.succ_pick[l].next = 0.into();
-            if self.s4_enter[l].q.val() {
-                self.succ_pick[l].next = self.s4_head[l].q.val();
+            if self.s5_enter[l].q.val() {
+                self.succ_pick[l].next = self.s5_head[l].q.val();
             }
             self.succ_acc.next = self.succ_acc.val() | self.succ_pick[l].val();
-            self.any_live.next = self.any_live.val() | self.s4_live[l].q.val();
+            self.any_live.next = self.any_live.val() | self.s5_live[l].q.val();
         }
-        self.succ.write_enable.next = self.s4_valid.q.val() & (self.s4_kind.q.val() == 0);
-        self.succ.write_address.next = bit_cast::<A, C>(self.s4_index.q.val());
+        self.succ.write_enable.next = self.s5_valid.q.val() & (self.s5_kind.q.val() == 0);
+        self.succ.write_address.next = bit_cast::<A, C>(self.s5_index.q.val());
         self.succ.write_data.next = self.succ_acc.val();
         self.rec_write.next =
-            self.s4_valid.q.val() & (self.any_live.val() | self.s4_kind.q.val().get_bit(1));
-        self.retire_probe.next = self.s4_valid.q.val() & !self.rec_write.val();
+            self.s5_valid.q.val() & (self.any_live.val() | self.s5_kind.q.val().get_bit(1));
+        self.retire_probe.next = self.s5_valid.q.val() & !self.rec_write.val();
         for l in 0..self._lists {
             self.rec[l].write_enable.next = self.rec_write.val();
             self.rec[l].write_address.next = self.wp.q.val();
             // A list head has the flag bit set; a list not to walk is written as none.
             self.rec[l].write_data.next = 0.into();
-            if self.s4_live[l].q.val() {
-                self.rec[l].write_data.next = self.s4_head[l].q.val();
+            if self.s5_live[l].q.val() {
+                self.rec[l].write_data.next = self.s5_head[l].q.val();
             }
             self.rec[l].read_address.next = self.rp.q.val();
         }
-        if self.s4_kind.q.val().get_bit(1) {
+        if self.s5_kind.q.val().get_bit(1) {
             self.rec[0].write_data.next = self.lnext.q.val();
         }
         self.rec_box.write_enable.next = self.rec_write.val();
         self.rec_box.write_address.next = self.wp.q.val();
         self.rec_box.read_address.next = self.rp.q.val();
-        self.rec_box.in_index.next = self.s4_index.q.val();
-        self.rec_box.in_margin.next = self.s4_margin.q.val();
-        self.rec_box.in_kind.next = self.s4_kind.q.val();
+        self.rec_box.in_index.next = self.s5_index.q.val();
+        self.rec_box.in_margin.next = self.s5_margin.q.val();
+        self.rec_box.in_kind.next = self.s5_kind.q.val();
         for x in 0..3 {
-            self.rec_box.in_min[x].next = self.s4_min[x].q.val();
-            self.rec_box.in_max[x].next = self.s4_max[x].q.val();
+            self.rec_box.in_min[x].next = self.s5_min[x].q.val();
+            self.rec_box.in_max[x].next = self.s5_max[x].q.val();
         }
         if self.rec_write.val() {
             self.wp.d.next = self.wp.q.val() + 1;

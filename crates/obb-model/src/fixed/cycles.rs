@@ -34,10 +34,10 @@ pub const LAT_SAT: u64 = 22;
 pub const LAT_KEY_WRITE: u64 = 1;
 
 /// Grid: clocks from a box's keys leaving the projection to its record in the record queue:
-/// the window's cells registered, their hashes, their banks and buckets, the list heads read
-/// (and the box entered), the lists to walk registered and written to the record queue
+/// the window's cells registered, their hashes, their banks and buckets, the list heads read,
+/// the box entered and the lists to walk decided, and written to the record queue
 /// (`grid_clocks`).
-pub const LAT_RECORD: u64 = 5;
+pub const LAT_RECORD: u64 = 6;
 /// Grid: clocks from a box's keys to its first possible visit: its record, then the enumerator
 /// loads it and writes its first list to the list queue, from which the walker takes it.
 pub const LAT_PROBE: u64 = LAT_RECORD + 3;

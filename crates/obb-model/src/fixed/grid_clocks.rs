@@ -8,9 +8,9 @@
 //!   `GRID_CREDITS` boxes were accepted before t and not retired before t. Its keys leave the
 //!   projection `LAT_PROJECT` clocks later (clock K).
 //! - **Probe.** The window's cells, their banks and buckets take three clocks; at K + 3 the list
-//!   heads are read and the box is entered; at K + 4 the lists it must walk are registered and
-//!   written to the record queue, or, when it has none (or is large), it retires. Its record is
-//!   in the queue from K + 5 = accept + `LAT_PROJECT` + `LAT_RECORD`.
+//!   heads are read; at K + 4 the box is entered and the lists it must walk are decided; at
+//!   K + 5 they are written to the record queue, or, when it has none (or is large), it
+//!   retires. Its record is in the queue from K + 6 = accept + `LAT_PROJECT` + `LAT_RECORD`.
 //! - **Enumerate.** The enumerator takes the records in box order and writes their lists to the
 //!   list queue (`LIST_QUEUE` entries), each over two clocks: on a clock it writes none it
 //!   chooses its record's next list; a chosen list is written on a clock when at most
@@ -37,7 +37,7 @@
 //!   its window (or, too wide, ends the slow path); then each round is *launched* on an idle
 //!   clock and injected on the next as a box whose keys span the round's cells, probed and
 //!   walked as an arriving box is (its keys at the injection clock K, its record in the queue
-//!   from K + `LAT_RECORD`, retiring at K + 4 when it has no list); then, if a large box
+//!   from K + `LAT_RECORD`, retiring at K + 5 when it has no list); then, if a large box
 //!   follows, a record of one list, the rest of the chain, is launched the same way.
 //! - **End.** The walk is over on the first idle clock with no large box left to fetch (or
 //!   after a window too wide). From the clock after that, every list head is
@@ -128,7 +128,7 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
     };
     let keys_out = |accept: u64| accept + LAT_PROJECT;
     // Boxes and injected rounds enter the probe at K: a record from K + LAT_RECORD, or a
-    // retirement at K + 4. A record's lists are the next of `walk.lists` that hold its visits.
+    // retirement at K + 5. A record's lists are the next of `walk.lists` that hold its visits.
     let mut records: VecDeque<Record> = VecDeque::new();
     let mut retire_probe: VecDeque<u64> = VecDeque::new();
     let mut retire_walker: VecDeque<u64> = VecDeque::new();
@@ -136,7 +136,7 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
     let mut probe =
         |k: u64, count: usize, records: &mut VecDeque<Record>, retire_probe: &mut VecDeque<u64>| {
             if count == 0 {
-                retire_probe.push_back(k + 4);
+                retire_probe.push_back(k + LAT_RECORD - 1);
             } else {
                 let first = next_list;
                 let mut visits = 0;
