@@ -1194,9 +1194,9 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
 
         // K+5: the box's successor is written: the old head of the list it entered (zero where
         // it entered none), or the chain's old first. (A later box sees the box's entry at its
-        // K+4 at the earliest, and walks to its successor four clocks after that.) A box with
-        // lists to walk is written to the record queue; any other retires. The rest of the
-        // chain is one list (the first), from the large box's successor.
+        // K+4 at the earliest, and reads its successor five clocks after that, at its first
+        // visit.) A box with lists to walk is written to the record queue; any other retires.
+        // The rest of the chain is one list (the first), from the large box's successor.
         self.succ_acc.next = 0.into();
         if self.s5_large.q.val() {
             self.succ_acc.next = self.s5_lprev.q.val();
