@@ -50,6 +50,10 @@ fn config() -> impl Strategy<Value = HwConfig> {
                     // per bank (every list mixed) to 1,024.
                     grid_cell_mm: 2f64.powi(cell_exp),
                     grid_hash_bits,
+                    // Every group, and the sweep, which takes boxes of any size: the grid's
+                    // windows are widened where a test runs it (`whole_grid`).
+                    grid_groups: 8,
+                    broad_phase: BroadPhase::Sweep,
                     ..HwConfig::default()
                 }
             },

@@ -274,7 +274,11 @@ fn grid_keys_are_checked() {
         e.to_string().contains("obb 0: group 3") && e.to_string().contains("grid_groups"),
         "{e}"
     );
-    assert!(ModelFrame::new(&scene, &HwConfig::default()).is_ok());
+    let sweep = HwConfig {
+        broad_phase: BroadPhase::Sweep,
+        ..HwConfig::default()
+    };
+    assert!(ModelFrame::new(&scene, &sweep).is_ok());
     assert!(bad("grid_cell_mm = 3.0").contains("grid_cell_mm"));
     assert!(bad("grid_cell_mm = 0.0").contains("grid_cell_mm"));
     assert!(bad("grid_hash_bits = 0").contains("grid_hash_bits"));

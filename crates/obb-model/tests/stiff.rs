@@ -1,12 +1,14 @@
 //! The stiff and extreme cases, each a test: the fixed-point model reports every pair the f64
 //! reference reports, under a spread of configurations from the narrowest to the widest formats
-//! (docs/numerics.md). Each case also checks that the reference itself finds the collisions the
-//! case is built to have, so that no case passes by being empty.
+//! (docs/numerics.md), with the sweep (which takes boxes of any size) and with the grid (cells
+//! sized to the case's largest box). Each case also checks that the reference itself finds the
+//! collisions the case is built to have, so that no case passes by being empty.
 
 mod common;
 
 use common::{axes_of, f32_axes, tilted, touching};
-use obb_model::fixed::{HwConfig, Margins, ModelFrame};
+use obb_model::aabb::Aabb;
+use obb_model::fixed::{BroadPhase, HwConfig, Margins, ModelFrame};
 use obb_model::{detect, EngineKind, GroupMask, Obb, Pair, Prepared, Scene};
 
 /// From the narrowest formats to the widest: (center_bits, rot_bits, key_bits, sat_bits).
@@ -32,6 +34,8 @@ fn configs() -> impl Iterator<Item = HwConfig> {
             half_bits: 17.min(center_bits - 1),
             radix_digit_bits: 4,
             ortho_tol: 1e-5,
+            broad_phase: BroadPhase::Sweep,
+            grid_groups: 8,
             ..HwConfig::default()
         })
 }
@@ -55,12 +59,33 @@ fn never_missed(scene: &Scene, expected: usize) {
         "reference found {} < {expected}",
         truth.len()
     );
-    for cfg in configs() {
-        let cfg = cfg.fitted(scene);
-        let m = ModelFrame::new(scene, &cfg).expect("a fitted configuration holds the scene");
-        let pairs = m.detect(cfg.broad_phase, &GroupMask::All).pairs;
-        for p in &truth {
-            assert!(pairs.binary_search(p).is_ok(), "missed {p:?} with {cfg:?}");
+    // The finest power-of-two cell no smaller than any box's AABB: no window is too wide.
+    let extent = scene
+        .obbs
+        .iter()
+        .map(|o| {
+            let b = Aabb::of(o);
+            (0..3).map(|x| b.max[x] - b.min[x]).fold(0.0, f64::max)
+        })
+        .fold(f64::MIN_POSITIVE, f64::max);
+    let cell = 2f64.powi(extent.log2().ceil() as i32);
+    for sweep in configs() {
+        let grid = HwConfig {
+            broad_phase: BroadPhase::Grid,
+            grid_cell_mm: cell,
+            ..sweep.clone()
+        };
+        for cfg in [sweep, grid] {
+            let cfg = cfg.fitted(scene);
+            let m = ModelFrame::new(scene, &cfg).expect("a fitted configuration holds the scene");
+            let run = m.detect(cfg.broad_phase, &GroupMask::All);
+            assert!(!run.work.incomplete, "a window too wide with {cfg:?}");
+            for p in &truth {
+                assert!(
+                    run.pairs.binary_search(p).is_ok(),
+                    "missed {p:?} with {cfg:?}"
+                );
+            }
         }
     }
 }

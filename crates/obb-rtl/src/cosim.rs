@@ -38,6 +38,23 @@ pub fn prepare(
     }
 }
 
+/// The clocks a frame of `scene` takes: the model's, or for a frame over capacity a bound: the
+/// core runs its broad phase on the boxes it took (the first `capacity`; no pair leaves, so
+/// back-pressure does not slow it), which the model's frame of those boxes counts, and passes
+/// over one box a clock after.
+pub fn frame_clocks(scene: &Scene, cfg: &HwConfig, run: Option<&ModelRun>) -> Result<u64> {
+    Ok(match run {
+        Some(r) => r.cycles.total,
+        None => {
+            let took = (cfg.capacity as usize).min(scene.obbs.len());
+            let first = Scene {
+                obbs: scene.obbs[..took].to_vec(),
+            };
+            ModelFrame::new(&first, cfg)?.run().cycles.total + scene.obbs.len() as u64
+        }
+    })
+}
+
 /// The values of the box input ports for one box, in the test bench's word order (lowest bits
 /// first): `obb_center[0..3]` (offset binary), `obb_half[0..3]`, `obb_axes[0..9]` (two's
 /// complement, row-major), `obb_group`.

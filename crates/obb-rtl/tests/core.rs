@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::scenes::{dense, first, stiff, touching_pairs};
+use common::scenes::{dense, first, stiff, surgical_contact, touching_pairs};
 use common::{run_rust_hdl, run_verilator, signed};
 use obb_model::fixed::grid_clocks::grid_schedule;
 use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame, ModelRun, QObb};
@@ -419,14 +419,15 @@ fn capacity_exceeded_is_reported_and_cleared() {
     }
 }
 
-/// The default configuration (capacity 32,768, cross-group sweep) on a 1,000-OBB surgical
-/// scene in rust-hdl: the model's pairs, counters and clock count (the figure in the README).
+/// The default configuration (capacity 32,768, cross-group grid) in rust-hdl on the 1,000
+/// boxes of the surgical scene around a jaw tip: the model's pairs, counters and clock count
+/// (the figure in the README).
 #[test]
-fn default_core_on_a_surgical_scene_of_1000_boxes() {
+fn default_core_on_1000_boxes_of_the_surgical_scene() {
     let cfg = HwConfig::default();
     let frames = [frame_of(
-        "surgical 1000, default configuration",
-        surgical(1000, 1).unwrap(),
+        "1000 surgical boxes at a jaw tip, default configuration",
+        surgical_contact(1000),
     )];
     let (words, starts, models) = stimulus(&cfg, &frames);
     let hdl = rust_hdl::<15, 16>(&cfg, &words);

@@ -9,7 +9,9 @@ use common::scenes::{dense, first, stiff, touching_pairs};
 use obb_model::fixed::{BroadPhase, HwConfig};
 use obb_model::generate::{surgical, SURGICAL_DEFAULT_N};
 use obb_model::{GroupMask, Scene};
-use obb_rtl::cosim::{build, compare, prepare, stimulus, Expected, Level, RunOptions, SimFrame};
+use obb_rtl::cosim::{
+    build, compare, frame_clocks, prepare, stimulus, Expected, Level, RunOptions, SimFrame,
+};
 use obb_rtl::synth;
 use obb_rtl::verilator::{scratch_dir, Simulator};
 use std::path::PathBuf;
@@ -38,7 +40,7 @@ fn cosim(
     let stim = dir.join("stim.hex");
     std::fs::write(&stim, stimulus(&boxes, cfg)).unwrap();
     let run = model.map(|m| m.run());
-    let clocks = run.as_ref().map_or(boxes.len() as u64, |r| r.cycles.total);
+    let clocks = frame_clocks(scene, cfg, run.as_ref()).unwrap();
     let pairs = run.as_ref().map_or(0, |r| r.reported());
     let opts = RunOptions {
         ready_every,
@@ -63,10 +65,12 @@ fn cosim(
     got
 }
 
-/// The default configuration from no box and one box to the whole 17,500-OBB surgical scene.
+/// The default configuration (the grid, cross-group) from no box and one box to the whole
+/// 17,500-OBB surgical scene.
 #[test]
 fn default_core_from_one_box_to_the_full_surgical_scene() {
     let cfg = HwConfig::default();
+    assert_eq!(cfg.broad_phase, BroadPhase::Grid);
     let design = obb_rtl::generate::core(&cfg).unwrap();
     let full = surgical(SURGICAL_DEFAULT_N, 1).unwrap();
     let scenes = [
@@ -89,12 +93,16 @@ fn default_core_from_one_box_to_the_full_surgical_scene() {
     }
 }
 
-/// The default configuration on the stiff and extreme suite, and on the dense worst case with
-/// the receiver always ready and then taking a pair one clock in 16 (fewer than the core
-/// finds): the FIFO fills, the broad phase stalls, and no pair is lost or reordered.
+/// The sweep core (default formats) on the whole surgical scene, the stiff and extreme suite,
+/// and the dense worst case with the receiver always ready and then taking a pair one clock in
+/// 16 (fewer than the core finds): the FIFO fills, the broad phase stalls, and no pair is lost
+/// or reordered.
 #[test]
-fn default_core_on_stiff_and_dense_scenes_with_back_pressure() {
-    let cfg = HwConfig::default();
+fn sweep_core_on_surgical_stiff_and_dense_scenes_with_back_pressure() {
+    let cfg = HwConfig {
+        broad_phase: BroadPhase::Sweep,
+        ..HwConfig::default()
+    };
     let design = obb_rtl::generate::core(&cfg).unwrap();
     let run = |scene: &Scene, ready, name| {
         cosim(
@@ -107,9 +115,18 @@ fn default_core_on_stiff_and_dense_scenes_with_back_pressure() {
             name,
         )
     };
-    run(&stiff(), 1, "stiff");
-    let free = run(&dense(400), 1, "dense 400");
-    let throttled = run(&dense(400), 16, "dense 400, pair_ready one clock in 16");
+    run(
+        &surgical(SURGICAL_DEFAULT_N, 1).unwrap(),
+        1,
+        "sweep, surgical 17500",
+    );
+    run(&stiff(), 1, "sweep, stiff");
+    let free = run(&dense(400), 1, "sweep, dense 400");
+    let throttled = run(
+        &dense(400),
+        16,
+        "sweep, dense 400, pair_ready one clock in 16",
+    );
     assert!(
         throttled.cycles > free.cycles,
         "the receiver never stalled the core ({} cycles)",
@@ -117,44 +134,30 @@ fn default_core_on_stiff_and_dense_scenes_with_back_pressure() {
     );
 }
 
-/// The grid core (default formats and capacity, 2 mm cells, 2^10 buckets a bank) on the whole
-/// 17,500-OBB surgical scene, cross-group and all pairs; and, with 16 mm cells and every
-/// group, the dense case with the receiver taking a pair one clock in 16: the pair FIFO holds
-/// the candidates, their queue the walker, the credits the load (the test bench offers each
-/// box until the core takes it), and no pair is lost or reordered.
+/// The grid core on the whole 17,500-OBB surgical scene, all pairs; and, with 16 mm cells and
+/// every group, the dense case with the receiver taking a pair one clock in 16: the pair FIFO
+/// holds the candidates, their queue the walker, the credits the load (the test bench offers
+/// each box until the core takes it), and no pair is lost or reordered.
 #[test]
-fn grid_core_on_the_full_surgical_scene_and_under_back_pressure() {
-    let grid = HwConfig {
-        broad_phase: BroadPhase::Grid,
+fn grid_core_on_all_pairs_and_under_back_pressure() {
+    let all = HwConfig {
+        groups: GroupMask::All,
         ..HwConfig::default()
     };
-    let full = surgical(SURGICAL_DEFAULT_N, 1).unwrap();
-    for (cfg, name) in [
-        (grid.clone(), "grid, surgical 17500, cross-group"),
-        (
-            HwConfig {
-                groups: GroupMask::All,
-                ..grid.clone()
-            },
-            "grid, surgical 17500, all pairs",
-        ),
-    ] {
-        let design = obb_rtl::generate::core(&cfg).unwrap();
-        cosim(
-            &cfg,
-            &design,
-            Level::Rtl,
-            Simulator::Verilator,
-            &full,
-            1,
-            name,
-        );
-    }
+    let design = obb_rtl::generate::core(&all).unwrap();
+    cosim(
+        &all,
+        &design,
+        Level::Rtl,
+        Simulator::Verilator,
+        &surgical(SURGICAL_DEFAULT_N, 1).unwrap(),
+        1,
+        "grid, surgical 17500, all pairs",
+    );
     let dense_cfg = HwConfig {
-        groups: GroupMask::All,
         grid_cell_mm: 16.0,
         grid_groups: 8,
-        ..grid
+        ..all
     };
     let design = obb_rtl::generate::core(&dense_cfg).unwrap();
     let run = |ready, name| {
@@ -177,38 +180,78 @@ fn grid_core_on_the_full_surgical_scene_and_under_back_pressure() {
     );
 }
 
-/// A small core (capacity 512) in Verilator and in Icarus: both equal the model on the
-/// touching, stiff and dense scenes and flag a frame over capacity, reporting nothing.
+/// Small cores (capacity 512), the sweep and the grid, in Verilator and in Icarus: both
+/// simulators equal the model, the sweep on the touching, stiff and dense scenes (boxes the
+/// default grid refuses: 240 mm long, groups beyond 2) and a frame over capacity, which it
+/// flags, reporting nothing; the grid on the touching cases (Icarus runs the grid's 27 banks
+/// at under a hundred clocks a second, so its longer frames run in Verilator alone, here and
+/// in the other tests).
 #[test]
-fn small_core_in_verilator_and_icarus() {
-    let cfg = HwConfig {
+fn small_cores_in_verilator_and_icarus() {
+    let grid = HwConfig {
         capacity: 512,
         ..HwConfig::default()
     };
-    let design = obb_rtl::generate::core(&cfg).unwrap();
-    let scenes = [
+    let sweep = HwConfig {
+        broad_phase: BroadPhase::Sweep,
+        ..grid.clone()
+    };
+    let sweep_scenes = [
         ("touching", touching_pairs()),
         ("stiff", stiff()),
         ("dense 60", dense(60)),
         ("surgical 600, over capacity", surgical(600, 2).unwrap()),
     ];
-    for (name, scene) in &scenes {
-        let v = cosim(
+    let grid_scenes = [("touching", touching_pairs())];
+    for (cfg, scenes) in [(&sweep, &sweep_scenes[..]), (&grid, &grid_scenes[..])] {
+        let design = obb_rtl::generate::core(cfg).unwrap();
+        for (name, scene) in scenes {
+            let name = format!("{}, {name}", cfg.broad_phase);
+            let v = cosim(
+                cfg,
+                &design,
+                Level::Rtl,
+                Simulator::Verilator,
+                scene,
+                1,
+                &name,
+            );
+            let i = cosim(cfg, &design, Level::Rtl, Simulator::Icarus, scene, 1, &name);
+            assert_eq!(v, i, "{name}: Verilator and Icarus differ");
+        }
+    }
+}
+
+/// The grid core at capacity 512 in Verilator: a surgical scene and a frame over capacity,
+/// which it flags after walking the boxes it took, reporting nothing.
+#[test]
+fn small_grid_core_over_capacity() {
+    let cfg = HwConfig {
+        capacity: 512,
+        ..HwConfig::default()
+    };
+    let design = obb_rtl::generate::core(&cfg).unwrap();
+    for (name, scene) in [
+        ("grid, surgical 300", surgical(300, 3).unwrap()),
+        (
+            "grid, surgical 600, over capacity",
+            surgical(600, 2).unwrap(),
+        ),
+    ] {
+        cosim(
             &cfg,
             &design,
             Level::Rtl,
             Simulator::Verilator,
-            scene,
+            &scene,
             1,
             name,
         );
-        let i = cosim(&cfg, &design, Level::Rtl, Simulator::Icarus, scene, 1, name);
-        assert_eq!(v, i, "{name}: Verilator and Icarus differ");
     }
 }
 
-/// yosys' netlist of a small core (capacity 256, mapped for simulation: no block RAM, see
-/// `synth::Mapping`), one synthesis for two checks. The gate-level run: the netlist in
+/// yosys' netlist of a small sweep core (capacity 256, mapped for simulation: no block RAM,
+/// see `synth::Mapping`), one synthesis for two checks. The gate-level run: the netlist in
 /// Verilator, with yosys' models of the Virtex-6 primitives, equals the model (and so the RTL)
 /// on the touching and stiff scenes, pairs, counters and cycles; that checks the DSP48E1
 /// cascades and post-adders as yosys maps them. The analysis: it counts the same cells as
@@ -217,6 +260,7 @@ fn small_core_in_verilator_and_icarus() {
 fn the_netlist_matches_the_model_and_the_analysis_counts_what_yosys_counts() {
     let cfg = HwConfig {
         capacity: 256,
+        broad_phase: BroadPhase::Sweep,
         ..HwConfig::default()
     };
     let rtl = obb_rtl::generate::core(&cfg).unwrap();

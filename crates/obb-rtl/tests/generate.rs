@@ -104,7 +104,7 @@ fn the_manifest_lists_the_verilog_ports() {
         obb_model::fixed::cycles::LAT_BROAD
     );
     assert_eq!(json["configuration"]["key_bits"], 20);
-    assert_eq!(json["configuration"]["broad_phase"], "sweep");
+    assert_eq!(json["configuration"]["broad_phase"], "grid");
 }
 
 /// The committed top lints clean in Verilator (LATCH and every other warning but WIDTH,
@@ -181,9 +181,10 @@ fn the_smallest_capacities_generate() {
         let out = files(&cfg).unwrap();
         assert!(file(&out, "obb_core.v").contains("module obb_core("));
     }
-    // The idle grid inside another broad phase's core ignores the grid keys: the widest keys
-    // with the smallest cells generate (they once failed the grid's coordinate width).
+    // A core of another broad phase ignores the grid's keys: the widest keys with the smallest
+    // cells generate the sweep (the grid refuses them: `unsupported_configurations_are_rejected`).
     let wide = HwConfig {
+        broad_phase: obb_model::fixed::BroadPhase::Sweep,
         center_bits: 23,
         key_bits: 23,
         grid_cell_mm: 1.0 / 1024.0,

@@ -97,10 +97,8 @@ pub fn run(a: CosimArgs) -> Result<()> {
     std::fs::create_dir_all(&work).with_context(|| format!("cannot create {}", work.display()))?;
     let stim = work.join("stim.hex");
     std::fs::write(&stim, cosim::stimulus(&boxes, &cfg))?;
-    // The model's clocks, or for a frame over capacity about one per box: the bar's length.
-    let expect = run
-        .as_ref()
-        .map_or(boxes.len() as u64 + 20, |r| r.cycles.total);
+    // The model's clocks, or for a frame over capacity a bound: the bar's length.
+    let expect = cosim::frame_clocks(&scene, &cfg, run.as_ref())?;
     let bar = ProgressBar::new(expect).with_style(
         ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} clocks ({eta})")
             .expect("a valid template"),

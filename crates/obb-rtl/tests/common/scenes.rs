@@ -67,3 +67,26 @@ pub fn stiff() -> Scene {
     obbs.extend([a, b, f, g]);
     Scene { obbs }
 }
+
+/// The `n` boxes of the full surgical scene nearest the lowest instrument box (a jaw tip
+/// dipping into the tissue), in scene order: tissue and jaws where they touch, at the
+/// tessellation the default configuration's 2 mm cells are sized for (a smaller `surgical`
+/// scene has coarser, larger boxes).
+pub fn surgical_contact(n: usize) -> Scene {
+    let full = obb_model::generate::surgical(obb_model::generate::SURGICAL_DEFAULT_N, 1).unwrap();
+    let tip = full
+        .obbs
+        .iter()
+        .filter(|o| o.group != 0)
+        .min_by(|a, b| a.center[2].total_cmp(&b.center[2]))
+        .unwrap()
+        .center;
+    let dist = |o: &Obb| (0..3).map(|i| (o.center[i] - tip[i]).powi(2)).sum::<f64>();
+    let mut order: Vec<usize> = (0..full.obbs.len()).collect();
+    order.sort_by(|&a, &b| dist(&full.obbs[a]).total_cmp(&dist(&full.obbs[b])));
+    order.truncate(n);
+    order.sort_unstable();
+    Scene {
+        obbs: order.into_iter().map(|i| full.obbs[i].clone()).collect(),
+    }
+}
