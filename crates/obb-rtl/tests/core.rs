@@ -262,6 +262,7 @@ fn frame_of(name: &'static str, scene: Scene) -> Frame {
 fn sweep_core_matches_the_model() {
     let cfg = HwConfig {
         capacity: 1 << A,
+        broad_phase: BroadPhase::Sweep,
         groups: obb_model::GroupMask::All,
         ..HwConfig::default()
     };
