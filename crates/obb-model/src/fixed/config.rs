@@ -14,7 +14,7 @@ use thiserror::Error;
 #[serde(rename_all = "kebab-case")]
 pub enum BroadPhase {
     /// Spatial hash of power-of-two cells, built while the boxes arrive; a box probes the
-    /// lists of the cells its AABB covers (docs/hardware.md, "The grid broad phase").
+    /// lists of the cells its AABB covers (docs/hardware.md, "The grid").
     Grid,
     /// Single-axis sweep over the sorted min keys, other axes checked against an AABB table.
     Sweep,
