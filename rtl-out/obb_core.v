@@ -3175,6 +3175,9 @@ module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full)
     
     // Constant declarations
     localparam  stall_at = 7'b100000;
+    localparam  stall_lo = 7'b11111;
+    localparam  stall_hi = 7'b100001;
+    localparam  ones = 7'b1111111;
     
     // Stub signals
     reg  ram$clock;
@@ -3204,10 +3207,20 @@ module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full)
     reg  [39:0] out_data$d;
     wire  [39:0] out_data$q;
     reg  out_data$clock;
+    reg  full_q$d;
+    wire  full_q$q;
+    reg  full_q$clock;
     
     // Local signals
     reg  load;
     reg  two;
+    reg  [6:0] count_inc;
+    reg  [6:0] count_dec;
+    reg  [6:0] keep_m;
+    reg  [6:0] up_m;
+    reg  [6:0] down_m;
+    reg  up;
+    reg  down;
     
     // Sub module instances
     obb_core$fifo$ram ram(
@@ -3253,6 +3266,11 @@ module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full)
         .q(out_data$q),
         .clock(out_data$clock)
     );
+    obb_core$fifo$full_q full_q(
+        .d(full_q$d),
+        .q(full_q$q),
+        .clock(full_q$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -3263,6 +3281,7 @@ module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full)
         one$clock = clock;
         out_valid$clock = clock;
         out_data$clock = clock;
+        full_q$clock = clock;
         wptr$d = wptr$q;
         rptr$d = rptr$q;
         count$d = count$q;
@@ -3270,6 +3289,7 @@ module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full)
         one$d = one$q;
         out_valid$d = out_valid$q;
         out_data$d = out_data$q;
+        full_q$d = full_q$q;
         ram$clock = clock;
         ram$write_enable = write;
         ram$write_address = wptr$q;
@@ -3287,19 +3307,31 @@ module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full)
         else if (ready) begin
             out_valid$d = 1'b0;
         end
-        if (write & ~load) begin
-            count$d = count$q + 32'h1;
+        up = write & ~load;
+        down = load & ~write;
+        keep_m = 32'h0;
+        up_m = 32'h0;
+        down_m = 32'h0;
+        if (up) begin
+            up_m = ones;
         end
-        if (load & ~write) begin
-            count$d = count$q - 32'h1;
+        else if (down) begin
+            down_m = ones;
         end
+        else begin
+            keep_m = ones;
+        end
+        count_inc = count$q + 32'h1;
+        count_dec = count$q - 32'h1;
+        count$d = (count$q & keep_m) | (count_inc & up_m) | (count_dec & down_m);
+        full_q$d = ((count$q >= stall_at) & ~up & ~down) | ((count$q >= stall_lo) & up) | ((count$q >= stall_hi) & down);
         two = count$q == 32'h2;
         stored$d = write | (stored$q & ~(one$q & load));
         one$d = (~stored$q & write) | (one$q & (write == load)) | (two & load & ~write);
         valid = out_valid$q;
         data_out = out_data$q;
         empty = ~stored$q & ~out_valid$q;
-        almost_full = count$q >= stall_at;
+        almost_full = full_q$q;
     end
     
 endmodule // obb_core$fifo
@@ -3322,6 +3354,25 @@ module obb_core$fifo$count(d,q,clock);
     end
           
 endmodule // obb_core$fifo$count
+
+
+module obb_core$fifo$full_q(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fifo$full_q
 
 
 module obb_core$fifo$one(d,q,clock);
@@ -5160,6 +5211,249 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] s4_old$80$d;
     wire  [15:0] s4_old$80$q;
     reg  s4_old$80$clock;
+    reg  [15:0] s4_old2$0$d;
+    wire  [15:0] s4_old2$0$q;
+    reg  s4_old2$0$clock;
+    reg  [15:0] s4_old2$1$d;
+    wire  [15:0] s4_old2$1$q;
+    reg  s4_old2$1$clock;
+    reg  [15:0] s4_old2$2$d;
+    wire  [15:0] s4_old2$2$q;
+    reg  s4_old2$2$clock;
+    reg  [15:0] s4_old2$3$d;
+    wire  [15:0] s4_old2$3$q;
+    reg  s4_old2$3$clock;
+    reg  [15:0] s4_old2$4$d;
+    wire  [15:0] s4_old2$4$q;
+    reg  s4_old2$4$clock;
+    reg  [15:0] s4_old2$5$d;
+    wire  [15:0] s4_old2$5$q;
+    reg  s4_old2$5$clock;
+    reg  [15:0] s4_old2$6$d;
+    wire  [15:0] s4_old2$6$q;
+    reg  s4_old2$6$clock;
+    reg  [15:0] s4_old2$7$d;
+    wire  [15:0] s4_old2$7$q;
+    reg  s4_old2$7$clock;
+    reg  [15:0] s4_old2$8$d;
+    wire  [15:0] s4_old2$8$q;
+    reg  s4_old2$8$clock;
+    reg  [15:0] s4_old2$9$d;
+    wire  [15:0] s4_old2$9$q;
+    reg  s4_old2$9$clock;
+    reg  [15:0] s4_old2$10$d;
+    wire  [15:0] s4_old2$10$q;
+    reg  s4_old2$10$clock;
+    reg  [15:0] s4_old2$11$d;
+    wire  [15:0] s4_old2$11$q;
+    reg  s4_old2$11$clock;
+    reg  [15:0] s4_old2$12$d;
+    wire  [15:0] s4_old2$12$q;
+    reg  s4_old2$12$clock;
+    reg  [15:0] s4_old2$13$d;
+    wire  [15:0] s4_old2$13$q;
+    reg  s4_old2$13$clock;
+    reg  [15:0] s4_old2$14$d;
+    wire  [15:0] s4_old2$14$q;
+    reg  s4_old2$14$clock;
+    reg  [15:0] s4_old2$15$d;
+    wire  [15:0] s4_old2$15$q;
+    reg  s4_old2$15$clock;
+    reg  [15:0] s4_old2$16$d;
+    wire  [15:0] s4_old2$16$q;
+    reg  s4_old2$16$clock;
+    reg  [15:0] s4_old2$17$d;
+    wire  [15:0] s4_old2$17$q;
+    reg  s4_old2$17$clock;
+    reg  [15:0] s4_old2$18$d;
+    wire  [15:0] s4_old2$18$q;
+    reg  s4_old2$18$clock;
+    reg  [15:0] s4_old2$19$d;
+    wire  [15:0] s4_old2$19$q;
+    reg  s4_old2$19$clock;
+    reg  [15:0] s4_old2$20$d;
+    wire  [15:0] s4_old2$20$q;
+    reg  s4_old2$20$clock;
+    reg  [15:0] s4_old2$21$d;
+    wire  [15:0] s4_old2$21$q;
+    reg  s4_old2$21$clock;
+    reg  [15:0] s4_old2$22$d;
+    wire  [15:0] s4_old2$22$q;
+    reg  s4_old2$22$clock;
+    reg  [15:0] s4_old2$23$d;
+    wire  [15:0] s4_old2$23$q;
+    reg  s4_old2$23$clock;
+    reg  [15:0] s4_old2$24$d;
+    wire  [15:0] s4_old2$24$q;
+    reg  s4_old2$24$clock;
+    reg  [15:0] s4_old2$25$d;
+    wire  [15:0] s4_old2$25$q;
+    reg  s4_old2$25$clock;
+    reg  [15:0] s4_old2$26$d;
+    wire  [15:0] s4_old2$26$q;
+    reg  s4_old2$26$clock;
+    reg  [15:0] s4_old2$27$d;
+    wire  [15:0] s4_old2$27$q;
+    reg  s4_old2$27$clock;
+    reg  [15:0] s4_old2$28$d;
+    wire  [15:0] s4_old2$28$q;
+    reg  s4_old2$28$clock;
+    reg  [15:0] s4_old2$29$d;
+    wire  [15:0] s4_old2$29$q;
+    reg  s4_old2$29$clock;
+    reg  [15:0] s4_old2$30$d;
+    wire  [15:0] s4_old2$30$q;
+    reg  s4_old2$30$clock;
+    reg  [15:0] s4_old2$31$d;
+    wire  [15:0] s4_old2$31$q;
+    reg  s4_old2$31$clock;
+    reg  [15:0] s4_old2$32$d;
+    wire  [15:0] s4_old2$32$q;
+    reg  s4_old2$32$clock;
+    reg  [15:0] s4_old2$33$d;
+    wire  [15:0] s4_old2$33$q;
+    reg  s4_old2$33$clock;
+    reg  [15:0] s4_old2$34$d;
+    wire  [15:0] s4_old2$34$q;
+    reg  s4_old2$34$clock;
+    reg  [15:0] s4_old2$35$d;
+    wire  [15:0] s4_old2$35$q;
+    reg  s4_old2$35$clock;
+    reg  [15:0] s4_old2$36$d;
+    wire  [15:0] s4_old2$36$q;
+    reg  s4_old2$36$clock;
+    reg  [15:0] s4_old2$37$d;
+    wire  [15:0] s4_old2$37$q;
+    reg  s4_old2$37$clock;
+    reg  [15:0] s4_old2$38$d;
+    wire  [15:0] s4_old2$38$q;
+    reg  s4_old2$38$clock;
+    reg  [15:0] s4_old2$39$d;
+    wire  [15:0] s4_old2$39$q;
+    reg  s4_old2$39$clock;
+    reg  [15:0] s4_old2$40$d;
+    wire  [15:0] s4_old2$40$q;
+    reg  s4_old2$40$clock;
+    reg  [15:0] s4_old2$41$d;
+    wire  [15:0] s4_old2$41$q;
+    reg  s4_old2$41$clock;
+    reg  [15:0] s4_old2$42$d;
+    wire  [15:0] s4_old2$42$q;
+    reg  s4_old2$42$clock;
+    reg  [15:0] s4_old2$43$d;
+    wire  [15:0] s4_old2$43$q;
+    reg  s4_old2$43$clock;
+    reg  [15:0] s4_old2$44$d;
+    wire  [15:0] s4_old2$44$q;
+    reg  s4_old2$44$clock;
+    reg  [15:0] s4_old2$45$d;
+    wire  [15:0] s4_old2$45$q;
+    reg  s4_old2$45$clock;
+    reg  [15:0] s4_old2$46$d;
+    wire  [15:0] s4_old2$46$q;
+    reg  s4_old2$46$clock;
+    reg  [15:0] s4_old2$47$d;
+    wire  [15:0] s4_old2$47$q;
+    reg  s4_old2$47$clock;
+    reg  [15:0] s4_old2$48$d;
+    wire  [15:0] s4_old2$48$q;
+    reg  s4_old2$48$clock;
+    reg  [15:0] s4_old2$49$d;
+    wire  [15:0] s4_old2$49$q;
+    reg  s4_old2$49$clock;
+    reg  [15:0] s4_old2$50$d;
+    wire  [15:0] s4_old2$50$q;
+    reg  s4_old2$50$clock;
+    reg  [15:0] s4_old2$51$d;
+    wire  [15:0] s4_old2$51$q;
+    reg  s4_old2$51$clock;
+    reg  [15:0] s4_old2$52$d;
+    wire  [15:0] s4_old2$52$q;
+    reg  s4_old2$52$clock;
+    reg  [15:0] s4_old2$53$d;
+    wire  [15:0] s4_old2$53$q;
+    reg  s4_old2$53$clock;
+    reg  [15:0] s4_old2$54$d;
+    wire  [15:0] s4_old2$54$q;
+    reg  s4_old2$54$clock;
+    reg  [15:0] s4_old2$55$d;
+    wire  [15:0] s4_old2$55$q;
+    reg  s4_old2$55$clock;
+    reg  [15:0] s4_old2$56$d;
+    wire  [15:0] s4_old2$56$q;
+    reg  s4_old2$56$clock;
+    reg  [15:0] s4_old2$57$d;
+    wire  [15:0] s4_old2$57$q;
+    reg  s4_old2$57$clock;
+    reg  [15:0] s4_old2$58$d;
+    wire  [15:0] s4_old2$58$q;
+    reg  s4_old2$58$clock;
+    reg  [15:0] s4_old2$59$d;
+    wire  [15:0] s4_old2$59$q;
+    reg  s4_old2$59$clock;
+    reg  [15:0] s4_old2$60$d;
+    wire  [15:0] s4_old2$60$q;
+    reg  s4_old2$60$clock;
+    reg  [15:0] s4_old2$61$d;
+    wire  [15:0] s4_old2$61$q;
+    reg  s4_old2$61$clock;
+    reg  [15:0] s4_old2$62$d;
+    wire  [15:0] s4_old2$62$q;
+    reg  s4_old2$62$clock;
+    reg  [15:0] s4_old2$63$d;
+    wire  [15:0] s4_old2$63$q;
+    reg  s4_old2$63$clock;
+    reg  [15:0] s4_old2$64$d;
+    wire  [15:0] s4_old2$64$q;
+    reg  s4_old2$64$clock;
+    reg  [15:0] s4_old2$65$d;
+    wire  [15:0] s4_old2$65$q;
+    reg  s4_old2$65$clock;
+    reg  [15:0] s4_old2$66$d;
+    wire  [15:0] s4_old2$66$q;
+    reg  s4_old2$66$clock;
+    reg  [15:0] s4_old2$67$d;
+    wire  [15:0] s4_old2$67$q;
+    reg  s4_old2$67$clock;
+    reg  [15:0] s4_old2$68$d;
+    wire  [15:0] s4_old2$68$q;
+    reg  s4_old2$68$clock;
+    reg  [15:0] s4_old2$69$d;
+    wire  [15:0] s4_old2$69$q;
+    reg  s4_old2$69$clock;
+    reg  [15:0] s4_old2$70$d;
+    wire  [15:0] s4_old2$70$q;
+    reg  s4_old2$70$clock;
+    reg  [15:0] s4_old2$71$d;
+    wire  [15:0] s4_old2$71$q;
+    reg  s4_old2$71$clock;
+    reg  [15:0] s4_old2$72$d;
+    wire  [15:0] s4_old2$72$q;
+    reg  s4_old2$72$clock;
+    reg  [15:0] s4_old2$73$d;
+    wire  [15:0] s4_old2$73$q;
+    reg  s4_old2$73$clock;
+    reg  [15:0] s4_old2$74$d;
+    wire  [15:0] s4_old2$74$q;
+    reg  s4_old2$74$clock;
+    reg  [15:0] s4_old2$75$d;
+    wire  [15:0] s4_old2$75$q;
+    reg  s4_old2$75$clock;
+    reg  [15:0] s4_old2$76$d;
+    wire  [15:0] s4_old2$76$q;
+    reg  s4_old2$76$clock;
+    reg  [15:0] s4_old2$77$d;
+    wire  [15:0] s4_old2$77$q;
+    reg  s4_old2$77$clock;
+    reg  [15:0] s4_old2$78$d;
+    wire  [15:0] s4_old2$78$q;
+    reg  s4_old2$78$clock;
+    reg  [15:0] s4_old2$79$d;
+    wire  [15:0] s4_old2$79$q;
+    reg  s4_old2$79$clock;
+    reg  [15:0] s4_old2$80$d;
+    wire  [15:0] s4_old2$80$q;
+    reg  s4_old2$80$clock;
     reg  s4_walk$0$d;
     wire  s4_walk$0$q;
     reg  s4_walk$0$clock;
@@ -6414,6 +6708,249 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] s5_head$80$d;
     wire  [15:0] s5_head$80$q;
     reg  s5_head$80$clock;
+    reg  [15:0] s5_head2$0$d;
+    wire  [15:0] s5_head2$0$q;
+    reg  s5_head2$0$clock;
+    reg  [15:0] s5_head2$1$d;
+    wire  [15:0] s5_head2$1$q;
+    reg  s5_head2$1$clock;
+    reg  [15:0] s5_head2$2$d;
+    wire  [15:0] s5_head2$2$q;
+    reg  s5_head2$2$clock;
+    reg  [15:0] s5_head2$3$d;
+    wire  [15:0] s5_head2$3$q;
+    reg  s5_head2$3$clock;
+    reg  [15:0] s5_head2$4$d;
+    wire  [15:0] s5_head2$4$q;
+    reg  s5_head2$4$clock;
+    reg  [15:0] s5_head2$5$d;
+    wire  [15:0] s5_head2$5$q;
+    reg  s5_head2$5$clock;
+    reg  [15:0] s5_head2$6$d;
+    wire  [15:0] s5_head2$6$q;
+    reg  s5_head2$6$clock;
+    reg  [15:0] s5_head2$7$d;
+    wire  [15:0] s5_head2$7$q;
+    reg  s5_head2$7$clock;
+    reg  [15:0] s5_head2$8$d;
+    wire  [15:0] s5_head2$8$q;
+    reg  s5_head2$8$clock;
+    reg  [15:0] s5_head2$9$d;
+    wire  [15:0] s5_head2$9$q;
+    reg  s5_head2$9$clock;
+    reg  [15:0] s5_head2$10$d;
+    wire  [15:0] s5_head2$10$q;
+    reg  s5_head2$10$clock;
+    reg  [15:0] s5_head2$11$d;
+    wire  [15:0] s5_head2$11$q;
+    reg  s5_head2$11$clock;
+    reg  [15:0] s5_head2$12$d;
+    wire  [15:0] s5_head2$12$q;
+    reg  s5_head2$12$clock;
+    reg  [15:0] s5_head2$13$d;
+    wire  [15:0] s5_head2$13$q;
+    reg  s5_head2$13$clock;
+    reg  [15:0] s5_head2$14$d;
+    wire  [15:0] s5_head2$14$q;
+    reg  s5_head2$14$clock;
+    reg  [15:0] s5_head2$15$d;
+    wire  [15:0] s5_head2$15$q;
+    reg  s5_head2$15$clock;
+    reg  [15:0] s5_head2$16$d;
+    wire  [15:0] s5_head2$16$q;
+    reg  s5_head2$16$clock;
+    reg  [15:0] s5_head2$17$d;
+    wire  [15:0] s5_head2$17$q;
+    reg  s5_head2$17$clock;
+    reg  [15:0] s5_head2$18$d;
+    wire  [15:0] s5_head2$18$q;
+    reg  s5_head2$18$clock;
+    reg  [15:0] s5_head2$19$d;
+    wire  [15:0] s5_head2$19$q;
+    reg  s5_head2$19$clock;
+    reg  [15:0] s5_head2$20$d;
+    wire  [15:0] s5_head2$20$q;
+    reg  s5_head2$20$clock;
+    reg  [15:0] s5_head2$21$d;
+    wire  [15:0] s5_head2$21$q;
+    reg  s5_head2$21$clock;
+    reg  [15:0] s5_head2$22$d;
+    wire  [15:0] s5_head2$22$q;
+    reg  s5_head2$22$clock;
+    reg  [15:0] s5_head2$23$d;
+    wire  [15:0] s5_head2$23$q;
+    reg  s5_head2$23$clock;
+    reg  [15:0] s5_head2$24$d;
+    wire  [15:0] s5_head2$24$q;
+    reg  s5_head2$24$clock;
+    reg  [15:0] s5_head2$25$d;
+    wire  [15:0] s5_head2$25$q;
+    reg  s5_head2$25$clock;
+    reg  [15:0] s5_head2$26$d;
+    wire  [15:0] s5_head2$26$q;
+    reg  s5_head2$26$clock;
+    reg  [15:0] s5_head2$27$d;
+    wire  [15:0] s5_head2$27$q;
+    reg  s5_head2$27$clock;
+    reg  [15:0] s5_head2$28$d;
+    wire  [15:0] s5_head2$28$q;
+    reg  s5_head2$28$clock;
+    reg  [15:0] s5_head2$29$d;
+    wire  [15:0] s5_head2$29$q;
+    reg  s5_head2$29$clock;
+    reg  [15:0] s5_head2$30$d;
+    wire  [15:0] s5_head2$30$q;
+    reg  s5_head2$30$clock;
+    reg  [15:0] s5_head2$31$d;
+    wire  [15:0] s5_head2$31$q;
+    reg  s5_head2$31$clock;
+    reg  [15:0] s5_head2$32$d;
+    wire  [15:0] s5_head2$32$q;
+    reg  s5_head2$32$clock;
+    reg  [15:0] s5_head2$33$d;
+    wire  [15:0] s5_head2$33$q;
+    reg  s5_head2$33$clock;
+    reg  [15:0] s5_head2$34$d;
+    wire  [15:0] s5_head2$34$q;
+    reg  s5_head2$34$clock;
+    reg  [15:0] s5_head2$35$d;
+    wire  [15:0] s5_head2$35$q;
+    reg  s5_head2$35$clock;
+    reg  [15:0] s5_head2$36$d;
+    wire  [15:0] s5_head2$36$q;
+    reg  s5_head2$36$clock;
+    reg  [15:0] s5_head2$37$d;
+    wire  [15:0] s5_head2$37$q;
+    reg  s5_head2$37$clock;
+    reg  [15:0] s5_head2$38$d;
+    wire  [15:0] s5_head2$38$q;
+    reg  s5_head2$38$clock;
+    reg  [15:0] s5_head2$39$d;
+    wire  [15:0] s5_head2$39$q;
+    reg  s5_head2$39$clock;
+    reg  [15:0] s5_head2$40$d;
+    wire  [15:0] s5_head2$40$q;
+    reg  s5_head2$40$clock;
+    reg  [15:0] s5_head2$41$d;
+    wire  [15:0] s5_head2$41$q;
+    reg  s5_head2$41$clock;
+    reg  [15:0] s5_head2$42$d;
+    wire  [15:0] s5_head2$42$q;
+    reg  s5_head2$42$clock;
+    reg  [15:0] s5_head2$43$d;
+    wire  [15:0] s5_head2$43$q;
+    reg  s5_head2$43$clock;
+    reg  [15:0] s5_head2$44$d;
+    wire  [15:0] s5_head2$44$q;
+    reg  s5_head2$44$clock;
+    reg  [15:0] s5_head2$45$d;
+    wire  [15:0] s5_head2$45$q;
+    reg  s5_head2$45$clock;
+    reg  [15:0] s5_head2$46$d;
+    wire  [15:0] s5_head2$46$q;
+    reg  s5_head2$46$clock;
+    reg  [15:0] s5_head2$47$d;
+    wire  [15:0] s5_head2$47$q;
+    reg  s5_head2$47$clock;
+    reg  [15:0] s5_head2$48$d;
+    wire  [15:0] s5_head2$48$q;
+    reg  s5_head2$48$clock;
+    reg  [15:0] s5_head2$49$d;
+    wire  [15:0] s5_head2$49$q;
+    reg  s5_head2$49$clock;
+    reg  [15:0] s5_head2$50$d;
+    wire  [15:0] s5_head2$50$q;
+    reg  s5_head2$50$clock;
+    reg  [15:0] s5_head2$51$d;
+    wire  [15:0] s5_head2$51$q;
+    reg  s5_head2$51$clock;
+    reg  [15:0] s5_head2$52$d;
+    wire  [15:0] s5_head2$52$q;
+    reg  s5_head2$52$clock;
+    reg  [15:0] s5_head2$53$d;
+    wire  [15:0] s5_head2$53$q;
+    reg  s5_head2$53$clock;
+    reg  [15:0] s5_head2$54$d;
+    wire  [15:0] s5_head2$54$q;
+    reg  s5_head2$54$clock;
+    reg  [15:0] s5_head2$55$d;
+    wire  [15:0] s5_head2$55$q;
+    reg  s5_head2$55$clock;
+    reg  [15:0] s5_head2$56$d;
+    wire  [15:0] s5_head2$56$q;
+    reg  s5_head2$56$clock;
+    reg  [15:0] s5_head2$57$d;
+    wire  [15:0] s5_head2$57$q;
+    reg  s5_head2$57$clock;
+    reg  [15:0] s5_head2$58$d;
+    wire  [15:0] s5_head2$58$q;
+    reg  s5_head2$58$clock;
+    reg  [15:0] s5_head2$59$d;
+    wire  [15:0] s5_head2$59$q;
+    reg  s5_head2$59$clock;
+    reg  [15:0] s5_head2$60$d;
+    wire  [15:0] s5_head2$60$q;
+    reg  s5_head2$60$clock;
+    reg  [15:0] s5_head2$61$d;
+    wire  [15:0] s5_head2$61$q;
+    reg  s5_head2$61$clock;
+    reg  [15:0] s5_head2$62$d;
+    wire  [15:0] s5_head2$62$q;
+    reg  s5_head2$62$clock;
+    reg  [15:0] s5_head2$63$d;
+    wire  [15:0] s5_head2$63$q;
+    reg  s5_head2$63$clock;
+    reg  [15:0] s5_head2$64$d;
+    wire  [15:0] s5_head2$64$q;
+    reg  s5_head2$64$clock;
+    reg  [15:0] s5_head2$65$d;
+    wire  [15:0] s5_head2$65$q;
+    reg  s5_head2$65$clock;
+    reg  [15:0] s5_head2$66$d;
+    wire  [15:0] s5_head2$66$q;
+    reg  s5_head2$66$clock;
+    reg  [15:0] s5_head2$67$d;
+    wire  [15:0] s5_head2$67$q;
+    reg  s5_head2$67$clock;
+    reg  [15:0] s5_head2$68$d;
+    wire  [15:0] s5_head2$68$q;
+    reg  s5_head2$68$clock;
+    reg  [15:0] s5_head2$69$d;
+    wire  [15:0] s5_head2$69$q;
+    reg  s5_head2$69$clock;
+    reg  [15:0] s5_head2$70$d;
+    wire  [15:0] s5_head2$70$q;
+    reg  s5_head2$70$clock;
+    reg  [15:0] s5_head2$71$d;
+    wire  [15:0] s5_head2$71$q;
+    reg  s5_head2$71$clock;
+    reg  [15:0] s5_head2$72$d;
+    wire  [15:0] s5_head2$72$q;
+    reg  s5_head2$72$clock;
+    reg  [15:0] s5_head2$73$d;
+    wire  [15:0] s5_head2$73$q;
+    reg  s5_head2$73$clock;
+    reg  [15:0] s5_head2$74$d;
+    wire  [15:0] s5_head2$74$q;
+    reg  s5_head2$74$clock;
+    reg  [15:0] s5_head2$75$d;
+    wire  [15:0] s5_head2$75$q;
+    reg  s5_head2$75$clock;
+    reg  [15:0] s5_head2$76$d;
+    wire  [15:0] s5_head2$76$q;
+    reg  s5_head2$76$clock;
+    reg  [15:0] s5_head2$77$d;
+    wire  [15:0] s5_head2$77$q;
+    reg  s5_head2$77$clock;
+    reg  [15:0] s5_head2$78$d;
+    wire  [15:0] s5_head2$78$q;
+    reg  s5_head2$78$clock;
+    reg  [15:0] s5_head2$79$d;
+    wire  [15:0] s5_head2$79$q;
+    reg  s5_head2$79$clock;
+    reg  [15:0] s5_head2$80$d;
+    wire  [15:0] s5_head2$80$q;
+    reg  s5_head2$80$clock;
     reg  s5_enter$0$d;
     wire  s5_enter$0$q;
     reg  s5_enter$0$clock;
@@ -8121,6 +8658,492 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] head$80$write_data;
     reg  [19:0] head$80$read_address;
     wire  [15:0] head$80$read_data;
+    reg  head2$0$clock;
+    reg  head2$0$write_enable;
+    reg  [19:0] head2$0$write_address;
+    reg  [15:0] head2$0$write_data;
+    reg  [19:0] head2$0$read_address;
+    wire  [15:0] head2$0$read_data;
+    reg  head2$1$clock;
+    reg  head2$1$write_enable;
+    reg  [19:0] head2$1$write_address;
+    reg  [15:0] head2$1$write_data;
+    reg  [19:0] head2$1$read_address;
+    wire  [15:0] head2$1$read_data;
+    reg  head2$2$clock;
+    reg  head2$2$write_enable;
+    reg  [19:0] head2$2$write_address;
+    reg  [15:0] head2$2$write_data;
+    reg  [19:0] head2$2$read_address;
+    wire  [15:0] head2$2$read_data;
+    reg  head2$3$clock;
+    reg  head2$3$write_enable;
+    reg  [19:0] head2$3$write_address;
+    reg  [15:0] head2$3$write_data;
+    reg  [19:0] head2$3$read_address;
+    wire  [15:0] head2$3$read_data;
+    reg  head2$4$clock;
+    reg  head2$4$write_enable;
+    reg  [19:0] head2$4$write_address;
+    reg  [15:0] head2$4$write_data;
+    reg  [19:0] head2$4$read_address;
+    wire  [15:0] head2$4$read_data;
+    reg  head2$5$clock;
+    reg  head2$5$write_enable;
+    reg  [19:0] head2$5$write_address;
+    reg  [15:0] head2$5$write_data;
+    reg  [19:0] head2$5$read_address;
+    wire  [15:0] head2$5$read_data;
+    reg  head2$6$clock;
+    reg  head2$6$write_enable;
+    reg  [19:0] head2$6$write_address;
+    reg  [15:0] head2$6$write_data;
+    reg  [19:0] head2$6$read_address;
+    wire  [15:0] head2$6$read_data;
+    reg  head2$7$clock;
+    reg  head2$7$write_enable;
+    reg  [19:0] head2$7$write_address;
+    reg  [15:0] head2$7$write_data;
+    reg  [19:0] head2$7$read_address;
+    wire  [15:0] head2$7$read_data;
+    reg  head2$8$clock;
+    reg  head2$8$write_enable;
+    reg  [19:0] head2$8$write_address;
+    reg  [15:0] head2$8$write_data;
+    reg  [19:0] head2$8$read_address;
+    wire  [15:0] head2$8$read_data;
+    reg  head2$9$clock;
+    reg  head2$9$write_enable;
+    reg  [19:0] head2$9$write_address;
+    reg  [15:0] head2$9$write_data;
+    reg  [19:0] head2$9$read_address;
+    wire  [15:0] head2$9$read_data;
+    reg  head2$10$clock;
+    reg  head2$10$write_enable;
+    reg  [19:0] head2$10$write_address;
+    reg  [15:0] head2$10$write_data;
+    reg  [19:0] head2$10$read_address;
+    wire  [15:0] head2$10$read_data;
+    reg  head2$11$clock;
+    reg  head2$11$write_enable;
+    reg  [19:0] head2$11$write_address;
+    reg  [15:0] head2$11$write_data;
+    reg  [19:0] head2$11$read_address;
+    wire  [15:0] head2$11$read_data;
+    reg  head2$12$clock;
+    reg  head2$12$write_enable;
+    reg  [19:0] head2$12$write_address;
+    reg  [15:0] head2$12$write_data;
+    reg  [19:0] head2$12$read_address;
+    wire  [15:0] head2$12$read_data;
+    reg  head2$13$clock;
+    reg  head2$13$write_enable;
+    reg  [19:0] head2$13$write_address;
+    reg  [15:0] head2$13$write_data;
+    reg  [19:0] head2$13$read_address;
+    wire  [15:0] head2$13$read_data;
+    reg  head2$14$clock;
+    reg  head2$14$write_enable;
+    reg  [19:0] head2$14$write_address;
+    reg  [15:0] head2$14$write_data;
+    reg  [19:0] head2$14$read_address;
+    wire  [15:0] head2$14$read_data;
+    reg  head2$15$clock;
+    reg  head2$15$write_enable;
+    reg  [19:0] head2$15$write_address;
+    reg  [15:0] head2$15$write_data;
+    reg  [19:0] head2$15$read_address;
+    wire  [15:0] head2$15$read_data;
+    reg  head2$16$clock;
+    reg  head2$16$write_enable;
+    reg  [19:0] head2$16$write_address;
+    reg  [15:0] head2$16$write_data;
+    reg  [19:0] head2$16$read_address;
+    wire  [15:0] head2$16$read_data;
+    reg  head2$17$clock;
+    reg  head2$17$write_enable;
+    reg  [19:0] head2$17$write_address;
+    reg  [15:0] head2$17$write_data;
+    reg  [19:0] head2$17$read_address;
+    wire  [15:0] head2$17$read_data;
+    reg  head2$18$clock;
+    reg  head2$18$write_enable;
+    reg  [19:0] head2$18$write_address;
+    reg  [15:0] head2$18$write_data;
+    reg  [19:0] head2$18$read_address;
+    wire  [15:0] head2$18$read_data;
+    reg  head2$19$clock;
+    reg  head2$19$write_enable;
+    reg  [19:0] head2$19$write_address;
+    reg  [15:0] head2$19$write_data;
+    reg  [19:0] head2$19$read_address;
+    wire  [15:0] head2$19$read_data;
+    reg  head2$20$clock;
+    reg  head2$20$write_enable;
+    reg  [19:0] head2$20$write_address;
+    reg  [15:0] head2$20$write_data;
+    reg  [19:0] head2$20$read_address;
+    wire  [15:0] head2$20$read_data;
+    reg  head2$21$clock;
+    reg  head2$21$write_enable;
+    reg  [19:0] head2$21$write_address;
+    reg  [15:0] head2$21$write_data;
+    reg  [19:0] head2$21$read_address;
+    wire  [15:0] head2$21$read_data;
+    reg  head2$22$clock;
+    reg  head2$22$write_enable;
+    reg  [19:0] head2$22$write_address;
+    reg  [15:0] head2$22$write_data;
+    reg  [19:0] head2$22$read_address;
+    wire  [15:0] head2$22$read_data;
+    reg  head2$23$clock;
+    reg  head2$23$write_enable;
+    reg  [19:0] head2$23$write_address;
+    reg  [15:0] head2$23$write_data;
+    reg  [19:0] head2$23$read_address;
+    wire  [15:0] head2$23$read_data;
+    reg  head2$24$clock;
+    reg  head2$24$write_enable;
+    reg  [19:0] head2$24$write_address;
+    reg  [15:0] head2$24$write_data;
+    reg  [19:0] head2$24$read_address;
+    wire  [15:0] head2$24$read_data;
+    reg  head2$25$clock;
+    reg  head2$25$write_enable;
+    reg  [19:0] head2$25$write_address;
+    reg  [15:0] head2$25$write_data;
+    reg  [19:0] head2$25$read_address;
+    wire  [15:0] head2$25$read_data;
+    reg  head2$26$clock;
+    reg  head2$26$write_enable;
+    reg  [19:0] head2$26$write_address;
+    reg  [15:0] head2$26$write_data;
+    reg  [19:0] head2$26$read_address;
+    wire  [15:0] head2$26$read_data;
+    reg  head2$27$clock;
+    reg  head2$27$write_enable;
+    reg  [19:0] head2$27$write_address;
+    reg  [15:0] head2$27$write_data;
+    reg  [19:0] head2$27$read_address;
+    wire  [15:0] head2$27$read_data;
+    reg  head2$28$clock;
+    reg  head2$28$write_enable;
+    reg  [19:0] head2$28$write_address;
+    reg  [15:0] head2$28$write_data;
+    reg  [19:0] head2$28$read_address;
+    wire  [15:0] head2$28$read_data;
+    reg  head2$29$clock;
+    reg  head2$29$write_enable;
+    reg  [19:0] head2$29$write_address;
+    reg  [15:0] head2$29$write_data;
+    reg  [19:0] head2$29$read_address;
+    wire  [15:0] head2$29$read_data;
+    reg  head2$30$clock;
+    reg  head2$30$write_enable;
+    reg  [19:0] head2$30$write_address;
+    reg  [15:0] head2$30$write_data;
+    reg  [19:0] head2$30$read_address;
+    wire  [15:0] head2$30$read_data;
+    reg  head2$31$clock;
+    reg  head2$31$write_enable;
+    reg  [19:0] head2$31$write_address;
+    reg  [15:0] head2$31$write_data;
+    reg  [19:0] head2$31$read_address;
+    wire  [15:0] head2$31$read_data;
+    reg  head2$32$clock;
+    reg  head2$32$write_enable;
+    reg  [19:0] head2$32$write_address;
+    reg  [15:0] head2$32$write_data;
+    reg  [19:0] head2$32$read_address;
+    wire  [15:0] head2$32$read_data;
+    reg  head2$33$clock;
+    reg  head2$33$write_enable;
+    reg  [19:0] head2$33$write_address;
+    reg  [15:0] head2$33$write_data;
+    reg  [19:0] head2$33$read_address;
+    wire  [15:0] head2$33$read_data;
+    reg  head2$34$clock;
+    reg  head2$34$write_enable;
+    reg  [19:0] head2$34$write_address;
+    reg  [15:0] head2$34$write_data;
+    reg  [19:0] head2$34$read_address;
+    wire  [15:0] head2$34$read_data;
+    reg  head2$35$clock;
+    reg  head2$35$write_enable;
+    reg  [19:0] head2$35$write_address;
+    reg  [15:0] head2$35$write_data;
+    reg  [19:0] head2$35$read_address;
+    wire  [15:0] head2$35$read_data;
+    reg  head2$36$clock;
+    reg  head2$36$write_enable;
+    reg  [19:0] head2$36$write_address;
+    reg  [15:0] head2$36$write_data;
+    reg  [19:0] head2$36$read_address;
+    wire  [15:0] head2$36$read_data;
+    reg  head2$37$clock;
+    reg  head2$37$write_enable;
+    reg  [19:0] head2$37$write_address;
+    reg  [15:0] head2$37$write_data;
+    reg  [19:0] head2$37$read_address;
+    wire  [15:0] head2$37$read_data;
+    reg  head2$38$clock;
+    reg  head2$38$write_enable;
+    reg  [19:0] head2$38$write_address;
+    reg  [15:0] head2$38$write_data;
+    reg  [19:0] head2$38$read_address;
+    wire  [15:0] head2$38$read_data;
+    reg  head2$39$clock;
+    reg  head2$39$write_enable;
+    reg  [19:0] head2$39$write_address;
+    reg  [15:0] head2$39$write_data;
+    reg  [19:0] head2$39$read_address;
+    wire  [15:0] head2$39$read_data;
+    reg  head2$40$clock;
+    reg  head2$40$write_enable;
+    reg  [19:0] head2$40$write_address;
+    reg  [15:0] head2$40$write_data;
+    reg  [19:0] head2$40$read_address;
+    wire  [15:0] head2$40$read_data;
+    reg  head2$41$clock;
+    reg  head2$41$write_enable;
+    reg  [19:0] head2$41$write_address;
+    reg  [15:0] head2$41$write_data;
+    reg  [19:0] head2$41$read_address;
+    wire  [15:0] head2$41$read_data;
+    reg  head2$42$clock;
+    reg  head2$42$write_enable;
+    reg  [19:0] head2$42$write_address;
+    reg  [15:0] head2$42$write_data;
+    reg  [19:0] head2$42$read_address;
+    wire  [15:0] head2$42$read_data;
+    reg  head2$43$clock;
+    reg  head2$43$write_enable;
+    reg  [19:0] head2$43$write_address;
+    reg  [15:0] head2$43$write_data;
+    reg  [19:0] head2$43$read_address;
+    wire  [15:0] head2$43$read_data;
+    reg  head2$44$clock;
+    reg  head2$44$write_enable;
+    reg  [19:0] head2$44$write_address;
+    reg  [15:0] head2$44$write_data;
+    reg  [19:0] head2$44$read_address;
+    wire  [15:0] head2$44$read_data;
+    reg  head2$45$clock;
+    reg  head2$45$write_enable;
+    reg  [19:0] head2$45$write_address;
+    reg  [15:0] head2$45$write_data;
+    reg  [19:0] head2$45$read_address;
+    wire  [15:0] head2$45$read_data;
+    reg  head2$46$clock;
+    reg  head2$46$write_enable;
+    reg  [19:0] head2$46$write_address;
+    reg  [15:0] head2$46$write_data;
+    reg  [19:0] head2$46$read_address;
+    wire  [15:0] head2$46$read_data;
+    reg  head2$47$clock;
+    reg  head2$47$write_enable;
+    reg  [19:0] head2$47$write_address;
+    reg  [15:0] head2$47$write_data;
+    reg  [19:0] head2$47$read_address;
+    wire  [15:0] head2$47$read_data;
+    reg  head2$48$clock;
+    reg  head2$48$write_enable;
+    reg  [19:0] head2$48$write_address;
+    reg  [15:0] head2$48$write_data;
+    reg  [19:0] head2$48$read_address;
+    wire  [15:0] head2$48$read_data;
+    reg  head2$49$clock;
+    reg  head2$49$write_enable;
+    reg  [19:0] head2$49$write_address;
+    reg  [15:0] head2$49$write_data;
+    reg  [19:0] head2$49$read_address;
+    wire  [15:0] head2$49$read_data;
+    reg  head2$50$clock;
+    reg  head2$50$write_enable;
+    reg  [19:0] head2$50$write_address;
+    reg  [15:0] head2$50$write_data;
+    reg  [19:0] head2$50$read_address;
+    wire  [15:0] head2$50$read_data;
+    reg  head2$51$clock;
+    reg  head2$51$write_enable;
+    reg  [19:0] head2$51$write_address;
+    reg  [15:0] head2$51$write_data;
+    reg  [19:0] head2$51$read_address;
+    wire  [15:0] head2$51$read_data;
+    reg  head2$52$clock;
+    reg  head2$52$write_enable;
+    reg  [19:0] head2$52$write_address;
+    reg  [15:0] head2$52$write_data;
+    reg  [19:0] head2$52$read_address;
+    wire  [15:0] head2$52$read_data;
+    reg  head2$53$clock;
+    reg  head2$53$write_enable;
+    reg  [19:0] head2$53$write_address;
+    reg  [15:0] head2$53$write_data;
+    reg  [19:0] head2$53$read_address;
+    wire  [15:0] head2$53$read_data;
+    reg  head2$54$clock;
+    reg  head2$54$write_enable;
+    reg  [19:0] head2$54$write_address;
+    reg  [15:0] head2$54$write_data;
+    reg  [19:0] head2$54$read_address;
+    wire  [15:0] head2$54$read_data;
+    reg  head2$55$clock;
+    reg  head2$55$write_enable;
+    reg  [19:0] head2$55$write_address;
+    reg  [15:0] head2$55$write_data;
+    reg  [19:0] head2$55$read_address;
+    wire  [15:0] head2$55$read_data;
+    reg  head2$56$clock;
+    reg  head2$56$write_enable;
+    reg  [19:0] head2$56$write_address;
+    reg  [15:0] head2$56$write_data;
+    reg  [19:0] head2$56$read_address;
+    wire  [15:0] head2$56$read_data;
+    reg  head2$57$clock;
+    reg  head2$57$write_enable;
+    reg  [19:0] head2$57$write_address;
+    reg  [15:0] head2$57$write_data;
+    reg  [19:0] head2$57$read_address;
+    wire  [15:0] head2$57$read_data;
+    reg  head2$58$clock;
+    reg  head2$58$write_enable;
+    reg  [19:0] head2$58$write_address;
+    reg  [15:0] head2$58$write_data;
+    reg  [19:0] head2$58$read_address;
+    wire  [15:0] head2$58$read_data;
+    reg  head2$59$clock;
+    reg  head2$59$write_enable;
+    reg  [19:0] head2$59$write_address;
+    reg  [15:0] head2$59$write_data;
+    reg  [19:0] head2$59$read_address;
+    wire  [15:0] head2$59$read_data;
+    reg  head2$60$clock;
+    reg  head2$60$write_enable;
+    reg  [19:0] head2$60$write_address;
+    reg  [15:0] head2$60$write_data;
+    reg  [19:0] head2$60$read_address;
+    wire  [15:0] head2$60$read_data;
+    reg  head2$61$clock;
+    reg  head2$61$write_enable;
+    reg  [19:0] head2$61$write_address;
+    reg  [15:0] head2$61$write_data;
+    reg  [19:0] head2$61$read_address;
+    wire  [15:0] head2$61$read_data;
+    reg  head2$62$clock;
+    reg  head2$62$write_enable;
+    reg  [19:0] head2$62$write_address;
+    reg  [15:0] head2$62$write_data;
+    reg  [19:0] head2$62$read_address;
+    wire  [15:0] head2$62$read_data;
+    reg  head2$63$clock;
+    reg  head2$63$write_enable;
+    reg  [19:0] head2$63$write_address;
+    reg  [15:0] head2$63$write_data;
+    reg  [19:0] head2$63$read_address;
+    wire  [15:0] head2$63$read_data;
+    reg  head2$64$clock;
+    reg  head2$64$write_enable;
+    reg  [19:0] head2$64$write_address;
+    reg  [15:0] head2$64$write_data;
+    reg  [19:0] head2$64$read_address;
+    wire  [15:0] head2$64$read_data;
+    reg  head2$65$clock;
+    reg  head2$65$write_enable;
+    reg  [19:0] head2$65$write_address;
+    reg  [15:0] head2$65$write_data;
+    reg  [19:0] head2$65$read_address;
+    wire  [15:0] head2$65$read_data;
+    reg  head2$66$clock;
+    reg  head2$66$write_enable;
+    reg  [19:0] head2$66$write_address;
+    reg  [15:0] head2$66$write_data;
+    reg  [19:0] head2$66$read_address;
+    wire  [15:0] head2$66$read_data;
+    reg  head2$67$clock;
+    reg  head2$67$write_enable;
+    reg  [19:0] head2$67$write_address;
+    reg  [15:0] head2$67$write_data;
+    reg  [19:0] head2$67$read_address;
+    wire  [15:0] head2$67$read_data;
+    reg  head2$68$clock;
+    reg  head2$68$write_enable;
+    reg  [19:0] head2$68$write_address;
+    reg  [15:0] head2$68$write_data;
+    reg  [19:0] head2$68$read_address;
+    wire  [15:0] head2$68$read_data;
+    reg  head2$69$clock;
+    reg  head2$69$write_enable;
+    reg  [19:0] head2$69$write_address;
+    reg  [15:0] head2$69$write_data;
+    reg  [19:0] head2$69$read_address;
+    wire  [15:0] head2$69$read_data;
+    reg  head2$70$clock;
+    reg  head2$70$write_enable;
+    reg  [19:0] head2$70$write_address;
+    reg  [15:0] head2$70$write_data;
+    reg  [19:0] head2$70$read_address;
+    wire  [15:0] head2$70$read_data;
+    reg  head2$71$clock;
+    reg  head2$71$write_enable;
+    reg  [19:0] head2$71$write_address;
+    reg  [15:0] head2$71$write_data;
+    reg  [19:0] head2$71$read_address;
+    wire  [15:0] head2$71$read_data;
+    reg  head2$72$clock;
+    reg  head2$72$write_enable;
+    reg  [19:0] head2$72$write_address;
+    reg  [15:0] head2$72$write_data;
+    reg  [19:0] head2$72$read_address;
+    wire  [15:0] head2$72$read_data;
+    reg  head2$73$clock;
+    reg  head2$73$write_enable;
+    reg  [19:0] head2$73$write_address;
+    reg  [15:0] head2$73$write_data;
+    reg  [19:0] head2$73$read_address;
+    wire  [15:0] head2$73$read_data;
+    reg  head2$74$clock;
+    reg  head2$74$write_enable;
+    reg  [19:0] head2$74$write_address;
+    reg  [15:0] head2$74$write_data;
+    reg  [19:0] head2$74$read_address;
+    wire  [15:0] head2$74$read_data;
+    reg  head2$75$clock;
+    reg  head2$75$write_enable;
+    reg  [19:0] head2$75$write_address;
+    reg  [15:0] head2$75$write_data;
+    reg  [19:0] head2$75$read_address;
+    wire  [15:0] head2$75$read_data;
+    reg  head2$76$clock;
+    reg  head2$76$write_enable;
+    reg  [19:0] head2$76$write_address;
+    reg  [15:0] head2$76$write_data;
+    reg  [19:0] head2$76$read_address;
+    wire  [15:0] head2$76$read_data;
+    reg  head2$77$clock;
+    reg  head2$77$write_enable;
+    reg  [19:0] head2$77$write_address;
+    reg  [15:0] head2$77$write_data;
+    reg  [19:0] head2$77$read_address;
+    wire  [15:0] head2$77$read_data;
+    reg  head2$78$clock;
+    reg  head2$78$write_enable;
+    reg  [19:0] head2$78$write_address;
+    reg  [15:0] head2$78$write_data;
+    reg  [19:0] head2$78$read_address;
+    wire  [15:0] head2$78$read_data;
+    reg  head2$79$clock;
+    reg  head2$79$write_enable;
+    reg  [19:0] head2$79$write_address;
+    reg  [15:0] head2$79$write_data;
+    reg  [19:0] head2$79$read_address;
+    wire  [15:0] head2$79$read_data;
+    reg  head2$80$clock;
+    reg  head2$80$write_enable;
+    reg  [19:0] head2$80$write_address;
+    reg  [15:0] head2$80$write_data;
+    reg  [19:0] head2$80$read_address;
+    wire  [15:0] head2$80$read_data;
     reg  succ$clock;
     reg  succ$write_enable;
     reg  [14:0] succ$write_address;
@@ -8615,6 +9638,492 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] rec$80$write_data;
     reg  [4:0] rec$80$read_address;
     wire  [15:0] rec$80$read_data;
+    reg  rec2$0$clock;
+    reg  rec2$0$write_enable;
+    reg  [4:0] rec2$0$write_address;
+    reg  [15:0] rec2$0$write_data;
+    reg  [4:0] rec2$0$read_address;
+    wire  [15:0] rec2$0$read_data;
+    reg  rec2$1$clock;
+    reg  rec2$1$write_enable;
+    reg  [4:0] rec2$1$write_address;
+    reg  [15:0] rec2$1$write_data;
+    reg  [4:0] rec2$1$read_address;
+    wire  [15:0] rec2$1$read_data;
+    reg  rec2$2$clock;
+    reg  rec2$2$write_enable;
+    reg  [4:0] rec2$2$write_address;
+    reg  [15:0] rec2$2$write_data;
+    reg  [4:0] rec2$2$read_address;
+    wire  [15:0] rec2$2$read_data;
+    reg  rec2$3$clock;
+    reg  rec2$3$write_enable;
+    reg  [4:0] rec2$3$write_address;
+    reg  [15:0] rec2$3$write_data;
+    reg  [4:0] rec2$3$read_address;
+    wire  [15:0] rec2$3$read_data;
+    reg  rec2$4$clock;
+    reg  rec2$4$write_enable;
+    reg  [4:0] rec2$4$write_address;
+    reg  [15:0] rec2$4$write_data;
+    reg  [4:0] rec2$4$read_address;
+    wire  [15:0] rec2$4$read_data;
+    reg  rec2$5$clock;
+    reg  rec2$5$write_enable;
+    reg  [4:0] rec2$5$write_address;
+    reg  [15:0] rec2$5$write_data;
+    reg  [4:0] rec2$5$read_address;
+    wire  [15:0] rec2$5$read_data;
+    reg  rec2$6$clock;
+    reg  rec2$6$write_enable;
+    reg  [4:0] rec2$6$write_address;
+    reg  [15:0] rec2$6$write_data;
+    reg  [4:0] rec2$6$read_address;
+    wire  [15:0] rec2$6$read_data;
+    reg  rec2$7$clock;
+    reg  rec2$7$write_enable;
+    reg  [4:0] rec2$7$write_address;
+    reg  [15:0] rec2$7$write_data;
+    reg  [4:0] rec2$7$read_address;
+    wire  [15:0] rec2$7$read_data;
+    reg  rec2$8$clock;
+    reg  rec2$8$write_enable;
+    reg  [4:0] rec2$8$write_address;
+    reg  [15:0] rec2$8$write_data;
+    reg  [4:0] rec2$8$read_address;
+    wire  [15:0] rec2$8$read_data;
+    reg  rec2$9$clock;
+    reg  rec2$9$write_enable;
+    reg  [4:0] rec2$9$write_address;
+    reg  [15:0] rec2$9$write_data;
+    reg  [4:0] rec2$9$read_address;
+    wire  [15:0] rec2$9$read_data;
+    reg  rec2$10$clock;
+    reg  rec2$10$write_enable;
+    reg  [4:0] rec2$10$write_address;
+    reg  [15:0] rec2$10$write_data;
+    reg  [4:0] rec2$10$read_address;
+    wire  [15:0] rec2$10$read_data;
+    reg  rec2$11$clock;
+    reg  rec2$11$write_enable;
+    reg  [4:0] rec2$11$write_address;
+    reg  [15:0] rec2$11$write_data;
+    reg  [4:0] rec2$11$read_address;
+    wire  [15:0] rec2$11$read_data;
+    reg  rec2$12$clock;
+    reg  rec2$12$write_enable;
+    reg  [4:0] rec2$12$write_address;
+    reg  [15:0] rec2$12$write_data;
+    reg  [4:0] rec2$12$read_address;
+    wire  [15:0] rec2$12$read_data;
+    reg  rec2$13$clock;
+    reg  rec2$13$write_enable;
+    reg  [4:0] rec2$13$write_address;
+    reg  [15:0] rec2$13$write_data;
+    reg  [4:0] rec2$13$read_address;
+    wire  [15:0] rec2$13$read_data;
+    reg  rec2$14$clock;
+    reg  rec2$14$write_enable;
+    reg  [4:0] rec2$14$write_address;
+    reg  [15:0] rec2$14$write_data;
+    reg  [4:0] rec2$14$read_address;
+    wire  [15:0] rec2$14$read_data;
+    reg  rec2$15$clock;
+    reg  rec2$15$write_enable;
+    reg  [4:0] rec2$15$write_address;
+    reg  [15:0] rec2$15$write_data;
+    reg  [4:0] rec2$15$read_address;
+    wire  [15:0] rec2$15$read_data;
+    reg  rec2$16$clock;
+    reg  rec2$16$write_enable;
+    reg  [4:0] rec2$16$write_address;
+    reg  [15:0] rec2$16$write_data;
+    reg  [4:0] rec2$16$read_address;
+    wire  [15:0] rec2$16$read_data;
+    reg  rec2$17$clock;
+    reg  rec2$17$write_enable;
+    reg  [4:0] rec2$17$write_address;
+    reg  [15:0] rec2$17$write_data;
+    reg  [4:0] rec2$17$read_address;
+    wire  [15:0] rec2$17$read_data;
+    reg  rec2$18$clock;
+    reg  rec2$18$write_enable;
+    reg  [4:0] rec2$18$write_address;
+    reg  [15:0] rec2$18$write_data;
+    reg  [4:0] rec2$18$read_address;
+    wire  [15:0] rec2$18$read_data;
+    reg  rec2$19$clock;
+    reg  rec2$19$write_enable;
+    reg  [4:0] rec2$19$write_address;
+    reg  [15:0] rec2$19$write_data;
+    reg  [4:0] rec2$19$read_address;
+    wire  [15:0] rec2$19$read_data;
+    reg  rec2$20$clock;
+    reg  rec2$20$write_enable;
+    reg  [4:0] rec2$20$write_address;
+    reg  [15:0] rec2$20$write_data;
+    reg  [4:0] rec2$20$read_address;
+    wire  [15:0] rec2$20$read_data;
+    reg  rec2$21$clock;
+    reg  rec2$21$write_enable;
+    reg  [4:0] rec2$21$write_address;
+    reg  [15:0] rec2$21$write_data;
+    reg  [4:0] rec2$21$read_address;
+    wire  [15:0] rec2$21$read_data;
+    reg  rec2$22$clock;
+    reg  rec2$22$write_enable;
+    reg  [4:0] rec2$22$write_address;
+    reg  [15:0] rec2$22$write_data;
+    reg  [4:0] rec2$22$read_address;
+    wire  [15:0] rec2$22$read_data;
+    reg  rec2$23$clock;
+    reg  rec2$23$write_enable;
+    reg  [4:0] rec2$23$write_address;
+    reg  [15:0] rec2$23$write_data;
+    reg  [4:0] rec2$23$read_address;
+    wire  [15:0] rec2$23$read_data;
+    reg  rec2$24$clock;
+    reg  rec2$24$write_enable;
+    reg  [4:0] rec2$24$write_address;
+    reg  [15:0] rec2$24$write_data;
+    reg  [4:0] rec2$24$read_address;
+    wire  [15:0] rec2$24$read_data;
+    reg  rec2$25$clock;
+    reg  rec2$25$write_enable;
+    reg  [4:0] rec2$25$write_address;
+    reg  [15:0] rec2$25$write_data;
+    reg  [4:0] rec2$25$read_address;
+    wire  [15:0] rec2$25$read_data;
+    reg  rec2$26$clock;
+    reg  rec2$26$write_enable;
+    reg  [4:0] rec2$26$write_address;
+    reg  [15:0] rec2$26$write_data;
+    reg  [4:0] rec2$26$read_address;
+    wire  [15:0] rec2$26$read_data;
+    reg  rec2$27$clock;
+    reg  rec2$27$write_enable;
+    reg  [4:0] rec2$27$write_address;
+    reg  [15:0] rec2$27$write_data;
+    reg  [4:0] rec2$27$read_address;
+    wire  [15:0] rec2$27$read_data;
+    reg  rec2$28$clock;
+    reg  rec2$28$write_enable;
+    reg  [4:0] rec2$28$write_address;
+    reg  [15:0] rec2$28$write_data;
+    reg  [4:0] rec2$28$read_address;
+    wire  [15:0] rec2$28$read_data;
+    reg  rec2$29$clock;
+    reg  rec2$29$write_enable;
+    reg  [4:0] rec2$29$write_address;
+    reg  [15:0] rec2$29$write_data;
+    reg  [4:0] rec2$29$read_address;
+    wire  [15:0] rec2$29$read_data;
+    reg  rec2$30$clock;
+    reg  rec2$30$write_enable;
+    reg  [4:0] rec2$30$write_address;
+    reg  [15:0] rec2$30$write_data;
+    reg  [4:0] rec2$30$read_address;
+    wire  [15:0] rec2$30$read_data;
+    reg  rec2$31$clock;
+    reg  rec2$31$write_enable;
+    reg  [4:0] rec2$31$write_address;
+    reg  [15:0] rec2$31$write_data;
+    reg  [4:0] rec2$31$read_address;
+    wire  [15:0] rec2$31$read_data;
+    reg  rec2$32$clock;
+    reg  rec2$32$write_enable;
+    reg  [4:0] rec2$32$write_address;
+    reg  [15:0] rec2$32$write_data;
+    reg  [4:0] rec2$32$read_address;
+    wire  [15:0] rec2$32$read_data;
+    reg  rec2$33$clock;
+    reg  rec2$33$write_enable;
+    reg  [4:0] rec2$33$write_address;
+    reg  [15:0] rec2$33$write_data;
+    reg  [4:0] rec2$33$read_address;
+    wire  [15:0] rec2$33$read_data;
+    reg  rec2$34$clock;
+    reg  rec2$34$write_enable;
+    reg  [4:0] rec2$34$write_address;
+    reg  [15:0] rec2$34$write_data;
+    reg  [4:0] rec2$34$read_address;
+    wire  [15:0] rec2$34$read_data;
+    reg  rec2$35$clock;
+    reg  rec2$35$write_enable;
+    reg  [4:0] rec2$35$write_address;
+    reg  [15:0] rec2$35$write_data;
+    reg  [4:0] rec2$35$read_address;
+    wire  [15:0] rec2$35$read_data;
+    reg  rec2$36$clock;
+    reg  rec2$36$write_enable;
+    reg  [4:0] rec2$36$write_address;
+    reg  [15:0] rec2$36$write_data;
+    reg  [4:0] rec2$36$read_address;
+    wire  [15:0] rec2$36$read_data;
+    reg  rec2$37$clock;
+    reg  rec2$37$write_enable;
+    reg  [4:0] rec2$37$write_address;
+    reg  [15:0] rec2$37$write_data;
+    reg  [4:0] rec2$37$read_address;
+    wire  [15:0] rec2$37$read_data;
+    reg  rec2$38$clock;
+    reg  rec2$38$write_enable;
+    reg  [4:0] rec2$38$write_address;
+    reg  [15:0] rec2$38$write_data;
+    reg  [4:0] rec2$38$read_address;
+    wire  [15:0] rec2$38$read_data;
+    reg  rec2$39$clock;
+    reg  rec2$39$write_enable;
+    reg  [4:0] rec2$39$write_address;
+    reg  [15:0] rec2$39$write_data;
+    reg  [4:0] rec2$39$read_address;
+    wire  [15:0] rec2$39$read_data;
+    reg  rec2$40$clock;
+    reg  rec2$40$write_enable;
+    reg  [4:0] rec2$40$write_address;
+    reg  [15:0] rec2$40$write_data;
+    reg  [4:0] rec2$40$read_address;
+    wire  [15:0] rec2$40$read_data;
+    reg  rec2$41$clock;
+    reg  rec2$41$write_enable;
+    reg  [4:0] rec2$41$write_address;
+    reg  [15:0] rec2$41$write_data;
+    reg  [4:0] rec2$41$read_address;
+    wire  [15:0] rec2$41$read_data;
+    reg  rec2$42$clock;
+    reg  rec2$42$write_enable;
+    reg  [4:0] rec2$42$write_address;
+    reg  [15:0] rec2$42$write_data;
+    reg  [4:0] rec2$42$read_address;
+    wire  [15:0] rec2$42$read_data;
+    reg  rec2$43$clock;
+    reg  rec2$43$write_enable;
+    reg  [4:0] rec2$43$write_address;
+    reg  [15:0] rec2$43$write_data;
+    reg  [4:0] rec2$43$read_address;
+    wire  [15:0] rec2$43$read_data;
+    reg  rec2$44$clock;
+    reg  rec2$44$write_enable;
+    reg  [4:0] rec2$44$write_address;
+    reg  [15:0] rec2$44$write_data;
+    reg  [4:0] rec2$44$read_address;
+    wire  [15:0] rec2$44$read_data;
+    reg  rec2$45$clock;
+    reg  rec2$45$write_enable;
+    reg  [4:0] rec2$45$write_address;
+    reg  [15:0] rec2$45$write_data;
+    reg  [4:0] rec2$45$read_address;
+    wire  [15:0] rec2$45$read_data;
+    reg  rec2$46$clock;
+    reg  rec2$46$write_enable;
+    reg  [4:0] rec2$46$write_address;
+    reg  [15:0] rec2$46$write_data;
+    reg  [4:0] rec2$46$read_address;
+    wire  [15:0] rec2$46$read_data;
+    reg  rec2$47$clock;
+    reg  rec2$47$write_enable;
+    reg  [4:0] rec2$47$write_address;
+    reg  [15:0] rec2$47$write_data;
+    reg  [4:0] rec2$47$read_address;
+    wire  [15:0] rec2$47$read_data;
+    reg  rec2$48$clock;
+    reg  rec2$48$write_enable;
+    reg  [4:0] rec2$48$write_address;
+    reg  [15:0] rec2$48$write_data;
+    reg  [4:0] rec2$48$read_address;
+    wire  [15:0] rec2$48$read_data;
+    reg  rec2$49$clock;
+    reg  rec2$49$write_enable;
+    reg  [4:0] rec2$49$write_address;
+    reg  [15:0] rec2$49$write_data;
+    reg  [4:0] rec2$49$read_address;
+    wire  [15:0] rec2$49$read_data;
+    reg  rec2$50$clock;
+    reg  rec2$50$write_enable;
+    reg  [4:0] rec2$50$write_address;
+    reg  [15:0] rec2$50$write_data;
+    reg  [4:0] rec2$50$read_address;
+    wire  [15:0] rec2$50$read_data;
+    reg  rec2$51$clock;
+    reg  rec2$51$write_enable;
+    reg  [4:0] rec2$51$write_address;
+    reg  [15:0] rec2$51$write_data;
+    reg  [4:0] rec2$51$read_address;
+    wire  [15:0] rec2$51$read_data;
+    reg  rec2$52$clock;
+    reg  rec2$52$write_enable;
+    reg  [4:0] rec2$52$write_address;
+    reg  [15:0] rec2$52$write_data;
+    reg  [4:0] rec2$52$read_address;
+    wire  [15:0] rec2$52$read_data;
+    reg  rec2$53$clock;
+    reg  rec2$53$write_enable;
+    reg  [4:0] rec2$53$write_address;
+    reg  [15:0] rec2$53$write_data;
+    reg  [4:0] rec2$53$read_address;
+    wire  [15:0] rec2$53$read_data;
+    reg  rec2$54$clock;
+    reg  rec2$54$write_enable;
+    reg  [4:0] rec2$54$write_address;
+    reg  [15:0] rec2$54$write_data;
+    reg  [4:0] rec2$54$read_address;
+    wire  [15:0] rec2$54$read_data;
+    reg  rec2$55$clock;
+    reg  rec2$55$write_enable;
+    reg  [4:0] rec2$55$write_address;
+    reg  [15:0] rec2$55$write_data;
+    reg  [4:0] rec2$55$read_address;
+    wire  [15:0] rec2$55$read_data;
+    reg  rec2$56$clock;
+    reg  rec2$56$write_enable;
+    reg  [4:0] rec2$56$write_address;
+    reg  [15:0] rec2$56$write_data;
+    reg  [4:0] rec2$56$read_address;
+    wire  [15:0] rec2$56$read_data;
+    reg  rec2$57$clock;
+    reg  rec2$57$write_enable;
+    reg  [4:0] rec2$57$write_address;
+    reg  [15:0] rec2$57$write_data;
+    reg  [4:0] rec2$57$read_address;
+    wire  [15:0] rec2$57$read_data;
+    reg  rec2$58$clock;
+    reg  rec2$58$write_enable;
+    reg  [4:0] rec2$58$write_address;
+    reg  [15:0] rec2$58$write_data;
+    reg  [4:0] rec2$58$read_address;
+    wire  [15:0] rec2$58$read_data;
+    reg  rec2$59$clock;
+    reg  rec2$59$write_enable;
+    reg  [4:0] rec2$59$write_address;
+    reg  [15:0] rec2$59$write_data;
+    reg  [4:0] rec2$59$read_address;
+    wire  [15:0] rec2$59$read_data;
+    reg  rec2$60$clock;
+    reg  rec2$60$write_enable;
+    reg  [4:0] rec2$60$write_address;
+    reg  [15:0] rec2$60$write_data;
+    reg  [4:0] rec2$60$read_address;
+    wire  [15:0] rec2$60$read_data;
+    reg  rec2$61$clock;
+    reg  rec2$61$write_enable;
+    reg  [4:0] rec2$61$write_address;
+    reg  [15:0] rec2$61$write_data;
+    reg  [4:0] rec2$61$read_address;
+    wire  [15:0] rec2$61$read_data;
+    reg  rec2$62$clock;
+    reg  rec2$62$write_enable;
+    reg  [4:0] rec2$62$write_address;
+    reg  [15:0] rec2$62$write_data;
+    reg  [4:0] rec2$62$read_address;
+    wire  [15:0] rec2$62$read_data;
+    reg  rec2$63$clock;
+    reg  rec2$63$write_enable;
+    reg  [4:0] rec2$63$write_address;
+    reg  [15:0] rec2$63$write_data;
+    reg  [4:0] rec2$63$read_address;
+    wire  [15:0] rec2$63$read_data;
+    reg  rec2$64$clock;
+    reg  rec2$64$write_enable;
+    reg  [4:0] rec2$64$write_address;
+    reg  [15:0] rec2$64$write_data;
+    reg  [4:0] rec2$64$read_address;
+    wire  [15:0] rec2$64$read_data;
+    reg  rec2$65$clock;
+    reg  rec2$65$write_enable;
+    reg  [4:0] rec2$65$write_address;
+    reg  [15:0] rec2$65$write_data;
+    reg  [4:0] rec2$65$read_address;
+    wire  [15:0] rec2$65$read_data;
+    reg  rec2$66$clock;
+    reg  rec2$66$write_enable;
+    reg  [4:0] rec2$66$write_address;
+    reg  [15:0] rec2$66$write_data;
+    reg  [4:0] rec2$66$read_address;
+    wire  [15:0] rec2$66$read_data;
+    reg  rec2$67$clock;
+    reg  rec2$67$write_enable;
+    reg  [4:0] rec2$67$write_address;
+    reg  [15:0] rec2$67$write_data;
+    reg  [4:0] rec2$67$read_address;
+    wire  [15:0] rec2$67$read_data;
+    reg  rec2$68$clock;
+    reg  rec2$68$write_enable;
+    reg  [4:0] rec2$68$write_address;
+    reg  [15:0] rec2$68$write_data;
+    reg  [4:0] rec2$68$read_address;
+    wire  [15:0] rec2$68$read_data;
+    reg  rec2$69$clock;
+    reg  rec2$69$write_enable;
+    reg  [4:0] rec2$69$write_address;
+    reg  [15:0] rec2$69$write_data;
+    reg  [4:0] rec2$69$read_address;
+    wire  [15:0] rec2$69$read_data;
+    reg  rec2$70$clock;
+    reg  rec2$70$write_enable;
+    reg  [4:0] rec2$70$write_address;
+    reg  [15:0] rec2$70$write_data;
+    reg  [4:0] rec2$70$read_address;
+    wire  [15:0] rec2$70$read_data;
+    reg  rec2$71$clock;
+    reg  rec2$71$write_enable;
+    reg  [4:0] rec2$71$write_address;
+    reg  [15:0] rec2$71$write_data;
+    reg  [4:0] rec2$71$read_address;
+    wire  [15:0] rec2$71$read_data;
+    reg  rec2$72$clock;
+    reg  rec2$72$write_enable;
+    reg  [4:0] rec2$72$write_address;
+    reg  [15:0] rec2$72$write_data;
+    reg  [4:0] rec2$72$read_address;
+    wire  [15:0] rec2$72$read_data;
+    reg  rec2$73$clock;
+    reg  rec2$73$write_enable;
+    reg  [4:0] rec2$73$write_address;
+    reg  [15:0] rec2$73$write_data;
+    reg  [4:0] rec2$73$read_address;
+    wire  [15:0] rec2$73$read_data;
+    reg  rec2$74$clock;
+    reg  rec2$74$write_enable;
+    reg  [4:0] rec2$74$write_address;
+    reg  [15:0] rec2$74$write_data;
+    reg  [4:0] rec2$74$read_address;
+    wire  [15:0] rec2$74$read_data;
+    reg  rec2$75$clock;
+    reg  rec2$75$write_enable;
+    reg  [4:0] rec2$75$write_address;
+    reg  [15:0] rec2$75$write_data;
+    reg  [4:0] rec2$75$read_address;
+    wire  [15:0] rec2$75$read_data;
+    reg  rec2$76$clock;
+    reg  rec2$76$write_enable;
+    reg  [4:0] rec2$76$write_address;
+    reg  [15:0] rec2$76$write_data;
+    reg  [4:0] rec2$76$read_address;
+    wire  [15:0] rec2$76$read_data;
+    reg  rec2$77$clock;
+    reg  rec2$77$write_enable;
+    reg  [4:0] rec2$77$write_address;
+    reg  [15:0] rec2$77$write_data;
+    reg  [4:0] rec2$77$read_address;
+    wire  [15:0] rec2$77$read_data;
+    reg  rec2$78$clock;
+    reg  rec2$78$write_enable;
+    reg  [4:0] rec2$78$write_address;
+    reg  [15:0] rec2$78$write_data;
+    reg  [4:0] rec2$78$read_address;
+    wire  [15:0] rec2$78$read_data;
+    reg  rec2$79$clock;
+    reg  rec2$79$write_enable;
+    reg  [4:0] rec2$79$write_address;
+    reg  [15:0] rec2$79$write_data;
+    reg  [4:0] rec2$79$read_address;
+    wire  [15:0] rec2$79$read_data;
+    reg  rec2$80$clock;
+    reg  rec2$80$write_enable;
+    reg  [4:0] rec2$80$write_address;
+    reg  [15:0] rec2$80$write_data;
+    reg  [4:0] rec2$80$read_address;
+    wire  [15:0] rec2$80$read_data;
     reg  rec_box$clock;
     reg  rec_box$write_enable;
     reg  [4:0] rec_box$write_address;
@@ -9138,6 +10647,249 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] e_head$80$d;
     wire  [15:0] e_head$80$q;
     reg  e_head$80$clock;
+    reg  [15:0] e_head2$0$d;
+    wire  [15:0] e_head2$0$q;
+    reg  e_head2$0$clock;
+    reg  [15:0] e_head2$1$d;
+    wire  [15:0] e_head2$1$q;
+    reg  e_head2$1$clock;
+    reg  [15:0] e_head2$2$d;
+    wire  [15:0] e_head2$2$q;
+    reg  e_head2$2$clock;
+    reg  [15:0] e_head2$3$d;
+    wire  [15:0] e_head2$3$q;
+    reg  e_head2$3$clock;
+    reg  [15:0] e_head2$4$d;
+    wire  [15:0] e_head2$4$q;
+    reg  e_head2$4$clock;
+    reg  [15:0] e_head2$5$d;
+    wire  [15:0] e_head2$5$q;
+    reg  e_head2$5$clock;
+    reg  [15:0] e_head2$6$d;
+    wire  [15:0] e_head2$6$q;
+    reg  e_head2$6$clock;
+    reg  [15:0] e_head2$7$d;
+    wire  [15:0] e_head2$7$q;
+    reg  e_head2$7$clock;
+    reg  [15:0] e_head2$8$d;
+    wire  [15:0] e_head2$8$q;
+    reg  e_head2$8$clock;
+    reg  [15:0] e_head2$9$d;
+    wire  [15:0] e_head2$9$q;
+    reg  e_head2$9$clock;
+    reg  [15:0] e_head2$10$d;
+    wire  [15:0] e_head2$10$q;
+    reg  e_head2$10$clock;
+    reg  [15:0] e_head2$11$d;
+    wire  [15:0] e_head2$11$q;
+    reg  e_head2$11$clock;
+    reg  [15:0] e_head2$12$d;
+    wire  [15:0] e_head2$12$q;
+    reg  e_head2$12$clock;
+    reg  [15:0] e_head2$13$d;
+    wire  [15:0] e_head2$13$q;
+    reg  e_head2$13$clock;
+    reg  [15:0] e_head2$14$d;
+    wire  [15:0] e_head2$14$q;
+    reg  e_head2$14$clock;
+    reg  [15:0] e_head2$15$d;
+    wire  [15:0] e_head2$15$q;
+    reg  e_head2$15$clock;
+    reg  [15:0] e_head2$16$d;
+    wire  [15:0] e_head2$16$q;
+    reg  e_head2$16$clock;
+    reg  [15:0] e_head2$17$d;
+    wire  [15:0] e_head2$17$q;
+    reg  e_head2$17$clock;
+    reg  [15:0] e_head2$18$d;
+    wire  [15:0] e_head2$18$q;
+    reg  e_head2$18$clock;
+    reg  [15:0] e_head2$19$d;
+    wire  [15:0] e_head2$19$q;
+    reg  e_head2$19$clock;
+    reg  [15:0] e_head2$20$d;
+    wire  [15:0] e_head2$20$q;
+    reg  e_head2$20$clock;
+    reg  [15:0] e_head2$21$d;
+    wire  [15:0] e_head2$21$q;
+    reg  e_head2$21$clock;
+    reg  [15:0] e_head2$22$d;
+    wire  [15:0] e_head2$22$q;
+    reg  e_head2$22$clock;
+    reg  [15:0] e_head2$23$d;
+    wire  [15:0] e_head2$23$q;
+    reg  e_head2$23$clock;
+    reg  [15:0] e_head2$24$d;
+    wire  [15:0] e_head2$24$q;
+    reg  e_head2$24$clock;
+    reg  [15:0] e_head2$25$d;
+    wire  [15:0] e_head2$25$q;
+    reg  e_head2$25$clock;
+    reg  [15:0] e_head2$26$d;
+    wire  [15:0] e_head2$26$q;
+    reg  e_head2$26$clock;
+    reg  [15:0] e_head2$27$d;
+    wire  [15:0] e_head2$27$q;
+    reg  e_head2$27$clock;
+    reg  [15:0] e_head2$28$d;
+    wire  [15:0] e_head2$28$q;
+    reg  e_head2$28$clock;
+    reg  [15:0] e_head2$29$d;
+    wire  [15:0] e_head2$29$q;
+    reg  e_head2$29$clock;
+    reg  [15:0] e_head2$30$d;
+    wire  [15:0] e_head2$30$q;
+    reg  e_head2$30$clock;
+    reg  [15:0] e_head2$31$d;
+    wire  [15:0] e_head2$31$q;
+    reg  e_head2$31$clock;
+    reg  [15:0] e_head2$32$d;
+    wire  [15:0] e_head2$32$q;
+    reg  e_head2$32$clock;
+    reg  [15:0] e_head2$33$d;
+    wire  [15:0] e_head2$33$q;
+    reg  e_head2$33$clock;
+    reg  [15:0] e_head2$34$d;
+    wire  [15:0] e_head2$34$q;
+    reg  e_head2$34$clock;
+    reg  [15:0] e_head2$35$d;
+    wire  [15:0] e_head2$35$q;
+    reg  e_head2$35$clock;
+    reg  [15:0] e_head2$36$d;
+    wire  [15:0] e_head2$36$q;
+    reg  e_head2$36$clock;
+    reg  [15:0] e_head2$37$d;
+    wire  [15:0] e_head2$37$q;
+    reg  e_head2$37$clock;
+    reg  [15:0] e_head2$38$d;
+    wire  [15:0] e_head2$38$q;
+    reg  e_head2$38$clock;
+    reg  [15:0] e_head2$39$d;
+    wire  [15:0] e_head2$39$q;
+    reg  e_head2$39$clock;
+    reg  [15:0] e_head2$40$d;
+    wire  [15:0] e_head2$40$q;
+    reg  e_head2$40$clock;
+    reg  [15:0] e_head2$41$d;
+    wire  [15:0] e_head2$41$q;
+    reg  e_head2$41$clock;
+    reg  [15:0] e_head2$42$d;
+    wire  [15:0] e_head2$42$q;
+    reg  e_head2$42$clock;
+    reg  [15:0] e_head2$43$d;
+    wire  [15:0] e_head2$43$q;
+    reg  e_head2$43$clock;
+    reg  [15:0] e_head2$44$d;
+    wire  [15:0] e_head2$44$q;
+    reg  e_head2$44$clock;
+    reg  [15:0] e_head2$45$d;
+    wire  [15:0] e_head2$45$q;
+    reg  e_head2$45$clock;
+    reg  [15:0] e_head2$46$d;
+    wire  [15:0] e_head2$46$q;
+    reg  e_head2$46$clock;
+    reg  [15:0] e_head2$47$d;
+    wire  [15:0] e_head2$47$q;
+    reg  e_head2$47$clock;
+    reg  [15:0] e_head2$48$d;
+    wire  [15:0] e_head2$48$q;
+    reg  e_head2$48$clock;
+    reg  [15:0] e_head2$49$d;
+    wire  [15:0] e_head2$49$q;
+    reg  e_head2$49$clock;
+    reg  [15:0] e_head2$50$d;
+    wire  [15:0] e_head2$50$q;
+    reg  e_head2$50$clock;
+    reg  [15:0] e_head2$51$d;
+    wire  [15:0] e_head2$51$q;
+    reg  e_head2$51$clock;
+    reg  [15:0] e_head2$52$d;
+    wire  [15:0] e_head2$52$q;
+    reg  e_head2$52$clock;
+    reg  [15:0] e_head2$53$d;
+    wire  [15:0] e_head2$53$q;
+    reg  e_head2$53$clock;
+    reg  [15:0] e_head2$54$d;
+    wire  [15:0] e_head2$54$q;
+    reg  e_head2$54$clock;
+    reg  [15:0] e_head2$55$d;
+    wire  [15:0] e_head2$55$q;
+    reg  e_head2$55$clock;
+    reg  [15:0] e_head2$56$d;
+    wire  [15:0] e_head2$56$q;
+    reg  e_head2$56$clock;
+    reg  [15:0] e_head2$57$d;
+    wire  [15:0] e_head2$57$q;
+    reg  e_head2$57$clock;
+    reg  [15:0] e_head2$58$d;
+    wire  [15:0] e_head2$58$q;
+    reg  e_head2$58$clock;
+    reg  [15:0] e_head2$59$d;
+    wire  [15:0] e_head2$59$q;
+    reg  e_head2$59$clock;
+    reg  [15:0] e_head2$60$d;
+    wire  [15:0] e_head2$60$q;
+    reg  e_head2$60$clock;
+    reg  [15:0] e_head2$61$d;
+    wire  [15:0] e_head2$61$q;
+    reg  e_head2$61$clock;
+    reg  [15:0] e_head2$62$d;
+    wire  [15:0] e_head2$62$q;
+    reg  e_head2$62$clock;
+    reg  [15:0] e_head2$63$d;
+    wire  [15:0] e_head2$63$q;
+    reg  e_head2$63$clock;
+    reg  [15:0] e_head2$64$d;
+    wire  [15:0] e_head2$64$q;
+    reg  e_head2$64$clock;
+    reg  [15:0] e_head2$65$d;
+    wire  [15:0] e_head2$65$q;
+    reg  e_head2$65$clock;
+    reg  [15:0] e_head2$66$d;
+    wire  [15:0] e_head2$66$q;
+    reg  e_head2$66$clock;
+    reg  [15:0] e_head2$67$d;
+    wire  [15:0] e_head2$67$q;
+    reg  e_head2$67$clock;
+    reg  [15:0] e_head2$68$d;
+    wire  [15:0] e_head2$68$q;
+    reg  e_head2$68$clock;
+    reg  [15:0] e_head2$69$d;
+    wire  [15:0] e_head2$69$q;
+    reg  e_head2$69$clock;
+    reg  [15:0] e_head2$70$d;
+    wire  [15:0] e_head2$70$q;
+    reg  e_head2$70$clock;
+    reg  [15:0] e_head2$71$d;
+    wire  [15:0] e_head2$71$q;
+    reg  e_head2$71$clock;
+    reg  [15:0] e_head2$72$d;
+    wire  [15:0] e_head2$72$q;
+    reg  e_head2$72$clock;
+    reg  [15:0] e_head2$73$d;
+    wire  [15:0] e_head2$73$q;
+    reg  e_head2$73$clock;
+    reg  [15:0] e_head2$74$d;
+    wire  [15:0] e_head2$74$q;
+    reg  e_head2$74$clock;
+    reg  [15:0] e_head2$75$d;
+    wire  [15:0] e_head2$75$q;
+    reg  e_head2$75$clock;
+    reg  [15:0] e_head2$76$d;
+    wire  [15:0] e_head2$76$q;
+    reg  e_head2$76$clock;
+    reg  [15:0] e_head2$77$d;
+    wire  [15:0] e_head2$77$q;
+    reg  e_head2$77$clock;
+    reg  [15:0] e_head2$78$d;
+    wire  [15:0] e_head2$78$q;
+    reg  e_head2$78$clock;
+    reg  [15:0] e_head2$79$d;
+    wire  [15:0] e_head2$79$q;
+    reg  e_head2$79$clock;
+    reg  [15:0] e_head2$80$d;
+    wire  [15:0] e_head2$80$q;
+    reg  e_head2$80$clock;
     reg  e_chosen$d;
     wire  e_chosen$q;
     reg  e_chosen$clock;
@@ -9417,6 +11169,12 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] lq_head$write_data;
     reg  [1:0] lq_head$read_address;
     wire  [15:0] lq_head$read_data;
+    reg  lq_head2$clock;
+    reg  lq_head2$write_enable;
+    reg  [1:0] lq_head2$write_address;
+    reg  [15:0] lq_head2$write_data;
+    reg  [1:0] lq_head2$read_address;
+    wire  [15:0] lq_head2$read_data;
     reg  lq_box$clock;
     reg  lq_box$write_enable;
     reg  [1:0] lq_box$write_address;
@@ -9493,15 +11251,27 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [1:0] cur_kind$d;
     wire  [1:0] cur_kind$q;
     reg  cur_kind$clock;
-    reg  chase$d;
-    wire  chase$q;
-    reg  chase$clock;
-    reg  held_valid$d;
-    wire  held_valid$q;
-    reg  held_valid$clock;
-    reg  [15:0] held$d;
-    wire  [15:0] held$q;
-    reg  held$clock;
+    reg  [15:0] succ_q$d;
+    wire  [15:0] succ_q$q;
+    reg  succ_q$clock;
+    reg  r1$d;
+    wire  r1$q;
+    reg  r1$clock;
+    reg  r2$d;
+    wire  r2$q;
+    reg  r2$clock;
+    reg  q0v$d;
+    wire  q0v$q;
+    reg  q0v$clock;
+    reg  [15:0] q0$d;
+    wire  [15:0] q0$q;
+    reg  q0$clock;
+    reg  q1v$d;
+    wire  q1v$q;
+    reg  q1v$clock;
+    reg  [15:0] q1$d;
+    wire  [15:0] q1$q;
+    reg  q1$clock;
     reg  v1_valid$d;
     wire  v1_valid$q;
     reg  v1_valid$clock;
@@ -9642,6 +11412,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] lnext$d;
     wire  [15:0] lnext$q;
     reg  lnext$clock;
+    reg  [15:0] lnext2$d;
+    wire  [15:0] lnext2$q;
+    reg  lnext2$clock;
     reg  [15:0] lcur$d;
     wire  [15:0] lcur$q;
     reg  lcur$clock;
@@ -9654,6 +11427,15 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [22:0] lk_min$2$d;
     wire  [22:0] lk_min$2$q;
     reg  lk_min$2$clock;
+    reg  [22:0] lk_lim$0$d;
+    wire  [22:0] lk_lim$0$q;
+    reg  lk_lim$0$clock;
+    reg  [22:0] lk_lim$1$d;
+    wire  [22:0] lk_lim$1$q;
+    reg  lk_lim$1$clock;
+    reg  [22:0] lk_lim$2$d;
+    wire  [22:0] lk_lim$2$q;
+    reg  lk_lim$2$clock;
     reg  [22:0] lk_max$0$d;
     wire  [22:0] lk_max$0$q;
     reg  lk_max$0$clock;
@@ -9735,6 +11517,87 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [22:0] inj_max$2$d;
     wire  [22:0] inj_max$2$q;
     reg  inj_max$2$clock;
+    reg  bank_left$0$d;
+    wire  bank_left$0$q;
+    reg  bank_left$0$clock;
+    reg  bank_left$1$d;
+    wire  bank_left$1$q;
+    reg  bank_left$1$clock;
+    reg  bank_left$2$d;
+    wire  bank_left$2$q;
+    reg  bank_left$2$clock;
+    reg  bank_left$3$d;
+    wire  bank_left$3$q;
+    reg  bank_left$3$clock;
+    reg  bank_left$4$d;
+    wire  bank_left$4$q;
+    reg  bank_left$4$clock;
+    reg  bank_left$5$d;
+    wire  bank_left$5$q;
+    reg  bank_left$5$clock;
+    reg  bank_left$6$d;
+    wire  bank_left$6$q;
+    reg  bank_left$6$clock;
+    reg  bank_left$7$d;
+    wire  bank_left$7$q;
+    reg  bank_left$7$clock;
+    reg  bank_left$8$d;
+    wire  bank_left$8$q;
+    reg  bank_left$8$clock;
+    reg  bank_left$9$d;
+    wire  bank_left$9$q;
+    reg  bank_left$9$clock;
+    reg  bank_left$10$d;
+    wire  bank_left$10$q;
+    reg  bank_left$10$clock;
+    reg  bank_left$11$d;
+    wire  bank_left$11$q;
+    reg  bank_left$11$clock;
+    reg  bank_left$12$d;
+    wire  bank_left$12$q;
+    reg  bank_left$12$clock;
+    reg  bank_left$13$d;
+    wire  bank_left$13$q;
+    reg  bank_left$13$clock;
+    reg  bank_left$14$d;
+    wire  bank_left$14$q;
+    reg  bank_left$14$clock;
+    reg  bank_left$15$d;
+    wire  bank_left$15$q;
+    reg  bank_left$15$clock;
+    reg  bank_left$16$d;
+    wire  bank_left$16$q;
+    reg  bank_left$16$clock;
+    reg  bank_left$17$d;
+    wire  bank_left$17$q;
+    reg  bank_left$17$clock;
+    reg  bank_left$18$d;
+    wire  bank_left$18$q;
+    reg  bank_left$18$clock;
+    reg  bank_left$19$d;
+    wire  bank_left$19$q;
+    reg  bank_left$19$clock;
+    reg  bank_left$20$d;
+    wire  bank_left$20$q;
+    reg  bank_left$20$clock;
+    reg  bank_left$21$d;
+    wire  bank_left$21$q;
+    reg  bank_left$21$clock;
+    reg  bank_left$22$d;
+    wire  bank_left$22$q;
+    reg  bank_left$22$clock;
+    reg  bank_left$23$d;
+    wire  bank_left$23$q;
+    reg  bank_left$23$clock;
+    reg  bank_left$24$d;
+    wire  bank_left$24$q;
+    reg  bank_left$24$clock;
+    reg  bank_left$25$d;
+    wire  bank_left$25$q;
+    reg  bank_left$25$clock;
+    reg  bank_left$26$d;
+    wire  bank_left$26$q;
+    reg  bank_left$26$clock;
     
     // Local signals
     reg  [22:0] key_min$0;
@@ -10074,6 +11937,87 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] old_eff$78;
     reg  [15:0] old_eff$79;
     reg  [15:0] old_eff$80;
+    reg  [15:0] old_eff2$0;
+    reg  [15:0] old_eff2$1;
+    reg  [15:0] old_eff2$2;
+    reg  [15:0] old_eff2$3;
+    reg  [15:0] old_eff2$4;
+    reg  [15:0] old_eff2$5;
+    reg  [15:0] old_eff2$6;
+    reg  [15:0] old_eff2$7;
+    reg  [15:0] old_eff2$8;
+    reg  [15:0] old_eff2$9;
+    reg  [15:0] old_eff2$10;
+    reg  [15:0] old_eff2$11;
+    reg  [15:0] old_eff2$12;
+    reg  [15:0] old_eff2$13;
+    reg  [15:0] old_eff2$14;
+    reg  [15:0] old_eff2$15;
+    reg  [15:0] old_eff2$16;
+    reg  [15:0] old_eff2$17;
+    reg  [15:0] old_eff2$18;
+    reg  [15:0] old_eff2$19;
+    reg  [15:0] old_eff2$20;
+    reg  [15:0] old_eff2$21;
+    reg  [15:0] old_eff2$22;
+    reg  [15:0] old_eff2$23;
+    reg  [15:0] old_eff2$24;
+    reg  [15:0] old_eff2$25;
+    reg  [15:0] old_eff2$26;
+    reg  [15:0] old_eff2$27;
+    reg  [15:0] old_eff2$28;
+    reg  [15:0] old_eff2$29;
+    reg  [15:0] old_eff2$30;
+    reg  [15:0] old_eff2$31;
+    reg  [15:0] old_eff2$32;
+    reg  [15:0] old_eff2$33;
+    reg  [15:0] old_eff2$34;
+    reg  [15:0] old_eff2$35;
+    reg  [15:0] old_eff2$36;
+    reg  [15:0] old_eff2$37;
+    reg  [15:0] old_eff2$38;
+    reg  [15:0] old_eff2$39;
+    reg  [15:0] old_eff2$40;
+    reg  [15:0] old_eff2$41;
+    reg  [15:0] old_eff2$42;
+    reg  [15:0] old_eff2$43;
+    reg  [15:0] old_eff2$44;
+    reg  [15:0] old_eff2$45;
+    reg  [15:0] old_eff2$46;
+    reg  [15:0] old_eff2$47;
+    reg  [15:0] old_eff2$48;
+    reg  [15:0] old_eff2$49;
+    reg  [15:0] old_eff2$50;
+    reg  [15:0] old_eff2$51;
+    reg  [15:0] old_eff2$52;
+    reg  [15:0] old_eff2$53;
+    reg  [15:0] old_eff2$54;
+    reg  [15:0] old_eff2$55;
+    reg  [15:0] old_eff2$56;
+    reg  [15:0] old_eff2$57;
+    reg  [15:0] old_eff2$58;
+    reg  [15:0] old_eff2$59;
+    reg  [15:0] old_eff2$60;
+    reg  [15:0] old_eff2$61;
+    reg  [15:0] old_eff2$62;
+    reg  [15:0] old_eff2$63;
+    reg  [15:0] old_eff2$64;
+    reg  [15:0] old_eff2$65;
+    reg  [15:0] old_eff2$66;
+    reg  [15:0] old_eff2$67;
+    reg  [15:0] old_eff2$68;
+    reg  [15:0] old_eff2$69;
+    reg  [15:0] old_eff2$70;
+    reg  [15:0] old_eff2$71;
+    reg  [15:0] old_eff2$72;
+    reg  [15:0] old_eff2$73;
+    reg  [15:0] old_eff2$74;
+    reg  [15:0] old_eff2$75;
+    reg  [15:0] old_eff2$76;
+    reg  [15:0] old_eff2$77;
+    reg  [15:0] old_eff2$78;
+    reg  [15:0] old_eff2$79;
+    reg  [15:0] old_eff2$80;
     reg  live$0;
     reg  live$1;
     reg  live$2;
@@ -10346,6 +12290,33 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  bank_any$24;
     reg  bank_any$25;
     reg  bank_any$26;
+    reg  bank_next$0;
+    reg  bank_next$1;
+    reg  bank_next$2;
+    reg  bank_next$3;
+    reg  bank_next$4;
+    reg  bank_next$5;
+    reg  bank_next$6;
+    reg  bank_next$7;
+    reg  bank_next$8;
+    reg  bank_next$9;
+    reg  bank_next$10;
+    reg  bank_next$11;
+    reg  bank_next$12;
+    reg  bank_next$13;
+    reg  bank_next$14;
+    reg  bank_next$15;
+    reg  bank_next$16;
+    reg  bank_next$17;
+    reg  bank_next$18;
+    reg  bank_next$19;
+    reg  bank_next$20;
+    reg  bank_next$21;
+    reg  bank_next$22;
+    reg  bank_next$23;
+    reg  bank_next$24;
+    reg  bank_next$25;
+    reg  bank_next$26;
     reg  group_prior$0;
     reg  group_prior$1;
     reg  group_prior$2;
@@ -10619,9 +12590,94 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] e_pick$79;
     reg  [15:0] e_pick$80;
     reg  [15:0] e_out;
+    reg  [15:0] e_pick2$0;
+    reg  [15:0] e_pick2$1;
+    reg  [15:0] e_pick2$2;
+    reg  [15:0] e_pick2$3;
+    reg  [15:0] e_pick2$4;
+    reg  [15:0] e_pick2$5;
+    reg  [15:0] e_pick2$6;
+    reg  [15:0] e_pick2$7;
+    reg  [15:0] e_pick2$8;
+    reg  [15:0] e_pick2$9;
+    reg  [15:0] e_pick2$10;
+    reg  [15:0] e_pick2$11;
+    reg  [15:0] e_pick2$12;
+    reg  [15:0] e_pick2$13;
+    reg  [15:0] e_pick2$14;
+    reg  [15:0] e_pick2$15;
+    reg  [15:0] e_pick2$16;
+    reg  [15:0] e_pick2$17;
+    reg  [15:0] e_pick2$18;
+    reg  [15:0] e_pick2$19;
+    reg  [15:0] e_pick2$20;
+    reg  [15:0] e_pick2$21;
+    reg  [15:0] e_pick2$22;
+    reg  [15:0] e_pick2$23;
+    reg  [15:0] e_pick2$24;
+    reg  [15:0] e_pick2$25;
+    reg  [15:0] e_pick2$26;
+    reg  [15:0] e_pick2$27;
+    reg  [15:0] e_pick2$28;
+    reg  [15:0] e_pick2$29;
+    reg  [15:0] e_pick2$30;
+    reg  [15:0] e_pick2$31;
+    reg  [15:0] e_pick2$32;
+    reg  [15:0] e_pick2$33;
+    reg  [15:0] e_pick2$34;
+    reg  [15:0] e_pick2$35;
+    reg  [15:0] e_pick2$36;
+    reg  [15:0] e_pick2$37;
+    reg  [15:0] e_pick2$38;
+    reg  [15:0] e_pick2$39;
+    reg  [15:0] e_pick2$40;
+    reg  [15:0] e_pick2$41;
+    reg  [15:0] e_pick2$42;
+    reg  [15:0] e_pick2$43;
+    reg  [15:0] e_pick2$44;
+    reg  [15:0] e_pick2$45;
+    reg  [15:0] e_pick2$46;
+    reg  [15:0] e_pick2$47;
+    reg  [15:0] e_pick2$48;
+    reg  [15:0] e_pick2$49;
+    reg  [15:0] e_pick2$50;
+    reg  [15:0] e_pick2$51;
+    reg  [15:0] e_pick2$52;
+    reg  [15:0] e_pick2$53;
+    reg  [15:0] e_pick2$54;
+    reg  [15:0] e_pick2$55;
+    reg  [15:0] e_pick2$56;
+    reg  [15:0] e_pick2$57;
+    reg  [15:0] e_pick2$58;
+    reg  [15:0] e_pick2$59;
+    reg  [15:0] e_pick2$60;
+    reg  [15:0] e_pick2$61;
+    reg  [15:0] e_pick2$62;
+    reg  [15:0] e_pick2$63;
+    reg  [15:0] e_pick2$64;
+    reg  [15:0] e_pick2$65;
+    reg  [15:0] e_pick2$66;
+    reg  [15:0] e_pick2$67;
+    reg  [15:0] e_pick2$68;
+    reg  [15:0] e_pick2$69;
+    reg  [15:0] e_pick2$70;
+    reg  [15:0] e_pick2$71;
+    reg  [15:0] e_pick2$72;
+    reg  [15:0] e_pick2$73;
+    reg  [15:0] e_pick2$74;
+    reg  [15:0] e_pick2$75;
+    reg  [15:0] e_pick2$76;
+    reg  [15:0] e_pick2$77;
+    reg  [15:0] e_pick2$78;
+    reg  [15:0] e_pick2$79;
+    reg  [15:0] e_pick2$80;
+    reg  [15:0] e_out2;
     reg  e_more;
     reg  e_load;
-    reg  list_open;
+    reg  arrive;
+    reg  avail;
+    reg  [15:0] after;
+    reg  after_v;
     reg  need;
     reg  retire_rec;
     reg  take;
@@ -11953,6 +14009,411 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .d(s4_old$80$d),
         .q(s4_old$80$q),
         .clock(s4_old$80$clock)
+    );
+    obb_core$grid$0$s4_old2$0 s4_old2$0(
+        .d(s4_old2$0$d),
+        .q(s4_old2$0$q),
+        .clock(s4_old2$0$clock)
+    );
+    obb_core$grid$0$s4_old2$1 s4_old2$1(
+        .d(s4_old2$1$d),
+        .q(s4_old2$1$q),
+        .clock(s4_old2$1$clock)
+    );
+    obb_core$grid$0$s4_old2$2 s4_old2$2(
+        .d(s4_old2$2$d),
+        .q(s4_old2$2$q),
+        .clock(s4_old2$2$clock)
+    );
+    obb_core$grid$0$s4_old2$3 s4_old2$3(
+        .d(s4_old2$3$d),
+        .q(s4_old2$3$q),
+        .clock(s4_old2$3$clock)
+    );
+    obb_core$grid$0$s4_old2$4 s4_old2$4(
+        .d(s4_old2$4$d),
+        .q(s4_old2$4$q),
+        .clock(s4_old2$4$clock)
+    );
+    obb_core$grid$0$s4_old2$5 s4_old2$5(
+        .d(s4_old2$5$d),
+        .q(s4_old2$5$q),
+        .clock(s4_old2$5$clock)
+    );
+    obb_core$grid$0$s4_old2$6 s4_old2$6(
+        .d(s4_old2$6$d),
+        .q(s4_old2$6$q),
+        .clock(s4_old2$6$clock)
+    );
+    obb_core$grid$0$s4_old2$7 s4_old2$7(
+        .d(s4_old2$7$d),
+        .q(s4_old2$7$q),
+        .clock(s4_old2$7$clock)
+    );
+    obb_core$grid$0$s4_old2$8 s4_old2$8(
+        .d(s4_old2$8$d),
+        .q(s4_old2$8$q),
+        .clock(s4_old2$8$clock)
+    );
+    obb_core$grid$0$s4_old2$9 s4_old2$9(
+        .d(s4_old2$9$d),
+        .q(s4_old2$9$q),
+        .clock(s4_old2$9$clock)
+    );
+    obb_core$grid$0$s4_old2$10 s4_old2$10(
+        .d(s4_old2$10$d),
+        .q(s4_old2$10$q),
+        .clock(s4_old2$10$clock)
+    );
+    obb_core$grid$0$s4_old2$11 s4_old2$11(
+        .d(s4_old2$11$d),
+        .q(s4_old2$11$q),
+        .clock(s4_old2$11$clock)
+    );
+    obb_core$grid$0$s4_old2$12 s4_old2$12(
+        .d(s4_old2$12$d),
+        .q(s4_old2$12$q),
+        .clock(s4_old2$12$clock)
+    );
+    obb_core$grid$0$s4_old2$13 s4_old2$13(
+        .d(s4_old2$13$d),
+        .q(s4_old2$13$q),
+        .clock(s4_old2$13$clock)
+    );
+    obb_core$grid$0$s4_old2$14 s4_old2$14(
+        .d(s4_old2$14$d),
+        .q(s4_old2$14$q),
+        .clock(s4_old2$14$clock)
+    );
+    obb_core$grid$0$s4_old2$15 s4_old2$15(
+        .d(s4_old2$15$d),
+        .q(s4_old2$15$q),
+        .clock(s4_old2$15$clock)
+    );
+    obb_core$grid$0$s4_old2$16 s4_old2$16(
+        .d(s4_old2$16$d),
+        .q(s4_old2$16$q),
+        .clock(s4_old2$16$clock)
+    );
+    obb_core$grid$0$s4_old2$17 s4_old2$17(
+        .d(s4_old2$17$d),
+        .q(s4_old2$17$q),
+        .clock(s4_old2$17$clock)
+    );
+    obb_core$grid$0$s4_old2$18 s4_old2$18(
+        .d(s4_old2$18$d),
+        .q(s4_old2$18$q),
+        .clock(s4_old2$18$clock)
+    );
+    obb_core$grid$0$s4_old2$19 s4_old2$19(
+        .d(s4_old2$19$d),
+        .q(s4_old2$19$q),
+        .clock(s4_old2$19$clock)
+    );
+    obb_core$grid$0$s4_old2$20 s4_old2$20(
+        .d(s4_old2$20$d),
+        .q(s4_old2$20$q),
+        .clock(s4_old2$20$clock)
+    );
+    obb_core$grid$0$s4_old2$21 s4_old2$21(
+        .d(s4_old2$21$d),
+        .q(s4_old2$21$q),
+        .clock(s4_old2$21$clock)
+    );
+    obb_core$grid$0$s4_old2$22 s4_old2$22(
+        .d(s4_old2$22$d),
+        .q(s4_old2$22$q),
+        .clock(s4_old2$22$clock)
+    );
+    obb_core$grid$0$s4_old2$23 s4_old2$23(
+        .d(s4_old2$23$d),
+        .q(s4_old2$23$q),
+        .clock(s4_old2$23$clock)
+    );
+    obb_core$grid$0$s4_old2$24 s4_old2$24(
+        .d(s4_old2$24$d),
+        .q(s4_old2$24$q),
+        .clock(s4_old2$24$clock)
+    );
+    obb_core$grid$0$s4_old2$25 s4_old2$25(
+        .d(s4_old2$25$d),
+        .q(s4_old2$25$q),
+        .clock(s4_old2$25$clock)
+    );
+    obb_core$grid$0$s4_old2$26 s4_old2$26(
+        .d(s4_old2$26$d),
+        .q(s4_old2$26$q),
+        .clock(s4_old2$26$clock)
+    );
+    obb_core$grid$0$s4_old2$27 s4_old2$27(
+        .d(s4_old2$27$d),
+        .q(s4_old2$27$q),
+        .clock(s4_old2$27$clock)
+    );
+    obb_core$grid$0$s4_old2$28 s4_old2$28(
+        .d(s4_old2$28$d),
+        .q(s4_old2$28$q),
+        .clock(s4_old2$28$clock)
+    );
+    obb_core$grid$0$s4_old2$29 s4_old2$29(
+        .d(s4_old2$29$d),
+        .q(s4_old2$29$q),
+        .clock(s4_old2$29$clock)
+    );
+    obb_core$grid$0$s4_old2$30 s4_old2$30(
+        .d(s4_old2$30$d),
+        .q(s4_old2$30$q),
+        .clock(s4_old2$30$clock)
+    );
+    obb_core$grid$0$s4_old2$31 s4_old2$31(
+        .d(s4_old2$31$d),
+        .q(s4_old2$31$q),
+        .clock(s4_old2$31$clock)
+    );
+    obb_core$grid$0$s4_old2$32 s4_old2$32(
+        .d(s4_old2$32$d),
+        .q(s4_old2$32$q),
+        .clock(s4_old2$32$clock)
+    );
+    obb_core$grid$0$s4_old2$33 s4_old2$33(
+        .d(s4_old2$33$d),
+        .q(s4_old2$33$q),
+        .clock(s4_old2$33$clock)
+    );
+    obb_core$grid$0$s4_old2$34 s4_old2$34(
+        .d(s4_old2$34$d),
+        .q(s4_old2$34$q),
+        .clock(s4_old2$34$clock)
+    );
+    obb_core$grid$0$s4_old2$35 s4_old2$35(
+        .d(s4_old2$35$d),
+        .q(s4_old2$35$q),
+        .clock(s4_old2$35$clock)
+    );
+    obb_core$grid$0$s4_old2$36 s4_old2$36(
+        .d(s4_old2$36$d),
+        .q(s4_old2$36$q),
+        .clock(s4_old2$36$clock)
+    );
+    obb_core$grid$0$s4_old2$37 s4_old2$37(
+        .d(s4_old2$37$d),
+        .q(s4_old2$37$q),
+        .clock(s4_old2$37$clock)
+    );
+    obb_core$grid$0$s4_old2$38 s4_old2$38(
+        .d(s4_old2$38$d),
+        .q(s4_old2$38$q),
+        .clock(s4_old2$38$clock)
+    );
+    obb_core$grid$0$s4_old2$39 s4_old2$39(
+        .d(s4_old2$39$d),
+        .q(s4_old2$39$q),
+        .clock(s4_old2$39$clock)
+    );
+    obb_core$grid$0$s4_old2$40 s4_old2$40(
+        .d(s4_old2$40$d),
+        .q(s4_old2$40$q),
+        .clock(s4_old2$40$clock)
+    );
+    obb_core$grid$0$s4_old2$41 s4_old2$41(
+        .d(s4_old2$41$d),
+        .q(s4_old2$41$q),
+        .clock(s4_old2$41$clock)
+    );
+    obb_core$grid$0$s4_old2$42 s4_old2$42(
+        .d(s4_old2$42$d),
+        .q(s4_old2$42$q),
+        .clock(s4_old2$42$clock)
+    );
+    obb_core$grid$0$s4_old2$43 s4_old2$43(
+        .d(s4_old2$43$d),
+        .q(s4_old2$43$q),
+        .clock(s4_old2$43$clock)
+    );
+    obb_core$grid$0$s4_old2$44 s4_old2$44(
+        .d(s4_old2$44$d),
+        .q(s4_old2$44$q),
+        .clock(s4_old2$44$clock)
+    );
+    obb_core$grid$0$s4_old2$45 s4_old2$45(
+        .d(s4_old2$45$d),
+        .q(s4_old2$45$q),
+        .clock(s4_old2$45$clock)
+    );
+    obb_core$grid$0$s4_old2$46 s4_old2$46(
+        .d(s4_old2$46$d),
+        .q(s4_old2$46$q),
+        .clock(s4_old2$46$clock)
+    );
+    obb_core$grid$0$s4_old2$47 s4_old2$47(
+        .d(s4_old2$47$d),
+        .q(s4_old2$47$q),
+        .clock(s4_old2$47$clock)
+    );
+    obb_core$grid$0$s4_old2$48 s4_old2$48(
+        .d(s4_old2$48$d),
+        .q(s4_old2$48$q),
+        .clock(s4_old2$48$clock)
+    );
+    obb_core$grid$0$s4_old2$49 s4_old2$49(
+        .d(s4_old2$49$d),
+        .q(s4_old2$49$q),
+        .clock(s4_old2$49$clock)
+    );
+    obb_core$grid$0$s4_old2$50 s4_old2$50(
+        .d(s4_old2$50$d),
+        .q(s4_old2$50$q),
+        .clock(s4_old2$50$clock)
+    );
+    obb_core$grid$0$s4_old2$51 s4_old2$51(
+        .d(s4_old2$51$d),
+        .q(s4_old2$51$q),
+        .clock(s4_old2$51$clock)
+    );
+    obb_core$grid$0$s4_old2$52 s4_old2$52(
+        .d(s4_old2$52$d),
+        .q(s4_old2$52$q),
+        .clock(s4_old2$52$clock)
+    );
+    obb_core$grid$0$s4_old2$53 s4_old2$53(
+        .d(s4_old2$53$d),
+        .q(s4_old2$53$q),
+        .clock(s4_old2$53$clock)
+    );
+    obb_core$grid$0$s4_old2$54 s4_old2$54(
+        .d(s4_old2$54$d),
+        .q(s4_old2$54$q),
+        .clock(s4_old2$54$clock)
+    );
+    obb_core$grid$0$s4_old2$55 s4_old2$55(
+        .d(s4_old2$55$d),
+        .q(s4_old2$55$q),
+        .clock(s4_old2$55$clock)
+    );
+    obb_core$grid$0$s4_old2$56 s4_old2$56(
+        .d(s4_old2$56$d),
+        .q(s4_old2$56$q),
+        .clock(s4_old2$56$clock)
+    );
+    obb_core$grid$0$s4_old2$57 s4_old2$57(
+        .d(s4_old2$57$d),
+        .q(s4_old2$57$q),
+        .clock(s4_old2$57$clock)
+    );
+    obb_core$grid$0$s4_old2$58 s4_old2$58(
+        .d(s4_old2$58$d),
+        .q(s4_old2$58$q),
+        .clock(s4_old2$58$clock)
+    );
+    obb_core$grid$0$s4_old2$59 s4_old2$59(
+        .d(s4_old2$59$d),
+        .q(s4_old2$59$q),
+        .clock(s4_old2$59$clock)
+    );
+    obb_core$grid$0$s4_old2$60 s4_old2$60(
+        .d(s4_old2$60$d),
+        .q(s4_old2$60$q),
+        .clock(s4_old2$60$clock)
+    );
+    obb_core$grid$0$s4_old2$61 s4_old2$61(
+        .d(s4_old2$61$d),
+        .q(s4_old2$61$q),
+        .clock(s4_old2$61$clock)
+    );
+    obb_core$grid$0$s4_old2$62 s4_old2$62(
+        .d(s4_old2$62$d),
+        .q(s4_old2$62$q),
+        .clock(s4_old2$62$clock)
+    );
+    obb_core$grid$0$s4_old2$63 s4_old2$63(
+        .d(s4_old2$63$d),
+        .q(s4_old2$63$q),
+        .clock(s4_old2$63$clock)
+    );
+    obb_core$grid$0$s4_old2$64 s4_old2$64(
+        .d(s4_old2$64$d),
+        .q(s4_old2$64$q),
+        .clock(s4_old2$64$clock)
+    );
+    obb_core$grid$0$s4_old2$65 s4_old2$65(
+        .d(s4_old2$65$d),
+        .q(s4_old2$65$q),
+        .clock(s4_old2$65$clock)
+    );
+    obb_core$grid$0$s4_old2$66 s4_old2$66(
+        .d(s4_old2$66$d),
+        .q(s4_old2$66$q),
+        .clock(s4_old2$66$clock)
+    );
+    obb_core$grid$0$s4_old2$67 s4_old2$67(
+        .d(s4_old2$67$d),
+        .q(s4_old2$67$q),
+        .clock(s4_old2$67$clock)
+    );
+    obb_core$grid$0$s4_old2$68 s4_old2$68(
+        .d(s4_old2$68$d),
+        .q(s4_old2$68$q),
+        .clock(s4_old2$68$clock)
+    );
+    obb_core$grid$0$s4_old2$69 s4_old2$69(
+        .d(s4_old2$69$d),
+        .q(s4_old2$69$q),
+        .clock(s4_old2$69$clock)
+    );
+    obb_core$grid$0$s4_old2$70 s4_old2$70(
+        .d(s4_old2$70$d),
+        .q(s4_old2$70$q),
+        .clock(s4_old2$70$clock)
+    );
+    obb_core$grid$0$s4_old2$71 s4_old2$71(
+        .d(s4_old2$71$d),
+        .q(s4_old2$71$q),
+        .clock(s4_old2$71$clock)
+    );
+    obb_core$grid$0$s4_old2$72 s4_old2$72(
+        .d(s4_old2$72$d),
+        .q(s4_old2$72$q),
+        .clock(s4_old2$72$clock)
+    );
+    obb_core$grid$0$s4_old2$73 s4_old2$73(
+        .d(s4_old2$73$d),
+        .q(s4_old2$73$q),
+        .clock(s4_old2$73$clock)
+    );
+    obb_core$grid$0$s4_old2$74 s4_old2$74(
+        .d(s4_old2$74$d),
+        .q(s4_old2$74$q),
+        .clock(s4_old2$74$clock)
+    );
+    obb_core$grid$0$s4_old2$75 s4_old2$75(
+        .d(s4_old2$75$d),
+        .q(s4_old2$75$q),
+        .clock(s4_old2$75$clock)
+    );
+    obb_core$grid$0$s4_old2$76 s4_old2$76(
+        .d(s4_old2$76$d),
+        .q(s4_old2$76$q),
+        .clock(s4_old2$76$clock)
+    );
+    obb_core$grid$0$s4_old2$77 s4_old2$77(
+        .d(s4_old2$77$d),
+        .q(s4_old2$77$q),
+        .clock(s4_old2$77$clock)
+    );
+    obb_core$grid$0$s4_old2$78 s4_old2$78(
+        .d(s4_old2$78$d),
+        .q(s4_old2$78$q),
+        .clock(s4_old2$78$clock)
+    );
+    obb_core$grid$0$s4_old2$79 s4_old2$79(
+        .d(s4_old2$79$d),
+        .q(s4_old2$79$q),
+        .clock(s4_old2$79$clock)
+    );
+    obb_core$grid$0$s4_old2$80 s4_old2$80(
+        .d(s4_old2$80$d),
+        .q(s4_old2$80$q),
+        .clock(s4_old2$80$clock)
     );
     obb_core$grid$0$s4_walk$0 s4_walk$0(
         .d(s4_walk$0$d),
@@ -14043,6 +16504,411 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .d(s5_head$80$d),
         .q(s5_head$80$q),
         .clock(s5_head$80$clock)
+    );
+    obb_core$grid$0$s5_head2$0 s5_head2$0(
+        .d(s5_head2$0$d),
+        .q(s5_head2$0$q),
+        .clock(s5_head2$0$clock)
+    );
+    obb_core$grid$0$s5_head2$1 s5_head2$1(
+        .d(s5_head2$1$d),
+        .q(s5_head2$1$q),
+        .clock(s5_head2$1$clock)
+    );
+    obb_core$grid$0$s5_head2$2 s5_head2$2(
+        .d(s5_head2$2$d),
+        .q(s5_head2$2$q),
+        .clock(s5_head2$2$clock)
+    );
+    obb_core$grid$0$s5_head2$3 s5_head2$3(
+        .d(s5_head2$3$d),
+        .q(s5_head2$3$q),
+        .clock(s5_head2$3$clock)
+    );
+    obb_core$grid$0$s5_head2$4 s5_head2$4(
+        .d(s5_head2$4$d),
+        .q(s5_head2$4$q),
+        .clock(s5_head2$4$clock)
+    );
+    obb_core$grid$0$s5_head2$5 s5_head2$5(
+        .d(s5_head2$5$d),
+        .q(s5_head2$5$q),
+        .clock(s5_head2$5$clock)
+    );
+    obb_core$grid$0$s5_head2$6 s5_head2$6(
+        .d(s5_head2$6$d),
+        .q(s5_head2$6$q),
+        .clock(s5_head2$6$clock)
+    );
+    obb_core$grid$0$s5_head2$7 s5_head2$7(
+        .d(s5_head2$7$d),
+        .q(s5_head2$7$q),
+        .clock(s5_head2$7$clock)
+    );
+    obb_core$grid$0$s5_head2$8 s5_head2$8(
+        .d(s5_head2$8$d),
+        .q(s5_head2$8$q),
+        .clock(s5_head2$8$clock)
+    );
+    obb_core$grid$0$s5_head2$9 s5_head2$9(
+        .d(s5_head2$9$d),
+        .q(s5_head2$9$q),
+        .clock(s5_head2$9$clock)
+    );
+    obb_core$grid$0$s5_head2$10 s5_head2$10(
+        .d(s5_head2$10$d),
+        .q(s5_head2$10$q),
+        .clock(s5_head2$10$clock)
+    );
+    obb_core$grid$0$s5_head2$11 s5_head2$11(
+        .d(s5_head2$11$d),
+        .q(s5_head2$11$q),
+        .clock(s5_head2$11$clock)
+    );
+    obb_core$grid$0$s5_head2$12 s5_head2$12(
+        .d(s5_head2$12$d),
+        .q(s5_head2$12$q),
+        .clock(s5_head2$12$clock)
+    );
+    obb_core$grid$0$s5_head2$13 s5_head2$13(
+        .d(s5_head2$13$d),
+        .q(s5_head2$13$q),
+        .clock(s5_head2$13$clock)
+    );
+    obb_core$grid$0$s5_head2$14 s5_head2$14(
+        .d(s5_head2$14$d),
+        .q(s5_head2$14$q),
+        .clock(s5_head2$14$clock)
+    );
+    obb_core$grid$0$s5_head2$15 s5_head2$15(
+        .d(s5_head2$15$d),
+        .q(s5_head2$15$q),
+        .clock(s5_head2$15$clock)
+    );
+    obb_core$grid$0$s5_head2$16 s5_head2$16(
+        .d(s5_head2$16$d),
+        .q(s5_head2$16$q),
+        .clock(s5_head2$16$clock)
+    );
+    obb_core$grid$0$s5_head2$17 s5_head2$17(
+        .d(s5_head2$17$d),
+        .q(s5_head2$17$q),
+        .clock(s5_head2$17$clock)
+    );
+    obb_core$grid$0$s5_head2$18 s5_head2$18(
+        .d(s5_head2$18$d),
+        .q(s5_head2$18$q),
+        .clock(s5_head2$18$clock)
+    );
+    obb_core$grid$0$s5_head2$19 s5_head2$19(
+        .d(s5_head2$19$d),
+        .q(s5_head2$19$q),
+        .clock(s5_head2$19$clock)
+    );
+    obb_core$grid$0$s5_head2$20 s5_head2$20(
+        .d(s5_head2$20$d),
+        .q(s5_head2$20$q),
+        .clock(s5_head2$20$clock)
+    );
+    obb_core$grid$0$s5_head2$21 s5_head2$21(
+        .d(s5_head2$21$d),
+        .q(s5_head2$21$q),
+        .clock(s5_head2$21$clock)
+    );
+    obb_core$grid$0$s5_head2$22 s5_head2$22(
+        .d(s5_head2$22$d),
+        .q(s5_head2$22$q),
+        .clock(s5_head2$22$clock)
+    );
+    obb_core$grid$0$s5_head2$23 s5_head2$23(
+        .d(s5_head2$23$d),
+        .q(s5_head2$23$q),
+        .clock(s5_head2$23$clock)
+    );
+    obb_core$grid$0$s5_head2$24 s5_head2$24(
+        .d(s5_head2$24$d),
+        .q(s5_head2$24$q),
+        .clock(s5_head2$24$clock)
+    );
+    obb_core$grid$0$s5_head2$25 s5_head2$25(
+        .d(s5_head2$25$d),
+        .q(s5_head2$25$q),
+        .clock(s5_head2$25$clock)
+    );
+    obb_core$grid$0$s5_head2$26 s5_head2$26(
+        .d(s5_head2$26$d),
+        .q(s5_head2$26$q),
+        .clock(s5_head2$26$clock)
+    );
+    obb_core$grid$0$s5_head2$27 s5_head2$27(
+        .d(s5_head2$27$d),
+        .q(s5_head2$27$q),
+        .clock(s5_head2$27$clock)
+    );
+    obb_core$grid$0$s5_head2$28 s5_head2$28(
+        .d(s5_head2$28$d),
+        .q(s5_head2$28$q),
+        .clock(s5_head2$28$clock)
+    );
+    obb_core$grid$0$s5_head2$29 s5_head2$29(
+        .d(s5_head2$29$d),
+        .q(s5_head2$29$q),
+        .clock(s5_head2$29$clock)
+    );
+    obb_core$grid$0$s5_head2$30 s5_head2$30(
+        .d(s5_head2$30$d),
+        .q(s5_head2$30$q),
+        .clock(s5_head2$30$clock)
+    );
+    obb_core$grid$0$s5_head2$31 s5_head2$31(
+        .d(s5_head2$31$d),
+        .q(s5_head2$31$q),
+        .clock(s5_head2$31$clock)
+    );
+    obb_core$grid$0$s5_head2$32 s5_head2$32(
+        .d(s5_head2$32$d),
+        .q(s5_head2$32$q),
+        .clock(s5_head2$32$clock)
+    );
+    obb_core$grid$0$s5_head2$33 s5_head2$33(
+        .d(s5_head2$33$d),
+        .q(s5_head2$33$q),
+        .clock(s5_head2$33$clock)
+    );
+    obb_core$grid$0$s5_head2$34 s5_head2$34(
+        .d(s5_head2$34$d),
+        .q(s5_head2$34$q),
+        .clock(s5_head2$34$clock)
+    );
+    obb_core$grid$0$s5_head2$35 s5_head2$35(
+        .d(s5_head2$35$d),
+        .q(s5_head2$35$q),
+        .clock(s5_head2$35$clock)
+    );
+    obb_core$grid$0$s5_head2$36 s5_head2$36(
+        .d(s5_head2$36$d),
+        .q(s5_head2$36$q),
+        .clock(s5_head2$36$clock)
+    );
+    obb_core$grid$0$s5_head2$37 s5_head2$37(
+        .d(s5_head2$37$d),
+        .q(s5_head2$37$q),
+        .clock(s5_head2$37$clock)
+    );
+    obb_core$grid$0$s5_head2$38 s5_head2$38(
+        .d(s5_head2$38$d),
+        .q(s5_head2$38$q),
+        .clock(s5_head2$38$clock)
+    );
+    obb_core$grid$0$s5_head2$39 s5_head2$39(
+        .d(s5_head2$39$d),
+        .q(s5_head2$39$q),
+        .clock(s5_head2$39$clock)
+    );
+    obb_core$grid$0$s5_head2$40 s5_head2$40(
+        .d(s5_head2$40$d),
+        .q(s5_head2$40$q),
+        .clock(s5_head2$40$clock)
+    );
+    obb_core$grid$0$s5_head2$41 s5_head2$41(
+        .d(s5_head2$41$d),
+        .q(s5_head2$41$q),
+        .clock(s5_head2$41$clock)
+    );
+    obb_core$grid$0$s5_head2$42 s5_head2$42(
+        .d(s5_head2$42$d),
+        .q(s5_head2$42$q),
+        .clock(s5_head2$42$clock)
+    );
+    obb_core$grid$0$s5_head2$43 s5_head2$43(
+        .d(s5_head2$43$d),
+        .q(s5_head2$43$q),
+        .clock(s5_head2$43$clock)
+    );
+    obb_core$grid$0$s5_head2$44 s5_head2$44(
+        .d(s5_head2$44$d),
+        .q(s5_head2$44$q),
+        .clock(s5_head2$44$clock)
+    );
+    obb_core$grid$0$s5_head2$45 s5_head2$45(
+        .d(s5_head2$45$d),
+        .q(s5_head2$45$q),
+        .clock(s5_head2$45$clock)
+    );
+    obb_core$grid$0$s5_head2$46 s5_head2$46(
+        .d(s5_head2$46$d),
+        .q(s5_head2$46$q),
+        .clock(s5_head2$46$clock)
+    );
+    obb_core$grid$0$s5_head2$47 s5_head2$47(
+        .d(s5_head2$47$d),
+        .q(s5_head2$47$q),
+        .clock(s5_head2$47$clock)
+    );
+    obb_core$grid$0$s5_head2$48 s5_head2$48(
+        .d(s5_head2$48$d),
+        .q(s5_head2$48$q),
+        .clock(s5_head2$48$clock)
+    );
+    obb_core$grid$0$s5_head2$49 s5_head2$49(
+        .d(s5_head2$49$d),
+        .q(s5_head2$49$q),
+        .clock(s5_head2$49$clock)
+    );
+    obb_core$grid$0$s5_head2$50 s5_head2$50(
+        .d(s5_head2$50$d),
+        .q(s5_head2$50$q),
+        .clock(s5_head2$50$clock)
+    );
+    obb_core$grid$0$s5_head2$51 s5_head2$51(
+        .d(s5_head2$51$d),
+        .q(s5_head2$51$q),
+        .clock(s5_head2$51$clock)
+    );
+    obb_core$grid$0$s5_head2$52 s5_head2$52(
+        .d(s5_head2$52$d),
+        .q(s5_head2$52$q),
+        .clock(s5_head2$52$clock)
+    );
+    obb_core$grid$0$s5_head2$53 s5_head2$53(
+        .d(s5_head2$53$d),
+        .q(s5_head2$53$q),
+        .clock(s5_head2$53$clock)
+    );
+    obb_core$grid$0$s5_head2$54 s5_head2$54(
+        .d(s5_head2$54$d),
+        .q(s5_head2$54$q),
+        .clock(s5_head2$54$clock)
+    );
+    obb_core$grid$0$s5_head2$55 s5_head2$55(
+        .d(s5_head2$55$d),
+        .q(s5_head2$55$q),
+        .clock(s5_head2$55$clock)
+    );
+    obb_core$grid$0$s5_head2$56 s5_head2$56(
+        .d(s5_head2$56$d),
+        .q(s5_head2$56$q),
+        .clock(s5_head2$56$clock)
+    );
+    obb_core$grid$0$s5_head2$57 s5_head2$57(
+        .d(s5_head2$57$d),
+        .q(s5_head2$57$q),
+        .clock(s5_head2$57$clock)
+    );
+    obb_core$grid$0$s5_head2$58 s5_head2$58(
+        .d(s5_head2$58$d),
+        .q(s5_head2$58$q),
+        .clock(s5_head2$58$clock)
+    );
+    obb_core$grid$0$s5_head2$59 s5_head2$59(
+        .d(s5_head2$59$d),
+        .q(s5_head2$59$q),
+        .clock(s5_head2$59$clock)
+    );
+    obb_core$grid$0$s5_head2$60 s5_head2$60(
+        .d(s5_head2$60$d),
+        .q(s5_head2$60$q),
+        .clock(s5_head2$60$clock)
+    );
+    obb_core$grid$0$s5_head2$61 s5_head2$61(
+        .d(s5_head2$61$d),
+        .q(s5_head2$61$q),
+        .clock(s5_head2$61$clock)
+    );
+    obb_core$grid$0$s5_head2$62 s5_head2$62(
+        .d(s5_head2$62$d),
+        .q(s5_head2$62$q),
+        .clock(s5_head2$62$clock)
+    );
+    obb_core$grid$0$s5_head2$63 s5_head2$63(
+        .d(s5_head2$63$d),
+        .q(s5_head2$63$q),
+        .clock(s5_head2$63$clock)
+    );
+    obb_core$grid$0$s5_head2$64 s5_head2$64(
+        .d(s5_head2$64$d),
+        .q(s5_head2$64$q),
+        .clock(s5_head2$64$clock)
+    );
+    obb_core$grid$0$s5_head2$65 s5_head2$65(
+        .d(s5_head2$65$d),
+        .q(s5_head2$65$q),
+        .clock(s5_head2$65$clock)
+    );
+    obb_core$grid$0$s5_head2$66 s5_head2$66(
+        .d(s5_head2$66$d),
+        .q(s5_head2$66$q),
+        .clock(s5_head2$66$clock)
+    );
+    obb_core$grid$0$s5_head2$67 s5_head2$67(
+        .d(s5_head2$67$d),
+        .q(s5_head2$67$q),
+        .clock(s5_head2$67$clock)
+    );
+    obb_core$grid$0$s5_head2$68 s5_head2$68(
+        .d(s5_head2$68$d),
+        .q(s5_head2$68$q),
+        .clock(s5_head2$68$clock)
+    );
+    obb_core$grid$0$s5_head2$69 s5_head2$69(
+        .d(s5_head2$69$d),
+        .q(s5_head2$69$q),
+        .clock(s5_head2$69$clock)
+    );
+    obb_core$grid$0$s5_head2$70 s5_head2$70(
+        .d(s5_head2$70$d),
+        .q(s5_head2$70$q),
+        .clock(s5_head2$70$clock)
+    );
+    obb_core$grid$0$s5_head2$71 s5_head2$71(
+        .d(s5_head2$71$d),
+        .q(s5_head2$71$q),
+        .clock(s5_head2$71$clock)
+    );
+    obb_core$grid$0$s5_head2$72 s5_head2$72(
+        .d(s5_head2$72$d),
+        .q(s5_head2$72$q),
+        .clock(s5_head2$72$clock)
+    );
+    obb_core$grid$0$s5_head2$73 s5_head2$73(
+        .d(s5_head2$73$d),
+        .q(s5_head2$73$q),
+        .clock(s5_head2$73$clock)
+    );
+    obb_core$grid$0$s5_head2$74 s5_head2$74(
+        .d(s5_head2$74$d),
+        .q(s5_head2$74$q),
+        .clock(s5_head2$74$clock)
+    );
+    obb_core$grid$0$s5_head2$75 s5_head2$75(
+        .d(s5_head2$75$d),
+        .q(s5_head2$75$q),
+        .clock(s5_head2$75$clock)
+    );
+    obb_core$grid$0$s5_head2$76 s5_head2$76(
+        .d(s5_head2$76$d),
+        .q(s5_head2$76$q),
+        .clock(s5_head2$76$clock)
+    );
+    obb_core$grid$0$s5_head2$77 s5_head2$77(
+        .d(s5_head2$77$d),
+        .q(s5_head2$77$q),
+        .clock(s5_head2$77$clock)
+    );
+    obb_core$grid$0$s5_head2$78 s5_head2$78(
+        .d(s5_head2$78$d),
+        .q(s5_head2$78$q),
+        .clock(s5_head2$78$clock)
+    );
+    obb_core$grid$0$s5_head2$79 s5_head2$79(
+        .d(s5_head2$79$d),
+        .q(s5_head2$79$q),
+        .clock(s5_head2$79$clock)
+    );
+    obb_core$grid$0$s5_head2$80 s5_head2$80(
+        .d(s5_head2$80$d),
+        .q(s5_head2$80$q),
+        .clock(s5_head2$80$clock)
     );
     obb_core$grid$0$s5_enter$0 s5_enter$0(
         .d(s5_enter$0$d),
@@ -16565,6 +19431,654 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .read_address(head$80$read_address),
         .read_data(head$80$read_data)
     );
+    obb_core$grid$0$head2$0 head2$0(
+        .clock(head2$0$clock),
+        .write_enable(head2$0$write_enable),
+        .write_address(head2$0$write_address),
+        .write_data(head2$0$write_data),
+        .read_address(head2$0$read_address),
+        .read_data(head2$0$read_data)
+    );
+    obb_core$grid$0$head2$1 head2$1(
+        .clock(head2$1$clock),
+        .write_enable(head2$1$write_enable),
+        .write_address(head2$1$write_address),
+        .write_data(head2$1$write_data),
+        .read_address(head2$1$read_address),
+        .read_data(head2$1$read_data)
+    );
+    obb_core$grid$0$head2$2 head2$2(
+        .clock(head2$2$clock),
+        .write_enable(head2$2$write_enable),
+        .write_address(head2$2$write_address),
+        .write_data(head2$2$write_data),
+        .read_address(head2$2$read_address),
+        .read_data(head2$2$read_data)
+    );
+    obb_core$grid$0$head2$3 head2$3(
+        .clock(head2$3$clock),
+        .write_enable(head2$3$write_enable),
+        .write_address(head2$3$write_address),
+        .write_data(head2$3$write_data),
+        .read_address(head2$3$read_address),
+        .read_data(head2$3$read_data)
+    );
+    obb_core$grid$0$head2$4 head2$4(
+        .clock(head2$4$clock),
+        .write_enable(head2$4$write_enable),
+        .write_address(head2$4$write_address),
+        .write_data(head2$4$write_data),
+        .read_address(head2$4$read_address),
+        .read_data(head2$4$read_data)
+    );
+    obb_core$grid$0$head2$5 head2$5(
+        .clock(head2$5$clock),
+        .write_enable(head2$5$write_enable),
+        .write_address(head2$5$write_address),
+        .write_data(head2$5$write_data),
+        .read_address(head2$5$read_address),
+        .read_data(head2$5$read_data)
+    );
+    obb_core$grid$0$head2$6 head2$6(
+        .clock(head2$6$clock),
+        .write_enable(head2$6$write_enable),
+        .write_address(head2$6$write_address),
+        .write_data(head2$6$write_data),
+        .read_address(head2$6$read_address),
+        .read_data(head2$6$read_data)
+    );
+    obb_core$grid$0$head2$7 head2$7(
+        .clock(head2$7$clock),
+        .write_enable(head2$7$write_enable),
+        .write_address(head2$7$write_address),
+        .write_data(head2$7$write_data),
+        .read_address(head2$7$read_address),
+        .read_data(head2$7$read_data)
+    );
+    obb_core$grid$0$head2$8 head2$8(
+        .clock(head2$8$clock),
+        .write_enable(head2$8$write_enable),
+        .write_address(head2$8$write_address),
+        .write_data(head2$8$write_data),
+        .read_address(head2$8$read_address),
+        .read_data(head2$8$read_data)
+    );
+    obb_core$grid$0$head2$9 head2$9(
+        .clock(head2$9$clock),
+        .write_enable(head2$9$write_enable),
+        .write_address(head2$9$write_address),
+        .write_data(head2$9$write_data),
+        .read_address(head2$9$read_address),
+        .read_data(head2$9$read_data)
+    );
+    obb_core$grid$0$head2$10 head2$10(
+        .clock(head2$10$clock),
+        .write_enable(head2$10$write_enable),
+        .write_address(head2$10$write_address),
+        .write_data(head2$10$write_data),
+        .read_address(head2$10$read_address),
+        .read_data(head2$10$read_data)
+    );
+    obb_core$grid$0$head2$11 head2$11(
+        .clock(head2$11$clock),
+        .write_enable(head2$11$write_enable),
+        .write_address(head2$11$write_address),
+        .write_data(head2$11$write_data),
+        .read_address(head2$11$read_address),
+        .read_data(head2$11$read_data)
+    );
+    obb_core$grid$0$head2$12 head2$12(
+        .clock(head2$12$clock),
+        .write_enable(head2$12$write_enable),
+        .write_address(head2$12$write_address),
+        .write_data(head2$12$write_data),
+        .read_address(head2$12$read_address),
+        .read_data(head2$12$read_data)
+    );
+    obb_core$grid$0$head2$13 head2$13(
+        .clock(head2$13$clock),
+        .write_enable(head2$13$write_enable),
+        .write_address(head2$13$write_address),
+        .write_data(head2$13$write_data),
+        .read_address(head2$13$read_address),
+        .read_data(head2$13$read_data)
+    );
+    obb_core$grid$0$head2$14 head2$14(
+        .clock(head2$14$clock),
+        .write_enable(head2$14$write_enable),
+        .write_address(head2$14$write_address),
+        .write_data(head2$14$write_data),
+        .read_address(head2$14$read_address),
+        .read_data(head2$14$read_data)
+    );
+    obb_core$grid$0$head2$15 head2$15(
+        .clock(head2$15$clock),
+        .write_enable(head2$15$write_enable),
+        .write_address(head2$15$write_address),
+        .write_data(head2$15$write_data),
+        .read_address(head2$15$read_address),
+        .read_data(head2$15$read_data)
+    );
+    obb_core$grid$0$head2$16 head2$16(
+        .clock(head2$16$clock),
+        .write_enable(head2$16$write_enable),
+        .write_address(head2$16$write_address),
+        .write_data(head2$16$write_data),
+        .read_address(head2$16$read_address),
+        .read_data(head2$16$read_data)
+    );
+    obb_core$grid$0$head2$17 head2$17(
+        .clock(head2$17$clock),
+        .write_enable(head2$17$write_enable),
+        .write_address(head2$17$write_address),
+        .write_data(head2$17$write_data),
+        .read_address(head2$17$read_address),
+        .read_data(head2$17$read_data)
+    );
+    obb_core$grid$0$head2$18 head2$18(
+        .clock(head2$18$clock),
+        .write_enable(head2$18$write_enable),
+        .write_address(head2$18$write_address),
+        .write_data(head2$18$write_data),
+        .read_address(head2$18$read_address),
+        .read_data(head2$18$read_data)
+    );
+    obb_core$grid$0$head2$19 head2$19(
+        .clock(head2$19$clock),
+        .write_enable(head2$19$write_enable),
+        .write_address(head2$19$write_address),
+        .write_data(head2$19$write_data),
+        .read_address(head2$19$read_address),
+        .read_data(head2$19$read_data)
+    );
+    obb_core$grid$0$head2$20 head2$20(
+        .clock(head2$20$clock),
+        .write_enable(head2$20$write_enable),
+        .write_address(head2$20$write_address),
+        .write_data(head2$20$write_data),
+        .read_address(head2$20$read_address),
+        .read_data(head2$20$read_data)
+    );
+    obb_core$grid$0$head2$21 head2$21(
+        .clock(head2$21$clock),
+        .write_enable(head2$21$write_enable),
+        .write_address(head2$21$write_address),
+        .write_data(head2$21$write_data),
+        .read_address(head2$21$read_address),
+        .read_data(head2$21$read_data)
+    );
+    obb_core$grid$0$head2$22 head2$22(
+        .clock(head2$22$clock),
+        .write_enable(head2$22$write_enable),
+        .write_address(head2$22$write_address),
+        .write_data(head2$22$write_data),
+        .read_address(head2$22$read_address),
+        .read_data(head2$22$read_data)
+    );
+    obb_core$grid$0$head2$23 head2$23(
+        .clock(head2$23$clock),
+        .write_enable(head2$23$write_enable),
+        .write_address(head2$23$write_address),
+        .write_data(head2$23$write_data),
+        .read_address(head2$23$read_address),
+        .read_data(head2$23$read_data)
+    );
+    obb_core$grid$0$head2$24 head2$24(
+        .clock(head2$24$clock),
+        .write_enable(head2$24$write_enable),
+        .write_address(head2$24$write_address),
+        .write_data(head2$24$write_data),
+        .read_address(head2$24$read_address),
+        .read_data(head2$24$read_data)
+    );
+    obb_core$grid$0$head2$25 head2$25(
+        .clock(head2$25$clock),
+        .write_enable(head2$25$write_enable),
+        .write_address(head2$25$write_address),
+        .write_data(head2$25$write_data),
+        .read_address(head2$25$read_address),
+        .read_data(head2$25$read_data)
+    );
+    obb_core$grid$0$head2$26 head2$26(
+        .clock(head2$26$clock),
+        .write_enable(head2$26$write_enable),
+        .write_address(head2$26$write_address),
+        .write_data(head2$26$write_data),
+        .read_address(head2$26$read_address),
+        .read_data(head2$26$read_data)
+    );
+    obb_core$grid$0$head2$27 head2$27(
+        .clock(head2$27$clock),
+        .write_enable(head2$27$write_enable),
+        .write_address(head2$27$write_address),
+        .write_data(head2$27$write_data),
+        .read_address(head2$27$read_address),
+        .read_data(head2$27$read_data)
+    );
+    obb_core$grid$0$head2$28 head2$28(
+        .clock(head2$28$clock),
+        .write_enable(head2$28$write_enable),
+        .write_address(head2$28$write_address),
+        .write_data(head2$28$write_data),
+        .read_address(head2$28$read_address),
+        .read_data(head2$28$read_data)
+    );
+    obb_core$grid$0$head2$29 head2$29(
+        .clock(head2$29$clock),
+        .write_enable(head2$29$write_enable),
+        .write_address(head2$29$write_address),
+        .write_data(head2$29$write_data),
+        .read_address(head2$29$read_address),
+        .read_data(head2$29$read_data)
+    );
+    obb_core$grid$0$head2$30 head2$30(
+        .clock(head2$30$clock),
+        .write_enable(head2$30$write_enable),
+        .write_address(head2$30$write_address),
+        .write_data(head2$30$write_data),
+        .read_address(head2$30$read_address),
+        .read_data(head2$30$read_data)
+    );
+    obb_core$grid$0$head2$31 head2$31(
+        .clock(head2$31$clock),
+        .write_enable(head2$31$write_enable),
+        .write_address(head2$31$write_address),
+        .write_data(head2$31$write_data),
+        .read_address(head2$31$read_address),
+        .read_data(head2$31$read_data)
+    );
+    obb_core$grid$0$head2$32 head2$32(
+        .clock(head2$32$clock),
+        .write_enable(head2$32$write_enable),
+        .write_address(head2$32$write_address),
+        .write_data(head2$32$write_data),
+        .read_address(head2$32$read_address),
+        .read_data(head2$32$read_data)
+    );
+    obb_core$grid$0$head2$33 head2$33(
+        .clock(head2$33$clock),
+        .write_enable(head2$33$write_enable),
+        .write_address(head2$33$write_address),
+        .write_data(head2$33$write_data),
+        .read_address(head2$33$read_address),
+        .read_data(head2$33$read_data)
+    );
+    obb_core$grid$0$head2$34 head2$34(
+        .clock(head2$34$clock),
+        .write_enable(head2$34$write_enable),
+        .write_address(head2$34$write_address),
+        .write_data(head2$34$write_data),
+        .read_address(head2$34$read_address),
+        .read_data(head2$34$read_data)
+    );
+    obb_core$grid$0$head2$35 head2$35(
+        .clock(head2$35$clock),
+        .write_enable(head2$35$write_enable),
+        .write_address(head2$35$write_address),
+        .write_data(head2$35$write_data),
+        .read_address(head2$35$read_address),
+        .read_data(head2$35$read_data)
+    );
+    obb_core$grid$0$head2$36 head2$36(
+        .clock(head2$36$clock),
+        .write_enable(head2$36$write_enable),
+        .write_address(head2$36$write_address),
+        .write_data(head2$36$write_data),
+        .read_address(head2$36$read_address),
+        .read_data(head2$36$read_data)
+    );
+    obb_core$grid$0$head2$37 head2$37(
+        .clock(head2$37$clock),
+        .write_enable(head2$37$write_enable),
+        .write_address(head2$37$write_address),
+        .write_data(head2$37$write_data),
+        .read_address(head2$37$read_address),
+        .read_data(head2$37$read_data)
+    );
+    obb_core$grid$0$head2$38 head2$38(
+        .clock(head2$38$clock),
+        .write_enable(head2$38$write_enable),
+        .write_address(head2$38$write_address),
+        .write_data(head2$38$write_data),
+        .read_address(head2$38$read_address),
+        .read_data(head2$38$read_data)
+    );
+    obb_core$grid$0$head2$39 head2$39(
+        .clock(head2$39$clock),
+        .write_enable(head2$39$write_enable),
+        .write_address(head2$39$write_address),
+        .write_data(head2$39$write_data),
+        .read_address(head2$39$read_address),
+        .read_data(head2$39$read_data)
+    );
+    obb_core$grid$0$head2$40 head2$40(
+        .clock(head2$40$clock),
+        .write_enable(head2$40$write_enable),
+        .write_address(head2$40$write_address),
+        .write_data(head2$40$write_data),
+        .read_address(head2$40$read_address),
+        .read_data(head2$40$read_data)
+    );
+    obb_core$grid$0$head2$41 head2$41(
+        .clock(head2$41$clock),
+        .write_enable(head2$41$write_enable),
+        .write_address(head2$41$write_address),
+        .write_data(head2$41$write_data),
+        .read_address(head2$41$read_address),
+        .read_data(head2$41$read_data)
+    );
+    obb_core$grid$0$head2$42 head2$42(
+        .clock(head2$42$clock),
+        .write_enable(head2$42$write_enable),
+        .write_address(head2$42$write_address),
+        .write_data(head2$42$write_data),
+        .read_address(head2$42$read_address),
+        .read_data(head2$42$read_data)
+    );
+    obb_core$grid$0$head2$43 head2$43(
+        .clock(head2$43$clock),
+        .write_enable(head2$43$write_enable),
+        .write_address(head2$43$write_address),
+        .write_data(head2$43$write_data),
+        .read_address(head2$43$read_address),
+        .read_data(head2$43$read_data)
+    );
+    obb_core$grid$0$head2$44 head2$44(
+        .clock(head2$44$clock),
+        .write_enable(head2$44$write_enable),
+        .write_address(head2$44$write_address),
+        .write_data(head2$44$write_data),
+        .read_address(head2$44$read_address),
+        .read_data(head2$44$read_data)
+    );
+    obb_core$grid$0$head2$45 head2$45(
+        .clock(head2$45$clock),
+        .write_enable(head2$45$write_enable),
+        .write_address(head2$45$write_address),
+        .write_data(head2$45$write_data),
+        .read_address(head2$45$read_address),
+        .read_data(head2$45$read_data)
+    );
+    obb_core$grid$0$head2$46 head2$46(
+        .clock(head2$46$clock),
+        .write_enable(head2$46$write_enable),
+        .write_address(head2$46$write_address),
+        .write_data(head2$46$write_data),
+        .read_address(head2$46$read_address),
+        .read_data(head2$46$read_data)
+    );
+    obb_core$grid$0$head2$47 head2$47(
+        .clock(head2$47$clock),
+        .write_enable(head2$47$write_enable),
+        .write_address(head2$47$write_address),
+        .write_data(head2$47$write_data),
+        .read_address(head2$47$read_address),
+        .read_data(head2$47$read_data)
+    );
+    obb_core$grid$0$head2$48 head2$48(
+        .clock(head2$48$clock),
+        .write_enable(head2$48$write_enable),
+        .write_address(head2$48$write_address),
+        .write_data(head2$48$write_data),
+        .read_address(head2$48$read_address),
+        .read_data(head2$48$read_data)
+    );
+    obb_core$grid$0$head2$49 head2$49(
+        .clock(head2$49$clock),
+        .write_enable(head2$49$write_enable),
+        .write_address(head2$49$write_address),
+        .write_data(head2$49$write_data),
+        .read_address(head2$49$read_address),
+        .read_data(head2$49$read_data)
+    );
+    obb_core$grid$0$head2$50 head2$50(
+        .clock(head2$50$clock),
+        .write_enable(head2$50$write_enable),
+        .write_address(head2$50$write_address),
+        .write_data(head2$50$write_data),
+        .read_address(head2$50$read_address),
+        .read_data(head2$50$read_data)
+    );
+    obb_core$grid$0$head2$51 head2$51(
+        .clock(head2$51$clock),
+        .write_enable(head2$51$write_enable),
+        .write_address(head2$51$write_address),
+        .write_data(head2$51$write_data),
+        .read_address(head2$51$read_address),
+        .read_data(head2$51$read_data)
+    );
+    obb_core$grid$0$head2$52 head2$52(
+        .clock(head2$52$clock),
+        .write_enable(head2$52$write_enable),
+        .write_address(head2$52$write_address),
+        .write_data(head2$52$write_data),
+        .read_address(head2$52$read_address),
+        .read_data(head2$52$read_data)
+    );
+    obb_core$grid$0$head2$53 head2$53(
+        .clock(head2$53$clock),
+        .write_enable(head2$53$write_enable),
+        .write_address(head2$53$write_address),
+        .write_data(head2$53$write_data),
+        .read_address(head2$53$read_address),
+        .read_data(head2$53$read_data)
+    );
+    obb_core$grid$0$head2$54 head2$54(
+        .clock(head2$54$clock),
+        .write_enable(head2$54$write_enable),
+        .write_address(head2$54$write_address),
+        .write_data(head2$54$write_data),
+        .read_address(head2$54$read_address),
+        .read_data(head2$54$read_data)
+    );
+    obb_core$grid$0$head2$55 head2$55(
+        .clock(head2$55$clock),
+        .write_enable(head2$55$write_enable),
+        .write_address(head2$55$write_address),
+        .write_data(head2$55$write_data),
+        .read_address(head2$55$read_address),
+        .read_data(head2$55$read_data)
+    );
+    obb_core$grid$0$head2$56 head2$56(
+        .clock(head2$56$clock),
+        .write_enable(head2$56$write_enable),
+        .write_address(head2$56$write_address),
+        .write_data(head2$56$write_data),
+        .read_address(head2$56$read_address),
+        .read_data(head2$56$read_data)
+    );
+    obb_core$grid$0$head2$57 head2$57(
+        .clock(head2$57$clock),
+        .write_enable(head2$57$write_enable),
+        .write_address(head2$57$write_address),
+        .write_data(head2$57$write_data),
+        .read_address(head2$57$read_address),
+        .read_data(head2$57$read_data)
+    );
+    obb_core$grid$0$head2$58 head2$58(
+        .clock(head2$58$clock),
+        .write_enable(head2$58$write_enable),
+        .write_address(head2$58$write_address),
+        .write_data(head2$58$write_data),
+        .read_address(head2$58$read_address),
+        .read_data(head2$58$read_data)
+    );
+    obb_core$grid$0$head2$59 head2$59(
+        .clock(head2$59$clock),
+        .write_enable(head2$59$write_enable),
+        .write_address(head2$59$write_address),
+        .write_data(head2$59$write_data),
+        .read_address(head2$59$read_address),
+        .read_data(head2$59$read_data)
+    );
+    obb_core$grid$0$head2$60 head2$60(
+        .clock(head2$60$clock),
+        .write_enable(head2$60$write_enable),
+        .write_address(head2$60$write_address),
+        .write_data(head2$60$write_data),
+        .read_address(head2$60$read_address),
+        .read_data(head2$60$read_data)
+    );
+    obb_core$grid$0$head2$61 head2$61(
+        .clock(head2$61$clock),
+        .write_enable(head2$61$write_enable),
+        .write_address(head2$61$write_address),
+        .write_data(head2$61$write_data),
+        .read_address(head2$61$read_address),
+        .read_data(head2$61$read_data)
+    );
+    obb_core$grid$0$head2$62 head2$62(
+        .clock(head2$62$clock),
+        .write_enable(head2$62$write_enable),
+        .write_address(head2$62$write_address),
+        .write_data(head2$62$write_data),
+        .read_address(head2$62$read_address),
+        .read_data(head2$62$read_data)
+    );
+    obb_core$grid$0$head2$63 head2$63(
+        .clock(head2$63$clock),
+        .write_enable(head2$63$write_enable),
+        .write_address(head2$63$write_address),
+        .write_data(head2$63$write_data),
+        .read_address(head2$63$read_address),
+        .read_data(head2$63$read_data)
+    );
+    obb_core$grid$0$head2$64 head2$64(
+        .clock(head2$64$clock),
+        .write_enable(head2$64$write_enable),
+        .write_address(head2$64$write_address),
+        .write_data(head2$64$write_data),
+        .read_address(head2$64$read_address),
+        .read_data(head2$64$read_data)
+    );
+    obb_core$grid$0$head2$65 head2$65(
+        .clock(head2$65$clock),
+        .write_enable(head2$65$write_enable),
+        .write_address(head2$65$write_address),
+        .write_data(head2$65$write_data),
+        .read_address(head2$65$read_address),
+        .read_data(head2$65$read_data)
+    );
+    obb_core$grid$0$head2$66 head2$66(
+        .clock(head2$66$clock),
+        .write_enable(head2$66$write_enable),
+        .write_address(head2$66$write_address),
+        .write_data(head2$66$write_data),
+        .read_address(head2$66$read_address),
+        .read_data(head2$66$read_data)
+    );
+    obb_core$grid$0$head2$67 head2$67(
+        .clock(head2$67$clock),
+        .write_enable(head2$67$write_enable),
+        .write_address(head2$67$write_address),
+        .write_data(head2$67$write_data),
+        .read_address(head2$67$read_address),
+        .read_data(head2$67$read_data)
+    );
+    obb_core$grid$0$head2$68 head2$68(
+        .clock(head2$68$clock),
+        .write_enable(head2$68$write_enable),
+        .write_address(head2$68$write_address),
+        .write_data(head2$68$write_data),
+        .read_address(head2$68$read_address),
+        .read_data(head2$68$read_data)
+    );
+    obb_core$grid$0$head2$69 head2$69(
+        .clock(head2$69$clock),
+        .write_enable(head2$69$write_enable),
+        .write_address(head2$69$write_address),
+        .write_data(head2$69$write_data),
+        .read_address(head2$69$read_address),
+        .read_data(head2$69$read_data)
+    );
+    obb_core$grid$0$head2$70 head2$70(
+        .clock(head2$70$clock),
+        .write_enable(head2$70$write_enable),
+        .write_address(head2$70$write_address),
+        .write_data(head2$70$write_data),
+        .read_address(head2$70$read_address),
+        .read_data(head2$70$read_data)
+    );
+    obb_core$grid$0$head2$71 head2$71(
+        .clock(head2$71$clock),
+        .write_enable(head2$71$write_enable),
+        .write_address(head2$71$write_address),
+        .write_data(head2$71$write_data),
+        .read_address(head2$71$read_address),
+        .read_data(head2$71$read_data)
+    );
+    obb_core$grid$0$head2$72 head2$72(
+        .clock(head2$72$clock),
+        .write_enable(head2$72$write_enable),
+        .write_address(head2$72$write_address),
+        .write_data(head2$72$write_data),
+        .read_address(head2$72$read_address),
+        .read_data(head2$72$read_data)
+    );
+    obb_core$grid$0$head2$73 head2$73(
+        .clock(head2$73$clock),
+        .write_enable(head2$73$write_enable),
+        .write_address(head2$73$write_address),
+        .write_data(head2$73$write_data),
+        .read_address(head2$73$read_address),
+        .read_data(head2$73$read_data)
+    );
+    obb_core$grid$0$head2$74 head2$74(
+        .clock(head2$74$clock),
+        .write_enable(head2$74$write_enable),
+        .write_address(head2$74$write_address),
+        .write_data(head2$74$write_data),
+        .read_address(head2$74$read_address),
+        .read_data(head2$74$read_data)
+    );
+    obb_core$grid$0$head2$75 head2$75(
+        .clock(head2$75$clock),
+        .write_enable(head2$75$write_enable),
+        .write_address(head2$75$write_address),
+        .write_data(head2$75$write_data),
+        .read_address(head2$75$read_address),
+        .read_data(head2$75$read_data)
+    );
+    obb_core$grid$0$head2$76 head2$76(
+        .clock(head2$76$clock),
+        .write_enable(head2$76$write_enable),
+        .write_address(head2$76$write_address),
+        .write_data(head2$76$write_data),
+        .read_address(head2$76$read_address),
+        .read_data(head2$76$read_data)
+    );
+    obb_core$grid$0$head2$77 head2$77(
+        .clock(head2$77$clock),
+        .write_enable(head2$77$write_enable),
+        .write_address(head2$77$write_address),
+        .write_data(head2$77$write_data),
+        .read_address(head2$77$read_address),
+        .read_data(head2$77$read_data)
+    );
+    obb_core$grid$0$head2$78 head2$78(
+        .clock(head2$78$clock),
+        .write_enable(head2$78$write_enable),
+        .write_address(head2$78$write_address),
+        .write_data(head2$78$write_data),
+        .read_address(head2$78$read_address),
+        .read_data(head2$78$read_data)
+    );
+    obb_core$grid$0$head2$79 head2$79(
+        .clock(head2$79$clock),
+        .write_enable(head2$79$write_enable),
+        .write_address(head2$79$write_address),
+        .write_data(head2$79$write_data),
+        .read_address(head2$79$read_address),
+        .read_data(head2$79$read_data)
+    );
+    obb_core$grid$0$head2$80 head2$80(
+        .clock(head2$80$clock),
+        .write_enable(head2$80$write_enable),
+        .write_address(head2$80$write_address),
+        .write_data(head2$80$write_data),
+        .read_address(head2$80$read_address),
+        .read_data(head2$80$read_data)
+    );
     obb_core$grid$0$succ succ(
         .clock(succ$clock),
         .write_enable(succ$write_enable),
@@ -17222,6 +20736,654 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .write_data(rec$80$write_data),
         .read_address(rec$80$read_address),
         .read_data(rec$80$read_data)
+    );
+    obb_core$grid$0$rec2$0 rec2$0(
+        .clock(rec2$0$clock),
+        .write_enable(rec2$0$write_enable),
+        .write_address(rec2$0$write_address),
+        .write_data(rec2$0$write_data),
+        .read_address(rec2$0$read_address),
+        .read_data(rec2$0$read_data)
+    );
+    obb_core$grid$0$rec2$1 rec2$1(
+        .clock(rec2$1$clock),
+        .write_enable(rec2$1$write_enable),
+        .write_address(rec2$1$write_address),
+        .write_data(rec2$1$write_data),
+        .read_address(rec2$1$read_address),
+        .read_data(rec2$1$read_data)
+    );
+    obb_core$grid$0$rec2$2 rec2$2(
+        .clock(rec2$2$clock),
+        .write_enable(rec2$2$write_enable),
+        .write_address(rec2$2$write_address),
+        .write_data(rec2$2$write_data),
+        .read_address(rec2$2$read_address),
+        .read_data(rec2$2$read_data)
+    );
+    obb_core$grid$0$rec2$3 rec2$3(
+        .clock(rec2$3$clock),
+        .write_enable(rec2$3$write_enable),
+        .write_address(rec2$3$write_address),
+        .write_data(rec2$3$write_data),
+        .read_address(rec2$3$read_address),
+        .read_data(rec2$3$read_data)
+    );
+    obb_core$grid$0$rec2$4 rec2$4(
+        .clock(rec2$4$clock),
+        .write_enable(rec2$4$write_enable),
+        .write_address(rec2$4$write_address),
+        .write_data(rec2$4$write_data),
+        .read_address(rec2$4$read_address),
+        .read_data(rec2$4$read_data)
+    );
+    obb_core$grid$0$rec2$5 rec2$5(
+        .clock(rec2$5$clock),
+        .write_enable(rec2$5$write_enable),
+        .write_address(rec2$5$write_address),
+        .write_data(rec2$5$write_data),
+        .read_address(rec2$5$read_address),
+        .read_data(rec2$5$read_data)
+    );
+    obb_core$grid$0$rec2$6 rec2$6(
+        .clock(rec2$6$clock),
+        .write_enable(rec2$6$write_enable),
+        .write_address(rec2$6$write_address),
+        .write_data(rec2$6$write_data),
+        .read_address(rec2$6$read_address),
+        .read_data(rec2$6$read_data)
+    );
+    obb_core$grid$0$rec2$7 rec2$7(
+        .clock(rec2$7$clock),
+        .write_enable(rec2$7$write_enable),
+        .write_address(rec2$7$write_address),
+        .write_data(rec2$7$write_data),
+        .read_address(rec2$7$read_address),
+        .read_data(rec2$7$read_data)
+    );
+    obb_core$grid$0$rec2$8 rec2$8(
+        .clock(rec2$8$clock),
+        .write_enable(rec2$8$write_enable),
+        .write_address(rec2$8$write_address),
+        .write_data(rec2$8$write_data),
+        .read_address(rec2$8$read_address),
+        .read_data(rec2$8$read_data)
+    );
+    obb_core$grid$0$rec2$9 rec2$9(
+        .clock(rec2$9$clock),
+        .write_enable(rec2$9$write_enable),
+        .write_address(rec2$9$write_address),
+        .write_data(rec2$9$write_data),
+        .read_address(rec2$9$read_address),
+        .read_data(rec2$9$read_data)
+    );
+    obb_core$grid$0$rec2$10 rec2$10(
+        .clock(rec2$10$clock),
+        .write_enable(rec2$10$write_enable),
+        .write_address(rec2$10$write_address),
+        .write_data(rec2$10$write_data),
+        .read_address(rec2$10$read_address),
+        .read_data(rec2$10$read_data)
+    );
+    obb_core$grid$0$rec2$11 rec2$11(
+        .clock(rec2$11$clock),
+        .write_enable(rec2$11$write_enable),
+        .write_address(rec2$11$write_address),
+        .write_data(rec2$11$write_data),
+        .read_address(rec2$11$read_address),
+        .read_data(rec2$11$read_data)
+    );
+    obb_core$grid$0$rec2$12 rec2$12(
+        .clock(rec2$12$clock),
+        .write_enable(rec2$12$write_enable),
+        .write_address(rec2$12$write_address),
+        .write_data(rec2$12$write_data),
+        .read_address(rec2$12$read_address),
+        .read_data(rec2$12$read_data)
+    );
+    obb_core$grid$0$rec2$13 rec2$13(
+        .clock(rec2$13$clock),
+        .write_enable(rec2$13$write_enable),
+        .write_address(rec2$13$write_address),
+        .write_data(rec2$13$write_data),
+        .read_address(rec2$13$read_address),
+        .read_data(rec2$13$read_data)
+    );
+    obb_core$grid$0$rec2$14 rec2$14(
+        .clock(rec2$14$clock),
+        .write_enable(rec2$14$write_enable),
+        .write_address(rec2$14$write_address),
+        .write_data(rec2$14$write_data),
+        .read_address(rec2$14$read_address),
+        .read_data(rec2$14$read_data)
+    );
+    obb_core$grid$0$rec2$15 rec2$15(
+        .clock(rec2$15$clock),
+        .write_enable(rec2$15$write_enable),
+        .write_address(rec2$15$write_address),
+        .write_data(rec2$15$write_data),
+        .read_address(rec2$15$read_address),
+        .read_data(rec2$15$read_data)
+    );
+    obb_core$grid$0$rec2$16 rec2$16(
+        .clock(rec2$16$clock),
+        .write_enable(rec2$16$write_enable),
+        .write_address(rec2$16$write_address),
+        .write_data(rec2$16$write_data),
+        .read_address(rec2$16$read_address),
+        .read_data(rec2$16$read_data)
+    );
+    obb_core$grid$0$rec2$17 rec2$17(
+        .clock(rec2$17$clock),
+        .write_enable(rec2$17$write_enable),
+        .write_address(rec2$17$write_address),
+        .write_data(rec2$17$write_data),
+        .read_address(rec2$17$read_address),
+        .read_data(rec2$17$read_data)
+    );
+    obb_core$grid$0$rec2$18 rec2$18(
+        .clock(rec2$18$clock),
+        .write_enable(rec2$18$write_enable),
+        .write_address(rec2$18$write_address),
+        .write_data(rec2$18$write_data),
+        .read_address(rec2$18$read_address),
+        .read_data(rec2$18$read_data)
+    );
+    obb_core$grid$0$rec2$19 rec2$19(
+        .clock(rec2$19$clock),
+        .write_enable(rec2$19$write_enable),
+        .write_address(rec2$19$write_address),
+        .write_data(rec2$19$write_data),
+        .read_address(rec2$19$read_address),
+        .read_data(rec2$19$read_data)
+    );
+    obb_core$grid$0$rec2$20 rec2$20(
+        .clock(rec2$20$clock),
+        .write_enable(rec2$20$write_enable),
+        .write_address(rec2$20$write_address),
+        .write_data(rec2$20$write_data),
+        .read_address(rec2$20$read_address),
+        .read_data(rec2$20$read_data)
+    );
+    obb_core$grid$0$rec2$21 rec2$21(
+        .clock(rec2$21$clock),
+        .write_enable(rec2$21$write_enable),
+        .write_address(rec2$21$write_address),
+        .write_data(rec2$21$write_data),
+        .read_address(rec2$21$read_address),
+        .read_data(rec2$21$read_data)
+    );
+    obb_core$grid$0$rec2$22 rec2$22(
+        .clock(rec2$22$clock),
+        .write_enable(rec2$22$write_enable),
+        .write_address(rec2$22$write_address),
+        .write_data(rec2$22$write_data),
+        .read_address(rec2$22$read_address),
+        .read_data(rec2$22$read_data)
+    );
+    obb_core$grid$0$rec2$23 rec2$23(
+        .clock(rec2$23$clock),
+        .write_enable(rec2$23$write_enable),
+        .write_address(rec2$23$write_address),
+        .write_data(rec2$23$write_data),
+        .read_address(rec2$23$read_address),
+        .read_data(rec2$23$read_data)
+    );
+    obb_core$grid$0$rec2$24 rec2$24(
+        .clock(rec2$24$clock),
+        .write_enable(rec2$24$write_enable),
+        .write_address(rec2$24$write_address),
+        .write_data(rec2$24$write_data),
+        .read_address(rec2$24$read_address),
+        .read_data(rec2$24$read_data)
+    );
+    obb_core$grid$0$rec2$25 rec2$25(
+        .clock(rec2$25$clock),
+        .write_enable(rec2$25$write_enable),
+        .write_address(rec2$25$write_address),
+        .write_data(rec2$25$write_data),
+        .read_address(rec2$25$read_address),
+        .read_data(rec2$25$read_data)
+    );
+    obb_core$grid$0$rec2$26 rec2$26(
+        .clock(rec2$26$clock),
+        .write_enable(rec2$26$write_enable),
+        .write_address(rec2$26$write_address),
+        .write_data(rec2$26$write_data),
+        .read_address(rec2$26$read_address),
+        .read_data(rec2$26$read_data)
+    );
+    obb_core$grid$0$rec2$27 rec2$27(
+        .clock(rec2$27$clock),
+        .write_enable(rec2$27$write_enable),
+        .write_address(rec2$27$write_address),
+        .write_data(rec2$27$write_data),
+        .read_address(rec2$27$read_address),
+        .read_data(rec2$27$read_data)
+    );
+    obb_core$grid$0$rec2$28 rec2$28(
+        .clock(rec2$28$clock),
+        .write_enable(rec2$28$write_enable),
+        .write_address(rec2$28$write_address),
+        .write_data(rec2$28$write_data),
+        .read_address(rec2$28$read_address),
+        .read_data(rec2$28$read_data)
+    );
+    obb_core$grid$0$rec2$29 rec2$29(
+        .clock(rec2$29$clock),
+        .write_enable(rec2$29$write_enable),
+        .write_address(rec2$29$write_address),
+        .write_data(rec2$29$write_data),
+        .read_address(rec2$29$read_address),
+        .read_data(rec2$29$read_data)
+    );
+    obb_core$grid$0$rec2$30 rec2$30(
+        .clock(rec2$30$clock),
+        .write_enable(rec2$30$write_enable),
+        .write_address(rec2$30$write_address),
+        .write_data(rec2$30$write_data),
+        .read_address(rec2$30$read_address),
+        .read_data(rec2$30$read_data)
+    );
+    obb_core$grid$0$rec2$31 rec2$31(
+        .clock(rec2$31$clock),
+        .write_enable(rec2$31$write_enable),
+        .write_address(rec2$31$write_address),
+        .write_data(rec2$31$write_data),
+        .read_address(rec2$31$read_address),
+        .read_data(rec2$31$read_data)
+    );
+    obb_core$grid$0$rec2$32 rec2$32(
+        .clock(rec2$32$clock),
+        .write_enable(rec2$32$write_enable),
+        .write_address(rec2$32$write_address),
+        .write_data(rec2$32$write_data),
+        .read_address(rec2$32$read_address),
+        .read_data(rec2$32$read_data)
+    );
+    obb_core$grid$0$rec2$33 rec2$33(
+        .clock(rec2$33$clock),
+        .write_enable(rec2$33$write_enable),
+        .write_address(rec2$33$write_address),
+        .write_data(rec2$33$write_data),
+        .read_address(rec2$33$read_address),
+        .read_data(rec2$33$read_data)
+    );
+    obb_core$grid$0$rec2$34 rec2$34(
+        .clock(rec2$34$clock),
+        .write_enable(rec2$34$write_enable),
+        .write_address(rec2$34$write_address),
+        .write_data(rec2$34$write_data),
+        .read_address(rec2$34$read_address),
+        .read_data(rec2$34$read_data)
+    );
+    obb_core$grid$0$rec2$35 rec2$35(
+        .clock(rec2$35$clock),
+        .write_enable(rec2$35$write_enable),
+        .write_address(rec2$35$write_address),
+        .write_data(rec2$35$write_data),
+        .read_address(rec2$35$read_address),
+        .read_data(rec2$35$read_data)
+    );
+    obb_core$grid$0$rec2$36 rec2$36(
+        .clock(rec2$36$clock),
+        .write_enable(rec2$36$write_enable),
+        .write_address(rec2$36$write_address),
+        .write_data(rec2$36$write_data),
+        .read_address(rec2$36$read_address),
+        .read_data(rec2$36$read_data)
+    );
+    obb_core$grid$0$rec2$37 rec2$37(
+        .clock(rec2$37$clock),
+        .write_enable(rec2$37$write_enable),
+        .write_address(rec2$37$write_address),
+        .write_data(rec2$37$write_data),
+        .read_address(rec2$37$read_address),
+        .read_data(rec2$37$read_data)
+    );
+    obb_core$grid$0$rec2$38 rec2$38(
+        .clock(rec2$38$clock),
+        .write_enable(rec2$38$write_enable),
+        .write_address(rec2$38$write_address),
+        .write_data(rec2$38$write_data),
+        .read_address(rec2$38$read_address),
+        .read_data(rec2$38$read_data)
+    );
+    obb_core$grid$0$rec2$39 rec2$39(
+        .clock(rec2$39$clock),
+        .write_enable(rec2$39$write_enable),
+        .write_address(rec2$39$write_address),
+        .write_data(rec2$39$write_data),
+        .read_address(rec2$39$read_address),
+        .read_data(rec2$39$read_data)
+    );
+    obb_core$grid$0$rec2$40 rec2$40(
+        .clock(rec2$40$clock),
+        .write_enable(rec2$40$write_enable),
+        .write_address(rec2$40$write_address),
+        .write_data(rec2$40$write_data),
+        .read_address(rec2$40$read_address),
+        .read_data(rec2$40$read_data)
+    );
+    obb_core$grid$0$rec2$41 rec2$41(
+        .clock(rec2$41$clock),
+        .write_enable(rec2$41$write_enable),
+        .write_address(rec2$41$write_address),
+        .write_data(rec2$41$write_data),
+        .read_address(rec2$41$read_address),
+        .read_data(rec2$41$read_data)
+    );
+    obb_core$grid$0$rec2$42 rec2$42(
+        .clock(rec2$42$clock),
+        .write_enable(rec2$42$write_enable),
+        .write_address(rec2$42$write_address),
+        .write_data(rec2$42$write_data),
+        .read_address(rec2$42$read_address),
+        .read_data(rec2$42$read_data)
+    );
+    obb_core$grid$0$rec2$43 rec2$43(
+        .clock(rec2$43$clock),
+        .write_enable(rec2$43$write_enable),
+        .write_address(rec2$43$write_address),
+        .write_data(rec2$43$write_data),
+        .read_address(rec2$43$read_address),
+        .read_data(rec2$43$read_data)
+    );
+    obb_core$grid$0$rec2$44 rec2$44(
+        .clock(rec2$44$clock),
+        .write_enable(rec2$44$write_enable),
+        .write_address(rec2$44$write_address),
+        .write_data(rec2$44$write_data),
+        .read_address(rec2$44$read_address),
+        .read_data(rec2$44$read_data)
+    );
+    obb_core$grid$0$rec2$45 rec2$45(
+        .clock(rec2$45$clock),
+        .write_enable(rec2$45$write_enable),
+        .write_address(rec2$45$write_address),
+        .write_data(rec2$45$write_data),
+        .read_address(rec2$45$read_address),
+        .read_data(rec2$45$read_data)
+    );
+    obb_core$grid$0$rec2$46 rec2$46(
+        .clock(rec2$46$clock),
+        .write_enable(rec2$46$write_enable),
+        .write_address(rec2$46$write_address),
+        .write_data(rec2$46$write_data),
+        .read_address(rec2$46$read_address),
+        .read_data(rec2$46$read_data)
+    );
+    obb_core$grid$0$rec2$47 rec2$47(
+        .clock(rec2$47$clock),
+        .write_enable(rec2$47$write_enable),
+        .write_address(rec2$47$write_address),
+        .write_data(rec2$47$write_data),
+        .read_address(rec2$47$read_address),
+        .read_data(rec2$47$read_data)
+    );
+    obb_core$grid$0$rec2$48 rec2$48(
+        .clock(rec2$48$clock),
+        .write_enable(rec2$48$write_enable),
+        .write_address(rec2$48$write_address),
+        .write_data(rec2$48$write_data),
+        .read_address(rec2$48$read_address),
+        .read_data(rec2$48$read_data)
+    );
+    obb_core$grid$0$rec2$49 rec2$49(
+        .clock(rec2$49$clock),
+        .write_enable(rec2$49$write_enable),
+        .write_address(rec2$49$write_address),
+        .write_data(rec2$49$write_data),
+        .read_address(rec2$49$read_address),
+        .read_data(rec2$49$read_data)
+    );
+    obb_core$grid$0$rec2$50 rec2$50(
+        .clock(rec2$50$clock),
+        .write_enable(rec2$50$write_enable),
+        .write_address(rec2$50$write_address),
+        .write_data(rec2$50$write_data),
+        .read_address(rec2$50$read_address),
+        .read_data(rec2$50$read_data)
+    );
+    obb_core$grid$0$rec2$51 rec2$51(
+        .clock(rec2$51$clock),
+        .write_enable(rec2$51$write_enable),
+        .write_address(rec2$51$write_address),
+        .write_data(rec2$51$write_data),
+        .read_address(rec2$51$read_address),
+        .read_data(rec2$51$read_data)
+    );
+    obb_core$grid$0$rec2$52 rec2$52(
+        .clock(rec2$52$clock),
+        .write_enable(rec2$52$write_enable),
+        .write_address(rec2$52$write_address),
+        .write_data(rec2$52$write_data),
+        .read_address(rec2$52$read_address),
+        .read_data(rec2$52$read_data)
+    );
+    obb_core$grid$0$rec2$53 rec2$53(
+        .clock(rec2$53$clock),
+        .write_enable(rec2$53$write_enable),
+        .write_address(rec2$53$write_address),
+        .write_data(rec2$53$write_data),
+        .read_address(rec2$53$read_address),
+        .read_data(rec2$53$read_data)
+    );
+    obb_core$grid$0$rec2$54 rec2$54(
+        .clock(rec2$54$clock),
+        .write_enable(rec2$54$write_enable),
+        .write_address(rec2$54$write_address),
+        .write_data(rec2$54$write_data),
+        .read_address(rec2$54$read_address),
+        .read_data(rec2$54$read_data)
+    );
+    obb_core$grid$0$rec2$55 rec2$55(
+        .clock(rec2$55$clock),
+        .write_enable(rec2$55$write_enable),
+        .write_address(rec2$55$write_address),
+        .write_data(rec2$55$write_data),
+        .read_address(rec2$55$read_address),
+        .read_data(rec2$55$read_data)
+    );
+    obb_core$grid$0$rec2$56 rec2$56(
+        .clock(rec2$56$clock),
+        .write_enable(rec2$56$write_enable),
+        .write_address(rec2$56$write_address),
+        .write_data(rec2$56$write_data),
+        .read_address(rec2$56$read_address),
+        .read_data(rec2$56$read_data)
+    );
+    obb_core$grid$0$rec2$57 rec2$57(
+        .clock(rec2$57$clock),
+        .write_enable(rec2$57$write_enable),
+        .write_address(rec2$57$write_address),
+        .write_data(rec2$57$write_data),
+        .read_address(rec2$57$read_address),
+        .read_data(rec2$57$read_data)
+    );
+    obb_core$grid$0$rec2$58 rec2$58(
+        .clock(rec2$58$clock),
+        .write_enable(rec2$58$write_enable),
+        .write_address(rec2$58$write_address),
+        .write_data(rec2$58$write_data),
+        .read_address(rec2$58$read_address),
+        .read_data(rec2$58$read_data)
+    );
+    obb_core$grid$0$rec2$59 rec2$59(
+        .clock(rec2$59$clock),
+        .write_enable(rec2$59$write_enable),
+        .write_address(rec2$59$write_address),
+        .write_data(rec2$59$write_data),
+        .read_address(rec2$59$read_address),
+        .read_data(rec2$59$read_data)
+    );
+    obb_core$grid$0$rec2$60 rec2$60(
+        .clock(rec2$60$clock),
+        .write_enable(rec2$60$write_enable),
+        .write_address(rec2$60$write_address),
+        .write_data(rec2$60$write_data),
+        .read_address(rec2$60$read_address),
+        .read_data(rec2$60$read_data)
+    );
+    obb_core$grid$0$rec2$61 rec2$61(
+        .clock(rec2$61$clock),
+        .write_enable(rec2$61$write_enable),
+        .write_address(rec2$61$write_address),
+        .write_data(rec2$61$write_data),
+        .read_address(rec2$61$read_address),
+        .read_data(rec2$61$read_data)
+    );
+    obb_core$grid$0$rec2$62 rec2$62(
+        .clock(rec2$62$clock),
+        .write_enable(rec2$62$write_enable),
+        .write_address(rec2$62$write_address),
+        .write_data(rec2$62$write_data),
+        .read_address(rec2$62$read_address),
+        .read_data(rec2$62$read_data)
+    );
+    obb_core$grid$0$rec2$63 rec2$63(
+        .clock(rec2$63$clock),
+        .write_enable(rec2$63$write_enable),
+        .write_address(rec2$63$write_address),
+        .write_data(rec2$63$write_data),
+        .read_address(rec2$63$read_address),
+        .read_data(rec2$63$read_data)
+    );
+    obb_core$grid$0$rec2$64 rec2$64(
+        .clock(rec2$64$clock),
+        .write_enable(rec2$64$write_enable),
+        .write_address(rec2$64$write_address),
+        .write_data(rec2$64$write_data),
+        .read_address(rec2$64$read_address),
+        .read_data(rec2$64$read_data)
+    );
+    obb_core$grid$0$rec2$65 rec2$65(
+        .clock(rec2$65$clock),
+        .write_enable(rec2$65$write_enable),
+        .write_address(rec2$65$write_address),
+        .write_data(rec2$65$write_data),
+        .read_address(rec2$65$read_address),
+        .read_data(rec2$65$read_data)
+    );
+    obb_core$grid$0$rec2$66 rec2$66(
+        .clock(rec2$66$clock),
+        .write_enable(rec2$66$write_enable),
+        .write_address(rec2$66$write_address),
+        .write_data(rec2$66$write_data),
+        .read_address(rec2$66$read_address),
+        .read_data(rec2$66$read_data)
+    );
+    obb_core$grid$0$rec2$67 rec2$67(
+        .clock(rec2$67$clock),
+        .write_enable(rec2$67$write_enable),
+        .write_address(rec2$67$write_address),
+        .write_data(rec2$67$write_data),
+        .read_address(rec2$67$read_address),
+        .read_data(rec2$67$read_data)
+    );
+    obb_core$grid$0$rec2$68 rec2$68(
+        .clock(rec2$68$clock),
+        .write_enable(rec2$68$write_enable),
+        .write_address(rec2$68$write_address),
+        .write_data(rec2$68$write_data),
+        .read_address(rec2$68$read_address),
+        .read_data(rec2$68$read_data)
+    );
+    obb_core$grid$0$rec2$69 rec2$69(
+        .clock(rec2$69$clock),
+        .write_enable(rec2$69$write_enable),
+        .write_address(rec2$69$write_address),
+        .write_data(rec2$69$write_data),
+        .read_address(rec2$69$read_address),
+        .read_data(rec2$69$read_data)
+    );
+    obb_core$grid$0$rec2$70 rec2$70(
+        .clock(rec2$70$clock),
+        .write_enable(rec2$70$write_enable),
+        .write_address(rec2$70$write_address),
+        .write_data(rec2$70$write_data),
+        .read_address(rec2$70$read_address),
+        .read_data(rec2$70$read_data)
+    );
+    obb_core$grid$0$rec2$71 rec2$71(
+        .clock(rec2$71$clock),
+        .write_enable(rec2$71$write_enable),
+        .write_address(rec2$71$write_address),
+        .write_data(rec2$71$write_data),
+        .read_address(rec2$71$read_address),
+        .read_data(rec2$71$read_data)
+    );
+    obb_core$grid$0$rec2$72 rec2$72(
+        .clock(rec2$72$clock),
+        .write_enable(rec2$72$write_enable),
+        .write_address(rec2$72$write_address),
+        .write_data(rec2$72$write_data),
+        .read_address(rec2$72$read_address),
+        .read_data(rec2$72$read_data)
+    );
+    obb_core$grid$0$rec2$73 rec2$73(
+        .clock(rec2$73$clock),
+        .write_enable(rec2$73$write_enable),
+        .write_address(rec2$73$write_address),
+        .write_data(rec2$73$write_data),
+        .read_address(rec2$73$read_address),
+        .read_data(rec2$73$read_data)
+    );
+    obb_core$grid$0$rec2$74 rec2$74(
+        .clock(rec2$74$clock),
+        .write_enable(rec2$74$write_enable),
+        .write_address(rec2$74$write_address),
+        .write_data(rec2$74$write_data),
+        .read_address(rec2$74$read_address),
+        .read_data(rec2$74$read_data)
+    );
+    obb_core$grid$0$rec2$75 rec2$75(
+        .clock(rec2$75$clock),
+        .write_enable(rec2$75$write_enable),
+        .write_address(rec2$75$write_address),
+        .write_data(rec2$75$write_data),
+        .read_address(rec2$75$read_address),
+        .read_data(rec2$75$read_data)
+    );
+    obb_core$grid$0$rec2$76 rec2$76(
+        .clock(rec2$76$clock),
+        .write_enable(rec2$76$write_enable),
+        .write_address(rec2$76$write_address),
+        .write_data(rec2$76$write_data),
+        .read_address(rec2$76$read_address),
+        .read_data(rec2$76$read_data)
+    );
+    obb_core$grid$0$rec2$77 rec2$77(
+        .clock(rec2$77$clock),
+        .write_enable(rec2$77$write_enable),
+        .write_address(rec2$77$write_address),
+        .write_data(rec2$77$write_data),
+        .read_address(rec2$77$read_address),
+        .read_data(rec2$77$read_data)
+    );
+    obb_core$grid$0$rec2$78 rec2$78(
+        .clock(rec2$78$clock),
+        .write_enable(rec2$78$write_enable),
+        .write_address(rec2$78$write_address),
+        .write_data(rec2$78$write_data),
+        .read_address(rec2$78$read_address),
+        .read_data(rec2$78$read_data)
+    );
+    obb_core$grid$0$rec2$79 rec2$79(
+        .clock(rec2$79$clock),
+        .write_enable(rec2$79$write_enable),
+        .write_address(rec2$79$write_address),
+        .write_data(rec2$79$write_data),
+        .read_address(rec2$79$read_address),
+        .read_data(rec2$79$read_data)
+    );
+    obb_core$grid$0$rec2$80 rec2$80(
+        .clock(rec2$80$clock),
+        .write_enable(rec2$80$write_enable),
+        .write_address(rec2$80$write_address),
+        .write_data(rec2$80$write_data),
+        .read_address(rec2$80$read_address),
+        .read_data(rec2$80$read_data)
     );
     obb_core$grid$0$rec_box rec_box(
         .clock(rec_box$clock),
@@ -18082,6 +22244,411 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(e_head$80$q),
         .clock(e_head$80$clock)
     );
+    obb_core$grid$0$e_head2$0 e_head2$0(
+        .d(e_head2$0$d),
+        .q(e_head2$0$q),
+        .clock(e_head2$0$clock)
+    );
+    obb_core$grid$0$e_head2$1 e_head2$1(
+        .d(e_head2$1$d),
+        .q(e_head2$1$q),
+        .clock(e_head2$1$clock)
+    );
+    obb_core$grid$0$e_head2$2 e_head2$2(
+        .d(e_head2$2$d),
+        .q(e_head2$2$q),
+        .clock(e_head2$2$clock)
+    );
+    obb_core$grid$0$e_head2$3 e_head2$3(
+        .d(e_head2$3$d),
+        .q(e_head2$3$q),
+        .clock(e_head2$3$clock)
+    );
+    obb_core$grid$0$e_head2$4 e_head2$4(
+        .d(e_head2$4$d),
+        .q(e_head2$4$q),
+        .clock(e_head2$4$clock)
+    );
+    obb_core$grid$0$e_head2$5 e_head2$5(
+        .d(e_head2$5$d),
+        .q(e_head2$5$q),
+        .clock(e_head2$5$clock)
+    );
+    obb_core$grid$0$e_head2$6 e_head2$6(
+        .d(e_head2$6$d),
+        .q(e_head2$6$q),
+        .clock(e_head2$6$clock)
+    );
+    obb_core$grid$0$e_head2$7 e_head2$7(
+        .d(e_head2$7$d),
+        .q(e_head2$7$q),
+        .clock(e_head2$7$clock)
+    );
+    obb_core$grid$0$e_head2$8 e_head2$8(
+        .d(e_head2$8$d),
+        .q(e_head2$8$q),
+        .clock(e_head2$8$clock)
+    );
+    obb_core$grid$0$e_head2$9 e_head2$9(
+        .d(e_head2$9$d),
+        .q(e_head2$9$q),
+        .clock(e_head2$9$clock)
+    );
+    obb_core$grid$0$e_head2$10 e_head2$10(
+        .d(e_head2$10$d),
+        .q(e_head2$10$q),
+        .clock(e_head2$10$clock)
+    );
+    obb_core$grid$0$e_head2$11 e_head2$11(
+        .d(e_head2$11$d),
+        .q(e_head2$11$q),
+        .clock(e_head2$11$clock)
+    );
+    obb_core$grid$0$e_head2$12 e_head2$12(
+        .d(e_head2$12$d),
+        .q(e_head2$12$q),
+        .clock(e_head2$12$clock)
+    );
+    obb_core$grid$0$e_head2$13 e_head2$13(
+        .d(e_head2$13$d),
+        .q(e_head2$13$q),
+        .clock(e_head2$13$clock)
+    );
+    obb_core$grid$0$e_head2$14 e_head2$14(
+        .d(e_head2$14$d),
+        .q(e_head2$14$q),
+        .clock(e_head2$14$clock)
+    );
+    obb_core$grid$0$e_head2$15 e_head2$15(
+        .d(e_head2$15$d),
+        .q(e_head2$15$q),
+        .clock(e_head2$15$clock)
+    );
+    obb_core$grid$0$e_head2$16 e_head2$16(
+        .d(e_head2$16$d),
+        .q(e_head2$16$q),
+        .clock(e_head2$16$clock)
+    );
+    obb_core$grid$0$e_head2$17 e_head2$17(
+        .d(e_head2$17$d),
+        .q(e_head2$17$q),
+        .clock(e_head2$17$clock)
+    );
+    obb_core$grid$0$e_head2$18 e_head2$18(
+        .d(e_head2$18$d),
+        .q(e_head2$18$q),
+        .clock(e_head2$18$clock)
+    );
+    obb_core$grid$0$e_head2$19 e_head2$19(
+        .d(e_head2$19$d),
+        .q(e_head2$19$q),
+        .clock(e_head2$19$clock)
+    );
+    obb_core$grid$0$e_head2$20 e_head2$20(
+        .d(e_head2$20$d),
+        .q(e_head2$20$q),
+        .clock(e_head2$20$clock)
+    );
+    obb_core$grid$0$e_head2$21 e_head2$21(
+        .d(e_head2$21$d),
+        .q(e_head2$21$q),
+        .clock(e_head2$21$clock)
+    );
+    obb_core$grid$0$e_head2$22 e_head2$22(
+        .d(e_head2$22$d),
+        .q(e_head2$22$q),
+        .clock(e_head2$22$clock)
+    );
+    obb_core$grid$0$e_head2$23 e_head2$23(
+        .d(e_head2$23$d),
+        .q(e_head2$23$q),
+        .clock(e_head2$23$clock)
+    );
+    obb_core$grid$0$e_head2$24 e_head2$24(
+        .d(e_head2$24$d),
+        .q(e_head2$24$q),
+        .clock(e_head2$24$clock)
+    );
+    obb_core$grid$0$e_head2$25 e_head2$25(
+        .d(e_head2$25$d),
+        .q(e_head2$25$q),
+        .clock(e_head2$25$clock)
+    );
+    obb_core$grid$0$e_head2$26 e_head2$26(
+        .d(e_head2$26$d),
+        .q(e_head2$26$q),
+        .clock(e_head2$26$clock)
+    );
+    obb_core$grid$0$e_head2$27 e_head2$27(
+        .d(e_head2$27$d),
+        .q(e_head2$27$q),
+        .clock(e_head2$27$clock)
+    );
+    obb_core$grid$0$e_head2$28 e_head2$28(
+        .d(e_head2$28$d),
+        .q(e_head2$28$q),
+        .clock(e_head2$28$clock)
+    );
+    obb_core$grid$0$e_head2$29 e_head2$29(
+        .d(e_head2$29$d),
+        .q(e_head2$29$q),
+        .clock(e_head2$29$clock)
+    );
+    obb_core$grid$0$e_head2$30 e_head2$30(
+        .d(e_head2$30$d),
+        .q(e_head2$30$q),
+        .clock(e_head2$30$clock)
+    );
+    obb_core$grid$0$e_head2$31 e_head2$31(
+        .d(e_head2$31$d),
+        .q(e_head2$31$q),
+        .clock(e_head2$31$clock)
+    );
+    obb_core$grid$0$e_head2$32 e_head2$32(
+        .d(e_head2$32$d),
+        .q(e_head2$32$q),
+        .clock(e_head2$32$clock)
+    );
+    obb_core$grid$0$e_head2$33 e_head2$33(
+        .d(e_head2$33$d),
+        .q(e_head2$33$q),
+        .clock(e_head2$33$clock)
+    );
+    obb_core$grid$0$e_head2$34 e_head2$34(
+        .d(e_head2$34$d),
+        .q(e_head2$34$q),
+        .clock(e_head2$34$clock)
+    );
+    obb_core$grid$0$e_head2$35 e_head2$35(
+        .d(e_head2$35$d),
+        .q(e_head2$35$q),
+        .clock(e_head2$35$clock)
+    );
+    obb_core$grid$0$e_head2$36 e_head2$36(
+        .d(e_head2$36$d),
+        .q(e_head2$36$q),
+        .clock(e_head2$36$clock)
+    );
+    obb_core$grid$0$e_head2$37 e_head2$37(
+        .d(e_head2$37$d),
+        .q(e_head2$37$q),
+        .clock(e_head2$37$clock)
+    );
+    obb_core$grid$0$e_head2$38 e_head2$38(
+        .d(e_head2$38$d),
+        .q(e_head2$38$q),
+        .clock(e_head2$38$clock)
+    );
+    obb_core$grid$0$e_head2$39 e_head2$39(
+        .d(e_head2$39$d),
+        .q(e_head2$39$q),
+        .clock(e_head2$39$clock)
+    );
+    obb_core$grid$0$e_head2$40 e_head2$40(
+        .d(e_head2$40$d),
+        .q(e_head2$40$q),
+        .clock(e_head2$40$clock)
+    );
+    obb_core$grid$0$e_head2$41 e_head2$41(
+        .d(e_head2$41$d),
+        .q(e_head2$41$q),
+        .clock(e_head2$41$clock)
+    );
+    obb_core$grid$0$e_head2$42 e_head2$42(
+        .d(e_head2$42$d),
+        .q(e_head2$42$q),
+        .clock(e_head2$42$clock)
+    );
+    obb_core$grid$0$e_head2$43 e_head2$43(
+        .d(e_head2$43$d),
+        .q(e_head2$43$q),
+        .clock(e_head2$43$clock)
+    );
+    obb_core$grid$0$e_head2$44 e_head2$44(
+        .d(e_head2$44$d),
+        .q(e_head2$44$q),
+        .clock(e_head2$44$clock)
+    );
+    obb_core$grid$0$e_head2$45 e_head2$45(
+        .d(e_head2$45$d),
+        .q(e_head2$45$q),
+        .clock(e_head2$45$clock)
+    );
+    obb_core$grid$0$e_head2$46 e_head2$46(
+        .d(e_head2$46$d),
+        .q(e_head2$46$q),
+        .clock(e_head2$46$clock)
+    );
+    obb_core$grid$0$e_head2$47 e_head2$47(
+        .d(e_head2$47$d),
+        .q(e_head2$47$q),
+        .clock(e_head2$47$clock)
+    );
+    obb_core$grid$0$e_head2$48 e_head2$48(
+        .d(e_head2$48$d),
+        .q(e_head2$48$q),
+        .clock(e_head2$48$clock)
+    );
+    obb_core$grid$0$e_head2$49 e_head2$49(
+        .d(e_head2$49$d),
+        .q(e_head2$49$q),
+        .clock(e_head2$49$clock)
+    );
+    obb_core$grid$0$e_head2$50 e_head2$50(
+        .d(e_head2$50$d),
+        .q(e_head2$50$q),
+        .clock(e_head2$50$clock)
+    );
+    obb_core$grid$0$e_head2$51 e_head2$51(
+        .d(e_head2$51$d),
+        .q(e_head2$51$q),
+        .clock(e_head2$51$clock)
+    );
+    obb_core$grid$0$e_head2$52 e_head2$52(
+        .d(e_head2$52$d),
+        .q(e_head2$52$q),
+        .clock(e_head2$52$clock)
+    );
+    obb_core$grid$0$e_head2$53 e_head2$53(
+        .d(e_head2$53$d),
+        .q(e_head2$53$q),
+        .clock(e_head2$53$clock)
+    );
+    obb_core$grid$0$e_head2$54 e_head2$54(
+        .d(e_head2$54$d),
+        .q(e_head2$54$q),
+        .clock(e_head2$54$clock)
+    );
+    obb_core$grid$0$e_head2$55 e_head2$55(
+        .d(e_head2$55$d),
+        .q(e_head2$55$q),
+        .clock(e_head2$55$clock)
+    );
+    obb_core$grid$0$e_head2$56 e_head2$56(
+        .d(e_head2$56$d),
+        .q(e_head2$56$q),
+        .clock(e_head2$56$clock)
+    );
+    obb_core$grid$0$e_head2$57 e_head2$57(
+        .d(e_head2$57$d),
+        .q(e_head2$57$q),
+        .clock(e_head2$57$clock)
+    );
+    obb_core$grid$0$e_head2$58 e_head2$58(
+        .d(e_head2$58$d),
+        .q(e_head2$58$q),
+        .clock(e_head2$58$clock)
+    );
+    obb_core$grid$0$e_head2$59 e_head2$59(
+        .d(e_head2$59$d),
+        .q(e_head2$59$q),
+        .clock(e_head2$59$clock)
+    );
+    obb_core$grid$0$e_head2$60 e_head2$60(
+        .d(e_head2$60$d),
+        .q(e_head2$60$q),
+        .clock(e_head2$60$clock)
+    );
+    obb_core$grid$0$e_head2$61 e_head2$61(
+        .d(e_head2$61$d),
+        .q(e_head2$61$q),
+        .clock(e_head2$61$clock)
+    );
+    obb_core$grid$0$e_head2$62 e_head2$62(
+        .d(e_head2$62$d),
+        .q(e_head2$62$q),
+        .clock(e_head2$62$clock)
+    );
+    obb_core$grid$0$e_head2$63 e_head2$63(
+        .d(e_head2$63$d),
+        .q(e_head2$63$q),
+        .clock(e_head2$63$clock)
+    );
+    obb_core$grid$0$e_head2$64 e_head2$64(
+        .d(e_head2$64$d),
+        .q(e_head2$64$q),
+        .clock(e_head2$64$clock)
+    );
+    obb_core$grid$0$e_head2$65 e_head2$65(
+        .d(e_head2$65$d),
+        .q(e_head2$65$q),
+        .clock(e_head2$65$clock)
+    );
+    obb_core$grid$0$e_head2$66 e_head2$66(
+        .d(e_head2$66$d),
+        .q(e_head2$66$q),
+        .clock(e_head2$66$clock)
+    );
+    obb_core$grid$0$e_head2$67 e_head2$67(
+        .d(e_head2$67$d),
+        .q(e_head2$67$q),
+        .clock(e_head2$67$clock)
+    );
+    obb_core$grid$0$e_head2$68 e_head2$68(
+        .d(e_head2$68$d),
+        .q(e_head2$68$q),
+        .clock(e_head2$68$clock)
+    );
+    obb_core$grid$0$e_head2$69 e_head2$69(
+        .d(e_head2$69$d),
+        .q(e_head2$69$q),
+        .clock(e_head2$69$clock)
+    );
+    obb_core$grid$0$e_head2$70 e_head2$70(
+        .d(e_head2$70$d),
+        .q(e_head2$70$q),
+        .clock(e_head2$70$clock)
+    );
+    obb_core$grid$0$e_head2$71 e_head2$71(
+        .d(e_head2$71$d),
+        .q(e_head2$71$q),
+        .clock(e_head2$71$clock)
+    );
+    obb_core$grid$0$e_head2$72 e_head2$72(
+        .d(e_head2$72$d),
+        .q(e_head2$72$q),
+        .clock(e_head2$72$clock)
+    );
+    obb_core$grid$0$e_head2$73 e_head2$73(
+        .d(e_head2$73$d),
+        .q(e_head2$73$q),
+        .clock(e_head2$73$clock)
+    );
+    obb_core$grid$0$e_head2$74 e_head2$74(
+        .d(e_head2$74$d),
+        .q(e_head2$74$q),
+        .clock(e_head2$74$clock)
+    );
+    obb_core$grid$0$e_head2$75 e_head2$75(
+        .d(e_head2$75$d),
+        .q(e_head2$75$q),
+        .clock(e_head2$75$clock)
+    );
+    obb_core$grid$0$e_head2$76 e_head2$76(
+        .d(e_head2$76$d),
+        .q(e_head2$76$q),
+        .clock(e_head2$76$clock)
+    );
+    obb_core$grid$0$e_head2$77 e_head2$77(
+        .d(e_head2$77$d),
+        .q(e_head2$77$q),
+        .clock(e_head2$77$clock)
+    );
+    obb_core$grid$0$e_head2$78 e_head2$78(
+        .d(e_head2$78$d),
+        .q(e_head2$78$q),
+        .clock(e_head2$78$clock)
+    );
+    obb_core$grid$0$e_head2$79 e_head2$79(
+        .d(e_head2$79$d),
+        .q(e_head2$79$q),
+        .clock(e_head2$79$clock)
+    );
+    obb_core$grid$0$e_head2$80 e_head2$80(
+        .d(e_head2$80$d),
+        .q(e_head2$80$q),
+        .clock(e_head2$80$clock)
+    );
     obb_core$grid$0$e_chosen e_chosen(
         .d(e_chosen$d),
         .q(e_chosen$q),
@@ -18545,6 +23112,14 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .read_address(lq_head$read_address),
         .read_data(lq_head$read_data)
     );
+    obb_core$grid$0$lq_head2 lq_head2(
+        .clock(lq_head2$clock),
+        .write_enable(lq_head2$write_enable),
+        .write_address(lq_head2$write_address),
+        .write_data(lq_head2$write_data),
+        .read_address(lq_head2$read_address),
+        .read_data(lq_head2$read_data)
+    );
     obb_core$grid$0$lq_box lq_box(
         .clock(lq_box$clock),
         .write_enable(lq_box$write_enable),
@@ -18657,20 +23232,40 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(cur_kind$q),
         .clock(cur_kind$clock)
     );
-    obb_core$grid$0$chase chase(
-        .d(chase$d),
-        .q(chase$q),
-        .clock(chase$clock)
+    obb_core$grid$0$succ_q succ_q(
+        .d(succ_q$d),
+        .q(succ_q$q),
+        .clock(succ_q$clock)
     );
-    obb_core$grid$0$held_valid held_valid(
-        .d(held_valid$d),
-        .q(held_valid$q),
-        .clock(held_valid$clock)
+    obb_core$grid$0$r1 r1(
+        .d(r1$d),
+        .q(r1$q),
+        .clock(r1$clock)
     );
-    obb_core$grid$0$held held(
-        .d(held$d),
-        .q(held$q),
-        .clock(held$clock)
+    obb_core$grid$0$r2 r2(
+        .d(r2$d),
+        .q(r2$q),
+        .clock(r2$clock)
+    );
+    obb_core$grid$0$q0v q0v(
+        .d(q0v$d),
+        .q(q0v$q),
+        .clock(q0v$clock)
+    );
+    obb_core$grid$0$q0 q0(
+        .d(q0$d),
+        .q(q0$q),
+        .clock(q0$clock)
+    );
+    obb_core$grid$0$q1v q1v(
+        .d(q1v$d),
+        .q(q1v$q),
+        .clock(q1v$clock)
+    );
+    obb_core$grid$0$q1 q1(
+        .d(q1$d),
+        .q(q1$q),
+        .clock(q1$clock)
     );
     obb_core$grid$0$v1_valid v1_valid(
         .d(v1_valid$d),
@@ -18902,6 +23497,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(lnext$q),
         .clock(lnext$clock)
     );
+    obb_core$grid$0$lnext2 lnext2(
+        .d(lnext2$d),
+        .q(lnext2$q),
+        .clock(lnext2$clock)
+    );
     obb_core$grid$0$lcur lcur(
         .d(lcur$d),
         .q(lcur$q),
@@ -18921,6 +23521,21 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .d(lk_min$2$d),
         .q(lk_min$2$q),
         .clock(lk_min$2$clock)
+    );
+    obb_core$grid$0$lk_lim$0 lk_lim$0(
+        .d(lk_lim$0$d),
+        .q(lk_lim$0$q),
+        .clock(lk_lim$0$clock)
+    );
+    obb_core$grid$0$lk_lim$1 lk_lim$1(
+        .d(lk_lim$1$d),
+        .q(lk_lim$1$q),
+        .clock(lk_lim$1$clock)
+    );
+    obb_core$grid$0$lk_lim$2 lk_lim$2(
+        .d(lk_lim$2$d),
+        .q(lk_lim$2$q),
+        .clock(lk_lim$2$clock)
     );
     obb_core$grid$0$lk_max$0 lk_max$0(
         .d(lk_max$0$d),
@@ -19057,6 +23672,141 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(inj_max$2$q),
         .clock(inj_max$2$clock)
     );
+    obb_core$grid$0$bank_left$0 bank_left$0(
+        .d(bank_left$0$d),
+        .q(bank_left$0$q),
+        .clock(bank_left$0$clock)
+    );
+    obb_core$grid$0$bank_left$1 bank_left$1(
+        .d(bank_left$1$d),
+        .q(bank_left$1$q),
+        .clock(bank_left$1$clock)
+    );
+    obb_core$grid$0$bank_left$2 bank_left$2(
+        .d(bank_left$2$d),
+        .q(bank_left$2$q),
+        .clock(bank_left$2$clock)
+    );
+    obb_core$grid$0$bank_left$3 bank_left$3(
+        .d(bank_left$3$d),
+        .q(bank_left$3$q),
+        .clock(bank_left$3$clock)
+    );
+    obb_core$grid$0$bank_left$4 bank_left$4(
+        .d(bank_left$4$d),
+        .q(bank_left$4$q),
+        .clock(bank_left$4$clock)
+    );
+    obb_core$grid$0$bank_left$5 bank_left$5(
+        .d(bank_left$5$d),
+        .q(bank_left$5$q),
+        .clock(bank_left$5$clock)
+    );
+    obb_core$grid$0$bank_left$6 bank_left$6(
+        .d(bank_left$6$d),
+        .q(bank_left$6$q),
+        .clock(bank_left$6$clock)
+    );
+    obb_core$grid$0$bank_left$7 bank_left$7(
+        .d(bank_left$7$d),
+        .q(bank_left$7$q),
+        .clock(bank_left$7$clock)
+    );
+    obb_core$grid$0$bank_left$8 bank_left$8(
+        .d(bank_left$8$d),
+        .q(bank_left$8$q),
+        .clock(bank_left$8$clock)
+    );
+    obb_core$grid$0$bank_left$9 bank_left$9(
+        .d(bank_left$9$d),
+        .q(bank_left$9$q),
+        .clock(bank_left$9$clock)
+    );
+    obb_core$grid$0$bank_left$10 bank_left$10(
+        .d(bank_left$10$d),
+        .q(bank_left$10$q),
+        .clock(bank_left$10$clock)
+    );
+    obb_core$grid$0$bank_left$11 bank_left$11(
+        .d(bank_left$11$d),
+        .q(bank_left$11$q),
+        .clock(bank_left$11$clock)
+    );
+    obb_core$grid$0$bank_left$12 bank_left$12(
+        .d(bank_left$12$d),
+        .q(bank_left$12$q),
+        .clock(bank_left$12$clock)
+    );
+    obb_core$grid$0$bank_left$13 bank_left$13(
+        .d(bank_left$13$d),
+        .q(bank_left$13$q),
+        .clock(bank_left$13$clock)
+    );
+    obb_core$grid$0$bank_left$14 bank_left$14(
+        .d(bank_left$14$d),
+        .q(bank_left$14$q),
+        .clock(bank_left$14$clock)
+    );
+    obb_core$grid$0$bank_left$15 bank_left$15(
+        .d(bank_left$15$d),
+        .q(bank_left$15$q),
+        .clock(bank_left$15$clock)
+    );
+    obb_core$grid$0$bank_left$16 bank_left$16(
+        .d(bank_left$16$d),
+        .q(bank_left$16$q),
+        .clock(bank_left$16$clock)
+    );
+    obb_core$grid$0$bank_left$17 bank_left$17(
+        .d(bank_left$17$d),
+        .q(bank_left$17$q),
+        .clock(bank_left$17$clock)
+    );
+    obb_core$grid$0$bank_left$18 bank_left$18(
+        .d(bank_left$18$d),
+        .q(bank_left$18$q),
+        .clock(bank_left$18$clock)
+    );
+    obb_core$grid$0$bank_left$19 bank_left$19(
+        .d(bank_left$19$d),
+        .q(bank_left$19$q),
+        .clock(bank_left$19$clock)
+    );
+    obb_core$grid$0$bank_left$20 bank_left$20(
+        .d(bank_left$20$d),
+        .q(bank_left$20$q),
+        .clock(bank_left$20$clock)
+    );
+    obb_core$grid$0$bank_left$21 bank_left$21(
+        .d(bank_left$21$d),
+        .q(bank_left$21$q),
+        .clock(bank_left$21$clock)
+    );
+    obb_core$grid$0$bank_left$22 bank_left$22(
+        .d(bank_left$22$d),
+        .q(bank_left$22$q),
+        .clock(bank_left$22$clock)
+    );
+    obb_core$grid$0$bank_left$23 bank_left$23(
+        .d(bank_left$23$d),
+        .q(bank_left$23$q),
+        .clock(bank_left$23$clock)
+    );
+    obb_core$grid$0$bank_left$24 bank_left$24(
+        .d(bank_left$24$d),
+        .q(bank_left$24$q),
+        .clock(bank_left$24$clock)
+    );
+    obb_core$grid$0$bank_left$25 bank_left$25(
+        .d(bank_left$25$d),
+        .q(bank_left$25$q),
+        .clock(bank_left$25$clock)
+    );
+    obb_core$grid$0$bank_left$26 bank_left$26(
+        .d(bank_left$26$d),
+        .q(bank_left$26$q),
+        .clock(bank_left$26$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -19100,9 +23850,13 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         lq_rp$clock = clock;
         cur_index$clock = clock;
         cur_margin$clock = clock;
-        chase$clock = clock;
-        held_valid$clock = clock;
-        held$clock = clock;
+        succ_q$clock = clock;
+        r1$clock = clock;
+        r2$clock = clock;
+        q0v$clock = clock;
+        q0$clock = clock;
+        q1v$clock = clock;
+        q1$clock = clock;
         v1_valid$clock = clock;
         v1_i$clock = clock;
         v1_j$clock = clock;
@@ -19125,6 +23879,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         v2_group_j$clock = clock;
         slow$clock = clock;
         lnext$clock = clock;
+        lnext2$clock = clock;
         lcur$clock = clock;
         lmargin$clock = clock;
         lgroup$clock = clock;
@@ -19172,9 +23927,13 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         lq_rp$d = lq_rp$q;
         cur_index$d = cur_index$q;
         cur_margin$d = cur_margin$q;
-        chase$d = chase$q;
-        held_valid$d = held_valid$q;
-        held$d = held$q;
+        succ_q$d = succ_q$q;
+        r1$d = r1$q;
+        r2$d = r2$q;
+        q0v$d = q0v$q;
+        q0$d = q0$q;
+        q1v$d = q1v$q;
+        q1$d = q1$q;
         v1_valid$d = v1_valid$q;
         v1_i$d = v1_i$q;
         v1_j$d = v1_j$q;
@@ -19197,6 +23956,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         v2_group_j$d = v2_group_j$q;
         slow$d = slow$q;
         lnext$d = lnext$q;
+        lnext2$d = lnext2$q;
         lcur$d = lcur$q;
         lmargin$d = lmargin$q;
         lgroup$d = lgroup$q;
@@ -19209,6 +23969,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         rec_box$clock = clock;
         fifo$clock = clock;
         lq_head$clock = clock;
+        lq_head2$clock = clock;
         lq_box$clock = clock;
         lq_last$clock = clock;
         s4_bucket$0$clock = clock;
@@ -19318,6 +24079,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         v2_wh$0$clock = clock;
         v2_jc$0$clock = clock;
         lk_min$0$clock = clock;
+        lk_lim$0$clock = clock;
         lk_max$0$clock = clock;
         wlo$0$clock = clock;
         wspan$0$clock = clock;
@@ -19326,6 +24088,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         inj_min$0$clock = clock;
         inj_max$0$clock = clock;
         lk_min$0$d = lk_min$0$q;
+        lk_lim$0$d = lk_lim$0$q;
         lk_max$0$d = lk_max$0$q;
         wlo$0$d = wlo$0$q;
         wspan$0$d = wspan$0$q;
@@ -19357,6 +24120,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         v2_wh$1$clock = clock;
         v2_jc$1$clock = clock;
         lk_min$1$clock = clock;
+        lk_lim$1$clock = clock;
         lk_max$1$clock = clock;
         wlo$1$clock = clock;
         wspan$1$clock = clock;
@@ -19365,6 +24129,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         inj_min$1$clock = clock;
         inj_max$1$clock = clock;
         lk_min$1$d = lk_min$1$q;
+        lk_lim$1$d = lk_lim$1$q;
         lk_max$1$d = lk_max$1$q;
         wlo$1$d = wlo$1$q;
         wspan$1$d = wspan$1$q;
@@ -19396,6 +24161,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         v2_wh$2$clock = clock;
         v2_jc$2$clock = clock;
         lk_min$2$clock = clock;
+        lk_lim$2$clock = clock;
         lk_max$2$clock = clock;
         wlo$2$clock = clock;
         wspan$2$clock = clock;
@@ -19404,6 +24170,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         inj_min$2$clock = clock;
         inj_max$2$clock = clock;
         lk_min$2$d = lk_min$2$q;
+        lk_lim$2$d = lk_lim$2$q;
         lk_max$2$d = lk_max$2$q;
         wlo$2$d = wlo$2$q;
         wspan$2$d = wspan$2$q;
@@ -19411,1461 +24178,1947 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         rr$2$d = rr$2$q;
         s5_live$0$clock = clock;
         s5_head$0$clock = clock;
+        s5_head2$0$clock = clock;
         s5_enter$0$clock = clock;
         s5_wrote$0$clock = clock;
         s5_meta_w$0$clock = clock;
         s4_meta$0$clock = clock;
         s4_old$0$clock = clock;
+        s4_old2$0$clock = clock;
         s4_walk$0$clock = clock;
         s4_enter$0$clock = clock;
         meta$0$clock = clock;
         head$0$clock = clock;
+        head2$0$clock = clock;
         rec$0$clock = clock;
+        rec2$0$clock = clock;
         e_rem$0$clock = clock;
         e_head$0$clock = clock;
+        e_head2$0$clock = clock;
         e_sel$0$clock = clock;
         e_rem$0$d = e_rem$0$q;
         e_head$0$d = e_head$0$q;
+        e_head2$0$d = e_head2$0$q;
         e_sel$0$d = e_sel$0$q;
         s5_live$1$clock = clock;
         s5_head$1$clock = clock;
+        s5_head2$1$clock = clock;
         s5_enter$1$clock = clock;
         s5_wrote$1$clock = clock;
         s5_meta_w$1$clock = clock;
         s4_meta$1$clock = clock;
         s4_old$1$clock = clock;
+        s4_old2$1$clock = clock;
         s4_walk$1$clock = clock;
         s4_enter$1$clock = clock;
         meta$1$clock = clock;
         head$1$clock = clock;
+        head2$1$clock = clock;
         rec$1$clock = clock;
+        rec2$1$clock = clock;
         e_rem$1$clock = clock;
         e_head$1$clock = clock;
+        e_head2$1$clock = clock;
         e_sel$1$clock = clock;
         e_rem$1$d = e_rem$1$q;
         e_head$1$d = e_head$1$q;
+        e_head2$1$d = e_head2$1$q;
         e_sel$1$d = e_sel$1$q;
         s5_live$2$clock = clock;
         s5_head$2$clock = clock;
+        s5_head2$2$clock = clock;
         s5_enter$2$clock = clock;
         s5_wrote$2$clock = clock;
         s5_meta_w$2$clock = clock;
         s4_meta$2$clock = clock;
         s4_old$2$clock = clock;
+        s4_old2$2$clock = clock;
         s4_walk$2$clock = clock;
         s4_enter$2$clock = clock;
         meta$2$clock = clock;
         head$2$clock = clock;
+        head2$2$clock = clock;
         rec$2$clock = clock;
+        rec2$2$clock = clock;
         e_rem$2$clock = clock;
         e_head$2$clock = clock;
+        e_head2$2$clock = clock;
         e_sel$2$clock = clock;
         e_rem$2$d = e_rem$2$q;
         e_head$2$d = e_head$2$q;
+        e_head2$2$d = e_head2$2$q;
         e_sel$2$d = e_sel$2$q;
         s5_live$3$clock = clock;
         s5_head$3$clock = clock;
+        s5_head2$3$clock = clock;
         s5_enter$3$clock = clock;
         s5_wrote$3$clock = clock;
         s5_meta_w$3$clock = clock;
         s4_meta$3$clock = clock;
         s4_old$3$clock = clock;
+        s4_old2$3$clock = clock;
         s4_walk$3$clock = clock;
         s4_enter$3$clock = clock;
         meta$3$clock = clock;
         head$3$clock = clock;
+        head2$3$clock = clock;
         rec$3$clock = clock;
+        rec2$3$clock = clock;
         e_rem$3$clock = clock;
         e_head$3$clock = clock;
+        e_head2$3$clock = clock;
         e_sel$3$clock = clock;
         e_rem$3$d = e_rem$3$q;
         e_head$3$d = e_head$3$q;
+        e_head2$3$d = e_head2$3$q;
         e_sel$3$d = e_sel$3$q;
         s5_live$4$clock = clock;
         s5_head$4$clock = clock;
+        s5_head2$4$clock = clock;
         s5_enter$4$clock = clock;
         s5_wrote$4$clock = clock;
         s5_meta_w$4$clock = clock;
         s4_meta$4$clock = clock;
         s4_old$4$clock = clock;
+        s4_old2$4$clock = clock;
         s4_walk$4$clock = clock;
         s4_enter$4$clock = clock;
         meta$4$clock = clock;
         head$4$clock = clock;
+        head2$4$clock = clock;
         rec$4$clock = clock;
+        rec2$4$clock = clock;
         e_rem$4$clock = clock;
         e_head$4$clock = clock;
+        e_head2$4$clock = clock;
         e_sel$4$clock = clock;
         e_rem$4$d = e_rem$4$q;
         e_head$4$d = e_head$4$q;
+        e_head2$4$d = e_head2$4$q;
         e_sel$4$d = e_sel$4$q;
         s5_live$5$clock = clock;
         s5_head$5$clock = clock;
+        s5_head2$5$clock = clock;
         s5_enter$5$clock = clock;
         s5_wrote$5$clock = clock;
         s5_meta_w$5$clock = clock;
         s4_meta$5$clock = clock;
         s4_old$5$clock = clock;
+        s4_old2$5$clock = clock;
         s4_walk$5$clock = clock;
         s4_enter$5$clock = clock;
         meta$5$clock = clock;
         head$5$clock = clock;
+        head2$5$clock = clock;
         rec$5$clock = clock;
+        rec2$5$clock = clock;
         e_rem$5$clock = clock;
         e_head$5$clock = clock;
+        e_head2$5$clock = clock;
         e_sel$5$clock = clock;
         e_rem$5$d = e_rem$5$q;
         e_head$5$d = e_head$5$q;
+        e_head2$5$d = e_head2$5$q;
         e_sel$5$d = e_sel$5$q;
         s5_live$6$clock = clock;
         s5_head$6$clock = clock;
+        s5_head2$6$clock = clock;
         s5_enter$6$clock = clock;
         s5_wrote$6$clock = clock;
         s5_meta_w$6$clock = clock;
         s4_meta$6$clock = clock;
         s4_old$6$clock = clock;
+        s4_old2$6$clock = clock;
         s4_walk$6$clock = clock;
         s4_enter$6$clock = clock;
         meta$6$clock = clock;
         head$6$clock = clock;
+        head2$6$clock = clock;
         rec$6$clock = clock;
+        rec2$6$clock = clock;
         e_rem$6$clock = clock;
         e_head$6$clock = clock;
+        e_head2$6$clock = clock;
         e_sel$6$clock = clock;
         e_rem$6$d = e_rem$6$q;
         e_head$6$d = e_head$6$q;
+        e_head2$6$d = e_head2$6$q;
         e_sel$6$d = e_sel$6$q;
         s5_live$7$clock = clock;
         s5_head$7$clock = clock;
+        s5_head2$7$clock = clock;
         s5_enter$7$clock = clock;
         s5_wrote$7$clock = clock;
         s5_meta_w$7$clock = clock;
         s4_meta$7$clock = clock;
         s4_old$7$clock = clock;
+        s4_old2$7$clock = clock;
         s4_walk$7$clock = clock;
         s4_enter$7$clock = clock;
         meta$7$clock = clock;
         head$7$clock = clock;
+        head2$7$clock = clock;
         rec$7$clock = clock;
+        rec2$7$clock = clock;
         e_rem$7$clock = clock;
         e_head$7$clock = clock;
+        e_head2$7$clock = clock;
         e_sel$7$clock = clock;
         e_rem$7$d = e_rem$7$q;
         e_head$7$d = e_head$7$q;
+        e_head2$7$d = e_head2$7$q;
         e_sel$7$d = e_sel$7$q;
         s5_live$8$clock = clock;
         s5_head$8$clock = clock;
+        s5_head2$8$clock = clock;
         s5_enter$8$clock = clock;
         s5_wrote$8$clock = clock;
         s5_meta_w$8$clock = clock;
         s4_meta$8$clock = clock;
         s4_old$8$clock = clock;
+        s4_old2$8$clock = clock;
         s4_walk$8$clock = clock;
         s4_enter$8$clock = clock;
         meta$8$clock = clock;
         head$8$clock = clock;
+        head2$8$clock = clock;
         rec$8$clock = clock;
+        rec2$8$clock = clock;
         e_rem$8$clock = clock;
         e_head$8$clock = clock;
+        e_head2$8$clock = clock;
         e_sel$8$clock = clock;
         e_rem$8$d = e_rem$8$q;
         e_head$8$d = e_head$8$q;
+        e_head2$8$d = e_head2$8$q;
         e_sel$8$d = e_sel$8$q;
         s5_live$9$clock = clock;
         s5_head$9$clock = clock;
+        s5_head2$9$clock = clock;
         s5_enter$9$clock = clock;
         s5_wrote$9$clock = clock;
         s5_meta_w$9$clock = clock;
         s4_meta$9$clock = clock;
         s4_old$9$clock = clock;
+        s4_old2$9$clock = clock;
         s4_walk$9$clock = clock;
         s4_enter$9$clock = clock;
         meta$9$clock = clock;
         head$9$clock = clock;
+        head2$9$clock = clock;
         rec$9$clock = clock;
+        rec2$9$clock = clock;
         e_rem$9$clock = clock;
         e_head$9$clock = clock;
+        e_head2$9$clock = clock;
         e_sel$9$clock = clock;
         e_rem$9$d = e_rem$9$q;
         e_head$9$d = e_head$9$q;
+        e_head2$9$d = e_head2$9$q;
         e_sel$9$d = e_sel$9$q;
         s5_live$10$clock = clock;
         s5_head$10$clock = clock;
+        s5_head2$10$clock = clock;
         s5_enter$10$clock = clock;
         s5_wrote$10$clock = clock;
         s5_meta_w$10$clock = clock;
         s4_meta$10$clock = clock;
         s4_old$10$clock = clock;
+        s4_old2$10$clock = clock;
         s4_walk$10$clock = clock;
         s4_enter$10$clock = clock;
         meta$10$clock = clock;
         head$10$clock = clock;
+        head2$10$clock = clock;
         rec$10$clock = clock;
+        rec2$10$clock = clock;
         e_rem$10$clock = clock;
         e_head$10$clock = clock;
+        e_head2$10$clock = clock;
         e_sel$10$clock = clock;
         e_rem$10$d = e_rem$10$q;
         e_head$10$d = e_head$10$q;
+        e_head2$10$d = e_head2$10$q;
         e_sel$10$d = e_sel$10$q;
         s5_live$11$clock = clock;
         s5_head$11$clock = clock;
+        s5_head2$11$clock = clock;
         s5_enter$11$clock = clock;
         s5_wrote$11$clock = clock;
         s5_meta_w$11$clock = clock;
         s4_meta$11$clock = clock;
         s4_old$11$clock = clock;
+        s4_old2$11$clock = clock;
         s4_walk$11$clock = clock;
         s4_enter$11$clock = clock;
         meta$11$clock = clock;
         head$11$clock = clock;
+        head2$11$clock = clock;
         rec$11$clock = clock;
+        rec2$11$clock = clock;
         e_rem$11$clock = clock;
         e_head$11$clock = clock;
+        e_head2$11$clock = clock;
         e_sel$11$clock = clock;
         e_rem$11$d = e_rem$11$q;
         e_head$11$d = e_head$11$q;
+        e_head2$11$d = e_head2$11$q;
         e_sel$11$d = e_sel$11$q;
         s5_live$12$clock = clock;
         s5_head$12$clock = clock;
+        s5_head2$12$clock = clock;
         s5_enter$12$clock = clock;
         s5_wrote$12$clock = clock;
         s5_meta_w$12$clock = clock;
         s4_meta$12$clock = clock;
         s4_old$12$clock = clock;
+        s4_old2$12$clock = clock;
         s4_walk$12$clock = clock;
         s4_enter$12$clock = clock;
         meta$12$clock = clock;
         head$12$clock = clock;
+        head2$12$clock = clock;
         rec$12$clock = clock;
+        rec2$12$clock = clock;
         e_rem$12$clock = clock;
         e_head$12$clock = clock;
+        e_head2$12$clock = clock;
         e_sel$12$clock = clock;
         e_rem$12$d = e_rem$12$q;
         e_head$12$d = e_head$12$q;
+        e_head2$12$d = e_head2$12$q;
         e_sel$12$d = e_sel$12$q;
         s5_live$13$clock = clock;
         s5_head$13$clock = clock;
+        s5_head2$13$clock = clock;
         s5_enter$13$clock = clock;
         s5_wrote$13$clock = clock;
         s5_meta_w$13$clock = clock;
         s4_meta$13$clock = clock;
         s4_old$13$clock = clock;
+        s4_old2$13$clock = clock;
         s4_walk$13$clock = clock;
         s4_enter$13$clock = clock;
         meta$13$clock = clock;
         head$13$clock = clock;
+        head2$13$clock = clock;
         rec$13$clock = clock;
+        rec2$13$clock = clock;
         e_rem$13$clock = clock;
         e_head$13$clock = clock;
+        e_head2$13$clock = clock;
         e_sel$13$clock = clock;
         e_rem$13$d = e_rem$13$q;
         e_head$13$d = e_head$13$q;
+        e_head2$13$d = e_head2$13$q;
         e_sel$13$d = e_sel$13$q;
         s5_live$14$clock = clock;
         s5_head$14$clock = clock;
+        s5_head2$14$clock = clock;
         s5_enter$14$clock = clock;
         s5_wrote$14$clock = clock;
         s5_meta_w$14$clock = clock;
         s4_meta$14$clock = clock;
         s4_old$14$clock = clock;
+        s4_old2$14$clock = clock;
         s4_walk$14$clock = clock;
         s4_enter$14$clock = clock;
         meta$14$clock = clock;
         head$14$clock = clock;
+        head2$14$clock = clock;
         rec$14$clock = clock;
+        rec2$14$clock = clock;
         e_rem$14$clock = clock;
         e_head$14$clock = clock;
+        e_head2$14$clock = clock;
         e_sel$14$clock = clock;
         e_rem$14$d = e_rem$14$q;
         e_head$14$d = e_head$14$q;
+        e_head2$14$d = e_head2$14$q;
         e_sel$14$d = e_sel$14$q;
         s5_live$15$clock = clock;
         s5_head$15$clock = clock;
+        s5_head2$15$clock = clock;
         s5_enter$15$clock = clock;
         s5_wrote$15$clock = clock;
         s5_meta_w$15$clock = clock;
         s4_meta$15$clock = clock;
         s4_old$15$clock = clock;
+        s4_old2$15$clock = clock;
         s4_walk$15$clock = clock;
         s4_enter$15$clock = clock;
         meta$15$clock = clock;
         head$15$clock = clock;
+        head2$15$clock = clock;
         rec$15$clock = clock;
+        rec2$15$clock = clock;
         e_rem$15$clock = clock;
         e_head$15$clock = clock;
+        e_head2$15$clock = clock;
         e_sel$15$clock = clock;
         e_rem$15$d = e_rem$15$q;
         e_head$15$d = e_head$15$q;
+        e_head2$15$d = e_head2$15$q;
         e_sel$15$d = e_sel$15$q;
         s5_live$16$clock = clock;
         s5_head$16$clock = clock;
+        s5_head2$16$clock = clock;
         s5_enter$16$clock = clock;
         s5_wrote$16$clock = clock;
         s5_meta_w$16$clock = clock;
         s4_meta$16$clock = clock;
         s4_old$16$clock = clock;
+        s4_old2$16$clock = clock;
         s4_walk$16$clock = clock;
         s4_enter$16$clock = clock;
         meta$16$clock = clock;
         head$16$clock = clock;
+        head2$16$clock = clock;
         rec$16$clock = clock;
+        rec2$16$clock = clock;
         e_rem$16$clock = clock;
         e_head$16$clock = clock;
+        e_head2$16$clock = clock;
         e_sel$16$clock = clock;
         e_rem$16$d = e_rem$16$q;
         e_head$16$d = e_head$16$q;
+        e_head2$16$d = e_head2$16$q;
         e_sel$16$d = e_sel$16$q;
         s5_live$17$clock = clock;
         s5_head$17$clock = clock;
+        s5_head2$17$clock = clock;
         s5_enter$17$clock = clock;
         s5_wrote$17$clock = clock;
         s5_meta_w$17$clock = clock;
         s4_meta$17$clock = clock;
         s4_old$17$clock = clock;
+        s4_old2$17$clock = clock;
         s4_walk$17$clock = clock;
         s4_enter$17$clock = clock;
         meta$17$clock = clock;
         head$17$clock = clock;
+        head2$17$clock = clock;
         rec$17$clock = clock;
+        rec2$17$clock = clock;
         e_rem$17$clock = clock;
         e_head$17$clock = clock;
+        e_head2$17$clock = clock;
         e_sel$17$clock = clock;
         e_rem$17$d = e_rem$17$q;
         e_head$17$d = e_head$17$q;
+        e_head2$17$d = e_head2$17$q;
         e_sel$17$d = e_sel$17$q;
         s5_live$18$clock = clock;
         s5_head$18$clock = clock;
+        s5_head2$18$clock = clock;
         s5_enter$18$clock = clock;
         s5_wrote$18$clock = clock;
         s5_meta_w$18$clock = clock;
         s4_meta$18$clock = clock;
         s4_old$18$clock = clock;
+        s4_old2$18$clock = clock;
         s4_walk$18$clock = clock;
         s4_enter$18$clock = clock;
         meta$18$clock = clock;
         head$18$clock = clock;
+        head2$18$clock = clock;
         rec$18$clock = clock;
+        rec2$18$clock = clock;
         e_rem$18$clock = clock;
         e_head$18$clock = clock;
+        e_head2$18$clock = clock;
         e_sel$18$clock = clock;
         e_rem$18$d = e_rem$18$q;
         e_head$18$d = e_head$18$q;
+        e_head2$18$d = e_head2$18$q;
         e_sel$18$d = e_sel$18$q;
         s5_live$19$clock = clock;
         s5_head$19$clock = clock;
+        s5_head2$19$clock = clock;
         s5_enter$19$clock = clock;
         s5_wrote$19$clock = clock;
         s5_meta_w$19$clock = clock;
         s4_meta$19$clock = clock;
         s4_old$19$clock = clock;
+        s4_old2$19$clock = clock;
         s4_walk$19$clock = clock;
         s4_enter$19$clock = clock;
         meta$19$clock = clock;
         head$19$clock = clock;
+        head2$19$clock = clock;
         rec$19$clock = clock;
+        rec2$19$clock = clock;
         e_rem$19$clock = clock;
         e_head$19$clock = clock;
+        e_head2$19$clock = clock;
         e_sel$19$clock = clock;
         e_rem$19$d = e_rem$19$q;
         e_head$19$d = e_head$19$q;
+        e_head2$19$d = e_head2$19$q;
         e_sel$19$d = e_sel$19$q;
         s5_live$20$clock = clock;
         s5_head$20$clock = clock;
+        s5_head2$20$clock = clock;
         s5_enter$20$clock = clock;
         s5_wrote$20$clock = clock;
         s5_meta_w$20$clock = clock;
         s4_meta$20$clock = clock;
         s4_old$20$clock = clock;
+        s4_old2$20$clock = clock;
         s4_walk$20$clock = clock;
         s4_enter$20$clock = clock;
         meta$20$clock = clock;
         head$20$clock = clock;
+        head2$20$clock = clock;
         rec$20$clock = clock;
+        rec2$20$clock = clock;
         e_rem$20$clock = clock;
         e_head$20$clock = clock;
+        e_head2$20$clock = clock;
         e_sel$20$clock = clock;
         e_rem$20$d = e_rem$20$q;
         e_head$20$d = e_head$20$q;
+        e_head2$20$d = e_head2$20$q;
         e_sel$20$d = e_sel$20$q;
         s5_live$21$clock = clock;
         s5_head$21$clock = clock;
+        s5_head2$21$clock = clock;
         s5_enter$21$clock = clock;
         s5_wrote$21$clock = clock;
         s5_meta_w$21$clock = clock;
         s4_meta$21$clock = clock;
         s4_old$21$clock = clock;
+        s4_old2$21$clock = clock;
         s4_walk$21$clock = clock;
         s4_enter$21$clock = clock;
         meta$21$clock = clock;
         head$21$clock = clock;
+        head2$21$clock = clock;
         rec$21$clock = clock;
+        rec2$21$clock = clock;
         e_rem$21$clock = clock;
         e_head$21$clock = clock;
+        e_head2$21$clock = clock;
         e_sel$21$clock = clock;
         e_rem$21$d = e_rem$21$q;
         e_head$21$d = e_head$21$q;
+        e_head2$21$d = e_head2$21$q;
         e_sel$21$d = e_sel$21$q;
         s5_live$22$clock = clock;
         s5_head$22$clock = clock;
+        s5_head2$22$clock = clock;
         s5_enter$22$clock = clock;
         s5_wrote$22$clock = clock;
         s5_meta_w$22$clock = clock;
         s4_meta$22$clock = clock;
         s4_old$22$clock = clock;
+        s4_old2$22$clock = clock;
         s4_walk$22$clock = clock;
         s4_enter$22$clock = clock;
         meta$22$clock = clock;
         head$22$clock = clock;
+        head2$22$clock = clock;
         rec$22$clock = clock;
+        rec2$22$clock = clock;
         e_rem$22$clock = clock;
         e_head$22$clock = clock;
+        e_head2$22$clock = clock;
         e_sel$22$clock = clock;
         e_rem$22$d = e_rem$22$q;
         e_head$22$d = e_head$22$q;
+        e_head2$22$d = e_head2$22$q;
         e_sel$22$d = e_sel$22$q;
         s5_live$23$clock = clock;
         s5_head$23$clock = clock;
+        s5_head2$23$clock = clock;
         s5_enter$23$clock = clock;
         s5_wrote$23$clock = clock;
         s5_meta_w$23$clock = clock;
         s4_meta$23$clock = clock;
         s4_old$23$clock = clock;
+        s4_old2$23$clock = clock;
         s4_walk$23$clock = clock;
         s4_enter$23$clock = clock;
         meta$23$clock = clock;
         head$23$clock = clock;
+        head2$23$clock = clock;
         rec$23$clock = clock;
+        rec2$23$clock = clock;
         e_rem$23$clock = clock;
         e_head$23$clock = clock;
+        e_head2$23$clock = clock;
         e_sel$23$clock = clock;
         e_rem$23$d = e_rem$23$q;
         e_head$23$d = e_head$23$q;
+        e_head2$23$d = e_head2$23$q;
         e_sel$23$d = e_sel$23$q;
         s5_live$24$clock = clock;
         s5_head$24$clock = clock;
+        s5_head2$24$clock = clock;
         s5_enter$24$clock = clock;
         s5_wrote$24$clock = clock;
         s5_meta_w$24$clock = clock;
         s4_meta$24$clock = clock;
         s4_old$24$clock = clock;
+        s4_old2$24$clock = clock;
         s4_walk$24$clock = clock;
         s4_enter$24$clock = clock;
         meta$24$clock = clock;
         head$24$clock = clock;
+        head2$24$clock = clock;
         rec$24$clock = clock;
+        rec2$24$clock = clock;
         e_rem$24$clock = clock;
         e_head$24$clock = clock;
+        e_head2$24$clock = clock;
         e_sel$24$clock = clock;
         e_rem$24$d = e_rem$24$q;
         e_head$24$d = e_head$24$q;
+        e_head2$24$d = e_head2$24$q;
         e_sel$24$d = e_sel$24$q;
         s5_live$25$clock = clock;
         s5_head$25$clock = clock;
+        s5_head2$25$clock = clock;
         s5_enter$25$clock = clock;
         s5_wrote$25$clock = clock;
         s5_meta_w$25$clock = clock;
         s4_meta$25$clock = clock;
         s4_old$25$clock = clock;
+        s4_old2$25$clock = clock;
         s4_walk$25$clock = clock;
         s4_enter$25$clock = clock;
         meta$25$clock = clock;
         head$25$clock = clock;
+        head2$25$clock = clock;
         rec$25$clock = clock;
+        rec2$25$clock = clock;
         e_rem$25$clock = clock;
         e_head$25$clock = clock;
+        e_head2$25$clock = clock;
         e_sel$25$clock = clock;
         e_rem$25$d = e_rem$25$q;
         e_head$25$d = e_head$25$q;
+        e_head2$25$d = e_head2$25$q;
         e_sel$25$d = e_sel$25$q;
         s5_live$26$clock = clock;
         s5_head$26$clock = clock;
+        s5_head2$26$clock = clock;
         s5_enter$26$clock = clock;
         s5_wrote$26$clock = clock;
         s5_meta_w$26$clock = clock;
         s4_meta$26$clock = clock;
         s4_old$26$clock = clock;
+        s4_old2$26$clock = clock;
         s4_walk$26$clock = clock;
         s4_enter$26$clock = clock;
         meta$26$clock = clock;
         head$26$clock = clock;
+        head2$26$clock = clock;
         rec$26$clock = clock;
+        rec2$26$clock = clock;
         e_rem$26$clock = clock;
         e_head$26$clock = clock;
+        e_head2$26$clock = clock;
         e_sel$26$clock = clock;
         e_rem$26$d = e_rem$26$q;
         e_head$26$d = e_head$26$q;
+        e_head2$26$d = e_head2$26$q;
         e_sel$26$d = e_sel$26$q;
         s5_live$27$clock = clock;
         s5_head$27$clock = clock;
+        s5_head2$27$clock = clock;
         s5_enter$27$clock = clock;
         s5_wrote$27$clock = clock;
         s5_meta_w$27$clock = clock;
         s4_meta$27$clock = clock;
         s4_old$27$clock = clock;
+        s4_old2$27$clock = clock;
         s4_walk$27$clock = clock;
         s4_enter$27$clock = clock;
         meta$27$clock = clock;
         head$27$clock = clock;
+        head2$27$clock = clock;
         rec$27$clock = clock;
+        rec2$27$clock = clock;
         e_rem$27$clock = clock;
         e_head$27$clock = clock;
+        e_head2$27$clock = clock;
         e_sel$27$clock = clock;
         e_rem$27$d = e_rem$27$q;
         e_head$27$d = e_head$27$q;
+        e_head2$27$d = e_head2$27$q;
         e_sel$27$d = e_sel$27$q;
         s5_live$28$clock = clock;
         s5_head$28$clock = clock;
+        s5_head2$28$clock = clock;
         s5_enter$28$clock = clock;
         s5_wrote$28$clock = clock;
         s5_meta_w$28$clock = clock;
         s4_meta$28$clock = clock;
         s4_old$28$clock = clock;
+        s4_old2$28$clock = clock;
         s4_walk$28$clock = clock;
         s4_enter$28$clock = clock;
         meta$28$clock = clock;
         head$28$clock = clock;
+        head2$28$clock = clock;
         rec$28$clock = clock;
+        rec2$28$clock = clock;
         e_rem$28$clock = clock;
         e_head$28$clock = clock;
+        e_head2$28$clock = clock;
         e_sel$28$clock = clock;
         e_rem$28$d = e_rem$28$q;
         e_head$28$d = e_head$28$q;
+        e_head2$28$d = e_head2$28$q;
         e_sel$28$d = e_sel$28$q;
         s5_live$29$clock = clock;
         s5_head$29$clock = clock;
+        s5_head2$29$clock = clock;
         s5_enter$29$clock = clock;
         s5_wrote$29$clock = clock;
         s5_meta_w$29$clock = clock;
         s4_meta$29$clock = clock;
         s4_old$29$clock = clock;
+        s4_old2$29$clock = clock;
         s4_walk$29$clock = clock;
         s4_enter$29$clock = clock;
         meta$29$clock = clock;
         head$29$clock = clock;
+        head2$29$clock = clock;
         rec$29$clock = clock;
+        rec2$29$clock = clock;
         e_rem$29$clock = clock;
         e_head$29$clock = clock;
+        e_head2$29$clock = clock;
         e_sel$29$clock = clock;
         e_rem$29$d = e_rem$29$q;
         e_head$29$d = e_head$29$q;
+        e_head2$29$d = e_head2$29$q;
         e_sel$29$d = e_sel$29$q;
         s5_live$30$clock = clock;
         s5_head$30$clock = clock;
+        s5_head2$30$clock = clock;
         s5_enter$30$clock = clock;
         s5_wrote$30$clock = clock;
         s5_meta_w$30$clock = clock;
         s4_meta$30$clock = clock;
         s4_old$30$clock = clock;
+        s4_old2$30$clock = clock;
         s4_walk$30$clock = clock;
         s4_enter$30$clock = clock;
         meta$30$clock = clock;
         head$30$clock = clock;
+        head2$30$clock = clock;
         rec$30$clock = clock;
+        rec2$30$clock = clock;
         e_rem$30$clock = clock;
         e_head$30$clock = clock;
+        e_head2$30$clock = clock;
         e_sel$30$clock = clock;
         e_rem$30$d = e_rem$30$q;
         e_head$30$d = e_head$30$q;
+        e_head2$30$d = e_head2$30$q;
         e_sel$30$d = e_sel$30$q;
         s5_live$31$clock = clock;
         s5_head$31$clock = clock;
+        s5_head2$31$clock = clock;
         s5_enter$31$clock = clock;
         s5_wrote$31$clock = clock;
         s5_meta_w$31$clock = clock;
         s4_meta$31$clock = clock;
         s4_old$31$clock = clock;
+        s4_old2$31$clock = clock;
         s4_walk$31$clock = clock;
         s4_enter$31$clock = clock;
         meta$31$clock = clock;
         head$31$clock = clock;
+        head2$31$clock = clock;
         rec$31$clock = clock;
+        rec2$31$clock = clock;
         e_rem$31$clock = clock;
         e_head$31$clock = clock;
+        e_head2$31$clock = clock;
         e_sel$31$clock = clock;
         e_rem$31$d = e_rem$31$q;
         e_head$31$d = e_head$31$q;
+        e_head2$31$d = e_head2$31$q;
         e_sel$31$d = e_sel$31$q;
         s5_live$32$clock = clock;
         s5_head$32$clock = clock;
+        s5_head2$32$clock = clock;
         s5_enter$32$clock = clock;
         s5_wrote$32$clock = clock;
         s5_meta_w$32$clock = clock;
         s4_meta$32$clock = clock;
         s4_old$32$clock = clock;
+        s4_old2$32$clock = clock;
         s4_walk$32$clock = clock;
         s4_enter$32$clock = clock;
         meta$32$clock = clock;
         head$32$clock = clock;
+        head2$32$clock = clock;
         rec$32$clock = clock;
+        rec2$32$clock = clock;
         e_rem$32$clock = clock;
         e_head$32$clock = clock;
+        e_head2$32$clock = clock;
         e_sel$32$clock = clock;
         e_rem$32$d = e_rem$32$q;
         e_head$32$d = e_head$32$q;
+        e_head2$32$d = e_head2$32$q;
         e_sel$32$d = e_sel$32$q;
         s5_live$33$clock = clock;
         s5_head$33$clock = clock;
+        s5_head2$33$clock = clock;
         s5_enter$33$clock = clock;
         s5_wrote$33$clock = clock;
         s5_meta_w$33$clock = clock;
         s4_meta$33$clock = clock;
         s4_old$33$clock = clock;
+        s4_old2$33$clock = clock;
         s4_walk$33$clock = clock;
         s4_enter$33$clock = clock;
         meta$33$clock = clock;
         head$33$clock = clock;
+        head2$33$clock = clock;
         rec$33$clock = clock;
+        rec2$33$clock = clock;
         e_rem$33$clock = clock;
         e_head$33$clock = clock;
+        e_head2$33$clock = clock;
         e_sel$33$clock = clock;
         e_rem$33$d = e_rem$33$q;
         e_head$33$d = e_head$33$q;
+        e_head2$33$d = e_head2$33$q;
         e_sel$33$d = e_sel$33$q;
         s5_live$34$clock = clock;
         s5_head$34$clock = clock;
+        s5_head2$34$clock = clock;
         s5_enter$34$clock = clock;
         s5_wrote$34$clock = clock;
         s5_meta_w$34$clock = clock;
         s4_meta$34$clock = clock;
         s4_old$34$clock = clock;
+        s4_old2$34$clock = clock;
         s4_walk$34$clock = clock;
         s4_enter$34$clock = clock;
         meta$34$clock = clock;
         head$34$clock = clock;
+        head2$34$clock = clock;
         rec$34$clock = clock;
+        rec2$34$clock = clock;
         e_rem$34$clock = clock;
         e_head$34$clock = clock;
+        e_head2$34$clock = clock;
         e_sel$34$clock = clock;
         e_rem$34$d = e_rem$34$q;
         e_head$34$d = e_head$34$q;
+        e_head2$34$d = e_head2$34$q;
         e_sel$34$d = e_sel$34$q;
         s5_live$35$clock = clock;
         s5_head$35$clock = clock;
+        s5_head2$35$clock = clock;
         s5_enter$35$clock = clock;
         s5_wrote$35$clock = clock;
         s5_meta_w$35$clock = clock;
         s4_meta$35$clock = clock;
         s4_old$35$clock = clock;
+        s4_old2$35$clock = clock;
         s4_walk$35$clock = clock;
         s4_enter$35$clock = clock;
         meta$35$clock = clock;
         head$35$clock = clock;
+        head2$35$clock = clock;
         rec$35$clock = clock;
+        rec2$35$clock = clock;
         e_rem$35$clock = clock;
         e_head$35$clock = clock;
+        e_head2$35$clock = clock;
         e_sel$35$clock = clock;
         e_rem$35$d = e_rem$35$q;
         e_head$35$d = e_head$35$q;
+        e_head2$35$d = e_head2$35$q;
         e_sel$35$d = e_sel$35$q;
         s5_live$36$clock = clock;
         s5_head$36$clock = clock;
+        s5_head2$36$clock = clock;
         s5_enter$36$clock = clock;
         s5_wrote$36$clock = clock;
         s5_meta_w$36$clock = clock;
         s4_meta$36$clock = clock;
         s4_old$36$clock = clock;
+        s4_old2$36$clock = clock;
         s4_walk$36$clock = clock;
         s4_enter$36$clock = clock;
         meta$36$clock = clock;
         head$36$clock = clock;
+        head2$36$clock = clock;
         rec$36$clock = clock;
+        rec2$36$clock = clock;
         e_rem$36$clock = clock;
         e_head$36$clock = clock;
+        e_head2$36$clock = clock;
         e_sel$36$clock = clock;
         e_rem$36$d = e_rem$36$q;
         e_head$36$d = e_head$36$q;
+        e_head2$36$d = e_head2$36$q;
         e_sel$36$d = e_sel$36$q;
         s5_live$37$clock = clock;
         s5_head$37$clock = clock;
+        s5_head2$37$clock = clock;
         s5_enter$37$clock = clock;
         s5_wrote$37$clock = clock;
         s5_meta_w$37$clock = clock;
         s4_meta$37$clock = clock;
         s4_old$37$clock = clock;
+        s4_old2$37$clock = clock;
         s4_walk$37$clock = clock;
         s4_enter$37$clock = clock;
         meta$37$clock = clock;
         head$37$clock = clock;
+        head2$37$clock = clock;
         rec$37$clock = clock;
+        rec2$37$clock = clock;
         e_rem$37$clock = clock;
         e_head$37$clock = clock;
+        e_head2$37$clock = clock;
         e_sel$37$clock = clock;
         e_rem$37$d = e_rem$37$q;
         e_head$37$d = e_head$37$q;
+        e_head2$37$d = e_head2$37$q;
         e_sel$37$d = e_sel$37$q;
         s5_live$38$clock = clock;
         s5_head$38$clock = clock;
+        s5_head2$38$clock = clock;
         s5_enter$38$clock = clock;
         s5_wrote$38$clock = clock;
         s5_meta_w$38$clock = clock;
         s4_meta$38$clock = clock;
         s4_old$38$clock = clock;
+        s4_old2$38$clock = clock;
         s4_walk$38$clock = clock;
         s4_enter$38$clock = clock;
         meta$38$clock = clock;
         head$38$clock = clock;
+        head2$38$clock = clock;
         rec$38$clock = clock;
+        rec2$38$clock = clock;
         e_rem$38$clock = clock;
         e_head$38$clock = clock;
+        e_head2$38$clock = clock;
         e_sel$38$clock = clock;
         e_rem$38$d = e_rem$38$q;
         e_head$38$d = e_head$38$q;
+        e_head2$38$d = e_head2$38$q;
         e_sel$38$d = e_sel$38$q;
         s5_live$39$clock = clock;
         s5_head$39$clock = clock;
+        s5_head2$39$clock = clock;
         s5_enter$39$clock = clock;
         s5_wrote$39$clock = clock;
         s5_meta_w$39$clock = clock;
         s4_meta$39$clock = clock;
         s4_old$39$clock = clock;
+        s4_old2$39$clock = clock;
         s4_walk$39$clock = clock;
         s4_enter$39$clock = clock;
         meta$39$clock = clock;
         head$39$clock = clock;
+        head2$39$clock = clock;
         rec$39$clock = clock;
+        rec2$39$clock = clock;
         e_rem$39$clock = clock;
         e_head$39$clock = clock;
+        e_head2$39$clock = clock;
         e_sel$39$clock = clock;
         e_rem$39$d = e_rem$39$q;
         e_head$39$d = e_head$39$q;
+        e_head2$39$d = e_head2$39$q;
         e_sel$39$d = e_sel$39$q;
         s5_live$40$clock = clock;
         s5_head$40$clock = clock;
+        s5_head2$40$clock = clock;
         s5_enter$40$clock = clock;
         s5_wrote$40$clock = clock;
         s5_meta_w$40$clock = clock;
         s4_meta$40$clock = clock;
         s4_old$40$clock = clock;
+        s4_old2$40$clock = clock;
         s4_walk$40$clock = clock;
         s4_enter$40$clock = clock;
         meta$40$clock = clock;
         head$40$clock = clock;
+        head2$40$clock = clock;
         rec$40$clock = clock;
+        rec2$40$clock = clock;
         e_rem$40$clock = clock;
         e_head$40$clock = clock;
+        e_head2$40$clock = clock;
         e_sel$40$clock = clock;
         e_rem$40$d = e_rem$40$q;
         e_head$40$d = e_head$40$q;
+        e_head2$40$d = e_head2$40$q;
         e_sel$40$d = e_sel$40$q;
         s5_live$41$clock = clock;
         s5_head$41$clock = clock;
+        s5_head2$41$clock = clock;
         s5_enter$41$clock = clock;
         s5_wrote$41$clock = clock;
         s5_meta_w$41$clock = clock;
         s4_meta$41$clock = clock;
         s4_old$41$clock = clock;
+        s4_old2$41$clock = clock;
         s4_walk$41$clock = clock;
         s4_enter$41$clock = clock;
         meta$41$clock = clock;
         head$41$clock = clock;
+        head2$41$clock = clock;
         rec$41$clock = clock;
+        rec2$41$clock = clock;
         e_rem$41$clock = clock;
         e_head$41$clock = clock;
+        e_head2$41$clock = clock;
         e_sel$41$clock = clock;
         e_rem$41$d = e_rem$41$q;
         e_head$41$d = e_head$41$q;
+        e_head2$41$d = e_head2$41$q;
         e_sel$41$d = e_sel$41$q;
         s5_live$42$clock = clock;
         s5_head$42$clock = clock;
+        s5_head2$42$clock = clock;
         s5_enter$42$clock = clock;
         s5_wrote$42$clock = clock;
         s5_meta_w$42$clock = clock;
         s4_meta$42$clock = clock;
         s4_old$42$clock = clock;
+        s4_old2$42$clock = clock;
         s4_walk$42$clock = clock;
         s4_enter$42$clock = clock;
         meta$42$clock = clock;
         head$42$clock = clock;
+        head2$42$clock = clock;
         rec$42$clock = clock;
+        rec2$42$clock = clock;
         e_rem$42$clock = clock;
         e_head$42$clock = clock;
+        e_head2$42$clock = clock;
         e_sel$42$clock = clock;
         e_rem$42$d = e_rem$42$q;
         e_head$42$d = e_head$42$q;
+        e_head2$42$d = e_head2$42$q;
         e_sel$42$d = e_sel$42$q;
         s5_live$43$clock = clock;
         s5_head$43$clock = clock;
+        s5_head2$43$clock = clock;
         s5_enter$43$clock = clock;
         s5_wrote$43$clock = clock;
         s5_meta_w$43$clock = clock;
         s4_meta$43$clock = clock;
         s4_old$43$clock = clock;
+        s4_old2$43$clock = clock;
         s4_walk$43$clock = clock;
         s4_enter$43$clock = clock;
         meta$43$clock = clock;
         head$43$clock = clock;
+        head2$43$clock = clock;
         rec$43$clock = clock;
+        rec2$43$clock = clock;
         e_rem$43$clock = clock;
         e_head$43$clock = clock;
+        e_head2$43$clock = clock;
         e_sel$43$clock = clock;
         e_rem$43$d = e_rem$43$q;
         e_head$43$d = e_head$43$q;
+        e_head2$43$d = e_head2$43$q;
         e_sel$43$d = e_sel$43$q;
         s5_live$44$clock = clock;
         s5_head$44$clock = clock;
+        s5_head2$44$clock = clock;
         s5_enter$44$clock = clock;
         s5_wrote$44$clock = clock;
         s5_meta_w$44$clock = clock;
         s4_meta$44$clock = clock;
         s4_old$44$clock = clock;
+        s4_old2$44$clock = clock;
         s4_walk$44$clock = clock;
         s4_enter$44$clock = clock;
         meta$44$clock = clock;
         head$44$clock = clock;
+        head2$44$clock = clock;
         rec$44$clock = clock;
+        rec2$44$clock = clock;
         e_rem$44$clock = clock;
         e_head$44$clock = clock;
+        e_head2$44$clock = clock;
         e_sel$44$clock = clock;
         e_rem$44$d = e_rem$44$q;
         e_head$44$d = e_head$44$q;
+        e_head2$44$d = e_head2$44$q;
         e_sel$44$d = e_sel$44$q;
         s5_live$45$clock = clock;
         s5_head$45$clock = clock;
+        s5_head2$45$clock = clock;
         s5_enter$45$clock = clock;
         s5_wrote$45$clock = clock;
         s5_meta_w$45$clock = clock;
         s4_meta$45$clock = clock;
         s4_old$45$clock = clock;
+        s4_old2$45$clock = clock;
         s4_walk$45$clock = clock;
         s4_enter$45$clock = clock;
         meta$45$clock = clock;
         head$45$clock = clock;
+        head2$45$clock = clock;
         rec$45$clock = clock;
+        rec2$45$clock = clock;
         e_rem$45$clock = clock;
         e_head$45$clock = clock;
+        e_head2$45$clock = clock;
         e_sel$45$clock = clock;
         e_rem$45$d = e_rem$45$q;
         e_head$45$d = e_head$45$q;
+        e_head2$45$d = e_head2$45$q;
         e_sel$45$d = e_sel$45$q;
         s5_live$46$clock = clock;
         s5_head$46$clock = clock;
+        s5_head2$46$clock = clock;
         s5_enter$46$clock = clock;
         s5_wrote$46$clock = clock;
         s5_meta_w$46$clock = clock;
         s4_meta$46$clock = clock;
         s4_old$46$clock = clock;
+        s4_old2$46$clock = clock;
         s4_walk$46$clock = clock;
         s4_enter$46$clock = clock;
         meta$46$clock = clock;
         head$46$clock = clock;
+        head2$46$clock = clock;
         rec$46$clock = clock;
+        rec2$46$clock = clock;
         e_rem$46$clock = clock;
         e_head$46$clock = clock;
+        e_head2$46$clock = clock;
         e_sel$46$clock = clock;
         e_rem$46$d = e_rem$46$q;
         e_head$46$d = e_head$46$q;
+        e_head2$46$d = e_head2$46$q;
         e_sel$46$d = e_sel$46$q;
         s5_live$47$clock = clock;
         s5_head$47$clock = clock;
+        s5_head2$47$clock = clock;
         s5_enter$47$clock = clock;
         s5_wrote$47$clock = clock;
         s5_meta_w$47$clock = clock;
         s4_meta$47$clock = clock;
         s4_old$47$clock = clock;
+        s4_old2$47$clock = clock;
         s4_walk$47$clock = clock;
         s4_enter$47$clock = clock;
         meta$47$clock = clock;
         head$47$clock = clock;
+        head2$47$clock = clock;
         rec$47$clock = clock;
+        rec2$47$clock = clock;
         e_rem$47$clock = clock;
         e_head$47$clock = clock;
+        e_head2$47$clock = clock;
         e_sel$47$clock = clock;
         e_rem$47$d = e_rem$47$q;
         e_head$47$d = e_head$47$q;
+        e_head2$47$d = e_head2$47$q;
         e_sel$47$d = e_sel$47$q;
         s5_live$48$clock = clock;
         s5_head$48$clock = clock;
+        s5_head2$48$clock = clock;
         s5_enter$48$clock = clock;
         s5_wrote$48$clock = clock;
         s5_meta_w$48$clock = clock;
         s4_meta$48$clock = clock;
         s4_old$48$clock = clock;
+        s4_old2$48$clock = clock;
         s4_walk$48$clock = clock;
         s4_enter$48$clock = clock;
         meta$48$clock = clock;
         head$48$clock = clock;
+        head2$48$clock = clock;
         rec$48$clock = clock;
+        rec2$48$clock = clock;
         e_rem$48$clock = clock;
         e_head$48$clock = clock;
+        e_head2$48$clock = clock;
         e_sel$48$clock = clock;
         e_rem$48$d = e_rem$48$q;
         e_head$48$d = e_head$48$q;
+        e_head2$48$d = e_head2$48$q;
         e_sel$48$d = e_sel$48$q;
         s5_live$49$clock = clock;
         s5_head$49$clock = clock;
+        s5_head2$49$clock = clock;
         s5_enter$49$clock = clock;
         s5_wrote$49$clock = clock;
         s5_meta_w$49$clock = clock;
         s4_meta$49$clock = clock;
         s4_old$49$clock = clock;
+        s4_old2$49$clock = clock;
         s4_walk$49$clock = clock;
         s4_enter$49$clock = clock;
         meta$49$clock = clock;
         head$49$clock = clock;
+        head2$49$clock = clock;
         rec$49$clock = clock;
+        rec2$49$clock = clock;
         e_rem$49$clock = clock;
         e_head$49$clock = clock;
+        e_head2$49$clock = clock;
         e_sel$49$clock = clock;
         e_rem$49$d = e_rem$49$q;
         e_head$49$d = e_head$49$q;
+        e_head2$49$d = e_head2$49$q;
         e_sel$49$d = e_sel$49$q;
         s5_live$50$clock = clock;
         s5_head$50$clock = clock;
+        s5_head2$50$clock = clock;
         s5_enter$50$clock = clock;
         s5_wrote$50$clock = clock;
         s5_meta_w$50$clock = clock;
         s4_meta$50$clock = clock;
         s4_old$50$clock = clock;
+        s4_old2$50$clock = clock;
         s4_walk$50$clock = clock;
         s4_enter$50$clock = clock;
         meta$50$clock = clock;
         head$50$clock = clock;
+        head2$50$clock = clock;
         rec$50$clock = clock;
+        rec2$50$clock = clock;
         e_rem$50$clock = clock;
         e_head$50$clock = clock;
+        e_head2$50$clock = clock;
         e_sel$50$clock = clock;
         e_rem$50$d = e_rem$50$q;
         e_head$50$d = e_head$50$q;
+        e_head2$50$d = e_head2$50$q;
         e_sel$50$d = e_sel$50$q;
         s5_live$51$clock = clock;
         s5_head$51$clock = clock;
+        s5_head2$51$clock = clock;
         s5_enter$51$clock = clock;
         s5_wrote$51$clock = clock;
         s5_meta_w$51$clock = clock;
         s4_meta$51$clock = clock;
         s4_old$51$clock = clock;
+        s4_old2$51$clock = clock;
         s4_walk$51$clock = clock;
         s4_enter$51$clock = clock;
         meta$51$clock = clock;
         head$51$clock = clock;
+        head2$51$clock = clock;
         rec$51$clock = clock;
+        rec2$51$clock = clock;
         e_rem$51$clock = clock;
         e_head$51$clock = clock;
+        e_head2$51$clock = clock;
         e_sel$51$clock = clock;
         e_rem$51$d = e_rem$51$q;
         e_head$51$d = e_head$51$q;
+        e_head2$51$d = e_head2$51$q;
         e_sel$51$d = e_sel$51$q;
         s5_live$52$clock = clock;
         s5_head$52$clock = clock;
+        s5_head2$52$clock = clock;
         s5_enter$52$clock = clock;
         s5_wrote$52$clock = clock;
         s5_meta_w$52$clock = clock;
         s4_meta$52$clock = clock;
         s4_old$52$clock = clock;
+        s4_old2$52$clock = clock;
         s4_walk$52$clock = clock;
         s4_enter$52$clock = clock;
         meta$52$clock = clock;
         head$52$clock = clock;
+        head2$52$clock = clock;
         rec$52$clock = clock;
+        rec2$52$clock = clock;
         e_rem$52$clock = clock;
         e_head$52$clock = clock;
+        e_head2$52$clock = clock;
         e_sel$52$clock = clock;
         e_rem$52$d = e_rem$52$q;
         e_head$52$d = e_head$52$q;
+        e_head2$52$d = e_head2$52$q;
         e_sel$52$d = e_sel$52$q;
         s5_live$53$clock = clock;
         s5_head$53$clock = clock;
+        s5_head2$53$clock = clock;
         s5_enter$53$clock = clock;
         s5_wrote$53$clock = clock;
         s5_meta_w$53$clock = clock;
         s4_meta$53$clock = clock;
         s4_old$53$clock = clock;
+        s4_old2$53$clock = clock;
         s4_walk$53$clock = clock;
         s4_enter$53$clock = clock;
         meta$53$clock = clock;
         head$53$clock = clock;
+        head2$53$clock = clock;
         rec$53$clock = clock;
+        rec2$53$clock = clock;
         e_rem$53$clock = clock;
         e_head$53$clock = clock;
+        e_head2$53$clock = clock;
         e_sel$53$clock = clock;
         e_rem$53$d = e_rem$53$q;
         e_head$53$d = e_head$53$q;
+        e_head2$53$d = e_head2$53$q;
         e_sel$53$d = e_sel$53$q;
         s5_live$54$clock = clock;
         s5_head$54$clock = clock;
+        s5_head2$54$clock = clock;
         s5_enter$54$clock = clock;
         s5_wrote$54$clock = clock;
         s5_meta_w$54$clock = clock;
         s4_meta$54$clock = clock;
         s4_old$54$clock = clock;
+        s4_old2$54$clock = clock;
         s4_walk$54$clock = clock;
         s4_enter$54$clock = clock;
         meta$54$clock = clock;
         head$54$clock = clock;
+        head2$54$clock = clock;
         rec$54$clock = clock;
+        rec2$54$clock = clock;
         e_rem$54$clock = clock;
         e_head$54$clock = clock;
+        e_head2$54$clock = clock;
         e_sel$54$clock = clock;
         e_rem$54$d = e_rem$54$q;
         e_head$54$d = e_head$54$q;
+        e_head2$54$d = e_head2$54$q;
         e_sel$54$d = e_sel$54$q;
         s5_live$55$clock = clock;
         s5_head$55$clock = clock;
+        s5_head2$55$clock = clock;
         s5_enter$55$clock = clock;
         s5_wrote$55$clock = clock;
         s5_meta_w$55$clock = clock;
         s4_meta$55$clock = clock;
         s4_old$55$clock = clock;
+        s4_old2$55$clock = clock;
         s4_walk$55$clock = clock;
         s4_enter$55$clock = clock;
         meta$55$clock = clock;
         head$55$clock = clock;
+        head2$55$clock = clock;
         rec$55$clock = clock;
+        rec2$55$clock = clock;
         e_rem$55$clock = clock;
         e_head$55$clock = clock;
+        e_head2$55$clock = clock;
         e_sel$55$clock = clock;
         e_rem$55$d = e_rem$55$q;
         e_head$55$d = e_head$55$q;
+        e_head2$55$d = e_head2$55$q;
         e_sel$55$d = e_sel$55$q;
         s5_live$56$clock = clock;
         s5_head$56$clock = clock;
+        s5_head2$56$clock = clock;
         s5_enter$56$clock = clock;
         s5_wrote$56$clock = clock;
         s5_meta_w$56$clock = clock;
         s4_meta$56$clock = clock;
         s4_old$56$clock = clock;
+        s4_old2$56$clock = clock;
         s4_walk$56$clock = clock;
         s4_enter$56$clock = clock;
         meta$56$clock = clock;
         head$56$clock = clock;
+        head2$56$clock = clock;
         rec$56$clock = clock;
+        rec2$56$clock = clock;
         e_rem$56$clock = clock;
         e_head$56$clock = clock;
+        e_head2$56$clock = clock;
         e_sel$56$clock = clock;
         e_rem$56$d = e_rem$56$q;
         e_head$56$d = e_head$56$q;
+        e_head2$56$d = e_head2$56$q;
         e_sel$56$d = e_sel$56$q;
         s5_live$57$clock = clock;
         s5_head$57$clock = clock;
+        s5_head2$57$clock = clock;
         s5_enter$57$clock = clock;
         s5_wrote$57$clock = clock;
         s5_meta_w$57$clock = clock;
         s4_meta$57$clock = clock;
         s4_old$57$clock = clock;
+        s4_old2$57$clock = clock;
         s4_walk$57$clock = clock;
         s4_enter$57$clock = clock;
         meta$57$clock = clock;
         head$57$clock = clock;
+        head2$57$clock = clock;
         rec$57$clock = clock;
+        rec2$57$clock = clock;
         e_rem$57$clock = clock;
         e_head$57$clock = clock;
+        e_head2$57$clock = clock;
         e_sel$57$clock = clock;
         e_rem$57$d = e_rem$57$q;
         e_head$57$d = e_head$57$q;
+        e_head2$57$d = e_head2$57$q;
         e_sel$57$d = e_sel$57$q;
         s5_live$58$clock = clock;
         s5_head$58$clock = clock;
+        s5_head2$58$clock = clock;
         s5_enter$58$clock = clock;
         s5_wrote$58$clock = clock;
         s5_meta_w$58$clock = clock;
         s4_meta$58$clock = clock;
         s4_old$58$clock = clock;
+        s4_old2$58$clock = clock;
         s4_walk$58$clock = clock;
         s4_enter$58$clock = clock;
         meta$58$clock = clock;
         head$58$clock = clock;
+        head2$58$clock = clock;
         rec$58$clock = clock;
+        rec2$58$clock = clock;
         e_rem$58$clock = clock;
         e_head$58$clock = clock;
+        e_head2$58$clock = clock;
         e_sel$58$clock = clock;
         e_rem$58$d = e_rem$58$q;
         e_head$58$d = e_head$58$q;
+        e_head2$58$d = e_head2$58$q;
         e_sel$58$d = e_sel$58$q;
         s5_live$59$clock = clock;
         s5_head$59$clock = clock;
+        s5_head2$59$clock = clock;
         s5_enter$59$clock = clock;
         s5_wrote$59$clock = clock;
         s5_meta_w$59$clock = clock;
         s4_meta$59$clock = clock;
         s4_old$59$clock = clock;
+        s4_old2$59$clock = clock;
         s4_walk$59$clock = clock;
         s4_enter$59$clock = clock;
         meta$59$clock = clock;
         head$59$clock = clock;
+        head2$59$clock = clock;
         rec$59$clock = clock;
+        rec2$59$clock = clock;
         e_rem$59$clock = clock;
         e_head$59$clock = clock;
+        e_head2$59$clock = clock;
         e_sel$59$clock = clock;
         e_rem$59$d = e_rem$59$q;
         e_head$59$d = e_head$59$q;
+        e_head2$59$d = e_head2$59$q;
         e_sel$59$d = e_sel$59$q;
         s5_live$60$clock = clock;
         s5_head$60$clock = clock;
+        s5_head2$60$clock = clock;
         s5_enter$60$clock = clock;
         s5_wrote$60$clock = clock;
         s5_meta_w$60$clock = clock;
         s4_meta$60$clock = clock;
         s4_old$60$clock = clock;
+        s4_old2$60$clock = clock;
         s4_walk$60$clock = clock;
         s4_enter$60$clock = clock;
         meta$60$clock = clock;
         head$60$clock = clock;
+        head2$60$clock = clock;
         rec$60$clock = clock;
+        rec2$60$clock = clock;
         e_rem$60$clock = clock;
         e_head$60$clock = clock;
+        e_head2$60$clock = clock;
         e_sel$60$clock = clock;
         e_rem$60$d = e_rem$60$q;
         e_head$60$d = e_head$60$q;
+        e_head2$60$d = e_head2$60$q;
         e_sel$60$d = e_sel$60$q;
         s5_live$61$clock = clock;
         s5_head$61$clock = clock;
+        s5_head2$61$clock = clock;
         s5_enter$61$clock = clock;
         s5_wrote$61$clock = clock;
         s5_meta_w$61$clock = clock;
         s4_meta$61$clock = clock;
         s4_old$61$clock = clock;
+        s4_old2$61$clock = clock;
         s4_walk$61$clock = clock;
         s4_enter$61$clock = clock;
         meta$61$clock = clock;
         head$61$clock = clock;
+        head2$61$clock = clock;
         rec$61$clock = clock;
+        rec2$61$clock = clock;
         e_rem$61$clock = clock;
         e_head$61$clock = clock;
+        e_head2$61$clock = clock;
         e_sel$61$clock = clock;
         e_rem$61$d = e_rem$61$q;
         e_head$61$d = e_head$61$q;
+        e_head2$61$d = e_head2$61$q;
         e_sel$61$d = e_sel$61$q;
         s5_live$62$clock = clock;
         s5_head$62$clock = clock;
+        s5_head2$62$clock = clock;
         s5_enter$62$clock = clock;
         s5_wrote$62$clock = clock;
         s5_meta_w$62$clock = clock;
         s4_meta$62$clock = clock;
         s4_old$62$clock = clock;
+        s4_old2$62$clock = clock;
         s4_walk$62$clock = clock;
         s4_enter$62$clock = clock;
         meta$62$clock = clock;
         head$62$clock = clock;
+        head2$62$clock = clock;
         rec$62$clock = clock;
+        rec2$62$clock = clock;
         e_rem$62$clock = clock;
         e_head$62$clock = clock;
+        e_head2$62$clock = clock;
         e_sel$62$clock = clock;
         e_rem$62$d = e_rem$62$q;
         e_head$62$d = e_head$62$q;
+        e_head2$62$d = e_head2$62$q;
         e_sel$62$d = e_sel$62$q;
         s5_live$63$clock = clock;
         s5_head$63$clock = clock;
+        s5_head2$63$clock = clock;
         s5_enter$63$clock = clock;
         s5_wrote$63$clock = clock;
         s5_meta_w$63$clock = clock;
         s4_meta$63$clock = clock;
         s4_old$63$clock = clock;
+        s4_old2$63$clock = clock;
         s4_walk$63$clock = clock;
         s4_enter$63$clock = clock;
         meta$63$clock = clock;
         head$63$clock = clock;
+        head2$63$clock = clock;
         rec$63$clock = clock;
+        rec2$63$clock = clock;
         e_rem$63$clock = clock;
         e_head$63$clock = clock;
+        e_head2$63$clock = clock;
         e_sel$63$clock = clock;
         e_rem$63$d = e_rem$63$q;
         e_head$63$d = e_head$63$q;
+        e_head2$63$d = e_head2$63$q;
         e_sel$63$d = e_sel$63$q;
         s5_live$64$clock = clock;
         s5_head$64$clock = clock;
+        s5_head2$64$clock = clock;
         s5_enter$64$clock = clock;
         s5_wrote$64$clock = clock;
         s5_meta_w$64$clock = clock;
         s4_meta$64$clock = clock;
         s4_old$64$clock = clock;
+        s4_old2$64$clock = clock;
         s4_walk$64$clock = clock;
         s4_enter$64$clock = clock;
         meta$64$clock = clock;
         head$64$clock = clock;
+        head2$64$clock = clock;
         rec$64$clock = clock;
+        rec2$64$clock = clock;
         e_rem$64$clock = clock;
         e_head$64$clock = clock;
+        e_head2$64$clock = clock;
         e_sel$64$clock = clock;
         e_rem$64$d = e_rem$64$q;
         e_head$64$d = e_head$64$q;
+        e_head2$64$d = e_head2$64$q;
         e_sel$64$d = e_sel$64$q;
         s5_live$65$clock = clock;
         s5_head$65$clock = clock;
+        s5_head2$65$clock = clock;
         s5_enter$65$clock = clock;
         s5_wrote$65$clock = clock;
         s5_meta_w$65$clock = clock;
         s4_meta$65$clock = clock;
         s4_old$65$clock = clock;
+        s4_old2$65$clock = clock;
         s4_walk$65$clock = clock;
         s4_enter$65$clock = clock;
         meta$65$clock = clock;
         head$65$clock = clock;
+        head2$65$clock = clock;
         rec$65$clock = clock;
+        rec2$65$clock = clock;
         e_rem$65$clock = clock;
         e_head$65$clock = clock;
+        e_head2$65$clock = clock;
         e_sel$65$clock = clock;
         e_rem$65$d = e_rem$65$q;
         e_head$65$d = e_head$65$q;
+        e_head2$65$d = e_head2$65$q;
         e_sel$65$d = e_sel$65$q;
         s5_live$66$clock = clock;
         s5_head$66$clock = clock;
+        s5_head2$66$clock = clock;
         s5_enter$66$clock = clock;
         s5_wrote$66$clock = clock;
         s5_meta_w$66$clock = clock;
         s4_meta$66$clock = clock;
         s4_old$66$clock = clock;
+        s4_old2$66$clock = clock;
         s4_walk$66$clock = clock;
         s4_enter$66$clock = clock;
         meta$66$clock = clock;
         head$66$clock = clock;
+        head2$66$clock = clock;
         rec$66$clock = clock;
+        rec2$66$clock = clock;
         e_rem$66$clock = clock;
         e_head$66$clock = clock;
+        e_head2$66$clock = clock;
         e_sel$66$clock = clock;
         e_rem$66$d = e_rem$66$q;
         e_head$66$d = e_head$66$q;
+        e_head2$66$d = e_head2$66$q;
         e_sel$66$d = e_sel$66$q;
         s5_live$67$clock = clock;
         s5_head$67$clock = clock;
+        s5_head2$67$clock = clock;
         s5_enter$67$clock = clock;
         s5_wrote$67$clock = clock;
         s5_meta_w$67$clock = clock;
         s4_meta$67$clock = clock;
         s4_old$67$clock = clock;
+        s4_old2$67$clock = clock;
         s4_walk$67$clock = clock;
         s4_enter$67$clock = clock;
         meta$67$clock = clock;
         head$67$clock = clock;
+        head2$67$clock = clock;
         rec$67$clock = clock;
+        rec2$67$clock = clock;
         e_rem$67$clock = clock;
         e_head$67$clock = clock;
+        e_head2$67$clock = clock;
         e_sel$67$clock = clock;
         e_rem$67$d = e_rem$67$q;
         e_head$67$d = e_head$67$q;
+        e_head2$67$d = e_head2$67$q;
         e_sel$67$d = e_sel$67$q;
         s5_live$68$clock = clock;
         s5_head$68$clock = clock;
+        s5_head2$68$clock = clock;
         s5_enter$68$clock = clock;
         s5_wrote$68$clock = clock;
         s5_meta_w$68$clock = clock;
         s4_meta$68$clock = clock;
         s4_old$68$clock = clock;
+        s4_old2$68$clock = clock;
         s4_walk$68$clock = clock;
         s4_enter$68$clock = clock;
         meta$68$clock = clock;
         head$68$clock = clock;
+        head2$68$clock = clock;
         rec$68$clock = clock;
+        rec2$68$clock = clock;
         e_rem$68$clock = clock;
         e_head$68$clock = clock;
+        e_head2$68$clock = clock;
         e_sel$68$clock = clock;
         e_rem$68$d = e_rem$68$q;
         e_head$68$d = e_head$68$q;
+        e_head2$68$d = e_head2$68$q;
         e_sel$68$d = e_sel$68$q;
         s5_live$69$clock = clock;
         s5_head$69$clock = clock;
+        s5_head2$69$clock = clock;
         s5_enter$69$clock = clock;
         s5_wrote$69$clock = clock;
         s5_meta_w$69$clock = clock;
         s4_meta$69$clock = clock;
         s4_old$69$clock = clock;
+        s4_old2$69$clock = clock;
         s4_walk$69$clock = clock;
         s4_enter$69$clock = clock;
         meta$69$clock = clock;
         head$69$clock = clock;
+        head2$69$clock = clock;
         rec$69$clock = clock;
+        rec2$69$clock = clock;
         e_rem$69$clock = clock;
         e_head$69$clock = clock;
+        e_head2$69$clock = clock;
         e_sel$69$clock = clock;
         e_rem$69$d = e_rem$69$q;
         e_head$69$d = e_head$69$q;
+        e_head2$69$d = e_head2$69$q;
         e_sel$69$d = e_sel$69$q;
         s5_live$70$clock = clock;
         s5_head$70$clock = clock;
+        s5_head2$70$clock = clock;
         s5_enter$70$clock = clock;
         s5_wrote$70$clock = clock;
         s5_meta_w$70$clock = clock;
         s4_meta$70$clock = clock;
         s4_old$70$clock = clock;
+        s4_old2$70$clock = clock;
         s4_walk$70$clock = clock;
         s4_enter$70$clock = clock;
         meta$70$clock = clock;
         head$70$clock = clock;
+        head2$70$clock = clock;
         rec$70$clock = clock;
+        rec2$70$clock = clock;
         e_rem$70$clock = clock;
         e_head$70$clock = clock;
+        e_head2$70$clock = clock;
         e_sel$70$clock = clock;
         e_rem$70$d = e_rem$70$q;
         e_head$70$d = e_head$70$q;
+        e_head2$70$d = e_head2$70$q;
         e_sel$70$d = e_sel$70$q;
         s5_live$71$clock = clock;
         s5_head$71$clock = clock;
+        s5_head2$71$clock = clock;
         s5_enter$71$clock = clock;
         s5_wrote$71$clock = clock;
         s5_meta_w$71$clock = clock;
         s4_meta$71$clock = clock;
         s4_old$71$clock = clock;
+        s4_old2$71$clock = clock;
         s4_walk$71$clock = clock;
         s4_enter$71$clock = clock;
         meta$71$clock = clock;
         head$71$clock = clock;
+        head2$71$clock = clock;
         rec$71$clock = clock;
+        rec2$71$clock = clock;
         e_rem$71$clock = clock;
         e_head$71$clock = clock;
+        e_head2$71$clock = clock;
         e_sel$71$clock = clock;
         e_rem$71$d = e_rem$71$q;
         e_head$71$d = e_head$71$q;
+        e_head2$71$d = e_head2$71$q;
         e_sel$71$d = e_sel$71$q;
         s5_live$72$clock = clock;
         s5_head$72$clock = clock;
+        s5_head2$72$clock = clock;
         s5_enter$72$clock = clock;
         s5_wrote$72$clock = clock;
         s5_meta_w$72$clock = clock;
         s4_meta$72$clock = clock;
         s4_old$72$clock = clock;
+        s4_old2$72$clock = clock;
         s4_walk$72$clock = clock;
         s4_enter$72$clock = clock;
         meta$72$clock = clock;
         head$72$clock = clock;
+        head2$72$clock = clock;
         rec$72$clock = clock;
+        rec2$72$clock = clock;
         e_rem$72$clock = clock;
         e_head$72$clock = clock;
+        e_head2$72$clock = clock;
         e_sel$72$clock = clock;
         e_rem$72$d = e_rem$72$q;
         e_head$72$d = e_head$72$q;
+        e_head2$72$d = e_head2$72$q;
         e_sel$72$d = e_sel$72$q;
         s5_live$73$clock = clock;
         s5_head$73$clock = clock;
+        s5_head2$73$clock = clock;
         s5_enter$73$clock = clock;
         s5_wrote$73$clock = clock;
         s5_meta_w$73$clock = clock;
         s4_meta$73$clock = clock;
         s4_old$73$clock = clock;
+        s4_old2$73$clock = clock;
         s4_walk$73$clock = clock;
         s4_enter$73$clock = clock;
         meta$73$clock = clock;
         head$73$clock = clock;
+        head2$73$clock = clock;
         rec$73$clock = clock;
+        rec2$73$clock = clock;
         e_rem$73$clock = clock;
         e_head$73$clock = clock;
+        e_head2$73$clock = clock;
         e_sel$73$clock = clock;
         e_rem$73$d = e_rem$73$q;
         e_head$73$d = e_head$73$q;
+        e_head2$73$d = e_head2$73$q;
         e_sel$73$d = e_sel$73$q;
         s5_live$74$clock = clock;
         s5_head$74$clock = clock;
+        s5_head2$74$clock = clock;
         s5_enter$74$clock = clock;
         s5_wrote$74$clock = clock;
         s5_meta_w$74$clock = clock;
         s4_meta$74$clock = clock;
         s4_old$74$clock = clock;
+        s4_old2$74$clock = clock;
         s4_walk$74$clock = clock;
         s4_enter$74$clock = clock;
         meta$74$clock = clock;
         head$74$clock = clock;
+        head2$74$clock = clock;
         rec$74$clock = clock;
+        rec2$74$clock = clock;
         e_rem$74$clock = clock;
         e_head$74$clock = clock;
+        e_head2$74$clock = clock;
         e_sel$74$clock = clock;
         e_rem$74$d = e_rem$74$q;
         e_head$74$d = e_head$74$q;
+        e_head2$74$d = e_head2$74$q;
         e_sel$74$d = e_sel$74$q;
         s5_live$75$clock = clock;
         s5_head$75$clock = clock;
+        s5_head2$75$clock = clock;
         s5_enter$75$clock = clock;
         s5_wrote$75$clock = clock;
         s5_meta_w$75$clock = clock;
         s4_meta$75$clock = clock;
         s4_old$75$clock = clock;
+        s4_old2$75$clock = clock;
         s4_walk$75$clock = clock;
         s4_enter$75$clock = clock;
         meta$75$clock = clock;
         head$75$clock = clock;
+        head2$75$clock = clock;
         rec$75$clock = clock;
+        rec2$75$clock = clock;
         e_rem$75$clock = clock;
         e_head$75$clock = clock;
+        e_head2$75$clock = clock;
         e_sel$75$clock = clock;
         e_rem$75$d = e_rem$75$q;
         e_head$75$d = e_head$75$q;
+        e_head2$75$d = e_head2$75$q;
         e_sel$75$d = e_sel$75$q;
         s5_live$76$clock = clock;
         s5_head$76$clock = clock;
+        s5_head2$76$clock = clock;
         s5_enter$76$clock = clock;
         s5_wrote$76$clock = clock;
         s5_meta_w$76$clock = clock;
         s4_meta$76$clock = clock;
         s4_old$76$clock = clock;
+        s4_old2$76$clock = clock;
         s4_walk$76$clock = clock;
         s4_enter$76$clock = clock;
         meta$76$clock = clock;
         head$76$clock = clock;
+        head2$76$clock = clock;
         rec$76$clock = clock;
+        rec2$76$clock = clock;
         e_rem$76$clock = clock;
         e_head$76$clock = clock;
+        e_head2$76$clock = clock;
         e_sel$76$clock = clock;
         e_rem$76$d = e_rem$76$q;
         e_head$76$d = e_head$76$q;
+        e_head2$76$d = e_head2$76$q;
         e_sel$76$d = e_sel$76$q;
         s5_live$77$clock = clock;
         s5_head$77$clock = clock;
+        s5_head2$77$clock = clock;
         s5_enter$77$clock = clock;
         s5_wrote$77$clock = clock;
         s5_meta_w$77$clock = clock;
         s4_meta$77$clock = clock;
         s4_old$77$clock = clock;
+        s4_old2$77$clock = clock;
         s4_walk$77$clock = clock;
         s4_enter$77$clock = clock;
         meta$77$clock = clock;
         head$77$clock = clock;
+        head2$77$clock = clock;
         rec$77$clock = clock;
+        rec2$77$clock = clock;
         e_rem$77$clock = clock;
         e_head$77$clock = clock;
+        e_head2$77$clock = clock;
         e_sel$77$clock = clock;
         e_rem$77$d = e_rem$77$q;
         e_head$77$d = e_head$77$q;
+        e_head2$77$d = e_head2$77$q;
         e_sel$77$d = e_sel$77$q;
         s5_live$78$clock = clock;
         s5_head$78$clock = clock;
+        s5_head2$78$clock = clock;
         s5_enter$78$clock = clock;
         s5_wrote$78$clock = clock;
         s5_meta_w$78$clock = clock;
         s4_meta$78$clock = clock;
         s4_old$78$clock = clock;
+        s4_old2$78$clock = clock;
         s4_walk$78$clock = clock;
         s4_enter$78$clock = clock;
         meta$78$clock = clock;
         head$78$clock = clock;
+        head2$78$clock = clock;
         rec$78$clock = clock;
+        rec2$78$clock = clock;
         e_rem$78$clock = clock;
         e_head$78$clock = clock;
+        e_head2$78$clock = clock;
         e_sel$78$clock = clock;
         e_rem$78$d = e_rem$78$q;
         e_head$78$d = e_head$78$q;
+        e_head2$78$d = e_head2$78$q;
         e_sel$78$d = e_sel$78$q;
         s5_live$79$clock = clock;
         s5_head$79$clock = clock;
+        s5_head2$79$clock = clock;
         s5_enter$79$clock = clock;
         s5_wrote$79$clock = clock;
         s5_meta_w$79$clock = clock;
         s4_meta$79$clock = clock;
         s4_old$79$clock = clock;
+        s4_old2$79$clock = clock;
         s4_walk$79$clock = clock;
         s4_enter$79$clock = clock;
         meta$79$clock = clock;
         head$79$clock = clock;
+        head2$79$clock = clock;
         rec$79$clock = clock;
+        rec2$79$clock = clock;
         e_rem$79$clock = clock;
         e_head$79$clock = clock;
+        e_head2$79$clock = clock;
         e_sel$79$clock = clock;
         e_rem$79$d = e_rem$79$q;
         e_head$79$d = e_head$79$q;
+        e_head2$79$d = e_head2$79$q;
         e_sel$79$d = e_sel$79$q;
         s5_live$80$clock = clock;
         s5_head$80$clock = clock;
+        s5_head2$80$clock = clock;
         s5_enter$80$clock = clock;
         s5_wrote$80$clock = clock;
         s5_meta_w$80$clock = clock;
         s4_meta$80$clock = clock;
         s4_old$80$clock = clock;
+        s4_old2$80$clock = clock;
         s4_walk$80$clock = clock;
         s4_enter$80$clock = clock;
         meta$80$clock = clock;
         head$80$clock = clock;
+        head2$80$clock = clock;
         rec$80$clock = clock;
+        rec2$80$clock = clock;
         e_rem$80$clock = clock;
         e_head$80$clock = clock;
+        e_head2$80$clock = clock;
         e_sel$80$clock = clock;
         e_rem$80$d = e_rem$80$q;
         e_head$80$d = e_head$80$q;
+        e_head2$80$d = e_head2$80$q;
         e_sel$80$d = e_sel$80$q;
         cur_min$0$d = cur_min$0$q;
         cur_max$0$d = cur_max$0$q;
@@ -20923,7 +26176,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         plan_lo$0 = lk_min$0$q >> cell_bits;
         plan_hi$0 = (lk_max$0$q >> cell_bits) + 32'h1;
         plan_span$0 = plan_hi$0 - plan_lo$0;
-        if ((lk_max$0$q >> cell_bits) - plan_lo$0 > max_span) begin
+        if ((lk_max$0$q >> cell_bits) > lk_lim$0$q) begin
             plan_wide = 1'b1;
         end
         left$1 = rleft$1$q;
@@ -20953,7 +26206,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         plan_lo$1 = lk_min$1$q >> cell_bits;
         plan_hi$1 = (lk_max$1$q >> cell_bits) + 32'h1;
         plan_span$1 = plan_hi$1 - plan_lo$1;
-        if ((lk_max$1$q >> cell_bits) - plan_lo$1 > max_span) begin
+        if ((lk_max$1$q >> cell_bits) > lk_lim$1$q) begin
             plan_wide = 1'b1;
         end
         left$2 = rleft$2$q;
@@ -20983,7 +26236,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         plan_lo$2 = lk_min$2$q >> cell_bits;
         plan_hi$2 = (lk_max$2$q >> cell_bits) + 32'h1;
         plan_span$2 = plan_hi$2 - plan_lo$2;
-        if ((lk_max$2$q >> cell_bits) - plan_lo$2 > max_span) begin
+        if ((lk_max$2$q >> cell_bits) > lk_lim$2$q) begin
             plan_wide = 1'b1;
         end
         case (slow$q)
@@ -20992,8 +26245,8 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
                     if (idle) begin
                         if ((lnext$q & top) != 32'h0) begin
                             fetch = 1'b1;
-                            held$d = lnext$q;
                             lcur$d = lnext$q ^ top;
+                            lnext$d = lnext2$q;
                             slow$d = SlowState$Address;
                         end
                         else begin
@@ -21009,17 +26262,20 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
                 begin
                     lmargin$d = rd_margin;
                     lgroup$d = rd_group;
-                    lnext$d = succ$read_data_b;
                     lk_min$0$d = rd_min$0;
+                    lk_lim$0$d = (rd_min$0 >> cell_bits) + max_span;
                     lk_max$0$d = rd_max$0;
                     lk_min$1$d = rd_min$1;
+                    lk_lim$1$d = (rd_min$1 >> cell_bits) + max_span;
                     lk_max$1$d = rd_max$1;
                     lk_min$2$d = rd_min$2;
+                    lk_lim$2$d = (rd_min$2 >> cell_bits) + max_span;
                     lk_max$2$d = rd_max$2;
                     slow$d = SlowState$Plan;
                 end
             SlowState$Plan:
                 begin
+                    lnext2$d = succ_q$q;
                     wlo$0$d = plan_lo$0;
                     wspan$0$d = plan_span$0;
                     rleft$0$d = plan_span$0;
@@ -21157,567 +26413,729 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$0$read_address = cells$bucket$0;
         allow$0 = s3_allowed$q >> list_group$0;
         s4_meta$0$d = meta$0$read_data;
+        head2$0$read_address = cells$bucket$0;
         s4_old$0$d = head$0$read_data;
+        s4_old2$0$d = head2$0$read_data;
         s4_walk$0$d = s3_valid$q & cells$small_box & cells$inside$0 & allow$0[32'h0];
         s4_enter$0$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & (s3_group$q == list_group$0);
         meta$1$read_address = cells$bucket$1;
         head$1$read_address = cells$bucket$1;
         allow$1 = s3_allowed$q >> list_group$1;
         s4_meta$1$d = meta$1$read_data;
+        head2$1$read_address = cells$bucket$1;
         s4_old$1$d = head$1$read_data;
+        s4_old2$1$d = head2$1$read_data;
         s4_walk$1$d = s3_valid$q & cells$small_box & cells$inside$1 & allow$1[32'h0];
         s4_enter$1$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & (s3_group$q == list_group$1);
         meta$2$read_address = cells$bucket$2;
         head$2$read_address = cells$bucket$2;
         allow$2 = s3_allowed$q >> list_group$2;
         s4_meta$2$d = meta$2$read_data;
+        head2$2$read_address = cells$bucket$2;
         s4_old$2$d = head$2$read_data;
+        s4_old2$2$d = head2$2$read_data;
         s4_walk$2$d = s3_valid$q & cells$small_box & cells$inside$2 & allow$2[32'h0];
         s4_enter$2$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & (s3_group$q == list_group$2);
         meta$3$read_address = cells$bucket$3;
         head$3$read_address = cells$bucket$3;
         allow$3 = s3_allowed$q >> list_group$3;
         s4_meta$3$d = meta$3$read_data;
+        head2$3$read_address = cells$bucket$3;
         s4_old$3$d = head$3$read_data;
+        s4_old2$3$d = head2$3$read_data;
         s4_walk$3$d = s3_valid$q & cells$small_box & cells$inside$3 & allow$3[32'h0];
         s4_enter$3$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & (s3_group$q == list_group$3);
         meta$4$read_address = cells$bucket$4;
         head$4$read_address = cells$bucket$4;
         allow$4 = s3_allowed$q >> list_group$4;
         s4_meta$4$d = meta$4$read_data;
+        head2$4$read_address = cells$bucket$4;
         s4_old$4$d = head$4$read_data;
+        s4_old2$4$d = head2$4$read_data;
         s4_walk$4$d = s3_valid$q & cells$small_box & cells$inside$4 & allow$4[32'h0];
         s4_enter$4$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & (s3_group$q == list_group$4);
         meta$5$read_address = cells$bucket$5;
         head$5$read_address = cells$bucket$5;
         allow$5 = s3_allowed$q >> list_group$5;
         s4_meta$5$d = meta$5$read_data;
+        head2$5$read_address = cells$bucket$5;
         s4_old$5$d = head$5$read_data;
+        s4_old2$5$d = head2$5$read_data;
         s4_walk$5$d = s3_valid$q & cells$small_box & cells$inside$5 & allow$5[32'h0];
         s4_enter$5$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & (s3_group$q == list_group$5);
         meta$6$read_address = cells$bucket$6;
         head$6$read_address = cells$bucket$6;
         allow$6 = s3_allowed$q >> list_group$6;
         s4_meta$6$d = meta$6$read_data;
+        head2$6$read_address = cells$bucket$6;
         s4_old$6$d = head$6$read_data;
+        s4_old2$6$d = head2$6$read_data;
         s4_walk$6$d = s3_valid$q & cells$small_box & cells$inside$6 & allow$6[32'h0];
         s4_enter$6$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & (s3_group$q == list_group$6);
         meta$7$read_address = cells$bucket$7;
         head$7$read_address = cells$bucket$7;
         allow$7 = s3_allowed$q >> list_group$7;
         s4_meta$7$d = meta$7$read_data;
+        head2$7$read_address = cells$bucket$7;
         s4_old$7$d = head$7$read_data;
+        s4_old2$7$d = head2$7$read_data;
         s4_walk$7$d = s3_valid$q & cells$small_box & cells$inside$7 & allow$7[32'h0];
         s4_enter$7$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & (s3_group$q == list_group$7);
         meta$8$read_address = cells$bucket$8;
         head$8$read_address = cells$bucket$8;
         allow$8 = s3_allowed$q >> list_group$8;
         s4_meta$8$d = meta$8$read_data;
+        head2$8$read_address = cells$bucket$8;
         s4_old$8$d = head$8$read_data;
+        s4_old2$8$d = head2$8$read_data;
         s4_walk$8$d = s3_valid$q & cells$small_box & cells$inside$8 & allow$8[32'h0];
         s4_enter$8$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & (s3_group$q == list_group$8);
         meta$9$read_address = cells$bucket$9;
         head$9$read_address = cells$bucket$9;
         allow$9 = s3_allowed$q >> list_group$9;
         s4_meta$9$d = meta$9$read_data;
+        head2$9$read_address = cells$bucket$9;
         s4_old$9$d = head$9$read_data;
+        s4_old2$9$d = head2$9$read_data;
         s4_walk$9$d = s3_valid$q & cells$small_box & cells$inside$9 & allow$9[32'h0];
         s4_enter$9$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & (s3_group$q == list_group$9);
         meta$10$read_address = cells$bucket$10;
         head$10$read_address = cells$bucket$10;
         allow$10 = s3_allowed$q >> list_group$10;
         s4_meta$10$d = meta$10$read_data;
+        head2$10$read_address = cells$bucket$10;
         s4_old$10$d = head$10$read_data;
+        s4_old2$10$d = head2$10$read_data;
         s4_walk$10$d = s3_valid$q & cells$small_box & cells$inside$10 & allow$10[32'h0];
         s4_enter$10$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & (s3_group$q == list_group$10);
         meta$11$read_address = cells$bucket$11;
         head$11$read_address = cells$bucket$11;
         allow$11 = s3_allowed$q >> list_group$11;
         s4_meta$11$d = meta$11$read_data;
+        head2$11$read_address = cells$bucket$11;
         s4_old$11$d = head$11$read_data;
+        s4_old2$11$d = head2$11$read_data;
         s4_walk$11$d = s3_valid$q & cells$small_box & cells$inside$11 & allow$11[32'h0];
         s4_enter$11$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & (s3_group$q == list_group$11);
         meta$12$read_address = cells$bucket$12;
         head$12$read_address = cells$bucket$12;
         allow$12 = s3_allowed$q >> list_group$12;
         s4_meta$12$d = meta$12$read_data;
+        head2$12$read_address = cells$bucket$12;
         s4_old$12$d = head$12$read_data;
+        s4_old2$12$d = head2$12$read_data;
         s4_walk$12$d = s3_valid$q & cells$small_box & cells$inside$12 & allow$12[32'h0];
         s4_enter$12$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & (s3_group$q == list_group$12);
         meta$13$read_address = cells$bucket$13;
         head$13$read_address = cells$bucket$13;
         allow$13 = s3_allowed$q >> list_group$13;
         s4_meta$13$d = meta$13$read_data;
+        head2$13$read_address = cells$bucket$13;
         s4_old$13$d = head$13$read_data;
+        s4_old2$13$d = head2$13$read_data;
         s4_walk$13$d = s3_valid$q & cells$small_box & cells$inside$13 & allow$13[32'h0];
         s4_enter$13$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & (s3_group$q == list_group$13);
         meta$14$read_address = cells$bucket$14;
         head$14$read_address = cells$bucket$14;
         allow$14 = s3_allowed$q >> list_group$14;
         s4_meta$14$d = meta$14$read_data;
+        head2$14$read_address = cells$bucket$14;
         s4_old$14$d = head$14$read_data;
+        s4_old2$14$d = head2$14$read_data;
         s4_walk$14$d = s3_valid$q & cells$small_box & cells$inside$14 & allow$14[32'h0];
         s4_enter$14$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & (s3_group$q == list_group$14);
         meta$15$read_address = cells$bucket$15;
         head$15$read_address = cells$bucket$15;
         allow$15 = s3_allowed$q >> list_group$15;
         s4_meta$15$d = meta$15$read_data;
+        head2$15$read_address = cells$bucket$15;
         s4_old$15$d = head$15$read_data;
+        s4_old2$15$d = head2$15$read_data;
         s4_walk$15$d = s3_valid$q & cells$small_box & cells$inside$15 & allow$15[32'h0];
         s4_enter$15$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & (s3_group$q == list_group$15);
         meta$16$read_address = cells$bucket$16;
         head$16$read_address = cells$bucket$16;
         allow$16 = s3_allowed$q >> list_group$16;
         s4_meta$16$d = meta$16$read_data;
+        head2$16$read_address = cells$bucket$16;
         s4_old$16$d = head$16$read_data;
+        s4_old2$16$d = head2$16$read_data;
         s4_walk$16$d = s3_valid$q & cells$small_box & cells$inside$16 & allow$16[32'h0];
         s4_enter$16$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & (s3_group$q == list_group$16);
         meta$17$read_address = cells$bucket$17;
         head$17$read_address = cells$bucket$17;
         allow$17 = s3_allowed$q >> list_group$17;
         s4_meta$17$d = meta$17$read_data;
+        head2$17$read_address = cells$bucket$17;
         s4_old$17$d = head$17$read_data;
+        s4_old2$17$d = head2$17$read_data;
         s4_walk$17$d = s3_valid$q & cells$small_box & cells$inside$17 & allow$17[32'h0];
         s4_enter$17$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & (s3_group$q == list_group$17);
         meta$18$read_address = cells$bucket$18;
         head$18$read_address = cells$bucket$18;
         allow$18 = s3_allowed$q >> list_group$18;
         s4_meta$18$d = meta$18$read_data;
+        head2$18$read_address = cells$bucket$18;
         s4_old$18$d = head$18$read_data;
+        s4_old2$18$d = head2$18$read_data;
         s4_walk$18$d = s3_valid$q & cells$small_box & cells$inside$18 & allow$18[32'h0];
         s4_enter$18$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & (s3_group$q == list_group$18);
         meta$19$read_address = cells$bucket$19;
         head$19$read_address = cells$bucket$19;
         allow$19 = s3_allowed$q >> list_group$19;
         s4_meta$19$d = meta$19$read_data;
+        head2$19$read_address = cells$bucket$19;
         s4_old$19$d = head$19$read_data;
+        s4_old2$19$d = head2$19$read_data;
         s4_walk$19$d = s3_valid$q & cells$small_box & cells$inside$19 & allow$19[32'h0];
         s4_enter$19$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & (s3_group$q == list_group$19);
         meta$20$read_address = cells$bucket$20;
         head$20$read_address = cells$bucket$20;
         allow$20 = s3_allowed$q >> list_group$20;
         s4_meta$20$d = meta$20$read_data;
+        head2$20$read_address = cells$bucket$20;
         s4_old$20$d = head$20$read_data;
+        s4_old2$20$d = head2$20$read_data;
         s4_walk$20$d = s3_valid$q & cells$small_box & cells$inside$20 & allow$20[32'h0];
         s4_enter$20$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & (s3_group$q == list_group$20);
         meta$21$read_address = cells$bucket$21;
         head$21$read_address = cells$bucket$21;
         allow$21 = s3_allowed$q >> list_group$21;
         s4_meta$21$d = meta$21$read_data;
+        head2$21$read_address = cells$bucket$21;
         s4_old$21$d = head$21$read_data;
+        s4_old2$21$d = head2$21$read_data;
         s4_walk$21$d = s3_valid$q & cells$small_box & cells$inside$21 & allow$21[32'h0];
         s4_enter$21$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & (s3_group$q == list_group$21);
         meta$22$read_address = cells$bucket$22;
         head$22$read_address = cells$bucket$22;
         allow$22 = s3_allowed$q >> list_group$22;
         s4_meta$22$d = meta$22$read_data;
+        head2$22$read_address = cells$bucket$22;
         s4_old$22$d = head$22$read_data;
+        s4_old2$22$d = head2$22$read_data;
         s4_walk$22$d = s3_valid$q & cells$small_box & cells$inside$22 & allow$22[32'h0];
         s4_enter$22$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & (s3_group$q == list_group$22);
         meta$23$read_address = cells$bucket$23;
         head$23$read_address = cells$bucket$23;
         allow$23 = s3_allowed$q >> list_group$23;
         s4_meta$23$d = meta$23$read_data;
+        head2$23$read_address = cells$bucket$23;
         s4_old$23$d = head$23$read_data;
+        s4_old2$23$d = head2$23$read_data;
         s4_walk$23$d = s3_valid$q & cells$small_box & cells$inside$23 & allow$23[32'h0];
         s4_enter$23$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & (s3_group$q == list_group$23);
         meta$24$read_address = cells$bucket$24;
         head$24$read_address = cells$bucket$24;
         allow$24 = s3_allowed$q >> list_group$24;
         s4_meta$24$d = meta$24$read_data;
+        head2$24$read_address = cells$bucket$24;
         s4_old$24$d = head$24$read_data;
+        s4_old2$24$d = head2$24$read_data;
         s4_walk$24$d = s3_valid$q & cells$small_box & cells$inside$24 & allow$24[32'h0];
         s4_enter$24$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & (s3_group$q == list_group$24);
         meta$25$read_address = cells$bucket$25;
         head$25$read_address = cells$bucket$25;
         allow$25 = s3_allowed$q >> list_group$25;
         s4_meta$25$d = meta$25$read_data;
+        head2$25$read_address = cells$bucket$25;
         s4_old$25$d = head$25$read_data;
+        s4_old2$25$d = head2$25$read_data;
         s4_walk$25$d = s3_valid$q & cells$small_box & cells$inside$25 & allow$25[32'h0];
         s4_enter$25$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & (s3_group$q == list_group$25);
         meta$26$read_address = cells$bucket$26;
         head$26$read_address = cells$bucket$26;
         allow$26 = s3_allowed$q >> list_group$26;
         s4_meta$26$d = meta$26$read_data;
+        head2$26$read_address = cells$bucket$26;
         s4_old$26$d = head$26$read_data;
+        s4_old2$26$d = head2$26$read_data;
         s4_walk$26$d = s3_valid$q & cells$small_box & cells$inside$26 & allow$26[32'h0];
         s4_enter$26$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & (s3_group$q == list_group$26);
         meta$27$read_address = cells$bucket$0;
         head$27$read_address = cells$bucket$0;
         allow$27 = s3_allowed$q >> list_group$27;
         s4_meta$27$d = meta$27$read_data;
+        head2$27$read_address = cells$bucket$0;
         s4_old$27$d = head$27$read_data;
+        s4_old2$27$d = head2$27$read_data;
         s4_walk$27$d = s3_valid$q & cells$small_box & cells$inside$0 & allow$27[32'h0];
         s4_enter$27$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & (s3_group$q == list_group$27);
         meta$28$read_address = cells$bucket$1;
         head$28$read_address = cells$bucket$1;
         allow$28 = s3_allowed$q >> list_group$28;
         s4_meta$28$d = meta$28$read_data;
+        head2$28$read_address = cells$bucket$1;
         s4_old$28$d = head$28$read_data;
+        s4_old2$28$d = head2$28$read_data;
         s4_walk$28$d = s3_valid$q & cells$small_box & cells$inside$1 & allow$28[32'h0];
         s4_enter$28$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & (s3_group$q == list_group$28);
         meta$29$read_address = cells$bucket$2;
         head$29$read_address = cells$bucket$2;
         allow$29 = s3_allowed$q >> list_group$29;
         s4_meta$29$d = meta$29$read_data;
+        head2$29$read_address = cells$bucket$2;
         s4_old$29$d = head$29$read_data;
+        s4_old2$29$d = head2$29$read_data;
         s4_walk$29$d = s3_valid$q & cells$small_box & cells$inside$2 & allow$29[32'h0];
         s4_enter$29$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & (s3_group$q == list_group$29);
         meta$30$read_address = cells$bucket$3;
         head$30$read_address = cells$bucket$3;
         allow$30 = s3_allowed$q >> list_group$30;
         s4_meta$30$d = meta$30$read_data;
+        head2$30$read_address = cells$bucket$3;
         s4_old$30$d = head$30$read_data;
+        s4_old2$30$d = head2$30$read_data;
         s4_walk$30$d = s3_valid$q & cells$small_box & cells$inside$3 & allow$30[32'h0];
         s4_enter$30$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & (s3_group$q == list_group$30);
         meta$31$read_address = cells$bucket$4;
         head$31$read_address = cells$bucket$4;
         allow$31 = s3_allowed$q >> list_group$31;
         s4_meta$31$d = meta$31$read_data;
+        head2$31$read_address = cells$bucket$4;
         s4_old$31$d = head$31$read_data;
+        s4_old2$31$d = head2$31$read_data;
         s4_walk$31$d = s3_valid$q & cells$small_box & cells$inside$4 & allow$31[32'h0];
         s4_enter$31$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & (s3_group$q == list_group$31);
         meta$32$read_address = cells$bucket$5;
         head$32$read_address = cells$bucket$5;
         allow$32 = s3_allowed$q >> list_group$32;
         s4_meta$32$d = meta$32$read_data;
+        head2$32$read_address = cells$bucket$5;
         s4_old$32$d = head$32$read_data;
+        s4_old2$32$d = head2$32$read_data;
         s4_walk$32$d = s3_valid$q & cells$small_box & cells$inside$5 & allow$32[32'h0];
         s4_enter$32$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & (s3_group$q == list_group$32);
         meta$33$read_address = cells$bucket$6;
         head$33$read_address = cells$bucket$6;
         allow$33 = s3_allowed$q >> list_group$33;
         s4_meta$33$d = meta$33$read_data;
+        head2$33$read_address = cells$bucket$6;
         s4_old$33$d = head$33$read_data;
+        s4_old2$33$d = head2$33$read_data;
         s4_walk$33$d = s3_valid$q & cells$small_box & cells$inside$6 & allow$33[32'h0];
         s4_enter$33$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & (s3_group$q == list_group$33);
         meta$34$read_address = cells$bucket$7;
         head$34$read_address = cells$bucket$7;
         allow$34 = s3_allowed$q >> list_group$34;
         s4_meta$34$d = meta$34$read_data;
+        head2$34$read_address = cells$bucket$7;
         s4_old$34$d = head$34$read_data;
+        s4_old2$34$d = head2$34$read_data;
         s4_walk$34$d = s3_valid$q & cells$small_box & cells$inside$7 & allow$34[32'h0];
         s4_enter$34$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & (s3_group$q == list_group$34);
         meta$35$read_address = cells$bucket$8;
         head$35$read_address = cells$bucket$8;
         allow$35 = s3_allowed$q >> list_group$35;
         s4_meta$35$d = meta$35$read_data;
+        head2$35$read_address = cells$bucket$8;
         s4_old$35$d = head$35$read_data;
+        s4_old2$35$d = head2$35$read_data;
         s4_walk$35$d = s3_valid$q & cells$small_box & cells$inside$8 & allow$35[32'h0];
         s4_enter$35$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & (s3_group$q == list_group$35);
         meta$36$read_address = cells$bucket$9;
         head$36$read_address = cells$bucket$9;
         allow$36 = s3_allowed$q >> list_group$36;
         s4_meta$36$d = meta$36$read_data;
+        head2$36$read_address = cells$bucket$9;
         s4_old$36$d = head$36$read_data;
+        s4_old2$36$d = head2$36$read_data;
         s4_walk$36$d = s3_valid$q & cells$small_box & cells$inside$9 & allow$36[32'h0];
         s4_enter$36$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & (s3_group$q == list_group$36);
         meta$37$read_address = cells$bucket$10;
         head$37$read_address = cells$bucket$10;
         allow$37 = s3_allowed$q >> list_group$37;
         s4_meta$37$d = meta$37$read_data;
+        head2$37$read_address = cells$bucket$10;
         s4_old$37$d = head$37$read_data;
+        s4_old2$37$d = head2$37$read_data;
         s4_walk$37$d = s3_valid$q & cells$small_box & cells$inside$10 & allow$37[32'h0];
         s4_enter$37$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & (s3_group$q == list_group$37);
         meta$38$read_address = cells$bucket$11;
         head$38$read_address = cells$bucket$11;
         allow$38 = s3_allowed$q >> list_group$38;
         s4_meta$38$d = meta$38$read_data;
+        head2$38$read_address = cells$bucket$11;
         s4_old$38$d = head$38$read_data;
+        s4_old2$38$d = head2$38$read_data;
         s4_walk$38$d = s3_valid$q & cells$small_box & cells$inside$11 & allow$38[32'h0];
         s4_enter$38$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & (s3_group$q == list_group$38);
         meta$39$read_address = cells$bucket$12;
         head$39$read_address = cells$bucket$12;
         allow$39 = s3_allowed$q >> list_group$39;
         s4_meta$39$d = meta$39$read_data;
+        head2$39$read_address = cells$bucket$12;
         s4_old$39$d = head$39$read_data;
+        s4_old2$39$d = head2$39$read_data;
         s4_walk$39$d = s3_valid$q & cells$small_box & cells$inside$12 & allow$39[32'h0];
         s4_enter$39$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & (s3_group$q == list_group$39);
         meta$40$read_address = cells$bucket$13;
         head$40$read_address = cells$bucket$13;
         allow$40 = s3_allowed$q >> list_group$40;
         s4_meta$40$d = meta$40$read_data;
+        head2$40$read_address = cells$bucket$13;
         s4_old$40$d = head$40$read_data;
+        s4_old2$40$d = head2$40$read_data;
         s4_walk$40$d = s3_valid$q & cells$small_box & cells$inside$13 & allow$40[32'h0];
         s4_enter$40$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & (s3_group$q == list_group$40);
         meta$41$read_address = cells$bucket$14;
         head$41$read_address = cells$bucket$14;
         allow$41 = s3_allowed$q >> list_group$41;
         s4_meta$41$d = meta$41$read_data;
+        head2$41$read_address = cells$bucket$14;
         s4_old$41$d = head$41$read_data;
+        s4_old2$41$d = head2$41$read_data;
         s4_walk$41$d = s3_valid$q & cells$small_box & cells$inside$14 & allow$41[32'h0];
         s4_enter$41$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & (s3_group$q == list_group$41);
         meta$42$read_address = cells$bucket$15;
         head$42$read_address = cells$bucket$15;
         allow$42 = s3_allowed$q >> list_group$42;
         s4_meta$42$d = meta$42$read_data;
+        head2$42$read_address = cells$bucket$15;
         s4_old$42$d = head$42$read_data;
+        s4_old2$42$d = head2$42$read_data;
         s4_walk$42$d = s3_valid$q & cells$small_box & cells$inside$15 & allow$42[32'h0];
         s4_enter$42$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & (s3_group$q == list_group$42);
         meta$43$read_address = cells$bucket$16;
         head$43$read_address = cells$bucket$16;
         allow$43 = s3_allowed$q >> list_group$43;
         s4_meta$43$d = meta$43$read_data;
+        head2$43$read_address = cells$bucket$16;
         s4_old$43$d = head$43$read_data;
+        s4_old2$43$d = head2$43$read_data;
         s4_walk$43$d = s3_valid$q & cells$small_box & cells$inside$16 & allow$43[32'h0];
         s4_enter$43$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & (s3_group$q == list_group$43);
         meta$44$read_address = cells$bucket$17;
         head$44$read_address = cells$bucket$17;
         allow$44 = s3_allowed$q >> list_group$44;
         s4_meta$44$d = meta$44$read_data;
+        head2$44$read_address = cells$bucket$17;
         s4_old$44$d = head$44$read_data;
+        s4_old2$44$d = head2$44$read_data;
         s4_walk$44$d = s3_valid$q & cells$small_box & cells$inside$17 & allow$44[32'h0];
         s4_enter$44$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & (s3_group$q == list_group$44);
         meta$45$read_address = cells$bucket$18;
         head$45$read_address = cells$bucket$18;
         allow$45 = s3_allowed$q >> list_group$45;
         s4_meta$45$d = meta$45$read_data;
+        head2$45$read_address = cells$bucket$18;
         s4_old$45$d = head$45$read_data;
+        s4_old2$45$d = head2$45$read_data;
         s4_walk$45$d = s3_valid$q & cells$small_box & cells$inside$18 & allow$45[32'h0];
         s4_enter$45$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & (s3_group$q == list_group$45);
         meta$46$read_address = cells$bucket$19;
         head$46$read_address = cells$bucket$19;
         allow$46 = s3_allowed$q >> list_group$46;
         s4_meta$46$d = meta$46$read_data;
+        head2$46$read_address = cells$bucket$19;
         s4_old$46$d = head$46$read_data;
+        s4_old2$46$d = head2$46$read_data;
         s4_walk$46$d = s3_valid$q & cells$small_box & cells$inside$19 & allow$46[32'h0];
         s4_enter$46$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & (s3_group$q == list_group$46);
         meta$47$read_address = cells$bucket$20;
         head$47$read_address = cells$bucket$20;
         allow$47 = s3_allowed$q >> list_group$47;
         s4_meta$47$d = meta$47$read_data;
+        head2$47$read_address = cells$bucket$20;
         s4_old$47$d = head$47$read_data;
+        s4_old2$47$d = head2$47$read_data;
         s4_walk$47$d = s3_valid$q & cells$small_box & cells$inside$20 & allow$47[32'h0];
         s4_enter$47$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & (s3_group$q == list_group$47);
         meta$48$read_address = cells$bucket$21;
         head$48$read_address = cells$bucket$21;
         allow$48 = s3_allowed$q >> list_group$48;
         s4_meta$48$d = meta$48$read_data;
+        head2$48$read_address = cells$bucket$21;
         s4_old$48$d = head$48$read_data;
+        s4_old2$48$d = head2$48$read_data;
         s4_walk$48$d = s3_valid$q & cells$small_box & cells$inside$21 & allow$48[32'h0];
         s4_enter$48$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & (s3_group$q == list_group$48);
         meta$49$read_address = cells$bucket$22;
         head$49$read_address = cells$bucket$22;
         allow$49 = s3_allowed$q >> list_group$49;
         s4_meta$49$d = meta$49$read_data;
+        head2$49$read_address = cells$bucket$22;
         s4_old$49$d = head$49$read_data;
+        s4_old2$49$d = head2$49$read_data;
         s4_walk$49$d = s3_valid$q & cells$small_box & cells$inside$22 & allow$49[32'h0];
         s4_enter$49$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & (s3_group$q == list_group$49);
         meta$50$read_address = cells$bucket$23;
         head$50$read_address = cells$bucket$23;
         allow$50 = s3_allowed$q >> list_group$50;
         s4_meta$50$d = meta$50$read_data;
+        head2$50$read_address = cells$bucket$23;
         s4_old$50$d = head$50$read_data;
+        s4_old2$50$d = head2$50$read_data;
         s4_walk$50$d = s3_valid$q & cells$small_box & cells$inside$23 & allow$50[32'h0];
         s4_enter$50$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & (s3_group$q == list_group$50);
         meta$51$read_address = cells$bucket$24;
         head$51$read_address = cells$bucket$24;
         allow$51 = s3_allowed$q >> list_group$51;
         s4_meta$51$d = meta$51$read_data;
+        head2$51$read_address = cells$bucket$24;
         s4_old$51$d = head$51$read_data;
+        s4_old2$51$d = head2$51$read_data;
         s4_walk$51$d = s3_valid$q & cells$small_box & cells$inside$24 & allow$51[32'h0];
         s4_enter$51$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & (s3_group$q == list_group$51);
         meta$52$read_address = cells$bucket$25;
         head$52$read_address = cells$bucket$25;
         allow$52 = s3_allowed$q >> list_group$52;
         s4_meta$52$d = meta$52$read_data;
+        head2$52$read_address = cells$bucket$25;
         s4_old$52$d = head$52$read_data;
+        s4_old2$52$d = head2$52$read_data;
         s4_walk$52$d = s3_valid$q & cells$small_box & cells$inside$25 & allow$52[32'h0];
         s4_enter$52$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & (s3_group$q == list_group$52);
         meta$53$read_address = cells$bucket$26;
         head$53$read_address = cells$bucket$26;
         allow$53 = s3_allowed$q >> list_group$53;
         s4_meta$53$d = meta$53$read_data;
+        head2$53$read_address = cells$bucket$26;
         s4_old$53$d = head$53$read_data;
+        s4_old2$53$d = head2$53$read_data;
         s4_walk$53$d = s3_valid$q & cells$small_box & cells$inside$26 & allow$53[32'h0];
         s4_enter$53$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & (s3_group$q == list_group$53);
         meta$54$read_address = cells$bucket$0;
         head$54$read_address = cells$bucket$0;
         allow$54 = s3_allowed$q >> list_group$54;
         s4_meta$54$d = meta$54$read_data;
+        head2$54$read_address = cells$bucket$0;
         s4_old$54$d = head$54$read_data;
+        s4_old2$54$d = head2$54$read_data;
         s4_walk$54$d = s3_valid$q & cells$small_box & cells$inside$0 & allow$54[32'h0];
         s4_enter$54$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & (s3_group$q == list_group$54);
         meta$55$read_address = cells$bucket$1;
         head$55$read_address = cells$bucket$1;
         allow$55 = s3_allowed$q >> list_group$55;
         s4_meta$55$d = meta$55$read_data;
+        head2$55$read_address = cells$bucket$1;
         s4_old$55$d = head$55$read_data;
+        s4_old2$55$d = head2$55$read_data;
         s4_walk$55$d = s3_valid$q & cells$small_box & cells$inside$1 & allow$55[32'h0];
         s4_enter$55$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & (s3_group$q == list_group$55);
         meta$56$read_address = cells$bucket$2;
         head$56$read_address = cells$bucket$2;
         allow$56 = s3_allowed$q >> list_group$56;
         s4_meta$56$d = meta$56$read_data;
+        head2$56$read_address = cells$bucket$2;
         s4_old$56$d = head$56$read_data;
+        s4_old2$56$d = head2$56$read_data;
         s4_walk$56$d = s3_valid$q & cells$small_box & cells$inside$2 & allow$56[32'h0];
         s4_enter$56$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & (s3_group$q == list_group$56);
         meta$57$read_address = cells$bucket$3;
         head$57$read_address = cells$bucket$3;
         allow$57 = s3_allowed$q >> list_group$57;
         s4_meta$57$d = meta$57$read_data;
+        head2$57$read_address = cells$bucket$3;
         s4_old$57$d = head$57$read_data;
+        s4_old2$57$d = head2$57$read_data;
         s4_walk$57$d = s3_valid$q & cells$small_box & cells$inside$3 & allow$57[32'h0];
         s4_enter$57$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & (s3_group$q == list_group$57);
         meta$58$read_address = cells$bucket$4;
         head$58$read_address = cells$bucket$4;
         allow$58 = s3_allowed$q >> list_group$58;
         s4_meta$58$d = meta$58$read_data;
+        head2$58$read_address = cells$bucket$4;
         s4_old$58$d = head$58$read_data;
+        s4_old2$58$d = head2$58$read_data;
         s4_walk$58$d = s3_valid$q & cells$small_box & cells$inside$4 & allow$58[32'h0];
         s4_enter$58$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & (s3_group$q == list_group$58);
         meta$59$read_address = cells$bucket$5;
         head$59$read_address = cells$bucket$5;
         allow$59 = s3_allowed$q >> list_group$59;
         s4_meta$59$d = meta$59$read_data;
+        head2$59$read_address = cells$bucket$5;
         s4_old$59$d = head$59$read_data;
+        s4_old2$59$d = head2$59$read_data;
         s4_walk$59$d = s3_valid$q & cells$small_box & cells$inside$5 & allow$59[32'h0];
         s4_enter$59$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & (s3_group$q == list_group$59);
         meta$60$read_address = cells$bucket$6;
         head$60$read_address = cells$bucket$6;
         allow$60 = s3_allowed$q >> list_group$60;
         s4_meta$60$d = meta$60$read_data;
+        head2$60$read_address = cells$bucket$6;
         s4_old$60$d = head$60$read_data;
+        s4_old2$60$d = head2$60$read_data;
         s4_walk$60$d = s3_valid$q & cells$small_box & cells$inside$6 & allow$60[32'h0];
         s4_enter$60$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & (s3_group$q == list_group$60);
         meta$61$read_address = cells$bucket$7;
         head$61$read_address = cells$bucket$7;
         allow$61 = s3_allowed$q >> list_group$61;
         s4_meta$61$d = meta$61$read_data;
+        head2$61$read_address = cells$bucket$7;
         s4_old$61$d = head$61$read_data;
+        s4_old2$61$d = head2$61$read_data;
         s4_walk$61$d = s3_valid$q & cells$small_box & cells$inside$7 & allow$61[32'h0];
         s4_enter$61$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & (s3_group$q == list_group$61);
         meta$62$read_address = cells$bucket$8;
         head$62$read_address = cells$bucket$8;
         allow$62 = s3_allowed$q >> list_group$62;
         s4_meta$62$d = meta$62$read_data;
+        head2$62$read_address = cells$bucket$8;
         s4_old$62$d = head$62$read_data;
+        s4_old2$62$d = head2$62$read_data;
         s4_walk$62$d = s3_valid$q & cells$small_box & cells$inside$8 & allow$62[32'h0];
         s4_enter$62$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & (s3_group$q == list_group$62);
         meta$63$read_address = cells$bucket$9;
         head$63$read_address = cells$bucket$9;
         allow$63 = s3_allowed$q >> list_group$63;
         s4_meta$63$d = meta$63$read_data;
+        head2$63$read_address = cells$bucket$9;
         s4_old$63$d = head$63$read_data;
+        s4_old2$63$d = head2$63$read_data;
         s4_walk$63$d = s3_valid$q & cells$small_box & cells$inside$9 & allow$63[32'h0];
         s4_enter$63$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & (s3_group$q == list_group$63);
         meta$64$read_address = cells$bucket$10;
         head$64$read_address = cells$bucket$10;
         allow$64 = s3_allowed$q >> list_group$64;
         s4_meta$64$d = meta$64$read_data;
+        head2$64$read_address = cells$bucket$10;
         s4_old$64$d = head$64$read_data;
+        s4_old2$64$d = head2$64$read_data;
         s4_walk$64$d = s3_valid$q & cells$small_box & cells$inside$10 & allow$64[32'h0];
         s4_enter$64$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & (s3_group$q == list_group$64);
         meta$65$read_address = cells$bucket$11;
         head$65$read_address = cells$bucket$11;
         allow$65 = s3_allowed$q >> list_group$65;
         s4_meta$65$d = meta$65$read_data;
+        head2$65$read_address = cells$bucket$11;
         s4_old$65$d = head$65$read_data;
+        s4_old2$65$d = head2$65$read_data;
         s4_walk$65$d = s3_valid$q & cells$small_box & cells$inside$11 & allow$65[32'h0];
         s4_enter$65$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & (s3_group$q == list_group$65);
         meta$66$read_address = cells$bucket$12;
         head$66$read_address = cells$bucket$12;
         allow$66 = s3_allowed$q >> list_group$66;
         s4_meta$66$d = meta$66$read_data;
+        head2$66$read_address = cells$bucket$12;
         s4_old$66$d = head$66$read_data;
+        s4_old2$66$d = head2$66$read_data;
         s4_walk$66$d = s3_valid$q & cells$small_box & cells$inside$12 & allow$66[32'h0];
         s4_enter$66$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & (s3_group$q == list_group$66);
         meta$67$read_address = cells$bucket$13;
         head$67$read_address = cells$bucket$13;
         allow$67 = s3_allowed$q >> list_group$67;
         s4_meta$67$d = meta$67$read_data;
+        head2$67$read_address = cells$bucket$13;
         s4_old$67$d = head$67$read_data;
+        s4_old2$67$d = head2$67$read_data;
         s4_walk$67$d = s3_valid$q & cells$small_box & cells$inside$13 & allow$67[32'h0];
         s4_enter$67$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & (s3_group$q == list_group$67);
         meta$68$read_address = cells$bucket$14;
         head$68$read_address = cells$bucket$14;
         allow$68 = s3_allowed$q >> list_group$68;
         s4_meta$68$d = meta$68$read_data;
+        head2$68$read_address = cells$bucket$14;
         s4_old$68$d = head$68$read_data;
+        s4_old2$68$d = head2$68$read_data;
         s4_walk$68$d = s3_valid$q & cells$small_box & cells$inside$14 & allow$68[32'h0];
         s4_enter$68$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & (s3_group$q == list_group$68);
         meta$69$read_address = cells$bucket$15;
         head$69$read_address = cells$bucket$15;
         allow$69 = s3_allowed$q >> list_group$69;
         s4_meta$69$d = meta$69$read_data;
+        head2$69$read_address = cells$bucket$15;
         s4_old$69$d = head$69$read_data;
+        s4_old2$69$d = head2$69$read_data;
         s4_walk$69$d = s3_valid$q & cells$small_box & cells$inside$15 & allow$69[32'h0];
         s4_enter$69$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & (s3_group$q == list_group$69);
         meta$70$read_address = cells$bucket$16;
         head$70$read_address = cells$bucket$16;
         allow$70 = s3_allowed$q >> list_group$70;
         s4_meta$70$d = meta$70$read_data;
+        head2$70$read_address = cells$bucket$16;
         s4_old$70$d = head$70$read_data;
+        s4_old2$70$d = head2$70$read_data;
         s4_walk$70$d = s3_valid$q & cells$small_box & cells$inside$16 & allow$70[32'h0];
         s4_enter$70$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & (s3_group$q == list_group$70);
         meta$71$read_address = cells$bucket$17;
         head$71$read_address = cells$bucket$17;
         allow$71 = s3_allowed$q >> list_group$71;
         s4_meta$71$d = meta$71$read_data;
+        head2$71$read_address = cells$bucket$17;
         s4_old$71$d = head$71$read_data;
+        s4_old2$71$d = head2$71$read_data;
         s4_walk$71$d = s3_valid$q & cells$small_box & cells$inside$17 & allow$71[32'h0];
         s4_enter$71$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & (s3_group$q == list_group$71);
         meta$72$read_address = cells$bucket$18;
         head$72$read_address = cells$bucket$18;
         allow$72 = s3_allowed$q >> list_group$72;
         s4_meta$72$d = meta$72$read_data;
+        head2$72$read_address = cells$bucket$18;
         s4_old$72$d = head$72$read_data;
+        s4_old2$72$d = head2$72$read_data;
         s4_walk$72$d = s3_valid$q & cells$small_box & cells$inside$18 & allow$72[32'h0];
         s4_enter$72$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & (s3_group$q == list_group$72);
         meta$73$read_address = cells$bucket$19;
         head$73$read_address = cells$bucket$19;
         allow$73 = s3_allowed$q >> list_group$73;
         s4_meta$73$d = meta$73$read_data;
+        head2$73$read_address = cells$bucket$19;
         s4_old$73$d = head$73$read_data;
+        s4_old2$73$d = head2$73$read_data;
         s4_walk$73$d = s3_valid$q & cells$small_box & cells$inside$19 & allow$73[32'h0];
         s4_enter$73$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & (s3_group$q == list_group$73);
         meta$74$read_address = cells$bucket$20;
         head$74$read_address = cells$bucket$20;
         allow$74 = s3_allowed$q >> list_group$74;
         s4_meta$74$d = meta$74$read_data;
+        head2$74$read_address = cells$bucket$20;
         s4_old$74$d = head$74$read_data;
+        s4_old2$74$d = head2$74$read_data;
         s4_walk$74$d = s3_valid$q & cells$small_box & cells$inside$20 & allow$74[32'h0];
         s4_enter$74$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & (s3_group$q == list_group$74);
         meta$75$read_address = cells$bucket$21;
         head$75$read_address = cells$bucket$21;
         allow$75 = s3_allowed$q >> list_group$75;
         s4_meta$75$d = meta$75$read_data;
+        head2$75$read_address = cells$bucket$21;
         s4_old$75$d = head$75$read_data;
+        s4_old2$75$d = head2$75$read_data;
         s4_walk$75$d = s3_valid$q & cells$small_box & cells$inside$21 & allow$75[32'h0];
         s4_enter$75$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & (s3_group$q == list_group$75);
         meta$76$read_address = cells$bucket$22;
         head$76$read_address = cells$bucket$22;
         allow$76 = s3_allowed$q >> list_group$76;
         s4_meta$76$d = meta$76$read_data;
+        head2$76$read_address = cells$bucket$22;
         s4_old$76$d = head$76$read_data;
+        s4_old2$76$d = head2$76$read_data;
         s4_walk$76$d = s3_valid$q & cells$small_box & cells$inside$22 & allow$76[32'h0];
         s4_enter$76$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & (s3_group$q == list_group$76);
         meta$77$read_address = cells$bucket$23;
         head$77$read_address = cells$bucket$23;
         allow$77 = s3_allowed$q >> list_group$77;
         s4_meta$77$d = meta$77$read_data;
+        head2$77$read_address = cells$bucket$23;
         s4_old$77$d = head$77$read_data;
+        s4_old2$77$d = head2$77$read_data;
         s4_walk$77$d = s3_valid$q & cells$small_box & cells$inside$23 & allow$77[32'h0];
         s4_enter$77$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & (s3_group$q == list_group$77);
         meta$78$read_address = cells$bucket$24;
         head$78$read_address = cells$bucket$24;
         allow$78 = s3_allowed$q >> list_group$78;
         s4_meta$78$d = meta$78$read_data;
+        head2$78$read_address = cells$bucket$24;
         s4_old$78$d = head$78$read_data;
+        s4_old2$78$d = head2$78$read_data;
         s4_walk$78$d = s3_valid$q & cells$small_box & cells$inside$24 & allow$78[32'h0];
         s4_enter$78$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & (s3_group$q == list_group$78);
         meta$79$read_address = cells$bucket$25;
         head$79$read_address = cells$bucket$25;
         allow$79 = s3_allowed$q >> list_group$79;
         s4_meta$79$d = meta$79$read_data;
+        head2$79$read_address = cells$bucket$25;
         s4_old$79$d = head$79$read_data;
+        s4_old2$79$d = head2$79$read_data;
         s4_walk$79$d = s3_valid$q & cells$small_box & cells$inside$25 & allow$79[32'h0];
         s4_enter$79$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & (s3_group$q == list_group$79);
         meta$80$read_address = cells$bucket$26;
         head$80$read_address = cells$bucket$26;
         allow$80 = s3_allowed$q >> list_group$80;
         s4_meta$80$d = meta$80$read_data;
+        head2$80$read_address = cells$bucket$26;
         s4_old$80$d = head$80$read_data;
+        s4_old2$80$d = head2$80$read_data;
         s4_walk$80$d = s3_valid$q & cells$small_box & cells$inside$26 & allow$80[32'h0];
         s4_enter$80$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & (s3_group$q == list_group$80);
         s4_bucket$0$d = cells$bucket$0;
@@ -21804,9 +27222,10 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_home_fp$d = cells$home_fp;
         large_in = s3_valid$q & (s3_kind$q == 32'h0) & ~cells$small_box;
         s4_large$d = large_in;
-        s4_lprev$d = lnext$q;
+        s4_lprev$d = lnext2$q;
         if (large_in) begin
             lnext$d = entry;
+            lnext2$d = lnext$q;
         end
         s4_valid$d = s3_valid$q;
         s4_index$d = s3_index$q;
@@ -21823,9 +27242,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         fwd$0 = s4_same$0$q & s5_wrote$0$q;
         meta_eff$0 = s4_meta$0$q;
         old_eff$0 = s4_old$0$q;
+        old_eff2$0 = s4_old2$0$q;
         if (fwd$0) begin
             meta_eff$0 = s5_meta_w$0$q;
             old_eff$0 = entry5;
+            old_eff2$0 = s5_head$0$q;
         end
         live$0 = s4_walk$0$q & meta_eff$0[32'h9] & (meta_eff$0[32'h8] | (meta_eff$0[(32'h0)+:(8)] == s4_fp$0$q));
         meta_new$0 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -21841,6 +27262,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$0$write_enable = s4_enter$0$q;
         head$0$write_address = s4_bucket$0$q;
         head$0$write_data = entry4;
+        head2$0$write_enable = s4_enter$0$q;
+        head2$0$write_address = s4_bucket$0$q;
+        head2$0$write_data = old_eff$0;
         if (clearing$q) begin
             meta$0$write_enable = 1'b1;
             meta$0$write_address = clear_at$q;
@@ -21848,18 +27272,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$0$write_enable = 1'b1;
             head$0$write_address = clear_at$q;
             head$0$write_data = 32'h0;
+            head2$0$write_enable = 1'b1;
+            head2$0$write_address = clear_at$q;
+            head2$0$write_data = 32'h0;
         end
         s5_enter$0$d = s4_enter$0$q & meta_eff$0[32'h9];
         s5_wrote$0$d = s4_enter$0$q;
         s5_meta_w$0$d = meta_new$0;
         s5_live$0$d = live$0;
         s5_head$0$d = old_eff$0;
+        s5_head2$0$d = old_eff2$0;
         fwd$1 = s4_same$1$q & s5_wrote$1$q;
         meta_eff$1 = s4_meta$1$q;
         old_eff$1 = s4_old$1$q;
+        old_eff2$1 = s4_old2$1$q;
         if (fwd$1) begin
             meta_eff$1 = s5_meta_w$1$q;
             old_eff$1 = entry5;
+            old_eff2$1 = s5_head$1$q;
         end
         live$1 = s4_walk$1$q & meta_eff$1[32'h9] & (meta_eff$1[32'h8] | (meta_eff$1[(32'h0)+:(8)] == s4_fp$1$q));
         meta_new$1 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -21875,6 +27305,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$1$write_enable = s4_enter$1$q;
         head$1$write_address = s4_bucket$1$q;
         head$1$write_data = entry4;
+        head2$1$write_enable = s4_enter$1$q;
+        head2$1$write_address = s4_bucket$1$q;
+        head2$1$write_data = old_eff$1;
         if (clearing$q) begin
             meta$1$write_enable = 1'b1;
             meta$1$write_address = clear_at$q;
@@ -21882,18 +27315,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$1$write_enable = 1'b1;
             head$1$write_address = clear_at$q;
             head$1$write_data = 32'h0;
+            head2$1$write_enable = 1'b1;
+            head2$1$write_address = clear_at$q;
+            head2$1$write_data = 32'h0;
         end
         s5_enter$1$d = s4_enter$1$q & meta_eff$1[32'h9];
         s5_wrote$1$d = s4_enter$1$q;
         s5_meta_w$1$d = meta_new$1;
         s5_live$1$d = live$1;
         s5_head$1$d = old_eff$1;
+        s5_head2$1$d = old_eff2$1;
         fwd$2 = s4_same$2$q & s5_wrote$2$q;
         meta_eff$2 = s4_meta$2$q;
         old_eff$2 = s4_old$2$q;
+        old_eff2$2 = s4_old2$2$q;
         if (fwd$2) begin
             meta_eff$2 = s5_meta_w$2$q;
             old_eff$2 = entry5;
+            old_eff2$2 = s5_head$2$q;
         end
         live$2 = s4_walk$2$q & meta_eff$2[32'h9] & (meta_eff$2[32'h8] | (meta_eff$2[(32'h0)+:(8)] == s4_fp$2$q));
         meta_new$2 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -21909,6 +27348,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$2$write_enable = s4_enter$2$q;
         head$2$write_address = s4_bucket$2$q;
         head$2$write_data = entry4;
+        head2$2$write_enable = s4_enter$2$q;
+        head2$2$write_address = s4_bucket$2$q;
+        head2$2$write_data = old_eff$2;
         if (clearing$q) begin
             meta$2$write_enable = 1'b1;
             meta$2$write_address = clear_at$q;
@@ -21916,18 +27358,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$2$write_enable = 1'b1;
             head$2$write_address = clear_at$q;
             head$2$write_data = 32'h0;
+            head2$2$write_enable = 1'b1;
+            head2$2$write_address = clear_at$q;
+            head2$2$write_data = 32'h0;
         end
         s5_enter$2$d = s4_enter$2$q & meta_eff$2[32'h9];
         s5_wrote$2$d = s4_enter$2$q;
         s5_meta_w$2$d = meta_new$2;
         s5_live$2$d = live$2;
         s5_head$2$d = old_eff$2;
+        s5_head2$2$d = old_eff2$2;
         fwd$3 = s4_same$3$q & s5_wrote$3$q;
         meta_eff$3 = s4_meta$3$q;
         old_eff$3 = s4_old$3$q;
+        old_eff2$3 = s4_old2$3$q;
         if (fwd$3) begin
             meta_eff$3 = s5_meta_w$3$q;
             old_eff$3 = entry5;
+            old_eff2$3 = s5_head$3$q;
         end
         live$3 = s4_walk$3$q & meta_eff$3[32'h9] & (meta_eff$3[32'h8] | (meta_eff$3[(32'h0)+:(8)] == s4_fp$3$q));
         meta_new$3 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -21943,6 +27391,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$3$write_enable = s4_enter$3$q;
         head$3$write_address = s4_bucket$3$q;
         head$3$write_data = entry4;
+        head2$3$write_enable = s4_enter$3$q;
+        head2$3$write_address = s4_bucket$3$q;
+        head2$3$write_data = old_eff$3;
         if (clearing$q) begin
             meta$3$write_enable = 1'b1;
             meta$3$write_address = clear_at$q;
@@ -21950,18 +27401,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$3$write_enable = 1'b1;
             head$3$write_address = clear_at$q;
             head$3$write_data = 32'h0;
+            head2$3$write_enable = 1'b1;
+            head2$3$write_address = clear_at$q;
+            head2$3$write_data = 32'h0;
         end
         s5_enter$3$d = s4_enter$3$q & meta_eff$3[32'h9];
         s5_wrote$3$d = s4_enter$3$q;
         s5_meta_w$3$d = meta_new$3;
         s5_live$3$d = live$3;
         s5_head$3$d = old_eff$3;
+        s5_head2$3$d = old_eff2$3;
         fwd$4 = s4_same$4$q & s5_wrote$4$q;
         meta_eff$4 = s4_meta$4$q;
         old_eff$4 = s4_old$4$q;
+        old_eff2$4 = s4_old2$4$q;
         if (fwd$4) begin
             meta_eff$4 = s5_meta_w$4$q;
             old_eff$4 = entry5;
+            old_eff2$4 = s5_head$4$q;
         end
         live$4 = s4_walk$4$q & meta_eff$4[32'h9] & (meta_eff$4[32'h8] | (meta_eff$4[(32'h0)+:(8)] == s4_fp$4$q));
         meta_new$4 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -21977,6 +27434,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$4$write_enable = s4_enter$4$q;
         head$4$write_address = s4_bucket$4$q;
         head$4$write_data = entry4;
+        head2$4$write_enable = s4_enter$4$q;
+        head2$4$write_address = s4_bucket$4$q;
+        head2$4$write_data = old_eff$4;
         if (clearing$q) begin
             meta$4$write_enable = 1'b1;
             meta$4$write_address = clear_at$q;
@@ -21984,18 +27444,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$4$write_enable = 1'b1;
             head$4$write_address = clear_at$q;
             head$4$write_data = 32'h0;
+            head2$4$write_enable = 1'b1;
+            head2$4$write_address = clear_at$q;
+            head2$4$write_data = 32'h0;
         end
         s5_enter$4$d = s4_enter$4$q & meta_eff$4[32'h9];
         s5_wrote$4$d = s4_enter$4$q;
         s5_meta_w$4$d = meta_new$4;
         s5_live$4$d = live$4;
         s5_head$4$d = old_eff$4;
+        s5_head2$4$d = old_eff2$4;
         fwd$5 = s4_same$5$q & s5_wrote$5$q;
         meta_eff$5 = s4_meta$5$q;
         old_eff$5 = s4_old$5$q;
+        old_eff2$5 = s4_old2$5$q;
         if (fwd$5) begin
             meta_eff$5 = s5_meta_w$5$q;
             old_eff$5 = entry5;
+            old_eff2$5 = s5_head$5$q;
         end
         live$5 = s4_walk$5$q & meta_eff$5[32'h9] & (meta_eff$5[32'h8] | (meta_eff$5[(32'h0)+:(8)] == s4_fp$5$q));
         meta_new$5 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22011,6 +27477,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$5$write_enable = s4_enter$5$q;
         head$5$write_address = s4_bucket$5$q;
         head$5$write_data = entry4;
+        head2$5$write_enable = s4_enter$5$q;
+        head2$5$write_address = s4_bucket$5$q;
+        head2$5$write_data = old_eff$5;
         if (clearing$q) begin
             meta$5$write_enable = 1'b1;
             meta$5$write_address = clear_at$q;
@@ -22018,18 +27487,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$5$write_enable = 1'b1;
             head$5$write_address = clear_at$q;
             head$5$write_data = 32'h0;
+            head2$5$write_enable = 1'b1;
+            head2$5$write_address = clear_at$q;
+            head2$5$write_data = 32'h0;
         end
         s5_enter$5$d = s4_enter$5$q & meta_eff$5[32'h9];
         s5_wrote$5$d = s4_enter$5$q;
         s5_meta_w$5$d = meta_new$5;
         s5_live$5$d = live$5;
         s5_head$5$d = old_eff$5;
+        s5_head2$5$d = old_eff2$5;
         fwd$6 = s4_same$6$q & s5_wrote$6$q;
         meta_eff$6 = s4_meta$6$q;
         old_eff$6 = s4_old$6$q;
+        old_eff2$6 = s4_old2$6$q;
         if (fwd$6) begin
             meta_eff$6 = s5_meta_w$6$q;
             old_eff$6 = entry5;
+            old_eff2$6 = s5_head$6$q;
         end
         live$6 = s4_walk$6$q & meta_eff$6[32'h9] & (meta_eff$6[32'h8] | (meta_eff$6[(32'h0)+:(8)] == s4_fp$6$q));
         meta_new$6 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22045,6 +27520,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$6$write_enable = s4_enter$6$q;
         head$6$write_address = s4_bucket$6$q;
         head$6$write_data = entry4;
+        head2$6$write_enable = s4_enter$6$q;
+        head2$6$write_address = s4_bucket$6$q;
+        head2$6$write_data = old_eff$6;
         if (clearing$q) begin
             meta$6$write_enable = 1'b1;
             meta$6$write_address = clear_at$q;
@@ -22052,18 +27530,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$6$write_enable = 1'b1;
             head$6$write_address = clear_at$q;
             head$6$write_data = 32'h0;
+            head2$6$write_enable = 1'b1;
+            head2$6$write_address = clear_at$q;
+            head2$6$write_data = 32'h0;
         end
         s5_enter$6$d = s4_enter$6$q & meta_eff$6[32'h9];
         s5_wrote$6$d = s4_enter$6$q;
         s5_meta_w$6$d = meta_new$6;
         s5_live$6$d = live$6;
         s5_head$6$d = old_eff$6;
+        s5_head2$6$d = old_eff2$6;
         fwd$7 = s4_same$7$q & s5_wrote$7$q;
         meta_eff$7 = s4_meta$7$q;
         old_eff$7 = s4_old$7$q;
+        old_eff2$7 = s4_old2$7$q;
         if (fwd$7) begin
             meta_eff$7 = s5_meta_w$7$q;
             old_eff$7 = entry5;
+            old_eff2$7 = s5_head$7$q;
         end
         live$7 = s4_walk$7$q & meta_eff$7[32'h9] & (meta_eff$7[32'h8] | (meta_eff$7[(32'h0)+:(8)] == s4_fp$7$q));
         meta_new$7 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22079,6 +27563,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$7$write_enable = s4_enter$7$q;
         head$7$write_address = s4_bucket$7$q;
         head$7$write_data = entry4;
+        head2$7$write_enable = s4_enter$7$q;
+        head2$7$write_address = s4_bucket$7$q;
+        head2$7$write_data = old_eff$7;
         if (clearing$q) begin
             meta$7$write_enable = 1'b1;
             meta$7$write_address = clear_at$q;
@@ -22086,18 +27573,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$7$write_enable = 1'b1;
             head$7$write_address = clear_at$q;
             head$7$write_data = 32'h0;
+            head2$7$write_enable = 1'b1;
+            head2$7$write_address = clear_at$q;
+            head2$7$write_data = 32'h0;
         end
         s5_enter$7$d = s4_enter$7$q & meta_eff$7[32'h9];
         s5_wrote$7$d = s4_enter$7$q;
         s5_meta_w$7$d = meta_new$7;
         s5_live$7$d = live$7;
         s5_head$7$d = old_eff$7;
+        s5_head2$7$d = old_eff2$7;
         fwd$8 = s4_same$8$q & s5_wrote$8$q;
         meta_eff$8 = s4_meta$8$q;
         old_eff$8 = s4_old$8$q;
+        old_eff2$8 = s4_old2$8$q;
         if (fwd$8) begin
             meta_eff$8 = s5_meta_w$8$q;
             old_eff$8 = entry5;
+            old_eff2$8 = s5_head$8$q;
         end
         live$8 = s4_walk$8$q & meta_eff$8[32'h9] & (meta_eff$8[32'h8] | (meta_eff$8[(32'h0)+:(8)] == s4_fp$8$q));
         meta_new$8 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22113,6 +27606,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$8$write_enable = s4_enter$8$q;
         head$8$write_address = s4_bucket$8$q;
         head$8$write_data = entry4;
+        head2$8$write_enable = s4_enter$8$q;
+        head2$8$write_address = s4_bucket$8$q;
+        head2$8$write_data = old_eff$8;
         if (clearing$q) begin
             meta$8$write_enable = 1'b1;
             meta$8$write_address = clear_at$q;
@@ -22120,18 +27616,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$8$write_enable = 1'b1;
             head$8$write_address = clear_at$q;
             head$8$write_data = 32'h0;
+            head2$8$write_enable = 1'b1;
+            head2$8$write_address = clear_at$q;
+            head2$8$write_data = 32'h0;
         end
         s5_enter$8$d = s4_enter$8$q & meta_eff$8[32'h9];
         s5_wrote$8$d = s4_enter$8$q;
         s5_meta_w$8$d = meta_new$8;
         s5_live$8$d = live$8;
         s5_head$8$d = old_eff$8;
+        s5_head2$8$d = old_eff2$8;
         fwd$9 = s4_same$9$q & s5_wrote$9$q;
         meta_eff$9 = s4_meta$9$q;
         old_eff$9 = s4_old$9$q;
+        old_eff2$9 = s4_old2$9$q;
         if (fwd$9) begin
             meta_eff$9 = s5_meta_w$9$q;
             old_eff$9 = entry5;
+            old_eff2$9 = s5_head$9$q;
         end
         live$9 = s4_walk$9$q & meta_eff$9[32'h9] & (meta_eff$9[32'h8] | (meta_eff$9[(32'h0)+:(8)] == s4_fp$9$q));
         meta_new$9 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22147,6 +27649,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$9$write_enable = s4_enter$9$q;
         head$9$write_address = s4_bucket$9$q;
         head$9$write_data = entry4;
+        head2$9$write_enable = s4_enter$9$q;
+        head2$9$write_address = s4_bucket$9$q;
+        head2$9$write_data = old_eff$9;
         if (clearing$q) begin
             meta$9$write_enable = 1'b1;
             meta$9$write_address = clear_at$q;
@@ -22154,18 +27659,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$9$write_enable = 1'b1;
             head$9$write_address = clear_at$q;
             head$9$write_data = 32'h0;
+            head2$9$write_enable = 1'b1;
+            head2$9$write_address = clear_at$q;
+            head2$9$write_data = 32'h0;
         end
         s5_enter$9$d = s4_enter$9$q & meta_eff$9[32'h9];
         s5_wrote$9$d = s4_enter$9$q;
         s5_meta_w$9$d = meta_new$9;
         s5_live$9$d = live$9;
         s5_head$9$d = old_eff$9;
+        s5_head2$9$d = old_eff2$9;
         fwd$10 = s4_same$10$q & s5_wrote$10$q;
         meta_eff$10 = s4_meta$10$q;
         old_eff$10 = s4_old$10$q;
+        old_eff2$10 = s4_old2$10$q;
         if (fwd$10) begin
             meta_eff$10 = s5_meta_w$10$q;
             old_eff$10 = entry5;
+            old_eff2$10 = s5_head$10$q;
         end
         live$10 = s4_walk$10$q & meta_eff$10[32'h9] & (meta_eff$10[32'h8] | (meta_eff$10[(32'h0)+:(8)] == s4_fp$10$q));
         meta_new$10 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22181,6 +27692,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$10$write_enable = s4_enter$10$q;
         head$10$write_address = s4_bucket$10$q;
         head$10$write_data = entry4;
+        head2$10$write_enable = s4_enter$10$q;
+        head2$10$write_address = s4_bucket$10$q;
+        head2$10$write_data = old_eff$10;
         if (clearing$q) begin
             meta$10$write_enable = 1'b1;
             meta$10$write_address = clear_at$q;
@@ -22188,18 +27702,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$10$write_enable = 1'b1;
             head$10$write_address = clear_at$q;
             head$10$write_data = 32'h0;
+            head2$10$write_enable = 1'b1;
+            head2$10$write_address = clear_at$q;
+            head2$10$write_data = 32'h0;
         end
         s5_enter$10$d = s4_enter$10$q & meta_eff$10[32'h9];
         s5_wrote$10$d = s4_enter$10$q;
         s5_meta_w$10$d = meta_new$10;
         s5_live$10$d = live$10;
         s5_head$10$d = old_eff$10;
+        s5_head2$10$d = old_eff2$10;
         fwd$11 = s4_same$11$q & s5_wrote$11$q;
         meta_eff$11 = s4_meta$11$q;
         old_eff$11 = s4_old$11$q;
+        old_eff2$11 = s4_old2$11$q;
         if (fwd$11) begin
             meta_eff$11 = s5_meta_w$11$q;
             old_eff$11 = entry5;
+            old_eff2$11 = s5_head$11$q;
         end
         live$11 = s4_walk$11$q & meta_eff$11[32'h9] & (meta_eff$11[32'h8] | (meta_eff$11[(32'h0)+:(8)] == s4_fp$11$q));
         meta_new$11 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22215,6 +27735,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$11$write_enable = s4_enter$11$q;
         head$11$write_address = s4_bucket$11$q;
         head$11$write_data = entry4;
+        head2$11$write_enable = s4_enter$11$q;
+        head2$11$write_address = s4_bucket$11$q;
+        head2$11$write_data = old_eff$11;
         if (clearing$q) begin
             meta$11$write_enable = 1'b1;
             meta$11$write_address = clear_at$q;
@@ -22222,18 +27745,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$11$write_enable = 1'b1;
             head$11$write_address = clear_at$q;
             head$11$write_data = 32'h0;
+            head2$11$write_enable = 1'b1;
+            head2$11$write_address = clear_at$q;
+            head2$11$write_data = 32'h0;
         end
         s5_enter$11$d = s4_enter$11$q & meta_eff$11[32'h9];
         s5_wrote$11$d = s4_enter$11$q;
         s5_meta_w$11$d = meta_new$11;
         s5_live$11$d = live$11;
         s5_head$11$d = old_eff$11;
+        s5_head2$11$d = old_eff2$11;
         fwd$12 = s4_same$12$q & s5_wrote$12$q;
         meta_eff$12 = s4_meta$12$q;
         old_eff$12 = s4_old$12$q;
+        old_eff2$12 = s4_old2$12$q;
         if (fwd$12) begin
             meta_eff$12 = s5_meta_w$12$q;
             old_eff$12 = entry5;
+            old_eff2$12 = s5_head$12$q;
         end
         live$12 = s4_walk$12$q & meta_eff$12[32'h9] & (meta_eff$12[32'h8] | (meta_eff$12[(32'h0)+:(8)] == s4_fp$12$q));
         meta_new$12 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22249,6 +27778,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$12$write_enable = s4_enter$12$q;
         head$12$write_address = s4_bucket$12$q;
         head$12$write_data = entry4;
+        head2$12$write_enable = s4_enter$12$q;
+        head2$12$write_address = s4_bucket$12$q;
+        head2$12$write_data = old_eff$12;
         if (clearing$q) begin
             meta$12$write_enable = 1'b1;
             meta$12$write_address = clear_at$q;
@@ -22256,18 +27788,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$12$write_enable = 1'b1;
             head$12$write_address = clear_at$q;
             head$12$write_data = 32'h0;
+            head2$12$write_enable = 1'b1;
+            head2$12$write_address = clear_at$q;
+            head2$12$write_data = 32'h0;
         end
         s5_enter$12$d = s4_enter$12$q & meta_eff$12[32'h9];
         s5_wrote$12$d = s4_enter$12$q;
         s5_meta_w$12$d = meta_new$12;
         s5_live$12$d = live$12;
         s5_head$12$d = old_eff$12;
+        s5_head2$12$d = old_eff2$12;
         fwd$13 = s4_same$13$q & s5_wrote$13$q;
         meta_eff$13 = s4_meta$13$q;
         old_eff$13 = s4_old$13$q;
+        old_eff2$13 = s4_old2$13$q;
         if (fwd$13) begin
             meta_eff$13 = s5_meta_w$13$q;
             old_eff$13 = entry5;
+            old_eff2$13 = s5_head$13$q;
         end
         live$13 = s4_walk$13$q & meta_eff$13[32'h9] & (meta_eff$13[32'h8] | (meta_eff$13[(32'h0)+:(8)] == s4_fp$13$q));
         meta_new$13 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22283,6 +27821,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$13$write_enable = s4_enter$13$q;
         head$13$write_address = s4_bucket$13$q;
         head$13$write_data = entry4;
+        head2$13$write_enable = s4_enter$13$q;
+        head2$13$write_address = s4_bucket$13$q;
+        head2$13$write_data = old_eff$13;
         if (clearing$q) begin
             meta$13$write_enable = 1'b1;
             meta$13$write_address = clear_at$q;
@@ -22290,18 +27831,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$13$write_enable = 1'b1;
             head$13$write_address = clear_at$q;
             head$13$write_data = 32'h0;
+            head2$13$write_enable = 1'b1;
+            head2$13$write_address = clear_at$q;
+            head2$13$write_data = 32'h0;
         end
         s5_enter$13$d = s4_enter$13$q & meta_eff$13[32'h9];
         s5_wrote$13$d = s4_enter$13$q;
         s5_meta_w$13$d = meta_new$13;
         s5_live$13$d = live$13;
         s5_head$13$d = old_eff$13;
+        s5_head2$13$d = old_eff2$13;
         fwd$14 = s4_same$14$q & s5_wrote$14$q;
         meta_eff$14 = s4_meta$14$q;
         old_eff$14 = s4_old$14$q;
+        old_eff2$14 = s4_old2$14$q;
         if (fwd$14) begin
             meta_eff$14 = s5_meta_w$14$q;
             old_eff$14 = entry5;
+            old_eff2$14 = s5_head$14$q;
         end
         live$14 = s4_walk$14$q & meta_eff$14[32'h9] & (meta_eff$14[32'h8] | (meta_eff$14[(32'h0)+:(8)] == s4_fp$14$q));
         meta_new$14 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22317,6 +27864,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$14$write_enable = s4_enter$14$q;
         head$14$write_address = s4_bucket$14$q;
         head$14$write_data = entry4;
+        head2$14$write_enable = s4_enter$14$q;
+        head2$14$write_address = s4_bucket$14$q;
+        head2$14$write_data = old_eff$14;
         if (clearing$q) begin
             meta$14$write_enable = 1'b1;
             meta$14$write_address = clear_at$q;
@@ -22324,18 +27874,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$14$write_enable = 1'b1;
             head$14$write_address = clear_at$q;
             head$14$write_data = 32'h0;
+            head2$14$write_enable = 1'b1;
+            head2$14$write_address = clear_at$q;
+            head2$14$write_data = 32'h0;
         end
         s5_enter$14$d = s4_enter$14$q & meta_eff$14[32'h9];
         s5_wrote$14$d = s4_enter$14$q;
         s5_meta_w$14$d = meta_new$14;
         s5_live$14$d = live$14;
         s5_head$14$d = old_eff$14;
+        s5_head2$14$d = old_eff2$14;
         fwd$15 = s4_same$15$q & s5_wrote$15$q;
         meta_eff$15 = s4_meta$15$q;
         old_eff$15 = s4_old$15$q;
+        old_eff2$15 = s4_old2$15$q;
         if (fwd$15) begin
             meta_eff$15 = s5_meta_w$15$q;
             old_eff$15 = entry5;
+            old_eff2$15 = s5_head$15$q;
         end
         live$15 = s4_walk$15$q & meta_eff$15[32'h9] & (meta_eff$15[32'h8] | (meta_eff$15[(32'h0)+:(8)] == s4_fp$15$q));
         meta_new$15 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22351,6 +27907,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$15$write_enable = s4_enter$15$q;
         head$15$write_address = s4_bucket$15$q;
         head$15$write_data = entry4;
+        head2$15$write_enable = s4_enter$15$q;
+        head2$15$write_address = s4_bucket$15$q;
+        head2$15$write_data = old_eff$15;
         if (clearing$q) begin
             meta$15$write_enable = 1'b1;
             meta$15$write_address = clear_at$q;
@@ -22358,18 +27917,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$15$write_enable = 1'b1;
             head$15$write_address = clear_at$q;
             head$15$write_data = 32'h0;
+            head2$15$write_enable = 1'b1;
+            head2$15$write_address = clear_at$q;
+            head2$15$write_data = 32'h0;
         end
         s5_enter$15$d = s4_enter$15$q & meta_eff$15[32'h9];
         s5_wrote$15$d = s4_enter$15$q;
         s5_meta_w$15$d = meta_new$15;
         s5_live$15$d = live$15;
         s5_head$15$d = old_eff$15;
+        s5_head2$15$d = old_eff2$15;
         fwd$16 = s4_same$16$q & s5_wrote$16$q;
         meta_eff$16 = s4_meta$16$q;
         old_eff$16 = s4_old$16$q;
+        old_eff2$16 = s4_old2$16$q;
         if (fwd$16) begin
             meta_eff$16 = s5_meta_w$16$q;
             old_eff$16 = entry5;
+            old_eff2$16 = s5_head$16$q;
         end
         live$16 = s4_walk$16$q & meta_eff$16[32'h9] & (meta_eff$16[32'h8] | (meta_eff$16[(32'h0)+:(8)] == s4_fp$16$q));
         meta_new$16 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22385,6 +27950,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$16$write_enable = s4_enter$16$q;
         head$16$write_address = s4_bucket$16$q;
         head$16$write_data = entry4;
+        head2$16$write_enable = s4_enter$16$q;
+        head2$16$write_address = s4_bucket$16$q;
+        head2$16$write_data = old_eff$16;
         if (clearing$q) begin
             meta$16$write_enable = 1'b1;
             meta$16$write_address = clear_at$q;
@@ -22392,18 +27960,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$16$write_enable = 1'b1;
             head$16$write_address = clear_at$q;
             head$16$write_data = 32'h0;
+            head2$16$write_enable = 1'b1;
+            head2$16$write_address = clear_at$q;
+            head2$16$write_data = 32'h0;
         end
         s5_enter$16$d = s4_enter$16$q & meta_eff$16[32'h9];
         s5_wrote$16$d = s4_enter$16$q;
         s5_meta_w$16$d = meta_new$16;
         s5_live$16$d = live$16;
         s5_head$16$d = old_eff$16;
+        s5_head2$16$d = old_eff2$16;
         fwd$17 = s4_same$17$q & s5_wrote$17$q;
         meta_eff$17 = s4_meta$17$q;
         old_eff$17 = s4_old$17$q;
+        old_eff2$17 = s4_old2$17$q;
         if (fwd$17) begin
             meta_eff$17 = s5_meta_w$17$q;
             old_eff$17 = entry5;
+            old_eff2$17 = s5_head$17$q;
         end
         live$17 = s4_walk$17$q & meta_eff$17[32'h9] & (meta_eff$17[32'h8] | (meta_eff$17[(32'h0)+:(8)] == s4_fp$17$q));
         meta_new$17 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22419,6 +27993,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$17$write_enable = s4_enter$17$q;
         head$17$write_address = s4_bucket$17$q;
         head$17$write_data = entry4;
+        head2$17$write_enable = s4_enter$17$q;
+        head2$17$write_address = s4_bucket$17$q;
+        head2$17$write_data = old_eff$17;
         if (clearing$q) begin
             meta$17$write_enable = 1'b1;
             meta$17$write_address = clear_at$q;
@@ -22426,18 +28003,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$17$write_enable = 1'b1;
             head$17$write_address = clear_at$q;
             head$17$write_data = 32'h0;
+            head2$17$write_enable = 1'b1;
+            head2$17$write_address = clear_at$q;
+            head2$17$write_data = 32'h0;
         end
         s5_enter$17$d = s4_enter$17$q & meta_eff$17[32'h9];
         s5_wrote$17$d = s4_enter$17$q;
         s5_meta_w$17$d = meta_new$17;
         s5_live$17$d = live$17;
         s5_head$17$d = old_eff$17;
+        s5_head2$17$d = old_eff2$17;
         fwd$18 = s4_same$18$q & s5_wrote$18$q;
         meta_eff$18 = s4_meta$18$q;
         old_eff$18 = s4_old$18$q;
+        old_eff2$18 = s4_old2$18$q;
         if (fwd$18) begin
             meta_eff$18 = s5_meta_w$18$q;
             old_eff$18 = entry5;
+            old_eff2$18 = s5_head$18$q;
         end
         live$18 = s4_walk$18$q & meta_eff$18[32'h9] & (meta_eff$18[32'h8] | (meta_eff$18[(32'h0)+:(8)] == s4_fp$18$q));
         meta_new$18 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22453,6 +28036,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$18$write_enable = s4_enter$18$q;
         head$18$write_address = s4_bucket$18$q;
         head$18$write_data = entry4;
+        head2$18$write_enable = s4_enter$18$q;
+        head2$18$write_address = s4_bucket$18$q;
+        head2$18$write_data = old_eff$18;
         if (clearing$q) begin
             meta$18$write_enable = 1'b1;
             meta$18$write_address = clear_at$q;
@@ -22460,18 +28046,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$18$write_enable = 1'b1;
             head$18$write_address = clear_at$q;
             head$18$write_data = 32'h0;
+            head2$18$write_enable = 1'b1;
+            head2$18$write_address = clear_at$q;
+            head2$18$write_data = 32'h0;
         end
         s5_enter$18$d = s4_enter$18$q & meta_eff$18[32'h9];
         s5_wrote$18$d = s4_enter$18$q;
         s5_meta_w$18$d = meta_new$18;
         s5_live$18$d = live$18;
         s5_head$18$d = old_eff$18;
+        s5_head2$18$d = old_eff2$18;
         fwd$19 = s4_same$19$q & s5_wrote$19$q;
         meta_eff$19 = s4_meta$19$q;
         old_eff$19 = s4_old$19$q;
+        old_eff2$19 = s4_old2$19$q;
         if (fwd$19) begin
             meta_eff$19 = s5_meta_w$19$q;
             old_eff$19 = entry5;
+            old_eff2$19 = s5_head$19$q;
         end
         live$19 = s4_walk$19$q & meta_eff$19[32'h9] & (meta_eff$19[32'h8] | (meta_eff$19[(32'h0)+:(8)] == s4_fp$19$q));
         meta_new$19 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22487,6 +28079,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$19$write_enable = s4_enter$19$q;
         head$19$write_address = s4_bucket$19$q;
         head$19$write_data = entry4;
+        head2$19$write_enable = s4_enter$19$q;
+        head2$19$write_address = s4_bucket$19$q;
+        head2$19$write_data = old_eff$19;
         if (clearing$q) begin
             meta$19$write_enable = 1'b1;
             meta$19$write_address = clear_at$q;
@@ -22494,18 +28089,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$19$write_enable = 1'b1;
             head$19$write_address = clear_at$q;
             head$19$write_data = 32'h0;
+            head2$19$write_enable = 1'b1;
+            head2$19$write_address = clear_at$q;
+            head2$19$write_data = 32'h0;
         end
         s5_enter$19$d = s4_enter$19$q & meta_eff$19[32'h9];
         s5_wrote$19$d = s4_enter$19$q;
         s5_meta_w$19$d = meta_new$19;
         s5_live$19$d = live$19;
         s5_head$19$d = old_eff$19;
+        s5_head2$19$d = old_eff2$19;
         fwd$20 = s4_same$20$q & s5_wrote$20$q;
         meta_eff$20 = s4_meta$20$q;
         old_eff$20 = s4_old$20$q;
+        old_eff2$20 = s4_old2$20$q;
         if (fwd$20) begin
             meta_eff$20 = s5_meta_w$20$q;
             old_eff$20 = entry5;
+            old_eff2$20 = s5_head$20$q;
         end
         live$20 = s4_walk$20$q & meta_eff$20[32'h9] & (meta_eff$20[32'h8] | (meta_eff$20[(32'h0)+:(8)] == s4_fp$20$q));
         meta_new$20 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22521,6 +28122,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$20$write_enable = s4_enter$20$q;
         head$20$write_address = s4_bucket$20$q;
         head$20$write_data = entry4;
+        head2$20$write_enable = s4_enter$20$q;
+        head2$20$write_address = s4_bucket$20$q;
+        head2$20$write_data = old_eff$20;
         if (clearing$q) begin
             meta$20$write_enable = 1'b1;
             meta$20$write_address = clear_at$q;
@@ -22528,18 +28132,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$20$write_enable = 1'b1;
             head$20$write_address = clear_at$q;
             head$20$write_data = 32'h0;
+            head2$20$write_enable = 1'b1;
+            head2$20$write_address = clear_at$q;
+            head2$20$write_data = 32'h0;
         end
         s5_enter$20$d = s4_enter$20$q & meta_eff$20[32'h9];
         s5_wrote$20$d = s4_enter$20$q;
         s5_meta_w$20$d = meta_new$20;
         s5_live$20$d = live$20;
         s5_head$20$d = old_eff$20;
+        s5_head2$20$d = old_eff2$20;
         fwd$21 = s4_same$21$q & s5_wrote$21$q;
         meta_eff$21 = s4_meta$21$q;
         old_eff$21 = s4_old$21$q;
+        old_eff2$21 = s4_old2$21$q;
         if (fwd$21) begin
             meta_eff$21 = s5_meta_w$21$q;
             old_eff$21 = entry5;
+            old_eff2$21 = s5_head$21$q;
         end
         live$21 = s4_walk$21$q & meta_eff$21[32'h9] & (meta_eff$21[32'h8] | (meta_eff$21[(32'h0)+:(8)] == s4_fp$21$q));
         meta_new$21 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22555,6 +28165,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$21$write_enable = s4_enter$21$q;
         head$21$write_address = s4_bucket$21$q;
         head$21$write_data = entry4;
+        head2$21$write_enable = s4_enter$21$q;
+        head2$21$write_address = s4_bucket$21$q;
+        head2$21$write_data = old_eff$21;
         if (clearing$q) begin
             meta$21$write_enable = 1'b1;
             meta$21$write_address = clear_at$q;
@@ -22562,18 +28175,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$21$write_enable = 1'b1;
             head$21$write_address = clear_at$q;
             head$21$write_data = 32'h0;
+            head2$21$write_enable = 1'b1;
+            head2$21$write_address = clear_at$q;
+            head2$21$write_data = 32'h0;
         end
         s5_enter$21$d = s4_enter$21$q & meta_eff$21[32'h9];
         s5_wrote$21$d = s4_enter$21$q;
         s5_meta_w$21$d = meta_new$21;
         s5_live$21$d = live$21;
         s5_head$21$d = old_eff$21;
+        s5_head2$21$d = old_eff2$21;
         fwd$22 = s4_same$22$q & s5_wrote$22$q;
         meta_eff$22 = s4_meta$22$q;
         old_eff$22 = s4_old$22$q;
+        old_eff2$22 = s4_old2$22$q;
         if (fwd$22) begin
             meta_eff$22 = s5_meta_w$22$q;
             old_eff$22 = entry5;
+            old_eff2$22 = s5_head$22$q;
         end
         live$22 = s4_walk$22$q & meta_eff$22[32'h9] & (meta_eff$22[32'h8] | (meta_eff$22[(32'h0)+:(8)] == s4_fp$22$q));
         meta_new$22 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22589,6 +28208,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$22$write_enable = s4_enter$22$q;
         head$22$write_address = s4_bucket$22$q;
         head$22$write_data = entry4;
+        head2$22$write_enable = s4_enter$22$q;
+        head2$22$write_address = s4_bucket$22$q;
+        head2$22$write_data = old_eff$22;
         if (clearing$q) begin
             meta$22$write_enable = 1'b1;
             meta$22$write_address = clear_at$q;
@@ -22596,18 +28218,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$22$write_enable = 1'b1;
             head$22$write_address = clear_at$q;
             head$22$write_data = 32'h0;
+            head2$22$write_enable = 1'b1;
+            head2$22$write_address = clear_at$q;
+            head2$22$write_data = 32'h0;
         end
         s5_enter$22$d = s4_enter$22$q & meta_eff$22[32'h9];
         s5_wrote$22$d = s4_enter$22$q;
         s5_meta_w$22$d = meta_new$22;
         s5_live$22$d = live$22;
         s5_head$22$d = old_eff$22;
+        s5_head2$22$d = old_eff2$22;
         fwd$23 = s4_same$23$q & s5_wrote$23$q;
         meta_eff$23 = s4_meta$23$q;
         old_eff$23 = s4_old$23$q;
+        old_eff2$23 = s4_old2$23$q;
         if (fwd$23) begin
             meta_eff$23 = s5_meta_w$23$q;
             old_eff$23 = entry5;
+            old_eff2$23 = s5_head$23$q;
         end
         live$23 = s4_walk$23$q & meta_eff$23[32'h9] & (meta_eff$23[32'h8] | (meta_eff$23[(32'h0)+:(8)] == s4_fp$23$q));
         meta_new$23 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22623,6 +28251,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$23$write_enable = s4_enter$23$q;
         head$23$write_address = s4_bucket$23$q;
         head$23$write_data = entry4;
+        head2$23$write_enable = s4_enter$23$q;
+        head2$23$write_address = s4_bucket$23$q;
+        head2$23$write_data = old_eff$23;
         if (clearing$q) begin
             meta$23$write_enable = 1'b1;
             meta$23$write_address = clear_at$q;
@@ -22630,18 +28261,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$23$write_enable = 1'b1;
             head$23$write_address = clear_at$q;
             head$23$write_data = 32'h0;
+            head2$23$write_enable = 1'b1;
+            head2$23$write_address = clear_at$q;
+            head2$23$write_data = 32'h0;
         end
         s5_enter$23$d = s4_enter$23$q & meta_eff$23[32'h9];
         s5_wrote$23$d = s4_enter$23$q;
         s5_meta_w$23$d = meta_new$23;
         s5_live$23$d = live$23;
         s5_head$23$d = old_eff$23;
+        s5_head2$23$d = old_eff2$23;
         fwd$24 = s4_same$24$q & s5_wrote$24$q;
         meta_eff$24 = s4_meta$24$q;
         old_eff$24 = s4_old$24$q;
+        old_eff2$24 = s4_old2$24$q;
         if (fwd$24) begin
             meta_eff$24 = s5_meta_w$24$q;
             old_eff$24 = entry5;
+            old_eff2$24 = s5_head$24$q;
         end
         live$24 = s4_walk$24$q & meta_eff$24[32'h9] & (meta_eff$24[32'h8] | (meta_eff$24[(32'h0)+:(8)] == s4_fp$24$q));
         meta_new$24 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22657,6 +28294,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$24$write_enable = s4_enter$24$q;
         head$24$write_address = s4_bucket$24$q;
         head$24$write_data = entry4;
+        head2$24$write_enable = s4_enter$24$q;
+        head2$24$write_address = s4_bucket$24$q;
+        head2$24$write_data = old_eff$24;
         if (clearing$q) begin
             meta$24$write_enable = 1'b1;
             meta$24$write_address = clear_at$q;
@@ -22664,18 +28304,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$24$write_enable = 1'b1;
             head$24$write_address = clear_at$q;
             head$24$write_data = 32'h0;
+            head2$24$write_enable = 1'b1;
+            head2$24$write_address = clear_at$q;
+            head2$24$write_data = 32'h0;
         end
         s5_enter$24$d = s4_enter$24$q & meta_eff$24[32'h9];
         s5_wrote$24$d = s4_enter$24$q;
         s5_meta_w$24$d = meta_new$24;
         s5_live$24$d = live$24;
         s5_head$24$d = old_eff$24;
+        s5_head2$24$d = old_eff2$24;
         fwd$25 = s4_same$25$q & s5_wrote$25$q;
         meta_eff$25 = s4_meta$25$q;
         old_eff$25 = s4_old$25$q;
+        old_eff2$25 = s4_old2$25$q;
         if (fwd$25) begin
             meta_eff$25 = s5_meta_w$25$q;
             old_eff$25 = entry5;
+            old_eff2$25 = s5_head$25$q;
         end
         live$25 = s4_walk$25$q & meta_eff$25[32'h9] & (meta_eff$25[32'h8] | (meta_eff$25[(32'h0)+:(8)] == s4_fp$25$q));
         meta_new$25 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22691,6 +28337,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$25$write_enable = s4_enter$25$q;
         head$25$write_address = s4_bucket$25$q;
         head$25$write_data = entry4;
+        head2$25$write_enable = s4_enter$25$q;
+        head2$25$write_address = s4_bucket$25$q;
+        head2$25$write_data = old_eff$25;
         if (clearing$q) begin
             meta$25$write_enable = 1'b1;
             meta$25$write_address = clear_at$q;
@@ -22698,18 +28347,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$25$write_enable = 1'b1;
             head$25$write_address = clear_at$q;
             head$25$write_data = 32'h0;
+            head2$25$write_enable = 1'b1;
+            head2$25$write_address = clear_at$q;
+            head2$25$write_data = 32'h0;
         end
         s5_enter$25$d = s4_enter$25$q & meta_eff$25[32'h9];
         s5_wrote$25$d = s4_enter$25$q;
         s5_meta_w$25$d = meta_new$25;
         s5_live$25$d = live$25;
         s5_head$25$d = old_eff$25;
+        s5_head2$25$d = old_eff2$25;
         fwd$26 = s4_same$26$q & s5_wrote$26$q;
         meta_eff$26 = s4_meta$26$q;
         old_eff$26 = s4_old$26$q;
+        old_eff2$26 = s4_old2$26$q;
         if (fwd$26) begin
             meta_eff$26 = s5_meta_w$26$q;
             old_eff$26 = entry5;
+            old_eff2$26 = s5_head$26$q;
         end
         live$26 = s4_walk$26$q & meta_eff$26[32'h9] & (meta_eff$26[32'h8] | (meta_eff$26[(32'h0)+:(8)] == s4_fp$26$q));
         meta_new$26 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22725,6 +28380,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$26$write_enable = s4_enter$26$q;
         head$26$write_address = s4_bucket$26$q;
         head$26$write_data = entry4;
+        head2$26$write_enable = s4_enter$26$q;
+        head2$26$write_address = s4_bucket$26$q;
+        head2$26$write_data = old_eff$26;
         if (clearing$q) begin
             meta$26$write_enable = 1'b1;
             meta$26$write_address = clear_at$q;
@@ -22732,18 +28390,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$26$write_enable = 1'b1;
             head$26$write_address = clear_at$q;
             head$26$write_data = 32'h0;
+            head2$26$write_enable = 1'b1;
+            head2$26$write_address = clear_at$q;
+            head2$26$write_data = 32'h0;
         end
         s5_enter$26$d = s4_enter$26$q & meta_eff$26[32'h9];
         s5_wrote$26$d = s4_enter$26$q;
         s5_meta_w$26$d = meta_new$26;
         s5_live$26$d = live$26;
         s5_head$26$d = old_eff$26;
+        s5_head2$26$d = old_eff2$26;
         fwd$27 = s4_same$0$q & s5_wrote$27$q;
         meta_eff$27 = s4_meta$27$q;
         old_eff$27 = s4_old$27$q;
+        old_eff2$27 = s4_old2$27$q;
         if (fwd$27) begin
             meta_eff$27 = s5_meta_w$27$q;
             old_eff$27 = entry5;
+            old_eff2$27 = s5_head$27$q;
         end
         live$27 = s4_walk$27$q & meta_eff$27[32'h9] & (meta_eff$27[32'h8] | (meta_eff$27[(32'h0)+:(8)] == s4_fp$0$q));
         meta_new$27 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22759,6 +28423,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$27$write_enable = s4_enter$27$q;
         head$27$write_address = s4_bucket$0$q;
         head$27$write_data = entry4;
+        head2$27$write_enable = s4_enter$27$q;
+        head2$27$write_address = s4_bucket$0$q;
+        head2$27$write_data = old_eff$27;
         if (clearing$q) begin
             meta$27$write_enable = 1'b1;
             meta$27$write_address = clear_at$q;
@@ -22766,18 +28433,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$27$write_enable = 1'b1;
             head$27$write_address = clear_at$q;
             head$27$write_data = 32'h0;
+            head2$27$write_enable = 1'b1;
+            head2$27$write_address = clear_at$q;
+            head2$27$write_data = 32'h0;
         end
         s5_enter$27$d = s4_enter$27$q & meta_eff$27[32'h9];
         s5_wrote$27$d = s4_enter$27$q;
         s5_meta_w$27$d = meta_new$27;
         s5_live$27$d = live$27;
         s5_head$27$d = old_eff$27;
+        s5_head2$27$d = old_eff2$27;
         fwd$28 = s4_same$1$q & s5_wrote$28$q;
         meta_eff$28 = s4_meta$28$q;
         old_eff$28 = s4_old$28$q;
+        old_eff2$28 = s4_old2$28$q;
         if (fwd$28) begin
             meta_eff$28 = s5_meta_w$28$q;
             old_eff$28 = entry5;
+            old_eff2$28 = s5_head$28$q;
         end
         live$28 = s4_walk$28$q & meta_eff$28[32'h9] & (meta_eff$28[32'h8] | (meta_eff$28[(32'h0)+:(8)] == s4_fp$1$q));
         meta_new$28 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22793,6 +28466,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$28$write_enable = s4_enter$28$q;
         head$28$write_address = s4_bucket$1$q;
         head$28$write_data = entry4;
+        head2$28$write_enable = s4_enter$28$q;
+        head2$28$write_address = s4_bucket$1$q;
+        head2$28$write_data = old_eff$28;
         if (clearing$q) begin
             meta$28$write_enable = 1'b1;
             meta$28$write_address = clear_at$q;
@@ -22800,18 +28476,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$28$write_enable = 1'b1;
             head$28$write_address = clear_at$q;
             head$28$write_data = 32'h0;
+            head2$28$write_enable = 1'b1;
+            head2$28$write_address = clear_at$q;
+            head2$28$write_data = 32'h0;
         end
         s5_enter$28$d = s4_enter$28$q & meta_eff$28[32'h9];
         s5_wrote$28$d = s4_enter$28$q;
         s5_meta_w$28$d = meta_new$28;
         s5_live$28$d = live$28;
         s5_head$28$d = old_eff$28;
+        s5_head2$28$d = old_eff2$28;
         fwd$29 = s4_same$2$q & s5_wrote$29$q;
         meta_eff$29 = s4_meta$29$q;
         old_eff$29 = s4_old$29$q;
+        old_eff2$29 = s4_old2$29$q;
         if (fwd$29) begin
             meta_eff$29 = s5_meta_w$29$q;
             old_eff$29 = entry5;
+            old_eff2$29 = s5_head$29$q;
         end
         live$29 = s4_walk$29$q & meta_eff$29[32'h9] & (meta_eff$29[32'h8] | (meta_eff$29[(32'h0)+:(8)] == s4_fp$2$q));
         meta_new$29 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22827,6 +28509,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$29$write_enable = s4_enter$29$q;
         head$29$write_address = s4_bucket$2$q;
         head$29$write_data = entry4;
+        head2$29$write_enable = s4_enter$29$q;
+        head2$29$write_address = s4_bucket$2$q;
+        head2$29$write_data = old_eff$29;
         if (clearing$q) begin
             meta$29$write_enable = 1'b1;
             meta$29$write_address = clear_at$q;
@@ -22834,18 +28519,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$29$write_enable = 1'b1;
             head$29$write_address = clear_at$q;
             head$29$write_data = 32'h0;
+            head2$29$write_enable = 1'b1;
+            head2$29$write_address = clear_at$q;
+            head2$29$write_data = 32'h0;
         end
         s5_enter$29$d = s4_enter$29$q & meta_eff$29[32'h9];
         s5_wrote$29$d = s4_enter$29$q;
         s5_meta_w$29$d = meta_new$29;
         s5_live$29$d = live$29;
         s5_head$29$d = old_eff$29;
+        s5_head2$29$d = old_eff2$29;
         fwd$30 = s4_same$3$q & s5_wrote$30$q;
         meta_eff$30 = s4_meta$30$q;
         old_eff$30 = s4_old$30$q;
+        old_eff2$30 = s4_old2$30$q;
         if (fwd$30) begin
             meta_eff$30 = s5_meta_w$30$q;
             old_eff$30 = entry5;
+            old_eff2$30 = s5_head$30$q;
         end
         live$30 = s4_walk$30$q & meta_eff$30[32'h9] & (meta_eff$30[32'h8] | (meta_eff$30[(32'h0)+:(8)] == s4_fp$3$q));
         meta_new$30 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22861,6 +28552,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$30$write_enable = s4_enter$30$q;
         head$30$write_address = s4_bucket$3$q;
         head$30$write_data = entry4;
+        head2$30$write_enable = s4_enter$30$q;
+        head2$30$write_address = s4_bucket$3$q;
+        head2$30$write_data = old_eff$30;
         if (clearing$q) begin
             meta$30$write_enable = 1'b1;
             meta$30$write_address = clear_at$q;
@@ -22868,18 +28562,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$30$write_enable = 1'b1;
             head$30$write_address = clear_at$q;
             head$30$write_data = 32'h0;
+            head2$30$write_enable = 1'b1;
+            head2$30$write_address = clear_at$q;
+            head2$30$write_data = 32'h0;
         end
         s5_enter$30$d = s4_enter$30$q & meta_eff$30[32'h9];
         s5_wrote$30$d = s4_enter$30$q;
         s5_meta_w$30$d = meta_new$30;
         s5_live$30$d = live$30;
         s5_head$30$d = old_eff$30;
+        s5_head2$30$d = old_eff2$30;
         fwd$31 = s4_same$4$q & s5_wrote$31$q;
         meta_eff$31 = s4_meta$31$q;
         old_eff$31 = s4_old$31$q;
+        old_eff2$31 = s4_old2$31$q;
         if (fwd$31) begin
             meta_eff$31 = s5_meta_w$31$q;
             old_eff$31 = entry5;
+            old_eff2$31 = s5_head$31$q;
         end
         live$31 = s4_walk$31$q & meta_eff$31[32'h9] & (meta_eff$31[32'h8] | (meta_eff$31[(32'h0)+:(8)] == s4_fp$4$q));
         meta_new$31 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22895,6 +28595,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$31$write_enable = s4_enter$31$q;
         head$31$write_address = s4_bucket$4$q;
         head$31$write_data = entry4;
+        head2$31$write_enable = s4_enter$31$q;
+        head2$31$write_address = s4_bucket$4$q;
+        head2$31$write_data = old_eff$31;
         if (clearing$q) begin
             meta$31$write_enable = 1'b1;
             meta$31$write_address = clear_at$q;
@@ -22902,18 +28605,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$31$write_enable = 1'b1;
             head$31$write_address = clear_at$q;
             head$31$write_data = 32'h0;
+            head2$31$write_enable = 1'b1;
+            head2$31$write_address = clear_at$q;
+            head2$31$write_data = 32'h0;
         end
         s5_enter$31$d = s4_enter$31$q & meta_eff$31[32'h9];
         s5_wrote$31$d = s4_enter$31$q;
         s5_meta_w$31$d = meta_new$31;
         s5_live$31$d = live$31;
         s5_head$31$d = old_eff$31;
+        s5_head2$31$d = old_eff2$31;
         fwd$32 = s4_same$5$q & s5_wrote$32$q;
         meta_eff$32 = s4_meta$32$q;
         old_eff$32 = s4_old$32$q;
+        old_eff2$32 = s4_old2$32$q;
         if (fwd$32) begin
             meta_eff$32 = s5_meta_w$32$q;
             old_eff$32 = entry5;
+            old_eff2$32 = s5_head$32$q;
         end
         live$32 = s4_walk$32$q & meta_eff$32[32'h9] & (meta_eff$32[32'h8] | (meta_eff$32[(32'h0)+:(8)] == s4_fp$5$q));
         meta_new$32 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22929,6 +28638,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$32$write_enable = s4_enter$32$q;
         head$32$write_address = s4_bucket$5$q;
         head$32$write_data = entry4;
+        head2$32$write_enable = s4_enter$32$q;
+        head2$32$write_address = s4_bucket$5$q;
+        head2$32$write_data = old_eff$32;
         if (clearing$q) begin
             meta$32$write_enable = 1'b1;
             meta$32$write_address = clear_at$q;
@@ -22936,18 +28648,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$32$write_enable = 1'b1;
             head$32$write_address = clear_at$q;
             head$32$write_data = 32'h0;
+            head2$32$write_enable = 1'b1;
+            head2$32$write_address = clear_at$q;
+            head2$32$write_data = 32'h0;
         end
         s5_enter$32$d = s4_enter$32$q & meta_eff$32[32'h9];
         s5_wrote$32$d = s4_enter$32$q;
         s5_meta_w$32$d = meta_new$32;
         s5_live$32$d = live$32;
         s5_head$32$d = old_eff$32;
+        s5_head2$32$d = old_eff2$32;
         fwd$33 = s4_same$6$q & s5_wrote$33$q;
         meta_eff$33 = s4_meta$33$q;
         old_eff$33 = s4_old$33$q;
+        old_eff2$33 = s4_old2$33$q;
         if (fwd$33) begin
             meta_eff$33 = s5_meta_w$33$q;
             old_eff$33 = entry5;
+            old_eff2$33 = s5_head$33$q;
         end
         live$33 = s4_walk$33$q & meta_eff$33[32'h9] & (meta_eff$33[32'h8] | (meta_eff$33[(32'h0)+:(8)] == s4_fp$6$q));
         meta_new$33 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22963,6 +28681,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$33$write_enable = s4_enter$33$q;
         head$33$write_address = s4_bucket$6$q;
         head$33$write_data = entry4;
+        head2$33$write_enable = s4_enter$33$q;
+        head2$33$write_address = s4_bucket$6$q;
+        head2$33$write_data = old_eff$33;
         if (clearing$q) begin
             meta$33$write_enable = 1'b1;
             meta$33$write_address = clear_at$q;
@@ -22970,18 +28691,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$33$write_enable = 1'b1;
             head$33$write_address = clear_at$q;
             head$33$write_data = 32'h0;
+            head2$33$write_enable = 1'b1;
+            head2$33$write_address = clear_at$q;
+            head2$33$write_data = 32'h0;
         end
         s5_enter$33$d = s4_enter$33$q & meta_eff$33[32'h9];
         s5_wrote$33$d = s4_enter$33$q;
         s5_meta_w$33$d = meta_new$33;
         s5_live$33$d = live$33;
         s5_head$33$d = old_eff$33;
+        s5_head2$33$d = old_eff2$33;
         fwd$34 = s4_same$7$q & s5_wrote$34$q;
         meta_eff$34 = s4_meta$34$q;
         old_eff$34 = s4_old$34$q;
+        old_eff2$34 = s4_old2$34$q;
         if (fwd$34) begin
             meta_eff$34 = s5_meta_w$34$q;
             old_eff$34 = entry5;
+            old_eff2$34 = s5_head$34$q;
         end
         live$34 = s4_walk$34$q & meta_eff$34[32'h9] & (meta_eff$34[32'h8] | (meta_eff$34[(32'h0)+:(8)] == s4_fp$7$q));
         meta_new$34 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -22997,6 +28724,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$34$write_enable = s4_enter$34$q;
         head$34$write_address = s4_bucket$7$q;
         head$34$write_data = entry4;
+        head2$34$write_enable = s4_enter$34$q;
+        head2$34$write_address = s4_bucket$7$q;
+        head2$34$write_data = old_eff$34;
         if (clearing$q) begin
             meta$34$write_enable = 1'b1;
             meta$34$write_address = clear_at$q;
@@ -23004,18 +28734,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$34$write_enable = 1'b1;
             head$34$write_address = clear_at$q;
             head$34$write_data = 32'h0;
+            head2$34$write_enable = 1'b1;
+            head2$34$write_address = clear_at$q;
+            head2$34$write_data = 32'h0;
         end
         s5_enter$34$d = s4_enter$34$q & meta_eff$34[32'h9];
         s5_wrote$34$d = s4_enter$34$q;
         s5_meta_w$34$d = meta_new$34;
         s5_live$34$d = live$34;
         s5_head$34$d = old_eff$34;
+        s5_head2$34$d = old_eff2$34;
         fwd$35 = s4_same$8$q & s5_wrote$35$q;
         meta_eff$35 = s4_meta$35$q;
         old_eff$35 = s4_old$35$q;
+        old_eff2$35 = s4_old2$35$q;
         if (fwd$35) begin
             meta_eff$35 = s5_meta_w$35$q;
             old_eff$35 = entry5;
+            old_eff2$35 = s5_head$35$q;
         end
         live$35 = s4_walk$35$q & meta_eff$35[32'h9] & (meta_eff$35[32'h8] | (meta_eff$35[(32'h0)+:(8)] == s4_fp$8$q));
         meta_new$35 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23031,6 +28767,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$35$write_enable = s4_enter$35$q;
         head$35$write_address = s4_bucket$8$q;
         head$35$write_data = entry4;
+        head2$35$write_enable = s4_enter$35$q;
+        head2$35$write_address = s4_bucket$8$q;
+        head2$35$write_data = old_eff$35;
         if (clearing$q) begin
             meta$35$write_enable = 1'b1;
             meta$35$write_address = clear_at$q;
@@ -23038,18 +28777,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$35$write_enable = 1'b1;
             head$35$write_address = clear_at$q;
             head$35$write_data = 32'h0;
+            head2$35$write_enable = 1'b1;
+            head2$35$write_address = clear_at$q;
+            head2$35$write_data = 32'h0;
         end
         s5_enter$35$d = s4_enter$35$q & meta_eff$35[32'h9];
         s5_wrote$35$d = s4_enter$35$q;
         s5_meta_w$35$d = meta_new$35;
         s5_live$35$d = live$35;
         s5_head$35$d = old_eff$35;
+        s5_head2$35$d = old_eff2$35;
         fwd$36 = s4_same$9$q & s5_wrote$36$q;
         meta_eff$36 = s4_meta$36$q;
         old_eff$36 = s4_old$36$q;
+        old_eff2$36 = s4_old2$36$q;
         if (fwd$36) begin
             meta_eff$36 = s5_meta_w$36$q;
             old_eff$36 = entry5;
+            old_eff2$36 = s5_head$36$q;
         end
         live$36 = s4_walk$36$q & meta_eff$36[32'h9] & (meta_eff$36[32'h8] | (meta_eff$36[(32'h0)+:(8)] == s4_fp$9$q));
         meta_new$36 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23065,6 +28810,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$36$write_enable = s4_enter$36$q;
         head$36$write_address = s4_bucket$9$q;
         head$36$write_data = entry4;
+        head2$36$write_enable = s4_enter$36$q;
+        head2$36$write_address = s4_bucket$9$q;
+        head2$36$write_data = old_eff$36;
         if (clearing$q) begin
             meta$36$write_enable = 1'b1;
             meta$36$write_address = clear_at$q;
@@ -23072,18 +28820,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$36$write_enable = 1'b1;
             head$36$write_address = clear_at$q;
             head$36$write_data = 32'h0;
+            head2$36$write_enable = 1'b1;
+            head2$36$write_address = clear_at$q;
+            head2$36$write_data = 32'h0;
         end
         s5_enter$36$d = s4_enter$36$q & meta_eff$36[32'h9];
         s5_wrote$36$d = s4_enter$36$q;
         s5_meta_w$36$d = meta_new$36;
         s5_live$36$d = live$36;
         s5_head$36$d = old_eff$36;
+        s5_head2$36$d = old_eff2$36;
         fwd$37 = s4_same$10$q & s5_wrote$37$q;
         meta_eff$37 = s4_meta$37$q;
         old_eff$37 = s4_old$37$q;
+        old_eff2$37 = s4_old2$37$q;
         if (fwd$37) begin
             meta_eff$37 = s5_meta_w$37$q;
             old_eff$37 = entry5;
+            old_eff2$37 = s5_head$37$q;
         end
         live$37 = s4_walk$37$q & meta_eff$37[32'h9] & (meta_eff$37[32'h8] | (meta_eff$37[(32'h0)+:(8)] == s4_fp$10$q));
         meta_new$37 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23099,6 +28853,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$37$write_enable = s4_enter$37$q;
         head$37$write_address = s4_bucket$10$q;
         head$37$write_data = entry4;
+        head2$37$write_enable = s4_enter$37$q;
+        head2$37$write_address = s4_bucket$10$q;
+        head2$37$write_data = old_eff$37;
         if (clearing$q) begin
             meta$37$write_enable = 1'b1;
             meta$37$write_address = clear_at$q;
@@ -23106,18 +28863,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$37$write_enable = 1'b1;
             head$37$write_address = clear_at$q;
             head$37$write_data = 32'h0;
+            head2$37$write_enable = 1'b1;
+            head2$37$write_address = clear_at$q;
+            head2$37$write_data = 32'h0;
         end
         s5_enter$37$d = s4_enter$37$q & meta_eff$37[32'h9];
         s5_wrote$37$d = s4_enter$37$q;
         s5_meta_w$37$d = meta_new$37;
         s5_live$37$d = live$37;
         s5_head$37$d = old_eff$37;
+        s5_head2$37$d = old_eff2$37;
         fwd$38 = s4_same$11$q & s5_wrote$38$q;
         meta_eff$38 = s4_meta$38$q;
         old_eff$38 = s4_old$38$q;
+        old_eff2$38 = s4_old2$38$q;
         if (fwd$38) begin
             meta_eff$38 = s5_meta_w$38$q;
             old_eff$38 = entry5;
+            old_eff2$38 = s5_head$38$q;
         end
         live$38 = s4_walk$38$q & meta_eff$38[32'h9] & (meta_eff$38[32'h8] | (meta_eff$38[(32'h0)+:(8)] == s4_fp$11$q));
         meta_new$38 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23133,6 +28896,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$38$write_enable = s4_enter$38$q;
         head$38$write_address = s4_bucket$11$q;
         head$38$write_data = entry4;
+        head2$38$write_enable = s4_enter$38$q;
+        head2$38$write_address = s4_bucket$11$q;
+        head2$38$write_data = old_eff$38;
         if (clearing$q) begin
             meta$38$write_enable = 1'b1;
             meta$38$write_address = clear_at$q;
@@ -23140,18 +28906,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$38$write_enable = 1'b1;
             head$38$write_address = clear_at$q;
             head$38$write_data = 32'h0;
+            head2$38$write_enable = 1'b1;
+            head2$38$write_address = clear_at$q;
+            head2$38$write_data = 32'h0;
         end
         s5_enter$38$d = s4_enter$38$q & meta_eff$38[32'h9];
         s5_wrote$38$d = s4_enter$38$q;
         s5_meta_w$38$d = meta_new$38;
         s5_live$38$d = live$38;
         s5_head$38$d = old_eff$38;
+        s5_head2$38$d = old_eff2$38;
         fwd$39 = s4_same$12$q & s5_wrote$39$q;
         meta_eff$39 = s4_meta$39$q;
         old_eff$39 = s4_old$39$q;
+        old_eff2$39 = s4_old2$39$q;
         if (fwd$39) begin
             meta_eff$39 = s5_meta_w$39$q;
             old_eff$39 = entry5;
+            old_eff2$39 = s5_head$39$q;
         end
         live$39 = s4_walk$39$q & meta_eff$39[32'h9] & (meta_eff$39[32'h8] | (meta_eff$39[(32'h0)+:(8)] == s4_fp$12$q));
         meta_new$39 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23167,6 +28939,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$39$write_enable = s4_enter$39$q;
         head$39$write_address = s4_bucket$12$q;
         head$39$write_data = entry4;
+        head2$39$write_enable = s4_enter$39$q;
+        head2$39$write_address = s4_bucket$12$q;
+        head2$39$write_data = old_eff$39;
         if (clearing$q) begin
             meta$39$write_enable = 1'b1;
             meta$39$write_address = clear_at$q;
@@ -23174,18 +28949,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$39$write_enable = 1'b1;
             head$39$write_address = clear_at$q;
             head$39$write_data = 32'h0;
+            head2$39$write_enable = 1'b1;
+            head2$39$write_address = clear_at$q;
+            head2$39$write_data = 32'h0;
         end
         s5_enter$39$d = s4_enter$39$q & meta_eff$39[32'h9];
         s5_wrote$39$d = s4_enter$39$q;
         s5_meta_w$39$d = meta_new$39;
         s5_live$39$d = live$39;
         s5_head$39$d = old_eff$39;
+        s5_head2$39$d = old_eff2$39;
         fwd$40 = s4_same$13$q & s5_wrote$40$q;
         meta_eff$40 = s4_meta$40$q;
         old_eff$40 = s4_old$40$q;
+        old_eff2$40 = s4_old2$40$q;
         if (fwd$40) begin
             meta_eff$40 = s5_meta_w$40$q;
             old_eff$40 = entry5;
+            old_eff2$40 = s5_head$40$q;
         end
         live$40 = s4_walk$40$q & meta_eff$40[32'h9] & (meta_eff$40[32'h8] | (meta_eff$40[(32'h0)+:(8)] == s4_fp$13$q));
         meta_new$40 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23201,6 +28982,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$40$write_enable = s4_enter$40$q;
         head$40$write_address = s4_bucket$13$q;
         head$40$write_data = entry4;
+        head2$40$write_enable = s4_enter$40$q;
+        head2$40$write_address = s4_bucket$13$q;
+        head2$40$write_data = old_eff$40;
         if (clearing$q) begin
             meta$40$write_enable = 1'b1;
             meta$40$write_address = clear_at$q;
@@ -23208,18 +28992,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$40$write_enable = 1'b1;
             head$40$write_address = clear_at$q;
             head$40$write_data = 32'h0;
+            head2$40$write_enable = 1'b1;
+            head2$40$write_address = clear_at$q;
+            head2$40$write_data = 32'h0;
         end
         s5_enter$40$d = s4_enter$40$q & meta_eff$40[32'h9];
         s5_wrote$40$d = s4_enter$40$q;
         s5_meta_w$40$d = meta_new$40;
         s5_live$40$d = live$40;
         s5_head$40$d = old_eff$40;
+        s5_head2$40$d = old_eff2$40;
         fwd$41 = s4_same$14$q & s5_wrote$41$q;
         meta_eff$41 = s4_meta$41$q;
         old_eff$41 = s4_old$41$q;
+        old_eff2$41 = s4_old2$41$q;
         if (fwd$41) begin
             meta_eff$41 = s5_meta_w$41$q;
             old_eff$41 = entry5;
+            old_eff2$41 = s5_head$41$q;
         end
         live$41 = s4_walk$41$q & meta_eff$41[32'h9] & (meta_eff$41[32'h8] | (meta_eff$41[(32'h0)+:(8)] == s4_fp$14$q));
         meta_new$41 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23235,6 +29025,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$41$write_enable = s4_enter$41$q;
         head$41$write_address = s4_bucket$14$q;
         head$41$write_data = entry4;
+        head2$41$write_enable = s4_enter$41$q;
+        head2$41$write_address = s4_bucket$14$q;
+        head2$41$write_data = old_eff$41;
         if (clearing$q) begin
             meta$41$write_enable = 1'b1;
             meta$41$write_address = clear_at$q;
@@ -23242,18 +29035,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$41$write_enable = 1'b1;
             head$41$write_address = clear_at$q;
             head$41$write_data = 32'h0;
+            head2$41$write_enable = 1'b1;
+            head2$41$write_address = clear_at$q;
+            head2$41$write_data = 32'h0;
         end
         s5_enter$41$d = s4_enter$41$q & meta_eff$41[32'h9];
         s5_wrote$41$d = s4_enter$41$q;
         s5_meta_w$41$d = meta_new$41;
         s5_live$41$d = live$41;
         s5_head$41$d = old_eff$41;
+        s5_head2$41$d = old_eff2$41;
         fwd$42 = s4_same$15$q & s5_wrote$42$q;
         meta_eff$42 = s4_meta$42$q;
         old_eff$42 = s4_old$42$q;
+        old_eff2$42 = s4_old2$42$q;
         if (fwd$42) begin
             meta_eff$42 = s5_meta_w$42$q;
             old_eff$42 = entry5;
+            old_eff2$42 = s5_head$42$q;
         end
         live$42 = s4_walk$42$q & meta_eff$42[32'h9] & (meta_eff$42[32'h8] | (meta_eff$42[(32'h0)+:(8)] == s4_fp$15$q));
         meta_new$42 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23269,6 +29068,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$42$write_enable = s4_enter$42$q;
         head$42$write_address = s4_bucket$15$q;
         head$42$write_data = entry4;
+        head2$42$write_enable = s4_enter$42$q;
+        head2$42$write_address = s4_bucket$15$q;
+        head2$42$write_data = old_eff$42;
         if (clearing$q) begin
             meta$42$write_enable = 1'b1;
             meta$42$write_address = clear_at$q;
@@ -23276,18 +29078,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$42$write_enable = 1'b1;
             head$42$write_address = clear_at$q;
             head$42$write_data = 32'h0;
+            head2$42$write_enable = 1'b1;
+            head2$42$write_address = clear_at$q;
+            head2$42$write_data = 32'h0;
         end
         s5_enter$42$d = s4_enter$42$q & meta_eff$42[32'h9];
         s5_wrote$42$d = s4_enter$42$q;
         s5_meta_w$42$d = meta_new$42;
         s5_live$42$d = live$42;
         s5_head$42$d = old_eff$42;
+        s5_head2$42$d = old_eff2$42;
         fwd$43 = s4_same$16$q & s5_wrote$43$q;
         meta_eff$43 = s4_meta$43$q;
         old_eff$43 = s4_old$43$q;
+        old_eff2$43 = s4_old2$43$q;
         if (fwd$43) begin
             meta_eff$43 = s5_meta_w$43$q;
             old_eff$43 = entry5;
+            old_eff2$43 = s5_head$43$q;
         end
         live$43 = s4_walk$43$q & meta_eff$43[32'h9] & (meta_eff$43[32'h8] | (meta_eff$43[(32'h0)+:(8)] == s4_fp$16$q));
         meta_new$43 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23303,6 +29111,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$43$write_enable = s4_enter$43$q;
         head$43$write_address = s4_bucket$16$q;
         head$43$write_data = entry4;
+        head2$43$write_enable = s4_enter$43$q;
+        head2$43$write_address = s4_bucket$16$q;
+        head2$43$write_data = old_eff$43;
         if (clearing$q) begin
             meta$43$write_enable = 1'b1;
             meta$43$write_address = clear_at$q;
@@ -23310,18 +29121,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$43$write_enable = 1'b1;
             head$43$write_address = clear_at$q;
             head$43$write_data = 32'h0;
+            head2$43$write_enable = 1'b1;
+            head2$43$write_address = clear_at$q;
+            head2$43$write_data = 32'h0;
         end
         s5_enter$43$d = s4_enter$43$q & meta_eff$43[32'h9];
         s5_wrote$43$d = s4_enter$43$q;
         s5_meta_w$43$d = meta_new$43;
         s5_live$43$d = live$43;
         s5_head$43$d = old_eff$43;
+        s5_head2$43$d = old_eff2$43;
         fwd$44 = s4_same$17$q & s5_wrote$44$q;
         meta_eff$44 = s4_meta$44$q;
         old_eff$44 = s4_old$44$q;
+        old_eff2$44 = s4_old2$44$q;
         if (fwd$44) begin
             meta_eff$44 = s5_meta_w$44$q;
             old_eff$44 = entry5;
+            old_eff2$44 = s5_head$44$q;
         end
         live$44 = s4_walk$44$q & meta_eff$44[32'h9] & (meta_eff$44[32'h8] | (meta_eff$44[(32'h0)+:(8)] == s4_fp$17$q));
         meta_new$44 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23337,6 +29154,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$44$write_enable = s4_enter$44$q;
         head$44$write_address = s4_bucket$17$q;
         head$44$write_data = entry4;
+        head2$44$write_enable = s4_enter$44$q;
+        head2$44$write_address = s4_bucket$17$q;
+        head2$44$write_data = old_eff$44;
         if (clearing$q) begin
             meta$44$write_enable = 1'b1;
             meta$44$write_address = clear_at$q;
@@ -23344,18 +29164,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$44$write_enable = 1'b1;
             head$44$write_address = clear_at$q;
             head$44$write_data = 32'h0;
+            head2$44$write_enable = 1'b1;
+            head2$44$write_address = clear_at$q;
+            head2$44$write_data = 32'h0;
         end
         s5_enter$44$d = s4_enter$44$q & meta_eff$44[32'h9];
         s5_wrote$44$d = s4_enter$44$q;
         s5_meta_w$44$d = meta_new$44;
         s5_live$44$d = live$44;
         s5_head$44$d = old_eff$44;
+        s5_head2$44$d = old_eff2$44;
         fwd$45 = s4_same$18$q & s5_wrote$45$q;
         meta_eff$45 = s4_meta$45$q;
         old_eff$45 = s4_old$45$q;
+        old_eff2$45 = s4_old2$45$q;
         if (fwd$45) begin
             meta_eff$45 = s5_meta_w$45$q;
             old_eff$45 = entry5;
+            old_eff2$45 = s5_head$45$q;
         end
         live$45 = s4_walk$45$q & meta_eff$45[32'h9] & (meta_eff$45[32'h8] | (meta_eff$45[(32'h0)+:(8)] == s4_fp$18$q));
         meta_new$45 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23371,6 +29197,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$45$write_enable = s4_enter$45$q;
         head$45$write_address = s4_bucket$18$q;
         head$45$write_data = entry4;
+        head2$45$write_enable = s4_enter$45$q;
+        head2$45$write_address = s4_bucket$18$q;
+        head2$45$write_data = old_eff$45;
         if (clearing$q) begin
             meta$45$write_enable = 1'b1;
             meta$45$write_address = clear_at$q;
@@ -23378,18 +29207,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$45$write_enable = 1'b1;
             head$45$write_address = clear_at$q;
             head$45$write_data = 32'h0;
+            head2$45$write_enable = 1'b1;
+            head2$45$write_address = clear_at$q;
+            head2$45$write_data = 32'h0;
         end
         s5_enter$45$d = s4_enter$45$q & meta_eff$45[32'h9];
         s5_wrote$45$d = s4_enter$45$q;
         s5_meta_w$45$d = meta_new$45;
         s5_live$45$d = live$45;
         s5_head$45$d = old_eff$45;
+        s5_head2$45$d = old_eff2$45;
         fwd$46 = s4_same$19$q & s5_wrote$46$q;
         meta_eff$46 = s4_meta$46$q;
         old_eff$46 = s4_old$46$q;
+        old_eff2$46 = s4_old2$46$q;
         if (fwd$46) begin
             meta_eff$46 = s5_meta_w$46$q;
             old_eff$46 = entry5;
+            old_eff2$46 = s5_head$46$q;
         end
         live$46 = s4_walk$46$q & meta_eff$46[32'h9] & (meta_eff$46[32'h8] | (meta_eff$46[(32'h0)+:(8)] == s4_fp$19$q));
         meta_new$46 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23405,6 +29240,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$46$write_enable = s4_enter$46$q;
         head$46$write_address = s4_bucket$19$q;
         head$46$write_data = entry4;
+        head2$46$write_enable = s4_enter$46$q;
+        head2$46$write_address = s4_bucket$19$q;
+        head2$46$write_data = old_eff$46;
         if (clearing$q) begin
             meta$46$write_enable = 1'b1;
             meta$46$write_address = clear_at$q;
@@ -23412,18 +29250,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$46$write_enable = 1'b1;
             head$46$write_address = clear_at$q;
             head$46$write_data = 32'h0;
+            head2$46$write_enable = 1'b1;
+            head2$46$write_address = clear_at$q;
+            head2$46$write_data = 32'h0;
         end
         s5_enter$46$d = s4_enter$46$q & meta_eff$46[32'h9];
         s5_wrote$46$d = s4_enter$46$q;
         s5_meta_w$46$d = meta_new$46;
         s5_live$46$d = live$46;
         s5_head$46$d = old_eff$46;
+        s5_head2$46$d = old_eff2$46;
         fwd$47 = s4_same$20$q & s5_wrote$47$q;
         meta_eff$47 = s4_meta$47$q;
         old_eff$47 = s4_old$47$q;
+        old_eff2$47 = s4_old2$47$q;
         if (fwd$47) begin
             meta_eff$47 = s5_meta_w$47$q;
             old_eff$47 = entry5;
+            old_eff2$47 = s5_head$47$q;
         end
         live$47 = s4_walk$47$q & meta_eff$47[32'h9] & (meta_eff$47[32'h8] | (meta_eff$47[(32'h0)+:(8)] == s4_fp$20$q));
         meta_new$47 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23439,6 +29283,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$47$write_enable = s4_enter$47$q;
         head$47$write_address = s4_bucket$20$q;
         head$47$write_data = entry4;
+        head2$47$write_enable = s4_enter$47$q;
+        head2$47$write_address = s4_bucket$20$q;
+        head2$47$write_data = old_eff$47;
         if (clearing$q) begin
             meta$47$write_enable = 1'b1;
             meta$47$write_address = clear_at$q;
@@ -23446,18 +29293,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$47$write_enable = 1'b1;
             head$47$write_address = clear_at$q;
             head$47$write_data = 32'h0;
+            head2$47$write_enable = 1'b1;
+            head2$47$write_address = clear_at$q;
+            head2$47$write_data = 32'h0;
         end
         s5_enter$47$d = s4_enter$47$q & meta_eff$47[32'h9];
         s5_wrote$47$d = s4_enter$47$q;
         s5_meta_w$47$d = meta_new$47;
         s5_live$47$d = live$47;
         s5_head$47$d = old_eff$47;
+        s5_head2$47$d = old_eff2$47;
         fwd$48 = s4_same$21$q & s5_wrote$48$q;
         meta_eff$48 = s4_meta$48$q;
         old_eff$48 = s4_old$48$q;
+        old_eff2$48 = s4_old2$48$q;
         if (fwd$48) begin
             meta_eff$48 = s5_meta_w$48$q;
             old_eff$48 = entry5;
+            old_eff2$48 = s5_head$48$q;
         end
         live$48 = s4_walk$48$q & meta_eff$48[32'h9] & (meta_eff$48[32'h8] | (meta_eff$48[(32'h0)+:(8)] == s4_fp$21$q));
         meta_new$48 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23473,6 +29326,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$48$write_enable = s4_enter$48$q;
         head$48$write_address = s4_bucket$21$q;
         head$48$write_data = entry4;
+        head2$48$write_enable = s4_enter$48$q;
+        head2$48$write_address = s4_bucket$21$q;
+        head2$48$write_data = old_eff$48;
         if (clearing$q) begin
             meta$48$write_enable = 1'b1;
             meta$48$write_address = clear_at$q;
@@ -23480,18 +29336,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$48$write_enable = 1'b1;
             head$48$write_address = clear_at$q;
             head$48$write_data = 32'h0;
+            head2$48$write_enable = 1'b1;
+            head2$48$write_address = clear_at$q;
+            head2$48$write_data = 32'h0;
         end
         s5_enter$48$d = s4_enter$48$q & meta_eff$48[32'h9];
         s5_wrote$48$d = s4_enter$48$q;
         s5_meta_w$48$d = meta_new$48;
         s5_live$48$d = live$48;
         s5_head$48$d = old_eff$48;
+        s5_head2$48$d = old_eff2$48;
         fwd$49 = s4_same$22$q & s5_wrote$49$q;
         meta_eff$49 = s4_meta$49$q;
         old_eff$49 = s4_old$49$q;
+        old_eff2$49 = s4_old2$49$q;
         if (fwd$49) begin
             meta_eff$49 = s5_meta_w$49$q;
             old_eff$49 = entry5;
+            old_eff2$49 = s5_head$49$q;
         end
         live$49 = s4_walk$49$q & meta_eff$49[32'h9] & (meta_eff$49[32'h8] | (meta_eff$49[(32'h0)+:(8)] == s4_fp$22$q));
         meta_new$49 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23507,6 +29369,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$49$write_enable = s4_enter$49$q;
         head$49$write_address = s4_bucket$22$q;
         head$49$write_data = entry4;
+        head2$49$write_enable = s4_enter$49$q;
+        head2$49$write_address = s4_bucket$22$q;
+        head2$49$write_data = old_eff$49;
         if (clearing$q) begin
             meta$49$write_enable = 1'b1;
             meta$49$write_address = clear_at$q;
@@ -23514,18 +29379,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$49$write_enable = 1'b1;
             head$49$write_address = clear_at$q;
             head$49$write_data = 32'h0;
+            head2$49$write_enable = 1'b1;
+            head2$49$write_address = clear_at$q;
+            head2$49$write_data = 32'h0;
         end
         s5_enter$49$d = s4_enter$49$q & meta_eff$49[32'h9];
         s5_wrote$49$d = s4_enter$49$q;
         s5_meta_w$49$d = meta_new$49;
         s5_live$49$d = live$49;
         s5_head$49$d = old_eff$49;
+        s5_head2$49$d = old_eff2$49;
         fwd$50 = s4_same$23$q & s5_wrote$50$q;
         meta_eff$50 = s4_meta$50$q;
         old_eff$50 = s4_old$50$q;
+        old_eff2$50 = s4_old2$50$q;
         if (fwd$50) begin
             meta_eff$50 = s5_meta_w$50$q;
             old_eff$50 = entry5;
+            old_eff2$50 = s5_head$50$q;
         end
         live$50 = s4_walk$50$q & meta_eff$50[32'h9] & (meta_eff$50[32'h8] | (meta_eff$50[(32'h0)+:(8)] == s4_fp$23$q));
         meta_new$50 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23541,6 +29412,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$50$write_enable = s4_enter$50$q;
         head$50$write_address = s4_bucket$23$q;
         head$50$write_data = entry4;
+        head2$50$write_enable = s4_enter$50$q;
+        head2$50$write_address = s4_bucket$23$q;
+        head2$50$write_data = old_eff$50;
         if (clearing$q) begin
             meta$50$write_enable = 1'b1;
             meta$50$write_address = clear_at$q;
@@ -23548,18 +29422,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$50$write_enable = 1'b1;
             head$50$write_address = clear_at$q;
             head$50$write_data = 32'h0;
+            head2$50$write_enable = 1'b1;
+            head2$50$write_address = clear_at$q;
+            head2$50$write_data = 32'h0;
         end
         s5_enter$50$d = s4_enter$50$q & meta_eff$50[32'h9];
         s5_wrote$50$d = s4_enter$50$q;
         s5_meta_w$50$d = meta_new$50;
         s5_live$50$d = live$50;
         s5_head$50$d = old_eff$50;
+        s5_head2$50$d = old_eff2$50;
         fwd$51 = s4_same$24$q & s5_wrote$51$q;
         meta_eff$51 = s4_meta$51$q;
         old_eff$51 = s4_old$51$q;
+        old_eff2$51 = s4_old2$51$q;
         if (fwd$51) begin
             meta_eff$51 = s5_meta_w$51$q;
             old_eff$51 = entry5;
+            old_eff2$51 = s5_head$51$q;
         end
         live$51 = s4_walk$51$q & meta_eff$51[32'h9] & (meta_eff$51[32'h8] | (meta_eff$51[(32'h0)+:(8)] == s4_fp$24$q));
         meta_new$51 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23575,6 +29455,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$51$write_enable = s4_enter$51$q;
         head$51$write_address = s4_bucket$24$q;
         head$51$write_data = entry4;
+        head2$51$write_enable = s4_enter$51$q;
+        head2$51$write_address = s4_bucket$24$q;
+        head2$51$write_data = old_eff$51;
         if (clearing$q) begin
             meta$51$write_enable = 1'b1;
             meta$51$write_address = clear_at$q;
@@ -23582,18 +29465,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$51$write_enable = 1'b1;
             head$51$write_address = clear_at$q;
             head$51$write_data = 32'h0;
+            head2$51$write_enable = 1'b1;
+            head2$51$write_address = clear_at$q;
+            head2$51$write_data = 32'h0;
         end
         s5_enter$51$d = s4_enter$51$q & meta_eff$51[32'h9];
         s5_wrote$51$d = s4_enter$51$q;
         s5_meta_w$51$d = meta_new$51;
         s5_live$51$d = live$51;
         s5_head$51$d = old_eff$51;
+        s5_head2$51$d = old_eff2$51;
         fwd$52 = s4_same$25$q & s5_wrote$52$q;
         meta_eff$52 = s4_meta$52$q;
         old_eff$52 = s4_old$52$q;
+        old_eff2$52 = s4_old2$52$q;
         if (fwd$52) begin
             meta_eff$52 = s5_meta_w$52$q;
             old_eff$52 = entry5;
+            old_eff2$52 = s5_head$52$q;
         end
         live$52 = s4_walk$52$q & meta_eff$52[32'h9] & (meta_eff$52[32'h8] | (meta_eff$52[(32'h0)+:(8)] == s4_fp$25$q));
         meta_new$52 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23609,6 +29498,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$52$write_enable = s4_enter$52$q;
         head$52$write_address = s4_bucket$25$q;
         head$52$write_data = entry4;
+        head2$52$write_enable = s4_enter$52$q;
+        head2$52$write_address = s4_bucket$25$q;
+        head2$52$write_data = old_eff$52;
         if (clearing$q) begin
             meta$52$write_enable = 1'b1;
             meta$52$write_address = clear_at$q;
@@ -23616,18 +29508,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$52$write_enable = 1'b1;
             head$52$write_address = clear_at$q;
             head$52$write_data = 32'h0;
+            head2$52$write_enable = 1'b1;
+            head2$52$write_address = clear_at$q;
+            head2$52$write_data = 32'h0;
         end
         s5_enter$52$d = s4_enter$52$q & meta_eff$52[32'h9];
         s5_wrote$52$d = s4_enter$52$q;
         s5_meta_w$52$d = meta_new$52;
         s5_live$52$d = live$52;
         s5_head$52$d = old_eff$52;
+        s5_head2$52$d = old_eff2$52;
         fwd$53 = s4_same$26$q & s5_wrote$53$q;
         meta_eff$53 = s4_meta$53$q;
         old_eff$53 = s4_old$53$q;
+        old_eff2$53 = s4_old2$53$q;
         if (fwd$53) begin
             meta_eff$53 = s5_meta_w$53$q;
             old_eff$53 = entry5;
+            old_eff2$53 = s5_head$53$q;
         end
         live$53 = s4_walk$53$q & meta_eff$53[32'h9] & (meta_eff$53[32'h8] | (meta_eff$53[(32'h0)+:(8)] == s4_fp$26$q));
         meta_new$53 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23643,6 +29541,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$53$write_enable = s4_enter$53$q;
         head$53$write_address = s4_bucket$26$q;
         head$53$write_data = entry4;
+        head2$53$write_enable = s4_enter$53$q;
+        head2$53$write_address = s4_bucket$26$q;
+        head2$53$write_data = old_eff$53;
         if (clearing$q) begin
             meta$53$write_enable = 1'b1;
             meta$53$write_address = clear_at$q;
@@ -23650,18 +29551,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$53$write_enable = 1'b1;
             head$53$write_address = clear_at$q;
             head$53$write_data = 32'h0;
+            head2$53$write_enable = 1'b1;
+            head2$53$write_address = clear_at$q;
+            head2$53$write_data = 32'h0;
         end
         s5_enter$53$d = s4_enter$53$q & meta_eff$53[32'h9];
         s5_wrote$53$d = s4_enter$53$q;
         s5_meta_w$53$d = meta_new$53;
         s5_live$53$d = live$53;
         s5_head$53$d = old_eff$53;
+        s5_head2$53$d = old_eff2$53;
         fwd$54 = s4_same$0$q & s5_wrote$54$q;
         meta_eff$54 = s4_meta$54$q;
         old_eff$54 = s4_old$54$q;
+        old_eff2$54 = s4_old2$54$q;
         if (fwd$54) begin
             meta_eff$54 = s5_meta_w$54$q;
             old_eff$54 = entry5;
+            old_eff2$54 = s5_head$54$q;
         end
         live$54 = s4_walk$54$q & meta_eff$54[32'h9] & (meta_eff$54[32'h8] | (meta_eff$54[(32'h0)+:(8)] == s4_fp$0$q));
         meta_new$54 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23677,6 +29584,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$54$write_enable = s4_enter$54$q;
         head$54$write_address = s4_bucket$0$q;
         head$54$write_data = entry4;
+        head2$54$write_enable = s4_enter$54$q;
+        head2$54$write_address = s4_bucket$0$q;
+        head2$54$write_data = old_eff$54;
         if (clearing$q) begin
             meta$54$write_enable = 1'b1;
             meta$54$write_address = clear_at$q;
@@ -23684,18 +29594,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$54$write_enable = 1'b1;
             head$54$write_address = clear_at$q;
             head$54$write_data = 32'h0;
+            head2$54$write_enable = 1'b1;
+            head2$54$write_address = clear_at$q;
+            head2$54$write_data = 32'h0;
         end
         s5_enter$54$d = s4_enter$54$q & meta_eff$54[32'h9];
         s5_wrote$54$d = s4_enter$54$q;
         s5_meta_w$54$d = meta_new$54;
         s5_live$54$d = live$54;
         s5_head$54$d = old_eff$54;
+        s5_head2$54$d = old_eff2$54;
         fwd$55 = s4_same$1$q & s5_wrote$55$q;
         meta_eff$55 = s4_meta$55$q;
         old_eff$55 = s4_old$55$q;
+        old_eff2$55 = s4_old2$55$q;
         if (fwd$55) begin
             meta_eff$55 = s5_meta_w$55$q;
             old_eff$55 = entry5;
+            old_eff2$55 = s5_head$55$q;
         end
         live$55 = s4_walk$55$q & meta_eff$55[32'h9] & (meta_eff$55[32'h8] | (meta_eff$55[(32'h0)+:(8)] == s4_fp$1$q));
         meta_new$55 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23711,6 +29627,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$55$write_enable = s4_enter$55$q;
         head$55$write_address = s4_bucket$1$q;
         head$55$write_data = entry4;
+        head2$55$write_enable = s4_enter$55$q;
+        head2$55$write_address = s4_bucket$1$q;
+        head2$55$write_data = old_eff$55;
         if (clearing$q) begin
             meta$55$write_enable = 1'b1;
             meta$55$write_address = clear_at$q;
@@ -23718,18 +29637,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$55$write_enable = 1'b1;
             head$55$write_address = clear_at$q;
             head$55$write_data = 32'h0;
+            head2$55$write_enable = 1'b1;
+            head2$55$write_address = clear_at$q;
+            head2$55$write_data = 32'h0;
         end
         s5_enter$55$d = s4_enter$55$q & meta_eff$55[32'h9];
         s5_wrote$55$d = s4_enter$55$q;
         s5_meta_w$55$d = meta_new$55;
         s5_live$55$d = live$55;
         s5_head$55$d = old_eff$55;
+        s5_head2$55$d = old_eff2$55;
         fwd$56 = s4_same$2$q & s5_wrote$56$q;
         meta_eff$56 = s4_meta$56$q;
         old_eff$56 = s4_old$56$q;
+        old_eff2$56 = s4_old2$56$q;
         if (fwd$56) begin
             meta_eff$56 = s5_meta_w$56$q;
             old_eff$56 = entry5;
+            old_eff2$56 = s5_head$56$q;
         end
         live$56 = s4_walk$56$q & meta_eff$56[32'h9] & (meta_eff$56[32'h8] | (meta_eff$56[(32'h0)+:(8)] == s4_fp$2$q));
         meta_new$56 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23745,6 +29670,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$56$write_enable = s4_enter$56$q;
         head$56$write_address = s4_bucket$2$q;
         head$56$write_data = entry4;
+        head2$56$write_enable = s4_enter$56$q;
+        head2$56$write_address = s4_bucket$2$q;
+        head2$56$write_data = old_eff$56;
         if (clearing$q) begin
             meta$56$write_enable = 1'b1;
             meta$56$write_address = clear_at$q;
@@ -23752,18 +29680,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$56$write_enable = 1'b1;
             head$56$write_address = clear_at$q;
             head$56$write_data = 32'h0;
+            head2$56$write_enable = 1'b1;
+            head2$56$write_address = clear_at$q;
+            head2$56$write_data = 32'h0;
         end
         s5_enter$56$d = s4_enter$56$q & meta_eff$56[32'h9];
         s5_wrote$56$d = s4_enter$56$q;
         s5_meta_w$56$d = meta_new$56;
         s5_live$56$d = live$56;
         s5_head$56$d = old_eff$56;
+        s5_head2$56$d = old_eff2$56;
         fwd$57 = s4_same$3$q & s5_wrote$57$q;
         meta_eff$57 = s4_meta$57$q;
         old_eff$57 = s4_old$57$q;
+        old_eff2$57 = s4_old2$57$q;
         if (fwd$57) begin
             meta_eff$57 = s5_meta_w$57$q;
             old_eff$57 = entry5;
+            old_eff2$57 = s5_head$57$q;
         end
         live$57 = s4_walk$57$q & meta_eff$57[32'h9] & (meta_eff$57[32'h8] | (meta_eff$57[(32'h0)+:(8)] == s4_fp$3$q));
         meta_new$57 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23779,6 +29713,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$57$write_enable = s4_enter$57$q;
         head$57$write_address = s4_bucket$3$q;
         head$57$write_data = entry4;
+        head2$57$write_enable = s4_enter$57$q;
+        head2$57$write_address = s4_bucket$3$q;
+        head2$57$write_data = old_eff$57;
         if (clearing$q) begin
             meta$57$write_enable = 1'b1;
             meta$57$write_address = clear_at$q;
@@ -23786,18 +29723,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$57$write_enable = 1'b1;
             head$57$write_address = clear_at$q;
             head$57$write_data = 32'h0;
+            head2$57$write_enable = 1'b1;
+            head2$57$write_address = clear_at$q;
+            head2$57$write_data = 32'h0;
         end
         s5_enter$57$d = s4_enter$57$q & meta_eff$57[32'h9];
         s5_wrote$57$d = s4_enter$57$q;
         s5_meta_w$57$d = meta_new$57;
         s5_live$57$d = live$57;
         s5_head$57$d = old_eff$57;
+        s5_head2$57$d = old_eff2$57;
         fwd$58 = s4_same$4$q & s5_wrote$58$q;
         meta_eff$58 = s4_meta$58$q;
         old_eff$58 = s4_old$58$q;
+        old_eff2$58 = s4_old2$58$q;
         if (fwd$58) begin
             meta_eff$58 = s5_meta_w$58$q;
             old_eff$58 = entry5;
+            old_eff2$58 = s5_head$58$q;
         end
         live$58 = s4_walk$58$q & meta_eff$58[32'h9] & (meta_eff$58[32'h8] | (meta_eff$58[(32'h0)+:(8)] == s4_fp$4$q));
         meta_new$58 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23813,6 +29756,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$58$write_enable = s4_enter$58$q;
         head$58$write_address = s4_bucket$4$q;
         head$58$write_data = entry4;
+        head2$58$write_enable = s4_enter$58$q;
+        head2$58$write_address = s4_bucket$4$q;
+        head2$58$write_data = old_eff$58;
         if (clearing$q) begin
             meta$58$write_enable = 1'b1;
             meta$58$write_address = clear_at$q;
@@ -23820,18 +29766,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$58$write_enable = 1'b1;
             head$58$write_address = clear_at$q;
             head$58$write_data = 32'h0;
+            head2$58$write_enable = 1'b1;
+            head2$58$write_address = clear_at$q;
+            head2$58$write_data = 32'h0;
         end
         s5_enter$58$d = s4_enter$58$q & meta_eff$58[32'h9];
         s5_wrote$58$d = s4_enter$58$q;
         s5_meta_w$58$d = meta_new$58;
         s5_live$58$d = live$58;
         s5_head$58$d = old_eff$58;
+        s5_head2$58$d = old_eff2$58;
         fwd$59 = s4_same$5$q & s5_wrote$59$q;
         meta_eff$59 = s4_meta$59$q;
         old_eff$59 = s4_old$59$q;
+        old_eff2$59 = s4_old2$59$q;
         if (fwd$59) begin
             meta_eff$59 = s5_meta_w$59$q;
             old_eff$59 = entry5;
+            old_eff2$59 = s5_head$59$q;
         end
         live$59 = s4_walk$59$q & meta_eff$59[32'h9] & (meta_eff$59[32'h8] | (meta_eff$59[(32'h0)+:(8)] == s4_fp$5$q));
         meta_new$59 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23847,6 +29799,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$59$write_enable = s4_enter$59$q;
         head$59$write_address = s4_bucket$5$q;
         head$59$write_data = entry4;
+        head2$59$write_enable = s4_enter$59$q;
+        head2$59$write_address = s4_bucket$5$q;
+        head2$59$write_data = old_eff$59;
         if (clearing$q) begin
             meta$59$write_enable = 1'b1;
             meta$59$write_address = clear_at$q;
@@ -23854,18 +29809,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$59$write_enable = 1'b1;
             head$59$write_address = clear_at$q;
             head$59$write_data = 32'h0;
+            head2$59$write_enable = 1'b1;
+            head2$59$write_address = clear_at$q;
+            head2$59$write_data = 32'h0;
         end
         s5_enter$59$d = s4_enter$59$q & meta_eff$59[32'h9];
         s5_wrote$59$d = s4_enter$59$q;
         s5_meta_w$59$d = meta_new$59;
         s5_live$59$d = live$59;
         s5_head$59$d = old_eff$59;
+        s5_head2$59$d = old_eff2$59;
         fwd$60 = s4_same$6$q & s5_wrote$60$q;
         meta_eff$60 = s4_meta$60$q;
         old_eff$60 = s4_old$60$q;
+        old_eff2$60 = s4_old2$60$q;
         if (fwd$60) begin
             meta_eff$60 = s5_meta_w$60$q;
             old_eff$60 = entry5;
+            old_eff2$60 = s5_head$60$q;
         end
         live$60 = s4_walk$60$q & meta_eff$60[32'h9] & (meta_eff$60[32'h8] | (meta_eff$60[(32'h0)+:(8)] == s4_fp$6$q));
         meta_new$60 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23881,6 +29842,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$60$write_enable = s4_enter$60$q;
         head$60$write_address = s4_bucket$6$q;
         head$60$write_data = entry4;
+        head2$60$write_enable = s4_enter$60$q;
+        head2$60$write_address = s4_bucket$6$q;
+        head2$60$write_data = old_eff$60;
         if (clearing$q) begin
             meta$60$write_enable = 1'b1;
             meta$60$write_address = clear_at$q;
@@ -23888,18 +29852,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$60$write_enable = 1'b1;
             head$60$write_address = clear_at$q;
             head$60$write_data = 32'h0;
+            head2$60$write_enable = 1'b1;
+            head2$60$write_address = clear_at$q;
+            head2$60$write_data = 32'h0;
         end
         s5_enter$60$d = s4_enter$60$q & meta_eff$60[32'h9];
         s5_wrote$60$d = s4_enter$60$q;
         s5_meta_w$60$d = meta_new$60;
         s5_live$60$d = live$60;
         s5_head$60$d = old_eff$60;
+        s5_head2$60$d = old_eff2$60;
         fwd$61 = s4_same$7$q & s5_wrote$61$q;
         meta_eff$61 = s4_meta$61$q;
         old_eff$61 = s4_old$61$q;
+        old_eff2$61 = s4_old2$61$q;
         if (fwd$61) begin
             meta_eff$61 = s5_meta_w$61$q;
             old_eff$61 = entry5;
+            old_eff2$61 = s5_head$61$q;
         end
         live$61 = s4_walk$61$q & meta_eff$61[32'h9] & (meta_eff$61[32'h8] | (meta_eff$61[(32'h0)+:(8)] == s4_fp$7$q));
         meta_new$61 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23915,6 +29885,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$61$write_enable = s4_enter$61$q;
         head$61$write_address = s4_bucket$7$q;
         head$61$write_data = entry4;
+        head2$61$write_enable = s4_enter$61$q;
+        head2$61$write_address = s4_bucket$7$q;
+        head2$61$write_data = old_eff$61;
         if (clearing$q) begin
             meta$61$write_enable = 1'b1;
             meta$61$write_address = clear_at$q;
@@ -23922,18 +29895,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$61$write_enable = 1'b1;
             head$61$write_address = clear_at$q;
             head$61$write_data = 32'h0;
+            head2$61$write_enable = 1'b1;
+            head2$61$write_address = clear_at$q;
+            head2$61$write_data = 32'h0;
         end
         s5_enter$61$d = s4_enter$61$q & meta_eff$61[32'h9];
         s5_wrote$61$d = s4_enter$61$q;
         s5_meta_w$61$d = meta_new$61;
         s5_live$61$d = live$61;
         s5_head$61$d = old_eff$61;
+        s5_head2$61$d = old_eff2$61;
         fwd$62 = s4_same$8$q & s5_wrote$62$q;
         meta_eff$62 = s4_meta$62$q;
         old_eff$62 = s4_old$62$q;
+        old_eff2$62 = s4_old2$62$q;
         if (fwd$62) begin
             meta_eff$62 = s5_meta_w$62$q;
             old_eff$62 = entry5;
+            old_eff2$62 = s5_head$62$q;
         end
         live$62 = s4_walk$62$q & meta_eff$62[32'h9] & (meta_eff$62[32'h8] | (meta_eff$62[(32'h0)+:(8)] == s4_fp$8$q));
         meta_new$62 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23949,6 +29928,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$62$write_enable = s4_enter$62$q;
         head$62$write_address = s4_bucket$8$q;
         head$62$write_data = entry4;
+        head2$62$write_enable = s4_enter$62$q;
+        head2$62$write_address = s4_bucket$8$q;
+        head2$62$write_data = old_eff$62;
         if (clearing$q) begin
             meta$62$write_enable = 1'b1;
             meta$62$write_address = clear_at$q;
@@ -23956,18 +29938,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$62$write_enable = 1'b1;
             head$62$write_address = clear_at$q;
             head$62$write_data = 32'h0;
+            head2$62$write_enable = 1'b1;
+            head2$62$write_address = clear_at$q;
+            head2$62$write_data = 32'h0;
         end
         s5_enter$62$d = s4_enter$62$q & meta_eff$62[32'h9];
         s5_wrote$62$d = s4_enter$62$q;
         s5_meta_w$62$d = meta_new$62;
         s5_live$62$d = live$62;
         s5_head$62$d = old_eff$62;
+        s5_head2$62$d = old_eff2$62;
         fwd$63 = s4_same$9$q & s5_wrote$63$q;
         meta_eff$63 = s4_meta$63$q;
         old_eff$63 = s4_old$63$q;
+        old_eff2$63 = s4_old2$63$q;
         if (fwd$63) begin
             meta_eff$63 = s5_meta_w$63$q;
             old_eff$63 = entry5;
+            old_eff2$63 = s5_head$63$q;
         end
         live$63 = s4_walk$63$q & meta_eff$63[32'h9] & (meta_eff$63[32'h8] | (meta_eff$63[(32'h0)+:(8)] == s4_fp$9$q));
         meta_new$63 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -23983,6 +29971,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$63$write_enable = s4_enter$63$q;
         head$63$write_address = s4_bucket$9$q;
         head$63$write_data = entry4;
+        head2$63$write_enable = s4_enter$63$q;
+        head2$63$write_address = s4_bucket$9$q;
+        head2$63$write_data = old_eff$63;
         if (clearing$q) begin
             meta$63$write_enable = 1'b1;
             meta$63$write_address = clear_at$q;
@@ -23990,18 +29981,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$63$write_enable = 1'b1;
             head$63$write_address = clear_at$q;
             head$63$write_data = 32'h0;
+            head2$63$write_enable = 1'b1;
+            head2$63$write_address = clear_at$q;
+            head2$63$write_data = 32'h0;
         end
         s5_enter$63$d = s4_enter$63$q & meta_eff$63[32'h9];
         s5_wrote$63$d = s4_enter$63$q;
         s5_meta_w$63$d = meta_new$63;
         s5_live$63$d = live$63;
         s5_head$63$d = old_eff$63;
+        s5_head2$63$d = old_eff2$63;
         fwd$64 = s4_same$10$q & s5_wrote$64$q;
         meta_eff$64 = s4_meta$64$q;
         old_eff$64 = s4_old$64$q;
+        old_eff2$64 = s4_old2$64$q;
         if (fwd$64) begin
             meta_eff$64 = s5_meta_w$64$q;
             old_eff$64 = entry5;
+            old_eff2$64 = s5_head$64$q;
         end
         live$64 = s4_walk$64$q & meta_eff$64[32'h9] & (meta_eff$64[32'h8] | (meta_eff$64[(32'h0)+:(8)] == s4_fp$10$q));
         meta_new$64 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24017,6 +30014,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$64$write_enable = s4_enter$64$q;
         head$64$write_address = s4_bucket$10$q;
         head$64$write_data = entry4;
+        head2$64$write_enable = s4_enter$64$q;
+        head2$64$write_address = s4_bucket$10$q;
+        head2$64$write_data = old_eff$64;
         if (clearing$q) begin
             meta$64$write_enable = 1'b1;
             meta$64$write_address = clear_at$q;
@@ -24024,18 +30024,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$64$write_enable = 1'b1;
             head$64$write_address = clear_at$q;
             head$64$write_data = 32'h0;
+            head2$64$write_enable = 1'b1;
+            head2$64$write_address = clear_at$q;
+            head2$64$write_data = 32'h0;
         end
         s5_enter$64$d = s4_enter$64$q & meta_eff$64[32'h9];
         s5_wrote$64$d = s4_enter$64$q;
         s5_meta_w$64$d = meta_new$64;
         s5_live$64$d = live$64;
         s5_head$64$d = old_eff$64;
+        s5_head2$64$d = old_eff2$64;
         fwd$65 = s4_same$11$q & s5_wrote$65$q;
         meta_eff$65 = s4_meta$65$q;
         old_eff$65 = s4_old$65$q;
+        old_eff2$65 = s4_old2$65$q;
         if (fwd$65) begin
             meta_eff$65 = s5_meta_w$65$q;
             old_eff$65 = entry5;
+            old_eff2$65 = s5_head$65$q;
         end
         live$65 = s4_walk$65$q & meta_eff$65[32'h9] & (meta_eff$65[32'h8] | (meta_eff$65[(32'h0)+:(8)] == s4_fp$11$q));
         meta_new$65 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24051,6 +30057,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$65$write_enable = s4_enter$65$q;
         head$65$write_address = s4_bucket$11$q;
         head$65$write_data = entry4;
+        head2$65$write_enable = s4_enter$65$q;
+        head2$65$write_address = s4_bucket$11$q;
+        head2$65$write_data = old_eff$65;
         if (clearing$q) begin
             meta$65$write_enable = 1'b1;
             meta$65$write_address = clear_at$q;
@@ -24058,18 +30067,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$65$write_enable = 1'b1;
             head$65$write_address = clear_at$q;
             head$65$write_data = 32'h0;
+            head2$65$write_enable = 1'b1;
+            head2$65$write_address = clear_at$q;
+            head2$65$write_data = 32'h0;
         end
         s5_enter$65$d = s4_enter$65$q & meta_eff$65[32'h9];
         s5_wrote$65$d = s4_enter$65$q;
         s5_meta_w$65$d = meta_new$65;
         s5_live$65$d = live$65;
         s5_head$65$d = old_eff$65;
+        s5_head2$65$d = old_eff2$65;
         fwd$66 = s4_same$12$q & s5_wrote$66$q;
         meta_eff$66 = s4_meta$66$q;
         old_eff$66 = s4_old$66$q;
+        old_eff2$66 = s4_old2$66$q;
         if (fwd$66) begin
             meta_eff$66 = s5_meta_w$66$q;
             old_eff$66 = entry5;
+            old_eff2$66 = s5_head$66$q;
         end
         live$66 = s4_walk$66$q & meta_eff$66[32'h9] & (meta_eff$66[32'h8] | (meta_eff$66[(32'h0)+:(8)] == s4_fp$12$q));
         meta_new$66 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24085,6 +30100,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$66$write_enable = s4_enter$66$q;
         head$66$write_address = s4_bucket$12$q;
         head$66$write_data = entry4;
+        head2$66$write_enable = s4_enter$66$q;
+        head2$66$write_address = s4_bucket$12$q;
+        head2$66$write_data = old_eff$66;
         if (clearing$q) begin
             meta$66$write_enable = 1'b1;
             meta$66$write_address = clear_at$q;
@@ -24092,18 +30110,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$66$write_enable = 1'b1;
             head$66$write_address = clear_at$q;
             head$66$write_data = 32'h0;
+            head2$66$write_enable = 1'b1;
+            head2$66$write_address = clear_at$q;
+            head2$66$write_data = 32'h0;
         end
         s5_enter$66$d = s4_enter$66$q & meta_eff$66[32'h9];
         s5_wrote$66$d = s4_enter$66$q;
         s5_meta_w$66$d = meta_new$66;
         s5_live$66$d = live$66;
         s5_head$66$d = old_eff$66;
+        s5_head2$66$d = old_eff2$66;
         fwd$67 = s4_same$13$q & s5_wrote$67$q;
         meta_eff$67 = s4_meta$67$q;
         old_eff$67 = s4_old$67$q;
+        old_eff2$67 = s4_old2$67$q;
         if (fwd$67) begin
             meta_eff$67 = s5_meta_w$67$q;
             old_eff$67 = entry5;
+            old_eff2$67 = s5_head$67$q;
         end
         live$67 = s4_walk$67$q & meta_eff$67[32'h9] & (meta_eff$67[32'h8] | (meta_eff$67[(32'h0)+:(8)] == s4_fp$13$q));
         meta_new$67 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24119,6 +30143,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$67$write_enable = s4_enter$67$q;
         head$67$write_address = s4_bucket$13$q;
         head$67$write_data = entry4;
+        head2$67$write_enable = s4_enter$67$q;
+        head2$67$write_address = s4_bucket$13$q;
+        head2$67$write_data = old_eff$67;
         if (clearing$q) begin
             meta$67$write_enable = 1'b1;
             meta$67$write_address = clear_at$q;
@@ -24126,18 +30153,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$67$write_enable = 1'b1;
             head$67$write_address = clear_at$q;
             head$67$write_data = 32'h0;
+            head2$67$write_enable = 1'b1;
+            head2$67$write_address = clear_at$q;
+            head2$67$write_data = 32'h0;
         end
         s5_enter$67$d = s4_enter$67$q & meta_eff$67[32'h9];
         s5_wrote$67$d = s4_enter$67$q;
         s5_meta_w$67$d = meta_new$67;
         s5_live$67$d = live$67;
         s5_head$67$d = old_eff$67;
+        s5_head2$67$d = old_eff2$67;
         fwd$68 = s4_same$14$q & s5_wrote$68$q;
         meta_eff$68 = s4_meta$68$q;
         old_eff$68 = s4_old$68$q;
+        old_eff2$68 = s4_old2$68$q;
         if (fwd$68) begin
             meta_eff$68 = s5_meta_w$68$q;
             old_eff$68 = entry5;
+            old_eff2$68 = s5_head$68$q;
         end
         live$68 = s4_walk$68$q & meta_eff$68[32'h9] & (meta_eff$68[32'h8] | (meta_eff$68[(32'h0)+:(8)] == s4_fp$14$q));
         meta_new$68 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24153,6 +30186,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$68$write_enable = s4_enter$68$q;
         head$68$write_address = s4_bucket$14$q;
         head$68$write_data = entry4;
+        head2$68$write_enable = s4_enter$68$q;
+        head2$68$write_address = s4_bucket$14$q;
+        head2$68$write_data = old_eff$68;
         if (clearing$q) begin
             meta$68$write_enable = 1'b1;
             meta$68$write_address = clear_at$q;
@@ -24160,18 +30196,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$68$write_enable = 1'b1;
             head$68$write_address = clear_at$q;
             head$68$write_data = 32'h0;
+            head2$68$write_enable = 1'b1;
+            head2$68$write_address = clear_at$q;
+            head2$68$write_data = 32'h0;
         end
         s5_enter$68$d = s4_enter$68$q & meta_eff$68[32'h9];
         s5_wrote$68$d = s4_enter$68$q;
         s5_meta_w$68$d = meta_new$68;
         s5_live$68$d = live$68;
         s5_head$68$d = old_eff$68;
+        s5_head2$68$d = old_eff2$68;
         fwd$69 = s4_same$15$q & s5_wrote$69$q;
         meta_eff$69 = s4_meta$69$q;
         old_eff$69 = s4_old$69$q;
+        old_eff2$69 = s4_old2$69$q;
         if (fwd$69) begin
             meta_eff$69 = s5_meta_w$69$q;
             old_eff$69 = entry5;
+            old_eff2$69 = s5_head$69$q;
         end
         live$69 = s4_walk$69$q & meta_eff$69[32'h9] & (meta_eff$69[32'h8] | (meta_eff$69[(32'h0)+:(8)] == s4_fp$15$q));
         meta_new$69 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24187,6 +30229,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$69$write_enable = s4_enter$69$q;
         head$69$write_address = s4_bucket$15$q;
         head$69$write_data = entry4;
+        head2$69$write_enable = s4_enter$69$q;
+        head2$69$write_address = s4_bucket$15$q;
+        head2$69$write_data = old_eff$69;
         if (clearing$q) begin
             meta$69$write_enable = 1'b1;
             meta$69$write_address = clear_at$q;
@@ -24194,18 +30239,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$69$write_enable = 1'b1;
             head$69$write_address = clear_at$q;
             head$69$write_data = 32'h0;
+            head2$69$write_enable = 1'b1;
+            head2$69$write_address = clear_at$q;
+            head2$69$write_data = 32'h0;
         end
         s5_enter$69$d = s4_enter$69$q & meta_eff$69[32'h9];
         s5_wrote$69$d = s4_enter$69$q;
         s5_meta_w$69$d = meta_new$69;
         s5_live$69$d = live$69;
         s5_head$69$d = old_eff$69;
+        s5_head2$69$d = old_eff2$69;
         fwd$70 = s4_same$16$q & s5_wrote$70$q;
         meta_eff$70 = s4_meta$70$q;
         old_eff$70 = s4_old$70$q;
+        old_eff2$70 = s4_old2$70$q;
         if (fwd$70) begin
             meta_eff$70 = s5_meta_w$70$q;
             old_eff$70 = entry5;
+            old_eff2$70 = s5_head$70$q;
         end
         live$70 = s4_walk$70$q & meta_eff$70[32'h9] & (meta_eff$70[32'h8] | (meta_eff$70[(32'h0)+:(8)] == s4_fp$16$q));
         meta_new$70 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24221,6 +30272,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$70$write_enable = s4_enter$70$q;
         head$70$write_address = s4_bucket$16$q;
         head$70$write_data = entry4;
+        head2$70$write_enable = s4_enter$70$q;
+        head2$70$write_address = s4_bucket$16$q;
+        head2$70$write_data = old_eff$70;
         if (clearing$q) begin
             meta$70$write_enable = 1'b1;
             meta$70$write_address = clear_at$q;
@@ -24228,18 +30282,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$70$write_enable = 1'b1;
             head$70$write_address = clear_at$q;
             head$70$write_data = 32'h0;
+            head2$70$write_enable = 1'b1;
+            head2$70$write_address = clear_at$q;
+            head2$70$write_data = 32'h0;
         end
         s5_enter$70$d = s4_enter$70$q & meta_eff$70[32'h9];
         s5_wrote$70$d = s4_enter$70$q;
         s5_meta_w$70$d = meta_new$70;
         s5_live$70$d = live$70;
         s5_head$70$d = old_eff$70;
+        s5_head2$70$d = old_eff2$70;
         fwd$71 = s4_same$17$q & s5_wrote$71$q;
         meta_eff$71 = s4_meta$71$q;
         old_eff$71 = s4_old$71$q;
+        old_eff2$71 = s4_old2$71$q;
         if (fwd$71) begin
             meta_eff$71 = s5_meta_w$71$q;
             old_eff$71 = entry5;
+            old_eff2$71 = s5_head$71$q;
         end
         live$71 = s4_walk$71$q & meta_eff$71[32'h9] & (meta_eff$71[32'h8] | (meta_eff$71[(32'h0)+:(8)] == s4_fp$17$q));
         meta_new$71 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24255,6 +30315,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$71$write_enable = s4_enter$71$q;
         head$71$write_address = s4_bucket$17$q;
         head$71$write_data = entry4;
+        head2$71$write_enable = s4_enter$71$q;
+        head2$71$write_address = s4_bucket$17$q;
+        head2$71$write_data = old_eff$71;
         if (clearing$q) begin
             meta$71$write_enable = 1'b1;
             meta$71$write_address = clear_at$q;
@@ -24262,18 +30325,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$71$write_enable = 1'b1;
             head$71$write_address = clear_at$q;
             head$71$write_data = 32'h0;
+            head2$71$write_enable = 1'b1;
+            head2$71$write_address = clear_at$q;
+            head2$71$write_data = 32'h0;
         end
         s5_enter$71$d = s4_enter$71$q & meta_eff$71[32'h9];
         s5_wrote$71$d = s4_enter$71$q;
         s5_meta_w$71$d = meta_new$71;
         s5_live$71$d = live$71;
         s5_head$71$d = old_eff$71;
+        s5_head2$71$d = old_eff2$71;
         fwd$72 = s4_same$18$q & s5_wrote$72$q;
         meta_eff$72 = s4_meta$72$q;
         old_eff$72 = s4_old$72$q;
+        old_eff2$72 = s4_old2$72$q;
         if (fwd$72) begin
             meta_eff$72 = s5_meta_w$72$q;
             old_eff$72 = entry5;
+            old_eff2$72 = s5_head$72$q;
         end
         live$72 = s4_walk$72$q & meta_eff$72[32'h9] & (meta_eff$72[32'h8] | (meta_eff$72[(32'h0)+:(8)] == s4_fp$18$q));
         meta_new$72 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24289,6 +30358,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$72$write_enable = s4_enter$72$q;
         head$72$write_address = s4_bucket$18$q;
         head$72$write_data = entry4;
+        head2$72$write_enable = s4_enter$72$q;
+        head2$72$write_address = s4_bucket$18$q;
+        head2$72$write_data = old_eff$72;
         if (clearing$q) begin
             meta$72$write_enable = 1'b1;
             meta$72$write_address = clear_at$q;
@@ -24296,18 +30368,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$72$write_enable = 1'b1;
             head$72$write_address = clear_at$q;
             head$72$write_data = 32'h0;
+            head2$72$write_enable = 1'b1;
+            head2$72$write_address = clear_at$q;
+            head2$72$write_data = 32'h0;
         end
         s5_enter$72$d = s4_enter$72$q & meta_eff$72[32'h9];
         s5_wrote$72$d = s4_enter$72$q;
         s5_meta_w$72$d = meta_new$72;
         s5_live$72$d = live$72;
         s5_head$72$d = old_eff$72;
+        s5_head2$72$d = old_eff2$72;
         fwd$73 = s4_same$19$q & s5_wrote$73$q;
         meta_eff$73 = s4_meta$73$q;
         old_eff$73 = s4_old$73$q;
+        old_eff2$73 = s4_old2$73$q;
         if (fwd$73) begin
             meta_eff$73 = s5_meta_w$73$q;
             old_eff$73 = entry5;
+            old_eff2$73 = s5_head$73$q;
         end
         live$73 = s4_walk$73$q & meta_eff$73[32'h9] & (meta_eff$73[32'h8] | (meta_eff$73[(32'h0)+:(8)] == s4_fp$19$q));
         meta_new$73 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24323,6 +30401,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$73$write_enable = s4_enter$73$q;
         head$73$write_address = s4_bucket$19$q;
         head$73$write_data = entry4;
+        head2$73$write_enable = s4_enter$73$q;
+        head2$73$write_address = s4_bucket$19$q;
+        head2$73$write_data = old_eff$73;
         if (clearing$q) begin
             meta$73$write_enable = 1'b1;
             meta$73$write_address = clear_at$q;
@@ -24330,18 +30411,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$73$write_enable = 1'b1;
             head$73$write_address = clear_at$q;
             head$73$write_data = 32'h0;
+            head2$73$write_enable = 1'b1;
+            head2$73$write_address = clear_at$q;
+            head2$73$write_data = 32'h0;
         end
         s5_enter$73$d = s4_enter$73$q & meta_eff$73[32'h9];
         s5_wrote$73$d = s4_enter$73$q;
         s5_meta_w$73$d = meta_new$73;
         s5_live$73$d = live$73;
         s5_head$73$d = old_eff$73;
+        s5_head2$73$d = old_eff2$73;
         fwd$74 = s4_same$20$q & s5_wrote$74$q;
         meta_eff$74 = s4_meta$74$q;
         old_eff$74 = s4_old$74$q;
+        old_eff2$74 = s4_old2$74$q;
         if (fwd$74) begin
             meta_eff$74 = s5_meta_w$74$q;
             old_eff$74 = entry5;
+            old_eff2$74 = s5_head$74$q;
         end
         live$74 = s4_walk$74$q & meta_eff$74[32'h9] & (meta_eff$74[32'h8] | (meta_eff$74[(32'h0)+:(8)] == s4_fp$20$q));
         meta_new$74 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24357,6 +30444,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$74$write_enable = s4_enter$74$q;
         head$74$write_address = s4_bucket$20$q;
         head$74$write_data = entry4;
+        head2$74$write_enable = s4_enter$74$q;
+        head2$74$write_address = s4_bucket$20$q;
+        head2$74$write_data = old_eff$74;
         if (clearing$q) begin
             meta$74$write_enable = 1'b1;
             meta$74$write_address = clear_at$q;
@@ -24364,18 +30454,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$74$write_enable = 1'b1;
             head$74$write_address = clear_at$q;
             head$74$write_data = 32'h0;
+            head2$74$write_enable = 1'b1;
+            head2$74$write_address = clear_at$q;
+            head2$74$write_data = 32'h0;
         end
         s5_enter$74$d = s4_enter$74$q & meta_eff$74[32'h9];
         s5_wrote$74$d = s4_enter$74$q;
         s5_meta_w$74$d = meta_new$74;
         s5_live$74$d = live$74;
         s5_head$74$d = old_eff$74;
+        s5_head2$74$d = old_eff2$74;
         fwd$75 = s4_same$21$q & s5_wrote$75$q;
         meta_eff$75 = s4_meta$75$q;
         old_eff$75 = s4_old$75$q;
+        old_eff2$75 = s4_old2$75$q;
         if (fwd$75) begin
             meta_eff$75 = s5_meta_w$75$q;
             old_eff$75 = entry5;
+            old_eff2$75 = s5_head$75$q;
         end
         live$75 = s4_walk$75$q & meta_eff$75[32'h9] & (meta_eff$75[32'h8] | (meta_eff$75[(32'h0)+:(8)] == s4_fp$21$q));
         meta_new$75 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24391,6 +30487,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$75$write_enable = s4_enter$75$q;
         head$75$write_address = s4_bucket$21$q;
         head$75$write_data = entry4;
+        head2$75$write_enable = s4_enter$75$q;
+        head2$75$write_address = s4_bucket$21$q;
+        head2$75$write_data = old_eff$75;
         if (clearing$q) begin
             meta$75$write_enable = 1'b1;
             meta$75$write_address = clear_at$q;
@@ -24398,18 +30497,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$75$write_enable = 1'b1;
             head$75$write_address = clear_at$q;
             head$75$write_data = 32'h0;
+            head2$75$write_enable = 1'b1;
+            head2$75$write_address = clear_at$q;
+            head2$75$write_data = 32'h0;
         end
         s5_enter$75$d = s4_enter$75$q & meta_eff$75[32'h9];
         s5_wrote$75$d = s4_enter$75$q;
         s5_meta_w$75$d = meta_new$75;
         s5_live$75$d = live$75;
         s5_head$75$d = old_eff$75;
+        s5_head2$75$d = old_eff2$75;
         fwd$76 = s4_same$22$q & s5_wrote$76$q;
         meta_eff$76 = s4_meta$76$q;
         old_eff$76 = s4_old$76$q;
+        old_eff2$76 = s4_old2$76$q;
         if (fwd$76) begin
             meta_eff$76 = s5_meta_w$76$q;
             old_eff$76 = entry5;
+            old_eff2$76 = s5_head$76$q;
         end
         live$76 = s4_walk$76$q & meta_eff$76[32'h9] & (meta_eff$76[32'h8] | (meta_eff$76[(32'h0)+:(8)] == s4_fp$22$q));
         meta_new$76 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24425,6 +30530,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$76$write_enable = s4_enter$76$q;
         head$76$write_address = s4_bucket$22$q;
         head$76$write_data = entry4;
+        head2$76$write_enable = s4_enter$76$q;
+        head2$76$write_address = s4_bucket$22$q;
+        head2$76$write_data = old_eff$76;
         if (clearing$q) begin
             meta$76$write_enable = 1'b1;
             meta$76$write_address = clear_at$q;
@@ -24432,18 +30540,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$76$write_enable = 1'b1;
             head$76$write_address = clear_at$q;
             head$76$write_data = 32'h0;
+            head2$76$write_enable = 1'b1;
+            head2$76$write_address = clear_at$q;
+            head2$76$write_data = 32'h0;
         end
         s5_enter$76$d = s4_enter$76$q & meta_eff$76[32'h9];
         s5_wrote$76$d = s4_enter$76$q;
         s5_meta_w$76$d = meta_new$76;
         s5_live$76$d = live$76;
         s5_head$76$d = old_eff$76;
+        s5_head2$76$d = old_eff2$76;
         fwd$77 = s4_same$23$q & s5_wrote$77$q;
         meta_eff$77 = s4_meta$77$q;
         old_eff$77 = s4_old$77$q;
+        old_eff2$77 = s4_old2$77$q;
         if (fwd$77) begin
             meta_eff$77 = s5_meta_w$77$q;
             old_eff$77 = entry5;
+            old_eff2$77 = s5_head$77$q;
         end
         live$77 = s4_walk$77$q & meta_eff$77[32'h9] & (meta_eff$77[32'h8] | (meta_eff$77[(32'h0)+:(8)] == s4_fp$23$q));
         meta_new$77 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24459,6 +30573,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$77$write_enable = s4_enter$77$q;
         head$77$write_address = s4_bucket$23$q;
         head$77$write_data = entry4;
+        head2$77$write_enable = s4_enter$77$q;
+        head2$77$write_address = s4_bucket$23$q;
+        head2$77$write_data = old_eff$77;
         if (clearing$q) begin
             meta$77$write_enable = 1'b1;
             meta$77$write_address = clear_at$q;
@@ -24466,18 +30583,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$77$write_enable = 1'b1;
             head$77$write_address = clear_at$q;
             head$77$write_data = 32'h0;
+            head2$77$write_enable = 1'b1;
+            head2$77$write_address = clear_at$q;
+            head2$77$write_data = 32'h0;
         end
         s5_enter$77$d = s4_enter$77$q & meta_eff$77[32'h9];
         s5_wrote$77$d = s4_enter$77$q;
         s5_meta_w$77$d = meta_new$77;
         s5_live$77$d = live$77;
         s5_head$77$d = old_eff$77;
+        s5_head2$77$d = old_eff2$77;
         fwd$78 = s4_same$24$q & s5_wrote$78$q;
         meta_eff$78 = s4_meta$78$q;
         old_eff$78 = s4_old$78$q;
+        old_eff2$78 = s4_old2$78$q;
         if (fwd$78) begin
             meta_eff$78 = s5_meta_w$78$q;
             old_eff$78 = entry5;
+            old_eff2$78 = s5_head$78$q;
         end
         live$78 = s4_walk$78$q & meta_eff$78[32'h9] & (meta_eff$78[32'h8] | (meta_eff$78[(32'h0)+:(8)] == s4_fp$24$q));
         meta_new$78 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24493,6 +30616,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$78$write_enable = s4_enter$78$q;
         head$78$write_address = s4_bucket$24$q;
         head$78$write_data = entry4;
+        head2$78$write_enable = s4_enter$78$q;
+        head2$78$write_address = s4_bucket$24$q;
+        head2$78$write_data = old_eff$78;
         if (clearing$q) begin
             meta$78$write_enable = 1'b1;
             meta$78$write_address = clear_at$q;
@@ -24500,18 +30626,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$78$write_enable = 1'b1;
             head$78$write_address = clear_at$q;
             head$78$write_data = 32'h0;
+            head2$78$write_enable = 1'b1;
+            head2$78$write_address = clear_at$q;
+            head2$78$write_data = 32'h0;
         end
         s5_enter$78$d = s4_enter$78$q & meta_eff$78[32'h9];
         s5_wrote$78$d = s4_enter$78$q;
         s5_meta_w$78$d = meta_new$78;
         s5_live$78$d = live$78;
         s5_head$78$d = old_eff$78;
+        s5_head2$78$d = old_eff2$78;
         fwd$79 = s4_same$25$q & s5_wrote$79$q;
         meta_eff$79 = s4_meta$79$q;
         old_eff$79 = s4_old$79$q;
+        old_eff2$79 = s4_old2$79$q;
         if (fwd$79) begin
             meta_eff$79 = s5_meta_w$79$q;
             old_eff$79 = entry5;
+            old_eff2$79 = s5_head$79$q;
         end
         live$79 = s4_walk$79$q & meta_eff$79[32'h9] & (meta_eff$79[32'h8] | (meta_eff$79[(32'h0)+:(8)] == s4_fp$25$q));
         meta_new$79 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24527,6 +30659,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$79$write_enable = s4_enter$79$q;
         head$79$write_address = s4_bucket$25$q;
         head$79$write_data = entry4;
+        head2$79$write_enable = s4_enter$79$q;
+        head2$79$write_address = s4_bucket$25$q;
+        head2$79$write_data = old_eff$79;
         if (clearing$q) begin
             meta$79$write_enable = 1'b1;
             meta$79$write_address = clear_at$q;
@@ -24534,18 +30669,24 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$79$write_enable = 1'b1;
             head$79$write_address = clear_at$q;
             head$79$write_data = 32'h0;
+            head2$79$write_enable = 1'b1;
+            head2$79$write_address = clear_at$q;
+            head2$79$write_data = 32'h0;
         end
         s5_enter$79$d = s4_enter$79$q & meta_eff$79[32'h9];
         s5_wrote$79$d = s4_enter$79$q;
         s5_meta_w$79$d = meta_new$79;
         s5_live$79$d = live$79;
         s5_head$79$d = old_eff$79;
+        s5_head2$79$d = old_eff2$79;
         fwd$80 = s4_same$26$q & s5_wrote$80$q;
         meta_eff$80 = s4_meta$80$q;
         old_eff$80 = s4_old$80$q;
+        old_eff2$80 = s4_old2$80$q;
         if (fwd$80) begin
             meta_eff$80 = s5_meta_w$80$q;
             old_eff$80 = entry5;
+            old_eff2$80 = s5_head$80$q;
         end
         live$80 = s4_walk$80$q & meta_eff$80[32'h9] & (meta_eff$80[32'h8] | (meta_eff$80[(32'h0)+:(8)] == s4_fp$26$q));
         meta_new$80 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
@@ -24561,6 +30702,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head$80$write_enable = s4_enter$80$q;
         head$80$write_address = s4_bucket$26$q;
         head$80$write_data = entry4;
+        head2$80$write_enable = s4_enter$80$q;
+        head2$80$write_address = s4_bucket$26$q;
+        head2$80$write_data = old_eff$80;
         if (clearing$q) begin
             meta$80$write_enable = 1'b1;
             meta$80$write_address = clear_at$q;
@@ -24568,12 +30712,16 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head$80$write_enable = 1'b1;
             head$80$write_address = clear_at$q;
             head$80$write_data = 32'h0;
+            head2$80$write_enable = 1'b1;
+            head2$80$write_address = clear_at$q;
+            head2$80$write_data = 32'h0;
         end
         s5_enter$80$d = s4_enter$80$q & meta_eff$80[32'h9];
         s5_wrote$80$d = s4_enter$80$q;
         s5_meta_w$80$d = meta_new$80;
         s5_live$80$d = live$80;
         s5_head$80$d = old_eff$80;
+        s5_head2$80$d = old_eff2$80;
         s5_large$d = s4_large$q;
         s5_lprev$d = s4_lprev$q;
         s5_valid$d = s4_valid$q;
@@ -24592,487 +30740,487 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         any_live = 1'b0;
         succ_pick$0 = 32'h0;
         if (s5_enter$0$q) begin
-            succ_pick$0 = s5_head$0$q;
+            succ_pick$0 = s5_head2$0$q;
         end
         succ_acc = succ_acc | succ_pick$0;
         any_live = any_live | s5_live$0$q;
         succ_pick$1 = 32'h0;
         if (s5_enter$1$q) begin
-            succ_pick$1 = s5_head$1$q;
+            succ_pick$1 = s5_head2$1$q;
         end
         succ_acc = succ_acc | succ_pick$1;
         any_live = any_live | s5_live$1$q;
         succ_pick$2 = 32'h0;
         if (s5_enter$2$q) begin
-            succ_pick$2 = s5_head$2$q;
+            succ_pick$2 = s5_head2$2$q;
         end
         succ_acc = succ_acc | succ_pick$2;
         any_live = any_live | s5_live$2$q;
         succ_pick$3 = 32'h0;
         if (s5_enter$3$q) begin
-            succ_pick$3 = s5_head$3$q;
+            succ_pick$3 = s5_head2$3$q;
         end
         succ_acc = succ_acc | succ_pick$3;
         any_live = any_live | s5_live$3$q;
         succ_pick$4 = 32'h0;
         if (s5_enter$4$q) begin
-            succ_pick$4 = s5_head$4$q;
+            succ_pick$4 = s5_head2$4$q;
         end
         succ_acc = succ_acc | succ_pick$4;
         any_live = any_live | s5_live$4$q;
         succ_pick$5 = 32'h0;
         if (s5_enter$5$q) begin
-            succ_pick$5 = s5_head$5$q;
+            succ_pick$5 = s5_head2$5$q;
         end
         succ_acc = succ_acc | succ_pick$5;
         any_live = any_live | s5_live$5$q;
         succ_pick$6 = 32'h0;
         if (s5_enter$6$q) begin
-            succ_pick$6 = s5_head$6$q;
+            succ_pick$6 = s5_head2$6$q;
         end
         succ_acc = succ_acc | succ_pick$6;
         any_live = any_live | s5_live$6$q;
         succ_pick$7 = 32'h0;
         if (s5_enter$7$q) begin
-            succ_pick$7 = s5_head$7$q;
+            succ_pick$7 = s5_head2$7$q;
         end
         succ_acc = succ_acc | succ_pick$7;
         any_live = any_live | s5_live$7$q;
         succ_pick$8 = 32'h0;
         if (s5_enter$8$q) begin
-            succ_pick$8 = s5_head$8$q;
+            succ_pick$8 = s5_head2$8$q;
         end
         succ_acc = succ_acc | succ_pick$8;
         any_live = any_live | s5_live$8$q;
         succ_pick$9 = 32'h0;
         if (s5_enter$9$q) begin
-            succ_pick$9 = s5_head$9$q;
+            succ_pick$9 = s5_head2$9$q;
         end
         succ_acc = succ_acc | succ_pick$9;
         any_live = any_live | s5_live$9$q;
         succ_pick$10 = 32'h0;
         if (s5_enter$10$q) begin
-            succ_pick$10 = s5_head$10$q;
+            succ_pick$10 = s5_head2$10$q;
         end
         succ_acc = succ_acc | succ_pick$10;
         any_live = any_live | s5_live$10$q;
         succ_pick$11 = 32'h0;
         if (s5_enter$11$q) begin
-            succ_pick$11 = s5_head$11$q;
+            succ_pick$11 = s5_head2$11$q;
         end
         succ_acc = succ_acc | succ_pick$11;
         any_live = any_live | s5_live$11$q;
         succ_pick$12 = 32'h0;
         if (s5_enter$12$q) begin
-            succ_pick$12 = s5_head$12$q;
+            succ_pick$12 = s5_head2$12$q;
         end
         succ_acc = succ_acc | succ_pick$12;
         any_live = any_live | s5_live$12$q;
         succ_pick$13 = 32'h0;
         if (s5_enter$13$q) begin
-            succ_pick$13 = s5_head$13$q;
+            succ_pick$13 = s5_head2$13$q;
         end
         succ_acc = succ_acc | succ_pick$13;
         any_live = any_live | s5_live$13$q;
         succ_pick$14 = 32'h0;
         if (s5_enter$14$q) begin
-            succ_pick$14 = s5_head$14$q;
+            succ_pick$14 = s5_head2$14$q;
         end
         succ_acc = succ_acc | succ_pick$14;
         any_live = any_live | s5_live$14$q;
         succ_pick$15 = 32'h0;
         if (s5_enter$15$q) begin
-            succ_pick$15 = s5_head$15$q;
+            succ_pick$15 = s5_head2$15$q;
         end
         succ_acc = succ_acc | succ_pick$15;
         any_live = any_live | s5_live$15$q;
         succ_pick$16 = 32'h0;
         if (s5_enter$16$q) begin
-            succ_pick$16 = s5_head$16$q;
+            succ_pick$16 = s5_head2$16$q;
         end
         succ_acc = succ_acc | succ_pick$16;
         any_live = any_live | s5_live$16$q;
         succ_pick$17 = 32'h0;
         if (s5_enter$17$q) begin
-            succ_pick$17 = s5_head$17$q;
+            succ_pick$17 = s5_head2$17$q;
         end
         succ_acc = succ_acc | succ_pick$17;
         any_live = any_live | s5_live$17$q;
         succ_pick$18 = 32'h0;
         if (s5_enter$18$q) begin
-            succ_pick$18 = s5_head$18$q;
+            succ_pick$18 = s5_head2$18$q;
         end
         succ_acc = succ_acc | succ_pick$18;
         any_live = any_live | s5_live$18$q;
         succ_pick$19 = 32'h0;
         if (s5_enter$19$q) begin
-            succ_pick$19 = s5_head$19$q;
+            succ_pick$19 = s5_head2$19$q;
         end
         succ_acc = succ_acc | succ_pick$19;
         any_live = any_live | s5_live$19$q;
         succ_pick$20 = 32'h0;
         if (s5_enter$20$q) begin
-            succ_pick$20 = s5_head$20$q;
+            succ_pick$20 = s5_head2$20$q;
         end
         succ_acc = succ_acc | succ_pick$20;
         any_live = any_live | s5_live$20$q;
         succ_pick$21 = 32'h0;
         if (s5_enter$21$q) begin
-            succ_pick$21 = s5_head$21$q;
+            succ_pick$21 = s5_head2$21$q;
         end
         succ_acc = succ_acc | succ_pick$21;
         any_live = any_live | s5_live$21$q;
         succ_pick$22 = 32'h0;
         if (s5_enter$22$q) begin
-            succ_pick$22 = s5_head$22$q;
+            succ_pick$22 = s5_head2$22$q;
         end
         succ_acc = succ_acc | succ_pick$22;
         any_live = any_live | s5_live$22$q;
         succ_pick$23 = 32'h0;
         if (s5_enter$23$q) begin
-            succ_pick$23 = s5_head$23$q;
+            succ_pick$23 = s5_head2$23$q;
         end
         succ_acc = succ_acc | succ_pick$23;
         any_live = any_live | s5_live$23$q;
         succ_pick$24 = 32'h0;
         if (s5_enter$24$q) begin
-            succ_pick$24 = s5_head$24$q;
+            succ_pick$24 = s5_head2$24$q;
         end
         succ_acc = succ_acc | succ_pick$24;
         any_live = any_live | s5_live$24$q;
         succ_pick$25 = 32'h0;
         if (s5_enter$25$q) begin
-            succ_pick$25 = s5_head$25$q;
+            succ_pick$25 = s5_head2$25$q;
         end
         succ_acc = succ_acc | succ_pick$25;
         any_live = any_live | s5_live$25$q;
         succ_pick$26 = 32'h0;
         if (s5_enter$26$q) begin
-            succ_pick$26 = s5_head$26$q;
+            succ_pick$26 = s5_head2$26$q;
         end
         succ_acc = succ_acc | succ_pick$26;
         any_live = any_live | s5_live$26$q;
         succ_pick$27 = 32'h0;
         if (s5_enter$27$q) begin
-            succ_pick$27 = s5_head$27$q;
+            succ_pick$27 = s5_head2$27$q;
         end
         succ_acc = succ_acc | succ_pick$27;
         any_live = any_live | s5_live$27$q;
         succ_pick$28 = 32'h0;
         if (s5_enter$28$q) begin
-            succ_pick$28 = s5_head$28$q;
+            succ_pick$28 = s5_head2$28$q;
         end
         succ_acc = succ_acc | succ_pick$28;
         any_live = any_live | s5_live$28$q;
         succ_pick$29 = 32'h0;
         if (s5_enter$29$q) begin
-            succ_pick$29 = s5_head$29$q;
+            succ_pick$29 = s5_head2$29$q;
         end
         succ_acc = succ_acc | succ_pick$29;
         any_live = any_live | s5_live$29$q;
         succ_pick$30 = 32'h0;
         if (s5_enter$30$q) begin
-            succ_pick$30 = s5_head$30$q;
+            succ_pick$30 = s5_head2$30$q;
         end
         succ_acc = succ_acc | succ_pick$30;
         any_live = any_live | s5_live$30$q;
         succ_pick$31 = 32'h0;
         if (s5_enter$31$q) begin
-            succ_pick$31 = s5_head$31$q;
+            succ_pick$31 = s5_head2$31$q;
         end
         succ_acc = succ_acc | succ_pick$31;
         any_live = any_live | s5_live$31$q;
         succ_pick$32 = 32'h0;
         if (s5_enter$32$q) begin
-            succ_pick$32 = s5_head$32$q;
+            succ_pick$32 = s5_head2$32$q;
         end
         succ_acc = succ_acc | succ_pick$32;
         any_live = any_live | s5_live$32$q;
         succ_pick$33 = 32'h0;
         if (s5_enter$33$q) begin
-            succ_pick$33 = s5_head$33$q;
+            succ_pick$33 = s5_head2$33$q;
         end
         succ_acc = succ_acc | succ_pick$33;
         any_live = any_live | s5_live$33$q;
         succ_pick$34 = 32'h0;
         if (s5_enter$34$q) begin
-            succ_pick$34 = s5_head$34$q;
+            succ_pick$34 = s5_head2$34$q;
         end
         succ_acc = succ_acc | succ_pick$34;
         any_live = any_live | s5_live$34$q;
         succ_pick$35 = 32'h0;
         if (s5_enter$35$q) begin
-            succ_pick$35 = s5_head$35$q;
+            succ_pick$35 = s5_head2$35$q;
         end
         succ_acc = succ_acc | succ_pick$35;
         any_live = any_live | s5_live$35$q;
         succ_pick$36 = 32'h0;
         if (s5_enter$36$q) begin
-            succ_pick$36 = s5_head$36$q;
+            succ_pick$36 = s5_head2$36$q;
         end
         succ_acc = succ_acc | succ_pick$36;
         any_live = any_live | s5_live$36$q;
         succ_pick$37 = 32'h0;
         if (s5_enter$37$q) begin
-            succ_pick$37 = s5_head$37$q;
+            succ_pick$37 = s5_head2$37$q;
         end
         succ_acc = succ_acc | succ_pick$37;
         any_live = any_live | s5_live$37$q;
         succ_pick$38 = 32'h0;
         if (s5_enter$38$q) begin
-            succ_pick$38 = s5_head$38$q;
+            succ_pick$38 = s5_head2$38$q;
         end
         succ_acc = succ_acc | succ_pick$38;
         any_live = any_live | s5_live$38$q;
         succ_pick$39 = 32'h0;
         if (s5_enter$39$q) begin
-            succ_pick$39 = s5_head$39$q;
+            succ_pick$39 = s5_head2$39$q;
         end
         succ_acc = succ_acc | succ_pick$39;
         any_live = any_live | s5_live$39$q;
         succ_pick$40 = 32'h0;
         if (s5_enter$40$q) begin
-            succ_pick$40 = s5_head$40$q;
+            succ_pick$40 = s5_head2$40$q;
         end
         succ_acc = succ_acc | succ_pick$40;
         any_live = any_live | s5_live$40$q;
         succ_pick$41 = 32'h0;
         if (s5_enter$41$q) begin
-            succ_pick$41 = s5_head$41$q;
+            succ_pick$41 = s5_head2$41$q;
         end
         succ_acc = succ_acc | succ_pick$41;
         any_live = any_live | s5_live$41$q;
         succ_pick$42 = 32'h0;
         if (s5_enter$42$q) begin
-            succ_pick$42 = s5_head$42$q;
+            succ_pick$42 = s5_head2$42$q;
         end
         succ_acc = succ_acc | succ_pick$42;
         any_live = any_live | s5_live$42$q;
         succ_pick$43 = 32'h0;
         if (s5_enter$43$q) begin
-            succ_pick$43 = s5_head$43$q;
+            succ_pick$43 = s5_head2$43$q;
         end
         succ_acc = succ_acc | succ_pick$43;
         any_live = any_live | s5_live$43$q;
         succ_pick$44 = 32'h0;
         if (s5_enter$44$q) begin
-            succ_pick$44 = s5_head$44$q;
+            succ_pick$44 = s5_head2$44$q;
         end
         succ_acc = succ_acc | succ_pick$44;
         any_live = any_live | s5_live$44$q;
         succ_pick$45 = 32'h0;
         if (s5_enter$45$q) begin
-            succ_pick$45 = s5_head$45$q;
+            succ_pick$45 = s5_head2$45$q;
         end
         succ_acc = succ_acc | succ_pick$45;
         any_live = any_live | s5_live$45$q;
         succ_pick$46 = 32'h0;
         if (s5_enter$46$q) begin
-            succ_pick$46 = s5_head$46$q;
+            succ_pick$46 = s5_head2$46$q;
         end
         succ_acc = succ_acc | succ_pick$46;
         any_live = any_live | s5_live$46$q;
         succ_pick$47 = 32'h0;
         if (s5_enter$47$q) begin
-            succ_pick$47 = s5_head$47$q;
+            succ_pick$47 = s5_head2$47$q;
         end
         succ_acc = succ_acc | succ_pick$47;
         any_live = any_live | s5_live$47$q;
         succ_pick$48 = 32'h0;
         if (s5_enter$48$q) begin
-            succ_pick$48 = s5_head$48$q;
+            succ_pick$48 = s5_head2$48$q;
         end
         succ_acc = succ_acc | succ_pick$48;
         any_live = any_live | s5_live$48$q;
         succ_pick$49 = 32'h0;
         if (s5_enter$49$q) begin
-            succ_pick$49 = s5_head$49$q;
+            succ_pick$49 = s5_head2$49$q;
         end
         succ_acc = succ_acc | succ_pick$49;
         any_live = any_live | s5_live$49$q;
         succ_pick$50 = 32'h0;
         if (s5_enter$50$q) begin
-            succ_pick$50 = s5_head$50$q;
+            succ_pick$50 = s5_head2$50$q;
         end
         succ_acc = succ_acc | succ_pick$50;
         any_live = any_live | s5_live$50$q;
         succ_pick$51 = 32'h0;
         if (s5_enter$51$q) begin
-            succ_pick$51 = s5_head$51$q;
+            succ_pick$51 = s5_head2$51$q;
         end
         succ_acc = succ_acc | succ_pick$51;
         any_live = any_live | s5_live$51$q;
         succ_pick$52 = 32'h0;
         if (s5_enter$52$q) begin
-            succ_pick$52 = s5_head$52$q;
+            succ_pick$52 = s5_head2$52$q;
         end
         succ_acc = succ_acc | succ_pick$52;
         any_live = any_live | s5_live$52$q;
         succ_pick$53 = 32'h0;
         if (s5_enter$53$q) begin
-            succ_pick$53 = s5_head$53$q;
+            succ_pick$53 = s5_head2$53$q;
         end
         succ_acc = succ_acc | succ_pick$53;
         any_live = any_live | s5_live$53$q;
         succ_pick$54 = 32'h0;
         if (s5_enter$54$q) begin
-            succ_pick$54 = s5_head$54$q;
+            succ_pick$54 = s5_head2$54$q;
         end
         succ_acc = succ_acc | succ_pick$54;
         any_live = any_live | s5_live$54$q;
         succ_pick$55 = 32'h0;
         if (s5_enter$55$q) begin
-            succ_pick$55 = s5_head$55$q;
+            succ_pick$55 = s5_head2$55$q;
         end
         succ_acc = succ_acc | succ_pick$55;
         any_live = any_live | s5_live$55$q;
         succ_pick$56 = 32'h0;
         if (s5_enter$56$q) begin
-            succ_pick$56 = s5_head$56$q;
+            succ_pick$56 = s5_head2$56$q;
         end
         succ_acc = succ_acc | succ_pick$56;
         any_live = any_live | s5_live$56$q;
         succ_pick$57 = 32'h0;
         if (s5_enter$57$q) begin
-            succ_pick$57 = s5_head$57$q;
+            succ_pick$57 = s5_head2$57$q;
         end
         succ_acc = succ_acc | succ_pick$57;
         any_live = any_live | s5_live$57$q;
         succ_pick$58 = 32'h0;
         if (s5_enter$58$q) begin
-            succ_pick$58 = s5_head$58$q;
+            succ_pick$58 = s5_head2$58$q;
         end
         succ_acc = succ_acc | succ_pick$58;
         any_live = any_live | s5_live$58$q;
         succ_pick$59 = 32'h0;
         if (s5_enter$59$q) begin
-            succ_pick$59 = s5_head$59$q;
+            succ_pick$59 = s5_head2$59$q;
         end
         succ_acc = succ_acc | succ_pick$59;
         any_live = any_live | s5_live$59$q;
         succ_pick$60 = 32'h0;
         if (s5_enter$60$q) begin
-            succ_pick$60 = s5_head$60$q;
+            succ_pick$60 = s5_head2$60$q;
         end
         succ_acc = succ_acc | succ_pick$60;
         any_live = any_live | s5_live$60$q;
         succ_pick$61 = 32'h0;
         if (s5_enter$61$q) begin
-            succ_pick$61 = s5_head$61$q;
+            succ_pick$61 = s5_head2$61$q;
         end
         succ_acc = succ_acc | succ_pick$61;
         any_live = any_live | s5_live$61$q;
         succ_pick$62 = 32'h0;
         if (s5_enter$62$q) begin
-            succ_pick$62 = s5_head$62$q;
+            succ_pick$62 = s5_head2$62$q;
         end
         succ_acc = succ_acc | succ_pick$62;
         any_live = any_live | s5_live$62$q;
         succ_pick$63 = 32'h0;
         if (s5_enter$63$q) begin
-            succ_pick$63 = s5_head$63$q;
+            succ_pick$63 = s5_head2$63$q;
         end
         succ_acc = succ_acc | succ_pick$63;
         any_live = any_live | s5_live$63$q;
         succ_pick$64 = 32'h0;
         if (s5_enter$64$q) begin
-            succ_pick$64 = s5_head$64$q;
+            succ_pick$64 = s5_head2$64$q;
         end
         succ_acc = succ_acc | succ_pick$64;
         any_live = any_live | s5_live$64$q;
         succ_pick$65 = 32'h0;
         if (s5_enter$65$q) begin
-            succ_pick$65 = s5_head$65$q;
+            succ_pick$65 = s5_head2$65$q;
         end
         succ_acc = succ_acc | succ_pick$65;
         any_live = any_live | s5_live$65$q;
         succ_pick$66 = 32'h0;
         if (s5_enter$66$q) begin
-            succ_pick$66 = s5_head$66$q;
+            succ_pick$66 = s5_head2$66$q;
         end
         succ_acc = succ_acc | succ_pick$66;
         any_live = any_live | s5_live$66$q;
         succ_pick$67 = 32'h0;
         if (s5_enter$67$q) begin
-            succ_pick$67 = s5_head$67$q;
+            succ_pick$67 = s5_head2$67$q;
         end
         succ_acc = succ_acc | succ_pick$67;
         any_live = any_live | s5_live$67$q;
         succ_pick$68 = 32'h0;
         if (s5_enter$68$q) begin
-            succ_pick$68 = s5_head$68$q;
+            succ_pick$68 = s5_head2$68$q;
         end
         succ_acc = succ_acc | succ_pick$68;
         any_live = any_live | s5_live$68$q;
         succ_pick$69 = 32'h0;
         if (s5_enter$69$q) begin
-            succ_pick$69 = s5_head$69$q;
+            succ_pick$69 = s5_head2$69$q;
         end
         succ_acc = succ_acc | succ_pick$69;
         any_live = any_live | s5_live$69$q;
         succ_pick$70 = 32'h0;
         if (s5_enter$70$q) begin
-            succ_pick$70 = s5_head$70$q;
+            succ_pick$70 = s5_head2$70$q;
         end
         succ_acc = succ_acc | succ_pick$70;
         any_live = any_live | s5_live$70$q;
         succ_pick$71 = 32'h0;
         if (s5_enter$71$q) begin
-            succ_pick$71 = s5_head$71$q;
+            succ_pick$71 = s5_head2$71$q;
         end
         succ_acc = succ_acc | succ_pick$71;
         any_live = any_live | s5_live$71$q;
         succ_pick$72 = 32'h0;
         if (s5_enter$72$q) begin
-            succ_pick$72 = s5_head$72$q;
+            succ_pick$72 = s5_head2$72$q;
         end
         succ_acc = succ_acc | succ_pick$72;
         any_live = any_live | s5_live$72$q;
         succ_pick$73 = 32'h0;
         if (s5_enter$73$q) begin
-            succ_pick$73 = s5_head$73$q;
+            succ_pick$73 = s5_head2$73$q;
         end
         succ_acc = succ_acc | succ_pick$73;
         any_live = any_live | s5_live$73$q;
         succ_pick$74 = 32'h0;
         if (s5_enter$74$q) begin
-            succ_pick$74 = s5_head$74$q;
+            succ_pick$74 = s5_head2$74$q;
         end
         succ_acc = succ_acc | succ_pick$74;
         any_live = any_live | s5_live$74$q;
         succ_pick$75 = 32'h0;
         if (s5_enter$75$q) begin
-            succ_pick$75 = s5_head$75$q;
+            succ_pick$75 = s5_head2$75$q;
         end
         succ_acc = succ_acc | succ_pick$75;
         any_live = any_live | s5_live$75$q;
         succ_pick$76 = 32'h0;
         if (s5_enter$76$q) begin
-            succ_pick$76 = s5_head$76$q;
+            succ_pick$76 = s5_head2$76$q;
         end
         succ_acc = succ_acc | succ_pick$76;
         any_live = any_live | s5_live$76$q;
         succ_pick$77 = 32'h0;
         if (s5_enter$77$q) begin
-            succ_pick$77 = s5_head$77$q;
+            succ_pick$77 = s5_head2$77$q;
         end
         succ_acc = succ_acc | succ_pick$77;
         any_live = any_live | s5_live$77$q;
         succ_pick$78 = 32'h0;
         if (s5_enter$78$q) begin
-            succ_pick$78 = s5_head$78$q;
+            succ_pick$78 = s5_head2$78$q;
         end
         succ_acc = succ_acc | succ_pick$78;
         any_live = any_live | s5_live$78$q;
         succ_pick$79 = 32'h0;
         if (s5_enter$79$q) begin
-            succ_pick$79 = s5_head$79$q;
+            succ_pick$79 = s5_head2$79$q;
         end
         succ_acc = succ_acc | succ_pick$79;
         any_live = any_live | s5_live$79$q;
         succ_pick$80 = 32'h0;
         if (s5_enter$80$q) begin
-            succ_pick$80 = s5_head$80$q;
+            succ_pick$80 = s5_head2$80$q;
         end
         succ_acc = succ_acc | succ_pick$80;
         any_live = any_live | s5_live$80$q;
@@ -25084,572 +31232,978 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         rec$0$write_enable = rec_write;
         rec$0$write_address = wp$q;
         rec$0$write_data = 32'h0;
+        rec2$0$write_enable = rec_write;
+        rec2$0$write_address = wp$q;
+        rec2$0$write_data = 32'h0;
         if (s5_live$0$q) begin
             rec$0$write_data = s5_head$0$q;
+            rec2$0$write_data = s5_head2$0$q;
         end
         rec$0$read_address = rp$q;
+        rec2$0$read_address = rp$q;
         rec$1$write_enable = rec_write;
         rec$1$write_address = wp$q;
         rec$1$write_data = 32'h0;
+        rec2$1$write_enable = rec_write;
+        rec2$1$write_address = wp$q;
+        rec2$1$write_data = 32'h0;
         if (s5_live$1$q) begin
             rec$1$write_data = s5_head$1$q;
+            rec2$1$write_data = s5_head2$1$q;
         end
         rec$1$read_address = rp$q;
+        rec2$1$read_address = rp$q;
         rec$2$write_enable = rec_write;
         rec$2$write_address = wp$q;
         rec$2$write_data = 32'h0;
+        rec2$2$write_enable = rec_write;
+        rec2$2$write_address = wp$q;
+        rec2$2$write_data = 32'h0;
         if (s5_live$2$q) begin
             rec$2$write_data = s5_head$2$q;
+            rec2$2$write_data = s5_head2$2$q;
         end
         rec$2$read_address = rp$q;
+        rec2$2$read_address = rp$q;
         rec$3$write_enable = rec_write;
         rec$3$write_address = wp$q;
         rec$3$write_data = 32'h0;
+        rec2$3$write_enable = rec_write;
+        rec2$3$write_address = wp$q;
+        rec2$3$write_data = 32'h0;
         if (s5_live$3$q) begin
             rec$3$write_data = s5_head$3$q;
+            rec2$3$write_data = s5_head2$3$q;
         end
         rec$3$read_address = rp$q;
+        rec2$3$read_address = rp$q;
         rec$4$write_enable = rec_write;
         rec$4$write_address = wp$q;
         rec$4$write_data = 32'h0;
+        rec2$4$write_enable = rec_write;
+        rec2$4$write_address = wp$q;
+        rec2$4$write_data = 32'h0;
         if (s5_live$4$q) begin
             rec$4$write_data = s5_head$4$q;
+            rec2$4$write_data = s5_head2$4$q;
         end
         rec$4$read_address = rp$q;
+        rec2$4$read_address = rp$q;
         rec$5$write_enable = rec_write;
         rec$5$write_address = wp$q;
         rec$5$write_data = 32'h0;
+        rec2$5$write_enable = rec_write;
+        rec2$5$write_address = wp$q;
+        rec2$5$write_data = 32'h0;
         if (s5_live$5$q) begin
             rec$5$write_data = s5_head$5$q;
+            rec2$5$write_data = s5_head2$5$q;
         end
         rec$5$read_address = rp$q;
+        rec2$5$read_address = rp$q;
         rec$6$write_enable = rec_write;
         rec$6$write_address = wp$q;
         rec$6$write_data = 32'h0;
+        rec2$6$write_enable = rec_write;
+        rec2$6$write_address = wp$q;
+        rec2$6$write_data = 32'h0;
         if (s5_live$6$q) begin
             rec$6$write_data = s5_head$6$q;
+            rec2$6$write_data = s5_head2$6$q;
         end
         rec$6$read_address = rp$q;
+        rec2$6$read_address = rp$q;
         rec$7$write_enable = rec_write;
         rec$7$write_address = wp$q;
         rec$7$write_data = 32'h0;
+        rec2$7$write_enable = rec_write;
+        rec2$7$write_address = wp$q;
+        rec2$7$write_data = 32'h0;
         if (s5_live$7$q) begin
             rec$7$write_data = s5_head$7$q;
+            rec2$7$write_data = s5_head2$7$q;
         end
         rec$7$read_address = rp$q;
+        rec2$7$read_address = rp$q;
         rec$8$write_enable = rec_write;
         rec$8$write_address = wp$q;
         rec$8$write_data = 32'h0;
+        rec2$8$write_enable = rec_write;
+        rec2$8$write_address = wp$q;
+        rec2$8$write_data = 32'h0;
         if (s5_live$8$q) begin
             rec$8$write_data = s5_head$8$q;
+            rec2$8$write_data = s5_head2$8$q;
         end
         rec$8$read_address = rp$q;
+        rec2$8$read_address = rp$q;
         rec$9$write_enable = rec_write;
         rec$9$write_address = wp$q;
         rec$9$write_data = 32'h0;
+        rec2$9$write_enable = rec_write;
+        rec2$9$write_address = wp$q;
+        rec2$9$write_data = 32'h0;
         if (s5_live$9$q) begin
             rec$9$write_data = s5_head$9$q;
+            rec2$9$write_data = s5_head2$9$q;
         end
         rec$9$read_address = rp$q;
+        rec2$9$read_address = rp$q;
         rec$10$write_enable = rec_write;
         rec$10$write_address = wp$q;
         rec$10$write_data = 32'h0;
+        rec2$10$write_enable = rec_write;
+        rec2$10$write_address = wp$q;
+        rec2$10$write_data = 32'h0;
         if (s5_live$10$q) begin
             rec$10$write_data = s5_head$10$q;
+            rec2$10$write_data = s5_head2$10$q;
         end
         rec$10$read_address = rp$q;
+        rec2$10$read_address = rp$q;
         rec$11$write_enable = rec_write;
         rec$11$write_address = wp$q;
         rec$11$write_data = 32'h0;
+        rec2$11$write_enable = rec_write;
+        rec2$11$write_address = wp$q;
+        rec2$11$write_data = 32'h0;
         if (s5_live$11$q) begin
             rec$11$write_data = s5_head$11$q;
+            rec2$11$write_data = s5_head2$11$q;
         end
         rec$11$read_address = rp$q;
+        rec2$11$read_address = rp$q;
         rec$12$write_enable = rec_write;
         rec$12$write_address = wp$q;
         rec$12$write_data = 32'h0;
+        rec2$12$write_enable = rec_write;
+        rec2$12$write_address = wp$q;
+        rec2$12$write_data = 32'h0;
         if (s5_live$12$q) begin
             rec$12$write_data = s5_head$12$q;
+            rec2$12$write_data = s5_head2$12$q;
         end
         rec$12$read_address = rp$q;
+        rec2$12$read_address = rp$q;
         rec$13$write_enable = rec_write;
         rec$13$write_address = wp$q;
         rec$13$write_data = 32'h0;
+        rec2$13$write_enable = rec_write;
+        rec2$13$write_address = wp$q;
+        rec2$13$write_data = 32'h0;
         if (s5_live$13$q) begin
             rec$13$write_data = s5_head$13$q;
+            rec2$13$write_data = s5_head2$13$q;
         end
         rec$13$read_address = rp$q;
+        rec2$13$read_address = rp$q;
         rec$14$write_enable = rec_write;
         rec$14$write_address = wp$q;
         rec$14$write_data = 32'h0;
+        rec2$14$write_enable = rec_write;
+        rec2$14$write_address = wp$q;
+        rec2$14$write_data = 32'h0;
         if (s5_live$14$q) begin
             rec$14$write_data = s5_head$14$q;
+            rec2$14$write_data = s5_head2$14$q;
         end
         rec$14$read_address = rp$q;
+        rec2$14$read_address = rp$q;
         rec$15$write_enable = rec_write;
         rec$15$write_address = wp$q;
         rec$15$write_data = 32'h0;
+        rec2$15$write_enable = rec_write;
+        rec2$15$write_address = wp$q;
+        rec2$15$write_data = 32'h0;
         if (s5_live$15$q) begin
             rec$15$write_data = s5_head$15$q;
+            rec2$15$write_data = s5_head2$15$q;
         end
         rec$15$read_address = rp$q;
+        rec2$15$read_address = rp$q;
         rec$16$write_enable = rec_write;
         rec$16$write_address = wp$q;
         rec$16$write_data = 32'h0;
+        rec2$16$write_enable = rec_write;
+        rec2$16$write_address = wp$q;
+        rec2$16$write_data = 32'h0;
         if (s5_live$16$q) begin
             rec$16$write_data = s5_head$16$q;
+            rec2$16$write_data = s5_head2$16$q;
         end
         rec$16$read_address = rp$q;
+        rec2$16$read_address = rp$q;
         rec$17$write_enable = rec_write;
         rec$17$write_address = wp$q;
         rec$17$write_data = 32'h0;
+        rec2$17$write_enable = rec_write;
+        rec2$17$write_address = wp$q;
+        rec2$17$write_data = 32'h0;
         if (s5_live$17$q) begin
             rec$17$write_data = s5_head$17$q;
+            rec2$17$write_data = s5_head2$17$q;
         end
         rec$17$read_address = rp$q;
+        rec2$17$read_address = rp$q;
         rec$18$write_enable = rec_write;
         rec$18$write_address = wp$q;
         rec$18$write_data = 32'h0;
+        rec2$18$write_enable = rec_write;
+        rec2$18$write_address = wp$q;
+        rec2$18$write_data = 32'h0;
         if (s5_live$18$q) begin
             rec$18$write_data = s5_head$18$q;
+            rec2$18$write_data = s5_head2$18$q;
         end
         rec$18$read_address = rp$q;
+        rec2$18$read_address = rp$q;
         rec$19$write_enable = rec_write;
         rec$19$write_address = wp$q;
         rec$19$write_data = 32'h0;
+        rec2$19$write_enable = rec_write;
+        rec2$19$write_address = wp$q;
+        rec2$19$write_data = 32'h0;
         if (s5_live$19$q) begin
             rec$19$write_data = s5_head$19$q;
+            rec2$19$write_data = s5_head2$19$q;
         end
         rec$19$read_address = rp$q;
+        rec2$19$read_address = rp$q;
         rec$20$write_enable = rec_write;
         rec$20$write_address = wp$q;
         rec$20$write_data = 32'h0;
+        rec2$20$write_enable = rec_write;
+        rec2$20$write_address = wp$q;
+        rec2$20$write_data = 32'h0;
         if (s5_live$20$q) begin
             rec$20$write_data = s5_head$20$q;
+            rec2$20$write_data = s5_head2$20$q;
         end
         rec$20$read_address = rp$q;
+        rec2$20$read_address = rp$q;
         rec$21$write_enable = rec_write;
         rec$21$write_address = wp$q;
         rec$21$write_data = 32'h0;
+        rec2$21$write_enable = rec_write;
+        rec2$21$write_address = wp$q;
+        rec2$21$write_data = 32'h0;
         if (s5_live$21$q) begin
             rec$21$write_data = s5_head$21$q;
+            rec2$21$write_data = s5_head2$21$q;
         end
         rec$21$read_address = rp$q;
+        rec2$21$read_address = rp$q;
         rec$22$write_enable = rec_write;
         rec$22$write_address = wp$q;
         rec$22$write_data = 32'h0;
+        rec2$22$write_enable = rec_write;
+        rec2$22$write_address = wp$q;
+        rec2$22$write_data = 32'h0;
         if (s5_live$22$q) begin
             rec$22$write_data = s5_head$22$q;
+            rec2$22$write_data = s5_head2$22$q;
         end
         rec$22$read_address = rp$q;
+        rec2$22$read_address = rp$q;
         rec$23$write_enable = rec_write;
         rec$23$write_address = wp$q;
         rec$23$write_data = 32'h0;
+        rec2$23$write_enable = rec_write;
+        rec2$23$write_address = wp$q;
+        rec2$23$write_data = 32'h0;
         if (s5_live$23$q) begin
             rec$23$write_data = s5_head$23$q;
+            rec2$23$write_data = s5_head2$23$q;
         end
         rec$23$read_address = rp$q;
+        rec2$23$read_address = rp$q;
         rec$24$write_enable = rec_write;
         rec$24$write_address = wp$q;
         rec$24$write_data = 32'h0;
+        rec2$24$write_enable = rec_write;
+        rec2$24$write_address = wp$q;
+        rec2$24$write_data = 32'h0;
         if (s5_live$24$q) begin
             rec$24$write_data = s5_head$24$q;
+            rec2$24$write_data = s5_head2$24$q;
         end
         rec$24$read_address = rp$q;
+        rec2$24$read_address = rp$q;
         rec$25$write_enable = rec_write;
         rec$25$write_address = wp$q;
         rec$25$write_data = 32'h0;
+        rec2$25$write_enable = rec_write;
+        rec2$25$write_address = wp$q;
+        rec2$25$write_data = 32'h0;
         if (s5_live$25$q) begin
             rec$25$write_data = s5_head$25$q;
+            rec2$25$write_data = s5_head2$25$q;
         end
         rec$25$read_address = rp$q;
+        rec2$25$read_address = rp$q;
         rec$26$write_enable = rec_write;
         rec$26$write_address = wp$q;
         rec$26$write_data = 32'h0;
+        rec2$26$write_enable = rec_write;
+        rec2$26$write_address = wp$q;
+        rec2$26$write_data = 32'h0;
         if (s5_live$26$q) begin
             rec$26$write_data = s5_head$26$q;
+            rec2$26$write_data = s5_head2$26$q;
         end
         rec$26$read_address = rp$q;
+        rec2$26$read_address = rp$q;
         rec$27$write_enable = rec_write;
         rec$27$write_address = wp$q;
         rec$27$write_data = 32'h0;
+        rec2$27$write_enable = rec_write;
+        rec2$27$write_address = wp$q;
+        rec2$27$write_data = 32'h0;
         if (s5_live$27$q) begin
             rec$27$write_data = s5_head$27$q;
+            rec2$27$write_data = s5_head2$27$q;
         end
         rec$27$read_address = rp$q;
+        rec2$27$read_address = rp$q;
         rec$28$write_enable = rec_write;
         rec$28$write_address = wp$q;
         rec$28$write_data = 32'h0;
+        rec2$28$write_enable = rec_write;
+        rec2$28$write_address = wp$q;
+        rec2$28$write_data = 32'h0;
         if (s5_live$28$q) begin
             rec$28$write_data = s5_head$28$q;
+            rec2$28$write_data = s5_head2$28$q;
         end
         rec$28$read_address = rp$q;
+        rec2$28$read_address = rp$q;
         rec$29$write_enable = rec_write;
         rec$29$write_address = wp$q;
         rec$29$write_data = 32'h0;
+        rec2$29$write_enable = rec_write;
+        rec2$29$write_address = wp$q;
+        rec2$29$write_data = 32'h0;
         if (s5_live$29$q) begin
             rec$29$write_data = s5_head$29$q;
+            rec2$29$write_data = s5_head2$29$q;
         end
         rec$29$read_address = rp$q;
+        rec2$29$read_address = rp$q;
         rec$30$write_enable = rec_write;
         rec$30$write_address = wp$q;
         rec$30$write_data = 32'h0;
+        rec2$30$write_enable = rec_write;
+        rec2$30$write_address = wp$q;
+        rec2$30$write_data = 32'h0;
         if (s5_live$30$q) begin
             rec$30$write_data = s5_head$30$q;
+            rec2$30$write_data = s5_head2$30$q;
         end
         rec$30$read_address = rp$q;
+        rec2$30$read_address = rp$q;
         rec$31$write_enable = rec_write;
         rec$31$write_address = wp$q;
         rec$31$write_data = 32'h0;
+        rec2$31$write_enable = rec_write;
+        rec2$31$write_address = wp$q;
+        rec2$31$write_data = 32'h0;
         if (s5_live$31$q) begin
             rec$31$write_data = s5_head$31$q;
+            rec2$31$write_data = s5_head2$31$q;
         end
         rec$31$read_address = rp$q;
+        rec2$31$read_address = rp$q;
         rec$32$write_enable = rec_write;
         rec$32$write_address = wp$q;
         rec$32$write_data = 32'h0;
+        rec2$32$write_enable = rec_write;
+        rec2$32$write_address = wp$q;
+        rec2$32$write_data = 32'h0;
         if (s5_live$32$q) begin
             rec$32$write_data = s5_head$32$q;
+            rec2$32$write_data = s5_head2$32$q;
         end
         rec$32$read_address = rp$q;
+        rec2$32$read_address = rp$q;
         rec$33$write_enable = rec_write;
         rec$33$write_address = wp$q;
         rec$33$write_data = 32'h0;
+        rec2$33$write_enable = rec_write;
+        rec2$33$write_address = wp$q;
+        rec2$33$write_data = 32'h0;
         if (s5_live$33$q) begin
             rec$33$write_data = s5_head$33$q;
+            rec2$33$write_data = s5_head2$33$q;
         end
         rec$33$read_address = rp$q;
+        rec2$33$read_address = rp$q;
         rec$34$write_enable = rec_write;
         rec$34$write_address = wp$q;
         rec$34$write_data = 32'h0;
+        rec2$34$write_enable = rec_write;
+        rec2$34$write_address = wp$q;
+        rec2$34$write_data = 32'h0;
         if (s5_live$34$q) begin
             rec$34$write_data = s5_head$34$q;
+            rec2$34$write_data = s5_head2$34$q;
         end
         rec$34$read_address = rp$q;
+        rec2$34$read_address = rp$q;
         rec$35$write_enable = rec_write;
         rec$35$write_address = wp$q;
         rec$35$write_data = 32'h0;
+        rec2$35$write_enable = rec_write;
+        rec2$35$write_address = wp$q;
+        rec2$35$write_data = 32'h0;
         if (s5_live$35$q) begin
             rec$35$write_data = s5_head$35$q;
+            rec2$35$write_data = s5_head2$35$q;
         end
         rec$35$read_address = rp$q;
+        rec2$35$read_address = rp$q;
         rec$36$write_enable = rec_write;
         rec$36$write_address = wp$q;
         rec$36$write_data = 32'h0;
+        rec2$36$write_enable = rec_write;
+        rec2$36$write_address = wp$q;
+        rec2$36$write_data = 32'h0;
         if (s5_live$36$q) begin
             rec$36$write_data = s5_head$36$q;
+            rec2$36$write_data = s5_head2$36$q;
         end
         rec$36$read_address = rp$q;
+        rec2$36$read_address = rp$q;
         rec$37$write_enable = rec_write;
         rec$37$write_address = wp$q;
         rec$37$write_data = 32'h0;
+        rec2$37$write_enable = rec_write;
+        rec2$37$write_address = wp$q;
+        rec2$37$write_data = 32'h0;
         if (s5_live$37$q) begin
             rec$37$write_data = s5_head$37$q;
+            rec2$37$write_data = s5_head2$37$q;
         end
         rec$37$read_address = rp$q;
+        rec2$37$read_address = rp$q;
         rec$38$write_enable = rec_write;
         rec$38$write_address = wp$q;
         rec$38$write_data = 32'h0;
+        rec2$38$write_enable = rec_write;
+        rec2$38$write_address = wp$q;
+        rec2$38$write_data = 32'h0;
         if (s5_live$38$q) begin
             rec$38$write_data = s5_head$38$q;
+            rec2$38$write_data = s5_head2$38$q;
         end
         rec$38$read_address = rp$q;
+        rec2$38$read_address = rp$q;
         rec$39$write_enable = rec_write;
         rec$39$write_address = wp$q;
         rec$39$write_data = 32'h0;
+        rec2$39$write_enable = rec_write;
+        rec2$39$write_address = wp$q;
+        rec2$39$write_data = 32'h0;
         if (s5_live$39$q) begin
             rec$39$write_data = s5_head$39$q;
+            rec2$39$write_data = s5_head2$39$q;
         end
         rec$39$read_address = rp$q;
+        rec2$39$read_address = rp$q;
         rec$40$write_enable = rec_write;
         rec$40$write_address = wp$q;
         rec$40$write_data = 32'h0;
+        rec2$40$write_enable = rec_write;
+        rec2$40$write_address = wp$q;
+        rec2$40$write_data = 32'h0;
         if (s5_live$40$q) begin
             rec$40$write_data = s5_head$40$q;
+            rec2$40$write_data = s5_head2$40$q;
         end
         rec$40$read_address = rp$q;
+        rec2$40$read_address = rp$q;
         rec$41$write_enable = rec_write;
         rec$41$write_address = wp$q;
         rec$41$write_data = 32'h0;
+        rec2$41$write_enable = rec_write;
+        rec2$41$write_address = wp$q;
+        rec2$41$write_data = 32'h0;
         if (s5_live$41$q) begin
             rec$41$write_data = s5_head$41$q;
+            rec2$41$write_data = s5_head2$41$q;
         end
         rec$41$read_address = rp$q;
+        rec2$41$read_address = rp$q;
         rec$42$write_enable = rec_write;
         rec$42$write_address = wp$q;
         rec$42$write_data = 32'h0;
+        rec2$42$write_enable = rec_write;
+        rec2$42$write_address = wp$q;
+        rec2$42$write_data = 32'h0;
         if (s5_live$42$q) begin
             rec$42$write_data = s5_head$42$q;
+            rec2$42$write_data = s5_head2$42$q;
         end
         rec$42$read_address = rp$q;
+        rec2$42$read_address = rp$q;
         rec$43$write_enable = rec_write;
         rec$43$write_address = wp$q;
         rec$43$write_data = 32'h0;
+        rec2$43$write_enable = rec_write;
+        rec2$43$write_address = wp$q;
+        rec2$43$write_data = 32'h0;
         if (s5_live$43$q) begin
             rec$43$write_data = s5_head$43$q;
+            rec2$43$write_data = s5_head2$43$q;
         end
         rec$43$read_address = rp$q;
+        rec2$43$read_address = rp$q;
         rec$44$write_enable = rec_write;
         rec$44$write_address = wp$q;
         rec$44$write_data = 32'h0;
+        rec2$44$write_enable = rec_write;
+        rec2$44$write_address = wp$q;
+        rec2$44$write_data = 32'h0;
         if (s5_live$44$q) begin
             rec$44$write_data = s5_head$44$q;
+            rec2$44$write_data = s5_head2$44$q;
         end
         rec$44$read_address = rp$q;
+        rec2$44$read_address = rp$q;
         rec$45$write_enable = rec_write;
         rec$45$write_address = wp$q;
         rec$45$write_data = 32'h0;
+        rec2$45$write_enable = rec_write;
+        rec2$45$write_address = wp$q;
+        rec2$45$write_data = 32'h0;
         if (s5_live$45$q) begin
             rec$45$write_data = s5_head$45$q;
+            rec2$45$write_data = s5_head2$45$q;
         end
         rec$45$read_address = rp$q;
+        rec2$45$read_address = rp$q;
         rec$46$write_enable = rec_write;
         rec$46$write_address = wp$q;
         rec$46$write_data = 32'h0;
+        rec2$46$write_enable = rec_write;
+        rec2$46$write_address = wp$q;
+        rec2$46$write_data = 32'h0;
         if (s5_live$46$q) begin
             rec$46$write_data = s5_head$46$q;
+            rec2$46$write_data = s5_head2$46$q;
         end
         rec$46$read_address = rp$q;
+        rec2$46$read_address = rp$q;
         rec$47$write_enable = rec_write;
         rec$47$write_address = wp$q;
         rec$47$write_data = 32'h0;
+        rec2$47$write_enable = rec_write;
+        rec2$47$write_address = wp$q;
+        rec2$47$write_data = 32'h0;
         if (s5_live$47$q) begin
             rec$47$write_data = s5_head$47$q;
+            rec2$47$write_data = s5_head2$47$q;
         end
         rec$47$read_address = rp$q;
+        rec2$47$read_address = rp$q;
         rec$48$write_enable = rec_write;
         rec$48$write_address = wp$q;
         rec$48$write_data = 32'h0;
+        rec2$48$write_enable = rec_write;
+        rec2$48$write_address = wp$q;
+        rec2$48$write_data = 32'h0;
         if (s5_live$48$q) begin
             rec$48$write_data = s5_head$48$q;
+            rec2$48$write_data = s5_head2$48$q;
         end
         rec$48$read_address = rp$q;
+        rec2$48$read_address = rp$q;
         rec$49$write_enable = rec_write;
         rec$49$write_address = wp$q;
         rec$49$write_data = 32'h0;
+        rec2$49$write_enable = rec_write;
+        rec2$49$write_address = wp$q;
+        rec2$49$write_data = 32'h0;
         if (s5_live$49$q) begin
             rec$49$write_data = s5_head$49$q;
+            rec2$49$write_data = s5_head2$49$q;
         end
         rec$49$read_address = rp$q;
+        rec2$49$read_address = rp$q;
         rec$50$write_enable = rec_write;
         rec$50$write_address = wp$q;
         rec$50$write_data = 32'h0;
+        rec2$50$write_enable = rec_write;
+        rec2$50$write_address = wp$q;
+        rec2$50$write_data = 32'h0;
         if (s5_live$50$q) begin
             rec$50$write_data = s5_head$50$q;
+            rec2$50$write_data = s5_head2$50$q;
         end
         rec$50$read_address = rp$q;
+        rec2$50$read_address = rp$q;
         rec$51$write_enable = rec_write;
         rec$51$write_address = wp$q;
         rec$51$write_data = 32'h0;
+        rec2$51$write_enable = rec_write;
+        rec2$51$write_address = wp$q;
+        rec2$51$write_data = 32'h0;
         if (s5_live$51$q) begin
             rec$51$write_data = s5_head$51$q;
+            rec2$51$write_data = s5_head2$51$q;
         end
         rec$51$read_address = rp$q;
+        rec2$51$read_address = rp$q;
         rec$52$write_enable = rec_write;
         rec$52$write_address = wp$q;
         rec$52$write_data = 32'h0;
+        rec2$52$write_enable = rec_write;
+        rec2$52$write_address = wp$q;
+        rec2$52$write_data = 32'h0;
         if (s5_live$52$q) begin
             rec$52$write_data = s5_head$52$q;
+            rec2$52$write_data = s5_head2$52$q;
         end
         rec$52$read_address = rp$q;
+        rec2$52$read_address = rp$q;
         rec$53$write_enable = rec_write;
         rec$53$write_address = wp$q;
         rec$53$write_data = 32'h0;
+        rec2$53$write_enable = rec_write;
+        rec2$53$write_address = wp$q;
+        rec2$53$write_data = 32'h0;
         if (s5_live$53$q) begin
             rec$53$write_data = s5_head$53$q;
+            rec2$53$write_data = s5_head2$53$q;
         end
         rec$53$read_address = rp$q;
+        rec2$53$read_address = rp$q;
         rec$54$write_enable = rec_write;
         rec$54$write_address = wp$q;
         rec$54$write_data = 32'h0;
+        rec2$54$write_enable = rec_write;
+        rec2$54$write_address = wp$q;
+        rec2$54$write_data = 32'h0;
         if (s5_live$54$q) begin
             rec$54$write_data = s5_head$54$q;
+            rec2$54$write_data = s5_head2$54$q;
         end
         rec$54$read_address = rp$q;
+        rec2$54$read_address = rp$q;
         rec$55$write_enable = rec_write;
         rec$55$write_address = wp$q;
         rec$55$write_data = 32'h0;
+        rec2$55$write_enable = rec_write;
+        rec2$55$write_address = wp$q;
+        rec2$55$write_data = 32'h0;
         if (s5_live$55$q) begin
             rec$55$write_data = s5_head$55$q;
+            rec2$55$write_data = s5_head2$55$q;
         end
         rec$55$read_address = rp$q;
+        rec2$55$read_address = rp$q;
         rec$56$write_enable = rec_write;
         rec$56$write_address = wp$q;
         rec$56$write_data = 32'h0;
+        rec2$56$write_enable = rec_write;
+        rec2$56$write_address = wp$q;
+        rec2$56$write_data = 32'h0;
         if (s5_live$56$q) begin
             rec$56$write_data = s5_head$56$q;
+            rec2$56$write_data = s5_head2$56$q;
         end
         rec$56$read_address = rp$q;
+        rec2$56$read_address = rp$q;
         rec$57$write_enable = rec_write;
         rec$57$write_address = wp$q;
         rec$57$write_data = 32'h0;
+        rec2$57$write_enable = rec_write;
+        rec2$57$write_address = wp$q;
+        rec2$57$write_data = 32'h0;
         if (s5_live$57$q) begin
             rec$57$write_data = s5_head$57$q;
+            rec2$57$write_data = s5_head2$57$q;
         end
         rec$57$read_address = rp$q;
+        rec2$57$read_address = rp$q;
         rec$58$write_enable = rec_write;
         rec$58$write_address = wp$q;
         rec$58$write_data = 32'h0;
+        rec2$58$write_enable = rec_write;
+        rec2$58$write_address = wp$q;
+        rec2$58$write_data = 32'h0;
         if (s5_live$58$q) begin
             rec$58$write_data = s5_head$58$q;
+            rec2$58$write_data = s5_head2$58$q;
         end
         rec$58$read_address = rp$q;
+        rec2$58$read_address = rp$q;
         rec$59$write_enable = rec_write;
         rec$59$write_address = wp$q;
         rec$59$write_data = 32'h0;
+        rec2$59$write_enable = rec_write;
+        rec2$59$write_address = wp$q;
+        rec2$59$write_data = 32'h0;
         if (s5_live$59$q) begin
             rec$59$write_data = s5_head$59$q;
+            rec2$59$write_data = s5_head2$59$q;
         end
         rec$59$read_address = rp$q;
+        rec2$59$read_address = rp$q;
         rec$60$write_enable = rec_write;
         rec$60$write_address = wp$q;
         rec$60$write_data = 32'h0;
+        rec2$60$write_enable = rec_write;
+        rec2$60$write_address = wp$q;
+        rec2$60$write_data = 32'h0;
         if (s5_live$60$q) begin
             rec$60$write_data = s5_head$60$q;
+            rec2$60$write_data = s5_head2$60$q;
         end
         rec$60$read_address = rp$q;
+        rec2$60$read_address = rp$q;
         rec$61$write_enable = rec_write;
         rec$61$write_address = wp$q;
         rec$61$write_data = 32'h0;
+        rec2$61$write_enable = rec_write;
+        rec2$61$write_address = wp$q;
+        rec2$61$write_data = 32'h0;
         if (s5_live$61$q) begin
             rec$61$write_data = s5_head$61$q;
+            rec2$61$write_data = s5_head2$61$q;
         end
         rec$61$read_address = rp$q;
+        rec2$61$read_address = rp$q;
         rec$62$write_enable = rec_write;
         rec$62$write_address = wp$q;
         rec$62$write_data = 32'h0;
+        rec2$62$write_enable = rec_write;
+        rec2$62$write_address = wp$q;
+        rec2$62$write_data = 32'h0;
         if (s5_live$62$q) begin
             rec$62$write_data = s5_head$62$q;
+            rec2$62$write_data = s5_head2$62$q;
         end
         rec$62$read_address = rp$q;
+        rec2$62$read_address = rp$q;
         rec$63$write_enable = rec_write;
         rec$63$write_address = wp$q;
         rec$63$write_data = 32'h0;
+        rec2$63$write_enable = rec_write;
+        rec2$63$write_address = wp$q;
+        rec2$63$write_data = 32'h0;
         if (s5_live$63$q) begin
             rec$63$write_data = s5_head$63$q;
+            rec2$63$write_data = s5_head2$63$q;
         end
         rec$63$read_address = rp$q;
+        rec2$63$read_address = rp$q;
         rec$64$write_enable = rec_write;
         rec$64$write_address = wp$q;
         rec$64$write_data = 32'h0;
+        rec2$64$write_enable = rec_write;
+        rec2$64$write_address = wp$q;
+        rec2$64$write_data = 32'h0;
         if (s5_live$64$q) begin
             rec$64$write_data = s5_head$64$q;
+            rec2$64$write_data = s5_head2$64$q;
         end
         rec$64$read_address = rp$q;
+        rec2$64$read_address = rp$q;
         rec$65$write_enable = rec_write;
         rec$65$write_address = wp$q;
         rec$65$write_data = 32'h0;
+        rec2$65$write_enable = rec_write;
+        rec2$65$write_address = wp$q;
+        rec2$65$write_data = 32'h0;
         if (s5_live$65$q) begin
             rec$65$write_data = s5_head$65$q;
+            rec2$65$write_data = s5_head2$65$q;
         end
         rec$65$read_address = rp$q;
+        rec2$65$read_address = rp$q;
         rec$66$write_enable = rec_write;
         rec$66$write_address = wp$q;
         rec$66$write_data = 32'h0;
+        rec2$66$write_enable = rec_write;
+        rec2$66$write_address = wp$q;
+        rec2$66$write_data = 32'h0;
         if (s5_live$66$q) begin
             rec$66$write_data = s5_head$66$q;
+            rec2$66$write_data = s5_head2$66$q;
         end
         rec$66$read_address = rp$q;
+        rec2$66$read_address = rp$q;
         rec$67$write_enable = rec_write;
         rec$67$write_address = wp$q;
         rec$67$write_data = 32'h0;
+        rec2$67$write_enable = rec_write;
+        rec2$67$write_address = wp$q;
+        rec2$67$write_data = 32'h0;
         if (s5_live$67$q) begin
             rec$67$write_data = s5_head$67$q;
+            rec2$67$write_data = s5_head2$67$q;
         end
         rec$67$read_address = rp$q;
+        rec2$67$read_address = rp$q;
         rec$68$write_enable = rec_write;
         rec$68$write_address = wp$q;
         rec$68$write_data = 32'h0;
+        rec2$68$write_enable = rec_write;
+        rec2$68$write_address = wp$q;
+        rec2$68$write_data = 32'h0;
         if (s5_live$68$q) begin
             rec$68$write_data = s5_head$68$q;
+            rec2$68$write_data = s5_head2$68$q;
         end
         rec$68$read_address = rp$q;
+        rec2$68$read_address = rp$q;
         rec$69$write_enable = rec_write;
         rec$69$write_address = wp$q;
         rec$69$write_data = 32'h0;
+        rec2$69$write_enable = rec_write;
+        rec2$69$write_address = wp$q;
+        rec2$69$write_data = 32'h0;
         if (s5_live$69$q) begin
             rec$69$write_data = s5_head$69$q;
+            rec2$69$write_data = s5_head2$69$q;
         end
         rec$69$read_address = rp$q;
+        rec2$69$read_address = rp$q;
         rec$70$write_enable = rec_write;
         rec$70$write_address = wp$q;
         rec$70$write_data = 32'h0;
+        rec2$70$write_enable = rec_write;
+        rec2$70$write_address = wp$q;
+        rec2$70$write_data = 32'h0;
         if (s5_live$70$q) begin
             rec$70$write_data = s5_head$70$q;
+            rec2$70$write_data = s5_head2$70$q;
         end
         rec$70$read_address = rp$q;
+        rec2$70$read_address = rp$q;
         rec$71$write_enable = rec_write;
         rec$71$write_address = wp$q;
         rec$71$write_data = 32'h0;
+        rec2$71$write_enable = rec_write;
+        rec2$71$write_address = wp$q;
+        rec2$71$write_data = 32'h0;
         if (s5_live$71$q) begin
             rec$71$write_data = s5_head$71$q;
+            rec2$71$write_data = s5_head2$71$q;
         end
         rec$71$read_address = rp$q;
+        rec2$71$read_address = rp$q;
         rec$72$write_enable = rec_write;
         rec$72$write_address = wp$q;
         rec$72$write_data = 32'h0;
+        rec2$72$write_enable = rec_write;
+        rec2$72$write_address = wp$q;
+        rec2$72$write_data = 32'h0;
         if (s5_live$72$q) begin
             rec$72$write_data = s5_head$72$q;
+            rec2$72$write_data = s5_head2$72$q;
         end
         rec$72$read_address = rp$q;
+        rec2$72$read_address = rp$q;
         rec$73$write_enable = rec_write;
         rec$73$write_address = wp$q;
         rec$73$write_data = 32'h0;
+        rec2$73$write_enable = rec_write;
+        rec2$73$write_address = wp$q;
+        rec2$73$write_data = 32'h0;
         if (s5_live$73$q) begin
             rec$73$write_data = s5_head$73$q;
+            rec2$73$write_data = s5_head2$73$q;
         end
         rec$73$read_address = rp$q;
+        rec2$73$read_address = rp$q;
         rec$74$write_enable = rec_write;
         rec$74$write_address = wp$q;
         rec$74$write_data = 32'h0;
+        rec2$74$write_enable = rec_write;
+        rec2$74$write_address = wp$q;
+        rec2$74$write_data = 32'h0;
         if (s5_live$74$q) begin
             rec$74$write_data = s5_head$74$q;
+            rec2$74$write_data = s5_head2$74$q;
         end
         rec$74$read_address = rp$q;
+        rec2$74$read_address = rp$q;
         rec$75$write_enable = rec_write;
         rec$75$write_address = wp$q;
         rec$75$write_data = 32'h0;
+        rec2$75$write_enable = rec_write;
+        rec2$75$write_address = wp$q;
+        rec2$75$write_data = 32'h0;
         if (s5_live$75$q) begin
             rec$75$write_data = s5_head$75$q;
+            rec2$75$write_data = s5_head2$75$q;
         end
         rec$75$read_address = rp$q;
+        rec2$75$read_address = rp$q;
         rec$76$write_enable = rec_write;
         rec$76$write_address = wp$q;
         rec$76$write_data = 32'h0;
+        rec2$76$write_enable = rec_write;
+        rec2$76$write_address = wp$q;
+        rec2$76$write_data = 32'h0;
         if (s5_live$76$q) begin
             rec$76$write_data = s5_head$76$q;
+            rec2$76$write_data = s5_head2$76$q;
         end
         rec$76$read_address = rp$q;
+        rec2$76$read_address = rp$q;
         rec$77$write_enable = rec_write;
         rec$77$write_address = wp$q;
         rec$77$write_data = 32'h0;
+        rec2$77$write_enable = rec_write;
+        rec2$77$write_address = wp$q;
+        rec2$77$write_data = 32'h0;
         if (s5_live$77$q) begin
             rec$77$write_data = s5_head$77$q;
+            rec2$77$write_data = s5_head2$77$q;
         end
         rec$77$read_address = rp$q;
+        rec2$77$read_address = rp$q;
         rec$78$write_enable = rec_write;
         rec$78$write_address = wp$q;
         rec$78$write_data = 32'h0;
+        rec2$78$write_enable = rec_write;
+        rec2$78$write_address = wp$q;
+        rec2$78$write_data = 32'h0;
         if (s5_live$78$q) begin
             rec$78$write_data = s5_head$78$q;
+            rec2$78$write_data = s5_head2$78$q;
         end
         rec$78$read_address = rp$q;
+        rec2$78$read_address = rp$q;
         rec$79$write_enable = rec_write;
         rec$79$write_address = wp$q;
         rec$79$write_data = 32'h0;
+        rec2$79$write_enable = rec_write;
+        rec2$79$write_address = wp$q;
+        rec2$79$write_data = 32'h0;
         if (s5_live$79$q) begin
             rec$79$write_data = s5_head$79$q;
+            rec2$79$write_data = s5_head2$79$q;
         end
         rec$79$read_address = rp$q;
+        rec2$79$read_address = rp$q;
         rec$80$write_enable = rec_write;
         rec$80$write_address = wp$q;
         rec$80$write_data = 32'h0;
+        rec2$80$write_enable = rec_write;
+        rec2$80$write_address = wp$q;
+        rec2$80$write_data = 32'h0;
         if (s5_live$80$q) begin
             rec$80$write_data = s5_head$80$q;
+            rec2$80$write_data = s5_head2$80$q;
         end
         rec$80$read_address = rp$q;
+        rec2$80$read_address = rp$q;
         if (s5_kind$q[32'h1]) begin
             rec$0$write_data = lnext$q;
+            rec2$0$write_data = lnext2$q;
         end
         rec_box$write_enable = rec_write;
         rec_box$write_address = wp$q;
@@ -25856,33 +32410,33 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         group_prior$80 = bank_any$26;
         bank_any$26 = bank_any$26 | e_rem$80$q;
         bank_prior$0 = 1'b0;
-        bank_prior$1 = bank_prior$0 | bank_any$0;
-        bank_prior$2 = bank_prior$1 | bank_any$1;
-        bank_prior$3 = bank_prior$2 | bank_any$2;
-        bank_prior$4 = bank_prior$3 | bank_any$3;
-        bank_prior$5 = bank_prior$4 | bank_any$4;
-        bank_prior$6 = bank_prior$5 | bank_any$5;
-        bank_prior$7 = bank_prior$6 | bank_any$6;
-        bank_prior$8 = bank_prior$7 | bank_any$7;
-        bank_prior$9 = bank_prior$8 | bank_any$8;
-        bank_prior$10 = bank_prior$9 | bank_any$9;
-        bank_prior$11 = bank_prior$10 | bank_any$10;
-        bank_prior$12 = bank_prior$11 | bank_any$11;
-        bank_prior$13 = bank_prior$12 | bank_any$12;
-        bank_prior$14 = bank_prior$13 | bank_any$13;
-        bank_prior$15 = bank_prior$14 | bank_any$14;
-        bank_prior$16 = bank_prior$15 | bank_any$15;
-        bank_prior$17 = bank_prior$16 | bank_any$16;
-        bank_prior$18 = bank_prior$17 | bank_any$17;
-        bank_prior$19 = bank_prior$18 | bank_any$18;
-        bank_prior$20 = bank_prior$19 | bank_any$19;
-        bank_prior$21 = bank_prior$20 | bank_any$20;
-        bank_prior$22 = bank_prior$21 | bank_any$21;
-        bank_prior$23 = bank_prior$22 | bank_any$22;
-        bank_prior$24 = bank_prior$23 | bank_any$23;
-        bank_prior$25 = bank_prior$24 | bank_any$24;
-        bank_prior$26 = bank_prior$25 | bank_any$25;
-        bank_prior$27 = bank_prior$26 | bank_any$26;
+        bank_prior$1 = bank_prior$0 | bank_left$0$q;
+        bank_prior$2 = bank_prior$1 | bank_left$1$q;
+        bank_prior$3 = bank_prior$2 | bank_left$2$q;
+        bank_prior$4 = bank_prior$3 | bank_left$3$q;
+        bank_prior$5 = bank_prior$4 | bank_left$4$q;
+        bank_prior$6 = bank_prior$5 | bank_left$5$q;
+        bank_prior$7 = bank_prior$6 | bank_left$6$q;
+        bank_prior$8 = bank_prior$7 | bank_left$7$q;
+        bank_prior$9 = bank_prior$8 | bank_left$8$q;
+        bank_prior$10 = bank_prior$9 | bank_left$9$q;
+        bank_prior$11 = bank_prior$10 | bank_left$10$q;
+        bank_prior$12 = bank_prior$11 | bank_left$11$q;
+        bank_prior$13 = bank_prior$12 | bank_left$12$q;
+        bank_prior$14 = bank_prior$13 | bank_left$13$q;
+        bank_prior$15 = bank_prior$14 | bank_left$14$q;
+        bank_prior$16 = bank_prior$15 | bank_left$15$q;
+        bank_prior$17 = bank_prior$16 | bank_left$16$q;
+        bank_prior$18 = bank_prior$17 | bank_left$17$q;
+        bank_prior$19 = bank_prior$18 | bank_left$18$q;
+        bank_prior$20 = bank_prior$19 | bank_left$19$q;
+        bank_prior$21 = bank_prior$20 | bank_left$20$q;
+        bank_prior$22 = bank_prior$21 | bank_left$21$q;
+        bank_prior$23 = bank_prior$22 | bank_left$22$q;
+        bank_prior$24 = bank_prior$23 | bank_left$23$q;
+        bank_prior$25 = bank_prior$24 | bank_left$24$q;
+        bank_prior$26 = bank_prior$25 | bank_left$25$q;
+        bank_prior$27 = bank_prior$26 | bank_left$26$q;
         e_first$0 = e_rem$0$q & ~group_prior$0 & ~bank_prior$0;
         e_first$1 = e_rem$1$q & ~group_prior$1 & ~bank_prior$1;
         e_first$2 = e_rem$2$q & ~group_prior$2 & ~bank_prior$2;
@@ -25967,497 +32521,745 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         e_push = e_chosen$q & ~lq_fill$2$q;
         e_load = (count$q != 32'h0) & ~e_busy$q;
         e_out = 32'h0;
+        e_out2 = 32'h0;
         e_more = 1'b0;
         e_pick$0 = 32'h0;
+        e_pick2$0 = 32'h0;
         if (e_sel$0$q) begin
             e_pick$0 = e_head$0$q;
+            e_pick2$0 = e_head2$0$q;
         end
         e_out = e_out | e_pick$0;
+        e_out2 = e_out2 | e_pick2$0;
         e_more = e_more | (e_rem$0$q & ~e_sel$0$q);
         e_pick$1 = 32'h0;
+        e_pick2$1 = 32'h0;
         if (e_sel$1$q) begin
             e_pick$1 = e_head$1$q;
+            e_pick2$1 = e_head2$1$q;
         end
         e_out = e_out | e_pick$1;
+        e_out2 = e_out2 | e_pick2$1;
         e_more = e_more | (e_rem$1$q & ~e_sel$1$q);
         e_pick$2 = 32'h0;
+        e_pick2$2 = 32'h0;
         if (e_sel$2$q) begin
             e_pick$2 = e_head$2$q;
+            e_pick2$2 = e_head2$2$q;
         end
         e_out = e_out | e_pick$2;
+        e_out2 = e_out2 | e_pick2$2;
         e_more = e_more | (e_rem$2$q & ~e_sel$2$q);
         e_pick$3 = 32'h0;
+        e_pick2$3 = 32'h0;
         if (e_sel$3$q) begin
             e_pick$3 = e_head$3$q;
+            e_pick2$3 = e_head2$3$q;
         end
         e_out = e_out | e_pick$3;
+        e_out2 = e_out2 | e_pick2$3;
         e_more = e_more | (e_rem$3$q & ~e_sel$3$q);
         e_pick$4 = 32'h0;
+        e_pick2$4 = 32'h0;
         if (e_sel$4$q) begin
             e_pick$4 = e_head$4$q;
+            e_pick2$4 = e_head2$4$q;
         end
         e_out = e_out | e_pick$4;
+        e_out2 = e_out2 | e_pick2$4;
         e_more = e_more | (e_rem$4$q & ~e_sel$4$q);
         e_pick$5 = 32'h0;
+        e_pick2$5 = 32'h0;
         if (e_sel$5$q) begin
             e_pick$5 = e_head$5$q;
+            e_pick2$5 = e_head2$5$q;
         end
         e_out = e_out | e_pick$5;
+        e_out2 = e_out2 | e_pick2$5;
         e_more = e_more | (e_rem$5$q & ~e_sel$5$q);
         e_pick$6 = 32'h0;
+        e_pick2$6 = 32'h0;
         if (e_sel$6$q) begin
             e_pick$6 = e_head$6$q;
+            e_pick2$6 = e_head2$6$q;
         end
         e_out = e_out | e_pick$6;
+        e_out2 = e_out2 | e_pick2$6;
         e_more = e_more | (e_rem$6$q & ~e_sel$6$q);
         e_pick$7 = 32'h0;
+        e_pick2$7 = 32'h0;
         if (e_sel$7$q) begin
             e_pick$7 = e_head$7$q;
+            e_pick2$7 = e_head2$7$q;
         end
         e_out = e_out | e_pick$7;
+        e_out2 = e_out2 | e_pick2$7;
         e_more = e_more | (e_rem$7$q & ~e_sel$7$q);
         e_pick$8 = 32'h0;
+        e_pick2$8 = 32'h0;
         if (e_sel$8$q) begin
             e_pick$8 = e_head$8$q;
+            e_pick2$8 = e_head2$8$q;
         end
         e_out = e_out | e_pick$8;
+        e_out2 = e_out2 | e_pick2$8;
         e_more = e_more | (e_rem$8$q & ~e_sel$8$q);
         e_pick$9 = 32'h0;
+        e_pick2$9 = 32'h0;
         if (e_sel$9$q) begin
             e_pick$9 = e_head$9$q;
+            e_pick2$9 = e_head2$9$q;
         end
         e_out = e_out | e_pick$9;
+        e_out2 = e_out2 | e_pick2$9;
         e_more = e_more | (e_rem$9$q & ~e_sel$9$q);
         e_pick$10 = 32'h0;
+        e_pick2$10 = 32'h0;
         if (e_sel$10$q) begin
             e_pick$10 = e_head$10$q;
+            e_pick2$10 = e_head2$10$q;
         end
         e_out = e_out | e_pick$10;
+        e_out2 = e_out2 | e_pick2$10;
         e_more = e_more | (e_rem$10$q & ~e_sel$10$q);
         e_pick$11 = 32'h0;
+        e_pick2$11 = 32'h0;
         if (e_sel$11$q) begin
             e_pick$11 = e_head$11$q;
+            e_pick2$11 = e_head2$11$q;
         end
         e_out = e_out | e_pick$11;
+        e_out2 = e_out2 | e_pick2$11;
         e_more = e_more | (e_rem$11$q & ~e_sel$11$q);
         e_pick$12 = 32'h0;
+        e_pick2$12 = 32'h0;
         if (e_sel$12$q) begin
             e_pick$12 = e_head$12$q;
+            e_pick2$12 = e_head2$12$q;
         end
         e_out = e_out | e_pick$12;
+        e_out2 = e_out2 | e_pick2$12;
         e_more = e_more | (e_rem$12$q & ~e_sel$12$q);
         e_pick$13 = 32'h0;
+        e_pick2$13 = 32'h0;
         if (e_sel$13$q) begin
             e_pick$13 = e_head$13$q;
+            e_pick2$13 = e_head2$13$q;
         end
         e_out = e_out | e_pick$13;
+        e_out2 = e_out2 | e_pick2$13;
         e_more = e_more | (e_rem$13$q & ~e_sel$13$q);
         e_pick$14 = 32'h0;
+        e_pick2$14 = 32'h0;
         if (e_sel$14$q) begin
             e_pick$14 = e_head$14$q;
+            e_pick2$14 = e_head2$14$q;
         end
         e_out = e_out | e_pick$14;
+        e_out2 = e_out2 | e_pick2$14;
         e_more = e_more | (e_rem$14$q & ~e_sel$14$q);
         e_pick$15 = 32'h0;
+        e_pick2$15 = 32'h0;
         if (e_sel$15$q) begin
             e_pick$15 = e_head$15$q;
+            e_pick2$15 = e_head2$15$q;
         end
         e_out = e_out | e_pick$15;
+        e_out2 = e_out2 | e_pick2$15;
         e_more = e_more | (e_rem$15$q & ~e_sel$15$q);
         e_pick$16 = 32'h0;
+        e_pick2$16 = 32'h0;
         if (e_sel$16$q) begin
             e_pick$16 = e_head$16$q;
+            e_pick2$16 = e_head2$16$q;
         end
         e_out = e_out | e_pick$16;
+        e_out2 = e_out2 | e_pick2$16;
         e_more = e_more | (e_rem$16$q & ~e_sel$16$q);
         e_pick$17 = 32'h0;
+        e_pick2$17 = 32'h0;
         if (e_sel$17$q) begin
             e_pick$17 = e_head$17$q;
+            e_pick2$17 = e_head2$17$q;
         end
         e_out = e_out | e_pick$17;
+        e_out2 = e_out2 | e_pick2$17;
         e_more = e_more | (e_rem$17$q & ~e_sel$17$q);
         e_pick$18 = 32'h0;
+        e_pick2$18 = 32'h0;
         if (e_sel$18$q) begin
             e_pick$18 = e_head$18$q;
+            e_pick2$18 = e_head2$18$q;
         end
         e_out = e_out | e_pick$18;
+        e_out2 = e_out2 | e_pick2$18;
         e_more = e_more | (e_rem$18$q & ~e_sel$18$q);
         e_pick$19 = 32'h0;
+        e_pick2$19 = 32'h0;
         if (e_sel$19$q) begin
             e_pick$19 = e_head$19$q;
+            e_pick2$19 = e_head2$19$q;
         end
         e_out = e_out | e_pick$19;
+        e_out2 = e_out2 | e_pick2$19;
         e_more = e_more | (e_rem$19$q & ~e_sel$19$q);
         e_pick$20 = 32'h0;
+        e_pick2$20 = 32'h0;
         if (e_sel$20$q) begin
             e_pick$20 = e_head$20$q;
+            e_pick2$20 = e_head2$20$q;
         end
         e_out = e_out | e_pick$20;
+        e_out2 = e_out2 | e_pick2$20;
         e_more = e_more | (e_rem$20$q & ~e_sel$20$q);
         e_pick$21 = 32'h0;
+        e_pick2$21 = 32'h0;
         if (e_sel$21$q) begin
             e_pick$21 = e_head$21$q;
+            e_pick2$21 = e_head2$21$q;
         end
         e_out = e_out | e_pick$21;
+        e_out2 = e_out2 | e_pick2$21;
         e_more = e_more | (e_rem$21$q & ~e_sel$21$q);
         e_pick$22 = 32'h0;
+        e_pick2$22 = 32'h0;
         if (e_sel$22$q) begin
             e_pick$22 = e_head$22$q;
+            e_pick2$22 = e_head2$22$q;
         end
         e_out = e_out | e_pick$22;
+        e_out2 = e_out2 | e_pick2$22;
         e_more = e_more | (e_rem$22$q & ~e_sel$22$q);
         e_pick$23 = 32'h0;
+        e_pick2$23 = 32'h0;
         if (e_sel$23$q) begin
             e_pick$23 = e_head$23$q;
+            e_pick2$23 = e_head2$23$q;
         end
         e_out = e_out | e_pick$23;
+        e_out2 = e_out2 | e_pick2$23;
         e_more = e_more | (e_rem$23$q & ~e_sel$23$q);
         e_pick$24 = 32'h0;
+        e_pick2$24 = 32'h0;
         if (e_sel$24$q) begin
             e_pick$24 = e_head$24$q;
+            e_pick2$24 = e_head2$24$q;
         end
         e_out = e_out | e_pick$24;
+        e_out2 = e_out2 | e_pick2$24;
         e_more = e_more | (e_rem$24$q & ~e_sel$24$q);
         e_pick$25 = 32'h0;
+        e_pick2$25 = 32'h0;
         if (e_sel$25$q) begin
             e_pick$25 = e_head$25$q;
+            e_pick2$25 = e_head2$25$q;
         end
         e_out = e_out | e_pick$25;
+        e_out2 = e_out2 | e_pick2$25;
         e_more = e_more | (e_rem$25$q & ~e_sel$25$q);
         e_pick$26 = 32'h0;
+        e_pick2$26 = 32'h0;
         if (e_sel$26$q) begin
             e_pick$26 = e_head$26$q;
+            e_pick2$26 = e_head2$26$q;
         end
         e_out = e_out | e_pick$26;
+        e_out2 = e_out2 | e_pick2$26;
         e_more = e_more | (e_rem$26$q & ~e_sel$26$q);
         e_pick$27 = 32'h0;
+        e_pick2$27 = 32'h0;
         if (e_sel$27$q) begin
             e_pick$27 = e_head$27$q;
+            e_pick2$27 = e_head2$27$q;
         end
         e_out = e_out | e_pick$27;
+        e_out2 = e_out2 | e_pick2$27;
         e_more = e_more | (e_rem$27$q & ~e_sel$27$q);
         e_pick$28 = 32'h0;
+        e_pick2$28 = 32'h0;
         if (e_sel$28$q) begin
             e_pick$28 = e_head$28$q;
+            e_pick2$28 = e_head2$28$q;
         end
         e_out = e_out | e_pick$28;
+        e_out2 = e_out2 | e_pick2$28;
         e_more = e_more | (e_rem$28$q & ~e_sel$28$q);
         e_pick$29 = 32'h0;
+        e_pick2$29 = 32'h0;
         if (e_sel$29$q) begin
             e_pick$29 = e_head$29$q;
+            e_pick2$29 = e_head2$29$q;
         end
         e_out = e_out | e_pick$29;
+        e_out2 = e_out2 | e_pick2$29;
         e_more = e_more | (e_rem$29$q & ~e_sel$29$q);
         e_pick$30 = 32'h0;
+        e_pick2$30 = 32'h0;
         if (e_sel$30$q) begin
             e_pick$30 = e_head$30$q;
+            e_pick2$30 = e_head2$30$q;
         end
         e_out = e_out | e_pick$30;
+        e_out2 = e_out2 | e_pick2$30;
         e_more = e_more | (e_rem$30$q & ~e_sel$30$q);
         e_pick$31 = 32'h0;
+        e_pick2$31 = 32'h0;
         if (e_sel$31$q) begin
             e_pick$31 = e_head$31$q;
+            e_pick2$31 = e_head2$31$q;
         end
         e_out = e_out | e_pick$31;
+        e_out2 = e_out2 | e_pick2$31;
         e_more = e_more | (e_rem$31$q & ~e_sel$31$q);
         e_pick$32 = 32'h0;
+        e_pick2$32 = 32'h0;
         if (e_sel$32$q) begin
             e_pick$32 = e_head$32$q;
+            e_pick2$32 = e_head2$32$q;
         end
         e_out = e_out | e_pick$32;
+        e_out2 = e_out2 | e_pick2$32;
         e_more = e_more | (e_rem$32$q & ~e_sel$32$q);
         e_pick$33 = 32'h0;
+        e_pick2$33 = 32'h0;
         if (e_sel$33$q) begin
             e_pick$33 = e_head$33$q;
+            e_pick2$33 = e_head2$33$q;
         end
         e_out = e_out | e_pick$33;
+        e_out2 = e_out2 | e_pick2$33;
         e_more = e_more | (e_rem$33$q & ~e_sel$33$q);
         e_pick$34 = 32'h0;
+        e_pick2$34 = 32'h0;
         if (e_sel$34$q) begin
             e_pick$34 = e_head$34$q;
+            e_pick2$34 = e_head2$34$q;
         end
         e_out = e_out | e_pick$34;
+        e_out2 = e_out2 | e_pick2$34;
         e_more = e_more | (e_rem$34$q & ~e_sel$34$q);
         e_pick$35 = 32'h0;
+        e_pick2$35 = 32'h0;
         if (e_sel$35$q) begin
             e_pick$35 = e_head$35$q;
+            e_pick2$35 = e_head2$35$q;
         end
         e_out = e_out | e_pick$35;
+        e_out2 = e_out2 | e_pick2$35;
         e_more = e_more | (e_rem$35$q & ~e_sel$35$q);
         e_pick$36 = 32'h0;
+        e_pick2$36 = 32'h0;
         if (e_sel$36$q) begin
             e_pick$36 = e_head$36$q;
+            e_pick2$36 = e_head2$36$q;
         end
         e_out = e_out | e_pick$36;
+        e_out2 = e_out2 | e_pick2$36;
         e_more = e_more | (e_rem$36$q & ~e_sel$36$q);
         e_pick$37 = 32'h0;
+        e_pick2$37 = 32'h0;
         if (e_sel$37$q) begin
             e_pick$37 = e_head$37$q;
+            e_pick2$37 = e_head2$37$q;
         end
         e_out = e_out | e_pick$37;
+        e_out2 = e_out2 | e_pick2$37;
         e_more = e_more | (e_rem$37$q & ~e_sel$37$q);
         e_pick$38 = 32'h0;
+        e_pick2$38 = 32'h0;
         if (e_sel$38$q) begin
             e_pick$38 = e_head$38$q;
+            e_pick2$38 = e_head2$38$q;
         end
         e_out = e_out | e_pick$38;
+        e_out2 = e_out2 | e_pick2$38;
         e_more = e_more | (e_rem$38$q & ~e_sel$38$q);
         e_pick$39 = 32'h0;
+        e_pick2$39 = 32'h0;
         if (e_sel$39$q) begin
             e_pick$39 = e_head$39$q;
+            e_pick2$39 = e_head2$39$q;
         end
         e_out = e_out | e_pick$39;
+        e_out2 = e_out2 | e_pick2$39;
         e_more = e_more | (e_rem$39$q & ~e_sel$39$q);
         e_pick$40 = 32'h0;
+        e_pick2$40 = 32'h0;
         if (e_sel$40$q) begin
             e_pick$40 = e_head$40$q;
+            e_pick2$40 = e_head2$40$q;
         end
         e_out = e_out | e_pick$40;
+        e_out2 = e_out2 | e_pick2$40;
         e_more = e_more | (e_rem$40$q & ~e_sel$40$q);
         e_pick$41 = 32'h0;
+        e_pick2$41 = 32'h0;
         if (e_sel$41$q) begin
             e_pick$41 = e_head$41$q;
+            e_pick2$41 = e_head2$41$q;
         end
         e_out = e_out | e_pick$41;
+        e_out2 = e_out2 | e_pick2$41;
         e_more = e_more | (e_rem$41$q & ~e_sel$41$q);
         e_pick$42 = 32'h0;
+        e_pick2$42 = 32'h0;
         if (e_sel$42$q) begin
             e_pick$42 = e_head$42$q;
+            e_pick2$42 = e_head2$42$q;
         end
         e_out = e_out | e_pick$42;
+        e_out2 = e_out2 | e_pick2$42;
         e_more = e_more | (e_rem$42$q & ~e_sel$42$q);
         e_pick$43 = 32'h0;
+        e_pick2$43 = 32'h0;
         if (e_sel$43$q) begin
             e_pick$43 = e_head$43$q;
+            e_pick2$43 = e_head2$43$q;
         end
         e_out = e_out | e_pick$43;
+        e_out2 = e_out2 | e_pick2$43;
         e_more = e_more | (e_rem$43$q & ~e_sel$43$q);
         e_pick$44 = 32'h0;
+        e_pick2$44 = 32'h0;
         if (e_sel$44$q) begin
             e_pick$44 = e_head$44$q;
+            e_pick2$44 = e_head2$44$q;
         end
         e_out = e_out | e_pick$44;
+        e_out2 = e_out2 | e_pick2$44;
         e_more = e_more | (e_rem$44$q & ~e_sel$44$q);
         e_pick$45 = 32'h0;
+        e_pick2$45 = 32'h0;
         if (e_sel$45$q) begin
             e_pick$45 = e_head$45$q;
+            e_pick2$45 = e_head2$45$q;
         end
         e_out = e_out | e_pick$45;
+        e_out2 = e_out2 | e_pick2$45;
         e_more = e_more | (e_rem$45$q & ~e_sel$45$q);
         e_pick$46 = 32'h0;
+        e_pick2$46 = 32'h0;
         if (e_sel$46$q) begin
             e_pick$46 = e_head$46$q;
+            e_pick2$46 = e_head2$46$q;
         end
         e_out = e_out | e_pick$46;
+        e_out2 = e_out2 | e_pick2$46;
         e_more = e_more | (e_rem$46$q & ~e_sel$46$q);
         e_pick$47 = 32'h0;
+        e_pick2$47 = 32'h0;
         if (e_sel$47$q) begin
             e_pick$47 = e_head$47$q;
+            e_pick2$47 = e_head2$47$q;
         end
         e_out = e_out | e_pick$47;
+        e_out2 = e_out2 | e_pick2$47;
         e_more = e_more | (e_rem$47$q & ~e_sel$47$q);
         e_pick$48 = 32'h0;
+        e_pick2$48 = 32'h0;
         if (e_sel$48$q) begin
             e_pick$48 = e_head$48$q;
+            e_pick2$48 = e_head2$48$q;
         end
         e_out = e_out | e_pick$48;
+        e_out2 = e_out2 | e_pick2$48;
         e_more = e_more | (e_rem$48$q & ~e_sel$48$q);
         e_pick$49 = 32'h0;
+        e_pick2$49 = 32'h0;
         if (e_sel$49$q) begin
             e_pick$49 = e_head$49$q;
+            e_pick2$49 = e_head2$49$q;
         end
         e_out = e_out | e_pick$49;
+        e_out2 = e_out2 | e_pick2$49;
         e_more = e_more | (e_rem$49$q & ~e_sel$49$q);
         e_pick$50 = 32'h0;
+        e_pick2$50 = 32'h0;
         if (e_sel$50$q) begin
             e_pick$50 = e_head$50$q;
+            e_pick2$50 = e_head2$50$q;
         end
         e_out = e_out | e_pick$50;
+        e_out2 = e_out2 | e_pick2$50;
         e_more = e_more | (e_rem$50$q & ~e_sel$50$q);
         e_pick$51 = 32'h0;
+        e_pick2$51 = 32'h0;
         if (e_sel$51$q) begin
             e_pick$51 = e_head$51$q;
+            e_pick2$51 = e_head2$51$q;
         end
         e_out = e_out | e_pick$51;
+        e_out2 = e_out2 | e_pick2$51;
         e_more = e_more | (e_rem$51$q & ~e_sel$51$q);
         e_pick$52 = 32'h0;
+        e_pick2$52 = 32'h0;
         if (e_sel$52$q) begin
             e_pick$52 = e_head$52$q;
+            e_pick2$52 = e_head2$52$q;
         end
         e_out = e_out | e_pick$52;
+        e_out2 = e_out2 | e_pick2$52;
         e_more = e_more | (e_rem$52$q & ~e_sel$52$q);
         e_pick$53 = 32'h0;
+        e_pick2$53 = 32'h0;
         if (e_sel$53$q) begin
             e_pick$53 = e_head$53$q;
+            e_pick2$53 = e_head2$53$q;
         end
         e_out = e_out | e_pick$53;
+        e_out2 = e_out2 | e_pick2$53;
         e_more = e_more | (e_rem$53$q & ~e_sel$53$q);
         e_pick$54 = 32'h0;
+        e_pick2$54 = 32'h0;
         if (e_sel$54$q) begin
             e_pick$54 = e_head$54$q;
+            e_pick2$54 = e_head2$54$q;
         end
         e_out = e_out | e_pick$54;
+        e_out2 = e_out2 | e_pick2$54;
         e_more = e_more | (e_rem$54$q & ~e_sel$54$q);
         e_pick$55 = 32'h0;
+        e_pick2$55 = 32'h0;
         if (e_sel$55$q) begin
             e_pick$55 = e_head$55$q;
+            e_pick2$55 = e_head2$55$q;
         end
         e_out = e_out | e_pick$55;
+        e_out2 = e_out2 | e_pick2$55;
         e_more = e_more | (e_rem$55$q & ~e_sel$55$q);
         e_pick$56 = 32'h0;
+        e_pick2$56 = 32'h0;
         if (e_sel$56$q) begin
             e_pick$56 = e_head$56$q;
+            e_pick2$56 = e_head2$56$q;
         end
         e_out = e_out | e_pick$56;
+        e_out2 = e_out2 | e_pick2$56;
         e_more = e_more | (e_rem$56$q & ~e_sel$56$q);
         e_pick$57 = 32'h0;
+        e_pick2$57 = 32'h0;
         if (e_sel$57$q) begin
             e_pick$57 = e_head$57$q;
+            e_pick2$57 = e_head2$57$q;
         end
         e_out = e_out | e_pick$57;
+        e_out2 = e_out2 | e_pick2$57;
         e_more = e_more | (e_rem$57$q & ~e_sel$57$q);
         e_pick$58 = 32'h0;
+        e_pick2$58 = 32'h0;
         if (e_sel$58$q) begin
             e_pick$58 = e_head$58$q;
+            e_pick2$58 = e_head2$58$q;
         end
         e_out = e_out | e_pick$58;
+        e_out2 = e_out2 | e_pick2$58;
         e_more = e_more | (e_rem$58$q & ~e_sel$58$q);
         e_pick$59 = 32'h0;
+        e_pick2$59 = 32'h0;
         if (e_sel$59$q) begin
             e_pick$59 = e_head$59$q;
+            e_pick2$59 = e_head2$59$q;
         end
         e_out = e_out | e_pick$59;
+        e_out2 = e_out2 | e_pick2$59;
         e_more = e_more | (e_rem$59$q & ~e_sel$59$q);
         e_pick$60 = 32'h0;
+        e_pick2$60 = 32'h0;
         if (e_sel$60$q) begin
             e_pick$60 = e_head$60$q;
+            e_pick2$60 = e_head2$60$q;
         end
         e_out = e_out | e_pick$60;
+        e_out2 = e_out2 | e_pick2$60;
         e_more = e_more | (e_rem$60$q & ~e_sel$60$q);
         e_pick$61 = 32'h0;
+        e_pick2$61 = 32'h0;
         if (e_sel$61$q) begin
             e_pick$61 = e_head$61$q;
+            e_pick2$61 = e_head2$61$q;
         end
         e_out = e_out | e_pick$61;
+        e_out2 = e_out2 | e_pick2$61;
         e_more = e_more | (e_rem$61$q & ~e_sel$61$q);
         e_pick$62 = 32'h0;
+        e_pick2$62 = 32'h0;
         if (e_sel$62$q) begin
             e_pick$62 = e_head$62$q;
+            e_pick2$62 = e_head2$62$q;
         end
         e_out = e_out | e_pick$62;
+        e_out2 = e_out2 | e_pick2$62;
         e_more = e_more | (e_rem$62$q & ~e_sel$62$q);
         e_pick$63 = 32'h0;
+        e_pick2$63 = 32'h0;
         if (e_sel$63$q) begin
             e_pick$63 = e_head$63$q;
+            e_pick2$63 = e_head2$63$q;
         end
         e_out = e_out | e_pick$63;
+        e_out2 = e_out2 | e_pick2$63;
         e_more = e_more | (e_rem$63$q & ~e_sel$63$q);
         e_pick$64 = 32'h0;
+        e_pick2$64 = 32'h0;
         if (e_sel$64$q) begin
             e_pick$64 = e_head$64$q;
+            e_pick2$64 = e_head2$64$q;
         end
         e_out = e_out | e_pick$64;
+        e_out2 = e_out2 | e_pick2$64;
         e_more = e_more | (e_rem$64$q & ~e_sel$64$q);
         e_pick$65 = 32'h0;
+        e_pick2$65 = 32'h0;
         if (e_sel$65$q) begin
             e_pick$65 = e_head$65$q;
+            e_pick2$65 = e_head2$65$q;
         end
         e_out = e_out | e_pick$65;
+        e_out2 = e_out2 | e_pick2$65;
         e_more = e_more | (e_rem$65$q & ~e_sel$65$q);
         e_pick$66 = 32'h0;
+        e_pick2$66 = 32'h0;
         if (e_sel$66$q) begin
             e_pick$66 = e_head$66$q;
+            e_pick2$66 = e_head2$66$q;
         end
         e_out = e_out | e_pick$66;
+        e_out2 = e_out2 | e_pick2$66;
         e_more = e_more | (e_rem$66$q & ~e_sel$66$q);
         e_pick$67 = 32'h0;
+        e_pick2$67 = 32'h0;
         if (e_sel$67$q) begin
             e_pick$67 = e_head$67$q;
+            e_pick2$67 = e_head2$67$q;
         end
         e_out = e_out | e_pick$67;
+        e_out2 = e_out2 | e_pick2$67;
         e_more = e_more | (e_rem$67$q & ~e_sel$67$q);
         e_pick$68 = 32'h0;
+        e_pick2$68 = 32'h0;
         if (e_sel$68$q) begin
             e_pick$68 = e_head$68$q;
+            e_pick2$68 = e_head2$68$q;
         end
         e_out = e_out | e_pick$68;
+        e_out2 = e_out2 | e_pick2$68;
         e_more = e_more | (e_rem$68$q & ~e_sel$68$q);
         e_pick$69 = 32'h0;
+        e_pick2$69 = 32'h0;
         if (e_sel$69$q) begin
             e_pick$69 = e_head$69$q;
+            e_pick2$69 = e_head2$69$q;
         end
         e_out = e_out | e_pick$69;
+        e_out2 = e_out2 | e_pick2$69;
         e_more = e_more | (e_rem$69$q & ~e_sel$69$q);
         e_pick$70 = 32'h0;
+        e_pick2$70 = 32'h0;
         if (e_sel$70$q) begin
             e_pick$70 = e_head$70$q;
+            e_pick2$70 = e_head2$70$q;
         end
         e_out = e_out | e_pick$70;
+        e_out2 = e_out2 | e_pick2$70;
         e_more = e_more | (e_rem$70$q & ~e_sel$70$q);
         e_pick$71 = 32'h0;
+        e_pick2$71 = 32'h0;
         if (e_sel$71$q) begin
             e_pick$71 = e_head$71$q;
+            e_pick2$71 = e_head2$71$q;
         end
         e_out = e_out | e_pick$71;
+        e_out2 = e_out2 | e_pick2$71;
         e_more = e_more | (e_rem$71$q & ~e_sel$71$q);
         e_pick$72 = 32'h0;
+        e_pick2$72 = 32'h0;
         if (e_sel$72$q) begin
             e_pick$72 = e_head$72$q;
+            e_pick2$72 = e_head2$72$q;
         end
         e_out = e_out | e_pick$72;
+        e_out2 = e_out2 | e_pick2$72;
         e_more = e_more | (e_rem$72$q & ~e_sel$72$q);
         e_pick$73 = 32'h0;
+        e_pick2$73 = 32'h0;
         if (e_sel$73$q) begin
             e_pick$73 = e_head$73$q;
+            e_pick2$73 = e_head2$73$q;
         end
         e_out = e_out | e_pick$73;
+        e_out2 = e_out2 | e_pick2$73;
         e_more = e_more | (e_rem$73$q & ~e_sel$73$q);
         e_pick$74 = 32'h0;
+        e_pick2$74 = 32'h0;
         if (e_sel$74$q) begin
             e_pick$74 = e_head$74$q;
+            e_pick2$74 = e_head2$74$q;
         end
         e_out = e_out | e_pick$74;
+        e_out2 = e_out2 | e_pick2$74;
         e_more = e_more | (e_rem$74$q & ~e_sel$74$q);
         e_pick$75 = 32'h0;
+        e_pick2$75 = 32'h0;
         if (e_sel$75$q) begin
             e_pick$75 = e_head$75$q;
+            e_pick2$75 = e_head2$75$q;
         end
         e_out = e_out | e_pick$75;
+        e_out2 = e_out2 | e_pick2$75;
         e_more = e_more | (e_rem$75$q & ~e_sel$75$q);
         e_pick$76 = 32'h0;
+        e_pick2$76 = 32'h0;
         if (e_sel$76$q) begin
             e_pick$76 = e_head$76$q;
+            e_pick2$76 = e_head2$76$q;
         end
         e_out = e_out | e_pick$76;
+        e_out2 = e_out2 | e_pick2$76;
         e_more = e_more | (e_rem$76$q & ~e_sel$76$q);
         e_pick$77 = 32'h0;
+        e_pick2$77 = 32'h0;
         if (e_sel$77$q) begin
             e_pick$77 = e_head$77$q;
+            e_pick2$77 = e_head2$77$q;
         end
         e_out = e_out | e_pick$77;
+        e_out2 = e_out2 | e_pick2$77;
         e_more = e_more | (e_rem$77$q & ~e_sel$77$q);
         e_pick$78 = 32'h0;
+        e_pick2$78 = 32'h0;
         if (e_sel$78$q) begin
             e_pick$78 = e_head$78$q;
+            e_pick2$78 = e_head2$78$q;
         end
         e_out = e_out | e_pick$78;
+        e_out2 = e_out2 | e_pick2$78;
         e_more = e_more | (e_rem$78$q & ~e_sel$78$q);
         e_pick$79 = 32'h0;
+        e_pick2$79 = 32'h0;
         if (e_sel$79$q) begin
             e_pick$79 = e_head$79$q;
+            e_pick2$79 = e_head2$79$q;
         end
         e_out = e_out | e_pick$79;
+        e_out2 = e_out2 | e_pick2$79;
         e_more = e_more | (e_rem$79$q & ~e_sel$79$q);
         e_pick$80 = 32'h0;
+        e_pick2$80 = 32'h0;
         if (e_sel$80$q) begin
             e_pick$80 = e_head$80$q;
+            e_pick2$80 = e_head2$80$q;
         end
         e_out = e_out | e_pick$80;
+        e_out2 = e_out2 | e_pick2$80;
         e_more = e_more | (e_rem$80$q & ~e_sel$80$q);
         lq_head$write_enable = e_push;
         lq_head$write_address = lq_wp$q;
         lq_head$write_data = e_out;
         lq_head$read_address = lq_rp$q;
+        lq_head2$write_enable = e_push;
+        lq_head2$write_address = lq_wp$q;
+        lq_head2$write_data = e_out2;
+        lq_head2$read_address = lq_rp$q;
         lq_last$write_enable = e_push;
         lq_last$write_address = lq_wp$q;
         lq_last$write_data = ~e_more;
@@ -26904,189 +33706,451 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             e_max$2$d = rec_box$max$2;
             e_rem$0$d = rd_live$0;
             e_head$0$d = rec$0$read_data;
+            e_head2$0$d = rec2$0$read_data;
             e_rem$1$d = rd_live$1;
             e_head$1$d = rec$1$read_data;
+            e_head2$1$d = rec2$1$read_data;
             e_rem$2$d = rd_live$2;
             e_head$2$d = rec$2$read_data;
+            e_head2$2$d = rec2$2$read_data;
             e_rem$3$d = rd_live$3;
             e_head$3$d = rec$3$read_data;
+            e_head2$3$d = rec2$3$read_data;
             e_rem$4$d = rd_live$4;
             e_head$4$d = rec$4$read_data;
+            e_head2$4$d = rec2$4$read_data;
             e_rem$5$d = rd_live$5;
             e_head$5$d = rec$5$read_data;
+            e_head2$5$d = rec2$5$read_data;
             e_rem$6$d = rd_live$6;
             e_head$6$d = rec$6$read_data;
+            e_head2$6$d = rec2$6$read_data;
             e_rem$7$d = rd_live$7;
             e_head$7$d = rec$7$read_data;
+            e_head2$7$d = rec2$7$read_data;
             e_rem$8$d = rd_live$8;
             e_head$8$d = rec$8$read_data;
+            e_head2$8$d = rec2$8$read_data;
             e_rem$9$d = rd_live$9;
             e_head$9$d = rec$9$read_data;
+            e_head2$9$d = rec2$9$read_data;
             e_rem$10$d = rd_live$10;
             e_head$10$d = rec$10$read_data;
+            e_head2$10$d = rec2$10$read_data;
             e_rem$11$d = rd_live$11;
             e_head$11$d = rec$11$read_data;
+            e_head2$11$d = rec2$11$read_data;
             e_rem$12$d = rd_live$12;
             e_head$12$d = rec$12$read_data;
+            e_head2$12$d = rec2$12$read_data;
             e_rem$13$d = rd_live$13;
             e_head$13$d = rec$13$read_data;
+            e_head2$13$d = rec2$13$read_data;
             e_rem$14$d = rd_live$14;
             e_head$14$d = rec$14$read_data;
+            e_head2$14$d = rec2$14$read_data;
             e_rem$15$d = rd_live$15;
             e_head$15$d = rec$15$read_data;
+            e_head2$15$d = rec2$15$read_data;
             e_rem$16$d = rd_live$16;
             e_head$16$d = rec$16$read_data;
+            e_head2$16$d = rec2$16$read_data;
             e_rem$17$d = rd_live$17;
             e_head$17$d = rec$17$read_data;
+            e_head2$17$d = rec2$17$read_data;
             e_rem$18$d = rd_live$18;
             e_head$18$d = rec$18$read_data;
+            e_head2$18$d = rec2$18$read_data;
             e_rem$19$d = rd_live$19;
             e_head$19$d = rec$19$read_data;
+            e_head2$19$d = rec2$19$read_data;
             e_rem$20$d = rd_live$20;
             e_head$20$d = rec$20$read_data;
+            e_head2$20$d = rec2$20$read_data;
             e_rem$21$d = rd_live$21;
             e_head$21$d = rec$21$read_data;
+            e_head2$21$d = rec2$21$read_data;
             e_rem$22$d = rd_live$22;
             e_head$22$d = rec$22$read_data;
+            e_head2$22$d = rec2$22$read_data;
             e_rem$23$d = rd_live$23;
             e_head$23$d = rec$23$read_data;
+            e_head2$23$d = rec2$23$read_data;
             e_rem$24$d = rd_live$24;
             e_head$24$d = rec$24$read_data;
+            e_head2$24$d = rec2$24$read_data;
             e_rem$25$d = rd_live$25;
             e_head$25$d = rec$25$read_data;
+            e_head2$25$d = rec2$25$read_data;
             e_rem$26$d = rd_live$26;
             e_head$26$d = rec$26$read_data;
+            e_head2$26$d = rec2$26$read_data;
             e_rem$27$d = rd_live$27;
             e_head$27$d = rec$27$read_data;
+            e_head2$27$d = rec2$27$read_data;
             e_rem$28$d = rd_live$28;
             e_head$28$d = rec$28$read_data;
+            e_head2$28$d = rec2$28$read_data;
             e_rem$29$d = rd_live$29;
             e_head$29$d = rec$29$read_data;
+            e_head2$29$d = rec2$29$read_data;
             e_rem$30$d = rd_live$30;
             e_head$30$d = rec$30$read_data;
+            e_head2$30$d = rec2$30$read_data;
             e_rem$31$d = rd_live$31;
             e_head$31$d = rec$31$read_data;
+            e_head2$31$d = rec2$31$read_data;
             e_rem$32$d = rd_live$32;
             e_head$32$d = rec$32$read_data;
+            e_head2$32$d = rec2$32$read_data;
             e_rem$33$d = rd_live$33;
             e_head$33$d = rec$33$read_data;
+            e_head2$33$d = rec2$33$read_data;
             e_rem$34$d = rd_live$34;
             e_head$34$d = rec$34$read_data;
+            e_head2$34$d = rec2$34$read_data;
             e_rem$35$d = rd_live$35;
             e_head$35$d = rec$35$read_data;
+            e_head2$35$d = rec2$35$read_data;
             e_rem$36$d = rd_live$36;
             e_head$36$d = rec$36$read_data;
+            e_head2$36$d = rec2$36$read_data;
             e_rem$37$d = rd_live$37;
             e_head$37$d = rec$37$read_data;
+            e_head2$37$d = rec2$37$read_data;
             e_rem$38$d = rd_live$38;
             e_head$38$d = rec$38$read_data;
+            e_head2$38$d = rec2$38$read_data;
             e_rem$39$d = rd_live$39;
             e_head$39$d = rec$39$read_data;
+            e_head2$39$d = rec2$39$read_data;
             e_rem$40$d = rd_live$40;
             e_head$40$d = rec$40$read_data;
+            e_head2$40$d = rec2$40$read_data;
             e_rem$41$d = rd_live$41;
             e_head$41$d = rec$41$read_data;
+            e_head2$41$d = rec2$41$read_data;
             e_rem$42$d = rd_live$42;
             e_head$42$d = rec$42$read_data;
+            e_head2$42$d = rec2$42$read_data;
             e_rem$43$d = rd_live$43;
             e_head$43$d = rec$43$read_data;
+            e_head2$43$d = rec2$43$read_data;
             e_rem$44$d = rd_live$44;
             e_head$44$d = rec$44$read_data;
+            e_head2$44$d = rec2$44$read_data;
             e_rem$45$d = rd_live$45;
             e_head$45$d = rec$45$read_data;
+            e_head2$45$d = rec2$45$read_data;
             e_rem$46$d = rd_live$46;
             e_head$46$d = rec$46$read_data;
+            e_head2$46$d = rec2$46$read_data;
             e_rem$47$d = rd_live$47;
             e_head$47$d = rec$47$read_data;
+            e_head2$47$d = rec2$47$read_data;
             e_rem$48$d = rd_live$48;
             e_head$48$d = rec$48$read_data;
+            e_head2$48$d = rec2$48$read_data;
             e_rem$49$d = rd_live$49;
             e_head$49$d = rec$49$read_data;
+            e_head2$49$d = rec2$49$read_data;
             e_rem$50$d = rd_live$50;
             e_head$50$d = rec$50$read_data;
+            e_head2$50$d = rec2$50$read_data;
             e_rem$51$d = rd_live$51;
             e_head$51$d = rec$51$read_data;
+            e_head2$51$d = rec2$51$read_data;
             e_rem$52$d = rd_live$52;
             e_head$52$d = rec$52$read_data;
+            e_head2$52$d = rec2$52$read_data;
             e_rem$53$d = rd_live$53;
             e_head$53$d = rec$53$read_data;
+            e_head2$53$d = rec2$53$read_data;
             e_rem$54$d = rd_live$54;
             e_head$54$d = rec$54$read_data;
+            e_head2$54$d = rec2$54$read_data;
             e_rem$55$d = rd_live$55;
             e_head$55$d = rec$55$read_data;
+            e_head2$55$d = rec2$55$read_data;
             e_rem$56$d = rd_live$56;
             e_head$56$d = rec$56$read_data;
+            e_head2$56$d = rec2$56$read_data;
             e_rem$57$d = rd_live$57;
             e_head$57$d = rec$57$read_data;
+            e_head2$57$d = rec2$57$read_data;
             e_rem$58$d = rd_live$58;
             e_head$58$d = rec$58$read_data;
+            e_head2$58$d = rec2$58$read_data;
             e_rem$59$d = rd_live$59;
             e_head$59$d = rec$59$read_data;
+            e_head2$59$d = rec2$59$read_data;
             e_rem$60$d = rd_live$60;
             e_head$60$d = rec$60$read_data;
+            e_head2$60$d = rec2$60$read_data;
             e_rem$61$d = rd_live$61;
             e_head$61$d = rec$61$read_data;
+            e_head2$61$d = rec2$61$read_data;
             e_rem$62$d = rd_live$62;
             e_head$62$d = rec$62$read_data;
+            e_head2$62$d = rec2$62$read_data;
             e_rem$63$d = rd_live$63;
             e_head$63$d = rec$63$read_data;
+            e_head2$63$d = rec2$63$read_data;
             e_rem$64$d = rd_live$64;
             e_head$64$d = rec$64$read_data;
+            e_head2$64$d = rec2$64$read_data;
             e_rem$65$d = rd_live$65;
             e_head$65$d = rec$65$read_data;
+            e_head2$65$d = rec2$65$read_data;
             e_rem$66$d = rd_live$66;
             e_head$66$d = rec$66$read_data;
+            e_head2$66$d = rec2$66$read_data;
             e_rem$67$d = rd_live$67;
             e_head$67$d = rec$67$read_data;
+            e_head2$67$d = rec2$67$read_data;
             e_rem$68$d = rd_live$68;
             e_head$68$d = rec$68$read_data;
+            e_head2$68$d = rec2$68$read_data;
             e_rem$69$d = rd_live$69;
             e_head$69$d = rec$69$read_data;
+            e_head2$69$d = rec2$69$read_data;
             e_rem$70$d = rd_live$70;
             e_head$70$d = rec$70$read_data;
+            e_head2$70$d = rec2$70$read_data;
             e_rem$71$d = rd_live$71;
             e_head$71$d = rec$71$read_data;
+            e_head2$71$d = rec2$71$read_data;
             e_rem$72$d = rd_live$72;
             e_head$72$d = rec$72$read_data;
+            e_head2$72$d = rec2$72$read_data;
             e_rem$73$d = rd_live$73;
             e_head$73$d = rec$73$read_data;
+            e_head2$73$d = rec2$73$read_data;
             e_rem$74$d = rd_live$74;
             e_head$74$d = rec$74$read_data;
+            e_head2$74$d = rec2$74$read_data;
             e_rem$75$d = rd_live$75;
             e_head$75$d = rec$75$read_data;
+            e_head2$75$d = rec2$75$read_data;
             e_rem$76$d = rd_live$76;
             e_head$76$d = rec$76$read_data;
+            e_head2$76$d = rec2$76$read_data;
             e_rem$77$d = rd_live$77;
             e_head$77$d = rec$77$read_data;
+            e_head2$77$d = rec2$77$read_data;
             e_rem$78$d = rd_live$78;
             e_head$78$d = rec$78$read_data;
+            e_head2$78$d = rec2$78$read_data;
             e_rem$79$d = rd_live$79;
             e_head$79$d = rec$79$read_data;
+            e_head2$79$d = rec2$79$read_data;
             e_rem$80$d = rd_live$80;
             e_head$80$d = rec$80$read_data;
+            e_head2$80$d = rec2$80$read_data;
         end
-        list_open = chase$q & ((succ$read_data_b & top) != 32'h0);
-        need = ~list_open & ~held_valid$q;
+        bank_next$0 = 1'b0;
+        bank_next$1 = 1'b0;
+        bank_next$2 = 1'b0;
+        bank_next$3 = 1'b0;
+        bank_next$4 = 1'b0;
+        bank_next$5 = 1'b0;
+        bank_next$6 = 1'b0;
+        bank_next$7 = 1'b0;
+        bank_next$8 = 1'b0;
+        bank_next$9 = 1'b0;
+        bank_next$10 = 1'b0;
+        bank_next$11 = 1'b0;
+        bank_next$12 = 1'b0;
+        bank_next$13 = 1'b0;
+        bank_next$14 = 1'b0;
+        bank_next$15 = 1'b0;
+        bank_next$16 = 1'b0;
+        bank_next$17 = 1'b0;
+        bank_next$18 = 1'b0;
+        bank_next$19 = 1'b0;
+        bank_next$20 = 1'b0;
+        bank_next$21 = 1'b0;
+        bank_next$22 = 1'b0;
+        bank_next$23 = 1'b0;
+        bank_next$24 = 1'b0;
+        bank_next$25 = 1'b0;
+        bank_next$26 = 1'b0;
+        bank_next$0 = bank_next$0 | e_rem$0$d;
+        bank_next$1 = bank_next$1 | e_rem$1$d;
+        bank_next$2 = bank_next$2 | e_rem$2$d;
+        bank_next$3 = bank_next$3 | e_rem$3$d;
+        bank_next$4 = bank_next$4 | e_rem$4$d;
+        bank_next$5 = bank_next$5 | e_rem$5$d;
+        bank_next$6 = bank_next$6 | e_rem$6$d;
+        bank_next$7 = bank_next$7 | e_rem$7$d;
+        bank_next$8 = bank_next$8 | e_rem$8$d;
+        bank_next$9 = bank_next$9 | e_rem$9$d;
+        bank_next$10 = bank_next$10 | e_rem$10$d;
+        bank_next$11 = bank_next$11 | e_rem$11$d;
+        bank_next$12 = bank_next$12 | e_rem$12$d;
+        bank_next$13 = bank_next$13 | e_rem$13$d;
+        bank_next$14 = bank_next$14 | e_rem$14$d;
+        bank_next$15 = bank_next$15 | e_rem$15$d;
+        bank_next$16 = bank_next$16 | e_rem$16$d;
+        bank_next$17 = bank_next$17 | e_rem$17$d;
+        bank_next$18 = bank_next$18 | e_rem$18$d;
+        bank_next$19 = bank_next$19 | e_rem$19$d;
+        bank_next$20 = bank_next$20 | e_rem$20$d;
+        bank_next$21 = bank_next$21 | e_rem$21$d;
+        bank_next$22 = bank_next$22 | e_rem$22$d;
+        bank_next$23 = bank_next$23 | e_rem$23$d;
+        bank_next$24 = bank_next$24 | e_rem$24$d;
+        bank_next$25 = bank_next$25 | e_rem$25$d;
+        bank_next$26 = bank_next$26 | e_rem$26$d;
+        bank_next$0 = bank_next$0 | e_rem$27$d;
+        bank_next$1 = bank_next$1 | e_rem$28$d;
+        bank_next$2 = bank_next$2 | e_rem$29$d;
+        bank_next$3 = bank_next$3 | e_rem$30$d;
+        bank_next$4 = bank_next$4 | e_rem$31$d;
+        bank_next$5 = bank_next$5 | e_rem$32$d;
+        bank_next$6 = bank_next$6 | e_rem$33$d;
+        bank_next$7 = bank_next$7 | e_rem$34$d;
+        bank_next$8 = bank_next$8 | e_rem$35$d;
+        bank_next$9 = bank_next$9 | e_rem$36$d;
+        bank_next$10 = bank_next$10 | e_rem$37$d;
+        bank_next$11 = bank_next$11 | e_rem$38$d;
+        bank_next$12 = bank_next$12 | e_rem$39$d;
+        bank_next$13 = bank_next$13 | e_rem$40$d;
+        bank_next$14 = bank_next$14 | e_rem$41$d;
+        bank_next$15 = bank_next$15 | e_rem$42$d;
+        bank_next$16 = bank_next$16 | e_rem$43$d;
+        bank_next$17 = bank_next$17 | e_rem$44$d;
+        bank_next$18 = bank_next$18 | e_rem$45$d;
+        bank_next$19 = bank_next$19 | e_rem$46$d;
+        bank_next$20 = bank_next$20 | e_rem$47$d;
+        bank_next$21 = bank_next$21 | e_rem$48$d;
+        bank_next$22 = bank_next$22 | e_rem$49$d;
+        bank_next$23 = bank_next$23 | e_rem$50$d;
+        bank_next$24 = bank_next$24 | e_rem$51$d;
+        bank_next$25 = bank_next$25 | e_rem$52$d;
+        bank_next$26 = bank_next$26 | e_rem$53$d;
+        bank_next$0 = bank_next$0 | e_rem$54$d;
+        bank_next$1 = bank_next$1 | e_rem$55$d;
+        bank_next$2 = bank_next$2 | e_rem$56$d;
+        bank_next$3 = bank_next$3 | e_rem$57$d;
+        bank_next$4 = bank_next$4 | e_rem$58$d;
+        bank_next$5 = bank_next$5 | e_rem$59$d;
+        bank_next$6 = bank_next$6 | e_rem$60$d;
+        bank_next$7 = bank_next$7 | e_rem$61$d;
+        bank_next$8 = bank_next$8 | e_rem$62$d;
+        bank_next$9 = bank_next$9 | e_rem$63$d;
+        bank_next$10 = bank_next$10 | e_rem$64$d;
+        bank_next$11 = bank_next$11 | e_rem$65$d;
+        bank_next$12 = bank_next$12 | e_rem$66$d;
+        bank_next$13 = bank_next$13 | e_rem$67$d;
+        bank_next$14 = bank_next$14 | e_rem$68$d;
+        bank_next$15 = bank_next$15 | e_rem$69$d;
+        bank_next$16 = bank_next$16 | e_rem$70$d;
+        bank_next$17 = bank_next$17 | e_rem$71$d;
+        bank_next$18 = bank_next$18 | e_rem$72$d;
+        bank_next$19 = bank_next$19 | e_rem$73$d;
+        bank_next$20 = bank_next$20 | e_rem$74$d;
+        bank_next$21 = bank_next$21 | e_rem$75$d;
+        bank_next$22 = bank_next$22 | e_rem$76$d;
+        bank_next$23 = bank_next$23 | e_rem$77$d;
+        bank_next$24 = bank_next$24 | e_rem$78$d;
+        bank_next$25 = bank_next$25 | e_rem$79$d;
+        bank_next$26 = bank_next$26 | e_rem$80$d;
+        bank_left$0$clock = clock;
+        bank_left$0$d = bank_next$0;
+        bank_left$1$clock = clock;
+        bank_left$1$d = bank_next$1;
+        bank_left$2$clock = clock;
+        bank_left$2$d = bank_next$2;
+        bank_left$3$clock = clock;
+        bank_left$3$d = bank_next$3;
+        bank_left$4$clock = clock;
+        bank_left$4$d = bank_next$4;
+        bank_left$5$clock = clock;
+        bank_left$5$d = bank_next$5;
+        bank_left$6$clock = clock;
+        bank_left$6$d = bank_next$6;
+        bank_left$7$clock = clock;
+        bank_left$7$d = bank_next$7;
+        bank_left$8$clock = clock;
+        bank_left$8$d = bank_next$8;
+        bank_left$9$clock = clock;
+        bank_left$9$d = bank_next$9;
+        bank_left$10$clock = clock;
+        bank_left$10$d = bank_next$10;
+        bank_left$11$clock = clock;
+        bank_left$11$d = bank_next$11;
+        bank_left$12$clock = clock;
+        bank_left$12$d = bank_next$12;
+        bank_left$13$clock = clock;
+        bank_left$13$d = bank_next$13;
+        bank_left$14$clock = clock;
+        bank_left$14$d = bank_next$14;
+        bank_left$15$clock = clock;
+        bank_left$15$d = bank_next$15;
+        bank_left$16$clock = clock;
+        bank_left$16$d = bank_next$16;
+        bank_left$17$clock = clock;
+        bank_left$17$d = bank_next$17;
+        bank_left$18$clock = clock;
+        bank_left$18$d = bank_next$18;
+        bank_left$19$clock = clock;
+        bank_left$19$d = bank_next$19;
+        bank_left$20$clock = clock;
+        bank_left$20$d = bank_next$20;
+        bank_left$21$clock = clock;
+        bank_left$21$d = bank_next$21;
+        bank_left$22$clock = clock;
+        bank_left$22$d = bank_next$22;
+        bank_left$23$clock = clock;
+        bank_left$23$d = bank_next$23;
+        bank_left$24$clock = clock;
+        bank_left$24$d = bank_next$24;
+        bank_left$25$clock = clock;
+        bank_left$25$d = bank_next$25;
+        bank_left$26$clock = clock;
+        bank_left$26$d = bank_next$26;
+        arrive = r2$q & ((succ_q$q & top) != 32'h0);
+        avail = q0v$q | arrive;
+        need = ~avail;
         take = need & lq_fill$0$q;
         retire_rec = need & cur_valid$q & cur_last$q;
         cand = lq_head$read_data;
-        if (held_valid$q | fetch_q$q) begin
-            cand = held$q;
+        if (fetch_q$q) begin
+            cand = lcur$q;
         end
-        if (list_open) begin
-            cand = succ$read_data_b;
+        if (arrive) begin
+            cand = succ_q$q;
         end
-        cand_ok = list_open | held_valid$q | take;
+        if (q0v$q) begin
+            cand = q0$q;
+        end
+        after = succ_q$q;
+        if (q1v$q) begin
+            after = q1$q;
+        end
+        after_v = q1v$q | (q0v$q & arrive);
+        if (take) begin
+            after = lq_head2$read_data;
+            after_v = (lq_head2$read_data & top) != 32'h0;
+        end
+        cand_ok = avail | take;
         stall = fifo$almost_full;
         go = cand_ok & ~stall;
-        chase$d = go;
         if (go) begin
-            held_valid$d = 1'b0;
+            q0$d = after;
+            q0v$d = after_v;
+            q1v$d = 1'b0;
         end
-        else if (cand_ok) begin
-            held_valid$d = 1'b1;
-            held$d = cand;
+        else begin
+            q0$d = cand;
+            q0v$d = cand_ok;
+            q1$d = after;
+            q1v$d = cand_ok & after_v;
         end
+        r1$d = go;
+        r2$d = r1$q;
+        succ_q$d = succ$read_data_b;
         v1_i$d = cur_index$q;
         v1_margin$d = cur_margin$q;
         v1_kind$d = cur_kind$q;
@@ -27273,17 +34337,533 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             lq_fill$0$d = 1'b0;
             lq_fill$1$d = 1'b0;
             lq_fill$2$d = 1'b0;
-            held_valid$d = 1'b0;
-            chase$d = 1'b0;
+            q0v$d = 1'b0;
+            q1v$d = 1'b0;
+            r1$d = 1'b0;
+            r2$d = 1'b0;
             clearing$d = 1'b0;
             cleared$d = 1'b0;
             slow$d = SlowState$Fetch;
             lnext$d = 32'h0;
+            lnext2$d = 32'h0;
             wide$d = 1'b0;
         end
     end
     
 endmodule // obb_core$grid$0
+
+
+module obb_core$grid$0$bank_left$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$0
+
+
+module obb_core$grid$0$bank_left$1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$1
+
+
+module obb_core$grid$0$bank_left$10(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$10
+
+
+module obb_core$grid$0$bank_left$11(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$11
+
+
+module obb_core$grid$0$bank_left$12(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$12
+
+
+module obb_core$grid$0$bank_left$13(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$13
+
+
+module obb_core$grid$0$bank_left$14(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$14
+
+
+module obb_core$grid$0$bank_left$15(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$15
+
+
+module obb_core$grid$0$bank_left$16(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$16
+
+
+module obb_core$grid$0$bank_left$17(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$17
+
+
+module obb_core$grid$0$bank_left$18(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$18
+
+
+module obb_core$grid$0$bank_left$19(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$19
+
+
+module obb_core$grid$0$bank_left$2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$2
+
+
+module obb_core$grid$0$bank_left$20(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$20
+
+
+module obb_core$grid$0$bank_left$21(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$21
+
+
+module obb_core$grid$0$bank_left$22(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$22
+
+
+module obb_core$grid$0$bank_left$23(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$23
+
+
+module obb_core$grid$0$bank_left$24(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$24
+
+
+module obb_core$grid$0$bank_left$25(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$25
+
+
+module obb_core$grid$0$bank_left$26(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$26
+
+
+module obb_core$grid$0$bank_left$3(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$3
+
+
+module obb_core$grid$0$bank_left$4(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$4
+
+
+module obb_core$grid$0$bank_left$5(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$5
+
+
+module obb_core$grid$0$bank_left$6(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$6
+
+
+module obb_core$grid$0$bank_left$7(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$7
+
+
+module obb_core$grid$0$bank_left$8(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$8
+
+
+module obb_core$grid$0$bank_left$9(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$bank_left$9
 
 
 module obb_core$grid$0$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_max$0,key_max$1,key_max$2,valid,small_box,bucket$0,bucket$1,bucket$2,bucket$3,bucket$4,bucket$5,bucket$6,bucket$7,bucket$8,bucket$9,bucket$10,bucket$11,bucket$12,bucket$13,bucket$14,bucket$15,bucket$16,bucket$17,bucket$18,bucket$19,bucket$20,bucket$21,bucket$22,bucket$23,bucket$24,bucket$25,bucket$26,fp$0,fp$1,fp$2,fp$3,fp$4,fp$5,fp$6,fp$7,fp$8,fp$9,fp$10,fp$11,fp$12,fp$13,fp$14,fp$15,fp$16,fp$17,fp$18,fp$19,fp$20,fp$21,fp$22,fp$23,fp$24,fp$25,fp$26,inside$0,inside$1,inside$2,inside$3,inside$4,inside$5,inside$6,inside$7,inside$8,inside$9,inside$10,inside$11,inside$12,inside$13,inside$14,inside$15,inside$16,inside$17,inside$18,inside$19,inside$20,inside$21,inside$22,inside$23,inside$24,inside$25,inside$26,home$0,home$1,home$2,home$3,home$4,home$5,home$6,home$7,home$8,home$9,home$10,home$11,home$12,home$13,home$14,home$15,home$16,home$17,home$18,home$19,home$20,home$21,home$22,home$23,home$24,home$25,home$26,home_fp);
@@ -27627,9 +35207,15 @@ module obb_core$grid$0$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_m
     reg  valid3$d;
     wire  valid3$q;
     reg  valid3$clock;
-    reg  small1$d;
-    wire  small1$q;
-    reg  small1$clock;
+    reg  [22:0] width1$0$d;
+    wire  [22:0] width1$0$q;
+    reg  width1$0$clock;
+    reg  [22:0] width1$1$d;
+    wire  [22:0] width1$1$q;
+    reg  width1$1$clock;
+    reg  [22:0] width1$2$d;
+    wire  [22:0] width1$2$q;
+    reg  width1$2$clock;
     reg  small2$d;
     wire  small2$q;
     reg  small2$clock;
@@ -28082,9 +35668,6 @@ module obb_core$grid$0$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_m
     reg  home_fp_r$clock;
     
     // Local signals
-    reg  [22:0] width$0;
-    reg  [22:0] width$1;
-    reg  [22:0] width$2;
     reg  [19:0] hacc$0;
     reg  [19:0] hacc$1;
     reg  [19:0] hacc$2;
@@ -28391,10 +35974,20 @@ module obb_core$grid$0$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_m
         .q(valid3$q),
         .clock(valid3$clock)
     );
-    obb_core$grid$0$cells$small1 small1(
-        .d(small1$d),
-        .q(small1$q),
-        .clock(small1$clock)
+    obb_core$grid$0$cells$width1$0 width1$0(
+        .d(width1$0$d),
+        .q(width1$0$q),
+        .clock(width1$0$clock)
+    );
+    obb_core$grid$0$cells$width1$1 width1$1(
+        .d(width1$1$d),
+        .q(width1$1$q),
+        .clock(width1$1$clock)
+    );
+    obb_core$grid$0$cells$width1$2 width1$2(
+        .d(width1$2$d),
+        .q(width1$2$q),
+        .clock(width1$2$clock)
     );
     obb_core$grid$0$cells$small2 small2(
         .d(small2$d),
@@ -29152,23 +36745,24 @@ module obb_core$grid$0$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_m
         valid1$clock = clock;
         valid2$clock = clock;
         valid3$clock = clock;
-        small1$clock = clock;
         small2$clock = clock;
         small3$clock = clock;
         home_fp_r$clock = clock;
         valid1$d = valid1$q;
         valid2$d = valid2$q;
         valid3$d = valid3$q;
-        small1$d = small1$q;
         small2$d = small2$q;
         small3$d = small3$q;
         home_fp_r$d = home_fp_r$q;
+        width1$0$clock = clock;
         third1$0$clock = clock;
         third2$0$clock = clock;
         res2$0$clock = clock;
+        width1$1$clock = clock;
         third1$1$clock = clock;
         third2$1$clock = clock;
         res2$1$clock = clock;
+        width1$2$clock = clock;
         third1$2$clock = clock;
         third2$2$clock = clock;
         res2$2$clock = clock;
@@ -29314,11 +36908,7 @@ module obb_core$grid$0$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_m
         valid2$d = valid1$q;
         valid3$d = valid2$q;
         small3$d = small2$q;
-        small1$d = 1'b1;
-        width$0 = key_max$0 - key_min$0;
-        if (width$0 > cell_edge) begin
-            small1$d = 1'b0;
-        end
+        width1$0$d = key_max$0 - key_min$0;
         cell1$0$d = key_min$0 >> cell_bits;
         cell1$1$d = (key_min$0 >> cell_bits) + 32'h1;
         cell1$2$d = (key_min$0 >> cell_bits) + 32'h2;
@@ -30100,10 +37690,7 @@ module obb_core$grid$0$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_m
         if (chunk$3 == chunk_value$63) begin
             res1$3$d = chunk_residue$63;
         end
-        width$1 = key_max$1 - key_min$1;
-        if (width$1 > cell_edge) begin
-            small1$d = 1'b0;
-        end
+        width1$1$d = key_max$1 - key_min$1;
         cell1$3$d = key_min$1 >> cell_bits;
         cell1$4$d = (key_min$1 >> cell_bits) + 32'h1;
         cell1$5$d = (key_min$1 >> cell_bits) + 32'h2;
@@ -30885,10 +38472,7 @@ module obb_core$grid$0$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_m
         if (chunk$7 == chunk_value$63) begin
             res1$7$d = chunk_residue$63;
         end
-        width$2 = key_max$2 - key_min$2;
-        if (width$2 > cell_edge) begin
-            small1$d = 1'b0;
-        end
+        width1$2$d = key_max$2 - key_min$2;
         cell1$6$d = key_min$2 >> cell_bits;
         cell1$7$d = (key_min$2 >> cell_bits) + 32'h1;
         cell1$8$d = (key_min$2 >> cell_bits) + 32'h2;
@@ -31670,7 +39254,7 @@ module obb_core$grid$0$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_m
         if (chunk$11 == chunk_value$63) begin
             res1$11$d = chunk_residue$63;
         end
-        small2$d = small1$q;
+        small2$d = (width1$0$q <= cell_edge) & (width1$1$q <= cell_edge) & (width1$2$q <= cell_edge);
         third2$0$d = third1$0$q;
         hacc$0 = 32'h0;
         hacc$1 = hacc$0;
@@ -35582,25 +43166,6 @@ module obb_core$grid$0$cells$res2$2(d,q,clock);
 endmodule // obb_core$grid$0$cells$res2$2
 
 
-module obb_core$grid$0$cells$small1(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$cells$small1
-
-
 module obb_core$grid$0$cells$small2(d,q,clock);
     
     // Module arguments
@@ -35810,23 +43375,61 @@ module obb_core$grid$0$cells$valid3(d,q,clock);
 endmodule // obb_core$grid$0$cells$valid3
 
 
-module obb_core$grid$0$chase(d,q,clock);
+module obb_core$grid$0$cells$width1$0(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [22:0] d;
+    output reg  [22:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 23'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$chase
+endmodule // obb_core$grid$0$cells$width1$0
+
+
+module obb_core$grid$0$cells$width1$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$cells$width1$1
+
+
+module obb_core$grid$0$cells$width1$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$cells$width1$2
 
 
 module obb_core$grid$0$clear_at(d,q,clock);
@@ -37689,6 +45292,1545 @@ module obb_core$grid$0$e_head$9(d,q,clock);
     end
           
 endmodule // obb_core$grid$0$e_head$9
+
+
+module obb_core$grid$0$e_head2$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$0
+
+
+module obb_core$grid$0$e_head2$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$1
+
+
+module obb_core$grid$0$e_head2$10(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$10
+
+
+module obb_core$grid$0$e_head2$11(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$11
+
+
+module obb_core$grid$0$e_head2$12(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$12
+
+
+module obb_core$grid$0$e_head2$13(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$13
+
+
+module obb_core$grid$0$e_head2$14(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$14
+
+
+module obb_core$grid$0$e_head2$15(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$15
+
+
+module obb_core$grid$0$e_head2$16(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$16
+
+
+module obb_core$grid$0$e_head2$17(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$17
+
+
+module obb_core$grid$0$e_head2$18(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$18
+
+
+module obb_core$grid$0$e_head2$19(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$19
+
+
+module obb_core$grid$0$e_head2$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$2
+
+
+module obb_core$grid$0$e_head2$20(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$20
+
+
+module obb_core$grid$0$e_head2$21(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$21
+
+
+module obb_core$grid$0$e_head2$22(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$22
+
+
+module obb_core$grid$0$e_head2$23(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$23
+
+
+module obb_core$grid$0$e_head2$24(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$24
+
+
+module obb_core$grid$0$e_head2$25(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$25
+
+
+module obb_core$grid$0$e_head2$26(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$26
+
+
+module obb_core$grid$0$e_head2$27(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$27
+
+
+module obb_core$grid$0$e_head2$28(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$28
+
+
+module obb_core$grid$0$e_head2$29(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$29
+
+
+module obb_core$grid$0$e_head2$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$3
+
+
+module obb_core$grid$0$e_head2$30(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$30
+
+
+module obb_core$grid$0$e_head2$31(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$31
+
+
+module obb_core$grid$0$e_head2$32(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$32
+
+
+module obb_core$grid$0$e_head2$33(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$33
+
+
+module obb_core$grid$0$e_head2$34(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$34
+
+
+module obb_core$grid$0$e_head2$35(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$35
+
+
+module obb_core$grid$0$e_head2$36(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$36
+
+
+module obb_core$grid$0$e_head2$37(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$37
+
+
+module obb_core$grid$0$e_head2$38(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$38
+
+
+module obb_core$grid$0$e_head2$39(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$39
+
+
+module obb_core$grid$0$e_head2$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$4
+
+
+module obb_core$grid$0$e_head2$40(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$40
+
+
+module obb_core$grid$0$e_head2$41(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$41
+
+
+module obb_core$grid$0$e_head2$42(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$42
+
+
+module obb_core$grid$0$e_head2$43(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$43
+
+
+module obb_core$grid$0$e_head2$44(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$44
+
+
+module obb_core$grid$0$e_head2$45(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$45
+
+
+module obb_core$grid$0$e_head2$46(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$46
+
+
+module obb_core$grid$0$e_head2$47(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$47
+
+
+module obb_core$grid$0$e_head2$48(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$48
+
+
+module obb_core$grid$0$e_head2$49(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$49
+
+
+module obb_core$grid$0$e_head2$5(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$5
+
+
+module obb_core$grid$0$e_head2$50(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$50
+
+
+module obb_core$grid$0$e_head2$51(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$51
+
+
+module obb_core$grid$0$e_head2$52(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$52
+
+
+module obb_core$grid$0$e_head2$53(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$53
+
+
+module obb_core$grid$0$e_head2$54(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$54
+
+
+module obb_core$grid$0$e_head2$55(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$55
+
+
+module obb_core$grid$0$e_head2$56(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$56
+
+
+module obb_core$grid$0$e_head2$57(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$57
+
+
+module obb_core$grid$0$e_head2$58(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$58
+
+
+module obb_core$grid$0$e_head2$59(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$59
+
+
+module obb_core$grid$0$e_head2$6(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$6
+
+
+module obb_core$grid$0$e_head2$60(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$60
+
+
+module obb_core$grid$0$e_head2$61(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$61
+
+
+module obb_core$grid$0$e_head2$62(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$62
+
+
+module obb_core$grid$0$e_head2$63(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$63
+
+
+module obb_core$grid$0$e_head2$64(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$64
+
+
+module obb_core$grid$0$e_head2$65(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$65
+
+
+module obb_core$grid$0$e_head2$66(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$66
+
+
+module obb_core$grid$0$e_head2$67(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$67
+
+
+module obb_core$grid$0$e_head2$68(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$68
+
+
+module obb_core$grid$0$e_head2$69(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$69
+
+
+module obb_core$grid$0$e_head2$7(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$7
+
+
+module obb_core$grid$0$e_head2$70(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$70
+
+
+module obb_core$grid$0$e_head2$71(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$71
+
+
+module obb_core$grid$0$e_head2$72(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$72
+
+
+module obb_core$grid$0$e_head2$73(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$73
+
+
+module obb_core$grid$0$e_head2$74(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$74
+
+
+module obb_core$grid$0$e_head2$75(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$75
+
+
+module obb_core$grid$0$e_head2$76(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$76
+
+
+module obb_core$grid$0$e_head2$77(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$77
+
+
+module obb_core$grid$0$e_head2$78(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$78
+
+
+module obb_core$grid$0$e_head2$79(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$79
+
+
+module obb_core$grid$0$e_head2$8(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$8
+
+
+module obb_core$grid$0$e_head2$80(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$80
+
+
+module obb_core$grid$0$e_head2$9(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$e_head2$9
 
 
 module obb_core$grid$0$e_index(d,q,clock);
@@ -40973,6 +50115,9 @@ module obb_core$grid$0$fifo(clock,write,data_in,ready,valid,data_out,empty,almos
     
     // Constant declarations
     localparam  stall_at = 7'b100000;
+    localparam  stall_lo = 7'b11111;
+    localparam  stall_hi = 7'b100001;
+    localparam  ones = 7'b1111111;
     
     // Stub signals
     reg  ram$clock;
@@ -41002,10 +50147,20 @@ module obb_core$grid$0$fifo(clock,write,data_in,ready,valid,data_out,empty,almos
     reg  [95:0] out_data$d;
     wire  [95:0] out_data$q;
     reg  out_data$clock;
+    reg  full_q$d;
+    wire  full_q$q;
+    reg  full_q$clock;
     
     // Local signals
     reg  load;
     reg  two;
+    reg  [6:0] count_inc;
+    reg  [6:0] count_dec;
+    reg  [6:0] keep_m;
+    reg  [6:0] up_m;
+    reg  [6:0] down_m;
+    reg  up;
+    reg  down;
     
     // Sub module instances
     obb_core$grid$0$fifo$ram ram(
@@ -41051,6 +50206,11 @@ module obb_core$grid$0$fifo(clock,write,data_in,ready,valid,data_out,empty,almos
         .q(out_data$q),
         .clock(out_data$clock)
     );
+    obb_core$grid$0$fifo$full_q full_q(
+        .d(full_q$d),
+        .q(full_q$q),
+        .clock(full_q$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -41061,6 +50221,7 @@ module obb_core$grid$0$fifo(clock,write,data_in,ready,valid,data_out,empty,almos
         one$clock = clock;
         out_valid$clock = clock;
         out_data$clock = clock;
+        full_q$clock = clock;
         wptr$d = wptr$q;
         rptr$d = rptr$q;
         count$d = count$q;
@@ -41068,6 +50229,7 @@ module obb_core$grid$0$fifo(clock,write,data_in,ready,valid,data_out,empty,almos
         one$d = one$q;
         out_valid$d = out_valid$q;
         out_data$d = out_data$q;
+        full_q$d = full_q$q;
         ram$clock = clock;
         ram$write_enable = write;
         ram$write_address = wptr$q;
@@ -41085,19 +50247,31 @@ module obb_core$grid$0$fifo(clock,write,data_in,ready,valid,data_out,empty,almos
         else if (ready) begin
             out_valid$d = 1'b0;
         end
-        if (write & ~load) begin
-            count$d = count$q + 32'h1;
+        up = write & ~load;
+        down = load & ~write;
+        keep_m = 32'h0;
+        up_m = 32'h0;
+        down_m = 32'h0;
+        if (up) begin
+            up_m = ones;
         end
-        if (load & ~write) begin
-            count$d = count$q - 32'h1;
+        else if (down) begin
+            down_m = ones;
         end
+        else begin
+            keep_m = ones;
+        end
+        count_inc = count$q + 32'h1;
+        count_dec = count$q - 32'h1;
+        count$d = (count$q & keep_m) | (count_inc & up_m) | (count_dec & down_m);
+        full_q$d = ((count$q >= stall_at) & ~up & ~down) | ((count$q >= stall_lo) & up) | ((count$q >= stall_hi) & down);
         two = count$q == 32'h2;
         stored$d = write | (stored$q & ~(one$q & load));
         one$d = (~stored$q & write) | (one$q & (write == load)) | (two & load & ~write);
         valid = out_valid$q;
         data_out = out_data$q;
         empty = ~stored$q & ~out_valid$q;
-        almost_full = count$q >= stall_at;
+        almost_full = full_q$q;
     end
     
 endmodule // obb_core$grid$0$fifo
@@ -41120,6 +50294,25 @@ module obb_core$grid$0$fifo$count(d,q,clock);
     end
           
 endmodule // obb_core$grid$0$fifo$count
+
+
+module obb_core$grid$0$fifo$full_q(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$fifo$full_q
 
 
 module obb_core$grid$0$fifo$one(d,q,clock);
@@ -43690,42 +52883,2434 @@ module obb_core$grid$0$head$9(clock,write_enable,write_address,write_data,read_a
 endmodule // obb_core$grid$0$head$9
 
 
-module obb_core$grid$0$held(d,q,clock);
+module obb_core$grid$0$head2$0(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
-    input wire  [15:0] d;
-    output reg  [15:0] q;
     input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
     
     // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
     initial begin
-       q = 16'h0;
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
     end
-    
     always @(posedge clock) begin
-       q <= d;
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
     end
-          
-endmodule // obb_core$grid$0$held
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$0
 
 
-module obb_core$grid$0$held_valid(d,q,clock);
+module obb_core$grid$0$head2$1(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
     input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
     
     // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
     initial begin
-       q = 1'h0;
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
     end
-    
     always @(posedge clock) begin
-       q <= d;
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
     end
-          
-endmodule // obb_core$grid$0$held_valid
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$1
+
+
+module obb_core$grid$0$head2$10(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$10
+
+
+module obb_core$grid$0$head2$11(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$11
+
+
+module obb_core$grid$0$head2$12(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$12
+
+
+module obb_core$grid$0$head2$13(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$13
+
+
+module obb_core$grid$0$head2$14(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$14
+
+
+module obb_core$grid$0$head2$15(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$15
+
+
+module obb_core$grid$0$head2$16(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$16
+
+
+module obb_core$grid$0$head2$17(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$17
+
+
+module obb_core$grid$0$head2$18(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$18
+
+
+module obb_core$grid$0$head2$19(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$19
+
+
+module obb_core$grid$0$head2$2(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$2
+
+
+module obb_core$grid$0$head2$20(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$20
+
+
+module obb_core$grid$0$head2$21(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$21
+
+
+module obb_core$grid$0$head2$22(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$22
+
+
+module obb_core$grid$0$head2$23(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$23
+
+
+module obb_core$grid$0$head2$24(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$24
+
+
+module obb_core$grid$0$head2$25(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$25
+
+
+module obb_core$grid$0$head2$26(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$26
+
+
+module obb_core$grid$0$head2$27(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$27
+
+
+module obb_core$grid$0$head2$28(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$28
+
+
+module obb_core$grid$0$head2$29(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$29
+
+
+module obb_core$grid$0$head2$3(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$3
+
+
+module obb_core$grid$0$head2$30(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$30
+
+
+module obb_core$grid$0$head2$31(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$31
+
+
+module obb_core$grid$0$head2$32(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$32
+
+
+module obb_core$grid$0$head2$33(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$33
+
+
+module obb_core$grid$0$head2$34(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$34
+
+
+module obb_core$grid$0$head2$35(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$35
+
+
+module obb_core$grid$0$head2$36(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$36
+
+
+module obb_core$grid$0$head2$37(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$37
+
+
+module obb_core$grid$0$head2$38(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$38
+
+
+module obb_core$grid$0$head2$39(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$39
+
+
+module obb_core$grid$0$head2$4(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$4
+
+
+module obb_core$grid$0$head2$40(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$40
+
+
+module obb_core$grid$0$head2$41(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$41
+
+
+module obb_core$grid$0$head2$42(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$42
+
+
+module obb_core$grid$0$head2$43(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$43
+
+
+module obb_core$grid$0$head2$44(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$44
+
+
+module obb_core$grid$0$head2$45(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$45
+
+
+module obb_core$grid$0$head2$46(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$46
+
+
+module obb_core$grid$0$head2$47(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$47
+
+
+module obb_core$grid$0$head2$48(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$48
+
+
+module obb_core$grid$0$head2$49(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$49
+
+
+module obb_core$grid$0$head2$5(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$5
+
+
+module obb_core$grid$0$head2$50(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$50
+
+
+module obb_core$grid$0$head2$51(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$51
+
+
+module obb_core$grid$0$head2$52(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$52
+
+
+module obb_core$grid$0$head2$53(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$53
+
+
+module obb_core$grid$0$head2$54(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$54
+
+
+module obb_core$grid$0$head2$55(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$55
+
+
+module obb_core$grid$0$head2$56(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$56
+
+
+module obb_core$grid$0$head2$57(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$57
+
+
+module obb_core$grid$0$head2$58(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$58
+
+
+module obb_core$grid$0$head2$59(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$59
+
+
+module obb_core$grid$0$head2$6(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$6
+
+
+module obb_core$grid$0$head2$60(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$60
+
+
+module obb_core$grid$0$head2$61(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$61
+
+
+module obb_core$grid$0$head2$62(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$62
+
+
+module obb_core$grid$0$head2$63(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$63
+
+
+module obb_core$grid$0$head2$64(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$64
+
+
+module obb_core$grid$0$head2$65(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$65
+
+
+module obb_core$grid$0$head2$66(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$66
+
+
+module obb_core$grid$0$head2$67(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$67
+
+
+module obb_core$grid$0$head2$68(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$68
+
+
+module obb_core$grid$0$head2$69(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$69
+
+
+module obb_core$grid$0$head2$7(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$7
+
+
+module obb_core$grid$0$head2$70(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$70
+
+
+module obb_core$grid$0$head2$71(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$71
+
+
+module obb_core$grid$0$head2$72(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$72
+
+
+module obb_core$grid$0$head2$73(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$73
+
+
+module obb_core$grid$0$head2$74(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$74
+
+
+module obb_core$grid$0$head2$75(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$75
+
+
+module obb_core$grid$0$head2$76(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$76
+
+
+module obb_core$grid$0$head2$77(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$77
+
+
+module obb_core$grid$0$head2$78(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$78
+
+
+module obb_core$grid$0$head2$79(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$79
+
+
+module obb_core$grid$0$head2$8(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$8
+
+
+module obb_core$grid$0$head2$80(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$80
+
+
+module obb_core$grid$0$head2$9(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [19:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [19:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:1023];
+    integer k;
+    initial begin
+       for (k = 0; k < 1024; k = k + 1) begin
+          mem[k] = 0;
+       end
+    end
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$head2$9
 
 
 module obb_core$grid$0$inflight(d,q,clock);
@@ -43937,6 +55522,63 @@ module obb_core$grid$0$lgroup(d,q,clock);
 endmodule // obb_core$grid$0$lgroup
 
 
+module obb_core$grid$0$lk_lim$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$lk_lim$0
+
+
+module obb_core$grid$0$lk_lim$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$lk_lim$1
+
+
+module obb_core$grid$0$lk_lim$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$lk_lim$2
+
+
 module obb_core$grid$0$lk_max$0(d,q,clock);
     
     // Module arguments
@@ -44087,6 +55729,25 @@ module obb_core$grid$0$lnext(d,q,clock);
     end
           
 endmodule // obb_core$grid$0$lnext
+
+
+module obb_core$grid$0$lnext2(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$lnext2
 
 
 module obb_core$grid$0$lq_box(clock,write_enable,write_address,read_address,in_index,in_min$0,in_min$1,in_min$2,in_max$0,in_max$1,in_max$2,in_margin,in_kind,index,min$0,min$1,min$2,max$0,max$1,max$2,margin,kind);
@@ -44601,6 +56262,30 @@ module obb_core$grid$0$lq_head(clock,write_enable,write_address,write_data,read_
        read_data = mem[read_address];
     end
 endmodule // obb_core$grid$0$lq_head
+
+
+module obb_core$grid$0$lq_head2(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [1:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [1:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:3];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$lq_head2
 
 
 module obb_core$grid$0$lq_last(clock,write_enable,write_address,write_data,read_address,read_data);
@@ -47095,6 +58780,120 @@ module obb_core$grid$0$meta$9(clock,write_enable,write_address,write_data,read_a
 endmodule // obb_core$grid$0$meta$9
 
 
+module obb_core$grid$0$q0(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$q0
+
+
+module obb_core$grid$0$q0v(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$q0v
+
+
+module obb_core$grid$0$q1(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$q1
+
+
+module obb_core$grid$0$q1v(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$q1v
+
+
+module obb_core$grid$0$r1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$r1
+
+
+module obb_core$grid$0$r2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$r2
+
+
 module obb_core$grid$0$rec$0(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
@@ -49037,6 +60836,1950 @@ module obb_core$grid$0$rec$9(clock,write_enable,write_address,write_data,read_ad
        read_data = mem[read_address];
     end
 endmodule // obb_core$grid$0$rec$9
+
+
+module obb_core$grid$0$rec2$0(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$0
+
+
+module obb_core$grid$0$rec2$1(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$1
+
+
+module obb_core$grid$0$rec2$10(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$10
+
+
+module obb_core$grid$0$rec2$11(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$11
+
+
+module obb_core$grid$0$rec2$12(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$12
+
+
+module obb_core$grid$0$rec2$13(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$13
+
+
+module obb_core$grid$0$rec2$14(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$14
+
+
+module obb_core$grid$0$rec2$15(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$15
+
+
+module obb_core$grid$0$rec2$16(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$16
+
+
+module obb_core$grid$0$rec2$17(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$17
+
+
+module obb_core$grid$0$rec2$18(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$18
+
+
+module obb_core$grid$0$rec2$19(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$19
+
+
+module obb_core$grid$0$rec2$2(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$2
+
+
+module obb_core$grid$0$rec2$20(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$20
+
+
+module obb_core$grid$0$rec2$21(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$21
+
+
+module obb_core$grid$0$rec2$22(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$22
+
+
+module obb_core$grid$0$rec2$23(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$23
+
+
+module obb_core$grid$0$rec2$24(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$24
+
+
+module obb_core$grid$0$rec2$25(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$25
+
+
+module obb_core$grid$0$rec2$26(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$26
+
+
+module obb_core$grid$0$rec2$27(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$27
+
+
+module obb_core$grid$0$rec2$28(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$28
+
+
+module obb_core$grid$0$rec2$29(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$29
+
+
+module obb_core$grid$0$rec2$3(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$3
+
+
+module obb_core$grid$0$rec2$30(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$30
+
+
+module obb_core$grid$0$rec2$31(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$31
+
+
+module obb_core$grid$0$rec2$32(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$32
+
+
+module obb_core$grid$0$rec2$33(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$33
+
+
+module obb_core$grid$0$rec2$34(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$34
+
+
+module obb_core$grid$0$rec2$35(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$35
+
+
+module obb_core$grid$0$rec2$36(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$36
+
+
+module obb_core$grid$0$rec2$37(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$37
+
+
+module obb_core$grid$0$rec2$38(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$38
+
+
+module obb_core$grid$0$rec2$39(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$39
+
+
+module obb_core$grid$0$rec2$4(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$4
+
+
+module obb_core$grid$0$rec2$40(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$40
+
+
+module obb_core$grid$0$rec2$41(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$41
+
+
+module obb_core$grid$0$rec2$42(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$42
+
+
+module obb_core$grid$0$rec2$43(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$43
+
+
+module obb_core$grid$0$rec2$44(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$44
+
+
+module obb_core$grid$0$rec2$45(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$45
+
+
+module obb_core$grid$0$rec2$46(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$46
+
+
+module obb_core$grid$0$rec2$47(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$47
+
+
+module obb_core$grid$0$rec2$48(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$48
+
+
+module obb_core$grid$0$rec2$49(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$49
+
+
+module obb_core$grid$0$rec2$5(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$5
+
+
+module obb_core$grid$0$rec2$50(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$50
+
+
+module obb_core$grid$0$rec2$51(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$51
+
+
+module obb_core$grid$0$rec2$52(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$52
+
+
+module obb_core$grid$0$rec2$53(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$53
+
+
+module obb_core$grid$0$rec2$54(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$54
+
+
+module obb_core$grid$0$rec2$55(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$55
+
+
+module obb_core$grid$0$rec2$56(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$56
+
+
+module obb_core$grid$0$rec2$57(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$57
+
+
+module obb_core$grid$0$rec2$58(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$58
+
+
+module obb_core$grid$0$rec2$59(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$59
+
+
+module obb_core$grid$0$rec2$6(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$6
+
+
+module obb_core$grid$0$rec2$60(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$60
+
+
+module obb_core$grid$0$rec2$61(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$61
+
+
+module obb_core$grid$0$rec2$62(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$62
+
+
+module obb_core$grid$0$rec2$63(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$63
+
+
+module obb_core$grid$0$rec2$64(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$64
+
+
+module obb_core$grid$0$rec2$65(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$65
+
+
+module obb_core$grid$0$rec2$66(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$66
+
+
+module obb_core$grid$0$rec2$67(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$67
+
+
+module obb_core$grid$0$rec2$68(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$68
+
+
+module obb_core$grid$0$rec2$69(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$69
+
+
+module obb_core$grid$0$rec2$7(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$7
+
+
+module obb_core$grid$0$rec2$70(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$70
+
+
+module obb_core$grid$0$rec2$71(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$71
+
+
+module obb_core$grid$0$rec2$72(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$72
+
+
+module obb_core$grid$0$rec2$73(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$73
+
+
+module obb_core$grid$0$rec2$74(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$74
+
+
+module obb_core$grid$0$rec2$75(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$75
+
+
+module obb_core$grid$0$rec2$76(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$76
+
+
+module obb_core$grid$0$rec2$77(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$77
+
+
+module obb_core$grid$0$rec2$78(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$78
+
+
+module obb_core$grid$0$rec2$79(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$79
+
+
+module obb_core$grid$0$rec2$8(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$8
+
+
+module obb_core$grid$0$rec2$80(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$80
+
+
+module obb_core$grid$0$rec2$9(clock,write_enable,write_address,write_data,read_address,read_data);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [4:0] write_address;
+    input wire  [15:0] write_data;
+    input wire  [4:0] read_address;
+    output reg  [15:0] read_data;
+    
+    // Update code (custom)
+    (* ram_style = "distributed" *)
+    reg [15:0] mem [0:31];
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[write_address] <= write_data;
+       end
+    end
+    always @(*) begin
+       read_data = mem[read_address];
+    end
+endmodule // obb_core$grid$0$rec2$9
 
 
 module obb_core$grid$0$rec_box(clock,write_enable,write_address,read_address,in_index,in_min$0,in_min$1,in_min$2,in_max$0,in_max$1,in_max$2,in_margin,in_kind,index,min$0,min$1,min$2,max$0,max$1,max$2,margin,kind);
@@ -56122,6 +69865,1545 @@ module obb_core$grid$0$s4_old$9(d,q,clock);
 endmodule // obb_core$grid$0$s4_old$9
 
 
+module obb_core$grid$0$s4_old2$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$0
+
+
+module obb_core$grid$0$s4_old2$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$1
+
+
+module obb_core$grid$0$s4_old2$10(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$10
+
+
+module obb_core$grid$0$s4_old2$11(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$11
+
+
+module obb_core$grid$0$s4_old2$12(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$12
+
+
+module obb_core$grid$0$s4_old2$13(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$13
+
+
+module obb_core$grid$0$s4_old2$14(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$14
+
+
+module obb_core$grid$0$s4_old2$15(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$15
+
+
+module obb_core$grid$0$s4_old2$16(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$16
+
+
+module obb_core$grid$0$s4_old2$17(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$17
+
+
+module obb_core$grid$0$s4_old2$18(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$18
+
+
+module obb_core$grid$0$s4_old2$19(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$19
+
+
+module obb_core$grid$0$s4_old2$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$2
+
+
+module obb_core$grid$0$s4_old2$20(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$20
+
+
+module obb_core$grid$0$s4_old2$21(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$21
+
+
+module obb_core$grid$0$s4_old2$22(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$22
+
+
+module obb_core$grid$0$s4_old2$23(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$23
+
+
+module obb_core$grid$0$s4_old2$24(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$24
+
+
+module obb_core$grid$0$s4_old2$25(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$25
+
+
+module obb_core$grid$0$s4_old2$26(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$26
+
+
+module obb_core$grid$0$s4_old2$27(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$27
+
+
+module obb_core$grid$0$s4_old2$28(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$28
+
+
+module obb_core$grid$0$s4_old2$29(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$29
+
+
+module obb_core$grid$0$s4_old2$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$3
+
+
+module obb_core$grid$0$s4_old2$30(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$30
+
+
+module obb_core$grid$0$s4_old2$31(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$31
+
+
+module obb_core$grid$0$s4_old2$32(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$32
+
+
+module obb_core$grid$0$s4_old2$33(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$33
+
+
+module obb_core$grid$0$s4_old2$34(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$34
+
+
+module obb_core$grid$0$s4_old2$35(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$35
+
+
+module obb_core$grid$0$s4_old2$36(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$36
+
+
+module obb_core$grid$0$s4_old2$37(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$37
+
+
+module obb_core$grid$0$s4_old2$38(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$38
+
+
+module obb_core$grid$0$s4_old2$39(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$39
+
+
+module obb_core$grid$0$s4_old2$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$4
+
+
+module obb_core$grid$0$s4_old2$40(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$40
+
+
+module obb_core$grid$0$s4_old2$41(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$41
+
+
+module obb_core$grid$0$s4_old2$42(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$42
+
+
+module obb_core$grid$0$s4_old2$43(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$43
+
+
+module obb_core$grid$0$s4_old2$44(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$44
+
+
+module obb_core$grid$0$s4_old2$45(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$45
+
+
+module obb_core$grid$0$s4_old2$46(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$46
+
+
+module obb_core$grid$0$s4_old2$47(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$47
+
+
+module obb_core$grid$0$s4_old2$48(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$48
+
+
+module obb_core$grid$0$s4_old2$49(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$49
+
+
+module obb_core$grid$0$s4_old2$5(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$5
+
+
+module obb_core$grid$0$s4_old2$50(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$50
+
+
+module obb_core$grid$0$s4_old2$51(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$51
+
+
+module obb_core$grid$0$s4_old2$52(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$52
+
+
+module obb_core$grid$0$s4_old2$53(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$53
+
+
+module obb_core$grid$0$s4_old2$54(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$54
+
+
+module obb_core$grid$0$s4_old2$55(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$55
+
+
+module obb_core$grid$0$s4_old2$56(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$56
+
+
+module obb_core$grid$0$s4_old2$57(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$57
+
+
+module obb_core$grid$0$s4_old2$58(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$58
+
+
+module obb_core$grid$0$s4_old2$59(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$59
+
+
+module obb_core$grid$0$s4_old2$6(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$6
+
+
+module obb_core$grid$0$s4_old2$60(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$60
+
+
+module obb_core$grid$0$s4_old2$61(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$61
+
+
+module obb_core$grid$0$s4_old2$62(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$62
+
+
+module obb_core$grid$0$s4_old2$63(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$63
+
+
+module obb_core$grid$0$s4_old2$64(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$64
+
+
+module obb_core$grid$0$s4_old2$65(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$65
+
+
+module obb_core$grid$0$s4_old2$66(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$66
+
+
+module obb_core$grid$0$s4_old2$67(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$67
+
+
+module obb_core$grid$0$s4_old2$68(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$68
+
+
+module obb_core$grid$0$s4_old2$69(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$69
+
+
+module obb_core$grid$0$s4_old2$7(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$7
+
+
+module obb_core$grid$0$s4_old2$70(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$70
+
+
+module obb_core$grid$0$s4_old2$71(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$71
+
+
+module obb_core$grid$0$s4_old2$72(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$72
+
+
+module obb_core$grid$0$s4_old2$73(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$73
+
+
+module obb_core$grid$0$s4_old2$74(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$74
+
+
+module obb_core$grid$0$s4_old2$75(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$75
+
+
+module obb_core$grid$0$s4_old2$76(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$76
+
+
+module obb_core$grid$0$s4_old2$77(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$77
+
+
+module obb_core$grid$0$s4_old2$78(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$78
+
+
+module obb_core$grid$0$s4_old2$79(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$79
+
+
+module obb_core$grid$0$s4_old2$8(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$8
+
+
+module obb_core$grid$0$s4_old2$80(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$80
+
+
+module obb_core$grid$0$s4_old2$9(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_old2$9
+
+
 module obb_core$grid$0$s4_same$0(d,q,clock);
     
     // Module arguments
@@ -61271,6 +76553,1545 @@ module obb_core$grid$0$s5_head$9(d,q,clock);
 endmodule // obb_core$grid$0$s5_head$9
 
 
+module obb_core$grid$0$s5_head2$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$0
+
+
+module obb_core$grid$0$s5_head2$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$1
+
+
+module obb_core$grid$0$s5_head2$10(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$10
+
+
+module obb_core$grid$0$s5_head2$11(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$11
+
+
+module obb_core$grid$0$s5_head2$12(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$12
+
+
+module obb_core$grid$0$s5_head2$13(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$13
+
+
+module obb_core$grid$0$s5_head2$14(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$14
+
+
+module obb_core$grid$0$s5_head2$15(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$15
+
+
+module obb_core$grid$0$s5_head2$16(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$16
+
+
+module obb_core$grid$0$s5_head2$17(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$17
+
+
+module obb_core$grid$0$s5_head2$18(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$18
+
+
+module obb_core$grid$0$s5_head2$19(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$19
+
+
+module obb_core$grid$0$s5_head2$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$2
+
+
+module obb_core$grid$0$s5_head2$20(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$20
+
+
+module obb_core$grid$0$s5_head2$21(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$21
+
+
+module obb_core$grid$0$s5_head2$22(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$22
+
+
+module obb_core$grid$0$s5_head2$23(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$23
+
+
+module obb_core$grid$0$s5_head2$24(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$24
+
+
+module obb_core$grid$0$s5_head2$25(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$25
+
+
+module obb_core$grid$0$s5_head2$26(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$26
+
+
+module obb_core$grid$0$s5_head2$27(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$27
+
+
+module obb_core$grid$0$s5_head2$28(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$28
+
+
+module obb_core$grid$0$s5_head2$29(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$29
+
+
+module obb_core$grid$0$s5_head2$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$3
+
+
+module obb_core$grid$0$s5_head2$30(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$30
+
+
+module obb_core$grid$0$s5_head2$31(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$31
+
+
+module obb_core$grid$0$s5_head2$32(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$32
+
+
+module obb_core$grid$0$s5_head2$33(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$33
+
+
+module obb_core$grid$0$s5_head2$34(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$34
+
+
+module obb_core$grid$0$s5_head2$35(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$35
+
+
+module obb_core$grid$0$s5_head2$36(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$36
+
+
+module obb_core$grid$0$s5_head2$37(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$37
+
+
+module obb_core$grid$0$s5_head2$38(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$38
+
+
+module obb_core$grid$0$s5_head2$39(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$39
+
+
+module obb_core$grid$0$s5_head2$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$4
+
+
+module obb_core$grid$0$s5_head2$40(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$40
+
+
+module obb_core$grid$0$s5_head2$41(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$41
+
+
+module obb_core$grid$0$s5_head2$42(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$42
+
+
+module obb_core$grid$0$s5_head2$43(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$43
+
+
+module obb_core$grid$0$s5_head2$44(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$44
+
+
+module obb_core$grid$0$s5_head2$45(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$45
+
+
+module obb_core$grid$0$s5_head2$46(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$46
+
+
+module obb_core$grid$0$s5_head2$47(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$47
+
+
+module obb_core$grid$0$s5_head2$48(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$48
+
+
+module obb_core$grid$0$s5_head2$49(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$49
+
+
+module obb_core$grid$0$s5_head2$5(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$5
+
+
+module obb_core$grid$0$s5_head2$50(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$50
+
+
+module obb_core$grid$0$s5_head2$51(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$51
+
+
+module obb_core$grid$0$s5_head2$52(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$52
+
+
+module obb_core$grid$0$s5_head2$53(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$53
+
+
+module obb_core$grid$0$s5_head2$54(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$54
+
+
+module obb_core$grid$0$s5_head2$55(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$55
+
+
+module obb_core$grid$0$s5_head2$56(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$56
+
+
+module obb_core$grid$0$s5_head2$57(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$57
+
+
+module obb_core$grid$0$s5_head2$58(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$58
+
+
+module obb_core$grid$0$s5_head2$59(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$59
+
+
+module obb_core$grid$0$s5_head2$6(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$6
+
+
+module obb_core$grid$0$s5_head2$60(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$60
+
+
+module obb_core$grid$0$s5_head2$61(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$61
+
+
+module obb_core$grid$0$s5_head2$62(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$62
+
+
+module obb_core$grid$0$s5_head2$63(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$63
+
+
+module obb_core$grid$0$s5_head2$64(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$64
+
+
+module obb_core$grid$0$s5_head2$65(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$65
+
+
+module obb_core$grid$0$s5_head2$66(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$66
+
+
+module obb_core$grid$0$s5_head2$67(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$67
+
+
+module obb_core$grid$0$s5_head2$68(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$68
+
+
+module obb_core$grid$0$s5_head2$69(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$69
+
+
+module obb_core$grid$0$s5_head2$7(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$7
+
+
+module obb_core$grid$0$s5_head2$70(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$70
+
+
+module obb_core$grid$0$s5_head2$71(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$71
+
+
+module obb_core$grid$0$s5_head2$72(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$72
+
+
+module obb_core$grid$0$s5_head2$73(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$73
+
+
+module obb_core$grid$0$s5_head2$74(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$74
+
+
+module obb_core$grid$0$s5_head2$75(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$75
+
+
+module obb_core$grid$0$s5_head2$76(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$76
+
+
+module obb_core$grid$0$s5_head2$77(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$77
+
+
+module obb_core$grid$0$s5_head2$78(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$78
+
+
+module obb_core$grid$0$s5_head2$79(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$79
+
+
+module obb_core$grid$0$s5_head2$8(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$8
+
+
+module obb_core$grid$0$s5_head2$80(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$80
+
+
+module obb_core$grid$0$s5_head2$9(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_head2$9
+
+
 module obb_core$grid$0$s5_index(d,q,clock);
     
     // Module arguments
@@ -66169,6 +82990,25 @@ module obb_core$grid$0$succ(clock,write_enable,write_address,write_data,read_add
        read_data_b <= mem[read_address_b];
     end
 endmodule // obb_core$grid$0$succ
+
+
+module obb_core$grid$0$succ_q(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$succ_q
 
 
 module obb_core$grid$0$v1_i(d,q,clock);

@@ -8,7 +8,7 @@
 //! | K+1 to K+3 | `GridCells`: the window's cells, and per bank (cell coordinates mod 3) its cell's bucket and fingerprint |
 //! | K+3 | the list heads of every bank and group are read (distributed RAM, at once) and registered |
 //! | K+4 | the lists to walk decided; the box is entered in its home cell's list (the entry the box before wrote at K+3 forwarded) |
-//! | K+5 | its successor written; the lists to walk written to the record queue, or the box retires |
+//! | K+5 | its entry (second successor) written; the lists to walk written to the record queue, or the box retires |
 //! | K+6 | the enumerator may load the record |
 //! | K+7 | it chooses the record's first list |
 //! | K+8 | it writes it to the list queue |
@@ -18,18 +18,25 @@
 //! is a literal expression of loop variables. The enumerator writes them bank by bank, group by
 //! group, as the model walks them.
 //!
-//! The walker makes one visit per clock: the successor table's output addresses the next visit
-//! (the list goes on), or a held visit (a stall held it), or the list queue's next list. A
-//! visit's keys are read on the key table's port B (`rd_addr`; the walking box's keys ride in
+//! The successor table holds each box's *second* successor (the box two places after it in its
+//! list), and its block RAM's output is registered: a visit at V reads the entry of the box it
+//! visits, which names the box to visit at V+2. So a list is two chains walked in turn, and the
+//! walker still makes one visit per clock, in the list's order, while no path runs from the
+//! block RAM's output through logic (its clock-to-output is most of a 4 ns clock). The list
+//! heads, the record queue and the list queue carry each list's first two boxes. The next
+//! visit is the first of the list's boxes known and not visited (at most two, held in
+//! registers while a stall lasts), or the arriving second successor, or, the list over, the
+//! list queue's next list. A visit's keys are read on the key table's port B (`rd_addr`; the walking box's keys ride in
 //! the list queue), compared two clocks later and, if they overlap, written to the candidate
 //! queue (`PairFifo`), which the core drains on clocks it does not accept a box. At the end of
 //! the walk every bucket is written empty, one a clock, so that the next frame finds the lists
 //! clear.
 //!
-//! A box larger than a cell (*large*) is entered in no list: at K+3 its successor entry takes
-//! the chain of large boxes (`lnext`, latest first). The slow path runs when the load is over
-//! and nothing is in flight (*idle*): a sequencer fetches each large box of the chain (its keys
-//! on port B, its successor: the next large box), plans its window, and injects its *rounds*
+//! A box larger than a cell (*large*) is entered in no list: at K+3 it joins the chain of large
+//! boxes (`lnext` and `lnext2`, its first two, latest first) and its successor entry takes the
+//! chain's old second. The slow path runs when the load is over and nothing is in flight
+//! (*idle*): a sequencer fetches each large box of the chain (its keys on port B, its entry: the
+//! large box two places on), plans its window, and injects its *rounds*
 //! into the probe as boxes whose keys span two or three cells per axis (kind *round*: they read
 //! lists and enter none; the key check takes the large box's keys, and passes a box only if its
 //! home cell is in the round, so a list read in two rounds gives its pairs once); then, when
@@ -73,7 +80,7 @@ pub enum SlowState {
     Fetch,
     /// Its address on the key tables' and the successor table's port B.
     Address,
-    /// Register its keys, group, margin and successor.
+    /// Register its keys, group, margin (its entry, the chain's box two on, is read at `Plan`).
     Read,
     /// Its window's first and last cells, the first round; too wide: over.
     Plan,
@@ -185,7 +192,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     s3_kind: DFF<Bits<KIND>>,
     /// The mask's bits for the box's group: bit h pairs it with group h.
     s3_allowed: DFF<Bits<MASK>>,
-    // K+4: the box; per list its head and owner as read, walk it if the owner allows, enter
+    // K+4: the box; per list its first two boxes and owner as read, walk it if the owner allows, enter
     // it; per bank the bucket, the fingerprint, and whether the bucket is the one the box
     // before (then at K+4) writes: its entry, which the read missed, is forwarded.
     s4_valid: DFF<Bit>,
@@ -196,6 +203,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     s4_kind: DFF<Bits<KIND>>,
     s4_meta: Vec<DFF<Bits<META>>>,
     s4_old: Vec<DFF<Bits<C>>>,
+    s4_old2: Vec<DFF<Bits<C>>>,
     s4_walk: Vec<DFF<Bit>>,
     s4_enter: Vec<DFF<Bit>>,
     s4_bucket: [DFF<Bits<BUCKET>>; 27],
@@ -213,22 +221,27 @@ pub struct GridPhase<const A: usize, const C: usize> {
     s5_kind: DFF<Bits<KIND>>,
     s5_live: Vec<DFF<Bit>>,
     s5_head: Vec<DFF<Bits<C>>>,
-    /// Per list: the box entered it and it held a box (its old head is the box's successor).
+    s5_head2: Vec<DFF<Bits<C>>>,
+    /// Per list: the box entered it and it held a box (its old second is the box's entry).
     s5_enter: Vec<DFF<Bit>>,
     /// Per list: the box entered it, and the owner it wrote (forwarded to the next box).
     s5_wrote: Vec<DFF<Bit>>,
     s5_meta_w: Vec<DFF<Bits<META>>>,
-    /// A large box arrived: the chain's old first is its successor.
+    /// A large box arrived: the chain's old second is its entry.
     s5_large: DFF<Bit>,
     s5_lprev: DFF<Bits<C>>,
     // Memories.
     /// Per list: the owner (valid, mixed, fingerprint) and the latest box, by bucket.
     meta: Vec<DistRam<Bits<META>, BUCKET>>,
     head: Vec<DistRam<Bits<C>, BUCKET>>,
-    /// Each box's successor on its list (the top bit: there is one).
+    /// Per list: the box after the latest (its second), by bucket.
+    head2: Vec<DistRam<Bits<C>, BUCKET>>,
+    /// Each box's second successor on its list (the top bit: there is one).
     succ: TableRam<Bits<C>, A>,
     /// The record queue: per list its head (top bit: walk it), and the box's index, keys, margin.
     rec: Vec<DistRam<Bits<C>, SLOT>>,
+    /// Per list: its second box (top bit: there is one).
+    rec2: Vec<DistRam<Bits<C>, SLOT>>,
     rec_box: BoxQueue<SLOT, C>,
     wp: DFF<Bits<SLOT>>,
     rp: DFF<Bits<SLOT>>,
@@ -239,6 +252,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     e_busy: DFF<Bit>,
     e_rem: Vec<DFF<Bit>>,
     e_head: Vec<DFF<Bits<C>>>,
+    e_head2: Vec<DFF<Bits<C>>>,
     /// The list chosen on a clock before, to write next: one-hot.
     e_chosen: DFF<Bit>,
     e_sel: Vec<DFF<Bit>>,
@@ -249,16 +263,16 @@ pub struct GridPhase<const A: usize, const C: usize> {
     e_kind: DFF<Bits<KIND>>,
     /// The list queue: per entry a list's head, its box, whether it is its record's last.
     lq_head: DistRam<Bits<C>, LQ>,
+    lq_head2: DistRam<Bits<C>, LQ>,
     lq_box: BoxQueue<LQ, C>,
     lq_last: DistRam<Bit, LQ>,
     lq_wp: DFF<Bits<LQ>>,
     lq_rp: DFF<Bits<LQ>>,
     /// Its fill as a thermometer code: `lq_fill[k]`, more than k lists are queued (at most three:
     /// the enumerator writes at two or fewer). Each bit's next value is one LUT of the walker's
-    /// take, which comes late from the successor table's block RAM.
+    /// take.
     lq_fill: [DFF<Bit>; 3],
-    // The walker: the list's box, whether the list is its record's last, the visit held by a
-    // stall.
+    // The walker: the list's box, whether the list is its record's last.
     cur_valid: DFF<Bit>,
     cur_last: DFF<Bit>,
     cur_index: DFF<Bits<C>>,
@@ -266,10 +280,17 @@ pub struct GridPhase<const A: usize, const C: usize> {
     cur_max: [DFF<Bits<CENTER>>; 3],
     cur_margin: DFF<Bits<MARGIN>>,
     cur_kind: DFF<Bits<KIND>>,
-    /// Last clock made a visit: its successor is on the successor table's port B.
-    chase: DFF<Bit>,
-    held_valid: DFF<Bit>,
-    held: DFF<Bits<C>>,
+    /// The successor table's output, registered: the second successor of the box read two
+    /// clocks before. A visit two clocks before (`r2`; `r1`: one clock before) read it.
+    succ_q: DFF<Bits<C>>,
+    r1: DFF<Bit>,
+    r2: DFF<Bit>,
+    /// The list's next boxes known and not yet visited, in order (at most two: the successor
+    /// of a box arrives only after the box before it was visited).
+    q0v: DFF<Bit>,
+    q0: DFF<Bits<C>>,
+    q1v: DFF<Bit>,
+    q1: DFF<Bits<C>>,
     // The key check: the visit (V+1), the keys of both boxes (V+2).
     v1_valid: DFF<Bit>,
     v1_i: DFF<Bits<C>>,
@@ -304,8 +325,12 @@ pub struct GridPhase<const A: usize, const C: usize> {
     // first cells and the window's cells after them (less one).
     slow: DFF<SlowState>,
     lnext: DFF<Bits<C>>,
+    lnext2: DFF<Bits<C>>,
     lcur: DFF<Bits<C>>,
     lk_min: [DFF<Bits<CENTER>>; 3],
+    /// Its first cell plus the widest span (`Read`): the window is too wide when its last
+    /// cell is beyond (one carry chain in `Plan`, not a difference and a compare).
+    lk_lim: [DFF<Bits<CENTER>>; 3],
     lk_max: [DFF<Bits<CENTER>>; 3],
     lmargin: DFF<Bits<MARGIN>>,
     lgroup: DFF<Bits<GROUP>>,
@@ -314,8 +339,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     rr: [DFF<Bits<CENTER>>; 3],
     rleft: [DFF<Bits<CENTER>>; 3],
     wide: DFF<Bit>,
-    /// The fetched box's address is on port B (through `held`, so that the walker's address
-    /// multiplexer takes no more inputs).
+    /// The fetched box's address is on port B (`lcur`, through the walker's address multiplexer).
     fetch_q: DFF<Bit>,
     /// The injected record (at K), its kind and its keys: registered, so that the probe's
     /// first stage takes them through one multiplexer.
@@ -337,10 +361,11 @@ pub struct GridPhase<const A: usize, const C: usize> {
     fwd: Vec<Signal<Local, Bit>>,
     meta_eff: Vec<Signal<Local, Bits<META>>>,
     old_eff: Vec<Signal<Local, Bits<C>>>,
+    old_eff2: Vec<Signal<Local, Bits<C>>>,
     live: Vec<Signal<Local, Bit>>,
     meta_new: Vec<Signal<Local, Bits<META>>>,
-    /// K+4: per list its old head if the box entered it (zero elsewhere: it entered one at
-    /// most), their OR: the box's successor; the box has lists to walk. (Pure ORs, balanced by
+    /// K+4: per list its old second if the box entered it (zero elsewhere: it entered one at
+    /// most), their OR: the box's entry; the box has lists to walk. (Pure ORs, balanced by
     /// synthesis into trees.)
     succ_pick: Vec<Signal<Local, Bits<C>>>,
     succ_acc: Signal<Local, Bits<C>>,
@@ -350,6 +375,10 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// bank before b (`bank_prior[b]`); the list is the first left. Pure ANDs and ORs, which
     /// synthesis balances into trees (written as `if`s, they became multiplexer chains).
     bank_any: [Signal<Local, Bit>; 27],
+    /// Per bank, a list is left in it: registered (from the lists' next values), so that the
+    /// choice's widest OR (`bank_prior`) starts at registers.
+    bank_next: [Signal<Local, Bit>; 27],
+    bank_left: [DFF<Bit>; 27],
     group_prior: Vec<Signal<Local, Bit>>,
     bank_prior: [Signal<Local, Bit>; 28],
     e_first: Vec<Signal<Local, Bit>>,
@@ -358,11 +387,18 @@ pub struct GridPhase<const A: usize, const C: usize> {
     e_push: Signal<Local, Bit>,
     e_pick: Vec<Signal<Local, Bits<C>>>,
     e_out: Signal<Local, Bits<C>>,
+    e_pick2: Vec<Signal<Local, Bits<C>>>,
+    e_out2: Signal<Local, Bits<C>>,
     e_more: Signal<Local, Bit>,
     /// A record is loaded.
     e_load: Signal<Local, Bit>,
     // The walker.
-    list_open: Signal<Local, Bit>,
+    /// A box of the list arrives on the registered successor; a box is known to visit; the
+    /// box after it (and whether there is one).
+    arrive: Signal<Local, Bit>,
+    avail: Signal<Local, Bit>,
+    after: Signal<Local, Bits<C>>,
+    after_v: Signal<Local, Bit>,
     need: Signal<Local, Bit>,
     retire_rec: Signal<Local, Bit>,
     take: Signal<Local, Bit>,
@@ -379,7 +415,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     inflight_dec2: Signal<Local, Bits<COUNT>>,
     /// Masks of the early changes (the load's or the slow path's box, a probe's retirement):
     /// they cancel, one more, one less. The values without and with a record's retirement,
-    /// which comes late from the successor table's block RAM and only picks one of them.
+    /// which comes late from the walker's decision and only picks one of them.
     inflight_m: [Signal<Local, Bits<COUNT>>; 3],
     inflight_n0: Signal<Local, Bits<COUNT>>,
     inflight_n1: Signal<Local, Bits<COUNT>>,
@@ -549,6 +585,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             s4_kind: Default::default(),
             s4_meta: vec(lists),
             s4_old: vec(lists),
+            s4_old2: vec(lists),
             s4_walk: vec(lists),
             s4_enter: vec(lists),
             s4_bucket: Default::default(),
@@ -565,6 +602,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             s5_kind: Default::default(),
             s5_live: vec(lists),
             s5_head: vec(lists),
+            s5_head2: vec(lists),
             s5_enter: vec(lists),
             s5_wrote: vec(lists),
             s5_meta_w: vec(lists),
@@ -572,8 +610,10 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             s5_lprev: Default::default(),
             meta: (0..lists).map(|_| DistRam::zeroed(buckets)).collect(),
             head: (0..lists).map(|_| DistRam::zeroed(buckets)).collect(),
+            head2: (0..lists).map(|_| DistRam::zeroed(buckets)).collect(),
             succ: Default::default(),
             rec: vec(lists),
+            rec2: vec(lists),
             rec_box: Default::default(),
             wp: Default::default(),
             rp: Default::default(),
@@ -582,6 +622,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             e_busy: Default::default(),
             e_rem: vec(lists),
             e_head: vec(lists),
+            e_head2: vec(lists),
             e_chosen: Default::default(),
             e_sel: vec(lists),
             e_index: Default::default(),
@@ -590,6 +631,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             e_margin: Default::default(),
             e_kind: Default::default(),
             lq_head: Default::default(),
+            lq_head2: Default::default(),
             lq_box: Default::default(),
             lq_last: Default::default(),
             lq_wp: Default::default(),
@@ -602,9 +644,13 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             cur_max: Default::default(),
             cur_margin: Default::default(),
             cur_kind: Default::default(),
-            chase: Default::default(),
-            held_valid: Default::default(),
-            held: Default::default(),
+            succ_q: Default::default(),
+            r1: Default::default(),
+            r2: Default::default(),
+            q0v: Default::default(),
+            q0: Default::default(),
+            q1v: Default::default(),
+            q1: Default::default(),
             v1_valid: Default::default(),
             v1_i: Default::default(),
             v1_j: Default::default(),
@@ -632,8 +678,10 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             clear_at: Default::default(),
             slow: Default::default(),
             lnext: Default::default(),
+            lnext2: Default::default(),
             lcur: Default::default(),
             lk_min: Default::default(),
+            lk_lim: Default::default(),
             lk_max: Default::default(),
             lmargin: Default::default(),
             lgroup: Default::default(),
@@ -656,21 +704,29 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             fwd: vec(lists),
             meta_eff: vec(lists),
             old_eff: vec(lists),
+            old_eff2: vec(lists),
             live: vec(lists),
             meta_new: vec(lists),
             succ_pick: vec(lists),
             succ_acc: Default::default(),
             any_live: Default::default(),
             bank_any: Default::default(),
+            bank_next: Default::default(),
+            bank_left: Default::default(),
             group_prior: vec(lists),
             bank_prior: Default::default(),
             e_first: vec(lists),
             e_push: Default::default(),
             e_pick: vec(lists),
             e_out: Default::default(),
+            e_pick2: vec(lists),
+            e_out2: Default::default(),
             e_more: Default::default(),
             e_load: Default::default(),
-            list_open: Default::default(),
+            arrive: Default::default(),
+            avail: Default::default(),
+            after: Default::default(),
+            after_v: Default::default(),
             need: Default::default(),
             retire_rec: Default::default(),
             take: Default::default(),
@@ -785,9 +841,13 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             lq_rp,
             cur_index,
             cur_margin,
-            chase,
-            held_valid,
-            held,
+            succ_q,
+            r1,
+            r2,
+            q0v,
+            q0,
+            q1v,
+            q1,
             v1_valid,
             v1_i,
             v1_j,
@@ -810,6 +870,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             v2_group_j,
             slow,
             lnext,
+            lnext2,
             lcur,
             lmargin,
             lgroup,
@@ -818,7 +879,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             inj,
             inj_kind
         );
-        clock!(self, clock, cells, succ, rec_box, fifo, lq_head, lq_box, lq_last);
+        clock!(self, clock, cells, succ, rec_box, fifo, lq_head, lq_head2, lq_box, lq_last);
         for b in 0..27 {
             self.s4_bucket[b].clock.next = self.clock.val();
             self.s4_fp[b].clock.next = self.clock.val();
@@ -851,6 +912,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.v2_wh[x].clock.next = self.clock.val();
             self.v2_jc[x].clock.next = self.clock.val();
             self.lk_min[x].clock.next = self.clock.val();
+            self.lk_lim[x].clock.next = self.clock.val();
             self.lk_max[x].clock.next = self.clock.val();
             self.wlo[x].clock.next = self.clock.val();
             self.wspan[x].clock.next = self.clock.val();
@@ -859,6 +921,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.inj_min[x].clock.next = self.clock.val();
             self.inj_max[x].clock.next = self.clock.val();
             self.lk_min[x].d.next = self.lk_min[x].q.val();
+            self.lk_lim[x].d.next = self.lk_lim[x].q.val();
             self.lk_max[x].d.next = self.lk_max[x].q.val();
             self.wlo[x].d.next = self.wlo[x].q.val();
             self.wspan[x].d.next = self.wspan[x].q.val();
@@ -868,21 +931,27 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         for l in 0..self._lists {
             self.s5_live[l].clock.next = self.clock.val();
             self.s5_head[l].clock.next = self.clock.val();
+            self.s5_head2[l].clock.next = self.clock.val();
             self.s5_enter[l].clock.next = self.clock.val();
             self.s5_wrote[l].clock.next = self.clock.val();
             self.s5_meta_w[l].clock.next = self.clock.val();
             self.s4_meta[l].clock.next = self.clock.val();
             self.s4_old[l].clock.next = self.clock.val();
+            self.s4_old2[l].clock.next = self.clock.val();
             self.s4_walk[l].clock.next = self.clock.val();
             self.s4_enter[l].clock.next = self.clock.val();
             self.meta[l].clock.next = self.clock.val();
             self.head[l].clock.next = self.clock.val();
+            self.head2[l].clock.next = self.clock.val();
             self.rec[l].clock.next = self.clock.val();
+            self.rec2[l].clock.next = self.clock.val();
             self.e_rem[l].clock.next = self.clock.val();
             self.e_head[l].clock.next = self.clock.val();
+            self.e_head2[l].clock.next = self.clock.val();
             self.e_sel[l].clock.next = self.clock.val();
             self.e_rem[l].d.next = self.e_rem[l].q.val();
             self.e_head[l].d.next = self.e_head[l].q.val();
+            self.e_head2[l].d.next = self.e_head2[l].q.val();
             self.e_sel[l].d.next = self.e_sel[l].q.val();
         }
         for x in 0..3 {
@@ -946,9 +1015,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.plan_lo[x].next = self.lk_min[x].q.val() >> self.cell_bits.val();
             self.plan_hi[x].next = (self.lk_max[x].q.val() >> self.cell_bits.val()) + 1;
             self.plan_span[x].next = self.plan_hi[x].val() - self.plan_lo[x].val();
-            if (self.lk_max[x].q.val() >> self.cell_bits.val()) - self.plan_lo[x].val()
-                > self.max_span.val()
-            {
+            if (self.lk_max[x].q.val() >> self.cell_bits.val()) > self.lk_lim[x].q.val() {
                 self.plan_wide.next = true;
             }
         }
@@ -957,8 +1024,8 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 if self.idle.val() {
                     if (self.lnext.q.val() & self.top.val()) != 0 {
                         self.fetch.next = true;
-                        self.held.d.next = self.lnext.q.val();
                         self.lcur.d.next = self.lnext.q.val() ^ self.top.val();
+                        self.lnext.d.next = self.lnext2.q.val();
                         self.slow.d.next = SlowState::Address;
                     } else {
                         self.slow.d.next = SlowState::Over;
@@ -971,14 +1038,17 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             SlowState::Read => {
                 self.lmargin.d.next = self.rd_margin.val();
                 self.lgroup.d.next = self.rd_group.val();
-                self.lnext.d.next = self.succ.read_data_b.val();
                 for x in 0..3 {
                     self.lk_min[x].d.next = self.rd_min[x].val();
+                    self.lk_lim[x].d.next =
+                        (self.rd_min[x].val() >> self.cell_bits.val()) + self.max_span.val();
                     self.lk_max[x].d.next = self.rd_max[x].val();
                 }
                 self.slow.d.next = SlowState::Plan;
             }
             SlowState::Plan => {
+                // The fetched box's second successor, from the registered output.
+                self.lnext2.d.next = self.succ_q.q.val();
                 for x in 0..3 {
                     self.wlo[x].d.next = self.plan_lo[x].val();
                     self.wspan[x].d.next = self.plan_span[x].val();
@@ -1091,7 +1161,9 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 self.allow[27 * q + b].next =
                     self.s3_allowed.q.val() >> self.list_group[27 * q + b].val();
                 self.s4_meta[27 * q + b].d.next = self.meta[27 * q + b].read_data.val();
+                self.head2[27 * q + b].read_address.next = self.cells.bucket[b].val();
                 self.s4_old[27 * q + b].d.next = self.head[27 * q + b].read_data.val();
+                self.s4_old2[27 * q + b].d.next = self.head2[27 * q + b].read_data.val();
                 self.s4_walk[27 * q + b].d.next = self.s3_valid.q.val()
                     & self.cells.small_box.val()
                     & self.cells.inside[b].val()
@@ -1113,9 +1185,10 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.large_in.next =
             self.s3_valid.q.val() & (self.s3_kind.q.val() == 0) & !self.cells.small_box.val();
         self.s4_large.d.next = self.large_in.val();
-        self.s4_lprev.d.next = self.lnext.q.val();
+        self.s4_lprev.d.next = self.lnext2.q.val();
         if self.large_in.val() {
             self.lnext.d.next = self.entry.val();
+            self.lnext2.d.next = self.lnext.q.val();
         }
         self.s4_valid.d.next = self.s3_valid.q.val();
         self.s4_index.d.next = self.s3_index.q.val();
@@ -1126,13 +1199,14 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.s4_max[x].d.next = self.s3_max[x].q.val();
         }
 
-        // K+4, per list: the owner and head the box sees (the box before's entry where it
-        // wrote the same bucket on the clock of this box's read). The box walks a list of a
+        // K+4, per list: the owner and first two boxes the box sees (the box before's entry
+        // where it wrote the same bucket on the clock of this box's read: then the box before
+        // and its old head). The box walks a list of a
         // group its own pairs with, of a cell in its window, that may hold a box of that cell:
         // its owner has the cell's fingerprint, or it is mixed. A small box enters its home
         // cell's list of its own group: the first owns the list, a box of another fingerprint
-        // mixes it; the list's head becomes the box's successor (written at K+5). At the end
-        // of a frame the clear writes every bucket empty.
+        // mixes it; the list's old head becomes its second, and the old second the box's entry
+        // (written at K+5). At the end of a frame the clear writes every bucket empty.
         self.entry4.next = self.s4_index.q.val() | self.top.val();
         self.entry5.next = self.s5_index.q.val() | self.top.val();
         for q in 0..self._groups {
@@ -1141,9 +1215,11 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     self.s4_same[b].q.val() & self.s5_wrote[27 * q + b].q.val();
                 self.meta_eff[27 * q + b].next = self.s4_meta[27 * q + b].q.val();
                 self.old_eff[27 * q + b].next = self.s4_old[27 * q + b].q.val();
+                self.old_eff2[27 * q + b].next = self.s4_old2[27 * q + b].q.val();
                 if self.fwd[27 * q + b].val() {
                     self.meta_eff[27 * q + b].next = self.s5_meta_w[27 * q + b].q.val();
                     self.old_eff[27 * q + b].next = self.entry5.val();
+                    self.old_eff2[27 * q + b].next = self.s5_head[27 * q + b].q.val();
                 }
                 self.live[27 * q + b].next = self.s4_walk[27 * q + b].q.val()
                     & self.meta_eff[27 * q + b].val().get_bit(9)
@@ -1166,6 +1242,9 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 self.head[27 * q + b].write_enable.next = self.s4_enter[27 * q + b].q.val();
                 self.head[27 * q + b].write_address.next = self.s4_bucket[b].q.val();
                 self.head[27 * q + b].write_data.next = self.entry4.val();
+                self.head2[27 * q + b].write_enable.next = self.s4_enter[27 * q + b].q.val();
+                self.head2[27 * q + b].write_address.next = self.s4_bucket[b].q.val();
+                self.head2[27 * q + b].write_data.next = self.old_eff[27 * q + b].val();
                 if self.clearing.q.val() {
                     self.meta[27 * q + b].write_enable.next = true;
                     self.meta[27 * q + b].write_address.next = self.clear_at.q.val();
@@ -1173,6 +1252,9 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     self.head[27 * q + b].write_enable.next = true;
                     self.head[27 * q + b].write_address.next = self.clear_at.q.val();
                     self.head[27 * q + b].write_data.next = 0.into();
+                    self.head2[27 * q + b].write_enable.next = true;
+                    self.head2[27 * q + b].write_address.next = self.clear_at.q.val();
+                    self.head2[27 * q + b].write_data.next = 0.into();
                 }
                 self.s5_enter[27 * q + b].d.next =
                     self.s4_enter[27 * q + b].q.val() & self.meta_eff[27 * q + b].val().get_bit(9);
@@ -1180,6 +1262,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 self.s5_meta_w[27 * q + b].d.next = self.meta_new[27 * q + b].val();
                 self.s5_live[27 * q + b].d.next = self.live[27 * q + b].val();
                 self.s5_head[27 * q + b].d.next = self.old_eff[27 * q + b].val();
+                self.s5_head2[27 * q + b].d.next = self.old_eff2[27 * q + b].val();
             }
         }
         self.s5_large.d.next = self.s4_large.q.val();
@@ -1192,11 +1275,11 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.s5_max[x].d.next = self.s4_max[x].q.val();
         }
 
-        // K+5: the box's successor is written: the old head of the list it entered (zero where
-        // it entered none), or the chain's old first. (A later box sees the box's entry at its
-        // K+4 at the earliest, and reads its successor five clocks after that, at its first
-        // visit.) A box with lists to walk is written to the record queue; any other retires.
-        // The rest of the chain is one list (the first), from the large box's successor.
+        // K+5: the box's entry is written: the old second of the list it entered (zero where
+        // it entered none), or the chain's old second. (A later box sees the box's entry at its
+        // K+4 at the earliest, and reads it five clocks after that, at its first visit.) A box
+        // with lists to walk is written to the record queue; any other retires. The rest of the
+        // chain is one list (the first), from the large box's successor (`lnext`, `lnext2`).
         self.succ_acc.next = 0.into();
         if self.s5_large.q.val() {
             self.succ_acc.next = self.s5_lprev.q.val();
@@ -1205,7 +1288,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         for l in 0..self._lists {
             self.succ_pick[l].next = 0.into();
             if self.s5_enter[l].q.val() {
-                self.succ_pick[l].next = self.s5_head[l].q.val();
+                self.succ_pick[l].next = self.s5_head2[l].q.val();
             }
             self.succ_acc.next = self.succ_acc.val() | self.succ_pick[l].val();
             self.any_live.next = self.any_live.val() | self.s5_live[l].q.val();
@@ -1221,13 +1304,19 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.rec[l].write_address.next = self.wp.q.val();
             // A list head has the flag bit set; a list not to walk is written as none.
             self.rec[l].write_data.next = 0.into();
+            self.rec2[l].write_enable.next = self.rec_write.val();
+            self.rec2[l].write_address.next = self.wp.q.val();
+            self.rec2[l].write_data.next = 0.into();
             if self.s5_live[l].q.val() {
                 self.rec[l].write_data.next = self.s5_head[l].q.val();
+                self.rec2[l].write_data.next = self.s5_head2[l].q.val();
             }
             self.rec[l].read_address.next = self.rp.q.val();
+            self.rec2[l].read_address.next = self.rp.q.val();
         }
         if self.s5_kind.q.val().get_bit(1) {
             self.rec[0].write_data.next = self.lnext.q.val();
+            self.rec2[0].write_data.next = self.lnext2.q.val();
         }
         self.rec_box.write_enable.next = self.rec_write.val();
         self.rec_box.write_address.next = self.wp.q.val();
@@ -1249,7 +1338,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         // list, when at most two are queued (so that the write finds room whatever the walker
         // takes), and whether it is the record's last (no other list left). It loads the next
         // record on a clock it holds none. Each clock's logic runs from registers alone: the
-        // walker's loop through the successor table only picks the queue's output.
+        // walker only picks the queue's output.
         for b in 0..27 {
             self.bank_any[b].next = false;
         }
@@ -1261,7 +1350,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         }
         self.bank_prior[0].next = false;
         for b in 0..27 {
-            self.bank_prior[b + 1].next = self.bank_prior[b].val() | self.bank_any[b].val();
+            self.bank_prior[b + 1].next = self.bank_prior[b].val() | self.bank_left[b].q.val();
         }
         for q in 0..self._groups {
             for b in 0..27 {
@@ -1273,19 +1362,27 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.e_push.next = self.e_chosen.q.val() & !self.lq_fill[2].q.val();
         self.e_load.next = (self.count.q.val() != 0) & !self.e_busy.q.val();
         self.e_out.next = 0.into();
+        self.e_out2.next = 0.into();
         self.e_more.next = false;
         for l in 0..self._lists {
             self.e_pick[l].next = 0.into();
+            self.e_pick2[l].next = 0.into();
             if self.e_sel[l].q.val() {
                 self.e_pick[l].next = self.e_head[l].q.val();
+                self.e_pick2[l].next = self.e_head2[l].q.val();
             }
             self.e_out.next = self.e_out.val() | self.e_pick[l].val();
+            self.e_out2.next = self.e_out2.val() | self.e_pick2[l].val();
             self.e_more.next = self.e_more.val() | (self.e_rem[l].q.val() & !self.e_sel[l].q.val());
         }
         self.lq_head.write_enable.next = self.e_push.val();
         self.lq_head.write_address.next = self.lq_wp.q.val();
         self.lq_head.write_data.next = self.e_out.val();
         self.lq_head.read_address.next = self.lq_rp.q.val();
+        self.lq_head2.write_enable.next = self.e_push.val();
+        self.lq_head2.write_address.next = self.lq_wp.q.val();
+        self.lq_head2.write_data.next = self.e_out2.val();
+        self.lq_head2.read_address.next = self.lq_rp.q.val();
         self.lq_last.write_enable.next = self.e_push.val();
         self.lq_last.write_address.next = self.lq_wp.q.val();
         self.lq_last.write_data.next = !self.e_more.val();
@@ -1334,35 +1431,70 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             for l in 0..self._lists {
                 self.e_rem[l].d.next = self.rd_live[l].val();
                 self.e_head[l].d.next = self.rec[l].read_data.val();
+                self.e_head2[l].d.next = self.rec2[l].read_data.val();
             }
         }
+        for b in 0..27 {
+            self.bank_next[b].next = false;
+        }
+        for q in 0..self._groups {
+            for b in 0..27 {
+                self.bank_next[b].next = self.bank_next[b].val() | self.e_rem[27 * q + b].d.val();
+            }
+        }
+        for b in 0..27 {
+            self.bank_left[b].clock.next = self.clock.val();
+            self.bank_left[b].d.next = self.bank_next[b].val();
+        }
 
-        // The walker. The list goes on (the successor table's output), or a stalled visit is
-        // held, or it takes the list queue's next list (its record's last done, the record
-        // retires the same clock). (Flags are tested by a mask, not `>= top`: a compare is a
-        // carry chain in synthesis.)
-        self.list_open.next =
-            self.chase.q.val() & ((self.succ.read_data_b.val() & self.top.val()) != 0);
-        self.need.next = !self.list_open.val() & !self.held_valid.q.val();
+        // The walker. The list's next box is known from registers alone (so that no decision
+        // waits for the successor table's block RAM): the first known and not visited (`q0`),
+        // or the second successor of the box visited two clocks before, arriving on the
+        // table's registered output. Else the list is over: the walker takes the list queue's
+        // next (its head now, its second on the next clock, from the queue) or, its record's
+        // last list done, retires the record. (Flags are tested by a mask, not `>= top`: a
+        // compare is a carry chain in synthesis.)
+        self.arrive.next = self.r2.q.val() & ((self.succ_q.q.val() & self.top.val()) != 0);
+        self.avail.next = self.q0v.q.val() | self.arrive.val();
+        self.need.next = !self.avail.val();
         self.take.next = self.need.val() & self.lq_fill[0].q.val();
         self.retire_rec.next = self.need.val() & self.cur_valid.q.val() & self.cur_last.q.val();
         self.cand.next = self.lq_head.read_data.val();
-        if self.held_valid.q.val() | self.fetch_q.q.val() {
-            self.cand.next = self.held.q.val();
+        if self.fetch_q.q.val() {
+            self.cand.next = self.lcur.q.val();
         }
-        if self.list_open.val() {
-            self.cand.next = self.succ.read_data_b.val();
+        if self.arrive.val() {
+            self.cand.next = self.succ_q.q.val();
         }
-        self.cand_ok.next = self.list_open.val() | self.held_valid.q.val() | self.take.val();
+        if self.q0v.q.val() {
+            self.cand.next = self.q0.q.val();
+        }
+        // The box after `cand`: `q1`, the arrival behind `q0`, or a taken list's second.
+        self.after.next = self.succ_q.q.val();
+        if self.q1v.q.val() {
+            self.after.next = self.q1.q.val();
+        }
+        self.after_v.next = self.q1v.q.val() | (self.q0v.q.val() & self.arrive.val());
+        if self.take.val() {
+            self.after.next = self.lq_head2.read_data.val();
+            self.after_v.next = (self.lq_head2.read_data.val() & self.top.val()) != 0;
+        }
+        self.cand_ok.next = self.avail.val() | self.take.val();
         self.stall.next = self.fifo.almost_full.val();
         self.go.next = self.cand_ok.val() & !self.stall.val();
-        self.chase.d.next = self.go.val();
         if self.go.val() {
-            self.held_valid.d.next = false;
-        } else if self.cand_ok.val() {
-            self.held_valid.d.next = true;
-            self.held.d.next = self.cand.val();
+            self.q0.d.next = self.after.val();
+            self.q0v.d.next = self.after_v.val();
+            self.q1v.d.next = false;
+        } else {
+            self.q0.d.next = self.cand.val();
+            self.q0v.d.next = self.cand_ok.val();
+            self.q1.d.next = self.after.val();
+            self.q1v.d.next = self.cand_ok.val() & self.after_v.val();
         }
+        self.r1.d.next = self.go.val();
+        self.r2.d.next = self.r1.q.val();
+        self.succ_q.d.next = self.succ.read_data_b.val();
         // The visit's box i: the list's, or the one taken this clock.
         self.v1_i.d.next = self.cur_index.q.val();
         self.v1_margin.d.next = self.cur_margin.q.val();
@@ -1558,12 +1690,15 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             for k in 0..3 {
                 self.lq_fill[k].d.next = false;
             }
-            self.held_valid.d.next = false;
-            self.chase.d.next = false;
+            self.q0v.d.next = false;
+            self.q1v.d.next = false;
+            self.r1.d.next = false;
+            self.r2.d.next = false;
             self.clearing.d.next = false;
             self.cleared.d.next = false;
             self.slow.d.next = SlowState::Fetch;
             self.lnext.d.next = 0.into();
+            self.lnext2.d.next = 0.into();
             self.wide.d.next = false;
         }
     }

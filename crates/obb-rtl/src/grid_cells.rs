@@ -5,8 +5,8 @@
 //! | clock | stage |
 //! | --- | --- |
 //! | K | the keys |
-//! | K+1 | per axis the window's cells first, first + 1, first + 2 (offset coordinates: the first is kmin >> g, the home cell first + 1), whether the third is in the window (kmax reaches the next cell), whether the box is small; each 6-bit chunk of the first cell's coordinate mod 3 |
-//! | K+2 | each cell's H3 hash, the first cell's coordinate mod 3 (its chunks' residues summed) |
+//! | K+1 | per axis the window's cells first, first + 1, first + 2 (offset coordinates: the first is kmin >> g, the home cell first + 1), whether the third is in the window (kmax reaches the next cell), the box's width; each 6-bit chunk of the first cell's coordinate mod 3 |
+//! | K+2 | each cell's H3 hash, the first cell's coordinate mod 3 (its chunks' residues summed), whether the box is small |
 //! | K+3 | per bank (coordinates mod 3 on each axis) its cell's bucket, fingerprint, whether the window has a cell there, whether it is the home cell; the home cell's fingerprint |
 
 use crate::projection::CENTER;
@@ -59,7 +59,10 @@ pub struct GridCells {
     valid1: DFF<Bit>,
     valid2: DFF<Bit>,
     valid3: DFF<Bit>,
-    small1: DFF<Bit>,
+    /// K+1: the box's width per axis; K+2: the box is small (the difference and the compare
+    /// on two clocks: two carry chains in one clock behind the injection's multiplexer were
+    /// over 4 ns).
+    width1: [DFF<Bits<CENTER>>; 3],
     small2: DFF<Bit>,
     small3: DFF<Bit>,
     /// Per axis the window's cells `3 x + d` (first + d), and whether the third is in it.
@@ -76,7 +79,6 @@ pub struct GridCells {
     inside_r: [DFF<Bit>; 27],
     home_r: [DFF<Bit>; 27],
     home_fp_r: DFF<Bits<FP>>,
-    width: [Signal<Local, Bits<CENTER>>; 3],
     /// Per axis and cell: the hash accumulated over the coordinate's bits (`24 (3 x + d) + i`).
     hacc: Vec<Signal<Local, Bits<HASH>>>,
     /// Per axis: the first cell; per 6-bit chunk of it its value; per axis the chunks'
@@ -140,7 +142,7 @@ impl GridCells {
             valid1: Default::default(),
             valid2: Default::default(),
             valid3: Default::default(),
-            small1: Default::default(),
+            width1: Default::default(),
             small2: Default::default(),
             small3: Default::default(),
             cell1: Default::default(),
@@ -154,7 +156,6 @@ impl GridCells {
             inside_r: Default::default(),
             home_r: Default::default(),
             home_fp_r: Default::default(),
-            width: Default::default(),
             hacc: vec(9 * (COORD + 1)),
             first: Default::default(),
             chunk: Default::default(),
@@ -171,8 +172,9 @@ impl GridCells {
 impl Logic for GridCells {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, valid1, valid2, valid3, small1, small2, small3, home_fp_r);
+        dff_setup!(self, clock, valid1, valid2, valid3, small2, small3, home_fp_r);
         for x in 0..3 {
+            self.width1[x].clock.next = self.clock.val();
             self.third1[x].clock.next = self.clock.val();
             self.third2[x].clock.next = self.clock.val();
             self.res2[x].clock.next = self.clock.val();
@@ -196,13 +198,10 @@ impl Logic for GridCells {
         self.small3.d.next = self.small2.q.val();
         // K+1: the window's cells per axis, first to first + 2 (offset coordinates: the first
         // is kmin >> g, the home cell first + 1); the third is in the window when kmax reaches
-        // the next cell. A small box spans at most one cell edge on every axis.
-        self.small1.d.next = true;
+        // the next cell. The box's width per axis (a small box spans at most one cell edge on
+        // every axis: decided at K+2).
         for x in 0..3 {
-            self.width[x].next = self.key_max[x].val() - self.key_min[x].val();
-            if self.width[x].val() > self.cell_edge.val() {
-                self.small1.d.next = false;
-            }
+            self.width1[x].d.next = self.key_max[x].val() - self.key_min[x].val();
             self.cell1[3 * x].d.next = self.key_min[x].val() >> self.cell_bits.val();
             self.cell1[3 * x + 1].d.next = (self.key_min[x].val() >> self.cell_bits.val()) + 1;
             self.cell1[3 * x + 2].d.next = (self.key_min[x].val() >> self.cell_bits.val()) + 2;
@@ -229,7 +228,9 @@ impl Logic for GridCells {
         // K+2: each cell's hash (bit k the parity of the coordinate bits row k selects: the
         // XOR of the columns of its set bits), and the first cell's residue mod 3 (its chunks'
         // residues summed, reduced).
-        self.small2.d.next = self.small1.q.val();
+        self.small2.d.next = (self.width1[0].q.val() <= self.cell_edge.val())
+            & (self.width1[1].q.val() <= self.cell_edge.val())
+            & (self.width1[2].q.val() <= self.cell_edge.val());
         for x in 0..3 {
             self.third2[x].d.next = self.third1[x].q.val();
             for d in 0..3 {

@@ -11,6 +11,10 @@
 //!   exactly one entry is, so that the load never waits for a compare of the pointers or the
 //!   count: the flags' next values need only the count's "two" besides this clock's write and
 //!   load.
+//! - `write` may come late in its clock (the grid's key check decides it): the count's next
+//!   value and `almost_full`'s (a register) are chosen by it among values computed from the
+//!   registers alone (an AND-OR of masks: a multiplexer of sums is folded by synthesis into
+//!   one adder of a selected operand, a carry chain behind the write).
 //!
 //! Timing: an entry written on the edge ending clock t is stored from t+1 (`empty` low) and
 //! on `data_out` from t+2.
@@ -39,6 +43,10 @@ pub struct PairFifo<const W: usize> {
     /// At least `stall_at` entries stored (the output register not counted).
     pub almost_full: Signal<Out, Bit>,
     stall_at: Constant<Bits<COUNT>>,
+    /// `stall_at` less one and plus one; all ones.
+    stall_lo: Constant<Bits<COUNT>>,
+    stall_hi: Constant<Bits<COUNT>>,
+    ones: Constant<Bits<COUNT>>,
     ram: DistRam<Bits<W>, ADDRESS>,
     wptr: DFF<Bits<ADDRESS>>,
     rptr: DFF<Bits<ADDRESS>>,
@@ -48,14 +56,27 @@ pub struct PairFifo<const W: usize> {
     one: DFF<Bit>,
     out_valid: DFF<Bit>,
     out_data: DFF<Bits<W>>,
+    /// `almost_full`, registered with the count.
+    full_q: DFF<Bit>,
     load: Signal<Local, Bit>,
     two: Signal<Local, Bit>,
+    /// The count plus and less one; masks: it stays, rises, falls.
+    count_inc: Signal<Local, Bits<COUNT>>,
+    count_dec: Signal<Local, Bits<COUNT>>,
+    keep_m: Signal<Local, Bits<COUNT>>,
+    up_m: Signal<Local, Bits<COUNT>>,
+    down_m: Signal<Local, Bits<COUNT>>,
+    up: Signal<Local, Bit>,
+    down: Signal<Local, Bit>,
 }
 
 impl<const W: usize> PairFifo<W> {
     /// A FIFO that is `almost_full` from `stall_at` stored entries.
     pub fn new(stall_at: u64) -> Self {
-        assert!(stall_at <= DEPTH, "the stall threshold is within the depth");
+        assert!(
+            (1..=DEPTH).contains(&stall_at),
+            "the stall threshold is within the depth"
+        );
         PairFifo {
             clock: Default::default(),
             write: Default::default(),
@@ -66,6 +87,9 @@ impl<const W: usize> PairFifo<W> {
             empty: Default::default(),
             almost_full: Default::default(),
             stall_at: Constant::new(stall_at.into()),
+            stall_lo: Constant::new((stall_at - 1).into()),
+            stall_hi: Constant::new((stall_at + 1).into()),
+            ones: Constant::new(((1u64 << COUNT) - 1).into()),
             ram: Default::default(),
             wptr: Default::default(),
             rptr: Default::default(),
@@ -74,8 +98,16 @@ impl<const W: usize> PairFifo<W> {
             one: Default::default(),
             out_valid: Default::default(),
             out_data: Default::default(),
+            full_q: Default::default(),
             load: Default::default(),
             two: Default::default(),
+            count_inc: Default::default(),
+            count_dec: Default::default(),
+            keep_m: Default::default(),
+            up_m: Default::default(),
+            down_m: Default::default(),
+            up: Default::default(),
+            down: Default::default(),
         }
     }
 }
@@ -83,7 +115,7 @@ impl<const W: usize> PairFifo<W> {
 impl<const W: usize> Logic for PairFifo<W> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, wptr, rptr, count, stored, one, out_valid, out_data);
+        dff_setup!(self, clock, wptr, rptr, count, stored, one, out_valid, out_data, full_q);
         clock!(self, clock, ram);
         self.ram.write_enable.next = self.write.val();
         self.ram.write_address.next = self.wptr.q.val();
@@ -100,12 +132,27 @@ impl<const W: usize> Logic for PairFifo<W> {
         } else if self.ready.val() {
             self.out_valid.d.next = false;
         }
-        if self.write.val() & !self.load.val() {
-            self.count.d.next = self.count.q.val() + 1;
+        self.up.next = self.write.val() & !self.load.val();
+        self.down.next = self.load.val() & !self.write.val();
+        self.keep_m.next = 0.into();
+        self.up_m.next = 0.into();
+        self.down_m.next = 0.into();
+        if self.up.val() {
+            self.up_m.next = self.ones.val();
+        } else if self.down.val() {
+            self.down_m.next = self.ones.val();
+        } else {
+            self.keep_m.next = self.ones.val();
         }
-        if self.load.val() & !self.write.val() {
-            self.count.d.next = self.count.q.val() - 1;
-        }
+        self.count_inc.next = self.count.q.val() + 1;
+        self.count_dec.next = self.count.q.val() - 1;
+        self.count.d.next = (self.count.q.val() & self.keep_m.val())
+            | (self.count_inc.val() & self.up_m.val())
+            | (self.count_dec.val() & self.down_m.val());
+        self.full_q.d.next =
+            ((self.count.q.val() >= self.stall_at.val()) & !self.up.val() & !self.down.val())
+                | ((self.count.q.val() >= self.stall_lo.val()) & self.up.val())
+                | ((self.count.q.val() >= self.stall_hi.val()) & self.down.val());
         // Stored after this clock: something, and exactly one entry.
         self.two.next = self.count.q.val() == 2;
         self.stored.d.next =
@@ -116,6 +163,6 @@ impl<const W: usize> Logic for PairFifo<W> {
         self.valid.next = self.out_valid.q.val();
         self.data_out.next = self.out_data.q.val();
         self.empty.next = !self.stored.q.val() & !self.out_valid.q.val();
-        self.almost_full.next = self.count.q.val() >= self.stall_at.val();
+        self.almost_full.next = self.full_q.q.val();
     }
 }
