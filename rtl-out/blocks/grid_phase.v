@@ -134,6 +134,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
     localparam  at_ma = 8'h1c;
     localparam  ones = 7'b1111111;
     localparam  center_ones = 23'h7fffff;
+    localparam  above_one = 23'h7ffffe;
     localparam  above_three = 23'h7ffffc;
     
     // Enums
@@ -8526,6 +8527,12 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
     reg  plan_wide;
     reg  large_in;
     reg  home_ok;
+    reg  [22:0] wl_cell$0;
+    reg  [22:0] wl_cell$1;
+    reg  [22:0] wl_cell$2;
+    reg  [22:0] wl_keep$0;
+    reg  [22:0] wl_keep$1;
+    reg  [22:0] wl_keep$2;
     reg  [63:0] mask_row;
     reg  mask_ok;
     reg  pass;
@@ -21822,8 +21829,8 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         inject_kind = 32'h0;
         plan_wide = 1'b0;
         left$0 = rleft$0$q;
-        three_cells$0 = (left$0 == 32'h2) | ((left$0 & above_three) != 32'h0);
-        last_round$0 = ((left$0 & above_three) == 32'h0) & (left$0 != 32'h3);
+        three_cells$0 = left$0[32'h0] | ((left$0 & above_three) != 32'h0);
+        last_round$0 = (left$0 & above_one) == 32'h0;
         rr_p1$0 = rr$0$q + 32'h1;
         rr_p2$0 = rr$0$q + 32'h2;
         rr_p3$0 = rr$0$q + 32'h3;
@@ -21846,14 +21853,14 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         inj_min$0$d = inject_min$0;
         inj_max$0$d = inject_max$0;
         plan_lo$0 = lk_min$0$q >> cell_bits;
-        plan_hi$0 = (lk_max$0$q >> cell_bits) + 32'h1;
+        plan_hi$0 = lk_max$0$q >> cell_bits;
         plan_span$0 = plan_hi$0 - plan_lo$0;
         if ((lk_max$0$q >> cell_bits) > lk_lim$0$q) begin
             plan_wide = 1'b1;
         end
         left$1 = rleft$1$q;
-        three_cells$1 = (left$1 == 32'h2) | ((left$1 & above_three) != 32'h0);
-        last_round$1 = ((left$1 & above_three) == 32'h0) & (left$1 != 32'h3);
+        three_cells$1 = left$1[32'h0] | ((left$1 & above_three) != 32'h0);
+        last_round$1 = (left$1 & above_one) == 32'h0;
         rr_p1$1 = rr$1$q + 32'h1;
         rr_p2$1 = rr$1$q + 32'h2;
         rr_p3$1 = rr$1$q + 32'h3;
@@ -21876,14 +21883,14 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         inj_min$1$d = inject_min$1;
         inj_max$1$d = inject_max$1;
         plan_lo$1 = lk_min$1$q >> cell_bits;
-        plan_hi$1 = (lk_max$1$q >> cell_bits) + 32'h1;
+        plan_hi$1 = lk_max$1$q >> cell_bits;
         plan_span$1 = plan_hi$1 - plan_lo$1;
         if ((lk_max$1$q >> cell_bits) > lk_lim$1$q) begin
             plan_wide = 1'b1;
         end
         left$2 = rleft$2$q;
-        three_cells$2 = (left$2 == 32'h2) | ((left$2 & above_three) != 32'h0);
-        last_round$2 = ((left$2 & above_three) == 32'h0) & (left$2 != 32'h3);
+        three_cells$2 = left$2[32'h0] | ((left$2 & above_three) != 32'h0);
+        last_round$2 = (left$2 & above_one) == 32'h0;
         rr_p1$2 = rr$2$q + 32'h1;
         rr_p2$2 = rr$2$q + 32'h2;
         rr_p3$2 = rr$2$q + 32'h3;
@@ -21906,7 +21913,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         inj_min$2$d = inject_min$2;
         inj_max$2$d = inject_max$2;
         plan_lo$2 = lk_min$2$q >> cell_bits;
-        plan_hi$2 = (lk_max$2$q >> cell_bits) + 32'h1;
+        plan_hi$2 = lk_max$2$q >> cell_bits;
         plan_span$2 = plan_hi$2 - plan_lo$2;
         if ((lk_max$2$q >> cell_bits) > lk_lim$2$q) begin
             plan_wide = 1'b1;
@@ -29926,9 +29933,14 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             v2_min_i$0$d = lk_min$0$q;
             v2_max_i$0$d = lk_max$0$q;
         end
-        v2_wl$0$d = v1_min$0$q >> cell_bits;
-        v2_wh$0$d = (v1_max$0$q >> cell_bits) + 32'h1;
-        v2_jc$0$d = (rd_min$0 >> cell_bits) + 32'h1;
+        wl_cell$0 = v1_min$0$q >> cell_bits;
+        wl_keep$0 = 32'h0;
+        if (|wl_cell$0) begin
+            wl_keep$0 = center_ones;
+        end
+        v2_wl$0$d = (wl_cell$0 - 32'h1) & wl_keep$0;
+        v2_wh$0$d = v1_max$0$q >> cell_bits;
+        v2_jc$0$d = rd_min$0 >> cell_bits;
         v2_min_j$0$d = rd_min$0;
         v2_max_j$0$d = rd_max$0;
         v2_min_i$1$d = v1_min$1$q;
@@ -29937,9 +29949,14 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             v2_min_i$1$d = lk_min$1$q;
             v2_max_i$1$d = lk_max$1$q;
         end
-        v2_wl$1$d = v1_min$1$q >> cell_bits;
-        v2_wh$1$d = (v1_max$1$q >> cell_bits) + 32'h1;
-        v2_jc$1$d = (rd_min$1 >> cell_bits) + 32'h1;
+        wl_cell$1 = v1_min$1$q >> cell_bits;
+        wl_keep$1 = 32'h0;
+        if (|wl_cell$1) begin
+            wl_keep$1 = center_ones;
+        end
+        v2_wl$1$d = (wl_cell$1 - 32'h1) & wl_keep$1;
+        v2_wh$1$d = v1_max$1$q >> cell_bits;
+        v2_jc$1$d = rd_min$1 >> cell_bits;
         v2_min_j$1$d = rd_min$1;
         v2_max_j$1$d = rd_max$1;
         v2_min_i$2$d = v1_min$2$q;
@@ -29948,9 +29965,14 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             v2_min_i$2$d = lk_min$2$q;
             v2_max_i$2$d = lk_max$2$q;
         end
-        v2_wl$2$d = v1_min$2$q >> cell_bits;
-        v2_wh$2$d = (v1_max$2$q >> cell_bits) + 32'h1;
-        v2_jc$2$d = (rd_min$2 >> cell_bits) + 32'h1;
+        wl_cell$2 = v1_min$2$q >> cell_bits;
+        wl_keep$2 = 32'h0;
+        if (|wl_cell$2) begin
+            wl_keep$2 = center_ones;
+        end
+        v2_wl$2$d = (wl_cell$2 - 32'h1) & wl_keep$2;
+        v2_wh$2$d = v1_max$2$q >> cell_bits;
+        v2_jc$2$d = rd_min$2 >> cell_bits;
         v2_min_j$2$d = rd_min$2;
         v2_max_j$2$d = rd_max$2;
         overlap = (v2_min_i$0$q <= v2_max_j$0$q) & (v2_min_j$0$q <= v2_max_i$0$q) & (v2_min_i$1$q <= v2_max_j$1$q) & (v2_min_j$1$q <= v2_max_i$1$q) & (v2_min_i$2$q <= v2_max_j$2$q) & (v2_min_j$2$q <= v2_max_i$2$q);

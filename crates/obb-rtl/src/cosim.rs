@@ -5,7 +5,7 @@
 //! result and compares it with the bit-exact model. `obbcd cosim` is its command line.
 
 use crate::cache;
-use crate::verilator::{hex_word, output, Simulator};
+use crate::verilator::{binary_build, hex_word, output, Simulator};
 use anyhow::{bail, Context, Result};
 use obb_model::fixed::{quantize, HwConfig, ModelFrame, ModelRun, QObb, QuantizeError};
 use obb_model::{Pair, Scene};
@@ -165,16 +165,7 @@ pub fn build(
 fn compile(work: &Path, sim: Simulator, level: Level, trace: bool, sources: &[&str]) -> Result<()> {
     match sim {
         Simulator::Verilator => {
-            let mut cmd = Command::new("verilator");
-            cmd.current_dir(work)
-                .args(["--binary", "-j", "2", "-O3", "--top-module", "tb"])
-                .args([
-                    "-Wno-fatal",
-                    "-Wno-WIDTH",
-                    "-Wno-DECLFILENAME",
-                    "-Wno-UNUSED",
-                ])
-                .args(["--Mdir", "obj"]);
+            let mut cmd = binary_build(work);
             if level == Level::Gates {
                 cmd.args(["-Wno-lint", "-Wno-style"]);
             }

@@ -309,8 +309,11 @@ pub struct GridPhase<const A: usize, const C: usize> {
     v2_margin_i: DFF<Bits<MARGIN>>,
     v2_margin_j: DFF<Bits<MARGIN>>,
     v2_kind: DFF<Bits<KIND>>,
-    /// A round's first and last cells (its keys shifted), the visited box's first cell (its
-    /// home is the next), its group.
+    /// A round passes a visited box whose home cell, its first cell j plus one, lies within
+    /// the round's first and last cells. All three are compared less one, so that no adder
+    /// stands behind the key table's block RAM (j is its key shifted) nor before the
+    /// compares: the round's first cell less one (zero for cell zero: every home is at least
+    /// one), its last cell less one (its largest key shifted), j; the visited box's group.
     v2_wl: [DFF<Bits<CENTER>>; 3],
     v2_wh: [DFF<Bits<CENTER>>; 3],
     v2_jc: [DFF<Bits<CENTER>>; 3],
@@ -454,8 +457,9 @@ pub struct GridPhase<const A: usize, const C: usize> {
     inject_kind: Signal<Local, Bits<KIND>>,
     inject_min: [Signal<Local, Bits<CENTER>>; 3],
     inject_max: [Signal<Local, Bits<CENTER>>; 3],
-    /// Per axis: cells left after the round's first, less one (`rleft`, kept by steps: the
-    /// difference was a carry chain before the compares); the round has three cells; it is the
+    /// Per axis: the cells left, the round's included, less two (`rleft`, kept by steps: a
+    /// difference would be a carry chain before the compares; less two, so that the plan's
+    /// difference needs no increment); the round has three cells; it is the
     /// axis's last; the round's first cell plus 1, 2, 3; the cells left less 2, 3; masks (all
     /// ones where the round has two, three cells: an AND-OR, which synthesis does not fold
     /// into an adder of a selected operand); the next round's first cell and cells left.
@@ -472,8 +476,9 @@ pub struct GridPhase<const A: usize, const C: usize> {
     next_rr: [Signal<Local, Bits<CENTER>>; 3],
     next_left: [Signal<Local, Bits<CENTER>>; 3],
     plan_span: [Signal<Local, Bits<CENTER>>; 3],
-    /// All ones; all but the two low bits.
+    /// All ones; all but the low bit; all but the two low bits.
     center_ones: Constant<Bits<CENTER>>,
+    above_one: Constant<Bits<CENTER>>,
     above_three: Constant<Bits<CENTER>>,
     plan_lo: [Signal<Local, Bits<CENTER>>; 3],
     plan_hi: [Signal<Local, Bits<CENTER>>; 3],
@@ -482,6 +487,9 @@ pub struct GridPhase<const A: usize, const C: usize> {
     large_in: Signal<Local, Bit>,
     /// V+2: the visited box's home is in the round; the mask pairs the groups; the pair passes.
     home_ok: Signal<Local, Bit>,
+    /// The round's first cell; all ones unless it is cell zero.
+    wl_cell: [Signal<Local, Bits<CENTER>>; 3],
+    wl_keep: [Signal<Local, Bits<CENTER>>; 3],
     mask_row: Signal<Local, Bits<MASK>>,
     mask_ok: Signal<Local, Bit>,
     pass: Signal<Local, Bit>,
@@ -782,12 +790,15 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             next_left: Default::default(),
             plan_span: Default::default(),
             center_ones: Constant::new(((1u64 << CENTER) - 1).into()),
+            above_one: Constant::new(((1u64 << CENTER) - 2).into()),
             above_three: Constant::new(((1u64 << CENTER) - 4).into()),
             plan_lo: Default::default(),
             plan_hi: Default::default(),
             plan_wide: Default::default(),
             large_in: Default::default(),
             home_ok: Default::default(),
+            wl_cell: Default::default(),
+            wl_keep: Default::default(),
             mask_row: Default::default(),
             mask_ok: Default::default(),
             pass: Default::default(),
@@ -981,12 +992,12 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.inject_kind.next = 0.into();
         self.plan_wide.next = false;
         for x in 0..3 {
-            // A round spans three cells when three or five or more are left, else two.
+            // A round spans three cells when three or five or more are left (`left` is 1 or
+            // at least 3), else two; it is the last when at most three are left (`left` <= 1).
             self.left[x].next = self.rleft[x].q.val();
-            self.three_cells[x].next =
-                (self.left[x].val() == 2) | ((self.left[x].val() & self.above_three.val()) != 0);
-            self.last_round[x].next =
-                ((self.left[x].val() & self.above_three.val()) == 0) & (self.left[x].val() != 3);
+            self.three_cells[x].next = self.left[x].val().get_bit(0)
+                | ((self.left[x].val() & self.above_three.val()) != 0);
+            self.last_round[x].next = (self.left[x].val() & self.above_one.val()) == 0;
             self.rr_p1[x].next = self.rr[x].q.val() + 1;
             self.rr_p2[x].next = self.rr[x].q.val() + 2;
             self.rr_p3[x].next = self.rr[x].q.val() + 3;
@@ -1013,7 +1024,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.inj_min[x].d.next = self.inject_min[x].val();
             self.inj_max[x].d.next = self.inject_max[x].val();
             self.plan_lo[x].next = self.lk_min[x].q.val() >> self.cell_bits.val();
-            self.plan_hi[x].next = (self.lk_max[x].q.val() >> self.cell_bits.val()) + 1;
+            self.plan_hi[x].next = self.lk_max[x].q.val() >> self.cell_bits.val();
             self.plan_span[x].next = self.plan_hi[x].val() - self.plan_lo[x].val();
             if (self.lk_max[x].q.val() >> self.cell_bits.val()) > self.lk_lim[x].q.val() {
                 self.plan_wide.next = true;
@@ -1600,9 +1611,14 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 self.v2_min_i[x].d.next = self.lk_min[x].q.val();
                 self.v2_max_i[x].d.next = self.lk_max[x].q.val();
             }
-            self.v2_wl[x].d.next = self.v1_min[x].q.val() >> self.cell_bits.val();
-            self.v2_wh[x].d.next = (self.v1_max[x].q.val() >> self.cell_bits.val()) + 1;
-            self.v2_jc[x].d.next = (self.rd_min[x].val() >> self.cell_bits.val()) + 1;
+            self.wl_cell[x].next = self.v1_min[x].q.val() >> self.cell_bits.val();
+            self.wl_keep[x].next = 0.into();
+            if self.wl_cell[x].val().any() {
+                self.wl_keep[x].next = self.center_ones.val();
+            }
+            self.v2_wl[x].d.next = (self.wl_cell[x].val() - 1) & self.wl_keep[x].val();
+            self.v2_wh[x].d.next = self.v1_max[x].q.val() >> self.cell_bits.val();
+            self.v2_jc[x].d.next = self.rd_min[x].val() >> self.cell_bits.val();
             self.v2_min_j[x].d.next = self.rd_min[x].val();
             self.v2_max_j[x].d.next = self.rd_max[x].val();
         }
