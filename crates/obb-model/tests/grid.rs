@@ -70,17 +70,66 @@ proptest! {
         obbs in proptest::collection::vec(common::obb(40.0, 2.5, 3), 0..80),
         cell_exp in 0i32..=3,
         grid_hash_bits in 1u32..=4,
+        lanes in prop::sample::select(vec![1u32, 2, 4, 8]),
         mask in common::mask(),
     ) {
         let scene = Scene { obbs };
-        let cfg = grid(HwConfig { grid_cell_mm: 2f64.powi(cell_exp), grid_hash_bits, ..HwConfig::default() });
+        let cfg = grid(HwConfig { grid_cell_mm: 2f64.powi(cell_exp), grid_hash_bits, lanes, ..HwConfig::default() });
         let m = ModelFrame::new(&scene, &cfg).unwrap();
         let run = m.detect(BroadPhase::Grid, &mask);
         let brute = m.detect(BroadPhase::Brute, &mask);
         prop_assert_eq!(&run.pairs, &brute.pairs);
         prop_assert_eq!(run.reported(), brute.reported(), "each pair once");
         prop_assert_eq!(run.work.emitted, brute.work.emitted);
+        lanes_keep_their_rules(&m, &mask)?;
     }
+}
+
+/// The schedule of `frame`'s grid walk under `mask` keeps the lanes' rules: a visit of box `j`
+/// is made by lane `j % lanes` (box `j` is on that lane's lists and chain), each lane makes at
+/// most one visit a clock and its visits in the walk's order, and at most one candidate is
+/// issued a clock, never on a clock that accepts a box; the SAT takes the candidates in the
+/// order they are issued.
+fn lanes_keep_their_rules(frame: &ModelFrame, mask: &GroupMask) -> Result<(), TestCaseError> {
+    let walk = frame.grid_walk(mask);
+    let s = grid_schedule(&walk);
+    let lanes = walk.lanes;
+    let mut last = vec![0u64; lanes];
+    let mut per_clock = std::collections::HashSet::new();
+    for (&(_, j), &t) in walk.pairs.iter().zip(&s.visits) {
+        let lane = j as usize % lanes;
+        prop_assert!(
+            t > last[lane],
+            "lane {} visits at {} after {}",
+            lane,
+            t,
+            last[lane]
+        );
+        prop_assert!(per_clock.insert((lane, t)));
+        last[lane] = t;
+    }
+    let mut issues = s.issues.clone();
+    issues.sort_unstable();
+    issues.dedup();
+    prop_assert_eq!(issues.len(), s.issues.len(), "one issue a clock");
+    prop_assert!(issues.iter().all(|t| s.accepts.binary_search(t).is_err()));
+    let candidates: Vec<(u32, u32)> = walk
+        .pairs
+        .iter()
+        .zip(&walk.passes)
+        .filter(|(_, &pass)| pass)
+        .map(|(&p, _)| p)
+        .collect();
+    let mut by_issue: Vec<(u64, (u32, u32))> = s.issues.iter().copied().zip(candidates).collect();
+    by_issue.sort_unstable();
+    let run = frame.detect(BroadPhase::Grid, mask);
+    let sat: Vec<[u32; 2]> = by_issue
+        .iter()
+        .map(|&(_, (i, j))| [i.min(j), i.max(j)])
+        .filter(|p| run.pairs.binary_search(p).is_ok())
+        .collect();
+    prop_assert_eq!(sat, run.stream);
+    Ok(())
 }
 
 /// `n` boxes in the same place, all in group 0.
@@ -155,6 +204,45 @@ fn clock_model_by_hand() {
     assert_eq!(run.cycles.total, visit + 3 + clear);
 }
 
+/// Three coincident boxes on two lanes (all pairs), worked out by hand from the rules in
+/// `grid_clocks.rs`: box 1 (lane 1) visits box 0 on lane 0; box 2 (lane 0) visits box 0 on lane
+/// 0 and box 1 on lane 1, which is free and walks it first.
+#[test]
+fn clock_model_of_two_lanes_by_hand() {
+    let cfg = grid(HwConfig {
+        lanes: 2,
+        ..HwConfig::default()
+    });
+    let frame = ModelFrame::new(&coincident(3), &cfg).unwrap();
+    let walk = frame.grid_walk(&GroupMask::All);
+    // The walk's order: record by record, lane by lane.
+    assert_eq!(walk.pairs, vec![(1, 0), (2, 0), (2, 1)]);
+    assert_eq!(walk.visits, vec![0, 0, 1, 0, 1, 1]);
+    // Box k is accepted at clock k + 1. Box 1's list is lane 0's walker's LAT_PROJECT +
+    // LAT_PROBE after its accept. Lane 0's enumerator writes box 1's list on the clock before
+    // that visit and is free from the next: it loads box 2's record then, chooses on the next
+    // clock and writes on the one after, and its walker visits the clock after that. Lane 1
+    // loads box 2's record when it is ready (it has held none), so its visit comes LAT_PROBE
+    // after box 2's keys.
+    let first = 2 + LAT_PROJECT + LAT_PROBE;
+    let s = grid_schedule(&walk);
+    assert_eq!(s.accepts, vec![1, 2, 3]);
+    assert_eq!(s.visits, vec![first, first + 3, first + 1]);
+    // Each candidate issues LAT_GRID_CHECK after its visit (no box is accepted then), so the
+    // SAT takes lane 1's before lane 0's second.
+    assert_eq!(
+        s.issues,
+        s.visits
+            .iter()
+            .map(|v| v + LAT_GRID_CHECK)
+            .collect::<Vec<_>>()
+    );
+    let run = frame.detect(BroadPhase::Grid, &GroupMask::All);
+    assert_eq!(run.stream, vec![[0, 1], [1, 2], [0, 2]]);
+    // Lane 0 retires box 2 the clock after its last visit; the walk is over the clock after.
+    assert_eq!(s.walked, first + 5);
+}
+
 /// 200 coincident boxes: the walker falls behind, the boxes waiting for it use up the credits,
 /// and the load waits (no record is lost: every pair is reported once).
 #[test]
@@ -216,16 +304,19 @@ fn large_boxes_take_the_slow_path() {
     // 2 mm cells: three large boxes, whose windows are read in rounds; 1/2 mm cells: every box
     // is large, every window within MAX_WINDOW; 1/64 mm cells: windows too wide.
     for (cell, large, whole) in [(2.0, 3, true), (0.5, 43, true), (1.0 / 64.0, 43, false)] {
-        for (mask, hash_bits) in [
-            (GroupMask::All, 1),
-            (GroupMask::All, 10),
-            (GroupMask::Cross, 10),
-            ("0-2,2-3".parse().unwrap(), 2),
+        for (mask, hash_bits, lanes) in [
+            (GroupMask::All, 1, 1),
+            (GroupMask::All, 10, 1),
+            (GroupMask::Cross, 10, 1),
+            ("0-2,2-3".parse().unwrap(), 2, 1),
+            (GroupMask::All, 2, 4),
+            (GroupMask::Cross, 10, 8),
         ] {
             let cfg = grid(HwConfig {
                 grid_cell_mm: cell,
                 grid_groups: 4,
                 grid_hash_bits: hash_bits,
+                lanes,
                 ..HwConfig::default()
             });
             let m = ModelFrame::new(&scene, &cfg).unwrap();
@@ -237,6 +328,7 @@ fn large_boxes_take_the_slow_path() {
                 assert_eq!(run.pairs, brute.pairs, "{mask}");
                 assert_eq!(run.reported(), brute.reported(), "{mask}: each pair once");
                 assert!(run.pairs.iter().any(|p| p[0] == 5 || p[1] == 5));
+                lanes_keep_their_rules(&m, &mask).unwrap();
             } else {
                 assert!(run.pairs.iter().all(|p| brute.pairs.contains(p)));
             }
@@ -257,6 +349,31 @@ fn surgical_cross_group_fits_the_budget() {
         "{:?} {:?}",
         run.cycles,
         run.work
+    );
+}
+
+/// All pairs of the surgical scene fit the 125,000-clock budget (2 kHz at 4 ns) on eight lanes
+/// with 2^7 buckets a lane (the list heads' size of one lane with 2^10), where one lane makes
+/// one visit a clock and takes more than three times as long.
+#[test]
+fn surgical_all_pairs_fit_the_budget_on_eight_lanes() {
+    let scene = surgical(SURGICAL_DEFAULT_N, 1).unwrap();
+    let run = |lanes, grid_hash_bits| {
+        let cfg = grid(HwConfig {
+            groups: GroupMask::All,
+            lanes,
+            grid_hash_bits,
+            ..HwConfig::default()
+        });
+        ModelFrame::new(&scene, &cfg).unwrap().run()
+    };
+    let (one, eight) = (run(1, 10), run(8, 7));
+    assert_eq!(one.pairs, eight.pairs);
+    assert!(eight.cycles.total <= 125_000, "{:?}", eight.cycles);
+    assert!(
+        one.cycles.total > 3 * eight.cycles.total,
+        "{:?}",
+        one.cycles
     );
 }
 

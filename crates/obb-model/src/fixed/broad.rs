@@ -11,7 +11,7 @@ use super::config::BroadPhase;
 use super::cycles::sort_cycles;
 use super::frame::ModelFrame;
 use super::grid::{self, GridWalk};
-use super::grid_clocks::{grid_clocks, GridClocks};
+use super::grid_clocks::{grid_schedule, GridClocks};
 use crate::groups::GroupMask;
 use crate::radix::RadixSorter;
 
@@ -143,8 +143,21 @@ pub fn run_keeping(
             }
         }
         BroadPhase::Grid => {
-            let walk = grid::walk(frame, mask, &mut w, &mut send);
-            w.grid = Some(grid_clocks(&walk));
+            // The lanes' candidates reach the SAT in the order they are issued.
+            let mut sent = Vec::new();
+            let walk = grid::walk(frame, mask, &mut w, &mut |w, i, j| {
+                if wanted(i, j) {
+                    w.emitted += 1;
+                    sent.push((i, j));
+                }
+            });
+            let schedule = grid_schedule(&walk);
+            let mut order: Vec<usize> = (0..sent.len()).collect();
+            order.sort_unstable_by_key(|&c| schedule.issues[c]);
+            for c in order {
+                emit(sent[c].0, sent[c].1);
+            }
+            w.grid = Some(schedule.clocks);
             kept = Some(walk);
         }
     }

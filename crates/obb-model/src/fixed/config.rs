@@ -37,6 +37,8 @@ impl std::fmt::Display for BroadPhase {
 
 /// Width of a box's group number in the core: groups 0 to 7.
 pub const GROUP_BITS: u32 = 3;
+/// The most grid walker lanes (`lanes`).
+pub const MAX_LANES: u32 = 8;
 
 /// Operand width of a DSP48E1 multiplier's A port (signed).
 pub const DSP_A_BITS: u32 = 25;
@@ -66,7 +68,9 @@ pub struct HwConfig {
     pub broad_phase: BroadPhase,
     /// Which group pairs are reported (`all`, `cross`, or a list like `0-1,0-2,1-2`).
     pub groups: GroupMask,
-    /// Walker and SAT lanes (visits and pairs per clock); 1 so far.
+    /// Grid: walker lanes, each with its own lists, enumerator, walker, key check and candidate
+    /// queue, so that a clock makes up to `lanes` visits (a power of two up to 8; 1 with the other
+    /// broad phases). Box `i` is on lane `i mod lanes`. The SAT takes one pair per clock.
     pub lanes: u32,
     /// Digit width of the radix sort.
     pub radix_digit_bits: u32,
@@ -251,13 +255,25 @@ impl HwConfig {
             1 << 20,
             "box indices are 20 bits",
         )?;
-        in_range(
-            "lanes",
-            self.lanes,
-            1,
-            1,
-            "the core and its cycle model have one walker and one SAT so far",
-        )?;
+        in_range("lanes", self.lanes, 1, MAX_LANES, "the grid's walker lanes")?;
+        if !self.lanes.is_power_of_two() {
+            return Err(invalid(
+                "lanes",
+                format!(
+                    "{} is not a power of two (a box's lane is its index's low bits)",
+                    self.lanes
+                ),
+            ));
+        }
+        if self.lanes > 1 && self.broad_phase != BroadPhase::Grid {
+            return Err(invalid(
+                "lanes",
+                format!(
+                    "{} with broad phase `{}`: only the grid has several walker lanes",
+                    self.lanes, self.broad_phase
+                ),
+            ));
+        }
         in_range(
             "radix_digit_bits",
             self.radix_digit_bits,

@@ -27,6 +27,11 @@
 //! chain after it (the large boxes before it). A window of more than `MAX_WINDOW` cells on an
 //! axis is not read: the slow path stops there, and the frame is *incomplete* (the core flags
 //! it; a larger cell takes the box).
+//!
+//! With `lanes` walkers, box `i` is on lane `i mod lanes`: each bucket has a list per group and
+//! lane, a box enters its lane's list and probes every lane's, and the large boxes chain per
+//! lane. A lane's walker then visits only its lane's boxes, so in the hardware each reads its
+//! own bank of the per-box tables.
 
 use super::broad::BroadWork;
 use super::config::HwConfig;
@@ -205,44 +210,48 @@ impl List {
     }
 }
 
-/// The lists of one frame: per bank, bucket and group a `List`, and each box's successor.
+/// The lists of one frame: per bank, bucket, group and lane a `List`, and each box's successor
+/// (on its lane's list).
 struct Lists {
     shape: GridShape,
     buckets: usize,
+    lanes: usize,
     lists: Vec<List>,
     next: Vec<u32>,
 }
 
 impl Lists {
-    fn new(shape: GridShape, n: usize) -> Lists {
+    fn new(shape: GridShape, n: usize, lanes: usize) -> Lists {
         let buckets = 1usize << shape.hash_bits;
         Lists {
             shape,
             buckets,
-            lists: vec![List::default(); BANKS * buckets * shape.groups as usize],
+            lanes,
+            lists: vec![List::default(); BANKS * buckets * shape.groups as usize * lanes],
             next: vec![NONE; n],
         }
     }
 
-    /// Where `cell`'s lists start (group 0's) in `lists`.
-    fn base(&self, cell: &[u64; 3]) -> usize {
-        (GridShape::bank(cell) * self.buckets + self.shape.bucket(cell))
-            * self.shape.groups as usize
+    /// Where `cell`'s list of group `g` on `lane` is in `lists`.
+    fn slot(&self, cell: &[u64; 3], g: u32, lane: usize) -> usize {
+        let base = (GridShape::bank(cell) * self.buckets + self.shape.bucket(cell))
+            * self.shape.groups as usize;
+        (base + g as usize) * self.lanes + lane
     }
 
-    /// Box `i` of group `g` enters the list of its home cell.
+    /// Box `i` of group `g` enters its lane's list of its home cell.
     fn enter(&mut self, home: &[u64; 3], g: u32, i: usize) {
-        let slot = self.base(home) + g as usize;
+        let slot = self.slot(home, g, i % self.lanes);
         self.next[i] = self.lists[slot].enter(self.shape.fingerprint(home), i);
     }
 
-    /// `meet(cell, j, starts)` for every box `j` on the lists of the cells `first..=last` (at most 3
-    /// per axis, so one per bank) that a box of group `g` may meet under `mask`, in the
-    /// walker's order: bank, group, latest box first.
+    /// `meet(cell, j, starts)` for every box `j` on `lane`'s lists of the cells `first..=last`
+    /// (at most 3 per axis, so one per bank) that a box of group `g` may meet under `mask`, in
+    /// the lane walker's order: bank, group, latest box first.
     fn probe(
         &self,
         (first, last): (&[u64; 3], &[u64; 3]),
-        g: u32,
+        (g, lane): (u32, usize),
         mask: &GroupMask,
         mut meet: impl FnMut(&[u64; 3], usize, bool),
     ) {
@@ -250,9 +259,9 @@ impl Lists {
             let Some(cell) = GridShape::cell_in_bank(b, first, last) else {
                 continue;
             };
-            let (base, fp) = (self.base(&cell), self.shape.fingerprint(&cell));
+            let fp = self.shape.fingerprint(&cell);
             for h in (0..self.shape.groups).filter(|&h| mask.allows(g, h)) {
-                let mut j = self.lists[base + h as usize].first_for(fp);
+                let mut j = self.lists[self.slot(&cell, h, lane)].first_for(fp);
                 let mut starts = true;
                 while j != NONE {
                     meet(&cell, j as usize, starts);
@@ -264,21 +273,25 @@ impl Lists {
     }
 }
 
-/// What the grid's walk met, in the order the walker meets it: the clock model's input.
+/// What the grid's walk met, in the order the walkers meet it: the clock model's input. A
+/// *record* (a box, a large box's round, the rest of the chains) has its visits on each lane,
+/// lane by lane; each lane's are those of whole lists of that lane.
 #[derive(Clone, Debug, Default)]
 pub struct GridWalk {
-    /// Per box, its visits (none for a large box; they follow each other in `passes`).
+    /// Walker lanes: box `i` is on lane `i % lanes`, which walks its lists.
+    pub lanes: usize,
+    /// Per box and lane (`visits[i * lanes + lane]`), its visits on that lane (none for a large
+    /// box; they follow each other in `passes`).
     pub visits: Vec<usize>,
     /// Per visit, in order: the pair passed the key check (and, on the slow path, the mask and
     /// the home cell).
     pub passes: Vec<bool>,
     /// Per visit, in order: the box walking and the box it meets.
     pub pairs: Vec<(u32, u32)>,
-    /// Per list walked, in order: its visits (at least one). A box's, a round's or the rest of
-    /// the chain's visits are those of whole lists.
+    /// Per list walked, in order: its visits (at least one).
     pub lists: Vec<usize>,
-    /// The slow path, per large box in the chain's order (latest first), up to and including
-    /// the first whose window is too wide.
+    /// The slow path, per large box in its order (lane by lane, each lane's chain latest
+    /// first), up to and including the first whose window is too wide.
     pub large: Vec<LargeWalk>,
     /// The large box whose window spans more than `MAX_WINDOW` cells on an axis, if any: the
     /// slow path stopped at it, and the frame is incomplete.
@@ -288,14 +301,15 @@ pub struct GridWalk {
 }
 
 /// A large box's slow path, after the load: its window read in rounds (at most one cell per
-/// bank), then the large boxes after it in the chain.
+/// bank), then the large boxes after it in the slow path's order.
 #[derive(Clone, Debug, Default)]
 pub struct LargeWalk {
     pub index: usize,
-    /// Visits per round.
+    /// Visits per round and lane (`rounds[r * lanes + lane]`).
     pub rounds: Vec<usize>,
-    /// Visits to the large boxes after it in the chain.
-    pub partners: usize,
+    /// Visits per lane to the large boxes after it: the rest of its own lane's chain, and the
+    /// whole chains of the lanes after its own.
+    pub partners: Vec<usize>,
 }
 
 /// Runs the grid on `frame`: every visit in the hardware's order goes to `send`, which emits the
@@ -309,9 +323,11 @@ pub(super) fn walk(
 ) -> GridWalk {
     let shape = GridShape::new(&frame.cfg);
     let n = frame.obbs.len();
-    let mut lists = Lists::new(shape, n);
+    let lanes = frame.cfg.lanes as usize;
+    let mut lists = Lists::new(shape, n, lanes);
     let mut out = GridWalk {
-        visits: Vec::with_capacity(n),
+        lanes,
+        visits: Vec::with_capacity(n * lanes),
         hash_bits: shape.hash_bits,
         ..GridWalk::default()
     };
@@ -339,60 +355,83 @@ pub(super) fn walk(
         let (lo, hi) = &frame.keys[i];
         if !shape.is_small(lo, hi) {
             large.push(i);
-            out.visits.push(0);
+            out.visits.extend(std::iter::repeat_n(0, lanes));
             continue;
         }
-        let first = out.passes.len();
         let g = frame.obbs[i].group;
         let (wlo, whi) = shape.window(lo, hi);
-        lists.probe((&wlo, &whi), g, mask, |_, j, starts| {
-            visit(w, &mut out, (i, j), starts, true)
-        });
-        out.visits.push(out.passes.len() - first);
+        for lane in 0..lanes {
+            let first = out.passes.len();
+            lists.probe((&wlo, &whi), (g, lane), mask, |_, j, starts| {
+                visit(w, &mut out, (i, j), starts, true)
+            });
+            out.visits.push(out.passes.len() - first);
+        }
         lists.enter(&shape.home(lo), g, i);
     }
-    // The slow path, after every small box has entered: the large boxes latest first (the
-    // hardware chains them on their successor entries). Each reads its window round by round (x
-    // fastest, then y, then z); a box is met only when its home cell is in the round (a mixed
-    // list can be read in two rounds); then it meets the large boxes after it in the chain.
-    let chain: Vec<usize> = large.iter().rev().copied().collect();
-    for (k, &l) in chain.iter().enumerate() {
-        let (lo, hi) = &frame.keys[l];
-        let g = frame.obbs[l].group;
-        let (wlo, whi) = shape.window(lo, hi);
-        let mut walk = LargeWalk {
-            index: l,
-            ..LargeWalk::default()
-        };
-        if (0..3).any(|x| whi[x] - wlo[x] + 1 > MAX_WINDOW) {
-            out.too_wide = Some(l);
-            out.large.push(walk);
-            break;
-        }
-        let [xs, ys, zs] = [0, 1, 2].map(|x| GridShape::rounds(wlo[x], whi[x]));
-        for &(z0, z1) in &zs {
-            for &(y0, y1) in &ys {
-                for &(x0, x1) in &xs {
-                    let first = out.passes.len();
-                    lists.probe(
-                        (&[x0, y0, z0], &[x1, y1, z1]),
-                        g,
-                        mask,
-                        |cell, j, starts| {
-                            let home = shape.home(&frame.keys[j].0) == *cell;
-                            visit(w, &mut out, (l, j), starts, home);
-                        },
-                    );
-                    walk.rounds.push(out.passes.len() - first);
+    // The slow path, after every small box has entered: the large boxes lane by lane, each
+    // lane's latest first (the hardware chains them on their successor entries). Each reads its
+    // window round by round (x fastest, then y, then z); a box is met only when its home cell
+    // is in the round (a mixed list can be read in two rounds); then it meets the large boxes
+    // after it: the rest of its lane's chain and the whole chains of the lanes after it.
+    let chains: Vec<Vec<usize>> = (0..lanes)
+        .map(|lane| {
+            large
+                .iter()
+                .rev()
+                .copied()
+                .filter(|&l| l % lanes == lane)
+                .collect()
+        })
+        .collect();
+    'lanes: for (a, chain) in chains.iter().enumerate() {
+        for (k, &l) in chain.iter().enumerate() {
+            let (lo, hi) = &frame.keys[l];
+            let g = frame.obbs[l].group;
+            let (wlo, whi) = shape.window(lo, hi);
+            let mut walk = LargeWalk {
+                index: l,
+                ..LargeWalk::default()
+            };
+            if (0..3).any(|x| whi[x] - wlo[x] + 1 > MAX_WINDOW) {
+                out.too_wide = Some(l);
+                out.large.push(walk);
+                break 'lanes;
+            }
+            let [xs, ys, zs] = [0, 1, 2].map(|x| GridShape::rounds(wlo[x], whi[x]));
+            for &(z0, z1) in &zs {
+                for &(y0, y1) in &ys {
+                    for &(x0, x1) in &xs {
+                        for lane in 0..lanes {
+                            let first = out.passes.len();
+                            lists.probe(
+                                (&[x0, y0, z0], &[x1, y1, z1]),
+                                (g, lane),
+                                mask,
+                                |cell, j, starts| {
+                                    let home = shape.home(&frame.keys[j].0) == *cell;
+                                    visit(w, &mut out, (l, j), starts, home);
+                                },
+                            );
+                            walk.rounds.push(out.passes.len() - first);
+                        }
+                    }
                 }
             }
+            // Per lane one list: the rest of its own chain, the whole chain of a later lane.
+            for (b, other) in chains.iter().enumerate() {
+                let after: &[usize] = match b.cmp(&a) {
+                    std::cmp::Ordering::Less => &[],
+                    std::cmp::Ordering::Equal => &chain[k + 1..],
+                    std::cmp::Ordering::Greater => other,
+                };
+                for (p, &m) in after.iter().enumerate() {
+                    visit(w, &mut out, (l, m), p == 0, true);
+                }
+                walk.partners.push(after.len());
+            }
+            out.large.push(walk);
         }
-        // One list: the chain from the large box's successor.
-        for (p, &m) in chain[k + 1..].iter().enumerate() {
-            visit(w, &mut out, (l, m), p == 0, true);
-        }
-        walk.partners = chain.len() - k - 1;
-        out.large.push(walk);
     }
     w.large = large.len() as u64;
     w.incomplete = out.too_wide.is_some();

@@ -5,7 +5,7 @@
 //! read from t + 1. The rules, each a register or a queue of the block:
 //!
 //! - **Accept.** A box is accepted at clock t when boxes are left and fewer than
-//!   `GRID_CREDITS` boxes were accepted before t and not retired before t. Its keys leave the
+//!   `GRID_CREDITS` boxes were accepted before t and not retired before t (on every lane). Its keys leave the
 //!   projection `LAT_PROJECT` clocks later (clock K).
 //! - **Probe.** The window's cells, their banks and buckets take three clocks; at K + 3 the list
 //!   heads are read; at K + 4 the box is entered and the lists it must walk are decided; at
@@ -39,6 +39,12 @@
 //!   walked as an arriving box is (its keys at the injection clock K, its record in the queue
 //!   from K + `LAT_RECORD`, retiring at K + 5 when it has no list); then, if a large box
 //!   follows, a record of one list, the rest of the chain, is launched the same way.
+//! - **Lanes.** With several, each lane has its own record queue, enumerator, list queue,
+//!   walker, key check and candidate queue, on its lane's lists, by the rules above. A box (or
+//!   injected record) is in flight on every lane from its accept (injection) until that lane
+//!   retires it; a box is accepted when every lane has a credit, and a clock is idle when no
+//!   lane has one in flight. On a clock with no accept, the lowest lane with a candidate on its
+//!   output register issues it.
 //! - **End.** The walk is over on the first idle clock with no large box left to fetch (or
 //!   after a window too wide). From the clock after that, every list head is
 //!   cleared for the next frame, one bucket of every bank a clock (`2^grid_hash_bits` clocks),
@@ -69,7 +75,8 @@ pub struct GridSchedule {
     pub accepts: Vec<u64>,
     /// Per visit of `GridWalk::pairs`, in order, the clock it is made.
     pub visits: Vec<u64>,
-    /// Per candidate (a visit that passed the key check), in order, the clock it is issued.
+    /// Per candidate (a visit that passed the key check), in the walk's order, the clock it is
+    /// issued (with several lanes not in that order).
     pub issues: Vec<u64>,
     /// Per large box fetched by the slow path, in order: the clock its address is on port B (its
     /// keys are read there), its index.
@@ -79,32 +86,140 @@ pub struct GridSchedule {
     pub clocks: GridClocks,
 }
 
-/// The grid core's candidate queue (`obb_rtl::pair_fifo`): entries stored and the output
-/// register, clock by clock.
+/// The grid core's candidate queue (`obb_rtl::pair_fifo`), one a lane: candidates (their
+/// index among the walk's) stored and on the output register, clock by clock.
 #[derive(Default)]
 struct CandidateQueue {
-    /// Visit clocks of the candidates written and not yet on the output register.
-    stored: VecDeque<u64>,
-    out: Option<u64>,
+    stored: VecDeque<usize>,
+    out: Option<usize>,
 }
 
-/// A record in the record queue: the clock the enumerator may load it, its lists (a range of
-/// `GridWalk::lists`).
+/// A record in a lane's record queue: the clock the enumerator may load it, its lists (a range
+/// of `GridWalk::lists`) and its first visit (in `GridWalk::pairs`).
 struct Record {
     ready: u64,
     lists: std::ops::Range<usize>,
+    visit: usize,
 }
 
-/// The enumerator's record: its lists left, and whether the next is chosen (a clock's choice
-/// is written on a later clock).
+/// The enumerator's record: its lists left, the first visit of the next, and whether the next
+/// is chosen (a clock's choice is written on a later clock).
 struct Enumerator {
     lists: std::ops::Range<usize>,
+    visit: usize,
     chosen: bool,
 }
 
-/// The list queue's entries between the enumerator and the walker: a list's visits, and whether
-/// it is its record's last.
+/// A list in the list queue: its visits, its first visit, whether it is its record's last.
+#[derive(Clone, Copy)]
+struct Queued {
+    visits: usize,
+    first: usize,
+    last: bool,
+}
+
+/// The list queue's entries between a lane's enumerator and its walker.
 const LIST_QUEUE: usize = 4;
+
+/// One walker lane: its records in flight, its record queue, enumerator, list queue, walker,
+/// key check and candidate queue.
+#[derive(Default)]
+struct Lane {
+    records: VecDeque<Record>,
+    /// Retirements, by the probe (a record with no list on this lane) and by the walker.
+    retire_probe: VecDeque<u64>,
+    retire_walker: VecDeque<u64>,
+    /// Boxes and injected records accepted and not retired on this lane before t.
+    inflight: usize,
+    enumerator: Option<Enumerator>,
+    list_queue: VecDeque<Queued>,
+    /// The walker's next visit, the visits left in its list (a held one included), whether
+    /// that list is its record's last.
+    next_visit: usize,
+    left: usize,
+    last_list: bool,
+    /// Visits in the key check: clock and visit.
+    in_check: VecDeque<(u64, usize)>,
+    queue: CandidateQueue,
+}
+
+impl Lane {
+    /// Retirements of the clocks before `t`.
+    fn retire(&mut self, t: u64) {
+        for q in [&mut self.retire_probe, &mut self.retire_walker] {
+            while q.front().is_some_and(|&r| r < t) {
+                q.pop_front();
+                self.inflight -= 1;
+            }
+        }
+    }
+
+    /// Enumerate at `t`: a list chosen on a clock before is written when at most
+    /// `LIST_QUEUE - 2` lists are queued (not counting this clock's); on a clock it writes
+    /// none, the enumerator chooses its record's next list. It loads the next record on a clock
+    /// it holds none: its last list written, it is free from the next clock. Returns the list
+    /// written, which is queued at the end of the clock.
+    fn enumerate(&mut self, t: u64, lists: &[usize]) -> Option<Queued> {
+        let mut written = None;
+        let free = self.enumerator.is_none();
+        if let Some(e) = self.enumerator.as_mut() {
+            if e.chosen && self.list_queue.len() <= LIST_QUEUE - 2 {
+                let l = e.lists.next().expect("a record has lists");
+                let last = e.lists.is_empty();
+                written = Some(Queued {
+                    visits: lists[l],
+                    first: e.visit,
+                    last,
+                });
+                e.visit += lists[l];
+                e.chosen = false;
+                if last {
+                    self.enumerator = None;
+                }
+            } else {
+                e.chosen = true;
+            }
+        }
+        if free {
+            self.enumerator = self.records.front().is_some_and(|r| r.ready <= t).then(|| {
+                let r = self.records.pop_front().unwrap();
+                Enumerator {
+                    lists: r.lists,
+                    visit: r.visit,
+                    chosen: false,
+                }
+            });
+        }
+        written
+    }
+
+    /// Walk at `t`: with no list left to go on, the walker takes the next queued (written
+    /// before t), or, its record's last list done, retires the record; one visit per clock
+    /// unless the candidate queue stalls it. Returns the visit made.
+    fn walk(&mut self, t: u64, stall: bool) -> Option<usize> {
+        if self.left == 0 {
+            if self.last_list {
+                self.retire_walker.push_back(t);
+                self.last_list = false;
+            }
+            if let Some(q) = self.list_queue.pop_front() {
+                self.left = q.visits;
+                self.next_visit = q.first;
+                self.last_list = q.last;
+            }
+        }
+        (self.left > 0 && !stall).then(|| {
+            self.left -= 1;
+            self.in_check.push_back((t, self.next_visit));
+            self.next_visit += 1;
+            self.next_visit - 1
+        })
+    }
+
+    fn drained(&self) -> bool {
+        self.in_check.is_empty() && self.queue.stored.is_empty() && self.queue.out.is_none()
+    }
+}
 
 /// The slow path's sequencer: what it does on its next idle clock (or its next clock).
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -120,77 +235,66 @@ enum Slow {
 
 /// Plays the grid block clock by clock on the visits `walk` met.
 pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
-    let n = walk.visits.len();
+    let n = walk.visits.len() / walk.lanes.max(1);
     let mut s = GridSchedule {
         accepts: Vec::with_capacity(n),
-        visits: Vec::with_capacity(walk.passes.len()),
+        visits: vec![0; walk.passes.len()],
         ..GridSchedule::default()
     };
+    // Per visit that passes, its candidate's index; `issues` is filled by candidate.
+    let mut candidate = Vec::with_capacity(walk.passes.len());
+    let mut candidates = 0usize;
+    for &pass in &walk.passes {
+        candidate.push(candidates);
+        candidates += usize::from(pass);
+    }
+    s.issues = vec![0; candidates];
     let keys_out = |accept: u64| accept + LAT_PROJECT;
-    // Boxes and injected rounds enter the probe at K: a record from K + LAT_RECORD, or a
-    // retirement at K + 5. A record's lists are the next of `walk.lists` that hold its visits.
-    let mut records: VecDeque<Record> = VecDeque::new();
-    let mut retire_probe: VecDeque<u64> = VecDeque::new();
-    let mut retire_walker: VecDeque<u64> = VecDeque::new();
-    let mut next_list = 0usize;
-    let mut probe =
-        |k: u64, count: usize, records: &mut VecDeque<Record>, retire_probe: &mut VecDeque<u64>| {
+    let mut lanes: Vec<Lane> = (0..walk.lanes).map(|_| Lane::default()).collect();
+    // Boxes and injected records enter the probe at K: on each lane a record from
+    // K + LAT_RECORD, or a retirement at K + 5 when it has no list there. A record's lists on a
+    // lane are the next of `walk.lists` that hold its visits there.
+    let (mut next_list, mut next_visit) = (0usize, 0usize);
+    let mut probe = |k: u64, counts: &[usize], lanes: &mut [Lane]| {
+        for (lane, &count) in lanes.iter_mut().zip(counts) {
+            lane.inflight += 1;
             if count == 0 {
-                retire_probe.push_back(k + LAT_RECORD - 1);
-            } else {
-                let first = next_list;
-                let mut visits = 0;
-                while visits < count {
-                    visits += walk.lists[next_list];
-                    next_list += 1;
-                }
-                debug_assert_eq!(visits, count, "a record's visits are whole lists");
-                records.push_back(Record {
-                    ready: k + LAT_RECORD,
-                    lists: first..next_list,
-                });
+                lane.retire_probe.push_back(k + LAT_RECORD - 1);
+                continue;
             }
-        };
-    // In flight: accepted or injected, and not retired before t.
-    let mut inflight = 0usize;
-    // The slow path: its state, the large box (in `walk.large`) and its next visit.
+            let (first, visit) = (next_list, next_visit);
+            let mut visits = 0;
+            while visits < count {
+                visits += walk.lists[next_list];
+                next_list += 1;
+            }
+            debug_assert_eq!(visits, count, "a record's visits are whole lists");
+            next_visit += count;
+            lane.records.push_back(Record {
+                ready: k + LAT_RECORD,
+                lists: first..next_list,
+                visit,
+            });
+        }
+    };
+    // The slow path: its state, the large box (in `walk.large`).
     let mut slow = Slow::Fetch;
     let mut large = 0usize;
-    // The enumerator: the lists of its record left; the list queue (visits, last of its
-    // record); the walker: its next visit, the visits left in its list (a held one included),
-    // whether that list is its record's last.
-    let mut enumerator: Option<Enumerator> = None;
-    let mut list_queue: VecDeque<(usize, bool)> = VecDeque::new();
-    let mut next_visit = 0usize;
-    let mut left = 0usize;
-    let mut last_list = false;
-    let mut queue = CandidateQueue::default();
-    // Visit clocks in the key check, and whether they pass.
-    let mut in_check: VecDeque<(u64, bool)> = VecDeque::new();
     let mut last_issue = 0u64;
     let mut t = 0u64;
     loop {
         t += 1;
-        // Retirements of the clock before.
-        for q in [&mut retire_probe, &mut retire_walker] {
-            while q.front().is_some_and(|&r| r < t) {
-                q.pop_front();
-                inflight -= 1;
-            }
+        for lane in &mut lanes {
+            lane.retire(t);
         }
         // (A frame of no box: its end marker comes at clock 1, and is seen from clock 2.)
         let marked = n > 0 || t > 1;
-        let idle = s.accepts.len() == n && inflight == 0 && marked;
+        let idle = s.accepts.len() == n && lanes.iter().all(|lane| lane.inflight == 0) && marked;
         // The slow path.
         let more = large < walk.large.len();
         if idle && s.walked == 0 && (slow == Slow::Over || (slow == Slow::Fetch && !more)) {
             s.walked = t;
         }
-        let mut inject =
-            |count: usize, records: &mut VecDeque<Record>, retire_probe: &mut VecDeque<u64>| {
-                inflight += 1;
-                probe(t + 1, count, records, retire_probe);
-            };
         slow = match slow {
             Slow::Fetch if idle && more => {
                 s.fetches.push((t + 1, walk.large[large].index));
@@ -203,10 +307,11 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
             Slow::Plan => Slow::Round(0),
             Slow::Round(r) if idle => {
                 let l = &walk.large[large];
-                inject(l.rounds[r], &mut records, &mut retire_probe);
-                if r + 1 < l.rounds.len() {
+                let counts = &l.rounds[r * walk.lanes..(r + 1) * walk.lanes];
+                probe(t + 1, counts, &mut lanes);
+                if (r + 1) * walk.lanes < l.rounds.len() {
                     Slow::Round(r + 1)
-                } else if l.partners > 0 {
+                } else if l.partners.iter().any(|&p| p > 0) {
                     Slow::Partner
                 } else {
                     large += 1;
@@ -214,101 +319,56 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
                 }
             }
             Slow::Partner if idle => {
-                inject(walk.large[large].partners, &mut records, &mut retire_probe);
+                probe(t + 1, &walk.large[large].partners, &mut lanes);
                 large += 1;
                 Slow::Fetch
             }
             other => other,
         };
-        // Accept.
-        let accept = s.accepts.len() < n && inflight < GRID_CREDITS;
+        // Accept: every lane has a credit.
+        let accept = s.accepts.len() < n && lanes.iter().all(|l| l.inflight < GRID_CREDITS);
         if accept {
             let k = s.accepts.len();
             s.accepts.push(t);
-            inflight += 1;
-            probe(keys_out(t), walk.visits[k], &mut records, &mut retire_probe);
+            let counts = &walk.visits[k * walk.lanes..(k + 1) * walk.lanes];
+            probe(keys_out(t), counts, &mut lanes);
         }
-        // The candidate queue: issue from the output register, load it, store the write.
-        let stall = queue.stored.len() >= GRID_CAND_STALL;
-        let issue = !accept && queue.out.is_some();
-        if issue {
-            queue.out = None;
-            s.issues.push(t);
-            last_issue = t;
-        }
-        let load = queue
-            .out
-            .is_none()
-            .then(|| queue.stored.pop_front())
+        // The candidate queues: on a clock with no accept the lowest lane with a candidate on
+        // its output register issues it; each loads its output register from its stored
+        // entries when it is empty or issued, and stores the key check's write.
+        let mut issuer = (!accept)
+            .then(|| lanes.iter().position(|l| l.queue.out.is_some()))
             .flatten();
-        let write = in_check
-            .front()
-            .is_some_and(|&(v, _)| v + 2 == t)
-            .then(|| in_check.pop_front().unwrap())
-            .filter(|&(_, pass)| pass);
-        if let Some(v) = load {
-            queue.out = Some(v);
-        }
-        if let Some((v, _)) = write {
-            queue.stored.push_back(v);
-        }
-        // Enumerate: a list chosen on a clock before is written when at most LIST_QUEUE - 2
-        // lists are queued (not counting this clock's); on a clock it writes none, the
-        // enumerator chooses its record's next list. It loads the next record on a clock it
-        // holds none: its last list written, it is free from the next clock.
-        let mut written = None;
-        let mut wrote_last = false;
-        let free = enumerator.is_none();
-        if let Some(e) = enumerator.as_mut() {
-            if e.chosen && list_queue.len() <= LIST_QUEUE - 2 {
-                let l = e.lists.next().expect("a record has lists");
-                wrote_last = e.lists.start == e.lists.end;
-                written = Some((walk.lists[l], wrote_last));
-                e.chosen = false;
-            } else {
-                e.chosen = true;
+        for (k, lane) in lanes.iter_mut().enumerate() {
+            let stall = lane.queue.stored.len() >= GRID_CAND_STALL;
+            if issuer == Some(k) {
+                let c = lane.queue.out.take().expect("the issuer holds a candidate");
+                s.issues[c] = t;
+                last_issue = t;
+                issuer = None;
             }
-        }
-        if wrote_last {
-            enumerator = None;
-        }
-        if free {
-            enumerator = records
-                .front()
-                .is_some_and(|r| r.ready <= t)
-                .then(|| Enumerator {
-                    lists: records.pop_front().unwrap().lists,
-                    chosen: false,
-                });
-        }
-        // Walk: with no list left to go on, the walker takes the next queued (written before
-        // t), or, its record's last list done, retires the record; one visit per clock unless
-        // the candidate queue stalls it.
-        if left == 0 {
-            if last_list {
-                retire_walker.push_back(t);
-                last_list = false;
+            if lane.queue.out.is_none() {
+                lane.queue.out = lane.queue.stored.pop_front();
             }
-            if let Some((visits, last)) = list_queue.pop_front() {
-                left = visits;
-                last_list = last;
+            if lane.in_check.front().is_some_and(|&(v, _)| v + 2 == t) {
+                let (_, v) = lane.in_check.pop_front().unwrap();
+                if walk.passes[v] {
+                    lane.queue.stored.push_back(candidate[v]);
+                }
             }
+            let written = lane.enumerate(t, &walk.lists);
+            if let Some(v) = lane.walk(t, stall) {
+                s.visits[v] = t;
+            }
+            lane.list_queue.extend(written);
         }
-        if left > 0 && !stall {
-            left -= 1;
-            s.visits.push(t);
-            in_check.push_back((t, walk.passes[next_visit]));
-            next_visit += 1;
-        }
-        list_queue.extend(written);
-        let drained = in_check.is_empty() && queue.stored.is_empty() && queue.out.is_none();
-        if s.walked > 0 && drained {
+        if s.walked > 0 && lanes.iter().all(Lane::drained) {
             break;
         }
     }
     let load = s.accepts.last().map_or(1, |&a| keys_out(a)) + LAT_KEY_WRITE;
     let clear = 1u64 << walk.hash_bits;
-    let verdict = if s.issues.is_empty() {
+    let verdict = if candidates == 0 {
         0
     } else {
         last_issue + GRID_ISSUE_TO_SAT + LAT_SAT
