@@ -1775,87 +1775,249 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
     reg  [7:0] s4_fp$26$d;
     wire  [7:0] s4_fp$26$q;
     reg  s4_fp$26$clock;
-    reg  s4_same$0$d;
-    wire  s4_same$0$q;
-    reg  s4_same$0$clock;
-    reg  s4_same$1$d;
-    wire  s4_same$1$q;
-    reg  s4_same$1$clock;
-    reg  s4_same$2$d;
-    wire  s4_same$2$q;
-    reg  s4_same$2$clock;
-    reg  s4_same$3$d;
-    wire  s4_same$3$q;
-    reg  s4_same$3$clock;
-    reg  s4_same$4$d;
-    wire  s4_same$4$q;
-    reg  s4_same$4$clock;
-    reg  s4_same$5$d;
-    wire  s4_same$5$q;
-    reg  s4_same$5$clock;
-    reg  s4_same$6$d;
-    wire  s4_same$6$q;
-    reg  s4_same$6$clock;
-    reg  s4_same$7$d;
-    wire  s4_same$7$q;
-    reg  s4_same$7$clock;
-    reg  s4_same$8$d;
-    wire  s4_same$8$q;
-    reg  s4_same$8$clock;
-    reg  s4_same$9$d;
-    wire  s4_same$9$q;
-    reg  s4_same$9$clock;
-    reg  s4_same$10$d;
-    wire  s4_same$10$q;
-    reg  s4_same$10$clock;
-    reg  s4_same$11$d;
-    wire  s4_same$11$q;
-    reg  s4_same$11$clock;
-    reg  s4_same$12$d;
-    wire  s4_same$12$q;
-    reg  s4_same$12$clock;
-    reg  s4_same$13$d;
-    wire  s4_same$13$q;
-    reg  s4_same$13$clock;
-    reg  s4_same$14$d;
-    wire  s4_same$14$q;
-    reg  s4_same$14$clock;
-    reg  s4_same$15$d;
-    wire  s4_same$15$q;
-    reg  s4_same$15$clock;
-    reg  s4_same$16$d;
-    wire  s4_same$16$q;
-    reg  s4_same$16$clock;
-    reg  s4_same$17$d;
-    wire  s4_same$17$q;
-    reg  s4_same$17$clock;
-    reg  s4_same$18$d;
-    wire  s4_same$18$q;
-    reg  s4_same$18$clock;
-    reg  s4_same$19$d;
-    wire  s4_same$19$q;
-    reg  s4_same$19$clock;
-    reg  s4_same$20$d;
-    wire  s4_same$20$q;
-    reg  s4_same$20$clock;
-    reg  s4_same$21$d;
-    wire  s4_same$21$q;
-    reg  s4_same$21$clock;
-    reg  s4_same$22$d;
-    wire  s4_same$22$q;
-    reg  s4_same$22$clock;
-    reg  s4_same$23$d;
-    wire  s4_same$23$q;
-    reg  s4_same$23$clock;
-    reg  s4_same$24$d;
-    wire  s4_same$24$q;
-    reg  s4_same$24$clock;
-    reg  s4_same$25$d;
-    wire  s4_same$25$q;
-    reg  s4_same$25$clock;
-    reg  s4_same$26$d;
-    wire  s4_same$26$q;
-    reg  s4_same$26$clock;
+    reg  s4_fwd$0$d;
+    wire  s4_fwd$0$q;
+    reg  s4_fwd$0$clock;
+    reg  s4_fwd$1$d;
+    wire  s4_fwd$1$q;
+    reg  s4_fwd$1$clock;
+    reg  s4_fwd$2$d;
+    wire  s4_fwd$2$q;
+    reg  s4_fwd$2$clock;
+    reg  s4_fwd$3$d;
+    wire  s4_fwd$3$q;
+    reg  s4_fwd$3$clock;
+    reg  s4_fwd$4$d;
+    wire  s4_fwd$4$q;
+    reg  s4_fwd$4$clock;
+    reg  s4_fwd$5$d;
+    wire  s4_fwd$5$q;
+    reg  s4_fwd$5$clock;
+    reg  s4_fwd$6$d;
+    wire  s4_fwd$6$q;
+    reg  s4_fwd$6$clock;
+    reg  s4_fwd$7$d;
+    wire  s4_fwd$7$q;
+    reg  s4_fwd$7$clock;
+    reg  s4_fwd$8$d;
+    wire  s4_fwd$8$q;
+    reg  s4_fwd$8$clock;
+    reg  s4_fwd$9$d;
+    wire  s4_fwd$9$q;
+    reg  s4_fwd$9$clock;
+    reg  s4_fwd$10$d;
+    wire  s4_fwd$10$q;
+    reg  s4_fwd$10$clock;
+    reg  s4_fwd$11$d;
+    wire  s4_fwd$11$q;
+    reg  s4_fwd$11$clock;
+    reg  s4_fwd$12$d;
+    wire  s4_fwd$12$q;
+    reg  s4_fwd$12$clock;
+    reg  s4_fwd$13$d;
+    wire  s4_fwd$13$q;
+    reg  s4_fwd$13$clock;
+    reg  s4_fwd$14$d;
+    wire  s4_fwd$14$q;
+    reg  s4_fwd$14$clock;
+    reg  s4_fwd$15$d;
+    wire  s4_fwd$15$q;
+    reg  s4_fwd$15$clock;
+    reg  s4_fwd$16$d;
+    wire  s4_fwd$16$q;
+    reg  s4_fwd$16$clock;
+    reg  s4_fwd$17$d;
+    wire  s4_fwd$17$q;
+    reg  s4_fwd$17$clock;
+    reg  s4_fwd$18$d;
+    wire  s4_fwd$18$q;
+    reg  s4_fwd$18$clock;
+    reg  s4_fwd$19$d;
+    wire  s4_fwd$19$q;
+    reg  s4_fwd$19$clock;
+    reg  s4_fwd$20$d;
+    wire  s4_fwd$20$q;
+    reg  s4_fwd$20$clock;
+    reg  s4_fwd$21$d;
+    wire  s4_fwd$21$q;
+    reg  s4_fwd$21$clock;
+    reg  s4_fwd$22$d;
+    wire  s4_fwd$22$q;
+    reg  s4_fwd$22$clock;
+    reg  s4_fwd$23$d;
+    wire  s4_fwd$23$q;
+    reg  s4_fwd$23$clock;
+    reg  s4_fwd$24$d;
+    wire  s4_fwd$24$q;
+    reg  s4_fwd$24$clock;
+    reg  s4_fwd$25$d;
+    wire  s4_fwd$25$q;
+    reg  s4_fwd$25$clock;
+    reg  s4_fwd$26$d;
+    wire  s4_fwd$26$q;
+    reg  s4_fwd$26$clock;
+    reg  s4_fwd$27$d;
+    wire  s4_fwd$27$q;
+    reg  s4_fwd$27$clock;
+    reg  s4_fwd$28$d;
+    wire  s4_fwd$28$q;
+    reg  s4_fwd$28$clock;
+    reg  s4_fwd$29$d;
+    wire  s4_fwd$29$q;
+    reg  s4_fwd$29$clock;
+    reg  s4_fwd$30$d;
+    wire  s4_fwd$30$q;
+    reg  s4_fwd$30$clock;
+    reg  s4_fwd$31$d;
+    wire  s4_fwd$31$q;
+    reg  s4_fwd$31$clock;
+    reg  s4_fwd$32$d;
+    wire  s4_fwd$32$q;
+    reg  s4_fwd$32$clock;
+    reg  s4_fwd$33$d;
+    wire  s4_fwd$33$q;
+    reg  s4_fwd$33$clock;
+    reg  s4_fwd$34$d;
+    wire  s4_fwd$34$q;
+    reg  s4_fwd$34$clock;
+    reg  s4_fwd$35$d;
+    wire  s4_fwd$35$q;
+    reg  s4_fwd$35$clock;
+    reg  s4_fwd$36$d;
+    wire  s4_fwd$36$q;
+    reg  s4_fwd$36$clock;
+    reg  s4_fwd$37$d;
+    wire  s4_fwd$37$q;
+    reg  s4_fwd$37$clock;
+    reg  s4_fwd$38$d;
+    wire  s4_fwd$38$q;
+    reg  s4_fwd$38$clock;
+    reg  s4_fwd$39$d;
+    wire  s4_fwd$39$q;
+    reg  s4_fwd$39$clock;
+    reg  s4_fwd$40$d;
+    wire  s4_fwd$40$q;
+    reg  s4_fwd$40$clock;
+    reg  s4_fwd$41$d;
+    wire  s4_fwd$41$q;
+    reg  s4_fwd$41$clock;
+    reg  s4_fwd$42$d;
+    wire  s4_fwd$42$q;
+    reg  s4_fwd$42$clock;
+    reg  s4_fwd$43$d;
+    wire  s4_fwd$43$q;
+    reg  s4_fwd$43$clock;
+    reg  s4_fwd$44$d;
+    wire  s4_fwd$44$q;
+    reg  s4_fwd$44$clock;
+    reg  s4_fwd$45$d;
+    wire  s4_fwd$45$q;
+    reg  s4_fwd$45$clock;
+    reg  s4_fwd$46$d;
+    wire  s4_fwd$46$q;
+    reg  s4_fwd$46$clock;
+    reg  s4_fwd$47$d;
+    wire  s4_fwd$47$q;
+    reg  s4_fwd$47$clock;
+    reg  s4_fwd$48$d;
+    wire  s4_fwd$48$q;
+    reg  s4_fwd$48$clock;
+    reg  s4_fwd$49$d;
+    wire  s4_fwd$49$q;
+    reg  s4_fwd$49$clock;
+    reg  s4_fwd$50$d;
+    wire  s4_fwd$50$q;
+    reg  s4_fwd$50$clock;
+    reg  s4_fwd$51$d;
+    wire  s4_fwd$51$q;
+    reg  s4_fwd$51$clock;
+    reg  s4_fwd$52$d;
+    wire  s4_fwd$52$q;
+    reg  s4_fwd$52$clock;
+    reg  s4_fwd$53$d;
+    wire  s4_fwd$53$q;
+    reg  s4_fwd$53$clock;
+    reg  s4_fwd$54$d;
+    wire  s4_fwd$54$q;
+    reg  s4_fwd$54$clock;
+    reg  s4_fwd$55$d;
+    wire  s4_fwd$55$q;
+    reg  s4_fwd$55$clock;
+    reg  s4_fwd$56$d;
+    wire  s4_fwd$56$q;
+    reg  s4_fwd$56$clock;
+    reg  s4_fwd$57$d;
+    wire  s4_fwd$57$q;
+    reg  s4_fwd$57$clock;
+    reg  s4_fwd$58$d;
+    wire  s4_fwd$58$q;
+    reg  s4_fwd$58$clock;
+    reg  s4_fwd$59$d;
+    wire  s4_fwd$59$q;
+    reg  s4_fwd$59$clock;
+    reg  s4_fwd$60$d;
+    wire  s4_fwd$60$q;
+    reg  s4_fwd$60$clock;
+    reg  s4_fwd$61$d;
+    wire  s4_fwd$61$q;
+    reg  s4_fwd$61$clock;
+    reg  s4_fwd$62$d;
+    wire  s4_fwd$62$q;
+    reg  s4_fwd$62$clock;
+    reg  s4_fwd$63$d;
+    wire  s4_fwd$63$q;
+    reg  s4_fwd$63$clock;
+    reg  s4_fwd$64$d;
+    wire  s4_fwd$64$q;
+    reg  s4_fwd$64$clock;
+    reg  s4_fwd$65$d;
+    wire  s4_fwd$65$q;
+    reg  s4_fwd$65$clock;
+    reg  s4_fwd$66$d;
+    wire  s4_fwd$66$q;
+    reg  s4_fwd$66$clock;
+    reg  s4_fwd$67$d;
+    wire  s4_fwd$67$q;
+    reg  s4_fwd$67$clock;
+    reg  s4_fwd$68$d;
+    wire  s4_fwd$68$q;
+    reg  s4_fwd$68$clock;
+    reg  s4_fwd$69$d;
+    wire  s4_fwd$69$q;
+    reg  s4_fwd$69$clock;
+    reg  s4_fwd$70$d;
+    wire  s4_fwd$70$q;
+    reg  s4_fwd$70$clock;
+    reg  s4_fwd$71$d;
+    wire  s4_fwd$71$q;
+    reg  s4_fwd$71$clock;
+    reg  s4_fwd$72$d;
+    wire  s4_fwd$72$q;
+    reg  s4_fwd$72$clock;
+    reg  s4_fwd$73$d;
+    wire  s4_fwd$73$q;
+    reg  s4_fwd$73$clock;
+    reg  s4_fwd$74$d;
+    wire  s4_fwd$74$q;
+    reg  s4_fwd$74$clock;
+    reg  s4_fwd$75$d;
+    wire  s4_fwd$75$q;
+    reg  s4_fwd$75$clock;
+    reg  s4_fwd$76$d;
+    wire  s4_fwd$76$q;
+    reg  s4_fwd$76$clock;
+    reg  s4_fwd$77$d;
+    wire  s4_fwd$77$q;
+    reg  s4_fwd$77$clock;
+    reg  s4_fwd$78$d;
+    wire  s4_fwd$78$q;
+    reg  s4_fwd$78$clock;
+    reg  s4_fwd$79$d;
+    wire  s4_fwd$79$q;
+    reg  s4_fwd$79$clock;
+    reg  s4_fwd$80$d;
+    wire  s4_fwd$80$q;
+    reg  s4_fwd$80$clock;
     reg  [7:0] s4_home_fp$d;
     wire  [7:0] s4_home_fp$q;
     reg  s4_home_fp$clock;
@@ -6930,9 +7092,9 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
     reg  r1$d;
     wire  r1$q;
     reg  r1$clock;
-    reg  r2$d;
-    wire  r2$q;
-    reg  r2$clock;
+    reg  arrive_q$d;
+    wire  arrive_q$q;
+    reg  arrive_q$clock;
     reg  q0v$d;
     wire  q0v$q;
     reg  q0v$clock;
@@ -7062,6 +7224,12 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
     reg  [2:0] v2_group_j$d;
     wire  [2:0] v2_group_j$q;
     reg  v2_group_j$clock;
+    reg  v3_write$d;
+    wire  v3_write$q;
+    reg  v3_write$clock;
+    reg  [95:0] v3_word$d;
+    wire  [95:0] v3_word$q;
+    reg  v3_word$clock;
     reg  fifo$clock;
     reg  fifo$write;
     reg  [95:0] fifo$data_in;
@@ -7448,6 +7616,519 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
     reg  fwd$78;
     reg  fwd$79;
     reg  fwd$80;
+    reg  same$0;
+    reg  same$1;
+    reg  same$2;
+    reg  same$3;
+    reg  same$4;
+    reg  same$5;
+    reg  same$6;
+    reg  same$7;
+    reg  same$8;
+    reg  same$9;
+    reg  same$10;
+    reg  same$11;
+    reg  same$12;
+    reg  same$13;
+    reg  same$14;
+    reg  same$15;
+    reg  same$16;
+    reg  same$17;
+    reg  same$18;
+    reg  same$19;
+    reg  same$20;
+    reg  same$21;
+    reg  same$22;
+    reg  same$23;
+    reg  same$24;
+    reg  same$25;
+    reg  same$26;
+    reg  [9:0] meta_src$0;
+    reg  [9:0] meta_src$1;
+    reg  [9:0] meta_src$2;
+    reg  [9:0] meta_src$3;
+    reg  [9:0] meta_src$4;
+    reg  [9:0] meta_src$5;
+    reg  [9:0] meta_src$6;
+    reg  [9:0] meta_src$7;
+    reg  [9:0] meta_src$8;
+    reg  [9:0] meta_src$9;
+    reg  [9:0] meta_src$10;
+    reg  [9:0] meta_src$11;
+    reg  [9:0] meta_src$12;
+    reg  [9:0] meta_src$13;
+    reg  [9:0] meta_src$14;
+    reg  [9:0] meta_src$15;
+    reg  [9:0] meta_src$16;
+    reg  [9:0] meta_src$17;
+    reg  [9:0] meta_src$18;
+    reg  [9:0] meta_src$19;
+    reg  [9:0] meta_src$20;
+    reg  [9:0] meta_src$21;
+    reg  [9:0] meta_src$22;
+    reg  [9:0] meta_src$23;
+    reg  [9:0] meta_src$24;
+    reg  [9:0] meta_src$25;
+    reg  [9:0] meta_src$26;
+    reg  [9:0] meta_src$27;
+    reg  [9:0] meta_src$28;
+    reg  [9:0] meta_src$29;
+    reg  [9:0] meta_src$30;
+    reg  [9:0] meta_src$31;
+    reg  [9:0] meta_src$32;
+    reg  [9:0] meta_src$33;
+    reg  [9:0] meta_src$34;
+    reg  [9:0] meta_src$35;
+    reg  [9:0] meta_src$36;
+    reg  [9:0] meta_src$37;
+    reg  [9:0] meta_src$38;
+    reg  [9:0] meta_src$39;
+    reg  [9:0] meta_src$40;
+    reg  [9:0] meta_src$41;
+    reg  [9:0] meta_src$42;
+    reg  [9:0] meta_src$43;
+    reg  [9:0] meta_src$44;
+    reg  [9:0] meta_src$45;
+    reg  [9:0] meta_src$46;
+    reg  [9:0] meta_src$47;
+    reg  [9:0] meta_src$48;
+    reg  [9:0] meta_src$49;
+    reg  [9:0] meta_src$50;
+    reg  [9:0] meta_src$51;
+    reg  [9:0] meta_src$52;
+    reg  [9:0] meta_src$53;
+    reg  [9:0] meta_src$54;
+    reg  [9:0] meta_src$55;
+    reg  [9:0] meta_src$56;
+    reg  [9:0] meta_src$57;
+    reg  [9:0] meta_src$58;
+    reg  [9:0] meta_src$59;
+    reg  [9:0] meta_src$60;
+    reg  [9:0] meta_src$61;
+    reg  [9:0] meta_src$62;
+    reg  [9:0] meta_src$63;
+    reg  [9:0] meta_src$64;
+    reg  [9:0] meta_src$65;
+    reg  [9:0] meta_src$66;
+    reg  [9:0] meta_src$67;
+    reg  [9:0] meta_src$68;
+    reg  [9:0] meta_src$69;
+    reg  [9:0] meta_src$70;
+    reg  [9:0] meta_src$71;
+    reg  [9:0] meta_src$72;
+    reg  [9:0] meta_src$73;
+    reg  [9:0] meta_src$74;
+    reg  [9:0] meta_src$75;
+    reg  [9:0] meta_src$76;
+    reg  [9:0] meta_src$77;
+    reg  [9:0] meta_src$78;
+    reg  [9:0] meta_src$79;
+    reg  [9:0] meta_src$80;
+    reg  [9:0] meta_src$81;
+    reg  [9:0] meta_src$82;
+    reg  [9:0] meta_src$83;
+    reg  [9:0] meta_src$84;
+    reg  [9:0] meta_src$85;
+    reg  [9:0] meta_src$86;
+    reg  [9:0] meta_src$87;
+    reg  [9:0] meta_src$88;
+    reg  [9:0] meta_src$89;
+    reg  [9:0] meta_src$90;
+    reg  [9:0] meta_src$91;
+    reg  [9:0] meta_src$92;
+    reg  [9:0] meta_src$93;
+    reg  [9:0] meta_src$94;
+    reg  [9:0] meta_src$95;
+    reg  [9:0] meta_src$96;
+    reg  [9:0] meta_src$97;
+    reg  [9:0] meta_src$98;
+    reg  [9:0] meta_src$99;
+    reg  [9:0] meta_src$100;
+    reg  [9:0] meta_src$101;
+    reg  [9:0] meta_src$102;
+    reg  [9:0] meta_src$103;
+    reg  [9:0] meta_src$104;
+    reg  [9:0] meta_src$105;
+    reg  [9:0] meta_src$106;
+    reg  [9:0] meta_src$107;
+    reg  [9:0] meta_src$108;
+    reg  [9:0] meta_src$109;
+    reg  [9:0] meta_src$110;
+    reg  [9:0] meta_src$111;
+    reg  [9:0] meta_src$112;
+    reg  [9:0] meta_src$113;
+    reg  [9:0] meta_src$114;
+    reg  [9:0] meta_src$115;
+    reg  [9:0] meta_src$116;
+    reg  [9:0] meta_src$117;
+    reg  [9:0] meta_src$118;
+    reg  [9:0] meta_src$119;
+    reg  [9:0] meta_src$120;
+    reg  [9:0] meta_src$121;
+    reg  [9:0] meta_src$122;
+    reg  [9:0] meta_src$123;
+    reg  [9:0] meta_src$124;
+    reg  [9:0] meta_src$125;
+    reg  [9:0] meta_src$126;
+    reg  [9:0] meta_src$127;
+    reg  [9:0] meta_src$128;
+    reg  [9:0] meta_src$129;
+    reg  [9:0] meta_src$130;
+    reg  [9:0] meta_src$131;
+    reg  [9:0] meta_src$132;
+    reg  [9:0] meta_src$133;
+    reg  [9:0] meta_src$134;
+    reg  [9:0] meta_src$135;
+    reg  [9:0] meta_src$136;
+    reg  [9:0] meta_src$137;
+    reg  [9:0] meta_src$138;
+    reg  [9:0] meta_src$139;
+    reg  [9:0] meta_src$140;
+    reg  [9:0] meta_src$141;
+    reg  [9:0] meta_src$142;
+    reg  [9:0] meta_src$143;
+    reg  [9:0] meta_src$144;
+    reg  [9:0] meta_src$145;
+    reg  [9:0] meta_src$146;
+    reg  [9:0] meta_src$147;
+    reg  [9:0] meta_src$148;
+    reg  [9:0] meta_src$149;
+    reg  [9:0] meta_src$150;
+    reg  [9:0] meta_src$151;
+    reg  [9:0] meta_src$152;
+    reg  [9:0] meta_src$153;
+    reg  [9:0] meta_src$154;
+    reg  [9:0] meta_src$155;
+    reg  [9:0] meta_src$156;
+    reg  [9:0] meta_src$157;
+    reg  [9:0] meta_src$158;
+    reg  [9:0] meta_src$159;
+    reg  [9:0] meta_src$160;
+    reg  [9:0] meta_src$161;
+    reg  live_src$0;
+    reg  live_src$1;
+    reg  live_src$2;
+    reg  live_src$3;
+    reg  live_src$4;
+    reg  live_src$5;
+    reg  live_src$6;
+    reg  live_src$7;
+    reg  live_src$8;
+    reg  live_src$9;
+    reg  live_src$10;
+    reg  live_src$11;
+    reg  live_src$12;
+    reg  live_src$13;
+    reg  live_src$14;
+    reg  live_src$15;
+    reg  live_src$16;
+    reg  live_src$17;
+    reg  live_src$18;
+    reg  live_src$19;
+    reg  live_src$20;
+    reg  live_src$21;
+    reg  live_src$22;
+    reg  live_src$23;
+    reg  live_src$24;
+    reg  live_src$25;
+    reg  live_src$26;
+    reg  live_src$27;
+    reg  live_src$28;
+    reg  live_src$29;
+    reg  live_src$30;
+    reg  live_src$31;
+    reg  live_src$32;
+    reg  live_src$33;
+    reg  live_src$34;
+    reg  live_src$35;
+    reg  live_src$36;
+    reg  live_src$37;
+    reg  live_src$38;
+    reg  live_src$39;
+    reg  live_src$40;
+    reg  live_src$41;
+    reg  live_src$42;
+    reg  live_src$43;
+    reg  live_src$44;
+    reg  live_src$45;
+    reg  live_src$46;
+    reg  live_src$47;
+    reg  live_src$48;
+    reg  live_src$49;
+    reg  live_src$50;
+    reg  live_src$51;
+    reg  live_src$52;
+    reg  live_src$53;
+    reg  live_src$54;
+    reg  live_src$55;
+    reg  live_src$56;
+    reg  live_src$57;
+    reg  live_src$58;
+    reg  live_src$59;
+    reg  live_src$60;
+    reg  live_src$61;
+    reg  live_src$62;
+    reg  live_src$63;
+    reg  live_src$64;
+    reg  live_src$65;
+    reg  live_src$66;
+    reg  live_src$67;
+    reg  live_src$68;
+    reg  live_src$69;
+    reg  live_src$70;
+    reg  live_src$71;
+    reg  live_src$72;
+    reg  live_src$73;
+    reg  live_src$74;
+    reg  live_src$75;
+    reg  live_src$76;
+    reg  live_src$77;
+    reg  live_src$78;
+    reg  live_src$79;
+    reg  live_src$80;
+    reg  live_src$81;
+    reg  live_src$82;
+    reg  live_src$83;
+    reg  live_src$84;
+    reg  live_src$85;
+    reg  live_src$86;
+    reg  live_src$87;
+    reg  live_src$88;
+    reg  live_src$89;
+    reg  live_src$90;
+    reg  live_src$91;
+    reg  live_src$92;
+    reg  live_src$93;
+    reg  live_src$94;
+    reg  live_src$95;
+    reg  live_src$96;
+    reg  live_src$97;
+    reg  live_src$98;
+    reg  live_src$99;
+    reg  live_src$100;
+    reg  live_src$101;
+    reg  live_src$102;
+    reg  live_src$103;
+    reg  live_src$104;
+    reg  live_src$105;
+    reg  live_src$106;
+    reg  live_src$107;
+    reg  live_src$108;
+    reg  live_src$109;
+    reg  live_src$110;
+    reg  live_src$111;
+    reg  live_src$112;
+    reg  live_src$113;
+    reg  live_src$114;
+    reg  live_src$115;
+    reg  live_src$116;
+    reg  live_src$117;
+    reg  live_src$118;
+    reg  live_src$119;
+    reg  live_src$120;
+    reg  live_src$121;
+    reg  live_src$122;
+    reg  live_src$123;
+    reg  live_src$124;
+    reg  live_src$125;
+    reg  live_src$126;
+    reg  live_src$127;
+    reg  live_src$128;
+    reg  live_src$129;
+    reg  live_src$130;
+    reg  live_src$131;
+    reg  live_src$132;
+    reg  live_src$133;
+    reg  live_src$134;
+    reg  live_src$135;
+    reg  live_src$136;
+    reg  live_src$137;
+    reg  live_src$138;
+    reg  live_src$139;
+    reg  live_src$140;
+    reg  live_src$141;
+    reg  live_src$142;
+    reg  live_src$143;
+    reg  live_src$144;
+    reg  live_src$145;
+    reg  live_src$146;
+    reg  live_src$147;
+    reg  live_src$148;
+    reg  live_src$149;
+    reg  live_src$150;
+    reg  live_src$151;
+    reg  live_src$152;
+    reg  live_src$153;
+    reg  live_src$154;
+    reg  live_src$155;
+    reg  live_src$156;
+    reg  live_src$157;
+    reg  live_src$158;
+    reg  live_src$159;
+    reg  live_src$160;
+    reg  live_src$161;
+    reg  [9:0] meta_new_src$0;
+    reg  [9:0] meta_new_src$1;
+    reg  [9:0] meta_new_src$2;
+    reg  [9:0] meta_new_src$3;
+    reg  [9:0] meta_new_src$4;
+    reg  [9:0] meta_new_src$5;
+    reg  [9:0] meta_new_src$6;
+    reg  [9:0] meta_new_src$7;
+    reg  [9:0] meta_new_src$8;
+    reg  [9:0] meta_new_src$9;
+    reg  [9:0] meta_new_src$10;
+    reg  [9:0] meta_new_src$11;
+    reg  [9:0] meta_new_src$12;
+    reg  [9:0] meta_new_src$13;
+    reg  [9:0] meta_new_src$14;
+    reg  [9:0] meta_new_src$15;
+    reg  [9:0] meta_new_src$16;
+    reg  [9:0] meta_new_src$17;
+    reg  [9:0] meta_new_src$18;
+    reg  [9:0] meta_new_src$19;
+    reg  [9:0] meta_new_src$20;
+    reg  [9:0] meta_new_src$21;
+    reg  [9:0] meta_new_src$22;
+    reg  [9:0] meta_new_src$23;
+    reg  [9:0] meta_new_src$24;
+    reg  [9:0] meta_new_src$25;
+    reg  [9:0] meta_new_src$26;
+    reg  [9:0] meta_new_src$27;
+    reg  [9:0] meta_new_src$28;
+    reg  [9:0] meta_new_src$29;
+    reg  [9:0] meta_new_src$30;
+    reg  [9:0] meta_new_src$31;
+    reg  [9:0] meta_new_src$32;
+    reg  [9:0] meta_new_src$33;
+    reg  [9:0] meta_new_src$34;
+    reg  [9:0] meta_new_src$35;
+    reg  [9:0] meta_new_src$36;
+    reg  [9:0] meta_new_src$37;
+    reg  [9:0] meta_new_src$38;
+    reg  [9:0] meta_new_src$39;
+    reg  [9:0] meta_new_src$40;
+    reg  [9:0] meta_new_src$41;
+    reg  [9:0] meta_new_src$42;
+    reg  [9:0] meta_new_src$43;
+    reg  [9:0] meta_new_src$44;
+    reg  [9:0] meta_new_src$45;
+    reg  [9:0] meta_new_src$46;
+    reg  [9:0] meta_new_src$47;
+    reg  [9:0] meta_new_src$48;
+    reg  [9:0] meta_new_src$49;
+    reg  [9:0] meta_new_src$50;
+    reg  [9:0] meta_new_src$51;
+    reg  [9:0] meta_new_src$52;
+    reg  [9:0] meta_new_src$53;
+    reg  [9:0] meta_new_src$54;
+    reg  [9:0] meta_new_src$55;
+    reg  [9:0] meta_new_src$56;
+    reg  [9:0] meta_new_src$57;
+    reg  [9:0] meta_new_src$58;
+    reg  [9:0] meta_new_src$59;
+    reg  [9:0] meta_new_src$60;
+    reg  [9:0] meta_new_src$61;
+    reg  [9:0] meta_new_src$62;
+    reg  [9:0] meta_new_src$63;
+    reg  [9:0] meta_new_src$64;
+    reg  [9:0] meta_new_src$65;
+    reg  [9:0] meta_new_src$66;
+    reg  [9:0] meta_new_src$67;
+    reg  [9:0] meta_new_src$68;
+    reg  [9:0] meta_new_src$69;
+    reg  [9:0] meta_new_src$70;
+    reg  [9:0] meta_new_src$71;
+    reg  [9:0] meta_new_src$72;
+    reg  [9:0] meta_new_src$73;
+    reg  [9:0] meta_new_src$74;
+    reg  [9:0] meta_new_src$75;
+    reg  [9:0] meta_new_src$76;
+    reg  [9:0] meta_new_src$77;
+    reg  [9:0] meta_new_src$78;
+    reg  [9:0] meta_new_src$79;
+    reg  [9:0] meta_new_src$80;
+    reg  [9:0] meta_new_src$81;
+    reg  [9:0] meta_new_src$82;
+    reg  [9:0] meta_new_src$83;
+    reg  [9:0] meta_new_src$84;
+    reg  [9:0] meta_new_src$85;
+    reg  [9:0] meta_new_src$86;
+    reg  [9:0] meta_new_src$87;
+    reg  [9:0] meta_new_src$88;
+    reg  [9:0] meta_new_src$89;
+    reg  [9:0] meta_new_src$90;
+    reg  [9:0] meta_new_src$91;
+    reg  [9:0] meta_new_src$92;
+    reg  [9:0] meta_new_src$93;
+    reg  [9:0] meta_new_src$94;
+    reg  [9:0] meta_new_src$95;
+    reg  [9:0] meta_new_src$96;
+    reg  [9:0] meta_new_src$97;
+    reg  [9:0] meta_new_src$98;
+    reg  [9:0] meta_new_src$99;
+    reg  [9:0] meta_new_src$100;
+    reg  [9:0] meta_new_src$101;
+    reg  [9:0] meta_new_src$102;
+    reg  [9:0] meta_new_src$103;
+    reg  [9:0] meta_new_src$104;
+    reg  [9:0] meta_new_src$105;
+    reg  [9:0] meta_new_src$106;
+    reg  [9:0] meta_new_src$107;
+    reg  [9:0] meta_new_src$108;
+    reg  [9:0] meta_new_src$109;
+    reg  [9:0] meta_new_src$110;
+    reg  [9:0] meta_new_src$111;
+    reg  [9:0] meta_new_src$112;
+    reg  [9:0] meta_new_src$113;
+    reg  [9:0] meta_new_src$114;
+    reg  [9:0] meta_new_src$115;
+    reg  [9:0] meta_new_src$116;
+    reg  [9:0] meta_new_src$117;
+    reg  [9:0] meta_new_src$118;
+    reg  [9:0] meta_new_src$119;
+    reg  [9:0] meta_new_src$120;
+    reg  [9:0] meta_new_src$121;
+    reg  [9:0] meta_new_src$122;
+    reg  [9:0] meta_new_src$123;
+    reg  [9:0] meta_new_src$124;
+    reg  [9:0] meta_new_src$125;
+    reg  [9:0] meta_new_src$126;
+    reg  [9:0] meta_new_src$127;
+    reg  [9:0] meta_new_src$128;
+    reg  [9:0] meta_new_src$129;
+    reg  [9:0] meta_new_src$130;
+    reg  [9:0] meta_new_src$131;
+    reg  [9:0] meta_new_src$132;
+    reg  [9:0] meta_new_src$133;
+    reg  [9:0] meta_new_src$134;
+    reg  [9:0] meta_new_src$135;
+    reg  [9:0] meta_new_src$136;
+    reg  [9:0] meta_new_src$137;
+    reg  [9:0] meta_new_src$138;
+    reg  [9:0] meta_new_src$139;
+    reg  [9:0] meta_new_src$140;
+    reg  [9:0] meta_new_src$141;
+    reg  [9:0] meta_new_src$142;
+    reg  [9:0] meta_new_src$143;
+    reg  [9:0] meta_new_src$144;
+    reg  [9:0] meta_new_src$145;
+    reg  [9:0] meta_new_src$146;
+    reg  [9:0] meta_new_src$147;
+    reg  [9:0] meta_new_src$148;
+    reg  [9:0] meta_new_src$149;
+    reg  [9:0] meta_new_src$150;
+    reg  [9:0] meta_new_src$151;
+    reg  [9:0] meta_new_src$152;
+    reg  [9:0] meta_new_src$153;
+    reg  [9:0] meta_new_src$154;
+    reg  [9:0] meta_new_src$155;
+    reg  [9:0] meta_new_src$156;
+    reg  [9:0] meta_new_src$157;
+    reg  [9:0] meta_new_src$158;
+    reg  [9:0] meta_new_src$159;
+    reg  [9:0] meta_new_src$160;
+    reg  [9:0] meta_new_src$161;
     reg  [9:0] meta_eff$0;
     reg  [9:0] meta_eff$1;
     reg  [9:0] meta_eff$2;
@@ -11174,140 +11855,410 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         .q(s4_fp$26$q),
         .clock(s4_fp$26$clock)
     );
-    grid_phase$s4_same$0 s4_same$0(
-        .d(s4_same$0$d),
-        .q(s4_same$0$q),
-        .clock(s4_same$0$clock)
+    grid_phase$s4_fwd$0 s4_fwd$0(
+        .d(s4_fwd$0$d),
+        .q(s4_fwd$0$q),
+        .clock(s4_fwd$0$clock)
     );
-    grid_phase$s4_same$1 s4_same$1(
-        .d(s4_same$1$d),
-        .q(s4_same$1$q),
-        .clock(s4_same$1$clock)
+    grid_phase$s4_fwd$1 s4_fwd$1(
+        .d(s4_fwd$1$d),
+        .q(s4_fwd$1$q),
+        .clock(s4_fwd$1$clock)
     );
-    grid_phase$s4_same$2 s4_same$2(
-        .d(s4_same$2$d),
-        .q(s4_same$2$q),
-        .clock(s4_same$2$clock)
+    grid_phase$s4_fwd$2 s4_fwd$2(
+        .d(s4_fwd$2$d),
+        .q(s4_fwd$2$q),
+        .clock(s4_fwd$2$clock)
     );
-    grid_phase$s4_same$3 s4_same$3(
-        .d(s4_same$3$d),
-        .q(s4_same$3$q),
-        .clock(s4_same$3$clock)
+    grid_phase$s4_fwd$3 s4_fwd$3(
+        .d(s4_fwd$3$d),
+        .q(s4_fwd$3$q),
+        .clock(s4_fwd$3$clock)
     );
-    grid_phase$s4_same$4 s4_same$4(
-        .d(s4_same$4$d),
-        .q(s4_same$4$q),
-        .clock(s4_same$4$clock)
+    grid_phase$s4_fwd$4 s4_fwd$4(
+        .d(s4_fwd$4$d),
+        .q(s4_fwd$4$q),
+        .clock(s4_fwd$4$clock)
     );
-    grid_phase$s4_same$5 s4_same$5(
-        .d(s4_same$5$d),
-        .q(s4_same$5$q),
-        .clock(s4_same$5$clock)
+    grid_phase$s4_fwd$5 s4_fwd$5(
+        .d(s4_fwd$5$d),
+        .q(s4_fwd$5$q),
+        .clock(s4_fwd$5$clock)
     );
-    grid_phase$s4_same$6 s4_same$6(
-        .d(s4_same$6$d),
-        .q(s4_same$6$q),
-        .clock(s4_same$6$clock)
+    grid_phase$s4_fwd$6 s4_fwd$6(
+        .d(s4_fwd$6$d),
+        .q(s4_fwd$6$q),
+        .clock(s4_fwd$6$clock)
     );
-    grid_phase$s4_same$7 s4_same$7(
-        .d(s4_same$7$d),
-        .q(s4_same$7$q),
-        .clock(s4_same$7$clock)
+    grid_phase$s4_fwd$7 s4_fwd$7(
+        .d(s4_fwd$7$d),
+        .q(s4_fwd$7$q),
+        .clock(s4_fwd$7$clock)
     );
-    grid_phase$s4_same$8 s4_same$8(
-        .d(s4_same$8$d),
-        .q(s4_same$8$q),
-        .clock(s4_same$8$clock)
+    grid_phase$s4_fwd$8 s4_fwd$8(
+        .d(s4_fwd$8$d),
+        .q(s4_fwd$8$q),
+        .clock(s4_fwd$8$clock)
     );
-    grid_phase$s4_same$9 s4_same$9(
-        .d(s4_same$9$d),
-        .q(s4_same$9$q),
-        .clock(s4_same$9$clock)
+    grid_phase$s4_fwd$9 s4_fwd$9(
+        .d(s4_fwd$9$d),
+        .q(s4_fwd$9$q),
+        .clock(s4_fwd$9$clock)
     );
-    grid_phase$s4_same$10 s4_same$10(
-        .d(s4_same$10$d),
-        .q(s4_same$10$q),
-        .clock(s4_same$10$clock)
+    grid_phase$s4_fwd$10 s4_fwd$10(
+        .d(s4_fwd$10$d),
+        .q(s4_fwd$10$q),
+        .clock(s4_fwd$10$clock)
     );
-    grid_phase$s4_same$11 s4_same$11(
-        .d(s4_same$11$d),
-        .q(s4_same$11$q),
-        .clock(s4_same$11$clock)
+    grid_phase$s4_fwd$11 s4_fwd$11(
+        .d(s4_fwd$11$d),
+        .q(s4_fwd$11$q),
+        .clock(s4_fwd$11$clock)
     );
-    grid_phase$s4_same$12 s4_same$12(
-        .d(s4_same$12$d),
-        .q(s4_same$12$q),
-        .clock(s4_same$12$clock)
+    grid_phase$s4_fwd$12 s4_fwd$12(
+        .d(s4_fwd$12$d),
+        .q(s4_fwd$12$q),
+        .clock(s4_fwd$12$clock)
     );
-    grid_phase$s4_same$13 s4_same$13(
-        .d(s4_same$13$d),
-        .q(s4_same$13$q),
-        .clock(s4_same$13$clock)
+    grid_phase$s4_fwd$13 s4_fwd$13(
+        .d(s4_fwd$13$d),
+        .q(s4_fwd$13$q),
+        .clock(s4_fwd$13$clock)
     );
-    grid_phase$s4_same$14 s4_same$14(
-        .d(s4_same$14$d),
-        .q(s4_same$14$q),
-        .clock(s4_same$14$clock)
+    grid_phase$s4_fwd$14 s4_fwd$14(
+        .d(s4_fwd$14$d),
+        .q(s4_fwd$14$q),
+        .clock(s4_fwd$14$clock)
     );
-    grid_phase$s4_same$15 s4_same$15(
-        .d(s4_same$15$d),
-        .q(s4_same$15$q),
-        .clock(s4_same$15$clock)
+    grid_phase$s4_fwd$15 s4_fwd$15(
+        .d(s4_fwd$15$d),
+        .q(s4_fwd$15$q),
+        .clock(s4_fwd$15$clock)
     );
-    grid_phase$s4_same$16 s4_same$16(
-        .d(s4_same$16$d),
-        .q(s4_same$16$q),
-        .clock(s4_same$16$clock)
+    grid_phase$s4_fwd$16 s4_fwd$16(
+        .d(s4_fwd$16$d),
+        .q(s4_fwd$16$q),
+        .clock(s4_fwd$16$clock)
     );
-    grid_phase$s4_same$17 s4_same$17(
-        .d(s4_same$17$d),
-        .q(s4_same$17$q),
-        .clock(s4_same$17$clock)
+    grid_phase$s4_fwd$17 s4_fwd$17(
+        .d(s4_fwd$17$d),
+        .q(s4_fwd$17$q),
+        .clock(s4_fwd$17$clock)
     );
-    grid_phase$s4_same$18 s4_same$18(
-        .d(s4_same$18$d),
-        .q(s4_same$18$q),
-        .clock(s4_same$18$clock)
+    grid_phase$s4_fwd$18 s4_fwd$18(
+        .d(s4_fwd$18$d),
+        .q(s4_fwd$18$q),
+        .clock(s4_fwd$18$clock)
     );
-    grid_phase$s4_same$19 s4_same$19(
-        .d(s4_same$19$d),
-        .q(s4_same$19$q),
-        .clock(s4_same$19$clock)
+    grid_phase$s4_fwd$19 s4_fwd$19(
+        .d(s4_fwd$19$d),
+        .q(s4_fwd$19$q),
+        .clock(s4_fwd$19$clock)
     );
-    grid_phase$s4_same$20 s4_same$20(
-        .d(s4_same$20$d),
-        .q(s4_same$20$q),
-        .clock(s4_same$20$clock)
+    grid_phase$s4_fwd$20 s4_fwd$20(
+        .d(s4_fwd$20$d),
+        .q(s4_fwd$20$q),
+        .clock(s4_fwd$20$clock)
     );
-    grid_phase$s4_same$21 s4_same$21(
-        .d(s4_same$21$d),
-        .q(s4_same$21$q),
-        .clock(s4_same$21$clock)
+    grid_phase$s4_fwd$21 s4_fwd$21(
+        .d(s4_fwd$21$d),
+        .q(s4_fwd$21$q),
+        .clock(s4_fwd$21$clock)
     );
-    grid_phase$s4_same$22 s4_same$22(
-        .d(s4_same$22$d),
-        .q(s4_same$22$q),
-        .clock(s4_same$22$clock)
+    grid_phase$s4_fwd$22 s4_fwd$22(
+        .d(s4_fwd$22$d),
+        .q(s4_fwd$22$q),
+        .clock(s4_fwd$22$clock)
     );
-    grid_phase$s4_same$23 s4_same$23(
-        .d(s4_same$23$d),
-        .q(s4_same$23$q),
-        .clock(s4_same$23$clock)
+    grid_phase$s4_fwd$23 s4_fwd$23(
+        .d(s4_fwd$23$d),
+        .q(s4_fwd$23$q),
+        .clock(s4_fwd$23$clock)
     );
-    grid_phase$s4_same$24 s4_same$24(
-        .d(s4_same$24$d),
-        .q(s4_same$24$q),
-        .clock(s4_same$24$clock)
+    grid_phase$s4_fwd$24 s4_fwd$24(
+        .d(s4_fwd$24$d),
+        .q(s4_fwd$24$q),
+        .clock(s4_fwd$24$clock)
     );
-    grid_phase$s4_same$25 s4_same$25(
-        .d(s4_same$25$d),
-        .q(s4_same$25$q),
-        .clock(s4_same$25$clock)
+    grid_phase$s4_fwd$25 s4_fwd$25(
+        .d(s4_fwd$25$d),
+        .q(s4_fwd$25$q),
+        .clock(s4_fwd$25$clock)
     );
-    grid_phase$s4_same$26 s4_same$26(
-        .d(s4_same$26$d),
-        .q(s4_same$26$q),
-        .clock(s4_same$26$clock)
+    grid_phase$s4_fwd$26 s4_fwd$26(
+        .d(s4_fwd$26$d),
+        .q(s4_fwd$26$q),
+        .clock(s4_fwd$26$clock)
+    );
+    grid_phase$s4_fwd$27 s4_fwd$27(
+        .d(s4_fwd$27$d),
+        .q(s4_fwd$27$q),
+        .clock(s4_fwd$27$clock)
+    );
+    grid_phase$s4_fwd$28 s4_fwd$28(
+        .d(s4_fwd$28$d),
+        .q(s4_fwd$28$q),
+        .clock(s4_fwd$28$clock)
+    );
+    grid_phase$s4_fwd$29 s4_fwd$29(
+        .d(s4_fwd$29$d),
+        .q(s4_fwd$29$q),
+        .clock(s4_fwd$29$clock)
+    );
+    grid_phase$s4_fwd$30 s4_fwd$30(
+        .d(s4_fwd$30$d),
+        .q(s4_fwd$30$q),
+        .clock(s4_fwd$30$clock)
+    );
+    grid_phase$s4_fwd$31 s4_fwd$31(
+        .d(s4_fwd$31$d),
+        .q(s4_fwd$31$q),
+        .clock(s4_fwd$31$clock)
+    );
+    grid_phase$s4_fwd$32 s4_fwd$32(
+        .d(s4_fwd$32$d),
+        .q(s4_fwd$32$q),
+        .clock(s4_fwd$32$clock)
+    );
+    grid_phase$s4_fwd$33 s4_fwd$33(
+        .d(s4_fwd$33$d),
+        .q(s4_fwd$33$q),
+        .clock(s4_fwd$33$clock)
+    );
+    grid_phase$s4_fwd$34 s4_fwd$34(
+        .d(s4_fwd$34$d),
+        .q(s4_fwd$34$q),
+        .clock(s4_fwd$34$clock)
+    );
+    grid_phase$s4_fwd$35 s4_fwd$35(
+        .d(s4_fwd$35$d),
+        .q(s4_fwd$35$q),
+        .clock(s4_fwd$35$clock)
+    );
+    grid_phase$s4_fwd$36 s4_fwd$36(
+        .d(s4_fwd$36$d),
+        .q(s4_fwd$36$q),
+        .clock(s4_fwd$36$clock)
+    );
+    grid_phase$s4_fwd$37 s4_fwd$37(
+        .d(s4_fwd$37$d),
+        .q(s4_fwd$37$q),
+        .clock(s4_fwd$37$clock)
+    );
+    grid_phase$s4_fwd$38 s4_fwd$38(
+        .d(s4_fwd$38$d),
+        .q(s4_fwd$38$q),
+        .clock(s4_fwd$38$clock)
+    );
+    grid_phase$s4_fwd$39 s4_fwd$39(
+        .d(s4_fwd$39$d),
+        .q(s4_fwd$39$q),
+        .clock(s4_fwd$39$clock)
+    );
+    grid_phase$s4_fwd$40 s4_fwd$40(
+        .d(s4_fwd$40$d),
+        .q(s4_fwd$40$q),
+        .clock(s4_fwd$40$clock)
+    );
+    grid_phase$s4_fwd$41 s4_fwd$41(
+        .d(s4_fwd$41$d),
+        .q(s4_fwd$41$q),
+        .clock(s4_fwd$41$clock)
+    );
+    grid_phase$s4_fwd$42 s4_fwd$42(
+        .d(s4_fwd$42$d),
+        .q(s4_fwd$42$q),
+        .clock(s4_fwd$42$clock)
+    );
+    grid_phase$s4_fwd$43 s4_fwd$43(
+        .d(s4_fwd$43$d),
+        .q(s4_fwd$43$q),
+        .clock(s4_fwd$43$clock)
+    );
+    grid_phase$s4_fwd$44 s4_fwd$44(
+        .d(s4_fwd$44$d),
+        .q(s4_fwd$44$q),
+        .clock(s4_fwd$44$clock)
+    );
+    grid_phase$s4_fwd$45 s4_fwd$45(
+        .d(s4_fwd$45$d),
+        .q(s4_fwd$45$q),
+        .clock(s4_fwd$45$clock)
+    );
+    grid_phase$s4_fwd$46 s4_fwd$46(
+        .d(s4_fwd$46$d),
+        .q(s4_fwd$46$q),
+        .clock(s4_fwd$46$clock)
+    );
+    grid_phase$s4_fwd$47 s4_fwd$47(
+        .d(s4_fwd$47$d),
+        .q(s4_fwd$47$q),
+        .clock(s4_fwd$47$clock)
+    );
+    grid_phase$s4_fwd$48 s4_fwd$48(
+        .d(s4_fwd$48$d),
+        .q(s4_fwd$48$q),
+        .clock(s4_fwd$48$clock)
+    );
+    grid_phase$s4_fwd$49 s4_fwd$49(
+        .d(s4_fwd$49$d),
+        .q(s4_fwd$49$q),
+        .clock(s4_fwd$49$clock)
+    );
+    grid_phase$s4_fwd$50 s4_fwd$50(
+        .d(s4_fwd$50$d),
+        .q(s4_fwd$50$q),
+        .clock(s4_fwd$50$clock)
+    );
+    grid_phase$s4_fwd$51 s4_fwd$51(
+        .d(s4_fwd$51$d),
+        .q(s4_fwd$51$q),
+        .clock(s4_fwd$51$clock)
+    );
+    grid_phase$s4_fwd$52 s4_fwd$52(
+        .d(s4_fwd$52$d),
+        .q(s4_fwd$52$q),
+        .clock(s4_fwd$52$clock)
+    );
+    grid_phase$s4_fwd$53 s4_fwd$53(
+        .d(s4_fwd$53$d),
+        .q(s4_fwd$53$q),
+        .clock(s4_fwd$53$clock)
+    );
+    grid_phase$s4_fwd$54 s4_fwd$54(
+        .d(s4_fwd$54$d),
+        .q(s4_fwd$54$q),
+        .clock(s4_fwd$54$clock)
+    );
+    grid_phase$s4_fwd$55 s4_fwd$55(
+        .d(s4_fwd$55$d),
+        .q(s4_fwd$55$q),
+        .clock(s4_fwd$55$clock)
+    );
+    grid_phase$s4_fwd$56 s4_fwd$56(
+        .d(s4_fwd$56$d),
+        .q(s4_fwd$56$q),
+        .clock(s4_fwd$56$clock)
+    );
+    grid_phase$s4_fwd$57 s4_fwd$57(
+        .d(s4_fwd$57$d),
+        .q(s4_fwd$57$q),
+        .clock(s4_fwd$57$clock)
+    );
+    grid_phase$s4_fwd$58 s4_fwd$58(
+        .d(s4_fwd$58$d),
+        .q(s4_fwd$58$q),
+        .clock(s4_fwd$58$clock)
+    );
+    grid_phase$s4_fwd$59 s4_fwd$59(
+        .d(s4_fwd$59$d),
+        .q(s4_fwd$59$q),
+        .clock(s4_fwd$59$clock)
+    );
+    grid_phase$s4_fwd$60 s4_fwd$60(
+        .d(s4_fwd$60$d),
+        .q(s4_fwd$60$q),
+        .clock(s4_fwd$60$clock)
+    );
+    grid_phase$s4_fwd$61 s4_fwd$61(
+        .d(s4_fwd$61$d),
+        .q(s4_fwd$61$q),
+        .clock(s4_fwd$61$clock)
+    );
+    grid_phase$s4_fwd$62 s4_fwd$62(
+        .d(s4_fwd$62$d),
+        .q(s4_fwd$62$q),
+        .clock(s4_fwd$62$clock)
+    );
+    grid_phase$s4_fwd$63 s4_fwd$63(
+        .d(s4_fwd$63$d),
+        .q(s4_fwd$63$q),
+        .clock(s4_fwd$63$clock)
+    );
+    grid_phase$s4_fwd$64 s4_fwd$64(
+        .d(s4_fwd$64$d),
+        .q(s4_fwd$64$q),
+        .clock(s4_fwd$64$clock)
+    );
+    grid_phase$s4_fwd$65 s4_fwd$65(
+        .d(s4_fwd$65$d),
+        .q(s4_fwd$65$q),
+        .clock(s4_fwd$65$clock)
+    );
+    grid_phase$s4_fwd$66 s4_fwd$66(
+        .d(s4_fwd$66$d),
+        .q(s4_fwd$66$q),
+        .clock(s4_fwd$66$clock)
+    );
+    grid_phase$s4_fwd$67 s4_fwd$67(
+        .d(s4_fwd$67$d),
+        .q(s4_fwd$67$q),
+        .clock(s4_fwd$67$clock)
+    );
+    grid_phase$s4_fwd$68 s4_fwd$68(
+        .d(s4_fwd$68$d),
+        .q(s4_fwd$68$q),
+        .clock(s4_fwd$68$clock)
+    );
+    grid_phase$s4_fwd$69 s4_fwd$69(
+        .d(s4_fwd$69$d),
+        .q(s4_fwd$69$q),
+        .clock(s4_fwd$69$clock)
+    );
+    grid_phase$s4_fwd$70 s4_fwd$70(
+        .d(s4_fwd$70$d),
+        .q(s4_fwd$70$q),
+        .clock(s4_fwd$70$clock)
+    );
+    grid_phase$s4_fwd$71 s4_fwd$71(
+        .d(s4_fwd$71$d),
+        .q(s4_fwd$71$q),
+        .clock(s4_fwd$71$clock)
+    );
+    grid_phase$s4_fwd$72 s4_fwd$72(
+        .d(s4_fwd$72$d),
+        .q(s4_fwd$72$q),
+        .clock(s4_fwd$72$clock)
+    );
+    grid_phase$s4_fwd$73 s4_fwd$73(
+        .d(s4_fwd$73$d),
+        .q(s4_fwd$73$q),
+        .clock(s4_fwd$73$clock)
+    );
+    grid_phase$s4_fwd$74 s4_fwd$74(
+        .d(s4_fwd$74$d),
+        .q(s4_fwd$74$q),
+        .clock(s4_fwd$74$clock)
+    );
+    grid_phase$s4_fwd$75 s4_fwd$75(
+        .d(s4_fwd$75$d),
+        .q(s4_fwd$75$q),
+        .clock(s4_fwd$75$clock)
+    );
+    grid_phase$s4_fwd$76 s4_fwd$76(
+        .d(s4_fwd$76$d),
+        .q(s4_fwd$76$q),
+        .clock(s4_fwd$76$clock)
+    );
+    grid_phase$s4_fwd$77 s4_fwd$77(
+        .d(s4_fwd$77$d),
+        .q(s4_fwd$77$q),
+        .clock(s4_fwd$77$clock)
+    );
+    grid_phase$s4_fwd$78 s4_fwd$78(
+        .d(s4_fwd$78$d),
+        .q(s4_fwd$78$q),
+        .clock(s4_fwd$78$clock)
+    );
+    grid_phase$s4_fwd$79 s4_fwd$79(
+        .d(s4_fwd$79$d),
+        .q(s4_fwd$79$q),
+        .clock(s4_fwd$79$clock)
+    );
+    grid_phase$s4_fwd$80 s4_fwd$80(
+        .d(s4_fwd$80$d),
+        .q(s4_fwd$80$q),
+        .clock(s4_fwd$80$clock)
     );
     grid_phase$s4_home_fp s4_home_fp(
         .d(s4_home_fp$d),
@@ -18921,10 +19872,10 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         .q(r1$q),
         .clock(r1$clock)
     );
-    grid_phase$r2 r2(
-        .d(r2$d),
-        .q(r2$q),
-        .clock(r2$clock)
+    grid_phase$arrive_q arrive_q(
+        .d(arrive_q$d),
+        .q(arrive_q$q),
+        .clock(arrive_q$clock)
     );
     grid_phase$q0v q0v(
         .d(q0v$d),
@@ -19140,6 +20091,16 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         .d(v2_group_j$d),
         .q(v2_group_j$q),
         .clock(v2_group_j$clock)
+    );
+    grid_phase$v3_write v3_write(
+        .d(v3_write$d),
+        .q(v3_write$q),
+        .clock(v3_write$clock)
+    );
+    grid_phase$v3_word v3_word(
+        .d(v3_word$d),
+        .q(v3_word$q),
+        .clock(v3_word$clock)
     );
     grid_phase$fifo fifo(
         .clock(fifo$clock),
@@ -19531,7 +20492,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         cur_margin$clock = clock;
         succ_q$clock = clock;
         r1$clock = clock;
-        r2$clock = clock;
+        arrive_q$clock = clock;
         q0v$clock = clock;
         q0$clock = clock;
         q1v$clock = clock;
@@ -19556,6 +20517,8 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         v1_kind$clock = clock;
         v2_kind$clock = clock;
         v2_group_j$clock = clock;
+        v3_write$clock = clock;
+        v3_word$clock = clock;
         slow$clock = clock;
         lnext$clock = clock;
         lnext2$clock = clock;
@@ -19608,7 +20571,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         cur_margin$d = cur_margin$q;
         succ_q$d = succ_q$q;
         r1$d = r1$q;
-        r2$d = r2$q;
+        arrive_q$d = arrive_q$q;
         q0v$d = q0v$q;
         q0$d = q0$q;
         q1v$d = q1v$q;
@@ -19633,6 +20596,8 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         v1_kind$d = v1_kind$q;
         v2_kind$d = v2_kind$q;
         v2_group_j$d = v2_group_j$q;
+        v3_write$d = v3_write$q;
+        v3_word$d = v3_word$q;
         slow$d = slow$q;
         lnext$d = lnext$q;
         lnext2$d = lnext2$q;
@@ -19653,85 +20618,58 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         lq_last$clock = clock;
         s4_bucket$0$clock = clock;
         s4_fp$0$clock = clock;
-        s4_same$0$clock = clock;
         s4_bucket$1$clock = clock;
         s4_fp$1$clock = clock;
-        s4_same$1$clock = clock;
         s4_bucket$2$clock = clock;
         s4_fp$2$clock = clock;
-        s4_same$2$clock = clock;
         s4_bucket$3$clock = clock;
         s4_fp$3$clock = clock;
-        s4_same$3$clock = clock;
         s4_bucket$4$clock = clock;
         s4_fp$4$clock = clock;
-        s4_same$4$clock = clock;
         s4_bucket$5$clock = clock;
         s4_fp$5$clock = clock;
-        s4_same$5$clock = clock;
         s4_bucket$6$clock = clock;
         s4_fp$6$clock = clock;
-        s4_same$6$clock = clock;
         s4_bucket$7$clock = clock;
         s4_fp$7$clock = clock;
-        s4_same$7$clock = clock;
         s4_bucket$8$clock = clock;
         s4_fp$8$clock = clock;
-        s4_same$8$clock = clock;
         s4_bucket$9$clock = clock;
         s4_fp$9$clock = clock;
-        s4_same$9$clock = clock;
         s4_bucket$10$clock = clock;
         s4_fp$10$clock = clock;
-        s4_same$10$clock = clock;
         s4_bucket$11$clock = clock;
         s4_fp$11$clock = clock;
-        s4_same$11$clock = clock;
         s4_bucket$12$clock = clock;
         s4_fp$12$clock = clock;
-        s4_same$12$clock = clock;
         s4_bucket$13$clock = clock;
         s4_fp$13$clock = clock;
-        s4_same$13$clock = clock;
         s4_bucket$14$clock = clock;
         s4_fp$14$clock = clock;
-        s4_same$14$clock = clock;
         s4_bucket$15$clock = clock;
         s4_fp$15$clock = clock;
-        s4_same$15$clock = clock;
         s4_bucket$16$clock = clock;
         s4_fp$16$clock = clock;
-        s4_same$16$clock = clock;
         s4_bucket$17$clock = clock;
         s4_fp$17$clock = clock;
-        s4_same$17$clock = clock;
         s4_bucket$18$clock = clock;
         s4_fp$18$clock = clock;
-        s4_same$18$clock = clock;
         s4_bucket$19$clock = clock;
         s4_fp$19$clock = clock;
-        s4_same$19$clock = clock;
         s4_bucket$20$clock = clock;
         s4_fp$20$clock = clock;
-        s4_same$20$clock = clock;
         s4_bucket$21$clock = clock;
         s4_fp$21$clock = clock;
-        s4_same$21$clock = clock;
         s4_bucket$22$clock = clock;
         s4_fp$22$clock = clock;
-        s4_same$22$clock = clock;
         s4_bucket$23$clock = clock;
         s4_fp$23$clock = clock;
-        s4_same$23$clock = clock;
         s4_bucket$24$clock = clock;
         s4_fp$24$clock = clock;
-        s4_same$24$clock = clock;
         s4_bucket$25$clock = clock;
         s4_fp$25$clock = clock;
-        s4_same$25$clock = clock;
         s4_bucket$26$clock = clock;
         s4_fp$26$clock = clock;
-        s4_same$26$clock = clock;
         lq_fill$0$clock = clock;
         lq_fill$0$d = lq_fill$0$q;
         s1_min$0$clock = clock;
@@ -19862,6 +20800,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$0$clock = clock;
         s5_meta_w$0$clock = clock;
         s4_meta$0$clock = clock;
+        s4_fwd$0$clock = clock;
         s4_old$0$clock = clock;
         s4_old2$0$clock = clock;
         s4_walk$0$clock = clock;
@@ -19886,6 +20825,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$1$clock = clock;
         s5_meta_w$1$clock = clock;
         s4_meta$1$clock = clock;
+        s4_fwd$1$clock = clock;
         s4_old$1$clock = clock;
         s4_old2$1$clock = clock;
         s4_walk$1$clock = clock;
@@ -19910,6 +20850,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$2$clock = clock;
         s5_meta_w$2$clock = clock;
         s4_meta$2$clock = clock;
+        s4_fwd$2$clock = clock;
         s4_old$2$clock = clock;
         s4_old2$2$clock = clock;
         s4_walk$2$clock = clock;
@@ -19934,6 +20875,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$3$clock = clock;
         s5_meta_w$3$clock = clock;
         s4_meta$3$clock = clock;
+        s4_fwd$3$clock = clock;
         s4_old$3$clock = clock;
         s4_old2$3$clock = clock;
         s4_walk$3$clock = clock;
@@ -19958,6 +20900,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$4$clock = clock;
         s5_meta_w$4$clock = clock;
         s4_meta$4$clock = clock;
+        s4_fwd$4$clock = clock;
         s4_old$4$clock = clock;
         s4_old2$4$clock = clock;
         s4_walk$4$clock = clock;
@@ -19982,6 +20925,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$5$clock = clock;
         s5_meta_w$5$clock = clock;
         s4_meta$5$clock = clock;
+        s4_fwd$5$clock = clock;
         s4_old$5$clock = clock;
         s4_old2$5$clock = clock;
         s4_walk$5$clock = clock;
@@ -20006,6 +20950,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$6$clock = clock;
         s5_meta_w$6$clock = clock;
         s4_meta$6$clock = clock;
+        s4_fwd$6$clock = clock;
         s4_old$6$clock = clock;
         s4_old2$6$clock = clock;
         s4_walk$6$clock = clock;
@@ -20030,6 +20975,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$7$clock = clock;
         s5_meta_w$7$clock = clock;
         s4_meta$7$clock = clock;
+        s4_fwd$7$clock = clock;
         s4_old$7$clock = clock;
         s4_old2$7$clock = clock;
         s4_walk$7$clock = clock;
@@ -20054,6 +21000,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$8$clock = clock;
         s5_meta_w$8$clock = clock;
         s4_meta$8$clock = clock;
+        s4_fwd$8$clock = clock;
         s4_old$8$clock = clock;
         s4_old2$8$clock = clock;
         s4_walk$8$clock = clock;
@@ -20078,6 +21025,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$9$clock = clock;
         s5_meta_w$9$clock = clock;
         s4_meta$9$clock = clock;
+        s4_fwd$9$clock = clock;
         s4_old$9$clock = clock;
         s4_old2$9$clock = clock;
         s4_walk$9$clock = clock;
@@ -20102,6 +21050,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$10$clock = clock;
         s5_meta_w$10$clock = clock;
         s4_meta$10$clock = clock;
+        s4_fwd$10$clock = clock;
         s4_old$10$clock = clock;
         s4_old2$10$clock = clock;
         s4_walk$10$clock = clock;
@@ -20126,6 +21075,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$11$clock = clock;
         s5_meta_w$11$clock = clock;
         s4_meta$11$clock = clock;
+        s4_fwd$11$clock = clock;
         s4_old$11$clock = clock;
         s4_old2$11$clock = clock;
         s4_walk$11$clock = clock;
@@ -20150,6 +21100,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$12$clock = clock;
         s5_meta_w$12$clock = clock;
         s4_meta$12$clock = clock;
+        s4_fwd$12$clock = clock;
         s4_old$12$clock = clock;
         s4_old2$12$clock = clock;
         s4_walk$12$clock = clock;
@@ -20174,6 +21125,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$13$clock = clock;
         s5_meta_w$13$clock = clock;
         s4_meta$13$clock = clock;
+        s4_fwd$13$clock = clock;
         s4_old$13$clock = clock;
         s4_old2$13$clock = clock;
         s4_walk$13$clock = clock;
@@ -20198,6 +21150,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$14$clock = clock;
         s5_meta_w$14$clock = clock;
         s4_meta$14$clock = clock;
+        s4_fwd$14$clock = clock;
         s4_old$14$clock = clock;
         s4_old2$14$clock = clock;
         s4_walk$14$clock = clock;
@@ -20222,6 +21175,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$15$clock = clock;
         s5_meta_w$15$clock = clock;
         s4_meta$15$clock = clock;
+        s4_fwd$15$clock = clock;
         s4_old$15$clock = clock;
         s4_old2$15$clock = clock;
         s4_walk$15$clock = clock;
@@ -20246,6 +21200,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$16$clock = clock;
         s5_meta_w$16$clock = clock;
         s4_meta$16$clock = clock;
+        s4_fwd$16$clock = clock;
         s4_old$16$clock = clock;
         s4_old2$16$clock = clock;
         s4_walk$16$clock = clock;
@@ -20270,6 +21225,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$17$clock = clock;
         s5_meta_w$17$clock = clock;
         s4_meta$17$clock = clock;
+        s4_fwd$17$clock = clock;
         s4_old$17$clock = clock;
         s4_old2$17$clock = clock;
         s4_walk$17$clock = clock;
@@ -20294,6 +21250,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$18$clock = clock;
         s5_meta_w$18$clock = clock;
         s4_meta$18$clock = clock;
+        s4_fwd$18$clock = clock;
         s4_old$18$clock = clock;
         s4_old2$18$clock = clock;
         s4_walk$18$clock = clock;
@@ -20318,6 +21275,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$19$clock = clock;
         s5_meta_w$19$clock = clock;
         s4_meta$19$clock = clock;
+        s4_fwd$19$clock = clock;
         s4_old$19$clock = clock;
         s4_old2$19$clock = clock;
         s4_walk$19$clock = clock;
@@ -20342,6 +21300,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$20$clock = clock;
         s5_meta_w$20$clock = clock;
         s4_meta$20$clock = clock;
+        s4_fwd$20$clock = clock;
         s4_old$20$clock = clock;
         s4_old2$20$clock = clock;
         s4_walk$20$clock = clock;
@@ -20366,6 +21325,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$21$clock = clock;
         s5_meta_w$21$clock = clock;
         s4_meta$21$clock = clock;
+        s4_fwd$21$clock = clock;
         s4_old$21$clock = clock;
         s4_old2$21$clock = clock;
         s4_walk$21$clock = clock;
@@ -20390,6 +21350,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$22$clock = clock;
         s5_meta_w$22$clock = clock;
         s4_meta$22$clock = clock;
+        s4_fwd$22$clock = clock;
         s4_old$22$clock = clock;
         s4_old2$22$clock = clock;
         s4_walk$22$clock = clock;
@@ -20414,6 +21375,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$23$clock = clock;
         s5_meta_w$23$clock = clock;
         s4_meta$23$clock = clock;
+        s4_fwd$23$clock = clock;
         s4_old$23$clock = clock;
         s4_old2$23$clock = clock;
         s4_walk$23$clock = clock;
@@ -20438,6 +21400,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$24$clock = clock;
         s5_meta_w$24$clock = clock;
         s4_meta$24$clock = clock;
+        s4_fwd$24$clock = clock;
         s4_old$24$clock = clock;
         s4_old2$24$clock = clock;
         s4_walk$24$clock = clock;
@@ -20462,6 +21425,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$25$clock = clock;
         s5_meta_w$25$clock = clock;
         s4_meta$25$clock = clock;
+        s4_fwd$25$clock = clock;
         s4_old$25$clock = clock;
         s4_old2$25$clock = clock;
         s4_walk$25$clock = clock;
@@ -20486,6 +21450,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$26$clock = clock;
         s5_meta_w$26$clock = clock;
         s4_meta$26$clock = clock;
+        s4_fwd$26$clock = clock;
         s4_old$26$clock = clock;
         s4_old2$26$clock = clock;
         s4_walk$26$clock = clock;
@@ -20510,6 +21475,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$27$clock = clock;
         s5_meta_w$27$clock = clock;
         s4_meta$27$clock = clock;
+        s4_fwd$27$clock = clock;
         s4_old$27$clock = clock;
         s4_old2$27$clock = clock;
         s4_walk$27$clock = clock;
@@ -20534,6 +21500,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$28$clock = clock;
         s5_meta_w$28$clock = clock;
         s4_meta$28$clock = clock;
+        s4_fwd$28$clock = clock;
         s4_old$28$clock = clock;
         s4_old2$28$clock = clock;
         s4_walk$28$clock = clock;
@@ -20558,6 +21525,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$29$clock = clock;
         s5_meta_w$29$clock = clock;
         s4_meta$29$clock = clock;
+        s4_fwd$29$clock = clock;
         s4_old$29$clock = clock;
         s4_old2$29$clock = clock;
         s4_walk$29$clock = clock;
@@ -20582,6 +21550,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$30$clock = clock;
         s5_meta_w$30$clock = clock;
         s4_meta$30$clock = clock;
+        s4_fwd$30$clock = clock;
         s4_old$30$clock = clock;
         s4_old2$30$clock = clock;
         s4_walk$30$clock = clock;
@@ -20606,6 +21575,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$31$clock = clock;
         s5_meta_w$31$clock = clock;
         s4_meta$31$clock = clock;
+        s4_fwd$31$clock = clock;
         s4_old$31$clock = clock;
         s4_old2$31$clock = clock;
         s4_walk$31$clock = clock;
@@ -20630,6 +21600,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$32$clock = clock;
         s5_meta_w$32$clock = clock;
         s4_meta$32$clock = clock;
+        s4_fwd$32$clock = clock;
         s4_old$32$clock = clock;
         s4_old2$32$clock = clock;
         s4_walk$32$clock = clock;
@@ -20654,6 +21625,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$33$clock = clock;
         s5_meta_w$33$clock = clock;
         s4_meta$33$clock = clock;
+        s4_fwd$33$clock = clock;
         s4_old$33$clock = clock;
         s4_old2$33$clock = clock;
         s4_walk$33$clock = clock;
@@ -20678,6 +21650,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$34$clock = clock;
         s5_meta_w$34$clock = clock;
         s4_meta$34$clock = clock;
+        s4_fwd$34$clock = clock;
         s4_old$34$clock = clock;
         s4_old2$34$clock = clock;
         s4_walk$34$clock = clock;
@@ -20702,6 +21675,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$35$clock = clock;
         s5_meta_w$35$clock = clock;
         s4_meta$35$clock = clock;
+        s4_fwd$35$clock = clock;
         s4_old$35$clock = clock;
         s4_old2$35$clock = clock;
         s4_walk$35$clock = clock;
@@ -20726,6 +21700,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$36$clock = clock;
         s5_meta_w$36$clock = clock;
         s4_meta$36$clock = clock;
+        s4_fwd$36$clock = clock;
         s4_old$36$clock = clock;
         s4_old2$36$clock = clock;
         s4_walk$36$clock = clock;
@@ -20750,6 +21725,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$37$clock = clock;
         s5_meta_w$37$clock = clock;
         s4_meta$37$clock = clock;
+        s4_fwd$37$clock = clock;
         s4_old$37$clock = clock;
         s4_old2$37$clock = clock;
         s4_walk$37$clock = clock;
@@ -20774,6 +21750,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$38$clock = clock;
         s5_meta_w$38$clock = clock;
         s4_meta$38$clock = clock;
+        s4_fwd$38$clock = clock;
         s4_old$38$clock = clock;
         s4_old2$38$clock = clock;
         s4_walk$38$clock = clock;
@@ -20798,6 +21775,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$39$clock = clock;
         s5_meta_w$39$clock = clock;
         s4_meta$39$clock = clock;
+        s4_fwd$39$clock = clock;
         s4_old$39$clock = clock;
         s4_old2$39$clock = clock;
         s4_walk$39$clock = clock;
@@ -20822,6 +21800,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$40$clock = clock;
         s5_meta_w$40$clock = clock;
         s4_meta$40$clock = clock;
+        s4_fwd$40$clock = clock;
         s4_old$40$clock = clock;
         s4_old2$40$clock = clock;
         s4_walk$40$clock = clock;
@@ -20846,6 +21825,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$41$clock = clock;
         s5_meta_w$41$clock = clock;
         s4_meta$41$clock = clock;
+        s4_fwd$41$clock = clock;
         s4_old$41$clock = clock;
         s4_old2$41$clock = clock;
         s4_walk$41$clock = clock;
@@ -20870,6 +21850,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$42$clock = clock;
         s5_meta_w$42$clock = clock;
         s4_meta$42$clock = clock;
+        s4_fwd$42$clock = clock;
         s4_old$42$clock = clock;
         s4_old2$42$clock = clock;
         s4_walk$42$clock = clock;
@@ -20894,6 +21875,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$43$clock = clock;
         s5_meta_w$43$clock = clock;
         s4_meta$43$clock = clock;
+        s4_fwd$43$clock = clock;
         s4_old$43$clock = clock;
         s4_old2$43$clock = clock;
         s4_walk$43$clock = clock;
@@ -20918,6 +21900,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$44$clock = clock;
         s5_meta_w$44$clock = clock;
         s4_meta$44$clock = clock;
+        s4_fwd$44$clock = clock;
         s4_old$44$clock = clock;
         s4_old2$44$clock = clock;
         s4_walk$44$clock = clock;
@@ -20942,6 +21925,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$45$clock = clock;
         s5_meta_w$45$clock = clock;
         s4_meta$45$clock = clock;
+        s4_fwd$45$clock = clock;
         s4_old$45$clock = clock;
         s4_old2$45$clock = clock;
         s4_walk$45$clock = clock;
@@ -20966,6 +21950,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$46$clock = clock;
         s5_meta_w$46$clock = clock;
         s4_meta$46$clock = clock;
+        s4_fwd$46$clock = clock;
         s4_old$46$clock = clock;
         s4_old2$46$clock = clock;
         s4_walk$46$clock = clock;
@@ -20990,6 +21975,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$47$clock = clock;
         s5_meta_w$47$clock = clock;
         s4_meta$47$clock = clock;
+        s4_fwd$47$clock = clock;
         s4_old$47$clock = clock;
         s4_old2$47$clock = clock;
         s4_walk$47$clock = clock;
@@ -21014,6 +22000,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$48$clock = clock;
         s5_meta_w$48$clock = clock;
         s4_meta$48$clock = clock;
+        s4_fwd$48$clock = clock;
         s4_old$48$clock = clock;
         s4_old2$48$clock = clock;
         s4_walk$48$clock = clock;
@@ -21038,6 +22025,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$49$clock = clock;
         s5_meta_w$49$clock = clock;
         s4_meta$49$clock = clock;
+        s4_fwd$49$clock = clock;
         s4_old$49$clock = clock;
         s4_old2$49$clock = clock;
         s4_walk$49$clock = clock;
@@ -21062,6 +22050,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$50$clock = clock;
         s5_meta_w$50$clock = clock;
         s4_meta$50$clock = clock;
+        s4_fwd$50$clock = clock;
         s4_old$50$clock = clock;
         s4_old2$50$clock = clock;
         s4_walk$50$clock = clock;
@@ -21086,6 +22075,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$51$clock = clock;
         s5_meta_w$51$clock = clock;
         s4_meta$51$clock = clock;
+        s4_fwd$51$clock = clock;
         s4_old$51$clock = clock;
         s4_old2$51$clock = clock;
         s4_walk$51$clock = clock;
@@ -21110,6 +22100,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$52$clock = clock;
         s5_meta_w$52$clock = clock;
         s4_meta$52$clock = clock;
+        s4_fwd$52$clock = clock;
         s4_old$52$clock = clock;
         s4_old2$52$clock = clock;
         s4_walk$52$clock = clock;
@@ -21134,6 +22125,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$53$clock = clock;
         s5_meta_w$53$clock = clock;
         s4_meta$53$clock = clock;
+        s4_fwd$53$clock = clock;
         s4_old$53$clock = clock;
         s4_old2$53$clock = clock;
         s4_walk$53$clock = clock;
@@ -21158,6 +22150,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$54$clock = clock;
         s5_meta_w$54$clock = clock;
         s4_meta$54$clock = clock;
+        s4_fwd$54$clock = clock;
         s4_old$54$clock = clock;
         s4_old2$54$clock = clock;
         s4_walk$54$clock = clock;
@@ -21182,6 +22175,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$55$clock = clock;
         s5_meta_w$55$clock = clock;
         s4_meta$55$clock = clock;
+        s4_fwd$55$clock = clock;
         s4_old$55$clock = clock;
         s4_old2$55$clock = clock;
         s4_walk$55$clock = clock;
@@ -21206,6 +22200,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$56$clock = clock;
         s5_meta_w$56$clock = clock;
         s4_meta$56$clock = clock;
+        s4_fwd$56$clock = clock;
         s4_old$56$clock = clock;
         s4_old2$56$clock = clock;
         s4_walk$56$clock = clock;
@@ -21230,6 +22225,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$57$clock = clock;
         s5_meta_w$57$clock = clock;
         s4_meta$57$clock = clock;
+        s4_fwd$57$clock = clock;
         s4_old$57$clock = clock;
         s4_old2$57$clock = clock;
         s4_walk$57$clock = clock;
@@ -21254,6 +22250,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$58$clock = clock;
         s5_meta_w$58$clock = clock;
         s4_meta$58$clock = clock;
+        s4_fwd$58$clock = clock;
         s4_old$58$clock = clock;
         s4_old2$58$clock = clock;
         s4_walk$58$clock = clock;
@@ -21278,6 +22275,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$59$clock = clock;
         s5_meta_w$59$clock = clock;
         s4_meta$59$clock = clock;
+        s4_fwd$59$clock = clock;
         s4_old$59$clock = clock;
         s4_old2$59$clock = clock;
         s4_walk$59$clock = clock;
@@ -21302,6 +22300,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$60$clock = clock;
         s5_meta_w$60$clock = clock;
         s4_meta$60$clock = clock;
+        s4_fwd$60$clock = clock;
         s4_old$60$clock = clock;
         s4_old2$60$clock = clock;
         s4_walk$60$clock = clock;
@@ -21326,6 +22325,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$61$clock = clock;
         s5_meta_w$61$clock = clock;
         s4_meta$61$clock = clock;
+        s4_fwd$61$clock = clock;
         s4_old$61$clock = clock;
         s4_old2$61$clock = clock;
         s4_walk$61$clock = clock;
@@ -21350,6 +22350,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$62$clock = clock;
         s5_meta_w$62$clock = clock;
         s4_meta$62$clock = clock;
+        s4_fwd$62$clock = clock;
         s4_old$62$clock = clock;
         s4_old2$62$clock = clock;
         s4_walk$62$clock = clock;
@@ -21374,6 +22375,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$63$clock = clock;
         s5_meta_w$63$clock = clock;
         s4_meta$63$clock = clock;
+        s4_fwd$63$clock = clock;
         s4_old$63$clock = clock;
         s4_old2$63$clock = clock;
         s4_walk$63$clock = clock;
@@ -21398,6 +22400,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$64$clock = clock;
         s5_meta_w$64$clock = clock;
         s4_meta$64$clock = clock;
+        s4_fwd$64$clock = clock;
         s4_old$64$clock = clock;
         s4_old2$64$clock = clock;
         s4_walk$64$clock = clock;
@@ -21422,6 +22425,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$65$clock = clock;
         s5_meta_w$65$clock = clock;
         s4_meta$65$clock = clock;
+        s4_fwd$65$clock = clock;
         s4_old$65$clock = clock;
         s4_old2$65$clock = clock;
         s4_walk$65$clock = clock;
@@ -21446,6 +22450,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$66$clock = clock;
         s5_meta_w$66$clock = clock;
         s4_meta$66$clock = clock;
+        s4_fwd$66$clock = clock;
         s4_old$66$clock = clock;
         s4_old2$66$clock = clock;
         s4_walk$66$clock = clock;
@@ -21470,6 +22475,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$67$clock = clock;
         s5_meta_w$67$clock = clock;
         s4_meta$67$clock = clock;
+        s4_fwd$67$clock = clock;
         s4_old$67$clock = clock;
         s4_old2$67$clock = clock;
         s4_walk$67$clock = clock;
@@ -21494,6 +22500,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$68$clock = clock;
         s5_meta_w$68$clock = clock;
         s4_meta$68$clock = clock;
+        s4_fwd$68$clock = clock;
         s4_old$68$clock = clock;
         s4_old2$68$clock = clock;
         s4_walk$68$clock = clock;
@@ -21518,6 +22525,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$69$clock = clock;
         s5_meta_w$69$clock = clock;
         s4_meta$69$clock = clock;
+        s4_fwd$69$clock = clock;
         s4_old$69$clock = clock;
         s4_old2$69$clock = clock;
         s4_walk$69$clock = clock;
@@ -21542,6 +22550,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$70$clock = clock;
         s5_meta_w$70$clock = clock;
         s4_meta$70$clock = clock;
+        s4_fwd$70$clock = clock;
         s4_old$70$clock = clock;
         s4_old2$70$clock = clock;
         s4_walk$70$clock = clock;
@@ -21566,6 +22575,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$71$clock = clock;
         s5_meta_w$71$clock = clock;
         s4_meta$71$clock = clock;
+        s4_fwd$71$clock = clock;
         s4_old$71$clock = clock;
         s4_old2$71$clock = clock;
         s4_walk$71$clock = clock;
@@ -21590,6 +22600,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$72$clock = clock;
         s5_meta_w$72$clock = clock;
         s4_meta$72$clock = clock;
+        s4_fwd$72$clock = clock;
         s4_old$72$clock = clock;
         s4_old2$72$clock = clock;
         s4_walk$72$clock = clock;
@@ -21614,6 +22625,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$73$clock = clock;
         s5_meta_w$73$clock = clock;
         s4_meta$73$clock = clock;
+        s4_fwd$73$clock = clock;
         s4_old$73$clock = clock;
         s4_old2$73$clock = clock;
         s4_walk$73$clock = clock;
@@ -21638,6 +22650,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$74$clock = clock;
         s5_meta_w$74$clock = clock;
         s4_meta$74$clock = clock;
+        s4_fwd$74$clock = clock;
         s4_old$74$clock = clock;
         s4_old2$74$clock = clock;
         s4_walk$74$clock = clock;
@@ -21662,6 +22675,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$75$clock = clock;
         s5_meta_w$75$clock = clock;
         s4_meta$75$clock = clock;
+        s4_fwd$75$clock = clock;
         s4_old$75$clock = clock;
         s4_old2$75$clock = clock;
         s4_walk$75$clock = clock;
@@ -21686,6 +22700,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$76$clock = clock;
         s5_meta_w$76$clock = clock;
         s4_meta$76$clock = clock;
+        s4_fwd$76$clock = clock;
         s4_old$76$clock = clock;
         s4_old2$76$clock = clock;
         s4_walk$76$clock = clock;
@@ -21710,6 +22725,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$77$clock = clock;
         s5_meta_w$77$clock = clock;
         s4_meta$77$clock = clock;
+        s4_fwd$77$clock = clock;
         s4_old$77$clock = clock;
         s4_old2$77$clock = clock;
         s4_walk$77$clock = clock;
@@ -21734,6 +22750,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$78$clock = clock;
         s5_meta_w$78$clock = clock;
         s4_meta$78$clock = clock;
+        s4_fwd$78$clock = clock;
         s4_old$78$clock = clock;
         s4_old2$78$clock = clock;
         s4_walk$78$clock = clock;
@@ -21758,6 +22775,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$79$clock = clock;
         s5_meta_w$79$clock = clock;
         s4_meta$79$clock = clock;
+        s4_fwd$79$clock = clock;
         s4_old$79$clock = clock;
         s4_old2$79$clock = clock;
         s4_walk$79$clock = clock;
@@ -21782,6 +22800,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_wrote$80$clock = clock;
         s5_meta_w$80$clock = clock;
         s4_meta$80$clock = clock;
+        s4_fwd$80$clock = clock;
         s4_old$80$clock = clock;
         s4_old2$80$clock = clock;
         s4_walk$80$clock = clock;
@@ -22819,85 +23838,166 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s4_enter$80$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & (s3_group$q == list_group$80);
         s4_bucket$0$d = cells$bucket$0;
         s4_fp$0$d = cells$fp$0;
-        s4_same$0$d = cells$bucket$0 == s4_bucket$0$q;
+        same$0 = cells$bucket$0 == s4_bucket$0$q;
         s4_bucket$1$d = cells$bucket$1;
         s4_fp$1$d = cells$fp$1;
-        s4_same$1$d = cells$bucket$1 == s4_bucket$1$q;
+        same$1 = cells$bucket$1 == s4_bucket$1$q;
         s4_bucket$2$d = cells$bucket$2;
         s4_fp$2$d = cells$fp$2;
-        s4_same$2$d = cells$bucket$2 == s4_bucket$2$q;
+        same$2 = cells$bucket$2 == s4_bucket$2$q;
         s4_bucket$3$d = cells$bucket$3;
         s4_fp$3$d = cells$fp$3;
-        s4_same$3$d = cells$bucket$3 == s4_bucket$3$q;
+        same$3 = cells$bucket$3 == s4_bucket$3$q;
         s4_bucket$4$d = cells$bucket$4;
         s4_fp$4$d = cells$fp$4;
-        s4_same$4$d = cells$bucket$4 == s4_bucket$4$q;
+        same$4 = cells$bucket$4 == s4_bucket$4$q;
         s4_bucket$5$d = cells$bucket$5;
         s4_fp$5$d = cells$fp$5;
-        s4_same$5$d = cells$bucket$5 == s4_bucket$5$q;
+        same$5 = cells$bucket$5 == s4_bucket$5$q;
         s4_bucket$6$d = cells$bucket$6;
         s4_fp$6$d = cells$fp$6;
-        s4_same$6$d = cells$bucket$6 == s4_bucket$6$q;
+        same$6 = cells$bucket$6 == s4_bucket$6$q;
         s4_bucket$7$d = cells$bucket$7;
         s4_fp$7$d = cells$fp$7;
-        s4_same$7$d = cells$bucket$7 == s4_bucket$7$q;
+        same$7 = cells$bucket$7 == s4_bucket$7$q;
         s4_bucket$8$d = cells$bucket$8;
         s4_fp$8$d = cells$fp$8;
-        s4_same$8$d = cells$bucket$8 == s4_bucket$8$q;
+        same$8 = cells$bucket$8 == s4_bucket$8$q;
         s4_bucket$9$d = cells$bucket$9;
         s4_fp$9$d = cells$fp$9;
-        s4_same$9$d = cells$bucket$9 == s4_bucket$9$q;
+        same$9 = cells$bucket$9 == s4_bucket$9$q;
         s4_bucket$10$d = cells$bucket$10;
         s4_fp$10$d = cells$fp$10;
-        s4_same$10$d = cells$bucket$10 == s4_bucket$10$q;
+        same$10 = cells$bucket$10 == s4_bucket$10$q;
         s4_bucket$11$d = cells$bucket$11;
         s4_fp$11$d = cells$fp$11;
-        s4_same$11$d = cells$bucket$11 == s4_bucket$11$q;
+        same$11 = cells$bucket$11 == s4_bucket$11$q;
         s4_bucket$12$d = cells$bucket$12;
         s4_fp$12$d = cells$fp$12;
-        s4_same$12$d = cells$bucket$12 == s4_bucket$12$q;
+        same$12 = cells$bucket$12 == s4_bucket$12$q;
         s4_bucket$13$d = cells$bucket$13;
         s4_fp$13$d = cells$fp$13;
-        s4_same$13$d = cells$bucket$13 == s4_bucket$13$q;
+        same$13 = cells$bucket$13 == s4_bucket$13$q;
         s4_bucket$14$d = cells$bucket$14;
         s4_fp$14$d = cells$fp$14;
-        s4_same$14$d = cells$bucket$14 == s4_bucket$14$q;
+        same$14 = cells$bucket$14 == s4_bucket$14$q;
         s4_bucket$15$d = cells$bucket$15;
         s4_fp$15$d = cells$fp$15;
-        s4_same$15$d = cells$bucket$15 == s4_bucket$15$q;
+        same$15 = cells$bucket$15 == s4_bucket$15$q;
         s4_bucket$16$d = cells$bucket$16;
         s4_fp$16$d = cells$fp$16;
-        s4_same$16$d = cells$bucket$16 == s4_bucket$16$q;
+        same$16 = cells$bucket$16 == s4_bucket$16$q;
         s4_bucket$17$d = cells$bucket$17;
         s4_fp$17$d = cells$fp$17;
-        s4_same$17$d = cells$bucket$17 == s4_bucket$17$q;
+        same$17 = cells$bucket$17 == s4_bucket$17$q;
         s4_bucket$18$d = cells$bucket$18;
         s4_fp$18$d = cells$fp$18;
-        s4_same$18$d = cells$bucket$18 == s4_bucket$18$q;
+        same$18 = cells$bucket$18 == s4_bucket$18$q;
         s4_bucket$19$d = cells$bucket$19;
         s4_fp$19$d = cells$fp$19;
-        s4_same$19$d = cells$bucket$19 == s4_bucket$19$q;
+        same$19 = cells$bucket$19 == s4_bucket$19$q;
         s4_bucket$20$d = cells$bucket$20;
         s4_fp$20$d = cells$fp$20;
-        s4_same$20$d = cells$bucket$20 == s4_bucket$20$q;
+        same$20 = cells$bucket$20 == s4_bucket$20$q;
         s4_bucket$21$d = cells$bucket$21;
         s4_fp$21$d = cells$fp$21;
-        s4_same$21$d = cells$bucket$21 == s4_bucket$21$q;
+        same$21 = cells$bucket$21 == s4_bucket$21$q;
         s4_bucket$22$d = cells$bucket$22;
         s4_fp$22$d = cells$fp$22;
-        s4_same$22$d = cells$bucket$22 == s4_bucket$22$q;
+        same$22 = cells$bucket$22 == s4_bucket$22$q;
         s4_bucket$23$d = cells$bucket$23;
         s4_fp$23$d = cells$fp$23;
-        s4_same$23$d = cells$bucket$23 == s4_bucket$23$q;
+        same$23 = cells$bucket$23 == s4_bucket$23$q;
         s4_bucket$24$d = cells$bucket$24;
         s4_fp$24$d = cells$fp$24;
-        s4_same$24$d = cells$bucket$24 == s4_bucket$24$q;
+        same$24 = cells$bucket$24 == s4_bucket$24$q;
         s4_bucket$25$d = cells$bucket$25;
         s4_fp$25$d = cells$fp$25;
-        s4_same$25$d = cells$bucket$25 == s4_bucket$25$q;
+        same$25 = cells$bucket$25 == s4_bucket$25$q;
         s4_bucket$26$d = cells$bucket$26;
         s4_fp$26$d = cells$fp$26;
-        s4_same$26$d = cells$bucket$26 == s4_bucket$26$q;
+        same$26 = cells$bucket$26 == s4_bucket$26$q;
+        s4_fwd$0$d = same$0 & s4_enter$0$q;
+        s4_fwd$1$d = same$1 & s4_enter$1$q;
+        s4_fwd$2$d = same$2 & s4_enter$2$q;
+        s4_fwd$3$d = same$3 & s4_enter$3$q;
+        s4_fwd$4$d = same$4 & s4_enter$4$q;
+        s4_fwd$5$d = same$5 & s4_enter$5$q;
+        s4_fwd$6$d = same$6 & s4_enter$6$q;
+        s4_fwd$7$d = same$7 & s4_enter$7$q;
+        s4_fwd$8$d = same$8 & s4_enter$8$q;
+        s4_fwd$9$d = same$9 & s4_enter$9$q;
+        s4_fwd$10$d = same$10 & s4_enter$10$q;
+        s4_fwd$11$d = same$11 & s4_enter$11$q;
+        s4_fwd$12$d = same$12 & s4_enter$12$q;
+        s4_fwd$13$d = same$13 & s4_enter$13$q;
+        s4_fwd$14$d = same$14 & s4_enter$14$q;
+        s4_fwd$15$d = same$15 & s4_enter$15$q;
+        s4_fwd$16$d = same$16 & s4_enter$16$q;
+        s4_fwd$17$d = same$17 & s4_enter$17$q;
+        s4_fwd$18$d = same$18 & s4_enter$18$q;
+        s4_fwd$19$d = same$19 & s4_enter$19$q;
+        s4_fwd$20$d = same$20 & s4_enter$20$q;
+        s4_fwd$21$d = same$21 & s4_enter$21$q;
+        s4_fwd$22$d = same$22 & s4_enter$22$q;
+        s4_fwd$23$d = same$23 & s4_enter$23$q;
+        s4_fwd$24$d = same$24 & s4_enter$24$q;
+        s4_fwd$25$d = same$25 & s4_enter$25$q;
+        s4_fwd$26$d = same$26 & s4_enter$26$q;
+        s4_fwd$27$d = same$0 & s4_enter$27$q;
+        s4_fwd$28$d = same$1 & s4_enter$28$q;
+        s4_fwd$29$d = same$2 & s4_enter$29$q;
+        s4_fwd$30$d = same$3 & s4_enter$30$q;
+        s4_fwd$31$d = same$4 & s4_enter$31$q;
+        s4_fwd$32$d = same$5 & s4_enter$32$q;
+        s4_fwd$33$d = same$6 & s4_enter$33$q;
+        s4_fwd$34$d = same$7 & s4_enter$34$q;
+        s4_fwd$35$d = same$8 & s4_enter$35$q;
+        s4_fwd$36$d = same$9 & s4_enter$36$q;
+        s4_fwd$37$d = same$10 & s4_enter$37$q;
+        s4_fwd$38$d = same$11 & s4_enter$38$q;
+        s4_fwd$39$d = same$12 & s4_enter$39$q;
+        s4_fwd$40$d = same$13 & s4_enter$40$q;
+        s4_fwd$41$d = same$14 & s4_enter$41$q;
+        s4_fwd$42$d = same$15 & s4_enter$42$q;
+        s4_fwd$43$d = same$16 & s4_enter$43$q;
+        s4_fwd$44$d = same$17 & s4_enter$44$q;
+        s4_fwd$45$d = same$18 & s4_enter$45$q;
+        s4_fwd$46$d = same$19 & s4_enter$46$q;
+        s4_fwd$47$d = same$20 & s4_enter$47$q;
+        s4_fwd$48$d = same$21 & s4_enter$48$q;
+        s4_fwd$49$d = same$22 & s4_enter$49$q;
+        s4_fwd$50$d = same$23 & s4_enter$50$q;
+        s4_fwd$51$d = same$24 & s4_enter$51$q;
+        s4_fwd$52$d = same$25 & s4_enter$52$q;
+        s4_fwd$53$d = same$26 & s4_enter$53$q;
+        s4_fwd$54$d = same$0 & s4_enter$54$q;
+        s4_fwd$55$d = same$1 & s4_enter$55$q;
+        s4_fwd$56$d = same$2 & s4_enter$56$q;
+        s4_fwd$57$d = same$3 & s4_enter$57$q;
+        s4_fwd$58$d = same$4 & s4_enter$58$q;
+        s4_fwd$59$d = same$5 & s4_enter$59$q;
+        s4_fwd$60$d = same$6 & s4_enter$60$q;
+        s4_fwd$61$d = same$7 & s4_enter$61$q;
+        s4_fwd$62$d = same$8 & s4_enter$62$q;
+        s4_fwd$63$d = same$9 & s4_enter$63$q;
+        s4_fwd$64$d = same$10 & s4_enter$64$q;
+        s4_fwd$65$d = same$11 & s4_enter$65$q;
+        s4_fwd$66$d = same$12 & s4_enter$66$q;
+        s4_fwd$67$d = same$13 & s4_enter$67$q;
+        s4_fwd$68$d = same$14 & s4_enter$68$q;
+        s4_fwd$69$d = same$15 & s4_enter$69$q;
+        s4_fwd$70$d = same$16 & s4_enter$70$q;
+        s4_fwd$71$d = same$17 & s4_enter$71$q;
+        s4_fwd$72$d = same$18 & s4_enter$72$q;
+        s4_fwd$73$d = same$19 & s4_enter$73$q;
+        s4_fwd$74$d = same$20 & s4_enter$74$q;
+        s4_fwd$75$d = same$21 & s4_enter$75$q;
+        s4_fwd$76$d = same$22 & s4_enter$76$q;
+        s4_fwd$77$d = same$23 & s4_enter$77$q;
+        s4_fwd$78$d = same$24 & s4_enter$78$q;
+        s4_fwd$79$d = same$25 & s4_enter$79$q;
+        s4_fwd$80$d = same$26 & s4_enter$80$q;
         s4_home_fp$d = cells$home_fp;
         large_in = s3_valid$q & (s3_kind$q == 32'h0) & ~cells$small_box;
         s4_large$d = large_in;
@@ -22918,7 +24018,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s4_max$2$d = s3_max$2$q;
         entry4 = s4_index$q | top;
         entry5 = s5_index$q | top;
-        fwd$0 = s4_same$0$q & s5_wrote$0$q;
+        fwd$0 = s4_fwd$0$q;
         meta_eff$0 = s4_meta$0$q;
         old_eff$0 = s4_old$0$q;
         old_eff2$0 = s4_old2$0$q;
@@ -22927,13 +24027,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$0 = entry5;
             old_eff2$0 = s5_head$0$q;
         end
-        live$0 = s4_walk$0$q & meta_eff$0[32'h9] & (meta_eff$0[32'h8] | (meta_eff$0[(32'h0)+:(8)] == s4_fp$0$q));
-        meta_new$0 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$0[32'h9]) begin
-            meta_new$0 = meta_eff$0;
-            if (meta_eff$0[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$0 = meta_eff$0 | 64'h100;
+        meta_src$0 = s4_meta$0$q;
+        meta_src$1 = s5_meta_w$0$q;
+        live_src$0 = s4_walk$0$q & meta_src$0[32'h9] & (meta_src$0[32'h8] | (meta_src$0[(32'h0)+:(8)] == s4_fp$0$q));
+        meta_new_src$0 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$0[32'h9]) begin
+            meta_new_src$0 = meta_src$0;
+            if (meta_src$0[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$0 = meta_src$0 | 64'h100;
             end
+        end
+        live_src$1 = s4_walk$0$q & meta_src$1[32'h9] & (meta_src$1[32'h8] | (meta_src$1[(32'h0)+:(8)] == s4_fp$0$q));
+        meta_new_src$1 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$1[32'h9]) begin
+            meta_new_src$1 = meta_src$1;
+            if (meta_src$1[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$1 = meta_src$1 | 64'h100;
+            end
+        end
+        live$0 = live_src$0;
+        meta_new$0 = meta_new_src$0;
+        if (fwd$0) begin
+            live$0 = live_src$1;
+            meta_new$0 = meta_new_src$1;
         end
         meta$0$write_enable = s4_enter$0$q;
         meta$0$write_address = s4_bucket$0$q;
@@ -22961,7 +24077,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$0$d = live$0;
         s5_head$0$d = old_eff$0;
         s5_head2$0$d = old_eff2$0;
-        fwd$1 = s4_same$1$q & s5_wrote$1$q;
+        fwd$1 = s4_fwd$1$q;
         meta_eff$1 = s4_meta$1$q;
         old_eff$1 = s4_old$1$q;
         old_eff2$1 = s4_old2$1$q;
@@ -22970,13 +24086,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$1 = entry5;
             old_eff2$1 = s5_head$1$q;
         end
-        live$1 = s4_walk$1$q & meta_eff$1[32'h9] & (meta_eff$1[32'h8] | (meta_eff$1[(32'h0)+:(8)] == s4_fp$1$q));
-        meta_new$1 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$1[32'h9]) begin
-            meta_new$1 = meta_eff$1;
-            if (meta_eff$1[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$1 = meta_eff$1 | 64'h100;
+        meta_src$2 = s4_meta$1$q;
+        meta_src$3 = s5_meta_w$1$q;
+        live_src$2 = s4_walk$1$q & meta_src$2[32'h9] & (meta_src$2[32'h8] | (meta_src$2[(32'h0)+:(8)] == s4_fp$1$q));
+        meta_new_src$2 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$2[32'h9]) begin
+            meta_new_src$2 = meta_src$2;
+            if (meta_src$2[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$2 = meta_src$2 | 64'h100;
             end
+        end
+        live_src$3 = s4_walk$1$q & meta_src$3[32'h9] & (meta_src$3[32'h8] | (meta_src$3[(32'h0)+:(8)] == s4_fp$1$q));
+        meta_new_src$3 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$3[32'h9]) begin
+            meta_new_src$3 = meta_src$3;
+            if (meta_src$3[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$3 = meta_src$3 | 64'h100;
+            end
+        end
+        live$1 = live_src$2;
+        meta_new$1 = meta_new_src$2;
+        if (fwd$1) begin
+            live$1 = live_src$3;
+            meta_new$1 = meta_new_src$3;
         end
         meta$1$write_enable = s4_enter$1$q;
         meta$1$write_address = s4_bucket$1$q;
@@ -23004,7 +24136,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$1$d = live$1;
         s5_head$1$d = old_eff$1;
         s5_head2$1$d = old_eff2$1;
-        fwd$2 = s4_same$2$q & s5_wrote$2$q;
+        fwd$2 = s4_fwd$2$q;
         meta_eff$2 = s4_meta$2$q;
         old_eff$2 = s4_old$2$q;
         old_eff2$2 = s4_old2$2$q;
@@ -23013,13 +24145,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$2 = entry5;
             old_eff2$2 = s5_head$2$q;
         end
-        live$2 = s4_walk$2$q & meta_eff$2[32'h9] & (meta_eff$2[32'h8] | (meta_eff$2[(32'h0)+:(8)] == s4_fp$2$q));
-        meta_new$2 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$2[32'h9]) begin
-            meta_new$2 = meta_eff$2;
-            if (meta_eff$2[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$2 = meta_eff$2 | 64'h100;
+        meta_src$4 = s4_meta$2$q;
+        meta_src$5 = s5_meta_w$2$q;
+        live_src$4 = s4_walk$2$q & meta_src$4[32'h9] & (meta_src$4[32'h8] | (meta_src$4[(32'h0)+:(8)] == s4_fp$2$q));
+        meta_new_src$4 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$4[32'h9]) begin
+            meta_new_src$4 = meta_src$4;
+            if (meta_src$4[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$4 = meta_src$4 | 64'h100;
             end
+        end
+        live_src$5 = s4_walk$2$q & meta_src$5[32'h9] & (meta_src$5[32'h8] | (meta_src$5[(32'h0)+:(8)] == s4_fp$2$q));
+        meta_new_src$5 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$5[32'h9]) begin
+            meta_new_src$5 = meta_src$5;
+            if (meta_src$5[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$5 = meta_src$5 | 64'h100;
+            end
+        end
+        live$2 = live_src$4;
+        meta_new$2 = meta_new_src$4;
+        if (fwd$2) begin
+            live$2 = live_src$5;
+            meta_new$2 = meta_new_src$5;
         end
         meta$2$write_enable = s4_enter$2$q;
         meta$2$write_address = s4_bucket$2$q;
@@ -23047,7 +24195,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$2$d = live$2;
         s5_head$2$d = old_eff$2;
         s5_head2$2$d = old_eff2$2;
-        fwd$3 = s4_same$3$q & s5_wrote$3$q;
+        fwd$3 = s4_fwd$3$q;
         meta_eff$3 = s4_meta$3$q;
         old_eff$3 = s4_old$3$q;
         old_eff2$3 = s4_old2$3$q;
@@ -23056,13 +24204,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$3 = entry5;
             old_eff2$3 = s5_head$3$q;
         end
-        live$3 = s4_walk$3$q & meta_eff$3[32'h9] & (meta_eff$3[32'h8] | (meta_eff$3[(32'h0)+:(8)] == s4_fp$3$q));
-        meta_new$3 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$3[32'h9]) begin
-            meta_new$3 = meta_eff$3;
-            if (meta_eff$3[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$3 = meta_eff$3 | 64'h100;
+        meta_src$6 = s4_meta$3$q;
+        meta_src$7 = s5_meta_w$3$q;
+        live_src$6 = s4_walk$3$q & meta_src$6[32'h9] & (meta_src$6[32'h8] | (meta_src$6[(32'h0)+:(8)] == s4_fp$3$q));
+        meta_new_src$6 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$6[32'h9]) begin
+            meta_new_src$6 = meta_src$6;
+            if (meta_src$6[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$6 = meta_src$6 | 64'h100;
             end
+        end
+        live_src$7 = s4_walk$3$q & meta_src$7[32'h9] & (meta_src$7[32'h8] | (meta_src$7[(32'h0)+:(8)] == s4_fp$3$q));
+        meta_new_src$7 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$7[32'h9]) begin
+            meta_new_src$7 = meta_src$7;
+            if (meta_src$7[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$7 = meta_src$7 | 64'h100;
+            end
+        end
+        live$3 = live_src$6;
+        meta_new$3 = meta_new_src$6;
+        if (fwd$3) begin
+            live$3 = live_src$7;
+            meta_new$3 = meta_new_src$7;
         end
         meta$3$write_enable = s4_enter$3$q;
         meta$3$write_address = s4_bucket$3$q;
@@ -23090,7 +24254,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$3$d = live$3;
         s5_head$3$d = old_eff$3;
         s5_head2$3$d = old_eff2$3;
-        fwd$4 = s4_same$4$q & s5_wrote$4$q;
+        fwd$4 = s4_fwd$4$q;
         meta_eff$4 = s4_meta$4$q;
         old_eff$4 = s4_old$4$q;
         old_eff2$4 = s4_old2$4$q;
@@ -23099,13 +24263,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$4 = entry5;
             old_eff2$4 = s5_head$4$q;
         end
-        live$4 = s4_walk$4$q & meta_eff$4[32'h9] & (meta_eff$4[32'h8] | (meta_eff$4[(32'h0)+:(8)] == s4_fp$4$q));
-        meta_new$4 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$4[32'h9]) begin
-            meta_new$4 = meta_eff$4;
-            if (meta_eff$4[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$4 = meta_eff$4 | 64'h100;
+        meta_src$8 = s4_meta$4$q;
+        meta_src$9 = s5_meta_w$4$q;
+        live_src$8 = s4_walk$4$q & meta_src$8[32'h9] & (meta_src$8[32'h8] | (meta_src$8[(32'h0)+:(8)] == s4_fp$4$q));
+        meta_new_src$8 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$8[32'h9]) begin
+            meta_new_src$8 = meta_src$8;
+            if (meta_src$8[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$8 = meta_src$8 | 64'h100;
             end
+        end
+        live_src$9 = s4_walk$4$q & meta_src$9[32'h9] & (meta_src$9[32'h8] | (meta_src$9[(32'h0)+:(8)] == s4_fp$4$q));
+        meta_new_src$9 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$9[32'h9]) begin
+            meta_new_src$9 = meta_src$9;
+            if (meta_src$9[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$9 = meta_src$9 | 64'h100;
+            end
+        end
+        live$4 = live_src$8;
+        meta_new$4 = meta_new_src$8;
+        if (fwd$4) begin
+            live$4 = live_src$9;
+            meta_new$4 = meta_new_src$9;
         end
         meta$4$write_enable = s4_enter$4$q;
         meta$4$write_address = s4_bucket$4$q;
@@ -23133,7 +24313,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$4$d = live$4;
         s5_head$4$d = old_eff$4;
         s5_head2$4$d = old_eff2$4;
-        fwd$5 = s4_same$5$q & s5_wrote$5$q;
+        fwd$5 = s4_fwd$5$q;
         meta_eff$5 = s4_meta$5$q;
         old_eff$5 = s4_old$5$q;
         old_eff2$5 = s4_old2$5$q;
@@ -23142,13 +24322,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$5 = entry5;
             old_eff2$5 = s5_head$5$q;
         end
-        live$5 = s4_walk$5$q & meta_eff$5[32'h9] & (meta_eff$5[32'h8] | (meta_eff$5[(32'h0)+:(8)] == s4_fp$5$q));
-        meta_new$5 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$5[32'h9]) begin
-            meta_new$5 = meta_eff$5;
-            if (meta_eff$5[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$5 = meta_eff$5 | 64'h100;
+        meta_src$10 = s4_meta$5$q;
+        meta_src$11 = s5_meta_w$5$q;
+        live_src$10 = s4_walk$5$q & meta_src$10[32'h9] & (meta_src$10[32'h8] | (meta_src$10[(32'h0)+:(8)] == s4_fp$5$q));
+        meta_new_src$10 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$10[32'h9]) begin
+            meta_new_src$10 = meta_src$10;
+            if (meta_src$10[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$10 = meta_src$10 | 64'h100;
             end
+        end
+        live_src$11 = s4_walk$5$q & meta_src$11[32'h9] & (meta_src$11[32'h8] | (meta_src$11[(32'h0)+:(8)] == s4_fp$5$q));
+        meta_new_src$11 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$11[32'h9]) begin
+            meta_new_src$11 = meta_src$11;
+            if (meta_src$11[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$11 = meta_src$11 | 64'h100;
+            end
+        end
+        live$5 = live_src$10;
+        meta_new$5 = meta_new_src$10;
+        if (fwd$5) begin
+            live$5 = live_src$11;
+            meta_new$5 = meta_new_src$11;
         end
         meta$5$write_enable = s4_enter$5$q;
         meta$5$write_address = s4_bucket$5$q;
@@ -23176,7 +24372,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$5$d = live$5;
         s5_head$5$d = old_eff$5;
         s5_head2$5$d = old_eff2$5;
-        fwd$6 = s4_same$6$q & s5_wrote$6$q;
+        fwd$6 = s4_fwd$6$q;
         meta_eff$6 = s4_meta$6$q;
         old_eff$6 = s4_old$6$q;
         old_eff2$6 = s4_old2$6$q;
@@ -23185,13 +24381,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$6 = entry5;
             old_eff2$6 = s5_head$6$q;
         end
-        live$6 = s4_walk$6$q & meta_eff$6[32'h9] & (meta_eff$6[32'h8] | (meta_eff$6[(32'h0)+:(8)] == s4_fp$6$q));
-        meta_new$6 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$6[32'h9]) begin
-            meta_new$6 = meta_eff$6;
-            if (meta_eff$6[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$6 = meta_eff$6 | 64'h100;
+        meta_src$12 = s4_meta$6$q;
+        meta_src$13 = s5_meta_w$6$q;
+        live_src$12 = s4_walk$6$q & meta_src$12[32'h9] & (meta_src$12[32'h8] | (meta_src$12[(32'h0)+:(8)] == s4_fp$6$q));
+        meta_new_src$12 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$12[32'h9]) begin
+            meta_new_src$12 = meta_src$12;
+            if (meta_src$12[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$12 = meta_src$12 | 64'h100;
             end
+        end
+        live_src$13 = s4_walk$6$q & meta_src$13[32'h9] & (meta_src$13[32'h8] | (meta_src$13[(32'h0)+:(8)] == s4_fp$6$q));
+        meta_new_src$13 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$13[32'h9]) begin
+            meta_new_src$13 = meta_src$13;
+            if (meta_src$13[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$13 = meta_src$13 | 64'h100;
+            end
+        end
+        live$6 = live_src$12;
+        meta_new$6 = meta_new_src$12;
+        if (fwd$6) begin
+            live$6 = live_src$13;
+            meta_new$6 = meta_new_src$13;
         end
         meta$6$write_enable = s4_enter$6$q;
         meta$6$write_address = s4_bucket$6$q;
@@ -23219,7 +24431,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$6$d = live$6;
         s5_head$6$d = old_eff$6;
         s5_head2$6$d = old_eff2$6;
-        fwd$7 = s4_same$7$q & s5_wrote$7$q;
+        fwd$7 = s4_fwd$7$q;
         meta_eff$7 = s4_meta$7$q;
         old_eff$7 = s4_old$7$q;
         old_eff2$7 = s4_old2$7$q;
@@ -23228,13 +24440,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$7 = entry5;
             old_eff2$7 = s5_head$7$q;
         end
-        live$7 = s4_walk$7$q & meta_eff$7[32'h9] & (meta_eff$7[32'h8] | (meta_eff$7[(32'h0)+:(8)] == s4_fp$7$q));
-        meta_new$7 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$7[32'h9]) begin
-            meta_new$7 = meta_eff$7;
-            if (meta_eff$7[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$7 = meta_eff$7 | 64'h100;
+        meta_src$14 = s4_meta$7$q;
+        meta_src$15 = s5_meta_w$7$q;
+        live_src$14 = s4_walk$7$q & meta_src$14[32'h9] & (meta_src$14[32'h8] | (meta_src$14[(32'h0)+:(8)] == s4_fp$7$q));
+        meta_new_src$14 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$14[32'h9]) begin
+            meta_new_src$14 = meta_src$14;
+            if (meta_src$14[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$14 = meta_src$14 | 64'h100;
             end
+        end
+        live_src$15 = s4_walk$7$q & meta_src$15[32'h9] & (meta_src$15[32'h8] | (meta_src$15[(32'h0)+:(8)] == s4_fp$7$q));
+        meta_new_src$15 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$15[32'h9]) begin
+            meta_new_src$15 = meta_src$15;
+            if (meta_src$15[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$15 = meta_src$15 | 64'h100;
+            end
+        end
+        live$7 = live_src$14;
+        meta_new$7 = meta_new_src$14;
+        if (fwd$7) begin
+            live$7 = live_src$15;
+            meta_new$7 = meta_new_src$15;
         end
         meta$7$write_enable = s4_enter$7$q;
         meta$7$write_address = s4_bucket$7$q;
@@ -23262,7 +24490,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$7$d = live$7;
         s5_head$7$d = old_eff$7;
         s5_head2$7$d = old_eff2$7;
-        fwd$8 = s4_same$8$q & s5_wrote$8$q;
+        fwd$8 = s4_fwd$8$q;
         meta_eff$8 = s4_meta$8$q;
         old_eff$8 = s4_old$8$q;
         old_eff2$8 = s4_old2$8$q;
@@ -23271,13 +24499,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$8 = entry5;
             old_eff2$8 = s5_head$8$q;
         end
-        live$8 = s4_walk$8$q & meta_eff$8[32'h9] & (meta_eff$8[32'h8] | (meta_eff$8[(32'h0)+:(8)] == s4_fp$8$q));
-        meta_new$8 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$8[32'h9]) begin
-            meta_new$8 = meta_eff$8;
-            if (meta_eff$8[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$8 = meta_eff$8 | 64'h100;
+        meta_src$16 = s4_meta$8$q;
+        meta_src$17 = s5_meta_w$8$q;
+        live_src$16 = s4_walk$8$q & meta_src$16[32'h9] & (meta_src$16[32'h8] | (meta_src$16[(32'h0)+:(8)] == s4_fp$8$q));
+        meta_new_src$16 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$16[32'h9]) begin
+            meta_new_src$16 = meta_src$16;
+            if (meta_src$16[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$16 = meta_src$16 | 64'h100;
             end
+        end
+        live_src$17 = s4_walk$8$q & meta_src$17[32'h9] & (meta_src$17[32'h8] | (meta_src$17[(32'h0)+:(8)] == s4_fp$8$q));
+        meta_new_src$17 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$17[32'h9]) begin
+            meta_new_src$17 = meta_src$17;
+            if (meta_src$17[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$17 = meta_src$17 | 64'h100;
+            end
+        end
+        live$8 = live_src$16;
+        meta_new$8 = meta_new_src$16;
+        if (fwd$8) begin
+            live$8 = live_src$17;
+            meta_new$8 = meta_new_src$17;
         end
         meta$8$write_enable = s4_enter$8$q;
         meta$8$write_address = s4_bucket$8$q;
@@ -23305,7 +24549,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$8$d = live$8;
         s5_head$8$d = old_eff$8;
         s5_head2$8$d = old_eff2$8;
-        fwd$9 = s4_same$9$q & s5_wrote$9$q;
+        fwd$9 = s4_fwd$9$q;
         meta_eff$9 = s4_meta$9$q;
         old_eff$9 = s4_old$9$q;
         old_eff2$9 = s4_old2$9$q;
@@ -23314,13 +24558,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$9 = entry5;
             old_eff2$9 = s5_head$9$q;
         end
-        live$9 = s4_walk$9$q & meta_eff$9[32'h9] & (meta_eff$9[32'h8] | (meta_eff$9[(32'h0)+:(8)] == s4_fp$9$q));
-        meta_new$9 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$9[32'h9]) begin
-            meta_new$9 = meta_eff$9;
-            if (meta_eff$9[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$9 = meta_eff$9 | 64'h100;
+        meta_src$18 = s4_meta$9$q;
+        meta_src$19 = s5_meta_w$9$q;
+        live_src$18 = s4_walk$9$q & meta_src$18[32'h9] & (meta_src$18[32'h8] | (meta_src$18[(32'h0)+:(8)] == s4_fp$9$q));
+        meta_new_src$18 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$18[32'h9]) begin
+            meta_new_src$18 = meta_src$18;
+            if (meta_src$18[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$18 = meta_src$18 | 64'h100;
             end
+        end
+        live_src$19 = s4_walk$9$q & meta_src$19[32'h9] & (meta_src$19[32'h8] | (meta_src$19[(32'h0)+:(8)] == s4_fp$9$q));
+        meta_new_src$19 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$19[32'h9]) begin
+            meta_new_src$19 = meta_src$19;
+            if (meta_src$19[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$19 = meta_src$19 | 64'h100;
+            end
+        end
+        live$9 = live_src$18;
+        meta_new$9 = meta_new_src$18;
+        if (fwd$9) begin
+            live$9 = live_src$19;
+            meta_new$9 = meta_new_src$19;
         end
         meta$9$write_enable = s4_enter$9$q;
         meta$9$write_address = s4_bucket$9$q;
@@ -23348,7 +24608,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$9$d = live$9;
         s5_head$9$d = old_eff$9;
         s5_head2$9$d = old_eff2$9;
-        fwd$10 = s4_same$10$q & s5_wrote$10$q;
+        fwd$10 = s4_fwd$10$q;
         meta_eff$10 = s4_meta$10$q;
         old_eff$10 = s4_old$10$q;
         old_eff2$10 = s4_old2$10$q;
@@ -23357,13 +24617,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$10 = entry5;
             old_eff2$10 = s5_head$10$q;
         end
-        live$10 = s4_walk$10$q & meta_eff$10[32'h9] & (meta_eff$10[32'h8] | (meta_eff$10[(32'h0)+:(8)] == s4_fp$10$q));
-        meta_new$10 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$10[32'h9]) begin
-            meta_new$10 = meta_eff$10;
-            if (meta_eff$10[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$10 = meta_eff$10 | 64'h100;
+        meta_src$20 = s4_meta$10$q;
+        meta_src$21 = s5_meta_w$10$q;
+        live_src$20 = s4_walk$10$q & meta_src$20[32'h9] & (meta_src$20[32'h8] | (meta_src$20[(32'h0)+:(8)] == s4_fp$10$q));
+        meta_new_src$20 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$20[32'h9]) begin
+            meta_new_src$20 = meta_src$20;
+            if (meta_src$20[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$20 = meta_src$20 | 64'h100;
             end
+        end
+        live_src$21 = s4_walk$10$q & meta_src$21[32'h9] & (meta_src$21[32'h8] | (meta_src$21[(32'h0)+:(8)] == s4_fp$10$q));
+        meta_new_src$21 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$21[32'h9]) begin
+            meta_new_src$21 = meta_src$21;
+            if (meta_src$21[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$21 = meta_src$21 | 64'h100;
+            end
+        end
+        live$10 = live_src$20;
+        meta_new$10 = meta_new_src$20;
+        if (fwd$10) begin
+            live$10 = live_src$21;
+            meta_new$10 = meta_new_src$21;
         end
         meta$10$write_enable = s4_enter$10$q;
         meta$10$write_address = s4_bucket$10$q;
@@ -23391,7 +24667,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$10$d = live$10;
         s5_head$10$d = old_eff$10;
         s5_head2$10$d = old_eff2$10;
-        fwd$11 = s4_same$11$q & s5_wrote$11$q;
+        fwd$11 = s4_fwd$11$q;
         meta_eff$11 = s4_meta$11$q;
         old_eff$11 = s4_old$11$q;
         old_eff2$11 = s4_old2$11$q;
@@ -23400,13 +24676,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$11 = entry5;
             old_eff2$11 = s5_head$11$q;
         end
-        live$11 = s4_walk$11$q & meta_eff$11[32'h9] & (meta_eff$11[32'h8] | (meta_eff$11[(32'h0)+:(8)] == s4_fp$11$q));
-        meta_new$11 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$11[32'h9]) begin
-            meta_new$11 = meta_eff$11;
-            if (meta_eff$11[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$11 = meta_eff$11 | 64'h100;
+        meta_src$22 = s4_meta$11$q;
+        meta_src$23 = s5_meta_w$11$q;
+        live_src$22 = s4_walk$11$q & meta_src$22[32'h9] & (meta_src$22[32'h8] | (meta_src$22[(32'h0)+:(8)] == s4_fp$11$q));
+        meta_new_src$22 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$22[32'h9]) begin
+            meta_new_src$22 = meta_src$22;
+            if (meta_src$22[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$22 = meta_src$22 | 64'h100;
             end
+        end
+        live_src$23 = s4_walk$11$q & meta_src$23[32'h9] & (meta_src$23[32'h8] | (meta_src$23[(32'h0)+:(8)] == s4_fp$11$q));
+        meta_new_src$23 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$23[32'h9]) begin
+            meta_new_src$23 = meta_src$23;
+            if (meta_src$23[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$23 = meta_src$23 | 64'h100;
+            end
+        end
+        live$11 = live_src$22;
+        meta_new$11 = meta_new_src$22;
+        if (fwd$11) begin
+            live$11 = live_src$23;
+            meta_new$11 = meta_new_src$23;
         end
         meta$11$write_enable = s4_enter$11$q;
         meta$11$write_address = s4_bucket$11$q;
@@ -23434,7 +24726,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$11$d = live$11;
         s5_head$11$d = old_eff$11;
         s5_head2$11$d = old_eff2$11;
-        fwd$12 = s4_same$12$q & s5_wrote$12$q;
+        fwd$12 = s4_fwd$12$q;
         meta_eff$12 = s4_meta$12$q;
         old_eff$12 = s4_old$12$q;
         old_eff2$12 = s4_old2$12$q;
@@ -23443,13 +24735,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$12 = entry5;
             old_eff2$12 = s5_head$12$q;
         end
-        live$12 = s4_walk$12$q & meta_eff$12[32'h9] & (meta_eff$12[32'h8] | (meta_eff$12[(32'h0)+:(8)] == s4_fp$12$q));
-        meta_new$12 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$12[32'h9]) begin
-            meta_new$12 = meta_eff$12;
-            if (meta_eff$12[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$12 = meta_eff$12 | 64'h100;
+        meta_src$24 = s4_meta$12$q;
+        meta_src$25 = s5_meta_w$12$q;
+        live_src$24 = s4_walk$12$q & meta_src$24[32'h9] & (meta_src$24[32'h8] | (meta_src$24[(32'h0)+:(8)] == s4_fp$12$q));
+        meta_new_src$24 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$24[32'h9]) begin
+            meta_new_src$24 = meta_src$24;
+            if (meta_src$24[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$24 = meta_src$24 | 64'h100;
             end
+        end
+        live_src$25 = s4_walk$12$q & meta_src$25[32'h9] & (meta_src$25[32'h8] | (meta_src$25[(32'h0)+:(8)] == s4_fp$12$q));
+        meta_new_src$25 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$25[32'h9]) begin
+            meta_new_src$25 = meta_src$25;
+            if (meta_src$25[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$25 = meta_src$25 | 64'h100;
+            end
+        end
+        live$12 = live_src$24;
+        meta_new$12 = meta_new_src$24;
+        if (fwd$12) begin
+            live$12 = live_src$25;
+            meta_new$12 = meta_new_src$25;
         end
         meta$12$write_enable = s4_enter$12$q;
         meta$12$write_address = s4_bucket$12$q;
@@ -23477,7 +24785,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$12$d = live$12;
         s5_head$12$d = old_eff$12;
         s5_head2$12$d = old_eff2$12;
-        fwd$13 = s4_same$13$q & s5_wrote$13$q;
+        fwd$13 = s4_fwd$13$q;
         meta_eff$13 = s4_meta$13$q;
         old_eff$13 = s4_old$13$q;
         old_eff2$13 = s4_old2$13$q;
@@ -23486,13 +24794,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$13 = entry5;
             old_eff2$13 = s5_head$13$q;
         end
-        live$13 = s4_walk$13$q & meta_eff$13[32'h9] & (meta_eff$13[32'h8] | (meta_eff$13[(32'h0)+:(8)] == s4_fp$13$q));
-        meta_new$13 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$13[32'h9]) begin
-            meta_new$13 = meta_eff$13;
-            if (meta_eff$13[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$13 = meta_eff$13 | 64'h100;
+        meta_src$26 = s4_meta$13$q;
+        meta_src$27 = s5_meta_w$13$q;
+        live_src$26 = s4_walk$13$q & meta_src$26[32'h9] & (meta_src$26[32'h8] | (meta_src$26[(32'h0)+:(8)] == s4_fp$13$q));
+        meta_new_src$26 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$26[32'h9]) begin
+            meta_new_src$26 = meta_src$26;
+            if (meta_src$26[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$26 = meta_src$26 | 64'h100;
             end
+        end
+        live_src$27 = s4_walk$13$q & meta_src$27[32'h9] & (meta_src$27[32'h8] | (meta_src$27[(32'h0)+:(8)] == s4_fp$13$q));
+        meta_new_src$27 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$27[32'h9]) begin
+            meta_new_src$27 = meta_src$27;
+            if (meta_src$27[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$27 = meta_src$27 | 64'h100;
+            end
+        end
+        live$13 = live_src$26;
+        meta_new$13 = meta_new_src$26;
+        if (fwd$13) begin
+            live$13 = live_src$27;
+            meta_new$13 = meta_new_src$27;
         end
         meta$13$write_enable = s4_enter$13$q;
         meta$13$write_address = s4_bucket$13$q;
@@ -23520,7 +24844,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$13$d = live$13;
         s5_head$13$d = old_eff$13;
         s5_head2$13$d = old_eff2$13;
-        fwd$14 = s4_same$14$q & s5_wrote$14$q;
+        fwd$14 = s4_fwd$14$q;
         meta_eff$14 = s4_meta$14$q;
         old_eff$14 = s4_old$14$q;
         old_eff2$14 = s4_old2$14$q;
@@ -23529,13 +24853,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$14 = entry5;
             old_eff2$14 = s5_head$14$q;
         end
-        live$14 = s4_walk$14$q & meta_eff$14[32'h9] & (meta_eff$14[32'h8] | (meta_eff$14[(32'h0)+:(8)] == s4_fp$14$q));
-        meta_new$14 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$14[32'h9]) begin
-            meta_new$14 = meta_eff$14;
-            if (meta_eff$14[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$14 = meta_eff$14 | 64'h100;
+        meta_src$28 = s4_meta$14$q;
+        meta_src$29 = s5_meta_w$14$q;
+        live_src$28 = s4_walk$14$q & meta_src$28[32'h9] & (meta_src$28[32'h8] | (meta_src$28[(32'h0)+:(8)] == s4_fp$14$q));
+        meta_new_src$28 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$28[32'h9]) begin
+            meta_new_src$28 = meta_src$28;
+            if (meta_src$28[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$28 = meta_src$28 | 64'h100;
             end
+        end
+        live_src$29 = s4_walk$14$q & meta_src$29[32'h9] & (meta_src$29[32'h8] | (meta_src$29[(32'h0)+:(8)] == s4_fp$14$q));
+        meta_new_src$29 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$29[32'h9]) begin
+            meta_new_src$29 = meta_src$29;
+            if (meta_src$29[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$29 = meta_src$29 | 64'h100;
+            end
+        end
+        live$14 = live_src$28;
+        meta_new$14 = meta_new_src$28;
+        if (fwd$14) begin
+            live$14 = live_src$29;
+            meta_new$14 = meta_new_src$29;
         end
         meta$14$write_enable = s4_enter$14$q;
         meta$14$write_address = s4_bucket$14$q;
@@ -23563,7 +24903,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$14$d = live$14;
         s5_head$14$d = old_eff$14;
         s5_head2$14$d = old_eff2$14;
-        fwd$15 = s4_same$15$q & s5_wrote$15$q;
+        fwd$15 = s4_fwd$15$q;
         meta_eff$15 = s4_meta$15$q;
         old_eff$15 = s4_old$15$q;
         old_eff2$15 = s4_old2$15$q;
@@ -23572,13 +24912,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$15 = entry5;
             old_eff2$15 = s5_head$15$q;
         end
-        live$15 = s4_walk$15$q & meta_eff$15[32'h9] & (meta_eff$15[32'h8] | (meta_eff$15[(32'h0)+:(8)] == s4_fp$15$q));
-        meta_new$15 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$15[32'h9]) begin
-            meta_new$15 = meta_eff$15;
-            if (meta_eff$15[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$15 = meta_eff$15 | 64'h100;
+        meta_src$30 = s4_meta$15$q;
+        meta_src$31 = s5_meta_w$15$q;
+        live_src$30 = s4_walk$15$q & meta_src$30[32'h9] & (meta_src$30[32'h8] | (meta_src$30[(32'h0)+:(8)] == s4_fp$15$q));
+        meta_new_src$30 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$30[32'h9]) begin
+            meta_new_src$30 = meta_src$30;
+            if (meta_src$30[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$30 = meta_src$30 | 64'h100;
             end
+        end
+        live_src$31 = s4_walk$15$q & meta_src$31[32'h9] & (meta_src$31[32'h8] | (meta_src$31[(32'h0)+:(8)] == s4_fp$15$q));
+        meta_new_src$31 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$31[32'h9]) begin
+            meta_new_src$31 = meta_src$31;
+            if (meta_src$31[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$31 = meta_src$31 | 64'h100;
+            end
+        end
+        live$15 = live_src$30;
+        meta_new$15 = meta_new_src$30;
+        if (fwd$15) begin
+            live$15 = live_src$31;
+            meta_new$15 = meta_new_src$31;
         end
         meta$15$write_enable = s4_enter$15$q;
         meta$15$write_address = s4_bucket$15$q;
@@ -23606,7 +24962,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$15$d = live$15;
         s5_head$15$d = old_eff$15;
         s5_head2$15$d = old_eff2$15;
-        fwd$16 = s4_same$16$q & s5_wrote$16$q;
+        fwd$16 = s4_fwd$16$q;
         meta_eff$16 = s4_meta$16$q;
         old_eff$16 = s4_old$16$q;
         old_eff2$16 = s4_old2$16$q;
@@ -23615,13 +24971,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$16 = entry5;
             old_eff2$16 = s5_head$16$q;
         end
-        live$16 = s4_walk$16$q & meta_eff$16[32'h9] & (meta_eff$16[32'h8] | (meta_eff$16[(32'h0)+:(8)] == s4_fp$16$q));
-        meta_new$16 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$16[32'h9]) begin
-            meta_new$16 = meta_eff$16;
-            if (meta_eff$16[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$16 = meta_eff$16 | 64'h100;
+        meta_src$32 = s4_meta$16$q;
+        meta_src$33 = s5_meta_w$16$q;
+        live_src$32 = s4_walk$16$q & meta_src$32[32'h9] & (meta_src$32[32'h8] | (meta_src$32[(32'h0)+:(8)] == s4_fp$16$q));
+        meta_new_src$32 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$32[32'h9]) begin
+            meta_new_src$32 = meta_src$32;
+            if (meta_src$32[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$32 = meta_src$32 | 64'h100;
             end
+        end
+        live_src$33 = s4_walk$16$q & meta_src$33[32'h9] & (meta_src$33[32'h8] | (meta_src$33[(32'h0)+:(8)] == s4_fp$16$q));
+        meta_new_src$33 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$33[32'h9]) begin
+            meta_new_src$33 = meta_src$33;
+            if (meta_src$33[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$33 = meta_src$33 | 64'h100;
+            end
+        end
+        live$16 = live_src$32;
+        meta_new$16 = meta_new_src$32;
+        if (fwd$16) begin
+            live$16 = live_src$33;
+            meta_new$16 = meta_new_src$33;
         end
         meta$16$write_enable = s4_enter$16$q;
         meta$16$write_address = s4_bucket$16$q;
@@ -23649,7 +25021,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$16$d = live$16;
         s5_head$16$d = old_eff$16;
         s5_head2$16$d = old_eff2$16;
-        fwd$17 = s4_same$17$q & s5_wrote$17$q;
+        fwd$17 = s4_fwd$17$q;
         meta_eff$17 = s4_meta$17$q;
         old_eff$17 = s4_old$17$q;
         old_eff2$17 = s4_old2$17$q;
@@ -23658,13 +25030,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$17 = entry5;
             old_eff2$17 = s5_head$17$q;
         end
-        live$17 = s4_walk$17$q & meta_eff$17[32'h9] & (meta_eff$17[32'h8] | (meta_eff$17[(32'h0)+:(8)] == s4_fp$17$q));
-        meta_new$17 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$17[32'h9]) begin
-            meta_new$17 = meta_eff$17;
-            if (meta_eff$17[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$17 = meta_eff$17 | 64'h100;
+        meta_src$34 = s4_meta$17$q;
+        meta_src$35 = s5_meta_w$17$q;
+        live_src$34 = s4_walk$17$q & meta_src$34[32'h9] & (meta_src$34[32'h8] | (meta_src$34[(32'h0)+:(8)] == s4_fp$17$q));
+        meta_new_src$34 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$34[32'h9]) begin
+            meta_new_src$34 = meta_src$34;
+            if (meta_src$34[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$34 = meta_src$34 | 64'h100;
             end
+        end
+        live_src$35 = s4_walk$17$q & meta_src$35[32'h9] & (meta_src$35[32'h8] | (meta_src$35[(32'h0)+:(8)] == s4_fp$17$q));
+        meta_new_src$35 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$35[32'h9]) begin
+            meta_new_src$35 = meta_src$35;
+            if (meta_src$35[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$35 = meta_src$35 | 64'h100;
+            end
+        end
+        live$17 = live_src$34;
+        meta_new$17 = meta_new_src$34;
+        if (fwd$17) begin
+            live$17 = live_src$35;
+            meta_new$17 = meta_new_src$35;
         end
         meta$17$write_enable = s4_enter$17$q;
         meta$17$write_address = s4_bucket$17$q;
@@ -23692,7 +25080,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$17$d = live$17;
         s5_head$17$d = old_eff$17;
         s5_head2$17$d = old_eff2$17;
-        fwd$18 = s4_same$18$q & s5_wrote$18$q;
+        fwd$18 = s4_fwd$18$q;
         meta_eff$18 = s4_meta$18$q;
         old_eff$18 = s4_old$18$q;
         old_eff2$18 = s4_old2$18$q;
@@ -23701,13 +25089,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$18 = entry5;
             old_eff2$18 = s5_head$18$q;
         end
-        live$18 = s4_walk$18$q & meta_eff$18[32'h9] & (meta_eff$18[32'h8] | (meta_eff$18[(32'h0)+:(8)] == s4_fp$18$q));
-        meta_new$18 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$18[32'h9]) begin
-            meta_new$18 = meta_eff$18;
-            if (meta_eff$18[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$18 = meta_eff$18 | 64'h100;
+        meta_src$36 = s4_meta$18$q;
+        meta_src$37 = s5_meta_w$18$q;
+        live_src$36 = s4_walk$18$q & meta_src$36[32'h9] & (meta_src$36[32'h8] | (meta_src$36[(32'h0)+:(8)] == s4_fp$18$q));
+        meta_new_src$36 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$36[32'h9]) begin
+            meta_new_src$36 = meta_src$36;
+            if (meta_src$36[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$36 = meta_src$36 | 64'h100;
             end
+        end
+        live_src$37 = s4_walk$18$q & meta_src$37[32'h9] & (meta_src$37[32'h8] | (meta_src$37[(32'h0)+:(8)] == s4_fp$18$q));
+        meta_new_src$37 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$37[32'h9]) begin
+            meta_new_src$37 = meta_src$37;
+            if (meta_src$37[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$37 = meta_src$37 | 64'h100;
+            end
+        end
+        live$18 = live_src$36;
+        meta_new$18 = meta_new_src$36;
+        if (fwd$18) begin
+            live$18 = live_src$37;
+            meta_new$18 = meta_new_src$37;
         end
         meta$18$write_enable = s4_enter$18$q;
         meta$18$write_address = s4_bucket$18$q;
@@ -23735,7 +25139,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$18$d = live$18;
         s5_head$18$d = old_eff$18;
         s5_head2$18$d = old_eff2$18;
-        fwd$19 = s4_same$19$q & s5_wrote$19$q;
+        fwd$19 = s4_fwd$19$q;
         meta_eff$19 = s4_meta$19$q;
         old_eff$19 = s4_old$19$q;
         old_eff2$19 = s4_old2$19$q;
@@ -23744,13 +25148,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$19 = entry5;
             old_eff2$19 = s5_head$19$q;
         end
-        live$19 = s4_walk$19$q & meta_eff$19[32'h9] & (meta_eff$19[32'h8] | (meta_eff$19[(32'h0)+:(8)] == s4_fp$19$q));
-        meta_new$19 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$19[32'h9]) begin
-            meta_new$19 = meta_eff$19;
-            if (meta_eff$19[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$19 = meta_eff$19 | 64'h100;
+        meta_src$38 = s4_meta$19$q;
+        meta_src$39 = s5_meta_w$19$q;
+        live_src$38 = s4_walk$19$q & meta_src$38[32'h9] & (meta_src$38[32'h8] | (meta_src$38[(32'h0)+:(8)] == s4_fp$19$q));
+        meta_new_src$38 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$38[32'h9]) begin
+            meta_new_src$38 = meta_src$38;
+            if (meta_src$38[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$38 = meta_src$38 | 64'h100;
             end
+        end
+        live_src$39 = s4_walk$19$q & meta_src$39[32'h9] & (meta_src$39[32'h8] | (meta_src$39[(32'h0)+:(8)] == s4_fp$19$q));
+        meta_new_src$39 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$39[32'h9]) begin
+            meta_new_src$39 = meta_src$39;
+            if (meta_src$39[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$39 = meta_src$39 | 64'h100;
+            end
+        end
+        live$19 = live_src$38;
+        meta_new$19 = meta_new_src$38;
+        if (fwd$19) begin
+            live$19 = live_src$39;
+            meta_new$19 = meta_new_src$39;
         end
         meta$19$write_enable = s4_enter$19$q;
         meta$19$write_address = s4_bucket$19$q;
@@ -23778,7 +25198,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$19$d = live$19;
         s5_head$19$d = old_eff$19;
         s5_head2$19$d = old_eff2$19;
-        fwd$20 = s4_same$20$q & s5_wrote$20$q;
+        fwd$20 = s4_fwd$20$q;
         meta_eff$20 = s4_meta$20$q;
         old_eff$20 = s4_old$20$q;
         old_eff2$20 = s4_old2$20$q;
@@ -23787,13 +25207,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$20 = entry5;
             old_eff2$20 = s5_head$20$q;
         end
-        live$20 = s4_walk$20$q & meta_eff$20[32'h9] & (meta_eff$20[32'h8] | (meta_eff$20[(32'h0)+:(8)] == s4_fp$20$q));
-        meta_new$20 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$20[32'h9]) begin
-            meta_new$20 = meta_eff$20;
-            if (meta_eff$20[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$20 = meta_eff$20 | 64'h100;
+        meta_src$40 = s4_meta$20$q;
+        meta_src$41 = s5_meta_w$20$q;
+        live_src$40 = s4_walk$20$q & meta_src$40[32'h9] & (meta_src$40[32'h8] | (meta_src$40[(32'h0)+:(8)] == s4_fp$20$q));
+        meta_new_src$40 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$40[32'h9]) begin
+            meta_new_src$40 = meta_src$40;
+            if (meta_src$40[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$40 = meta_src$40 | 64'h100;
             end
+        end
+        live_src$41 = s4_walk$20$q & meta_src$41[32'h9] & (meta_src$41[32'h8] | (meta_src$41[(32'h0)+:(8)] == s4_fp$20$q));
+        meta_new_src$41 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$41[32'h9]) begin
+            meta_new_src$41 = meta_src$41;
+            if (meta_src$41[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$41 = meta_src$41 | 64'h100;
+            end
+        end
+        live$20 = live_src$40;
+        meta_new$20 = meta_new_src$40;
+        if (fwd$20) begin
+            live$20 = live_src$41;
+            meta_new$20 = meta_new_src$41;
         end
         meta$20$write_enable = s4_enter$20$q;
         meta$20$write_address = s4_bucket$20$q;
@@ -23821,7 +25257,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$20$d = live$20;
         s5_head$20$d = old_eff$20;
         s5_head2$20$d = old_eff2$20;
-        fwd$21 = s4_same$21$q & s5_wrote$21$q;
+        fwd$21 = s4_fwd$21$q;
         meta_eff$21 = s4_meta$21$q;
         old_eff$21 = s4_old$21$q;
         old_eff2$21 = s4_old2$21$q;
@@ -23830,13 +25266,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$21 = entry5;
             old_eff2$21 = s5_head$21$q;
         end
-        live$21 = s4_walk$21$q & meta_eff$21[32'h9] & (meta_eff$21[32'h8] | (meta_eff$21[(32'h0)+:(8)] == s4_fp$21$q));
-        meta_new$21 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$21[32'h9]) begin
-            meta_new$21 = meta_eff$21;
-            if (meta_eff$21[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$21 = meta_eff$21 | 64'h100;
+        meta_src$42 = s4_meta$21$q;
+        meta_src$43 = s5_meta_w$21$q;
+        live_src$42 = s4_walk$21$q & meta_src$42[32'h9] & (meta_src$42[32'h8] | (meta_src$42[(32'h0)+:(8)] == s4_fp$21$q));
+        meta_new_src$42 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$42[32'h9]) begin
+            meta_new_src$42 = meta_src$42;
+            if (meta_src$42[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$42 = meta_src$42 | 64'h100;
             end
+        end
+        live_src$43 = s4_walk$21$q & meta_src$43[32'h9] & (meta_src$43[32'h8] | (meta_src$43[(32'h0)+:(8)] == s4_fp$21$q));
+        meta_new_src$43 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$43[32'h9]) begin
+            meta_new_src$43 = meta_src$43;
+            if (meta_src$43[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$43 = meta_src$43 | 64'h100;
+            end
+        end
+        live$21 = live_src$42;
+        meta_new$21 = meta_new_src$42;
+        if (fwd$21) begin
+            live$21 = live_src$43;
+            meta_new$21 = meta_new_src$43;
         end
         meta$21$write_enable = s4_enter$21$q;
         meta$21$write_address = s4_bucket$21$q;
@@ -23864,7 +25316,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$21$d = live$21;
         s5_head$21$d = old_eff$21;
         s5_head2$21$d = old_eff2$21;
-        fwd$22 = s4_same$22$q & s5_wrote$22$q;
+        fwd$22 = s4_fwd$22$q;
         meta_eff$22 = s4_meta$22$q;
         old_eff$22 = s4_old$22$q;
         old_eff2$22 = s4_old2$22$q;
@@ -23873,13 +25325,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$22 = entry5;
             old_eff2$22 = s5_head$22$q;
         end
-        live$22 = s4_walk$22$q & meta_eff$22[32'h9] & (meta_eff$22[32'h8] | (meta_eff$22[(32'h0)+:(8)] == s4_fp$22$q));
-        meta_new$22 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$22[32'h9]) begin
-            meta_new$22 = meta_eff$22;
-            if (meta_eff$22[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$22 = meta_eff$22 | 64'h100;
+        meta_src$44 = s4_meta$22$q;
+        meta_src$45 = s5_meta_w$22$q;
+        live_src$44 = s4_walk$22$q & meta_src$44[32'h9] & (meta_src$44[32'h8] | (meta_src$44[(32'h0)+:(8)] == s4_fp$22$q));
+        meta_new_src$44 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$44[32'h9]) begin
+            meta_new_src$44 = meta_src$44;
+            if (meta_src$44[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$44 = meta_src$44 | 64'h100;
             end
+        end
+        live_src$45 = s4_walk$22$q & meta_src$45[32'h9] & (meta_src$45[32'h8] | (meta_src$45[(32'h0)+:(8)] == s4_fp$22$q));
+        meta_new_src$45 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$45[32'h9]) begin
+            meta_new_src$45 = meta_src$45;
+            if (meta_src$45[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$45 = meta_src$45 | 64'h100;
+            end
+        end
+        live$22 = live_src$44;
+        meta_new$22 = meta_new_src$44;
+        if (fwd$22) begin
+            live$22 = live_src$45;
+            meta_new$22 = meta_new_src$45;
         end
         meta$22$write_enable = s4_enter$22$q;
         meta$22$write_address = s4_bucket$22$q;
@@ -23907,7 +25375,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$22$d = live$22;
         s5_head$22$d = old_eff$22;
         s5_head2$22$d = old_eff2$22;
-        fwd$23 = s4_same$23$q & s5_wrote$23$q;
+        fwd$23 = s4_fwd$23$q;
         meta_eff$23 = s4_meta$23$q;
         old_eff$23 = s4_old$23$q;
         old_eff2$23 = s4_old2$23$q;
@@ -23916,13 +25384,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$23 = entry5;
             old_eff2$23 = s5_head$23$q;
         end
-        live$23 = s4_walk$23$q & meta_eff$23[32'h9] & (meta_eff$23[32'h8] | (meta_eff$23[(32'h0)+:(8)] == s4_fp$23$q));
-        meta_new$23 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$23[32'h9]) begin
-            meta_new$23 = meta_eff$23;
-            if (meta_eff$23[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$23 = meta_eff$23 | 64'h100;
+        meta_src$46 = s4_meta$23$q;
+        meta_src$47 = s5_meta_w$23$q;
+        live_src$46 = s4_walk$23$q & meta_src$46[32'h9] & (meta_src$46[32'h8] | (meta_src$46[(32'h0)+:(8)] == s4_fp$23$q));
+        meta_new_src$46 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$46[32'h9]) begin
+            meta_new_src$46 = meta_src$46;
+            if (meta_src$46[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$46 = meta_src$46 | 64'h100;
             end
+        end
+        live_src$47 = s4_walk$23$q & meta_src$47[32'h9] & (meta_src$47[32'h8] | (meta_src$47[(32'h0)+:(8)] == s4_fp$23$q));
+        meta_new_src$47 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$47[32'h9]) begin
+            meta_new_src$47 = meta_src$47;
+            if (meta_src$47[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$47 = meta_src$47 | 64'h100;
+            end
+        end
+        live$23 = live_src$46;
+        meta_new$23 = meta_new_src$46;
+        if (fwd$23) begin
+            live$23 = live_src$47;
+            meta_new$23 = meta_new_src$47;
         end
         meta$23$write_enable = s4_enter$23$q;
         meta$23$write_address = s4_bucket$23$q;
@@ -23950,7 +25434,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$23$d = live$23;
         s5_head$23$d = old_eff$23;
         s5_head2$23$d = old_eff2$23;
-        fwd$24 = s4_same$24$q & s5_wrote$24$q;
+        fwd$24 = s4_fwd$24$q;
         meta_eff$24 = s4_meta$24$q;
         old_eff$24 = s4_old$24$q;
         old_eff2$24 = s4_old2$24$q;
@@ -23959,13 +25443,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$24 = entry5;
             old_eff2$24 = s5_head$24$q;
         end
-        live$24 = s4_walk$24$q & meta_eff$24[32'h9] & (meta_eff$24[32'h8] | (meta_eff$24[(32'h0)+:(8)] == s4_fp$24$q));
-        meta_new$24 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$24[32'h9]) begin
-            meta_new$24 = meta_eff$24;
-            if (meta_eff$24[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$24 = meta_eff$24 | 64'h100;
+        meta_src$48 = s4_meta$24$q;
+        meta_src$49 = s5_meta_w$24$q;
+        live_src$48 = s4_walk$24$q & meta_src$48[32'h9] & (meta_src$48[32'h8] | (meta_src$48[(32'h0)+:(8)] == s4_fp$24$q));
+        meta_new_src$48 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$48[32'h9]) begin
+            meta_new_src$48 = meta_src$48;
+            if (meta_src$48[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$48 = meta_src$48 | 64'h100;
             end
+        end
+        live_src$49 = s4_walk$24$q & meta_src$49[32'h9] & (meta_src$49[32'h8] | (meta_src$49[(32'h0)+:(8)] == s4_fp$24$q));
+        meta_new_src$49 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$49[32'h9]) begin
+            meta_new_src$49 = meta_src$49;
+            if (meta_src$49[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$49 = meta_src$49 | 64'h100;
+            end
+        end
+        live$24 = live_src$48;
+        meta_new$24 = meta_new_src$48;
+        if (fwd$24) begin
+            live$24 = live_src$49;
+            meta_new$24 = meta_new_src$49;
         end
         meta$24$write_enable = s4_enter$24$q;
         meta$24$write_address = s4_bucket$24$q;
@@ -23993,7 +25493,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$24$d = live$24;
         s5_head$24$d = old_eff$24;
         s5_head2$24$d = old_eff2$24;
-        fwd$25 = s4_same$25$q & s5_wrote$25$q;
+        fwd$25 = s4_fwd$25$q;
         meta_eff$25 = s4_meta$25$q;
         old_eff$25 = s4_old$25$q;
         old_eff2$25 = s4_old2$25$q;
@@ -24002,13 +25502,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$25 = entry5;
             old_eff2$25 = s5_head$25$q;
         end
-        live$25 = s4_walk$25$q & meta_eff$25[32'h9] & (meta_eff$25[32'h8] | (meta_eff$25[(32'h0)+:(8)] == s4_fp$25$q));
-        meta_new$25 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$25[32'h9]) begin
-            meta_new$25 = meta_eff$25;
-            if (meta_eff$25[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$25 = meta_eff$25 | 64'h100;
+        meta_src$50 = s4_meta$25$q;
+        meta_src$51 = s5_meta_w$25$q;
+        live_src$50 = s4_walk$25$q & meta_src$50[32'h9] & (meta_src$50[32'h8] | (meta_src$50[(32'h0)+:(8)] == s4_fp$25$q));
+        meta_new_src$50 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$50[32'h9]) begin
+            meta_new_src$50 = meta_src$50;
+            if (meta_src$50[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$50 = meta_src$50 | 64'h100;
             end
+        end
+        live_src$51 = s4_walk$25$q & meta_src$51[32'h9] & (meta_src$51[32'h8] | (meta_src$51[(32'h0)+:(8)] == s4_fp$25$q));
+        meta_new_src$51 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$51[32'h9]) begin
+            meta_new_src$51 = meta_src$51;
+            if (meta_src$51[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$51 = meta_src$51 | 64'h100;
+            end
+        end
+        live$25 = live_src$50;
+        meta_new$25 = meta_new_src$50;
+        if (fwd$25) begin
+            live$25 = live_src$51;
+            meta_new$25 = meta_new_src$51;
         end
         meta$25$write_enable = s4_enter$25$q;
         meta$25$write_address = s4_bucket$25$q;
@@ -24036,7 +25552,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$25$d = live$25;
         s5_head$25$d = old_eff$25;
         s5_head2$25$d = old_eff2$25;
-        fwd$26 = s4_same$26$q & s5_wrote$26$q;
+        fwd$26 = s4_fwd$26$q;
         meta_eff$26 = s4_meta$26$q;
         old_eff$26 = s4_old$26$q;
         old_eff2$26 = s4_old2$26$q;
@@ -24045,13 +25561,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$26 = entry5;
             old_eff2$26 = s5_head$26$q;
         end
-        live$26 = s4_walk$26$q & meta_eff$26[32'h9] & (meta_eff$26[32'h8] | (meta_eff$26[(32'h0)+:(8)] == s4_fp$26$q));
-        meta_new$26 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$26[32'h9]) begin
-            meta_new$26 = meta_eff$26;
-            if (meta_eff$26[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$26 = meta_eff$26 | 64'h100;
+        meta_src$52 = s4_meta$26$q;
+        meta_src$53 = s5_meta_w$26$q;
+        live_src$52 = s4_walk$26$q & meta_src$52[32'h9] & (meta_src$52[32'h8] | (meta_src$52[(32'h0)+:(8)] == s4_fp$26$q));
+        meta_new_src$52 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$52[32'h9]) begin
+            meta_new_src$52 = meta_src$52;
+            if (meta_src$52[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$52 = meta_src$52 | 64'h100;
             end
+        end
+        live_src$53 = s4_walk$26$q & meta_src$53[32'h9] & (meta_src$53[32'h8] | (meta_src$53[(32'h0)+:(8)] == s4_fp$26$q));
+        meta_new_src$53 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$53[32'h9]) begin
+            meta_new_src$53 = meta_src$53;
+            if (meta_src$53[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$53 = meta_src$53 | 64'h100;
+            end
+        end
+        live$26 = live_src$52;
+        meta_new$26 = meta_new_src$52;
+        if (fwd$26) begin
+            live$26 = live_src$53;
+            meta_new$26 = meta_new_src$53;
         end
         meta$26$write_enable = s4_enter$26$q;
         meta$26$write_address = s4_bucket$26$q;
@@ -24079,7 +25611,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$26$d = live$26;
         s5_head$26$d = old_eff$26;
         s5_head2$26$d = old_eff2$26;
-        fwd$27 = s4_same$0$q & s5_wrote$27$q;
+        fwd$27 = s4_fwd$27$q;
         meta_eff$27 = s4_meta$27$q;
         old_eff$27 = s4_old$27$q;
         old_eff2$27 = s4_old2$27$q;
@@ -24088,13 +25620,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$27 = entry5;
             old_eff2$27 = s5_head$27$q;
         end
-        live$27 = s4_walk$27$q & meta_eff$27[32'h9] & (meta_eff$27[32'h8] | (meta_eff$27[(32'h0)+:(8)] == s4_fp$0$q));
-        meta_new$27 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$27[32'h9]) begin
-            meta_new$27 = meta_eff$27;
-            if (meta_eff$27[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$27 = meta_eff$27 | 64'h100;
+        meta_src$54 = s4_meta$27$q;
+        meta_src$55 = s5_meta_w$27$q;
+        live_src$54 = s4_walk$27$q & meta_src$54[32'h9] & (meta_src$54[32'h8] | (meta_src$54[(32'h0)+:(8)] == s4_fp$0$q));
+        meta_new_src$54 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$54[32'h9]) begin
+            meta_new_src$54 = meta_src$54;
+            if (meta_src$54[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$54 = meta_src$54 | 64'h100;
             end
+        end
+        live_src$55 = s4_walk$27$q & meta_src$55[32'h9] & (meta_src$55[32'h8] | (meta_src$55[(32'h0)+:(8)] == s4_fp$0$q));
+        meta_new_src$55 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$55[32'h9]) begin
+            meta_new_src$55 = meta_src$55;
+            if (meta_src$55[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$55 = meta_src$55 | 64'h100;
+            end
+        end
+        live$27 = live_src$54;
+        meta_new$27 = meta_new_src$54;
+        if (fwd$27) begin
+            live$27 = live_src$55;
+            meta_new$27 = meta_new_src$55;
         end
         meta$27$write_enable = s4_enter$27$q;
         meta$27$write_address = s4_bucket$0$q;
@@ -24122,7 +25670,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$27$d = live$27;
         s5_head$27$d = old_eff$27;
         s5_head2$27$d = old_eff2$27;
-        fwd$28 = s4_same$1$q & s5_wrote$28$q;
+        fwd$28 = s4_fwd$28$q;
         meta_eff$28 = s4_meta$28$q;
         old_eff$28 = s4_old$28$q;
         old_eff2$28 = s4_old2$28$q;
@@ -24131,13 +25679,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$28 = entry5;
             old_eff2$28 = s5_head$28$q;
         end
-        live$28 = s4_walk$28$q & meta_eff$28[32'h9] & (meta_eff$28[32'h8] | (meta_eff$28[(32'h0)+:(8)] == s4_fp$1$q));
-        meta_new$28 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$28[32'h9]) begin
-            meta_new$28 = meta_eff$28;
-            if (meta_eff$28[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$28 = meta_eff$28 | 64'h100;
+        meta_src$56 = s4_meta$28$q;
+        meta_src$57 = s5_meta_w$28$q;
+        live_src$56 = s4_walk$28$q & meta_src$56[32'h9] & (meta_src$56[32'h8] | (meta_src$56[(32'h0)+:(8)] == s4_fp$1$q));
+        meta_new_src$56 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$56[32'h9]) begin
+            meta_new_src$56 = meta_src$56;
+            if (meta_src$56[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$56 = meta_src$56 | 64'h100;
             end
+        end
+        live_src$57 = s4_walk$28$q & meta_src$57[32'h9] & (meta_src$57[32'h8] | (meta_src$57[(32'h0)+:(8)] == s4_fp$1$q));
+        meta_new_src$57 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$57[32'h9]) begin
+            meta_new_src$57 = meta_src$57;
+            if (meta_src$57[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$57 = meta_src$57 | 64'h100;
+            end
+        end
+        live$28 = live_src$56;
+        meta_new$28 = meta_new_src$56;
+        if (fwd$28) begin
+            live$28 = live_src$57;
+            meta_new$28 = meta_new_src$57;
         end
         meta$28$write_enable = s4_enter$28$q;
         meta$28$write_address = s4_bucket$1$q;
@@ -24165,7 +25729,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$28$d = live$28;
         s5_head$28$d = old_eff$28;
         s5_head2$28$d = old_eff2$28;
-        fwd$29 = s4_same$2$q & s5_wrote$29$q;
+        fwd$29 = s4_fwd$29$q;
         meta_eff$29 = s4_meta$29$q;
         old_eff$29 = s4_old$29$q;
         old_eff2$29 = s4_old2$29$q;
@@ -24174,13 +25738,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$29 = entry5;
             old_eff2$29 = s5_head$29$q;
         end
-        live$29 = s4_walk$29$q & meta_eff$29[32'h9] & (meta_eff$29[32'h8] | (meta_eff$29[(32'h0)+:(8)] == s4_fp$2$q));
-        meta_new$29 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$29[32'h9]) begin
-            meta_new$29 = meta_eff$29;
-            if (meta_eff$29[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$29 = meta_eff$29 | 64'h100;
+        meta_src$58 = s4_meta$29$q;
+        meta_src$59 = s5_meta_w$29$q;
+        live_src$58 = s4_walk$29$q & meta_src$58[32'h9] & (meta_src$58[32'h8] | (meta_src$58[(32'h0)+:(8)] == s4_fp$2$q));
+        meta_new_src$58 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$58[32'h9]) begin
+            meta_new_src$58 = meta_src$58;
+            if (meta_src$58[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$58 = meta_src$58 | 64'h100;
             end
+        end
+        live_src$59 = s4_walk$29$q & meta_src$59[32'h9] & (meta_src$59[32'h8] | (meta_src$59[(32'h0)+:(8)] == s4_fp$2$q));
+        meta_new_src$59 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$59[32'h9]) begin
+            meta_new_src$59 = meta_src$59;
+            if (meta_src$59[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$59 = meta_src$59 | 64'h100;
+            end
+        end
+        live$29 = live_src$58;
+        meta_new$29 = meta_new_src$58;
+        if (fwd$29) begin
+            live$29 = live_src$59;
+            meta_new$29 = meta_new_src$59;
         end
         meta$29$write_enable = s4_enter$29$q;
         meta$29$write_address = s4_bucket$2$q;
@@ -24208,7 +25788,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$29$d = live$29;
         s5_head$29$d = old_eff$29;
         s5_head2$29$d = old_eff2$29;
-        fwd$30 = s4_same$3$q & s5_wrote$30$q;
+        fwd$30 = s4_fwd$30$q;
         meta_eff$30 = s4_meta$30$q;
         old_eff$30 = s4_old$30$q;
         old_eff2$30 = s4_old2$30$q;
@@ -24217,13 +25797,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$30 = entry5;
             old_eff2$30 = s5_head$30$q;
         end
-        live$30 = s4_walk$30$q & meta_eff$30[32'h9] & (meta_eff$30[32'h8] | (meta_eff$30[(32'h0)+:(8)] == s4_fp$3$q));
-        meta_new$30 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$30[32'h9]) begin
-            meta_new$30 = meta_eff$30;
-            if (meta_eff$30[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$30 = meta_eff$30 | 64'h100;
+        meta_src$60 = s4_meta$30$q;
+        meta_src$61 = s5_meta_w$30$q;
+        live_src$60 = s4_walk$30$q & meta_src$60[32'h9] & (meta_src$60[32'h8] | (meta_src$60[(32'h0)+:(8)] == s4_fp$3$q));
+        meta_new_src$60 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$60[32'h9]) begin
+            meta_new_src$60 = meta_src$60;
+            if (meta_src$60[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$60 = meta_src$60 | 64'h100;
             end
+        end
+        live_src$61 = s4_walk$30$q & meta_src$61[32'h9] & (meta_src$61[32'h8] | (meta_src$61[(32'h0)+:(8)] == s4_fp$3$q));
+        meta_new_src$61 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$61[32'h9]) begin
+            meta_new_src$61 = meta_src$61;
+            if (meta_src$61[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$61 = meta_src$61 | 64'h100;
+            end
+        end
+        live$30 = live_src$60;
+        meta_new$30 = meta_new_src$60;
+        if (fwd$30) begin
+            live$30 = live_src$61;
+            meta_new$30 = meta_new_src$61;
         end
         meta$30$write_enable = s4_enter$30$q;
         meta$30$write_address = s4_bucket$3$q;
@@ -24251,7 +25847,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$30$d = live$30;
         s5_head$30$d = old_eff$30;
         s5_head2$30$d = old_eff2$30;
-        fwd$31 = s4_same$4$q & s5_wrote$31$q;
+        fwd$31 = s4_fwd$31$q;
         meta_eff$31 = s4_meta$31$q;
         old_eff$31 = s4_old$31$q;
         old_eff2$31 = s4_old2$31$q;
@@ -24260,13 +25856,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$31 = entry5;
             old_eff2$31 = s5_head$31$q;
         end
-        live$31 = s4_walk$31$q & meta_eff$31[32'h9] & (meta_eff$31[32'h8] | (meta_eff$31[(32'h0)+:(8)] == s4_fp$4$q));
-        meta_new$31 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$31[32'h9]) begin
-            meta_new$31 = meta_eff$31;
-            if (meta_eff$31[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$31 = meta_eff$31 | 64'h100;
+        meta_src$62 = s4_meta$31$q;
+        meta_src$63 = s5_meta_w$31$q;
+        live_src$62 = s4_walk$31$q & meta_src$62[32'h9] & (meta_src$62[32'h8] | (meta_src$62[(32'h0)+:(8)] == s4_fp$4$q));
+        meta_new_src$62 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$62[32'h9]) begin
+            meta_new_src$62 = meta_src$62;
+            if (meta_src$62[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$62 = meta_src$62 | 64'h100;
             end
+        end
+        live_src$63 = s4_walk$31$q & meta_src$63[32'h9] & (meta_src$63[32'h8] | (meta_src$63[(32'h0)+:(8)] == s4_fp$4$q));
+        meta_new_src$63 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$63[32'h9]) begin
+            meta_new_src$63 = meta_src$63;
+            if (meta_src$63[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$63 = meta_src$63 | 64'h100;
+            end
+        end
+        live$31 = live_src$62;
+        meta_new$31 = meta_new_src$62;
+        if (fwd$31) begin
+            live$31 = live_src$63;
+            meta_new$31 = meta_new_src$63;
         end
         meta$31$write_enable = s4_enter$31$q;
         meta$31$write_address = s4_bucket$4$q;
@@ -24294,7 +25906,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$31$d = live$31;
         s5_head$31$d = old_eff$31;
         s5_head2$31$d = old_eff2$31;
-        fwd$32 = s4_same$5$q & s5_wrote$32$q;
+        fwd$32 = s4_fwd$32$q;
         meta_eff$32 = s4_meta$32$q;
         old_eff$32 = s4_old$32$q;
         old_eff2$32 = s4_old2$32$q;
@@ -24303,13 +25915,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$32 = entry5;
             old_eff2$32 = s5_head$32$q;
         end
-        live$32 = s4_walk$32$q & meta_eff$32[32'h9] & (meta_eff$32[32'h8] | (meta_eff$32[(32'h0)+:(8)] == s4_fp$5$q));
-        meta_new$32 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$32[32'h9]) begin
-            meta_new$32 = meta_eff$32;
-            if (meta_eff$32[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$32 = meta_eff$32 | 64'h100;
+        meta_src$64 = s4_meta$32$q;
+        meta_src$65 = s5_meta_w$32$q;
+        live_src$64 = s4_walk$32$q & meta_src$64[32'h9] & (meta_src$64[32'h8] | (meta_src$64[(32'h0)+:(8)] == s4_fp$5$q));
+        meta_new_src$64 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$64[32'h9]) begin
+            meta_new_src$64 = meta_src$64;
+            if (meta_src$64[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$64 = meta_src$64 | 64'h100;
             end
+        end
+        live_src$65 = s4_walk$32$q & meta_src$65[32'h9] & (meta_src$65[32'h8] | (meta_src$65[(32'h0)+:(8)] == s4_fp$5$q));
+        meta_new_src$65 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$65[32'h9]) begin
+            meta_new_src$65 = meta_src$65;
+            if (meta_src$65[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$65 = meta_src$65 | 64'h100;
+            end
+        end
+        live$32 = live_src$64;
+        meta_new$32 = meta_new_src$64;
+        if (fwd$32) begin
+            live$32 = live_src$65;
+            meta_new$32 = meta_new_src$65;
         end
         meta$32$write_enable = s4_enter$32$q;
         meta$32$write_address = s4_bucket$5$q;
@@ -24337,7 +25965,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$32$d = live$32;
         s5_head$32$d = old_eff$32;
         s5_head2$32$d = old_eff2$32;
-        fwd$33 = s4_same$6$q & s5_wrote$33$q;
+        fwd$33 = s4_fwd$33$q;
         meta_eff$33 = s4_meta$33$q;
         old_eff$33 = s4_old$33$q;
         old_eff2$33 = s4_old2$33$q;
@@ -24346,13 +25974,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$33 = entry5;
             old_eff2$33 = s5_head$33$q;
         end
-        live$33 = s4_walk$33$q & meta_eff$33[32'h9] & (meta_eff$33[32'h8] | (meta_eff$33[(32'h0)+:(8)] == s4_fp$6$q));
-        meta_new$33 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$33[32'h9]) begin
-            meta_new$33 = meta_eff$33;
-            if (meta_eff$33[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$33 = meta_eff$33 | 64'h100;
+        meta_src$66 = s4_meta$33$q;
+        meta_src$67 = s5_meta_w$33$q;
+        live_src$66 = s4_walk$33$q & meta_src$66[32'h9] & (meta_src$66[32'h8] | (meta_src$66[(32'h0)+:(8)] == s4_fp$6$q));
+        meta_new_src$66 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$66[32'h9]) begin
+            meta_new_src$66 = meta_src$66;
+            if (meta_src$66[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$66 = meta_src$66 | 64'h100;
             end
+        end
+        live_src$67 = s4_walk$33$q & meta_src$67[32'h9] & (meta_src$67[32'h8] | (meta_src$67[(32'h0)+:(8)] == s4_fp$6$q));
+        meta_new_src$67 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$67[32'h9]) begin
+            meta_new_src$67 = meta_src$67;
+            if (meta_src$67[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$67 = meta_src$67 | 64'h100;
+            end
+        end
+        live$33 = live_src$66;
+        meta_new$33 = meta_new_src$66;
+        if (fwd$33) begin
+            live$33 = live_src$67;
+            meta_new$33 = meta_new_src$67;
         end
         meta$33$write_enable = s4_enter$33$q;
         meta$33$write_address = s4_bucket$6$q;
@@ -24380,7 +26024,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$33$d = live$33;
         s5_head$33$d = old_eff$33;
         s5_head2$33$d = old_eff2$33;
-        fwd$34 = s4_same$7$q & s5_wrote$34$q;
+        fwd$34 = s4_fwd$34$q;
         meta_eff$34 = s4_meta$34$q;
         old_eff$34 = s4_old$34$q;
         old_eff2$34 = s4_old2$34$q;
@@ -24389,13 +26033,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$34 = entry5;
             old_eff2$34 = s5_head$34$q;
         end
-        live$34 = s4_walk$34$q & meta_eff$34[32'h9] & (meta_eff$34[32'h8] | (meta_eff$34[(32'h0)+:(8)] == s4_fp$7$q));
-        meta_new$34 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$34[32'h9]) begin
-            meta_new$34 = meta_eff$34;
-            if (meta_eff$34[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$34 = meta_eff$34 | 64'h100;
+        meta_src$68 = s4_meta$34$q;
+        meta_src$69 = s5_meta_w$34$q;
+        live_src$68 = s4_walk$34$q & meta_src$68[32'h9] & (meta_src$68[32'h8] | (meta_src$68[(32'h0)+:(8)] == s4_fp$7$q));
+        meta_new_src$68 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$68[32'h9]) begin
+            meta_new_src$68 = meta_src$68;
+            if (meta_src$68[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$68 = meta_src$68 | 64'h100;
             end
+        end
+        live_src$69 = s4_walk$34$q & meta_src$69[32'h9] & (meta_src$69[32'h8] | (meta_src$69[(32'h0)+:(8)] == s4_fp$7$q));
+        meta_new_src$69 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$69[32'h9]) begin
+            meta_new_src$69 = meta_src$69;
+            if (meta_src$69[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$69 = meta_src$69 | 64'h100;
+            end
+        end
+        live$34 = live_src$68;
+        meta_new$34 = meta_new_src$68;
+        if (fwd$34) begin
+            live$34 = live_src$69;
+            meta_new$34 = meta_new_src$69;
         end
         meta$34$write_enable = s4_enter$34$q;
         meta$34$write_address = s4_bucket$7$q;
@@ -24423,7 +26083,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$34$d = live$34;
         s5_head$34$d = old_eff$34;
         s5_head2$34$d = old_eff2$34;
-        fwd$35 = s4_same$8$q & s5_wrote$35$q;
+        fwd$35 = s4_fwd$35$q;
         meta_eff$35 = s4_meta$35$q;
         old_eff$35 = s4_old$35$q;
         old_eff2$35 = s4_old2$35$q;
@@ -24432,13 +26092,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$35 = entry5;
             old_eff2$35 = s5_head$35$q;
         end
-        live$35 = s4_walk$35$q & meta_eff$35[32'h9] & (meta_eff$35[32'h8] | (meta_eff$35[(32'h0)+:(8)] == s4_fp$8$q));
-        meta_new$35 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$35[32'h9]) begin
-            meta_new$35 = meta_eff$35;
-            if (meta_eff$35[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$35 = meta_eff$35 | 64'h100;
+        meta_src$70 = s4_meta$35$q;
+        meta_src$71 = s5_meta_w$35$q;
+        live_src$70 = s4_walk$35$q & meta_src$70[32'h9] & (meta_src$70[32'h8] | (meta_src$70[(32'h0)+:(8)] == s4_fp$8$q));
+        meta_new_src$70 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$70[32'h9]) begin
+            meta_new_src$70 = meta_src$70;
+            if (meta_src$70[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$70 = meta_src$70 | 64'h100;
             end
+        end
+        live_src$71 = s4_walk$35$q & meta_src$71[32'h9] & (meta_src$71[32'h8] | (meta_src$71[(32'h0)+:(8)] == s4_fp$8$q));
+        meta_new_src$71 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$71[32'h9]) begin
+            meta_new_src$71 = meta_src$71;
+            if (meta_src$71[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$71 = meta_src$71 | 64'h100;
+            end
+        end
+        live$35 = live_src$70;
+        meta_new$35 = meta_new_src$70;
+        if (fwd$35) begin
+            live$35 = live_src$71;
+            meta_new$35 = meta_new_src$71;
         end
         meta$35$write_enable = s4_enter$35$q;
         meta$35$write_address = s4_bucket$8$q;
@@ -24466,7 +26142,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$35$d = live$35;
         s5_head$35$d = old_eff$35;
         s5_head2$35$d = old_eff2$35;
-        fwd$36 = s4_same$9$q & s5_wrote$36$q;
+        fwd$36 = s4_fwd$36$q;
         meta_eff$36 = s4_meta$36$q;
         old_eff$36 = s4_old$36$q;
         old_eff2$36 = s4_old2$36$q;
@@ -24475,13 +26151,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$36 = entry5;
             old_eff2$36 = s5_head$36$q;
         end
-        live$36 = s4_walk$36$q & meta_eff$36[32'h9] & (meta_eff$36[32'h8] | (meta_eff$36[(32'h0)+:(8)] == s4_fp$9$q));
-        meta_new$36 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$36[32'h9]) begin
-            meta_new$36 = meta_eff$36;
-            if (meta_eff$36[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$36 = meta_eff$36 | 64'h100;
+        meta_src$72 = s4_meta$36$q;
+        meta_src$73 = s5_meta_w$36$q;
+        live_src$72 = s4_walk$36$q & meta_src$72[32'h9] & (meta_src$72[32'h8] | (meta_src$72[(32'h0)+:(8)] == s4_fp$9$q));
+        meta_new_src$72 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$72[32'h9]) begin
+            meta_new_src$72 = meta_src$72;
+            if (meta_src$72[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$72 = meta_src$72 | 64'h100;
             end
+        end
+        live_src$73 = s4_walk$36$q & meta_src$73[32'h9] & (meta_src$73[32'h8] | (meta_src$73[(32'h0)+:(8)] == s4_fp$9$q));
+        meta_new_src$73 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$73[32'h9]) begin
+            meta_new_src$73 = meta_src$73;
+            if (meta_src$73[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$73 = meta_src$73 | 64'h100;
+            end
+        end
+        live$36 = live_src$72;
+        meta_new$36 = meta_new_src$72;
+        if (fwd$36) begin
+            live$36 = live_src$73;
+            meta_new$36 = meta_new_src$73;
         end
         meta$36$write_enable = s4_enter$36$q;
         meta$36$write_address = s4_bucket$9$q;
@@ -24509,7 +26201,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$36$d = live$36;
         s5_head$36$d = old_eff$36;
         s5_head2$36$d = old_eff2$36;
-        fwd$37 = s4_same$10$q & s5_wrote$37$q;
+        fwd$37 = s4_fwd$37$q;
         meta_eff$37 = s4_meta$37$q;
         old_eff$37 = s4_old$37$q;
         old_eff2$37 = s4_old2$37$q;
@@ -24518,13 +26210,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$37 = entry5;
             old_eff2$37 = s5_head$37$q;
         end
-        live$37 = s4_walk$37$q & meta_eff$37[32'h9] & (meta_eff$37[32'h8] | (meta_eff$37[(32'h0)+:(8)] == s4_fp$10$q));
-        meta_new$37 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$37[32'h9]) begin
-            meta_new$37 = meta_eff$37;
-            if (meta_eff$37[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$37 = meta_eff$37 | 64'h100;
+        meta_src$74 = s4_meta$37$q;
+        meta_src$75 = s5_meta_w$37$q;
+        live_src$74 = s4_walk$37$q & meta_src$74[32'h9] & (meta_src$74[32'h8] | (meta_src$74[(32'h0)+:(8)] == s4_fp$10$q));
+        meta_new_src$74 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$74[32'h9]) begin
+            meta_new_src$74 = meta_src$74;
+            if (meta_src$74[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$74 = meta_src$74 | 64'h100;
             end
+        end
+        live_src$75 = s4_walk$37$q & meta_src$75[32'h9] & (meta_src$75[32'h8] | (meta_src$75[(32'h0)+:(8)] == s4_fp$10$q));
+        meta_new_src$75 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$75[32'h9]) begin
+            meta_new_src$75 = meta_src$75;
+            if (meta_src$75[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$75 = meta_src$75 | 64'h100;
+            end
+        end
+        live$37 = live_src$74;
+        meta_new$37 = meta_new_src$74;
+        if (fwd$37) begin
+            live$37 = live_src$75;
+            meta_new$37 = meta_new_src$75;
         end
         meta$37$write_enable = s4_enter$37$q;
         meta$37$write_address = s4_bucket$10$q;
@@ -24552,7 +26260,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$37$d = live$37;
         s5_head$37$d = old_eff$37;
         s5_head2$37$d = old_eff2$37;
-        fwd$38 = s4_same$11$q & s5_wrote$38$q;
+        fwd$38 = s4_fwd$38$q;
         meta_eff$38 = s4_meta$38$q;
         old_eff$38 = s4_old$38$q;
         old_eff2$38 = s4_old2$38$q;
@@ -24561,13 +26269,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$38 = entry5;
             old_eff2$38 = s5_head$38$q;
         end
-        live$38 = s4_walk$38$q & meta_eff$38[32'h9] & (meta_eff$38[32'h8] | (meta_eff$38[(32'h0)+:(8)] == s4_fp$11$q));
-        meta_new$38 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$38[32'h9]) begin
-            meta_new$38 = meta_eff$38;
-            if (meta_eff$38[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$38 = meta_eff$38 | 64'h100;
+        meta_src$76 = s4_meta$38$q;
+        meta_src$77 = s5_meta_w$38$q;
+        live_src$76 = s4_walk$38$q & meta_src$76[32'h9] & (meta_src$76[32'h8] | (meta_src$76[(32'h0)+:(8)] == s4_fp$11$q));
+        meta_new_src$76 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$76[32'h9]) begin
+            meta_new_src$76 = meta_src$76;
+            if (meta_src$76[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$76 = meta_src$76 | 64'h100;
             end
+        end
+        live_src$77 = s4_walk$38$q & meta_src$77[32'h9] & (meta_src$77[32'h8] | (meta_src$77[(32'h0)+:(8)] == s4_fp$11$q));
+        meta_new_src$77 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$77[32'h9]) begin
+            meta_new_src$77 = meta_src$77;
+            if (meta_src$77[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$77 = meta_src$77 | 64'h100;
+            end
+        end
+        live$38 = live_src$76;
+        meta_new$38 = meta_new_src$76;
+        if (fwd$38) begin
+            live$38 = live_src$77;
+            meta_new$38 = meta_new_src$77;
         end
         meta$38$write_enable = s4_enter$38$q;
         meta$38$write_address = s4_bucket$11$q;
@@ -24595,7 +26319,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$38$d = live$38;
         s5_head$38$d = old_eff$38;
         s5_head2$38$d = old_eff2$38;
-        fwd$39 = s4_same$12$q & s5_wrote$39$q;
+        fwd$39 = s4_fwd$39$q;
         meta_eff$39 = s4_meta$39$q;
         old_eff$39 = s4_old$39$q;
         old_eff2$39 = s4_old2$39$q;
@@ -24604,13 +26328,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$39 = entry5;
             old_eff2$39 = s5_head$39$q;
         end
-        live$39 = s4_walk$39$q & meta_eff$39[32'h9] & (meta_eff$39[32'h8] | (meta_eff$39[(32'h0)+:(8)] == s4_fp$12$q));
-        meta_new$39 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$39[32'h9]) begin
-            meta_new$39 = meta_eff$39;
-            if (meta_eff$39[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$39 = meta_eff$39 | 64'h100;
+        meta_src$78 = s4_meta$39$q;
+        meta_src$79 = s5_meta_w$39$q;
+        live_src$78 = s4_walk$39$q & meta_src$78[32'h9] & (meta_src$78[32'h8] | (meta_src$78[(32'h0)+:(8)] == s4_fp$12$q));
+        meta_new_src$78 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$78[32'h9]) begin
+            meta_new_src$78 = meta_src$78;
+            if (meta_src$78[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$78 = meta_src$78 | 64'h100;
             end
+        end
+        live_src$79 = s4_walk$39$q & meta_src$79[32'h9] & (meta_src$79[32'h8] | (meta_src$79[(32'h0)+:(8)] == s4_fp$12$q));
+        meta_new_src$79 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$79[32'h9]) begin
+            meta_new_src$79 = meta_src$79;
+            if (meta_src$79[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$79 = meta_src$79 | 64'h100;
+            end
+        end
+        live$39 = live_src$78;
+        meta_new$39 = meta_new_src$78;
+        if (fwd$39) begin
+            live$39 = live_src$79;
+            meta_new$39 = meta_new_src$79;
         end
         meta$39$write_enable = s4_enter$39$q;
         meta$39$write_address = s4_bucket$12$q;
@@ -24638,7 +26378,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$39$d = live$39;
         s5_head$39$d = old_eff$39;
         s5_head2$39$d = old_eff2$39;
-        fwd$40 = s4_same$13$q & s5_wrote$40$q;
+        fwd$40 = s4_fwd$40$q;
         meta_eff$40 = s4_meta$40$q;
         old_eff$40 = s4_old$40$q;
         old_eff2$40 = s4_old2$40$q;
@@ -24647,13 +26387,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$40 = entry5;
             old_eff2$40 = s5_head$40$q;
         end
-        live$40 = s4_walk$40$q & meta_eff$40[32'h9] & (meta_eff$40[32'h8] | (meta_eff$40[(32'h0)+:(8)] == s4_fp$13$q));
-        meta_new$40 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$40[32'h9]) begin
-            meta_new$40 = meta_eff$40;
-            if (meta_eff$40[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$40 = meta_eff$40 | 64'h100;
+        meta_src$80 = s4_meta$40$q;
+        meta_src$81 = s5_meta_w$40$q;
+        live_src$80 = s4_walk$40$q & meta_src$80[32'h9] & (meta_src$80[32'h8] | (meta_src$80[(32'h0)+:(8)] == s4_fp$13$q));
+        meta_new_src$80 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$80[32'h9]) begin
+            meta_new_src$80 = meta_src$80;
+            if (meta_src$80[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$80 = meta_src$80 | 64'h100;
             end
+        end
+        live_src$81 = s4_walk$40$q & meta_src$81[32'h9] & (meta_src$81[32'h8] | (meta_src$81[(32'h0)+:(8)] == s4_fp$13$q));
+        meta_new_src$81 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$81[32'h9]) begin
+            meta_new_src$81 = meta_src$81;
+            if (meta_src$81[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$81 = meta_src$81 | 64'h100;
+            end
+        end
+        live$40 = live_src$80;
+        meta_new$40 = meta_new_src$80;
+        if (fwd$40) begin
+            live$40 = live_src$81;
+            meta_new$40 = meta_new_src$81;
         end
         meta$40$write_enable = s4_enter$40$q;
         meta$40$write_address = s4_bucket$13$q;
@@ -24681,7 +26437,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$40$d = live$40;
         s5_head$40$d = old_eff$40;
         s5_head2$40$d = old_eff2$40;
-        fwd$41 = s4_same$14$q & s5_wrote$41$q;
+        fwd$41 = s4_fwd$41$q;
         meta_eff$41 = s4_meta$41$q;
         old_eff$41 = s4_old$41$q;
         old_eff2$41 = s4_old2$41$q;
@@ -24690,13 +26446,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$41 = entry5;
             old_eff2$41 = s5_head$41$q;
         end
-        live$41 = s4_walk$41$q & meta_eff$41[32'h9] & (meta_eff$41[32'h8] | (meta_eff$41[(32'h0)+:(8)] == s4_fp$14$q));
-        meta_new$41 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$41[32'h9]) begin
-            meta_new$41 = meta_eff$41;
-            if (meta_eff$41[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$41 = meta_eff$41 | 64'h100;
+        meta_src$82 = s4_meta$41$q;
+        meta_src$83 = s5_meta_w$41$q;
+        live_src$82 = s4_walk$41$q & meta_src$82[32'h9] & (meta_src$82[32'h8] | (meta_src$82[(32'h0)+:(8)] == s4_fp$14$q));
+        meta_new_src$82 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$82[32'h9]) begin
+            meta_new_src$82 = meta_src$82;
+            if (meta_src$82[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$82 = meta_src$82 | 64'h100;
             end
+        end
+        live_src$83 = s4_walk$41$q & meta_src$83[32'h9] & (meta_src$83[32'h8] | (meta_src$83[(32'h0)+:(8)] == s4_fp$14$q));
+        meta_new_src$83 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$83[32'h9]) begin
+            meta_new_src$83 = meta_src$83;
+            if (meta_src$83[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$83 = meta_src$83 | 64'h100;
+            end
+        end
+        live$41 = live_src$82;
+        meta_new$41 = meta_new_src$82;
+        if (fwd$41) begin
+            live$41 = live_src$83;
+            meta_new$41 = meta_new_src$83;
         end
         meta$41$write_enable = s4_enter$41$q;
         meta$41$write_address = s4_bucket$14$q;
@@ -24724,7 +26496,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$41$d = live$41;
         s5_head$41$d = old_eff$41;
         s5_head2$41$d = old_eff2$41;
-        fwd$42 = s4_same$15$q & s5_wrote$42$q;
+        fwd$42 = s4_fwd$42$q;
         meta_eff$42 = s4_meta$42$q;
         old_eff$42 = s4_old$42$q;
         old_eff2$42 = s4_old2$42$q;
@@ -24733,13 +26505,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$42 = entry5;
             old_eff2$42 = s5_head$42$q;
         end
-        live$42 = s4_walk$42$q & meta_eff$42[32'h9] & (meta_eff$42[32'h8] | (meta_eff$42[(32'h0)+:(8)] == s4_fp$15$q));
-        meta_new$42 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$42[32'h9]) begin
-            meta_new$42 = meta_eff$42;
-            if (meta_eff$42[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$42 = meta_eff$42 | 64'h100;
+        meta_src$84 = s4_meta$42$q;
+        meta_src$85 = s5_meta_w$42$q;
+        live_src$84 = s4_walk$42$q & meta_src$84[32'h9] & (meta_src$84[32'h8] | (meta_src$84[(32'h0)+:(8)] == s4_fp$15$q));
+        meta_new_src$84 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$84[32'h9]) begin
+            meta_new_src$84 = meta_src$84;
+            if (meta_src$84[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$84 = meta_src$84 | 64'h100;
             end
+        end
+        live_src$85 = s4_walk$42$q & meta_src$85[32'h9] & (meta_src$85[32'h8] | (meta_src$85[(32'h0)+:(8)] == s4_fp$15$q));
+        meta_new_src$85 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$85[32'h9]) begin
+            meta_new_src$85 = meta_src$85;
+            if (meta_src$85[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$85 = meta_src$85 | 64'h100;
+            end
+        end
+        live$42 = live_src$84;
+        meta_new$42 = meta_new_src$84;
+        if (fwd$42) begin
+            live$42 = live_src$85;
+            meta_new$42 = meta_new_src$85;
         end
         meta$42$write_enable = s4_enter$42$q;
         meta$42$write_address = s4_bucket$15$q;
@@ -24767,7 +26555,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$42$d = live$42;
         s5_head$42$d = old_eff$42;
         s5_head2$42$d = old_eff2$42;
-        fwd$43 = s4_same$16$q & s5_wrote$43$q;
+        fwd$43 = s4_fwd$43$q;
         meta_eff$43 = s4_meta$43$q;
         old_eff$43 = s4_old$43$q;
         old_eff2$43 = s4_old2$43$q;
@@ -24776,13 +26564,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$43 = entry5;
             old_eff2$43 = s5_head$43$q;
         end
-        live$43 = s4_walk$43$q & meta_eff$43[32'h9] & (meta_eff$43[32'h8] | (meta_eff$43[(32'h0)+:(8)] == s4_fp$16$q));
-        meta_new$43 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$43[32'h9]) begin
-            meta_new$43 = meta_eff$43;
-            if (meta_eff$43[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$43 = meta_eff$43 | 64'h100;
+        meta_src$86 = s4_meta$43$q;
+        meta_src$87 = s5_meta_w$43$q;
+        live_src$86 = s4_walk$43$q & meta_src$86[32'h9] & (meta_src$86[32'h8] | (meta_src$86[(32'h0)+:(8)] == s4_fp$16$q));
+        meta_new_src$86 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$86[32'h9]) begin
+            meta_new_src$86 = meta_src$86;
+            if (meta_src$86[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$86 = meta_src$86 | 64'h100;
             end
+        end
+        live_src$87 = s4_walk$43$q & meta_src$87[32'h9] & (meta_src$87[32'h8] | (meta_src$87[(32'h0)+:(8)] == s4_fp$16$q));
+        meta_new_src$87 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$87[32'h9]) begin
+            meta_new_src$87 = meta_src$87;
+            if (meta_src$87[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$87 = meta_src$87 | 64'h100;
+            end
+        end
+        live$43 = live_src$86;
+        meta_new$43 = meta_new_src$86;
+        if (fwd$43) begin
+            live$43 = live_src$87;
+            meta_new$43 = meta_new_src$87;
         end
         meta$43$write_enable = s4_enter$43$q;
         meta$43$write_address = s4_bucket$16$q;
@@ -24810,7 +26614,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$43$d = live$43;
         s5_head$43$d = old_eff$43;
         s5_head2$43$d = old_eff2$43;
-        fwd$44 = s4_same$17$q & s5_wrote$44$q;
+        fwd$44 = s4_fwd$44$q;
         meta_eff$44 = s4_meta$44$q;
         old_eff$44 = s4_old$44$q;
         old_eff2$44 = s4_old2$44$q;
@@ -24819,13 +26623,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$44 = entry5;
             old_eff2$44 = s5_head$44$q;
         end
-        live$44 = s4_walk$44$q & meta_eff$44[32'h9] & (meta_eff$44[32'h8] | (meta_eff$44[(32'h0)+:(8)] == s4_fp$17$q));
-        meta_new$44 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$44[32'h9]) begin
-            meta_new$44 = meta_eff$44;
-            if (meta_eff$44[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$44 = meta_eff$44 | 64'h100;
+        meta_src$88 = s4_meta$44$q;
+        meta_src$89 = s5_meta_w$44$q;
+        live_src$88 = s4_walk$44$q & meta_src$88[32'h9] & (meta_src$88[32'h8] | (meta_src$88[(32'h0)+:(8)] == s4_fp$17$q));
+        meta_new_src$88 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$88[32'h9]) begin
+            meta_new_src$88 = meta_src$88;
+            if (meta_src$88[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$88 = meta_src$88 | 64'h100;
             end
+        end
+        live_src$89 = s4_walk$44$q & meta_src$89[32'h9] & (meta_src$89[32'h8] | (meta_src$89[(32'h0)+:(8)] == s4_fp$17$q));
+        meta_new_src$89 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$89[32'h9]) begin
+            meta_new_src$89 = meta_src$89;
+            if (meta_src$89[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$89 = meta_src$89 | 64'h100;
+            end
+        end
+        live$44 = live_src$88;
+        meta_new$44 = meta_new_src$88;
+        if (fwd$44) begin
+            live$44 = live_src$89;
+            meta_new$44 = meta_new_src$89;
         end
         meta$44$write_enable = s4_enter$44$q;
         meta$44$write_address = s4_bucket$17$q;
@@ -24853,7 +26673,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$44$d = live$44;
         s5_head$44$d = old_eff$44;
         s5_head2$44$d = old_eff2$44;
-        fwd$45 = s4_same$18$q & s5_wrote$45$q;
+        fwd$45 = s4_fwd$45$q;
         meta_eff$45 = s4_meta$45$q;
         old_eff$45 = s4_old$45$q;
         old_eff2$45 = s4_old2$45$q;
@@ -24862,13 +26682,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$45 = entry5;
             old_eff2$45 = s5_head$45$q;
         end
-        live$45 = s4_walk$45$q & meta_eff$45[32'h9] & (meta_eff$45[32'h8] | (meta_eff$45[(32'h0)+:(8)] == s4_fp$18$q));
-        meta_new$45 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$45[32'h9]) begin
-            meta_new$45 = meta_eff$45;
-            if (meta_eff$45[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$45 = meta_eff$45 | 64'h100;
+        meta_src$90 = s4_meta$45$q;
+        meta_src$91 = s5_meta_w$45$q;
+        live_src$90 = s4_walk$45$q & meta_src$90[32'h9] & (meta_src$90[32'h8] | (meta_src$90[(32'h0)+:(8)] == s4_fp$18$q));
+        meta_new_src$90 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$90[32'h9]) begin
+            meta_new_src$90 = meta_src$90;
+            if (meta_src$90[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$90 = meta_src$90 | 64'h100;
             end
+        end
+        live_src$91 = s4_walk$45$q & meta_src$91[32'h9] & (meta_src$91[32'h8] | (meta_src$91[(32'h0)+:(8)] == s4_fp$18$q));
+        meta_new_src$91 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$91[32'h9]) begin
+            meta_new_src$91 = meta_src$91;
+            if (meta_src$91[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$91 = meta_src$91 | 64'h100;
+            end
+        end
+        live$45 = live_src$90;
+        meta_new$45 = meta_new_src$90;
+        if (fwd$45) begin
+            live$45 = live_src$91;
+            meta_new$45 = meta_new_src$91;
         end
         meta$45$write_enable = s4_enter$45$q;
         meta$45$write_address = s4_bucket$18$q;
@@ -24896,7 +26732,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$45$d = live$45;
         s5_head$45$d = old_eff$45;
         s5_head2$45$d = old_eff2$45;
-        fwd$46 = s4_same$19$q & s5_wrote$46$q;
+        fwd$46 = s4_fwd$46$q;
         meta_eff$46 = s4_meta$46$q;
         old_eff$46 = s4_old$46$q;
         old_eff2$46 = s4_old2$46$q;
@@ -24905,13 +26741,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$46 = entry5;
             old_eff2$46 = s5_head$46$q;
         end
-        live$46 = s4_walk$46$q & meta_eff$46[32'h9] & (meta_eff$46[32'h8] | (meta_eff$46[(32'h0)+:(8)] == s4_fp$19$q));
-        meta_new$46 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$46[32'h9]) begin
-            meta_new$46 = meta_eff$46;
-            if (meta_eff$46[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$46 = meta_eff$46 | 64'h100;
+        meta_src$92 = s4_meta$46$q;
+        meta_src$93 = s5_meta_w$46$q;
+        live_src$92 = s4_walk$46$q & meta_src$92[32'h9] & (meta_src$92[32'h8] | (meta_src$92[(32'h0)+:(8)] == s4_fp$19$q));
+        meta_new_src$92 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$92[32'h9]) begin
+            meta_new_src$92 = meta_src$92;
+            if (meta_src$92[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$92 = meta_src$92 | 64'h100;
             end
+        end
+        live_src$93 = s4_walk$46$q & meta_src$93[32'h9] & (meta_src$93[32'h8] | (meta_src$93[(32'h0)+:(8)] == s4_fp$19$q));
+        meta_new_src$93 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$93[32'h9]) begin
+            meta_new_src$93 = meta_src$93;
+            if (meta_src$93[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$93 = meta_src$93 | 64'h100;
+            end
+        end
+        live$46 = live_src$92;
+        meta_new$46 = meta_new_src$92;
+        if (fwd$46) begin
+            live$46 = live_src$93;
+            meta_new$46 = meta_new_src$93;
         end
         meta$46$write_enable = s4_enter$46$q;
         meta$46$write_address = s4_bucket$19$q;
@@ -24939,7 +26791,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$46$d = live$46;
         s5_head$46$d = old_eff$46;
         s5_head2$46$d = old_eff2$46;
-        fwd$47 = s4_same$20$q & s5_wrote$47$q;
+        fwd$47 = s4_fwd$47$q;
         meta_eff$47 = s4_meta$47$q;
         old_eff$47 = s4_old$47$q;
         old_eff2$47 = s4_old2$47$q;
@@ -24948,13 +26800,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$47 = entry5;
             old_eff2$47 = s5_head$47$q;
         end
-        live$47 = s4_walk$47$q & meta_eff$47[32'h9] & (meta_eff$47[32'h8] | (meta_eff$47[(32'h0)+:(8)] == s4_fp$20$q));
-        meta_new$47 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$47[32'h9]) begin
-            meta_new$47 = meta_eff$47;
-            if (meta_eff$47[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$47 = meta_eff$47 | 64'h100;
+        meta_src$94 = s4_meta$47$q;
+        meta_src$95 = s5_meta_w$47$q;
+        live_src$94 = s4_walk$47$q & meta_src$94[32'h9] & (meta_src$94[32'h8] | (meta_src$94[(32'h0)+:(8)] == s4_fp$20$q));
+        meta_new_src$94 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$94[32'h9]) begin
+            meta_new_src$94 = meta_src$94;
+            if (meta_src$94[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$94 = meta_src$94 | 64'h100;
             end
+        end
+        live_src$95 = s4_walk$47$q & meta_src$95[32'h9] & (meta_src$95[32'h8] | (meta_src$95[(32'h0)+:(8)] == s4_fp$20$q));
+        meta_new_src$95 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$95[32'h9]) begin
+            meta_new_src$95 = meta_src$95;
+            if (meta_src$95[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$95 = meta_src$95 | 64'h100;
+            end
+        end
+        live$47 = live_src$94;
+        meta_new$47 = meta_new_src$94;
+        if (fwd$47) begin
+            live$47 = live_src$95;
+            meta_new$47 = meta_new_src$95;
         end
         meta$47$write_enable = s4_enter$47$q;
         meta$47$write_address = s4_bucket$20$q;
@@ -24982,7 +26850,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$47$d = live$47;
         s5_head$47$d = old_eff$47;
         s5_head2$47$d = old_eff2$47;
-        fwd$48 = s4_same$21$q & s5_wrote$48$q;
+        fwd$48 = s4_fwd$48$q;
         meta_eff$48 = s4_meta$48$q;
         old_eff$48 = s4_old$48$q;
         old_eff2$48 = s4_old2$48$q;
@@ -24991,13 +26859,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$48 = entry5;
             old_eff2$48 = s5_head$48$q;
         end
-        live$48 = s4_walk$48$q & meta_eff$48[32'h9] & (meta_eff$48[32'h8] | (meta_eff$48[(32'h0)+:(8)] == s4_fp$21$q));
-        meta_new$48 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$48[32'h9]) begin
-            meta_new$48 = meta_eff$48;
-            if (meta_eff$48[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$48 = meta_eff$48 | 64'h100;
+        meta_src$96 = s4_meta$48$q;
+        meta_src$97 = s5_meta_w$48$q;
+        live_src$96 = s4_walk$48$q & meta_src$96[32'h9] & (meta_src$96[32'h8] | (meta_src$96[(32'h0)+:(8)] == s4_fp$21$q));
+        meta_new_src$96 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$96[32'h9]) begin
+            meta_new_src$96 = meta_src$96;
+            if (meta_src$96[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$96 = meta_src$96 | 64'h100;
             end
+        end
+        live_src$97 = s4_walk$48$q & meta_src$97[32'h9] & (meta_src$97[32'h8] | (meta_src$97[(32'h0)+:(8)] == s4_fp$21$q));
+        meta_new_src$97 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$97[32'h9]) begin
+            meta_new_src$97 = meta_src$97;
+            if (meta_src$97[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$97 = meta_src$97 | 64'h100;
+            end
+        end
+        live$48 = live_src$96;
+        meta_new$48 = meta_new_src$96;
+        if (fwd$48) begin
+            live$48 = live_src$97;
+            meta_new$48 = meta_new_src$97;
         end
         meta$48$write_enable = s4_enter$48$q;
         meta$48$write_address = s4_bucket$21$q;
@@ -25025,7 +26909,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$48$d = live$48;
         s5_head$48$d = old_eff$48;
         s5_head2$48$d = old_eff2$48;
-        fwd$49 = s4_same$22$q & s5_wrote$49$q;
+        fwd$49 = s4_fwd$49$q;
         meta_eff$49 = s4_meta$49$q;
         old_eff$49 = s4_old$49$q;
         old_eff2$49 = s4_old2$49$q;
@@ -25034,13 +26918,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$49 = entry5;
             old_eff2$49 = s5_head$49$q;
         end
-        live$49 = s4_walk$49$q & meta_eff$49[32'h9] & (meta_eff$49[32'h8] | (meta_eff$49[(32'h0)+:(8)] == s4_fp$22$q));
-        meta_new$49 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$49[32'h9]) begin
-            meta_new$49 = meta_eff$49;
-            if (meta_eff$49[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$49 = meta_eff$49 | 64'h100;
+        meta_src$98 = s4_meta$49$q;
+        meta_src$99 = s5_meta_w$49$q;
+        live_src$98 = s4_walk$49$q & meta_src$98[32'h9] & (meta_src$98[32'h8] | (meta_src$98[(32'h0)+:(8)] == s4_fp$22$q));
+        meta_new_src$98 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$98[32'h9]) begin
+            meta_new_src$98 = meta_src$98;
+            if (meta_src$98[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$98 = meta_src$98 | 64'h100;
             end
+        end
+        live_src$99 = s4_walk$49$q & meta_src$99[32'h9] & (meta_src$99[32'h8] | (meta_src$99[(32'h0)+:(8)] == s4_fp$22$q));
+        meta_new_src$99 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$99[32'h9]) begin
+            meta_new_src$99 = meta_src$99;
+            if (meta_src$99[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$99 = meta_src$99 | 64'h100;
+            end
+        end
+        live$49 = live_src$98;
+        meta_new$49 = meta_new_src$98;
+        if (fwd$49) begin
+            live$49 = live_src$99;
+            meta_new$49 = meta_new_src$99;
         end
         meta$49$write_enable = s4_enter$49$q;
         meta$49$write_address = s4_bucket$22$q;
@@ -25068,7 +26968,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$49$d = live$49;
         s5_head$49$d = old_eff$49;
         s5_head2$49$d = old_eff2$49;
-        fwd$50 = s4_same$23$q & s5_wrote$50$q;
+        fwd$50 = s4_fwd$50$q;
         meta_eff$50 = s4_meta$50$q;
         old_eff$50 = s4_old$50$q;
         old_eff2$50 = s4_old2$50$q;
@@ -25077,13 +26977,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$50 = entry5;
             old_eff2$50 = s5_head$50$q;
         end
-        live$50 = s4_walk$50$q & meta_eff$50[32'h9] & (meta_eff$50[32'h8] | (meta_eff$50[(32'h0)+:(8)] == s4_fp$23$q));
-        meta_new$50 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$50[32'h9]) begin
-            meta_new$50 = meta_eff$50;
-            if (meta_eff$50[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$50 = meta_eff$50 | 64'h100;
+        meta_src$100 = s4_meta$50$q;
+        meta_src$101 = s5_meta_w$50$q;
+        live_src$100 = s4_walk$50$q & meta_src$100[32'h9] & (meta_src$100[32'h8] | (meta_src$100[(32'h0)+:(8)] == s4_fp$23$q));
+        meta_new_src$100 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$100[32'h9]) begin
+            meta_new_src$100 = meta_src$100;
+            if (meta_src$100[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$100 = meta_src$100 | 64'h100;
             end
+        end
+        live_src$101 = s4_walk$50$q & meta_src$101[32'h9] & (meta_src$101[32'h8] | (meta_src$101[(32'h0)+:(8)] == s4_fp$23$q));
+        meta_new_src$101 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$101[32'h9]) begin
+            meta_new_src$101 = meta_src$101;
+            if (meta_src$101[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$101 = meta_src$101 | 64'h100;
+            end
+        end
+        live$50 = live_src$100;
+        meta_new$50 = meta_new_src$100;
+        if (fwd$50) begin
+            live$50 = live_src$101;
+            meta_new$50 = meta_new_src$101;
         end
         meta$50$write_enable = s4_enter$50$q;
         meta$50$write_address = s4_bucket$23$q;
@@ -25111,7 +27027,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$50$d = live$50;
         s5_head$50$d = old_eff$50;
         s5_head2$50$d = old_eff2$50;
-        fwd$51 = s4_same$24$q & s5_wrote$51$q;
+        fwd$51 = s4_fwd$51$q;
         meta_eff$51 = s4_meta$51$q;
         old_eff$51 = s4_old$51$q;
         old_eff2$51 = s4_old2$51$q;
@@ -25120,13 +27036,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$51 = entry5;
             old_eff2$51 = s5_head$51$q;
         end
-        live$51 = s4_walk$51$q & meta_eff$51[32'h9] & (meta_eff$51[32'h8] | (meta_eff$51[(32'h0)+:(8)] == s4_fp$24$q));
-        meta_new$51 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$51[32'h9]) begin
-            meta_new$51 = meta_eff$51;
-            if (meta_eff$51[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$51 = meta_eff$51 | 64'h100;
+        meta_src$102 = s4_meta$51$q;
+        meta_src$103 = s5_meta_w$51$q;
+        live_src$102 = s4_walk$51$q & meta_src$102[32'h9] & (meta_src$102[32'h8] | (meta_src$102[(32'h0)+:(8)] == s4_fp$24$q));
+        meta_new_src$102 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$102[32'h9]) begin
+            meta_new_src$102 = meta_src$102;
+            if (meta_src$102[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$102 = meta_src$102 | 64'h100;
             end
+        end
+        live_src$103 = s4_walk$51$q & meta_src$103[32'h9] & (meta_src$103[32'h8] | (meta_src$103[(32'h0)+:(8)] == s4_fp$24$q));
+        meta_new_src$103 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$103[32'h9]) begin
+            meta_new_src$103 = meta_src$103;
+            if (meta_src$103[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$103 = meta_src$103 | 64'h100;
+            end
+        end
+        live$51 = live_src$102;
+        meta_new$51 = meta_new_src$102;
+        if (fwd$51) begin
+            live$51 = live_src$103;
+            meta_new$51 = meta_new_src$103;
         end
         meta$51$write_enable = s4_enter$51$q;
         meta$51$write_address = s4_bucket$24$q;
@@ -25154,7 +27086,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$51$d = live$51;
         s5_head$51$d = old_eff$51;
         s5_head2$51$d = old_eff2$51;
-        fwd$52 = s4_same$25$q & s5_wrote$52$q;
+        fwd$52 = s4_fwd$52$q;
         meta_eff$52 = s4_meta$52$q;
         old_eff$52 = s4_old$52$q;
         old_eff2$52 = s4_old2$52$q;
@@ -25163,13 +27095,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$52 = entry5;
             old_eff2$52 = s5_head$52$q;
         end
-        live$52 = s4_walk$52$q & meta_eff$52[32'h9] & (meta_eff$52[32'h8] | (meta_eff$52[(32'h0)+:(8)] == s4_fp$25$q));
-        meta_new$52 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$52[32'h9]) begin
-            meta_new$52 = meta_eff$52;
-            if (meta_eff$52[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$52 = meta_eff$52 | 64'h100;
+        meta_src$104 = s4_meta$52$q;
+        meta_src$105 = s5_meta_w$52$q;
+        live_src$104 = s4_walk$52$q & meta_src$104[32'h9] & (meta_src$104[32'h8] | (meta_src$104[(32'h0)+:(8)] == s4_fp$25$q));
+        meta_new_src$104 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$104[32'h9]) begin
+            meta_new_src$104 = meta_src$104;
+            if (meta_src$104[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$104 = meta_src$104 | 64'h100;
             end
+        end
+        live_src$105 = s4_walk$52$q & meta_src$105[32'h9] & (meta_src$105[32'h8] | (meta_src$105[(32'h0)+:(8)] == s4_fp$25$q));
+        meta_new_src$105 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$105[32'h9]) begin
+            meta_new_src$105 = meta_src$105;
+            if (meta_src$105[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$105 = meta_src$105 | 64'h100;
+            end
+        end
+        live$52 = live_src$104;
+        meta_new$52 = meta_new_src$104;
+        if (fwd$52) begin
+            live$52 = live_src$105;
+            meta_new$52 = meta_new_src$105;
         end
         meta$52$write_enable = s4_enter$52$q;
         meta$52$write_address = s4_bucket$25$q;
@@ -25197,7 +27145,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$52$d = live$52;
         s5_head$52$d = old_eff$52;
         s5_head2$52$d = old_eff2$52;
-        fwd$53 = s4_same$26$q & s5_wrote$53$q;
+        fwd$53 = s4_fwd$53$q;
         meta_eff$53 = s4_meta$53$q;
         old_eff$53 = s4_old$53$q;
         old_eff2$53 = s4_old2$53$q;
@@ -25206,13 +27154,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$53 = entry5;
             old_eff2$53 = s5_head$53$q;
         end
-        live$53 = s4_walk$53$q & meta_eff$53[32'h9] & (meta_eff$53[32'h8] | (meta_eff$53[(32'h0)+:(8)] == s4_fp$26$q));
-        meta_new$53 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$53[32'h9]) begin
-            meta_new$53 = meta_eff$53;
-            if (meta_eff$53[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$53 = meta_eff$53 | 64'h100;
+        meta_src$106 = s4_meta$53$q;
+        meta_src$107 = s5_meta_w$53$q;
+        live_src$106 = s4_walk$53$q & meta_src$106[32'h9] & (meta_src$106[32'h8] | (meta_src$106[(32'h0)+:(8)] == s4_fp$26$q));
+        meta_new_src$106 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$106[32'h9]) begin
+            meta_new_src$106 = meta_src$106;
+            if (meta_src$106[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$106 = meta_src$106 | 64'h100;
             end
+        end
+        live_src$107 = s4_walk$53$q & meta_src$107[32'h9] & (meta_src$107[32'h8] | (meta_src$107[(32'h0)+:(8)] == s4_fp$26$q));
+        meta_new_src$107 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$107[32'h9]) begin
+            meta_new_src$107 = meta_src$107;
+            if (meta_src$107[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$107 = meta_src$107 | 64'h100;
+            end
+        end
+        live$53 = live_src$106;
+        meta_new$53 = meta_new_src$106;
+        if (fwd$53) begin
+            live$53 = live_src$107;
+            meta_new$53 = meta_new_src$107;
         end
         meta$53$write_enable = s4_enter$53$q;
         meta$53$write_address = s4_bucket$26$q;
@@ -25240,7 +27204,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$53$d = live$53;
         s5_head$53$d = old_eff$53;
         s5_head2$53$d = old_eff2$53;
-        fwd$54 = s4_same$0$q & s5_wrote$54$q;
+        fwd$54 = s4_fwd$54$q;
         meta_eff$54 = s4_meta$54$q;
         old_eff$54 = s4_old$54$q;
         old_eff2$54 = s4_old2$54$q;
@@ -25249,13 +27213,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$54 = entry5;
             old_eff2$54 = s5_head$54$q;
         end
-        live$54 = s4_walk$54$q & meta_eff$54[32'h9] & (meta_eff$54[32'h8] | (meta_eff$54[(32'h0)+:(8)] == s4_fp$0$q));
-        meta_new$54 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$54[32'h9]) begin
-            meta_new$54 = meta_eff$54;
-            if (meta_eff$54[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$54 = meta_eff$54 | 64'h100;
+        meta_src$108 = s4_meta$54$q;
+        meta_src$109 = s5_meta_w$54$q;
+        live_src$108 = s4_walk$54$q & meta_src$108[32'h9] & (meta_src$108[32'h8] | (meta_src$108[(32'h0)+:(8)] == s4_fp$0$q));
+        meta_new_src$108 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$108[32'h9]) begin
+            meta_new_src$108 = meta_src$108;
+            if (meta_src$108[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$108 = meta_src$108 | 64'h100;
             end
+        end
+        live_src$109 = s4_walk$54$q & meta_src$109[32'h9] & (meta_src$109[32'h8] | (meta_src$109[(32'h0)+:(8)] == s4_fp$0$q));
+        meta_new_src$109 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$109[32'h9]) begin
+            meta_new_src$109 = meta_src$109;
+            if (meta_src$109[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$109 = meta_src$109 | 64'h100;
+            end
+        end
+        live$54 = live_src$108;
+        meta_new$54 = meta_new_src$108;
+        if (fwd$54) begin
+            live$54 = live_src$109;
+            meta_new$54 = meta_new_src$109;
         end
         meta$54$write_enable = s4_enter$54$q;
         meta$54$write_address = s4_bucket$0$q;
@@ -25283,7 +27263,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$54$d = live$54;
         s5_head$54$d = old_eff$54;
         s5_head2$54$d = old_eff2$54;
-        fwd$55 = s4_same$1$q & s5_wrote$55$q;
+        fwd$55 = s4_fwd$55$q;
         meta_eff$55 = s4_meta$55$q;
         old_eff$55 = s4_old$55$q;
         old_eff2$55 = s4_old2$55$q;
@@ -25292,13 +27272,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$55 = entry5;
             old_eff2$55 = s5_head$55$q;
         end
-        live$55 = s4_walk$55$q & meta_eff$55[32'h9] & (meta_eff$55[32'h8] | (meta_eff$55[(32'h0)+:(8)] == s4_fp$1$q));
-        meta_new$55 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$55[32'h9]) begin
-            meta_new$55 = meta_eff$55;
-            if (meta_eff$55[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$55 = meta_eff$55 | 64'h100;
+        meta_src$110 = s4_meta$55$q;
+        meta_src$111 = s5_meta_w$55$q;
+        live_src$110 = s4_walk$55$q & meta_src$110[32'h9] & (meta_src$110[32'h8] | (meta_src$110[(32'h0)+:(8)] == s4_fp$1$q));
+        meta_new_src$110 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$110[32'h9]) begin
+            meta_new_src$110 = meta_src$110;
+            if (meta_src$110[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$110 = meta_src$110 | 64'h100;
             end
+        end
+        live_src$111 = s4_walk$55$q & meta_src$111[32'h9] & (meta_src$111[32'h8] | (meta_src$111[(32'h0)+:(8)] == s4_fp$1$q));
+        meta_new_src$111 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$111[32'h9]) begin
+            meta_new_src$111 = meta_src$111;
+            if (meta_src$111[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$111 = meta_src$111 | 64'h100;
+            end
+        end
+        live$55 = live_src$110;
+        meta_new$55 = meta_new_src$110;
+        if (fwd$55) begin
+            live$55 = live_src$111;
+            meta_new$55 = meta_new_src$111;
         end
         meta$55$write_enable = s4_enter$55$q;
         meta$55$write_address = s4_bucket$1$q;
@@ -25326,7 +27322,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$55$d = live$55;
         s5_head$55$d = old_eff$55;
         s5_head2$55$d = old_eff2$55;
-        fwd$56 = s4_same$2$q & s5_wrote$56$q;
+        fwd$56 = s4_fwd$56$q;
         meta_eff$56 = s4_meta$56$q;
         old_eff$56 = s4_old$56$q;
         old_eff2$56 = s4_old2$56$q;
@@ -25335,13 +27331,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$56 = entry5;
             old_eff2$56 = s5_head$56$q;
         end
-        live$56 = s4_walk$56$q & meta_eff$56[32'h9] & (meta_eff$56[32'h8] | (meta_eff$56[(32'h0)+:(8)] == s4_fp$2$q));
-        meta_new$56 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$56[32'h9]) begin
-            meta_new$56 = meta_eff$56;
-            if (meta_eff$56[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$56 = meta_eff$56 | 64'h100;
+        meta_src$112 = s4_meta$56$q;
+        meta_src$113 = s5_meta_w$56$q;
+        live_src$112 = s4_walk$56$q & meta_src$112[32'h9] & (meta_src$112[32'h8] | (meta_src$112[(32'h0)+:(8)] == s4_fp$2$q));
+        meta_new_src$112 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$112[32'h9]) begin
+            meta_new_src$112 = meta_src$112;
+            if (meta_src$112[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$112 = meta_src$112 | 64'h100;
             end
+        end
+        live_src$113 = s4_walk$56$q & meta_src$113[32'h9] & (meta_src$113[32'h8] | (meta_src$113[(32'h0)+:(8)] == s4_fp$2$q));
+        meta_new_src$113 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$113[32'h9]) begin
+            meta_new_src$113 = meta_src$113;
+            if (meta_src$113[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$113 = meta_src$113 | 64'h100;
+            end
+        end
+        live$56 = live_src$112;
+        meta_new$56 = meta_new_src$112;
+        if (fwd$56) begin
+            live$56 = live_src$113;
+            meta_new$56 = meta_new_src$113;
         end
         meta$56$write_enable = s4_enter$56$q;
         meta$56$write_address = s4_bucket$2$q;
@@ -25369,7 +27381,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$56$d = live$56;
         s5_head$56$d = old_eff$56;
         s5_head2$56$d = old_eff2$56;
-        fwd$57 = s4_same$3$q & s5_wrote$57$q;
+        fwd$57 = s4_fwd$57$q;
         meta_eff$57 = s4_meta$57$q;
         old_eff$57 = s4_old$57$q;
         old_eff2$57 = s4_old2$57$q;
@@ -25378,13 +27390,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$57 = entry5;
             old_eff2$57 = s5_head$57$q;
         end
-        live$57 = s4_walk$57$q & meta_eff$57[32'h9] & (meta_eff$57[32'h8] | (meta_eff$57[(32'h0)+:(8)] == s4_fp$3$q));
-        meta_new$57 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$57[32'h9]) begin
-            meta_new$57 = meta_eff$57;
-            if (meta_eff$57[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$57 = meta_eff$57 | 64'h100;
+        meta_src$114 = s4_meta$57$q;
+        meta_src$115 = s5_meta_w$57$q;
+        live_src$114 = s4_walk$57$q & meta_src$114[32'h9] & (meta_src$114[32'h8] | (meta_src$114[(32'h0)+:(8)] == s4_fp$3$q));
+        meta_new_src$114 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$114[32'h9]) begin
+            meta_new_src$114 = meta_src$114;
+            if (meta_src$114[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$114 = meta_src$114 | 64'h100;
             end
+        end
+        live_src$115 = s4_walk$57$q & meta_src$115[32'h9] & (meta_src$115[32'h8] | (meta_src$115[(32'h0)+:(8)] == s4_fp$3$q));
+        meta_new_src$115 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$115[32'h9]) begin
+            meta_new_src$115 = meta_src$115;
+            if (meta_src$115[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$115 = meta_src$115 | 64'h100;
+            end
+        end
+        live$57 = live_src$114;
+        meta_new$57 = meta_new_src$114;
+        if (fwd$57) begin
+            live$57 = live_src$115;
+            meta_new$57 = meta_new_src$115;
         end
         meta$57$write_enable = s4_enter$57$q;
         meta$57$write_address = s4_bucket$3$q;
@@ -25412,7 +27440,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$57$d = live$57;
         s5_head$57$d = old_eff$57;
         s5_head2$57$d = old_eff2$57;
-        fwd$58 = s4_same$4$q & s5_wrote$58$q;
+        fwd$58 = s4_fwd$58$q;
         meta_eff$58 = s4_meta$58$q;
         old_eff$58 = s4_old$58$q;
         old_eff2$58 = s4_old2$58$q;
@@ -25421,13 +27449,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$58 = entry5;
             old_eff2$58 = s5_head$58$q;
         end
-        live$58 = s4_walk$58$q & meta_eff$58[32'h9] & (meta_eff$58[32'h8] | (meta_eff$58[(32'h0)+:(8)] == s4_fp$4$q));
-        meta_new$58 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$58[32'h9]) begin
-            meta_new$58 = meta_eff$58;
-            if (meta_eff$58[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$58 = meta_eff$58 | 64'h100;
+        meta_src$116 = s4_meta$58$q;
+        meta_src$117 = s5_meta_w$58$q;
+        live_src$116 = s4_walk$58$q & meta_src$116[32'h9] & (meta_src$116[32'h8] | (meta_src$116[(32'h0)+:(8)] == s4_fp$4$q));
+        meta_new_src$116 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$116[32'h9]) begin
+            meta_new_src$116 = meta_src$116;
+            if (meta_src$116[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$116 = meta_src$116 | 64'h100;
             end
+        end
+        live_src$117 = s4_walk$58$q & meta_src$117[32'h9] & (meta_src$117[32'h8] | (meta_src$117[(32'h0)+:(8)] == s4_fp$4$q));
+        meta_new_src$117 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$117[32'h9]) begin
+            meta_new_src$117 = meta_src$117;
+            if (meta_src$117[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$117 = meta_src$117 | 64'h100;
+            end
+        end
+        live$58 = live_src$116;
+        meta_new$58 = meta_new_src$116;
+        if (fwd$58) begin
+            live$58 = live_src$117;
+            meta_new$58 = meta_new_src$117;
         end
         meta$58$write_enable = s4_enter$58$q;
         meta$58$write_address = s4_bucket$4$q;
@@ -25455,7 +27499,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$58$d = live$58;
         s5_head$58$d = old_eff$58;
         s5_head2$58$d = old_eff2$58;
-        fwd$59 = s4_same$5$q & s5_wrote$59$q;
+        fwd$59 = s4_fwd$59$q;
         meta_eff$59 = s4_meta$59$q;
         old_eff$59 = s4_old$59$q;
         old_eff2$59 = s4_old2$59$q;
@@ -25464,13 +27508,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$59 = entry5;
             old_eff2$59 = s5_head$59$q;
         end
-        live$59 = s4_walk$59$q & meta_eff$59[32'h9] & (meta_eff$59[32'h8] | (meta_eff$59[(32'h0)+:(8)] == s4_fp$5$q));
-        meta_new$59 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$59[32'h9]) begin
-            meta_new$59 = meta_eff$59;
-            if (meta_eff$59[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$59 = meta_eff$59 | 64'h100;
+        meta_src$118 = s4_meta$59$q;
+        meta_src$119 = s5_meta_w$59$q;
+        live_src$118 = s4_walk$59$q & meta_src$118[32'h9] & (meta_src$118[32'h8] | (meta_src$118[(32'h0)+:(8)] == s4_fp$5$q));
+        meta_new_src$118 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$118[32'h9]) begin
+            meta_new_src$118 = meta_src$118;
+            if (meta_src$118[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$118 = meta_src$118 | 64'h100;
             end
+        end
+        live_src$119 = s4_walk$59$q & meta_src$119[32'h9] & (meta_src$119[32'h8] | (meta_src$119[(32'h0)+:(8)] == s4_fp$5$q));
+        meta_new_src$119 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$119[32'h9]) begin
+            meta_new_src$119 = meta_src$119;
+            if (meta_src$119[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$119 = meta_src$119 | 64'h100;
+            end
+        end
+        live$59 = live_src$118;
+        meta_new$59 = meta_new_src$118;
+        if (fwd$59) begin
+            live$59 = live_src$119;
+            meta_new$59 = meta_new_src$119;
         end
         meta$59$write_enable = s4_enter$59$q;
         meta$59$write_address = s4_bucket$5$q;
@@ -25498,7 +27558,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$59$d = live$59;
         s5_head$59$d = old_eff$59;
         s5_head2$59$d = old_eff2$59;
-        fwd$60 = s4_same$6$q & s5_wrote$60$q;
+        fwd$60 = s4_fwd$60$q;
         meta_eff$60 = s4_meta$60$q;
         old_eff$60 = s4_old$60$q;
         old_eff2$60 = s4_old2$60$q;
@@ -25507,13 +27567,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$60 = entry5;
             old_eff2$60 = s5_head$60$q;
         end
-        live$60 = s4_walk$60$q & meta_eff$60[32'h9] & (meta_eff$60[32'h8] | (meta_eff$60[(32'h0)+:(8)] == s4_fp$6$q));
-        meta_new$60 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$60[32'h9]) begin
-            meta_new$60 = meta_eff$60;
-            if (meta_eff$60[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$60 = meta_eff$60 | 64'h100;
+        meta_src$120 = s4_meta$60$q;
+        meta_src$121 = s5_meta_w$60$q;
+        live_src$120 = s4_walk$60$q & meta_src$120[32'h9] & (meta_src$120[32'h8] | (meta_src$120[(32'h0)+:(8)] == s4_fp$6$q));
+        meta_new_src$120 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$120[32'h9]) begin
+            meta_new_src$120 = meta_src$120;
+            if (meta_src$120[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$120 = meta_src$120 | 64'h100;
             end
+        end
+        live_src$121 = s4_walk$60$q & meta_src$121[32'h9] & (meta_src$121[32'h8] | (meta_src$121[(32'h0)+:(8)] == s4_fp$6$q));
+        meta_new_src$121 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$121[32'h9]) begin
+            meta_new_src$121 = meta_src$121;
+            if (meta_src$121[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$121 = meta_src$121 | 64'h100;
+            end
+        end
+        live$60 = live_src$120;
+        meta_new$60 = meta_new_src$120;
+        if (fwd$60) begin
+            live$60 = live_src$121;
+            meta_new$60 = meta_new_src$121;
         end
         meta$60$write_enable = s4_enter$60$q;
         meta$60$write_address = s4_bucket$6$q;
@@ -25541,7 +27617,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$60$d = live$60;
         s5_head$60$d = old_eff$60;
         s5_head2$60$d = old_eff2$60;
-        fwd$61 = s4_same$7$q & s5_wrote$61$q;
+        fwd$61 = s4_fwd$61$q;
         meta_eff$61 = s4_meta$61$q;
         old_eff$61 = s4_old$61$q;
         old_eff2$61 = s4_old2$61$q;
@@ -25550,13 +27626,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$61 = entry5;
             old_eff2$61 = s5_head$61$q;
         end
-        live$61 = s4_walk$61$q & meta_eff$61[32'h9] & (meta_eff$61[32'h8] | (meta_eff$61[(32'h0)+:(8)] == s4_fp$7$q));
-        meta_new$61 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$61[32'h9]) begin
-            meta_new$61 = meta_eff$61;
-            if (meta_eff$61[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$61 = meta_eff$61 | 64'h100;
+        meta_src$122 = s4_meta$61$q;
+        meta_src$123 = s5_meta_w$61$q;
+        live_src$122 = s4_walk$61$q & meta_src$122[32'h9] & (meta_src$122[32'h8] | (meta_src$122[(32'h0)+:(8)] == s4_fp$7$q));
+        meta_new_src$122 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$122[32'h9]) begin
+            meta_new_src$122 = meta_src$122;
+            if (meta_src$122[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$122 = meta_src$122 | 64'h100;
             end
+        end
+        live_src$123 = s4_walk$61$q & meta_src$123[32'h9] & (meta_src$123[32'h8] | (meta_src$123[(32'h0)+:(8)] == s4_fp$7$q));
+        meta_new_src$123 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$123[32'h9]) begin
+            meta_new_src$123 = meta_src$123;
+            if (meta_src$123[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$123 = meta_src$123 | 64'h100;
+            end
+        end
+        live$61 = live_src$122;
+        meta_new$61 = meta_new_src$122;
+        if (fwd$61) begin
+            live$61 = live_src$123;
+            meta_new$61 = meta_new_src$123;
         end
         meta$61$write_enable = s4_enter$61$q;
         meta$61$write_address = s4_bucket$7$q;
@@ -25584,7 +27676,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$61$d = live$61;
         s5_head$61$d = old_eff$61;
         s5_head2$61$d = old_eff2$61;
-        fwd$62 = s4_same$8$q & s5_wrote$62$q;
+        fwd$62 = s4_fwd$62$q;
         meta_eff$62 = s4_meta$62$q;
         old_eff$62 = s4_old$62$q;
         old_eff2$62 = s4_old2$62$q;
@@ -25593,13 +27685,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$62 = entry5;
             old_eff2$62 = s5_head$62$q;
         end
-        live$62 = s4_walk$62$q & meta_eff$62[32'h9] & (meta_eff$62[32'h8] | (meta_eff$62[(32'h0)+:(8)] == s4_fp$8$q));
-        meta_new$62 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$62[32'h9]) begin
-            meta_new$62 = meta_eff$62;
-            if (meta_eff$62[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$62 = meta_eff$62 | 64'h100;
+        meta_src$124 = s4_meta$62$q;
+        meta_src$125 = s5_meta_w$62$q;
+        live_src$124 = s4_walk$62$q & meta_src$124[32'h9] & (meta_src$124[32'h8] | (meta_src$124[(32'h0)+:(8)] == s4_fp$8$q));
+        meta_new_src$124 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$124[32'h9]) begin
+            meta_new_src$124 = meta_src$124;
+            if (meta_src$124[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$124 = meta_src$124 | 64'h100;
             end
+        end
+        live_src$125 = s4_walk$62$q & meta_src$125[32'h9] & (meta_src$125[32'h8] | (meta_src$125[(32'h0)+:(8)] == s4_fp$8$q));
+        meta_new_src$125 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$125[32'h9]) begin
+            meta_new_src$125 = meta_src$125;
+            if (meta_src$125[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$125 = meta_src$125 | 64'h100;
+            end
+        end
+        live$62 = live_src$124;
+        meta_new$62 = meta_new_src$124;
+        if (fwd$62) begin
+            live$62 = live_src$125;
+            meta_new$62 = meta_new_src$125;
         end
         meta$62$write_enable = s4_enter$62$q;
         meta$62$write_address = s4_bucket$8$q;
@@ -25627,7 +27735,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$62$d = live$62;
         s5_head$62$d = old_eff$62;
         s5_head2$62$d = old_eff2$62;
-        fwd$63 = s4_same$9$q & s5_wrote$63$q;
+        fwd$63 = s4_fwd$63$q;
         meta_eff$63 = s4_meta$63$q;
         old_eff$63 = s4_old$63$q;
         old_eff2$63 = s4_old2$63$q;
@@ -25636,13 +27744,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$63 = entry5;
             old_eff2$63 = s5_head$63$q;
         end
-        live$63 = s4_walk$63$q & meta_eff$63[32'h9] & (meta_eff$63[32'h8] | (meta_eff$63[(32'h0)+:(8)] == s4_fp$9$q));
-        meta_new$63 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$63[32'h9]) begin
-            meta_new$63 = meta_eff$63;
-            if (meta_eff$63[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$63 = meta_eff$63 | 64'h100;
+        meta_src$126 = s4_meta$63$q;
+        meta_src$127 = s5_meta_w$63$q;
+        live_src$126 = s4_walk$63$q & meta_src$126[32'h9] & (meta_src$126[32'h8] | (meta_src$126[(32'h0)+:(8)] == s4_fp$9$q));
+        meta_new_src$126 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$126[32'h9]) begin
+            meta_new_src$126 = meta_src$126;
+            if (meta_src$126[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$126 = meta_src$126 | 64'h100;
             end
+        end
+        live_src$127 = s4_walk$63$q & meta_src$127[32'h9] & (meta_src$127[32'h8] | (meta_src$127[(32'h0)+:(8)] == s4_fp$9$q));
+        meta_new_src$127 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$127[32'h9]) begin
+            meta_new_src$127 = meta_src$127;
+            if (meta_src$127[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$127 = meta_src$127 | 64'h100;
+            end
+        end
+        live$63 = live_src$126;
+        meta_new$63 = meta_new_src$126;
+        if (fwd$63) begin
+            live$63 = live_src$127;
+            meta_new$63 = meta_new_src$127;
         end
         meta$63$write_enable = s4_enter$63$q;
         meta$63$write_address = s4_bucket$9$q;
@@ -25670,7 +27794,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$63$d = live$63;
         s5_head$63$d = old_eff$63;
         s5_head2$63$d = old_eff2$63;
-        fwd$64 = s4_same$10$q & s5_wrote$64$q;
+        fwd$64 = s4_fwd$64$q;
         meta_eff$64 = s4_meta$64$q;
         old_eff$64 = s4_old$64$q;
         old_eff2$64 = s4_old2$64$q;
@@ -25679,13 +27803,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$64 = entry5;
             old_eff2$64 = s5_head$64$q;
         end
-        live$64 = s4_walk$64$q & meta_eff$64[32'h9] & (meta_eff$64[32'h8] | (meta_eff$64[(32'h0)+:(8)] == s4_fp$10$q));
-        meta_new$64 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$64[32'h9]) begin
-            meta_new$64 = meta_eff$64;
-            if (meta_eff$64[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$64 = meta_eff$64 | 64'h100;
+        meta_src$128 = s4_meta$64$q;
+        meta_src$129 = s5_meta_w$64$q;
+        live_src$128 = s4_walk$64$q & meta_src$128[32'h9] & (meta_src$128[32'h8] | (meta_src$128[(32'h0)+:(8)] == s4_fp$10$q));
+        meta_new_src$128 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$128[32'h9]) begin
+            meta_new_src$128 = meta_src$128;
+            if (meta_src$128[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$128 = meta_src$128 | 64'h100;
             end
+        end
+        live_src$129 = s4_walk$64$q & meta_src$129[32'h9] & (meta_src$129[32'h8] | (meta_src$129[(32'h0)+:(8)] == s4_fp$10$q));
+        meta_new_src$129 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$129[32'h9]) begin
+            meta_new_src$129 = meta_src$129;
+            if (meta_src$129[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$129 = meta_src$129 | 64'h100;
+            end
+        end
+        live$64 = live_src$128;
+        meta_new$64 = meta_new_src$128;
+        if (fwd$64) begin
+            live$64 = live_src$129;
+            meta_new$64 = meta_new_src$129;
         end
         meta$64$write_enable = s4_enter$64$q;
         meta$64$write_address = s4_bucket$10$q;
@@ -25713,7 +27853,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$64$d = live$64;
         s5_head$64$d = old_eff$64;
         s5_head2$64$d = old_eff2$64;
-        fwd$65 = s4_same$11$q & s5_wrote$65$q;
+        fwd$65 = s4_fwd$65$q;
         meta_eff$65 = s4_meta$65$q;
         old_eff$65 = s4_old$65$q;
         old_eff2$65 = s4_old2$65$q;
@@ -25722,13 +27862,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$65 = entry5;
             old_eff2$65 = s5_head$65$q;
         end
-        live$65 = s4_walk$65$q & meta_eff$65[32'h9] & (meta_eff$65[32'h8] | (meta_eff$65[(32'h0)+:(8)] == s4_fp$11$q));
-        meta_new$65 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$65[32'h9]) begin
-            meta_new$65 = meta_eff$65;
-            if (meta_eff$65[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$65 = meta_eff$65 | 64'h100;
+        meta_src$130 = s4_meta$65$q;
+        meta_src$131 = s5_meta_w$65$q;
+        live_src$130 = s4_walk$65$q & meta_src$130[32'h9] & (meta_src$130[32'h8] | (meta_src$130[(32'h0)+:(8)] == s4_fp$11$q));
+        meta_new_src$130 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$130[32'h9]) begin
+            meta_new_src$130 = meta_src$130;
+            if (meta_src$130[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$130 = meta_src$130 | 64'h100;
             end
+        end
+        live_src$131 = s4_walk$65$q & meta_src$131[32'h9] & (meta_src$131[32'h8] | (meta_src$131[(32'h0)+:(8)] == s4_fp$11$q));
+        meta_new_src$131 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$131[32'h9]) begin
+            meta_new_src$131 = meta_src$131;
+            if (meta_src$131[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$131 = meta_src$131 | 64'h100;
+            end
+        end
+        live$65 = live_src$130;
+        meta_new$65 = meta_new_src$130;
+        if (fwd$65) begin
+            live$65 = live_src$131;
+            meta_new$65 = meta_new_src$131;
         end
         meta$65$write_enable = s4_enter$65$q;
         meta$65$write_address = s4_bucket$11$q;
@@ -25756,7 +27912,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$65$d = live$65;
         s5_head$65$d = old_eff$65;
         s5_head2$65$d = old_eff2$65;
-        fwd$66 = s4_same$12$q & s5_wrote$66$q;
+        fwd$66 = s4_fwd$66$q;
         meta_eff$66 = s4_meta$66$q;
         old_eff$66 = s4_old$66$q;
         old_eff2$66 = s4_old2$66$q;
@@ -25765,13 +27921,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$66 = entry5;
             old_eff2$66 = s5_head$66$q;
         end
-        live$66 = s4_walk$66$q & meta_eff$66[32'h9] & (meta_eff$66[32'h8] | (meta_eff$66[(32'h0)+:(8)] == s4_fp$12$q));
-        meta_new$66 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$66[32'h9]) begin
-            meta_new$66 = meta_eff$66;
-            if (meta_eff$66[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$66 = meta_eff$66 | 64'h100;
+        meta_src$132 = s4_meta$66$q;
+        meta_src$133 = s5_meta_w$66$q;
+        live_src$132 = s4_walk$66$q & meta_src$132[32'h9] & (meta_src$132[32'h8] | (meta_src$132[(32'h0)+:(8)] == s4_fp$12$q));
+        meta_new_src$132 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$132[32'h9]) begin
+            meta_new_src$132 = meta_src$132;
+            if (meta_src$132[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$132 = meta_src$132 | 64'h100;
             end
+        end
+        live_src$133 = s4_walk$66$q & meta_src$133[32'h9] & (meta_src$133[32'h8] | (meta_src$133[(32'h0)+:(8)] == s4_fp$12$q));
+        meta_new_src$133 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$133[32'h9]) begin
+            meta_new_src$133 = meta_src$133;
+            if (meta_src$133[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$133 = meta_src$133 | 64'h100;
+            end
+        end
+        live$66 = live_src$132;
+        meta_new$66 = meta_new_src$132;
+        if (fwd$66) begin
+            live$66 = live_src$133;
+            meta_new$66 = meta_new_src$133;
         end
         meta$66$write_enable = s4_enter$66$q;
         meta$66$write_address = s4_bucket$12$q;
@@ -25799,7 +27971,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$66$d = live$66;
         s5_head$66$d = old_eff$66;
         s5_head2$66$d = old_eff2$66;
-        fwd$67 = s4_same$13$q & s5_wrote$67$q;
+        fwd$67 = s4_fwd$67$q;
         meta_eff$67 = s4_meta$67$q;
         old_eff$67 = s4_old$67$q;
         old_eff2$67 = s4_old2$67$q;
@@ -25808,13 +27980,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$67 = entry5;
             old_eff2$67 = s5_head$67$q;
         end
-        live$67 = s4_walk$67$q & meta_eff$67[32'h9] & (meta_eff$67[32'h8] | (meta_eff$67[(32'h0)+:(8)] == s4_fp$13$q));
-        meta_new$67 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$67[32'h9]) begin
-            meta_new$67 = meta_eff$67;
-            if (meta_eff$67[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$67 = meta_eff$67 | 64'h100;
+        meta_src$134 = s4_meta$67$q;
+        meta_src$135 = s5_meta_w$67$q;
+        live_src$134 = s4_walk$67$q & meta_src$134[32'h9] & (meta_src$134[32'h8] | (meta_src$134[(32'h0)+:(8)] == s4_fp$13$q));
+        meta_new_src$134 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$134[32'h9]) begin
+            meta_new_src$134 = meta_src$134;
+            if (meta_src$134[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$134 = meta_src$134 | 64'h100;
             end
+        end
+        live_src$135 = s4_walk$67$q & meta_src$135[32'h9] & (meta_src$135[32'h8] | (meta_src$135[(32'h0)+:(8)] == s4_fp$13$q));
+        meta_new_src$135 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$135[32'h9]) begin
+            meta_new_src$135 = meta_src$135;
+            if (meta_src$135[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$135 = meta_src$135 | 64'h100;
+            end
+        end
+        live$67 = live_src$134;
+        meta_new$67 = meta_new_src$134;
+        if (fwd$67) begin
+            live$67 = live_src$135;
+            meta_new$67 = meta_new_src$135;
         end
         meta$67$write_enable = s4_enter$67$q;
         meta$67$write_address = s4_bucket$13$q;
@@ -25842,7 +28030,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$67$d = live$67;
         s5_head$67$d = old_eff$67;
         s5_head2$67$d = old_eff2$67;
-        fwd$68 = s4_same$14$q & s5_wrote$68$q;
+        fwd$68 = s4_fwd$68$q;
         meta_eff$68 = s4_meta$68$q;
         old_eff$68 = s4_old$68$q;
         old_eff2$68 = s4_old2$68$q;
@@ -25851,13 +28039,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$68 = entry5;
             old_eff2$68 = s5_head$68$q;
         end
-        live$68 = s4_walk$68$q & meta_eff$68[32'h9] & (meta_eff$68[32'h8] | (meta_eff$68[(32'h0)+:(8)] == s4_fp$14$q));
-        meta_new$68 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$68[32'h9]) begin
-            meta_new$68 = meta_eff$68;
-            if (meta_eff$68[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$68 = meta_eff$68 | 64'h100;
+        meta_src$136 = s4_meta$68$q;
+        meta_src$137 = s5_meta_w$68$q;
+        live_src$136 = s4_walk$68$q & meta_src$136[32'h9] & (meta_src$136[32'h8] | (meta_src$136[(32'h0)+:(8)] == s4_fp$14$q));
+        meta_new_src$136 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$136[32'h9]) begin
+            meta_new_src$136 = meta_src$136;
+            if (meta_src$136[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$136 = meta_src$136 | 64'h100;
             end
+        end
+        live_src$137 = s4_walk$68$q & meta_src$137[32'h9] & (meta_src$137[32'h8] | (meta_src$137[(32'h0)+:(8)] == s4_fp$14$q));
+        meta_new_src$137 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$137[32'h9]) begin
+            meta_new_src$137 = meta_src$137;
+            if (meta_src$137[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$137 = meta_src$137 | 64'h100;
+            end
+        end
+        live$68 = live_src$136;
+        meta_new$68 = meta_new_src$136;
+        if (fwd$68) begin
+            live$68 = live_src$137;
+            meta_new$68 = meta_new_src$137;
         end
         meta$68$write_enable = s4_enter$68$q;
         meta$68$write_address = s4_bucket$14$q;
@@ -25885,7 +28089,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$68$d = live$68;
         s5_head$68$d = old_eff$68;
         s5_head2$68$d = old_eff2$68;
-        fwd$69 = s4_same$15$q & s5_wrote$69$q;
+        fwd$69 = s4_fwd$69$q;
         meta_eff$69 = s4_meta$69$q;
         old_eff$69 = s4_old$69$q;
         old_eff2$69 = s4_old2$69$q;
@@ -25894,13 +28098,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$69 = entry5;
             old_eff2$69 = s5_head$69$q;
         end
-        live$69 = s4_walk$69$q & meta_eff$69[32'h9] & (meta_eff$69[32'h8] | (meta_eff$69[(32'h0)+:(8)] == s4_fp$15$q));
-        meta_new$69 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$69[32'h9]) begin
-            meta_new$69 = meta_eff$69;
-            if (meta_eff$69[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$69 = meta_eff$69 | 64'h100;
+        meta_src$138 = s4_meta$69$q;
+        meta_src$139 = s5_meta_w$69$q;
+        live_src$138 = s4_walk$69$q & meta_src$138[32'h9] & (meta_src$138[32'h8] | (meta_src$138[(32'h0)+:(8)] == s4_fp$15$q));
+        meta_new_src$138 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$138[32'h9]) begin
+            meta_new_src$138 = meta_src$138;
+            if (meta_src$138[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$138 = meta_src$138 | 64'h100;
             end
+        end
+        live_src$139 = s4_walk$69$q & meta_src$139[32'h9] & (meta_src$139[32'h8] | (meta_src$139[(32'h0)+:(8)] == s4_fp$15$q));
+        meta_new_src$139 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$139[32'h9]) begin
+            meta_new_src$139 = meta_src$139;
+            if (meta_src$139[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$139 = meta_src$139 | 64'h100;
+            end
+        end
+        live$69 = live_src$138;
+        meta_new$69 = meta_new_src$138;
+        if (fwd$69) begin
+            live$69 = live_src$139;
+            meta_new$69 = meta_new_src$139;
         end
         meta$69$write_enable = s4_enter$69$q;
         meta$69$write_address = s4_bucket$15$q;
@@ -25928,7 +28148,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$69$d = live$69;
         s5_head$69$d = old_eff$69;
         s5_head2$69$d = old_eff2$69;
-        fwd$70 = s4_same$16$q & s5_wrote$70$q;
+        fwd$70 = s4_fwd$70$q;
         meta_eff$70 = s4_meta$70$q;
         old_eff$70 = s4_old$70$q;
         old_eff2$70 = s4_old2$70$q;
@@ -25937,13 +28157,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$70 = entry5;
             old_eff2$70 = s5_head$70$q;
         end
-        live$70 = s4_walk$70$q & meta_eff$70[32'h9] & (meta_eff$70[32'h8] | (meta_eff$70[(32'h0)+:(8)] == s4_fp$16$q));
-        meta_new$70 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$70[32'h9]) begin
-            meta_new$70 = meta_eff$70;
-            if (meta_eff$70[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$70 = meta_eff$70 | 64'h100;
+        meta_src$140 = s4_meta$70$q;
+        meta_src$141 = s5_meta_w$70$q;
+        live_src$140 = s4_walk$70$q & meta_src$140[32'h9] & (meta_src$140[32'h8] | (meta_src$140[(32'h0)+:(8)] == s4_fp$16$q));
+        meta_new_src$140 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$140[32'h9]) begin
+            meta_new_src$140 = meta_src$140;
+            if (meta_src$140[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$140 = meta_src$140 | 64'h100;
             end
+        end
+        live_src$141 = s4_walk$70$q & meta_src$141[32'h9] & (meta_src$141[32'h8] | (meta_src$141[(32'h0)+:(8)] == s4_fp$16$q));
+        meta_new_src$141 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$141[32'h9]) begin
+            meta_new_src$141 = meta_src$141;
+            if (meta_src$141[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$141 = meta_src$141 | 64'h100;
+            end
+        end
+        live$70 = live_src$140;
+        meta_new$70 = meta_new_src$140;
+        if (fwd$70) begin
+            live$70 = live_src$141;
+            meta_new$70 = meta_new_src$141;
         end
         meta$70$write_enable = s4_enter$70$q;
         meta$70$write_address = s4_bucket$16$q;
@@ -25971,7 +28207,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$70$d = live$70;
         s5_head$70$d = old_eff$70;
         s5_head2$70$d = old_eff2$70;
-        fwd$71 = s4_same$17$q & s5_wrote$71$q;
+        fwd$71 = s4_fwd$71$q;
         meta_eff$71 = s4_meta$71$q;
         old_eff$71 = s4_old$71$q;
         old_eff2$71 = s4_old2$71$q;
@@ -25980,13 +28216,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$71 = entry5;
             old_eff2$71 = s5_head$71$q;
         end
-        live$71 = s4_walk$71$q & meta_eff$71[32'h9] & (meta_eff$71[32'h8] | (meta_eff$71[(32'h0)+:(8)] == s4_fp$17$q));
-        meta_new$71 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$71[32'h9]) begin
-            meta_new$71 = meta_eff$71;
-            if (meta_eff$71[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$71 = meta_eff$71 | 64'h100;
+        meta_src$142 = s4_meta$71$q;
+        meta_src$143 = s5_meta_w$71$q;
+        live_src$142 = s4_walk$71$q & meta_src$142[32'h9] & (meta_src$142[32'h8] | (meta_src$142[(32'h0)+:(8)] == s4_fp$17$q));
+        meta_new_src$142 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$142[32'h9]) begin
+            meta_new_src$142 = meta_src$142;
+            if (meta_src$142[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$142 = meta_src$142 | 64'h100;
             end
+        end
+        live_src$143 = s4_walk$71$q & meta_src$143[32'h9] & (meta_src$143[32'h8] | (meta_src$143[(32'h0)+:(8)] == s4_fp$17$q));
+        meta_new_src$143 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$143[32'h9]) begin
+            meta_new_src$143 = meta_src$143;
+            if (meta_src$143[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$143 = meta_src$143 | 64'h100;
+            end
+        end
+        live$71 = live_src$142;
+        meta_new$71 = meta_new_src$142;
+        if (fwd$71) begin
+            live$71 = live_src$143;
+            meta_new$71 = meta_new_src$143;
         end
         meta$71$write_enable = s4_enter$71$q;
         meta$71$write_address = s4_bucket$17$q;
@@ -26014,7 +28266,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$71$d = live$71;
         s5_head$71$d = old_eff$71;
         s5_head2$71$d = old_eff2$71;
-        fwd$72 = s4_same$18$q & s5_wrote$72$q;
+        fwd$72 = s4_fwd$72$q;
         meta_eff$72 = s4_meta$72$q;
         old_eff$72 = s4_old$72$q;
         old_eff2$72 = s4_old2$72$q;
@@ -26023,13 +28275,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$72 = entry5;
             old_eff2$72 = s5_head$72$q;
         end
-        live$72 = s4_walk$72$q & meta_eff$72[32'h9] & (meta_eff$72[32'h8] | (meta_eff$72[(32'h0)+:(8)] == s4_fp$18$q));
-        meta_new$72 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$72[32'h9]) begin
-            meta_new$72 = meta_eff$72;
-            if (meta_eff$72[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$72 = meta_eff$72 | 64'h100;
+        meta_src$144 = s4_meta$72$q;
+        meta_src$145 = s5_meta_w$72$q;
+        live_src$144 = s4_walk$72$q & meta_src$144[32'h9] & (meta_src$144[32'h8] | (meta_src$144[(32'h0)+:(8)] == s4_fp$18$q));
+        meta_new_src$144 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$144[32'h9]) begin
+            meta_new_src$144 = meta_src$144;
+            if (meta_src$144[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$144 = meta_src$144 | 64'h100;
             end
+        end
+        live_src$145 = s4_walk$72$q & meta_src$145[32'h9] & (meta_src$145[32'h8] | (meta_src$145[(32'h0)+:(8)] == s4_fp$18$q));
+        meta_new_src$145 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$145[32'h9]) begin
+            meta_new_src$145 = meta_src$145;
+            if (meta_src$145[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$145 = meta_src$145 | 64'h100;
+            end
+        end
+        live$72 = live_src$144;
+        meta_new$72 = meta_new_src$144;
+        if (fwd$72) begin
+            live$72 = live_src$145;
+            meta_new$72 = meta_new_src$145;
         end
         meta$72$write_enable = s4_enter$72$q;
         meta$72$write_address = s4_bucket$18$q;
@@ -26057,7 +28325,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$72$d = live$72;
         s5_head$72$d = old_eff$72;
         s5_head2$72$d = old_eff2$72;
-        fwd$73 = s4_same$19$q & s5_wrote$73$q;
+        fwd$73 = s4_fwd$73$q;
         meta_eff$73 = s4_meta$73$q;
         old_eff$73 = s4_old$73$q;
         old_eff2$73 = s4_old2$73$q;
@@ -26066,13 +28334,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$73 = entry5;
             old_eff2$73 = s5_head$73$q;
         end
-        live$73 = s4_walk$73$q & meta_eff$73[32'h9] & (meta_eff$73[32'h8] | (meta_eff$73[(32'h0)+:(8)] == s4_fp$19$q));
-        meta_new$73 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$73[32'h9]) begin
-            meta_new$73 = meta_eff$73;
-            if (meta_eff$73[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$73 = meta_eff$73 | 64'h100;
+        meta_src$146 = s4_meta$73$q;
+        meta_src$147 = s5_meta_w$73$q;
+        live_src$146 = s4_walk$73$q & meta_src$146[32'h9] & (meta_src$146[32'h8] | (meta_src$146[(32'h0)+:(8)] == s4_fp$19$q));
+        meta_new_src$146 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$146[32'h9]) begin
+            meta_new_src$146 = meta_src$146;
+            if (meta_src$146[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$146 = meta_src$146 | 64'h100;
             end
+        end
+        live_src$147 = s4_walk$73$q & meta_src$147[32'h9] & (meta_src$147[32'h8] | (meta_src$147[(32'h0)+:(8)] == s4_fp$19$q));
+        meta_new_src$147 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$147[32'h9]) begin
+            meta_new_src$147 = meta_src$147;
+            if (meta_src$147[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$147 = meta_src$147 | 64'h100;
+            end
+        end
+        live$73 = live_src$146;
+        meta_new$73 = meta_new_src$146;
+        if (fwd$73) begin
+            live$73 = live_src$147;
+            meta_new$73 = meta_new_src$147;
         end
         meta$73$write_enable = s4_enter$73$q;
         meta$73$write_address = s4_bucket$19$q;
@@ -26100,7 +28384,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$73$d = live$73;
         s5_head$73$d = old_eff$73;
         s5_head2$73$d = old_eff2$73;
-        fwd$74 = s4_same$20$q & s5_wrote$74$q;
+        fwd$74 = s4_fwd$74$q;
         meta_eff$74 = s4_meta$74$q;
         old_eff$74 = s4_old$74$q;
         old_eff2$74 = s4_old2$74$q;
@@ -26109,13 +28393,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$74 = entry5;
             old_eff2$74 = s5_head$74$q;
         end
-        live$74 = s4_walk$74$q & meta_eff$74[32'h9] & (meta_eff$74[32'h8] | (meta_eff$74[(32'h0)+:(8)] == s4_fp$20$q));
-        meta_new$74 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$74[32'h9]) begin
-            meta_new$74 = meta_eff$74;
-            if (meta_eff$74[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$74 = meta_eff$74 | 64'h100;
+        meta_src$148 = s4_meta$74$q;
+        meta_src$149 = s5_meta_w$74$q;
+        live_src$148 = s4_walk$74$q & meta_src$148[32'h9] & (meta_src$148[32'h8] | (meta_src$148[(32'h0)+:(8)] == s4_fp$20$q));
+        meta_new_src$148 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$148[32'h9]) begin
+            meta_new_src$148 = meta_src$148;
+            if (meta_src$148[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$148 = meta_src$148 | 64'h100;
             end
+        end
+        live_src$149 = s4_walk$74$q & meta_src$149[32'h9] & (meta_src$149[32'h8] | (meta_src$149[(32'h0)+:(8)] == s4_fp$20$q));
+        meta_new_src$149 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$149[32'h9]) begin
+            meta_new_src$149 = meta_src$149;
+            if (meta_src$149[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$149 = meta_src$149 | 64'h100;
+            end
+        end
+        live$74 = live_src$148;
+        meta_new$74 = meta_new_src$148;
+        if (fwd$74) begin
+            live$74 = live_src$149;
+            meta_new$74 = meta_new_src$149;
         end
         meta$74$write_enable = s4_enter$74$q;
         meta$74$write_address = s4_bucket$20$q;
@@ -26143,7 +28443,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$74$d = live$74;
         s5_head$74$d = old_eff$74;
         s5_head2$74$d = old_eff2$74;
-        fwd$75 = s4_same$21$q & s5_wrote$75$q;
+        fwd$75 = s4_fwd$75$q;
         meta_eff$75 = s4_meta$75$q;
         old_eff$75 = s4_old$75$q;
         old_eff2$75 = s4_old2$75$q;
@@ -26152,13 +28452,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$75 = entry5;
             old_eff2$75 = s5_head$75$q;
         end
-        live$75 = s4_walk$75$q & meta_eff$75[32'h9] & (meta_eff$75[32'h8] | (meta_eff$75[(32'h0)+:(8)] == s4_fp$21$q));
-        meta_new$75 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$75[32'h9]) begin
-            meta_new$75 = meta_eff$75;
-            if (meta_eff$75[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$75 = meta_eff$75 | 64'h100;
+        meta_src$150 = s4_meta$75$q;
+        meta_src$151 = s5_meta_w$75$q;
+        live_src$150 = s4_walk$75$q & meta_src$150[32'h9] & (meta_src$150[32'h8] | (meta_src$150[(32'h0)+:(8)] == s4_fp$21$q));
+        meta_new_src$150 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$150[32'h9]) begin
+            meta_new_src$150 = meta_src$150;
+            if (meta_src$150[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$150 = meta_src$150 | 64'h100;
             end
+        end
+        live_src$151 = s4_walk$75$q & meta_src$151[32'h9] & (meta_src$151[32'h8] | (meta_src$151[(32'h0)+:(8)] == s4_fp$21$q));
+        meta_new_src$151 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$151[32'h9]) begin
+            meta_new_src$151 = meta_src$151;
+            if (meta_src$151[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$151 = meta_src$151 | 64'h100;
+            end
+        end
+        live$75 = live_src$150;
+        meta_new$75 = meta_new_src$150;
+        if (fwd$75) begin
+            live$75 = live_src$151;
+            meta_new$75 = meta_new_src$151;
         end
         meta$75$write_enable = s4_enter$75$q;
         meta$75$write_address = s4_bucket$21$q;
@@ -26186,7 +28502,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$75$d = live$75;
         s5_head$75$d = old_eff$75;
         s5_head2$75$d = old_eff2$75;
-        fwd$76 = s4_same$22$q & s5_wrote$76$q;
+        fwd$76 = s4_fwd$76$q;
         meta_eff$76 = s4_meta$76$q;
         old_eff$76 = s4_old$76$q;
         old_eff2$76 = s4_old2$76$q;
@@ -26195,13 +28511,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$76 = entry5;
             old_eff2$76 = s5_head$76$q;
         end
-        live$76 = s4_walk$76$q & meta_eff$76[32'h9] & (meta_eff$76[32'h8] | (meta_eff$76[(32'h0)+:(8)] == s4_fp$22$q));
-        meta_new$76 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$76[32'h9]) begin
-            meta_new$76 = meta_eff$76;
-            if (meta_eff$76[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$76 = meta_eff$76 | 64'h100;
+        meta_src$152 = s4_meta$76$q;
+        meta_src$153 = s5_meta_w$76$q;
+        live_src$152 = s4_walk$76$q & meta_src$152[32'h9] & (meta_src$152[32'h8] | (meta_src$152[(32'h0)+:(8)] == s4_fp$22$q));
+        meta_new_src$152 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$152[32'h9]) begin
+            meta_new_src$152 = meta_src$152;
+            if (meta_src$152[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$152 = meta_src$152 | 64'h100;
             end
+        end
+        live_src$153 = s4_walk$76$q & meta_src$153[32'h9] & (meta_src$153[32'h8] | (meta_src$153[(32'h0)+:(8)] == s4_fp$22$q));
+        meta_new_src$153 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$153[32'h9]) begin
+            meta_new_src$153 = meta_src$153;
+            if (meta_src$153[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$153 = meta_src$153 | 64'h100;
+            end
+        end
+        live$76 = live_src$152;
+        meta_new$76 = meta_new_src$152;
+        if (fwd$76) begin
+            live$76 = live_src$153;
+            meta_new$76 = meta_new_src$153;
         end
         meta$76$write_enable = s4_enter$76$q;
         meta$76$write_address = s4_bucket$22$q;
@@ -26229,7 +28561,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$76$d = live$76;
         s5_head$76$d = old_eff$76;
         s5_head2$76$d = old_eff2$76;
-        fwd$77 = s4_same$23$q & s5_wrote$77$q;
+        fwd$77 = s4_fwd$77$q;
         meta_eff$77 = s4_meta$77$q;
         old_eff$77 = s4_old$77$q;
         old_eff2$77 = s4_old2$77$q;
@@ -26238,13 +28570,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$77 = entry5;
             old_eff2$77 = s5_head$77$q;
         end
-        live$77 = s4_walk$77$q & meta_eff$77[32'h9] & (meta_eff$77[32'h8] | (meta_eff$77[(32'h0)+:(8)] == s4_fp$23$q));
-        meta_new$77 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$77[32'h9]) begin
-            meta_new$77 = meta_eff$77;
-            if (meta_eff$77[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$77 = meta_eff$77 | 64'h100;
+        meta_src$154 = s4_meta$77$q;
+        meta_src$155 = s5_meta_w$77$q;
+        live_src$154 = s4_walk$77$q & meta_src$154[32'h9] & (meta_src$154[32'h8] | (meta_src$154[(32'h0)+:(8)] == s4_fp$23$q));
+        meta_new_src$154 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$154[32'h9]) begin
+            meta_new_src$154 = meta_src$154;
+            if (meta_src$154[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$154 = meta_src$154 | 64'h100;
             end
+        end
+        live_src$155 = s4_walk$77$q & meta_src$155[32'h9] & (meta_src$155[32'h8] | (meta_src$155[(32'h0)+:(8)] == s4_fp$23$q));
+        meta_new_src$155 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$155[32'h9]) begin
+            meta_new_src$155 = meta_src$155;
+            if (meta_src$155[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$155 = meta_src$155 | 64'h100;
+            end
+        end
+        live$77 = live_src$154;
+        meta_new$77 = meta_new_src$154;
+        if (fwd$77) begin
+            live$77 = live_src$155;
+            meta_new$77 = meta_new_src$155;
         end
         meta$77$write_enable = s4_enter$77$q;
         meta$77$write_address = s4_bucket$23$q;
@@ -26272,7 +28620,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$77$d = live$77;
         s5_head$77$d = old_eff$77;
         s5_head2$77$d = old_eff2$77;
-        fwd$78 = s4_same$24$q & s5_wrote$78$q;
+        fwd$78 = s4_fwd$78$q;
         meta_eff$78 = s4_meta$78$q;
         old_eff$78 = s4_old$78$q;
         old_eff2$78 = s4_old2$78$q;
@@ -26281,13 +28629,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$78 = entry5;
             old_eff2$78 = s5_head$78$q;
         end
-        live$78 = s4_walk$78$q & meta_eff$78[32'h9] & (meta_eff$78[32'h8] | (meta_eff$78[(32'h0)+:(8)] == s4_fp$24$q));
-        meta_new$78 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$78[32'h9]) begin
-            meta_new$78 = meta_eff$78;
-            if (meta_eff$78[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$78 = meta_eff$78 | 64'h100;
+        meta_src$156 = s4_meta$78$q;
+        meta_src$157 = s5_meta_w$78$q;
+        live_src$156 = s4_walk$78$q & meta_src$156[32'h9] & (meta_src$156[32'h8] | (meta_src$156[(32'h0)+:(8)] == s4_fp$24$q));
+        meta_new_src$156 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$156[32'h9]) begin
+            meta_new_src$156 = meta_src$156;
+            if (meta_src$156[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$156 = meta_src$156 | 64'h100;
             end
+        end
+        live_src$157 = s4_walk$78$q & meta_src$157[32'h9] & (meta_src$157[32'h8] | (meta_src$157[(32'h0)+:(8)] == s4_fp$24$q));
+        meta_new_src$157 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$157[32'h9]) begin
+            meta_new_src$157 = meta_src$157;
+            if (meta_src$157[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$157 = meta_src$157 | 64'h100;
+            end
+        end
+        live$78 = live_src$156;
+        meta_new$78 = meta_new_src$156;
+        if (fwd$78) begin
+            live$78 = live_src$157;
+            meta_new$78 = meta_new_src$157;
         end
         meta$78$write_enable = s4_enter$78$q;
         meta$78$write_address = s4_bucket$24$q;
@@ -26315,7 +28679,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$78$d = live$78;
         s5_head$78$d = old_eff$78;
         s5_head2$78$d = old_eff2$78;
-        fwd$79 = s4_same$25$q & s5_wrote$79$q;
+        fwd$79 = s4_fwd$79$q;
         meta_eff$79 = s4_meta$79$q;
         old_eff$79 = s4_old$79$q;
         old_eff2$79 = s4_old2$79$q;
@@ -26324,13 +28688,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$79 = entry5;
             old_eff2$79 = s5_head$79$q;
         end
-        live$79 = s4_walk$79$q & meta_eff$79[32'h9] & (meta_eff$79[32'h8] | (meta_eff$79[(32'h0)+:(8)] == s4_fp$25$q));
-        meta_new$79 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$79[32'h9]) begin
-            meta_new$79 = meta_eff$79;
-            if (meta_eff$79[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$79 = meta_eff$79 | 64'h100;
+        meta_src$158 = s4_meta$79$q;
+        meta_src$159 = s5_meta_w$79$q;
+        live_src$158 = s4_walk$79$q & meta_src$158[32'h9] & (meta_src$158[32'h8] | (meta_src$158[(32'h0)+:(8)] == s4_fp$25$q));
+        meta_new_src$158 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$158[32'h9]) begin
+            meta_new_src$158 = meta_src$158;
+            if (meta_src$158[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$158 = meta_src$158 | 64'h100;
             end
+        end
+        live_src$159 = s4_walk$79$q & meta_src$159[32'h9] & (meta_src$159[32'h8] | (meta_src$159[(32'h0)+:(8)] == s4_fp$25$q));
+        meta_new_src$159 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$159[32'h9]) begin
+            meta_new_src$159 = meta_src$159;
+            if (meta_src$159[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$159 = meta_src$159 | 64'h100;
+            end
+        end
+        live$79 = live_src$158;
+        meta_new$79 = meta_new_src$158;
+        if (fwd$79) begin
+            live$79 = live_src$159;
+            meta_new$79 = meta_new_src$159;
         end
         meta$79$write_enable = s4_enter$79$q;
         meta$79$write_address = s4_bucket$25$q;
@@ -26358,7 +28738,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s5_live$79$d = live$79;
         s5_head$79$d = old_eff$79;
         s5_head2$79$d = old_eff2$79;
-        fwd$80 = s4_same$26$q & s5_wrote$80$q;
+        fwd$80 = s4_fwd$80$q;
         meta_eff$80 = s4_meta$80$q;
         old_eff$80 = s4_old$80$q;
         old_eff2$80 = s4_old2$80$q;
@@ -26367,13 +28747,29 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             old_eff$80 = entry5;
             old_eff2$80 = s5_head$80$q;
         end
-        live$80 = s4_walk$80$q & meta_eff$80[32'h9] & (meta_eff$80[32'h8] | (meta_eff$80[(32'h0)+:(8)] == s4_fp$26$q));
-        meta_new$80 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
-        if (meta_eff$80[32'h9]) begin
-            meta_new$80 = meta_eff$80;
-            if (meta_eff$80[(32'h0)+:(8)] != s4_home_fp$q) begin
-                meta_new$80 = meta_eff$80 | 64'h100;
+        meta_src$160 = s4_meta$80$q;
+        meta_src$161 = s5_meta_w$80$q;
+        live_src$160 = s4_walk$80$q & meta_src$160[32'h9] & (meta_src$160[32'h8] | (meta_src$160[(32'h0)+:(8)] == s4_fp$26$q));
+        meta_new_src$160 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$160[32'h9]) begin
+            meta_new_src$160 = meta_src$160;
+            if (meta_src$160[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$160 = meta_src$160 | 64'h100;
             end
+        end
+        live_src$161 = s4_walk$80$q & meta_src$161[32'h9] & (meta_src$161[32'h8] | (meta_src$161[(32'h0)+:(8)] == s4_fp$26$q));
+        meta_new_src$161 = ((s4_home_fp$q) & 10'h3ff) | 64'h200;
+        if (meta_src$161[32'h9]) begin
+            meta_new_src$161 = meta_src$161;
+            if (meta_src$161[(32'h0)+:(8)] != s4_home_fp$q) begin
+                meta_new_src$161 = meta_src$161 | 64'h100;
+            end
+        end
+        live$80 = live_src$160;
+        meta_new$80 = meta_new_src$160;
+        if (fwd$80) begin
+            live$80 = live_src$161;
+            meta_new$80 = meta_new_src$161;
         end
         meta$80$write_enable = s4_enter$80$q;
         meta$80$write_address = s4_bucket$26$q;
@@ -29789,7 +32185,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         bank_left$25$d = bank_next$25;
         bank_left$26$clock = clock;
         bank_left$26$d = bank_next$26;
-        arrive = r2$q & ((succ_q$q & top) != 32'h0);
+        arrive = arrive_q$q;
         avail = q0v$q | arrive;
         need = ~avail;
         take = need & lq_fill$0$q;
@@ -29828,7 +32224,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             q1v$d = cand_ok & after_v;
         end
         r1$d = go;
-        r2$d = r1$q;
+        arrive_q$d = r1$q & ((succ$read_data_b & top) != 32'h0);
         succ_q$d = succ$read_data_b;
         v1_i$d = cur_index$q;
         v1_margin$d = cur_margin$q;
@@ -29992,8 +32388,10 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         mask_row = mask >> ((((lgroup$q) & 64'hffffffffffffffff) << 64'h3) | ((v2_group_j$q) & 64'hffffffffffffffff));
         mask_ok = mask_row[32'h0];
         pass = overlap & (home_ok | ~v2_kind$q[32'h0]) & (mask_ok | ~v2_kind$q[32'h1]);
-        fifo$write = v2_valid$q & pass;
-        fifo$data_in = cand_word;
+        v3_write$d = v2_valid$q & pass;
+        v3_word$d = cand_word;
+        fifo$write = v3_write$q;
+        fifo$data_in = v3_word$q;
         fifo$ready = cand_ready;
         cand_valid = fifo$valid;
         unpack_a = fifo$data_out >> at_a;
@@ -30016,7 +32414,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
                 cleared$d = 1'b1;
             end
         end
-        finished = cleared$q & fifo$empty & ~v1_valid$q & ~v2_valid$q;
+        finished = cleared$q & fifo$empty & ~v1_valid$q & ~v2_valid$q & ~v3_write$q;
         too_wide = wide$q;
         if (start) begin
             wp$d = 32'h0;
@@ -30034,7 +32432,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             q0v$d = 1'b0;
             q1v$d = 1'b0;
             r1$d = 1'b0;
-            r2$d = 1'b0;
+            arrive_q$d = 1'b0;
             clearing$d = 1'b0;
             cleared$d = 1'b0;
             slow$d = SlowState$Fetch;
@@ -30045,6 +32443,25 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
     end
     
 endmodule // grid_phase
+
+
+module grid_phase$arrive_q(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$arrive_q
 
 
 module grid_phase$bank_left$0(d,q,clock);
@@ -54569,25 +56986,6 @@ module grid_phase$r1(d,q,clock);
 endmodule // grid_phase$r1
 
 
-module grid_phase$r2(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$r2
-
-
 module grid_phase$rec$0(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
@@ -62253,6 +64651,1545 @@ module grid_phase$s4_fp$9(d,q,clock);
 endmodule // grid_phase$s4_fp$9
 
 
+module grid_phase$s4_fwd$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$0
+
+
+module grid_phase$s4_fwd$1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$1
+
+
+module grid_phase$s4_fwd$10(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$10
+
+
+module grid_phase$s4_fwd$11(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$11
+
+
+module grid_phase$s4_fwd$12(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$12
+
+
+module grid_phase$s4_fwd$13(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$13
+
+
+module grid_phase$s4_fwd$14(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$14
+
+
+module grid_phase$s4_fwd$15(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$15
+
+
+module grid_phase$s4_fwd$16(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$16
+
+
+module grid_phase$s4_fwd$17(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$17
+
+
+module grid_phase$s4_fwd$18(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$18
+
+
+module grid_phase$s4_fwd$19(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$19
+
+
+module grid_phase$s4_fwd$2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$2
+
+
+module grid_phase$s4_fwd$20(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$20
+
+
+module grid_phase$s4_fwd$21(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$21
+
+
+module grid_phase$s4_fwd$22(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$22
+
+
+module grid_phase$s4_fwd$23(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$23
+
+
+module grid_phase$s4_fwd$24(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$24
+
+
+module grid_phase$s4_fwd$25(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$25
+
+
+module grid_phase$s4_fwd$26(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$26
+
+
+module grid_phase$s4_fwd$27(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$27
+
+
+module grid_phase$s4_fwd$28(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$28
+
+
+module grid_phase$s4_fwd$29(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$29
+
+
+module grid_phase$s4_fwd$3(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$3
+
+
+module grid_phase$s4_fwd$30(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$30
+
+
+module grid_phase$s4_fwd$31(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$31
+
+
+module grid_phase$s4_fwd$32(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$32
+
+
+module grid_phase$s4_fwd$33(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$33
+
+
+module grid_phase$s4_fwd$34(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$34
+
+
+module grid_phase$s4_fwd$35(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$35
+
+
+module grid_phase$s4_fwd$36(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$36
+
+
+module grid_phase$s4_fwd$37(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$37
+
+
+module grid_phase$s4_fwd$38(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$38
+
+
+module grid_phase$s4_fwd$39(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$39
+
+
+module grid_phase$s4_fwd$4(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$4
+
+
+module grid_phase$s4_fwd$40(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$40
+
+
+module grid_phase$s4_fwd$41(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$41
+
+
+module grid_phase$s4_fwd$42(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$42
+
+
+module grid_phase$s4_fwd$43(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$43
+
+
+module grid_phase$s4_fwd$44(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$44
+
+
+module grid_phase$s4_fwd$45(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$45
+
+
+module grid_phase$s4_fwd$46(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$46
+
+
+module grid_phase$s4_fwd$47(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$47
+
+
+module grid_phase$s4_fwd$48(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$48
+
+
+module grid_phase$s4_fwd$49(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$49
+
+
+module grid_phase$s4_fwd$5(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$5
+
+
+module grid_phase$s4_fwd$50(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$50
+
+
+module grid_phase$s4_fwd$51(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$51
+
+
+module grid_phase$s4_fwd$52(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$52
+
+
+module grid_phase$s4_fwd$53(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$53
+
+
+module grid_phase$s4_fwd$54(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$54
+
+
+module grid_phase$s4_fwd$55(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$55
+
+
+module grid_phase$s4_fwd$56(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$56
+
+
+module grid_phase$s4_fwd$57(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$57
+
+
+module grid_phase$s4_fwd$58(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$58
+
+
+module grid_phase$s4_fwd$59(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$59
+
+
+module grid_phase$s4_fwd$6(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$6
+
+
+module grid_phase$s4_fwd$60(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$60
+
+
+module grid_phase$s4_fwd$61(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$61
+
+
+module grid_phase$s4_fwd$62(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$62
+
+
+module grid_phase$s4_fwd$63(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$63
+
+
+module grid_phase$s4_fwd$64(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$64
+
+
+module grid_phase$s4_fwd$65(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$65
+
+
+module grid_phase$s4_fwd$66(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$66
+
+
+module grid_phase$s4_fwd$67(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$67
+
+
+module grid_phase$s4_fwd$68(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$68
+
+
+module grid_phase$s4_fwd$69(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$69
+
+
+module grid_phase$s4_fwd$7(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$7
+
+
+module grid_phase$s4_fwd$70(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$70
+
+
+module grid_phase$s4_fwd$71(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$71
+
+
+module grid_phase$s4_fwd$72(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$72
+
+
+module grid_phase$s4_fwd$73(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$73
+
+
+module grid_phase$s4_fwd$74(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$74
+
+
+module grid_phase$s4_fwd$75(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$75
+
+
+module grid_phase$s4_fwd$76(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$76
+
+
+module grid_phase$s4_fwd$77(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$77
+
+
+module grid_phase$s4_fwd$78(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$78
+
+
+module grid_phase$s4_fwd$79(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$79
+
+
+module grid_phase$s4_fwd$8(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$8
+
+
+module grid_phase$s4_fwd$80(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$80
+
+
+module grid_phase$s4_fwd$9(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$s4_fwd$9
+
+
 module grid_phase$s4_home_fp(d,q,clock);
     
     // Module arguments
@@ -67096,519 +71033,6 @@ module grid_phase$s4_old2$9(d,q,clock);
     end
           
 endmodule // grid_phase$s4_old2$9
-
-
-module grid_phase$s4_same$0(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$0
-
-
-module grid_phase$s4_same$1(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$1
-
-
-module grid_phase$s4_same$10(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$10
-
-
-module grid_phase$s4_same$11(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$11
-
-
-module grid_phase$s4_same$12(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$12
-
-
-module grid_phase$s4_same$13(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$13
-
-
-module grid_phase$s4_same$14(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$14
-
-
-module grid_phase$s4_same$15(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$15
-
-
-module grid_phase$s4_same$16(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$16
-
-
-module grid_phase$s4_same$17(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$17
-
-
-module grid_phase$s4_same$18(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$18
-
-
-module grid_phase$s4_same$19(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$19
-
-
-module grid_phase$s4_same$2(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$2
-
-
-module grid_phase$s4_same$20(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$20
-
-
-module grid_phase$s4_same$21(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$21
-
-
-module grid_phase$s4_same$22(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$22
-
-
-module grid_phase$s4_same$23(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$23
-
-
-module grid_phase$s4_same$24(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$24
-
-
-module grid_phase$s4_same$25(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$25
-
-
-module grid_phase$s4_same$26(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$26
-
-
-module grid_phase$s4_same$3(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$3
-
-
-module grid_phase$s4_same$4(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$4
-
-
-module grid_phase$s4_same$5(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$5
-
-
-module grid_phase$s4_same$6(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$6
-
-
-module grid_phase$s4_same$7(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$7
-
-
-module grid_phase$s4_same$8(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$8
-
-
-module grid_phase$s4_same$9(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // grid_phase$s4_same$9
 
 
 module grid_phase$s4_valid(d,q,clock);
@@ -79444,6 +82868,44 @@ module grid_phase$v2_wl$2(d,q,clock);
     end
           
 endmodule // grid_phase$v2_wl$2
+
+
+module grid_phase$v3_word(d,q,clock);
+    
+    // Module arguments
+    input wire  [95:0] d;
+    output reg  [95:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 96'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$v3_word
+
+
+module grid_phase$v3_write(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$v3_write
 
 
 module grid_phase$wide(d,q,clock);

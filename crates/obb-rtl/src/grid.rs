@@ -27,7 +27,7 @@
 //! visit is the first of the list's boxes known and not visited (at most two, held in
 //! registers while a stall lasts), or the arriving second successor, or, the list over, the
 //! list queue's next list. A visit's keys are read on the key table's port B (`rd_addr`; the walking box's keys ride in
-//! the list queue), compared two clocks later and, if they overlap, written to the candidate
+//! the list queue), compared two clocks later, registered and, if they overlap, written to the candidate
 //! queue (`PairFifo`), which the core drains on clocks it does not accept a box. At the end of
 //! the walk every bucket is written empty, one a clock, so that the next frame finds the lists
 //! clear.
@@ -90,7 +90,9 @@ pub enum SlowState {
     Partner,
     Over,
 }
-const _: () = assert!(GRID_CAND_STALL as u64 + 2 < pair_fifo::DEPTH);
+// The walker sees the queue's count registered: when it stalls, up to three visits are still in
+// the key check, and the queue has room for them.
+const _: () = assert!(GRID_CAND_STALL as u64 + 3 < pair_fifo::DEPTH);
 
 #[derive(LogicBlock)]
 pub struct GridPhase<const A: usize, const C: usize> {
@@ -193,8 +195,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// The mask's bits for the box's group: bit h pairs it with group h.
     s3_allowed: DFF<Bits<MASK>>,
     // K+4: the box; per list its first two boxes and owner as read, walk it if the owner allows, enter
-    // it; per bank the bucket, the fingerprint, and whether the bucket is the one the box
-    // before (then at K+4) writes: its entry, which the read missed, is forwarded.
+    // it; per bank the bucket and the fingerprint.
     s4_valid: DFF<Bit>,
     s4_index: DFF<Bits<C>>,
     s4_min: [DFF<Bits<CENTER>>; 3],
@@ -208,7 +209,9 @@ pub struct GridPhase<const A: usize, const C: usize> {
     s4_enter: Vec<DFF<Bit>>,
     s4_bucket: [DFF<Bits<BUCKET>>; 27],
     s4_fp: [DFF<Bits<FP>>; 27],
-    s4_same: [DFF<Bit>; 27],
+    /// Per list: the box before wrote its entry in the bucket this box read (K+3), which the
+    /// read missed: it is forwarded. (Registered: at K+4 it only picks.)
+    s4_fwd: Vec<DFF<Bit>>,
     s4_home_fp: DFF<Bits<FP>>,
     s4_large: DFF<Bit>,
     s4_lprev: DFF<Bits<C>>,
@@ -281,17 +284,19 @@ pub struct GridPhase<const A: usize, const C: usize> {
     cur_margin: DFF<Bits<MARGIN>>,
     cur_kind: DFF<Bits<KIND>>,
     /// The successor table's output, registered: the second successor of the box read two
-    /// clocks before. A visit two clocks before (`r2`; `r1`: one clock before) read it.
+    /// clocks before. A visit one clock before (`r1`) reads it; `arrive_q`: a visit two clocks
+    /// before read it and it names a box (its flag), registered with it so that the walker's
+    /// decisions start at registers (one LUT follows the block RAM's output).
     succ_q: DFF<Bits<C>>,
     r1: DFF<Bit>,
-    r2: DFF<Bit>,
+    arrive_q: DFF<Bit>,
     /// The list's next boxes known and not yet visited, in order (at most two: the successor
     /// of a box arrives only after the box before it was visited).
     q0v: DFF<Bit>,
     q0: DFF<Bits<C>>,
     q1v: DFF<Bit>,
     q1: DFF<Bits<C>>,
-    // The key check: the visit (V+1), the keys of both boxes (V+2).
+    // The key check: the visit (V+1), the keys of both boxes (V+2), the verdict (V+3).
     v1_valid: DFF<Bit>,
     v1_i: DFF<Bits<C>>,
     v1_j: DFF<Bits<C>>,
@@ -318,6 +323,10 @@ pub struct GridPhase<const A: usize, const C: usize> {
     v2_wh: [DFF<Bits<CENTER>>; 3],
     v2_jc: [DFF<Bits<CENTER>>; 3],
     v2_group_j: DFF<Bits<GROUP>>,
+    /// V+3: the verdict and the candidate, registered, so that the compares and the queue's
+    /// count (chosen by the write) are not one path.
+    v3_write: DFF<Bit>,
+    v3_word: DFF<Bits<CAND>>,
     fifo: PairFifo<CAND>,
     // End of frame.
     clearing: DFF<Bit>,
@@ -362,6 +371,14 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// K+4, per list: the entry the box before wrote is this box's (same bucket, written); the
     /// owner and the head the box sees; walk it; its owner after the entry.
     fwd: Vec<Signal<Local, Bit>>,
+    /// K+3, per bank: its bucket is the one the box ahead (at K+4) writes.
+    same: [Signal<Local, Bit>; 27],
+    /// K+4, per list, from the owner as read (`2 l`) and as forwarded (`2 l + 1`), side by side
+    /// so that the compares start at registers and the forwarding only picks: the owner, walk
+    /// the list, the owner after the entry.
+    meta_src: Vec<Signal<Local, Bits<META>>>,
+    live_src: Vec<Signal<Local, Bit>>,
+    meta_new_src: Vec<Signal<Local, Bits<META>>>,
     meta_eff: Vec<Signal<Local, Bits<META>>>,
     old_eff: Vec<Signal<Local, Bits<C>>>,
     old_eff2: Vec<Signal<Local, Bits<C>>>,
@@ -598,7 +615,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             s4_enter: vec(lists),
             s4_bucket: Default::default(),
             s4_fp: Default::default(),
-            s4_same: Default::default(),
+            s4_fwd: vec(lists),
             s4_home_fp: Default::default(),
             s4_large: Default::default(),
             s4_lprev: Default::default(),
@@ -654,7 +671,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             cur_kind: Default::default(),
             succ_q: Default::default(),
             r1: Default::default(),
-            r2: Default::default(),
+            arrive_q: Default::default(),
             q0v: Default::default(),
             q0: Default::default(),
             q1v: Default::default(),
@@ -680,6 +697,8 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             v2_wh: Default::default(),
             v2_jc: Default::default(),
             v2_group_j: Default::default(),
+            v3_write: Default::default(),
+            v3_word: Default::default(),
             fifo: PairFifo::new(GRID_CAND_STALL as u64),
             clearing: Default::default(),
             cleared: Default::default(),
@@ -710,6 +729,10 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             allowed: Default::default(),
             allow: vec(lists),
             fwd: vec(lists),
+            same: Default::default(),
+            meta_src: vec(2 * lists),
+            live_src: vec(2 * lists),
+            meta_new_src: vec(2 * lists),
             meta_eff: vec(lists),
             old_eff: vec(lists),
             old_eff2: vec(lists),
@@ -854,7 +877,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             cur_margin,
             succ_q,
             r1,
-            r2,
+            arrive_q,
             q0v,
             q0,
             q1v,
@@ -879,6 +902,8 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             v1_kind,
             v2_kind,
             v2_group_j,
+            v3_write,
+            v3_word,
             slow,
             lnext,
             lnext2,
@@ -894,7 +919,6 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         for b in 0..27 {
             self.s4_bucket[b].clock.next = self.clock.val();
             self.s4_fp[b].clock.next = self.clock.val();
-            self.s4_same[b].clock.next = self.clock.val();
         }
         for x in 0..3 {
             self.lq_fill[x].clock.next = self.clock.val();
@@ -947,6 +971,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.s5_wrote[l].clock.next = self.clock.val();
             self.s5_meta_w[l].clock.next = self.clock.val();
             self.s4_meta[l].clock.next = self.clock.val();
+            self.s4_fwd[l].clock.next = self.clock.val();
             self.s4_old[l].clock.next = self.clock.val();
             self.s4_old2[l].clock.next = self.clock.val();
             self.s4_walk[l].clock.next = self.clock.val();
@@ -1189,7 +1214,13 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         for b in 0..27 {
             self.s4_bucket[b].d.next = self.cells.bucket[b].val();
             self.s4_fp[b].d.next = self.cells.fp[b].val();
-            self.s4_same[b].d.next = self.cells.bucket[b].val() == self.s4_bucket[b].q.val();
+            self.same[b].next = self.cells.bucket[b].val() == self.s4_bucket[b].q.val();
+        }
+        for q in 0..self._groups {
+            for b in 0..27 {
+                self.s4_fwd[27 * q + b].d.next =
+                    self.same[b].val() & self.s4_enter[27 * q + b].q.val();
+            }
         }
         self.s4_home_fp.d.next = self.cells.home_fp.val();
         // A large box takes the chain of large boxes instead of a list.
@@ -1222,8 +1253,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.entry5.next = self.s5_index.q.val() | self.top.val();
         for q in 0..self._groups {
             for b in 0..27 {
-                self.fwd[27 * q + b].next =
-                    self.s4_same[b].q.val() & self.s5_wrote[27 * q + b].q.val();
+                self.fwd[27 * q + b].next = self.s4_fwd[27 * q + b].q.val();
                 self.meta_eff[27 * q + b].next = self.s4_meta[27 * q + b].q.val();
                 self.old_eff[27 * q + b].next = self.s4_old[27 * q + b].q.val();
                 self.old_eff2[27 * q + b].next = self.s4_old2[27 * q + b].q.val();
@@ -1232,20 +1262,34 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     self.old_eff[27 * q + b].next = self.entry5.val();
                     self.old_eff2[27 * q + b].next = self.s5_head[27 * q + b].q.val();
                 }
-                self.live[27 * q + b].next = self.s4_walk[27 * q + b].q.val()
-                    & self.meta_eff[27 * q + b].val().get_bit(9)
-                    & (self.meta_eff[27 * q + b].val().get_bit(8)
-                        | (self.meta_eff[27 * q + b].val().get_bits::<FP>(0)
-                            == self.s4_fp[b].q.val()));
-                // Owned: kept, and mixed by another fingerprint; free: owned by this one.
-                self.meta_new[27 * q + b].next =
-                    bit_cast::<META, FP>(self.s4_home_fp.q.val()) | 512_u64;
-                if self.meta_eff[27 * q + b].val().get_bit(9) {
-                    self.meta_new[27 * q + b].next = self.meta_eff[27 * q + b].val();
-                    if self.meta_eff[27 * q + b].val().get_bits::<FP>(0) != self.s4_home_fp.q.val()
-                    {
-                        self.meta_new[27 * q + b].next = self.meta_eff[27 * q + b].val() | 256_u64;
+                self.meta_src[2 * (27 * q + b)].next = self.s4_meta[27 * q + b].q.val();
+                self.meta_src[2 * (27 * q + b) + 1].next = self.s5_meta_w[27 * q + b].q.val();
+                for k in 0..2 {
+                    // Walked if valid and mixed or owned by the cell's fingerprint. Owned: kept,
+                    // and mixed by another fingerprint; free: owned by this one.
+                    self.live_src[2 * (27 * q + b) + k].next = self.s4_walk[27 * q + b].q.val()
+                        & self.meta_src[2 * (27 * q + b) + k].val().get_bit(9)
+                        & (self.meta_src[2 * (27 * q + b) + k].val().get_bit(8)
+                            | (self.meta_src[2 * (27 * q + b) + k].val().get_bits::<FP>(0)
+                                == self.s4_fp[b].q.val()));
+                    self.meta_new_src[2 * (27 * q + b) + k].next =
+                        bit_cast::<META, FP>(self.s4_home_fp.q.val()) | 512_u64;
+                    if self.meta_src[2 * (27 * q + b) + k].val().get_bit(9) {
+                        self.meta_new_src[2 * (27 * q + b) + k].next =
+                            self.meta_src[2 * (27 * q + b) + k].val();
+                        if self.meta_src[2 * (27 * q + b) + k].val().get_bits::<FP>(0)
+                            != self.s4_home_fp.q.val()
+                        {
+                            self.meta_new_src[2 * (27 * q + b) + k].next =
+                                self.meta_src[2 * (27 * q + b) + k].val() | 256_u64;
+                        }
                     }
+                }
+                self.live[27 * q + b].next = self.live_src[2 * (27 * q + b)].val();
+                self.meta_new[27 * q + b].next = self.meta_new_src[2 * (27 * q + b)].val();
+                if self.fwd[27 * q + b].val() {
+                    self.live[27 * q + b].next = self.live_src[2 * (27 * q + b) + 1].val();
+                    self.meta_new[27 * q + b].next = self.meta_new_src[2 * (27 * q + b) + 1].val();
                 }
                 self.meta[27 * q + b].write_enable.next = self.s4_enter[27 * q + b].q.val();
                 self.meta[27 * q + b].write_address.next = self.s4_bucket[b].q.val();
@@ -1465,7 +1509,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         // next (its head now, its second on the next clock, from the queue) or, its record's
         // last list done, retires the record. (Flags are tested by a mask, not `>= top`: a
         // compare is a carry chain in synthesis.)
-        self.arrive.next = self.r2.q.val() & ((self.succ_q.q.val() & self.top.val()) != 0);
+        self.arrive.next = self.arrive_q.q.val();
         self.avail.next = self.q0v.q.val() | self.arrive.val();
         self.need.next = !self.avail.val();
         self.take.next = self.need.val() & self.lq_fill[0].q.val();
@@ -1504,7 +1548,8 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.q1v.d.next = self.cand_ok.val() & self.after_v.val();
         }
         self.r1.d.next = self.go.val();
-        self.r2.d.next = self.r1.q.val();
+        self.arrive_q.d.next =
+            self.r1.q.val() & ((self.succ.read_data_b.val() & self.top.val()) != 0);
         self.succ_q.d.next = self.succ.read_data_b.val();
         // The visit's box i: the list's, or the one taken this clock.
         self.v1_i.d.next = self.cur_index.q.val();
@@ -1592,7 +1637,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             | (self.count_dec.val() & self.count_m[2].val());
 
         // The key check: V+1 the visited box's keys come from port B; V+2 they are compared
-        // with the walking box's, and a candidate (lower index first) enters the queue.
+        // with the walking box's; V+3 a candidate (lower index first) enters the queue.
         self.v1_valid.d.next = self.go.val();
         self.v1_j.d.next = bit_cast::<C, A>(bit_cast::<A, C>(self.cand.val()));
         self.v2_valid.d.next = self.v1_valid.q.val();
@@ -1658,8 +1703,10 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.pass.next = self.overlap.val()
             & (self.home_ok.val() | !self.v2_kind.q.val().get_bit(0))
             & (self.mask_ok.val() | !self.v2_kind.q.val().get_bit(1));
-        self.fifo.write.next = self.v2_valid.q.val() & self.pass.val();
-        self.fifo.data_in.next = self.cand_word.val();
+        self.v3_write.d.next = self.v2_valid.q.val() & self.pass.val();
+        self.v3_word.d.next = self.cand_word.val();
+        self.fifo.write.next = self.v3_write.q.val();
+        self.fifo.data_in.next = self.v3_word.q.val();
         self.fifo.ready.next = self.cand_ready.val();
         self.cand_valid.next = self.fifo.valid.val();
         self.unpack_a.next = self.fifo.data_out.val() >> self.at_a.val();
@@ -1691,7 +1738,8 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
         self.finished.next = self.cleared.q.val()
             & self.fifo.empty.val()
             & !self.v1_valid.q.val()
-            & !self.v2_valid.q.val();
+            & !self.v2_valid.q.val()
+            & !self.v3_write.q.val();
         self.too_wide.next = self.wide.q.val();
         if self.start.val() {
             self.wp.d.next = 0.into();
@@ -1709,7 +1757,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.q0v.d.next = false;
             self.q1v.d.next = false;
             self.r1.d.next = false;
-            self.r2.d.next = false;
+            self.arrive_q.d.next = false;
             self.clearing.d.next = false;
             self.cleared.d.next = false;
             self.slow.d.next = SlowState::Fetch;

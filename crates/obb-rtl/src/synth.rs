@@ -428,6 +428,25 @@ pub fn analyze(json: &Path, top: &str) -> Result<Report> {
     Ok(walk(&cells, &DELAYS))
 }
 
+/// Whether a distributed RAM's input `pin` reaches its output `out` within the clock (its read
+/// side): a RAM32M's or RAM64M's port x is read at `ADDRx` (port D's address is also the write
+/// address), a dual-port `X1D`'s `SPO` at its write address `A` and `DPO` at `DPRA`, a
+/// single-port one's `O` at `A`. The data and the write enable reach no output before the edge.
+fn lutram_arc(out: &str, pin: &str) -> bool {
+    if let Some(port) = out.strip_prefix("DO") {
+        return pin.strip_prefix("ADDR") == Some(port);
+    }
+    if out == "DPO" {
+        return pin.starts_with("DPRA");
+    }
+    pin.starts_with('A') && !pin.starts_with("ADDR")
+}
+
+/// A distributed RAM's read-only address pins: a RAM32M's or RAM64M's ports A to C, `DPRA`.
+fn lutram_read_address(pin: &str) -> bool {
+    matches!(pin, "ADDRA" | "ADDRB" | "ADDRC") || pin.starts_with("DPRA")
+}
+
 /// LUTs a distributed RAM primitive takes: the multi-port RAM32M/RAM64M four (three write ports'
 /// data and a read-only port), the dual-port `X1D` two, deeper single-port ones one per 64 bits.
 fn lutram_luts(ty: &str) -> u64 {
@@ -510,6 +529,9 @@ fn capture(c: &Cell, pin: &str, d: &DelayModel) -> Option<f64> {
     }
     match c.kind {
         Kind::Flop | Kind::Srl => Some(d.setup),
+        // A distributed RAM captures its write: the data, the enable and the write address
+        // (which is also port D's or SPO's read address); a read-only address is not captured.
+        Kind::LutRam if lutram_read_address(pin) => None,
         Kind::LutRam => Some(d.setup),
         Kind::Bram => Some(d.bram_setup),
         Kind::Dsp => {
@@ -583,7 +605,7 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
     }
     // Kahn's order over combinational cells.
     let reads = |c: &Cell, pin: &str| match c.kind {
-        Kind::LutRam => pin.starts_with("ADDR") || pin.starts_with('A') || pin == "DPRA",
+        Kind::LutRam => pin.starts_with('A') || pin.starts_with("DPRA"),
         _ => true,
     };
     let mut waiting = vec![0usize; cells.len()];
@@ -630,49 +652,61 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
     let leave = |a: &Arrival| a.t + if a.in_chain { d.carry_out } else { 0.0 };
     while let Some(i) = ready.pop() {
         let c = &cells[i];
-        // The latest input and the deepest one, with what this cell adds.
+        // The latest input and the deepest one among those `arc` admits, with what this cell
+        // adds.
         let lut = u32::from(matches!(c.kind, Kind::Lut | Kind::LutRam));
         let carry = u32::from(c.kind == Kind::Carry);
-        let mut out: Option<Arrival> = None;
-        for (pin, bs) in &c.inputs {
-            if !reads(c, pin) {
-                continue;
-            }
-            for b in bs.iter().flatten() {
-                let Some(a) = arrival.get(b) else { continue };
-                let t = match (c.kind, pin.as_str()) {
-                    (Kind::Carry, "CI") => a.t + d.carry_block,
-                    (Kind::Carry, _) => leave(a) + d.carry_in,
-                    (Kind::Muxf, _) => leave(a) + d.muxf,
-                    _ => leave(a) + d.lut_level,
-                };
-                let next = Arrival {
-                    t,
-                    luts: a.luts + lut,
-                    carry: a.carry + carry,
-                    from: a.from,
-                    in_chain: c.kind == Kind::Carry,
-                    depth: a.depth + lut,
-                    depth_from: a.depth_from,
-                };
-                out = Some(match out {
-                    None => next,
-                    Some(o) => {
-                        let mut m = if next.t > o.t { next } else { o };
-                        (m.depth, m.depth_from) = if next.depth > o.depth {
-                            (next.depth, next.depth_from)
-                        } else {
-                            (o.depth, o.depth_from)
-                        };
-                        m
-                    }
-                });
-            }
-        }
-        if let Some(out) = out {
-            for (_, bs) in &c.outputs {
+        let through = |arc: &dyn Fn(&str) -> bool| {
+            let mut out: Option<Arrival> = None;
+            for (pin, bs) in c.inputs.iter().filter(|(pin, _)| arc(pin)) {
                 for b in bs.iter().flatten() {
-                    arrival.insert(*b, out);
+                    let Some(a) = arrival.get(b) else { continue };
+                    let t = match (c.kind, pin.as_str()) {
+                        (Kind::Carry, "CI") => a.t + d.carry_block,
+                        (Kind::Carry, _) => leave(a) + d.carry_in,
+                        (Kind::Muxf, _) => leave(a) + d.muxf,
+                        _ => leave(a) + d.lut_level,
+                    };
+                    let next = Arrival {
+                        t,
+                        luts: a.luts + lut,
+                        carry: a.carry + carry,
+                        from: a.from,
+                        in_chain: c.kind == Kind::Carry,
+                        depth: a.depth + lut,
+                        depth_from: a.depth_from,
+                    };
+                    out = Some(match out {
+                        None => next,
+                        Some(o) => {
+                            let mut m = if next.t > o.t { next } else { o };
+                            (m.depth, m.depth_from) = if next.depth > o.depth {
+                                (next.depth, next.depth_from)
+                            } else {
+                                (o.depth, o.depth_from)
+                            };
+                            m
+                        }
+                    });
+                }
+            }
+            out
+        };
+        // A distributed RAM's outputs each follow their own read address; every other cell's
+        // outputs follow all its inputs.
+        let outs: Vec<(&Vec<Option<u64>>, Option<Arrival>)> = if c.kind == Kind::LutRam {
+            c.outputs
+                .iter()
+                .map(|(out, bs)| (bs, through(&|pin: &str| lutram_arc(out, pin))))
+                .collect()
+        } else {
+            let all = through(&|_: &str| true);
+            c.outputs.iter().map(|(_, bs)| (bs, all)).collect()
+        };
+        for (bs, a) in outs {
+            if let Some(a) = a {
+                for b in bs.iter().flatten() {
+                    arrival.insert(*b, a);
                 }
             }
         }
@@ -789,6 +823,35 @@ mod tests {
         assert_eq!(family("radix.ram$1.mem.0.10"), "radix.ram.mem");
         assert_eq!(family("grid$0.e_rem$3$q[0]"), "grid.e_rem");
         assert_eq!(family("\\grid$0.cells.res1$4$q[1]"), "grid.cells.res1");
+    }
+
+    /// A RAM64M as yosys maps a one-write, one-read memory: ports A to C read at the read
+    /// address, port D's address is the write address. A path runs from a read address to its
+    /// port's output only, and ends at the write's pins, not at a read address.
+    #[test]
+    fn distributed_ram_reads_follow_their_own_address() {
+        assert!(lutram_arc("DOA", "ADDRA") && lutram_arc("DOC", "ADDRC"));
+        assert!(!lutram_arc("DOA", "ADDRD") && !lutram_arc("DOA", "DIA"));
+        assert!(!lutram_arc("DOB", "WE") && lutram_arc("DOD", "ADDRD"));
+        assert!(lutram_arc("SPO", "A3") && !lutram_arc("SPO", "DPRA3"));
+        assert!(lutram_arc("DPO", "DPRA") && !lutram_arc("DPO", "A"));
+        assert!(lutram_arc("O", "A") && !lutram_arc("O", "D"));
+        let d = &DELAYS;
+        let ram = Cell {
+            name: "ram".into(),
+            kind: Kind::LutRam,
+            inputs: Vec::new(),
+            outputs: Vec::new(),
+            ty: "RAM64M".into(),
+            params: serde_json::json!({}),
+        };
+        for pin in ["ADDRA", "ADDRB", "ADDRC", "DPRA"] {
+            assert_eq!(capture(&ram, pin, d), None, "{pin}");
+        }
+        for pin in ["ADDRD", "DIA", "WE", "A", "D"] {
+            assert_eq!(capture(&ram, pin, d), Some(d.setup), "{pin}");
+        }
+        assert_eq!(capture(&ram, "WCLK", d), None);
     }
 
     /// Each DSP48E1 input pin is captured by its own input register when that one is on: a

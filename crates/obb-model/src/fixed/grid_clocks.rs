@@ -23,9 +23,10 @@
 //!   visit, when the walker reads that its last list has ended. It pauses on a clock when
 //!   the candidate queue stores `GRID_CAND_STALL` entries or more (its output register not
 //!   counted); a list it takes on such a clock leaves the list queue then.
-//! - **Check.** A visit at V is read from the key table at V + 1, compared at V + 2 and, when the
-//!   keys overlap, written to the candidate queue (`obb_rtl::pair_fifo`): stored from V + 3, on
-//!   its output register from V + 4 at the earliest (`LAT_GRID_CHECK`).
+//! - **Check.** A visit at V is read from the key table at V + 1, compared at V + 2, its verdict
+//!   registered at V + 3 and, when the keys overlap, written to the candidate queue
+//!   (`obb_rtl::pair_fifo`): stored from V + 4, on its output register from V + 5 at the
+//!   earliest (`LAT_GRID_CHECK`).
 //! - **Issue.** The candidate on the output register is issued on a clock when no box is accepted
 //!   (the geometry tables' port A writes the arriving box); the output register takes the next
 //!   stored entry on a clock it is empty or issued. An issued candidate is on the SAT's inputs
@@ -350,7 +351,7 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
             if lane.queue.out.is_none() {
                 lane.queue.out = lane.queue.stored.pop_front();
             }
-            if lane.in_check.front().is_some_and(|&(v, _)| v + 2 == t) {
+            if lane.in_check.front().is_some_and(|&(v, _)| v + 3 == t) {
                 let (_, v) = lane.in_check.pop_front().unwrap();
                 if walk.passes[v] {
                     lane.queue.stored.push_back(candidate[v]);
