@@ -5,8 +5,8 @@
 //! read from t + 1. The rules, each a register or a queue of the block:
 //!
 //! - **Accept.** A box is accepted at clock t when boxes are left and fewer than
-//!   `GRID_CREDITS` boxes were accepted before t and not retired before t (on every lane). Its keys leave the
-//!   projection `LAT_PROJECT` clocks later (clock K).
+//!   `GRID_CREDITS` boxes were accepted before t and not retired before t (on every lane). Its
+//!   keys leave the projection `LAT_PROJECT` clocks later (clock K).
 //! - **Probe.** The window's cells, their banks and buckets take three clocks; at K + 3 the list
 //!   heads are read; at K + 4 the box is entered and the lists it must walk are decided; at
 //!   K + 5 they are written to the record queue, or, when it has none (or is large), it
