@@ -605,7 +605,7 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
     }
     // Kahn's order over combinational cells.
     let reads = |c: &Cell, pin: &str| match c.kind {
-        Kind::LutRam => pin.starts_with('A') || pin.starts_with("DPRA"),
+        Kind::LutRam => c.outputs.iter().any(|(out, _)| lutram_arc(out, pin)),
         _ => true,
     };
     let mut waiting = vec![0usize; cells.len()];
