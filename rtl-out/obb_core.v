@@ -97,17 +97,16 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [22:0] grid$0$key_max_z;
     reg  [27:0] grid$0$key_margin;
     reg  [2:0] grid$0$key_group;
-    wire  grid$0$visit;
-    wire  [14:0] grid$0$visit_i;
-    wire  [14:0] grid$0$rd_addr;
-    reg  [22:0] grid$0$rd_min_x;
-    reg  [22:0] grid$0$rd_min_y;
-    reg  [22:0] grid$0$rd_min_z;
-    reg  [22:0] grid$0$rd_max_x;
-    reg  [22:0] grid$0$rd_max_y;
-    reg  [22:0] grid$0$rd_max_z;
-    reg  [27:0] grid$0$rd_margin;
-    reg  [2:0] grid$0$rd_group;
+    wire  [7:0] grid$0$visit;
+    wire  [63:0] grid$0$visit_i0;
+    wire  [63:0] grid$0$visit_i1;
+    wire  [63:0] grid$0$visit_i2;
+    wire  [63:0] grid$0$visit_i3;
+    wire  [63:0] grid$0$visit_j0;
+    wire  [63:0] grid$0$visit_j1;
+    wire  [63:0] grid$0$visit_j2;
+    wire  [63:0] grid$0$visit_j3;
+    wire  [3:0] grid$0$visited;
     wire  grid$0$cand_valid;
     reg  grid$0$cand_ready;
     wire  [14:0] grid$0$cand_a;
@@ -281,70 +280,6 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [14:0] axes$8$read_address_b;
     wire signed [17:0] axes$8$read_data_a;
     wire signed [17:0] axes$8$read_data_b;
-    reg  kmin$0$clock;
-    reg  kmin$0$write_enable;
-    reg  [14:0] kmin$0$write_address;
-    reg  [22:0] kmin$0$write_data;
-    reg  [14:0] kmin$0$read_address_a;
-    reg  [14:0] kmin$0$read_address_b;
-    wire  [22:0] kmin$0$read_data_a;
-    wire  [22:0] kmin$0$read_data_b;
-    reg  kmin$1$clock;
-    reg  kmin$1$write_enable;
-    reg  [14:0] kmin$1$write_address;
-    reg  [22:0] kmin$1$write_data;
-    reg  [14:0] kmin$1$read_address_a;
-    reg  [14:0] kmin$1$read_address_b;
-    wire  [22:0] kmin$1$read_data_a;
-    wire  [22:0] kmin$1$read_data_b;
-    reg  kmin$2$clock;
-    reg  kmin$2$write_enable;
-    reg  [14:0] kmin$2$write_address;
-    reg  [22:0] kmin$2$write_data;
-    reg  [14:0] kmin$2$read_address_a;
-    reg  [14:0] kmin$2$read_address_b;
-    wire  [22:0] kmin$2$read_data_a;
-    wire  [22:0] kmin$2$read_data_b;
-    reg  kmax$0$clock;
-    reg  kmax$0$write_enable;
-    reg  [14:0] kmax$0$write_address;
-    reg  [22:0] kmax$0$write_data;
-    reg  [14:0] kmax$0$read_address_a;
-    reg  [14:0] kmax$0$read_address_b;
-    wire  [22:0] kmax$0$read_data_a;
-    wire  [22:0] kmax$0$read_data_b;
-    reg  kmax$1$clock;
-    reg  kmax$1$write_enable;
-    reg  [14:0] kmax$1$write_address;
-    reg  [22:0] kmax$1$write_data;
-    reg  [14:0] kmax$1$read_address_a;
-    reg  [14:0] kmax$1$read_address_b;
-    wire  [22:0] kmax$1$read_data_a;
-    wire  [22:0] kmax$1$read_data_b;
-    reg  kmax$2$clock;
-    reg  kmax$2$write_enable;
-    reg  [14:0] kmax$2$write_address;
-    reg  [22:0] kmax$2$write_data;
-    reg  [14:0] kmax$2$read_address_a;
-    reg  [14:0] kmax$2$read_address_b;
-    wire  [22:0] kmax$2$read_data_a;
-    wire  [22:0] kmax$2$read_data_b;
-    reg  margin$clock;
-    reg  margin$write_enable;
-    reg  [14:0] margin$write_address;
-    reg  [27:0] margin$write_data;
-    reg  [14:0] margin$read_address_a;
-    reg  [14:0] margin$read_address_b;
-    wire  [27:0] margin$read_data_a;
-    wire  [27:0] margin$read_data_b;
-    reg  group$clock;
-    reg  group$write_enable;
-    reg  [14:0] group$write_address;
-    reg  [2:0] group$write_data;
-    reg  [14:0] group$read_address_a;
-    reg  [14:0] group$read_address_b;
-    wire  [2:0] group$read_data_a;
-    wire  [2:0] group$read_data_b;
     reg  [2:0] gdelay$0$d;
     wire  [2:0] gdelay$0$q;
     reg  gdelay$0$clock;
@@ -843,6 +778,8 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [27:0] grid_cand_mb;
     reg  grid_finished;
     reg  grid_too_wide;
+    reg  [3:0] grid_visited;
+    reg  [14:0] projected_at;
     reg  accept;
     reg  issue;
     reg  overlap;
@@ -897,16 +834,15 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .key_margin(grid$0$key_margin),
         .key_group(grid$0$key_group),
         .visit(grid$0$visit),
-        .visit_i(grid$0$visit_i),
-        .rd_addr(grid$0$rd_addr),
-        .rd_min_x(grid$0$rd_min_x),
-        .rd_min_y(grid$0$rd_min_y),
-        .rd_min_z(grid$0$rd_min_z),
-        .rd_max_x(grid$0$rd_max_x),
-        .rd_max_y(grid$0$rd_max_y),
-        .rd_max_z(grid$0$rd_max_z),
-        .rd_margin(grid$0$rd_margin),
-        .rd_group(grid$0$rd_group),
+        .visit_i0(grid$0$visit_i0),
+        .visit_i1(grid$0$visit_i1),
+        .visit_i2(grid$0$visit_i2),
+        .visit_i3(grid$0$visit_i3),
+        .visit_j0(grid$0$visit_j0),
+        .visit_j1(grid$0$visit_j1),
+        .visit_j2(grid$0$visit_j2),
+        .visit_j3(grid$0$visit_j3),
+        .visited(grid$0$visited),
         .cand_valid(grid$0$cand_valid),
         .cand_ready(grid$0$cand_ready),
         .cand_a(grid$0$cand_a),
@@ -1114,86 +1050,6 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .read_address_b(axes$8$read_address_b),
         .read_data_a(axes$8$read_data_a),
         .read_data_b(axes$8$read_data_b)
-    );
-    obb_core$kmin$0 kmin$0(
-        .clock(kmin$0$clock),
-        .write_enable(kmin$0$write_enable),
-        .write_address(kmin$0$write_address),
-        .write_data(kmin$0$write_data),
-        .read_address_a(kmin$0$read_address_a),
-        .read_address_b(kmin$0$read_address_b),
-        .read_data_a(kmin$0$read_data_a),
-        .read_data_b(kmin$0$read_data_b)
-    );
-    obb_core$kmin$1 kmin$1(
-        .clock(kmin$1$clock),
-        .write_enable(kmin$1$write_enable),
-        .write_address(kmin$1$write_address),
-        .write_data(kmin$1$write_data),
-        .read_address_a(kmin$1$read_address_a),
-        .read_address_b(kmin$1$read_address_b),
-        .read_data_a(kmin$1$read_data_a),
-        .read_data_b(kmin$1$read_data_b)
-    );
-    obb_core$kmin$2 kmin$2(
-        .clock(kmin$2$clock),
-        .write_enable(kmin$2$write_enable),
-        .write_address(kmin$2$write_address),
-        .write_data(kmin$2$write_data),
-        .read_address_a(kmin$2$read_address_a),
-        .read_address_b(kmin$2$read_address_b),
-        .read_data_a(kmin$2$read_data_a),
-        .read_data_b(kmin$2$read_data_b)
-    );
-    obb_core$kmax$0 kmax$0(
-        .clock(kmax$0$clock),
-        .write_enable(kmax$0$write_enable),
-        .write_address(kmax$0$write_address),
-        .write_data(kmax$0$write_data),
-        .read_address_a(kmax$0$read_address_a),
-        .read_address_b(kmax$0$read_address_b),
-        .read_data_a(kmax$0$read_data_a),
-        .read_data_b(kmax$0$read_data_b)
-    );
-    obb_core$kmax$1 kmax$1(
-        .clock(kmax$1$clock),
-        .write_enable(kmax$1$write_enable),
-        .write_address(kmax$1$write_address),
-        .write_data(kmax$1$write_data),
-        .read_address_a(kmax$1$read_address_a),
-        .read_address_b(kmax$1$read_address_b),
-        .read_data_a(kmax$1$read_data_a),
-        .read_data_b(kmax$1$read_data_b)
-    );
-    obb_core$kmax$2 kmax$2(
-        .clock(kmax$2$clock),
-        .write_enable(kmax$2$write_enable),
-        .write_address(kmax$2$write_address),
-        .write_data(kmax$2$write_data),
-        .read_address_a(kmax$2$read_address_a),
-        .read_address_b(kmax$2$read_address_b),
-        .read_data_a(kmax$2$read_data_a),
-        .read_data_b(kmax$2$read_data_b)
-    );
-    obb_core$margin margin(
-        .clock(margin$clock),
-        .write_enable(margin$write_enable),
-        .write_address(margin$write_address),
-        .write_data(margin$write_data),
-        .read_address_a(margin$read_address_a),
-        .read_address_b(margin$read_address_b),
-        .read_data_a(margin$read_data_a),
-        .read_data_b(margin$read_data_b)
-    );
-    obb_core$group group(
-        .clock(group$clock),
-        .write_enable(group$write_enable),
-        .write_address(group$write_address),
-        .write_data(group$write_data),
-        .read_address_a(group$read_address_a),
-        .read_address_b(group$read_address_b),
-        .read_data_a(group$read_data_a),
-        .read_data_b(group$read_data_b)
     );
     obb_core$gdelay$0 gdelay$0(
         .d(gdelay$0$d),
@@ -2062,21 +1918,13 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         projection$clock = clock;
         sat$clock = clock;
         fifo$clock = clock;
-        margin$clock = clock;
-        group$clock = clock;
         grid$0$clock = clock;
         center$0$clock = clock;
         half$0$clock = clock;
-        kmin$0$clock = clock;
-        kmax$0$clock = clock;
         center$1$clock = clock;
         half$1$clock = clock;
-        kmin$1$clock = clock;
-        kmax$1$clock = clock;
         center$2$clock = clock;
         half$2$clock = clock;
-        kmin$2$clock = clock;
-        kmax$2$clock = clock;
         axes$0$clock = clock;
         geo_axes_a$0$clock = clock;
         geo_axes_b$0$clock = clock;
@@ -2213,6 +2061,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         grid_cand_mb = 32'h0;
         grid_finished = 1'b0;
         grid_too_wide = 1'b0;
+        grid_visited = 32'h0;
         visit = 1'b0;
         vi = 32'h0;
         vj = 32'h0;
@@ -2236,9 +2085,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         grid_cand_mb = grid$0$cand_mb;
         grid_finished = grid$0$finished;
         grid_too_wide = grid$0$too_wide;
-        visit = grid$0$visit;
-        a_addr = grid$0$rd_addr;
-        b_addr = grid$0$rd_addr;
+        grid_visited = grid$0$visited;
         credit = grid_credit | ~grid_mode | ~room$q;
         obb_ready = ready$q & credit;
         accept = obb_ready & obb_valid & room$q;
@@ -2317,30 +2164,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
                 room$d = 1'b0;
             end
         end
-        kmin$0$write_enable = projection$valid_out;
-        kmin$0$write_address = ((projected$q) & 15'h7fff);
-        kmin$0$write_data = projection$key_min$0;
-        kmax$0$write_enable = projection$valid_out;
-        kmax$0$write_address = ((projected$q) & 15'h7fff);
-        kmax$0$write_data = projection$key_max$0;
-        kmin$1$write_enable = projection$valid_out;
-        kmin$1$write_address = ((projected$q) & 15'h7fff);
-        kmin$1$write_data = projection$key_min$1;
-        kmax$1$write_enable = projection$valid_out;
-        kmax$1$write_address = ((projected$q) & 15'h7fff);
-        kmax$1$write_data = projection$key_max$1;
-        kmin$2$write_enable = projection$valid_out;
-        kmin$2$write_address = ((projected$q) & 15'h7fff);
-        kmin$2$write_data = projection$key_min$2;
-        kmax$2$write_enable = projection$valid_out;
-        kmax$2$write_address = ((projected$q) & 15'h7fff);
-        kmax$2$write_data = projection$key_max$2;
-        margin$write_enable = projection$valid_out;
-        margin$write_address = ((projected$q) & 15'h7fff);
-        margin$write_data = projection$margin;
-        group$write_enable = projection$valid_out;
-        group$write_address = ((projected$q) & 15'h7fff);
-        group$write_data = gdelay$7$q;
+        projected_at = ((projected$q) & 15'h7fff);
         if (sweep) begin
             sort_in_valid = projection$valid_out;
             sort_in_key = ((projection$key_min$0) & 24'hffffff);
@@ -2360,58 +2184,37 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         grid$0$key_max_x = projection$key_max$0;
         grid$0$key_max_y = projection$key_max$1;
         grid$0$key_max_z = projection$key_max$2;
-        grid$0$rd_min_x = kmin$0$read_data_b;
-        grid$0$rd_min_y = kmin$1$read_data_b;
-        grid$0$rd_min_z = kmin$2$read_data_b;
-        grid$0$rd_max_x = kmax$0$read_data_b;
-        grid$0$rd_max_y = kmax$1$read_data_b;
-        grid$0$rd_max_z = kmax$2$read_data_b;
         grid$0$key_margin = projection$margin;
         grid$0$key_group = gdelay$7$q;
-        grid$0$rd_margin = margin$read_data_b;
-        grid$0$rd_group = group$read_data_b;
         stall$d = fifo$almost_full;
         walk_start = 1'b0;
-        kmin$0$read_address_a = a_addr;
-        kmin$0$read_address_b = b_addr;
-        kmax$0$read_address_a = a_addr;
-        kmax$0$read_address_b = b_addr;
-        kmin$1$read_address_a = a_addr;
-        kmin$1$read_address_b = b_addr;
-        kmax$1$read_address_a = a_addr;
-        kmax$1$read_address_b = b_addr;
-        kmin$2$read_address_a = a_addr;
-        kmin$2$read_address_b = b_addr;
-        kmax$2$read_address_a = a_addr;
-        kmax$2$read_address_b = b_addr;
-        margin$read_address_a = a_addr;
-        margin$read_address_b = b_addr;
-        group$read_address_a = a_addr;
-        group$read_address_b = b_addr;
         k_valid$d = visit;
         k_i$d = vi;
         k_j$d = vj;
-        key_min_a$0$d = kmin$0$read_data_a;
-        key_min_b$0$d = kmin$0$read_data_b;
-        key_max_a$0$d = kmax$0$read_data_a;
-        key_max_b$0$d = kmax$0$read_data_b;
-        key_min_a$1$d = kmin$1$read_data_a;
-        key_min_b$1$d = kmin$1$read_data_b;
-        key_max_a$1$d = kmax$1$read_data_a;
-        key_max_b$1$d = kmax$1$read_data_b;
-        key_min_a$2$d = kmin$2$read_data_a;
-        key_min_b$2$d = kmin$2$read_data_b;
-        key_max_a$2$d = kmax$2$read_data_a;
-        key_max_b$2$d = kmax$2$read_data_b;
-        margin_a$d = margin$read_data_a;
-        margin_b$d = margin$read_data_b;
-        group_a$d = group$read_data_a;
-        group_b$d = group$read_data_b;
+        key_min_a$0$d = 32'h0;
+        key_min_b$0$d = 32'h0;
+        key_max_a$0$d = 32'h0;
+        key_max_b$0$d = 32'h0;
+        key_min_a$1$d = 32'h0;
+        key_min_b$1$d = 32'h0;
+        key_max_a$1$d = 32'h0;
+        key_max_b$1$d = 32'h0;
+        key_min_a$2$d = 32'h0;
+        key_min_b$2$d = 32'h0;
+        key_max_a$2$d = 32'h0;
+        key_max_b$2$d = 32'h0;
+        margin_a$d = 32'h0;
+        margin_b$d = 32'h0;
+        group_a$d = 32'h0;
+        group_b$d = 32'h0;
         r_valid$d = k_valid$q;
         r_i$d = k_i$q;
         r_j$d = k_j$q;
         if (k_valid$q & ~over$q) begin
             n_visits$d = n_visits$q + 32'h1;
+        end
+        if (grid_mode & ~over$q) begin
+            n_visits$d = n_visits$q + ((grid_visited) & 40'hffffffffff);
         end
         overlap = (key_min_a$0$q <= key_max_b$0$q) & (key_min_b$0$q <= key_max_a$0$q) & (key_min_a$1$q <= key_max_b$1$q) & (key_min_b$1$q <= key_max_a$1$q) & (key_min_a$2$q <= key_max_b$2$q) & (key_min_b$2$q <= key_max_a$2$q);
         gidx = (((group_a$q) & 64'hffffffffffffffff) << 64'h3) | ((group_b$q) & 64'hffffffffffffffff);
@@ -4330,7 +4133,7 @@ module obb_core$geo_half_b$2(d,q,clock);
 endmodule // obb_core$geo_half_b$2
 
 
-module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x,key_min_y,key_min_z,key_max_x,key_max_y,key_max_z,key_margin,key_group,visit,visit_i,rd_addr,rd_min_x,rd_min_y,rd_min_z,rd_max_x,rd_max_y,rd_max_z,rd_margin,rd_group,cand_valid,cand_ready,cand_a,cand_b,cand_ma,cand_mb,walked,finished,too_wide);
+module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x,key_min_y,key_min_z,key_max_x,key_max_y,key_max_z,key_margin,key_group,visit,visit_i0,visit_i1,visit_i2,visit_i3,visit_j0,visit_j1,visit_j2,visit_j3,visited,cand_valid,cand_ready,cand_a,cand_b,cand_ma,cand_mb,walked,finished,too_wide);
     
     // Module arguments
     input wire  clock;
@@ -4348,17 +4151,16 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     input wire  [22:0] key_max_z;
     input wire  [27:0] key_margin;
     input wire  [2:0] key_group;
-    output reg  visit;
-    output reg  [14:0] visit_i;
-    output reg  [14:0] rd_addr;
-    input wire  [22:0] rd_min_x;
-    input wire  [22:0] rd_min_y;
-    input wire  [22:0] rd_min_z;
-    input wire  [22:0] rd_max_x;
-    input wire  [22:0] rd_max_y;
-    input wire  [22:0] rd_max_z;
-    input wire  [27:0] rd_margin;
-    input wire  [2:0] rd_group;
+    output reg  [7:0] visit;
+    output reg  [63:0] visit_i0;
+    output reg  [63:0] visit_i1;
+    output reg  [63:0] visit_i2;
+    output reg  [63:0] visit_i3;
+    output reg  [63:0] visit_j0;
+    output reg  [63:0] visit_j1;
+    output reg  [63:0] visit_j2;
+    output reg  [63:0] visit_j3;
+    output reg  [3:0] visited;
     output reg  cand_valid;
     input wire  cand_ready;
     output reg  [14:0] cand_a;
@@ -4370,10 +4172,18 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     output reg  too_wide;
     
     // Constant declarations
+    localparam  lane_mask = 16'h0;
+    localparam  lane_id$0 = 16'h0;
+    localparam  key_lane_mask = 15'b0;
+    localparam  key_lane_id$0 = 15'b0;
+    localparam  lane_shift = 8'h0;
+    localparam  lane_bit$0 = 8'h1;
+    localparam  lane_at$0 = 8'h0;
     localparam  last_bucket = 20'h3ff;
     localparam  mask = 64'h7fbfdfeff7fbfdfe;
     localparam  credits_used = 7'b1100000;
     localparam  top = 16'h8000;
+    localparam  index_mask = 16'h7fff;
     localparam  list_group$0 = 3'b0;
     localparam  list_group$1 = 3'b0;
     localparam  list_group$2 = 3'b0;
@@ -4696,6 +4506,15 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [63:0] s3_allowed$d;
     wire  [63:0] s3_allowed$q;
     reg  s3_allowed$clock;
+    reg  s3_lane$0$d;
+    wire  s3_lane$0$q;
+    reg  s3_lane$0$clock;
+    reg  s4_lane$0$d;
+    wire  s4_lane$0$q;
+    reg  s4_lane$0$clock;
+    reg  s5_lane$0$d;
+    wire  s5_lane$0$q;
+    reg  s5_lane$0$clock;
     reg  s4_valid$d;
     wire  s4_valid$q;
     reg  s4_valid$clock;
@@ -9307,14 +9126,78 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] head2$80$write_data;
     reg  [19:0] head2$80$read_address;
     wire  [15:0] head2$80$read_data;
-    reg  succ$clock;
-    reg  succ$write_enable;
-    reg  [14:0] succ$write_address;
-    reg  [15:0] succ$write_data;
-    reg  [14:0] succ$read_address_a;
-    reg  [14:0] succ$read_address_b;
-    wire  [15:0] succ$read_data_a;
-    wire  [15:0] succ$read_data_b;
+    reg  succ$0$clock;
+    reg  succ$0$write_enable;
+    reg  [15:0] succ$0$write_address;
+    reg  [15:0] succ$0$write_data;
+    reg  [15:0] succ$0$read_address_a;
+    reg  [15:0] succ$0$read_address_b;
+    wire  [15:0] succ$0$read_data_a;
+    wire  [15:0] succ$0$read_data_b;
+    reg  kt_min$0$clock;
+    reg  kt_min$0$write_enable;
+    reg  [15:0] kt_min$0$write_address;
+    reg  [22:0] kt_min$0$write_data;
+    reg  [15:0] kt_min$0$read_address_a;
+    reg  [15:0] kt_min$0$read_address_b;
+    wire  [22:0] kt_min$0$read_data_a;
+    wire  [22:0] kt_min$0$read_data_b;
+    reg  kt_min$1$clock;
+    reg  kt_min$1$write_enable;
+    reg  [15:0] kt_min$1$write_address;
+    reg  [22:0] kt_min$1$write_data;
+    reg  [15:0] kt_min$1$read_address_a;
+    reg  [15:0] kt_min$1$read_address_b;
+    wire  [22:0] kt_min$1$read_data_a;
+    wire  [22:0] kt_min$1$read_data_b;
+    reg  kt_min$2$clock;
+    reg  kt_min$2$write_enable;
+    reg  [15:0] kt_min$2$write_address;
+    reg  [22:0] kt_min$2$write_data;
+    reg  [15:0] kt_min$2$read_address_a;
+    reg  [15:0] kt_min$2$read_address_b;
+    wire  [22:0] kt_min$2$read_data_a;
+    wire  [22:0] kt_min$2$read_data_b;
+    reg  kt_max$0$clock;
+    reg  kt_max$0$write_enable;
+    reg  [15:0] kt_max$0$write_address;
+    reg  [22:0] kt_max$0$write_data;
+    reg  [15:0] kt_max$0$read_address_a;
+    reg  [15:0] kt_max$0$read_address_b;
+    wire  [22:0] kt_max$0$read_data_a;
+    wire  [22:0] kt_max$0$read_data_b;
+    reg  kt_max$1$clock;
+    reg  kt_max$1$write_enable;
+    reg  [15:0] kt_max$1$write_address;
+    reg  [22:0] kt_max$1$write_data;
+    reg  [15:0] kt_max$1$read_address_a;
+    reg  [15:0] kt_max$1$read_address_b;
+    wire  [22:0] kt_max$1$read_data_a;
+    wire  [22:0] kt_max$1$read_data_b;
+    reg  kt_max$2$clock;
+    reg  kt_max$2$write_enable;
+    reg  [15:0] kt_max$2$write_address;
+    reg  [22:0] kt_max$2$write_data;
+    reg  [15:0] kt_max$2$read_address_a;
+    reg  [15:0] kt_max$2$read_address_b;
+    wire  [22:0] kt_max$2$read_data_a;
+    wire  [22:0] kt_max$2$read_data_b;
+    reg  kt_margin$0$clock;
+    reg  kt_margin$0$write_enable;
+    reg  [15:0] kt_margin$0$write_address;
+    reg  [27:0] kt_margin$0$write_data;
+    reg  [15:0] kt_margin$0$read_address_a;
+    reg  [15:0] kt_margin$0$read_address_b;
+    wire  [27:0] kt_margin$0$read_data_a;
+    wire  [27:0] kt_margin$0$read_data_b;
+    reg  kt_group$0$clock;
+    reg  kt_group$0$write_enable;
+    reg  [15:0] kt_group$0$write_address;
+    reg  [2:0] kt_group$0$write_data;
+    reg  [15:0] kt_group$0$read_address_a;
+    reg  [15:0] kt_group$0$read_address_b;
+    wire  [2:0] kt_group$0$read_data_a;
+    wire  [2:0] kt_group$0$read_data_b;
     reg  rec$0$clock;
     reg  rec$0$write_enable;
     reg  [4:0] rec$0$write_address;
@@ -10287,43 +10170,43 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] rec2$80$write_data;
     reg  [4:0] rec2$80$read_address;
     wire  [15:0] rec2$80$read_data;
-    reg  rec_box$clock;
-    reg  rec_box$write_enable;
-    reg  [4:0] rec_box$write_address;
-    reg  [4:0] rec_box$read_address;
-    reg  [15:0] rec_box$in_index;
-    reg  [22:0] rec_box$in_min$0;
-    reg  [22:0] rec_box$in_min$1;
-    reg  [22:0] rec_box$in_min$2;
-    reg  [22:0] rec_box$in_max$0;
-    reg  [22:0] rec_box$in_max$1;
-    reg  [22:0] rec_box$in_max$2;
-    reg  [27:0] rec_box$in_margin;
-    reg  [1:0] rec_box$in_kind;
-    wire  [15:0] rec_box$index;
-    wire  [22:0] rec_box$min$0;
-    wire  [22:0] rec_box$min$1;
-    wire  [22:0] rec_box$min$2;
-    wire  [22:0] rec_box$max$0;
-    wire  [22:0] rec_box$max$1;
-    wire  [22:0] rec_box$max$2;
-    wire  [27:0] rec_box$margin;
-    wire  [1:0] rec_box$kind;
-    reg  [4:0] wp$d;
-    wire  [4:0] wp$q;
-    reg  wp$clock;
-    reg  [4:0] rp$d;
-    wire  [4:0] rp$q;
-    reg  rp$clock;
-    reg  [6:0] count$d;
-    wire  [6:0] count$q;
-    reg  count$clock;
-    reg  [6:0] inflight$d;
-    wire  [6:0] inflight$q;
-    reg  inflight$clock;
-    reg  e_busy$d;
-    wire  e_busy$q;
-    reg  e_busy$clock;
+    reg  rec_box$0$clock;
+    reg  rec_box$0$write_enable;
+    reg  [4:0] rec_box$0$write_address;
+    reg  [4:0] rec_box$0$read_address;
+    reg  [15:0] rec_box$0$in_index;
+    reg  [22:0] rec_box$0$in_min_x;
+    reg  [22:0] rec_box$0$in_min_y;
+    reg  [22:0] rec_box$0$in_min_z;
+    reg  [22:0] rec_box$0$in_max_x;
+    reg  [22:0] rec_box$0$in_max_y;
+    reg  [22:0] rec_box$0$in_max_z;
+    reg  [27:0] rec_box$0$in_margin;
+    reg  [1:0] rec_box$0$in_kind;
+    wire  [15:0] rec_box$0$index;
+    wire  [22:0] rec_box$0$min_x;
+    wire  [22:0] rec_box$0$min_y;
+    wire  [22:0] rec_box$0$min_z;
+    wire  [22:0] rec_box$0$max_x;
+    wire  [22:0] rec_box$0$max_y;
+    wire  [22:0] rec_box$0$max_z;
+    wire  [27:0] rec_box$0$margin;
+    wire  [1:0] rec_box$0$kind;
+    reg  [4:0] wp$0$d;
+    wire  [4:0] wp$0$q;
+    reg  wp$0$clock;
+    reg  [4:0] rp$0$d;
+    wire  [4:0] rp$0$q;
+    reg  rp$0$clock;
+    reg  [6:0] count$0$d;
+    wire  [6:0] count$0$q;
+    reg  count$0$clock;
+    reg  [6:0] inflight$0$d;
+    wire  [6:0] inflight$0$q;
+    reg  inflight$0$clock;
+    reg  e_busy$0$d;
+    wire  e_busy$0$q;
+    reg  e_busy$0$clock;
     reg  e_rem$0$d;
     wire  e_rem$0$q;
     reg  e_rem$0$clock;
@@ -11053,9 +10936,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] e_head2$80$d;
     wire  [15:0] e_head2$80$q;
     reg  e_head2$80$clock;
-    reg  e_chosen$d;
-    wire  e_chosen$q;
-    reg  e_chosen$clock;
+    reg  e_chosen$0$d;
+    wire  e_chosen$0$q;
+    reg  e_chosen$0$clock;
     reg  e_sel$0$d;
     wire  e_sel$0$q;
     reg  e_sel$0$clock;
@@ -11299,9 +11182,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  e_sel$80$d;
     wire  e_sel$80$q;
     reg  e_sel$80$clock;
-    reg  [15:0] e_index$d;
-    wire  [15:0] e_index$q;
-    reg  e_index$clock;
+    reg  [15:0] e_index$0$d;
+    wire  [15:0] e_index$0$q;
+    reg  e_index$0$clock;
     reg  [22:0] e_min$0$d;
     wire  [22:0] e_min$0$q;
     reg  e_min$0$clock;
@@ -11320,58 +11203,58 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [22:0] e_max$2$d;
     wire  [22:0] e_max$2$q;
     reg  e_max$2$clock;
-    reg  [27:0] e_margin$d;
-    wire  [27:0] e_margin$q;
-    reg  e_margin$clock;
-    reg  [1:0] e_kind$d;
-    wire  [1:0] e_kind$q;
-    reg  e_kind$clock;
-    reg  lq_head$clock;
-    reg  lq_head$write_enable;
-    reg  [1:0] lq_head$write_address;
-    reg  [15:0] lq_head$write_data;
-    reg  [1:0] lq_head$read_address;
-    wire  [15:0] lq_head$read_data;
-    reg  lq_head2$clock;
-    reg  lq_head2$write_enable;
-    reg  [1:0] lq_head2$write_address;
-    reg  [15:0] lq_head2$write_data;
-    reg  [1:0] lq_head2$read_address;
-    wire  [15:0] lq_head2$read_data;
-    reg  lq_box$clock;
-    reg  lq_box$write_enable;
-    reg  [1:0] lq_box$write_address;
-    reg  [1:0] lq_box$read_address;
-    reg  [15:0] lq_box$in_index;
-    reg  [22:0] lq_box$in_min$0;
-    reg  [22:0] lq_box$in_min$1;
-    reg  [22:0] lq_box$in_min$2;
-    reg  [22:0] lq_box$in_max$0;
-    reg  [22:0] lq_box$in_max$1;
-    reg  [22:0] lq_box$in_max$2;
-    reg  [27:0] lq_box$in_margin;
-    reg  [1:0] lq_box$in_kind;
-    wire  [15:0] lq_box$index;
-    wire  [22:0] lq_box$min$0;
-    wire  [22:0] lq_box$min$1;
-    wire  [22:0] lq_box$min$2;
-    wire  [22:0] lq_box$max$0;
-    wire  [22:0] lq_box$max$1;
-    wire  [22:0] lq_box$max$2;
-    wire  [27:0] lq_box$margin;
-    wire  [1:0] lq_box$kind;
-    reg  lq_last$clock;
-    reg  lq_last$write_enable;
-    reg  [1:0] lq_last$write_address;
-    reg  lq_last$write_data;
-    reg  [1:0] lq_last$read_address;
-    wire  lq_last$read_data;
-    reg  [1:0] lq_wp$d;
-    wire  [1:0] lq_wp$q;
-    reg  lq_wp$clock;
-    reg  [1:0] lq_rp$d;
-    wire  [1:0] lq_rp$q;
-    reg  lq_rp$clock;
+    reg  [27:0] e_margin$0$d;
+    wire  [27:0] e_margin$0$q;
+    reg  e_margin$0$clock;
+    reg  [1:0] e_kind$0$d;
+    wire  [1:0] e_kind$0$q;
+    reg  e_kind$0$clock;
+    reg  lq_head$0$clock;
+    reg  lq_head$0$write_enable;
+    reg  [1:0] lq_head$0$write_address;
+    reg  [15:0] lq_head$0$write_data;
+    reg  [1:0] lq_head$0$read_address;
+    wire  [15:0] lq_head$0$read_data;
+    reg  lq_head2$0$clock;
+    reg  lq_head2$0$write_enable;
+    reg  [1:0] lq_head2$0$write_address;
+    reg  [15:0] lq_head2$0$write_data;
+    reg  [1:0] lq_head2$0$read_address;
+    wire  [15:0] lq_head2$0$read_data;
+    reg  lq_box$0$clock;
+    reg  lq_box$0$write_enable;
+    reg  [1:0] lq_box$0$write_address;
+    reg  [1:0] lq_box$0$read_address;
+    reg  [15:0] lq_box$0$in_index;
+    reg  [22:0] lq_box$0$in_min_x;
+    reg  [22:0] lq_box$0$in_min_y;
+    reg  [22:0] lq_box$0$in_min_z;
+    reg  [22:0] lq_box$0$in_max_x;
+    reg  [22:0] lq_box$0$in_max_y;
+    reg  [22:0] lq_box$0$in_max_z;
+    reg  [27:0] lq_box$0$in_margin;
+    reg  [1:0] lq_box$0$in_kind;
+    wire  [15:0] lq_box$0$index;
+    wire  [22:0] lq_box$0$min_x;
+    wire  [22:0] lq_box$0$min_y;
+    wire  [22:0] lq_box$0$min_z;
+    wire  [22:0] lq_box$0$max_x;
+    wire  [22:0] lq_box$0$max_y;
+    wire  [22:0] lq_box$0$max_z;
+    wire  [27:0] lq_box$0$margin;
+    wire  [1:0] lq_box$0$kind;
+    reg  lq_last$0$clock;
+    reg  lq_last$0$write_enable;
+    reg  [1:0] lq_last$0$write_address;
+    reg  lq_last$0$write_data;
+    reg  [1:0] lq_last$0$read_address;
+    wire  lq_last$0$read_data;
+    reg  [1:0] lq_wp$0$d;
+    wire  [1:0] lq_wp$0$q;
+    reg  lq_wp$0$clock;
+    reg  [1:0] lq_rp$0$d;
+    wire  [1:0] lq_rp$0$q;
+    reg  lq_rp$0$clock;
     reg  lq_fill$0$d;
     wire  lq_fill$0$q;
     reg  lq_fill$0$clock;
@@ -11381,15 +11264,15 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  lq_fill$2$d;
     wire  lq_fill$2$q;
     reg  lq_fill$2$clock;
-    reg  cur_valid$d;
-    wire  cur_valid$q;
-    reg  cur_valid$clock;
-    reg  cur_last$d;
-    wire  cur_last$q;
-    reg  cur_last$clock;
-    reg  [15:0] cur_index$d;
-    wire  [15:0] cur_index$q;
-    reg  cur_index$clock;
+    reg  cur_valid$0$d;
+    wire  cur_valid$0$q;
+    reg  cur_valid$0$clock;
+    reg  cur_last$0$d;
+    wire  cur_last$0$q;
+    reg  cur_last$0$clock;
+    reg  [15:0] cur_index$0$d;
+    wire  [15:0] cur_index$0$q;
+    reg  cur_index$0$clock;
     reg  [22:0] cur_min$0$d;
     wire  [22:0] cur_min$0$q;
     reg  cur_min$0$clock;
@@ -11408,42 +11291,42 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [22:0] cur_max$2$d;
     wire  [22:0] cur_max$2$q;
     reg  cur_max$2$clock;
-    reg  [27:0] cur_margin$d;
-    wire  [27:0] cur_margin$q;
-    reg  cur_margin$clock;
-    reg  [1:0] cur_kind$d;
-    wire  [1:0] cur_kind$q;
-    reg  cur_kind$clock;
-    reg  [15:0] succ_q$d;
-    wire  [15:0] succ_q$q;
-    reg  succ_q$clock;
-    reg  r1$d;
-    wire  r1$q;
-    reg  r1$clock;
-    reg  arrive_q$d;
-    wire  arrive_q$q;
-    reg  arrive_q$clock;
-    reg  q0v$d;
-    wire  q0v$q;
-    reg  q0v$clock;
-    reg  [15:0] q0$d;
-    wire  [15:0] q0$q;
-    reg  q0$clock;
-    reg  q1v$d;
-    wire  q1v$q;
-    reg  q1v$clock;
-    reg  [15:0] q1$d;
-    wire  [15:0] q1$q;
-    reg  q1$clock;
-    reg  v1_valid$d;
-    wire  v1_valid$q;
-    reg  v1_valid$clock;
-    reg  [15:0] v1_i$d;
-    wire  [15:0] v1_i$q;
-    reg  v1_i$clock;
-    reg  [15:0] v1_j$d;
-    wire  [15:0] v1_j$q;
-    reg  v1_j$clock;
+    reg  [27:0] cur_margin$0$d;
+    wire  [27:0] cur_margin$0$q;
+    reg  cur_margin$0$clock;
+    reg  [1:0] cur_kind$0$d;
+    wire  [1:0] cur_kind$0$q;
+    reg  cur_kind$0$clock;
+    reg  [15:0] succ_q$0$d;
+    wire  [15:0] succ_q$0$q;
+    reg  succ_q$0$clock;
+    reg  r1$0$d;
+    wire  r1$0$q;
+    reg  r1$0$clock;
+    reg  arrive_q$0$d;
+    wire  arrive_q$0$q;
+    reg  arrive_q$0$clock;
+    reg  q0v$0$d;
+    wire  q0v$0$q;
+    reg  q0v$0$clock;
+    reg  [15:0] q0$0$d;
+    wire  [15:0] q0$0$q;
+    reg  q0$0$clock;
+    reg  q1v$0$d;
+    wire  q1v$0$q;
+    reg  q1v$0$clock;
+    reg  [15:0] q1$0$d;
+    wire  [15:0] q1$0$q;
+    reg  q1$0$clock;
+    reg  v1_valid$0$d;
+    wire  v1_valid$0$q;
+    reg  v1_valid$0$clock;
+    reg  [15:0] v1_i$0$d;
+    wire  [15:0] v1_i$0$q;
+    reg  v1_i$0$clock;
+    reg  [15:0] v1_j$0$d;
+    wire  [15:0] v1_j$0$q;
+    reg  v1_j$0$clock;
     reg  [22:0] v1_min$0$d;
     wire  [22:0] v1_min$0$q;
     reg  v1_min$0$clock;
@@ -11462,21 +11345,21 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [22:0] v1_max$2$d;
     wire  [22:0] v1_max$2$q;
     reg  v1_max$2$clock;
-    reg  [27:0] v1_margin$d;
-    wire  [27:0] v1_margin$q;
-    reg  v1_margin$clock;
-    reg  [1:0] v1_kind$d;
-    wire  [1:0] v1_kind$q;
-    reg  v1_kind$clock;
-    reg  v2_valid$d;
-    wire  v2_valid$q;
-    reg  v2_valid$clock;
-    reg  [15:0] v2_i$d;
-    wire  [15:0] v2_i$q;
-    reg  v2_i$clock;
-    reg  [15:0] v2_j$d;
-    wire  [15:0] v2_j$q;
-    reg  v2_j$clock;
+    reg  [27:0] v1_margin$0$d;
+    wire  [27:0] v1_margin$0$q;
+    reg  v1_margin$0$clock;
+    reg  [1:0] v1_kind$0$d;
+    wire  [1:0] v1_kind$0$q;
+    reg  v1_kind$0$clock;
+    reg  v2_valid$0$d;
+    wire  v2_valid$0$q;
+    reg  v2_valid$0$clock;
+    reg  [15:0] v2_i$0$d;
+    wire  [15:0] v2_i$0$q;
+    reg  v2_i$0$clock;
+    reg  [15:0] v2_j$0$d;
+    wire  [15:0] v2_j$0$q;
+    reg  v2_j$0$clock;
     reg  [22:0] v2_min_i$0$d;
     wire  [22:0] v2_min_i$0$q;
     reg  v2_min_i$0$clock;
@@ -11513,15 +11396,15 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [22:0] v2_max_j$2$d;
     wire  [22:0] v2_max_j$2$q;
     reg  v2_max_j$2$clock;
-    reg  [27:0] v2_margin_i$d;
-    wire  [27:0] v2_margin_i$q;
-    reg  v2_margin_i$clock;
-    reg  [27:0] v2_margin_j$d;
-    wire  [27:0] v2_margin_j$q;
-    reg  v2_margin_j$clock;
-    reg  [1:0] v2_kind$d;
-    wire  [1:0] v2_kind$q;
-    reg  v2_kind$clock;
+    reg  [27:0] v2_margin_i$0$d;
+    wire  [27:0] v2_margin_i$0$q;
+    reg  v2_margin_i$0$clock;
+    reg  [27:0] v2_margin_j$0$d;
+    wire  [27:0] v2_margin_j$0$q;
+    reg  v2_margin_j$0$clock;
+    reg  [1:0] v2_kind$0$d;
+    wire  [1:0] v2_kind$0$q;
+    reg  v2_kind$0$clock;
     reg  [22:0] v2_wl$0$d;
     wire  [22:0] v2_wl$0$q;
     reg  v2_wl$0$clock;
@@ -11549,23 +11432,23 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [22:0] v2_jc$2$d;
     wire  [22:0] v2_jc$2$q;
     reg  v2_jc$2$clock;
-    reg  [2:0] v2_group_j$d;
-    wire  [2:0] v2_group_j$q;
-    reg  v2_group_j$clock;
-    reg  v3_write$d;
-    wire  v3_write$q;
-    reg  v3_write$clock;
-    reg  [95:0] v3_word$d;
-    wire  [95:0] v3_word$q;
-    reg  v3_word$clock;
-    reg  fifo$clock;
-    reg  fifo$write;
-    reg  [95:0] fifo$data_in;
-    reg  fifo$ready;
-    wire  fifo$valid;
-    wire  [95:0] fifo$data_out;
-    wire  fifo$empty;
-    wire  fifo$almost_full;
+    reg  [2:0] v2_group_j$0$d;
+    wire  [2:0] v2_group_j$0$q;
+    reg  v2_group_j$0$clock;
+    reg  v3_write$0$d;
+    wire  v3_write$0$q;
+    reg  v3_write$0$clock;
+    reg  [95:0] v3_word$0$d;
+    wire  [95:0] v3_word$0$q;
+    reg  v3_word$0$clock;
+    reg  fifo$0$clock;
+    reg  fifo$0$write;
+    reg  [95:0] fifo$0$data_in;
+    reg  fifo$0$ready;
+    wire  fifo$0$valid;
+    wire  [95:0] fifo$0$data_out;
+    wire  fifo$0$empty;
+    wire  fifo$0$almost_full;
     reg  clearing$d;
     wire  clearing$q;
     reg  clearing$clock;
@@ -11578,12 +11461,15 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [2:0] slow$d;
     wire  [2:0] slow$q;
     reg  slow$clock;
-    reg  [15:0] lnext$d;
-    wire  [15:0] lnext$q;
-    reg  lnext$clock;
-    reg  [15:0] lnext2$d;
-    wire  [15:0] lnext2$q;
-    reg  lnext2$clock;
+    reg  slane$0$d;
+    wire  slane$0$q;
+    reg  slane$0$clock;
+    reg  [15:0] lnext$0$d;
+    wire  [15:0] lnext$0$q;
+    reg  lnext$0$clock;
+    reg  [15:0] lnext2$0$d;
+    wire  [15:0] lnext2$0$q;
+    reg  lnext2$0$clock;
     reg  [15:0] lcur$d;
     wire  [15:0] lcur$q;
     reg  lcur$clock;
@@ -11767,6 +11653,18 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  bank_left$26$d;
     wire  bank_left$26$q;
     reg  bank_left$26$clock;
+    reg  [15:0] pack_lo$0$value;
+    wire  [95:0] pack_lo$0$resized;
+    reg  [15:0] pack_hi$0$value;
+    wire  [95:0] pack_hi$0$resized;
+    reg  [27:0] pack_mlo$0$value;
+    wire  [95:0] pack_mlo$0$resized;
+    reg  [27:0] pack_mhi$0$value;
+    wire  [95:0] pack_mhi$0$resized;
+    reg  [15:0] vis_i$0$value;
+    wire  [63:0] vis_i$0$resized;
+    reg  [15:0] vis_j$0$value;
+    wire  [63:0] vis_j$0$resized;
     
     // Local signals
     reg  [22:0] key_min$0;
@@ -11781,6 +11679,12 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [22:0] rd_max$0;
     reg  [22:0] rd_max$1;
     reg  [22:0] rd_max$2;
+    reg  [27:0] rd_margin$0;
+    reg  [2:0] rd_group$0;
+    reg  key_lane$0;
+    reg  [15:0] key_addr;
+    reg  [15:0] rd_address$0;
+    reg  [15:0] succ_addr;
     reg  [63:0] allowed;
     reg  [63:0] allow$0;
     reg  [63:0] allow$1;
@@ -12944,7 +12848,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] succ_pick$79;
     reg  [15:0] succ_pick$80;
     reg  [15:0] succ_acc;
-    reg  any_live;
+    reg  any_live$0;
     reg  bank_any$0;
     reg  bank_any$1;
     reg  bank_any$2;
@@ -13189,7 +13093,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  e_first$78;
     reg  e_first$79;
     reg  e_first$80;
-    reg  e_push;
+    reg  e_push$0;
     reg  [15:0] e_pick$0;
     reg  [15:0] e_pick$1;
     reg  [15:0] e_pick$2;
@@ -13271,7 +13175,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] e_pick$78;
     reg  [15:0] e_pick$79;
     reg  [15:0] e_pick$80;
-    reg  [15:0] e_out;
+    reg  [15:0] e_out$0;
     reg  [15:0] e_pick2$0;
     reg  [15:0] e_pick2$1;
     reg  [15:0] e_pick2$2;
@@ -13353,16 +13257,16 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] e_pick2$78;
     reg  [15:0] e_pick2$79;
     reg  [15:0] e_pick2$80;
-    reg  [15:0] e_out2;
-    reg  e_more;
-    reg  e_load;
-    reg  arrive;
-    reg  avail;
-    reg  [15:0] after;
-    reg  after_v;
-    reg  need;
-    reg  retire_rec;
-    reg  take;
+    reg  [15:0] e_out2$0;
+    reg  e_more$0;
+    reg  e_load$0;
+    reg  arrive$0;
+    reg  avail$0;
+    reg  [15:0] after$0;
+    reg  after_v$0;
+    reg  need$0;
+    reg  retire_rec$0;
+    reg  take$0;
     reg  rd_live$0;
     reg  rd_live$1;
     reg  rd_live$2;
@@ -13445,38 +13349,38 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  rd_live$79;
     reg  rd_live$80;
     reg  inflight_up;
-    reg  [6:0] inflight_inc;
-    reg  [6:0] inflight_dec;
-    reg  [6:0] inflight_dec2;
+    reg  [6:0] inflight_inc$0;
+    reg  [6:0] inflight_dec$0;
+    reg  [6:0] inflight_dec2$0;
     reg  [6:0] inflight_m$0;
     reg  [6:0] inflight_m$1;
     reg  [6:0] inflight_m$2;
-    reg  [6:0] inflight_n0;
-    reg  [6:0] inflight_n1;
-    reg  [6:0] count_inc;
-    reg  [6:0] count_dec;
+    reg  [6:0] inflight_n0$0;
+    reg  [6:0] inflight_n1$0;
+    reg  [6:0] count_inc$0;
+    reg  [6:0] count_dec$0;
     reg  [6:0] count_m$0;
     reg  [6:0] count_m$1;
     reg  [6:0] count_m$2;
-    reg  [95:0] cand_word;
+    reg  [95:0] cand_word$0;
     reg  [95:0] unpack_a;
     reg  [95:0] unpack_b;
     reg  [95:0] unpack_ma;
-    reg  [15:0] cand;
+    reg  [15:0] cand$0;
     reg  [15:0] entry;
     reg  [15:0] entry4;
     reg  [15:0] entry5;
-    reg  cand_ok;
-    reg  go;
-    reg  stall;
-    reg  retire_probe;
-    reg  rec_write;
-    reg  overlap;
-    reg  swap;
-    reg  [19:0] cand_lo;
-    reg  [19:0] cand_hi;
-    reg  [27:0] margin_lo;
-    reg  [27:0] margin_hi;
+    reg  cand_ok$0;
+    reg  go$0;
+    reg  stall$0;
+    reg  retire_probe$0;
+    reg  rec_write$0;
+    reg  overlap$0;
+    reg  swap$0;
+    reg  [15:0] cand_lo$0;
+    reg  [15:0] cand_hi$0;
+    reg  [27:0] margin_lo$0;
+    reg  [27:0] margin_hi$0;
     reg  done_walk;
     reg  idle;
     reg  fetch;
@@ -13535,16 +13439,41 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [22:0] plan_hi$2;
     reg  plan_wide;
     reg  large_in;
-    reg  home_ok;
+    reg  home_ok$0;
     reg  [22:0] wl_cell$0;
     reg  [22:0] wl_cell$1;
     reg  [22:0] wl_cell$2;
     reg  [22:0] wl_keep$0;
     reg  [22:0] wl_keep$1;
     reg  [22:0] wl_keep$2;
-    reg  [63:0] mask_row;
-    reg  mask_ok;
-    reg  pass;
+    reg  [63:0] mask_row$0;
+    reg  mask_ok$0;
+    reg  pass$0;
+    reg  lower$0;
+    reg  lower$1;
+    reg  issuer$0;
+    reg  [95:0] out_pick$0;
+    reg  [95:0] out_word;
+    reg  lprior$0;
+    reg  lprior$1;
+    reg  lfirst$0;
+    reg  [15:0] lpick$0;
+    reg  [15:0] lhead;
+    reg  [7:0] visit_acc;
+    reg  [63:0] vis_pack_i$0;
+    reg  [63:0] vis_pack_i$1;
+    reg  [63:0] vis_pack_i$2;
+    reg  [63:0] vis_pack_i$3;
+    reg  [63:0] vis_pack_j$0;
+    reg  [63:0] vis_pack_j$1;
+    reg  [63:0] vis_pack_j$2;
+    reg  [63:0] vis_pack_j$3;
+    reg  [3:0] visited_acc;
+    reg  large_left;
+    reg  credit_acc;
+    reg  out_valid;
+    reg  drained;
+    reg  [63:0] lrow;
     
     // Sub module instances
     obb_core$grid$0$cells cells(
@@ -13837,6 +13766,21 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .d(s3_allowed$d),
         .q(s3_allowed$q),
         .clock(s3_allowed$clock)
+    );
+    obb_core$grid$0$s3_lane$0 s3_lane$0(
+        .d(s3_lane$0$d),
+        .q(s3_lane$0$q),
+        .clock(s3_lane$0$clock)
+    );
+    obb_core$grid$0$s4_lane$0 s4_lane$0(
+        .d(s4_lane$0$d),
+        .q(s4_lane$0$q),
+        .clock(s4_lane$0$clock)
+    );
+    obb_core$grid$0$s5_lane$0 s5_lane$0(
+        .d(s5_lane$0$d),
+        .q(s5_lane$0$q),
+        .clock(s5_lane$0$clock)
     );
     obb_core$grid$0$s4_valid s4_valid(
         .d(s4_valid$d),
@@ -21037,15 +20981,95 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .read_address(head2$80$read_address),
         .read_data(head2$80$read_data)
     );
-    obb_core$grid$0$succ succ(
-        .clock(succ$clock),
-        .write_enable(succ$write_enable),
-        .write_address(succ$write_address),
-        .write_data(succ$write_data),
-        .read_address_a(succ$read_address_a),
-        .read_address_b(succ$read_address_b),
-        .read_data_a(succ$read_data_a),
-        .read_data_b(succ$read_data_b)
+    obb_core$grid$0$succ$0 succ$0(
+        .clock(succ$0$clock),
+        .write_enable(succ$0$write_enable),
+        .write_address(succ$0$write_address),
+        .write_data(succ$0$write_data),
+        .read_address_a(succ$0$read_address_a),
+        .read_address_b(succ$0$read_address_b),
+        .read_data_a(succ$0$read_data_a),
+        .read_data_b(succ$0$read_data_b)
+    );
+    obb_core$grid$0$kt_min$0 kt_min$0(
+        .clock(kt_min$0$clock),
+        .write_enable(kt_min$0$write_enable),
+        .write_address(kt_min$0$write_address),
+        .write_data(kt_min$0$write_data),
+        .read_address_a(kt_min$0$read_address_a),
+        .read_address_b(kt_min$0$read_address_b),
+        .read_data_a(kt_min$0$read_data_a),
+        .read_data_b(kt_min$0$read_data_b)
+    );
+    obb_core$grid$0$kt_min$1 kt_min$1(
+        .clock(kt_min$1$clock),
+        .write_enable(kt_min$1$write_enable),
+        .write_address(kt_min$1$write_address),
+        .write_data(kt_min$1$write_data),
+        .read_address_a(kt_min$1$read_address_a),
+        .read_address_b(kt_min$1$read_address_b),
+        .read_data_a(kt_min$1$read_data_a),
+        .read_data_b(kt_min$1$read_data_b)
+    );
+    obb_core$grid$0$kt_min$2 kt_min$2(
+        .clock(kt_min$2$clock),
+        .write_enable(kt_min$2$write_enable),
+        .write_address(kt_min$2$write_address),
+        .write_data(kt_min$2$write_data),
+        .read_address_a(kt_min$2$read_address_a),
+        .read_address_b(kt_min$2$read_address_b),
+        .read_data_a(kt_min$2$read_data_a),
+        .read_data_b(kt_min$2$read_data_b)
+    );
+    obb_core$grid$0$kt_max$0 kt_max$0(
+        .clock(kt_max$0$clock),
+        .write_enable(kt_max$0$write_enable),
+        .write_address(kt_max$0$write_address),
+        .write_data(kt_max$0$write_data),
+        .read_address_a(kt_max$0$read_address_a),
+        .read_address_b(kt_max$0$read_address_b),
+        .read_data_a(kt_max$0$read_data_a),
+        .read_data_b(kt_max$0$read_data_b)
+    );
+    obb_core$grid$0$kt_max$1 kt_max$1(
+        .clock(kt_max$1$clock),
+        .write_enable(kt_max$1$write_enable),
+        .write_address(kt_max$1$write_address),
+        .write_data(kt_max$1$write_data),
+        .read_address_a(kt_max$1$read_address_a),
+        .read_address_b(kt_max$1$read_address_b),
+        .read_data_a(kt_max$1$read_data_a),
+        .read_data_b(kt_max$1$read_data_b)
+    );
+    obb_core$grid$0$kt_max$2 kt_max$2(
+        .clock(kt_max$2$clock),
+        .write_enable(kt_max$2$write_enable),
+        .write_address(kt_max$2$write_address),
+        .write_data(kt_max$2$write_data),
+        .read_address_a(kt_max$2$read_address_a),
+        .read_address_b(kt_max$2$read_address_b),
+        .read_data_a(kt_max$2$read_data_a),
+        .read_data_b(kt_max$2$read_data_b)
+    );
+    obb_core$grid$0$kt_margin$0 kt_margin$0(
+        .clock(kt_margin$0$clock),
+        .write_enable(kt_margin$0$write_enable),
+        .write_address(kt_margin$0$write_address),
+        .write_data(kt_margin$0$write_data),
+        .read_address_a(kt_margin$0$read_address_a),
+        .read_address_b(kt_margin$0$read_address_b),
+        .read_data_a(kt_margin$0$read_data_a),
+        .read_data_b(kt_margin$0$read_data_b)
+    );
+    obb_core$grid$0$kt_group$0 kt_group$0(
+        .clock(kt_group$0$clock),
+        .write_enable(kt_group$0$write_enable),
+        .write_address(kt_group$0$write_address),
+        .write_data(kt_group$0$write_data),
+        .read_address_a(kt_group$0$read_address_a),
+        .read_address_b(kt_group$0$read_address_b),
+        .read_data_a(kt_group$0$read_data_a),
+        .read_data_b(kt_group$0$read_data_b)
     );
     obb_core$grid$0$rec$0 rec$0(
         .clock(rec$0$clock),
@@ -22343,54 +22367,54 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .read_address(rec2$80$read_address),
         .read_data(rec2$80$read_data)
     );
-    obb_core$grid$0$rec_box rec_box(
-        .clock(rec_box$clock),
-        .write_enable(rec_box$write_enable),
-        .write_address(rec_box$write_address),
-        .read_address(rec_box$read_address),
-        .in_index(rec_box$in_index),
-        .in_min$0(rec_box$in_min$0),
-        .in_min$1(rec_box$in_min$1),
-        .in_min$2(rec_box$in_min$2),
-        .in_max$0(rec_box$in_max$0),
-        .in_max$1(rec_box$in_max$1),
-        .in_max$2(rec_box$in_max$2),
-        .in_margin(rec_box$in_margin),
-        .in_kind(rec_box$in_kind),
-        .index(rec_box$index),
-        .min$0(rec_box$min$0),
-        .min$1(rec_box$min$1),
-        .min$2(rec_box$min$2),
-        .max$0(rec_box$max$0),
-        .max$1(rec_box$max$1),
-        .max$2(rec_box$max$2),
-        .margin(rec_box$margin),
-        .kind(rec_box$kind)
+    obb_core$grid$0$rec_box$0 rec_box$0(
+        .clock(rec_box$0$clock),
+        .write_enable(rec_box$0$write_enable),
+        .write_address(rec_box$0$write_address),
+        .read_address(rec_box$0$read_address),
+        .in_index(rec_box$0$in_index),
+        .in_min_x(rec_box$0$in_min_x),
+        .in_min_y(rec_box$0$in_min_y),
+        .in_min_z(rec_box$0$in_min_z),
+        .in_max_x(rec_box$0$in_max_x),
+        .in_max_y(rec_box$0$in_max_y),
+        .in_max_z(rec_box$0$in_max_z),
+        .in_margin(rec_box$0$in_margin),
+        .in_kind(rec_box$0$in_kind),
+        .index(rec_box$0$index),
+        .min_x(rec_box$0$min_x),
+        .min_y(rec_box$0$min_y),
+        .min_z(rec_box$0$min_z),
+        .max_x(rec_box$0$max_x),
+        .max_y(rec_box$0$max_y),
+        .max_z(rec_box$0$max_z),
+        .margin(rec_box$0$margin),
+        .kind(rec_box$0$kind)
     );
-    obb_core$grid$0$wp wp(
-        .d(wp$d),
-        .q(wp$q),
-        .clock(wp$clock)
+    obb_core$grid$0$wp$0 wp$0(
+        .d(wp$0$d),
+        .q(wp$0$q),
+        .clock(wp$0$clock)
     );
-    obb_core$grid$0$rp rp(
-        .d(rp$d),
-        .q(rp$q),
-        .clock(rp$clock)
+    obb_core$grid$0$rp$0 rp$0(
+        .d(rp$0$d),
+        .q(rp$0$q),
+        .clock(rp$0$clock)
     );
-    obb_core$grid$0$count count(
-        .d(count$d),
-        .q(count$q),
-        .clock(count$clock)
+    obb_core$grid$0$count$0 count$0(
+        .d(count$0$d),
+        .q(count$0$q),
+        .clock(count$0$clock)
     );
-    obb_core$grid$0$inflight inflight(
-        .d(inflight$d),
-        .q(inflight$q),
-        .clock(inflight$clock)
+    obb_core$grid$0$inflight$0 inflight$0(
+        .d(inflight$0$d),
+        .q(inflight$0$q),
+        .clock(inflight$0$clock)
     );
-    obb_core$grid$0$e_busy e_busy(
-        .d(e_busy$d),
-        .q(e_busy$q),
-        .clock(e_busy$clock)
+    obb_core$grid$0$e_busy$0 e_busy$0(
+        .d(e_busy$0$d),
+        .q(e_busy$0$q),
+        .clock(e_busy$0$clock)
     );
     obb_core$grid$0$e_rem$0 e_rem$0(
         .d(e_rem$0$d),
@@ -23607,10 +23631,10 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(e_head2$80$q),
         .clock(e_head2$80$clock)
     );
-    obb_core$grid$0$e_chosen e_chosen(
-        .d(e_chosen$d),
-        .q(e_chosen$q),
-        .clock(e_chosen$clock)
+    obb_core$grid$0$e_chosen$0 e_chosen$0(
+        .d(e_chosen$0$d),
+        .q(e_chosen$0$q),
+        .clock(e_chosen$0$clock)
     );
     obb_core$grid$0$e_sel$0 e_sel$0(
         .d(e_sel$0$d),
@@ -24017,10 +24041,10 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(e_sel$80$q),
         .clock(e_sel$80$clock)
     );
-    obb_core$grid$0$e_index e_index(
-        .d(e_index$d),
-        .q(e_index$q),
-        .clock(e_index$clock)
+    obb_core$grid$0$e_index$0 e_index$0(
+        .d(e_index$0$d),
+        .q(e_index$0$q),
+        .clock(e_index$0$clock)
     );
     obb_core$grid$0$e_min$0 e_min$0(
         .d(e_min$0$d),
@@ -24052,73 +24076,73 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(e_max$2$q),
         .clock(e_max$2$clock)
     );
-    obb_core$grid$0$e_margin e_margin(
-        .d(e_margin$d),
-        .q(e_margin$q),
-        .clock(e_margin$clock)
+    obb_core$grid$0$e_margin$0 e_margin$0(
+        .d(e_margin$0$d),
+        .q(e_margin$0$q),
+        .clock(e_margin$0$clock)
     );
-    obb_core$grid$0$e_kind e_kind(
-        .d(e_kind$d),
-        .q(e_kind$q),
-        .clock(e_kind$clock)
+    obb_core$grid$0$e_kind$0 e_kind$0(
+        .d(e_kind$0$d),
+        .q(e_kind$0$q),
+        .clock(e_kind$0$clock)
     );
-    obb_core$grid$0$lq_head lq_head(
-        .clock(lq_head$clock),
-        .write_enable(lq_head$write_enable),
-        .write_address(lq_head$write_address),
-        .write_data(lq_head$write_data),
-        .read_address(lq_head$read_address),
-        .read_data(lq_head$read_data)
+    obb_core$grid$0$lq_head$0 lq_head$0(
+        .clock(lq_head$0$clock),
+        .write_enable(lq_head$0$write_enable),
+        .write_address(lq_head$0$write_address),
+        .write_data(lq_head$0$write_data),
+        .read_address(lq_head$0$read_address),
+        .read_data(lq_head$0$read_data)
     );
-    obb_core$grid$0$lq_head2 lq_head2(
-        .clock(lq_head2$clock),
-        .write_enable(lq_head2$write_enable),
-        .write_address(lq_head2$write_address),
-        .write_data(lq_head2$write_data),
-        .read_address(lq_head2$read_address),
-        .read_data(lq_head2$read_data)
+    obb_core$grid$0$lq_head2$0 lq_head2$0(
+        .clock(lq_head2$0$clock),
+        .write_enable(lq_head2$0$write_enable),
+        .write_address(lq_head2$0$write_address),
+        .write_data(lq_head2$0$write_data),
+        .read_address(lq_head2$0$read_address),
+        .read_data(lq_head2$0$read_data)
     );
-    obb_core$grid$0$lq_box lq_box(
-        .clock(lq_box$clock),
-        .write_enable(lq_box$write_enable),
-        .write_address(lq_box$write_address),
-        .read_address(lq_box$read_address),
-        .in_index(lq_box$in_index),
-        .in_min$0(lq_box$in_min$0),
-        .in_min$1(lq_box$in_min$1),
-        .in_min$2(lq_box$in_min$2),
-        .in_max$0(lq_box$in_max$0),
-        .in_max$1(lq_box$in_max$1),
-        .in_max$2(lq_box$in_max$2),
-        .in_margin(lq_box$in_margin),
-        .in_kind(lq_box$in_kind),
-        .index(lq_box$index),
-        .min$0(lq_box$min$0),
-        .min$1(lq_box$min$1),
-        .min$2(lq_box$min$2),
-        .max$0(lq_box$max$0),
-        .max$1(lq_box$max$1),
-        .max$2(lq_box$max$2),
-        .margin(lq_box$margin),
-        .kind(lq_box$kind)
+    obb_core$grid$0$lq_box$0 lq_box$0(
+        .clock(lq_box$0$clock),
+        .write_enable(lq_box$0$write_enable),
+        .write_address(lq_box$0$write_address),
+        .read_address(lq_box$0$read_address),
+        .in_index(lq_box$0$in_index),
+        .in_min_x(lq_box$0$in_min_x),
+        .in_min_y(lq_box$0$in_min_y),
+        .in_min_z(lq_box$0$in_min_z),
+        .in_max_x(lq_box$0$in_max_x),
+        .in_max_y(lq_box$0$in_max_y),
+        .in_max_z(lq_box$0$in_max_z),
+        .in_margin(lq_box$0$in_margin),
+        .in_kind(lq_box$0$in_kind),
+        .index(lq_box$0$index),
+        .min_x(lq_box$0$min_x),
+        .min_y(lq_box$0$min_y),
+        .min_z(lq_box$0$min_z),
+        .max_x(lq_box$0$max_x),
+        .max_y(lq_box$0$max_y),
+        .max_z(lq_box$0$max_z),
+        .margin(lq_box$0$margin),
+        .kind(lq_box$0$kind)
     );
-    obb_core$grid$0$lq_last lq_last(
-        .clock(lq_last$clock),
-        .write_enable(lq_last$write_enable),
-        .write_address(lq_last$write_address),
-        .write_data(lq_last$write_data),
-        .read_address(lq_last$read_address),
-        .read_data(lq_last$read_data)
+    obb_core$grid$0$lq_last$0 lq_last$0(
+        .clock(lq_last$0$clock),
+        .write_enable(lq_last$0$write_enable),
+        .write_address(lq_last$0$write_address),
+        .write_data(lq_last$0$write_data),
+        .read_address(lq_last$0$read_address),
+        .read_data(lq_last$0$read_data)
     );
-    obb_core$grid$0$lq_wp lq_wp(
-        .d(lq_wp$d),
-        .q(lq_wp$q),
-        .clock(lq_wp$clock)
+    obb_core$grid$0$lq_wp$0 lq_wp$0(
+        .d(lq_wp$0$d),
+        .q(lq_wp$0$q),
+        .clock(lq_wp$0$clock)
     );
-    obb_core$grid$0$lq_rp lq_rp(
-        .d(lq_rp$d),
-        .q(lq_rp$q),
-        .clock(lq_rp$clock)
+    obb_core$grid$0$lq_rp$0 lq_rp$0(
+        .d(lq_rp$0$d),
+        .q(lq_rp$0$q),
+        .clock(lq_rp$0$clock)
     );
     obb_core$grid$0$lq_fill$0 lq_fill$0(
         .d(lq_fill$0$d),
@@ -24135,20 +24159,20 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(lq_fill$2$q),
         .clock(lq_fill$2$clock)
     );
-    obb_core$grid$0$cur_valid cur_valid(
-        .d(cur_valid$d),
-        .q(cur_valid$q),
-        .clock(cur_valid$clock)
+    obb_core$grid$0$cur_valid$0 cur_valid$0(
+        .d(cur_valid$0$d),
+        .q(cur_valid$0$q),
+        .clock(cur_valid$0$clock)
     );
-    obb_core$grid$0$cur_last cur_last(
-        .d(cur_last$d),
-        .q(cur_last$q),
-        .clock(cur_last$clock)
+    obb_core$grid$0$cur_last$0 cur_last$0(
+        .d(cur_last$0$d),
+        .q(cur_last$0$q),
+        .clock(cur_last$0$clock)
     );
-    obb_core$grid$0$cur_index cur_index(
-        .d(cur_index$d),
-        .q(cur_index$q),
-        .clock(cur_index$clock)
+    obb_core$grid$0$cur_index$0 cur_index$0(
+        .d(cur_index$0$d),
+        .q(cur_index$0$q),
+        .clock(cur_index$0$clock)
     );
     obb_core$grid$0$cur_min$0 cur_min$0(
         .d(cur_min$0$d),
@@ -24180,65 +24204,65 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(cur_max$2$q),
         .clock(cur_max$2$clock)
     );
-    obb_core$grid$0$cur_margin cur_margin(
-        .d(cur_margin$d),
-        .q(cur_margin$q),
-        .clock(cur_margin$clock)
+    obb_core$grid$0$cur_margin$0 cur_margin$0(
+        .d(cur_margin$0$d),
+        .q(cur_margin$0$q),
+        .clock(cur_margin$0$clock)
     );
-    obb_core$grid$0$cur_kind cur_kind(
-        .d(cur_kind$d),
-        .q(cur_kind$q),
-        .clock(cur_kind$clock)
+    obb_core$grid$0$cur_kind$0 cur_kind$0(
+        .d(cur_kind$0$d),
+        .q(cur_kind$0$q),
+        .clock(cur_kind$0$clock)
     );
-    obb_core$grid$0$succ_q succ_q(
-        .d(succ_q$d),
-        .q(succ_q$q),
-        .clock(succ_q$clock)
+    obb_core$grid$0$succ_q$0 succ_q$0(
+        .d(succ_q$0$d),
+        .q(succ_q$0$q),
+        .clock(succ_q$0$clock)
     );
-    obb_core$grid$0$r1 r1(
-        .d(r1$d),
-        .q(r1$q),
-        .clock(r1$clock)
+    obb_core$grid$0$r1$0 r1$0(
+        .d(r1$0$d),
+        .q(r1$0$q),
+        .clock(r1$0$clock)
     );
-    obb_core$grid$0$arrive_q arrive_q(
-        .d(arrive_q$d),
-        .q(arrive_q$q),
-        .clock(arrive_q$clock)
+    obb_core$grid$0$arrive_q$0 arrive_q$0(
+        .d(arrive_q$0$d),
+        .q(arrive_q$0$q),
+        .clock(arrive_q$0$clock)
     );
-    obb_core$grid$0$q0v q0v(
-        .d(q0v$d),
-        .q(q0v$q),
-        .clock(q0v$clock)
+    obb_core$grid$0$q0v$0 q0v$0(
+        .d(q0v$0$d),
+        .q(q0v$0$q),
+        .clock(q0v$0$clock)
     );
-    obb_core$grid$0$q0 q0(
-        .d(q0$d),
-        .q(q0$q),
-        .clock(q0$clock)
+    obb_core$grid$0$q0$0 q0$0(
+        .d(q0$0$d),
+        .q(q0$0$q),
+        .clock(q0$0$clock)
     );
-    obb_core$grid$0$q1v q1v(
-        .d(q1v$d),
-        .q(q1v$q),
-        .clock(q1v$clock)
+    obb_core$grid$0$q1v$0 q1v$0(
+        .d(q1v$0$d),
+        .q(q1v$0$q),
+        .clock(q1v$0$clock)
     );
-    obb_core$grid$0$q1 q1(
-        .d(q1$d),
-        .q(q1$q),
-        .clock(q1$clock)
+    obb_core$grid$0$q1$0 q1$0(
+        .d(q1$0$d),
+        .q(q1$0$q),
+        .clock(q1$0$clock)
     );
-    obb_core$grid$0$v1_valid v1_valid(
-        .d(v1_valid$d),
-        .q(v1_valid$q),
-        .clock(v1_valid$clock)
+    obb_core$grid$0$v1_valid$0 v1_valid$0(
+        .d(v1_valid$0$d),
+        .q(v1_valid$0$q),
+        .clock(v1_valid$0$clock)
     );
-    obb_core$grid$0$v1_i v1_i(
-        .d(v1_i$d),
-        .q(v1_i$q),
-        .clock(v1_i$clock)
+    obb_core$grid$0$v1_i$0 v1_i$0(
+        .d(v1_i$0$d),
+        .q(v1_i$0$q),
+        .clock(v1_i$0$clock)
     );
-    obb_core$grid$0$v1_j v1_j(
-        .d(v1_j$d),
-        .q(v1_j$q),
-        .clock(v1_j$clock)
+    obb_core$grid$0$v1_j$0 v1_j$0(
+        .d(v1_j$0$d),
+        .q(v1_j$0$q),
+        .clock(v1_j$0$clock)
     );
     obb_core$grid$0$v1_min$0 v1_min$0(
         .d(v1_min$0$d),
@@ -24270,30 +24294,30 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(v1_max$2$q),
         .clock(v1_max$2$clock)
     );
-    obb_core$grid$0$v1_margin v1_margin(
-        .d(v1_margin$d),
-        .q(v1_margin$q),
-        .clock(v1_margin$clock)
+    obb_core$grid$0$v1_margin$0 v1_margin$0(
+        .d(v1_margin$0$d),
+        .q(v1_margin$0$q),
+        .clock(v1_margin$0$clock)
     );
-    obb_core$grid$0$v1_kind v1_kind(
-        .d(v1_kind$d),
-        .q(v1_kind$q),
-        .clock(v1_kind$clock)
+    obb_core$grid$0$v1_kind$0 v1_kind$0(
+        .d(v1_kind$0$d),
+        .q(v1_kind$0$q),
+        .clock(v1_kind$0$clock)
     );
-    obb_core$grid$0$v2_valid v2_valid(
-        .d(v2_valid$d),
-        .q(v2_valid$q),
-        .clock(v2_valid$clock)
+    obb_core$grid$0$v2_valid$0 v2_valid$0(
+        .d(v2_valid$0$d),
+        .q(v2_valid$0$q),
+        .clock(v2_valid$0$clock)
     );
-    obb_core$grid$0$v2_i v2_i(
-        .d(v2_i$d),
-        .q(v2_i$q),
-        .clock(v2_i$clock)
+    obb_core$grid$0$v2_i$0 v2_i$0(
+        .d(v2_i$0$d),
+        .q(v2_i$0$q),
+        .clock(v2_i$0$clock)
     );
-    obb_core$grid$0$v2_j v2_j(
-        .d(v2_j$d),
-        .q(v2_j$q),
-        .clock(v2_j$clock)
+    obb_core$grid$0$v2_j$0 v2_j$0(
+        .d(v2_j$0$d),
+        .q(v2_j$0$q),
+        .clock(v2_j$0$clock)
     );
     obb_core$grid$0$v2_min_i$0 v2_min_i$0(
         .d(v2_min_i$0$d),
@@ -24355,20 +24379,20 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(v2_max_j$2$q),
         .clock(v2_max_j$2$clock)
     );
-    obb_core$grid$0$v2_margin_i v2_margin_i(
-        .d(v2_margin_i$d),
-        .q(v2_margin_i$q),
-        .clock(v2_margin_i$clock)
+    obb_core$grid$0$v2_margin_i$0 v2_margin_i$0(
+        .d(v2_margin_i$0$d),
+        .q(v2_margin_i$0$q),
+        .clock(v2_margin_i$0$clock)
     );
-    obb_core$grid$0$v2_margin_j v2_margin_j(
-        .d(v2_margin_j$d),
-        .q(v2_margin_j$q),
-        .clock(v2_margin_j$clock)
+    obb_core$grid$0$v2_margin_j$0 v2_margin_j$0(
+        .d(v2_margin_j$0$d),
+        .q(v2_margin_j$0$q),
+        .clock(v2_margin_j$0$clock)
     );
-    obb_core$grid$0$v2_kind v2_kind(
-        .d(v2_kind$d),
-        .q(v2_kind$q),
-        .clock(v2_kind$clock)
+    obb_core$grid$0$v2_kind$0 v2_kind$0(
+        .d(v2_kind$0$d),
+        .q(v2_kind$0$q),
+        .clock(v2_kind$0$clock)
     );
     obb_core$grid$0$v2_wl$0 v2_wl$0(
         .d(v2_wl$0$d),
@@ -24415,30 +24439,30 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(v2_jc$2$q),
         .clock(v2_jc$2$clock)
     );
-    obb_core$grid$0$v2_group_j v2_group_j(
-        .d(v2_group_j$d),
-        .q(v2_group_j$q),
-        .clock(v2_group_j$clock)
+    obb_core$grid$0$v2_group_j$0 v2_group_j$0(
+        .d(v2_group_j$0$d),
+        .q(v2_group_j$0$q),
+        .clock(v2_group_j$0$clock)
     );
-    obb_core$grid$0$v3_write v3_write(
-        .d(v3_write$d),
-        .q(v3_write$q),
-        .clock(v3_write$clock)
+    obb_core$grid$0$v3_write$0 v3_write$0(
+        .d(v3_write$0$d),
+        .q(v3_write$0$q),
+        .clock(v3_write$0$clock)
     );
-    obb_core$grid$0$v3_word v3_word(
-        .d(v3_word$d),
-        .q(v3_word$q),
-        .clock(v3_word$clock)
+    obb_core$grid$0$v3_word$0 v3_word$0(
+        .d(v3_word$0$d),
+        .q(v3_word$0$q),
+        .clock(v3_word$0$clock)
     );
-    obb_core$grid$0$fifo fifo(
-        .clock(fifo$clock),
-        .write(fifo$write),
-        .data_in(fifo$data_in),
-        .ready(fifo$ready),
-        .valid(fifo$valid),
-        .data_out(fifo$data_out),
-        .empty(fifo$empty),
-        .almost_full(fifo$almost_full)
+    obb_core$grid$0$fifo$0 fifo$0(
+        .clock(fifo$0$clock),
+        .write(fifo$0$write),
+        .data_in(fifo$0$data_in),
+        .ready(fifo$0$ready),
+        .valid(fifo$0$valid),
+        .data_out(fifo$0$data_out),
+        .empty(fifo$0$empty),
+        .almost_full(fifo$0$almost_full)
     );
     obb_core$grid$0$clearing clearing(
         .d(clearing$d),
@@ -24460,15 +24484,20 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(slow$q),
         .clock(slow$clock)
     );
-    obb_core$grid$0$lnext lnext(
-        .d(lnext$d),
-        .q(lnext$q),
-        .clock(lnext$clock)
+    obb_core$grid$0$slane$0 slane$0(
+        .d(slane$0$d),
+        .q(slane$0$q),
+        .clock(slane$0$clock)
     );
-    obb_core$grid$0$lnext2 lnext2(
-        .d(lnext2$d),
-        .q(lnext2$q),
-        .clock(lnext2$clock)
+    obb_core$grid$0$lnext$0 lnext$0(
+        .d(lnext$0$d),
+        .q(lnext$0$q),
+        .clock(lnext$0$clock)
+    );
+    obb_core$grid$0$lnext2$0 lnext2$0(
+        .d(lnext2$0$d),
+        .q(lnext2$0$q),
+        .clock(lnext2$0$clock)
     );
     obb_core$grid$0$lcur lcur(
         .d(lcur$d),
@@ -24775,6 +24804,30 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(bank_left$26$q),
         .clock(bank_left$26$clock)
     );
+    obb_core$grid$0$pack_lo$0 pack_lo$0(
+        .value(pack_lo$0$value),
+        .resized(pack_lo$0$resized)
+    );
+    obb_core$grid$0$pack_hi$0 pack_hi$0(
+        .value(pack_hi$0$value),
+        .resized(pack_hi$0$resized)
+    );
+    obb_core$grid$0$pack_mlo$0 pack_mlo$0(
+        .value(pack_mlo$0$value),
+        .resized(pack_mlo$0$resized)
+    );
+    obb_core$grid$0$pack_mhi$0 pack_mhi$0(
+        .value(pack_mhi$0$value),
+        .resized(pack_mhi$0$resized)
+    );
+    obb_core$grid$0$vis_i$0 vis_i$0(
+        .value(vis_i$0$value),
+        .resized(vis_i$0$resized)
+    );
+    obb_core$grid$0$vis_j$0 vis_j$0(
+        .value(vis_j$0$value),
+        .resized(vis_j$0$resized)
+    );
     
     // Update code
     always @(*) begin
@@ -24803,37 +24856,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_lprev$clock = clock;
         s5_index$clock = clock;
         s5_margin$clock = clock;
-        wp$clock = clock;
-        rp$clock = clock;
-        count$clock = clock;
-        inflight$clock = clock;
-        cur_valid$clock = clock;
-        cur_last$clock = clock;
-        e_busy$clock = clock;
-        e_chosen$clock = clock;
-        e_index$clock = clock;
-        e_margin$clock = clock;
-        e_kind$clock = clock;
-        lq_wp$clock = clock;
-        lq_rp$clock = clock;
-        cur_index$clock = clock;
-        cur_margin$clock = clock;
-        succ_q$clock = clock;
-        r1$clock = clock;
-        arrive_q$clock = clock;
-        q0v$clock = clock;
-        q0$clock = clock;
-        q1v$clock = clock;
-        q1$clock = clock;
-        v1_valid$clock = clock;
-        v1_i$clock = clock;
-        v1_j$clock = clock;
-        v1_margin$clock = clock;
-        v2_valid$clock = clock;
-        v2_i$clock = clock;
-        v2_j$clock = clock;
-        v2_margin_i$clock = clock;
-        v2_margin_j$clock = clock;
         clearing$clock = clock;
         cleared$clock = clock;
         clear_at$clock = clock;
@@ -24841,15 +24863,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s2_kind$clock = clock;
         s3_kind$clock = clock;
         s5_kind$clock = clock;
-        cur_kind$clock = clock;
-        v1_kind$clock = clock;
-        v2_kind$clock = clock;
-        v2_group_j$clock = clock;
-        v3_write$clock = clock;
-        v3_word$clock = clock;
         slow$clock = clock;
-        lnext$clock = clock;
-        lnext2$clock = clock;
         lcur$clock = clock;
         lmargin$clock = clock;
         lgroup$clock = clock;
@@ -24882,37 +24896,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_lprev$d = s5_lprev$q;
         s5_index$d = s5_index$q;
         s5_margin$d = s5_margin$q;
-        wp$d = wp$q;
-        rp$d = rp$q;
-        count$d = count$q;
-        inflight$d = inflight$q;
-        cur_valid$d = cur_valid$q;
-        cur_last$d = cur_last$q;
-        e_busy$d = e_busy$q;
-        e_chosen$d = e_chosen$q;
-        e_index$d = e_index$q;
-        e_margin$d = e_margin$q;
-        e_kind$d = e_kind$q;
-        lq_wp$d = lq_wp$q;
-        lq_rp$d = lq_rp$q;
-        cur_index$d = cur_index$q;
-        cur_margin$d = cur_margin$q;
-        succ_q$d = succ_q$q;
-        r1$d = r1$q;
-        arrive_q$d = arrive_q$q;
-        q0v$d = q0v$q;
-        q0$d = q0$q;
-        q1v$d = q1v$q;
-        q1$d = q1$q;
-        v1_valid$d = v1_valid$q;
-        v1_i$d = v1_i$q;
-        v1_j$d = v1_j$q;
-        v1_margin$d = v1_margin$q;
-        v2_valid$d = v2_valid$q;
-        v2_i$d = v2_i$q;
-        v2_j$d = v2_j$q;
-        v2_margin_i$d = v2_margin_i$q;
-        v2_margin_j$d = v2_margin_j$q;
         clearing$d = clearing$q;
         cleared$d = cleared$q;
         clear_at$d = clear_at$q;
@@ -24920,15 +24903,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s2_kind$d = s2_kind$q;
         s3_kind$d = s3_kind$q;
         s5_kind$d = s5_kind$q;
-        cur_kind$d = cur_kind$q;
-        v1_kind$d = v1_kind$q;
-        v2_kind$d = v2_kind$q;
-        v2_group_j$d = v2_group_j$q;
-        v3_write$d = v3_write$q;
-        v3_word$d = v3_word$q;
         slow$d = slow$q;
-        lnext$d = lnext$q;
-        lnext2$d = lnext2$q;
         lcur$d = lcur$q;
         lmargin$d = lmargin$q;
         lgroup$d = lgroup$q;
@@ -24937,13 +24912,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         inj$d = inj$q;
         inj_kind$d = inj_kind$q;
         cells$clock = clock;
-        succ$clock = clock;
-        rec_box$clock = clock;
-        fifo$clock = clock;
-        lq_head$clock = clock;
-        lq_head2$clock = clock;
-        lq_box$clock = clock;
-        lq_last$clock = clock;
         s4_bucket$0$clock = clock;
         s4_fp$0$clock = clock;
         s4_bucket$1$clock = clock;
@@ -24998,8 +24966,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_fp$25$clock = clock;
         s4_bucket$26$clock = clock;
         s4_fp$26$clock = clock;
-        lq_fill$0$clock = clock;
-        lq_fill$0$d = lq_fill$0$q;
         s1_min$0$clock = clock;
         s1_max$0$clock = clock;
         s2_min$0$clock = clock;
@@ -25010,19 +24976,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_max$0$clock = clock;
         s5_min$0$clock = clock;
         s5_max$0$clock = clock;
-        cur_min$0$clock = clock;
-        cur_max$0$clock = clock;
-        e_min$0$clock = clock;
-        e_max$0$clock = clock;
-        v1_min$0$clock = clock;
-        v1_max$0$clock = clock;
-        v2_min_i$0$clock = clock;
-        v2_max_i$0$clock = clock;
-        v2_min_j$0$clock = clock;
-        v2_max_j$0$clock = clock;
-        v2_wl$0$clock = clock;
-        v2_wh$0$clock = clock;
-        v2_jc$0$clock = clock;
         lk_min$0$clock = clock;
         lk_lim$0$clock = clock;
         lk_max$0$clock = clock;
@@ -25039,8 +24992,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         wspan$0$d = wspan$0$q;
         rleft$0$d = rleft$0$q;
         rr$0$d = rr$0$q;
-        lq_fill$1$clock = clock;
-        lq_fill$1$d = lq_fill$1$q;
         s1_min$1$clock = clock;
         s1_max$1$clock = clock;
         s2_min$1$clock = clock;
@@ -25051,19 +25002,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_max$1$clock = clock;
         s5_min$1$clock = clock;
         s5_max$1$clock = clock;
-        cur_min$1$clock = clock;
-        cur_max$1$clock = clock;
-        e_min$1$clock = clock;
-        e_max$1$clock = clock;
-        v1_min$1$clock = clock;
-        v1_max$1$clock = clock;
-        v2_min_i$1$clock = clock;
-        v2_max_i$1$clock = clock;
-        v2_min_j$1$clock = clock;
-        v2_max_j$1$clock = clock;
-        v2_wl$1$clock = clock;
-        v2_wh$1$clock = clock;
-        v2_jc$1$clock = clock;
         lk_min$1$clock = clock;
         lk_lim$1$clock = clock;
         lk_max$1$clock = clock;
@@ -25080,8 +25018,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         wspan$1$d = wspan$1$q;
         rleft$1$d = rleft$1$q;
         rr$1$d = rr$1$q;
-        lq_fill$2$clock = clock;
-        lq_fill$2$d = lq_fill$2$q;
         s1_min$2$clock = clock;
         s1_max$2$clock = clock;
         s2_min$2$clock = clock;
@@ -25092,19 +25028,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_max$2$clock = clock;
         s5_min$2$clock = clock;
         s5_max$2$clock = clock;
-        cur_min$2$clock = clock;
-        cur_max$2$clock = clock;
-        e_min$2$clock = clock;
-        e_max$2$clock = clock;
-        v1_min$2$clock = clock;
-        v1_max$2$clock = clock;
-        v2_min_i$2$clock = clock;
-        v2_max_i$2$clock = clock;
-        v2_min_j$2$clock = clock;
-        v2_max_j$2$clock = clock;
-        v2_wl$2$clock = clock;
-        v2_wh$2$clock = clock;
-        v2_jc$2$clock = clock;
         lk_min$2$clock = clock;
         lk_lim$2$clock = clock;
         lk_max$2$clock = clock;
@@ -27146,31 +27069,237 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         e_head$80$d = e_head$80$q;
         e_head2$80$d = e_head2$80$q;
         e_sel$80$d = e_sel$80$q;
-        cur_min$0$d = cur_min$0$q;
-        cur_max$0$d = cur_max$0$q;
+        succ$0$clock = clock;
+        kt_margin$0$clock = clock;
+        kt_group$0$clock = clock;
+        rec_box$0$clock = clock;
+        lq_head$0$clock = clock;
+        lq_head2$0$clock = clock;
+        lq_box$0$clock = clock;
+        lq_last$0$clock = clock;
+        fifo$0$clock = clock;
+        s3_lane$0$clock = clock;
+        s4_lane$0$clock = clock;
+        s5_lane$0$clock = clock;
+        s3_lane$0$d = s3_lane$0$q;
+        s4_lane$0$d = s4_lane$0$q;
+        s5_lane$0$d = s5_lane$0$q;
+        wp$0$clock = clock;
+        rp$0$clock = clock;
+        count$0$clock = clock;
+        inflight$0$clock = clock;
+        wp$0$d = wp$0$q;
+        rp$0$d = rp$0$q;
+        count$0$d = count$0$q;
+        inflight$0$d = inflight$0$q;
+        e_busy$0$clock = clock;
+        e_chosen$0$clock = clock;
+        e_index$0$clock = clock;
+        e_margin$0$clock = clock;
+        e_kind$0$clock = clock;
+        e_busy$0$d = e_busy$0$q;
+        e_chosen$0$d = e_chosen$0$q;
+        e_index$0$d = e_index$0$q;
+        e_margin$0$d = e_margin$0$q;
+        e_kind$0$d = e_kind$0$q;
+        lq_wp$0$clock = clock;
+        lq_rp$0$clock = clock;
+        lq_wp$0$d = lq_wp$0$q;
+        lq_rp$0$d = lq_rp$0$q;
+        cur_valid$0$clock = clock;
+        cur_last$0$clock = clock;
+        cur_index$0$clock = clock;
+        cur_margin$0$clock = clock;
+        cur_kind$0$clock = clock;
+        cur_valid$0$d = cur_valid$0$q;
+        cur_last$0$d = cur_last$0$q;
+        cur_index$0$d = cur_index$0$q;
+        cur_margin$0$d = cur_margin$0$q;
+        cur_kind$0$d = cur_kind$0$q;
+        succ_q$0$clock = clock;
+        r1$0$clock = clock;
+        arrive_q$0$clock = clock;
+        q0v$0$clock = clock;
+        q0$0$clock = clock;
+        q1v$0$clock = clock;
+        q1$0$clock = clock;
+        succ_q$0$d = succ_q$0$q;
+        r1$0$d = r1$0$q;
+        arrive_q$0$d = arrive_q$0$q;
+        q0v$0$d = q0v$0$q;
+        q0$0$d = q0$0$q;
+        q1v$0$d = q1v$0$q;
+        q1$0$d = q1$0$q;
+        v1_valid$0$clock = clock;
+        v1_i$0$clock = clock;
+        v1_j$0$clock = clock;
+        v1_margin$0$clock = clock;
+        v1_kind$0$clock = clock;
+        v2_valid$0$clock = clock;
+        v2_i$0$clock = clock;
+        v2_j$0$clock = clock;
+        v2_margin_i$0$clock = clock;
+        v2_margin_j$0$clock = clock;
+        v2_kind$0$clock = clock;
+        v2_group_j$0$clock = clock;
+        v3_write$0$clock = clock;
+        v3_word$0$clock = clock;
+        lnext$0$clock = clock;
+        lnext2$0$clock = clock;
+        slane$0$clock = clock;
+        lnext$0$d = lnext$0$q;
+        lnext2$0$d = lnext2$0$q;
+        slane$0$d = slane$0$q;
+        kt_min$0$clock = clock;
+        kt_max$0$clock = clock;
+        lq_fill$0$clock = clock;
+        lq_fill$0$d = lq_fill$0$q;
+        e_min$0$clock = clock;
+        e_max$0$clock = clock;
         e_min$0$d = e_min$0$q;
         e_max$0$d = e_max$0$q;
-        cur_min$1$d = cur_min$1$q;
-        cur_max$1$d = cur_max$1$q;
+        cur_min$0$clock = clock;
+        cur_max$0$clock = clock;
+        cur_min$0$d = cur_min$0$q;
+        cur_max$0$d = cur_max$0$q;
+        v1_min$0$clock = clock;
+        v1_max$0$clock = clock;
+        v2_min_i$0$clock = clock;
+        v2_max_i$0$clock = clock;
+        v2_min_j$0$clock = clock;
+        v2_max_j$0$clock = clock;
+        v2_wl$0$clock = clock;
+        v2_wh$0$clock = clock;
+        v2_jc$0$clock = clock;
+        kt_min$1$clock = clock;
+        kt_max$1$clock = clock;
+        lq_fill$1$clock = clock;
+        lq_fill$1$d = lq_fill$1$q;
+        e_min$1$clock = clock;
+        e_max$1$clock = clock;
         e_min$1$d = e_min$1$q;
         e_max$1$d = e_max$1$q;
-        cur_min$2$d = cur_min$2$q;
-        cur_max$2$d = cur_max$2$q;
+        cur_min$1$clock = clock;
+        cur_max$1$clock = clock;
+        cur_min$1$d = cur_min$1$q;
+        cur_max$1$d = cur_max$1$q;
+        v1_min$1$clock = clock;
+        v1_max$1$clock = clock;
+        v2_min_i$1$clock = clock;
+        v2_max_i$1$clock = clock;
+        v2_min_j$1$clock = clock;
+        v2_max_j$1$clock = clock;
+        v2_wl$1$clock = clock;
+        v2_wh$1$clock = clock;
+        v2_jc$1$clock = clock;
+        kt_min$2$clock = clock;
+        kt_max$2$clock = clock;
+        lq_fill$2$clock = clock;
+        lq_fill$2$d = lq_fill$2$q;
+        e_min$2$clock = clock;
+        e_max$2$clock = clock;
         e_min$2$d = e_min$2$q;
         e_max$2$d = e_max$2$q;
+        cur_min$2$clock = clock;
+        cur_max$2$clock = clock;
+        cur_min$2$d = cur_min$2$q;
+        cur_max$2$d = cur_max$2$q;
+        v1_min$2$clock = clock;
+        v1_max$2$clock = clock;
+        v2_min_i$2$clock = clock;
+        v2_max_i$2$clock = clock;
+        v2_min_j$2$clock = clock;
+        v2_max_j$2$clock = clock;
+        v2_wl$2$clock = clock;
+        v2_wh$2$clock = clock;
+        v2_jc$2$clock = clock;
+        bank_left$0$clock = clock;
+        bank_left$1$clock = clock;
+        bank_left$2$clock = clock;
+        bank_left$3$clock = clock;
+        bank_left$4$clock = clock;
+        bank_left$5$clock = clock;
+        bank_left$6$clock = clock;
+        bank_left$7$clock = clock;
+        bank_left$8$clock = clock;
+        bank_left$9$clock = clock;
+        bank_left$10$clock = clock;
+        bank_left$11$clock = clock;
+        bank_left$12$clock = clock;
+        bank_left$13$clock = clock;
+        bank_left$14$clock = clock;
+        bank_left$15$clock = clock;
+        bank_left$16$clock = clock;
+        bank_left$17$clock = clock;
+        bank_left$18$clock = clock;
+        bank_left$19$clock = clock;
+        bank_left$20$clock = clock;
+        bank_left$21$clock = clock;
+        bank_left$22$clock = clock;
+        bank_left$23$clock = clock;
+        bank_left$24$clock = clock;
+        bank_left$25$clock = clock;
+        bank_left$26$clock = clock;
         key_min$0 = key_min_x;
         key_min$1 = key_min_y;
         key_min$2 = key_min_z;
         key_max$0 = key_max_x;
         key_max$1 = key_max_y;
         key_max$2 = key_max_z;
-        rd_min$0 = rd_min_x;
-        rd_min$1 = rd_min_y;
-        rd_min$2 = rd_min_z;
-        rd_max$0 = rd_max_x;
-        rd_max$1 = rd_max_y;
-        rd_max$2 = rd_max_z;
-        idle = loaded & (inflight$q == 32'h0);
+        key_addr = ((key_index) & 16'hffff) >> lane_shift;
+        key_lane$0 = (key_index & key_lane_mask) == key_lane_id$0;
+        kt_min$0$write_enable = key_valid & key_lane$0;
+        kt_min$0$write_address = key_addr;
+        kt_min$0$write_data = key_min$0;
+        kt_min$0$read_address_a = 32'h0;
+        rd_min$0 = kt_min$0$read_data_b;
+        kt_max$0$write_enable = key_valid & key_lane$0;
+        kt_max$0$write_address = key_addr;
+        kt_max$0$write_data = key_max$0;
+        kt_max$0$read_address_a = 32'h0;
+        rd_max$0 = kt_max$0$read_data_b;
+        kt_min$1$write_enable = key_valid & key_lane$0;
+        kt_min$1$write_address = key_addr;
+        kt_min$1$write_data = key_min$1;
+        kt_min$1$read_address_a = 32'h0;
+        rd_min$1 = kt_min$1$read_data_b;
+        kt_max$1$write_enable = key_valid & key_lane$0;
+        kt_max$1$write_address = key_addr;
+        kt_max$1$write_data = key_max$1;
+        kt_max$1$read_address_a = 32'h0;
+        rd_max$1 = kt_max$1$read_data_b;
+        kt_min$2$write_enable = key_valid & key_lane$0;
+        kt_min$2$write_address = key_addr;
+        kt_min$2$write_data = key_min$2;
+        kt_min$2$read_address_a = 32'h0;
+        rd_min$2 = kt_min$2$read_data_b;
+        kt_max$2$write_enable = key_valid & key_lane$0;
+        kt_max$2$write_address = key_addr;
+        kt_max$2$write_data = key_max$2;
+        kt_max$2$read_address_a = 32'h0;
+        rd_max$2 = kt_max$2$read_data_b;
+        kt_margin$0$write_enable = key_valid & key_lane$0;
+        kt_margin$0$write_address = key_addr;
+        kt_margin$0$write_data = key_margin;
+        kt_margin$0$read_address_a = 32'h0;
+        rd_margin$0 = kt_margin$0$read_data_b;
+        kt_group$0$write_enable = key_valid & key_lane$0;
+        kt_group$0$write_address = key_addr;
+        kt_group$0$write_data = key_group;
+        kt_group$0$read_address_a = 32'h0;
+        rd_group$0 = kt_group$0$read_data_b;
+        idle = loaded;
+        lprior$0 = 1'b0;
+        lhead = 32'h0;
+        idle = idle & (inflight$0$q == 32'h0);
+        lfirst$0 = ((lnext$0$q & top) != 32'h0) & ~lprior$0;
+        lprior$1 = lprior$0 | ((lnext$0$q & top) != 32'h0);
+        lpick$0 = 32'h0;
+        if (lfirst$0) begin
+            lpick$0 = lnext$0$q;
+        end
+        lhead = lhead | lpick$0;
+        large_left = (lhead & top) != 32'h0;
         fetch = 1'b0;
         inject = 1'b0;
         inject_kind = 32'h0;
@@ -27269,10 +27398,13 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             SlowState$Fetch:
                 begin
                     if (idle) begin
-                        if ((lnext$q & top) != 32'h0) begin
+                        if (large_left) begin
                             fetch = 1'b1;
-                            lcur$d = lnext$q ^ top;
-                            lnext$d = lnext2$q;
+                            lcur$d = lhead ^ top;
+                            slane$0$d = lfirst$0;
+                            if (lfirst$0) begin
+                                lnext$0$d = lnext2$0$q;
+                            end
                             slow$d = SlowState$Address;
                         end
                         else begin
@@ -27286,22 +27418,26 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
                 end
             SlowState$Read:
                 begin
-                    lmargin$d = rd_margin;
-                    lgroup$d = rd_group;
-                    lk_min$0$d = rd_min$0;
-                    lk_lim$0$d = (rd_min$0 >> cell_bits) + max_span;
-                    lk_max$0$d = rd_max$0;
-                    lk_min$1$d = rd_min$1;
-                    lk_lim$1$d = (rd_min$1 >> cell_bits) + max_span;
-                    lk_max$1$d = rd_max$1;
-                    lk_min$2$d = rd_min$2;
-                    lk_lim$2$d = (rd_min$2 >> cell_bits) + max_span;
-                    lk_max$2$d = rd_max$2;
+                    if (slane$0$q) begin
+                        lmargin$d = rd_margin$0;
+                        lgroup$d = rd_group$0;
+                        lk_min$0$d = rd_min$0;
+                        lk_lim$0$d = (rd_min$0 >> cell_bits) + max_span;
+                        lk_max$0$d = rd_max$0;
+                        lk_min$1$d = rd_min$1;
+                        lk_lim$1$d = (rd_min$1 >> cell_bits) + max_span;
+                        lk_max$1$d = rd_max$1;
+                        lk_min$2$d = rd_min$2;
+                        lk_lim$2$d = (rd_min$2 >> cell_bits) + max_span;
+                        lk_max$2$d = rd_max$2;
+                    end
                     slow$d = SlowState$Plan;
                 end
             SlowState$Plan:
                 begin
-                    lnext2$d = succ_q$q;
+                    if (slane$0$q) begin
+                        lnext2$0$d = succ_q$0$q;
+                    end
                     wlo$0$d = plan_lo$0;
                     wspan$0$d = plan_span$0;
                     rleft$0$d = plan_span$0;
@@ -27343,7 +27479,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
                                     rr$2$d = next_rr$2;
                                     rleft$2$d = next_left$2;
                                 end
-                                else if ((lnext$q & top) != 32'h0) begin
+                                else if (large_left) begin
                                     slow$d = SlowState$Partner;
                                 end
                                 else begin
@@ -27435,6 +27571,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         allowed = mask >> (((s2_group$q) & 64'hffffffffffffffff) << 64'h3);
         s3_allowed$d = allowed;
         entry = s3_index$q | top;
+        s3_lane$0$d = (s2_index$q & lane_mask) == lane_id$0;
+        s4_lane$0$d = s3_lane$0$q;
+        s5_lane$0$d = s4_lane$0$q;
         meta$0$read_address = cells$bucket$0;
         head$0$read_address = cells$bucket$0;
         allow$0 = s3_allowed$q >> list_group$0;
@@ -27443,7 +27582,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$0$d = head$0$read_data;
         s4_old2$0$d = head2$0$read_data;
         s4_walk$0$d = s3_valid$q & cells$small_box & cells$inside$0 & allow$0[32'h0];
-        s4_enter$0$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & (s3_group$q == list_group$0);
+        s4_enter$0$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & (s3_group$q == list_group$0) & s3_lane$0$q;
         meta$1$read_address = cells$bucket$1;
         head$1$read_address = cells$bucket$1;
         allow$1 = s3_allowed$q >> list_group$1;
@@ -27452,7 +27591,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$1$d = head$1$read_data;
         s4_old2$1$d = head2$1$read_data;
         s4_walk$1$d = s3_valid$q & cells$small_box & cells$inside$1 & allow$1[32'h0];
-        s4_enter$1$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & (s3_group$q == list_group$1);
+        s4_enter$1$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & (s3_group$q == list_group$1) & s3_lane$0$q;
         meta$2$read_address = cells$bucket$2;
         head$2$read_address = cells$bucket$2;
         allow$2 = s3_allowed$q >> list_group$2;
@@ -27461,7 +27600,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$2$d = head$2$read_data;
         s4_old2$2$d = head2$2$read_data;
         s4_walk$2$d = s3_valid$q & cells$small_box & cells$inside$2 & allow$2[32'h0];
-        s4_enter$2$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & (s3_group$q == list_group$2);
+        s4_enter$2$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & (s3_group$q == list_group$2) & s3_lane$0$q;
         meta$3$read_address = cells$bucket$3;
         head$3$read_address = cells$bucket$3;
         allow$3 = s3_allowed$q >> list_group$3;
@@ -27470,7 +27609,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$3$d = head$3$read_data;
         s4_old2$3$d = head2$3$read_data;
         s4_walk$3$d = s3_valid$q & cells$small_box & cells$inside$3 & allow$3[32'h0];
-        s4_enter$3$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & (s3_group$q == list_group$3);
+        s4_enter$3$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & (s3_group$q == list_group$3) & s3_lane$0$q;
         meta$4$read_address = cells$bucket$4;
         head$4$read_address = cells$bucket$4;
         allow$4 = s3_allowed$q >> list_group$4;
@@ -27479,7 +27618,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$4$d = head$4$read_data;
         s4_old2$4$d = head2$4$read_data;
         s4_walk$4$d = s3_valid$q & cells$small_box & cells$inside$4 & allow$4[32'h0];
-        s4_enter$4$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & (s3_group$q == list_group$4);
+        s4_enter$4$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & (s3_group$q == list_group$4) & s3_lane$0$q;
         meta$5$read_address = cells$bucket$5;
         head$5$read_address = cells$bucket$5;
         allow$5 = s3_allowed$q >> list_group$5;
@@ -27488,7 +27627,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$5$d = head$5$read_data;
         s4_old2$5$d = head2$5$read_data;
         s4_walk$5$d = s3_valid$q & cells$small_box & cells$inside$5 & allow$5[32'h0];
-        s4_enter$5$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & (s3_group$q == list_group$5);
+        s4_enter$5$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & (s3_group$q == list_group$5) & s3_lane$0$q;
         meta$6$read_address = cells$bucket$6;
         head$6$read_address = cells$bucket$6;
         allow$6 = s3_allowed$q >> list_group$6;
@@ -27497,7 +27636,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$6$d = head$6$read_data;
         s4_old2$6$d = head2$6$read_data;
         s4_walk$6$d = s3_valid$q & cells$small_box & cells$inside$6 & allow$6[32'h0];
-        s4_enter$6$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & (s3_group$q == list_group$6);
+        s4_enter$6$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & (s3_group$q == list_group$6) & s3_lane$0$q;
         meta$7$read_address = cells$bucket$7;
         head$7$read_address = cells$bucket$7;
         allow$7 = s3_allowed$q >> list_group$7;
@@ -27506,7 +27645,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$7$d = head$7$read_data;
         s4_old2$7$d = head2$7$read_data;
         s4_walk$7$d = s3_valid$q & cells$small_box & cells$inside$7 & allow$7[32'h0];
-        s4_enter$7$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & (s3_group$q == list_group$7);
+        s4_enter$7$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & (s3_group$q == list_group$7) & s3_lane$0$q;
         meta$8$read_address = cells$bucket$8;
         head$8$read_address = cells$bucket$8;
         allow$8 = s3_allowed$q >> list_group$8;
@@ -27515,7 +27654,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$8$d = head$8$read_data;
         s4_old2$8$d = head2$8$read_data;
         s4_walk$8$d = s3_valid$q & cells$small_box & cells$inside$8 & allow$8[32'h0];
-        s4_enter$8$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & (s3_group$q == list_group$8);
+        s4_enter$8$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & (s3_group$q == list_group$8) & s3_lane$0$q;
         meta$9$read_address = cells$bucket$9;
         head$9$read_address = cells$bucket$9;
         allow$9 = s3_allowed$q >> list_group$9;
@@ -27524,7 +27663,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$9$d = head$9$read_data;
         s4_old2$9$d = head2$9$read_data;
         s4_walk$9$d = s3_valid$q & cells$small_box & cells$inside$9 & allow$9[32'h0];
-        s4_enter$9$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & (s3_group$q == list_group$9);
+        s4_enter$9$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & (s3_group$q == list_group$9) & s3_lane$0$q;
         meta$10$read_address = cells$bucket$10;
         head$10$read_address = cells$bucket$10;
         allow$10 = s3_allowed$q >> list_group$10;
@@ -27533,7 +27672,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$10$d = head$10$read_data;
         s4_old2$10$d = head2$10$read_data;
         s4_walk$10$d = s3_valid$q & cells$small_box & cells$inside$10 & allow$10[32'h0];
-        s4_enter$10$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & (s3_group$q == list_group$10);
+        s4_enter$10$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & (s3_group$q == list_group$10) & s3_lane$0$q;
         meta$11$read_address = cells$bucket$11;
         head$11$read_address = cells$bucket$11;
         allow$11 = s3_allowed$q >> list_group$11;
@@ -27542,7 +27681,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$11$d = head$11$read_data;
         s4_old2$11$d = head2$11$read_data;
         s4_walk$11$d = s3_valid$q & cells$small_box & cells$inside$11 & allow$11[32'h0];
-        s4_enter$11$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & (s3_group$q == list_group$11);
+        s4_enter$11$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & (s3_group$q == list_group$11) & s3_lane$0$q;
         meta$12$read_address = cells$bucket$12;
         head$12$read_address = cells$bucket$12;
         allow$12 = s3_allowed$q >> list_group$12;
@@ -27551,7 +27690,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$12$d = head$12$read_data;
         s4_old2$12$d = head2$12$read_data;
         s4_walk$12$d = s3_valid$q & cells$small_box & cells$inside$12 & allow$12[32'h0];
-        s4_enter$12$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & (s3_group$q == list_group$12);
+        s4_enter$12$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & (s3_group$q == list_group$12) & s3_lane$0$q;
         meta$13$read_address = cells$bucket$13;
         head$13$read_address = cells$bucket$13;
         allow$13 = s3_allowed$q >> list_group$13;
@@ -27560,7 +27699,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$13$d = head$13$read_data;
         s4_old2$13$d = head2$13$read_data;
         s4_walk$13$d = s3_valid$q & cells$small_box & cells$inside$13 & allow$13[32'h0];
-        s4_enter$13$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & (s3_group$q == list_group$13);
+        s4_enter$13$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & (s3_group$q == list_group$13) & s3_lane$0$q;
         meta$14$read_address = cells$bucket$14;
         head$14$read_address = cells$bucket$14;
         allow$14 = s3_allowed$q >> list_group$14;
@@ -27569,7 +27708,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$14$d = head$14$read_data;
         s4_old2$14$d = head2$14$read_data;
         s4_walk$14$d = s3_valid$q & cells$small_box & cells$inside$14 & allow$14[32'h0];
-        s4_enter$14$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & (s3_group$q == list_group$14);
+        s4_enter$14$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & (s3_group$q == list_group$14) & s3_lane$0$q;
         meta$15$read_address = cells$bucket$15;
         head$15$read_address = cells$bucket$15;
         allow$15 = s3_allowed$q >> list_group$15;
@@ -27578,7 +27717,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$15$d = head$15$read_data;
         s4_old2$15$d = head2$15$read_data;
         s4_walk$15$d = s3_valid$q & cells$small_box & cells$inside$15 & allow$15[32'h0];
-        s4_enter$15$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & (s3_group$q == list_group$15);
+        s4_enter$15$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & (s3_group$q == list_group$15) & s3_lane$0$q;
         meta$16$read_address = cells$bucket$16;
         head$16$read_address = cells$bucket$16;
         allow$16 = s3_allowed$q >> list_group$16;
@@ -27587,7 +27726,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$16$d = head$16$read_data;
         s4_old2$16$d = head2$16$read_data;
         s4_walk$16$d = s3_valid$q & cells$small_box & cells$inside$16 & allow$16[32'h0];
-        s4_enter$16$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & (s3_group$q == list_group$16);
+        s4_enter$16$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & (s3_group$q == list_group$16) & s3_lane$0$q;
         meta$17$read_address = cells$bucket$17;
         head$17$read_address = cells$bucket$17;
         allow$17 = s3_allowed$q >> list_group$17;
@@ -27596,7 +27735,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$17$d = head$17$read_data;
         s4_old2$17$d = head2$17$read_data;
         s4_walk$17$d = s3_valid$q & cells$small_box & cells$inside$17 & allow$17[32'h0];
-        s4_enter$17$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & (s3_group$q == list_group$17);
+        s4_enter$17$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & (s3_group$q == list_group$17) & s3_lane$0$q;
         meta$18$read_address = cells$bucket$18;
         head$18$read_address = cells$bucket$18;
         allow$18 = s3_allowed$q >> list_group$18;
@@ -27605,7 +27744,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$18$d = head$18$read_data;
         s4_old2$18$d = head2$18$read_data;
         s4_walk$18$d = s3_valid$q & cells$small_box & cells$inside$18 & allow$18[32'h0];
-        s4_enter$18$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & (s3_group$q == list_group$18);
+        s4_enter$18$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & (s3_group$q == list_group$18) & s3_lane$0$q;
         meta$19$read_address = cells$bucket$19;
         head$19$read_address = cells$bucket$19;
         allow$19 = s3_allowed$q >> list_group$19;
@@ -27614,7 +27753,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$19$d = head$19$read_data;
         s4_old2$19$d = head2$19$read_data;
         s4_walk$19$d = s3_valid$q & cells$small_box & cells$inside$19 & allow$19[32'h0];
-        s4_enter$19$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & (s3_group$q == list_group$19);
+        s4_enter$19$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & (s3_group$q == list_group$19) & s3_lane$0$q;
         meta$20$read_address = cells$bucket$20;
         head$20$read_address = cells$bucket$20;
         allow$20 = s3_allowed$q >> list_group$20;
@@ -27623,7 +27762,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$20$d = head$20$read_data;
         s4_old2$20$d = head2$20$read_data;
         s4_walk$20$d = s3_valid$q & cells$small_box & cells$inside$20 & allow$20[32'h0];
-        s4_enter$20$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & (s3_group$q == list_group$20);
+        s4_enter$20$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & (s3_group$q == list_group$20) & s3_lane$0$q;
         meta$21$read_address = cells$bucket$21;
         head$21$read_address = cells$bucket$21;
         allow$21 = s3_allowed$q >> list_group$21;
@@ -27632,7 +27771,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$21$d = head$21$read_data;
         s4_old2$21$d = head2$21$read_data;
         s4_walk$21$d = s3_valid$q & cells$small_box & cells$inside$21 & allow$21[32'h0];
-        s4_enter$21$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & (s3_group$q == list_group$21);
+        s4_enter$21$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & (s3_group$q == list_group$21) & s3_lane$0$q;
         meta$22$read_address = cells$bucket$22;
         head$22$read_address = cells$bucket$22;
         allow$22 = s3_allowed$q >> list_group$22;
@@ -27641,7 +27780,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$22$d = head$22$read_data;
         s4_old2$22$d = head2$22$read_data;
         s4_walk$22$d = s3_valid$q & cells$small_box & cells$inside$22 & allow$22[32'h0];
-        s4_enter$22$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & (s3_group$q == list_group$22);
+        s4_enter$22$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & (s3_group$q == list_group$22) & s3_lane$0$q;
         meta$23$read_address = cells$bucket$23;
         head$23$read_address = cells$bucket$23;
         allow$23 = s3_allowed$q >> list_group$23;
@@ -27650,7 +27789,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$23$d = head$23$read_data;
         s4_old2$23$d = head2$23$read_data;
         s4_walk$23$d = s3_valid$q & cells$small_box & cells$inside$23 & allow$23[32'h0];
-        s4_enter$23$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & (s3_group$q == list_group$23);
+        s4_enter$23$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & (s3_group$q == list_group$23) & s3_lane$0$q;
         meta$24$read_address = cells$bucket$24;
         head$24$read_address = cells$bucket$24;
         allow$24 = s3_allowed$q >> list_group$24;
@@ -27659,7 +27798,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$24$d = head$24$read_data;
         s4_old2$24$d = head2$24$read_data;
         s4_walk$24$d = s3_valid$q & cells$small_box & cells$inside$24 & allow$24[32'h0];
-        s4_enter$24$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & (s3_group$q == list_group$24);
+        s4_enter$24$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & (s3_group$q == list_group$24) & s3_lane$0$q;
         meta$25$read_address = cells$bucket$25;
         head$25$read_address = cells$bucket$25;
         allow$25 = s3_allowed$q >> list_group$25;
@@ -27668,7 +27807,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$25$d = head$25$read_data;
         s4_old2$25$d = head2$25$read_data;
         s4_walk$25$d = s3_valid$q & cells$small_box & cells$inside$25 & allow$25[32'h0];
-        s4_enter$25$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & (s3_group$q == list_group$25);
+        s4_enter$25$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & (s3_group$q == list_group$25) & s3_lane$0$q;
         meta$26$read_address = cells$bucket$26;
         head$26$read_address = cells$bucket$26;
         allow$26 = s3_allowed$q >> list_group$26;
@@ -27677,7 +27816,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$26$d = head$26$read_data;
         s4_old2$26$d = head2$26$read_data;
         s4_walk$26$d = s3_valid$q & cells$small_box & cells$inside$26 & allow$26[32'h0];
-        s4_enter$26$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & (s3_group$q == list_group$26);
+        s4_enter$26$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & (s3_group$q == list_group$26) & s3_lane$0$q;
         meta$27$read_address = cells$bucket$0;
         head$27$read_address = cells$bucket$0;
         allow$27 = s3_allowed$q >> list_group$27;
@@ -27686,7 +27825,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$27$d = head$27$read_data;
         s4_old2$27$d = head2$27$read_data;
         s4_walk$27$d = s3_valid$q & cells$small_box & cells$inside$0 & allow$27[32'h0];
-        s4_enter$27$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & (s3_group$q == list_group$27);
+        s4_enter$27$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & (s3_group$q == list_group$27) & s3_lane$0$q;
         meta$28$read_address = cells$bucket$1;
         head$28$read_address = cells$bucket$1;
         allow$28 = s3_allowed$q >> list_group$28;
@@ -27695,7 +27834,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$28$d = head$28$read_data;
         s4_old2$28$d = head2$28$read_data;
         s4_walk$28$d = s3_valid$q & cells$small_box & cells$inside$1 & allow$28[32'h0];
-        s4_enter$28$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & (s3_group$q == list_group$28);
+        s4_enter$28$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & (s3_group$q == list_group$28) & s3_lane$0$q;
         meta$29$read_address = cells$bucket$2;
         head$29$read_address = cells$bucket$2;
         allow$29 = s3_allowed$q >> list_group$29;
@@ -27704,7 +27843,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$29$d = head$29$read_data;
         s4_old2$29$d = head2$29$read_data;
         s4_walk$29$d = s3_valid$q & cells$small_box & cells$inside$2 & allow$29[32'h0];
-        s4_enter$29$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & (s3_group$q == list_group$29);
+        s4_enter$29$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & (s3_group$q == list_group$29) & s3_lane$0$q;
         meta$30$read_address = cells$bucket$3;
         head$30$read_address = cells$bucket$3;
         allow$30 = s3_allowed$q >> list_group$30;
@@ -27713,7 +27852,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$30$d = head$30$read_data;
         s4_old2$30$d = head2$30$read_data;
         s4_walk$30$d = s3_valid$q & cells$small_box & cells$inside$3 & allow$30[32'h0];
-        s4_enter$30$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & (s3_group$q == list_group$30);
+        s4_enter$30$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & (s3_group$q == list_group$30) & s3_lane$0$q;
         meta$31$read_address = cells$bucket$4;
         head$31$read_address = cells$bucket$4;
         allow$31 = s3_allowed$q >> list_group$31;
@@ -27722,7 +27861,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$31$d = head$31$read_data;
         s4_old2$31$d = head2$31$read_data;
         s4_walk$31$d = s3_valid$q & cells$small_box & cells$inside$4 & allow$31[32'h0];
-        s4_enter$31$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & (s3_group$q == list_group$31);
+        s4_enter$31$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & (s3_group$q == list_group$31) & s3_lane$0$q;
         meta$32$read_address = cells$bucket$5;
         head$32$read_address = cells$bucket$5;
         allow$32 = s3_allowed$q >> list_group$32;
@@ -27731,7 +27870,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$32$d = head$32$read_data;
         s4_old2$32$d = head2$32$read_data;
         s4_walk$32$d = s3_valid$q & cells$small_box & cells$inside$5 & allow$32[32'h0];
-        s4_enter$32$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & (s3_group$q == list_group$32);
+        s4_enter$32$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & (s3_group$q == list_group$32) & s3_lane$0$q;
         meta$33$read_address = cells$bucket$6;
         head$33$read_address = cells$bucket$6;
         allow$33 = s3_allowed$q >> list_group$33;
@@ -27740,7 +27879,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$33$d = head$33$read_data;
         s4_old2$33$d = head2$33$read_data;
         s4_walk$33$d = s3_valid$q & cells$small_box & cells$inside$6 & allow$33[32'h0];
-        s4_enter$33$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & (s3_group$q == list_group$33);
+        s4_enter$33$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & (s3_group$q == list_group$33) & s3_lane$0$q;
         meta$34$read_address = cells$bucket$7;
         head$34$read_address = cells$bucket$7;
         allow$34 = s3_allowed$q >> list_group$34;
@@ -27749,7 +27888,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$34$d = head$34$read_data;
         s4_old2$34$d = head2$34$read_data;
         s4_walk$34$d = s3_valid$q & cells$small_box & cells$inside$7 & allow$34[32'h0];
-        s4_enter$34$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & (s3_group$q == list_group$34);
+        s4_enter$34$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & (s3_group$q == list_group$34) & s3_lane$0$q;
         meta$35$read_address = cells$bucket$8;
         head$35$read_address = cells$bucket$8;
         allow$35 = s3_allowed$q >> list_group$35;
@@ -27758,7 +27897,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$35$d = head$35$read_data;
         s4_old2$35$d = head2$35$read_data;
         s4_walk$35$d = s3_valid$q & cells$small_box & cells$inside$8 & allow$35[32'h0];
-        s4_enter$35$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & (s3_group$q == list_group$35);
+        s4_enter$35$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & (s3_group$q == list_group$35) & s3_lane$0$q;
         meta$36$read_address = cells$bucket$9;
         head$36$read_address = cells$bucket$9;
         allow$36 = s3_allowed$q >> list_group$36;
@@ -27767,7 +27906,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$36$d = head$36$read_data;
         s4_old2$36$d = head2$36$read_data;
         s4_walk$36$d = s3_valid$q & cells$small_box & cells$inside$9 & allow$36[32'h0];
-        s4_enter$36$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & (s3_group$q == list_group$36);
+        s4_enter$36$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & (s3_group$q == list_group$36) & s3_lane$0$q;
         meta$37$read_address = cells$bucket$10;
         head$37$read_address = cells$bucket$10;
         allow$37 = s3_allowed$q >> list_group$37;
@@ -27776,7 +27915,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$37$d = head$37$read_data;
         s4_old2$37$d = head2$37$read_data;
         s4_walk$37$d = s3_valid$q & cells$small_box & cells$inside$10 & allow$37[32'h0];
-        s4_enter$37$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & (s3_group$q == list_group$37);
+        s4_enter$37$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & (s3_group$q == list_group$37) & s3_lane$0$q;
         meta$38$read_address = cells$bucket$11;
         head$38$read_address = cells$bucket$11;
         allow$38 = s3_allowed$q >> list_group$38;
@@ -27785,7 +27924,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$38$d = head$38$read_data;
         s4_old2$38$d = head2$38$read_data;
         s4_walk$38$d = s3_valid$q & cells$small_box & cells$inside$11 & allow$38[32'h0];
-        s4_enter$38$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & (s3_group$q == list_group$38);
+        s4_enter$38$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & (s3_group$q == list_group$38) & s3_lane$0$q;
         meta$39$read_address = cells$bucket$12;
         head$39$read_address = cells$bucket$12;
         allow$39 = s3_allowed$q >> list_group$39;
@@ -27794,7 +27933,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$39$d = head$39$read_data;
         s4_old2$39$d = head2$39$read_data;
         s4_walk$39$d = s3_valid$q & cells$small_box & cells$inside$12 & allow$39[32'h0];
-        s4_enter$39$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & (s3_group$q == list_group$39);
+        s4_enter$39$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & (s3_group$q == list_group$39) & s3_lane$0$q;
         meta$40$read_address = cells$bucket$13;
         head$40$read_address = cells$bucket$13;
         allow$40 = s3_allowed$q >> list_group$40;
@@ -27803,7 +27942,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$40$d = head$40$read_data;
         s4_old2$40$d = head2$40$read_data;
         s4_walk$40$d = s3_valid$q & cells$small_box & cells$inside$13 & allow$40[32'h0];
-        s4_enter$40$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & (s3_group$q == list_group$40);
+        s4_enter$40$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & (s3_group$q == list_group$40) & s3_lane$0$q;
         meta$41$read_address = cells$bucket$14;
         head$41$read_address = cells$bucket$14;
         allow$41 = s3_allowed$q >> list_group$41;
@@ -27812,7 +27951,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$41$d = head$41$read_data;
         s4_old2$41$d = head2$41$read_data;
         s4_walk$41$d = s3_valid$q & cells$small_box & cells$inside$14 & allow$41[32'h0];
-        s4_enter$41$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & (s3_group$q == list_group$41);
+        s4_enter$41$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & (s3_group$q == list_group$41) & s3_lane$0$q;
         meta$42$read_address = cells$bucket$15;
         head$42$read_address = cells$bucket$15;
         allow$42 = s3_allowed$q >> list_group$42;
@@ -27821,7 +27960,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$42$d = head$42$read_data;
         s4_old2$42$d = head2$42$read_data;
         s4_walk$42$d = s3_valid$q & cells$small_box & cells$inside$15 & allow$42[32'h0];
-        s4_enter$42$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & (s3_group$q == list_group$42);
+        s4_enter$42$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & (s3_group$q == list_group$42) & s3_lane$0$q;
         meta$43$read_address = cells$bucket$16;
         head$43$read_address = cells$bucket$16;
         allow$43 = s3_allowed$q >> list_group$43;
@@ -27830,7 +27969,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$43$d = head$43$read_data;
         s4_old2$43$d = head2$43$read_data;
         s4_walk$43$d = s3_valid$q & cells$small_box & cells$inside$16 & allow$43[32'h0];
-        s4_enter$43$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & (s3_group$q == list_group$43);
+        s4_enter$43$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & (s3_group$q == list_group$43) & s3_lane$0$q;
         meta$44$read_address = cells$bucket$17;
         head$44$read_address = cells$bucket$17;
         allow$44 = s3_allowed$q >> list_group$44;
@@ -27839,7 +27978,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$44$d = head$44$read_data;
         s4_old2$44$d = head2$44$read_data;
         s4_walk$44$d = s3_valid$q & cells$small_box & cells$inside$17 & allow$44[32'h0];
-        s4_enter$44$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & (s3_group$q == list_group$44);
+        s4_enter$44$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & (s3_group$q == list_group$44) & s3_lane$0$q;
         meta$45$read_address = cells$bucket$18;
         head$45$read_address = cells$bucket$18;
         allow$45 = s3_allowed$q >> list_group$45;
@@ -27848,7 +27987,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$45$d = head$45$read_data;
         s4_old2$45$d = head2$45$read_data;
         s4_walk$45$d = s3_valid$q & cells$small_box & cells$inside$18 & allow$45[32'h0];
-        s4_enter$45$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & (s3_group$q == list_group$45);
+        s4_enter$45$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & (s3_group$q == list_group$45) & s3_lane$0$q;
         meta$46$read_address = cells$bucket$19;
         head$46$read_address = cells$bucket$19;
         allow$46 = s3_allowed$q >> list_group$46;
@@ -27857,7 +27996,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$46$d = head$46$read_data;
         s4_old2$46$d = head2$46$read_data;
         s4_walk$46$d = s3_valid$q & cells$small_box & cells$inside$19 & allow$46[32'h0];
-        s4_enter$46$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & (s3_group$q == list_group$46);
+        s4_enter$46$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & (s3_group$q == list_group$46) & s3_lane$0$q;
         meta$47$read_address = cells$bucket$20;
         head$47$read_address = cells$bucket$20;
         allow$47 = s3_allowed$q >> list_group$47;
@@ -27866,7 +28005,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$47$d = head$47$read_data;
         s4_old2$47$d = head2$47$read_data;
         s4_walk$47$d = s3_valid$q & cells$small_box & cells$inside$20 & allow$47[32'h0];
-        s4_enter$47$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & (s3_group$q == list_group$47);
+        s4_enter$47$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & (s3_group$q == list_group$47) & s3_lane$0$q;
         meta$48$read_address = cells$bucket$21;
         head$48$read_address = cells$bucket$21;
         allow$48 = s3_allowed$q >> list_group$48;
@@ -27875,7 +28014,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$48$d = head$48$read_data;
         s4_old2$48$d = head2$48$read_data;
         s4_walk$48$d = s3_valid$q & cells$small_box & cells$inside$21 & allow$48[32'h0];
-        s4_enter$48$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & (s3_group$q == list_group$48);
+        s4_enter$48$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & (s3_group$q == list_group$48) & s3_lane$0$q;
         meta$49$read_address = cells$bucket$22;
         head$49$read_address = cells$bucket$22;
         allow$49 = s3_allowed$q >> list_group$49;
@@ -27884,7 +28023,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$49$d = head$49$read_data;
         s4_old2$49$d = head2$49$read_data;
         s4_walk$49$d = s3_valid$q & cells$small_box & cells$inside$22 & allow$49[32'h0];
-        s4_enter$49$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & (s3_group$q == list_group$49);
+        s4_enter$49$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & (s3_group$q == list_group$49) & s3_lane$0$q;
         meta$50$read_address = cells$bucket$23;
         head$50$read_address = cells$bucket$23;
         allow$50 = s3_allowed$q >> list_group$50;
@@ -27893,7 +28032,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$50$d = head$50$read_data;
         s4_old2$50$d = head2$50$read_data;
         s4_walk$50$d = s3_valid$q & cells$small_box & cells$inside$23 & allow$50[32'h0];
-        s4_enter$50$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & (s3_group$q == list_group$50);
+        s4_enter$50$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & (s3_group$q == list_group$50) & s3_lane$0$q;
         meta$51$read_address = cells$bucket$24;
         head$51$read_address = cells$bucket$24;
         allow$51 = s3_allowed$q >> list_group$51;
@@ -27902,7 +28041,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$51$d = head$51$read_data;
         s4_old2$51$d = head2$51$read_data;
         s4_walk$51$d = s3_valid$q & cells$small_box & cells$inside$24 & allow$51[32'h0];
-        s4_enter$51$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & (s3_group$q == list_group$51);
+        s4_enter$51$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & (s3_group$q == list_group$51) & s3_lane$0$q;
         meta$52$read_address = cells$bucket$25;
         head$52$read_address = cells$bucket$25;
         allow$52 = s3_allowed$q >> list_group$52;
@@ -27911,7 +28050,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$52$d = head$52$read_data;
         s4_old2$52$d = head2$52$read_data;
         s4_walk$52$d = s3_valid$q & cells$small_box & cells$inside$25 & allow$52[32'h0];
-        s4_enter$52$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & (s3_group$q == list_group$52);
+        s4_enter$52$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & (s3_group$q == list_group$52) & s3_lane$0$q;
         meta$53$read_address = cells$bucket$26;
         head$53$read_address = cells$bucket$26;
         allow$53 = s3_allowed$q >> list_group$53;
@@ -27920,7 +28059,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$53$d = head$53$read_data;
         s4_old2$53$d = head2$53$read_data;
         s4_walk$53$d = s3_valid$q & cells$small_box & cells$inside$26 & allow$53[32'h0];
-        s4_enter$53$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & (s3_group$q == list_group$53);
+        s4_enter$53$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & (s3_group$q == list_group$53) & s3_lane$0$q;
         meta$54$read_address = cells$bucket$0;
         head$54$read_address = cells$bucket$0;
         allow$54 = s3_allowed$q >> list_group$54;
@@ -27929,7 +28068,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$54$d = head$54$read_data;
         s4_old2$54$d = head2$54$read_data;
         s4_walk$54$d = s3_valid$q & cells$small_box & cells$inside$0 & allow$54[32'h0];
-        s4_enter$54$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & (s3_group$q == list_group$54);
+        s4_enter$54$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & (s3_group$q == list_group$54) & s3_lane$0$q;
         meta$55$read_address = cells$bucket$1;
         head$55$read_address = cells$bucket$1;
         allow$55 = s3_allowed$q >> list_group$55;
@@ -27938,7 +28077,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$55$d = head$55$read_data;
         s4_old2$55$d = head2$55$read_data;
         s4_walk$55$d = s3_valid$q & cells$small_box & cells$inside$1 & allow$55[32'h0];
-        s4_enter$55$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & (s3_group$q == list_group$55);
+        s4_enter$55$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & (s3_group$q == list_group$55) & s3_lane$0$q;
         meta$56$read_address = cells$bucket$2;
         head$56$read_address = cells$bucket$2;
         allow$56 = s3_allowed$q >> list_group$56;
@@ -27947,7 +28086,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$56$d = head$56$read_data;
         s4_old2$56$d = head2$56$read_data;
         s4_walk$56$d = s3_valid$q & cells$small_box & cells$inside$2 & allow$56[32'h0];
-        s4_enter$56$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & (s3_group$q == list_group$56);
+        s4_enter$56$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & (s3_group$q == list_group$56) & s3_lane$0$q;
         meta$57$read_address = cells$bucket$3;
         head$57$read_address = cells$bucket$3;
         allow$57 = s3_allowed$q >> list_group$57;
@@ -27956,7 +28095,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$57$d = head$57$read_data;
         s4_old2$57$d = head2$57$read_data;
         s4_walk$57$d = s3_valid$q & cells$small_box & cells$inside$3 & allow$57[32'h0];
-        s4_enter$57$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & (s3_group$q == list_group$57);
+        s4_enter$57$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & (s3_group$q == list_group$57) & s3_lane$0$q;
         meta$58$read_address = cells$bucket$4;
         head$58$read_address = cells$bucket$4;
         allow$58 = s3_allowed$q >> list_group$58;
@@ -27965,7 +28104,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$58$d = head$58$read_data;
         s4_old2$58$d = head2$58$read_data;
         s4_walk$58$d = s3_valid$q & cells$small_box & cells$inside$4 & allow$58[32'h0];
-        s4_enter$58$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & (s3_group$q == list_group$58);
+        s4_enter$58$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & (s3_group$q == list_group$58) & s3_lane$0$q;
         meta$59$read_address = cells$bucket$5;
         head$59$read_address = cells$bucket$5;
         allow$59 = s3_allowed$q >> list_group$59;
@@ -27974,7 +28113,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$59$d = head$59$read_data;
         s4_old2$59$d = head2$59$read_data;
         s4_walk$59$d = s3_valid$q & cells$small_box & cells$inside$5 & allow$59[32'h0];
-        s4_enter$59$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & (s3_group$q == list_group$59);
+        s4_enter$59$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & (s3_group$q == list_group$59) & s3_lane$0$q;
         meta$60$read_address = cells$bucket$6;
         head$60$read_address = cells$bucket$6;
         allow$60 = s3_allowed$q >> list_group$60;
@@ -27983,7 +28122,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$60$d = head$60$read_data;
         s4_old2$60$d = head2$60$read_data;
         s4_walk$60$d = s3_valid$q & cells$small_box & cells$inside$6 & allow$60[32'h0];
-        s4_enter$60$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & (s3_group$q == list_group$60);
+        s4_enter$60$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & (s3_group$q == list_group$60) & s3_lane$0$q;
         meta$61$read_address = cells$bucket$7;
         head$61$read_address = cells$bucket$7;
         allow$61 = s3_allowed$q >> list_group$61;
@@ -27992,7 +28131,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$61$d = head$61$read_data;
         s4_old2$61$d = head2$61$read_data;
         s4_walk$61$d = s3_valid$q & cells$small_box & cells$inside$7 & allow$61[32'h0];
-        s4_enter$61$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & (s3_group$q == list_group$61);
+        s4_enter$61$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & (s3_group$q == list_group$61) & s3_lane$0$q;
         meta$62$read_address = cells$bucket$8;
         head$62$read_address = cells$bucket$8;
         allow$62 = s3_allowed$q >> list_group$62;
@@ -28001,7 +28140,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$62$d = head$62$read_data;
         s4_old2$62$d = head2$62$read_data;
         s4_walk$62$d = s3_valid$q & cells$small_box & cells$inside$8 & allow$62[32'h0];
-        s4_enter$62$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & (s3_group$q == list_group$62);
+        s4_enter$62$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & (s3_group$q == list_group$62) & s3_lane$0$q;
         meta$63$read_address = cells$bucket$9;
         head$63$read_address = cells$bucket$9;
         allow$63 = s3_allowed$q >> list_group$63;
@@ -28010,7 +28149,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$63$d = head$63$read_data;
         s4_old2$63$d = head2$63$read_data;
         s4_walk$63$d = s3_valid$q & cells$small_box & cells$inside$9 & allow$63[32'h0];
-        s4_enter$63$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & (s3_group$q == list_group$63);
+        s4_enter$63$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & (s3_group$q == list_group$63) & s3_lane$0$q;
         meta$64$read_address = cells$bucket$10;
         head$64$read_address = cells$bucket$10;
         allow$64 = s3_allowed$q >> list_group$64;
@@ -28019,7 +28158,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$64$d = head$64$read_data;
         s4_old2$64$d = head2$64$read_data;
         s4_walk$64$d = s3_valid$q & cells$small_box & cells$inside$10 & allow$64[32'h0];
-        s4_enter$64$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & (s3_group$q == list_group$64);
+        s4_enter$64$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & (s3_group$q == list_group$64) & s3_lane$0$q;
         meta$65$read_address = cells$bucket$11;
         head$65$read_address = cells$bucket$11;
         allow$65 = s3_allowed$q >> list_group$65;
@@ -28028,7 +28167,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$65$d = head$65$read_data;
         s4_old2$65$d = head2$65$read_data;
         s4_walk$65$d = s3_valid$q & cells$small_box & cells$inside$11 & allow$65[32'h0];
-        s4_enter$65$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & (s3_group$q == list_group$65);
+        s4_enter$65$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & (s3_group$q == list_group$65) & s3_lane$0$q;
         meta$66$read_address = cells$bucket$12;
         head$66$read_address = cells$bucket$12;
         allow$66 = s3_allowed$q >> list_group$66;
@@ -28037,7 +28176,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$66$d = head$66$read_data;
         s4_old2$66$d = head2$66$read_data;
         s4_walk$66$d = s3_valid$q & cells$small_box & cells$inside$12 & allow$66[32'h0];
-        s4_enter$66$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & (s3_group$q == list_group$66);
+        s4_enter$66$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & (s3_group$q == list_group$66) & s3_lane$0$q;
         meta$67$read_address = cells$bucket$13;
         head$67$read_address = cells$bucket$13;
         allow$67 = s3_allowed$q >> list_group$67;
@@ -28046,7 +28185,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$67$d = head$67$read_data;
         s4_old2$67$d = head2$67$read_data;
         s4_walk$67$d = s3_valid$q & cells$small_box & cells$inside$13 & allow$67[32'h0];
-        s4_enter$67$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & (s3_group$q == list_group$67);
+        s4_enter$67$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & (s3_group$q == list_group$67) & s3_lane$0$q;
         meta$68$read_address = cells$bucket$14;
         head$68$read_address = cells$bucket$14;
         allow$68 = s3_allowed$q >> list_group$68;
@@ -28055,7 +28194,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$68$d = head$68$read_data;
         s4_old2$68$d = head2$68$read_data;
         s4_walk$68$d = s3_valid$q & cells$small_box & cells$inside$14 & allow$68[32'h0];
-        s4_enter$68$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & (s3_group$q == list_group$68);
+        s4_enter$68$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & (s3_group$q == list_group$68) & s3_lane$0$q;
         meta$69$read_address = cells$bucket$15;
         head$69$read_address = cells$bucket$15;
         allow$69 = s3_allowed$q >> list_group$69;
@@ -28064,7 +28203,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$69$d = head$69$read_data;
         s4_old2$69$d = head2$69$read_data;
         s4_walk$69$d = s3_valid$q & cells$small_box & cells$inside$15 & allow$69[32'h0];
-        s4_enter$69$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & (s3_group$q == list_group$69);
+        s4_enter$69$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & (s3_group$q == list_group$69) & s3_lane$0$q;
         meta$70$read_address = cells$bucket$16;
         head$70$read_address = cells$bucket$16;
         allow$70 = s3_allowed$q >> list_group$70;
@@ -28073,7 +28212,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$70$d = head$70$read_data;
         s4_old2$70$d = head2$70$read_data;
         s4_walk$70$d = s3_valid$q & cells$small_box & cells$inside$16 & allow$70[32'h0];
-        s4_enter$70$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & (s3_group$q == list_group$70);
+        s4_enter$70$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & (s3_group$q == list_group$70) & s3_lane$0$q;
         meta$71$read_address = cells$bucket$17;
         head$71$read_address = cells$bucket$17;
         allow$71 = s3_allowed$q >> list_group$71;
@@ -28082,7 +28221,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$71$d = head$71$read_data;
         s4_old2$71$d = head2$71$read_data;
         s4_walk$71$d = s3_valid$q & cells$small_box & cells$inside$17 & allow$71[32'h0];
-        s4_enter$71$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & (s3_group$q == list_group$71);
+        s4_enter$71$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & (s3_group$q == list_group$71) & s3_lane$0$q;
         meta$72$read_address = cells$bucket$18;
         head$72$read_address = cells$bucket$18;
         allow$72 = s3_allowed$q >> list_group$72;
@@ -28091,7 +28230,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$72$d = head$72$read_data;
         s4_old2$72$d = head2$72$read_data;
         s4_walk$72$d = s3_valid$q & cells$small_box & cells$inside$18 & allow$72[32'h0];
-        s4_enter$72$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & (s3_group$q == list_group$72);
+        s4_enter$72$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & (s3_group$q == list_group$72) & s3_lane$0$q;
         meta$73$read_address = cells$bucket$19;
         head$73$read_address = cells$bucket$19;
         allow$73 = s3_allowed$q >> list_group$73;
@@ -28100,7 +28239,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$73$d = head$73$read_data;
         s4_old2$73$d = head2$73$read_data;
         s4_walk$73$d = s3_valid$q & cells$small_box & cells$inside$19 & allow$73[32'h0];
-        s4_enter$73$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & (s3_group$q == list_group$73);
+        s4_enter$73$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & (s3_group$q == list_group$73) & s3_lane$0$q;
         meta$74$read_address = cells$bucket$20;
         head$74$read_address = cells$bucket$20;
         allow$74 = s3_allowed$q >> list_group$74;
@@ -28109,7 +28248,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$74$d = head$74$read_data;
         s4_old2$74$d = head2$74$read_data;
         s4_walk$74$d = s3_valid$q & cells$small_box & cells$inside$20 & allow$74[32'h0];
-        s4_enter$74$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & (s3_group$q == list_group$74);
+        s4_enter$74$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & (s3_group$q == list_group$74) & s3_lane$0$q;
         meta$75$read_address = cells$bucket$21;
         head$75$read_address = cells$bucket$21;
         allow$75 = s3_allowed$q >> list_group$75;
@@ -28118,7 +28257,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$75$d = head$75$read_data;
         s4_old2$75$d = head2$75$read_data;
         s4_walk$75$d = s3_valid$q & cells$small_box & cells$inside$21 & allow$75[32'h0];
-        s4_enter$75$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & (s3_group$q == list_group$75);
+        s4_enter$75$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & (s3_group$q == list_group$75) & s3_lane$0$q;
         meta$76$read_address = cells$bucket$22;
         head$76$read_address = cells$bucket$22;
         allow$76 = s3_allowed$q >> list_group$76;
@@ -28127,7 +28266,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$76$d = head$76$read_data;
         s4_old2$76$d = head2$76$read_data;
         s4_walk$76$d = s3_valid$q & cells$small_box & cells$inside$22 & allow$76[32'h0];
-        s4_enter$76$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & (s3_group$q == list_group$76);
+        s4_enter$76$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & (s3_group$q == list_group$76) & s3_lane$0$q;
         meta$77$read_address = cells$bucket$23;
         head$77$read_address = cells$bucket$23;
         allow$77 = s3_allowed$q >> list_group$77;
@@ -28136,7 +28275,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$77$d = head$77$read_data;
         s4_old2$77$d = head2$77$read_data;
         s4_walk$77$d = s3_valid$q & cells$small_box & cells$inside$23 & allow$77[32'h0];
-        s4_enter$77$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & (s3_group$q == list_group$77);
+        s4_enter$77$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & (s3_group$q == list_group$77) & s3_lane$0$q;
         meta$78$read_address = cells$bucket$24;
         head$78$read_address = cells$bucket$24;
         allow$78 = s3_allowed$q >> list_group$78;
@@ -28145,7 +28284,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$78$d = head$78$read_data;
         s4_old2$78$d = head2$78$read_data;
         s4_walk$78$d = s3_valid$q & cells$small_box & cells$inside$24 & allow$78[32'h0];
-        s4_enter$78$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & (s3_group$q == list_group$78);
+        s4_enter$78$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & (s3_group$q == list_group$78) & s3_lane$0$q;
         meta$79$read_address = cells$bucket$25;
         head$79$read_address = cells$bucket$25;
         allow$79 = s3_allowed$q >> list_group$79;
@@ -28154,7 +28293,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$79$d = head$79$read_data;
         s4_old2$79$d = head2$79$read_data;
         s4_walk$79$d = s3_valid$q & cells$small_box & cells$inside$25 & allow$79[32'h0];
-        s4_enter$79$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & (s3_group$q == list_group$79);
+        s4_enter$79$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & (s3_group$q == list_group$79) & s3_lane$0$q;
         meta$80$read_address = cells$bucket$26;
         head$80$read_address = cells$bucket$26;
         allow$80 = s3_allowed$q >> list_group$80;
@@ -28163,7 +28302,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_old$80$d = head$80$read_data;
         s4_old2$80$d = head2$80$read_data;
         s4_walk$80$d = s3_valid$q & cells$small_box & cells$inside$26 & allow$80[32'h0];
-        s4_enter$80$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & (s3_group$q == list_group$80);
+        s4_enter$80$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & (s3_group$q == list_group$80) & s3_lane$0$q;
         s4_bucket$0$d = cells$bucket$0;
         s4_fp$0$d = cells$fp$0;
         same$0 = cells$bucket$0 == s4_bucket$0$q;
@@ -28329,10 +28468,12 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_home_fp$d = cells$home_fp;
         large_in = s3_valid$q & (s3_kind$q == 32'h0) & ~cells$small_box;
         s4_large$d = large_in;
-        s4_lprev$d = lnext2$q;
-        if (large_in) begin
-            lnext$d = entry;
-            lnext2$d = lnext$q;
+        if (s3_lane$0$q) begin
+            s4_lprev$d = lnext2$0$q;
+            if (large_in) begin
+                lnext$0$d = entry;
+                lnext2$0$d = lnext$0$q;
+            end
         end
         s4_valid$d = s3_valid$q;
         s4_index$d = s3_index$q;
@@ -33140,1488 +33281,1489 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         if (s5_large$q) begin
             succ_acc = s5_lprev$q;
         end
-        any_live = 1'b0;
         succ_pick$0 = 32'h0;
         if (s5_enter$0$q) begin
             succ_pick$0 = s5_head2$0$q;
         end
         succ_acc = succ_acc | succ_pick$0;
-        any_live = any_live | s5_live$0$q;
         succ_pick$1 = 32'h0;
         if (s5_enter$1$q) begin
             succ_pick$1 = s5_head2$1$q;
         end
         succ_acc = succ_acc | succ_pick$1;
-        any_live = any_live | s5_live$1$q;
         succ_pick$2 = 32'h0;
         if (s5_enter$2$q) begin
             succ_pick$2 = s5_head2$2$q;
         end
         succ_acc = succ_acc | succ_pick$2;
-        any_live = any_live | s5_live$2$q;
         succ_pick$3 = 32'h0;
         if (s5_enter$3$q) begin
             succ_pick$3 = s5_head2$3$q;
         end
         succ_acc = succ_acc | succ_pick$3;
-        any_live = any_live | s5_live$3$q;
         succ_pick$4 = 32'h0;
         if (s5_enter$4$q) begin
             succ_pick$4 = s5_head2$4$q;
         end
         succ_acc = succ_acc | succ_pick$4;
-        any_live = any_live | s5_live$4$q;
         succ_pick$5 = 32'h0;
         if (s5_enter$5$q) begin
             succ_pick$5 = s5_head2$5$q;
         end
         succ_acc = succ_acc | succ_pick$5;
-        any_live = any_live | s5_live$5$q;
         succ_pick$6 = 32'h0;
         if (s5_enter$6$q) begin
             succ_pick$6 = s5_head2$6$q;
         end
         succ_acc = succ_acc | succ_pick$6;
-        any_live = any_live | s5_live$6$q;
         succ_pick$7 = 32'h0;
         if (s5_enter$7$q) begin
             succ_pick$7 = s5_head2$7$q;
         end
         succ_acc = succ_acc | succ_pick$7;
-        any_live = any_live | s5_live$7$q;
         succ_pick$8 = 32'h0;
         if (s5_enter$8$q) begin
             succ_pick$8 = s5_head2$8$q;
         end
         succ_acc = succ_acc | succ_pick$8;
-        any_live = any_live | s5_live$8$q;
         succ_pick$9 = 32'h0;
         if (s5_enter$9$q) begin
             succ_pick$9 = s5_head2$9$q;
         end
         succ_acc = succ_acc | succ_pick$9;
-        any_live = any_live | s5_live$9$q;
         succ_pick$10 = 32'h0;
         if (s5_enter$10$q) begin
             succ_pick$10 = s5_head2$10$q;
         end
         succ_acc = succ_acc | succ_pick$10;
-        any_live = any_live | s5_live$10$q;
         succ_pick$11 = 32'h0;
         if (s5_enter$11$q) begin
             succ_pick$11 = s5_head2$11$q;
         end
         succ_acc = succ_acc | succ_pick$11;
-        any_live = any_live | s5_live$11$q;
         succ_pick$12 = 32'h0;
         if (s5_enter$12$q) begin
             succ_pick$12 = s5_head2$12$q;
         end
         succ_acc = succ_acc | succ_pick$12;
-        any_live = any_live | s5_live$12$q;
         succ_pick$13 = 32'h0;
         if (s5_enter$13$q) begin
             succ_pick$13 = s5_head2$13$q;
         end
         succ_acc = succ_acc | succ_pick$13;
-        any_live = any_live | s5_live$13$q;
         succ_pick$14 = 32'h0;
         if (s5_enter$14$q) begin
             succ_pick$14 = s5_head2$14$q;
         end
         succ_acc = succ_acc | succ_pick$14;
-        any_live = any_live | s5_live$14$q;
         succ_pick$15 = 32'h0;
         if (s5_enter$15$q) begin
             succ_pick$15 = s5_head2$15$q;
         end
         succ_acc = succ_acc | succ_pick$15;
-        any_live = any_live | s5_live$15$q;
         succ_pick$16 = 32'h0;
         if (s5_enter$16$q) begin
             succ_pick$16 = s5_head2$16$q;
         end
         succ_acc = succ_acc | succ_pick$16;
-        any_live = any_live | s5_live$16$q;
         succ_pick$17 = 32'h0;
         if (s5_enter$17$q) begin
             succ_pick$17 = s5_head2$17$q;
         end
         succ_acc = succ_acc | succ_pick$17;
-        any_live = any_live | s5_live$17$q;
         succ_pick$18 = 32'h0;
         if (s5_enter$18$q) begin
             succ_pick$18 = s5_head2$18$q;
         end
         succ_acc = succ_acc | succ_pick$18;
-        any_live = any_live | s5_live$18$q;
         succ_pick$19 = 32'h0;
         if (s5_enter$19$q) begin
             succ_pick$19 = s5_head2$19$q;
         end
         succ_acc = succ_acc | succ_pick$19;
-        any_live = any_live | s5_live$19$q;
         succ_pick$20 = 32'h0;
         if (s5_enter$20$q) begin
             succ_pick$20 = s5_head2$20$q;
         end
         succ_acc = succ_acc | succ_pick$20;
-        any_live = any_live | s5_live$20$q;
         succ_pick$21 = 32'h0;
         if (s5_enter$21$q) begin
             succ_pick$21 = s5_head2$21$q;
         end
         succ_acc = succ_acc | succ_pick$21;
-        any_live = any_live | s5_live$21$q;
         succ_pick$22 = 32'h0;
         if (s5_enter$22$q) begin
             succ_pick$22 = s5_head2$22$q;
         end
         succ_acc = succ_acc | succ_pick$22;
-        any_live = any_live | s5_live$22$q;
         succ_pick$23 = 32'h0;
         if (s5_enter$23$q) begin
             succ_pick$23 = s5_head2$23$q;
         end
         succ_acc = succ_acc | succ_pick$23;
-        any_live = any_live | s5_live$23$q;
         succ_pick$24 = 32'h0;
         if (s5_enter$24$q) begin
             succ_pick$24 = s5_head2$24$q;
         end
         succ_acc = succ_acc | succ_pick$24;
-        any_live = any_live | s5_live$24$q;
         succ_pick$25 = 32'h0;
         if (s5_enter$25$q) begin
             succ_pick$25 = s5_head2$25$q;
         end
         succ_acc = succ_acc | succ_pick$25;
-        any_live = any_live | s5_live$25$q;
         succ_pick$26 = 32'h0;
         if (s5_enter$26$q) begin
             succ_pick$26 = s5_head2$26$q;
         end
         succ_acc = succ_acc | succ_pick$26;
-        any_live = any_live | s5_live$26$q;
         succ_pick$27 = 32'h0;
         if (s5_enter$27$q) begin
             succ_pick$27 = s5_head2$27$q;
         end
         succ_acc = succ_acc | succ_pick$27;
-        any_live = any_live | s5_live$27$q;
         succ_pick$28 = 32'h0;
         if (s5_enter$28$q) begin
             succ_pick$28 = s5_head2$28$q;
         end
         succ_acc = succ_acc | succ_pick$28;
-        any_live = any_live | s5_live$28$q;
         succ_pick$29 = 32'h0;
         if (s5_enter$29$q) begin
             succ_pick$29 = s5_head2$29$q;
         end
         succ_acc = succ_acc | succ_pick$29;
-        any_live = any_live | s5_live$29$q;
         succ_pick$30 = 32'h0;
         if (s5_enter$30$q) begin
             succ_pick$30 = s5_head2$30$q;
         end
         succ_acc = succ_acc | succ_pick$30;
-        any_live = any_live | s5_live$30$q;
         succ_pick$31 = 32'h0;
         if (s5_enter$31$q) begin
             succ_pick$31 = s5_head2$31$q;
         end
         succ_acc = succ_acc | succ_pick$31;
-        any_live = any_live | s5_live$31$q;
         succ_pick$32 = 32'h0;
         if (s5_enter$32$q) begin
             succ_pick$32 = s5_head2$32$q;
         end
         succ_acc = succ_acc | succ_pick$32;
-        any_live = any_live | s5_live$32$q;
         succ_pick$33 = 32'h0;
         if (s5_enter$33$q) begin
             succ_pick$33 = s5_head2$33$q;
         end
         succ_acc = succ_acc | succ_pick$33;
-        any_live = any_live | s5_live$33$q;
         succ_pick$34 = 32'h0;
         if (s5_enter$34$q) begin
             succ_pick$34 = s5_head2$34$q;
         end
         succ_acc = succ_acc | succ_pick$34;
-        any_live = any_live | s5_live$34$q;
         succ_pick$35 = 32'h0;
         if (s5_enter$35$q) begin
             succ_pick$35 = s5_head2$35$q;
         end
         succ_acc = succ_acc | succ_pick$35;
-        any_live = any_live | s5_live$35$q;
         succ_pick$36 = 32'h0;
         if (s5_enter$36$q) begin
             succ_pick$36 = s5_head2$36$q;
         end
         succ_acc = succ_acc | succ_pick$36;
-        any_live = any_live | s5_live$36$q;
         succ_pick$37 = 32'h0;
         if (s5_enter$37$q) begin
             succ_pick$37 = s5_head2$37$q;
         end
         succ_acc = succ_acc | succ_pick$37;
-        any_live = any_live | s5_live$37$q;
         succ_pick$38 = 32'h0;
         if (s5_enter$38$q) begin
             succ_pick$38 = s5_head2$38$q;
         end
         succ_acc = succ_acc | succ_pick$38;
-        any_live = any_live | s5_live$38$q;
         succ_pick$39 = 32'h0;
         if (s5_enter$39$q) begin
             succ_pick$39 = s5_head2$39$q;
         end
         succ_acc = succ_acc | succ_pick$39;
-        any_live = any_live | s5_live$39$q;
         succ_pick$40 = 32'h0;
         if (s5_enter$40$q) begin
             succ_pick$40 = s5_head2$40$q;
         end
         succ_acc = succ_acc | succ_pick$40;
-        any_live = any_live | s5_live$40$q;
         succ_pick$41 = 32'h0;
         if (s5_enter$41$q) begin
             succ_pick$41 = s5_head2$41$q;
         end
         succ_acc = succ_acc | succ_pick$41;
-        any_live = any_live | s5_live$41$q;
         succ_pick$42 = 32'h0;
         if (s5_enter$42$q) begin
             succ_pick$42 = s5_head2$42$q;
         end
         succ_acc = succ_acc | succ_pick$42;
-        any_live = any_live | s5_live$42$q;
         succ_pick$43 = 32'h0;
         if (s5_enter$43$q) begin
             succ_pick$43 = s5_head2$43$q;
         end
         succ_acc = succ_acc | succ_pick$43;
-        any_live = any_live | s5_live$43$q;
         succ_pick$44 = 32'h0;
         if (s5_enter$44$q) begin
             succ_pick$44 = s5_head2$44$q;
         end
         succ_acc = succ_acc | succ_pick$44;
-        any_live = any_live | s5_live$44$q;
         succ_pick$45 = 32'h0;
         if (s5_enter$45$q) begin
             succ_pick$45 = s5_head2$45$q;
         end
         succ_acc = succ_acc | succ_pick$45;
-        any_live = any_live | s5_live$45$q;
         succ_pick$46 = 32'h0;
         if (s5_enter$46$q) begin
             succ_pick$46 = s5_head2$46$q;
         end
         succ_acc = succ_acc | succ_pick$46;
-        any_live = any_live | s5_live$46$q;
         succ_pick$47 = 32'h0;
         if (s5_enter$47$q) begin
             succ_pick$47 = s5_head2$47$q;
         end
         succ_acc = succ_acc | succ_pick$47;
-        any_live = any_live | s5_live$47$q;
         succ_pick$48 = 32'h0;
         if (s5_enter$48$q) begin
             succ_pick$48 = s5_head2$48$q;
         end
         succ_acc = succ_acc | succ_pick$48;
-        any_live = any_live | s5_live$48$q;
         succ_pick$49 = 32'h0;
         if (s5_enter$49$q) begin
             succ_pick$49 = s5_head2$49$q;
         end
         succ_acc = succ_acc | succ_pick$49;
-        any_live = any_live | s5_live$49$q;
         succ_pick$50 = 32'h0;
         if (s5_enter$50$q) begin
             succ_pick$50 = s5_head2$50$q;
         end
         succ_acc = succ_acc | succ_pick$50;
-        any_live = any_live | s5_live$50$q;
         succ_pick$51 = 32'h0;
         if (s5_enter$51$q) begin
             succ_pick$51 = s5_head2$51$q;
         end
         succ_acc = succ_acc | succ_pick$51;
-        any_live = any_live | s5_live$51$q;
         succ_pick$52 = 32'h0;
         if (s5_enter$52$q) begin
             succ_pick$52 = s5_head2$52$q;
         end
         succ_acc = succ_acc | succ_pick$52;
-        any_live = any_live | s5_live$52$q;
         succ_pick$53 = 32'h0;
         if (s5_enter$53$q) begin
             succ_pick$53 = s5_head2$53$q;
         end
         succ_acc = succ_acc | succ_pick$53;
-        any_live = any_live | s5_live$53$q;
         succ_pick$54 = 32'h0;
         if (s5_enter$54$q) begin
             succ_pick$54 = s5_head2$54$q;
         end
         succ_acc = succ_acc | succ_pick$54;
-        any_live = any_live | s5_live$54$q;
         succ_pick$55 = 32'h0;
         if (s5_enter$55$q) begin
             succ_pick$55 = s5_head2$55$q;
         end
         succ_acc = succ_acc | succ_pick$55;
-        any_live = any_live | s5_live$55$q;
         succ_pick$56 = 32'h0;
         if (s5_enter$56$q) begin
             succ_pick$56 = s5_head2$56$q;
         end
         succ_acc = succ_acc | succ_pick$56;
-        any_live = any_live | s5_live$56$q;
         succ_pick$57 = 32'h0;
         if (s5_enter$57$q) begin
             succ_pick$57 = s5_head2$57$q;
         end
         succ_acc = succ_acc | succ_pick$57;
-        any_live = any_live | s5_live$57$q;
         succ_pick$58 = 32'h0;
         if (s5_enter$58$q) begin
             succ_pick$58 = s5_head2$58$q;
         end
         succ_acc = succ_acc | succ_pick$58;
-        any_live = any_live | s5_live$58$q;
         succ_pick$59 = 32'h0;
         if (s5_enter$59$q) begin
             succ_pick$59 = s5_head2$59$q;
         end
         succ_acc = succ_acc | succ_pick$59;
-        any_live = any_live | s5_live$59$q;
         succ_pick$60 = 32'h0;
         if (s5_enter$60$q) begin
             succ_pick$60 = s5_head2$60$q;
         end
         succ_acc = succ_acc | succ_pick$60;
-        any_live = any_live | s5_live$60$q;
         succ_pick$61 = 32'h0;
         if (s5_enter$61$q) begin
             succ_pick$61 = s5_head2$61$q;
         end
         succ_acc = succ_acc | succ_pick$61;
-        any_live = any_live | s5_live$61$q;
         succ_pick$62 = 32'h0;
         if (s5_enter$62$q) begin
             succ_pick$62 = s5_head2$62$q;
         end
         succ_acc = succ_acc | succ_pick$62;
-        any_live = any_live | s5_live$62$q;
         succ_pick$63 = 32'h0;
         if (s5_enter$63$q) begin
             succ_pick$63 = s5_head2$63$q;
         end
         succ_acc = succ_acc | succ_pick$63;
-        any_live = any_live | s5_live$63$q;
         succ_pick$64 = 32'h0;
         if (s5_enter$64$q) begin
             succ_pick$64 = s5_head2$64$q;
         end
         succ_acc = succ_acc | succ_pick$64;
-        any_live = any_live | s5_live$64$q;
         succ_pick$65 = 32'h0;
         if (s5_enter$65$q) begin
             succ_pick$65 = s5_head2$65$q;
         end
         succ_acc = succ_acc | succ_pick$65;
-        any_live = any_live | s5_live$65$q;
         succ_pick$66 = 32'h0;
         if (s5_enter$66$q) begin
             succ_pick$66 = s5_head2$66$q;
         end
         succ_acc = succ_acc | succ_pick$66;
-        any_live = any_live | s5_live$66$q;
         succ_pick$67 = 32'h0;
         if (s5_enter$67$q) begin
             succ_pick$67 = s5_head2$67$q;
         end
         succ_acc = succ_acc | succ_pick$67;
-        any_live = any_live | s5_live$67$q;
         succ_pick$68 = 32'h0;
         if (s5_enter$68$q) begin
             succ_pick$68 = s5_head2$68$q;
         end
         succ_acc = succ_acc | succ_pick$68;
-        any_live = any_live | s5_live$68$q;
         succ_pick$69 = 32'h0;
         if (s5_enter$69$q) begin
             succ_pick$69 = s5_head2$69$q;
         end
         succ_acc = succ_acc | succ_pick$69;
-        any_live = any_live | s5_live$69$q;
         succ_pick$70 = 32'h0;
         if (s5_enter$70$q) begin
             succ_pick$70 = s5_head2$70$q;
         end
         succ_acc = succ_acc | succ_pick$70;
-        any_live = any_live | s5_live$70$q;
         succ_pick$71 = 32'h0;
         if (s5_enter$71$q) begin
             succ_pick$71 = s5_head2$71$q;
         end
         succ_acc = succ_acc | succ_pick$71;
-        any_live = any_live | s5_live$71$q;
         succ_pick$72 = 32'h0;
         if (s5_enter$72$q) begin
             succ_pick$72 = s5_head2$72$q;
         end
         succ_acc = succ_acc | succ_pick$72;
-        any_live = any_live | s5_live$72$q;
         succ_pick$73 = 32'h0;
         if (s5_enter$73$q) begin
             succ_pick$73 = s5_head2$73$q;
         end
         succ_acc = succ_acc | succ_pick$73;
-        any_live = any_live | s5_live$73$q;
         succ_pick$74 = 32'h0;
         if (s5_enter$74$q) begin
             succ_pick$74 = s5_head2$74$q;
         end
         succ_acc = succ_acc | succ_pick$74;
-        any_live = any_live | s5_live$74$q;
         succ_pick$75 = 32'h0;
         if (s5_enter$75$q) begin
             succ_pick$75 = s5_head2$75$q;
         end
         succ_acc = succ_acc | succ_pick$75;
-        any_live = any_live | s5_live$75$q;
         succ_pick$76 = 32'h0;
         if (s5_enter$76$q) begin
             succ_pick$76 = s5_head2$76$q;
         end
         succ_acc = succ_acc | succ_pick$76;
-        any_live = any_live | s5_live$76$q;
         succ_pick$77 = 32'h0;
         if (s5_enter$77$q) begin
             succ_pick$77 = s5_head2$77$q;
         end
         succ_acc = succ_acc | succ_pick$77;
-        any_live = any_live | s5_live$77$q;
         succ_pick$78 = 32'h0;
         if (s5_enter$78$q) begin
             succ_pick$78 = s5_head2$78$q;
         end
         succ_acc = succ_acc | succ_pick$78;
-        any_live = any_live | s5_live$78$q;
         succ_pick$79 = 32'h0;
         if (s5_enter$79$q) begin
             succ_pick$79 = s5_head2$79$q;
         end
         succ_acc = succ_acc | succ_pick$79;
-        any_live = any_live | s5_live$79$q;
         succ_pick$80 = 32'h0;
         if (s5_enter$80$q) begin
             succ_pick$80 = s5_head2$80$q;
         end
         succ_acc = succ_acc | succ_pick$80;
-        any_live = any_live | s5_live$80$q;
-        succ$write_enable = s5_valid$q & (s5_kind$q == 32'h0);
-        succ$write_address = ((s5_index$q) & 15'h7fff);
-        succ$write_data = succ_acc;
-        rec_write = s5_valid$q & (any_live | s5_kind$q[32'h1]);
-        retire_probe = s5_valid$q & ~rec_write;
-        rec$0$write_enable = rec_write;
-        rec$0$write_address = wp$q;
+        succ_addr = s5_index$q >> lane_shift;
+        any_live$0 = 1'b0;
+        any_live$0 = any_live$0 | s5_live$0$q;
+        any_live$0 = any_live$0 | s5_live$1$q;
+        any_live$0 = any_live$0 | s5_live$2$q;
+        any_live$0 = any_live$0 | s5_live$3$q;
+        any_live$0 = any_live$0 | s5_live$4$q;
+        any_live$0 = any_live$0 | s5_live$5$q;
+        any_live$0 = any_live$0 | s5_live$6$q;
+        any_live$0 = any_live$0 | s5_live$7$q;
+        any_live$0 = any_live$0 | s5_live$8$q;
+        any_live$0 = any_live$0 | s5_live$9$q;
+        any_live$0 = any_live$0 | s5_live$10$q;
+        any_live$0 = any_live$0 | s5_live$11$q;
+        any_live$0 = any_live$0 | s5_live$12$q;
+        any_live$0 = any_live$0 | s5_live$13$q;
+        any_live$0 = any_live$0 | s5_live$14$q;
+        any_live$0 = any_live$0 | s5_live$15$q;
+        any_live$0 = any_live$0 | s5_live$16$q;
+        any_live$0 = any_live$0 | s5_live$17$q;
+        any_live$0 = any_live$0 | s5_live$18$q;
+        any_live$0 = any_live$0 | s5_live$19$q;
+        any_live$0 = any_live$0 | s5_live$20$q;
+        any_live$0 = any_live$0 | s5_live$21$q;
+        any_live$0 = any_live$0 | s5_live$22$q;
+        any_live$0 = any_live$0 | s5_live$23$q;
+        any_live$0 = any_live$0 | s5_live$24$q;
+        any_live$0 = any_live$0 | s5_live$25$q;
+        any_live$0 = any_live$0 | s5_live$26$q;
+        any_live$0 = any_live$0 | s5_live$27$q;
+        any_live$0 = any_live$0 | s5_live$28$q;
+        any_live$0 = any_live$0 | s5_live$29$q;
+        any_live$0 = any_live$0 | s5_live$30$q;
+        any_live$0 = any_live$0 | s5_live$31$q;
+        any_live$0 = any_live$0 | s5_live$32$q;
+        any_live$0 = any_live$0 | s5_live$33$q;
+        any_live$0 = any_live$0 | s5_live$34$q;
+        any_live$0 = any_live$0 | s5_live$35$q;
+        any_live$0 = any_live$0 | s5_live$36$q;
+        any_live$0 = any_live$0 | s5_live$37$q;
+        any_live$0 = any_live$0 | s5_live$38$q;
+        any_live$0 = any_live$0 | s5_live$39$q;
+        any_live$0 = any_live$0 | s5_live$40$q;
+        any_live$0 = any_live$0 | s5_live$41$q;
+        any_live$0 = any_live$0 | s5_live$42$q;
+        any_live$0 = any_live$0 | s5_live$43$q;
+        any_live$0 = any_live$0 | s5_live$44$q;
+        any_live$0 = any_live$0 | s5_live$45$q;
+        any_live$0 = any_live$0 | s5_live$46$q;
+        any_live$0 = any_live$0 | s5_live$47$q;
+        any_live$0 = any_live$0 | s5_live$48$q;
+        any_live$0 = any_live$0 | s5_live$49$q;
+        any_live$0 = any_live$0 | s5_live$50$q;
+        any_live$0 = any_live$0 | s5_live$51$q;
+        any_live$0 = any_live$0 | s5_live$52$q;
+        any_live$0 = any_live$0 | s5_live$53$q;
+        any_live$0 = any_live$0 | s5_live$54$q;
+        any_live$0 = any_live$0 | s5_live$55$q;
+        any_live$0 = any_live$0 | s5_live$56$q;
+        any_live$0 = any_live$0 | s5_live$57$q;
+        any_live$0 = any_live$0 | s5_live$58$q;
+        any_live$0 = any_live$0 | s5_live$59$q;
+        any_live$0 = any_live$0 | s5_live$60$q;
+        any_live$0 = any_live$0 | s5_live$61$q;
+        any_live$0 = any_live$0 | s5_live$62$q;
+        any_live$0 = any_live$0 | s5_live$63$q;
+        any_live$0 = any_live$0 | s5_live$64$q;
+        any_live$0 = any_live$0 | s5_live$65$q;
+        any_live$0 = any_live$0 | s5_live$66$q;
+        any_live$0 = any_live$0 | s5_live$67$q;
+        any_live$0 = any_live$0 | s5_live$68$q;
+        any_live$0 = any_live$0 | s5_live$69$q;
+        any_live$0 = any_live$0 | s5_live$70$q;
+        any_live$0 = any_live$0 | s5_live$71$q;
+        any_live$0 = any_live$0 | s5_live$72$q;
+        any_live$0 = any_live$0 | s5_live$73$q;
+        any_live$0 = any_live$0 | s5_live$74$q;
+        any_live$0 = any_live$0 | s5_live$75$q;
+        any_live$0 = any_live$0 | s5_live$76$q;
+        any_live$0 = any_live$0 | s5_live$77$q;
+        any_live$0 = any_live$0 | s5_live$78$q;
+        any_live$0 = any_live$0 | s5_live$79$q;
+        any_live$0 = any_live$0 | s5_live$80$q;
+        succ$0$write_enable = s5_valid$q & (s5_kind$q == 32'h0) & s5_lane$0$q;
+        succ$0$write_address = succ_addr;
+        succ$0$write_data = succ_acc;
+        rec_write$0 = s5_valid$q & (any_live$0 | (s5_kind$q[32'h1] & ((lnext$0$q & top) != 32'h0)));
+        retire_probe$0 = s5_valid$q & ~rec_write$0;
+        rec$0$write_enable = rec_write$0;
+        rec$0$write_address = wp$0$q;
         rec$0$write_data = 32'h0;
-        rec2$0$write_enable = rec_write;
-        rec2$0$write_address = wp$q;
+        rec2$0$write_enable = rec_write$0;
+        rec2$0$write_address = wp$0$q;
         rec2$0$write_data = 32'h0;
         if (s5_live$0$q) begin
             rec$0$write_data = s5_head$0$q;
             rec2$0$write_data = s5_head2$0$q;
         end
-        rec$0$read_address = rp$q;
-        rec2$0$read_address = rp$q;
-        rec$1$write_enable = rec_write;
-        rec$1$write_address = wp$q;
+        rec$0$read_address = rp$0$q;
+        rec2$0$read_address = rp$0$q;
+        rec$1$write_enable = rec_write$0;
+        rec$1$write_address = wp$0$q;
         rec$1$write_data = 32'h0;
-        rec2$1$write_enable = rec_write;
-        rec2$1$write_address = wp$q;
+        rec2$1$write_enable = rec_write$0;
+        rec2$1$write_address = wp$0$q;
         rec2$1$write_data = 32'h0;
         if (s5_live$1$q) begin
             rec$1$write_data = s5_head$1$q;
             rec2$1$write_data = s5_head2$1$q;
         end
-        rec$1$read_address = rp$q;
-        rec2$1$read_address = rp$q;
-        rec$2$write_enable = rec_write;
-        rec$2$write_address = wp$q;
+        rec$1$read_address = rp$0$q;
+        rec2$1$read_address = rp$0$q;
+        rec$2$write_enable = rec_write$0;
+        rec$2$write_address = wp$0$q;
         rec$2$write_data = 32'h0;
-        rec2$2$write_enable = rec_write;
-        rec2$2$write_address = wp$q;
+        rec2$2$write_enable = rec_write$0;
+        rec2$2$write_address = wp$0$q;
         rec2$2$write_data = 32'h0;
         if (s5_live$2$q) begin
             rec$2$write_data = s5_head$2$q;
             rec2$2$write_data = s5_head2$2$q;
         end
-        rec$2$read_address = rp$q;
-        rec2$2$read_address = rp$q;
-        rec$3$write_enable = rec_write;
-        rec$3$write_address = wp$q;
+        rec$2$read_address = rp$0$q;
+        rec2$2$read_address = rp$0$q;
+        rec$3$write_enable = rec_write$0;
+        rec$3$write_address = wp$0$q;
         rec$3$write_data = 32'h0;
-        rec2$3$write_enable = rec_write;
-        rec2$3$write_address = wp$q;
+        rec2$3$write_enable = rec_write$0;
+        rec2$3$write_address = wp$0$q;
         rec2$3$write_data = 32'h0;
         if (s5_live$3$q) begin
             rec$3$write_data = s5_head$3$q;
             rec2$3$write_data = s5_head2$3$q;
         end
-        rec$3$read_address = rp$q;
-        rec2$3$read_address = rp$q;
-        rec$4$write_enable = rec_write;
-        rec$4$write_address = wp$q;
+        rec$3$read_address = rp$0$q;
+        rec2$3$read_address = rp$0$q;
+        rec$4$write_enable = rec_write$0;
+        rec$4$write_address = wp$0$q;
         rec$4$write_data = 32'h0;
-        rec2$4$write_enable = rec_write;
-        rec2$4$write_address = wp$q;
+        rec2$4$write_enable = rec_write$0;
+        rec2$4$write_address = wp$0$q;
         rec2$4$write_data = 32'h0;
         if (s5_live$4$q) begin
             rec$4$write_data = s5_head$4$q;
             rec2$4$write_data = s5_head2$4$q;
         end
-        rec$4$read_address = rp$q;
-        rec2$4$read_address = rp$q;
-        rec$5$write_enable = rec_write;
-        rec$5$write_address = wp$q;
+        rec$4$read_address = rp$0$q;
+        rec2$4$read_address = rp$0$q;
+        rec$5$write_enable = rec_write$0;
+        rec$5$write_address = wp$0$q;
         rec$5$write_data = 32'h0;
-        rec2$5$write_enable = rec_write;
-        rec2$5$write_address = wp$q;
+        rec2$5$write_enable = rec_write$0;
+        rec2$5$write_address = wp$0$q;
         rec2$5$write_data = 32'h0;
         if (s5_live$5$q) begin
             rec$5$write_data = s5_head$5$q;
             rec2$5$write_data = s5_head2$5$q;
         end
-        rec$5$read_address = rp$q;
-        rec2$5$read_address = rp$q;
-        rec$6$write_enable = rec_write;
-        rec$6$write_address = wp$q;
+        rec$5$read_address = rp$0$q;
+        rec2$5$read_address = rp$0$q;
+        rec$6$write_enable = rec_write$0;
+        rec$6$write_address = wp$0$q;
         rec$6$write_data = 32'h0;
-        rec2$6$write_enable = rec_write;
-        rec2$6$write_address = wp$q;
+        rec2$6$write_enable = rec_write$0;
+        rec2$6$write_address = wp$0$q;
         rec2$6$write_data = 32'h0;
         if (s5_live$6$q) begin
             rec$6$write_data = s5_head$6$q;
             rec2$6$write_data = s5_head2$6$q;
         end
-        rec$6$read_address = rp$q;
-        rec2$6$read_address = rp$q;
-        rec$7$write_enable = rec_write;
-        rec$7$write_address = wp$q;
+        rec$6$read_address = rp$0$q;
+        rec2$6$read_address = rp$0$q;
+        rec$7$write_enable = rec_write$0;
+        rec$7$write_address = wp$0$q;
         rec$7$write_data = 32'h0;
-        rec2$7$write_enable = rec_write;
-        rec2$7$write_address = wp$q;
+        rec2$7$write_enable = rec_write$0;
+        rec2$7$write_address = wp$0$q;
         rec2$7$write_data = 32'h0;
         if (s5_live$7$q) begin
             rec$7$write_data = s5_head$7$q;
             rec2$7$write_data = s5_head2$7$q;
         end
-        rec$7$read_address = rp$q;
-        rec2$7$read_address = rp$q;
-        rec$8$write_enable = rec_write;
-        rec$8$write_address = wp$q;
+        rec$7$read_address = rp$0$q;
+        rec2$7$read_address = rp$0$q;
+        rec$8$write_enable = rec_write$0;
+        rec$8$write_address = wp$0$q;
         rec$8$write_data = 32'h0;
-        rec2$8$write_enable = rec_write;
-        rec2$8$write_address = wp$q;
+        rec2$8$write_enable = rec_write$0;
+        rec2$8$write_address = wp$0$q;
         rec2$8$write_data = 32'h0;
         if (s5_live$8$q) begin
             rec$8$write_data = s5_head$8$q;
             rec2$8$write_data = s5_head2$8$q;
         end
-        rec$8$read_address = rp$q;
-        rec2$8$read_address = rp$q;
-        rec$9$write_enable = rec_write;
-        rec$9$write_address = wp$q;
+        rec$8$read_address = rp$0$q;
+        rec2$8$read_address = rp$0$q;
+        rec$9$write_enable = rec_write$0;
+        rec$9$write_address = wp$0$q;
         rec$9$write_data = 32'h0;
-        rec2$9$write_enable = rec_write;
-        rec2$9$write_address = wp$q;
+        rec2$9$write_enable = rec_write$0;
+        rec2$9$write_address = wp$0$q;
         rec2$9$write_data = 32'h0;
         if (s5_live$9$q) begin
             rec$9$write_data = s5_head$9$q;
             rec2$9$write_data = s5_head2$9$q;
         end
-        rec$9$read_address = rp$q;
-        rec2$9$read_address = rp$q;
-        rec$10$write_enable = rec_write;
-        rec$10$write_address = wp$q;
+        rec$9$read_address = rp$0$q;
+        rec2$9$read_address = rp$0$q;
+        rec$10$write_enable = rec_write$0;
+        rec$10$write_address = wp$0$q;
         rec$10$write_data = 32'h0;
-        rec2$10$write_enable = rec_write;
-        rec2$10$write_address = wp$q;
+        rec2$10$write_enable = rec_write$0;
+        rec2$10$write_address = wp$0$q;
         rec2$10$write_data = 32'h0;
         if (s5_live$10$q) begin
             rec$10$write_data = s5_head$10$q;
             rec2$10$write_data = s5_head2$10$q;
         end
-        rec$10$read_address = rp$q;
-        rec2$10$read_address = rp$q;
-        rec$11$write_enable = rec_write;
-        rec$11$write_address = wp$q;
+        rec$10$read_address = rp$0$q;
+        rec2$10$read_address = rp$0$q;
+        rec$11$write_enable = rec_write$0;
+        rec$11$write_address = wp$0$q;
         rec$11$write_data = 32'h0;
-        rec2$11$write_enable = rec_write;
-        rec2$11$write_address = wp$q;
+        rec2$11$write_enable = rec_write$0;
+        rec2$11$write_address = wp$0$q;
         rec2$11$write_data = 32'h0;
         if (s5_live$11$q) begin
             rec$11$write_data = s5_head$11$q;
             rec2$11$write_data = s5_head2$11$q;
         end
-        rec$11$read_address = rp$q;
-        rec2$11$read_address = rp$q;
-        rec$12$write_enable = rec_write;
-        rec$12$write_address = wp$q;
+        rec$11$read_address = rp$0$q;
+        rec2$11$read_address = rp$0$q;
+        rec$12$write_enable = rec_write$0;
+        rec$12$write_address = wp$0$q;
         rec$12$write_data = 32'h0;
-        rec2$12$write_enable = rec_write;
-        rec2$12$write_address = wp$q;
+        rec2$12$write_enable = rec_write$0;
+        rec2$12$write_address = wp$0$q;
         rec2$12$write_data = 32'h0;
         if (s5_live$12$q) begin
             rec$12$write_data = s5_head$12$q;
             rec2$12$write_data = s5_head2$12$q;
         end
-        rec$12$read_address = rp$q;
-        rec2$12$read_address = rp$q;
-        rec$13$write_enable = rec_write;
-        rec$13$write_address = wp$q;
+        rec$12$read_address = rp$0$q;
+        rec2$12$read_address = rp$0$q;
+        rec$13$write_enable = rec_write$0;
+        rec$13$write_address = wp$0$q;
         rec$13$write_data = 32'h0;
-        rec2$13$write_enable = rec_write;
-        rec2$13$write_address = wp$q;
+        rec2$13$write_enable = rec_write$0;
+        rec2$13$write_address = wp$0$q;
         rec2$13$write_data = 32'h0;
         if (s5_live$13$q) begin
             rec$13$write_data = s5_head$13$q;
             rec2$13$write_data = s5_head2$13$q;
         end
-        rec$13$read_address = rp$q;
-        rec2$13$read_address = rp$q;
-        rec$14$write_enable = rec_write;
-        rec$14$write_address = wp$q;
+        rec$13$read_address = rp$0$q;
+        rec2$13$read_address = rp$0$q;
+        rec$14$write_enable = rec_write$0;
+        rec$14$write_address = wp$0$q;
         rec$14$write_data = 32'h0;
-        rec2$14$write_enable = rec_write;
-        rec2$14$write_address = wp$q;
+        rec2$14$write_enable = rec_write$0;
+        rec2$14$write_address = wp$0$q;
         rec2$14$write_data = 32'h0;
         if (s5_live$14$q) begin
             rec$14$write_data = s5_head$14$q;
             rec2$14$write_data = s5_head2$14$q;
         end
-        rec$14$read_address = rp$q;
-        rec2$14$read_address = rp$q;
-        rec$15$write_enable = rec_write;
-        rec$15$write_address = wp$q;
+        rec$14$read_address = rp$0$q;
+        rec2$14$read_address = rp$0$q;
+        rec$15$write_enable = rec_write$0;
+        rec$15$write_address = wp$0$q;
         rec$15$write_data = 32'h0;
-        rec2$15$write_enable = rec_write;
-        rec2$15$write_address = wp$q;
+        rec2$15$write_enable = rec_write$0;
+        rec2$15$write_address = wp$0$q;
         rec2$15$write_data = 32'h0;
         if (s5_live$15$q) begin
             rec$15$write_data = s5_head$15$q;
             rec2$15$write_data = s5_head2$15$q;
         end
-        rec$15$read_address = rp$q;
-        rec2$15$read_address = rp$q;
-        rec$16$write_enable = rec_write;
-        rec$16$write_address = wp$q;
+        rec$15$read_address = rp$0$q;
+        rec2$15$read_address = rp$0$q;
+        rec$16$write_enable = rec_write$0;
+        rec$16$write_address = wp$0$q;
         rec$16$write_data = 32'h0;
-        rec2$16$write_enable = rec_write;
-        rec2$16$write_address = wp$q;
+        rec2$16$write_enable = rec_write$0;
+        rec2$16$write_address = wp$0$q;
         rec2$16$write_data = 32'h0;
         if (s5_live$16$q) begin
             rec$16$write_data = s5_head$16$q;
             rec2$16$write_data = s5_head2$16$q;
         end
-        rec$16$read_address = rp$q;
-        rec2$16$read_address = rp$q;
-        rec$17$write_enable = rec_write;
-        rec$17$write_address = wp$q;
+        rec$16$read_address = rp$0$q;
+        rec2$16$read_address = rp$0$q;
+        rec$17$write_enable = rec_write$0;
+        rec$17$write_address = wp$0$q;
         rec$17$write_data = 32'h0;
-        rec2$17$write_enable = rec_write;
-        rec2$17$write_address = wp$q;
+        rec2$17$write_enable = rec_write$0;
+        rec2$17$write_address = wp$0$q;
         rec2$17$write_data = 32'h0;
         if (s5_live$17$q) begin
             rec$17$write_data = s5_head$17$q;
             rec2$17$write_data = s5_head2$17$q;
         end
-        rec$17$read_address = rp$q;
-        rec2$17$read_address = rp$q;
-        rec$18$write_enable = rec_write;
-        rec$18$write_address = wp$q;
+        rec$17$read_address = rp$0$q;
+        rec2$17$read_address = rp$0$q;
+        rec$18$write_enable = rec_write$0;
+        rec$18$write_address = wp$0$q;
         rec$18$write_data = 32'h0;
-        rec2$18$write_enable = rec_write;
-        rec2$18$write_address = wp$q;
+        rec2$18$write_enable = rec_write$0;
+        rec2$18$write_address = wp$0$q;
         rec2$18$write_data = 32'h0;
         if (s5_live$18$q) begin
             rec$18$write_data = s5_head$18$q;
             rec2$18$write_data = s5_head2$18$q;
         end
-        rec$18$read_address = rp$q;
-        rec2$18$read_address = rp$q;
-        rec$19$write_enable = rec_write;
-        rec$19$write_address = wp$q;
+        rec$18$read_address = rp$0$q;
+        rec2$18$read_address = rp$0$q;
+        rec$19$write_enable = rec_write$0;
+        rec$19$write_address = wp$0$q;
         rec$19$write_data = 32'h0;
-        rec2$19$write_enable = rec_write;
-        rec2$19$write_address = wp$q;
+        rec2$19$write_enable = rec_write$0;
+        rec2$19$write_address = wp$0$q;
         rec2$19$write_data = 32'h0;
         if (s5_live$19$q) begin
             rec$19$write_data = s5_head$19$q;
             rec2$19$write_data = s5_head2$19$q;
         end
-        rec$19$read_address = rp$q;
-        rec2$19$read_address = rp$q;
-        rec$20$write_enable = rec_write;
-        rec$20$write_address = wp$q;
+        rec$19$read_address = rp$0$q;
+        rec2$19$read_address = rp$0$q;
+        rec$20$write_enable = rec_write$0;
+        rec$20$write_address = wp$0$q;
         rec$20$write_data = 32'h0;
-        rec2$20$write_enable = rec_write;
-        rec2$20$write_address = wp$q;
+        rec2$20$write_enable = rec_write$0;
+        rec2$20$write_address = wp$0$q;
         rec2$20$write_data = 32'h0;
         if (s5_live$20$q) begin
             rec$20$write_data = s5_head$20$q;
             rec2$20$write_data = s5_head2$20$q;
         end
-        rec$20$read_address = rp$q;
-        rec2$20$read_address = rp$q;
-        rec$21$write_enable = rec_write;
-        rec$21$write_address = wp$q;
+        rec$20$read_address = rp$0$q;
+        rec2$20$read_address = rp$0$q;
+        rec$21$write_enable = rec_write$0;
+        rec$21$write_address = wp$0$q;
         rec$21$write_data = 32'h0;
-        rec2$21$write_enable = rec_write;
-        rec2$21$write_address = wp$q;
+        rec2$21$write_enable = rec_write$0;
+        rec2$21$write_address = wp$0$q;
         rec2$21$write_data = 32'h0;
         if (s5_live$21$q) begin
             rec$21$write_data = s5_head$21$q;
             rec2$21$write_data = s5_head2$21$q;
         end
-        rec$21$read_address = rp$q;
-        rec2$21$read_address = rp$q;
-        rec$22$write_enable = rec_write;
-        rec$22$write_address = wp$q;
+        rec$21$read_address = rp$0$q;
+        rec2$21$read_address = rp$0$q;
+        rec$22$write_enable = rec_write$0;
+        rec$22$write_address = wp$0$q;
         rec$22$write_data = 32'h0;
-        rec2$22$write_enable = rec_write;
-        rec2$22$write_address = wp$q;
+        rec2$22$write_enable = rec_write$0;
+        rec2$22$write_address = wp$0$q;
         rec2$22$write_data = 32'h0;
         if (s5_live$22$q) begin
             rec$22$write_data = s5_head$22$q;
             rec2$22$write_data = s5_head2$22$q;
         end
-        rec$22$read_address = rp$q;
-        rec2$22$read_address = rp$q;
-        rec$23$write_enable = rec_write;
-        rec$23$write_address = wp$q;
+        rec$22$read_address = rp$0$q;
+        rec2$22$read_address = rp$0$q;
+        rec$23$write_enable = rec_write$0;
+        rec$23$write_address = wp$0$q;
         rec$23$write_data = 32'h0;
-        rec2$23$write_enable = rec_write;
-        rec2$23$write_address = wp$q;
+        rec2$23$write_enable = rec_write$0;
+        rec2$23$write_address = wp$0$q;
         rec2$23$write_data = 32'h0;
         if (s5_live$23$q) begin
             rec$23$write_data = s5_head$23$q;
             rec2$23$write_data = s5_head2$23$q;
         end
-        rec$23$read_address = rp$q;
-        rec2$23$read_address = rp$q;
-        rec$24$write_enable = rec_write;
-        rec$24$write_address = wp$q;
+        rec$23$read_address = rp$0$q;
+        rec2$23$read_address = rp$0$q;
+        rec$24$write_enable = rec_write$0;
+        rec$24$write_address = wp$0$q;
         rec$24$write_data = 32'h0;
-        rec2$24$write_enable = rec_write;
-        rec2$24$write_address = wp$q;
+        rec2$24$write_enable = rec_write$0;
+        rec2$24$write_address = wp$0$q;
         rec2$24$write_data = 32'h0;
         if (s5_live$24$q) begin
             rec$24$write_data = s5_head$24$q;
             rec2$24$write_data = s5_head2$24$q;
         end
-        rec$24$read_address = rp$q;
-        rec2$24$read_address = rp$q;
-        rec$25$write_enable = rec_write;
-        rec$25$write_address = wp$q;
+        rec$24$read_address = rp$0$q;
+        rec2$24$read_address = rp$0$q;
+        rec$25$write_enable = rec_write$0;
+        rec$25$write_address = wp$0$q;
         rec$25$write_data = 32'h0;
-        rec2$25$write_enable = rec_write;
-        rec2$25$write_address = wp$q;
+        rec2$25$write_enable = rec_write$0;
+        rec2$25$write_address = wp$0$q;
         rec2$25$write_data = 32'h0;
         if (s5_live$25$q) begin
             rec$25$write_data = s5_head$25$q;
             rec2$25$write_data = s5_head2$25$q;
         end
-        rec$25$read_address = rp$q;
-        rec2$25$read_address = rp$q;
-        rec$26$write_enable = rec_write;
-        rec$26$write_address = wp$q;
+        rec$25$read_address = rp$0$q;
+        rec2$25$read_address = rp$0$q;
+        rec$26$write_enable = rec_write$0;
+        rec$26$write_address = wp$0$q;
         rec$26$write_data = 32'h0;
-        rec2$26$write_enable = rec_write;
-        rec2$26$write_address = wp$q;
+        rec2$26$write_enable = rec_write$0;
+        rec2$26$write_address = wp$0$q;
         rec2$26$write_data = 32'h0;
         if (s5_live$26$q) begin
             rec$26$write_data = s5_head$26$q;
             rec2$26$write_data = s5_head2$26$q;
         end
-        rec$26$read_address = rp$q;
-        rec2$26$read_address = rp$q;
-        rec$27$write_enable = rec_write;
-        rec$27$write_address = wp$q;
+        rec$26$read_address = rp$0$q;
+        rec2$26$read_address = rp$0$q;
+        rec$27$write_enable = rec_write$0;
+        rec$27$write_address = wp$0$q;
         rec$27$write_data = 32'h0;
-        rec2$27$write_enable = rec_write;
-        rec2$27$write_address = wp$q;
+        rec2$27$write_enable = rec_write$0;
+        rec2$27$write_address = wp$0$q;
         rec2$27$write_data = 32'h0;
         if (s5_live$27$q) begin
             rec$27$write_data = s5_head$27$q;
             rec2$27$write_data = s5_head2$27$q;
         end
-        rec$27$read_address = rp$q;
-        rec2$27$read_address = rp$q;
-        rec$28$write_enable = rec_write;
-        rec$28$write_address = wp$q;
+        rec$27$read_address = rp$0$q;
+        rec2$27$read_address = rp$0$q;
+        rec$28$write_enable = rec_write$0;
+        rec$28$write_address = wp$0$q;
         rec$28$write_data = 32'h0;
-        rec2$28$write_enable = rec_write;
-        rec2$28$write_address = wp$q;
+        rec2$28$write_enable = rec_write$0;
+        rec2$28$write_address = wp$0$q;
         rec2$28$write_data = 32'h0;
         if (s5_live$28$q) begin
             rec$28$write_data = s5_head$28$q;
             rec2$28$write_data = s5_head2$28$q;
         end
-        rec$28$read_address = rp$q;
-        rec2$28$read_address = rp$q;
-        rec$29$write_enable = rec_write;
-        rec$29$write_address = wp$q;
+        rec$28$read_address = rp$0$q;
+        rec2$28$read_address = rp$0$q;
+        rec$29$write_enable = rec_write$0;
+        rec$29$write_address = wp$0$q;
         rec$29$write_data = 32'h0;
-        rec2$29$write_enable = rec_write;
-        rec2$29$write_address = wp$q;
+        rec2$29$write_enable = rec_write$0;
+        rec2$29$write_address = wp$0$q;
         rec2$29$write_data = 32'h0;
         if (s5_live$29$q) begin
             rec$29$write_data = s5_head$29$q;
             rec2$29$write_data = s5_head2$29$q;
         end
-        rec$29$read_address = rp$q;
-        rec2$29$read_address = rp$q;
-        rec$30$write_enable = rec_write;
-        rec$30$write_address = wp$q;
+        rec$29$read_address = rp$0$q;
+        rec2$29$read_address = rp$0$q;
+        rec$30$write_enable = rec_write$0;
+        rec$30$write_address = wp$0$q;
         rec$30$write_data = 32'h0;
-        rec2$30$write_enable = rec_write;
-        rec2$30$write_address = wp$q;
+        rec2$30$write_enable = rec_write$0;
+        rec2$30$write_address = wp$0$q;
         rec2$30$write_data = 32'h0;
         if (s5_live$30$q) begin
             rec$30$write_data = s5_head$30$q;
             rec2$30$write_data = s5_head2$30$q;
         end
-        rec$30$read_address = rp$q;
-        rec2$30$read_address = rp$q;
-        rec$31$write_enable = rec_write;
-        rec$31$write_address = wp$q;
+        rec$30$read_address = rp$0$q;
+        rec2$30$read_address = rp$0$q;
+        rec$31$write_enable = rec_write$0;
+        rec$31$write_address = wp$0$q;
         rec$31$write_data = 32'h0;
-        rec2$31$write_enable = rec_write;
-        rec2$31$write_address = wp$q;
+        rec2$31$write_enable = rec_write$0;
+        rec2$31$write_address = wp$0$q;
         rec2$31$write_data = 32'h0;
         if (s5_live$31$q) begin
             rec$31$write_data = s5_head$31$q;
             rec2$31$write_data = s5_head2$31$q;
         end
-        rec$31$read_address = rp$q;
-        rec2$31$read_address = rp$q;
-        rec$32$write_enable = rec_write;
-        rec$32$write_address = wp$q;
+        rec$31$read_address = rp$0$q;
+        rec2$31$read_address = rp$0$q;
+        rec$32$write_enable = rec_write$0;
+        rec$32$write_address = wp$0$q;
         rec$32$write_data = 32'h0;
-        rec2$32$write_enable = rec_write;
-        rec2$32$write_address = wp$q;
+        rec2$32$write_enable = rec_write$0;
+        rec2$32$write_address = wp$0$q;
         rec2$32$write_data = 32'h0;
         if (s5_live$32$q) begin
             rec$32$write_data = s5_head$32$q;
             rec2$32$write_data = s5_head2$32$q;
         end
-        rec$32$read_address = rp$q;
-        rec2$32$read_address = rp$q;
-        rec$33$write_enable = rec_write;
-        rec$33$write_address = wp$q;
+        rec$32$read_address = rp$0$q;
+        rec2$32$read_address = rp$0$q;
+        rec$33$write_enable = rec_write$0;
+        rec$33$write_address = wp$0$q;
         rec$33$write_data = 32'h0;
-        rec2$33$write_enable = rec_write;
-        rec2$33$write_address = wp$q;
+        rec2$33$write_enable = rec_write$0;
+        rec2$33$write_address = wp$0$q;
         rec2$33$write_data = 32'h0;
         if (s5_live$33$q) begin
             rec$33$write_data = s5_head$33$q;
             rec2$33$write_data = s5_head2$33$q;
         end
-        rec$33$read_address = rp$q;
-        rec2$33$read_address = rp$q;
-        rec$34$write_enable = rec_write;
-        rec$34$write_address = wp$q;
+        rec$33$read_address = rp$0$q;
+        rec2$33$read_address = rp$0$q;
+        rec$34$write_enable = rec_write$0;
+        rec$34$write_address = wp$0$q;
         rec$34$write_data = 32'h0;
-        rec2$34$write_enable = rec_write;
-        rec2$34$write_address = wp$q;
+        rec2$34$write_enable = rec_write$0;
+        rec2$34$write_address = wp$0$q;
         rec2$34$write_data = 32'h0;
         if (s5_live$34$q) begin
             rec$34$write_data = s5_head$34$q;
             rec2$34$write_data = s5_head2$34$q;
         end
-        rec$34$read_address = rp$q;
-        rec2$34$read_address = rp$q;
-        rec$35$write_enable = rec_write;
-        rec$35$write_address = wp$q;
+        rec$34$read_address = rp$0$q;
+        rec2$34$read_address = rp$0$q;
+        rec$35$write_enable = rec_write$0;
+        rec$35$write_address = wp$0$q;
         rec$35$write_data = 32'h0;
-        rec2$35$write_enable = rec_write;
-        rec2$35$write_address = wp$q;
+        rec2$35$write_enable = rec_write$0;
+        rec2$35$write_address = wp$0$q;
         rec2$35$write_data = 32'h0;
         if (s5_live$35$q) begin
             rec$35$write_data = s5_head$35$q;
             rec2$35$write_data = s5_head2$35$q;
         end
-        rec$35$read_address = rp$q;
-        rec2$35$read_address = rp$q;
-        rec$36$write_enable = rec_write;
-        rec$36$write_address = wp$q;
+        rec$35$read_address = rp$0$q;
+        rec2$35$read_address = rp$0$q;
+        rec$36$write_enable = rec_write$0;
+        rec$36$write_address = wp$0$q;
         rec$36$write_data = 32'h0;
-        rec2$36$write_enable = rec_write;
-        rec2$36$write_address = wp$q;
+        rec2$36$write_enable = rec_write$0;
+        rec2$36$write_address = wp$0$q;
         rec2$36$write_data = 32'h0;
         if (s5_live$36$q) begin
             rec$36$write_data = s5_head$36$q;
             rec2$36$write_data = s5_head2$36$q;
         end
-        rec$36$read_address = rp$q;
-        rec2$36$read_address = rp$q;
-        rec$37$write_enable = rec_write;
-        rec$37$write_address = wp$q;
+        rec$36$read_address = rp$0$q;
+        rec2$36$read_address = rp$0$q;
+        rec$37$write_enable = rec_write$0;
+        rec$37$write_address = wp$0$q;
         rec$37$write_data = 32'h0;
-        rec2$37$write_enable = rec_write;
-        rec2$37$write_address = wp$q;
+        rec2$37$write_enable = rec_write$0;
+        rec2$37$write_address = wp$0$q;
         rec2$37$write_data = 32'h0;
         if (s5_live$37$q) begin
             rec$37$write_data = s5_head$37$q;
             rec2$37$write_data = s5_head2$37$q;
         end
-        rec$37$read_address = rp$q;
-        rec2$37$read_address = rp$q;
-        rec$38$write_enable = rec_write;
-        rec$38$write_address = wp$q;
+        rec$37$read_address = rp$0$q;
+        rec2$37$read_address = rp$0$q;
+        rec$38$write_enable = rec_write$0;
+        rec$38$write_address = wp$0$q;
         rec$38$write_data = 32'h0;
-        rec2$38$write_enable = rec_write;
-        rec2$38$write_address = wp$q;
+        rec2$38$write_enable = rec_write$0;
+        rec2$38$write_address = wp$0$q;
         rec2$38$write_data = 32'h0;
         if (s5_live$38$q) begin
             rec$38$write_data = s5_head$38$q;
             rec2$38$write_data = s5_head2$38$q;
         end
-        rec$38$read_address = rp$q;
-        rec2$38$read_address = rp$q;
-        rec$39$write_enable = rec_write;
-        rec$39$write_address = wp$q;
+        rec$38$read_address = rp$0$q;
+        rec2$38$read_address = rp$0$q;
+        rec$39$write_enable = rec_write$0;
+        rec$39$write_address = wp$0$q;
         rec$39$write_data = 32'h0;
-        rec2$39$write_enable = rec_write;
-        rec2$39$write_address = wp$q;
+        rec2$39$write_enable = rec_write$0;
+        rec2$39$write_address = wp$0$q;
         rec2$39$write_data = 32'h0;
         if (s5_live$39$q) begin
             rec$39$write_data = s5_head$39$q;
             rec2$39$write_data = s5_head2$39$q;
         end
-        rec$39$read_address = rp$q;
-        rec2$39$read_address = rp$q;
-        rec$40$write_enable = rec_write;
-        rec$40$write_address = wp$q;
+        rec$39$read_address = rp$0$q;
+        rec2$39$read_address = rp$0$q;
+        rec$40$write_enable = rec_write$0;
+        rec$40$write_address = wp$0$q;
         rec$40$write_data = 32'h0;
-        rec2$40$write_enable = rec_write;
-        rec2$40$write_address = wp$q;
+        rec2$40$write_enable = rec_write$0;
+        rec2$40$write_address = wp$0$q;
         rec2$40$write_data = 32'h0;
         if (s5_live$40$q) begin
             rec$40$write_data = s5_head$40$q;
             rec2$40$write_data = s5_head2$40$q;
         end
-        rec$40$read_address = rp$q;
-        rec2$40$read_address = rp$q;
-        rec$41$write_enable = rec_write;
-        rec$41$write_address = wp$q;
+        rec$40$read_address = rp$0$q;
+        rec2$40$read_address = rp$0$q;
+        rec$41$write_enable = rec_write$0;
+        rec$41$write_address = wp$0$q;
         rec$41$write_data = 32'h0;
-        rec2$41$write_enable = rec_write;
-        rec2$41$write_address = wp$q;
+        rec2$41$write_enable = rec_write$0;
+        rec2$41$write_address = wp$0$q;
         rec2$41$write_data = 32'h0;
         if (s5_live$41$q) begin
             rec$41$write_data = s5_head$41$q;
             rec2$41$write_data = s5_head2$41$q;
         end
-        rec$41$read_address = rp$q;
-        rec2$41$read_address = rp$q;
-        rec$42$write_enable = rec_write;
-        rec$42$write_address = wp$q;
+        rec$41$read_address = rp$0$q;
+        rec2$41$read_address = rp$0$q;
+        rec$42$write_enable = rec_write$0;
+        rec$42$write_address = wp$0$q;
         rec$42$write_data = 32'h0;
-        rec2$42$write_enable = rec_write;
-        rec2$42$write_address = wp$q;
+        rec2$42$write_enable = rec_write$0;
+        rec2$42$write_address = wp$0$q;
         rec2$42$write_data = 32'h0;
         if (s5_live$42$q) begin
             rec$42$write_data = s5_head$42$q;
             rec2$42$write_data = s5_head2$42$q;
         end
-        rec$42$read_address = rp$q;
-        rec2$42$read_address = rp$q;
-        rec$43$write_enable = rec_write;
-        rec$43$write_address = wp$q;
+        rec$42$read_address = rp$0$q;
+        rec2$42$read_address = rp$0$q;
+        rec$43$write_enable = rec_write$0;
+        rec$43$write_address = wp$0$q;
         rec$43$write_data = 32'h0;
-        rec2$43$write_enable = rec_write;
-        rec2$43$write_address = wp$q;
+        rec2$43$write_enable = rec_write$0;
+        rec2$43$write_address = wp$0$q;
         rec2$43$write_data = 32'h0;
         if (s5_live$43$q) begin
             rec$43$write_data = s5_head$43$q;
             rec2$43$write_data = s5_head2$43$q;
         end
-        rec$43$read_address = rp$q;
-        rec2$43$read_address = rp$q;
-        rec$44$write_enable = rec_write;
-        rec$44$write_address = wp$q;
+        rec$43$read_address = rp$0$q;
+        rec2$43$read_address = rp$0$q;
+        rec$44$write_enable = rec_write$0;
+        rec$44$write_address = wp$0$q;
         rec$44$write_data = 32'h0;
-        rec2$44$write_enable = rec_write;
-        rec2$44$write_address = wp$q;
+        rec2$44$write_enable = rec_write$0;
+        rec2$44$write_address = wp$0$q;
         rec2$44$write_data = 32'h0;
         if (s5_live$44$q) begin
             rec$44$write_data = s5_head$44$q;
             rec2$44$write_data = s5_head2$44$q;
         end
-        rec$44$read_address = rp$q;
-        rec2$44$read_address = rp$q;
-        rec$45$write_enable = rec_write;
-        rec$45$write_address = wp$q;
+        rec$44$read_address = rp$0$q;
+        rec2$44$read_address = rp$0$q;
+        rec$45$write_enable = rec_write$0;
+        rec$45$write_address = wp$0$q;
         rec$45$write_data = 32'h0;
-        rec2$45$write_enable = rec_write;
-        rec2$45$write_address = wp$q;
+        rec2$45$write_enable = rec_write$0;
+        rec2$45$write_address = wp$0$q;
         rec2$45$write_data = 32'h0;
         if (s5_live$45$q) begin
             rec$45$write_data = s5_head$45$q;
             rec2$45$write_data = s5_head2$45$q;
         end
-        rec$45$read_address = rp$q;
-        rec2$45$read_address = rp$q;
-        rec$46$write_enable = rec_write;
-        rec$46$write_address = wp$q;
+        rec$45$read_address = rp$0$q;
+        rec2$45$read_address = rp$0$q;
+        rec$46$write_enable = rec_write$0;
+        rec$46$write_address = wp$0$q;
         rec$46$write_data = 32'h0;
-        rec2$46$write_enable = rec_write;
-        rec2$46$write_address = wp$q;
+        rec2$46$write_enable = rec_write$0;
+        rec2$46$write_address = wp$0$q;
         rec2$46$write_data = 32'h0;
         if (s5_live$46$q) begin
             rec$46$write_data = s5_head$46$q;
             rec2$46$write_data = s5_head2$46$q;
         end
-        rec$46$read_address = rp$q;
-        rec2$46$read_address = rp$q;
-        rec$47$write_enable = rec_write;
-        rec$47$write_address = wp$q;
+        rec$46$read_address = rp$0$q;
+        rec2$46$read_address = rp$0$q;
+        rec$47$write_enable = rec_write$0;
+        rec$47$write_address = wp$0$q;
         rec$47$write_data = 32'h0;
-        rec2$47$write_enable = rec_write;
-        rec2$47$write_address = wp$q;
+        rec2$47$write_enable = rec_write$0;
+        rec2$47$write_address = wp$0$q;
         rec2$47$write_data = 32'h0;
         if (s5_live$47$q) begin
             rec$47$write_data = s5_head$47$q;
             rec2$47$write_data = s5_head2$47$q;
         end
-        rec$47$read_address = rp$q;
-        rec2$47$read_address = rp$q;
-        rec$48$write_enable = rec_write;
-        rec$48$write_address = wp$q;
+        rec$47$read_address = rp$0$q;
+        rec2$47$read_address = rp$0$q;
+        rec$48$write_enable = rec_write$0;
+        rec$48$write_address = wp$0$q;
         rec$48$write_data = 32'h0;
-        rec2$48$write_enable = rec_write;
-        rec2$48$write_address = wp$q;
+        rec2$48$write_enable = rec_write$0;
+        rec2$48$write_address = wp$0$q;
         rec2$48$write_data = 32'h0;
         if (s5_live$48$q) begin
             rec$48$write_data = s5_head$48$q;
             rec2$48$write_data = s5_head2$48$q;
         end
-        rec$48$read_address = rp$q;
-        rec2$48$read_address = rp$q;
-        rec$49$write_enable = rec_write;
-        rec$49$write_address = wp$q;
+        rec$48$read_address = rp$0$q;
+        rec2$48$read_address = rp$0$q;
+        rec$49$write_enable = rec_write$0;
+        rec$49$write_address = wp$0$q;
         rec$49$write_data = 32'h0;
-        rec2$49$write_enable = rec_write;
-        rec2$49$write_address = wp$q;
+        rec2$49$write_enable = rec_write$0;
+        rec2$49$write_address = wp$0$q;
         rec2$49$write_data = 32'h0;
         if (s5_live$49$q) begin
             rec$49$write_data = s5_head$49$q;
             rec2$49$write_data = s5_head2$49$q;
         end
-        rec$49$read_address = rp$q;
-        rec2$49$read_address = rp$q;
-        rec$50$write_enable = rec_write;
-        rec$50$write_address = wp$q;
+        rec$49$read_address = rp$0$q;
+        rec2$49$read_address = rp$0$q;
+        rec$50$write_enable = rec_write$0;
+        rec$50$write_address = wp$0$q;
         rec$50$write_data = 32'h0;
-        rec2$50$write_enable = rec_write;
-        rec2$50$write_address = wp$q;
+        rec2$50$write_enable = rec_write$0;
+        rec2$50$write_address = wp$0$q;
         rec2$50$write_data = 32'h0;
         if (s5_live$50$q) begin
             rec$50$write_data = s5_head$50$q;
             rec2$50$write_data = s5_head2$50$q;
         end
-        rec$50$read_address = rp$q;
-        rec2$50$read_address = rp$q;
-        rec$51$write_enable = rec_write;
-        rec$51$write_address = wp$q;
+        rec$50$read_address = rp$0$q;
+        rec2$50$read_address = rp$0$q;
+        rec$51$write_enable = rec_write$0;
+        rec$51$write_address = wp$0$q;
         rec$51$write_data = 32'h0;
-        rec2$51$write_enable = rec_write;
-        rec2$51$write_address = wp$q;
+        rec2$51$write_enable = rec_write$0;
+        rec2$51$write_address = wp$0$q;
         rec2$51$write_data = 32'h0;
         if (s5_live$51$q) begin
             rec$51$write_data = s5_head$51$q;
             rec2$51$write_data = s5_head2$51$q;
         end
-        rec$51$read_address = rp$q;
-        rec2$51$read_address = rp$q;
-        rec$52$write_enable = rec_write;
-        rec$52$write_address = wp$q;
+        rec$51$read_address = rp$0$q;
+        rec2$51$read_address = rp$0$q;
+        rec$52$write_enable = rec_write$0;
+        rec$52$write_address = wp$0$q;
         rec$52$write_data = 32'h0;
-        rec2$52$write_enable = rec_write;
-        rec2$52$write_address = wp$q;
+        rec2$52$write_enable = rec_write$0;
+        rec2$52$write_address = wp$0$q;
         rec2$52$write_data = 32'h0;
         if (s5_live$52$q) begin
             rec$52$write_data = s5_head$52$q;
             rec2$52$write_data = s5_head2$52$q;
         end
-        rec$52$read_address = rp$q;
-        rec2$52$read_address = rp$q;
-        rec$53$write_enable = rec_write;
-        rec$53$write_address = wp$q;
+        rec$52$read_address = rp$0$q;
+        rec2$52$read_address = rp$0$q;
+        rec$53$write_enable = rec_write$0;
+        rec$53$write_address = wp$0$q;
         rec$53$write_data = 32'h0;
-        rec2$53$write_enable = rec_write;
-        rec2$53$write_address = wp$q;
+        rec2$53$write_enable = rec_write$0;
+        rec2$53$write_address = wp$0$q;
         rec2$53$write_data = 32'h0;
         if (s5_live$53$q) begin
             rec$53$write_data = s5_head$53$q;
             rec2$53$write_data = s5_head2$53$q;
         end
-        rec$53$read_address = rp$q;
-        rec2$53$read_address = rp$q;
-        rec$54$write_enable = rec_write;
-        rec$54$write_address = wp$q;
+        rec$53$read_address = rp$0$q;
+        rec2$53$read_address = rp$0$q;
+        rec$54$write_enable = rec_write$0;
+        rec$54$write_address = wp$0$q;
         rec$54$write_data = 32'h0;
-        rec2$54$write_enable = rec_write;
-        rec2$54$write_address = wp$q;
+        rec2$54$write_enable = rec_write$0;
+        rec2$54$write_address = wp$0$q;
         rec2$54$write_data = 32'h0;
         if (s5_live$54$q) begin
             rec$54$write_data = s5_head$54$q;
             rec2$54$write_data = s5_head2$54$q;
         end
-        rec$54$read_address = rp$q;
-        rec2$54$read_address = rp$q;
-        rec$55$write_enable = rec_write;
-        rec$55$write_address = wp$q;
+        rec$54$read_address = rp$0$q;
+        rec2$54$read_address = rp$0$q;
+        rec$55$write_enable = rec_write$0;
+        rec$55$write_address = wp$0$q;
         rec$55$write_data = 32'h0;
-        rec2$55$write_enable = rec_write;
-        rec2$55$write_address = wp$q;
+        rec2$55$write_enable = rec_write$0;
+        rec2$55$write_address = wp$0$q;
         rec2$55$write_data = 32'h0;
         if (s5_live$55$q) begin
             rec$55$write_data = s5_head$55$q;
             rec2$55$write_data = s5_head2$55$q;
         end
-        rec$55$read_address = rp$q;
-        rec2$55$read_address = rp$q;
-        rec$56$write_enable = rec_write;
-        rec$56$write_address = wp$q;
+        rec$55$read_address = rp$0$q;
+        rec2$55$read_address = rp$0$q;
+        rec$56$write_enable = rec_write$0;
+        rec$56$write_address = wp$0$q;
         rec$56$write_data = 32'h0;
-        rec2$56$write_enable = rec_write;
-        rec2$56$write_address = wp$q;
+        rec2$56$write_enable = rec_write$0;
+        rec2$56$write_address = wp$0$q;
         rec2$56$write_data = 32'h0;
         if (s5_live$56$q) begin
             rec$56$write_data = s5_head$56$q;
             rec2$56$write_data = s5_head2$56$q;
         end
-        rec$56$read_address = rp$q;
-        rec2$56$read_address = rp$q;
-        rec$57$write_enable = rec_write;
-        rec$57$write_address = wp$q;
+        rec$56$read_address = rp$0$q;
+        rec2$56$read_address = rp$0$q;
+        rec$57$write_enable = rec_write$0;
+        rec$57$write_address = wp$0$q;
         rec$57$write_data = 32'h0;
-        rec2$57$write_enable = rec_write;
-        rec2$57$write_address = wp$q;
+        rec2$57$write_enable = rec_write$0;
+        rec2$57$write_address = wp$0$q;
         rec2$57$write_data = 32'h0;
         if (s5_live$57$q) begin
             rec$57$write_data = s5_head$57$q;
             rec2$57$write_data = s5_head2$57$q;
         end
-        rec$57$read_address = rp$q;
-        rec2$57$read_address = rp$q;
-        rec$58$write_enable = rec_write;
-        rec$58$write_address = wp$q;
+        rec$57$read_address = rp$0$q;
+        rec2$57$read_address = rp$0$q;
+        rec$58$write_enable = rec_write$0;
+        rec$58$write_address = wp$0$q;
         rec$58$write_data = 32'h0;
-        rec2$58$write_enable = rec_write;
-        rec2$58$write_address = wp$q;
+        rec2$58$write_enable = rec_write$0;
+        rec2$58$write_address = wp$0$q;
         rec2$58$write_data = 32'h0;
         if (s5_live$58$q) begin
             rec$58$write_data = s5_head$58$q;
             rec2$58$write_data = s5_head2$58$q;
         end
-        rec$58$read_address = rp$q;
-        rec2$58$read_address = rp$q;
-        rec$59$write_enable = rec_write;
-        rec$59$write_address = wp$q;
+        rec$58$read_address = rp$0$q;
+        rec2$58$read_address = rp$0$q;
+        rec$59$write_enable = rec_write$0;
+        rec$59$write_address = wp$0$q;
         rec$59$write_data = 32'h0;
-        rec2$59$write_enable = rec_write;
-        rec2$59$write_address = wp$q;
+        rec2$59$write_enable = rec_write$0;
+        rec2$59$write_address = wp$0$q;
         rec2$59$write_data = 32'h0;
         if (s5_live$59$q) begin
             rec$59$write_data = s5_head$59$q;
             rec2$59$write_data = s5_head2$59$q;
         end
-        rec$59$read_address = rp$q;
-        rec2$59$read_address = rp$q;
-        rec$60$write_enable = rec_write;
-        rec$60$write_address = wp$q;
+        rec$59$read_address = rp$0$q;
+        rec2$59$read_address = rp$0$q;
+        rec$60$write_enable = rec_write$0;
+        rec$60$write_address = wp$0$q;
         rec$60$write_data = 32'h0;
-        rec2$60$write_enable = rec_write;
-        rec2$60$write_address = wp$q;
+        rec2$60$write_enable = rec_write$0;
+        rec2$60$write_address = wp$0$q;
         rec2$60$write_data = 32'h0;
         if (s5_live$60$q) begin
             rec$60$write_data = s5_head$60$q;
             rec2$60$write_data = s5_head2$60$q;
         end
-        rec$60$read_address = rp$q;
-        rec2$60$read_address = rp$q;
-        rec$61$write_enable = rec_write;
-        rec$61$write_address = wp$q;
+        rec$60$read_address = rp$0$q;
+        rec2$60$read_address = rp$0$q;
+        rec$61$write_enable = rec_write$0;
+        rec$61$write_address = wp$0$q;
         rec$61$write_data = 32'h0;
-        rec2$61$write_enable = rec_write;
-        rec2$61$write_address = wp$q;
+        rec2$61$write_enable = rec_write$0;
+        rec2$61$write_address = wp$0$q;
         rec2$61$write_data = 32'h0;
         if (s5_live$61$q) begin
             rec$61$write_data = s5_head$61$q;
             rec2$61$write_data = s5_head2$61$q;
         end
-        rec$61$read_address = rp$q;
-        rec2$61$read_address = rp$q;
-        rec$62$write_enable = rec_write;
-        rec$62$write_address = wp$q;
+        rec$61$read_address = rp$0$q;
+        rec2$61$read_address = rp$0$q;
+        rec$62$write_enable = rec_write$0;
+        rec$62$write_address = wp$0$q;
         rec$62$write_data = 32'h0;
-        rec2$62$write_enable = rec_write;
-        rec2$62$write_address = wp$q;
+        rec2$62$write_enable = rec_write$0;
+        rec2$62$write_address = wp$0$q;
         rec2$62$write_data = 32'h0;
         if (s5_live$62$q) begin
             rec$62$write_data = s5_head$62$q;
             rec2$62$write_data = s5_head2$62$q;
         end
-        rec$62$read_address = rp$q;
-        rec2$62$read_address = rp$q;
-        rec$63$write_enable = rec_write;
-        rec$63$write_address = wp$q;
+        rec$62$read_address = rp$0$q;
+        rec2$62$read_address = rp$0$q;
+        rec$63$write_enable = rec_write$0;
+        rec$63$write_address = wp$0$q;
         rec$63$write_data = 32'h0;
-        rec2$63$write_enable = rec_write;
-        rec2$63$write_address = wp$q;
+        rec2$63$write_enable = rec_write$0;
+        rec2$63$write_address = wp$0$q;
         rec2$63$write_data = 32'h0;
         if (s5_live$63$q) begin
             rec$63$write_data = s5_head$63$q;
             rec2$63$write_data = s5_head2$63$q;
         end
-        rec$63$read_address = rp$q;
-        rec2$63$read_address = rp$q;
-        rec$64$write_enable = rec_write;
-        rec$64$write_address = wp$q;
+        rec$63$read_address = rp$0$q;
+        rec2$63$read_address = rp$0$q;
+        rec$64$write_enable = rec_write$0;
+        rec$64$write_address = wp$0$q;
         rec$64$write_data = 32'h0;
-        rec2$64$write_enable = rec_write;
-        rec2$64$write_address = wp$q;
+        rec2$64$write_enable = rec_write$0;
+        rec2$64$write_address = wp$0$q;
         rec2$64$write_data = 32'h0;
         if (s5_live$64$q) begin
             rec$64$write_data = s5_head$64$q;
             rec2$64$write_data = s5_head2$64$q;
         end
-        rec$64$read_address = rp$q;
-        rec2$64$read_address = rp$q;
-        rec$65$write_enable = rec_write;
-        rec$65$write_address = wp$q;
+        rec$64$read_address = rp$0$q;
+        rec2$64$read_address = rp$0$q;
+        rec$65$write_enable = rec_write$0;
+        rec$65$write_address = wp$0$q;
         rec$65$write_data = 32'h0;
-        rec2$65$write_enable = rec_write;
-        rec2$65$write_address = wp$q;
+        rec2$65$write_enable = rec_write$0;
+        rec2$65$write_address = wp$0$q;
         rec2$65$write_data = 32'h0;
         if (s5_live$65$q) begin
             rec$65$write_data = s5_head$65$q;
             rec2$65$write_data = s5_head2$65$q;
         end
-        rec$65$read_address = rp$q;
-        rec2$65$read_address = rp$q;
-        rec$66$write_enable = rec_write;
-        rec$66$write_address = wp$q;
+        rec$65$read_address = rp$0$q;
+        rec2$65$read_address = rp$0$q;
+        rec$66$write_enable = rec_write$0;
+        rec$66$write_address = wp$0$q;
         rec$66$write_data = 32'h0;
-        rec2$66$write_enable = rec_write;
-        rec2$66$write_address = wp$q;
+        rec2$66$write_enable = rec_write$0;
+        rec2$66$write_address = wp$0$q;
         rec2$66$write_data = 32'h0;
         if (s5_live$66$q) begin
             rec$66$write_data = s5_head$66$q;
             rec2$66$write_data = s5_head2$66$q;
         end
-        rec$66$read_address = rp$q;
-        rec2$66$read_address = rp$q;
-        rec$67$write_enable = rec_write;
-        rec$67$write_address = wp$q;
+        rec$66$read_address = rp$0$q;
+        rec2$66$read_address = rp$0$q;
+        rec$67$write_enable = rec_write$0;
+        rec$67$write_address = wp$0$q;
         rec$67$write_data = 32'h0;
-        rec2$67$write_enable = rec_write;
-        rec2$67$write_address = wp$q;
+        rec2$67$write_enable = rec_write$0;
+        rec2$67$write_address = wp$0$q;
         rec2$67$write_data = 32'h0;
         if (s5_live$67$q) begin
             rec$67$write_data = s5_head$67$q;
             rec2$67$write_data = s5_head2$67$q;
         end
-        rec$67$read_address = rp$q;
-        rec2$67$read_address = rp$q;
-        rec$68$write_enable = rec_write;
-        rec$68$write_address = wp$q;
+        rec$67$read_address = rp$0$q;
+        rec2$67$read_address = rp$0$q;
+        rec$68$write_enable = rec_write$0;
+        rec$68$write_address = wp$0$q;
         rec$68$write_data = 32'h0;
-        rec2$68$write_enable = rec_write;
-        rec2$68$write_address = wp$q;
+        rec2$68$write_enable = rec_write$0;
+        rec2$68$write_address = wp$0$q;
         rec2$68$write_data = 32'h0;
         if (s5_live$68$q) begin
             rec$68$write_data = s5_head$68$q;
             rec2$68$write_data = s5_head2$68$q;
         end
-        rec$68$read_address = rp$q;
-        rec2$68$read_address = rp$q;
-        rec$69$write_enable = rec_write;
-        rec$69$write_address = wp$q;
+        rec$68$read_address = rp$0$q;
+        rec2$68$read_address = rp$0$q;
+        rec$69$write_enable = rec_write$0;
+        rec$69$write_address = wp$0$q;
         rec$69$write_data = 32'h0;
-        rec2$69$write_enable = rec_write;
-        rec2$69$write_address = wp$q;
+        rec2$69$write_enable = rec_write$0;
+        rec2$69$write_address = wp$0$q;
         rec2$69$write_data = 32'h0;
         if (s5_live$69$q) begin
             rec$69$write_data = s5_head$69$q;
             rec2$69$write_data = s5_head2$69$q;
         end
-        rec$69$read_address = rp$q;
-        rec2$69$read_address = rp$q;
-        rec$70$write_enable = rec_write;
-        rec$70$write_address = wp$q;
+        rec$69$read_address = rp$0$q;
+        rec2$69$read_address = rp$0$q;
+        rec$70$write_enable = rec_write$0;
+        rec$70$write_address = wp$0$q;
         rec$70$write_data = 32'h0;
-        rec2$70$write_enable = rec_write;
-        rec2$70$write_address = wp$q;
+        rec2$70$write_enable = rec_write$0;
+        rec2$70$write_address = wp$0$q;
         rec2$70$write_data = 32'h0;
         if (s5_live$70$q) begin
             rec$70$write_data = s5_head$70$q;
             rec2$70$write_data = s5_head2$70$q;
         end
-        rec$70$read_address = rp$q;
-        rec2$70$read_address = rp$q;
-        rec$71$write_enable = rec_write;
-        rec$71$write_address = wp$q;
+        rec$70$read_address = rp$0$q;
+        rec2$70$read_address = rp$0$q;
+        rec$71$write_enable = rec_write$0;
+        rec$71$write_address = wp$0$q;
         rec$71$write_data = 32'h0;
-        rec2$71$write_enable = rec_write;
-        rec2$71$write_address = wp$q;
+        rec2$71$write_enable = rec_write$0;
+        rec2$71$write_address = wp$0$q;
         rec2$71$write_data = 32'h0;
         if (s5_live$71$q) begin
             rec$71$write_data = s5_head$71$q;
             rec2$71$write_data = s5_head2$71$q;
         end
-        rec$71$read_address = rp$q;
-        rec2$71$read_address = rp$q;
-        rec$72$write_enable = rec_write;
-        rec$72$write_address = wp$q;
+        rec$71$read_address = rp$0$q;
+        rec2$71$read_address = rp$0$q;
+        rec$72$write_enable = rec_write$0;
+        rec$72$write_address = wp$0$q;
         rec$72$write_data = 32'h0;
-        rec2$72$write_enable = rec_write;
-        rec2$72$write_address = wp$q;
+        rec2$72$write_enable = rec_write$0;
+        rec2$72$write_address = wp$0$q;
         rec2$72$write_data = 32'h0;
         if (s5_live$72$q) begin
             rec$72$write_data = s5_head$72$q;
             rec2$72$write_data = s5_head2$72$q;
         end
-        rec$72$read_address = rp$q;
-        rec2$72$read_address = rp$q;
-        rec$73$write_enable = rec_write;
-        rec$73$write_address = wp$q;
+        rec$72$read_address = rp$0$q;
+        rec2$72$read_address = rp$0$q;
+        rec$73$write_enable = rec_write$0;
+        rec$73$write_address = wp$0$q;
         rec$73$write_data = 32'h0;
-        rec2$73$write_enable = rec_write;
-        rec2$73$write_address = wp$q;
+        rec2$73$write_enable = rec_write$0;
+        rec2$73$write_address = wp$0$q;
         rec2$73$write_data = 32'h0;
         if (s5_live$73$q) begin
             rec$73$write_data = s5_head$73$q;
             rec2$73$write_data = s5_head2$73$q;
         end
-        rec$73$read_address = rp$q;
-        rec2$73$read_address = rp$q;
-        rec$74$write_enable = rec_write;
-        rec$74$write_address = wp$q;
+        rec$73$read_address = rp$0$q;
+        rec2$73$read_address = rp$0$q;
+        rec$74$write_enable = rec_write$0;
+        rec$74$write_address = wp$0$q;
         rec$74$write_data = 32'h0;
-        rec2$74$write_enable = rec_write;
-        rec2$74$write_address = wp$q;
+        rec2$74$write_enable = rec_write$0;
+        rec2$74$write_address = wp$0$q;
         rec2$74$write_data = 32'h0;
         if (s5_live$74$q) begin
             rec$74$write_data = s5_head$74$q;
             rec2$74$write_data = s5_head2$74$q;
         end
-        rec$74$read_address = rp$q;
-        rec2$74$read_address = rp$q;
-        rec$75$write_enable = rec_write;
-        rec$75$write_address = wp$q;
+        rec$74$read_address = rp$0$q;
+        rec2$74$read_address = rp$0$q;
+        rec$75$write_enable = rec_write$0;
+        rec$75$write_address = wp$0$q;
         rec$75$write_data = 32'h0;
-        rec2$75$write_enable = rec_write;
-        rec2$75$write_address = wp$q;
+        rec2$75$write_enable = rec_write$0;
+        rec2$75$write_address = wp$0$q;
         rec2$75$write_data = 32'h0;
         if (s5_live$75$q) begin
             rec$75$write_data = s5_head$75$q;
             rec2$75$write_data = s5_head2$75$q;
         end
-        rec$75$read_address = rp$q;
-        rec2$75$read_address = rp$q;
-        rec$76$write_enable = rec_write;
-        rec$76$write_address = wp$q;
+        rec$75$read_address = rp$0$q;
+        rec2$75$read_address = rp$0$q;
+        rec$76$write_enable = rec_write$0;
+        rec$76$write_address = wp$0$q;
         rec$76$write_data = 32'h0;
-        rec2$76$write_enable = rec_write;
-        rec2$76$write_address = wp$q;
+        rec2$76$write_enable = rec_write$0;
+        rec2$76$write_address = wp$0$q;
         rec2$76$write_data = 32'h0;
         if (s5_live$76$q) begin
             rec$76$write_data = s5_head$76$q;
             rec2$76$write_data = s5_head2$76$q;
         end
-        rec$76$read_address = rp$q;
-        rec2$76$read_address = rp$q;
-        rec$77$write_enable = rec_write;
-        rec$77$write_address = wp$q;
+        rec$76$read_address = rp$0$q;
+        rec2$76$read_address = rp$0$q;
+        rec$77$write_enable = rec_write$0;
+        rec$77$write_address = wp$0$q;
         rec$77$write_data = 32'h0;
-        rec2$77$write_enable = rec_write;
-        rec2$77$write_address = wp$q;
+        rec2$77$write_enable = rec_write$0;
+        rec2$77$write_address = wp$0$q;
         rec2$77$write_data = 32'h0;
         if (s5_live$77$q) begin
             rec$77$write_data = s5_head$77$q;
             rec2$77$write_data = s5_head2$77$q;
         end
-        rec$77$read_address = rp$q;
-        rec2$77$read_address = rp$q;
-        rec$78$write_enable = rec_write;
-        rec$78$write_address = wp$q;
+        rec$77$read_address = rp$0$q;
+        rec2$77$read_address = rp$0$q;
+        rec$78$write_enable = rec_write$0;
+        rec$78$write_address = wp$0$q;
         rec$78$write_data = 32'h0;
-        rec2$78$write_enable = rec_write;
-        rec2$78$write_address = wp$q;
+        rec2$78$write_enable = rec_write$0;
+        rec2$78$write_address = wp$0$q;
         rec2$78$write_data = 32'h0;
         if (s5_live$78$q) begin
             rec$78$write_data = s5_head$78$q;
             rec2$78$write_data = s5_head2$78$q;
         end
-        rec$78$read_address = rp$q;
-        rec2$78$read_address = rp$q;
-        rec$79$write_enable = rec_write;
-        rec$79$write_address = wp$q;
+        rec$78$read_address = rp$0$q;
+        rec2$78$read_address = rp$0$q;
+        rec$79$write_enable = rec_write$0;
+        rec$79$write_address = wp$0$q;
         rec$79$write_data = 32'h0;
-        rec2$79$write_enable = rec_write;
-        rec2$79$write_address = wp$q;
+        rec2$79$write_enable = rec_write$0;
+        rec2$79$write_address = wp$0$q;
         rec2$79$write_data = 32'h0;
         if (s5_live$79$q) begin
             rec$79$write_data = s5_head$79$q;
             rec2$79$write_data = s5_head2$79$q;
         end
-        rec$79$read_address = rp$q;
-        rec2$79$read_address = rp$q;
-        rec$80$write_enable = rec_write;
-        rec$80$write_address = wp$q;
+        rec$79$read_address = rp$0$q;
+        rec2$79$read_address = rp$0$q;
+        rec$80$write_enable = rec_write$0;
+        rec$80$write_address = wp$0$q;
         rec$80$write_data = 32'h0;
-        rec2$80$write_enable = rec_write;
-        rec2$80$write_address = wp$q;
+        rec2$80$write_enable = rec_write$0;
+        rec2$80$write_address = wp$0$q;
         rec2$80$write_data = 32'h0;
         if (s5_live$80$q) begin
             rec$80$write_data = s5_head$80$q;
             rec2$80$write_data = s5_head2$80$q;
         end
-        rec$80$read_address = rp$q;
-        rec2$80$read_address = rp$q;
+        rec$80$read_address = rp$0$q;
+        rec2$80$read_address = rp$0$q;
         if (s5_kind$q[32'h1]) begin
-            rec$0$write_data = lnext$q;
-            rec2$0$write_data = lnext2$q;
+            rec$0$write_data = lnext$0$q;
+            rec2$0$write_data = lnext2$0$q;
         end
-        rec_box$write_enable = rec_write;
-        rec_box$write_address = wp$q;
-        rec_box$read_address = rp$q;
-        rec_box$in_index = s5_index$q;
-        rec_box$in_margin = s5_margin$q;
-        rec_box$in_kind = s5_kind$q;
-        rec_box$in_min$0 = s5_min$0$q;
-        rec_box$in_max$0 = s5_max$0$q;
-        rec_box$in_min$1 = s5_min$1$q;
-        rec_box$in_max$1 = s5_max$1$q;
-        rec_box$in_min$2 = s5_min$2$q;
-        rec_box$in_max$2 = s5_max$2$q;
-        if (rec_write) begin
-            wp$d = wp$q + 32'h1;
+        rec_box$0$write_enable = rec_write$0;
+        rec_box$0$write_address = wp$0$q;
+        rec_box$0$read_address = rp$0$q;
+        rec_box$0$in_index = s5_index$q;
+        rec_box$0$in_margin = s5_margin$q;
+        rec_box$0$in_kind = s5_kind$q;
+        rec_box$0$in_min_x = s5_min$0$q;
+        rec_box$0$in_min_y = s5_min$1$q;
+        rec_box$0$in_min_z = s5_min$2$q;
+        rec_box$0$in_max_x = s5_max$0$q;
+        rec_box$0$in_max_y = s5_max$1$q;
+        rec_box$0$in_max_z = s5_max$2$q;
+        if (rec_write$0) begin
+            wp$0$d = wp$0$q + 32'h1;
         end
         bank_any$0 = 1'b0;
         bank_any$1 = 1'b0;
@@ -34921,769 +35063,769 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         e_first$78 = e_rem$78$q & ~group_prior$78 & ~bank_prior$24;
         e_first$79 = e_rem$79$q & ~group_prior$79 & ~bank_prior$25;
         e_first$80 = e_rem$80$q & ~group_prior$80 & ~bank_prior$26;
-        e_push = e_chosen$q & ~lq_fill$2$q;
-        e_load = (count$q != 32'h0) & ~e_busy$q;
-        e_out = 32'h0;
-        e_out2 = 32'h0;
-        e_more = 1'b0;
+        e_push$0 = e_chosen$0$q & ~lq_fill$2$q;
+        e_load$0 = (count$0$q != 32'h0) & ~e_busy$0$q;
+        e_out$0 = 32'h0;
+        e_out2$0 = 32'h0;
+        e_more$0 = 1'b0;
         e_pick$0 = 32'h0;
         e_pick2$0 = 32'h0;
         if (e_sel$0$q) begin
             e_pick$0 = e_head$0$q;
             e_pick2$0 = e_head2$0$q;
         end
-        e_out = e_out | e_pick$0;
-        e_out2 = e_out2 | e_pick2$0;
-        e_more = e_more | (e_rem$0$q & ~e_sel$0$q);
+        e_out$0 = e_out$0 | e_pick$0;
+        e_out2$0 = e_out2$0 | e_pick2$0;
+        e_more$0 = e_more$0 | (e_rem$0$q & ~e_sel$0$q);
         e_pick$1 = 32'h0;
         e_pick2$1 = 32'h0;
         if (e_sel$1$q) begin
             e_pick$1 = e_head$1$q;
             e_pick2$1 = e_head2$1$q;
         end
-        e_out = e_out | e_pick$1;
-        e_out2 = e_out2 | e_pick2$1;
-        e_more = e_more | (e_rem$1$q & ~e_sel$1$q);
+        e_out$0 = e_out$0 | e_pick$1;
+        e_out2$0 = e_out2$0 | e_pick2$1;
+        e_more$0 = e_more$0 | (e_rem$1$q & ~e_sel$1$q);
         e_pick$2 = 32'h0;
         e_pick2$2 = 32'h0;
         if (e_sel$2$q) begin
             e_pick$2 = e_head$2$q;
             e_pick2$2 = e_head2$2$q;
         end
-        e_out = e_out | e_pick$2;
-        e_out2 = e_out2 | e_pick2$2;
-        e_more = e_more | (e_rem$2$q & ~e_sel$2$q);
+        e_out$0 = e_out$0 | e_pick$2;
+        e_out2$0 = e_out2$0 | e_pick2$2;
+        e_more$0 = e_more$0 | (e_rem$2$q & ~e_sel$2$q);
         e_pick$3 = 32'h0;
         e_pick2$3 = 32'h0;
         if (e_sel$3$q) begin
             e_pick$3 = e_head$3$q;
             e_pick2$3 = e_head2$3$q;
         end
-        e_out = e_out | e_pick$3;
-        e_out2 = e_out2 | e_pick2$3;
-        e_more = e_more | (e_rem$3$q & ~e_sel$3$q);
+        e_out$0 = e_out$0 | e_pick$3;
+        e_out2$0 = e_out2$0 | e_pick2$3;
+        e_more$0 = e_more$0 | (e_rem$3$q & ~e_sel$3$q);
         e_pick$4 = 32'h0;
         e_pick2$4 = 32'h0;
         if (e_sel$4$q) begin
             e_pick$4 = e_head$4$q;
             e_pick2$4 = e_head2$4$q;
         end
-        e_out = e_out | e_pick$4;
-        e_out2 = e_out2 | e_pick2$4;
-        e_more = e_more | (e_rem$4$q & ~e_sel$4$q);
+        e_out$0 = e_out$0 | e_pick$4;
+        e_out2$0 = e_out2$0 | e_pick2$4;
+        e_more$0 = e_more$0 | (e_rem$4$q & ~e_sel$4$q);
         e_pick$5 = 32'h0;
         e_pick2$5 = 32'h0;
         if (e_sel$5$q) begin
             e_pick$5 = e_head$5$q;
             e_pick2$5 = e_head2$5$q;
         end
-        e_out = e_out | e_pick$5;
-        e_out2 = e_out2 | e_pick2$5;
-        e_more = e_more | (e_rem$5$q & ~e_sel$5$q);
+        e_out$0 = e_out$0 | e_pick$5;
+        e_out2$0 = e_out2$0 | e_pick2$5;
+        e_more$0 = e_more$0 | (e_rem$5$q & ~e_sel$5$q);
         e_pick$6 = 32'h0;
         e_pick2$6 = 32'h0;
         if (e_sel$6$q) begin
             e_pick$6 = e_head$6$q;
             e_pick2$6 = e_head2$6$q;
         end
-        e_out = e_out | e_pick$6;
-        e_out2 = e_out2 | e_pick2$6;
-        e_more = e_more | (e_rem$6$q & ~e_sel$6$q);
+        e_out$0 = e_out$0 | e_pick$6;
+        e_out2$0 = e_out2$0 | e_pick2$6;
+        e_more$0 = e_more$0 | (e_rem$6$q & ~e_sel$6$q);
         e_pick$7 = 32'h0;
         e_pick2$7 = 32'h0;
         if (e_sel$7$q) begin
             e_pick$7 = e_head$7$q;
             e_pick2$7 = e_head2$7$q;
         end
-        e_out = e_out | e_pick$7;
-        e_out2 = e_out2 | e_pick2$7;
-        e_more = e_more | (e_rem$7$q & ~e_sel$7$q);
+        e_out$0 = e_out$0 | e_pick$7;
+        e_out2$0 = e_out2$0 | e_pick2$7;
+        e_more$0 = e_more$0 | (e_rem$7$q & ~e_sel$7$q);
         e_pick$8 = 32'h0;
         e_pick2$8 = 32'h0;
         if (e_sel$8$q) begin
             e_pick$8 = e_head$8$q;
             e_pick2$8 = e_head2$8$q;
         end
-        e_out = e_out | e_pick$8;
-        e_out2 = e_out2 | e_pick2$8;
-        e_more = e_more | (e_rem$8$q & ~e_sel$8$q);
+        e_out$0 = e_out$0 | e_pick$8;
+        e_out2$0 = e_out2$0 | e_pick2$8;
+        e_more$0 = e_more$0 | (e_rem$8$q & ~e_sel$8$q);
         e_pick$9 = 32'h0;
         e_pick2$9 = 32'h0;
         if (e_sel$9$q) begin
             e_pick$9 = e_head$9$q;
             e_pick2$9 = e_head2$9$q;
         end
-        e_out = e_out | e_pick$9;
-        e_out2 = e_out2 | e_pick2$9;
-        e_more = e_more | (e_rem$9$q & ~e_sel$9$q);
+        e_out$0 = e_out$0 | e_pick$9;
+        e_out2$0 = e_out2$0 | e_pick2$9;
+        e_more$0 = e_more$0 | (e_rem$9$q & ~e_sel$9$q);
         e_pick$10 = 32'h0;
         e_pick2$10 = 32'h0;
         if (e_sel$10$q) begin
             e_pick$10 = e_head$10$q;
             e_pick2$10 = e_head2$10$q;
         end
-        e_out = e_out | e_pick$10;
-        e_out2 = e_out2 | e_pick2$10;
-        e_more = e_more | (e_rem$10$q & ~e_sel$10$q);
+        e_out$0 = e_out$0 | e_pick$10;
+        e_out2$0 = e_out2$0 | e_pick2$10;
+        e_more$0 = e_more$0 | (e_rem$10$q & ~e_sel$10$q);
         e_pick$11 = 32'h0;
         e_pick2$11 = 32'h0;
         if (e_sel$11$q) begin
             e_pick$11 = e_head$11$q;
             e_pick2$11 = e_head2$11$q;
         end
-        e_out = e_out | e_pick$11;
-        e_out2 = e_out2 | e_pick2$11;
-        e_more = e_more | (e_rem$11$q & ~e_sel$11$q);
+        e_out$0 = e_out$0 | e_pick$11;
+        e_out2$0 = e_out2$0 | e_pick2$11;
+        e_more$0 = e_more$0 | (e_rem$11$q & ~e_sel$11$q);
         e_pick$12 = 32'h0;
         e_pick2$12 = 32'h0;
         if (e_sel$12$q) begin
             e_pick$12 = e_head$12$q;
             e_pick2$12 = e_head2$12$q;
         end
-        e_out = e_out | e_pick$12;
-        e_out2 = e_out2 | e_pick2$12;
-        e_more = e_more | (e_rem$12$q & ~e_sel$12$q);
+        e_out$0 = e_out$0 | e_pick$12;
+        e_out2$0 = e_out2$0 | e_pick2$12;
+        e_more$0 = e_more$0 | (e_rem$12$q & ~e_sel$12$q);
         e_pick$13 = 32'h0;
         e_pick2$13 = 32'h0;
         if (e_sel$13$q) begin
             e_pick$13 = e_head$13$q;
             e_pick2$13 = e_head2$13$q;
         end
-        e_out = e_out | e_pick$13;
-        e_out2 = e_out2 | e_pick2$13;
-        e_more = e_more | (e_rem$13$q & ~e_sel$13$q);
+        e_out$0 = e_out$0 | e_pick$13;
+        e_out2$0 = e_out2$0 | e_pick2$13;
+        e_more$0 = e_more$0 | (e_rem$13$q & ~e_sel$13$q);
         e_pick$14 = 32'h0;
         e_pick2$14 = 32'h0;
         if (e_sel$14$q) begin
             e_pick$14 = e_head$14$q;
             e_pick2$14 = e_head2$14$q;
         end
-        e_out = e_out | e_pick$14;
-        e_out2 = e_out2 | e_pick2$14;
-        e_more = e_more | (e_rem$14$q & ~e_sel$14$q);
+        e_out$0 = e_out$0 | e_pick$14;
+        e_out2$0 = e_out2$0 | e_pick2$14;
+        e_more$0 = e_more$0 | (e_rem$14$q & ~e_sel$14$q);
         e_pick$15 = 32'h0;
         e_pick2$15 = 32'h0;
         if (e_sel$15$q) begin
             e_pick$15 = e_head$15$q;
             e_pick2$15 = e_head2$15$q;
         end
-        e_out = e_out | e_pick$15;
-        e_out2 = e_out2 | e_pick2$15;
-        e_more = e_more | (e_rem$15$q & ~e_sel$15$q);
+        e_out$0 = e_out$0 | e_pick$15;
+        e_out2$0 = e_out2$0 | e_pick2$15;
+        e_more$0 = e_more$0 | (e_rem$15$q & ~e_sel$15$q);
         e_pick$16 = 32'h0;
         e_pick2$16 = 32'h0;
         if (e_sel$16$q) begin
             e_pick$16 = e_head$16$q;
             e_pick2$16 = e_head2$16$q;
         end
-        e_out = e_out | e_pick$16;
-        e_out2 = e_out2 | e_pick2$16;
-        e_more = e_more | (e_rem$16$q & ~e_sel$16$q);
+        e_out$0 = e_out$0 | e_pick$16;
+        e_out2$0 = e_out2$0 | e_pick2$16;
+        e_more$0 = e_more$0 | (e_rem$16$q & ~e_sel$16$q);
         e_pick$17 = 32'h0;
         e_pick2$17 = 32'h0;
         if (e_sel$17$q) begin
             e_pick$17 = e_head$17$q;
             e_pick2$17 = e_head2$17$q;
         end
-        e_out = e_out | e_pick$17;
-        e_out2 = e_out2 | e_pick2$17;
-        e_more = e_more | (e_rem$17$q & ~e_sel$17$q);
+        e_out$0 = e_out$0 | e_pick$17;
+        e_out2$0 = e_out2$0 | e_pick2$17;
+        e_more$0 = e_more$0 | (e_rem$17$q & ~e_sel$17$q);
         e_pick$18 = 32'h0;
         e_pick2$18 = 32'h0;
         if (e_sel$18$q) begin
             e_pick$18 = e_head$18$q;
             e_pick2$18 = e_head2$18$q;
         end
-        e_out = e_out | e_pick$18;
-        e_out2 = e_out2 | e_pick2$18;
-        e_more = e_more | (e_rem$18$q & ~e_sel$18$q);
+        e_out$0 = e_out$0 | e_pick$18;
+        e_out2$0 = e_out2$0 | e_pick2$18;
+        e_more$0 = e_more$0 | (e_rem$18$q & ~e_sel$18$q);
         e_pick$19 = 32'h0;
         e_pick2$19 = 32'h0;
         if (e_sel$19$q) begin
             e_pick$19 = e_head$19$q;
             e_pick2$19 = e_head2$19$q;
         end
-        e_out = e_out | e_pick$19;
-        e_out2 = e_out2 | e_pick2$19;
-        e_more = e_more | (e_rem$19$q & ~e_sel$19$q);
+        e_out$0 = e_out$0 | e_pick$19;
+        e_out2$0 = e_out2$0 | e_pick2$19;
+        e_more$0 = e_more$0 | (e_rem$19$q & ~e_sel$19$q);
         e_pick$20 = 32'h0;
         e_pick2$20 = 32'h0;
         if (e_sel$20$q) begin
             e_pick$20 = e_head$20$q;
             e_pick2$20 = e_head2$20$q;
         end
-        e_out = e_out | e_pick$20;
-        e_out2 = e_out2 | e_pick2$20;
-        e_more = e_more | (e_rem$20$q & ~e_sel$20$q);
+        e_out$0 = e_out$0 | e_pick$20;
+        e_out2$0 = e_out2$0 | e_pick2$20;
+        e_more$0 = e_more$0 | (e_rem$20$q & ~e_sel$20$q);
         e_pick$21 = 32'h0;
         e_pick2$21 = 32'h0;
         if (e_sel$21$q) begin
             e_pick$21 = e_head$21$q;
             e_pick2$21 = e_head2$21$q;
         end
-        e_out = e_out | e_pick$21;
-        e_out2 = e_out2 | e_pick2$21;
-        e_more = e_more | (e_rem$21$q & ~e_sel$21$q);
+        e_out$0 = e_out$0 | e_pick$21;
+        e_out2$0 = e_out2$0 | e_pick2$21;
+        e_more$0 = e_more$0 | (e_rem$21$q & ~e_sel$21$q);
         e_pick$22 = 32'h0;
         e_pick2$22 = 32'h0;
         if (e_sel$22$q) begin
             e_pick$22 = e_head$22$q;
             e_pick2$22 = e_head2$22$q;
         end
-        e_out = e_out | e_pick$22;
-        e_out2 = e_out2 | e_pick2$22;
-        e_more = e_more | (e_rem$22$q & ~e_sel$22$q);
+        e_out$0 = e_out$0 | e_pick$22;
+        e_out2$0 = e_out2$0 | e_pick2$22;
+        e_more$0 = e_more$0 | (e_rem$22$q & ~e_sel$22$q);
         e_pick$23 = 32'h0;
         e_pick2$23 = 32'h0;
         if (e_sel$23$q) begin
             e_pick$23 = e_head$23$q;
             e_pick2$23 = e_head2$23$q;
         end
-        e_out = e_out | e_pick$23;
-        e_out2 = e_out2 | e_pick2$23;
-        e_more = e_more | (e_rem$23$q & ~e_sel$23$q);
+        e_out$0 = e_out$0 | e_pick$23;
+        e_out2$0 = e_out2$0 | e_pick2$23;
+        e_more$0 = e_more$0 | (e_rem$23$q & ~e_sel$23$q);
         e_pick$24 = 32'h0;
         e_pick2$24 = 32'h0;
         if (e_sel$24$q) begin
             e_pick$24 = e_head$24$q;
             e_pick2$24 = e_head2$24$q;
         end
-        e_out = e_out | e_pick$24;
-        e_out2 = e_out2 | e_pick2$24;
-        e_more = e_more | (e_rem$24$q & ~e_sel$24$q);
+        e_out$0 = e_out$0 | e_pick$24;
+        e_out2$0 = e_out2$0 | e_pick2$24;
+        e_more$0 = e_more$0 | (e_rem$24$q & ~e_sel$24$q);
         e_pick$25 = 32'h0;
         e_pick2$25 = 32'h0;
         if (e_sel$25$q) begin
             e_pick$25 = e_head$25$q;
             e_pick2$25 = e_head2$25$q;
         end
-        e_out = e_out | e_pick$25;
-        e_out2 = e_out2 | e_pick2$25;
-        e_more = e_more | (e_rem$25$q & ~e_sel$25$q);
+        e_out$0 = e_out$0 | e_pick$25;
+        e_out2$0 = e_out2$0 | e_pick2$25;
+        e_more$0 = e_more$0 | (e_rem$25$q & ~e_sel$25$q);
         e_pick$26 = 32'h0;
         e_pick2$26 = 32'h0;
         if (e_sel$26$q) begin
             e_pick$26 = e_head$26$q;
             e_pick2$26 = e_head2$26$q;
         end
-        e_out = e_out | e_pick$26;
-        e_out2 = e_out2 | e_pick2$26;
-        e_more = e_more | (e_rem$26$q & ~e_sel$26$q);
+        e_out$0 = e_out$0 | e_pick$26;
+        e_out2$0 = e_out2$0 | e_pick2$26;
+        e_more$0 = e_more$0 | (e_rem$26$q & ~e_sel$26$q);
         e_pick$27 = 32'h0;
         e_pick2$27 = 32'h0;
         if (e_sel$27$q) begin
             e_pick$27 = e_head$27$q;
             e_pick2$27 = e_head2$27$q;
         end
-        e_out = e_out | e_pick$27;
-        e_out2 = e_out2 | e_pick2$27;
-        e_more = e_more | (e_rem$27$q & ~e_sel$27$q);
+        e_out$0 = e_out$0 | e_pick$27;
+        e_out2$0 = e_out2$0 | e_pick2$27;
+        e_more$0 = e_more$0 | (e_rem$27$q & ~e_sel$27$q);
         e_pick$28 = 32'h0;
         e_pick2$28 = 32'h0;
         if (e_sel$28$q) begin
             e_pick$28 = e_head$28$q;
             e_pick2$28 = e_head2$28$q;
         end
-        e_out = e_out | e_pick$28;
-        e_out2 = e_out2 | e_pick2$28;
-        e_more = e_more | (e_rem$28$q & ~e_sel$28$q);
+        e_out$0 = e_out$0 | e_pick$28;
+        e_out2$0 = e_out2$0 | e_pick2$28;
+        e_more$0 = e_more$0 | (e_rem$28$q & ~e_sel$28$q);
         e_pick$29 = 32'h0;
         e_pick2$29 = 32'h0;
         if (e_sel$29$q) begin
             e_pick$29 = e_head$29$q;
             e_pick2$29 = e_head2$29$q;
         end
-        e_out = e_out | e_pick$29;
-        e_out2 = e_out2 | e_pick2$29;
-        e_more = e_more | (e_rem$29$q & ~e_sel$29$q);
+        e_out$0 = e_out$0 | e_pick$29;
+        e_out2$0 = e_out2$0 | e_pick2$29;
+        e_more$0 = e_more$0 | (e_rem$29$q & ~e_sel$29$q);
         e_pick$30 = 32'h0;
         e_pick2$30 = 32'h0;
         if (e_sel$30$q) begin
             e_pick$30 = e_head$30$q;
             e_pick2$30 = e_head2$30$q;
         end
-        e_out = e_out | e_pick$30;
-        e_out2 = e_out2 | e_pick2$30;
-        e_more = e_more | (e_rem$30$q & ~e_sel$30$q);
+        e_out$0 = e_out$0 | e_pick$30;
+        e_out2$0 = e_out2$0 | e_pick2$30;
+        e_more$0 = e_more$0 | (e_rem$30$q & ~e_sel$30$q);
         e_pick$31 = 32'h0;
         e_pick2$31 = 32'h0;
         if (e_sel$31$q) begin
             e_pick$31 = e_head$31$q;
             e_pick2$31 = e_head2$31$q;
         end
-        e_out = e_out | e_pick$31;
-        e_out2 = e_out2 | e_pick2$31;
-        e_more = e_more | (e_rem$31$q & ~e_sel$31$q);
+        e_out$0 = e_out$0 | e_pick$31;
+        e_out2$0 = e_out2$0 | e_pick2$31;
+        e_more$0 = e_more$0 | (e_rem$31$q & ~e_sel$31$q);
         e_pick$32 = 32'h0;
         e_pick2$32 = 32'h0;
         if (e_sel$32$q) begin
             e_pick$32 = e_head$32$q;
             e_pick2$32 = e_head2$32$q;
         end
-        e_out = e_out | e_pick$32;
-        e_out2 = e_out2 | e_pick2$32;
-        e_more = e_more | (e_rem$32$q & ~e_sel$32$q);
+        e_out$0 = e_out$0 | e_pick$32;
+        e_out2$0 = e_out2$0 | e_pick2$32;
+        e_more$0 = e_more$0 | (e_rem$32$q & ~e_sel$32$q);
         e_pick$33 = 32'h0;
         e_pick2$33 = 32'h0;
         if (e_sel$33$q) begin
             e_pick$33 = e_head$33$q;
             e_pick2$33 = e_head2$33$q;
         end
-        e_out = e_out | e_pick$33;
-        e_out2 = e_out2 | e_pick2$33;
-        e_more = e_more | (e_rem$33$q & ~e_sel$33$q);
+        e_out$0 = e_out$0 | e_pick$33;
+        e_out2$0 = e_out2$0 | e_pick2$33;
+        e_more$0 = e_more$0 | (e_rem$33$q & ~e_sel$33$q);
         e_pick$34 = 32'h0;
         e_pick2$34 = 32'h0;
         if (e_sel$34$q) begin
             e_pick$34 = e_head$34$q;
             e_pick2$34 = e_head2$34$q;
         end
-        e_out = e_out | e_pick$34;
-        e_out2 = e_out2 | e_pick2$34;
-        e_more = e_more | (e_rem$34$q & ~e_sel$34$q);
+        e_out$0 = e_out$0 | e_pick$34;
+        e_out2$0 = e_out2$0 | e_pick2$34;
+        e_more$0 = e_more$0 | (e_rem$34$q & ~e_sel$34$q);
         e_pick$35 = 32'h0;
         e_pick2$35 = 32'h0;
         if (e_sel$35$q) begin
             e_pick$35 = e_head$35$q;
             e_pick2$35 = e_head2$35$q;
         end
-        e_out = e_out | e_pick$35;
-        e_out2 = e_out2 | e_pick2$35;
-        e_more = e_more | (e_rem$35$q & ~e_sel$35$q);
+        e_out$0 = e_out$0 | e_pick$35;
+        e_out2$0 = e_out2$0 | e_pick2$35;
+        e_more$0 = e_more$0 | (e_rem$35$q & ~e_sel$35$q);
         e_pick$36 = 32'h0;
         e_pick2$36 = 32'h0;
         if (e_sel$36$q) begin
             e_pick$36 = e_head$36$q;
             e_pick2$36 = e_head2$36$q;
         end
-        e_out = e_out | e_pick$36;
-        e_out2 = e_out2 | e_pick2$36;
-        e_more = e_more | (e_rem$36$q & ~e_sel$36$q);
+        e_out$0 = e_out$0 | e_pick$36;
+        e_out2$0 = e_out2$0 | e_pick2$36;
+        e_more$0 = e_more$0 | (e_rem$36$q & ~e_sel$36$q);
         e_pick$37 = 32'h0;
         e_pick2$37 = 32'h0;
         if (e_sel$37$q) begin
             e_pick$37 = e_head$37$q;
             e_pick2$37 = e_head2$37$q;
         end
-        e_out = e_out | e_pick$37;
-        e_out2 = e_out2 | e_pick2$37;
-        e_more = e_more | (e_rem$37$q & ~e_sel$37$q);
+        e_out$0 = e_out$0 | e_pick$37;
+        e_out2$0 = e_out2$0 | e_pick2$37;
+        e_more$0 = e_more$0 | (e_rem$37$q & ~e_sel$37$q);
         e_pick$38 = 32'h0;
         e_pick2$38 = 32'h0;
         if (e_sel$38$q) begin
             e_pick$38 = e_head$38$q;
             e_pick2$38 = e_head2$38$q;
         end
-        e_out = e_out | e_pick$38;
-        e_out2 = e_out2 | e_pick2$38;
-        e_more = e_more | (e_rem$38$q & ~e_sel$38$q);
+        e_out$0 = e_out$0 | e_pick$38;
+        e_out2$0 = e_out2$0 | e_pick2$38;
+        e_more$0 = e_more$0 | (e_rem$38$q & ~e_sel$38$q);
         e_pick$39 = 32'h0;
         e_pick2$39 = 32'h0;
         if (e_sel$39$q) begin
             e_pick$39 = e_head$39$q;
             e_pick2$39 = e_head2$39$q;
         end
-        e_out = e_out | e_pick$39;
-        e_out2 = e_out2 | e_pick2$39;
-        e_more = e_more | (e_rem$39$q & ~e_sel$39$q);
+        e_out$0 = e_out$0 | e_pick$39;
+        e_out2$0 = e_out2$0 | e_pick2$39;
+        e_more$0 = e_more$0 | (e_rem$39$q & ~e_sel$39$q);
         e_pick$40 = 32'h0;
         e_pick2$40 = 32'h0;
         if (e_sel$40$q) begin
             e_pick$40 = e_head$40$q;
             e_pick2$40 = e_head2$40$q;
         end
-        e_out = e_out | e_pick$40;
-        e_out2 = e_out2 | e_pick2$40;
-        e_more = e_more | (e_rem$40$q & ~e_sel$40$q);
+        e_out$0 = e_out$0 | e_pick$40;
+        e_out2$0 = e_out2$0 | e_pick2$40;
+        e_more$0 = e_more$0 | (e_rem$40$q & ~e_sel$40$q);
         e_pick$41 = 32'h0;
         e_pick2$41 = 32'h0;
         if (e_sel$41$q) begin
             e_pick$41 = e_head$41$q;
             e_pick2$41 = e_head2$41$q;
         end
-        e_out = e_out | e_pick$41;
-        e_out2 = e_out2 | e_pick2$41;
-        e_more = e_more | (e_rem$41$q & ~e_sel$41$q);
+        e_out$0 = e_out$0 | e_pick$41;
+        e_out2$0 = e_out2$0 | e_pick2$41;
+        e_more$0 = e_more$0 | (e_rem$41$q & ~e_sel$41$q);
         e_pick$42 = 32'h0;
         e_pick2$42 = 32'h0;
         if (e_sel$42$q) begin
             e_pick$42 = e_head$42$q;
             e_pick2$42 = e_head2$42$q;
         end
-        e_out = e_out | e_pick$42;
-        e_out2 = e_out2 | e_pick2$42;
-        e_more = e_more | (e_rem$42$q & ~e_sel$42$q);
+        e_out$0 = e_out$0 | e_pick$42;
+        e_out2$0 = e_out2$0 | e_pick2$42;
+        e_more$0 = e_more$0 | (e_rem$42$q & ~e_sel$42$q);
         e_pick$43 = 32'h0;
         e_pick2$43 = 32'h0;
         if (e_sel$43$q) begin
             e_pick$43 = e_head$43$q;
             e_pick2$43 = e_head2$43$q;
         end
-        e_out = e_out | e_pick$43;
-        e_out2 = e_out2 | e_pick2$43;
-        e_more = e_more | (e_rem$43$q & ~e_sel$43$q);
+        e_out$0 = e_out$0 | e_pick$43;
+        e_out2$0 = e_out2$0 | e_pick2$43;
+        e_more$0 = e_more$0 | (e_rem$43$q & ~e_sel$43$q);
         e_pick$44 = 32'h0;
         e_pick2$44 = 32'h0;
         if (e_sel$44$q) begin
             e_pick$44 = e_head$44$q;
             e_pick2$44 = e_head2$44$q;
         end
-        e_out = e_out | e_pick$44;
-        e_out2 = e_out2 | e_pick2$44;
-        e_more = e_more | (e_rem$44$q & ~e_sel$44$q);
+        e_out$0 = e_out$0 | e_pick$44;
+        e_out2$0 = e_out2$0 | e_pick2$44;
+        e_more$0 = e_more$0 | (e_rem$44$q & ~e_sel$44$q);
         e_pick$45 = 32'h0;
         e_pick2$45 = 32'h0;
         if (e_sel$45$q) begin
             e_pick$45 = e_head$45$q;
             e_pick2$45 = e_head2$45$q;
         end
-        e_out = e_out | e_pick$45;
-        e_out2 = e_out2 | e_pick2$45;
-        e_more = e_more | (e_rem$45$q & ~e_sel$45$q);
+        e_out$0 = e_out$0 | e_pick$45;
+        e_out2$0 = e_out2$0 | e_pick2$45;
+        e_more$0 = e_more$0 | (e_rem$45$q & ~e_sel$45$q);
         e_pick$46 = 32'h0;
         e_pick2$46 = 32'h0;
         if (e_sel$46$q) begin
             e_pick$46 = e_head$46$q;
             e_pick2$46 = e_head2$46$q;
         end
-        e_out = e_out | e_pick$46;
-        e_out2 = e_out2 | e_pick2$46;
-        e_more = e_more | (e_rem$46$q & ~e_sel$46$q);
+        e_out$0 = e_out$0 | e_pick$46;
+        e_out2$0 = e_out2$0 | e_pick2$46;
+        e_more$0 = e_more$0 | (e_rem$46$q & ~e_sel$46$q);
         e_pick$47 = 32'h0;
         e_pick2$47 = 32'h0;
         if (e_sel$47$q) begin
             e_pick$47 = e_head$47$q;
             e_pick2$47 = e_head2$47$q;
         end
-        e_out = e_out | e_pick$47;
-        e_out2 = e_out2 | e_pick2$47;
-        e_more = e_more | (e_rem$47$q & ~e_sel$47$q);
+        e_out$0 = e_out$0 | e_pick$47;
+        e_out2$0 = e_out2$0 | e_pick2$47;
+        e_more$0 = e_more$0 | (e_rem$47$q & ~e_sel$47$q);
         e_pick$48 = 32'h0;
         e_pick2$48 = 32'h0;
         if (e_sel$48$q) begin
             e_pick$48 = e_head$48$q;
             e_pick2$48 = e_head2$48$q;
         end
-        e_out = e_out | e_pick$48;
-        e_out2 = e_out2 | e_pick2$48;
-        e_more = e_more | (e_rem$48$q & ~e_sel$48$q);
+        e_out$0 = e_out$0 | e_pick$48;
+        e_out2$0 = e_out2$0 | e_pick2$48;
+        e_more$0 = e_more$0 | (e_rem$48$q & ~e_sel$48$q);
         e_pick$49 = 32'h0;
         e_pick2$49 = 32'h0;
         if (e_sel$49$q) begin
             e_pick$49 = e_head$49$q;
             e_pick2$49 = e_head2$49$q;
         end
-        e_out = e_out | e_pick$49;
-        e_out2 = e_out2 | e_pick2$49;
-        e_more = e_more | (e_rem$49$q & ~e_sel$49$q);
+        e_out$0 = e_out$0 | e_pick$49;
+        e_out2$0 = e_out2$0 | e_pick2$49;
+        e_more$0 = e_more$0 | (e_rem$49$q & ~e_sel$49$q);
         e_pick$50 = 32'h0;
         e_pick2$50 = 32'h0;
         if (e_sel$50$q) begin
             e_pick$50 = e_head$50$q;
             e_pick2$50 = e_head2$50$q;
         end
-        e_out = e_out | e_pick$50;
-        e_out2 = e_out2 | e_pick2$50;
-        e_more = e_more | (e_rem$50$q & ~e_sel$50$q);
+        e_out$0 = e_out$0 | e_pick$50;
+        e_out2$0 = e_out2$0 | e_pick2$50;
+        e_more$0 = e_more$0 | (e_rem$50$q & ~e_sel$50$q);
         e_pick$51 = 32'h0;
         e_pick2$51 = 32'h0;
         if (e_sel$51$q) begin
             e_pick$51 = e_head$51$q;
             e_pick2$51 = e_head2$51$q;
         end
-        e_out = e_out | e_pick$51;
-        e_out2 = e_out2 | e_pick2$51;
-        e_more = e_more | (e_rem$51$q & ~e_sel$51$q);
+        e_out$0 = e_out$0 | e_pick$51;
+        e_out2$0 = e_out2$0 | e_pick2$51;
+        e_more$0 = e_more$0 | (e_rem$51$q & ~e_sel$51$q);
         e_pick$52 = 32'h0;
         e_pick2$52 = 32'h0;
         if (e_sel$52$q) begin
             e_pick$52 = e_head$52$q;
             e_pick2$52 = e_head2$52$q;
         end
-        e_out = e_out | e_pick$52;
-        e_out2 = e_out2 | e_pick2$52;
-        e_more = e_more | (e_rem$52$q & ~e_sel$52$q);
+        e_out$0 = e_out$0 | e_pick$52;
+        e_out2$0 = e_out2$0 | e_pick2$52;
+        e_more$0 = e_more$0 | (e_rem$52$q & ~e_sel$52$q);
         e_pick$53 = 32'h0;
         e_pick2$53 = 32'h0;
         if (e_sel$53$q) begin
             e_pick$53 = e_head$53$q;
             e_pick2$53 = e_head2$53$q;
         end
-        e_out = e_out | e_pick$53;
-        e_out2 = e_out2 | e_pick2$53;
-        e_more = e_more | (e_rem$53$q & ~e_sel$53$q);
+        e_out$0 = e_out$0 | e_pick$53;
+        e_out2$0 = e_out2$0 | e_pick2$53;
+        e_more$0 = e_more$0 | (e_rem$53$q & ~e_sel$53$q);
         e_pick$54 = 32'h0;
         e_pick2$54 = 32'h0;
         if (e_sel$54$q) begin
             e_pick$54 = e_head$54$q;
             e_pick2$54 = e_head2$54$q;
         end
-        e_out = e_out | e_pick$54;
-        e_out2 = e_out2 | e_pick2$54;
-        e_more = e_more | (e_rem$54$q & ~e_sel$54$q);
+        e_out$0 = e_out$0 | e_pick$54;
+        e_out2$0 = e_out2$0 | e_pick2$54;
+        e_more$0 = e_more$0 | (e_rem$54$q & ~e_sel$54$q);
         e_pick$55 = 32'h0;
         e_pick2$55 = 32'h0;
         if (e_sel$55$q) begin
             e_pick$55 = e_head$55$q;
             e_pick2$55 = e_head2$55$q;
         end
-        e_out = e_out | e_pick$55;
-        e_out2 = e_out2 | e_pick2$55;
-        e_more = e_more | (e_rem$55$q & ~e_sel$55$q);
+        e_out$0 = e_out$0 | e_pick$55;
+        e_out2$0 = e_out2$0 | e_pick2$55;
+        e_more$0 = e_more$0 | (e_rem$55$q & ~e_sel$55$q);
         e_pick$56 = 32'h0;
         e_pick2$56 = 32'h0;
         if (e_sel$56$q) begin
             e_pick$56 = e_head$56$q;
             e_pick2$56 = e_head2$56$q;
         end
-        e_out = e_out | e_pick$56;
-        e_out2 = e_out2 | e_pick2$56;
-        e_more = e_more | (e_rem$56$q & ~e_sel$56$q);
+        e_out$0 = e_out$0 | e_pick$56;
+        e_out2$0 = e_out2$0 | e_pick2$56;
+        e_more$0 = e_more$0 | (e_rem$56$q & ~e_sel$56$q);
         e_pick$57 = 32'h0;
         e_pick2$57 = 32'h0;
         if (e_sel$57$q) begin
             e_pick$57 = e_head$57$q;
             e_pick2$57 = e_head2$57$q;
         end
-        e_out = e_out | e_pick$57;
-        e_out2 = e_out2 | e_pick2$57;
-        e_more = e_more | (e_rem$57$q & ~e_sel$57$q);
+        e_out$0 = e_out$0 | e_pick$57;
+        e_out2$0 = e_out2$0 | e_pick2$57;
+        e_more$0 = e_more$0 | (e_rem$57$q & ~e_sel$57$q);
         e_pick$58 = 32'h0;
         e_pick2$58 = 32'h0;
         if (e_sel$58$q) begin
             e_pick$58 = e_head$58$q;
             e_pick2$58 = e_head2$58$q;
         end
-        e_out = e_out | e_pick$58;
-        e_out2 = e_out2 | e_pick2$58;
-        e_more = e_more | (e_rem$58$q & ~e_sel$58$q);
+        e_out$0 = e_out$0 | e_pick$58;
+        e_out2$0 = e_out2$0 | e_pick2$58;
+        e_more$0 = e_more$0 | (e_rem$58$q & ~e_sel$58$q);
         e_pick$59 = 32'h0;
         e_pick2$59 = 32'h0;
         if (e_sel$59$q) begin
             e_pick$59 = e_head$59$q;
             e_pick2$59 = e_head2$59$q;
         end
-        e_out = e_out | e_pick$59;
-        e_out2 = e_out2 | e_pick2$59;
-        e_more = e_more | (e_rem$59$q & ~e_sel$59$q);
+        e_out$0 = e_out$0 | e_pick$59;
+        e_out2$0 = e_out2$0 | e_pick2$59;
+        e_more$0 = e_more$0 | (e_rem$59$q & ~e_sel$59$q);
         e_pick$60 = 32'h0;
         e_pick2$60 = 32'h0;
         if (e_sel$60$q) begin
             e_pick$60 = e_head$60$q;
             e_pick2$60 = e_head2$60$q;
         end
-        e_out = e_out | e_pick$60;
-        e_out2 = e_out2 | e_pick2$60;
-        e_more = e_more | (e_rem$60$q & ~e_sel$60$q);
+        e_out$0 = e_out$0 | e_pick$60;
+        e_out2$0 = e_out2$0 | e_pick2$60;
+        e_more$0 = e_more$0 | (e_rem$60$q & ~e_sel$60$q);
         e_pick$61 = 32'h0;
         e_pick2$61 = 32'h0;
         if (e_sel$61$q) begin
             e_pick$61 = e_head$61$q;
             e_pick2$61 = e_head2$61$q;
         end
-        e_out = e_out | e_pick$61;
-        e_out2 = e_out2 | e_pick2$61;
-        e_more = e_more | (e_rem$61$q & ~e_sel$61$q);
+        e_out$0 = e_out$0 | e_pick$61;
+        e_out2$0 = e_out2$0 | e_pick2$61;
+        e_more$0 = e_more$0 | (e_rem$61$q & ~e_sel$61$q);
         e_pick$62 = 32'h0;
         e_pick2$62 = 32'h0;
         if (e_sel$62$q) begin
             e_pick$62 = e_head$62$q;
             e_pick2$62 = e_head2$62$q;
         end
-        e_out = e_out | e_pick$62;
-        e_out2 = e_out2 | e_pick2$62;
-        e_more = e_more | (e_rem$62$q & ~e_sel$62$q);
+        e_out$0 = e_out$0 | e_pick$62;
+        e_out2$0 = e_out2$0 | e_pick2$62;
+        e_more$0 = e_more$0 | (e_rem$62$q & ~e_sel$62$q);
         e_pick$63 = 32'h0;
         e_pick2$63 = 32'h0;
         if (e_sel$63$q) begin
             e_pick$63 = e_head$63$q;
             e_pick2$63 = e_head2$63$q;
         end
-        e_out = e_out | e_pick$63;
-        e_out2 = e_out2 | e_pick2$63;
-        e_more = e_more | (e_rem$63$q & ~e_sel$63$q);
+        e_out$0 = e_out$0 | e_pick$63;
+        e_out2$0 = e_out2$0 | e_pick2$63;
+        e_more$0 = e_more$0 | (e_rem$63$q & ~e_sel$63$q);
         e_pick$64 = 32'h0;
         e_pick2$64 = 32'h0;
         if (e_sel$64$q) begin
             e_pick$64 = e_head$64$q;
             e_pick2$64 = e_head2$64$q;
         end
-        e_out = e_out | e_pick$64;
-        e_out2 = e_out2 | e_pick2$64;
-        e_more = e_more | (e_rem$64$q & ~e_sel$64$q);
+        e_out$0 = e_out$0 | e_pick$64;
+        e_out2$0 = e_out2$0 | e_pick2$64;
+        e_more$0 = e_more$0 | (e_rem$64$q & ~e_sel$64$q);
         e_pick$65 = 32'h0;
         e_pick2$65 = 32'h0;
         if (e_sel$65$q) begin
             e_pick$65 = e_head$65$q;
             e_pick2$65 = e_head2$65$q;
         end
-        e_out = e_out | e_pick$65;
-        e_out2 = e_out2 | e_pick2$65;
-        e_more = e_more | (e_rem$65$q & ~e_sel$65$q);
+        e_out$0 = e_out$0 | e_pick$65;
+        e_out2$0 = e_out2$0 | e_pick2$65;
+        e_more$0 = e_more$0 | (e_rem$65$q & ~e_sel$65$q);
         e_pick$66 = 32'h0;
         e_pick2$66 = 32'h0;
         if (e_sel$66$q) begin
             e_pick$66 = e_head$66$q;
             e_pick2$66 = e_head2$66$q;
         end
-        e_out = e_out | e_pick$66;
-        e_out2 = e_out2 | e_pick2$66;
-        e_more = e_more | (e_rem$66$q & ~e_sel$66$q);
+        e_out$0 = e_out$0 | e_pick$66;
+        e_out2$0 = e_out2$0 | e_pick2$66;
+        e_more$0 = e_more$0 | (e_rem$66$q & ~e_sel$66$q);
         e_pick$67 = 32'h0;
         e_pick2$67 = 32'h0;
         if (e_sel$67$q) begin
             e_pick$67 = e_head$67$q;
             e_pick2$67 = e_head2$67$q;
         end
-        e_out = e_out | e_pick$67;
-        e_out2 = e_out2 | e_pick2$67;
-        e_more = e_more | (e_rem$67$q & ~e_sel$67$q);
+        e_out$0 = e_out$0 | e_pick$67;
+        e_out2$0 = e_out2$0 | e_pick2$67;
+        e_more$0 = e_more$0 | (e_rem$67$q & ~e_sel$67$q);
         e_pick$68 = 32'h0;
         e_pick2$68 = 32'h0;
         if (e_sel$68$q) begin
             e_pick$68 = e_head$68$q;
             e_pick2$68 = e_head2$68$q;
         end
-        e_out = e_out | e_pick$68;
-        e_out2 = e_out2 | e_pick2$68;
-        e_more = e_more | (e_rem$68$q & ~e_sel$68$q);
+        e_out$0 = e_out$0 | e_pick$68;
+        e_out2$0 = e_out2$0 | e_pick2$68;
+        e_more$0 = e_more$0 | (e_rem$68$q & ~e_sel$68$q);
         e_pick$69 = 32'h0;
         e_pick2$69 = 32'h0;
         if (e_sel$69$q) begin
             e_pick$69 = e_head$69$q;
             e_pick2$69 = e_head2$69$q;
         end
-        e_out = e_out | e_pick$69;
-        e_out2 = e_out2 | e_pick2$69;
-        e_more = e_more | (e_rem$69$q & ~e_sel$69$q);
+        e_out$0 = e_out$0 | e_pick$69;
+        e_out2$0 = e_out2$0 | e_pick2$69;
+        e_more$0 = e_more$0 | (e_rem$69$q & ~e_sel$69$q);
         e_pick$70 = 32'h0;
         e_pick2$70 = 32'h0;
         if (e_sel$70$q) begin
             e_pick$70 = e_head$70$q;
             e_pick2$70 = e_head2$70$q;
         end
-        e_out = e_out | e_pick$70;
-        e_out2 = e_out2 | e_pick2$70;
-        e_more = e_more | (e_rem$70$q & ~e_sel$70$q);
+        e_out$0 = e_out$0 | e_pick$70;
+        e_out2$0 = e_out2$0 | e_pick2$70;
+        e_more$0 = e_more$0 | (e_rem$70$q & ~e_sel$70$q);
         e_pick$71 = 32'h0;
         e_pick2$71 = 32'h0;
         if (e_sel$71$q) begin
             e_pick$71 = e_head$71$q;
             e_pick2$71 = e_head2$71$q;
         end
-        e_out = e_out | e_pick$71;
-        e_out2 = e_out2 | e_pick2$71;
-        e_more = e_more | (e_rem$71$q & ~e_sel$71$q);
+        e_out$0 = e_out$0 | e_pick$71;
+        e_out2$0 = e_out2$0 | e_pick2$71;
+        e_more$0 = e_more$0 | (e_rem$71$q & ~e_sel$71$q);
         e_pick$72 = 32'h0;
         e_pick2$72 = 32'h0;
         if (e_sel$72$q) begin
             e_pick$72 = e_head$72$q;
             e_pick2$72 = e_head2$72$q;
         end
-        e_out = e_out | e_pick$72;
-        e_out2 = e_out2 | e_pick2$72;
-        e_more = e_more | (e_rem$72$q & ~e_sel$72$q);
+        e_out$0 = e_out$0 | e_pick$72;
+        e_out2$0 = e_out2$0 | e_pick2$72;
+        e_more$0 = e_more$0 | (e_rem$72$q & ~e_sel$72$q);
         e_pick$73 = 32'h0;
         e_pick2$73 = 32'h0;
         if (e_sel$73$q) begin
             e_pick$73 = e_head$73$q;
             e_pick2$73 = e_head2$73$q;
         end
-        e_out = e_out | e_pick$73;
-        e_out2 = e_out2 | e_pick2$73;
-        e_more = e_more | (e_rem$73$q & ~e_sel$73$q);
+        e_out$0 = e_out$0 | e_pick$73;
+        e_out2$0 = e_out2$0 | e_pick2$73;
+        e_more$0 = e_more$0 | (e_rem$73$q & ~e_sel$73$q);
         e_pick$74 = 32'h0;
         e_pick2$74 = 32'h0;
         if (e_sel$74$q) begin
             e_pick$74 = e_head$74$q;
             e_pick2$74 = e_head2$74$q;
         end
-        e_out = e_out | e_pick$74;
-        e_out2 = e_out2 | e_pick2$74;
-        e_more = e_more | (e_rem$74$q & ~e_sel$74$q);
+        e_out$0 = e_out$0 | e_pick$74;
+        e_out2$0 = e_out2$0 | e_pick2$74;
+        e_more$0 = e_more$0 | (e_rem$74$q & ~e_sel$74$q);
         e_pick$75 = 32'h0;
         e_pick2$75 = 32'h0;
         if (e_sel$75$q) begin
             e_pick$75 = e_head$75$q;
             e_pick2$75 = e_head2$75$q;
         end
-        e_out = e_out | e_pick$75;
-        e_out2 = e_out2 | e_pick2$75;
-        e_more = e_more | (e_rem$75$q & ~e_sel$75$q);
+        e_out$0 = e_out$0 | e_pick$75;
+        e_out2$0 = e_out2$0 | e_pick2$75;
+        e_more$0 = e_more$0 | (e_rem$75$q & ~e_sel$75$q);
         e_pick$76 = 32'h0;
         e_pick2$76 = 32'h0;
         if (e_sel$76$q) begin
             e_pick$76 = e_head$76$q;
             e_pick2$76 = e_head2$76$q;
         end
-        e_out = e_out | e_pick$76;
-        e_out2 = e_out2 | e_pick2$76;
-        e_more = e_more | (e_rem$76$q & ~e_sel$76$q);
+        e_out$0 = e_out$0 | e_pick$76;
+        e_out2$0 = e_out2$0 | e_pick2$76;
+        e_more$0 = e_more$0 | (e_rem$76$q & ~e_sel$76$q);
         e_pick$77 = 32'h0;
         e_pick2$77 = 32'h0;
         if (e_sel$77$q) begin
             e_pick$77 = e_head$77$q;
             e_pick2$77 = e_head2$77$q;
         end
-        e_out = e_out | e_pick$77;
-        e_out2 = e_out2 | e_pick2$77;
-        e_more = e_more | (e_rem$77$q & ~e_sel$77$q);
+        e_out$0 = e_out$0 | e_pick$77;
+        e_out2$0 = e_out2$0 | e_pick2$77;
+        e_more$0 = e_more$0 | (e_rem$77$q & ~e_sel$77$q);
         e_pick$78 = 32'h0;
         e_pick2$78 = 32'h0;
         if (e_sel$78$q) begin
             e_pick$78 = e_head$78$q;
             e_pick2$78 = e_head2$78$q;
         end
-        e_out = e_out | e_pick$78;
-        e_out2 = e_out2 | e_pick2$78;
-        e_more = e_more | (e_rem$78$q & ~e_sel$78$q);
+        e_out$0 = e_out$0 | e_pick$78;
+        e_out2$0 = e_out2$0 | e_pick2$78;
+        e_more$0 = e_more$0 | (e_rem$78$q & ~e_sel$78$q);
         e_pick$79 = 32'h0;
         e_pick2$79 = 32'h0;
         if (e_sel$79$q) begin
             e_pick$79 = e_head$79$q;
             e_pick2$79 = e_head2$79$q;
         end
-        e_out = e_out | e_pick$79;
-        e_out2 = e_out2 | e_pick2$79;
-        e_more = e_more | (e_rem$79$q & ~e_sel$79$q);
+        e_out$0 = e_out$0 | e_pick$79;
+        e_out2$0 = e_out2$0 | e_pick2$79;
+        e_more$0 = e_more$0 | (e_rem$79$q & ~e_sel$79$q);
         e_pick$80 = 32'h0;
         e_pick2$80 = 32'h0;
         if (e_sel$80$q) begin
             e_pick$80 = e_head$80$q;
             e_pick2$80 = e_head2$80$q;
         end
-        e_out = e_out | e_pick$80;
-        e_out2 = e_out2 | e_pick2$80;
-        e_more = e_more | (e_rem$80$q & ~e_sel$80$q);
-        lq_head$write_enable = e_push;
-        lq_head$write_address = lq_wp$q;
-        lq_head$write_data = e_out;
-        lq_head$read_address = lq_rp$q;
-        lq_head2$write_enable = e_push;
-        lq_head2$write_address = lq_wp$q;
-        lq_head2$write_data = e_out2;
-        lq_head2$read_address = lq_rp$q;
-        lq_last$write_enable = e_push;
-        lq_last$write_address = lq_wp$q;
-        lq_last$write_data = ~e_more;
-        lq_last$read_address = lq_rp$q;
-        lq_box$write_enable = e_push;
-        lq_box$write_address = lq_wp$q;
-        lq_box$read_address = lq_rp$q;
-        lq_box$in_index = e_index$q;
-        lq_box$in_margin = e_margin$q;
-        lq_box$in_kind = e_kind$q;
-        lq_box$in_min$0 = e_min$0$q;
-        lq_box$in_max$0 = e_max$0$q;
-        lq_box$in_min$1 = e_min$1$q;
-        lq_box$in_max$1 = e_max$1$q;
-        lq_box$in_min$2 = e_min$2$q;
-        lq_box$in_max$2 = e_max$2$q;
-        if (e_push) begin
-            lq_wp$d = lq_wp$q + 32'h1;
-            e_chosen$d = 1'b0;
-            if (~e_more) begin
-                e_busy$d = 1'b0;
+        e_out$0 = e_out$0 | e_pick$80;
+        e_out2$0 = e_out2$0 | e_pick2$80;
+        e_more$0 = e_more$0 | (e_rem$80$q & ~e_sel$80$q);
+        lq_head$0$write_enable = e_push$0;
+        lq_head$0$write_address = lq_wp$0$q;
+        lq_head$0$write_data = e_out$0;
+        lq_head$0$read_address = lq_rp$0$q;
+        lq_head2$0$write_enable = e_push$0;
+        lq_head2$0$write_address = lq_wp$0$q;
+        lq_head2$0$write_data = e_out2$0;
+        lq_head2$0$read_address = lq_rp$0$q;
+        lq_last$0$write_enable = e_push$0;
+        lq_last$0$write_address = lq_wp$0$q;
+        lq_last$0$write_data = ~e_more$0;
+        lq_last$0$read_address = lq_rp$0$q;
+        lq_box$0$write_enable = e_push$0;
+        lq_box$0$write_address = lq_wp$0$q;
+        lq_box$0$read_address = lq_rp$0$q;
+        lq_box$0$in_index = e_index$0$q;
+        lq_box$0$in_margin = e_margin$0$q;
+        lq_box$0$in_kind = e_kind$0$q;
+        lq_box$0$in_min_x = e_min$0$q;
+        lq_box$0$in_min_y = e_min$1$q;
+        lq_box$0$in_min_z = e_min$2$q;
+        lq_box$0$in_max_x = e_max$0$q;
+        lq_box$0$in_max_y = e_max$1$q;
+        lq_box$0$in_max_z = e_max$2$q;
+        if (e_push$0) begin
+            lq_wp$0$d = lq_wp$0$q + 32'h1;
+            e_chosen$0$d = 1'b0;
+            if (~e_more$0) begin
+                e_busy$0$d = 1'b0;
             end
             if (e_sel$0$q) begin
                 e_rem$0$d = 1'b0;
@@ -35929,8 +36071,8 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
                 e_rem$80$d = 1'b0;
             end
         end
-        else if (e_busy$q) begin
-            e_chosen$d = 1'b1;
+        else if (e_busy$0$q) begin
+            e_chosen$0$d = 1'b1;
             e_sel$0$d = e_first$0;
             e_sel$1$d = e_first$1;
             e_sel$2$d = e_first$2;
@@ -36094,19 +36236,19 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         rd_live$78 = (rec$78$read_data & top) != 32'h0;
         rd_live$79 = (rec$79$read_data & top) != 32'h0;
         rd_live$80 = (rec$80$read_data & top) != 32'h0;
-        if (e_load) begin
-            rp$d = rp$q + 32'h1;
-            e_busy$d = 1'b1;
-            e_chosen$d = 1'b0;
-            e_index$d = rec_box$index;
-            e_margin$d = rec_box$margin;
-            e_kind$d = rec_box$kind;
-            e_min$0$d = rec_box$min$0;
-            e_max$0$d = rec_box$max$0;
-            e_min$1$d = rec_box$min$1;
-            e_max$1$d = rec_box$max$1;
-            e_min$2$d = rec_box$min$2;
-            e_max$2$d = rec_box$max$2;
+        if (e_load$0) begin
+            rp$0$d = rp$0$q + 32'h1;
+            e_busy$0$d = 1'b1;
+            e_chosen$0$d = 1'b0;
+            e_index$0$d = rec_box$0$index;
+            e_margin$0$d = rec_box$0$margin;
+            e_kind$0$d = rec_box$0$kind;
+            e_min$0$d = rec_box$0$min_x;
+            e_min$1$d = rec_box$0$min_y;
+            e_min$2$d = rec_box$0$min_z;
+            e_max$0$d = rec_box$0$max_x;
+            e_max$1$d = rec_box$0$max_y;
+            e_max$2$d = rec_box$0$max_z;
             e_rem$0$d = rd_live$0;
             e_head$0$d = rec$0$read_data;
             e_head2$0$d = rec2$0$read_data;
@@ -36459,159 +36601,169 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         bank_next$24 = bank_next$24 | e_rem$78$d;
         bank_next$25 = bank_next$25 | e_rem$79$d;
         bank_next$26 = bank_next$26 | e_rem$80$d;
-        bank_left$0$clock = clock;
         bank_left$0$d = bank_next$0;
-        bank_left$1$clock = clock;
         bank_left$1$d = bank_next$1;
-        bank_left$2$clock = clock;
         bank_left$2$d = bank_next$2;
-        bank_left$3$clock = clock;
         bank_left$3$d = bank_next$3;
-        bank_left$4$clock = clock;
         bank_left$4$d = bank_next$4;
-        bank_left$5$clock = clock;
         bank_left$5$d = bank_next$5;
-        bank_left$6$clock = clock;
         bank_left$6$d = bank_next$6;
-        bank_left$7$clock = clock;
         bank_left$7$d = bank_next$7;
-        bank_left$8$clock = clock;
         bank_left$8$d = bank_next$8;
-        bank_left$9$clock = clock;
         bank_left$9$d = bank_next$9;
-        bank_left$10$clock = clock;
         bank_left$10$d = bank_next$10;
-        bank_left$11$clock = clock;
         bank_left$11$d = bank_next$11;
-        bank_left$12$clock = clock;
         bank_left$12$d = bank_next$12;
-        bank_left$13$clock = clock;
         bank_left$13$d = bank_next$13;
-        bank_left$14$clock = clock;
         bank_left$14$d = bank_next$14;
-        bank_left$15$clock = clock;
         bank_left$15$d = bank_next$15;
-        bank_left$16$clock = clock;
         bank_left$16$d = bank_next$16;
-        bank_left$17$clock = clock;
         bank_left$17$d = bank_next$17;
-        bank_left$18$clock = clock;
         bank_left$18$d = bank_next$18;
-        bank_left$19$clock = clock;
         bank_left$19$d = bank_next$19;
-        bank_left$20$clock = clock;
         bank_left$20$d = bank_next$20;
-        bank_left$21$clock = clock;
         bank_left$21$d = bank_next$21;
-        bank_left$22$clock = clock;
         bank_left$22$d = bank_next$22;
-        bank_left$23$clock = clock;
         bank_left$23$d = bank_next$23;
-        bank_left$24$clock = clock;
         bank_left$24$d = bank_next$24;
-        bank_left$25$clock = clock;
         bank_left$25$d = bank_next$25;
-        bank_left$26$clock = clock;
         bank_left$26$d = bank_next$26;
-        arrive = arrive_q$q;
-        avail = q0v$q | arrive;
-        need = ~avail;
-        take = need & lq_fill$0$q;
-        retire_rec = need & cur_valid$q & cur_last$q;
-        cand = lq_head$read_data;
+        arrive$0 = arrive_q$0$q;
+        avail$0 = q0v$0$q | arrive$0;
+        need$0 = ~avail$0;
+        take$0 = need$0 & lq_fill$0$q;
+        retire_rec$0 = need$0 & cur_valid$0$q & cur_last$0$q;
+        cand$0 = lq_head$0$read_data;
         if (fetch_q$q) begin
-            cand = lcur$q;
+            cand$0 = lcur$q;
         end
-        if (arrive) begin
-            cand = succ_q$q;
+        if (arrive$0) begin
+            cand$0 = succ_q$0$q;
         end
-        if (q0v$q) begin
-            cand = q0$q;
+        if (q0v$0$q) begin
+            cand$0 = q0$0$q;
         end
-        after = succ_q$q;
-        if (q1v$q) begin
-            after = q1$q;
+        after$0 = succ_q$0$q;
+        if (q1v$0$q) begin
+            after$0 = q1$0$q;
         end
-        after_v = q1v$q | (q0v$q & arrive);
-        if (take) begin
-            after = lq_head2$read_data;
-            after_v = (lq_head2$read_data & top) != 32'h0;
+        after_v$0 = q1v$0$q | (q0v$0$q & arrive$0);
+        if (take$0) begin
+            after$0 = lq_head2$0$read_data;
+            after_v$0 = (lq_head2$0$read_data & top) != 32'h0;
         end
-        cand_ok = avail | take;
-        stall = fifo$almost_full;
-        go = cand_ok & ~stall;
-        if (go) begin
-            q0$d = after;
-            q0v$d = after_v;
-            q1v$d = 1'b0;
+        cand_ok$0 = avail$0 | take$0;
+        stall$0 = fifo$0$almost_full;
+        go$0 = cand_ok$0 & ~stall$0;
+        if (go$0) begin
+            q0$0$d = after$0;
+            q0v$0$d = after_v$0;
+            q1v$0$d = 1'b0;
         end
         else begin
-            q0$d = cand;
-            q0v$d = cand_ok;
-            q1$d = after;
-            q1v$d = cand_ok & after_v;
+            q0$0$d = cand$0;
+            q0v$0$d = cand_ok$0;
+            q1$0$d = after$0;
+            q1v$0$d = cand_ok$0 & after_v$0;
         end
-        r1$d = go;
-        arrive_q$d = r1$q & ((succ$read_data_b & top) != 32'h0);
-        succ_q$d = succ$read_data_b;
-        v1_i$d = cur_index$q;
-        v1_margin$d = cur_margin$q;
-        v1_kind$d = cur_kind$q;
+        r1$0$d = go$0;
+        arrive_q$0$d = r1$0$q & ((succ$0$read_data_b & top) != 32'h0);
+        succ_q$0$d = succ$0$read_data_b;
+        v1_i$0$d = cur_index$0$q;
+        v1_margin$0$d = cur_margin$0$q;
+        v1_kind$0$d = cur_kind$0$q;
         v1_min$0$d = cur_min$0$q;
         v1_max$0$d = cur_max$0$q;
         v1_min$1$d = cur_min$1$q;
         v1_max$1$d = cur_max$1$q;
         v1_min$2$d = cur_min$2$q;
         v1_max$2$d = cur_max$2$q;
-        if (take) begin
-            lq_rp$d = lq_rp$q + 32'h1;
-            cur_valid$d = 1'b1;
-            cur_last$d = lq_last$read_data;
-            cur_index$d = lq_box$index;
-            cur_margin$d = lq_box$margin;
-            v1_i$d = lq_box$index;
-            v1_margin$d = lq_box$margin;
-            cur_kind$d = lq_box$kind;
-            v1_kind$d = lq_box$kind;
-            cur_min$0$d = lq_box$min$0;
-            cur_max$0$d = lq_box$max$0;
-            v1_min$0$d = lq_box$min$0;
-            v1_max$0$d = lq_box$max$0;
-            cur_min$1$d = lq_box$min$1;
-            cur_max$1$d = lq_box$max$1;
-            v1_min$1$d = lq_box$min$1;
-            v1_max$1$d = lq_box$max$1;
-            cur_min$2$d = lq_box$min$2;
-            cur_max$2$d = lq_box$max$2;
-            v1_min$2$d = lq_box$min$2;
-            v1_max$2$d = lq_box$max$2;
+        if (take$0) begin
+            lq_rp$0$d = lq_rp$0$q + 32'h1;
+            cur_valid$0$d = 1'b1;
+            cur_last$0$d = lq_last$0$read_data;
+            cur_index$0$d = lq_box$0$index;
+            cur_margin$0$d = lq_box$0$margin;
+            v1_i$0$d = lq_box$0$index;
+            v1_margin$0$d = lq_box$0$margin;
+            cur_kind$0$d = lq_box$0$kind;
+            v1_kind$0$d = lq_box$0$kind;
+            cur_min$0$d = lq_box$0$min_x;
+            cur_min$1$d = lq_box$0$min_y;
+            cur_min$2$d = lq_box$0$min_z;
+            cur_max$0$d = lq_box$0$max_x;
+            cur_max$1$d = lq_box$0$max_y;
+            cur_max$2$d = lq_box$0$max_z;
+            v1_min$0$d = lq_box$0$min_x;
+            v1_min$1$d = lq_box$0$min_y;
+            v1_min$2$d = lq_box$0$min_z;
+            v1_max$0$d = lq_box$0$max_x;
+            v1_max$1$d = lq_box$0$max_y;
+            v1_max$2$d = lq_box$0$max_z;
         end
-        else if (retire_rec) begin
-            cur_valid$d = 1'b0;
+        else if (retire_rec$0) begin
+            cur_valid$0$d = 1'b0;
         end
-        if (e_push & ~take) begin
+        if (e_push$0 & ~take$0) begin
             lq_fill$0$d = 1'b1;
             lq_fill$1$d = lq_fill$0$q;
             lq_fill$2$d = lq_fill$1$q;
         end
-        if (take & ~e_push) begin
+        if (take$0 & ~e_push$0) begin
             lq_fill$0$d = lq_fill$1$q;
             lq_fill$1$d = lq_fill$2$q;
             lq_fill$2$d = 1'b0;
         end
-        visit = go;
-        visit_i = ((v1_i$d) & 15'h7fff);
-        rd_addr = ((cand) & 15'h7fff);
-        succ$read_address_a = 32'h0;
-        succ$read_address_b = ((cand) & 15'h7fff);
+        rd_address$0 = (cand$0 & index_mask) >> lane_shift;
+        succ$0$read_address_a = 32'h0;
+        succ$0$read_address_b = rd_address$0;
+        kt_min$0$read_address_b = rd_address$0;
+        kt_max$0$read_address_b = rd_address$0;
+        kt_min$1$read_address_b = rd_address$0;
+        kt_max$1$read_address_b = rd_address$0;
+        kt_min$2$read_address_b = rd_address$0;
+        kt_max$2$read_address_b = rd_address$0;
+        kt_margin$0$read_address_b = rd_address$0;
+        kt_group$0$read_address_b = rd_address$0;
+        visit_acc = 32'h0;
+        vis_pack_i$0 = 32'h0;
+        vis_pack_j$0 = 32'h0;
+        vis_pack_i$1 = 32'h0;
+        vis_pack_j$1 = 32'h0;
+        vis_pack_i$2 = 32'h0;
+        vis_pack_j$2 = 32'h0;
+        vis_pack_i$3 = 32'h0;
+        vis_pack_j$3 = 32'h0;
+        visited_acc = 32'h0;
+        vis_i$0$value = v1_i$0$d;
+        vis_j$0$value = cand$0 & index_mask;
+        if (go$0) begin
+            visit_acc = visit_acc | lane_bit$0;
+        end
+        if (v1_valid$0$q) begin
+            visited_acc = visited_acc + 32'h1;
+        end
+        vis_pack_i$0 = vis_pack_i$0 | (vis_i$0$resized << lane_at$0);
+        vis_pack_j$0 = vis_pack_j$0 | (vis_j$0$resized << lane_at$0);
+        visit = visit_acc;
+        visit_i0 = vis_pack_i$0;
+        visit_i1 = vis_pack_i$1;
+        visit_i2 = vis_pack_i$2;
+        visit_i3 = vis_pack_i$3;
+        visit_j0 = vis_pack_j$0;
+        visit_j1 = vis_pack_j$1;
+        visit_j2 = vis_pack_j$2;
+        visit_j3 = vis_pack_j$3;
+        visited = visited_acc;
         inflight_up = accept | inject;
-        inflight_inc = inflight$q + 32'h1;
-        inflight_dec = inflight$q - 32'h1;
-        inflight_dec2 = inflight$q - 32'h2;
+        credit_acc = 1'b1;
+        inflight_inc$0 = inflight$0$q + 32'h1;
+        inflight_dec$0 = inflight$0$q - 32'h1;
+        inflight_dec2$0 = inflight$0$q - 32'h2;
         inflight_m$0 = 32'h0;
         inflight_m$1 = 32'h0;
         inflight_m$2 = 32'h0;
-        if (inflight_up == retire_probe) begin
+        if (inflight_up == retire_probe$0) begin
             inflight_m$0 = ones;
         end
         else if (inflight_up) begin
@@ -36620,40 +36772,42 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         else begin
             inflight_m$2 = ones;
         end
-        inflight_n0 = (inflight$q & inflight_m$0) | (inflight_inc & inflight_m$1) | (inflight_dec & inflight_m$2);
-        inflight_n1 = (inflight_dec & inflight_m$0) | (inflight$q & inflight_m$1) | (inflight_dec2 & inflight_m$2);
-        inflight$d = inflight_n0;
-        if (retire_rec) begin
-            inflight$d = inflight_n1;
+        inflight_n0$0 = (inflight$0$q & inflight_m$0) | (inflight_inc$0 & inflight_m$1) | (inflight_dec$0 & inflight_m$2);
+        inflight_n1$0 = (inflight_dec$0 & inflight_m$0) | (inflight$0$q & inflight_m$1) | (inflight_dec2$0 & inflight_m$2);
+        inflight$0$d = inflight_n0$0;
+        if (retire_rec$0) begin
+            inflight$0$d = inflight_n1$0;
         end
-        credit = (inflight$q & credits_used) == 32'h0;
-        count_inc = count$q + 32'h1;
-        count_dec = count$q - 32'h1;
+        credit_acc = credit_acc & ((inflight$0$q & credits_used) == 32'h0);
+        count_inc$0 = count$0$q + 32'h1;
+        count_dec$0 = count$0$q - 32'h1;
         count_m$0 = 32'h0;
         count_m$1 = 32'h0;
         count_m$2 = 32'h0;
-        if (rec_write == e_load) begin
+        if (rec_write$0 == e_load$0) begin
             count_m$0 = ones;
         end
-        else if (rec_write) begin
+        else if (rec_write$0) begin
             count_m$1 = ones;
         end
         else begin
             count_m$2 = ones;
         end
-        count$d = (count$q & count_m$0) | (count_inc & count_m$1) | (count_dec & count_m$2);
-        v1_valid$d = go;
-        v1_j$d = ((((cand) & 15'h7fff)) & 16'hffff);
-        v2_valid$d = v1_valid$q;
-        v2_i$d = v1_i$q;
-        v2_j$d = v1_j$q;
-        v2_margin_i$d = v1_margin$q;
-        v2_margin_j$d = rd_margin;
-        v2_kind$d = v1_kind$q;
-        v2_group_j$d = rd_group;
+        count$0$d = (count$0$q & count_m$0) | (count_inc$0 & count_m$1) | (count_dec$0 & count_m$2);
+        credit = credit_acc;
+        lrow = mask >> (((lgroup$q) & 64'hffffffffffffffff) << 64'h3);
+        v1_valid$0$d = go$0;
+        v1_j$0$d = cand$0 & index_mask;
+        v2_valid$0$d = v1_valid$0$q;
+        v2_i$0$d = v1_i$0$q;
+        v2_j$0$d = v1_j$0$q;
+        v2_margin_i$0$d = v1_margin$0$q;
+        v2_margin_j$0$d = rd_margin$0;
+        v2_kind$0$d = v1_kind$0$q;
+        v2_group_j$0$d = rd_group$0;
         v2_min_i$0$d = v1_min$0$q;
         v2_max_i$0$d = v1_max$0$q;
-        if (v1_kind$q[32'h0]) begin
+        if (v1_kind$0$q[32'h0]) begin
             v2_min_i$0$d = lk_min$0$q;
             v2_max_i$0$d = lk_max$0$q;
         end
@@ -36669,7 +36823,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         v2_max_j$0$d = rd_max$0;
         v2_min_i$1$d = v1_min$1$q;
         v2_max_i$1$d = v1_max$1$q;
-        if (v1_kind$q[32'h0]) begin
+        if (v1_kind$0$q[32'h0]) begin
             v2_min_i$1$d = lk_min$1$q;
             v2_max_i$1$d = lk_max$1$q;
         end
@@ -36685,7 +36839,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         v2_max_j$1$d = rd_max$1;
         v2_min_i$2$d = v1_min$2$q;
         v2_max_i$2$d = v1_max$2$q;
-        if (v1_kind$q[32'h0]) begin
+        if (v1_kind$0$q[32'h0]) begin
             v2_min_i$2$d = lk_min$2$q;
             v2_max_i$2$d = lk_max$2$q;
         end
@@ -36699,37 +36853,52 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         v2_jc$2$d = rd_min$2 >> cell_bits;
         v2_min_j$2$d = rd_min$2;
         v2_max_j$2$d = rd_max$2;
-        overlap = (v2_min_i$0$q <= v2_max_j$0$q) & (v2_min_j$0$q <= v2_max_i$0$q) & (v2_min_i$1$q <= v2_max_j$1$q) & (v2_min_j$1$q <= v2_max_i$1$q) & (v2_min_i$2$q <= v2_max_j$2$q) & (v2_min_j$2$q <= v2_max_i$2$q);
-        swap = v2_i$q < v2_j$q;
-        cand_lo = ((v2_j$q) & 20'hfffff);
-        cand_hi = ((v2_i$q) & 20'hfffff);
-        margin_lo = v2_margin_j$q;
-        margin_hi = v2_margin_i$q;
-        if (swap) begin
-            cand_lo = ((v2_i$q) & 20'hfffff);
-            cand_hi = ((v2_j$q) & 20'hfffff);
-            margin_lo = v2_margin_i$q;
-            margin_hi = v2_margin_j$q;
+        overlap$0 = (v2_min_i$0$q <= v2_max_j$0$q) & (v2_min_j$0$q <= v2_max_i$0$q) & (v2_min_i$1$q <= v2_max_j$1$q) & (v2_min_j$1$q <= v2_max_i$1$q) & (v2_min_i$2$q <= v2_max_j$2$q) & (v2_min_j$2$q <= v2_max_i$2$q);
+        swap$0 = v2_i$0$q < v2_j$0$q;
+        cand_lo$0 = v2_j$0$q;
+        cand_hi$0 = v2_i$0$q;
+        margin_lo$0 = v2_margin_j$0$q;
+        margin_hi$0 = v2_margin_i$0$q;
+        if (swap$0) begin
+            cand_lo$0 = v2_i$0$q;
+            cand_hi$0 = v2_j$0$q;
+            margin_lo$0 = v2_margin_i$0$q;
+            margin_hi$0 = v2_margin_j$0$q;
         end
-        cand_word = (((cand_lo) & 96'hffffffffffffffffffffffff) << at_a) | (((cand_hi) & 96'hffffffffffffffffffffffff) << at_b) | (((margin_lo) & 96'hffffffffffffffffffffffff) << at_ma) | ((margin_hi) & 96'hffffffffffffffffffffffff);
-        home_ok = (v2_wl$0$q <= v2_jc$0$q) & (v2_jc$0$q <= v2_wh$0$q) & (v2_wl$1$q <= v2_jc$1$q) & (v2_jc$1$q <= v2_wh$1$q) & (v2_wl$2$q <= v2_jc$2$q) & (v2_jc$2$q <= v2_wh$2$q);
-        mask_row = mask >> ((((lgroup$q) & 64'hffffffffffffffff) << 64'h3) | ((v2_group_j$q) & 64'hffffffffffffffff));
-        mask_ok = mask_row[32'h0];
-        pass = overlap & (home_ok | ~v2_kind$q[32'h0]) & (mask_ok | ~v2_kind$q[32'h1]);
-        v3_write$d = v2_valid$q & pass;
-        v3_word$d = cand_word;
-        fifo$write = v3_write$q;
-        fifo$data_in = v3_word$q;
-        fifo$ready = cand_ready;
-        cand_valid = fifo$valid;
-        unpack_a = fifo$data_out >> at_a;
-        unpack_b = fifo$data_out >> at_b;
-        unpack_ma = fifo$data_out >> at_ma;
+        pack_lo$0$value = cand_lo$0;
+        pack_hi$0$value = cand_hi$0;
+        pack_mlo$0$value = margin_lo$0;
+        pack_mhi$0$value = margin_hi$0;
+        cand_word$0 = (pack_lo$0$resized << at_a) | (pack_hi$0$resized << at_b) | (pack_mlo$0$resized << at_ma) | pack_mhi$0$resized;
+        home_ok$0 = (v2_wl$0$q <= v2_jc$0$q) & (v2_jc$0$q <= v2_wh$0$q) & (v2_wl$1$q <= v2_jc$1$q) & (v2_jc$1$q <= v2_wh$1$q) & (v2_wl$2$q <= v2_jc$2$q) & (v2_jc$2$q <= v2_wh$2$q);
+        mask_row$0 = lrow >> v2_group_j$0$q;
+        mask_ok$0 = mask_row$0[32'h0];
+        pass$0 = overlap$0 & (home_ok$0 | ~v2_kind$0$q[32'h0]) & (mask_ok$0 | ~v2_kind$0$q[32'h1]);
+        v3_write$0$d = v2_valid$0$q & pass$0;
+        v3_word$0$d = cand_word$0;
+        fifo$0$write = v3_write$0$q;
+        fifo$0$data_in = v3_word$0$q;
+        lower$0 = 1'b0;
+        out_word = 32'h0;
+        out_valid = 1'b0;
+        issuer$0 = fifo$0$valid & ~lower$0;
+        lower$1 = lower$0 | fifo$0$valid;
+        out_pick$0 = 32'h0;
+        if (issuer$0) begin
+            out_pick$0 = fifo$0$data_out;
+        end
+        out_word = out_word | out_pick$0;
+        out_valid = out_valid | fifo$0$valid;
+        cand_valid = out_valid;
+        unpack_a = out_word >> at_a;
+        unpack_b = out_word >> at_b;
+        unpack_ma = out_word >> at_ma;
         cand_a = ((unpack_a) & 15'h7fff);
         cand_b = ((unpack_b) & 15'h7fff);
         cand_ma = ((unpack_ma) & 28'hfffffff);
-        cand_mb = ((fifo$data_out) & 28'hfffffff);
-        done_walk = idle & ((slow$q == SlowState$Over) | ((slow$q == SlowState$Fetch) & ((lnext$q & top) == 32'h0)));
+        cand_mb = ((out_word) & 28'hfffffff);
+        fifo$0$ready = cand_ready & issuer$0;
+        done_walk = idle & ((slow$q == SlowState$Over) | ((slow$q == SlowState$Fetch) & ~large_left));
         walked = done_walk;
         if (done_walk & ~clearing$q & ~cleared$q) begin
             clearing$d = 1'b1;
@@ -36742,38 +36911,40 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
                 cleared$d = 1'b1;
             end
         end
-        finished = cleared$q & fifo$empty & ~v1_valid$q & ~v2_valid$q & ~v3_write$q;
+        drained = cleared$q;
+        drained = drained & fifo$0$empty & ~v1_valid$0$q & ~v2_valid$0$q & ~v3_write$0$q;
+        finished = drained;
         too_wide = wide$q;
         if (start) begin
-            wp$d = 32'h0;
-            rp$d = 32'h0;
-            count$d = 32'h0;
-            inflight$d = 32'h0;
-            cur_valid$d = 1'b0;
-            e_busy$d = 1'b0;
-            e_chosen$d = 1'b0;
-            lq_wp$d = 32'h0;
-            lq_rp$d = 32'h0;
-            lq_fill$0$d = 1'b0;
-            lq_fill$1$d = 1'b0;
-            lq_fill$2$d = 1'b0;
-            q0v$d = 1'b0;
-            q1v$d = 1'b0;
-            r1$d = 1'b0;
-            arrive_q$d = 1'b0;
             clearing$d = 1'b0;
             cleared$d = 1'b0;
             slow$d = SlowState$Fetch;
-            lnext$d = 32'h0;
-            lnext2$d = 32'h0;
             wide$d = 1'b0;
+            wp$0$d = 32'h0;
+            rp$0$d = 32'h0;
+            count$0$d = 32'h0;
+            inflight$0$d = 32'h0;
+            cur_valid$0$d = 1'b0;
+            e_busy$0$d = 1'b0;
+            e_chosen$0$d = 1'b0;
+            lq_wp$0$d = 32'h0;
+            lq_rp$0$d = 32'h0;
+            lq_fill$0$d = 1'b0;
+            lq_fill$1$d = 1'b0;
+            lq_fill$2$d = 1'b0;
+            q0v$0$d = 1'b0;
+            q1v$0$d = 1'b0;
+            r1$0$d = 1'b0;
+            arrive_q$0$d = 1'b0;
+            lnext$0$d = 32'h0;
+            lnext2$0$d = 32'h0;
         end
     end
     
 endmodule // obb_core$grid$0
 
 
-module obb_core$grid$0$arrive_q(d,q,clock);
+module obb_core$grid$0$arrive_q$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -36789,7 +36960,7 @@ module obb_core$grid$0$arrive_q(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$arrive_q
+endmodule // obb_core$grid$0$arrive_q$0
 
 
 module obb_core$grid$0$bank_left$0(d,q,clock);
@@ -45928,7 +46099,7 @@ module obb_core$grid$0$clearing(d,q,clock);
 endmodule // obb_core$grid$0$clearing
 
 
-module obb_core$grid$0$count(d,q,clock);
+module obb_core$grid$0$count$0(d,q,clock);
     
     // Module arguments
     input wire  [6:0] d;
@@ -45944,10 +46115,10 @@ module obb_core$grid$0$count(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$count
+endmodule // obb_core$grid$0$count$0
 
 
-module obb_core$grid$0$cur_index(d,q,clock);
+module obb_core$grid$0$cur_index$0(d,q,clock);
     
     // Module arguments
     input wire  [15:0] d;
@@ -45963,10 +46134,10 @@ module obb_core$grid$0$cur_index(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$cur_index
+endmodule // obb_core$grid$0$cur_index$0
 
 
-module obb_core$grid$0$cur_kind(d,q,clock);
+module obb_core$grid$0$cur_kind$0(d,q,clock);
     
     // Module arguments
     input wire  [1:0] d;
@@ -45982,10 +46153,10 @@ module obb_core$grid$0$cur_kind(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$cur_kind
+endmodule // obb_core$grid$0$cur_kind$0
 
 
-module obb_core$grid$0$cur_last(d,q,clock);
+module obb_core$grid$0$cur_last$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -46001,10 +46172,10 @@ module obb_core$grid$0$cur_last(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$cur_last
+endmodule // obb_core$grid$0$cur_last$0
 
 
-module obb_core$grid$0$cur_margin(d,q,clock);
+module obb_core$grid$0$cur_margin$0(d,q,clock);
     
     // Module arguments
     input wire  [27:0] d;
@@ -46020,7 +46191,7 @@ module obb_core$grid$0$cur_margin(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$cur_margin
+endmodule // obb_core$grid$0$cur_margin$0
 
 
 module obb_core$grid$0$cur_max$0(d,q,clock);
@@ -46137,7 +46308,7 @@ module obb_core$grid$0$cur_min$2(d,q,clock);
 endmodule // obb_core$grid$0$cur_min$2
 
 
-module obb_core$grid$0$cur_valid(d,q,clock);
+module obb_core$grid$0$cur_valid$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -46153,10 +46324,10 @@ module obb_core$grid$0$cur_valid(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$cur_valid
+endmodule // obb_core$grid$0$cur_valid$0
 
 
-module obb_core$grid$0$e_busy(d,q,clock);
+module obb_core$grid$0$e_busy$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -46172,10 +46343,10 @@ module obb_core$grid$0$e_busy(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$e_busy
+endmodule // obb_core$grid$0$e_busy$0
 
 
-module obb_core$grid$0$e_chosen(d,q,clock);
+module obb_core$grid$0$e_chosen$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -46191,7 +46362,7 @@ module obb_core$grid$0$e_chosen(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$e_chosen
+endmodule // obb_core$grid$0$e_chosen$0
 
 
 module obb_core$grid$0$e_head$0(d,q,clock);
@@ -49272,7 +49443,7 @@ module obb_core$grid$0$e_head2$9(d,q,clock);
 endmodule // obb_core$grid$0$e_head2$9
 
 
-module obb_core$grid$0$e_index(d,q,clock);
+module obb_core$grid$0$e_index$0(d,q,clock);
     
     // Module arguments
     input wire  [15:0] d;
@@ -49288,10 +49459,10 @@ module obb_core$grid$0$e_index(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$e_index
+endmodule // obb_core$grid$0$e_index$0
 
 
-module obb_core$grid$0$e_kind(d,q,clock);
+module obb_core$grid$0$e_kind$0(d,q,clock);
     
     // Module arguments
     input wire  [1:0] d;
@@ -49307,10 +49478,10 @@ module obb_core$grid$0$e_kind(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$e_kind
+endmodule // obb_core$grid$0$e_kind$0
 
 
-module obb_core$grid$0$e_margin(d,q,clock);
+module obb_core$grid$0$e_margin$0(d,q,clock);
     
     // Module arguments
     input wire  [27:0] d;
@@ -49326,7 +49497,7 @@ module obb_core$grid$0$e_margin(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$e_margin
+endmodule // obb_core$grid$0$e_margin$0
 
 
 module obb_core$grid$0$e_max$0(d,q,clock);
@@ -52540,7 +52711,7 @@ module obb_core$grid$0$fetch_q(d,q,clock);
 endmodule // obb_core$grid$0$fetch_q
 
 
-module obb_core$grid$0$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full);
+module obb_core$grid$0$fifo$0(clock,write,data_in,ready,valid,data_out,empty,almost_full);
     
     // Module arguments
     input wire  clock;
@@ -52602,7 +52773,7 @@ module obb_core$grid$0$fifo(clock,write,data_in,ready,valid,data_out,empty,almos
     reg  down;
     
     // Sub module instances
-    obb_core$grid$0$fifo$ram ram(
+    obb_core$grid$0$fifo$0$ram ram(
         .clock(ram$clock),
         .write_enable(ram$write_enable),
         .write_address(ram$write_address),
@@ -52610,42 +52781,42 @@ module obb_core$grid$0$fifo(clock,write,data_in,ready,valid,data_out,empty,almos
         .read_address(ram$read_address),
         .read_data(ram$read_data)
     );
-    obb_core$grid$0$fifo$wptr wptr(
+    obb_core$grid$0$fifo$0$wptr wptr(
         .d(wptr$d),
         .q(wptr$q),
         .clock(wptr$clock)
     );
-    obb_core$grid$0$fifo$rptr rptr(
+    obb_core$grid$0$fifo$0$rptr rptr(
         .d(rptr$d),
         .q(rptr$q),
         .clock(rptr$clock)
     );
-    obb_core$grid$0$fifo$count count(
+    obb_core$grid$0$fifo$0$count count(
         .d(count$d),
         .q(count$q),
         .clock(count$clock)
     );
-    obb_core$grid$0$fifo$stored stored(
+    obb_core$grid$0$fifo$0$stored stored(
         .d(stored$d),
         .q(stored$q),
         .clock(stored$clock)
     );
-    obb_core$grid$0$fifo$one one(
+    obb_core$grid$0$fifo$0$one one(
         .d(one$d),
         .q(one$q),
         .clock(one$clock)
     );
-    obb_core$grid$0$fifo$out_valid out_valid(
+    obb_core$grid$0$fifo$0$out_valid out_valid(
         .d(out_valid$d),
         .q(out_valid$q),
         .clock(out_valid$clock)
     );
-    obb_core$grid$0$fifo$out_data out_data(
+    obb_core$grid$0$fifo$0$out_data out_data(
         .d(out_data$d),
         .q(out_data$q),
         .clock(out_data$clock)
     );
-    obb_core$grid$0$fifo$full_q full_q(
+    obb_core$grid$0$fifo$0$full_q full_q(
         .d(full_q$d),
         .q(full_q$q),
         .clock(full_q$clock)
@@ -52713,10 +52884,10 @@ module obb_core$grid$0$fifo(clock,write,data_in,ready,valid,data_out,empty,almos
         almost_full = full_q$q;
     end
     
-endmodule // obb_core$grid$0$fifo
+endmodule // obb_core$grid$0$fifo$0
 
 
-module obb_core$grid$0$fifo$count(d,q,clock);
+module obb_core$grid$0$fifo$0$count(d,q,clock);
     
     // Module arguments
     input wire  [6:0] d;
@@ -52732,10 +52903,10 @@ module obb_core$grid$0$fifo$count(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$fifo$count
+endmodule // obb_core$grid$0$fifo$0$count
 
 
-module obb_core$grid$0$fifo$full_q(d,q,clock);
+module obb_core$grid$0$fifo$0$full_q(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -52751,10 +52922,10 @@ module obb_core$grid$0$fifo$full_q(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$fifo$full_q
+endmodule // obb_core$grid$0$fifo$0$full_q
 
 
-module obb_core$grid$0$fifo$one(d,q,clock);
+module obb_core$grid$0$fifo$0$one(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -52770,10 +52941,10 @@ module obb_core$grid$0$fifo$one(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$fifo$one
+endmodule // obb_core$grid$0$fifo$0$one
 
 
-module obb_core$grid$0$fifo$out_data(d,q,clock);
+module obb_core$grid$0$fifo$0$out_data(d,q,clock);
     
     // Module arguments
     input wire  [95:0] d;
@@ -52789,10 +52960,10 @@ module obb_core$grid$0$fifo$out_data(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$fifo$out_data
+endmodule // obb_core$grid$0$fifo$0$out_data
 
 
-module obb_core$grid$0$fifo$out_valid(d,q,clock);
+module obb_core$grid$0$fifo$0$out_valid(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -52808,10 +52979,10 @@ module obb_core$grid$0$fifo$out_valid(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$fifo$out_valid
+endmodule // obb_core$grid$0$fifo$0$out_valid
 
 
-module obb_core$grid$0$fifo$ram(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$fifo$0$ram(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -52832,10 +53003,10 @@ module obb_core$grid$0$fifo$ram(clock,write_enable,write_address,write_data,read
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$fifo$ram
+endmodule // obb_core$grid$0$fifo$0$ram
 
 
-module obb_core$grid$0$fifo$rptr(d,q,clock);
+module obb_core$grid$0$fifo$0$rptr(d,q,clock);
     
     // Module arguments
     input wire  [5:0] d;
@@ -52851,10 +53022,10 @@ module obb_core$grid$0$fifo$rptr(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$fifo$rptr
+endmodule // obb_core$grid$0$fifo$0$rptr
 
 
-module obb_core$grid$0$fifo$stored(d,q,clock);
+module obb_core$grid$0$fifo$0$stored(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -52870,10 +53041,10 @@ module obb_core$grid$0$fifo$stored(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$fifo$stored
+endmodule // obb_core$grid$0$fifo$0$stored
 
 
-module obb_core$grid$0$fifo$wptr(d,q,clock);
+module obb_core$grid$0$fifo$0$wptr(d,q,clock);
     
     // Module arguments
     input wire  [5:0] d;
@@ -52889,7 +53060,7 @@ module obb_core$grid$0$fifo$wptr(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$fifo$wptr
+endmodule // obb_core$grid$0$fifo$0$wptr
 
 
 module obb_core$grid$0$head$0(clock,write_enable,write_address,write_data,read_address,read_data);
@@ -57752,7 +57923,7 @@ module obb_core$grid$0$head2$9(clock,write_enable,write_address,write_data,read_
 endmodule // obb_core$grid$0$head2$9
 
 
-module obb_core$grid$0$inflight(d,q,clock);
+module obb_core$grid$0$inflight$0(d,q,clock);
     
     // Module arguments
     input wire  [6:0] d;
@@ -57768,7 +57939,7 @@ module obb_core$grid$0$inflight(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$inflight
+endmodule // obb_core$grid$0$inflight$0
 
 
 module obb_core$grid$0$inj(d,q,clock);
@@ -57921,6 +58092,222 @@ module obb_core$grid$0$inj_min$2(d,q,clock);
     end
           
 endmodule // obb_core$grid$0$inj_min$2
+
+
+module obb_core$grid$0$kt_group$0(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [15:0] write_address;
+    input wire  [2:0] write_data;
+    input wire  [15:0] read_address_a;
+    input wire  [15:0] read_address_b;
+    output reg  [2:0] read_data_a;
+    output reg  [2:0] read_data_b;
+    
+    // Update code (custom)
+    reg [2:0] mem [0:32767];
+    wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
+    end
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
+endmodule // obb_core$grid$0$kt_group$0
+
+
+module obb_core$grid$0$kt_margin$0(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [15:0] write_address;
+    input wire  [27:0] write_data;
+    input wire  [15:0] read_address_a;
+    input wire  [15:0] read_address_b;
+    output reg  [27:0] read_data_a;
+    output reg  [27:0] read_data_b;
+    
+    // Update code (custom)
+    reg [27:0] mem [0:32767];
+    wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
+    end
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
+endmodule // obb_core$grid$0$kt_margin$0
+
+
+module obb_core$grid$0$kt_max$0(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [15:0] write_address;
+    input wire  [22:0] write_data;
+    input wire  [15:0] read_address_a;
+    input wire  [15:0] read_address_b;
+    output reg  [22:0] read_data_a;
+    output reg  [22:0] read_data_b;
+    
+    // Update code (custom)
+    reg [22:0] mem [0:32767];
+    wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
+    end
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
+endmodule // obb_core$grid$0$kt_max$0
+
+
+module obb_core$grid$0$kt_max$1(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [15:0] write_address;
+    input wire  [22:0] write_data;
+    input wire  [15:0] read_address_a;
+    input wire  [15:0] read_address_b;
+    output reg  [22:0] read_data_a;
+    output reg  [22:0] read_data_b;
+    
+    // Update code (custom)
+    reg [22:0] mem [0:32767];
+    wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
+    end
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
+endmodule // obb_core$grid$0$kt_max$1
+
+
+module obb_core$grid$0$kt_max$2(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [15:0] write_address;
+    input wire  [22:0] write_data;
+    input wire  [15:0] read_address_a;
+    input wire  [15:0] read_address_b;
+    output reg  [22:0] read_data_a;
+    output reg  [22:0] read_data_b;
+    
+    // Update code (custom)
+    reg [22:0] mem [0:32767];
+    wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
+    end
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
+endmodule // obb_core$grid$0$kt_max$2
+
+
+module obb_core$grid$0$kt_min$0(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [15:0] write_address;
+    input wire  [22:0] write_data;
+    input wire  [15:0] read_address_a;
+    input wire  [15:0] read_address_b;
+    output reg  [22:0] read_data_a;
+    output reg  [22:0] read_data_b;
+    
+    // Update code (custom)
+    reg [22:0] mem [0:32767];
+    wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
+    end
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
+endmodule // obb_core$grid$0$kt_min$0
+
+
+module obb_core$grid$0$kt_min$1(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [15:0] write_address;
+    input wire  [22:0] write_data;
+    input wire  [15:0] read_address_a;
+    input wire  [15:0] read_address_b;
+    output reg  [22:0] read_data_a;
+    output reg  [22:0] read_data_b;
+    
+    // Update code (custom)
+    reg [22:0] mem [0:32767];
+    wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
+    end
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
+endmodule // obb_core$grid$0$kt_min$1
+
+
+module obb_core$grid$0$kt_min$2(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  write_enable;
+    input wire  [15:0] write_address;
+    input wire  [22:0] write_data;
+    input wire  [15:0] read_address_a;
+    input wire  [15:0] read_address_b;
+    output reg  [22:0] read_data_a;
+    output reg  [22:0] read_data_b;
+    
+    // Update code (custom)
+    reg [22:0] mem [0:32767];
+    wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    always @(posedge clock) begin
+       if (write_enable) begin
+          mem[address_a] <= write_data;
+       end
+       read_data_a <= mem[address_a];
+    end
+    always @(posedge clock) begin
+       read_data_b <= mem[read_address_b];
+    end
+endmodule // obb_core$grid$0$kt_min$2
 
 
 module obb_core$grid$0$lcur(d,q,clock);
@@ -58151,7 +58538,7 @@ module obb_core$grid$0$lmargin(d,q,clock);
 endmodule // obb_core$grid$0$lmargin
 
 
-module obb_core$grid$0$lnext(d,q,clock);
+module obb_core$grid$0$lnext$0(d,q,clock);
     
     // Module arguments
     input wire  [15:0] d;
@@ -58167,10 +58554,10 @@ module obb_core$grid$0$lnext(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$lnext
+endmodule // obb_core$grid$0$lnext$0
 
 
-module obb_core$grid$0$lnext2(d,q,clock);
+module obb_core$grid$0$lnext2$0(d,q,clock);
     
     // Module arguments
     input wire  [15:0] d;
@@ -58186,10 +58573,10 @@ module obb_core$grid$0$lnext2(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$lnext2
+endmodule // obb_core$grid$0$lnext2$0
 
 
-module obb_core$grid$0$lq_box(clock,write_enable,write_address,read_address,in_index,in_min$0,in_min$1,in_min$2,in_max$0,in_max$1,in_max$2,in_margin,in_kind,index,min$0,min$1,min$2,max$0,max$1,max$2,margin,kind);
+module obb_core$grid$0$lq_box$0(clock,write_enable,write_address,read_address,in_index,in_min_x,in_min_y,in_min_z,in_max_x,in_max_y,in_max_z,in_margin,in_kind,index,min_x,min_y,min_z,max_x,max_y,max_z,margin,kind);
     
     // Module arguments
     input wire  clock;
@@ -58197,21 +58584,21 @@ module obb_core$grid$0$lq_box(clock,write_enable,write_address,read_address,in_i
     input wire  [1:0] write_address;
     input wire  [1:0] read_address;
     input wire  [15:0] in_index;
-    input wire  [22:0] in_min$0;
-    input wire  [22:0] in_min$1;
-    input wire  [22:0] in_min$2;
-    input wire  [22:0] in_max$0;
-    input wire  [22:0] in_max$1;
-    input wire  [22:0] in_max$2;
+    input wire  [22:0] in_min_x;
+    input wire  [22:0] in_min_y;
+    input wire  [22:0] in_min_z;
+    input wire  [22:0] in_max_x;
+    input wire  [22:0] in_max_y;
+    input wire  [22:0] in_max_z;
     input wire  [27:0] in_margin;
     input wire  [1:0] in_kind;
     output reg  [15:0] index;
-    output reg  [22:0] min$0;
-    output reg  [22:0] min$1;
-    output reg  [22:0] min$2;
-    output reg  [22:0] max$0;
-    output reg  [22:0] max$1;
-    output reg  [22:0] max$2;
+    output reg  [22:0] min_x;
+    output reg  [22:0] min_y;
+    output reg  [22:0] min_z;
+    output reg  [22:0] max_x;
+    output reg  [22:0] max_y;
+    output reg  [22:0] max_z;
     output reg  [27:0] margin;
     output reg  [1:0] kind;
     
@@ -58272,7 +58659,7 @@ module obb_core$grid$0$lq_box(clock,write_enable,write_address,read_address,in_i
     wire  [1:0] kind_ram$read_data;
     
     // Sub module instances
-    obb_core$grid$0$lq_box$index_ram index_ram(
+    obb_core$grid$0$lq_box$0$index_ram index_ram(
         .clock(index_ram$clock),
         .write_enable(index_ram$write_enable),
         .write_address(index_ram$write_address),
@@ -58280,7 +58667,7 @@ module obb_core$grid$0$lq_box(clock,write_enable,write_address,read_address,in_i
         .read_address(index_ram$read_address),
         .read_data(index_ram$read_data)
     );
-    obb_core$grid$0$lq_box$min_ram$0 min_ram$0(
+    obb_core$grid$0$lq_box$0$min_ram$0 min_ram$0(
         .clock(min_ram$0$clock),
         .write_enable(min_ram$0$write_enable),
         .write_address(min_ram$0$write_address),
@@ -58288,7 +58675,7 @@ module obb_core$grid$0$lq_box(clock,write_enable,write_address,read_address,in_i
         .read_address(min_ram$0$read_address),
         .read_data(min_ram$0$read_data)
     );
-    obb_core$grid$0$lq_box$min_ram$1 min_ram$1(
+    obb_core$grid$0$lq_box$0$min_ram$1 min_ram$1(
         .clock(min_ram$1$clock),
         .write_enable(min_ram$1$write_enable),
         .write_address(min_ram$1$write_address),
@@ -58296,7 +58683,7 @@ module obb_core$grid$0$lq_box(clock,write_enable,write_address,read_address,in_i
         .read_address(min_ram$1$read_address),
         .read_data(min_ram$1$read_data)
     );
-    obb_core$grid$0$lq_box$min_ram$2 min_ram$2(
+    obb_core$grid$0$lq_box$0$min_ram$2 min_ram$2(
         .clock(min_ram$2$clock),
         .write_enable(min_ram$2$write_enable),
         .write_address(min_ram$2$write_address),
@@ -58304,7 +58691,7 @@ module obb_core$grid$0$lq_box(clock,write_enable,write_address,read_address,in_i
         .read_address(min_ram$2$read_address),
         .read_data(min_ram$2$read_data)
     );
-    obb_core$grid$0$lq_box$max_ram$0 max_ram$0(
+    obb_core$grid$0$lq_box$0$max_ram$0 max_ram$0(
         .clock(max_ram$0$clock),
         .write_enable(max_ram$0$write_enable),
         .write_address(max_ram$0$write_address),
@@ -58312,7 +58699,7 @@ module obb_core$grid$0$lq_box(clock,write_enable,write_address,read_address,in_i
         .read_address(max_ram$0$read_address),
         .read_data(max_ram$0$read_data)
     );
-    obb_core$grid$0$lq_box$max_ram$1 max_ram$1(
+    obb_core$grid$0$lq_box$0$max_ram$1 max_ram$1(
         .clock(max_ram$1$clock),
         .write_enable(max_ram$1$write_enable),
         .write_address(max_ram$1$write_address),
@@ -58320,7 +58707,7 @@ module obb_core$grid$0$lq_box(clock,write_enable,write_address,read_address,in_i
         .read_address(max_ram$1$read_address),
         .read_data(max_ram$1$read_data)
     );
-    obb_core$grid$0$lq_box$max_ram$2 max_ram$2(
+    obb_core$grid$0$lq_box$0$max_ram$2 max_ram$2(
         .clock(max_ram$2$clock),
         .write_enable(max_ram$2$write_enable),
         .write_address(max_ram$2$write_address),
@@ -58328,7 +58715,7 @@ module obb_core$grid$0$lq_box(clock,write_enable,write_address,read_address,in_i
         .read_address(max_ram$2$read_address),
         .read_data(max_ram$2$read_data)
     );
-    obb_core$grid$0$lq_box$margin_ram margin_ram(
+    obb_core$grid$0$lq_box$0$margin_ram margin_ram(
         .clock(margin_ram$clock),
         .write_enable(margin_ram$write_enable),
         .write_address(margin_ram$write_address),
@@ -58336,7 +58723,7 @@ module obb_core$grid$0$lq_box(clock,write_enable,write_address,read_address,in_i
         .read_address(margin_ram$read_address),
         .read_data(margin_ram$read_data)
     );
-    obb_core$grid$0$lq_box$kind_ram kind_ram(
+    obb_core$grid$0$lq_box$0$kind_ram kind_ram(
         .clock(kind_ram$clock),
         .write_enable(kind_ram$write_enable),
         .write_address(kind_ram$write_address),
@@ -58368,45 +58755,45 @@ module obb_core$grid$0$lq_box(clock,write_enable,write_address,read_address,in_i
         min_ram$0$clock = clock;
         min_ram$0$write_enable = write_enable;
         min_ram$0$write_address = write_address;
-        min_ram$0$write_data = in_min$0;
         min_ram$0$read_address = read_address;
-        min$0 = min_ram$0$read_data;
         max_ram$0$clock = clock;
         max_ram$0$write_enable = write_enable;
         max_ram$0$write_address = write_address;
-        max_ram$0$write_data = in_max$0;
         max_ram$0$read_address = read_address;
-        max$0 = max_ram$0$read_data;
         min_ram$1$clock = clock;
         min_ram$1$write_enable = write_enable;
         min_ram$1$write_address = write_address;
-        min_ram$1$write_data = in_min$1;
         min_ram$1$read_address = read_address;
-        min$1 = min_ram$1$read_data;
         max_ram$1$clock = clock;
         max_ram$1$write_enable = write_enable;
         max_ram$1$write_address = write_address;
-        max_ram$1$write_data = in_max$1;
         max_ram$1$read_address = read_address;
-        max$1 = max_ram$1$read_data;
         min_ram$2$clock = clock;
         min_ram$2$write_enable = write_enable;
         min_ram$2$write_address = write_address;
-        min_ram$2$write_data = in_min$2;
         min_ram$2$read_address = read_address;
-        min$2 = min_ram$2$read_data;
         max_ram$2$clock = clock;
         max_ram$2$write_enable = write_enable;
         max_ram$2$write_address = write_address;
-        max_ram$2$write_data = in_max$2;
         max_ram$2$read_address = read_address;
-        max$2 = max_ram$2$read_data;
+        min_ram$0$write_data = in_min_x;
+        min_ram$1$write_data = in_min_y;
+        min_ram$2$write_data = in_min_z;
+        max_ram$0$write_data = in_max_x;
+        max_ram$1$write_data = in_max_y;
+        max_ram$2$write_data = in_max_z;
+        min_x = min_ram$0$read_data;
+        min_y = min_ram$1$read_data;
+        min_z = min_ram$2$read_data;
+        max_x = max_ram$0$read_data;
+        max_y = max_ram$1$read_data;
+        max_z = max_ram$2$read_data;
     end
     
-endmodule // obb_core$grid$0$lq_box
+endmodule // obb_core$grid$0$lq_box$0
 
 
-module obb_core$grid$0$lq_box$index_ram(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$lq_box$0$index_ram(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -58427,10 +58814,10 @@ module obb_core$grid$0$lq_box$index_ram(clock,write_enable,write_address,write_d
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$lq_box$index_ram
+endmodule // obb_core$grid$0$lq_box$0$index_ram
 
 
-module obb_core$grid$0$lq_box$kind_ram(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$lq_box$0$kind_ram(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -58451,10 +58838,10 @@ module obb_core$grid$0$lq_box$kind_ram(clock,write_enable,write_address,write_da
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$lq_box$kind_ram
+endmodule // obb_core$grid$0$lq_box$0$kind_ram
 
 
-module obb_core$grid$0$lq_box$margin_ram(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$lq_box$0$margin_ram(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -58475,10 +58862,10 @@ module obb_core$grid$0$lq_box$margin_ram(clock,write_enable,write_address,write_
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$lq_box$margin_ram
+endmodule // obb_core$grid$0$lq_box$0$margin_ram
 
 
-module obb_core$grid$0$lq_box$max_ram$0(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$lq_box$0$max_ram$0(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -58499,10 +58886,10 @@ module obb_core$grid$0$lq_box$max_ram$0(clock,write_enable,write_address,write_d
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$lq_box$max_ram$0
+endmodule // obb_core$grid$0$lq_box$0$max_ram$0
 
 
-module obb_core$grid$0$lq_box$max_ram$1(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$lq_box$0$max_ram$1(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -58523,10 +58910,10 @@ module obb_core$grid$0$lq_box$max_ram$1(clock,write_enable,write_address,write_d
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$lq_box$max_ram$1
+endmodule // obb_core$grid$0$lq_box$0$max_ram$1
 
 
-module obb_core$grid$0$lq_box$max_ram$2(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$lq_box$0$max_ram$2(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -58547,10 +58934,10 @@ module obb_core$grid$0$lq_box$max_ram$2(clock,write_enable,write_address,write_d
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$lq_box$max_ram$2
+endmodule // obb_core$grid$0$lq_box$0$max_ram$2
 
 
-module obb_core$grid$0$lq_box$min_ram$0(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$lq_box$0$min_ram$0(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -58571,10 +58958,10 @@ module obb_core$grid$0$lq_box$min_ram$0(clock,write_enable,write_address,write_d
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$lq_box$min_ram$0
+endmodule // obb_core$grid$0$lq_box$0$min_ram$0
 
 
-module obb_core$grid$0$lq_box$min_ram$1(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$lq_box$0$min_ram$1(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -58595,10 +58982,10 @@ module obb_core$grid$0$lq_box$min_ram$1(clock,write_enable,write_address,write_d
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$lq_box$min_ram$1
+endmodule // obb_core$grid$0$lq_box$0$min_ram$1
 
 
-module obb_core$grid$0$lq_box$min_ram$2(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$lq_box$0$min_ram$2(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -58619,7 +59006,7 @@ module obb_core$grid$0$lq_box$min_ram$2(clock,write_enable,write_address,write_d
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$lq_box$min_ram$2
+endmodule // obb_core$grid$0$lq_box$0$min_ram$2
 
 
 module obb_core$grid$0$lq_fill$0(d,q,clock);
@@ -58679,7 +59066,7 @@ module obb_core$grid$0$lq_fill$2(d,q,clock);
 endmodule // obb_core$grid$0$lq_fill$2
 
 
-module obb_core$grid$0$lq_head(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$lq_head$0(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -58700,10 +59087,10 @@ module obb_core$grid$0$lq_head(clock,write_enable,write_address,write_data,read_
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$lq_head
+endmodule // obb_core$grid$0$lq_head$0
 
 
-module obb_core$grid$0$lq_head2(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$lq_head2$0(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -58724,10 +59111,10 @@ module obb_core$grid$0$lq_head2(clock,write_enable,write_address,write_data,read
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$lq_head2
+endmodule // obb_core$grid$0$lq_head2$0
 
 
-module obb_core$grid$0$lq_last(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$lq_last$0(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -58748,10 +59135,10 @@ module obb_core$grid$0$lq_last(clock,write_enable,write_address,write_data,read_
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$lq_last
+endmodule // obb_core$grid$0$lq_last$0
 
 
-module obb_core$grid$0$lq_rp(d,q,clock);
+module obb_core$grid$0$lq_rp$0(d,q,clock);
     
     // Module arguments
     input wire  [1:0] d;
@@ -58767,10 +59154,10 @@ module obb_core$grid$0$lq_rp(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$lq_rp
+endmodule // obb_core$grid$0$lq_rp$0
 
 
-module obb_core$grid$0$lq_wp(d,q,clock);
+module obb_core$grid$0$lq_wp$0(d,q,clock);
     
     // Module arguments
     input wire  [1:0] d;
@@ -58786,7 +59173,7 @@ module obb_core$grid$0$lq_wp(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$lq_wp
+endmodule // obb_core$grid$0$lq_wp$0
 
 
 module obb_core$grid$0$meta$0(clock,write_enable,write_address,write_data,read_address,read_data);
@@ -61219,7 +61606,63 @@ module obb_core$grid$0$meta$9(clock,write_enable,write_address,write_data,read_a
 endmodule // obb_core$grid$0$meta$9
 
 
-module obb_core$grid$0$q0(d,q,clock);
+module obb_core$grid$0$pack_hi$0(value,resized);
+    
+    // Module arguments
+    input wire  [15:0] value;
+    output reg  [95:0] resized;
+    
+    // Update code
+    always @(*) begin
+        resized = ((value) & 96'hffffffffffffffffffffffff);
+    end
+    
+endmodule // obb_core$grid$0$pack_hi$0
+
+
+module obb_core$grid$0$pack_lo$0(value,resized);
+    
+    // Module arguments
+    input wire  [15:0] value;
+    output reg  [95:0] resized;
+    
+    // Update code
+    always @(*) begin
+        resized = ((value) & 96'hffffffffffffffffffffffff);
+    end
+    
+endmodule // obb_core$grid$0$pack_lo$0
+
+
+module obb_core$grid$0$pack_mhi$0(value,resized);
+    
+    // Module arguments
+    input wire  [27:0] value;
+    output reg  [95:0] resized;
+    
+    // Update code
+    always @(*) begin
+        resized = ((value) & 96'hffffffffffffffffffffffff);
+    end
+    
+endmodule // obb_core$grid$0$pack_mhi$0
+
+
+module obb_core$grid$0$pack_mlo$0(value,resized);
+    
+    // Module arguments
+    input wire  [27:0] value;
+    output reg  [95:0] resized;
+    
+    // Update code
+    always @(*) begin
+        resized = ((value) & 96'hffffffffffffffffffffffff);
+    end
+    
+endmodule // obb_core$grid$0$pack_mlo$0
+
+
+module obb_core$grid$0$q0$0(d,q,clock);
     
     // Module arguments
     input wire  [15:0] d;
@@ -61235,10 +61678,10 @@ module obb_core$grid$0$q0(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$q0
+endmodule // obb_core$grid$0$q0$0
 
 
-module obb_core$grid$0$q0v(d,q,clock);
+module obb_core$grid$0$q0v$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -61254,10 +61697,10 @@ module obb_core$grid$0$q0v(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$q0v
+endmodule // obb_core$grid$0$q0v$0
 
 
-module obb_core$grid$0$q1(d,q,clock);
+module obb_core$grid$0$q1$0(d,q,clock);
     
     // Module arguments
     input wire  [15:0] d;
@@ -61273,10 +61716,10 @@ module obb_core$grid$0$q1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$q1
+endmodule // obb_core$grid$0$q1$0
 
 
-module obb_core$grid$0$q1v(d,q,clock);
+module obb_core$grid$0$q1v$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -61292,10 +61735,10 @@ module obb_core$grid$0$q1v(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$q1v
+endmodule // obb_core$grid$0$q1v$0
 
 
-module obb_core$grid$0$r1(d,q,clock);
+module obb_core$grid$0$r1$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -61311,7 +61754,7 @@ module obb_core$grid$0$r1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$r1
+endmodule // obb_core$grid$0$r1$0
 
 
 module obb_core$grid$0$rec$0(clock,write_enable,write_address,write_data,read_address,read_data);
@@ -65202,7 +65645,7 @@ module obb_core$grid$0$rec2$9(clock,write_enable,write_address,write_data,read_a
 endmodule // obb_core$grid$0$rec2$9
 
 
-module obb_core$grid$0$rec_box(clock,write_enable,write_address,read_address,in_index,in_min$0,in_min$1,in_min$2,in_max$0,in_max$1,in_max$2,in_margin,in_kind,index,min$0,min$1,min$2,max$0,max$1,max$2,margin,kind);
+module obb_core$grid$0$rec_box$0(clock,write_enable,write_address,read_address,in_index,in_min_x,in_min_y,in_min_z,in_max_x,in_max_y,in_max_z,in_margin,in_kind,index,min_x,min_y,min_z,max_x,max_y,max_z,margin,kind);
     
     // Module arguments
     input wire  clock;
@@ -65210,21 +65653,21 @@ module obb_core$grid$0$rec_box(clock,write_enable,write_address,read_address,in_
     input wire  [4:0] write_address;
     input wire  [4:0] read_address;
     input wire  [15:0] in_index;
-    input wire  [22:0] in_min$0;
-    input wire  [22:0] in_min$1;
-    input wire  [22:0] in_min$2;
-    input wire  [22:0] in_max$0;
-    input wire  [22:0] in_max$1;
-    input wire  [22:0] in_max$2;
+    input wire  [22:0] in_min_x;
+    input wire  [22:0] in_min_y;
+    input wire  [22:0] in_min_z;
+    input wire  [22:0] in_max_x;
+    input wire  [22:0] in_max_y;
+    input wire  [22:0] in_max_z;
     input wire  [27:0] in_margin;
     input wire  [1:0] in_kind;
     output reg  [15:0] index;
-    output reg  [22:0] min$0;
-    output reg  [22:0] min$1;
-    output reg  [22:0] min$2;
-    output reg  [22:0] max$0;
-    output reg  [22:0] max$1;
-    output reg  [22:0] max$2;
+    output reg  [22:0] min_x;
+    output reg  [22:0] min_y;
+    output reg  [22:0] min_z;
+    output reg  [22:0] max_x;
+    output reg  [22:0] max_y;
+    output reg  [22:0] max_z;
     output reg  [27:0] margin;
     output reg  [1:0] kind;
     
@@ -65285,7 +65728,7 @@ module obb_core$grid$0$rec_box(clock,write_enable,write_address,read_address,in_
     wire  [1:0] kind_ram$read_data;
     
     // Sub module instances
-    obb_core$grid$0$rec_box$index_ram index_ram(
+    obb_core$grid$0$rec_box$0$index_ram index_ram(
         .clock(index_ram$clock),
         .write_enable(index_ram$write_enable),
         .write_address(index_ram$write_address),
@@ -65293,7 +65736,7 @@ module obb_core$grid$0$rec_box(clock,write_enable,write_address,read_address,in_
         .read_address(index_ram$read_address),
         .read_data(index_ram$read_data)
     );
-    obb_core$grid$0$rec_box$min_ram$0 min_ram$0(
+    obb_core$grid$0$rec_box$0$min_ram$0 min_ram$0(
         .clock(min_ram$0$clock),
         .write_enable(min_ram$0$write_enable),
         .write_address(min_ram$0$write_address),
@@ -65301,7 +65744,7 @@ module obb_core$grid$0$rec_box(clock,write_enable,write_address,read_address,in_
         .read_address(min_ram$0$read_address),
         .read_data(min_ram$0$read_data)
     );
-    obb_core$grid$0$rec_box$min_ram$1 min_ram$1(
+    obb_core$grid$0$rec_box$0$min_ram$1 min_ram$1(
         .clock(min_ram$1$clock),
         .write_enable(min_ram$1$write_enable),
         .write_address(min_ram$1$write_address),
@@ -65309,7 +65752,7 @@ module obb_core$grid$0$rec_box(clock,write_enable,write_address,read_address,in_
         .read_address(min_ram$1$read_address),
         .read_data(min_ram$1$read_data)
     );
-    obb_core$grid$0$rec_box$min_ram$2 min_ram$2(
+    obb_core$grid$0$rec_box$0$min_ram$2 min_ram$2(
         .clock(min_ram$2$clock),
         .write_enable(min_ram$2$write_enable),
         .write_address(min_ram$2$write_address),
@@ -65317,7 +65760,7 @@ module obb_core$grid$0$rec_box(clock,write_enable,write_address,read_address,in_
         .read_address(min_ram$2$read_address),
         .read_data(min_ram$2$read_data)
     );
-    obb_core$grid$0$rec_box$max_ram$0 max_ram$0(
+    obb_core$grid$0$rec_box$0$max_ram$0 max_ram$0(
         .clock(max_ram$0$clock),
         .write_enable(max_ram$0$write_enable),
         .write_address(max_ram$0$write_address),
@@ -65325,7 +65768,7 @@ module obb_core$grid$0$rec_box(clock,write_enable,write_address,read_address,in_
         .read_address(max_ram$0$read_address),
         .read_data(max_ram$0$read_data)
     );
-    obb_core$grid$0$rec_box$max_ram$1 max_ram$1(
+    obb_core$grid$0$rec_box$0$max_ram$1 max_ram$1(
         .clock(max_ram$1$clock),
         .write_enable(max_ram$1$write_enable),
         .write_address(max_ram$1$write_address),
@@ -65333,7 +65776,7 @@ module obb_core$grid$0$rec_box(clock,write_enable,write_address,read_address,in_
         .read_address(max_ram$1$read_address),
         .read_data(max_ram$1$read_data)
     );
-    obb_core$grid$0$rec_box$max_ram$2 max_ram$2(
+    obb_core$grid$0$rec_box$0$max_ram$2 max_ram$2(
         .clock(max_ram$2$clock),
         .write_enable(max_ram$2$write_enable),
         .write_address(max_ram$2$write_address),
@@ -65341,7 +65784,7 @@ module obb_core$grid$0$rec_box(clock,write_enable,write_address,read_address,in_
         .read_address(max_ram$2$read_address),
         .read_data(max_ram$2$read_data)
     );
-    obb_core$grid$0$rec_box$margin_ram margin_ram(
+    obb_core$grid$0$rec_box$0$margin_ram margin_ram(
         .clock(margin_ram$clock),
         .write_enable(margin_ram$write_enable),
         .write_address(margin_ram$write_address),
@@ -65349,7 +65792,7 @@ module obb_core$grid$0$rec_box(clock,write_enable,write_address,read_address,in_
         .read_address(margin_ram$read_address),
         .read_data(margin_ram$read_data)
     );
-    obb_core$grid$0$rec_box$kind_ram kind_ram(
+    obb_core$grid$0$rec_box$0$kind_ram kind_ram(
         .clock(kind_ram$clock),
         .write_enable(kind_ram$write_enable),
         .write_address(kind_ram$write_address),
@@ -65381,45 +65824,45 @@ module obb_core$grid$0$rec_box(clock,write_enable,write_address,read_address,in_
         min_ram$0$clock = clock;
         min_ram$0$write_enable = write_enable;
         min_ram$0$write_address = write_address;
-        min_ram$0$write_data = in_min$0;
         min_ram$0$read_address = read_address;
-        min$0 = min_ram$0$read_data;
         max_ram$0$clock = clock;
         max_ram$0$write_enable = write_enable;
         max_ram$0$write_address = write_address;
-        max_ram$0$write_data = in_max$0;
         max_ram$0$read_address = read_address;
-        max$0 = max_ram$0$read_data;
         min_ram$1$clock = clock;
         min_ram$1$write_enable = write_enable;
         min_ram$1$write_address = write_address;
-        min_ram$1$write_data = in_min$1;
         min_ram$1$read_address = read_address;
-        min$1 = min_ram$1$read_data;
         max_ram$1$clock = clock;
         max_ram$1$write_enable = write_enable;
         max_ram$1$write_address = write_address;
-        max_ram$1$write_data = in_max$1;
         max_ram$1$read_address = read_address;
-        max$1 = max_ram$1$read_data;
         min_ram$2$clock = clock;
         min_ram$2$write_enable = write_enable;
         min_ram$2$write_address = write_address;
-        min_ram$2$write_data = in_min$2;
         min_ram$2$read_address = read_address;
-        min$2 = min_ram$2$read_data;
         max_ram$2$clock = clock;
         max_ram$2$write_enable = write_enable;
         max_ram$2$write_address = write_address;
-        max_ram$2$write_data = in_max$2;
         max_ram$2$read_address = read_address;
-        max$2 = max_ram$2$read_data;
+        min_ram$0$write_data = in_min_x;
+        min_ram$1$write_data = in_min_y;
+        min_ram$2$write_data = in_min_z;
+        max_ram$0$write_data = in_max_x;
+        max_ram$1$write_data = in_max_y;
+        max_ram$2$write_data = in_max_z;
+        min_x = min_ram$0$read_data;
+        min_y = min_ram$1$read_data;
+        min_z = min_ram$2$read_data;
+        max_x = max_ram$0$read_data;
+        max_y = max_ram$1$read_data;
+        max_z = max_ram$2$read_data;
     end
     
-endmodule // obb_core$grid$0$rec_box
+endmodule // obb_core$grid$0$rec_box$0
 
 
-module obb_core$grid$0$rec_box$index_ram(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$rec_box$0$index_ram(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -65440,10 +65883,10 @@ module obb_core$grid$0$rec_box$index_ram(clock,write_enable,write_address,write_
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$rec_box$index_ram
+endmodule // obb_core$grid$0$rec_box$0$index_ram
 
 
-module obb_core$grid$0$rec_box$kind_ram(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$rec_box$0$kind_ram(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -65464,10 +65907,10 @@ module obb_core$grid$0$rec_box$kind_ram(clock,write_enable,write_address,write_d
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$rec_box$kind_ram
+endmodule // obb_core$grid$0$rec_box$0$kind_ram
 
 
-module obb_core$grid$0$rec_box$margin_ram(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$rec_box$0$margin_ram(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -65488,10 +65931,10 @@ module obb_core$grid$0$rec_box$margin_ram(clock,write_enable,write_address,write
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$rec_box$margin_ram
+endmodule // obb_core$grid$0$rec_box$0$margin_ram
 
 
-module obb_core$grid$0$rec_box$max_ram$0(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$rec_box$0$max_ram$0(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -65512,10 +65955,10 @@ module obb_core$grid$0$rec_box$max_ram$0(clock,write_enable,write_address,write_
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$rec_box$max_ram$0
+endmodule // obb_core$grid$0$rec_box$0$max_ram$0
 
 
-module obb_core$grid$0$rec_box$max_ram$1(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$rec_box$0$max_ram$1(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -65536,10 +65979,10 @@ module obb_core$grid$0$rec_box$max_ram$1(clock,write_enable,write_address,write_
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$rec_box$max_ram$1
+endmodule // obb_core$grid$0$rec_box$0$max_ram$1
 
 
-module obb_core$grid$0$rec_box$max_ram$2(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$rec_box$0$max_ram$2(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -65560,10 +66003,10 @@ module obb_core$grid$0$rec_box$max_ram$2(clock,write_enable,write_address,write_
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$rec_box$max_ram$2
+endmodule // obb_core$grid$0$rec_box$0$max_ram$2
 
 
-module obb_core$grid$0$rec_box$min_ram$0(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$rec_box$0$min_ram$0(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -65584,10 +66027,10 @@ module obb_core$grid$0$rec_box$min_ram$0(clock,write_enable,write_address,write_
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$rec_box$min_ram$0
+endmodule // obb_core$grid$0$rec_box$0$min_ram$0
 
 
-module obb_core$grid$0$rec_box$min_ram$1(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$rec_box$0$min_ram$1(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -65608,10 +66051,10 @@ module obb_core$grid$0$rec_box$min_ram$1(clock,write_enable,write_address,write_
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$rec_box$min_ram$1
+endmodule // obb_core$grid$0$rec_box$0$min_ram$1
 
 
-module obb_core$grid$0$rec_box$min_ram$2(clock,write_enable,write_address,write_data,read_address,read_data);
+module obb_core$grid$0$rec_box$0$min_ram$2(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
     input wire  clock;
@@ -65632,7 +66075,7 @@ module obb_core$grid$0$rec_box$min_ram$2(clock,write_enable,write_address,write_
     always @(*) begin
        read_data = mem[read_address];
     end
-endmodule // obb_core$grid$0$rec_box$min_ram$2
+endmodule // obb_core$grid$0$rec_box$0$min_ram$2
 
 
 module obb_core$grid$0$rleft$0(d,q,clock);
@@ -65692,7 +66135,7 @@ module obb_core$grid$0$rleft$2(d,q,clock);
 endmodule // obb_core$grid$0$rleft$2
 
 
-module obb_core$grid$0$rp(d,q,clock);
+module obb_core$grid$0$rp$0(d,q,clock);
     
     // Module arguments
     input wire  [4:0] d;
@@ -65708,7 +66151,7 @@ module obb_core$grid$0$rp(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$rp
+endmodule // obb_core$grid$0$rp$0
 
 
 module obb_core$grid$0$rr$0(d,q,clock);
@@ -66260,6 +66703,25 @@ module obb_core$grid$0$s3_kind(d,q,clock);
     end
           
 endmodule // obb_core$grid$0$s3_kind
+
+
+module obb_core$grid$0$s3_lane$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s3_lane$0
 
 
 module obb_core$grid$0$s3_margin(d,q,clock);
@@ -70573,6 +71035,25 @@ module obb_core$grid$0$s4_kind(d,q,clock);
     end
           
 endmodule // obb_core$grid$0$s4_kind
+
+
+module obb_core$grid$0$s4_lane$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s4_lane$0
 
 
 module obb_core$grid$0$s4_large(d,q,clock);
@@ -81576,6 +82057,25 @@ module obb_core$grid$0$s5_kind(d,q,clock);
 endmodule // obb_core$grid$0$s5_kind
 
 
+module obb_core$grid$0$s5_lane$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$s5_lane$0
+
+
 module obb_core$grid$0$s5_large(d,q,clock);
     
     // Module arguments
@@ -86383,6 +86883,25 @@ module obb_core$grid$0$s5_wrote$9(d,q,clock);
 endmodule // obb_core$grid$0$s5_wrote$9
 
 
+module obb_core$grid$0$slane$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$slane$0
+
+
 module obb_core$grid$0$slow(d,q,clock);
     
     // Module arguments
@@ -86411,21 +86930,21 @@ module obb_core$grid$0$slow(d,q,clock);
 endmodule // obb_core$grid$0$slow
 
 
-module obb_core$grid$0$succ(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
+module obb_core$grid$0$succ$0(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
     
     // Module arguments
     input wire  clock;
     input wire  write_enable;
-    input wire  [14:0] write_address;
+    input wire  [15:0] write_address;
     input wire  [15:0] write_data;
-    input wire  [14:0] read_address_a;
-    input wire  [14:0] read_address_b;
+    input wire  [15:0] read_address_a;
+    input wire  [15:0] read_address_b;
     output reg  [15:0] read_data_a;
     output reg  [15:0] read_data_b;
     
     // Update code (custom)
     reg [15:0] mem [0:32767];
-    wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    wire [15:0] address_a = write_enable ? write_address : read_address_a;
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -86435,10 +86954,10 @@ module obb_core$grid$0$succ(clock,write_enable,write_address,write_data,read_add
     always @(posedge clock) begin
        read_data_b <= mem[read_address_b];
     end
-endmodule // obb_core$grid$0$succ
+endmodule // obb_core$grid$0$succ$0
 
 
-module obb_core$grid$0$succ_q(d,q,clock);
+module obb_core$grid$0$succ_q$0(d,q,clock);
     
     // Module arguments
     input wire  [15:0] d;
@@ -86454,10 +86973,10 @@ module obb_core$grid$0$succ_q(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$succ_q
+endmodule // obb_core$grid$0$succ_q$0
 
 
-module obb_core$grid$0$v1_i(d,q,clock);
+module obb_core$grid$0$v1_i$0(d,q,clock);
     
     // Module arguments
     input wire  [15:0] d;
@@ -86473,10 +86992,10 @@ module obb_core$grid$0$v1_i(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$v1_i
+endmodule // obb_core$grid$0$v1_i$0
 
 
-module obb_core$grid$0$v1_j(d,q,clock);
+module obb_core$grid$0$v1_j$0(d,q,clock);
     
     // Module arguments
     input wire  [15:0] d;
@@ -86492,10 +87011,10 @@ module obb_core$grid$0$v1_j(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$v1_j
+endmodule // obb_core$grid$0$v1_j$0
 
 
-module obb_core$grid$0$v1_kind(d,q,clock);
+module obb_core$grid$0$v1_kind$0(d,q,clock);
     
     // Module arguments
     input wire  [1:0] d;
@@ -86511,10 +87030,10 @@ module obb_core$grid$0$v1_kind(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$v1_kind
+endmodule // obb_core$grid$0$v1_kind$0
 
 
-module obb_core$grid$0$v1_margin(d,q,clock);
+module obb_core$grid$0$v1_margin$0(d,q,clock);
     
     // Module arguments
     input wire  [27:0] d;
@@ -86530,7 +87049,7 @@ module obb_core$grid$0$v1_margin(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$v1_margin
+endmodule // obb_core$grid$0$v1_margin$0
 
 
 module obb_core$grid$0$v1_max$0(d,q,clock);
@@ -86647,7 +87166,7 @@ module obb_core$grid$0$v1_min$2(d,q,clock);
 endmodule // obb_core$grid$0$v1_min$2
 
 
-module obb_core$grid$0$v1_valid(d,q,clock);
+module obb_core$grid$0$v1_valid$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86663,10 +87182,10 @@ module obb_core$grid$0$v1_valid(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$v1_valid
+endmodule // obb_core$grid$0$v1_valid$0
 
 
-module obb_core$grid$0$v2_group_j(d,q,clock);
+module obb_core$grid$0$v2_group_j$0(d,q,clock);
     
     // Module arguments
     input wire  [2:0] d;
@@ -86682,10 +87201,10 @@ module obb_core$grid$0$v2_group_j(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$v2_group_j
+endmodule // obb_core$grid$0$v2_group_j$0
 
 
-module obb_core$grid$0$v2_i(d,q,clock);
+module obb_core$grid$0$v2_i$0(d,q,clock);
     
     // Module arguments
     input wire  [15:0] d;
@@ -86701,10 +87220,10 @@ module obb_core$grid$0$v2_i(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$v2_i
+endmodule // obb_core$grid$0$v2_i$0
 
 
-module obb_core$grid$0$v2_j(d,q,clock);
+module obb_core$grid$0$v2_j$0(d,q,clock);
     
     // Module arguments
     input wire  [15:0] d;
@@ -86720,7 +87239,7 @@ module obb_core$grid$0$v2_j(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$v2_j
+endmodule // obb_core$grid$0$v2_j$0
 
 
 module obb_core$grid$0$v2_jc$0(d,q,clock);
@@ -86780,7 +87299,7 @@ module obb_core$grid$0$v2_jc$2(d,q,clock);
 endmodule // obb_core$grid$0$v2_jc$2
 
 
-module obb_core$grid$0$v2_kind(d,q,clock);
+module obb_core$grid$0$v2_kind$0(d,q,clock);
     
     // Module arguments
     input wire  [1:0] d;
@@ -86796,10 +87315,10 @@ module obb_core$grid$0$v2_kind(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$v2_kind
+endmodule // obb_core$grid$0$v2_kind$0
 
 
-module obb_core$grid$0$v2_margin_i(d,q,clock);
+module obb_core$grid$0$v2_margin_i$0(d,q,clock);
     
     // Module arguments
     input wire  [27:0] d;
@@ -86815,10 +87334,10 @@ module obb_core$grid$0$v2_margin_i(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$v2_margin_i
+endmodule // obb_core$grid$0$v2_margin_i$0
 
 
-module obb_core$grid$0$v2_margin_j(d,q,clock);
+module obb_core$grid$0$v2_margin_j$0(d,q,clock);
     
     // Module arguments
     input wire  [27:0] d;
@@ -86834,7 +87353,7 @@ module obb_core$grid$0$v2_margin_j(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$v2_margin_j
+endmodule // obb_core$grid$0$v2_margin_j$0
 
 
 module obb_core$grid$0$v2_max_i$0(d,q,clock);
@@ -87065,7 +87584,7 @@ module obb_core$grid$0$v2_min_j$2(d,q,clock);
 endmodule // obb_core$grid$0$v2_min_j$2
 
 
-module obb_core$grid$0$v2_valid(d,q,clock);
+module obb_core$grid$0$v2_valid$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -87081,7 +87600,7 @@ module obb_core$grid$0$v2_valid(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$v2_valid
+endmodule // obb_core$grid$0$v2_valid$0
 
 
 module obb_core$grid$0$v2_wh$0(d,q,clock);
@@ -87198,7 +87717,7 @@ module obb_core$grid$0$v2_wl$2(d,q,clock);
 endmodule // obb_core$grid$0$v2_wl$2
 
 
-module obb_core$grid$0$v3_word(d,q,clock);
+module obb_core$grid$0$v3_word$0(d,q,clock);
     
     // Module arguments
     input wire  [95:0] d;
@@ -87214,10 +87733,10 @@ module obb_core$grid$0$v3_word(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$v3_word
+endmodule // obb_core$grid$0$v3_word$0
 
 
-module obb_core$grid$0$v3_write(d,q,clock);
+module obb_core$grid$0$v3_write$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -87233,7 +87752,35 @@ module obb_core$grid$0$v3_write(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$v3_write
+endmodule // obb_core$grid$0$v3_write$0
+
+
+module obb_core$grid$0$vis_i$0(value,resized);
+    
+    // Module arguments
+    input wire  [15:0] value;
+    output reg  [63:0] resized;
+    
+    // Update code
+    always @(*) begin
+        resized = ((value) & 64'hffffffffffffffff);
+    end
+    
+endmodule // obb_core$grid$0$vis_i$0
+
+
+module obb_core$grid$0$vis_j$0(value,resized);
+    
+    // Module arguments
+    input wire  [15:0] value;
+    output reg  [63:0] resized;
+    
+    // Update code
+    always @(*) begin
+        resized = ((value) & 64'hffffffffffffffff);
+    end
+    
+endmodule // obb_core$grid$0$vis_j$0
 
 
 module obb_core$grid$0$wide(d,q,clock);
@@ -87312,7 +87859,7 @@ module obb_core$grid$0$wlo$2(d,q,clock);
 endmodule // obb_core$grid$0$wlo$2
 
 
-module obb_core$grid$0$wp(d,q,clock);
+module obb_core$grid$0$wp$0(d,q,clock);
     
     // Module arguments
     input wire  [4:0] d;
@@ -87328,7 +87875,7 @@ module obb_core$grid$0$wp(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$grid$0$wp
+endmodule // obb_core$grid$0$wp$0
 
 
 module obb_core$grid$0$wspan$0(d,q,clock);
@@ -87386,33 +87933,6 @@ module obb_core$grid$0$wspan$2(d,q,clock);
     end
           
 endmodule // obb_core$grid$0$wspan$2
-
-
-module obb_core$group(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
-    
-    // Module arguments
-    input wire  clock;
-    input wire  write_enable;
-    input wire  [14:0] write_address;
-    input wire  [2:0] write_data;
-    input wire  [14:0] read_address_a;
-    input wire  [14:0] read_address_b;
-    output reg  [2:0] read_data_a;
-    output reg  [2:0] read_data_b;
-    
-    // Update code (custom)
-    reg [2:0] mem [0:32767];
-    wire [14:0] address_a = write_enable ? write_address : read_address_a;
-    always @(posedge clock) begin
-       if (write_enable) begin
-          mem[address_a] <= write_data;
-       end
-       read_data_a <= mem[address_a];
-    end
-    always @(posedge clock) begin
-       read_data_b <= mem[read_address_b];
-    end
-endmodule // obb_core$group
 
 
 module obb_core$group_a(d,q,clock);
@@ -88389,168 +88909,6 @@ module obb_core$key_min_b$2(d,q,clock);
 endmodule // obb_core$key_min_b$2
 
 
-module obb_core$kmax$0(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
-    
-    // Module arguments
-    input wire  clock;
-    input wire  write_enable;
-    input wire  [14:0] write_address;
-    input wire  [22:0] write_data;
-    input wire  [14:0] read_address_a;
-    input wire  [14:0] read_address_b;
-    output reg  [22:0] read_data_a;
-    output reg  [22:0] read_data_b;
-    
-    // Update code (custom)
-    reg [22:0] mem [0:32767];
-    wire [14:0] address_a = write_enable ? write_address : read_address_a;
-    always @(posedge clock) begin
-       if (write_enable) begin
-          mem[address_a] <= write_data;
-       end
-       read_data_a <= mem[address_a];
-    end
-    always @(posedge clock) begin
-       read_data_b <= mem[read_address_b];
-    end
-endmodule // obb_core$kmax$0
-
-
-module obb_core$kmax$1(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
-    
-    // Module arguments
-    input wire  clock;
-    input wire  write_enable;
-    input wire  [14:0] write_address;
-    input wire  [22:0] write_data;
-    input wire  [14:0] read_address_a;
-    input wire  [14:0] read_address_b;
-    output reg  [22:0] read_data_a;
-    output reg  [22:0] read_data_b;
-    
-    // Update code (custom)
-    reg [22:0] mem [0:32767];
-    wire [14:0] address_a = write_enable ? write_address : read_address_a;
-    always @(posedge clock) begin
-       if (write_enable) begin
-          mem[address_a] <= write_data;
-       end
-       read_data_a <= mem[address_a];
-    end
-    always @(posedge clock) begin
-       read_data_b <= mem[read_address_b];
-    end
-endmodule // obb_core$kmax$1
-
-
-module obb_core$kmax$2(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
-    
-    // Module arguments
-    input wire  clock;
-    input wire  write_enable;
-    input wire  [14:0] write_address;
-    input wire  [22:0] write_data;
-    input wire  [14:0] read_address_a;
-    input wire  [14:0] read_address_b;
-    output reg  [22:0] read_data_a;
-    output reg  [22:0] read_data_b;
-    
-    // Update code (custom)
-    reg [22:0] mem [0:32767];
-    wire [14:0] address_a = write_enable ? write_address : read_address_a;
-    always @(posedge clock) begin
-       if (write_enable) begin
-          mem[address_a] <= write_data;
-       end
-       read_data_a <= mem[address_a];
-    end
-    always @(posedge clock) begin
-       read_data_b <= mem[read_address_b];
-    end
-endmodule // obb_core$kmax$2
-
-
-module obb_core$kmin$0(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
-    
-    // Module arguments
-    input wire  clock;
-    input wire  write_enable;
-    input wire  [14:0] write_address;
-    input wire  [22:0] write_data;
-    input wire  [14:0] read_address_a;
-    input wire  [14:0] read_address_b;
-    output reg  [22:0] read_data_a;
-    output reg  [22:0] read_data_b;
-    
-    // Update code (custom)
-    reg [22:0] mem [0:32767];
-    wire [14:0] address_a = write_enable ? write_address : read_address_a;
-    always @(posedge clock) begin
-       if (write_enable) begin
-          mem[address_a] <= write_data;
-       end
-       read_data_a <= mem[address_a];
-    end
-    always @(posedge clock) begin
-       read_data_b <= mem[read_address_b];
-    end
-endmodule // obb_core$kmin$0
-
-
-module obb_core$kmin$1(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
-    
-    // Module arguments
-    input wire  clock;
-    input wire  write_enable;
-    input wire  [14:0] write_address;
-    input wire  [22:0] write_data;
-    input wire  [14:0] read_address_a;
-    input wire  [14:0] read_address_b;
-    output reg  [22:0] read_data_a;
-    output reg  [22:0] read_data_b;
-    
-    // Update code (custom)
-    reg [22:0] mem [0:32767];
-    wire [14:0] address_a = write_enable ? write_address : read_address_a;
-    always @(posedge clock) begin
-       if (write_enable) begin
-          mem[address_a] <= write_data;
-       end
-       read_data_a <= mem[address_a];
-    end
-    always @(posedge clock) begin
-       read_data_b <= mem[read_address_b];
-    end
-endmodule // obb_core$kmin$1
-
-
-module obb_core$kmin$2(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
-    
-    // Module arguments
-    input wire  clock;
-    input wire  write_enable;
-    input wire  [14:0] write_address;
-    input wire  [22:0] write_data;
-    input wire  [14:0] read_address_a;
-    input wire  [14:0] read_address_b;
-    output reg  [22:0] read_data_a;
-    output reg  [22:0] read_data_b;
-    
-    // Update code (custom)
-    reg [22:0] mem [0:32767];
-    wire [14:0] address_a = write_enable ? write_address : read_address_a;
-    always @(posedge clock) begin
-       if (write_enable) begin
-          mem[address_a] <= write_data;
-       end
-       read_data_a <= mem[address_a];
-    end
-    always @(posedge clock) begin
-       read_data_b <= mem[read_address_b];
-    end
-endmodule // obb_core$kmin$2
-
-
 module obb_core$loaded(d,q,clock);
     
     // Module arguments
@@ -88568,33 +88926,6 @@ module obb_core$loaded(d,q,clock);
     end
           
 endmodule // obb_core$loaded
-
-
-module obb_core$margin(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
-    
-    // Module arguments
-    input wire  clock;
-    input wire  write_enable;
-    input wire  [14:0] write_address;
-    input wire  [27:0] write_data;
-    input wire  [14:0] read_address_a;
-    input wire  [14:0] read_address_b;
-    output reg  [27:0] read_data_a;
-    output reg  [27:0] read_data_b;
-    
-    // Update code (custom)
-    reg [27:0] mem [0:32767];
-    wire [14:0] address_a = write_enable ? write_address : read_address_a;
-    always @(posedge clock) begin
-       if (write_enable) begin
-          mem[address_a] <= write_data;
-       end
-       read_data_a <= mem[address_a];
-    end
-    always @(posedge clock) begin
-       read_data_b <= mem[read_address_b];
-    end
-endmodule // obb_core$margin
 
 
 module obb_core$margin_a(d,q,clock);

@@ -18,15 +18,25 @@ pub struct BoxQueue<const A: usize, const C: usize> {
     pub write_address: Signal<In, Bits<A>>,
     pub read_address: Signal<In, Bits<A>>,
     /// The box written: its index (with the flag bit), keys, margin, record kind.
+    /// (Axis by axis, not arrays: the grid keeps a queue per lane in a list, and rust-hdl emits
+    /// an array port of a listed block wrongly.)
     pub in_index: Signal<In, Bits<C>>,
-    pub in_min: [Signal<In, Bits<CENTER>>; 3],
-    pub in_max: [Signal<In, Bits<CENTER>>; 3],
+    pub in_min_x: Signal<In, Bits<CENTER>>,
+    pub in_min_y: Signal<In, Bits<CENTER>>,
+    pub in_min_z: Signal<In, Bits<CENTER>>,
+    pub in_max_x: Signal<In, Bits<CENTER>>,
+    pub in_max_y: Signal<In, Bits<CENTER>>,
+    pub in_max_z: Signal<In, Bits<CENTER>>,
     pub in_margin: Signal<In, Bits<MARGIN>>,
     pub in_kind: Signal<In, Bits<KIND>>,
     /// The box at `read_address`.
     pub index: Signal<Out, Bits<C>>,
-    pub min: [Signal<Out, Bits<CENTER>>; 3],
-    pub max: [Signal<Out, Bits<CENTER>>; 3],
+    pub min_x: Signal<Out, Bits<CENTER>>,
+    pub min_y: Signal<Out, Bits<CENTER>>,
+    pub min_z: Signal<Out, Bits<CENTER>>,
+    pub max_x: Signal<Out, Bits<CENTER>>,
+    pub max_y: Signal<Out, Bits<CENTER>>,
+    pub max_z: Signal<Out, Bits<CENTER>>,
     pub margin: Signal<Out, Bits<MARGIN>>,
     pub kind: Signal<Out, Bits<KIND>>,
     index_ram: DistRam<Bits<C>, A>,
@@ -59,15 +69,23 @@ impl<const A: usize, const C: usize> Logic for BoxQueue<A, C> {
             self.min_ram[x].clock.next = self.clock.val();
             self.min_ram[x].write_enable.next = self.write_enable.val();
             self.min_ram[x].write_address.next = self.write_address.val();
-            self.min_ram[x].write_data.next = self.in_min[x].val();
             self.min_ram[x].read_address.next = self.read_address.val();
-            self.min[x].next = self.min_ram[x].read_data.val();
             self.max_ram[x].clock.next = self.clock.val();
             self.max_ram[x].write_enable.next = self.write_enable.val();
             self.max_ram[x].write_address.next = self.write_address.val();
-            self.max_ram[x].write_data.next = self.in_max[x].val();
             self.max_ram[x].read_address.next = self.read_address.val();
-            self.max[x].next = self.max_ram[x].read_data.val();
         }
+        self.min_ram[0].write_data.next = self.in_min_x.val();
+        self.min_ram[1].write_data.next = self.in_min_y.val();
+        self.min_ram[2].write_data.next = self.in_min_z.val();
+        self.max_ram[0].write_data.next = self.in_max_x.val();
+        self.max_ram[1].write_data.next = self.in_max_y.val();
+        self.max_ram[2].write_data.next = self.in_max_z.val();
+        self.min_x.next = self.min_ram[0].read_data.val();
+        self.min_y.next = self.min_ram[1].read_data.val();
+        self.min_z.next = self.min_ram[2].read_data.val();
+        self.max_x.next = self.max_ram[0].read_data.val();
+        self.max_y.next = self.max_ram[1].read_data.val();
+        self.max_z.next = self.max_ram[2].read_data.val();
     }
 }

@@ -128,16 +128,19 @@ pub struct ObbCore<const A: usize, const C: usize> {
     _sweeps: usize,
     _walkers: usize,
     _grids: usize,
+    /// The key tables (`kmin`, `kmax` axis x of table t at `3 t + x`; `margin`, `group`): one
+    /// set for the sweep and the walkers; none with the grid, which keeps its own by lane.
+    _key_tables: usize,
     sat: Sat,
     fifo: PairFifo<PAIR>,
     // Box tables: geometry written on load, keys, margin and group when projected.
     center: [TableRam<Bits<CENTER>, A>; 3],
     half: [TableRam<Bits<HALF>, A>; 3],
     axes: [TableRam<Signed<ROT>, A>; 9],
-    kmin: [TableRam<Bits<CENTER>, A>; 3],
-    kmax: [TableRam<Bits<CENTER>, A>; 3],
-    margin: TableRam<Bits<MARGIN>, A>,
-    group: TableRam<Bits<GROUP>, A>,
+    kmin: Vec<TableRam<Bits<CENTER>, A>>,
+    kmax: Vec<TableRam<Bits<CENTER>, A>>,
+    margin: Vec<TableRam<Bits<MARGIN>, A>>,
+    group: Vec<TableRam<Bits<GROUP>, A>>,
     /// The group alongside the projection pipeline.
     gdelay: [DFF<Bits<GROUP>>; 8],
     // Control.
@@ -232,6 +235,10 @@ pub struct ObbCore<const A: usize, const C: usize> {
     grid_cand_mb: Signal<Local, Bits<MARGIN>>,
     grid_finished: Signal<Local, Bit>,
     grid_too_wide: Signal<Local, Bit>,
+    /// The grid's visits of a clock before, counted.
+    grid_visited: Signal<Local, Bits<4>>,
+    /// The projected box's table address.
+    projected_at: Signal<Local, Bits<A>>,
     accept: Signal<Local, Bit>,
     /// Grid: its candidate goes to the geometry read this clock.
     issue: Signal<Local, Bit>,
@@ -310,15 +317,16 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             _sweeps: sweeps,
             _walkers: walkers,
             _grids: grids,
+            _key_tables: 1 - grids,
             sat: Sat::new(cfg),
             fifo: PairFifo::new(FIFO_STALL),
             center: Default::default(),
             half: Default::default(),
             axes: Default::default(),
-            kmin: Default::default(),
-            kmax: Default::default(),
-            margin: Default::default(),
-            group: Default::default(),
+            kmin: (0..3 * (1 - grids)).map(|_| Default::default()).collect(),
+            kmax: (0..3 * (1 - grids)).map(|_| Default::default()).collect(),
+            margin: (0..1 - grids).map(|_| Default::default()).collect(),
+            group: (0..1 - grids).map(|_| Default::default()).collect(),
             gdelay: Default::default(),
             state: Default::default(),
             stall: Default::default(),
@@ -396,6 +404,8 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             grid_cand_mb: Default::default(),
             grid_finished: Default::default(),
             grid_too_wide: Default::default(),
+            grid_visited: Default::default(),
+            projected_at: Default::default(),
             accept: Default::default(),
             issue: Default::default(),
             overlap: Default::default(),
@@ -417,7 +427,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             group_b, r_valid, r_i, r_j, c_valid, c_a, c_b, c_ma, c_mb, g_valid, g_a, g_b, g_ma,
             g_mb, h_valid, h_a, h_b, h_ma, h_mb
         );
-        clock!(self, clock, projection, sat, fifo, margin, group);
+        clock!(self, clock, projection, sat, fifo);
         for k in 0..self._radixes {
             self.radix[k].clock.next = self.clock.val();
         }
@@ -433,8 +443,14 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         for x in 0..3 {
             self.center[x].clock.next = self.clock.val();
             self.half[x].clock.next = self.clock.val();
-            self.kmin[x].clock.next = self.clock.val();
-            self.kmax[x].clock.next = self.clock.val();
+        }
+        for t in 0..self._key_tables {
+            for x in 0..3 {
+                self.kmin[3 * t + x].clock.next = self.clock.val();
+                self.kmax[3 * t + x].clock.next = self.clock.val();
+            }
+            self.margin[t].clock.next = self.clock.val();
+            self.group[t].clock.next = self.clock.val();
         }
         for k in 0..9 {
             self.axes[k].clock.next = self.clock.val();
@@ -474,6 +490,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.grid_cand_mb.next = 0.into();
         self.grid_finished.next = false;
         self.grid_too_wide.next = false;
+        self.grid_visited.next = 0.into();
         self.visit.next = false;
         self.vi.next = 0.into();
         self.vj.next = 0.into();
@@ -503,9 +520,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.grid_cand_mb.next = self.grid[k].cand_mb.val();
             self.grid_finished.next = self.grid[k].finished.val();
             self.grid_too_wide.next = self.grid[k].too_wide.val();
-            self.visit.next = self.grid[k].visit.val();
-            self.a_addr.next = self.grid[k].rd_addr.val();
-            self.b_addr.next = self.grid[k].rd_addr.val();
+            self.grid_visited.next = self.grid[k].visited.val();
         }
         for k in 0..self._sweeps {
             self.sort_rd_addr.next = self.sweep_walker[k].rd_addr.val();
@@ -566,20 +581,23 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         }
 
         // Projected: keys, margin and group stored at the box's index; sweep sorts min x.
-        for x in 0..3 {
-            self.kmin[x].write_enable.next = self.projection.valid_out.val();
-            self.kmin[x].write_address.next = bit_cast::<A, C>(self.projected.q.val());
-            self.kmin[x].write_data.next = self.projection.key_min[x].val();
-            self.kmax[x].write_enable.next = self.projection.valid_out.val();
-            self.kmax[x].write_address.next = bit_cast::<A, C>(self.projected.q.val());
-            self.kmax[x].write_data.next = self.projection.key_max[x].val();
+        self.projected_at.next = bit_cast::<A, C>(self.projected.q.val());
+        for t in 0..self._key_tables {
+            for x in 0..3 {
+                self.kmin[3 * t + x].write_enable.next = self.projection.valid_out.val();
+                self.kmin[3 * t + x].write_address.next = self.projected_at.val();
+                self.kmin[3 * t + x].write_data.next = self.projection.key_min[x].val();
+                self.kmax[3 * t + x].write_enable.next = self.projection.valid_out.val();
+                self.kmax[3 * t + x].write_address.next = self.projected_at.val();
+                self.kmax[3 * t + x].write_data.next = self.projection.key_max[x].val();
+            }
+            self.margin[t].write_enable.next = self.projection.valid_out.val();
+            self.margin[t].write_address.next = self.projected_at.val();
+            self.margin[t].write_data.next = self.projection.margin.val();
+            self.group[t].write_enable.next = self.projection.valid_out.val();
+            self.group[t].write_address.next = self.projected_at.val();
+            self.group[t].write_data.next = self.gdelay[7].q.val();
         }
-        self.margin.write_enable.next = self.projection.valid_out.val();
-        self.margin.write_address.next = bit_cast::<A, C>(self.projected.q.val());
-        self.margin.write_data.next = self.projection.margin.val();
-        self.group.write_enable.next = self.projection.valid_out.val();
-        self.group.write_address.next = bit_cast::<A, C>(self.projected.q.val());
-        self.group.write_data.next = self.gdelay[7].q.val();
         if self.sweep.val() {
             self.sort_in_valid.next = self.projection.valid_out.val();
             self.sort_in_key.next = bit_cast::<KEY, CENTER>(self.projection.key_min[0].val());
@@ -588,8 +606,8 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         if self.projection.valid_out.val() {
             self.projected.d.next = self.projected.q.val() + 1;
         }
-        // The grid probes each box as its keys arrive, and reads visited boxes' keys on the
-        // key table's port B.
+        // The grid probes each box as its keys arrive, and keeps its own copy of the keys
+        // (banked by lane).
         for k in 0..self._grids {
             self.grid[k].start.next = self.frame_start.val();
             self.grid[k].accept.next = self.accept.val();
@@ -602,16 +620,8 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.grid[k].key_max_x.next = self.projection.key_max[0].val();
             self.grid[k].key_max_y.next = self.projection.key_max[1].val();
             self.grid[k].key_max_z.next = self.projection.key_max[2].val();
-            self.grid[k].rd_min_x.next = self.kmin[0].read_data_b.val();
-            self.grid[k].rd_min_y.next = self.kmin[1].read_data_b.val();
-            self.grid[k].rd_min_z.next = self.kmin[2].read_data_b.val();
-            self.grid[k].rd_max_x.next = self.kmax[0].read_data_b.val();
-            self.grid[k].rd_max_y.next = self.kmax[1].read_data_b.val();
-            self.grid[k].rd_max_z.next = self.kmax[2].read_data_b.val();
             self.grid[k].key_margin.next = self.projection.margin.val();
             self.grid[k].key_group.next = self.gdelay[7].q.val();
-            self.grid[k].rd_margin.next = self.margin.read_data_b.val();
-            self.grid[k].rd_group.next = self.group.read_data_b.val();
         }
 
         // The broad phase: a walker reads the sorted entries and the key table.
@@ -636,36 +646,55 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.walker[k].a_max_y.next = self.kmax[1].read_data_a.val();
             self.walker[k].a_max_z.next = self.kmax[2].read_data_a.val();
         }
-        for x in 0..3 {
-            self.kmin[x].read_address_a.next = self.a_addr.val();
-            self.kmin[x].read_address_b.next = self.b_addr.val();
-            self.kmax[x].read_address_a.next = self.a_addr.val();
-            self.kmax[x].read_address_b.next = self.b_addr.val();
+        for t in 0..self._key_tables {
+            for x in 0..3 {
+                self.kmin[3 * t + x].read_address_a.next = self.a_addr.val();
+                self.kmin[3 * t + x].read_address_b.next = self.b_addr.val();
+                self.kmax[3 * t + x].read_address_a.next = self.a_addr.val();
+                self.kmax[3 * t + x].read_address_b.next = self.b_addr.val();
+            }
+            self.margin[t].read_address_a.next = self.a_addr.val();
+            self.margin[t].read_address_b.next = self.b_addr.val();
+            self.group[t].read_address_a.next = self.a_addr.val();
+            self.group[t].read_address_b.next = self.b_addr.val();
         }
-        self.margin.read_address_a.next = self.a_addr.val();
-        self.margin.read_address_b.next = self.b_addr.val();
-        self.group.read_address_a.next = self.a_addr.val();
-        self.group.read_address_b.next = self.b_addr.val();
 
         // V+1: the keys, margins and groups of i and j arrive and are registered.
         self.k_valid.d.next = self.visit.val();
         self.k_i.d.next = self.vi.val();
         self.k_j.d.next = self.vj.val();
         for x in 0..3 {
-            self.key_min_a[x].d.next = self.kmin[x].read_data_a.val();
-            self.key_min_b[x].d.next = self.kmin[x].read_data_b.val();
-            self.key_max_a[x].d.next = self.kmax[x].read_data_a.val();
-            self.key_max_b[x].d.next = self.kmax[x].read_data_b.val();
+            self.key_min_a[x].d.next = 0.into();
+            self.key_min_b[x].d.next = 0.into();
+            self.key_max_a[x].d.next = 0.into();
+            self.key_max_b[x].d.next = 0.into();
         }
-        self.margin_a.d.next = self.margin.read_data_a.val();
-        self.margin_b.d.next = self.margin.read_data_b.val();
-        self.group_a.d.next = self.group.read_data_a.val();
-        self.group_b.d.next = self.group.read_data_b.val();
+        self.margin_a.d.next = 0.into();
+        self.margin_b.d.next = 0.into();
+        self.group_a.d.next = 0.into();
+        self.group_b.d.next = 0.into();
+        for t in 0..self._key_tables {
+            for x in 0..3 {
+                self.key_min_a[x].d.next = self.kmin[3 * t + x].read_data_a.val();
+                self.key_min_b[x].d.next = self.kmin[3 * t + x].read_data_b.val();
+                self.key_max_a[x].d.next = self.kmax[3 * t + x].read_data_a.val();
+                self.key_max_b[x].d.next = self.kmax[3 * t + x].read_data_b.val();
+            }
+            self.margin_a.d.next = self.margin[t].read_data_a.val();
+            self.margin_b.d.next = self.margin[t].read_data_b.val();
+            self.group_a.d.next = self.group[t].read_data_a.val();
+            self.group_b.d.next = self.group[t].read_data_b.val();
+        }
         self.r_valid.d.next = self.k_valid.q.val();
         self.r_i.d.next = self.k_i.q.val();
         self.r_j.d.next = self.k_j.q.val();
         if self.k_valid.q.val() & !self.over.q.val() {
             self.n_visits.d.next = self.n_visits.q.val() + 1;
+        }
+        // The grid's lanes visit several boxes a clock; it counts them (registered).
+        if self.grid_mode.val() & !self.over.q.val() {
+            self.n_visits.d.next =
+                self.n_visits.q.val() + bit_cast::<COUNT, 4>(self.grid_visited.val());
         }
 
         // V+2: the keys of i and j overlap on all three axes, and the mask allows the groups.

@@ -232,13 +232,6 @@ pub fn check_grid(cfg: &HwConfig) -> Result<()> {
             crate::grid_cells::COORD - 1
         );
     }
-    if cfg.lanes > 1 {
-        bail!(
-            "configuration key `lanes`: {} with the grid: the grid block has one walker so far \
-             (the model plays several: `detect --engine model`)",
-            cfg.lanes
-        );
-    }
     Ok(())
 }
 

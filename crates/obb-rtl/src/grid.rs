@@ -14,9 +14,10 @@
 //! | K+8 | it writes it to the list queue |
 //! | K+9 | the walker may take it |
 //!
-//! Lists are stored at `27 h + b` for bank b and group h, so that every index the Verilog needs
-//! is a literal expression of loop variables. The enumerator writes them bank by bank, group by
-//! group, as the model walks them.
+//! Lists are stored at `lpl k + 27 h + b` for lane k, bank b and group h, so that every index
+//! the Verilog needs is an expression of loop variables (rust-hdl's Verilog writer evaluates an
+//! index with the loop variables alone, so `lpl` is the variable of a loop of one pass). The
+//! enumerator writes them bank by bank, group by group, as the model walks them.
 //!
 //! The successor table holds each box's *second* successor (the box two places after it in its
 //! list), and its block RAM's output is registered: a visit at V reads the entry of the box it
@@ -26,10 +27,11 @@
 //! heads, the record queue and the list queue carry each list's first two boxes. The next
 //! visit is the first of the list's boxes known and not visited (at most two, held in
 //! registers while a stall lasts), or the arriving second successor, or, the list over, the
-//! list queue's next list. A visit's keys are read on the key table's port B (`rd_addr`; the walking box's keys ride in
-//! the list queue), compared two clocks later, registered and, if they overlap, written to the candidate
-//! queue (`PairFifo`), which the core drains on clocks it does not accept a box. At the end of
-//! the walk every bucket is written empty, one a clock, so that the next frame finds the lists
+//! list queue's next list. A visit's keys are read on port B of the block's own key table
+//! (written as the boxes' keys arrive; the walking box's keys ride in the list queue), compared
+//! two clocks later, registered and, if they overlap, written to the candidate queue
+//! (`PairFifo`), which the core drains on clocks it does not accept a box. At the end of the
+//! walk every bucket is written empty, one a clock, so that the next frame finds the lists
 //! clear.
 //!
 //! A box larger than a cell (*large*) is entered in no list: at K+3 it joins the chain of large
@@ -43,6 +45,18 @@
 //! large boxes follow, one record of one list, the rest of the chain (kind *partner*: the key
 //! check applies the group mask). A window of more than `MAX_WINDOW` cells on an axis ends the
 //! slow path and raises the sticky `too_wide`: the frame is incomplete.
+//!
+//! With `lanes` walker lanes (a power of two up to 8), box i is on lane `i mod lanes`, as in the
+//! model. The probe (K to K+5) is shared: every bucket has a list per group and lane, a box
+//! reads every lane's lists and enters its own lane's (list l of lane k at `lpl k + l`, `lpl`
+//! = 27 per group), and at K+5 it writes a record of each lane's lists to walk to that lane's
+//! record queue (or retires there). From the record queue on, each lane has its own
+//! enumerator, list queue, walker, key check and candidate queue, and its own banks of the
+//! per-box tables (successor, keys, margin, group: box i at `i >> log2 lanes`), written as the
+//! box's keys arrive, so that every walker reads its own. The large boxes chain per lane; the
+//! slow path takes lane 0's chain, then lane 1's, and a record of the rest of the chains has
+//! one list on every lane: the lane's chain as left. A box is accepted when every lane has a
+//! credit; the lowest lane with a candidate on its queue's output issues it.
 
 use crate::box_queue::{BoxQueue, KIND};
 use crate::dist_ram::DistRam;
@@ -50,8 +64,9 @@ use crate::grid_cells::{vec, GridCells, BUCKET, FP};
 use crate::pair_fifo::{self, PairFifo};
 use crate::projection::{CENTER, MARGIN};
 use crate::radix::VAL;
+use crate::resize::Resize;
 use crate::table_ram::TableRam;
-use obb_model::fixed::config::GROUP_BITS;
+use obb_model::fixed::config::{GROUP_BITS, MAX_LANES};
 use obb_model::fixed::cycles::{GRID_CAND_STALL, GRID_CREDITS};
 use obb_model::fixed::grid::{GridShape, BANKS, MAX_WINDOW};
 use obb_model::fixed::HwConfig;
@@ -118,18 +133,20 @@ pub struct GridPhase<const A: usize, const C: usize> {
     pub key_max_z: Signal<In, Bits<CENTER>>,
     pub key_margin: Signal<In, Bits<MARGIN>>,
     pub key_group: Signal<In, Bits<GROUP>>,
-    /// The key table's port B: the visited box (`visit`), its keys and margin a clock later.
-    pub visit: Signal<Out, Bit>,
-    pub visit_i: Signal<Out, Bits<A>>,
-    pub rd_addr: Signal<Out, Bits<A>>,
-    pub rd_min_x: Signal<In, Bits<CENTER>>,
-    pub rd_min_y: Signal<In, Bits<CENTER>>,
-    pub rd_min_z: Signal<In, Bits<CENTER>>,
-    pub rd_max_x: Signal<In, Bits<CENTER>>,
-    pub rd_max_y: Signal<In, Bits<CENTER>>,
-    pub rd_max_z: Signal<In, Bits<CENTER>>,
-    pub rd_margin: Signal<In, Bits<MARGIN>>,
-    pub rd_group: Signal<In, Bits<GROUP>>,
+    /// The visits made this clock: bit k, lane k visits; its walking box i and visited box j,
+    /// 32 bits a lane (lane k in `visit_i{k/2}` from bit `32 (k mod 2)`). For the tests: the
+    /// core counts `visited`.
+    pub visit: Signal<Out, Bits<8>>,
+    pub visit_i0: Signal<Out, Bits<64>>,
+    pub visit_i1: Signal<Out, Bits<64>>,
+    pub visit_i2: Signal<Out, Bits<64>>,
+    pub visit_i3: Signal<Out, Bits<64>>,
+    pub visit_j0: Signal<Out, Bits<64>>,
+    pub visit_j1: Signal<Out, Bits<64>>,
+    pub visit_j2: Signal<Out, Bits<64>>,
+    pub visit_j3: Signal<Out, Bits<64>>,
+    /// The visits made a clock before, counted (from registers).
+    pub visited: Signal<Out, Bits<4>>,
     /// The candidate stream (first word fall-through): taken on a clock with `cand_ready`.
     pub cand_valid: Signal<Out, Bit>,
     pub cand_ready: Signal<In, Bit>,
@@ -146,16 +163,31 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// axis; the slow path stopped, the frame is incomplete.
     pub too_wide: Signal<Out, Bit>,
     // Configuration.
-    /// Groups with lists (`grid_groups`), and lists: 27 per group.
+    /// Groups with lists (`grid_groups`); walker lanes; lists per lane (27 per group) and in
+    /// all.
     _groups: usize,
+    _lanes: usize,
+    _lpl: usize,
+    _lpl_end: usize,
     _lists: usize,
+    /// A box's lane: its index's low bits (`lane_mask`), one lane's value; its address in its
+    /// lane's banks of the per-box tables: the index shifted right.
+    lane_mask: Constant<Bits<C>>,
+    lane_id: Vec<Constant<Bits<C>>>,
+    key_lane_mask: Constant<Bits<A>>,
+    key_lane_id: Vec<Constant<Bits<A>>>,
+    lane_shift: Constant<Bits<8>>,
+    /// Per lane: its bit in `visit`, its place in `visit_i0` and the others.
+    lane_bit: Vec<Constant<Bits<8>>>,
+    lane_at: Vec<Constant<Bits<8>>>,
     last_bucket: Constant<Bits<BUCKET>>,
     mask: Constant<Bits<MASK>>,
     /// The bits of `inflight` at or above `GRID_CREDITS` (a power of two): none set, a credit
     /// is left. (A mask, not a compare: a compare is a carry chain in synthesis.)
     credits_used: Constant<Bits<COUNT>>,
-    /// A successor's or a record head's flag bit (`2^A`).
+    /// A successor's or a record head's flag bit (`2^A`); the bits below it.
     top: Constant<Bits<C>>,
+    index_mask: Constant<Bits<C>>,
     /// Per list (stored at `27 h + b`): its group h.
     list_group: Vec<Constant<Bits<GROUP>>>,
     /// log2 of the cell edge; the widest span of a large box in cells (`MAX_WINDOW - 2`).
@@ -194,6 +226,10 @@ pub struct GridPhase<const A: usize, const C: usize> {
     s3_kind: DFF<Bits<KIND>>,
     /// The mask's bits for the box's group: bit h pairs it with group h.
     s3_allowed: DFF<Bits<MASK>>,
+    /// Per lane: the box is on it (one-hot), at K+3, K+4, K+5.
+    s3_lane: Vec<DFF<Bit>>,
+    s4_lane: Vec<DFF<Bit>>,
+    s5_lane: Vec<DFF<Bit>>,
     // K+4: the box; per list its first two boxes and owner as read, walk it if the owner allows, enter
     // it; per bank the bucket and the fingerprint.
     s4_valid: DFF<Bit>,
@@ -239,95 +275,104 @@ pub struct GridPhase<const A: usize, const C: usize> {
     head: Vec<DistRam<Bits<C>, BUCKET>>,
     /// Per list: the box after the latest (its second), by bucket.
     head2: Vec<DistRam<Bits<C>, BUCKET>>,
-    /// Each box's second successor on its list (the top bit: there is one).
-    succ: TableRam<Bits<C>, A>,
+    /// Per lane, the bank of the per-box tables of the lane's boxes (box i at `i >> lane_shift`):
+    /// each box's second successor on its list (the top bit: there is one); its keys (axis x of
+    /// lane k at `3 k + x`), margin and group, written as the box's keys arrive and read by the
+    /// lane's walker.
+    succ: Vec<TableRam<Bits<C>, C>>,
+    kt_min: Vec<TableRam<Bits<CENTER>, C>>,
+    kt_max: Vec<TableRam<Bits<CENTER>, C>>,
+    kt_margin: Vec<TableRam<Bits<MARGIN>, C>>,
+    kt_group: Vec<TableRam<Bits<GROUP>, C>>,
+    // From here on, a lane's own (per lane `k`; per list of lane k at `lpl k + 27 h + b`; per
+    // lane and axis at `3 k + x`).
     /// The record queue: per list its head (top bit: walk it), and the box's index, keys, margin.
     rec: Vec<DistRam<Bits<C>, SLOT>>,
     /// Per list: its second box (top bit: there is one).
     rec2: Vec<DistRam<Bits<C>, SLOT>>,
-    rec_box: BoxQueue<SLOT, C>,
-    wp: DFF<Bits<SLOT>>,
-    rp: DFF<Bits<SLOT>>,
-    count: DFF<Bits<COUNT>>,
-    inflight: DFF<Bits<COUNT>>,
+    rec_box: Vec<BoxQueue<SLOT, C>>,
+    wp: Vec<DFF<Bits<SLOT>>>,
+    rp: Vec<DFF<Bits<SLOT>>>,
+    count: Vec<DFF<Bits<COUNT>>>,
+    inflight: Vec<DFF<Bits<COUNT>>>,
     // The enumerator: it holds a record; its lists left, their heads; the box's index, keys,
     // margin, kind.
-    e_busy: DFF<Bit>,
+    e_busy: Vec<DFF<Bit>>,
     e_rem: Vec<DFF<Bit>>,
     e_head: Vec<DFF<Bits<C>>>,
     e_head2: Vec<DFF<Bits<C>>>,
     /// The list chosen on a clock before, to write next: one-hot.
-    e_chosen: DFF<Bit>,
+    e_chosen: Vec<DFF<Bit>>,
     e_sel: Vec<DFF<Bit>>,
-    e_index: DFF<Bits<C>>,
-    e_min: [DFF<Bits<CENTER>>; 3],
-    e_max: [DFF<Bits<CENTER>>; 3],
-    e_margin: DFF<Bits<MARGIN>>,
-    e_kind: DFF<Bits<KIND>>,
+    e_index: Vec<DFF<Bits<C>>>,
+    e_min: Vec<DFF<Bits<CENTER>>>,
+    e_max: Vec<DFF<Bits<CENTER>>>,
+    e_margin: Vec<DFF<Bits<MARGIN>>>,
+    e_kind: Vec<DFF<Bits<KIND>>>,
     /// The list queue: per entry a list's head, its box, whether it is its record's last.
-    lq_head: DistRam<Bits<C>, LQ>,
-    lq_head2: DistRam<Bits<C>, LQ>,
-    lq_box: BoxQueue<LQ, C>,
-    lq_last: DistRam<Bit, LQ>,
-    lq_wp: DFF<Bits<LQ>>,
-    lq_rp: DFF<Bits<LQ>>,
-    /// Its fill as a thermometer code: `lq_fill[k]`, more than k lists are queued (at most three:
+    lq_head: Vec<DistRam<Bits<C>, LQ>>,
+    lq_head2: Vec<DistRam<Bits<C>, LQ>>,
+    lq_box: Vec<BoxQueue<LQ, C>>,
+    lq_last: Vec<DistRam<Bit, LQ>>,
+    lq_wp: Vec<DFF<Bits<LQ>>>,
+    lq_rp: Vec<DFF<Bits<LQ>>>,
+    /// Its fill as a thermometer code (`3 k + m`): more than m lists are queued (at most three:
     /// the enumerator writes at two or fewer). Each bit's next value is one LUT of the walker's
     /// take.
-    lq_fill: [DFF<Bit>; 3],
+    lq_fill: Vec<DFF<Bit>>,
     // The walker: the list's box, whether the list is its record's last.
-    cur_valid: DFF<Bit>,
-    cur_last: DFF<Bit>,
-    cur_index: DFF<Bits<C>>,
-    cur_min: [DFF<Bits<CENTER>>; 3],
-    cur_max: [DFF<Bits<CENTER>>; 3],
-    cur_margin: DFF<Bits<MARGIN>>,
-    cur_kind: DFF<Bits<KIND>>,
+    cur_valid: Vec<DFF<Bit>>,
+    cur_last: Vec<DFF<Bit>>,
+    cur_index: Vec<DFF<Bits<C>>>,
+    cur_min: Vec<DFF<Bits<CENTER>>>,
+    cur_max: Vec<DFF<Bits<CENTER>>>,
+    cur_margin: Vec<DFF<Bits<MARGIN>>>,
+    cur_kind: Vec<DFF<Bits<KIND>>>,
     /// The successor table's output, registered: the second successor of the box read two
     /// clocks before. A visit one clock before (`r1`) reads it; `arrive_q`: a visit two clocks
     /// before read it and it names a box (its flag), registered with it so that the walker's
     /// decisions start at registers (one LUT follows the block RAM's output).
-    succ_q: DFF<Bits<C>>,
-    r1: DFF<Bit>,
-    arrive_q: DFF<Bit>,
+    succ_q: Vec<DFF<Bits<C>>>,
+    r1: Vec<DFF<Bit>>,
+    arrive_q: Vec<DFF<Bit>>,
     /// The list's next boxes known and not yet visited, in order (at most two: the successor
     /// of a box arrives only after the box before it was visited).
-    q0v: DFF<Bit>,
-    q0: DFF<Bits<C>>,
-    q1v: DFF<Bit>,
-    q1: DFF<Bits<C>>,
+    q0v: Vec<DFF<Bit>>,
+    q0: Vec<DFF<Bits<C>>>,
+    q1v: Vec<DFF<Bit>>,
+    q1: Vec<DFF<Bits<C>>>,
     // The key check: the visit (V+1), the keys of both boxes (V+2), the verdict (V+3).
-    v1_valid: DFF<Bit>,
-    v1_i: DFF<Bits<C>>,
-    v1_j: DFF<Bits<C>>,
-    v1_min: [DFF<Bits<CENTER>>; 3],
-    v1_max: [DFF<Bits<CENTER>>; 3],
-    v1_margin: DFF<Bits<MARGIN>>,
-    v1_kind: DFF<Bits<KIND>>,
-    v2_valid: DFF<Bit>,
-    v2_i: DFF<Bits<C>>,
-    v2_j: DFF<Bits<C>>,
-    v2_min_i: [DFF<Bits<CENTER>>; 3],
-    v2_max_i: [DFF<Bits<CENTER>>; 3],
-    v2_min_j: [DFF<Bits<CENTER>>; 3],
-    v2_max_j: [DFF<Bits<CENTER>>; 3],
-    v2_margin_i: DFF<Bits<MARGIN>>,
-    v2_margin_j: DFF<Bits<MARGIN>>,
-    v2_kind: DFF<Bits<KIND>>,
+    v1_valid: Vec<DFF<Bit>>,
+    v1_i: Vec<DFF<Bits<C>>>,
+    v1_j: Vec<DFF<Bits<C>>>,
+    v1_min: Vec<DFF<Bits<CENTER>>>,
+    v1_max: Vec<DFF<Bits<CENTER>>>,
+    v1_margin: Vec<DFF<Bits<MARGIN>>>,
+    v1_kind: Vec<DFF<Bits<KIND>>>,
+    v2_valid: Vec<DFF<Bit>>,
+    v2_i: Vec<DFF<Bits<C>>>,
+    v2_j: Vec<DFF<Bits<C>>>,
+    v2_min_i: Vec<DFF<Bits<CENTER>>>,
+    v2_max_i: Vec<DFF<Bits<CENTER>>>,
+    v2_min_j: Vec<DFF<Bits<CENTER>>>,
+    v2_max_j: Vec<DFF<Bits<CENTER>>>,
+    v2_margin_i: Vec<DFF<Bits<MARGIN>>>,
+    v2_margin_j: Vec<DFF<Bits<MARGIN>>>,
+    v2_kind: Vec<DFF<Bits<KIND>>>,
     /// A round passes a visited box whose home cell, its first cell j plus one, lies within
     /// the round's first and last cells. All three are compared less one, so that no adder
     /// stands behind the key table's block RAM (j is its key shifted) nor before the
     /// compares: the round's first cell less one (zero for cell zero: every home is at least
     /// one), its last cell less one (its largest key shifted), j; the visited box's group.
-    v2_wl: [DFF<Bits<CENTER>>; 3],
-    v2_wh: [DFF<Bits<CENTER>>; 3],
-    v2_jc: [DFF<Bits<CENTER>>; 3],
-    v2_group_j: DFF<Bits<GROUP>>,
+    v2_wl: Vec<DFF<Bits<CENTER>>>,
+    v2_wh: Vec<DFF<Bits<CENTER>>>,
+    v2_jc: Vec<DFF<Bits<CENTER>>>,
+    v2_group_j: Vec<DFF<Bits<GROUP>>>,
     /// V+3: the verdict and the candidate, registered, so that the compares and the queue's
     /// count (chosen by the write) are not one path.
-    v3_write: DFF<Bit>,
-    v3_word: DFF<Bits<CAND>>,
-    fifo: PairFifo<CAND>,
+    v3_write: Vec<DFF<Bit>>,
+    v3_word: Vec<DFF<Bits<CAND>>>,
+    fifo: Vec<PairFifo<CAND>>,
     // End of frame.
     clearing: DFF<Bit>,
     cleared: DFF<Bit>,
@@ -336,8 +381,11 @@ pub struct GridPhase<const A: usize, const C: usize> {
     // its keys, margin and group, its window's first cells and its cells less one, the round's
     // first cells and the window's cells after them (less one).
     slow: DFF<SlowState>,
-    lnext: DFF<Bits<C>>,
-    lnext2: DFF<Bits<C>>,
+    /// Per lane (one-hot): the slow path's box is on it. The large boxes chain per lane
+    /// (`lnext`, `lnext2`); the slow path takes lane 0's chain, then lane 1's, and so on.
+    slane: Vec<DFF<Bit>>,
+    lnext: Vec<DFF<Bits<C>>>,
+    lnext2: Vec<DFF<Bits<C>>>,
     lcur: DFF<Bits<C>>,
     lk_min: [DFF<Bits<CENTER>>; 3],
     /// Its first cell plus the widest span (`Read`): the window is too wide when its last
@@ -360,11 +408,20 @@ pub struct GridPhase<const A: usize, const C: usize> {
     inj_min: [DFF<Bits<CENTER>>; 3],
     inj_max: [DFF<Bits<CENTER>>; 3],
     // Combinational.
-    /// The ports' keys as arrays: the arriving box's, the box read on port B.
+    /// The ports' keys as arrays: the arriving box's; per lane, the box read on its banks'
+    /// port B.
     key_min: [Signal<Local, Bits<CENTER>>; 3],
     key_max: [Signal<Local, Bits<CENTER>>; 3],
-    rd_min: [Signal<Local, Bits<CENTER>>; 3],
-    rd_max: [Signal<Local, Bits<CENTER>>; 3],
+    rd_min: Vec<Signal<Local, Bits<CENTER>>>,
+    rd_max: Vec<Signal<Local, Bits<CENTER>>>,
+    rd_margin: Vec<Signal<Local, Bits<MARGIN>>>,
+    rd_group: Vec<Signal<Local, Bits<GROUP>>>,
+    /// The arriving box: per lane, it is on it; its address in its lane's banks.
+    key_lane: Vec<Signal<Local, Bit>>,
+    key_addr: Signal<Local, Bits<C>>,
+    /// Per lane: the address its walker reads (its `cand`, shifted); the box's at K+5.
+    rd_address: Vec<Signal<Local, Bits<C>>>,
+    succ_addr: Signal<Local, Bits<C>>,
     allowed: Signal<Local, Bits<MASK>>,
     /// Per list: the box's mask bits shifted to the list's group.
     allow: Vec<Signal<Local, Bits<MASK>>>,
@@ -389,39 +446,40 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// synthesis into trees.)
     succ_pick: Vec<Signal<Local, Bits<C>>>,
     succ_acc: Signal<Local, Bits<C>>,
-    any_live: Signal<Local, Bit>,
+    any_live: Vec<Signal<Local, Bit>>,
     /// The enumerator's choice, in the walker's order (bank, then group): per bank, a list is
     /// left in it; per list, a list of a lower group is left in its bank; a list is left in a
     /// bank before b (`bank_prior[b]`); the list is the first left. Pure ANDs and ORs, which
     /// synthesis balances into trees (written as `if`s, they became multiplexer chains).
-    bank_any: [Signal<Local, Bit>; 27],
+    /// (Per lane and bank at `27 k + b`; `bank_prior` at `28 k + b`.)
+    bank_any: Vec<Signal<Local, Bit>>,
     /// Per bank, a list is left in it: registered (from the lists' next values), so that the
     /// choice's widest OR (`bank_prior`) starts at registers.
-    bank_next: [Signal<Local, Bit>; 27],
-    bank_left: [DFF<Bit>; 27],
+    bank_next: Vec<Signal<Local, Bit>>,
+    bank_left: Vec<DFF<Bit>>,
     group_prior: Vec<Signal<Local, Bit>>,
-    bank_prior: [Signal<Local, Bit>; 28],
+    bank_prior: Vec<Signal<Local, Bit>>,
     e_first: Vec<Signal<Local, Bit>>,
     /// A list is written to the list queue: its head (each list's masked by the one-hot choice,
     /// then ORed); a list other than the chosen is left (none: it is the record's last).
-    e_push: Signal<Local, Bit>,
+    e_push: Vec<Signal<Local, Bit>>,
     e_pick: Vec<Signal<Local, Bits<C>>>,
-    e_out: Signal<Local, Bits<C>>,
+    e_out: Vec<Signal<Local, Bits<C>>>,
     e_pick2: Vec<Signal<Local, Bits<C>>>,
-    e_out2: Signal<Local, Bits<C>>,
-    e_more: Signal<Local, Bit>,
+    e_out2: Vec<Signal<Local, Bits<C>>>,
+    e_more: Vec<Signal<Local, Bit>>,
     /// A record is loaded.
-    e_load: Signal<Local, Bit>,
+    e_load: Vec<Signal<Local, Bit>>,
     // The walker.
     /// A box of the list arrives on the registered successor; a box is known to visit; the
     /// box after it (and whether there is one).
-    arrive: Signal<Local, Bit>,
-    avail: Signal<Local, Bit>,
-    after: Signal<Local, Bits<C>>,
-    after_v: Signal<Local, Bit>,
-    need: Signal<Local, Bit>,
-    retire_rec: Signal<Local, Bit>,
-    take: Signal<Local, Bit>,
+    arrive: Vec<Signal<Local, Bit>>,
+    avail: Vec<Signal<Local, Bit>>,
+    after: Vec<Signal<Local, Bits<C>>>,
+    after_v: Vec<Signal<Local, Bit>>,
+    need: Vec<Signal<Local, Bit>>,
+    retire_rec: Vec<Signal<Local, Bit>>,
+    take: Vec<Signal<Local, Bit>>,
     rd_live: Vec<Signal<Local, Bit>>,
     /// Credits and records: this clock's changes.
     /// Each count's next value is selected among its neighbours, computed from the register
@@ -430,41 +488,46 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// ones where the enable picks): a multiplexer of sums is folded back by synthesis into
     /// one adder of a selected operand, the carry chain again.
     inflight_up: Signal<Local, Bit>,
-    inflight_inc: Signal<Local, Bits<COUNT>>,
-    inflight_dec: Signal<Local, Bits<COUNT>>,
-    inflight_dec2: Signal<Local, Bits<COUNT>>,
+    inflight_inc: Vec<Signal<Local, Bits<COUNT>>>,
+    inflight_dec: Vec<Signal<Local, Bits<COUNT>>>,
+    inflight_dec2: Vec<Signal<Local, Bits<COUNT>>>,
     /// Masks of the early changes (the load's or the slow path's box, a probe's retirement):
     /// they cancel, one more, one less. The values without and with a record's retirement,
     /// which comes late from the walker's decision and only picks one of them.
-    inflight_m: [Signal<Local, Bits<COUNT>>; 3],
-    inflight_n0: Signal<Local, Bits<COUNT>>,
-    inflight_n1: Signal<Local, Bits<COUNT>>,
-    count_inc: Signal<Local, Bits<COUNT>>,
-    count_dec: Signal<Local, Bits<COUNT>>,
+    inflight_m: Vec<Signal<Local, Bits<COUNT>>>,
+    inflight_n0: Vec<Signal<Local, Bits<COUNT>>>,
+    inflight_n1: Vec<Signal<Local, Bits<COUNT>>>,
+    count_inc: Vec<Signal<Local, Bits<COUNT>>>,
+    count_dec: Vec<Signal<Local, Bits<COUNT>>>,
     /// Masks: keep, one more, one less.
-    count_m: [Signal<Local, Bits<COUNT>>; 3],
+    count_m: Vec<Signal<Local, Bits<COUNT>>>,
     ones: Constant<Bits<COUNT>>,
-    cand_word: Signal<Local, Bits<CAND>>,
+    cand_word: Vec<Signal<Local, Bits<CAND>>>,
     unpack_a: Signal<Local, Bits<CAND>>,
     unpack_b: Signal<Local, Bits<CAND>>,
     unpack_ma: Signal<Local, Bits<CAND>>,
-    cand: Signal<Local, Bits<C>>,
+    cand: Vec<Signal<Local, Bits<C>>>,
     /// The box's index with the flag bit, a list head: at K+3 (a large box joins the chain), at
     /// K+4 (it enters a list), at K+5 (forwarded).
     entry: Signal<Local, Bits<C>>,
     entry4: Signal<Local, Bits<C>>,
     entry5: Signal<Local, Bits<C>>,
-    cand_ok: Signal<Local, Bit>,
-    go: Signal<Local, Bit>,
-    stall: Signal<Local, Bit>,
-    retire_probe: Signal<Local, Bit>,
-    rec_write: Signal<Local, Bit>,
-    overlap: Signal<Local, Bit>,
-    swap: Signal<Local, Bit>,
-    cand_lo: Signal<Local, Bits<INDEX>>,
-    cand_hi: Signal<Local, Bits<INDEX>>,
-    margin_lo: Signal<Local, Bits<MARGIN>>,
-    margin_hi: Signal<Local, Bits<MARGIN>>,
+    cand_ok: Vec<Signal<Local, Bit>>,
+    go: Vec<Signal<Local, Bit>>,
+    stall: Vec<Signal<Local, Bit>>,
+    retire_probe: Vec<Signal<Local, Bit>>,
+    rec_write: Vec<Signal<Local, Bit>>,
+    overlap: Vec<Signal<Local, Bit>>,
+    swap: Vec<Signal<Local, Bit>>,
+    cand_lo: Vec<Signal<Local, Bits<C>>>,
+    cand_hi: Vec<Signal<Local, Bits<C>>>,
+    /// The candidate's fields widened to the queue's word (`Resize`: no `bit_cast` in a loop).
+    pack_lo: Vec<Resize<CAND, C>>,
+    pack_hi: Vec<Resize<CAND, C>>,
+    pack_mlo: Vec<Resize<CAND, MARGIN>>,
+    pack_mhi: Vec<Resize<CAND, MARGIN>>,
+    margin_lo: Vec<Signal<Local, Bits<MARGIN>>>,
+    margin_hi: Vec<Signal<Local, Bits<MARGIN>>>,
     done_walk: Signal<Local, Bit>,
     /// The slow path: nothing in flight after the load; this clock fetches a large box,
     /// injects a record (and of which kind, with which keys).
@@ -503,13 +566,40 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// K+3: a large arriving box joins the chain.
     large_in: Signal<Local, Bit>,
     /// V+2: the visited box's home is in the round; the mask pairs the groups; the pair passes.
-    home_ok: Signal<Local, Bit>,
+    home_ok: Vec<Signal<Local, Bit>>,
     /// The round's first cell; all ones unless it is cell zero.
-    wl_cell: [Signal<Local, Bits<CENTER>>; 3],
-    wl_keep: [Signal<Local, Bits<CENTER>>; 3],
-    mask_row: Signal<Local, Bits<MASK>>,
-    mask_ok: Signal<Local, Bit>,
-    pass: Signal<Local, Bit>,
+    wl_cell: Vec<Signal<Local, Bits<CENTER>>>,
+    wl_keep: Vec<Signal<Local, Bits<CENTER>>>,
+    mask_row: Vec<Signal<Local, Bits<MASK>>>,
+    mask_ok: Vec<Signal<Local, Bit>>,
+    pass: Vec<Signal<Local, Bit>>,
+    /// The candidate issued: per lane, a lower lane holds one (`lower[k]`, prefix ORs); the lane
+    /// issues; its word (zero unless it issues), their OR.
+    lower: Vec<Signal<Local, Bit>>,
+    issuer: Vec<Signal<Local, Bit>>,
+    out_pick: Vec<Signal<Local, Bits<CAND>>>,
+    out_word: Signal<Local, Bits<CAND>>,
+    /// The slow path's next large box: per lane, a lower lane's chain holds one (prefix ORs);
+    /// the lane's chain is the first that does; its head if so; their OR.
+    lprior: Vec<Signal<Local, Bit>>,
+    lfirst: Vec<Signal<Local, Bit>>,
+    lpick: Vec<Signal<Local, Bits<C>>>,
+    lhead: Signal<Local, Bits<C>>,
+    /// The visits' outputs, gathered lane by lane; the visits counted.
+    visit_acc: Signal<Local, Bits<8>>,
+    vis_pack_i: Vec<Signal<Local, Bits<64>>>,
+    vis_pack_j: Vec<Signal<Local, Bits<64>>>,
+    visited_acc: Signal<Local, Bits<4>>,
+    vis_i: Vec<Resize<64, C>>,
+    vis_j: Vec<Resize<64, C>>,
+    /// A large box is left on some lane's chain; every lane has a credit; a candidate is on
+    /// some lane's queue's output; every lane is drained (and the list heads are clear).
+    large_left: Signal<Local, Bit>,
+    credit_acc: Signal<Local, Bit>,
+    out_valid: Signal<Local, Bit>,
+    drained: Signal<Local, Bit>,
+    /// The group mask's row of the slow path's box's group.
+    lrow: Signal<Local, Bits<MASK>>,
 }
 
 impl<const A: usize, const C: usize> GridPhase<A, C> {
@@ -518,7 +608,15 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
         assert!(C == A + 1, "successors need one bit more than indices");
         let shape = GridShape::new(cfg);
         let groups = shape.groups as usize;
-        let lists = BANKS * groups;
+        let lanes = cfg.lanes as usize;
+        assert!(
+            lanes.is_power_of_two() && lanes <= MAX_LANES as usize,
+            "lanes: a power of two up to {MAX_LANES}"
+        );
+        let lpl = BANKS * groups;
+        let lists = lpl * lanes;
+        // A lane's banks of the per-box tables hold its boxes: every `lanes`-th.
+        let depth = (1u64 << A) / lanes as u64;
         let mut mask = Bits::<MASK>::default();
         for g in 0..1u32 << GROUP {
             for h in 0..1u32 << GROUP {
@@ -545,16 +643,15 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             key_margin: Default::default(),
             key_group: Default::default(),
             visit: Default::default(),
-            visit_i: Default::default(),
-            rd_addr: Default::default(),
-            rd_min_x: Default::default(),
-            rd_min_y: Default::default(),
-            rd_min_z: Default::default(),
-            rd_max_x: Default::default(),
-            rd_max_y: Default::default(),
-            rd_max_z: Default::default(),
-            rd_margin: Default::default(),
-            rd_group: Default::default(),
+            visit_i0: Default::default(),
+            visit_i1: Default::default(),
+            visit_i2: Default::default(),
+            visit_i3: Default::default(),
+            visit_j0: Default::default(),
+            visit_j1: Default::default(),
+            visit_j2: Default::default(),
+            visit_j3: Default::default(),
+            visited: Default::default(),
             cand_valid: Default::default(),
             cand_ready: Default::default(),
             cand_a: Default::default(),
@@ -565,13 +662,28 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             finished: Default::default(),
             too_wide: Default::default(),
             _groups: groups,
+            _lanes: lanes,
+            _lpl: lpl,
+            _lpl_end: lpl + 1,
             _lists: lists,
+            lane_mask: Constant::new((lanes as u64 - 1).into()),
+            lane_id: (0..lanes as u64).map(|k| Constant::new(k.into())).collect(),
+            key_lane_mask: Constant::new((lanes as u64 - 1).into()),
+            key_lane_id: (0..lanes as u64).map(|k| Constant::new(k.into())).collect(),
+            lane_shift: Constant::new(u64::from(lanes.trailing_zeros()).into()),
+            lane_bit: (0..lanes)
+                .map(|k| Constant::new((1u64 << k).into()))
+                .collect(),
+            lane_at: (0..lanes as u64)
+                .map(|k| Constant::new((32 * (k % 2)).into()))
+                .collect(),
             last_bucket: Constant::new((buckets - 1).into()),
             mask: Constant::new(mask),
             credits_used: Constant::new(((1u64 << COUNT) - GRID_CREDITS as u64).into()),
             top: Constant::new((1u64 << A).into()),
+            index_mask: Constant::new(((1u64 << A) - 1).into()),
             list_group: (0..lists)
-                .map(|l| Constant::new(((l / BANKS) as u64).into()))
+                .map(|l| Constant::new(((l % lpl / BANKS) as u64).into()))
                 .collect(),
             cell_bits: Constant::new(u64::from(shape.cell_bits).into()),
             max_span: Constant::new((MAX_WINDOW - 2).into()),
@@ -636,76 +748,86 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             meta: (0..lists).map(|_| DistRam::zeroed(buckets)).collect(),
             head: (0..lists).map(|_| DistRam::zeroed(buckets)).collect(),
             head2: (0..lists).map(|_| DistRam::zeroed(buckets)).collect(),
-            succ: Default::default(),
+            succ: (0..lanes).map(|_| TableRam::with_depth(depth)).collect(),
+            kt_min: (0..3 * lanes)
+                .map(|_| TableRam::with_depth(depth))
+                .collect(),
+            kt_max: (0..3 * lanes)
+                .map(|_| TableRam::with_depth(depth))
+                .collect(),
+            kt_margin: (0..lanes).map(|_| TableRam::with_depth(depth)).collect(),
+            kt_group: (0..lanes).map(|_| TableRam::with_depth(depth)).collect(),
             rec: vec(lists),
             rec2: vec(lists),
-            rec_box: Default::default(),
-            wp: Default::default(),
-            rp: Default::default(),
-            count: Default::default(),
-            inflight: Default::default(),
-            e_busy: Default::default(),
+            rec_box: vec(lanes),
+            wp: vec(lanes),
+            rp: vec(lanes),
+            count: vec(lanes),
+            inflight: vec(lanes),
+            e_busy: vec(lanes),
             e_rem: vec(lists),
             e_head: vec(lists),
             e_head2: vec(lists),
-            e_chosen: Default::default(),
+            e_chosen: vec(lanes),
             e_sel: vec(lists),
-            e_index: Default::default(),
-            e_min: Default::default(),
-            e_max: Default::default(),
-            e_margin: Default::default(),
-            e_kind: Default::default(),
-            lq_head: Default::default(),
-            lq_head2: Default::default(),
-            lq_box: Default::default(),
-            lq_last: Default::default(),
-            lq_wp: Default::default(),
-            lq_rp: Default::default(),
-            lq_fill: Default::default(),
-            cur_valid: Default::default(),
-            cur_last: Default::default(),
-            cur_index: Default::default(),
-            cur_min: Default::default(),
-            cur_max: Default::default(),
-            cur_margin: Default::default(),
-            cur_kind: Default::default(),
-            succ_q: Default::default(),
-            r1: Default::default(),
-            arrive_q: Default::default(),
-            q0v: Default::default(),
-            q0: Default::default(),
-            q1v: Default::default(),
-            q1: Default::default(),
-            v1_valid: Default::default(),
-            v1_i: Default::default(),
-            v1_j: Default::default(),
-            v1_min: Default::default(),
-            v1_max: Default::default(),
-            v1_margin: Default::default(),
-            v1_kind: Default::default(),
-            v2_valid: Default::default(),
-            v2_i: Default::default(),
-            v2_j: Default::default(),
-            v2_min_i: Default::default(),
-            v2_max_i: Default::default(),
-            v2_min_j: Default::default(),
-            v2_max_j: Default::default(),
-            v2_margin_i: Default::default(),
-            v2_margin_j: Default::default(),
-            v2_kind: Default::default(),
-            v2_wl: Default::default(),
-            v2_wh: Default::default(),
-            v2_jc: Default::default(),
-            v2_group_j: Default::default(),
-            v3_write: Default::default(),
-            v3_word: Default::default(),
-            fifo: PairFifo::new(GRID_CAND_STALL as u64),
+            e_index: vec(lanes),
+            e_min: vec(3 * lanes),
+            e_max: vec(3 * lanes),
+            e_margin: vec(lanes),
+            e_kind: vec(lanes),
+            lq_head: vec(lanes),
+            lq_head2: vec(lanes),
+            lq_box: vec(lanes),
+            lq_last: vec(lanes),
+            lq_wp: vec(lanes),
+            lq_rp: vec(lanes),
+            lq_fill: vec(3 * lanes),
+            cur_valid: vec(lanes),
+            cur_last: vec(lanes),
+            cur_index: vec(lanes),
+            cur_min: vec(3 * lanes),
+            cur_max: vec(3 * lanes),
+            cur_margin: vec(lanes),
+            cur_kind: vec(lanes),
+            succ_q: vec(lanes),
+            r1: vec(lanes),
+            arrive_q: vec(lanes),
+            q0v: vec(lanes),
+            q0: vec(lanes),
+            q1v: vec(lanes),
+            q1: vec(lanes),
+            v1_valid: vec(lanes),
+            v1_i: vec(lanes),
+            v1_j: vec(lanes),
+            v1_min: vec(3 * lanes),
+            v1_max: vec(3 * lanes),
+            v1_margin: vec(lanes),
+            v1_kind: vec(lanes),
+            v2_valid: vec(lanes),
+            v2_i: vec(lanes),
+            v2_j: vec(lanes),
+            v2_min_i: vec(3 * lanes),
+            v2_max_i: vec(3 * lanes),
+            v2_min_j: vec(3 * lanes),
+            v2_max_j: vec(3 * lanes),
+            v2_margin_i: vec(lanes),
+            v2_margin_j: vec(lanes),
+            v2_kind: vec(lanes),
+            v2_wl: vec(3 * lanes),
+            v2_wh: vec(3 * lanes),
+            v2_jc: vec(3 * lanes),
+            v2_group_j: vec(lanes),
+            v3_write: vec(lanes),
+            v3_word: vec(lanes),
+            fifo: (0..lanes)
+                .map(|_| PairFifo::new(GRID_CAND_STALL as u64))
+                .collect(),
             clearing: Default::default(),
             cleared: Default::default(),
             clear_at: Default::default(),
             slow: Default::default(),
-            lnext: Default::default(),
-            lnext2: Default::default(),
+            lnext: vec(lanes),
+            lnext2: vec(lanes),
             lcur: Default::default(),
             lk_min: Default::default(),
             lk_lim: Default::default(),
@@ -724,8 +846,8 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             inj_max: Default::default(),
             key_min: Default::default(),
             key_max: Default::default(),
-            rd_min: Default::default(),
-            rd_max: Default::default(),
+            rd_min: vec(3 * lanes),
+            rd_max: vec(3 * lanes),
             allowed: Default::default(),
             allow: vec(lists),
             fwd: vec(lists),
@@ -740,58 +862,58 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             meta_new: vec(lists),
             succ_pick: vec(lists),
             succ_acc: Default::default(),
-            any_live: Default::default(),
-            bank_any: Default::default(),
-            bank_next: Default::default(),
-            bank_left: Default::default(),
+            any_live: vec(lanes),
+            bank_any: vec(27 * lanes),
+            bank_next: vec(27 * lanes),
+            bank_left: vec(27 * lanes),
             group_prior: vec(lists),
-            bank_prior: Default::default(),
+            bank_prior: vec(28 * lanes),
             e_first: vec(lists),
-            e_push: Default::default(),
+            e_push: vec(lanes),
             e_pick: vec(lists),
-            e_out: Default::default(),
+            e_out: vec(lanes),
             e_pick2: vec(lists),
-            e_out2: Default::default(),
-            e_more: Default::default(),
-            e_load: Default::default(),
-            arrive: Default::default(),
-            avail: Default::default(),
-            after: Default::default(),
-            after_v: Default::default(),
-            need: Default::default(),
-            retire_rec: Default::default(),
-            take: Default::default(),
+            e_out2: vec(lanes),
+            e_more: vec(lanes),
+            e_load: vec(lanes),
+            arrive: vec(lanes),
+            avail: vec(lanes),
+            after: vec(lanes),
+            after_v: vec(lanes),
+            need: vec(lanes),
+            retire_rec: vec(lanes),
+            take: vec(lanes),
             rd_live: vec(lists),
             inflight_up: Default::default(),
-            inflight_inc: Default::default(),
-            inflight_dec: Default::default(),
-            inflight_dec2: Default::default(),
-            inflight_m: Default::default(),
-            inflight_n0: Default::default(),
-            inflight_n1: Default::default(),
-            count_inc: Default::default(),
-            count_dec: Default::default(),
-            count_m: Default::default(),
+            inflight_inc: vec(lanes),
+            inflight_dec: vec(lanes),
+            inflight_dec2: vec(lanes),
+            inflight_m: vec(3 * lanes),
+            inflight_n0: vec(lanes),
+            inflight_n1: vec(lanes),
+            count_inc: vec(lanes),
+            count_dec: vec(lanes),
+            count_m: vec(3 * lanes),
             ones: Constant::new(((1u64 << COUNT) - 1).into()),
-            cand_word: Default::default(),
+            cand_word: vec(lanes),
             unpack_a: Default::default(),
             unpack_b: Default::default(),
             unpack_ma: Default::default(),
-            cand: Default::default(),
+            cand: vec(lanes),
             entry: Default::default(),
             entry4: Default::default(),
             entry5: Default::default(),
-            cand_ok: Default::default(),
-            go: Default::default(),
-            stall: Default::default(),
-            retire_probe: Default::default(),
-            rec_write: Default::default(),
-            overlap: Default::default(),
-            swap: Default::default(),
-            cand_lo: Default::default(),
-            cand_hi: Default::default(),
-            margin_lo: Default::default(),
-            margin_hi: Default::default(),
+            cand_ok: vec(lanes),
+            go: vec(lanes),
+            stall: vec(lanes),
+            retire_probe: vec(lanes),
+            rec_write: vec(lanes),
+            overlap: vec(lanes),
+            swap: vec(lanes),
+            cand_lo: vec(lanes),
+            cand_hi: vec(lanes),
+            margin_lo: vec(lanes),
+            margin_hi: vec(lanes),
             done_walk: Default::default(),
             idle: Default::default(),
             fetch: Default::default(),
@@ -819,12 +941,45 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             plan_hi: Default::default(),
             plan_wide: Default::default(),
             large_in: Default::default(),
-            home_ok: Default::default(),
-            wl_cell: Default::default(),
-            wl_keep: Default::default(),
-            mask_row: Default::default(),
-            mask_ok: Default::default(),
-            pass: Default::default(),
+            home_ok: vec(lanes),
+            wl_cell: vec(3 * lanes),
+            wl_keep: vec(3 * lanes),
+            mask_row: vec(lanes),
+            mask_ok: vec(lanes),
+            pass: vec(lanes),
+            lower: vec(lanes + 1),
+            out_word: Default::default(),
+            lprior: vec(lanes + 1),
+            lhead: Default::default(),
+            visit_acc: Default::default(),
+            vis_pack_i: vec(4),
+            vis_pack_j: vec(4),
+            visited_acc: Default::default(),
+            key_addr: Default::default(),
+            succ_addr: Default::default(),
+            vis_i: vec(lanes),
+            vis_j: vec(lanes),
+            pack_lo: vec(lanes),
+            pack_hi: vec(lanes),
+            pack_mlo: vec(lanes),
+            pack_mhi: vec(lanes),
+            large_left: Default::default(),
+            credit_acc: Default::default(),
+            out_valid: Default::default(),
+            drained: Default::default(),
+            lrow: Default::default(),
+            s3_lane: vec(lanes),
+            s4_lane: vec(lanes),
+            s5_lane: vec(lanes),
+            slane: vec(lanes),
+            rd_margin: vec(lanes),
+            rd_group: vec(lanes),
+            key_lane: vec(lanes),
+            rd_address: vec(lanes),
+            issuer: vec(lanes),
+            out_pick: vec(lanes),
+            lfirst: vec(lanes),
+            lpick: vec(lanes),
         }
     }
 }
@@ -833,96 +988,18 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self,
-            clock,
-            s1_valid,
-            s1_index,
-            s1_margin,
-            s1_group,
-            s2_valid,
-            s2_index,
-            s2_margin,
-            s2_group,
-            s3_valid,
-            s3_index,
-            s3_margin,
-            s3_group,
-            s3_allowed,
-            s4_valid,
-            s4_large,
-            s4_lprev,
-            s4_index,
-            s4_margin,
-            s4_kind,
-            s4_home_fp,
-            s5_valid,
-            s5_large,
-            s5_lprev,
-            s5_index,
-            s5_margin,
-            wp,
-            rp,
-            count,
-            inflight,
-            cur_valid,
-            cur_last,
-            e_busy,
-            e_chosen,
-            e_index,
-            e_margin,
-            e_kind,
-            lq_wp,
-            lq_rp,
-            cur_index,
-            cur_margin,
-            succ_q,
-            r1,
-            arrive_q,
-            q0v,
-            q0,
-            q1v,
-            q1,
-            v1_valid,
-            v1_i,
-            v1_j,
-            v1_margin,
-            v2_valid,
-            v2_i,
-            v2_j,
-            v2_margin_i,
-            v2_margin_j,
-            clearing,
-            cleared,
-            clear_at,
-            s1_kind,
-            s2_kind,
-            s3_kind,
-            s5_kind,
-            cur_kind,
-            v1_kind,
-            v2_kind,
-            v2_group_j,
-            v3_write,
-            v3_word,
-            slow,
-            lnext,
-            lnext2,
-            lcur,
-            lmargin,
-            lgroup,
-            wide,
-            fetch_q,
-            inj,
-            inj_kind
+            self, clock, s1_valid, s1_index, s1_margin, s1_group, s2_valid, s2_index, s2_margin,
+            s2_group, s3_valid, s3_index, s3_margin, s3_group, s3_allowed, s4_valid, s4_large,
+            s4_lprev, s4_index, s4_margin, s4_kind, s4_home_fp, s5_valid, s5_large, s5_lprev,
+            s5_index, s5_margin, clearing, cleared, clear_at, s1_kind, s2_kind, s3_kind, s5_kind,
+            slow, lcur, lmargin, lgroup, wide, fetch_q, inj, inj_kind
         );
-        clock!(self, clock, cells, succ, rec_box, fifo, lq_head, lq_head2, lq_box, lq_last);
+        clock!(self, clock, cells);
         for b in 0..27 {
             self.s4_bucket[b].clock.next = self.clock.val();
             self.s4_fp[b].clock.next = self.clock.val();
         }
         for x in 0..3 {
-            self.lq_fill[x].clock.next = self.clock.val();
-            self.lq_fill[x].d.next = self.lq_fill[x].q.val();
             self.s1_min[x].clock.next = self.clock.val();
             self.s1_max[x].clock.next = self.clock.val();
             self.s2_min[x].clock.next = self.clock.val();
@@ -933,19 +1010,6 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.s4_max[x].clock.next = self.clock.val();
             self.s5_min[x].clock.next = self.clock.val();
             self.s5_max[x].clock.next = self.clock.val();
-            self.cur_min[x].clock.next = self.clock.val();
-            self.cur_max[x].clock.next = self.clock.val();
-            self.e_min[x].clock.next = self.clock.val();
-            self.e_max[x].clock.next = self.clock.val();
-            self.v1_min[x].clock.next = self.clock.val();
-            self.v1_max[x].clock.next = self.clock.val();
-            self.v2_min_i[x].clock.next = self.clock.val();
-            self.v2_max_i[x].clock.next = self.clock.val();
-            self.v2_min_j[x].clock.next = self.clock.val();
-            self.v2_max_j[x].clock.next = self.clock.val();
-            self.v2_wl[x].clock.next = self.clock.val();
-            self.v2_wh[x].clock.next = self.clock.val();
-            self.v2_jc[x].clock.next = self.clock.val();
             self.lk_min[x].clock.next = self.clock.val();
             self.lk_lim[x].clock.next = self.clock.val();
             self.lk_max[x].clock.next = self.clock.val();
@@ -990,780 +1054,1128 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.e_head2[l].d.next = self.e_head2[l].q.val();
             self.e_sel[l].d.next = self.e_sel[l].q.val();
         }
-        for x in 0..3 {
-            self.cur_min[x].d.next = self.cur_min[x].q.val();
-            self.cur_max[x].d.next = self.cur_max[x].q.val();
-            self.e_min[x].d.next = self.e_min[x].q.val();
-            self.e_max[x].d.next = self.e_max[x].q.val();
+        // Per lane: its memories and registers (each register holds unless written).
+        for k in 0..self._lanes {
+            self.succ[k].clock.next = self.clock.val();
+            self.kt_margin[k].clock.next = self.clock.val();
+            self.kt_group[k].clock.next = self.clock.val();
+            self.rec_box[k].clock.next = self.clock.val();
+            self.lq_head[k].clock.next = self.clock.val();
+            self.lq_head2[k].clock.next = self.clock.val();
+            self.lq_box[k].clock.next = self.clock.val();
+            self.lq_last[k].clock.next = self.clock.val();
+            self.fifo[k].clock.next = self.clock.val();
+            self.s3_lane[k].clock.next = self.clock.val();
+            self.s4_lane[k].clock.next = self.clock.val();
+            self.s5_lane[k].clock.next = self.clock.val();
+            self.s3_lane[k].d.next = self.s3_lane[k].q.val();
+            self.s4_lane[k].d.next = self.s4_lane[k].q.val();
+            self.s5_lane[k].d.next = self.s5_lane[k].q.val();
+            self.wp[k].clock.next = self.clock.val();
+            self.rp[k].clock.next = self.clock.val();
+            self.count[k].clock.next = self.clock.val();
+            self.inflight[k].clock.next = self.clock.val();
+            self.wp[k].d.next = self.wp[k].q.val();
+            self.rp[k].d.next = self.rp[k].q.val();
+            self.count[k].d.next = self.count[k].q.val();
+            self.inflight[k].d.next = self.inflight[k].q.val();
+            self.e_busy[k].clock.next = self.clock.val();
+            self.e_chosen[k].clock.next = self.clock.val();
+            self.e_index[k].clock.next = self.clock.val();
+            self.e_margin[k].clock.next = self.clock.val();
+            self.e_kind[k].clock.next = self.clock.val();
+            self.e_busy[k].d.next = self.e_busy[k].q.val();
+            self.e_chosen[k].d.next = self.e_chosen[k].q.val();
+            self.e_index[k].d.next = self.e_index[k].q.val();
+            self.e_margin[k].d.next = self.e_margin[k].q.val();
+            self.e_kind[k].d.next = self.e_kind[k].q.val();
+            self.lq_wp[k].clock.next = self.clock.val();
+            self.lq_rp[k].clock.next = self.clock.val();
+            self.lq_wp[k].d.next = self.lq_wp[k].q.val();
+            self.lq_rp[k].d.next = self.lq_rp[k].q.val();
+            self.cur_valid[k].clock.next = self.clock.val();
+            self.cur_last[k].clock.next = self.clock.val();
+            self.cur_index[k].clock.next = self.clock.val();
+            self.cur_margin[k].clock.next = self.clock.val();
+            self.cur_kind[k].clock.next = self.clock.val();
+            self.cur_valid[k].d.next = self.cur_valid[k].q.val();
+            self.cur_last[k].d.next = self.cur_last[k].q.val();
+            self.cur_index[k].d.next = self.cur_index[k].q.val();
+            self.cur_margin[k].d.next = self.cur_margin[k].q.val();
+            self.cur_kind[k].d.next = self.cur_kind[k].q.val();
+            self.succ_q[k].clock.next = self.clock.val();
+            self.r1[k].clock.next = self.clock.val();
+            self.arrive_q[k].clock.next = self.clock.val();
+            self.q0v[k].clock.next = self.clock.val();
+            self.q0[k].clock.next = self.clock.val();
+            self.q1v[k].clock.next = self.clock.val();
+            self.q1[k].clock.next = self.clock.val();
+            self.succ_q[k].d.next = self.succ_q[k].q.val();
+            self.r1[k].d.next = self.r1[k].q.val();
+            self.arrive_q[k].d.next = self.arrive_q[k].q.val();
+            self.q0v[k].d.next = self.q0v[k].q.val();
+            self.q0[k].d.next = self.q0[k].q.val();
+            self.q1v[k].d.next = self.q1v[k].q.val();
+            self.q1[k].d.next = self.q1[k].q.val();
+            self.v1_valid[k].clock.next = self.clock.val();
+            self.v1_i[k].clock.next = self.clock.val();
+            self.v1_j[k].clock.next = self.clock.val();
+            self.v1_margin[k].clock.next = self.clock.val();
+            self.v1_kind[k].clock.next = self.clock.val();
+            self.v2_valid[k].clock.next = self.clock.val();
+            self.v2_i[k].clock.next = self.clock.val();
+            self.v2_j[k].clock.next = self.clock.val();
+            self.v2_margin_i[k].clock.next = self.clock.val();
+            self.v2_margin_j[k].clock.next = self.clock.val();
+            self.v2_kind[k].clock.next = self.clock.val();
+            self.v2_group_j[k].clock.next = self.clock.val();
+            self.v3_write[k].clock.next = self.clock.val();
+            self.v3_word[k].clock.next = self.clock.val();
+            self.lnext[k].clock.next = self.clock.val();
+            self.lnext2[k].clock.next = self.clock.val();
+            self.slane[k].clock.next = self.clock.val();
+            self.lnext[k].d.next = self.lnext[k].q.val();
+            self.lnext2[k].d.next = self.lnext2[k].q.val();
+            self.slane[k].d.next = self.slane[k].q.val();
+            for x in 0..3 {
+                self.kt_min[3 * k + x].clock.next = self.clock.val();
+                self.kt_max[3 * k + x].clock.next = self.clock.val();
+                self.lq_fill[3 * k + x].clock.next = self.clock.val();
+                self.lq_fill[3 * k + x].d.next = self.lq_fill[3 * k + x].q.val();
+                self.e_min[3 * k + x].clock.next = self.clock.val();
+                self.e_max[3 * k + x].clock.next = self.clock.val();
+                self.e_min[3 * k + x].d.next = self.e_min[3 * k + x].q.val();
+                self.e_max[3 * k + x].d.next = self.e_max[3 * k + x].q.val();
+                self.cur_min[3 * k + x].clock.next = self.clock.val();
+                self.cur_max[3 * k + x].clock.next = self.clock.val();
+                self.cur_min[3 * k + x].d.next = self.cur_min[3 * k + x].q.val();
+                self.cur_max[3 * k + x].d.next = self.cur_max[3 * k + x].q.val();
+                self.v1_min[3 * k + x].clock.next = self.clock.val();
+                self.v1_max[3 * k + x].clock.next = self.clock.val();
+                self.v2_min_i[3 * k + x].clock.next = self.clock.val();
+                self.v2_max_i[3 * k + x].clock.next = self.clock.val();
+                self.v2_min_j[3 * k + x].clock.next = self.clock.val();
+                self.v2_max_j[3 * k + x].clock.next = self.clock.val();
+                self.v2_wl[3 * k + x].clock.next = self.clock.val();
+                self.v2_wh[3 * k + x].clock.next = self.clock.val();
+                self.v2_jc[3 * k + x].clock.next = self.clock.val();
+            }
+            for b in 0..27 {
+                self.bank_left[27 * k + b].clock.next = self.clock.val();
+            }
         }
 
-        self.key_min[0].next = self.key_min_x.val();
-        self.key_min[1].next = self.key_min_y.val();
-        self.key_min[2].next = self.key_min_z.val();
-        self.key_max[0].next = self.key_max_x.val();
-        self.key_max[1].next = self.key_max_y.val();
-        self.key_max[2].next = self.key_max_z.val();
-        self.rd_min[0].next = self.rd_min_x.val();
-        self.rd_min[1].next = self.rd_min_y.val();
-        self.rd_min[2].next = self.rd_min_z.val();
-        self.rd_max[0].next = self.rd_max_x.val();
-        self.rd_max[1].next = self.rd_max_y.val();
-        self.rd_max[2].next = self.rd_max_z.val();
+        // (A loop of one pass, so that a list of lane k at `lpl k + l` is indexed by loop
+        // variables alone, as rust-hdl's Verilog writer requires.)
+        for lpl in self._lpl..self._lpl_end {
+            self.key_min[0].next = self.key_min_x.val();
+            self.key_min[1].next = self.key_min_y.val();
+            self.key_min[2].next = self.key_min_z.val();
+            self.key_max[0].next = self.key_max_x.val();
+            self.key_max[1].next = self.key_max_y.val();
+            self.key_max[2].next = self.key_max_z.val();
 
-        // The slow path's sequencer (it injects after the load, when no box arrives).
-        self.idle.next = self.loaded.val() & (self.inflight.q.val() == 0);
-        self.fetch.next = false;
-        self.inject.next = false;
-        self.inject_kind.next = 0.into();
-        self.plan_wide.next = false;
-        for x in 0..3 {
-            // A round spans three cells when three or five or more are left (`left` is 1 or
-            // at least 3), else two; it is the last when at most three are left (`left` <= 1).
-            self.left[x].next = self.rleft[x].q.val();
-            self.three_cells[x].next = self.left[x].val().get_bit(0)
-                | ((self.left[x].val() & self.above_three.val()) != 0);
-            self.last_round[x].next = (self.left[x].val() & self.above_one.val()) == 0;
-            self.rr_p1[x].next = self.rr[x].q.val() + 1;
-            self.rr_p2[x].next = self.rr[x].q.val() + 2;
-            self.rr_p3[x].next = self.rr[x].q.val() + 3;
-            self.left_m2[x].next = self.left[x].val() - 2;
-            self.left_m3[x].next = self.left[x].val() - 3;
-            self.two_m[x].next = self.center_ones.val();
-            self.three_m[x].next = 0.into();
-            if self.three_cells[x].val() {
-                self.two_m[x].next = 0.into();
-                self.three_m[x].next = self.center_ones.val();
+            // The per-box tables: an arriving box's keys, margin and group are written in its
+            // lane's banks; each lane's walker reads its banks on port B.
+            self.key_addr.next = bit_cast::<C, A>(self.key_index.val()) >> self.lane_shift.val();
+            for k in 0..self._lanes {
+                self.key_lane[k].next =
+                    (self.key_index.val() & self.key_lane_mask.val()) == self.key_lane_id[k].val();
+                for x in 0..3 {
+                    self.kt_min[3 * k + x].write_enable.next =
+                        self.key_valid.val() & self.key_lane[k].val();
+                    self.kt_min[3 * k + x].write_address.next = self.key_addr.val();
+                    self.kt_min[3 * k + x].write_data.next = self.key_min[x].val();
+                    self.kt_min[3 * k + x].read_address_a.next = 0.into();
+                    self.rd_min[3 * k + x].next = self.kt_min[3 * k + x].read_data_b.val();
+                    self.kt_max[3 * k + x].write_enable.next =
+                        self.key_valid.val() & self.key_lane[k].val();
+                    self.kt_max[3 * k + x].write_address.next = self.key_addr.val();
+                    self.kt_max[3 * k + x].write_data.next = self.key_max[x].val();
+                    self.kt_max[3 * k + x].read_address_a.next = 0.into();
+                    self.rd_max[3 * k + x].next = self.kt_max[3 * k + x].read_data_b.val();
+                }
+                self.kt_margin[k].write_enable.next = self.key_valid.val() & self.key_lane[k].val();
+                self.kt_margin[k].write_address.next = self.key_addr.val();
+                self.kt_margin[k].write_data.next = self.key_margin.val();
+                self.kt_margin[k].read_address_a.next = 0.into();
+                self.rd_margin[k].next = self.kt_margin[k].read_data_b.val();
+                self.kt_group[k].write_enable.next = self.key_valid.val() & self.key_lane[k].val();
+                self.kt_group[k].write_address.next = self.key_addr.val();
+                self.kt_group[k].write_data.next = self.key_group.val();
+                self.kt_group[k].read_address_a.next = 0.into();
+                self.rd_group[k].next = self.kt_group[k].read_data_b.val();
             }
-            self.next_rr[x].next = (self.rr_p2[x].val() & self.two_m[x].val())
-                | (self.rr_p3[x].val() & self.three_m[x].val());
-            self.next_left[x].next = (self.left_m2[x].val() & self.two_m[x].val())
-                | (self.left_m3[x].val() & self.three_m[x].val());
-            self.inject_min[x].next = self.rr[x].q.val() << self.cell_bits.val();
-            self.inject_max[x].next = ((self.rr[x].q.val() & self.two_m[x].val())
-                | (self.rr_p1[x].val() & self.three_m[x].val()))
-                << self.cell_bits.val();
-            if self.slow.q.val() == SlowState::Partner {
-                self.inject_min[x].next = self.lk_min[x].q.val();
-                self.inject_max[x].next = self.lk_max[x].q.val();
+
+            // The slow path's sequencer (it injects after the load, when no box arrives, nothing
+            // in flight on any lane). Its next large box: the head of the first lane's chain that
+            // holds one.
+            self.idle.next = self.loaded.val();
+            self.lprior[0].next = false;
+            self.lhead.next = 0.into();
+            for k in 0..self._lanes {
+                self.idle.next = self.idle.val() & (self.inflight[k].q.val() == 0);
+                self.lfirst[k].next =
+                    ((self.lnext[k].q.val() & self.top.val()) != 0) & !self.lprior[k].val();
+                self.lprior[k + 1].next =
+                    self.lprior[k].val() | ((self.lnext[k].q.val() & self.top.val()) != 0);
+                self.lpick[k].next = 0.into();
+                if self.lfirst[k].val() {
+                    self.lpick[k].next = self.lnext[k].q.val();
+                }
+                self.lhead.next = self.lhead.val() | self.lpick[k].val();
             }
-            self.inj_min[x].d.next = self.inject_min[x].val();
-            self.inj_max[x].d.next = self.inject_max[x].val();
-            self.plan_lo[x].next = self.lk_min[x].q.val() >> self.cell_bits.val();
-            self.plan_hi[x].next = self.lk_max[x].q.val() >> self.cell_bits.val();
-            self.plan_span[x].next = self.plan_hi[x].val() - self.plan_lo[x].val();
-            if (self.lk_max[x].q.val() >> self.cell_bits.val()) > self.lk_lim[x].q.val() {
-                self.plan_wide.next = true;
+            self.large_left.next = (self.lhead.val() & self.top.val()) != 0;
+            self.fetch.next = false;
+            self.inject.next = false;
+            self.inject_kind.next = 0.into();
+            self.plan_wide.next = false;
+            for x in 0..3 {
+                // A round spans three cells when three or five or more are left (`left` is 1 or
+                // at least 3), else two; it is the last when at most three are left (`left` <= 1).
+                self.left[x].next = self.rleft[x].q.val();
+                self.three_cells[x].next = self.left[x].val().get_bit(0)
+                    | ((self.left[x].val() & self.above_three.val()) != 0);
+                self.last_round[x].next = (self.left[x].val() & self.above_one.val()) == 0;
+                self.rr_p1[x].next = self.rr[x].q.val() + 1;
+                self.rr_p2[x].next = self.rr[x].q.val() + 2;
+                self.rr_p3[x].next = self.rr[x].q.val() + 3;
+                self.left_m2[x].next = self.left[x].val() - 2;
+                self.left_m3[x].next = self.left[x].val() - 3;
+                self.two_m[x].next = self.center_ones.val();
+                self.three_m[x].next = 0.into();
+                if self.three_cells[x].val() {
+                    self.two_m[x].next = 0.into();
+                    self.three_m[x].next = self.center_ones.val();
+                }
+                self.next_rr[x].next = (self.rr_p2[x].val() & self.two_m[x].val())
+                    | (self.rr_p3[x].val() & self.three_m[x].val());
+                self.next_left[x].next = (self.left_m2[x].val() & self.two_m[x].val())
+                    | (self.left_m3[x].val() & self.three_m[x].val());
+                self.inject_min[x].next = self.rr[x].q.val() << self.cell_bits.val();
+                self.inject_max[x].next = ((self.rr[x].q.val() & self.two_m[x].val())
+                    | (self.rr_p1[x].val() & self.three_m[x].val()))
+                    << self.cell_bits.val();
+                if self.slow.q.val() == SlowState::Partner {
+                    self.inject_min[x].next = self.lk_min[x].q.val();
+                    self.inject_max[x].next = self.lk_max[x].q.val();
+                }
+                self.inj_min[x].d.next = self.inject_min[x].val();
+                self.inj_max[x].d.next = self.inject_max[x].val();
+                self.plan_lo[x].next = self.lk_min[x].q.val() >> self.cell_bits.val();
+                self.plan_hi[x].next = self.lk_max[x].q.val() >> self.cell_bits.val();
+                self.plan_span[x].next = self.plan_hi[x].val() - self.plan_lo[x].val();
+                if (self.lk_max[x].q.val() >> self.cell_bits.val()) > self.lk_lim[x].q.val() {
+                    self.plan_wide.next = true;
+                }
             }
-        }
-        match self.slow.q.val() {
-            SlowState::Fetch => {
-                if self.idle.val() {
-                    if (self.lnext.q.val() & self.top.val()) != 0 {
-                        self.fetch.next = true;
-                        self.lcur.d.next = self.lnext.q.val() ^ self.top.val();
-                        self.lnext.d.next = self.lnext2.q.val();
-                        self.slow.d.next = SlowState::Address;
-                    } else {
+            match self.slow.q.val() {
+                SlowState::Fetch => {
+                    if self.idle.val() {
+                        if self.large_left.val() {
+                            self.fetch.next = true;
+                            self.lcur.d.next = self.lhead.val() ^ self.top.val();
+                            for k in 0..self._lanes {
+                                self.slane[k].d.next = self.lfirst[k].val();
+                                if self.lfirst[k].val() {
+                                    self.lnext[k].d.next = self.lnext2[k].q.val();
+                                }
+                            }
+                            self.slow.d.next = SlowState::Address;
+                        } else {
+                            self.slow.d.next = SlowState::Over;
+                        }
+                    }
+                }
+                SlowState::Address => {
+                    self.slow.d.next = SlowState::Read;
+                }
+                SlowState::Read => {
+                    // The box's keys, from its lane's banks.
+                    for k in 0..self._lanes {
+                        if self.slane[k].q.val() {
+                            self.lmargin.d.next = self.rd_margin[k].val();
+                            self.lgroup.d.next = self.rd_group[k].val();
+                            for x in 0..3 {
+                                self.lk_min[x].d.next = self.rd_min[3 * k + x].val();
+                                self.lk_lim[x].d.next = (self.rd_min[3 * k + x].val()
+                                    >> self.cell_bits.val())
+                                    + self.max_span.val();
+                                self.lk_max[x].d.next = self.rd_max[3 * k + x].val();
+                            }
+                        }
+                    }
+                    self.slow.d.next = SlowState::Plan;
+                }
+                SlowState::Plan => {
+                    // The fetched box's second successor, from its lane's registered output.
+                    for k in 0..self._lanes {
+                        if self.slane[k].q.val() {
+                            self.lnext2[k].d.next = self.succ_q[k].q.val();
+                        }
+                    }
+                    for x in 0..3 {
+                        self.wlo[x].d.next = self.plan_lo[x].val();
+                        self.wspan[x].d.next = self.plan_span[x].val();
+                        self.rleft[x].d.next = self.plan_span[x].val();
+                        self.rr[x].d.next = self.plan_lo[x].val();
+                    }
+                    self.slow.d.next = SlowState::Round;
+                    if self.plan_wide.val() {
+                        self.wide.d.next = true;
                         self.slow.d.next = SlowState::Over;
                     }
                 }
-            }
-            SlowState::Address => {
-                self.slow.d.next = SlowState::Read;
-            }
-            SlowState::Read => {
-                self.lmargin.d.next = self.rd_margin.val();
-                self.lgroup.d.next = self.rd_group.val();
-                for x in 0..3 {
-                    self.lk_min[x].d.next = self.rd_min[x].val();
-                    self.lk_lim[x].d.next =
-                        (self.rd_min[x].val() >> self.cell_bits.val()) + self.max_span.val();
-                    self.lk_max[x].d.next = self.rd_max[x].val();
-                }
-                self.slow.d.next = SlowState::Plan;
-            }
-            SlowState::Plan => {
-                // The fetched box's second successor, from the registered output.
-                self.lnext2.d.next = self.succ_q.q.val();
-                for x in 0..3 {
-                    self.wlo[x].d.next = self.plan_lo[x].val();
-                    self.wspan[x].d.next = self.plan_span[x].val();
-                    self.rleft[x].d.next = self.plan_span[x].val();
-                    self.rr[x].d.next = self.plan_lo[x].val();
-                }
-                self.slow.d.next = SlowState::Round;
-                if self.plan_wide.val() {
-                    self.wide.d.next = true;
-                    self.slow.d.next = SlowState::Over;
-                }
-            }
-            SlowState::Round => {
-                // Inject the round; step x, then y, then z; after the last, the rest of the
-                // chain (if any) or the next box.
-                if self.idle.val() {
-                    self.inject.next = true;
-                    self.inject_kind.next = 1.into();
-                    if !self.last_round[0].val() {
-                        self.rr[0].d.next = self.next_rr[0].val();
-                        self.rleft[0].d.next = self.next_left[0].val();
-                    } else {
-                        self.rr[0].d.next = self.wlo[0].q.val();
-                        self.rleft[0].d.next = self.wspan[0].q.val();
-                        if !self.last_round[1].val() {
-                            self.rr[1].d.next = self.next_rr[1].val();
-                            self.rleft[1].d.next = self.next_left[1].val();
+                SlowState::Round => {
+                    // Inject the round; step x, then y, then z; after the last, the rest of the
+                    // chains (if any large box is left) or the next box.
+                    if self.idle.val() {
+                        self.inject.next = true;
+                        self.inject_kind.next = 1.into();
+                        if !self.last_round[0].val() {
+                            self.rr[0].d.next = self.next_rr[0].val();
+                            self.rleft[0].d.next = self.next_left[0].val();
                         } else {
-                            self.rr[1].d.next = self.wlo[1].q.val();
-                            self.rleft[1].d.next = self.wspan[1].q.val();
-                            if !self.last_round[2].val() {
-                                self.rr[2].d.next = self.next_rr[2].val();
-                                self.rleft[2].d.next = self.next_left[2].val();
-                            } else if (self.lnext.q.val() & self.top.val()) != 0 {
-                                self.slow.d.next = SlowState::Partner;
+                            self.rr[0].d.next = self.wlo[0].q.val();
+                            self.rleft[0].d.next = self.wspan[0].q.val();
+                            if !self.last_round[1].val() {
+                                self.rr[1].d.next = self.next_rr[1].val();
+                                self.rleft[1].d.next = self.next_left[1].val();
                             } else {
-                                self.slow.d.next = SlowState::Fetch;
+                                self.rr[1].d.next = self.wlo[1].q.val();
+                                self.rleft[1].d.next = self.wspan[1].q.val();
+                                if !self.last_round[2].val() {
+                                    self.rr[2].d.next = self.next_rr[2].val();
+                                    self.rleft[2].d.next = self.next_left[2].val();
+                                } else if self.large_left.val() {
+                                    self.slow.d.next = SlowState::Partner;
+                                } else {
+                                    self.slow.d.next = SlowState::Fetch;
+                                }
                             }
                         }
                     }
                 }
-            }
-            SlowState::Partner => {
-                if self.idle.val() {
-                    self.inject.next = true;
-                    self.inject_kind.next = 2.into();
-                    self.slow.d.next = SlowState::Fetch;
-                }
-            }
-            SlowState::Over => {}
-        }
-        // (After the states that set them: a local is read where it is written.)
-        self.fetch_q.d.next = self.fetch.val();
-        self.inj.d.next = self.inject.val();
-        self.inj_kind.d.next = self.inject_kind.val();
-
-        // K+1 to K+3: the cells of the box's window (`GridCells`); its index, keys, margin and
-        // group alongside. An injected record takes the place of an arriving box.
-        self.cells.key_valid.next = self.key_valid.val() | self.inj.q.val();
-        self.s1_valid.d.next = self.key_valid.val() | self.inj.q.val();
-        self.s1_index.d.next = bit_cast::<C, A>(self.key_index.val());
-        self.s1_margin.d.next = self.key_margin.val();
-        self.s1_group.d.next = self.key_group.val();
-        self.s1_kind.d.next = self.inj_kind.q.val();
-        if self.inj.q.val() {
-            self.s1_index.d.next = self.lcur.q.val();
-            self.s1_margin.d.next = self.lmargin.q.val();
-            self.s1_group.d.next = self.lgroup.q.val();
-        }
-        self.s2_kind.d.next = self.s1_kind.q.val();
-        self.s3_kind.d.next = self.s2_kind.q.val();
-        self.s5_kind.d.next = self.s4_kind.q.val();
-        self.s2_valid.d.next = self.s1_valid.q.val();
-        self.s2_index.d.next = self.s1_index.q.val();
-        self.s2_margin.d.next = self.s1_margin.q.val();
-        self.s2_group.d.next = self.s1_group.q.val();
-        self.s3_valid.d.next = self.s2_valid.q.val();
-        self.s3_index.d.next = self.s2_index.q.val();
-        self.s3_margin.d.next = self.s2_margin.q.val();
-        self.s3_group.d.next = self.s2_group.q.val();
-        for x in 0..3 {
-            self.cells.key_min[x].next = self.key_min[x].val();
-            self.cells.key_max[x].next = self.key_max[x].val();
-            self.s1_min[x].d.next = self.key_min[x].val();
-            self.s1_max[x].d.next = self.key_max[x].val();
-            if self.inj.q.val() {
-                self.cells.key_min[x].next = self.inj_min[x].q.val();
-                self.cells.key_max[x].next = self.inj_max[x].q.val();
-                self.s1_min[x].d.next = self.inj_min[x].q.val();
-                self.s1_max[x].d.next = self.inj_max[x].q.val();
-            }
-            self.s2_min[x].d.next = self.s1_min[x].q.val();
-            self.s2_max[x].d.next = self.s1_max[x].q.val();
-            self.s3_min[x].d.next = self.s2_min[x].q.val();
-            self.s3_max[x].d.next = self.s2_max[x].q.val();
-        }
-        self.allowed.next =
-            self.mask.val() >> (bit_cast::<MASK, GROUP>(self.s2_group.q.val()) << 3_u64);
-        self.s3_allowed.d.next = self.allowed.val();
-
-        // K+3, per list (bank b, group h): the list heads are read at the bank's bucket and
-        // registered, with what decides the lists to walk and the entry. (The box one ahead
-        // writes its entry on this clock: the read misses it, so the banks whose bucket it
-        // writes are marked, and its entry is forwarded at K+4.)
-        self.entry.next = self.s3_index.q.val() | self.top.val();
-        for q in 0..self._groups {
-            for b in 0..27 {
-                self.meta[27 * q + b].read_address.next = self.cells.bucket[b].val();
-                self.head[27 * q + b].read_address.next = self.cells.bucket[b].val();
-                self.allow[27 * q + b].next =
-                    self.s3_allowed.q.val() >> self.list_group[27 * q + b].val();
-                self.s4_meta[27 * q + b].d.next = self.meta[27 * q + b].read_data.val();
-                self.head2[27 * q + b].read_address.next = self.cells.bucket[b].val();
-                self.s4_old[27 * q + b].d.next = self.head[27 * q + b].read_data.val();
-                self.s4_old2[27 * q + b].d.next = self.head2[27 * q + b].read_data.val();
-                self.s4_walk[27 * q + b].d.next = self.s3_valid.q.val()
-                    & self.cells.small_box.val()
-                    & self.cells.inside[b].val()
-                    & self.allow[27 * q + b].val().get_bit(0);
-                self.s4_enter[27 * q + b].d.next = self.s3_valid.q.val()
-                    & (self.s3_kind.q.val() == 0)
-                    & self.cells.small_box.val()
-                    & self.cells.home[b].val()
-                    & (self.s3_group.q.val() == self.list_group[27 * q + b].val());
-            }
-        }
-        for b in 0..27 {
-            self.s4_bucket[b].d.next = self.cells.bucket[b].val();
-            self.s4_fp[b].d.next = self.cells.fp[b].val();
-            self.same[b].next = self.cells.bucket[b].val() == self.s4_bucket[b].q.val();
-        }
-        for q in 0..self._groups {
-            for b in 0..27 {
-                self.s4_fwd[27 * q + b].d.next =
-                    self.same[b].val() & self.s4_enter[27 * q + b].q.val();
-            }
-        }
-        self.s4_home_fp.d.next = self.cells.home_fp.val();
-        // A large box takes the chain of large boxes instead of a list.
-        self.large_in.next =
-            self.s3_valid.q.val() & (self.s3_kind.q.val() == 0) & !self.cells.small_box.val();
-        self.s4_large.d.next = self.large_in.val();
-        self.s4_lprev.d.next = self.lnext2.q.val();
-        if self.large_in.val() {
-            self.lnext.d.next = self.entry.val();
-            self.lnext2.d.next = self.lnext.q.val();
-        }
-        self.s4_valid.d.next = self.s3_valid.q.val();
-        self.s4_index.d.next = self.s3_index.q.val();
-        self.s4_margin.d.next = self.s3_margin.q.val();
-        self.s4_kind.d.next = self.s3_kind.q.val();
-        for x in 0..3 {
-            self.s4_min[x].d.next = self.s3_min[x].q.val();
-            self.s4_max[x].d.next = self.s3_max[x].q.val();
-        }
-
-        // K+4, per list: the owner and first two boxes the box sees (the box before's entry
-        // where it wrote the same bucket on the clock of this box's read: then the box before
-        // and its old head). The box walks a list of a
-        // group its own pairs with, of a cell in its window, that may hold a box of that cell:
-        // its owner has the cell's fingerprint, or it is mixed. A small box enters its home
-        // cell's list of its own group: the first owns the list, a box of another fingerprint
-        // mixes it; the list's old head becomes its second, and the old second the box's entry
-        // (written at K+5). At the end of a frame the clear writes every bucket empty.
-        self.entry4.next = self.s4_index.q.val() | self.top.val();
-        self.entry5.next = self.s5_index.q.val() | self.top.val();
-        for q in 0..self._groups {
-            for b in 0..27 {
-                self.fwd[27 * q + b].next = self.s4_fwd[27 * q + b].q.val();
-                self.meta_eff[27 * q + b].next = self.s4_meta[27 * q + b].q.val();
-                self.old_eff[27 * q + b].next = self.s4_old[27 * q + b].q.val();
-                self.old_eff2[27 * q + b].next = self.s4_old2[27 * q + b].q.val();
-                if self.fwd[27 * q + b].val() {
-                    self.meta_eff[27 * q + b].next = self.s5_meta_w[27 * q + b].q.val();
-                    self.old_eff[27 * q + b].next = self.entry5.val();
-                    self.old_eff2[27 * q + b].next = self.s5_head[27 * q + b].q.val();
-                }
-                self.meta_src[2 * (27 * q + b)].next = self.s4_meta[27 * q + b].q.val();
-                self.meta_src[2 * (27 * q + b) + 1].next = self.s5_meta_w[27 * q + b].q.val();
-                for k in 0..2 {
-                    // Walked if valid and mixed or owned by the cell's fingerprint. Owned: kept,
-                    // and mixed by another fingerprint; free: owned by this one.
-                    self.live_src[2 * (27 * q + b) + k].next = self.s4_walk[27 * q + b].q.val()
-                        & self.meta_src[2 * (27 * q + b) + k].val().get_bit(9)
-                        & (self.meta_src[2 * (27 * q + b) + k].val().get_bit(8)
-                            | (self.meta_src[2 * (27 * q + b) + k].val().get_bits::<FP>(0)
-                                == self.s4_fp[b].q.val()));
-                    self.meta_new_src[2 * (27 * q + b) + k].next =
-                        bit_cast::<META, FP>(self.s4_home_fp.q.val()) | 512_u64;
-                    if self.meta_src[2 * (27 * q + b) + k].val().get_bit(9) {
-                        self.meta_new_src[2 * (27 * q + b) + k].next =
-                            self.meta_src[2 * (27 * q + b) + k].val();
-                        if self.meta_src[2 * (27 * q + b) + k].val().get_bits::<FP>(0)
-                            != self.s4_home_fp.q.val()
-                        {
-                            self.meta_new_src[2 * (27 * q + b) + k].next =
-                                self.meta_src[2 * (27 * q + b) + k].val() | 256_u64;
-                        }
+                SlowState::Partner => {
+                    if self.idle.val() {
+                        self.inject.next = true;
+                        self.inject_kind.next = 2.into();
+                        self.slow.d.next = SlowState::Fetch;
                     }
                 }
-                self.live[27 * q + b].next = self.live_src[2 * (27 * q + b)].val();
-                self.meta_new[27 * q + b].next = self.meta_new_src[2 * (27 * q + b)].val();
-                if self.fwd[27 * q + b].val() {
-                    self.live[27 * q + b].next = self.live_src[2 * (27 * q + b) + 1].val();
-                    self.meta_new[27 * q + b].next = self.meta_new_src[2 * (27 * q + b) + 1].val();
-                }
-                self.meta[27 * q + b].write_enable.next = self.s4_enter[27 * q + b].q.val();
-                self.meta[27 * q + b].write_address.next = self.s4_bucket[b].q.val();
-                self.meta[27 * q + b].write_data.next = self.meta_new[27 * q + b].val();
-                self.head[27 * q + b].write_enable.next = self.s4_enter[27 * q + b].q.val();
-                self.head[27 * q + b].write_address.next = self.s4_bucket[b].q.val();
-                self.head[27 * q + b].write_data.next = self.entry4.val();
-                self.head2[27 * q + b].write_enable.next = self.s4_enter[27 * q + b].q.val();
-                self.head2[27 * q + b].write_address.next = self.s4_bucket[b].q.val();
-                self.head2[27 * q + b].write_data.next = self.old_eff[27 * q + b].val();
-                if self.clearing.q.val() {
-                    self.meta[27 * q + b].write_enable.next = true;
-                    self.meta[27 * q + b].write_address.next = self.clear_at.q.val();
-                    self.meta[27 * q + b].write_data.next = 0.into();
-                    self.head[27 * q + b].write_enable.next = true;
-                    self.head[27 * q + b].write_address.next = self.clear_at.q.val();
-                    self.head[27 * q + b].write_data.next = 0.into();
-                    self.head2[27 * q + b].write_enable.next = true;
-                    self.head2[27 * q + b].write_address.next = self.clear_at.q.val();
-                    self.head2[27 * q + b].write_data.next = 0.into();
-                }
-                self.s5_enter[27 * q + b].d.next =
-                    self.s4_enter[27 * q + b].q.val() & self.meta_eff[27 * q + b].val().get_bit(9);
-                self.s5_wrote[27 * q + b].d.next = self.s4_enter[27 * q + b].q.val();
-                self.s5_meta_w[27 * q + b].d.next = self.meta_new[27 * q + b].val();
-                self.s5_live[27 * q + b].d.next = self.live[27 * q + b].val();
-                self.s5_head[27 * q + b].d.next = self.old_eff[27 * q + b].val();
-                self.s5_head2[27 * q + b].d.next = self.old_eff2[27 * q + b].val();
+                SlowState::Over => {}
             }
-        }
-        self.s5_large.d.next = self.s4_large.q.val();
-        self.s5_lprev.d.next = self.s4_lprev.q.val();
-        self.s5_valid.d.next = self.s4_valid.q.val();
-        self.s5_index.d.next = self.s4_index.q.val();
-        self.s5_margin.d.next = self.s4_margin.q.val();
-        for x in 0..3 {
-            self.s5_min[x].d.next = self.s4_min[x].q.val();
-            self.s5_max[x].d.next = self.s4_max[x].q.val();
-        }
-
-        // K+5: the box's entry is written: the old second of the list it entered (zero where
-        // it entered none), or the chain's old second. (A later box sees the box's entry at its
-        // K+4 at the earliest, and reads it five clocks after that, at its first visit.) A box
-        // with lists to walk is written to the record queue; any other retires. The rest of the
-        // chain is one list (the first), from the large box's successor (`lnext`, `lnext2`).
-        self.succ_acc.next = 0.into();
-        if self.s5_large.q.val() {
-            self.succ_acc.next = self.s5_lprev.q.val();
-        }
-        self.any_live.next = false;
-        for l in 0..self._lists {
-            self.succ_pick[l].next = 0.into();
-            if self.s5_enter[l].q.val() {
-                self.succ_pick[l].next = self.s5_head2[l].q.val();
+            // (After the states that set them: a local is read where it is written.)
+            self.fetch_q.d.next = self.fetch.val();
+            self.inj.d.next = self.inject.val();
+            self.inj_kind.d.next = self.inject_kind.val();
+            // K+1 to K+3: the cells of the box's window (`GridCells`); its index, keys, margin and
+            // group alongside. An injected record takes the place of an arriving box.
+            self.cells.key_valid.next = self.key_valid.val() | self.inj.q.val();
+            self.s1_valid.d.next = self.key_valid.val() | self.inj.q.val();
+            self.s1_index.d.next = bit_cast::<C, A>(self.key_index.val());
+            self.s1_margin.d.next = self.key_margin.val();
+            self.s1_group.d.next = self.key_group.val();
+            self.s1_kind.d.next = self.inj_kind.q.val();
+            if self.inj.q.val() {
+                self.s1_index.d.next = self.lcur.q.val();
+                self.s1_margin.d.next = self.lmargin.q.val();
+                self.s1_group.d.next = self.lgroup.q.val();
             }
-            self.succ_acc.next = self.succ_acc.val() | self.succ_pick[l].val();
-            self.any_live.next = self.any_live.val() | self.s5_live[l].q.val();
-        }
-        self.succ.write_enable.next = self.s5_valid.q.val() & (self.s5_kind.q.val() == 0);
-        self.succ.write_address.next = bit_cast::<A, C>(self.s5_index.q.val());
-        self.succ.write_data.next = self.succ_acc.val();
-        self.rec_write.next =
-            self.s5_valid.q.val() & (self.any_live.val() | self.s5_kind.q.val().get_bit(1));
-        self.retire_probe.next = self.s5_valid.q.val() & !self.rec_write.val();
-        for l in 0..self._lists {
-            self.rec[l].write_enable.next = self.rec_write.val();
-            self.rec[l].write_address.next = self.wp.q.val();
-            // A list head has the flag bit set; a list not to walk is written as none.
-            self.rec[l].write_data.next = 0.into();
-            self.rec2[l].write_enable.next = self.rec_write.val();
-            self.rec2[l].write_address.next = self.wp.q.val();
-            self.rec2[l].write_data.next = 0.into();
-            if self.s5_live[l].q.val() {
-                self.rec[l].write_data.next = self.s5_head[l].q.val();
-                self.rec2[l].write_data.next = self.s5_head2[l].q.val();
-            }
-            self.rec[l].read_address.next = self.rp.q.val();
-            self.rec2[l].read_address.next = self.rp.q.val();
-        }
-        if self.s5_kind.q.val().get_bit(1) {
-            self.rec[0].write_data.next = self.lnext.q.val();
-            self.rec2[0].write_data.next = self.lnext2.q.val();
-        }
-        self.rec_box.write_enable.next = self.rec_write.val();
-        self.rec_box.write_address.next = self.wp.q.val();
-        self.rec_box.read_address.next = self.rp.q.val();
-        self.rec_box.in_index.next = self.s5_index.q.val();
-        self.rec_box.in_margin.next = self.s5_margin.q.val();
-        self.rec_box.in_kind.next = self.s5_kind.q.val();
-        for x in 0..3 {
-            self.rec_box.in_min[x].next = self.s5_min[x].q.val();
-            self.rec_box.in_max[x].next = self.s5_max[x].q.val();
-        }
-        if self.rec_write.val() {
-            self.wp.d.next = self.wp.q.val() + 1;
-        }
-
-        // The enumerator: it takes the records in order and writes their lists to the list
-        // queue in the walker's order (bank, then group), each over two clocks: on a clock it
-        // writes none it chooses the next list left (a one-hot), on a later clock it writes that
-        // list, when at most two are queued (so that the write finds room whatever the walker
-        // takes), and whether it is the record's last (no other list left). It loads the next
-        // record on a clock it holds none. Each clock's logic runs from registers alone: the
-        // walker only picks the queue's output.
-        for b in 0..27 {
-            self.bank_any[b].next = false;
-        }
-        for q in 0..self._groups {
-            for b in 0..27 {
-                self.group_prior[27 * q + b].next = self.bank_any[b].val();
-                self.bank_any[b].next = self.bank_any[b].val() | self.e_rem[27 * q + b].q.val();
-            }
-        }
-        self.bank_prior[0].next = false;
-        for b in 0..27 {
-            self.bank_prior[b + 1].next = self.bank_prior[b].val() | self.bank_left[b].q.val();
-        }
-        for q in 0..self._groups {
-            for b in 0..27 {
-                self.e_first[27 * q + b].next = self.e_rem[27 * q + b].q.val()
-                    & !self.group_prior[27 * q + b].val()
-                    & !self.bank_prior[b].val();
-            }
-        }
-        self.e_push.next = self.e_chosen.q.val() & !self.lq_fill[2].q.val();
-        self.e_load.next = (self.count.q.val() != 0) & !self.e_busy.q.val();
-        self.e_out.next = 0.into();
-        self.e_out2.next = 0.into();
-        self.e_more.next = false;
-        for l in 0..self._lists {
-            self.e_pick[l].next = 0.into();
-            self.e_pick2[l].next = 0.into();
-            if self.e_sel[l].q.val() {
-                self.e_pick[l].next = self.e_head[l].q.val();
-                self.e_pick2[l].next = self.e_head2[l].q.val();
-            }
-            self.e_out.next = self.e_out.val() | self.e_pick[l].val();
-            self.e_out2.next = self.e_out2.val() | self.e_pick2[l].val();
-            self.e_more.next = self.e_more.val() | (self.e_rem[l].q.val() & !self.e_sel[l].q.val());
-        }
-        self.lq_head.write_enable.next = self.e_push.val();
-        self.lq_head.write_address.next = self.lq_wp.q.val();
-        self.lq_head.write_data.next = self.e_out.val();
-        self.lq_head.read_address.next = self.lq_rp.q.val();
-        self.lq_head2.write_enable.next = self.e_push.val();
-        self.lq_head2.write_address.next = self.lq_wp.q.val();
-        self.lq_head2.write_data.next = self.e_out2.val();
-        self.lq_head2.read_address.next = self.lq_rp.q.val();
-        self.lq_last.write_enable.next = self.e_push.val();
-        self.lq_last.write_address.next = self.lq_wp.q.val();
-        self.lq_last.write_data.next = !self.e_more.val();
-        self.lq_last.read_address.next = self.lq_rp.q.val();
-        self.lq_box.write_enable.next = self.e_push.val();
-        self.lq_box.write_address.next = self.lq_wp.q.val();
-        self.lq_box.read_address.next = self.lq_rp.q.val();
-        self.lq_box.in_index.next = self.e_index.q.val();
-        self.lq_box.in_margin.next = self.e_margin.q.val();
-        self.lq_box.in_kind.next = self.e_kind.q.val();
-        for x in 0..3 {
-            self.lq_box.in_min[x].next = self.e_min[x].q.val();
-            self.lq_box.in_max[x].next = self.e_max[x].q.val();
-        }
-        if self.e_push.val() {
-            self.lq_wp.d.next = self.lq_wp.q.val() + 1;
-            self.e_chosen.d.next = false;
-            if !self.e_more.val() {
-                self.e_busy.d.next = false;
-            }
-            for l in 0..self._lists {
-                if self.e_sel[l].q.val() {
-                    self.e_rem[l].d.next = false;
-                }
-            }
-        } else if self.e_busy.q.val() {
-            self.e_chosen.d.next = true;
-            for l in 0..self._lists {
-                self.e_sel[l].d.next = self.e_first[l].val();
-            }
-        }
-        for l in 0..self._lists {
-            self.rd_live[l].next = (self.rec[l].read_data.val() & self.top.val()) != 0;
-        }
-        if self.e_load.val() {
-            self.rp.d.next = self.rp.q.val() + 1;
-            self.e_busy.d.next = true;
-            self.e_chosen.d.next = false;
-            self.e_index.d.next = self.rec_box.index.val();
-            self.e_margin.d.next = self.rec_box.margin.val();
-            self.e_kind.d.next = self.rec_box.kind.val();
+            self.s2_kind.d.next = self.s1_kind.q.val();
+            self.s3_kind.d.next = self.s2_kind.q.val();
+            self.s5_kind.d.next = self.s4_kind.q.val();
+            self.s2_valid.d.next = self.s1_valid.q.val();
+            self.s2_index.d.next = self.s1_index.q.val();
+            self.s2_margin.d.next = self.s1_margin.q.val();
+            self.s2_group.d.next = self.s1_group.q.val();
+            self.s3_valid.d.next = self.s2_valid.q.val();
+            self.s3_index.d.next = self.s2_index.q.val();
+            self.s3_margin.d.next = self.s2_margin.q.val();
+            self.s3_group.d.next = self.s2_group.q.val();
             for x in 0..3 {
-                self.e_min[x].d.next = self.rec_box.min[x].val();
-                self.e_max[x].d.next = self.rec_box.max[x].val();
+                self.cells.key_min[x].next = self.key_min[x].val();
+                self.cells.key_max[x].next = self.key_max[x].val();
+                self.s1_min[x].d.next = self.key_min[x].val();
+                self.s1_max[x].d.next = self.key_max[x].val();
+                if self.inj.q.val() {
+                    self.cells.key_min[x].next = self.inj_min[x].q.val();
+                    self.cells.key_max[x].next = self.inj_max[x].q.val();
+                    self.s1_min[x].d.next = self.inj_min[x].q.val();
+                    self.s1_max[x].d.next = self.inj_max[x].q.val();
+                }
+                self.s2_min[x].d.next = self.s1_min[x].q.val();
+                self.s2_max[x].d.next = self.s1_max[x].q.val();
+                self.s3_min[x].d.next = self.s2_min[x].q.val();
+                self.s3_max[x].d.next = self.s2_max[x].q.val();
+            }
+            self.allowed.next =
+                self.mask.val() >> (bit_cast::<MASK, GROUP>(self.s2_group.q.val()) << 3_u64);
+            self.s3_allowed.d.next = self.allowed.val();
+
+            // K+3, per list (bank b, group h): the list heads are read at the bank's bucket and
+            // registered, with what decides the lists to walk and the entry. (The box one ahead
+            // writes its entry on this clock: the read misses it, so the banks whose bucket it
+            // writes are marked, and its entry is forwarded at K+4.)
+            self.entry.next = self.s3_index.q.val() | self.top.val();
+            for k in 0..self._lanes {
+                self.s3_lane[k].d.next =
+                    (self.s2_index.q.val() & self.lane_mask.val()) == self.lane_id[k].val();
+                self.s4_lane[k].d.next = self.s3_lane[k].q.val();
+                self.s5_lane[k].d.next = self.s4_lane[k].q.val();
+            }
+            for k in 0..self._lanes {
+                for q in 0..self._groups {
+                    for b in 0..27 {
+                        self.meta[lpl * k + 27 * q + b].read_address.next =
+                            self.cells.bucket[b].val();
+                        self.head[lpl * k + 27 * q + b].read_address.next =
+                            self.cells.bucket[b].val();
+                        self.allow[lpl * k + 27 * q + b].next =
+                            self.s3_allowed.q.val() >> self.list_group[lpl * k + 27 * q + b].val();
+                        self.s4_meta[lpl * k + 27 * q + b].d.next =
+                            self.meta[lpl * k + 27 * q + b].read_data.val();
+                        self.head2[lpl * k + 27 * q + b].read_address.next =
+                            self.cells.bucket[b].val();
+                        self.s4_old[lpl * k + 27 * q + b].d.next =
+                            self.head[lpl * k + 27 * q + b].read_data.val();
+                        self.s4_old2[lpl * k + 27 * q + b].d.next =
+                            self.head2[lpl * k + 27 * q + b].read_data.val();
+                        self.s4_walk[lpl * k + 27 * q + b].d.next = self.s3_valid.q.val()
+                            & self.cells.small_box.val()
+                            & self.cells.inside[b].val()
+                            & self.allow[lpl * k + 27 * q + b].val().get_bit(0);
+                        self.s4_enter[lpl * k + 27 * q + b].d.next = self.s3_valid.q.val()
+                            & (self.s3_kind.q.val() == 0)
+                            & self.cells.small_box.val()
+                            & self.cells.home[b].val()
+                            & (self.s3_group.q.val()
+                                == self.list_group[lpl * k + 27 * q + b].val())
+                            & self.s3_lane[k].q.val();
+                    }
+                }
+            }
+            for b in 0..27 {
+                self.s4_bucket[b].d.next = self.cells.bucket[b].val();
+                self.s4_fp[b].d.next = self.cells.fp[b].val();
+                self.same[b].next = self.cells.bucket[b].val() == self.s4_bucket[b].q.val();
+            }
+            for k in 0..self._lanes {
+                for q in 0..self._groups {
+                    for b in 0..27 {
+                        self.s4_fwd[lpl * k + 27 * q + b].d.next =
+                            self.same[b].val() & self.s4_enter[lpl * k + 27 * q + b].q.val();
+                    }
+                }
+            }
+            self.s4_home_fp.d.next = self.cells.home_fp.val();
+            // A large box takes the chain of large boxes instead of a list.
+            self.large_in.next =
+                self.s3_valid.q.val() & (self.s3_kind.q.val() == 0) & !self.cells.small_box.val();
+            self.s4_large.d.next = self.large_in.val();
+            for k in 0..self._lanes {
+                if self.s3_lane[k].q.val() {
+                    self.s4_lprev.d.next = self.lnext2[k].q.val();
+                    if self.large_in.val() {
+                        self.lnext[k].d.next = self.entry.val();
+                        self.lnext2[k].d.next = self.lnext[k].q.val();
+                    }
+                }
+            }
+            self.s4_valid.d.next = self.s3_valid.q.val();
+            self.s4_index.d.next = self.s3_index.q.val();
+            self.s4_margin.d.next = self.s3_margin.q.val();
+            self.s4_kind.d.next = self.s3_kind.q.val();
+            for x in 0..3 {
+                self.s4_min[x].d.next = self.s3_min[x].q.val();
+                self.s4_max[x].d.next = self.s3_max[x].q.val();
+            }
+
+            // K+4, per list: the owner and first two boxes the box sees (the box before's entry
+            // where it wrote the same bucket on the clock of this box's read: then the box before
+            // and its old head). The box walks a list of a
+            // group its own pairs with, of a cell in its window, that may hold a box of that cell:
+            // its owner has the cell's fingerprint, or it is mixed. A small box enters its home
+            // cell's list of its own group: the first owns the list, a box of another fingerprint
+            // mixes it; the list's old head becomes its second, and the old second the box's entry
+            // (written at K+5). At the end of a frame the clear writes every bucket empty.
+            self.entry4.next = self.s4_index.q.val() | self.top.val();
+            self.entry5.next = self.s5_index.q.val() | self.top.val();
+            for k in 0..self._lanes {
+                for q in 0..self._groups {
+                    for b in 0..27 {
+                        self.fwd[lpl * k + 27 * q + b].next =
+                            self.s4_fwd[lpl * k + 27 * q + b].q.val();
+                        self.meta_eff[lpl * k + 27 * q + b].next =
+                            self.s4_meta[lpl * k + 27 * q + b].q.val();
+                        self.old_eff[lpl * k + 27 * q + b].next =
+                            self.s4_old[lpl * k + 27 * q + b].q.val();
+                        self.old_eff2[lpl * k + 27 * q + b].next =
+                            self.s4_old2[lpl * k + 27 * q + b].q.val();
+                        if self.fwd[lpl * k + 27 * q + b].val() {
+                            self.meta_eff[lpl * k + 27 * q + b].next =
+                                self.s5_meta_w[lpl * k + 27 * q + b].q.val();
+                            self.old_eff[lpl * k + 27 * q + b].next = self.entry5.val();
+                            self.old_eff2[lpl * k + 27 * q + b].next =
+                                self.s5_head[lpl * k + 27 * q + b].q.val();
+                        }
+                        self.meta_src[2 * (lpl * k + 27 * q + b)].next =
+                            self.s4_meta[lpl * k + 27 * q + b].q.val();
+                        self.meta_src[2 * (lpl * k + 27 * q + b) + 1].next =
+                            self.s5_meta_w[lpl * k + 27 * q + b].q.val();
+                        for m in 0..2 {
+                            // Walked if valid and mixed or owned by the cell's fingerprint. Owned: kept,
+                            // and mixed by another fingerprint; free: owned by this one.
+                            self.live_src[2 * (lpl * k + 27 * q + b) + m].next =
+                                self.s4_walk[lpl * k + 27 * q + b].q.val()
+                                    & self.meta_src[2 * (lpl * k + 27 * q + b) + m]
+                                        .val()
+                                        .get_bit(9)
+                                    & (self.meta_src[2 * (lpl * k + 27 * q + b) + m]
+                                        .val()
+                                        .get_bit(8)
+                                        | (self.meta_src[2 * (lpl * k + 27 * q + b) + m]
+                                            .val()
+                                            .get_bits::<FP>(0)
+                                            == self.s4_fp[b].q.val()));
+                            self.meta_new_src[2 * (lpl * k + 27 * q + b) + m].next =
+                                bit_cast::<META, FP>(self.s4_home_fp.q.val()) | 512_u64;
+                            if self.meta_src[2 * (lpl * k + 27 * q + b) + m]
+                                .val()
+                                .get_bit(9)
+                            {
+                                self.meta_new_src[2 * (lpl * k + 27 * q + b) + m].next =
+                                    self.meta_src[2 * (lpl * k + 27 * q + b) + m].val();
+                                if self.meta_src[2 * (lpl * k + 27 * q + b) + m]
+                                    .val()
+                                    .get_bits::<FP>(0)
+                                    != self.s4_home_fp.q.val()
+                                {
+                                    self.meta_new_src[2 * (lpl * k + 27 * q + b) + m].next =
+                                        self.meta_src[2 * (lpl * k + 27 * q + b) + m].val()
+                                            | 256_u64;
+                                }
+                            }
+                        }
+                        self.live[lpl * k + 27 * q + b].next =
+                            self.live_src[2 * (lpl * k + 27 * q + b)].val();
+                        self.meta_new[lpl * k + 27 * q + b].next =
+                            self.meta_new_src[2 * (lpl * k + 27 * q + b)].val();
+                        if self.fwd[lpl * k + 27 * q + b].val() {
+                            self.live[lpl * k + 27 * q + b].next =
+                                self.live_src[2 * (lpl * k + 27 * q + b) + 1].val();
+                            self.meta_new[lpl * k + 27 * q + b].next =
+                                self.meta_new_src[2 * (lpl * k + 27 * q + b) + 1].val();
+                        }
+                        self.meta[lpl * k + 27 * q + b].write_enable.next =
+                            self.s4_enter[lpl * k + 27 * q + b].q.val();
+                        self.meta[lpl * k + 27 * q + b].write_address.next =
+                            self.s4_bucket[b].q.val();
+                        self.meta[lpl * k + 27 * q + b].write_data.next =
+                            self.meta_new[lpl * k + 27 * q + b].val();
+                        self.head[lpl * k + 27 * q + b].write_enable.next =
+                            self.s4_enter[lpl * k + 27 * q + b].q.val();
+                        self.head[lpl * k + 27 * q + b].write_address.next =
+                            self.s4_bucket[b].q.val();
+                        self.head[lpl * k + 27 * q + b].write_data.next = self.entry4.val();
+                        self.head2[lpl * k + 27 * q + b].write_enable.next =
+                            self.s4_enter[lpl * k + 27 * q + b].q.val();
+                        self.head2[lpl * k + 27 * q + b].write_address.next =
+                            self.s4_bucket[b].q.val();
+                        self.head2[lpl * k + 27 * q + b].write_data.next =
+                            self.old_eff[lpl * k + 27 * q + b].val();
+                        if self.clearing.q.val() {
+                            self.meta[lpl * k + 27 * q + b].write_enable.next = true;
+                            self.meta[lpl * k + 27 * q + b].write_address.next =
+                                self.clear_at.q.val();
+                            self.meta[lpl * k + 27 * q + b].write_data.next = 0.into();
+                            self.head[lpl * k + 27 * q + b].write_enable.next = true;
+                            self.head[lpl * k + 27 * q + b].write_address.next =
+                                self.clear_at.q.val();
+                            self.head[lpl * k + 27 * q + b].write_data.next = 0.into();
+                            self.head2[lpl * k + 27 * q + b].write_enable.next = true;
+                            self.head2[lpl * k + 27 * q + b].write_address.next =
+                                self.clear_at.q.val();
+                            self.head2[lpl * k + 27 * q + b].write_data.next = 0.into();
+                        }
+                        self.s5_enter[lpl * k + 27 * q + b].d.next =
+                            self.s4_enter[lpl * k + 27 * q + b].q.val()
+                                & self.meta_eff[lpl * k + 27 * q + b].val().get_bit(9);
+                        self.s5_wrote[lpl * k + 27 * q + b].d.next =
+                            self.s4_enter[lpl * k + 27 * q + b].q.val();
+                        self.s5_meta_w[lpl * k + 27 * q + b].d.next =
+                            self.meta_new[lpl * k + 27 * q + b].val();
+                        self.s5_live[lpl * k + 27 * q + b].d.next =
+                            self.live[lpl * k + 27 * q + b].val();
+                        self.s5_head[lpl * k + 27 * q + b].d.next =
+                            self.old_eff[lpl * k + 27 * q + b].val();
+                        self.s5_head2[lpl * k + 27 * q + b].d.next =
+                            self.old_eff2[lpl * k + 27 * q + b].val();
+                    }
+                }
+            }
+            self.s5_large.d.next = self.s4_large.q.val();
+            self.s5_lprev.d.next = self.s4_lprev.q.val();
+            self.s5_valid.d.next = self.s4_valid.q.val();
+            self.s5_index.d.next = self.s4_index.q.val();
+            self.s5_margin.d.next = self.s4_margin.q.val();
+            for x in 0..3 {
+                self.s5_min[x].d.next = self.s4_min[x].q.val();
+                self.s5_max[x].d.next = self.s4_max[x].q.val();
+            }
+
+            // K+5: the box's entry is written: the old second of the list it entered (zero where
+            // it entered none), or the chain's old second. (A later box sees the box's entry at its
+            // K+4 at the earliest, and reads it five clocks after that, at its first visit.) A box
+            // with lists to walk is written to the record queue; any other retires. The rest of the
+            // chain is one list (the first), from the large box's successor (`lnext`, `lnext2`).
+            self.succ_acc.next = 0.into();
+            if self.s5_large.q.val() {
+                self.succ_acc.next = self.s5_lprev.q.val();
             }
             for l in 0..self._lists {
-                self.e_rem[l].d.next = self.rd_live[l].val();
-                self.e_head[l].d.next = self.rec[l].read_data.val();
-                self.e_head2[l].d.next = self.rec2[l].read_data.val();
+                self.succ_pick[l].next = 0.into();
+                if self.s5_enter[l].q.val() {
+                    self.succ_pick[l].next = self.s5_head2[l].q.val();
+                }
+                self.succ_acc.next = self.succ_acc.val() | self.succ_pick[l].val();
             }
-        }
-        for b in 0..27 {
-            self.bank_next[b].next = false;
-        }
-        for q in 0..self._groups {
-            for b in 0..27 {
-                self.bank_next[b].next = self.bank_next[b].val() | self.e_rem[27 * q + b].d.val();
+            // Per lane: the box's entry goes to its lane's bank; a record of the lane's lists to
+            // walk to its record queue. The rest of the chains is one list on each lane: its own
+            // chain as left (the lanes before the slow path's box's have none left).
+            self.succ_addr.next = self.s5_index.q.val() >> self.lane_shift.val();
+            for k in 0..self._lanes {
+                self.any_live[k].next = false;
+                for l in 0..self._lpl {
+                    self.any_live[k].next =
+                        self.any_live[k].val() | self.s5_live[lpl * k + l].q.val();
+                }
+                self.succ[k].write_enable.next =
+                    self.s5_valid.q.val() & (self.s5_kind.q.val() == 0) & self.s5_lane[k].q.val();
+                self.succ[k].write_address.next = self.succ_addr.val();
+                self.succ[k].write_data.next = self.succ_acc.val();
+                self.rec_write[k].next = self.s5_valid.q.val()
+                    & (self.any_live[k].val()
+                        | (self.s5_kind.q.val().get_bit(1)
+                            & ((self.lnext[k].q.val() & self.top.val()) != 0)));
+                self.retire_probe[k].next = self.s5_valid.q.val() & !self.rec_write[k].val();
+                for l in 0..self._lpl {
+                    self.rec[lpl * k + l].write_enable.next = self.rec_write[k].val();
+                    self.rec[lpl * k + l].write_address.next = self.wp[k].q.val();
+                    // A list head has the flag bit set; a list not to walk is written as none.
+                    self.rec[lpl * k + l].write_data.next = 0.into();
+                    self.rec2[lpl * k + l].write_enable.next = self.rec_write[k].val();
+                    self.rec2[lpl * k + l].write_address.next = self.wp[k].q.val();
+                    self.rec2[lpl * k + l].write_data.next = 0.into();
+                    if self.s5_live[lpl * k + l].q.val() {
+                        self.rec[lpl * k + l].write_data.next = self.s5_head[lpl * k + l].q.val();
+                        self.rec2[lpl * k + l].write_data.next = self.s5_head2[lpl * k + l].q.val();
+                    }
+                    self.rec[lpl * k + l].read_address.next = self.rp[k].q.val();
+                    self.rec2[lpl * k + l].read_address.next = self.rp[k].q.val();
+                }
+                if self.s5_kind.q.val().get_bit(1) {
+                    self.rec[lpl * k].write_data.next = self.lnext[k].q.val();
+                    self.rec2[lpl * k].write_data.next = self.lnext2[k].q.val();
+                }
+                self.rec_box[k].write_enable.next = self.rec_write[k].val();
+                self.rec_box[k].write_address.next = self.wp[k].q.val();
+                self.rec_box[k].read_address.next = self.rp[k].q.val();
+                self.rec_box[k].in_index.next = self.s5_index.q.val();
+                self.rec_box[k].in_margin.next = self.s5_margin.q.val();
+                self.rec_box[k].in_kind.next = self.s5_kind.q.val();
+                self.rec_box[k].in_min_x.next = self.s5_min[0].q.val();
+                self.rec_box[k].in_min_y.next = self.s5_min[1].q.val();
+                self.rec_box[k].in_min_z.next = self.s5_min[2].q.val();
+                self.rec_box[k].in_max_x.next = self.s5_max[0].q.val();
+                self.rec_box[k].in_max_y.next = self.s5_max[1].q.val();
+                self.rec_box[k].in_max_z.next = self.s5_max[2].q.val();
+                if self.rec_write[k].val() {
+                    self.wp[k].d.next = self.wp[k].q.val() + 1;
+                }
             }
-        }
-        for b in 0..27 {
-            self.bank_left[b].clock.next = self.clock.val();
-            self.bank_left[b].d.next = self.bank_next[b].val();
-        }
 
-        // The walker. The list's next box is known from registers alone (so that no decision
-        // waits for the successor table's block RAM): the first known and not visited (`q0`),
-        // or the second successor of the box visited two clocks before, arriving on the
-        // table's registered output. Else the list is over: the walker takes the list queue's
-        // next (its head now, its second on the next clock, from the queue) or, its record's
-        // last list done, retires the record. (Flags are tested by a mask, not `>= top`: a
-        // compare is a carry chain in synthesis.)
-        self.arrive.next = self.arrive_q.q.val();
-        self.avail.next = self.q0v.q.val() | self.arrive.val();
-        self.need.next = !self.avail.val();
-        self.take.next = self.need.val() & self.lq_fill[0].q.val();
-        self.retire_rec.next = self.need.val() & self.cur_valid.q.val() & self.cur_last.q.val();
-        self.cand.next = self.lq_head.read_data.val();
-        if self.fetch_q.q.val() {
-            self.cand.next = self.lcur.q.val();
-        }
-        if self.arrive.val() {
-            self.cand.next = self.succ_q.q.val();
-        }
-        if self.q0v.q.val() {
-            self.cand.next = self.q0.q.val();
-        }
-        // The box after `cand`: `q1`, the arrival behind `q0`, or a taken list's second.
-        self.after.next = self.succ_q.q.val();
-        if self.q1v.q.val() {
-            self.after.next = self.q1.q.val();
-        }
-        self.after_v.next = self.q1v.q.val() | (self.q0v.q.val() & self.arrive.val());
-        if self.take.val() {
-            self.after.next = self.lq_head2.read_data.val();
-            self.after_v.next = (self.lq_head2.read_data.val() & self.top.val()) != 0;
-        }
-        self.cand_ok.next = self.avail.val() | self.take.val();
-        self.stall.next = self.fifo.almost_full.val();
-        self.go.next = self.cand_ok.val() & !self.stall.val();
-        if self.go.val() {
-            self.q0.d.next = self.after.val();
-            self.q0v.d.next = self.after_v.val();
-            self.q1v.d.next = false;
-        } else {
-            self.q0.d.next = self.cand.val();
-            self.q0v.d.next = self.cand_ok.val();
-            self.q1.d.next = self.after.val();
-            self.q1v.d.next = self.cand_ok.val() & self.after_v.val();
-        }
-        self.r1.d.next = self.go.val();
-        self.arrive_q.d.next =
-            self.r1.q.val() & ((self.succ.read_data_b.val() & self.top.val()) != 0);
-        self.succ_q.d.next = self.succ.read_data_b.val();
-        // The visit's box i: the list's, or the one taken this clock.
-        self.v1_i.d.next = self.cur_index.q.val();
-        self.v1_margin.d.next = self.cur_margin.q.val();
-        self.v1_kind.d.next = self.cur_kind.q.val();
-        for x in 0..3 {
-            self.v1_min[x].d.next = self.cur_min[x].q.val();
-            self.v1_max[x].d.next = self.cur_max[x].q.val();
-        }
-        if self.take.val() {
-            self.lq_rp.d.next = self.lq_rp.q.val() + 1;
-            self.cur_valid.d.next = true;
-            self.cur_last.d.next = self.lq_last.read_data.val();
-            self.cur_index.d.next = self.lq_box.index.val();
-            self.cur_margin.d.next = self.lq_box.margin.val();
-            self.v1_i.d.next = self.lq_box.index.val();
-            self.v1_margin.d.next = self.lq_box.margin.val();
-            self.cur_kind.d.next = self.lq_box.kind.val();
-            self.v1_kind.d.next = self.lq_box.kind.val();
-            for x in 0..3 {
-                self.cur_min[x].d.next = self.lq_box.min[x].val();
-                self.cur_max[x].d.next = self.lq_box.max[x].val();
-                self.v1_min[x].d.next = self.lq_box.min[x].val();
-                self.v1_max[x].d.next = self.lq_box.max[x].val();
+            // The enumerator, per lane: it takes the lane's records in order and writes their
+            // lists to the lane's list queue in the walker's order (bank, then group), each over two
+            // clocks: on a clock it writes none it chooses the next list left (a one-hot), on a
+            // later clock it writes that list, when at most two are queued (so that the write finds
+            // room whatever the walker takes), and whether it is the record's last (no other list
+            // left). It loads the next record on a clock it holds none. Each clock's logic runs from
+            // registers alone: the walker only picks the queue's output.
+            for k in 0..self._lanes {
+                for b in 0..27 {
+                    self.bank_any[27 * k + b].next = false;
+                }
+                for q in 0..self._groups {
+                    for b in 0..27 {
+                        self.group_prior[lpl * k + 27 * q + b].next =
+                            self.bank_any[27 * k + b].val();
+                        self.bank_any[27 * k + b].next = self.bank_any[27 * k + b].val()
+                            | self.e_rem[lpl * k + 27 * q + b].q.val();
+                    }
+                }
+                self.bank_prior[28 * k].next = false;
+                for b in 0..27 {
+                    self.bank_prior[28 * k + b + 1].next =
+                        self.bank_prior[28 * k + b].val() | self.bank_left[27 * k + b].q.val();
+                }
+                for q in 0..self._groups {
+                    for b in 0..27 {
+                        self.e_first[lpl * k + 27 * q + b].next =
+                            self.e_rem[lpl * k + 27 * q + b].q.val()
+                                & !self.group_prior[lpl * k + 27 * q + b].val()
+                                & !self.bank_prior[28 * k + b].val();
+                    }
+                }
+                self.e_push[k].next = self.e_chosen[k].q.val() & !self.lq_fill[3 * k + 2].q.val();
+                self.e_load[k].next = (self.count[k].q.val() != 0) & !self.e_busy[k].q.val();
+                self.e_out[k].next = 0.into();
+                self.e_out2[k].next = 0.into();
+                self.e_more[k].next = false;
+                for l in 0..self._lpl {
+                    self.e_pick[lpl * k + l].next = 0.into();
+                    self.e_pick2[lpl * k + l].next = 0.into();
+                    if self.e_sel[lpl * k + l].q.val() {
+                        self.e_pick[lpl * k + l].next = self.e_head[lpl * k + l].q.val();
+                        self.e_pick2[lpl * k + l].next = self.e_head2[lpl * k + l].q.val();
+                    }
+                    self.e_out[k].next = self.e_out[k].val() | self.e_pick[lpl * k + l].val();
+                    self.e_out2[k].next = self.e_out2[k].val() | self.e_pick2[lpl * k + l].val();
+                    self.e_more[k].next = self.e_more[k].val()
+                        | (self.e_rem[lpl * k + l].q.val() & !self.e_sel[lpl * k + l].q.val());
+                }
+                self.lq_head[k].write_enable.next = self.e_push[k].val();
+                self.lq_head[k].write_address.next = self.lq_wp[k].q.val();
+                self.lq_head[k].write_data.next = self.e_out[k].val();
+                self.lq_head[k].read_address.next = self.lq_rp[k].q.val();
+                self.lq_head2[k].write_enable.next = self.e_push[k].val();
+                self.lq_head2[k].write_address.next = self.lq_wp[k].q.val();
+                self.lq_head2[k].write_data.next = self.e_out2[k].val();
+                self.lq_head2[k].read_address.next = self.lq_rp[k].q.val();
+                self.lq_last[k].write_enable.next = self.e_push[k].val();
+                self.lq_last[k].write_address.next = self.lq_wp[k].q.val();
+                self.lq_last[k].write_data.next = !self.e_more[k].val();
+                self.lq_last[k].read_address.next = self.lq_rp[k].q.val();
+                self.lq_box[k].write_enable.next = self.e_push[k].val();
+                self.lq_box[k].write_address.next = self.lq_wp[k].q.val();
+                self.lq_box[k].read_address.next = self.lq_rp[k].q.val();
+                self.lq_box[k].in_index.next = self.e_index[k].q.val();
+                self.lq_box[k].in_margin.next = self.e_margin[k].q.val();
+                self.lq_box[k].in_kind.next = self.e_kind[k].q.val();
+                self.lq_box[k].in_min_x.next = self.e_min[3 * k].q.val();
+                self.lq_box[k].in_min_y.next = self.e_min[3 * k + 1].q.val();
+                self.lq_box[k].in_min_z.next = self.e_min[3 * k + 2].q.val();
+                self.lq_box[k].in_max_x.next = self.e_max[3 * k].q.val();
+                self.lq_box[k].in_max_y.next = self.e_max[3 * k + 1].q.val();
+                self.lq_box[k].in_max_z.next = self.e_max[3 * k + 2].q.val();
+                if self.e_push[k].val() {
+                    self.lq_wp[k].d.next = self.lq_wp[k].q.val() + 1;
+                    self.e_chosen[k].d.next = false;
+                    if !self.e_more[k].val() {
+                        self.e_busy[k].d.next = false;
+                    }
+                    for l in 0..self._lpl {
+                        if self.e_sel[lpl * k + l].q.val() {
+                            self.e_rem[lpl * k + l].d.next = false;
+                        }
+                    }
+                } else if self.e_busy[k].q.val() {
+                    self.e_chosen[k].d.next = true;
+                    for l in 0..self._lpl {
+                        self.e_sel[lpl * k + l].d.next = self.e_first[lpl * k + l].val();
+                    }
+                }
+                for l in 0..self._lpl {
+                    self.rd_live[lpl * k + l].next =
+                        (self.rec[lpl * k + l].read_data.val() & self.top.val()) != 0;
+                }
+                if self.e_load[k].val() {
+                    self.rp[k].d.next = self.rp[k].q.val() + 1;
+                    self.e_busy[k].d.next = true;
+                    self.e_chosen[k].d.next = false;
+                    self.e_index[k].d.next = self.rec_box[k].index.val();
+                    self.e_margin[k].d.next = self.rec_box[k].margin.val();
+                    self.e_kind[k].d.next = self.rec_box[k].kind.val();
+                    self.e_min[3 * k].d.next = self.rec_box[k].min_x.val();
+                    self.e_min[3 * k + 1].d.next = self.rec_box[k].min_y.val();
+                    self.e_min[3 * k + 2].d.next = self.rec_box[k].min_z.val();
+                    self.e_max[3 * k].d.next = self.rec_box[k].max_x.val();
+                    self.e_max[3 * k + 1].d.next = self.rec_box[k].max_y.val();
+                    self.e_max[3 * k + 2].d.next = self.rec_box[k].max_z.val();
+                    for l in 0..self._lpl {
+                        self.e_rem[lpl * k + l].d.next = self.rd_live[lpl * k + l].val();
+                        self.e_head[lpl * k + l].d.next = self.rec[lpl * k + l].read_data.val();
+                        self.e_head2[lpl * k + l].d.next = self.rec2[lpl * k + l].read_data.val();
+                    }
+                }
+                for b in 0..27 {
+                    self.bank_next[27 * k + b].next = false;
+                }
+                for q in 0..self._groups {
+                    for b in 0..27 {
+                        self.bank_next[27 * k + b].next = self.bank_next[27 * k + b].val()
+                            | self.e_rem[lpl * k + 27 * q + b].d.val();
+                    }
+                }
+                for b in 0..27 {
+                    self.bank_left[27 * k + b].d.next = self.bank_next[27 * k + b].val();
+                }
             }
-        } else if self.retire_rec.val() {
-            self.cur_valid.d.next = false;
-        }
-        if self.e_push.val() & !self.take.val() {
-            self.lq_fill[0].d.next = true;
-            self.lq_fill[1].d.next = self.lq_fill[0].q.val();
-            self.lq_fill[2].d.next = self.lq_fill[1].q.val();
-        }
-        if self.take.val() & !self.e_push.val() {
-            self.lq_fill[0].d.next = self.lq_fill[1].q.val();
-            self.lq_fill[1].d.next = self.lq_fill[2].q.val();
-            self.lq_fill[2].d.next = false;
-        }
-        self.visit.next = self.go.val();
-        self.visit_i.next = bit_cast::<A, C>(self.v1_i.d.val());
-        self.rd_addr.next = bit_cast::<A, C>(self.cand.val());
-        self.succ.read_address_a.next = 0.into();
-        self.succ.read_address_b.next = bit_cast::<A, C>(self.cand.val());
 
-        // Credits and records.
-        self.inflight_up.next = self.accept.val() | self.inject.val();
-        self.inflight_inc.next = self.inflight.q.val() + 1;
-        self.inflight_dec.next = self.inflight.q.val() - 1;
-        self.inflight_dec2.next = self.inflight.q.val() - 2;
-        for k in 0..3 {
-            self.inflight_m[k].next = 0.into();
-        }
-        if self.inflight_up.val() == self.retire_probe.val() {
-            self.inflight_m[0].next = self.ones.val();
-        } else if self.inflight_up.val() {
-            self.inflight_m[1].next = self.ones.val();
-        } else {
-            self.inflight_m[2].next = self.ones.val();
-        }
-        self.inflight_n0.next = (self.inflight.q.val() & self.inflight_m[0].val())
-            | (self.inflight_inc.val() & self.inflight_m[1].val())
-            | (self.inflight_dec.val() & self.inflight_m[2].val());
-        self.inflight_n1.next = (self.inflight_dec.val() & self.inflight_m[0].val())
-            | (self.inflight.q.val() & self.inflight_m[1].val())
-            | (self.inflight_dec2.val() & self.inflight_m[2].val());
-        self.inflight.d.next = self.inflight_n0.val();
-        if self.retire_rec.val() {
-            self.inflight.d.next = self.inflight_n1.val();
-        }
-        self.credit.next = (self.inflight.q.val() & self.credits_used.val()) == 0;
-        self.count_inc.next = self.count.q.val() + 1;
-        self.count_dec.next = self.count.q.val() - 1;
-        for k in 0..3 {
-            self.count_m[k].next = 0.into();
-        }
-        if self.rec_write.val() == self.e_load.val() {
-            self.count_m[0].next = self.ones.val();
-        } else if self.rec_write.val() {
-            self.count_m[1].next = self.ones.val();
-        } else {
-            self.count_m[2].next = self.ones.val();
-        }
-        self.count.d.next = (self.count.q.val() & self.count_m[0].val())
-            | (self.count_inc.val() & self.count_m[1].val())
-            | (self.count_dec.val() & self.count_m[2].val());
-
-        // The key check: V+1 the visited box's keys come from port B; V+2 they are compared
-        // with the walking box's; V+3 a candidate (lower index first) enters the queue.
-        self.v1_valid.d.next = self.go.val();
-        self.v1_j.d.next = bit_cast::<C, A>(bit_cast::<A, C>(self.cand.val()));
-        self.v2_valid.d.next = self.v1_valid.q.val();
-        self.v2_i.d.next = self.v1_i.q.val();
-        self.v2_j.d.next = self.v1_j.q.val();
-        self.v2_margin_i.d.next = self.v1_margin.q.val();
-        self.v2_margin_j.d.next = self.rd_margin.val();
-        self.v2_kind.d.next = self.v1_kind.q.val();
-        self.v2_group_j.d.next = self.rd_group.val();
-        for x in 0..3 {
-            // A round's record holds the round's cells; the large box's keys are the
-            // sequencer's.
-            self.v2_min_i[x].d.next = self.v1_min[x].q.val();
-            self.v2_max_i[x].d.next = self.v1_max[x].q.val();
-            if self.v1_kind.q.val().get_bit(0) {
-                self.v2_min_i[x].d.next = self.lk_min[x].q.val();
-                self.v2_max_i[x].d.next = self.lk_max[x].q.val();
+            // The walker, per lane. The list's next box is known from registers alone (so that no
+            // decision waits for the successor table's block RAM): the first known and not visited
+            // (`q0`), or the second successor of the box visited two clocks before, arriving on the
+            // table's registered output. Else the list is over: the walker takes the list queue's
+            // next (its head now, its second on the next clock, from the queue) or, its record's
+            // last list done, retires the record. (Flags are tested by a mask, not `>= top`: a
+            // compare is a carry chain in synthesis.) A fetch of the slow path puts its box's
+            // address on every lane's port B (all are idle); the sequencer takes its lane's.
+            for k in 0..self._lanes {
+                self.arrive[k].next = self.arrive_q[k].q.val();
+                self.avail[k].next = self.q0v[k].q.val() | self.arrive[k].val();
+                self.need[k].next = !self.avail[k].val();
+                self.take[k].next = self.need[k].val() & self.lq_fill[3 * k].q.val();
+                self.retire_rec[k].next =
+                    self.need[k].val() & self.cur_valid[k].q.val() & self.cur_last[k].q.val();
+                self.cand[k].next = self.lq_head[k].read_data.val();
+                if self.fetch_q.q.val() {
+                    self.cand[k].next = self.lcur.q.val();
+                }
+                if self.arrive[k].val() {
+                    self.cand[k].next = self.succ_q[k].q.val();
+                }
+                if self.q0v[k].q.val() {
+                    self.cand[k].next = self.q0[k].q.val();
+                }
+                // The box after `cand`: `q1`, the arrival behind `q0`, or a taken list's second.
+                self.after[k].next = self.succ_q[k].q.val();
+                if self.q1v[k].q.val() {
+                    self.after[k].next = self.q1[k].q.val();
+                }
+                self.after_v[k].next =
+                    self.q1v[k].q.val() | (self.q0v[k].q.val() & self.arrive[k].val());
+                if self.take[k].val() {
+                    self.after[k].next = self.lq_head2[k].read_data.val();
+                    self.after_v[k].next = (self.lq_head2[k].read_data.val() & self.top.val()) != 0;
+                }
+                self.cand_ok[k].next = self.avail[k].val() | self.take[k].val();
+                self.stall[k].next = self.fifo[k].almost_full.val();
+                self.go[k].next = self.cand_ok[k].val() & !self.stall[k].val();
+                if self.go[k].val() {
+                    self.q0[k].d.next = self.after[k].val();
+                    self.q0v[k].d.next = self.after_v[k].val();
+                    self.q1v[k].d.next = false;
+                } else {
+                    self.q0[k].d.next = self.cand[k].val();
+                    self.q0v[k].d.next = self.cand_ok[k].val();
+                    self.q1[k].d.next = self.after[k].val();
+                    self.q1v[k].d.next = self.cand_ok[k].val() & self.after_v[k].val();
+                }
+                self.r1[k].d.next = self.go[k].val();
+                self.arrive_q[k].d.next =
+                    self.r1[k].q.val() & ((self.succ[k].read_data_b.val() & self.top.val()) != 0);
+                self.succ_q[k].d.next = self.succ[k].read_data_b.val();
+                // The visit's box i: the list's, or the one taken this clock.
+                self.v1_i[k].d.next = self.cur_index[k].q.val();
+                self.v1_margin[k].d.next = self.cur_margin[k].q.val();
+                self.v1_kind[k].d.next = self.cur_kind[k].q.val();
+                for x in 0..3 {
+                    self.v1_min[3 * k + x].d.next = self.cur_min[3 * k + x].q.val();
+                    self.v1_max[3 * k + x].d.next = self.cur_max[3 * k + x].q.val();
+                }
+                if self.take[k].val() {
+                    self.lq_rp[k].d.next = self.lq_rp[k].q.val() + 1;
+                    self.cur_valid[k].d.next = true;
+                    self.cur_last[k].d.next = self.lq_last[k].read_data.val();
+                    self.cur_index[k].d.next = self.lq_box[k].index.val();
+                    self.cur_margin[k].d.next = self.lq_box[k].margin.val();
+                    self.v1_i[k].d.next = self.lq_box[k].index.val();
+                    self.v1_margin[k].d.next = self.lq_box[k].margin.val();
+                    self.cur_kind[k].d.next = self.lq_box[k].kind.val();
+                    self.v1_kind[k].d.next = self.lq_box[k].kind.val();
+                    self.cur_min[3 * k].d.next = self.lq_box[k].min_x.val();
+                    self.cur_min[3 * k + 1].d.next = self.lq_box[k].min_y.val();
+                    self.cur_min[3 * k + 2].d.next = self.lq_box[k].min_z.val();
+                    self.cur_max[3 * k].d.next = self.lq_box[k].max_x.val();
+                    self.cur_max[3 * k + 1].d.next = self.lq_box[k].max_y.val();
+                    self.cur_max[3 * k + 2].d.next = self.lq_box[k].max_z.val();
+                    self.v1_min[3 * k].d.next = self.lq_box[k].min_x.val();
+                    self.v1_min[3 * k + 1].d.next = self.lq_box[k].min_y.val();
+                    self.v1_min[3 * k + 2].d.next = self.lq_box[k].min_z.val();
+                    self.v1_max[3 * k].d.next = self.lq_box[k].max_x.val();
+                    self.v1_max[3 * k + 1].d.next = self.lq_box[k].max_y.val();
+                    self.v1_max[3 * k + 2].d.next = self.lq_box[k].max_z.val();
+                } else if self.retire_rec[k].val() {
+                    self.cur_valid[k].d.next = false;
+                }
+                if self.e_push[k].val() & !self.take[k].val() {
+                    self.lq_fill[3 * k].d.next = true;
+                    self.lq_fill[3 * k + 1].d.next = self.lq_fill[3 * k].q.val();
+                    self.lq_fill[3 * k + 2].d.next = self.lq_fill[3 * k + 1].q.val();
+                }
+                if self.take[k].val() & !self.e_push[k].val() {
+                    self.lq_fill[3 * k].d.next = self.lq_fill[3 * k + 1].q.val();
+                    self.lq_fill[3 * k + 1].d.next = self.lq_fill[3 * k + 2].q.val();
+                    self.lq_fill[3 * k + 2].d.next = false;
+                }
+                self.rd_address[k].next =
+                    (self.cand[k].val() & self.index_mask.val()) >> self.lane_shift.val();
+                self.succ[k].read_address_a.next = 0.into();
+                self.succ[k].read_address_b.next = self.rd_address[k].val();
+                for x in 0..3 {
+                    self.kt_min[3 * k + x].read_address_b.next = self.rd_address[k].val();
+                    self.kt_max[3 * k + x].read_address_b.next = self.rd_address[k].val();
+                }
+                self.kt_margin[k].read_address_b.next = self.rd_address[k].val();
+                self.kt_group[k].read_address_b.next = self.rd_address[k].val();
             }
-            self.wl_cell[x].next = self.v1_min[x].q.val() >> self.cell_bits.val();
-            self.wl_keep[x].next = 0.into();
-            if self.wl_cell[x].val().any() {
-                self.wl_keep[x].next = self.center_ones.val();
+            // The visits, lane by lane, for the tests; their count, for the core.
+            self.visit_acc.next = 0.into();
+            for m in 0..4 {
+                self.vis_pack_i[m].next = 0.into();
+                self.vis_pack_j[m].next = 0.into();
             }
-            self.v2_wl[x].d.next = (self.wl_cell[x].val() - 1) & self.wl_keep[x].val();
-            self.v2_wh[x].d.next = self.v1_max[x].q.val() >> self.cell_bits.val();
-            self.v2_jc[x].d.next = self.rd_min[x].val() >> self.cell_bits.val();
-            self.v2_min_j[x].d.next = self.rd_min[x].val();
-            self.v2_max_j[x].d.next = self.rd_max[x].val();
-        }
-        self.overlap.next = (self.v2_min_i[0].q.val() <= self.v2_max_j[0].q.val())
-            & (self.v2_min_j[0].q.val() <= self.v2_max_i[0].q.val())
-            & (self.v2_min_i[1].q.val() <= self.v2_max_j[1].q.val())
-            & (self.v2_min_j[1].q.val() <= self.v2_max_i[1].q.val())
-            & (self.v2_min_i[2].q.val() <= self.v2_max_j[2].q.val())
-            & (self.v2_min_j[2].q.val() <= self.v2_max_i[2].q.val());
-        self.swap.next = self.v2_i.q.val() < self.v2_j.q.val();
-        self.cand_lo.next = bit_cast::<INDEX, C>(self.v2_j.q.val());
-        self.cand_hi.next = bit_cast::<INDEX, C>(self.v2_i.q.val());
-        self.margin_lo.next = self.v2_margin_j.q.val();
-        self.margin_hi.next = self.v2_margin_i.q.val();
-        if self.swap.val() {
-            self.cand_lo.next = bit_cast::<INDEX, C>(self.v2_i.q.val());
-            self.cand_hi.next = bit_cast::<INDEX, C>(self.v2_j.q.val());
-            self.margin_lo.next = self.v2_margin_i.q.val();
-            self.margin_hi.next = self.v2_margin_j.q.val();
-        }
-        self.cand_word.next = (bit_cast::<CAND, INDEX>(self.cand_lo.val()) << self.at_a.val())
-            | (bit_cast::<CAND, INDEX>(self.cand_hi.val()) << self.at_b.val())
-            | (bit_cast::<CAND, MARGIN>(self.margin_lo.val()) << self.at_ma.val())
-            | bit_cast::<CAND, MARGIN>(self.margin_hi.val());
-        // A round passes a box whose home cell is in it; the chain's boxes pass if the mask
-        // pairs the groups.
-        self.home_ok.next = (self.v2_wl[0].q.val() <= self.v2_jc[0].q.val())
-            & (self.v2_jc[0].q.val() <= self.v2_wh[0].q.val())
-            & (self.v2_wl[1].q.val() <= self.v2_jc[1].q.val())
-            & (self.v2_jc[1].q.val() <= self.v2_wh[1].q.val())
-            & (self.v2_wl[2].q.val() <= self.v2_jc[2].q.val())
-            & (self.v2_jc[2].q.val() <= self.v2_wh[2].q.val());
-        self.mask_row.next = self.mask.val()
-            >> ((bit_cast::<MASK, GROUP>(self.lgroup.q.val()) << 3_u64)
-                | bit_cast::<MASK, GROUP>(self.v2_group_j.q.val()));
-        self.mask_ok.next = self.mask_row.val().get_bit(0);
-        self.pass.next = self.overlap.val()
-            & (self.home_ok.val() | !self.v2_kind.q.val().get_bit(0))
-            & (self.mask_ok.val() | !self.v2_kind.q.val().get_bit(1));
-        self.v3_write.d.next = self.v2_valid.q.val() & self.pass.val();
-        self.v3_word.d.next = self.cand_word.val();
-        self.fifo.write.next = self.v3_write.q.val();
-        self.fifo.data_in.next = self.v3_word.q.val();
-        self.fifo.ready.next = self.cand_ready.val();
-        self.cand_valid.next = self.fifo.valid.val();
-        self.unpack_a.next = self.fifo.data_out.val() >> self.at_a.val();
-        self.unpack_b.next = self.fifo.data_out.val() >> self.at_b.val();
-        self.unpack_ma.next = self.fifo.data_out.val() >> self.at_ma.val();
-        self.cand_a.next = bit_cast::<A, CAND>(self.unpack_a.val());
-        self.cand_b.next = bit_cast::<A, CAND>(self.unpack_b.val());
-        self.cand_ma.next = bit_cast::<MARGIN, CAND>(self.unpack_ma.val());
-        self.cand_mb.next = bit_cast::<MARGIN, CAND>(self.fifo.data_out.val());
+            self.visited_acc.next = 0.into();
+            for k in 0..self._lanes {
+                self.vis_i[k].value.next = self.v1_i[k].d.val();
+                self.vis_j[k].value.next = self.cand[k].val() & self.index_mask.val();
+                if self.go[k].val() {
+                    self.visit_acc.next = self.visit_acc.val() | self.lane_bit[k].val();
+                }
+                if self.v1_valid[k].q.val() {
+                    self.visited_acc.next = self.visited_acc.val() + 1;
+                }
+                self.vis_pack_i[k / 2].next = self.vis_pack_i[k / 2].val()
+                    | (self.vis_i[k].resized.val() << self.lane_at[k].val());
+                self.vis_pack_j[k / 2].next = self.vis_pack_j[k / 2].val()
+                    | (self.vis_j[k].resized.val() << self.lane_at[k].val());
+            }
+            self.visit.next = self.visit_acc.val();
+            self.visit_i0.next = self.vis_pack_i[0].val();
+            self.visit_i1.next = self.vis_pack_i[1].val();
+            self.visit_i2.next = self.vis_pack_i[2].val();
+            self.visit_i3.next = self.vis_pack_i[3].val();
+            self.visit_j0.next = self.vis_pack_j[0].val();
+            self.visit_j1.next = self.vis_pack_j[1].val();
+            self.visit_j2.next = self.vis_pack_j[2].val();
+            self.visit_j3.next = self.vis_pack_j[3].val();
+            self.visited.next = self.visited_acc.val();
 
-        // The end: every box accepted and retired, the slow path over; then the clear, one
-        // bucket a clock.
-        self.done_walk.next = self.idle.val()
-            & ((self.slow.q.val() == SlowState::Over)
-                | ((self.slow.q.val() == SlowState::Fetch)
-                    & ((self.lnext.q.val() & self.top.val()) == 0)));
-        self.walked.next = self.done_walk.val();
-        if self.done_walk.val() & !self.clearing.q.val() & !self.cleared.q.val() {
-            self.clearing.d.next = true;
-            self.clear_at.d.next = 0.into();
-        }
-        if self.clearing.q.val() {
-            self.clear_at.d.next = self.clear_at.q.val() + 1;
-            if self.clear_at.q.val() == self.last_bucket.val() {
+            // Credits and records, per lane. A box is accepted when every lane has a credit.
+            self.inflight_up.next = self.accept.val() | self.inject.val();
+            self.credit_acc.next = true;
+            for k in 0..self._lanes {
+                self.inflight_inc[k].next = self.inflight[k].q.val() + 1;
+                self.inflight_dec[k].next = self.inflight[k].q.val() - 1;
+                self.inflight_dec2[k].next = self.inflight[k].q.val() - 2;
+                for m in 0..3 {
+                    self.inflight_m[3 * k + m].next = 0.into();
+                }
+                if self.inflight_up.val() == self.retire_probe[k].val() {
+                    self.inflight_m[3 * k].next = self.ones.val();
+                } else if self.inflight_up.val() {
+                    self.inflight_m[3 * k + 1].next = self.ones.val();
+                } else {
+                    self.inflight_m[3 * k + 2].next = self.ones.val();
+                }
+                self.inflight_n0[k].next = (self.inflight[k].q.val()
+                    & self.inflight_m[3 * k].val())
+                    | (self.inflight_inc[k].val() & self.inflight_m[3 * k + 1].val())
+                    | (self.inflight_dec[k].val() & self.inflight_m[3 * k + 2].val());
+                self.inflight_n1[k].next = (self.inflight_dec[k].val()
+                    & self.inflight_m[3 * k].val())
+                    | (self.inflight[k].q.val() & self.inflight_m[3 * k + 1].val())
+                    | (self.inflight_dec2[k].val() & self.inflight_m[3 * k + 2].val());
+                self.inflight[k].d.next = self.inflight_n0[k].val();
+                if self.retire_rec[k].val() {
+                    self.inflight[k].d.next = self.inflight_n1[k].val();
+                }
+                self.credit_acc.next = self.credit_acc.val()
+                    & ((self.inflight[k].q.val() & self.credits_used.val()) == 0);
+                self.count_inc[k].next = self.count[k].q.val() + 1;
+                self.count_dec[k].next = self.count[k].q.val() - 1;
+                for m in 0..3 {
+                    self.count_m[3 * k + m].next = 0.into();
+                }
+                if self.rec_write[k].val() == self.e_load[k].val() {
+                    self.count_m[3 * k].next = self.ones.val();
+                } else if self.rec_write[k].val() {
+                    self.count_m[3 * k + 1].next = self.ones.val();
+                } else {
+                    self.count_m[3 * k + 2].next = self.ones.val();
+                }
+                self.count[k].d.next = (self.count[k].q.val() & self.count_m[3 * k].val())
+                    | (self.count_inc[k].val() & self.count_m[3 * k + 1].val())
+                    | (self.count_dec[k].val() & self.count_m[3 * k + 2].val());
+            }
+            self.credit.next = self.credit_acc.val();
+
+            // The key check, per lane: V+1 the visited box's keys come from the lane's banks;
+            // V+2 they are compared with the walking box's; V+3 a candidate (lower index first)
+            // enters the lane's candidate queue. A round passes a box whose home cell is in it;
+            // the chain's boxes pass if the mask pairs the groups (`lrow`: the mask's row of the
+            // slow path's box's group).
+            self.lrow.next =
+                self.mask.val() >> (bit_cast::<MASK, GROUP>(self.lgroup.q.val()) << 3_u64);
+            for k in 0..self._lanes {
+                self.v1_valid[k].d.next = self.go[k].val();
+                self.v1_j[k].d.next = self.cand[k].val() & self.index_mask.val();
+                self.v2_valid[k].d.next = self.v1_valid[k].q.val();
+                self.v2_i[k].d.next = self.v1_i[k].q.val();
+                self.v2_j[k].d.next = self.v1_j[k].q.val();
+                self.v2_margin_i[k].d.next = self.v1_margin[k].q.val();
+                self.v2_margin_j[k].d.next = self.rd_margin[k].val();
+                self.v2_kind[k].d.next = self.v1_kind[k].q.val();
+                self.v2_group_j[k].d.next = self.rd_group[k].val();
+                for x in 0..3 {
+                    // A round's record holds the round's cells; the large box's keys are the
+                    // sequencer's.
+                    self.v2_min_i[3 * k + x].d.next = self.v1_min[3 * k + x].q.val();
+                    self.v2_max_i[3 * k + x].d.next = self.v1_max[3 * k + x].q.val();
+                    if self.v1_kind[k].q.val().get_bit(0) {
+                        self.v2_min_i[3 * k + x].d.next = self.lk_min[x].q.val();
+                        self.v2_max_i[3 * k + x].d.next = self.lk_max[x].q.val();
+                    }
+                    self.wl_cell[3 * k + x].next =
+                        self.v1_min[3 * k + x].q.val() >> self.cell_bits.val();
+                    self.wl_keep[3 * k + x].next = 0.into();
+                    if self.wl_cell[3 * k + x].val().any() {
+                        self.wl_keep[3 * k + x].next = self.center_ones.val();
+                    }
+                    self.v2_wl[3 * k + x].d.next =
+                        (self.wl_cell[3 * k + x].val() - 1) & self.wl_keep[3 * k + x].val();
+                    self.v2_wh[3 * k + x].d.next =
+                        self.v1_max[3 * k + x].q.val() >> self.cell_bits.val();
+                    self.v2_jc[3 * k + x].d.next =
+                        self.rd_min[3 * k + x].val() >> self.cell_bits.val();
+                    self.v2_min_j[3 * k + x].d.next = self.rd_min[3 * k + x].val();
+                    self.v2_max_j[3 * k + x].d.next = self.rd_max[3 * k + x].val();
+                }
+                self.overlap[k].next = (self.v2_min_i[3 * k].q.val()
+                    <= self.v2_max_j[3 * k].q.val())
+                    & (self.v2_min_j[3 * k].q.val() <= self.v2_max_i[3 * k].q.val())
+                    & (self.v2_min_i[3 * k + 1].q.val() <= self.v2_max_j[3 * k + 1].q.val())
+                    & (self.v2_min_j[3 * k + 1].q.val() <= self.v2_max_i[3 * k + 1].q.val())
+                    & (self.v2_min_i[3 * k + 2].q.val() <= self.v2_max_j[3 * k + 2].q.val())
+                    & (self.v2_min_j[3 * k + 2].q.val() <= self.v2_max_i[3 * k + 2].q.val());
+                self.swap[k].next = self.v2_i[k].q.val() < self.v2_j[k].q.val();
+                self.cand_lo[k].next = self.v2_j[k].q.val();
+                self.cand_hi[k].next = self.v2_i[k].q.val();
+                self.margin_lo[k].next = self.v2_margin_j[k].q.val();
+                self.margin_hi[k].next = self.v2_margin_i[k].q.val();
+                if self.swap[k].val() {
+                    self.cand_lo[k].next = self.v2_i[k].q.val();
+                    self.cand_hi[k].next = self.v2_j[k].q.val();
+                    self.margin_lo[k].next = self.v2_margin_i[k].q.val();
+                    self.margin_hi[k].next = self.v2_margin_j[k].q.val();
+                }
+                self.pack_lo[k].value.next = self.cand_lo[k].val();
+                self.pack_hi[k].value.next = self.cand_hi[k].val();
+                self.pack_mlo[k].value.next = self.margin_lo[k].val();
+                self.pack_mhi[k].value.next = self.margin_hi[k].val();
+                self.cand_word[k].next = (self.pack_lo[k].resized.val() << self.at_a.val())
+                    | (self.pack_hi[k].resized.val() << self.at_b.val())
+                    | (self.pack_mlo[k].resized.val() << self.at_ma.val())
+                    | self.pack_mhi[k].resized.val();
+                self.home_ok[k].next = (self.v2_wl[3 * k].q.val() <= self.v2_jc[3 * k].q.val())
+                    & (self.v2_jc[3 * k].q.val() <= self.v2_wh[3 * k].q.val())
+                    & (self.v2_wl[3 * k + 1].q.val() <= self.v2_jc[3 * k + 1].q.val())
+                    & (self.v2_jc[3 * k + 1].q.val() <= self.v2_wh[3 * k + 1].q.val())
+                    & (self.v2_wl[3 * k + 2].q.val() <= self.v2_jc[3 * k + 2].q.val())
+                    & (self.v2_jc[3 * k + 2].q.val() <= self.v2_wh[3 * k + 2].q.val());
+                self.mask_row[k].next = self.lrow.val() >> self.v2_group_j[k].q.val();
+                self.mask_ok[k].next = self.mask_row[k].val().get_bit(0);
+                self.pass[k].next = self.overlap[k].val()
+                    & (self.home_ok[k].val() | !self.v2_kind[k].q.val().get_bit(0))
+                    & (self.mask_ok[k].val() | !self.v2_kind[k].q.val().get_bit(1));
+                self.v3_write[k].d.next = self.v2_valid[k].q.val() & self.pass[k].val();
+                self.v3_word[k].d.next = self.cand_word[k].val();
+                self.fifo[k].write.next = self.v3_write[k].q.val();
+                self.fifo[k].data_in.next = self.v3_word[k].q.val();
+            }
+            // The candidate stream: the lowest lane with a candidate on its queue's output issues it.
+            // `out_valid` is its own OR of the queues' flags, not the last of the `lower` chain:
+            // Verilator orders this block by groups of statements linked through the signals they
+            // write, and the core's ready depends on `cand_valid`, so `cand_valid` must share no
+            // written signal with the queues' ready terms below (else UNOPTFLAT, a loop).
+            self.lower[0].next = false;
+            self.out_word.next = 0.into();
+            self.out_valid.next = false;
+            for k in 0..self._lanes {
+                self.issuer[k].next = self.fifo[k].valid.val() & !self.lower[k].val();
+                self.lower[k + 1].next = self.lower[k].val() | self.fifo[k].valid.val();
+                self.out_pick[k].next = 0.into();
+                if self.issuer[k].val() {
+                    self.out_pick[k].next = self.fifo[k].data_out.val();
+                }
+                self.out_word.next = self.out_word.val() | self.out_pick[k].val();
+                self.out_valid.next = self.out_valid.val() | self.fifo[k].valid.val();
+            }
+            self.cand_valid.next = self.out_valid.val();
+            self.unpack_a.next = self.out_word.val() >> self.at_a.val();
+            self.unpack_b.next = self.out_word.val() >> self.at_b.val();
+            self.unpack_ma.next = self.out_word.val() >> self.at_ma.val();
+            self.cand_a.next = bit_cast::<A, CAND>(self.unpack_a.val());
+            self.cand_b.next = bit_cast::<A, CAND>(self.unpack_b.val());
+            self.cand_ma.next = bit_cast::<MARGIN, CAND>(self.unpack_ma.val());
+            self.cand_mb.next = bit_cast::<MARGIN, CAND>(self.out_word.val());
+            for k in 0..self._lanes {
+                self.fifo[k].ready.next = self.cand_ready.val() & self.issuer[k].val();
+            }
+
+            // The end: every box accepted and retired, the slow path over; then the clear, one
+            // bucket a clock.
+            self.done_walk.next = self.idle.val()
+                & ((self.slow.q.val() == SlowState::Over)
+                    | ((self.slow.q.val() == SlowState::Fetch) & !self.large_left.val()));
+            self.walked.next = self.done_walk.val();
+            if self.done_walk.val() & !self.clearing.q.val() & !self.cleared.q.val() {
+                self.clearing.d.next = true;
+                self.clear_at.d.next = 0.into();
+            }
+            if self.clearing.q.val() {
+                self.clear_at.d.next = self.clear_at.q.val() + 1;
+                if self.clear_at.q.val() == self.last_bucket.val() {
+                    self.clearing.d.next = false;
+                    self.cleared.d.next = true;
+                }
+            }
+            self.drained.next = self.cleared.q.val();
+            for k in 0..self._lanes {
+                self.drained.next = self.drained.val()
+                    & self.fifo[k].empty.val()
+                    & !self.v1_valid[k].q.val()
+                    & !self.v2_valid[k].q.val()
+                    & !self.v3_write[k].q.val();
+            }
+            self.finished.next = self.drained.val();
+            self.too_wide.next = self.wide.q.val();
+            if self.start.val() {
                 self.clearing.d.next = false;
-                self.cleared.d.next = true;
+                self.cleared.d.next = false;
+                self.slow.d.next = SlowState::Fetch;
+                self.wide.d.next = false;
+                for k in 0..self._lanes {
+                    self.wp[k].d.next = 0.into();
+                    self.rp[k].d.next = 0.into();
+                    self.count[k].d.next = 0.into();
+                    self.inflight[k].d.next = 0.into();
+                    self.cur_valid[k].d.next = false;
+                    self.e_busy[k].d.next = false;
+                    self.e_chosen[k].d.next = false;
+                    self.lq_wp[k].d.next = 0.into();
+                    self.lq_rp[k].d.next = 0.into();
+                    for m in 0..3 {
+                        self.lq_fill[3 * k + m].d.next = false;
+                    }
+                    self.q0v[k].d.next = false;
+                    self.q1v[k].d.next = false;
+                    self.r1[k].d.next = false;
+                    self.arrive_q[k].d.next = false;
+                    self.lnext[k].d.next = 0.into();
+                    self.lnext2[k].d.next = 0.into();
+                }
             }
-        }
-        self.finished.next = self.cleared.q.val()
-            & self.fifo.empty.val()
-            & !self.v1_valid.q.val()
-            & !self.v2_valid.q.val()
-            & !self.v3_write.q.val();
-        self.too_wide.next = self.wide.q.val();
-        if self.start.val() {
-            self.wp.d.next = 0.into();
-            self.rp.d.next = 0.into();
-            self.count.d.next = 0.into();
-            self.inflight.d.next = 0.into();
-            self.cur_valid.d.next = false;
-            self.e_busy.d.next = false;
-            self.e_chosen.d.next = false;
-            self.lq_wp.d.next = 0.into();
-            self.lq_rp.d.next = 0.into();
-            for k in 0..3 {
-                self.lq_fill[k].d.next = false;
-            }
-            self.q0v.d.next = false;
-            self.q1v.d.next = false;
-            self.r1.d.next = false;
-            self.arrive_q.d.next = false;
-            self.clearing.d.next = false;
-            self.cleared.d.next = false;
-            self.slow.d.next = SlowState::Fetch;
-            self.lnext.d.next = 0.into();
-            self.lnext2.d.next = 0.into();
-            self.wide.d.next = false;
         }
     }
 }

@@ -16,6 +16,7 @@ pub mod leaf;
 pub mod pair_fifo;
 pub mod projection;
 pub mod radix;
+pub mod resize;
 pub mod sat;
 pub mod sat_back;
 pub mod sat_front;

@@ -7,12 +7,14 @@
 //!
 //! Reads take one clock and see the memory before the same clock's write ("read first", the
 //! RAMB36E1's READ_FIRST mode, which yosys maps with no bypass logic). A Rust simulation model
-//! plus hand-written Verilog, co-simulated in `tests/leaves.rs`.
+//! plus hand-written Verilog, co-simulated in `tests/leaves.rs`. `with_depth` makes a table of
+//! fewer entries than the address reaches (the grid's per-lane banks: the caller never
+//! addresses beyond them).
 
 use rust_hdl::prelude::*;
 use std::collections::BTreeMap;
 
-#[derive(LogicBlock, Default)]
+#[derive(LogicBlock)]
 pub struct TableRam<D: Synth, const A: usize> {
     pub clock: Signal<In, Clock>,
     pub write_enable: Signal<In, Bit>,
@@ -25,6 +27,36 @@ pub struct TableRam<D: Synth, const A: usize> {
     pub read_data_b: Signal<Out, D>,
     /// The simulation model's memory (not a port: rust-hdl skips fields named with `_`).
     _mem: BTreeMap<Bits<A>, D>,
+    /// Entries held.
+    _depth: u64,
+}
+
+impl<D: Synth, const A: usize> Default for TableRam<D, A> {
+    fn default() -> Self {
+        Self::with_depth(1 << A)
+    }
+}
+
+impl<D: Synth, const A: usize> TableRam<D, A> {
+    /// A table of `depth` entries, at most `2^A`.
+    pub fn with_depth(depth: u64) -> Self {
+        assert!(
+            depth <= 1 << A,
+            "{depth} entries need more than {A} address bits"
+        );
+        TableRam {
+            clock: Default::default(),
+            write_enable: Default::default(),
+            write_address: Default::default(),
+            write_data: Default::default(),
+            read_address_a: Default::default(),
+            read_address_b: Default::default(),
+            read_data_a: Default::default(),
+            read_data_b: Default::default(),
+            _mem: BTreeMap::new(),
+            _depth: depth,
+        }
+    }
 }
 
 impl<D: Synth, const A: usize> Logic for TableRam<D, A> {
@@ -67,7 +99,7 @@ end
 ",
             d = D::BITS - 1,
             a = A - 1,
-            last = (1u64 << A) - 1,
+            last = self._depth - 1,
         ))
     }
 }

@@ -290,16 +290,8 @@ fn sweep_core_matches_the_model() {
 /// no box, the touching cases; each frame's load held by the credits as the model holds it.
 #[test]
 fn grid_core_matches_the_model() {
-    let cfg = HwConfig {
-        capacity: 1 << A,
-        broad_phase: BroadPhase::Grid,
-        groups: obb_model::GroupMask::All,
-        grid_hash_bits: 4,
-        grid_cell_mm: 16.0,
-        ..HwConfig::default()
-    };
     run(
-        &cfg,
+        &grid_all_pairs(1),
         &[
             frame_of("surgical", surgical(300, 11).unwrap()),
             frame_of("dense", three_groups(dense(120))),
@@ -321,6 +313,42 @@ fn grid_core_matches_the_model() {
             ),
         ],
     );
+}
+
+/// The grid with four walker lanes, every group pair: each lane's lists, walker and candidate
+/// queue, the candidates issued lowest lane first, the visits counted several a clock; the
+/// large boxes chained per lane.
+#[test]
+fn grid_core_with_lanes_matches_the_model() {
+    run(
+        &grid_all_pairs(4),
+        &[
+            frame_of("surgical", surgical(300, 11).unwrap()),
+            Frame {
+                name: "dense, throttled",
+                scene: three_groups(dense(120)),
+                ready_every: 8,
+            },
+            frame_of(
+                "a box larger than a cell, first",
+                with_plate(touching_pairs(), true),
+            ),
+            frame_of("no box", Scene { obbs: vec![] }),
+        ],
+    );
+}
+
+/// The grid, every group pair, 16 mm cells, 16 buckets a bank, `lanes` walker lanes.
+fn grid_all_pairs(lanes: u32) -> HwConfig {
+    HwConfig {
+        capacity: 1 << A,
+        broad_phase: BroadPhase::Grid,
+        groups: obb_model::GroupMask::All,
+        grid_hash_bits: 4,
+        grid_cell_mm: 16.0,
+        lanes,
+        ..HwConfig::default()
+    }
 }
 
 /// `scene` and a plate larger than a 16 mm cell, touching its first box, before or after it.

@@ -1,10 +1,11 @@
 //! The grid block (`GridPhase`) against the model's walk and clocks
 //! (`obb_model::fixed::grid`, `grid_clocks::grid_schedule`): driven clock by clock with the
 //! inputs the core gives it on the model's schedule (accepts, keys out of the projection, the
-//! key table's port B, the candidate queue drained on clocks with no accept), in rust-hdl and
-//! as Verilog in Verilator. Both must agree on every output on every clock, and equal the
-//! model: the credits, every visit (clock, walking box, visited box), every candidate issued
-//! (clock, pair, margins) and the clock the frame is over.
+//! candidate queue drained on clocks with no accept), in rust-hdl and as Verilog in Verilator,
+//! with one walker lane and with several. Both must agree on every output on every clock, and
+//! equal the model: the credits, every visit (clock, lane's walking box, visited box), the
+//! visits counted, every candidate issued (clock, pair, margins) and the clock the frame is
+//! over.
 
 mod common;
 
@@ -35,11 +36,6 @@ fn input_ports() -> Vec<Port> {
     }
     p.push(Port::new("key_margin", MARGIN));
     p.push(Port::new("key_group", 3));
-    for name in ["rd_min", "rd_max"] {
-        p.extend(axes(name));
-    }
-    p.push(Port::new("rd_margin", MARGIN));
-    p.push(Port::new("rd_group", 3));
     p.push(Port::new("cand_ready", 1));
     p
 }
@@ -55,9 +51,16 @@ fn axes(name: &str) -> Vec<Port> {
 fn output_ports() -> Vec<Port> {
     vec![
         Port::new("credit", 1),
-        Port::new("visit", 1),
-        Port::new("visit_i", A),
-        Port::new("rd_addr", A),
+        Port::new("visit", 8),
+        Port::new("visit_i0", 64),
+        Port::new("visit_i1", 64),
+        Port::new("visit_i2", 64),
+        Port::new("visit_i3", 64),
+        Port::new("visit_j0", 64),
+        Port::new("visit_j1", 64),
+        Port::new("visit_j2", 64),
+        Port::new("visit_j3", 64),
+        Port::new("visited", 4),
         Port::new("cand_valid", 1),
         Port::new("cand_a", A),
         Port::new("cand_b", A),
@@ -75,9 +78,9 @@ struct Case {
     vectors: Vec<Vec<u64>>,
     /// Clock by clock: a box accepted.
     accept: Vec<bool>,
-    /// Per visit: clock, i, j.
+    /// Per visit: clock, i, j (in that order: with several lanes, a clock makes several).
     visits: Vec<(u64, u64, u64)>,
-    /// Per candidate: clock, a, b.
+    /// Per candidate: clock, a, b (in clock order).
     issues: Vec<(u64, u64, u64)>,
     finished: u64,
     /// The clock from which `too_wide` is high (the slow path planned a window too wide).
@@ -98,12 +101,13 @@ fn case(scene: &Scene, cfg: &HwConfig, mask: &GroupMask) -> Case {
     let finished = cleared.max(s.issues.last().map_or(0, |&t| t + 1));
     let clocks = finished + 5;
     let n = frame.obbs.len();
-    let visits: Vec<(u64, u64, u64)> = s
+    let mut visits: Vec<(u64, u64, u64)> = s
         .visits
         .iter()
         .zip(&walk.pairs)
         .map(|(&t, &(i, j))| (t, u64::from(i), u64::from(j)))
         .collect();
+    visits.sort_unstable();
     let passed: Vec<(u64, u64)> = walk
         .pairs
         .iter()
@@ -112,12 +116,13 @@ fn case(scene: &Scene, cfg: &HwConfig, mask: &GroupMask) -> Case {
         .map(|(&(i, j), _)| (u64::from(i.min(j)), u64::from(i.max(j))))
         .collect();
     assert_eq!(passed.len(), s.issues.len());
-    let issues = s
+    let mut issues: Vec<(u64, u64, u64)> = s
         .issues
         .iter()
         .zip(&passed)
         .map(|(&t, &(a, b))| (t, a, b))
         .collect();
+    issues.sort_unstable();
     let mut accept = vec![false; clocks as usize];
     for &t in &s.accepts {
         accept[t as usize] = true;
@@ -143,22 +148,6 @@ fn case(scene: &Scene, cfg: &HwConfig, mask: &GroupMask) -> Case {
             }
             None => v.extend([0; 10]),
         }
-        // Port B: a visited box's keys, or a large box's fetched by the slow path.
-        let read = visits
-            .iter()
-            .find(|v| v.0 + 1 == t)
-            .map(|v| v.2 as usize)
-            .or_else(|| s.fetches.iter().find(|f| f.0 + 1 == t).map(|f| f.1));
-        match read {
-            Some(j) => {
-                let (lo, hi) = &frame.keys[j];
-                v.extend(lo);
-                v.extend(hi);
-                v.push(margin(j));
-                v.push(u64::from(frame.obbs[j].group));
-            }
-            None => v.extend([0; 8]),
-        }
         v.push(u64::from(!accept[t as usize]));
         vectors.push(v);
     }
@@ -179,6 +168,7 @@ fn check_against_model(c: &Case, rows: &[Vec<u64>], what: &str) {
     let mut accepted = 0;
     let (mut visits, mut issues) = (Vec::new(), Vec::new());
     let mut finished = None;
+    let mut previous = 0;
     for (t, row) in rows.iter().enumerate() {
         let t = t as u64 + 1;
         if (t as usize) < c.accept.len() && accepted < n {
@@ -191,28 +181,42 @@ fn check_against_model(c: &Case, rows: &[Vec<u64>], what: &str) {
         if (t as usize) < c.accept.len() && c.accept[t as usize] {
             accepted += 1;
         }
-        if row[1] == 1 {
-            visits.push((t, row[2], row[3]));
+        // Lane k's visit: bit k of `visit`, its boxes in 32-bit fields of the packed ports.
+        let lanes = c.frame.cfg.lanes as usize;
+        assert_eq!(
+            row[1] >> lanes,
+            0,
+            "{what}: a visit on a lane that does not exist"
+        );
+        let mut made = 0;
+        for k in (0..lanes).filter(|&k| row[1] >> k & 1 == 1) {
+            let field = |port: usize| row[port + k / 2] >> (32 * (k % 2)) & 0xffff_ffff;
+            visits.push((t, field(2), field(6)));
+            made += 1;
         }
+        // `visited` counts the visits of the clock before.
+        assert_eq!(row[10], previous, "{what}: visits counted at clock {t}");
+        previous = made;
         let ready = (t as usize) < c.accept.len() && !c.accept[t as usize];
-        if row[4] == 1 && ready {
-            issues.push((t, row[5], row[6]));
+        if row[11] == 1 && ready {
+            issues.push((t, row[12], row[13]));
             let margin = |k: u64| c.frame.projected[k as usize].margin as u64;
             assert_eq!(
-                (row[7], row[8]),
-                (margin(row[5]), margin(row[6])),
+                (row[14], row[15]),
+                (margin(row[12]), margin(row[13])),
                 "{what}: margins"
             );
         }
-        if row[9] == 1 && finished.is_none() {
+        if row[16] == 1 && finished.is_none() {
             finished = Some(t);
         }
         assert_eq!(
-            row[10] == 1,
+            row[17] == 1,
             c.too_wide.is_some_and(|w| t >= w),
             "{what}: too_wide at clock {t}"
         );
     }
+    visits.sort_unstable();
     same(&visits, &c.visits, &format!("{what}: visits (clock, i, j)"));
     same(
         &issues,
@@ -252,25 +256,24 @@ fn rust_hdl_rows(cfg: &HwConfig, c: &Case) -> Vec<Vec<u64>> {
             u.key_max_x.next = v[8].into();
             u.key_max_y.next = v[9].into();
             u.key_max_z.next = v[10].into();
-            u.rd_min_x.next = v[13].into();
-            u.rd_min_y.next = v[14].into();
-            u.rd_min_z.next = v[15].into();
-            u.rd_max_x.next = v[16].into();
-            u.rd_max_y.next = v[17].into();
-            u.rd_max_z.next = v[18].into();
             u.key_margin.next = v[11].into();
             u.key_group.next = v[12].into();
-            u.rd_margin.next = v[19].into();
-            u.rd_group.next = v[20].into();
-            u.cand_ready.next = v[21] == 1;
+            u.cand_ready.next = v[13] == 1;
         },
         |u, level| u.clock.next = Clock::from(level),
         |u| {
             vec![
                 u64::from(u.credit.val()),
-                u64::from(u.visit.val()),
-                u.visit_i.val().to_u64(),
-                u.rd_addr.val().to_u64(),
+                u.visit.val().to_u64(),
+                u.visit_i0.val().to_u64(),
+                u.visit_i1.val().to_u64(),
+                u.visit_i2.val().to_u64(),
+                u.visit_i3.val().to_u64(),
+                u.visit_j0.val().to_u64(),
+                u.visit_j1.val().to_u64(),
+                u.visit_j2.val().to_u64(),
+                u.visit_j3.val().to_u64(),
+                u.visited.val().to_u64(),
                 u64::from(u.cand_valid.val()),
                 u.cand_a.val().to_u64(),
                 u.cand_b.val().to_u64(),
@@ -360,7 +363,48 @@ fn cases() -> Vec<(&'static str, HwConfig, Scene)> {
                 .concat(),
             },
         ),
+        (
+            "uniform 120, all pairs, 2^3 buckets, 2 lanes",
+            lanes(grid_cfg(3, 16.0, GroupMask::All), 2, 1),
+            uniform(120, 5, 0.4).unwrap(),
+        ),
+        (
+            "48 coincident boxes of one group, all pairs, 8 lanes: the credits of every lane, \
+             the lanes' candidates issued lowest lane first",
+            lanes(grid_cfg(4, 2.0, GroupMask::All), 8, 1),
+            Scene {
+                obbs: (0..48)
+                    .map(|_| Obb::aligned([1.0; 3], [0.25; 3], 0))
+                    .collect(),
+            },
+        ),
+        (
+            "surgical 300, cross-group, 2^5 buckets, 4 lanes",
+            lanes(grid_cfg(5, 16.0, GroupMask::Cross), 4, 3),
+            surgical(300, 2).unwrap(),
+        ),
+        (
+            "slabs over small boxes, 1 mm cells, all pairs, 2 buckets a bank, 2 lanes: the \
+             large boxes chained per lane, the rest of the chains a list on every lane",
+            lanes(large_cfg(1, 1.0, GroupMask::All), 2, 4),
+            slabs(),
+        ),
+        (
+            "slabs over small boxes, 2 mm cells, groups 0-2 and 2-3, 2 lanes: the chains' \
+             boxes meet across lanes where the mask pairs them",
+            lanes(large_cfg(4, 2.0, "0-2,2-3".parse().unwrap()), 2, 4),
+            slabs(),
+        ),
     ]
+}
+
+/// `cfg` with walker lanes, and lists for fewer groups (each list is Verilog of its own).
+fn lanes(cfg: HwConfig, lanes: u32, grid_groups: u32) -> HwConfig {
+    HwConfig {
+        lanes,
+        grid_groups,
+        ..cfg
+    }
 }
 
 /// Four groups, for the slow path's masks.
