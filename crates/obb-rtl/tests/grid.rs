@@ -368,6 +368,13 @@ fn cases() -> Vec<(&'static str, HwConfig, Scene)> {
             lanes(grid_cfg(3, 16.0, GroupMask::All), 2, 1),
             uniform(120, 5, 0.4).unwrap(),
         ),
+    ]
+}
+
+/// The lanes' larger cases: hundreds of lists, each Verilog of its own, so that Verilator takes
+/// minutes over each. Long: run with `cargo test -p obb-rtl --test grid -- --ignored`.
+fn lanes_cases() -> Vec<(&'static str, HwConfig, Scene)> {
+    vec![
         (
             "48 coincident boxes of one group, all pairs, 8 lanes: the credits of every lane, \
              the lanes' candidates issued lowest lane first",
@@ -417,7 +424,28 @@ fn large_cfg(hash_bits: u32, cell_mm: f64, groups: GroupMask) -> HwConfig {
 
 #[test]
 fn grid_block_matches_the_model_in_rust_hdl() {
-    for (what, cfg, scene) in cases() {
+    block_matches_the_model_in_rust_hdl(cases());
+}
+
+#[test]
+#[ignore = "long: the lanes' larger cases (run with --ignored)"]
+fn grid_lanes_match_the_model_in_rust_hdl() {
+    block_matches_the_model_in_rust_hdl(lanes_cases());
+}
+
+#[test]
+fn grid_block_verilog_matches_rust_hdl_and_the_model() {
+    block_verilog_matches_rust_hdl_and_the_model(cases());
+}
+
+#[test]
+#[ignore = "long: the lanes' larger cases in Verilator (run with --ignored)"]
+fn grid_lanes_verilog_match_rust_hdl_and_the_model() {
+    block_verilog_matches_rust_hdl_and_the_model(lanes_cases());
+}
+
+fn block_matches_the_model_in_rust_hdl(cases: Vec<(&'static str, HwConfig, Scene)>) {
+    for (what, cfg, scene) in cases {
         let c = case(&scene, &cfg, &cfg.groups);
         assert!(!c.issues.is_empty(), "{what}: candidates to check");
         eprintln!(
@@ -431,9 +459,8 @@ fn grid_block_matches_the_model_in_rust_hdl() {
     }
 }
 
-#[test]
-fn grid_block_verilog_matches_rust_hdl_and_the_model() {
-    for (what, cfg, scene) in cases() {
+fn block_verilog_matches_rust_hdl_and_the_model(cases: Vec<(&'static str, HwConfig, Scene)>) {
+    for (what, cfg, scene) in cases {
         let c = case(&scene, &cfg, &cfg.groups);
         let verilog =
             obb_rtl::emit::verilog(&mut GridPhase::<A, C>::new(&cfg), "grid_phase").unwrap();
