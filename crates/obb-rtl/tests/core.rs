@@ -318,7 +318,7 @@ fn grid_core_matches_the_model() {
 /// The grid with four walker lanes, every group pair: each lane's lists, walker and candidate
 /// queue, the candidates issued lowest lane first, the visits counted several a clock; the
 /// large boxes chained per lane. Long (Verilator takes about ten minutes over its 324 lists):
-/// run with `cargo test -p obb-rtl --test core -- --ignored`.
+/// run with `cargo test --release -p obb-rtl --test core -- --ignored`.
 #[test]
 #[ignore = "long: the core with four lanes in Verilator (run with --ignored)"]
 fn grid_core_with_lanes_matches_the_model() {

@@ -372,7 +372,8 @@ fn cases() -> Vec<(&'static str, HwConfig, Scene)> {
 }
 
 /// The lanes' larger cases: hundreds of lists, each Verilog of its own, so that Verilator takes
-/// minutes over each. Long: run with `cargo test -p obb-rtl --test grid -- --ignored`.
+/// minutes over each. Long: run with
+/// `cargo test --release -p obb-rtl --test grid -- --ignored`.
 fn lanes_cases() -> Vec<(&'static str, HwConfig, Scene)> {
     vec![
         (
