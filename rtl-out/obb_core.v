@@ -6933,492 +6933,87 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [15:0] s5_head2$80$d;
     wire  [15:0] s5_head2$80$q;
     reg  s5_head2$80$clock;
-    reg  s5_enter$0$d;
-    wire  s5_enter$0$q;
-    reg  s5_enter$0$clock;
-    reg  s5_enter$1$d;
-    wire  s5_enter$1$q;
-    reg  s5_enter$1$clock;
-    reg  s5_enter$2$d;
-    wire  s5_enter$2$q;
-    reg  s5_enter$2$clock;
-    reg  s5_enter$3$d;
-    wire  s5_enter$3$q;
-    reg  s5_enter$3$clock;
-    reg  s5_enter$4$d;
-    wire  s5_enter$4$q;
-    reg  s5_enter$4$clock;
-    reg  s5_enter$5$d;
-    wire  s5_enter$5$q;
-    reg  s5_enter$5$clock;
-    reg  s5_enter$6$d;
-    wire  s5_enter$6$q;
-    reg  s5_enter$6$clock;
-    reg  s5_enter$7$d;
-    wire  s5_enter$7$q;
-    reg  s5_enter$7$clock;
-    reg  s5_enter$8$d;
-    wire  s5_enter$8$q;
-    reg  s5_enter$8$clock;
-    reg  s5_enter$9$d;
-    wire  s5_enter$9$q;
-    reg  s5_enter$9$clock;
-    reg  s5_enter$10$d;
-    wire  s5_enter$10$q;
-    reg  s5_enter$10$clock;
-    reg  s5_enter$11$d;
-    wire  s5_enter$11$q;
-    reg  s5_enter$11$clock;
-    reg  s5_enter$12$d;
-    wire  s5_enter$12$q;
-    reg  s5_enter$12$clock;
-    reg  s5_enter$13$d;
-    wire  s5_enter$13$q;
-    reg  s5_enter$13$clock;
-    reg  s5_enter$14$d;
-    wire  s5_enter$14$q;
-    reg  s5_enter$14$clock;
-    reg  s5_enter$15$d;
-    wire  s5_enter$15$q;
-    reg  s5_enter$15$clock;
-    reg  s5_enter$16$d;
-    wire  s5_enter$16$q;
-    reg  s5_enter$16$clock;
-    reg  s5_enter$17$d;
-    wire  s5_enter$17$q;
-    reg  s5_enter$17$clock;
-    reg  s5_enter$18$d;
-    wire  s5_enter$18$q;
-    reg  s5_enter$18$clock;
-    reg  s5_enter$19$d;
-    wire  s5_enter$19$q;
-    reg  s5_enter$19$clock;
-    reg  s5_enter$20$d;
-    wire  s5_enter$20$q;
-    reg  s5_enter$20$clock;
-    reg  s5_enter$21$d;
-    wire  s5_enter$21$q;
-    reg  s5_enter$21$clock;
-    reg  s5_enter$22$d;
-    wire  s5_enter$22$q;
-    reg  s5_enter$22$clock;
-    reg  s5_enter$23$d;
-    wire  s5_enter$23$q;
-    reg  s5_enter$23$clock;
-    reg  s5_enter$24$d;
-    wire  s5_enter$24$q;
-    reg  s5_enter$24$clock;
-    reg  s5_enter$25$d;
-    wire  s5_enter$25$q;
-    reg  s5_enter$25$clock;
-    reg  s5_enter$26$d;
-    wire  s5_enter$26$q;
-    reg  s5_enter$26$clock;
-    reg  s5_enter$27$d;
-    wire  s5_enter$27$q;
-    reg  s5_enter$27$clock;
-    reg  s5_enter$28$d;
-    wire  s5_enter$28$q;
-    reg  s5_enter$28$clock;
-    reg  s5_enter$29$d;
-    wire  s5_enter$29$q;
-    reg  s5_enter$29$clock;
-    reg  s5_enter$30$d;
-    wire  s5_enter$30$q;
-    reg  s5_enter$30$clock;
-    reg  s5_enter$31$d;
-    wire  s5_enter$31$q;
-    reg  s5_enter$31$clock;
-    reg  s5_enter$32$d;
-    wire  s5_enter$32$q;
-    reg  s5_enter$32$clock;
-    reg  s5_enter$33$d;
-    wire  s5_enter$33$q;
-    reg  s5_enter$33$clock;
-    reg  s5_enter$34$d;
-    wire  s5_enter$34$q;
-    reg  s5_enter$34$clock;
-    reg  s5_enter$35$d;
-    wire  s5_enter$35$q;
-    reg  s5_enter$35$clock;
-    reg  s5_enter$36$d;
-    wire  s5_enter$36$q;
-    reg  s5_enter$36$clock;
-    reg  s5_enter$37$d;
-    wire  s5_enter$37$q;
-    reg  s5_enter$37$clock;
-    reg  s5_enter$38$d;
-    wire  s5_enter$38$q;
-    reg  s5_enter$38$clock;
-    reg  s5_enter$39$d;
-    wire  s5_enter$39$q;
-    reg  s5_enter$39$clock;
-    reg  s5_enter$40$d;
-    wire  s5_enter$40$q;
-    reg  s5_enter$40$clock;
-    reg  s5_enter$41$d;
-    wire  s5_enter$41$q;
-    reg  s5_enter$41$clock;
-    reg  s5_enter$42$d;
-    wire  s5_enter$42$q;
-    reg  s5_enter$42$clock;
-    reg  s5_enter$43$d;
-    wire  s5_enter$43$q;
-    reg  s5_enter$43$clock;
-    reg  s5_enter$44$d;
-    wire  s5_enter$44$q;
-    reg  s5_enter$44$clock;
-    reg  s5_enter$45$d;
-    wire  s5_enter$45$q;
-    reg  s5_enter$45$clock;
-    reg  s5_enter$46$d;
-    wire  s5_enter$46$q;
-    reg  s5_enter$46$clock;
-    reg  s5_enter$47$d;
-    wire  s5_enter$47$q;
-    reg  s5_enter$47$clock;
-    reg  s5_enter$48$d;
-    wire  s5_enter$48$q;
-    reg  s5_enter$48$clock;
-    reg  s5_enter$49$d;
-    wire  s5_enter$49$q;
-    reg  s5_enter$49$clock;
-    reg  s5_enter$50$d;
-    wire  s5_enter$50$q;
-    reg  s5_enter$50$clock;
-    reg  s5_enter$51$d;
-    wire  s5_enter$51$q;
-    reg  s5_enter$51$clock;
-    reg  s5_enter$52$d;
-    wire  s5_enter$52$q;
-    reg  s5_enter$52$clock;
-    reg  s5_enter$53$d;
-    wire  s5_enter$53$q;
-    reg  s5_enter$53$clock;
-    reg  s5_enter$54$d;
-    wire  s5_enter$54$q;
-    reg  s5_enter$54$clock;
-    reg  s5_enter$55$d;
-    wire  s5_enter$55$q;
-    reg  s5_enter$55$clock;
-    reg  s5_enter$56$d;
-    wire  s5_enter$56$q;
-    reg  s5_enter$56$clock;
-    reg  s5_enter$57$d;
-    wire  s5_enter$57$q;
-    reg  s5_enter$57$clock;
-    reg  s5_enter$58$d;
-    wire  s5_enter$58$q;
-    reg  s5_enter$58$clock;
-    reg  s5_enter$59$d;
-    wire  s5_enter$59$q;
-    reg  s5_enter$59$clock;
-    reg  s5_enter$60$d;
-    wire  s5_enter$60$q;
-    reg  s5_enter$60$clock;
-    reg  s5_enter$61$d;
-    wire  s5_enter$61$q;
-    reg  s5_enter$61$clock;
-    reg  s5_enter$62$d;
-    wire  s5_enter$62$q;
-    reg  s5_enter$62$clock;
-    reg  s5_enter$63$d;
-    wire  s5_enter$63$q;
-    reg  s5_enter$63$clock;
-    reg  s5_enter$64$d;
-    wire  s5_enter$64$q;
-    reg  s5_enter$64$clock;
-    reg  s5_enter$65$d;
-    wire  s5_enter$65$q;
-    reg  s5_enter$65$clock;
-    reg  s5_enter$66$d;
-    wire  s5_enter$66$q;
-    reg  s5_enter$66$clock;
-    reg  s5_enter$67$d;
-    wire  s5_enter$67$q;
-    reg  s5_enter$67$clock;
-    reg  s5_enter$68$d;
-    wire  s5_enter$68$q;
-    reg  s5_enter$68$clock;
-    reg  s5_enter$69$d;
-    wire  s5_enter$69$q;
-    reg  s5_enter$69$clock;
-    reg  s5_enter$70$d;
-    wire  s5_enter$70$q;
-    reg  s5_enter$70$clock;
-    reg  s5_enter$71$d;
-    wire  s5_enter$71$q;
-    reg  s5_enter$71$clock;
-    reg  s5_enter$72$d;
-    wire  s5_enter$72$q;
-    reg  s5_enter$72$clock;
-    reg  s5_enter$73$d;
-    wire  s5_enter$73$q;
-    reg  s5_enter$73$clock;
-    reg  s5_enter$74$d;
-    wire  s5_enter$74$q;
-    reg  s5_enter$74$clock;
-    reg  s5_enter$75$d;
-    wire  s5_enter$75$q;
-    reg  s5_enter$75$clock;
-    reg  s5_enter$76$d;
-    wire  s5_enter$76$q;
-    reg  s5_enter$76$clock;
-    reg  s5_enter$77$d;
-    wire  s5_enter$77$q;
-    reg  s5_enter$77$clock;
-    reg  s5_enter$78$d;
-    wire  s5_enter$78$q;
-    reg  s5_enter$78$clock;
-    reg  s5_enter$79$d;
-    wire  s5_enter$79$q;
-    reg  s5_enter$79$clock;
-    reg  s5_enter$80$d;
-    wire  s5_enter$80$q;
-    reg  s5_enter$80$clock;
-    reg  s5_wrote$0$d;
-    wire  s5_wrote$0$q;
-    reg  s5_wrote$0$clock;
-    reg  s5_wrote$1$d;
-    wire  s5_wrote$1$q;
-    reg  s5_wrote$1$clock;
-    reg  s5_wrote$2$d;
-    wire  s5_wrote$2$q;
-    reg  s5_wrote$2$clock;
-    reg  s5_wrote$3$d;
-    wire  s5_wrote$3$q;
-    reg  s5_wrote$3$clock;
-    reg  s5_wrote$4$d;
-    wire  s5_wrote$4$q;
-    reg  s5_wrote$4$clock;
-    reg  s5_wrote$5$d;
-    wire  s5_wrote$5$q;
-    reg  s5_wrote$5$clock;
-    reg  s5_wrote$6$d;
-    wire  s5_wrote$6$q;
-    reg  s5_wrote$6$clock;
-    reg  s5_wrote$7$d;
-    wire  s5_wrote$7$q;
-    reg  s5_wrote$7$clock;
-    reg  s5_wrote$8$d;
-    wire  s5_wrote$8$q;
-    reg  s5_wrote$8$clock;
-    reg  s5_wrote$9$d;
-    wire  s5_wrote$9$q;
-    reg  s5_wrote$9$clock;
-    reg  s5_wrote$10$d;
-    wire  s5_wrote$10$q;
-    reg  s5_wrote$10$clock;
-    reg  s5_wrote$11$d;
-    wire  s5_wrote$11$q;
-    reg  s5_wrote$11$clock;
-    reg  s5_wrote$12$d;
-    wire  s5_wrote$12$q;
-    reg  s5_wrote$12$clock;
-    reg  s5_wrote$13$d;
-    wire  s5_wrote$13$q;
-    reg  s5_wrote$13$clock;
-    reg  s5_wrote$14$d;
-    wire  s5_wrote$14$q;
-    reg  s5_wrote$14$clock;
-    reg  s5_wrote$15$d;
-    wire  s5_wrote$15$q;
-    reg  s5_wrote$15$clock;
-    reg  s5_wrote$16$d;
-    wire  s5_wrote$16$q;
-    reg  s5_wrote$16$clock;
-    reg  s5_wrote$17$d;
-    wire  s5_wrote$17$q;
-    reg  s5_wrote$17$clock;
-    reg  s5_wrote$18$d;
-    wire  s5_wrote$18$q;
-    reg  s5_wrote$18$clock;
-    reg  s5_wrote$19$d;
-    wire  s5_wrote$19$q;
-    reg  s5_wrote$19$clock;
-    reg  s5_wrote$20$d;
-    wire  s5_wrote$20$q;
-    reg  s5_wrote$20$clock;
-    reg  s5_wrote$21$d;
-    wire  s5_wrote$21$q;
-    reg  s5_wrote$21$clock;
-    reg  s5_wrote$22$d;
-    wire  s5_wrote$22$q;
-    reg  s5_wrote$22$clock;
-    reg  s5_wrote$23$d;
-    wire  s5_wrote$23$q;
-    reg  s5_wrote$23$clock;
-    reg  s5_wrote$24$d;
-    wire  s5_wrote$24$q;
-    reg  s5_wrote$24$clock;
-    reg  s5_wrote$25$d;
-    wire  s5_wrote$25$q;
-    reg  s5_wrote$25$clock;
-    reg  s5_wrote$26$d;
-    wire  s5_wrote$26$q;
-    reg  s5_wrote$26$clock;
-    reg  s5_wrote$27$d;
-    wire  s5_wrote$27$q;
-    reg  s5_wrote$27$clock;
-    reg  s5_wrote$28$d;
-    wire  s5_wrote$28$q;
-    reg  s5_wrote$28$clock;
-    reg  s5_wrote$29$d;
-    wire  s5_wrote$29$q;
-    reg  s5_wrote$29$clock;
-    reg  s5_wrote$30$d;
-    wire  s5_wrote$30$q;
-    reg  s5_wrote$30$clock;
-    reg  s5_wrote$31$d;
-    wire  s5_wrote$31$q;
-    reg  s5_wrote$31$clock;
-    reg  s5_wrote$32$d;
-    wire  s5_wrote$32$q;
-    reg  s5_wrote$32$clock;
-    reg  s5_wrote$33$d;
-    wire  s5_wrote$33$q;
-    reg  s5_wrote$33$clock;
-    reg  s5_wrote$34$d;
-    wire  s5_wrote$34$q;
-    reg  s5_wrote$34$clock;
-    reg  s5_wrote$35$d;
-    wire  s5_wrote$35$q;
-    reg  s5_wrote$35$clock;
-    reg  s5_wrote$36$d;
-    wire  s5_wrote$36$q;
-    reg  s5_wrote$36$clock;
-    reg  s5_wrote$37$d;
-    wire  s5_wrote$37$q;
-    reg  s5_wrote$37$clock;
-    reg  s5_wrote$38$d;
-    wire  s5_wrote$38$q;
-    reg  s5_wrote$38$clock;
-    reg  s5_wrote$39$d;
-    wire  s5_wrote$39$q;
-    reg  s5_wrote$39$clock;
-    reg  s5_wrote$40$d;
-    wire  s5_wrote$40$q;
-    reg  s5_wrote$40$clock;
-    reg  s5_wrote$41$d;
-    wire  s5_wrote$41$q;
-    reg  s5_wrote$41$clock;
-    reg  s5_wrote$42$d;
-    wire  s5_wrote$42$q;
-    reg  s5_wrote$42$clock;
-    reg  s5_wrote$43$d;
-    wire  s5_wrote$43$q;
-    reg  s5_wrote$43$clock;
-    reg  s5_wrote$44$d;
-    wire  s5_wrote$44$q;
-    reg  s5_wrote$44$clock;
-    reg  s5_wrote$45$d;
-    wire  s5_wrote$45$q;
-    reg  s5_wrote$45$clock;
-    reg  s5_wrote$46$d;
-    wire  s5_wrote$46$q;
-    reg  s5_wrote$46$clock;
-    reg  s5_wrote$47$d;
-    wire  s5_wrote$47$q;
-    reg  s5_wrote$47$clock;
-    reg  s5_wrote$48$d;
-    wire  s5_wrote$48$q;
-    reg  s5_wrote$48$clock;
-    reg  s5_wrote$49$d;
-    wire  s5_wrote$49$q;
-    reg  s5_wrote$49$clock;
-    reg  s5_wrote$50$d;
-    wire  s5_wrote$50$q;
-    reg  s5_wrote$50$clock;
-    reg  s5_wrote$51$d;
-    wire  s5_wrote$51$q;
-    reg  s5_wrote$51$clock;
-    reg  s5_wrote$52$d;
-    wire  s5_wrote$52$q;
-    reg  s5_wrote$52$clock;
-    reg  s5_wrote$53$d;
-    wire  s5_wrote$53$q;
-    reg  s5_wrote$53$clock;
-    reg  s5_wrote$54$d;
-    wire  s5_wrote$54$q;
-    reg  s5_wrote$54$clock;
-    reg  s5_wrote$55$d;
-    wire  s5_wrote$55$q;
-    reg  s5_wrote$55$clock;
-    reg  s5_wrote$56$d;
-    wire  s5_wrote$56$q;
-    reg  s5_wrote$56$clock;
-    reg  s5_wrote$57$d;
-    wire  s5_wrote$57$q;
-    reg  s5_wrote$57$clock;
-    reg  s5_wrote$58$d;
-    wire  s5_wrote$58$q;
-    reg  s5_wrote$58$clock;
-    reg  s5_wrote$59$d;
-    wire  s5_wrote$59$q;
-    reg  s5_wrote$59$clock;
-    reg  s5_wrote$60$d;
-    wire  s5_wrote$60$q;
-    reg  s5_wrote$60$clock;
-    reg  s5_wrote$61$d;
-    wire  s5_wrote$61$q;
-    reg  s5_wrote$61$clock;
-    reg  s5_wrote$62$d;
-    wire  s5_wrote$62$q;
-    reg  s5_wrote$62$clock;
-    reg  s5_wrote$63$d;
-    wire  s5_wrote$63$q;
-    reg  s5_wrote$63$clock;
-    reg  s5_wrote$64$d;
-    wire  s5_wrote$64$q;
-    reg  s5_wrote$64$clock;
-    reg  s5_wrote$65$d;
-    wire  s5_wrote$65$q;
-    reg  s5_wrote$65$clock;
-    reg  s5_wrote$66$d;
-    wire  s5_wrote$66$q;
-    reg  s5_wrote$66$clock;
-    reg  s5_wrote$67$d;
-    wire  s5_wrote$67$q;
-    reg  s5_wrote$67$clock;
-    reg  s5_wrote$68$d;
-    wire  s5_wrote$68$q;
-    reg  s5_wrote$68$clock;
-    reg  s5_wrote$69$d;
-    wire  s5_wrote$69$q;
-    reg  s5_wrote$69$clock;
-    reg  s5_wrote$70$d;
-    wire  s5_wrote$70$q;
-    reg  s5_wrote$70$clock;
-    reg  s5_wrote$71$d;
-    wire  s5_wrote$71$q;
-    reg  s5_wrote$71$clock;
-    reg  s5_wrote$72$d;
-    wire  s5_wrote$72$q;
-    reg  s5_wrote$72$clock;
-    reg  s5_wrote$73$d;
-    wire  s5_wrote$73$q;
-    reg  s5_wrote$73$clock;
-    reg  s5_wrote$74$d;
-    wire  s5_wrote$74$q;
-    reg  s5_wrote$74$clock;
-    reg  s5_wrote$75$d;
-    wire  s5_wrote$75$q;
-    reg  s5_wrote$75$clock;
-    reg  s5_wrote$76$d;
-    wire  s5_wrote$76$q;
-    reg  s5_wrote$76$clock;
-    reg  s5_wrote$77$d;
-    wire  s5_wrote$77$q;
-    reg  s5_wrote$77$clock;
-    reg  s5_wrote$78$d;
-    wire  s5_wrote$78$q;
-    reg  s5_wrote$78$clock;
-    reg  s5_wrote$79$d;
-    wire  s5_wrote$79$q;
-    reg  s5_wrote$79$clock;
-    reg  s5_wrote$80$d;
-    wire  s5_wrote$80$q;
-    reg  s5_wrote$80$clock;
+    reg  [15:0] s5_entry$0$d;
+    wire  [15:0] s5_entry$0$q;
+    reg  s5_entry$0$clock;
+    reg  [15:0] s5_entry$1$d;
+    wire  [15:0] s5_entry$1$q;
+    reg  s5_entry$1$clock;
+    reg  [15:0] s5_entry$2$d;
+    wire  [15:0] s5_entry$2$q;
+    reg  s5_entry$2$clock;
+    reg  [15:0] s5_entry$3$d;
+    wire  [15:0] s5_entry$3$q;
+    reg  s5_entry$3$clock;
+    reg  [15:0] s5_entry$4$d;
+    wire  [15:0] s5_entry$4$q;
+    reg  s5_entry$4$clock;
+    reg  [15:0] s5_entry$5$d;
+    wire  [15:0] s5_entry$5$q;
+    reg  s5_entry$5$clock;
+    reg  [15:0] s5_entry$6$d;
+    wire  [15:0] s5_entry$6$q;
+    reg  s5_entry$6$clock;
+    reg  [15:0] s5_entry$7$d;
+    wire  [15:0] s5_entry$7$q;
+    reg  s5_entry$7$clock;
+    reg  [15:0] s5_entry$8$d;
+    wire  [15:0] s5_entry$8$q;
+    reg  s5_entry$8$clock;
+    reg  [15:0] s5_entry$9$d;
+    wire  [15:0] s5_entry$9$q;
+    reg  s5_entry$9$clock;
+    reg  [15:0] s5_entry$10$d;
+    wire  [15:0] s5_entry$10$q;
+    reg  s5_entry$10$clock;
+    reg  [15:0] s5_entry$11$d;
+    wire  [15:0] s5_entry$11$q;
+    reg  s5_entry$11$clock;
+    reg  [15:0] s5_entry$12$d;
+    wire  [15:0] s5_entry$12$q;
+    reg  s5_entry$12$clock;
+    reg  [15:0] s5_entry$13$d;
+    wire  [15:0] s5_entry$13$q;
+    reg  s5_entry$13$clock;
+    reg  [15:0] s5_entry$14$d;
+    wire  [15:0] s5_entry$14$q;
+    reg  s5_entry$14$clock;
+    reg  [15:0] s5_entry$15$d;
+    wire  [15:0] s5_entry$15$q;
+    reg  s5_entry$15$clock;
+    reg  [15:0] s5_entry$16$d;
+    wire  [15:0] s5_entry$16$q;
+    reg  s5_entry$16$clock;
+    reg  [15:0] s5_entry$17$d;
+    wire  [15:0] s5_entry$17$q;
+    reg  s5_entry$17$clock;
+    reg  [15:0] s5_entry$18$d;
+    wire  [15:0] s5_entry$18$q;
+    reg  s5_entry$18$clock;
+    reg  [15:0] s5_entry$19$d;
+    wire  [15:0] s5_entry$19$q;
+    reg  s5_entry$19$clock;
+    reg  [15:0] s5_entry$20$d;
+    wire  [15:0] s5_entry$20$q;
+    reg  s5_entry$20$clock;
+    reg  [15:0] s5_entry$21$d;
+    wire  [15:0] s5_entry$21$q;
+    reg  s5_entry$21$clock;
+    reg  [15:0] s5_entry$22$d;
+    wire  [15:0] s5_entry$22$q;
+    reg  s5_entry$22$clock;
+    reg  [15:0] s5_entry$23$d;
+    wire  [15:0] s5_entry$23$q;
+    reg  s5_entry$23$clock;
+    reg  [15:0] s5_entry$24$d;
+    wire  [15:0] s5_entry$24$q;
+    reg  s5_entry$24$clock;
+    reg  [15:0] s5_entry$25$d;
+    wire  [15:0] s5_entry$25$q;
+    reg  s5_entry$25$clock;
+    reg  [15:0] s5_entry$26$d;
+    wire  [15:0] s5_entry$26$q;
+    reg  s5_entry$26$clock;
     reg  [9:0] s5_meta_w$0$d;
     wire  [9:0] s5_meta_w$0$q;
     reg  s5_meta_w$0$clock;
@@ -11435,9 +11030,21 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [2:0] v2_group_j$0$d;
     wire  [2:0] v2_group_j$0$q;
     reg  v2_group_j$0$clock;
-    reg  v3_write$0$d;
-    wire  v3_write$0$q;
-    reg  v3_write$0$clock;
+    reg  v3_valid$0$d;
+    wire  v3_valid$0$q;
+    reg  v3_valid$0$clock;
+    reg  v3_overlap$0$d;
+    wire  v3_overlap$0$q;
+    reg  v3_overlap$0$clock;
+    reg  v3_home$0$d;
+    wire  v3_home$0$q;
+    reg  v3_home$0$clock;
+    reg  v3_anywhere$0$d;
+    wire  v3_anywhere$0$q;
+    reg  v3_anywhere$0$clock;
+    reg  v3_mask$0$d;
+    wire  v3_mask$0$q;
+    reg  v3_mask$0$clock;
     reg  [95:0] v3_word$0$d;
     wire  [95:0] v3_word$0$q;
     reg  v3_word$0$clock;
@@ -11653,6 +11260,36 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  bank_left$26$d;
     wire  bank_left$26$q;
     reg  bank_left$26$clock;
+    reg  chunk_left$0$d;
+    wire  chunk_left$0$q;
+    reg  chunk_left$0$clock;
+    reg  chunk_left$1$d;
+    wire  chunk_left$1$q;
+    reg  chunk_left$1$clock;
+    reg  chunk_left$2$d;
+    wire  chunk_left$2$q;
+    reg  chunk_left$2$clock;
+    reg  chunk_left$3$d;
+    wire  chunk_left$3$q;
+    reg  chunk_left$3$clock;
+    reg  chunk_left$4$d;
+    wire  chunk_left$4$q;
+    reg  chunk_left$4$clock;
+    reg  chunk_left$5$d;
+    wire  chunk_left$5$q;
+    reg  chunk_left$5$clock;
+    reg  chunk_left$6$d;
+    wire  chunk_left$6$q;
+    reg  chunk_left$6$clock;
+    reg  chunk_left$7$d;
+    wire  chunk_left$7$q;
+    reg  chunk_left$7$clock;
+    reg  chunk_left$8$d;
+    wire  chunk_left$8$q;
+    reg  chunk_left$8$clock;
+    reg  retire_probe_q$0$d;
+    wire  retire_probe_q$0$q;
+    reg  retire_probe_q$0$clock;
     reg  [15:0] pack_lo$0$value;
     wire  [95:0] pack_lo$0$resized;
     reg  [15:0] pack_hi$0$value;
@@ -11661,10 +11298,16 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     wire  [95:0] pack_mlo$0$resized;
     reg  [27:0] pack_mhi$0$value;
     wire  [95:0] pack_mhi$0$resized;
+    reg  idle$d;
+    wire  idle$q;
+    reg  idle$clock;
     reg  [15:0] vis_i$0$value;
     wire  [63:0] vis_i$0$resized;
     reg  [15:0] vis_j$0$value;
     wire  [63:0] vis_j$0$resized;
+    reg  credit_q$d;
+    wire  credit_q$q;
+    reg  credit_q$clock;
     
     // Local signals
     reg  [22:0] key_min$0;
@@ -12766,88 +12409,115 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [9:0] meta_new$78;
     reg  [9:0] meta_new$79;
     reg  [9:0] meta_new$80;
-    reg  [15:0] succ_pick$0;
-    reg  [15:0] succ_pick$1;
-    reg  [15:0] succ_pick$2;
-    reg  [15:0] succ_pick$3;
-    reg  [15:0] succ_pick$4;
-    reg  [15:0] succ_pick$5;
-    reg  [15:0] succ_pick$6;
-    reg  [15:0] succ_pick$7;
-    reg  [15:0] succ_pick$8;
-    reg  [15:0] succ_pick$9;
-    reg  [15:0] succ_pick$10;
-    reg  [15:0] succ_pick$11;
-    reg  [15:0] succ_pick$12;
-    reg  [15:0] succ_pick$13;
-    reg  [15:0] succ_pick$14;
-    reg  [15:0] succ_pick$15;
-    reg  [15:0] succ_pick$16;
-    reg  [15:0] succ_pick$17;
-    reg  [15:0] succ_pick$18;
-    reg  [15:0] succ_pick$19;
-    reg  [15:0] succ_pick$20;
-    reg  [15:0] succ_pick$21;
-    reg  [15:0] succ_pick$22;
-    reg  [15:0] succ_pick$23;
-    reg  [15:0] succ_pick$24;
-    reg  [15:0] succ_pick$25;
-    reg  [15:0] succ_pick$26;
-    reg  [15:0] succ_pick$27;
-    reg  [15:0] succ_pick$28;
-    reg  [15:0] succ_pick$29;
-    reg  [15:0] succ_pick$30;
-    reg  [15:0] succ_pick$31;
-    reg  [15:0] succ_pick$32;
-    reg  [15:0] succ_pick$33;
-    reg  [15:0] succ_pick$34;
-    reg  [15:0] succ_pick$35;
-    reg  [15:0] succ_pick$36;
-    reg  [15:0] succ_pick$37;
-    reg  [15:0] succ_pick$38;
-    reg  [15:0] succ_pick$39;
-    reg  [15:0] succ_pick$40;
-    reg  [15:0] succ_pick$41;
-    reg  [15:0] succ_pick$42;
-    reg  [15:0] succ_pick$43;
-    reg  [15:0] succ_pick$44;
-    reg  [15:0] succ_pick$45;
-    reg  [15:0] succ_pick$46;
-    reg  [15:0] succ_pick$47;
-    reg  [15:0] succ_pick$48;
-    reg  [15:0] succ_pick$49;
-    reg  [15:0] succ_pick$50;
-    reg  [15:0] succ_pick$51;
-    reg  [15:0] succ_pick$52;
-    reg  [15:0] succ_pick$53;
-    reg  [15:0] succ_pick$54;
-    reg  [15:0] succ_pick$55;
-    reg  [15:0] succ_pick$56;
-    reg  [15:0] succ_pick$57;
-    reg  [15:0] succ_pick$58;
-    reg  [15:0] succ_pick$59;
-    reg  [15:0] succ_pick$60;
-    reg  [15:0] succ_pick$61;
-    reg  [15:0] succ_pick$62;
-    reg  [15:0] succ_pick$63;
-    reg  [15:0] succ_pick$64;
-    reg  [15:0] succ_pick$65;
-    reg  [15:0] succ_pick$66;
-    reg  [15:0] succ_pick$67;
-    reg  [15:0] succ_pick$68;
-    reg  [15:0] succ_pick$69;
-    reg  [15:0] succ_pick$70;
-    reg  [15:0] succ_pick$71;
-    reg  [15:0] succ_pick$72;
-    reg  [15:0] succ_pick$73;
-    reg  [15:0] succ_pick$74;
-    reg  [15:0] succ_pick$75;
-    reg  [15:0] succ_pick$76;
-    reg  [15:0] succ_pick$77;
-    reg  [15:0] succ_pick$78;
-    reg  [15:0] succ_pick$79;
-    reg  [15:0] succ_pick$80;
     reg  [15:0] succ_acc;
+    reg  [15:0] entry_pick$0;
+    reg  [15:0] entry_pick$1;
+    reg  [15:0] entry_pick$2;
+    reg  [15:0] entry_pick$3;
+    reg  [15:0] entry_pick$4;
+    reg  [15:0] entry_pick$5;
+    reg  [15:0] entry_pick$6;
+    reg  [15:0] entry_pick$7;
+    reg  [15:0] entry_pick$8;
+    reg  [15:0] entry_pick$9;
+    reg  [15:0] entry_pick$10;
+    reg  [15:0] entry_pick$11;
+    reg  [15:0] entry_pick$12;
+    reg  [15:0] entry_pick$13;
+    reg  [15:0] entry_pick$14;
+    reg  [15:0] entry_pick$15;
+    reg  [15:0] entry_pick$16;
+    reg  [15:0] entry_pick$17;
+    reg  [15:0] entry_pick$18;
+    reg  [15:0] entry_pick$19;
+    reg  [15:0] entry_pick$20;
+    reg  [15:0] entry_pick$21;
+    reg  [15:0] entry_pick$22;
+    reg  [15:0] entry_pick$23;
+    reg  [15:0] entry_pick$24;
+    reg  [15:0] entry_pick$25;
+    reg  [15:0] entry_pick$26;
+    reg  [15:0] entry_pick$27;
+    reg  [15:0] entry_pick$28;
+    reg  [15:0] entry_pick$29;
+    reg  [15:0] entry_pick$30;
+    reg  [15:0] entry_pick$31;
+    reg  [15:0] entry_pick$32;
+    reg  [15:0] entry_pick$33;
+    reg  [15:0] entry_pick$34;
+    reg  [15:0] entry_pick$35;
+    reg  [15:0] entry_pick$36;
+    reg  [15:0] entry_pick$37;
+    reg  [15:0] entry_pick$38;
+    reg  [15:0] entry_pick$39;
+    reg  [15:0] entry_pick$40;
+    reg  [15:0] entry_pick$41;
+    reg  [15:0] entry_pick$42;
+    reg  [15:0] entry_pick$43;
+    reg  [15:0] entry_pick$44;
+    reg  [15:0] entry_pick$45;
+    reg  [15:0] entry_pick$46;
+    reg  [15:0] entry_pick$47;
+    reg  [15:0] entry_pick$48;
+    reg  [15:0] entry_pick$49;
+    reg  [15:0] entry_pick$50;
+    reg  [15:0] entry_pick$51;
+    reg  [15:0] entry_pick$52;
+    reg  [15:0] entry_pick$53;
+    reg  [15:0] entry_pick$54;
+    reg  [15:0] entry_pick$55;
+    reg  [15:0] entry_pick$56;
+    reg  [15:0] entry_pick$57;
+    reg  [15:0] entry_pick$58;
+    reg  [15:0] entry_pick$59;
+    reg  [15:0] entry_pick$60;
+    reg  [15:0] entry_pick$61;
+    reg  [15:0] entry_pick$62;
+    reg  [15:0] entry_pick$63;
+    reg  [15:0] entry_pick$64;
+    reg  [15:0] entry_pick$65;
+    reg  [15:0] entry_pick$66;
+    reg  [15:0] entry_pick$67;
+    reg  [15:0] entry_pick$68;
+    reg  [15:0] entry_pick$69;
+    reg  [15:0] entry_pick$70;
+    reg  [15:0] entry_pick$71;
+    reg  [15:0] entry_pick$72;
+    reg  [15:0] entry_pick$73;
+    reg  [15:0] entry_pick$74;
+    reg  [15:0] entry_pick$75;
+    reg  [15:0] entry_pick$76;
+    reg  [15:0] entry_pick$77;
+    reg  [15:0] entry_pick$78;
+    reg  [15:0] entry_pick$79;
+    reg  [15:0] entry_pick$80;
+    reg  [15:0] entry_acc$0;
+    reg  [15:0] entry_acc$1;
+    reg  [15:0] entry_acc$2;
+    reg  [15:0] entry_acc$3;
+    reg  [15:0] entry_acc$4;
+    reg  [15:0] entry_acc$5;
+    reg  [15:0] entry_acc$6;
+    reg  [15:0] entry_acc$7;
+    reg  [15:0] entry_acc$8;
+    reg  [15:0] entry_acc$9;
+    reg  [15:0] entry_acc$10;
+    reg  [15:0] entry_acc$11;
+    reg  [15:0] entry_acc$12;
+    reg  [15:0] entry_acc$13;
+    reg  [15:0] entry_acc$14;
+    reg  [15:0] entry_acc$15;
+    reg  [15:0] entry_acc$16;
+    reg  [15:0] entry_acc$17;
+    reg  [15:0] entry_acc$18;
+    reg  [15:0] entry_acc$19;
+    reg  [15:0] entry_acc$20;
+    reg  [15:0] entry_acc$21;
+    reg  [15:0] entry_acc$22;
+    reg  [15:0] entry_acc$23;
+    reg  [15:0] entry_acc$24;
+    reg  [15:0] entry_acc$25;
+    reg  [15:0] entry_acc$26;
     reg  any_live$0;
     reg  bank_any$0;
     reg  bank_any$1;
@@ -12876,33 +12546,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  bank_any$24;
     reg  bank_any$25;
     reg  bank_any$26;
-    reg  bank_next$0;
-    reg  bank_next$1;
-    reg  bank_next$2;
-    reg  bank_next$3;
-    reg  bank_next$4;
-    reg  bank_next$5;
-    reg  bank_next$6;
-    reg  bank_next$7;
-    reg  bank_next$8;
-    reg  bank_next$9;
-    reg  bank_next$10;
-    reg  bank_next$11;
-    reg  bank_next$12;
-    reg  bank_next$13;
-    reg  bank_next$14;
-    reg  bank_next$15;
-    reg  bank_next$16;
-    reg  bank_next$17;
-    reg  bank_next$18;
-    reg  bank_next$19;
-    reg  bank_next$20;
-    reg  bank_next$21;
-    reg  bank_next$22;
-    reg  bank_next$23;
-    reg  bank_next$24;
-    reg  bank_next$25;
-    reg  bank_next$26;
     reg  group_prior$0;
     reg  group_prior$1;
     reg  group_prior$2;
@@ -12984,6 +12627,16 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  group_prior$78;
     reg  group_prior$79;
     reg  group_prior$80;
+    reg  chunk_prior$0;
+    reg  chunk_prior$1;
+    reg  chunk_prior$2;
+    reg  chunk_prior$3;
+    reg  chunk_prior$4;
+    reg  chunk_prior$5;
+    reg  chunk_prior$6;
+    reg  chunk_prior$7;
+    reg  chunk_prior$8;
+    reg  chunk_prior$9;
     reg  bank_prior$0;
     reg  bank_prior$1;
     reg  bank_prior$2;
@@ -13011,7 +12664,78 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  bank_prior$24;
     reg  bank_prior$25;
     reg  bank_prior$26;
-    reg  bank_prior$27;
+    reg  bank_next$0;
+    reg  bank_next$1;
+    reg  bank_next$2;
+    reg  bank_next$3;
+    reg  bank_next$4;
+    reg  bank_next$5;
+    reg  bank_next$6;
+    reg  bank_next$7;
+    reg  bank_next$8;
+    reg  bank_next$9;
+    reg  bank_next$10;
+    reg  bank_next$11;
+    reg  bank_next$12;
+    reg  bank_next$13;
+    reg  bank_next$14;
+    reg  bank_next$15;
+    reg  bank_next$16;
+    reg  bank_next$17;
+    reg  bank_next$18;
+    reg  bank_next$19;
+    reg  bank_next$20;
+    reg  bank_next$21;
+    reg  bank_next$22;
+    reg  bank_next$23;
+    reg  bank_next$24;
+    reg  bank_next$25;
+    reg  bank_next$26;
+    reg  bank_load$0;
+    reg  bank_load$1;
+    reg  bank_load$2;
+    reg  bank_load$3;
+    reg  bank_load$4;
+    reg  bank_load$5;
+    reg  bank_load$6;
+    reg  bank_load$7;
+    reg  bank_load$8;
+    reg  bank_load$9;
+    reg  bank_load$10;
+    reg  bank_load$11;
+    reg  bank_load$12;
+    reg  bank_load$13;
+    reg  bank_load$14;
+    reg  bank_load$15;
+    reg  bank_load$16;
+    reg  bank_load$17;
+    reg  bank_load$18;
+    reg  bank_load$19;
+    reg  bank_load$20;
+    reg  bank_load$21;
+    reg  bank_load$22;
+    reg  bank_load$23;
+    reg  bank_load$24;
+    reg  bank_load$25;
+    reg  bank_load$26;
+    reg  chunk_next$0;
+    reg  chunk_next$1;
+    reg  chunk_next$2;
+    reg  chunk_next$3;
+    reg  chunk_next$4;
+    reg  chunk_next$5;
+    reg  chunk_next$6;
+    reg  chunk_next$7;
+    reg  chunk_next$8;
+    reg  chunk_load$0;
+    reg  chunk_load$1;
+    reg  chunk_load$2;
+    reg  chunk_load$3;
+    reg  chunk_load$4;
+    reg  chunk_load$5;
+    reg  chunk_load$6;
+    reg  chunk_load$7;
+    reg  chunk_load$8;
     reg  e_first$0;
     reg  e_first$1;
     reg  e_first$2;
@@ -13382,7 +13106,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  [27:0] margin_lo$0;
     reg  [27:0] margin_hi$0;
     reg  done_walk;
-    reg  idle;
+    reg  idle_next;
     reg  fetch;
     reg  inject;
     reg  [1:0] inject_kind;
@@ -17812,815 +17536,140 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(s5_head2$80$q),
         .clock(s5_head2$80$clock)
     );
-    obb_core$grid$0$s5_enter$0 s5_enter$0(
-        .d(s5_enter$0$d),
-        .q(s5_enter$0$q),
-        .clock(s5_enter$0$clock)
-    );
-    obb_core$grid$0$s5_enter$1 s5_enter$1(
-        .d(s5_enter$1$d),
-        .q(s5_enter$1$q),
-        .clock(s5_enter$1$clock)
-    );
-    obb_core$grid$0$s5_enter$2 s5_enter$2(
-        .d(s5_enter$2$d),
-        .q(s5_enter$2$q),
-        .clock(s5_enter$2$clock)
-    );
-    obb_core$grid$0$s5_enter$3 s5_enter$3(
-        .d(s5_enter$3$d),
-        .q(s5_enter$3$q),
-        .clock(s5_enter$3$clock)
-    );
-    obb_core$grid$0$s5_enter$4 s5_enter$4(
-        .d(s5_enter$4$d),
-        .q(s5_enter$4$q),
-        .clock(s5_enter$4$clock)
-    );
-    obb_core$grid$0$s5_enter$5 s5_enter$5(
-        .d(s5_enter$5$d),
-        .q(s5_enter$5$q),
-        .clock(s5_enter$5$clock)
-    );
-    obb_core$grid$0$s5_enter$6 s5_enter$6(
-        .d(s5_enter$6$d),
-        .q(s5_enter$6$q),
-        .clock(s5_enter$6$clock)
-    );
-    obb_core$grid$0$s5_enter$7 s5_enter$7(
-        .d(s5_enter$7$d),
-        .q(s5_enter$7$q),
-        .clock(s5_enter$7$clock)
-    );
-    obb_core$grid$0$s5_enter$8 s5_enter$8(
-        .d(s5_enter$8$d),
-        .q(s5_enter$8$q),
-        .clock(s5_enter$8$clock)
-    );
-    obb_core$grid$0$s5_enter$9 s5_enter$9(
-        .d(s5_enter$9$d),
-        .q(s5_enter$9$q),
-        .clock(s5_enter$9$clock)
-    );
-    obb_core$grid$0$s5_enter$10 s5_enter$10(
-        .d(s5_enter$10$d),
-        .q(s5_enter$10$q),
-        .clock(s5_enter$10$clock)
-    );
-    obb_core$grid$0$s5_enter$11 s5_enter$11(
-        .d(s5_enter$11$d),
-        .q(s5_enter$11$q),
-        .clock(s5_enter$11$clock)
-    );
-    obb_core$grid$0$s5_enter$12 s5_enter$12(
-        .d(s5_enter$12$d),
-        .q(s5_enter$12$q),
-        .clock(s5_enter$12$clock)
-    );
-    obb_core$grid$0$s5_enter$13 s5_enter$13(
-        .d(s5_enter$13$d),
-        .q(s5_enter$13$q),
-        .clock(s5_enter$13$clock)
-    );
-    obb_core$grid$0$s5_enter$14 s5_enter$14(
-        .d(s5_enter$14$d),
-        .q(s5_enter$14$q),
-        .clock(s5_enter$14$clock)
-    );
-    obb_core$grid$0$s5_enter$15 s5_enter$15(
-        .d(s5_enter$15$d),
-        .q(s5_enter$15$q),
-        .clock(s5_enter$15$clock)
-    );
-    obb_core$grid$0$s5_enter$16 s5_enter$16(
-        .d(s5_enter$16$d),
-        .q(s5_enter$16$q),
-        .clock(s5_enter$16$clock)
-    );
-    obb_core$grid$0$s5_enter$17 s5_enter$17(
-        .d(s5_enter$17$d),
-        .q(s5_enter$17$q),
-        .clock(s5_enter$17$clock)
-    );
-    obb_core$grid$0$s5_enter$18 s5_enter$18(
-        .d(s5_enter$18$d),
-        .q(s5_enter$18$q),
-        .clock(s5_enter$18$clock)
-    );
-    obb_core$grid$0$s5_enter$19 s5_enter$19(
-        .d(s5_enter$19$d),
-        .q(s5_enter$19$q),
-        .clock(s5_enter$19$clock)
-    );
-    obb_core$grid$0$s5_enter$20 s5_enter$20(
-        .d(s5_enter$20$d),
-        .q(s5_enter$20$q),
-        .clock(s5_enter$20$clock)
-    );
-    obb_core$grid$0$s5_enter$21 s5_enter$21(
-        .d(s5_enter$21$d),
-        .q(s5_enter$21$q),
-        .clock(s5_enter$21$clock)
-    );
-    obb_core$grid$0$s5_enter$22 s5_enter$22(
-        .d(s5_enter$22$d),
-        .q(s5_enter$22$q),
-        .clock(s5_enter$22$clock)
-    );
-    obb_core$grid$0$s5_enter$23 s5_enter$23(
-        .d(s5_enter$23$d),
-        .q(s5_enter$23$q),
-        .clock(s5_enter$23$clock)
-    );
-    obb_core$grid$0$s5_enter$24 s5_enter$24(
-        .d(s5_enter$24$d),
-        .q(s5_enter$24$q),
-        .clock(s5_enter$24$clock)
-    );
-    obb_core$grid$0$s5_enter$25 s5_enter$25(
-        .d(s5_enter$25$d),
-        .q(s5_enter$25$q),
-        .clock(s5_enter$25$clock)
-    );
-    obb_core$grid$0$s5_enter$26 s5_enter$26(
-        .d(s5_enter$26$d),
-        .q(s5_enter$26$q),
-        .clock(s5_enter$26$clock)
-    );
-    obb_core$grid$0$s5_enter$27 s5_enter$27(
-        .d(s5_enter$27$d),
-        .q(s5_enter$27$q),
-        .clock(s5_enter$27$clock)
-    );
-    obb_core$grid$0$s5_enter$28 s5_enter$28(
-        .d(s5_enter$28$d),
-        .q(s5_enter$28$q),
-        .clock(s5_enter$28$clock)
-    );
-    obb_core$grid$0$s5_enter$29 s5_enter$29(
-        .d(s5_enter$29$d),
-        .q(s5_enter$29$q),
-        .clock(s5_enter$29$clock)
-    );
-    obb_core$grid$0$s5_enter$30 s5_enter$30(
-        .d(s5_enter$30$d),
-        .q(s5_enter$30$q),
-        .clock(s5_enter$30$clock)
-    );
-    obb_core$grid$0$s5_enter$31 s5_enter$31(
-        .d(s5_enter$31$d),
-        .q(s5_enter$31$q),
-        .clock(s5_enter$31$clock)
-    );
-    obb_core$grid$0$s5_enter$32 s5_enter$32(
-        .d(s5_enter$32$d),
-        .q(s5_enter$32$q),
-        .clock(s5_enter$32$clock)
-    );
-    obb_core$grid$0$s5_enter$33 s5_enter$33(
-        .d(s5_enter$33$d),
-        .q(s5_enter$33$q),
-        .clock(s5_enter$33$clock)
-    );
-    obb_core$grid$0$s5_enter$34 s5_enter$34(
-        .d(s5_enter$34$d),
-        .q(s5_enter$34$q),
-        .clock(s5_enter$34$clock)
-    );
-    obb_core$grid$0$s5_enter$35 s5_enter$35(
-        .d(s5_enter$35$d),
-        .q(s5_enter$35$q),
-        .clock(s5_enter$35$clock)
-    );
-    obb_core$grid$0$s5_enter$36 s5_enter$36(
-        .d(s5_enter$36$d),
-        .q(s5_enter$36$q),
-        .clock(s5_enter$36$clock)
-    );
-    obb_core$grid$0$s5_enter$37 s5_enter$37(
-        .d(s5_enter$37$d),
-        .q(s5_enter$37$q),
-        .clock(s5_enter$37$clock)
-    );
-    obb_core$grid$0$s5_enter$38 s5_enter$38(
-        .d(s5_enter$38$d),
-        .q(s5_enter$38$q),
-        .clock(s5_enter$38$clock)
-    );
-    obb_core$grid$0$s5_enter$39 s5_enter$39(
-        .d(s5_enter$39$d),
-        .q(s5_enter$39$q),
-        .clock(s5_enter$39$clock)
-    );
-    obb_core$grid$0$s5_enter$40 s5_enter$40(
-        .d(s5_enter$40$d),
-        .q(s5_enter$40$q),
-        .clock(s5_enter$40$clock)
-    );
-    obb_core$grid$0$s5_enter$41 s5_enter$41(
-        .d(s5_enter$41$d),
-        .q(s5_enter$41$q),
-        .clock(s5_enter$41$clock)
-    );
-    obb_core$grid$0$s5_enter$42 s5_enter$42(
-        .d(s5_enter$42$d),
-        .q(s5_enter$42$q),
-        .clock(s5_enter$42$clock)
-    );
-    obb_core$grid$0$s5_enter$43 s5_enter$43(
-        .d(s5_enter$43$d),
-        .q(s5_enter$43$q),
-        .clock(s5_enter$43$clock)
-    );
-    obb_core$grid$0$s5_enter$44 s5_enter$44(
-        .d(s5_enter$44$d),
-        .q(s5_enter$44$q),
-        .clock(s5_enter$44$clock)
-    );
-    obb_core$grid$0$s5_enter$45 s5_enter$45(
-        .d(s5_enter$45$d),
-        .q(s5_enter$45$q),
-        .clock(s5_enter$45$clock)
-    );
-    obb_core$grid$0$s5_enter$46 s5_enter$46(
-        .d(s5_enter$46$d),
-        .q(s5_enter$46$q),
-        .clock(s5_enter$46$clock)
-    );
-    obb_core$grid$0$s5_enter$47 s5_enter$47(
-        .d(s5_enter$47$d),
-        .q(s5_enter$47$q),
-        .clock(s5_enter$47$clock)
-    );
-    obb_core$grid$0$s5_enter$48 s5_enter$48(
-        .d(s5_enter$48$d),
-        .q(s5_enter$48$q),
-        .clock(s5_enter$48$clock)
-    );
-    obb_core$grid$0$s5_enter$49 s5_enter$49(
-        .d(s5_enter$49$d),
-        .q(s5_enter$49$q),
-        .clock(s5_enter$49$clock)
-    );
-    obb_core$grid$0$s5_enter$50 s5_enter$50(
-        .d(s5_enter$50$d),
-        .q(s5_enter$50$q),
-        .clock(s5_enter$50$clock)
-    );
-    obb_core$grid$0$s5_enter$51 s5_enter$51(
-        .d(s5_enter$51$d),
-        .q(s5_enter$51$q),
-        .clock(s5_enter$51$clock)
-    );
-    obb_core$grid$0$s5_enter$52 s5_enter$52(
-        .d(s5_enter$52$d),
-        .q(s5_enter$52$q),
-        .clock(s5_enter$52$clock)
-    );
-    obb_core$grid$0$s5_enter$53 s5_enter$53(
-        .d(s5_enter$53$d),
-        .q(s5_enter$53$q),
-        .clock(s5_enter$53$clock)
-    );
-    obb_core$grid$0$s5_enter$54 s5_enter$54(
-        .d(s5_enter$54$d),
-        .q(s5_enter$54$q),
-        .clock(s5_enter$54$clock)
-    );
-    obb_core$grid$0$s5_enter$55 s5_enter$55(
-        .d(s5_enter$55$d),
-        .q(s5_enter$55$q),
-        .clock(s5_enter$55$clock)
-    );
-    obb_core$grid$0$s5_enter$56 s5_enter$56(
-        .d(s5_enter$56$d),
-        .q(s5_enter$56$q),
-        .clock(s5_enter$56$clock)
-    );
-    obb_core$grid$0$s5_enter$57 s5_enter$57(
-        .d(s5_enter$57$d),
-        .q(s5_enter$57$q),
-        .clock(s5_enter$57$clock)
-    );
-    obb_core$grid$0$s5_enter$58 s5_enter$58(
-        .d(s5_enter$58$d),
-        .q(s5_enter$58$q),
-        .clock(s5_enter$58$clock)
-    );
-    obb_core$grid$0$s5_enter$59 s5_enter$59(
-        .d(s5_enter$59$d),
-        .q(s5_enter$59$q),
-        .clock(s5_enter$59$clock)
-    );
-    obb_core$grid$0$s5_enter$60 s5_enter$60(
-        .d(s5_enter$60$d),
-        .q(s5_enter$60$q),
-        .clock(s5_enter$60$clock)
-    );
-    obb_core$grid$0$s5_enter$61 s5_enter$61(
-        .d(s5_enter$61$d),
-        .q(s5_enter$61$q),
-        .clock(s5_enter$61$clock)
-    );
-    obb_core$grid$0$s5_enter$62 s5_enter$62(
-        .d(s5_enter$62$d),
-        .q(s5_enter$62$q),
-        .clock(s5_enter$62$clock)
-    );
-    obb_core$grid$0$s5_enter$63 s5_enter$63(
-        .d(s5_enter$63$d),
-        .q(s5_enter$63$q),
-        .clock(s5_enter$63$clock)
-    );
-    obb_core$grid$0$s5_enter$64 s5_enter$64(
-        .d(s5_enter$64$d),
-        .q(s5_enter$64$q),
-        .clock(s5_enter$64$clock)
-    );
-    obb_core$grid$0$s5_enter$65 s5_enter$65(
-        .d(s5_enter$65$d),
-        .q(s5_enter$65$q),
-        .clock(s5_enter$65$clock)
-    );
-    obb_core$grid$0$s5_enter$66 s5_enter$66(
-        .d(s5_enter$66$d),
-        .q(s5_enter$66$q),
-        .clock(s5_enter$66$clock)
-    );
-    obb_core$grid$0$s5_enter$67 s5_enter$67(
-        .d(s5_enter$67$d),
-        .q(s5_enter$67$q),
-        .clock(s5_enter$67$clock)
-    );
-    obb_core$grid$0$s5_enter$68 s5_enter$68(
-        .d(s5_enter$68$d),
-        .q(s5_enter$68$q),
-        .clock(s5_enter$68$clock)
-    );
-    obb_core$grid$0$s5_enter$69 s5_enter$69(
-        .d(s5_enter$69$d),
-        .q(s5_enter$69$q),
-        .clock(s5_enter$69$clock)
-    );
-    obb_core$grid$0$s5_enter$70 s5_enter$70(
-        .d(s5_enter$70$d),
-        .q(s5_enter$70$q),
-        .clock(s5_enter$70$clock)
-    );
-    obb_core$grid$0$s5_enter$71 s5_enter$71(
-        .d(s5_enter$71$d),
-        .q(s5_enter$71$q),
-        .clock(s5_enter$71$clock)
-    );
-    obb_core$grid$0$s5_enter$72 s5_enter$72(
-        .d(s5_enter$72$d),
-        .q(s5_enter$72$q),
-        .clock(s5_enter$72$clock)
-    );
-    obb_core$grid$0$s5_enter$73 s5_enter$73(
-        .d(s5_enter$73$d),
-        .q(s5_enter$73$q),
-        .clock(s5_enter$73$clock)
-    );
-    obb_core$grid$0$s5_enter$74 s5_enter$74(
-        .d(s5_enter$74$d),
-        .q(s5_enter$74$q),
-        .clock(s5_enter$74$clock)
-    );
-    obb_core$grid$0$s5_enter$75 s5_enter$75(
-        .d(s5_enter$75$d),
-        .q(s5_enter$75$q),
-        .clock(s5_enter$75$clock)
-    );
-    obb_core$grid$0$s5_enter$76 s5_enter$76(
-        .d(s5_enter$76$d),
-        .q(s5_enter$76$q),
-        .clock(s5_enter$76$clock)
-    );
-    obb_core$grid$0$s5_enter$77 s5_enter$77(
-        .d(s5_enter$77$d),
-        .q(s5_enter$77$q),
-        .clock(s5_enter$77$clock)
-    );
-    obb_core$grid$0$s5_enter$78 s5_enter$78(
-        .d(s5_enter$78$d),
-        .q(s5_enter$78$q),
-        .clock(s5_enter$78$clock)
-    );
-    obb_core$grid$0$s5_enter$79 s5_enter$79(
-        .d(s5_enter$79$d),
-        .q(s5_enter$79$q),
-        .clock(s5_enter$79$clock)
-    );
-    obb_core$grid$0$s5_enter$80 s5_enter$80(
-        .d(s5_enter$80$d),
-        .q(s5_enter$80$q),
-        .clock(s5_enter$80$clock)
-    );
-    obb_core$grid$0$s5_wrote$0 s5_wrote$0(
-        .d(s5_wrote$0$d),
-        .q(s5_wrote$0$q),
-        .clock(s5_wrote$0$clock)
-    );
-    obb_core$grid$0$s5_wrote$1 s5_wrote$1(
-        .d(s5_wrote$1$d),
-        .q(s5_wrote$1$q),
-        .clock(s5_wrote$1$clock)
-    );
-    obb_core$grid$0$s5_wrote$2 s5_wrote$2(
-        .d(s5_wrote$2$d),
-        .q(s5_wrote$2$q),
-        .clock(s5_wrote$2$clock)
-    );
-    obb_core$grid$0$s5_wrote$3 s5_wrote$3(
-        .d(s5_wrote$3$d),
-        .q(s5_wrote$3$q),
-        .clock(s5_wrote$3$clock)
-    );
-    obb_core$grid$0$s5_wrote$4 s5_wrote$4(
-        .d(s5_wrote$4$d),
-        .q(s5_wrote$4$q),
-        .clock(s5_wrote$4$clock)
-    );
-    obb_core$grid$0$s5_wrote$5 s5_wrote$5(
-        .d(s5_wrote$5$d),
-        .q(s5_wrote$5$q),
-        .clock(s5_wrote$5$clock)
-    );
-    obb_core$grid$0$s5_wrote$6 s5_wrote$6(
-        .d(s5_wrote$6$d),
-        .q(s5_wrote$6$q),
-        .clock(s5_wrote$6$clock)
-    );
-    obb_core$grid$0$s5_wrote$7 s5_wrote$7(
-        .d(s5_wrote$7$d),
-        .q(s5_wrote$7$q),
-        .clock(s5_wrote$7$clock)
-    );
-    obb_core$grid$0$s5_wrote$8 s5_wrote$8(
-        .d(s5_wrote$8$d),
-        .q(s5_wrote$8$q),
-        .clock(s5_wrote$8$clock)
-    );
-    obb_core$grid$0$s5_wrote$9 s5_wrote$9(
-        .d(s5_wrote$9$d),
-        .q(s5_wrote$9$q),
-        .clock(s5_wrote$9$clock)
-    );
-    obb_core$grid$0$s5_wrote$10 s5_wrote$10(
-        .d(s5_wrote$10$d),
-        .q(s5_wrote$10$q),
-        .clock(s5_wrote$10$clock)
-    );
-    obb_core$grid$0$s5_wrote$11 s5_wrote$11(
-        .d(s5_wrote$11$d),
-        .q(s5_wrote$11$q),
-        .clock(s5_wrote$11$clock)
-    );
-    obb_core$grid$0$s5_wrote$12 s5_wrote$12(
-        .d(s5_wrote$12$d),
-        .q(s5_wrote$12$q),
-        .clock(s5_wrote$12$clock)
-    );
-    obb_core$grid$0$s5_wrote$13 s5_wrote$13(
-        .d(s5_wrote$13$d),
-        .q(s5_wrote$13$q),
-        .clock(s5_wrote$13$clock)
-    );
-    obb_core$grid$0$s5_wrote$14 s5_wrote$14(
-        .d(s5_wrote$14$d),
-        .q(s5_wrote$14$q),
-        .clock(s5_wrote$14$clock)
-    );
-    obb_core$grid$0$s5_wrote$15 s5_wrote$15(
-        .d(s5_wrote$15$d),
-        .q(s5_wrote$15$q),
-        .clock(s5_wrote$15$clock)
-    );
-    obb_core$grid$0$s5_wrote$16 s5_wrote$16(
-        .d(s5_wrote$16$d),
-        .q(s5_wrote$16$q),
-        .clock(s5_wrote$16$clock)
-    );
-    obb_core$grid$0$s5_wrote$17 s5_wrote$17(
-        .d(s5_wrote$17$d),
-        .q(s5_wrote$17$q),
-        .clock(s5_wrote$17$clock)
-    );
-    obb_core$grid$0$s5_wrote$18 s5_wrote$18(
-        .d(s5_wrote$18$d),
-        .q(s5_wrote$18$q),
-        .clock(s5_wrote$18$clock)
-    );
-    obb_core$grid$0$s5_wrote$19 s5_wrote$19(
-        .d(s5_wrote$19$d),
-        .q(s5_wrote$19$q),
-        .clock(s5_wrote$19$clock)
-    );
-    obb_core$grid$0$s5_wrote$20 s5_wrote$20(
-        .d(s5_wrote$20$d),
-        .q(s5_wrote$20$q),
-        .clock(s5_wrote$20$clock)
-    );
-    obb_core$grid$0$s5_wrote$21 s5_wrote$21(
-        .d(s5_wrote$21$d),
-        .q(s5_wrote$21$q),
-        .clock(s5_wrote$21$clock)
-    );
-    obb_core$grid$0$s5_wrote$22 s5_wrote$22(
-        .d(s5_wrote$22$d),
-        .q(s5_wrote$22$q),
-        .clock(s5_wrote$22$clock)
-    );
-    obb_core$grid$0$s5_wrote$23 s5_wrote$23(
-        .d(s5_wrote$23$d),
-        .q(s5_wrote$23$q),
-        .clock(s5_wrote$23$clock)
-    );
-    obb_core$grid$0$s5_wrote$24 s5_wrote$24(
-        .d(s5_wrote$24$d),
-        .q(s5_wrote$24$q),
-        .clock(s5_wrote$24$clock)
-    );
-    obb_core$grid$0$s5_wrote$25 s5_wrote$25(
-        .d(s5_wrote$25$d),
-        .q(s5_wrote$25$q),
-        .clock(s5_wrote$25$clock)
-    );
-    obb_core$grid$0$s5_wrote$26 s5_wrote$26(
-        .d(s5_wrote$26$d),
-        .q(s5_wrote$26$q),
-        .clock(s5_wrote$26$clock)
-    );
-    obb_core$grid$0$s5_wrote$27 s5_wrote$27(
-        .d(s5_wrote$27$d),
-        .q(s5_wrote$27$q),
-        .clock(s5_wrote$27$clock)
-    );
-    obb_core$grid$0$s5_wrote$28 s5_wrote$28(
-        .d(s5_wrote$28$d),
-        .q(s5_wrote$28$q),
-        .clock(s5_wrote$28$clock)
-    );
-    obb_core$grid$0$s5_wrote$29 s5_wrote$29(
-        .d(s5_wrote$29$d),
-        .q(s5_wrote$29$q),
-        .clock(s5_wrote$29$clock)
-    );
-    obb_core$grid$0$s5_wrote$30 s5_wrote$30(
-        .d(s5_wrote$30$d),
-        .q(s5_wrote$30$q),
-        .clock(s5_wrote$30$clock)
-    );
-    obb_core$grid$0$s5_wrote$31 s5_wrote$31(
-        .d(s5_wrote$31$d),
-        .q(s5_wrote$31$q),
-        .clock(s5_wrote$31$clock)
-    );
-    obb_core$grid$0$s5_wrote$32 s5_wrote$32(
-        .d(s5_wrote$32$d),
-        .q(s5_wrote$32$q),
-        .clock(s5_wrote$32$clock)
-    );
-    obb_core$grid$0$s5_wrote$33 s5_wrote$33(
-        .d(s5_wrote$33$d),
-        .q(s5_wrote$33$q),
-        .clock(s5_wrote$33$clock)
-    );
-    obb_core$grid$0$s5_wrote$34 s5_wrote$34(
-        .d(s5_wrote$34$d),
-        .q(s5_wrote$34$q),
-        .clock(s5_wrote$34$clock)
-    );
-    obb_core$grid$0$s5_wrote$35 s5_wrote$35(
-        .d(s5_wrote$35$d),
-        .q(s5_wrote$35$q),
-        .clock(s5_wrote$35$clock)
-    );
-    obb_core$grid$0$s5_wrote$36 s5_wrote$36(
-        .d(s5_wrote$36$d),
-        .q(s5_wrote$36$q),
-        .clock(s5_wrote$36$clock)
-    );
-    obb_core$grid$0$s5_wrote$37 s5_wrote$37(
-        .d(s5_wrote$37$d),
-        .q(s5_wrote$37$q),
-        .clock(s5_wrote$37$clock)
-    );
-    obb_core$grid$0$s5_wrote$38 s5_wrote$38(
-        .d(s5_wrote$38$d),
-        .q(s5_wrote$38$q),
-        .clock(s5_wrote$38$clock)
-    );
-    obb_core$grid$0$s5_wrote$39 s5_wrote$39(
-        .d(s5_wrote$39$d),
-        .q(s5_wrote$39$q),
-        .clock(s5_wrote$39$clock)
-    );
-    obb_core$grid$0$s5_wrote$40 s5_wrote$40(
-        .d(s5_wrote$40$d),
-        .q(s5_wrote$40$q),
-        .clock(s5_wrote$40$clock)
-    );
-    obb_core$grid$0$s5_wrote$41 s5_wrote$41(
-        .d(s5_wrote$41$d),
-        .q(s5_wrote$41$q),
-        .clock(s5_wrote$41$clock)
-    );
-    obb_core$grid$0$s5_wrote$42 s5_wrote$42(
-        .d(s5_wrote$42$d),
-        .q(s5_wrote$42$q),
-        .clock(s5_wrote$42$clock)
-    );
-    obb_core$grid$0$s5_wrote$43 s5_wrote$43(
-        .d(s5_wrote$43$d),
-        .q(s5_wrote$43$q),
-        .clock(s5_wrote$43$clock)
-    );
-    obb_core$grid$0$s5_wrote$44 s5_wrote$44(
-        .d(s5_wrote$44$d),
-        .q(s5_wrote$44$q),
-        .clock(s5_wrote$44$clock)
-    );
-    obb_core$grid$0$s5_wrote$45 s5_wrote$45(
-        .d(s5_wrote$45$d),
-        .q(s5_wrote$45$q),
-        .clock(s5_wrote$45$clock)
-    );
-    obb_core$grid$0$s5_wrote$46 s5_wrote$46(
-        .d(s5_wrote$46$d),
-        .q(s5_wrote$46$q),
-        .clock(s5_wrote$46$clock)
-    );
-    obb_core$grid$0$s5_wrote$47 s5_wrote$47(
-        .d(s5_wrote$47$d),
-        .q(s5_wrote$47$q),
-        .clock(s5_wrote$47$clock)
-    );
-    obb_core$grid$0$s5_wrote$48 s5_wrote$48(
-        .d(s5_wrote$48$d),
-        .q(s5_wrote$48$q),
-        .clock(s5_wrote$48$clock)
-    );
-    obb_core$grid$0$s5_wrote$49 s5_wrote$49(
-        .d(s5_wrote$49$d),
-        .q(s5_wrote$49$q),
-        .clock(s5_wrote$49$clock)
-    );
-    obb_core$grid$0$s5_wrote$50 s5_wrote$50(
-        .d(s5_wrote$50$d),
-        .q(s5_wrote$50$q),
-        .clock(s5_wrote$50$clock)
-    );
-    obb_core$grid$0$s5_wrote$51 s5_wrote$51(
-        .d(s5_wrote$51$d),
-        .q(s5_wrote$51$q),
-        .clock(s5_wrote$51$clock)
-    );
-    obb_core$grid$0$s5_wrote$52 s5_wrote$52(
-        .d(s5_wrote$52$d),
-        .q(s5_wrote$52$q),
-        .clock(s5_wrote$52$clock)
-    );
-    obb_core$grid$0$s5_wrote$53 s5_wrote$53(
-        .d(s5_wrote$53$d),
-        .q(s5_wrote$53$q),
-        .clock(s5_wrote$53$clock)
-    );
-    obb_core$grid$0$s5_wrote$54 s5_wrote$54(
-        .d(s5_wrote$54$d),
-        .q(s5_wrote$54$q),
-        .clock(s5_wrote$54$clock)
-    );
-    obb_core$grid$0$s5_wrote$55 s5_wrote$55(
-        .d(s5_wrote$55$d),
-        .q(s5_wrote$55$q),
-        .clock(s5_wrote$55$clock)
-    );
-    obb_core$grid$0$s5_wrote$56 s5_wrote$56(
-        .d(s5_wrote$56$d),
-        .q(s5_wrote$56$q),
-        .clock(s5_wrote$56$clock)
-    );
-    obb_core$grid$0$s5_wrote$57 s5_wrote$57(
-        .d(s5_wrote$57$d),
-        .q(s5_wrote$57$q),
-        .clock(s5_wrote$57$clock)
-    );
-    obb_core$grid$0$s5_wrote$58 s5_wrote$58(
-        .d(s5_wrote$58$d),
-        .q(s5_wrote$58$q),
-        .clock(s5_wrote$58$clock)
-    );
-    obb_core$grid$0$s5_wrote$59 s5_wrote$59(
-        .d(s5_wrote$59$d),
-        .q(s5_wrote$59$q),
-        .clock(s5_wrote$59$clock)
-    );
-    obb_core$grid$0$s5_wrote$60 s5_wrote$60(
-        .d(s5_wrote$60$d),
-        .q(s5_wrote$60$q),
-        .clock(s5_wrote$60$clock)
-    );
-    obb_core$grid$0$s5_wrote$61 s5_wrote$61(
-        .d(s5_wrote$61$d),
-        .q(s5_wrote$61$q),
-        .clock(s5_wrote$61$clock)
-    );
-    obb_core$grid$0$s5_wrote$62 s5_wrote$62(
-        .d(s5_wrote$62$d),
-        .q(s5_wrote$62$q),
-        .clock(s5_wrote$62$clock)
-    );
-    obb_core$grid$0$s5_wrote$63 s5_wrote$63(
-        .d(s5_wrote$63$d),
-        .q(s5_wrote$63$q),
-        .clock(s5_wrote$63$clock)
-    );
-    obb_core$grid$0$s5_wrote$64 s5_wrote$64(
-        .d(s5_wrote$64$d),
-        .q(s5_wrote$64$q),
-        .clock(s5_wrote$64$clock)
-    );
-    obb_core$grid$0$s5_wrote$65 s5_wrote$65(
-        .d(s5_wrote$65$d),
-        .q(s5_wrote$65$q),
-        .clock(s5_wrote$65$clock)
-    );
-    obb_core$grid$0$s5_wrote$66 s5_wrote$66(
-        .d(s5_wrote$66$d),
-        .q(s5_wrote$66$q),
-        .clock(s5_wrote$66$clock)
-    );
-    obb_core$grid$0$s5_wrote$67 s5_wrote$67(
-        .d(s5_wrote$67$d),
-        .q(s5_wrote$67$q),
-        .clock(s5_wrote$67$clock)
-    );
-    obb_core$grid$0$s5_wrote$68 s5_wrote$68(
-        .d(s5_wrote$68$d),
-        .q(s5_wrote$68$q),
-        .clock(s5_wrote$68$clock)
-    );
-    obb_core$grid$0$s5_wrote$69 s5_wrote$69(
-        .d(s5_wrote$69$d),
-        .q(s5_wrote$69$q),
-        .clock(s5_wrote$69$clock)
-    );
-    obb_core$grid$0$s5_wrote$70 s5_wrote$70(
-        .d(s5_wrote$70$d),
-        .q(s5_wrote$70$q),
-        .clock(s5_wrote$70$clock)
-    );
-    obb_core$grid$0$s5_wrote$71 s5_wrote$71(
-        .d(s5_wrote$71$d),
-        .q(s5_wrote$71$q),
-        .clock(s5_wrote$71$clock)
-    );
-    obb_core$grid$0$s5_wrote$72 s5_wrote$72(
-        .d(s5_wrote$72$d),
-        .q(s5_wrote$72$q),
-        .clock(s5_wrote$72$clock)
-    );
-    obb_core$grid$0$s5_wrote$73 s5_wrote$73(
-        .d(s5_wrote$73$d),
-        .q(s5_wrote$73$q),
-        .clock(s5_wrote$73$clock)
-    );
-    obb_core$grid$0$s5_wrote$74 s5_wrote$74(
-        .d(s5_wrote$74$d),
-        .q(s5_wrote$74$q),
-        .clock(s5_wrote$74$clock)
-    );
-    obb_core$grid$0$s5_wrote$75 s5_wrote$75(
-        .d(s5_wrote$75$d),
-        .q(s5_wrote$75$q),
-        .clock(s5_wrote$75$clock)
-    );
-    obb_core$grid$0$s5_wrote$76 s5_wrote$76(
-        .d(s5_wrote$76$d),
-        .q(s5_wrote$76$q),
-        .clock(s5_wrote$76$clock)
-    );
-    obb_core$grid$0$s5_wrote$77 s5_wrote$77(
-        .d(s5_wrote$77$d),
-        .q(s5_wrote$77$q),
-        .clock(s5_wrote$77$clock)
-    );
-    obb_core$grid$0$s5_wrote$78 s5_wrote$78(
-        .d(s5_wrote$78$d),
-        .q(s5_wrote$78$q),
-        .clock(s5_wrote$78$clock)
-    );
-    obb_core$grid$0$s5_wrote$79 s5_wrote$79(
-        .d(s5_wrote$79$d),
-        .q(s5_wrote$79$q),
-        .clock(s5_wrote$79$clock)
-    );
-    obb_core$grid$0$s5_wrote$80 s5_wrote$80(
-        .d(s5_wrote$80$d),
-        .q(s5_wrote$80$q),
-        .clock(s5_wrote$80$clock)
+    obb_core$grid$0$s5_entry$0 s5_entry$0(
+        .d(s5_entry$0$d),
+        .q(s5_entry$0$q),
+        .clock(s5_entry$0$clock)
+    );
+    obb_core$grid$0$s5_entry$1 s5_entry$1(
+        .d(s5_entry$1$d),
+        .q(s5_entry$1$q),
+        .clock(s5_entry$1$clock)
+    );
+    obb_core$grid$0$s5_entry$2 s5_entry$2(
+        .d(s5_entry$2$d),
+        .q(s5_entry$2$q),
+        .clock(s5_entry$2$clock)
+    );
+    obb_core$grid$0$s5_entry$3 s5_entry$3(
+        .d(s5_entry$3$d),
+        .q(s5_entry$3$q),
+        .clock(s5_entry$3$clock)
+    );
+    obb_core$grid$0$s5_entry$4 s5_entry$4(
+        .d(s5_entry$4$d),
+        .q(s5_entry$4$q),
+        .clock(s5_entry$4$clock)
+    );
+    obb_core$grid$0$s5_entry$5 s5_entry$5(
+        .d(s5_entry$5$d),
+        .q(s5_entry$5$q),
+        .clock(s5_entry$5$clock)
+    );
+    obb_core$grid$0$s5_entry$6 s5_entry$6(
+        .d(s5_entry$6$d),
+        .q(s5_entry$6$q),
+        .clock(s5_entry$6$clock)
+    );
+    obb_core$grid$0$s5_entry$7 s5_entry$7(
+        .d(s5_entry$7$d),
+        .q(s5_entry$7$q),
+        .clock(s5_entry$7$clock)
+    );
+    obb_core$grid$0$s5_entry$8 s5_entry$8(
+        .d(s5_entry$8$d),
+        .q(s5_entry$8$q),
+        .clock(s5_entry$8$clock)
+    );
+    obb_core$grid$0$s5_entry$9 s5_entry$9(
+        .d(s5_entry$9$d),
+        .q(s5_entry$9$q),
+        .clock(s5_entry$9$clock)
+    );
+    obb_core$grid$0$s5_entry$10 s5_entry$10(
+        .d(s5_entry$10$d),
+        .q(s5_entry$10$q),
+        .clock(s5_entry$10$clock)
+    );
+    obb_core$grid$0$s5_entry$11 s5_entry$11(
+        .d(s5_entry$11$d),
+        .q(s5_entry$11$q),
+        .clock(s5_entry$11$clock)
+    );
+    obb_core$grid$0$s5_entry$12 s5_entry$12(
+        .d(s5_entry$12$d),
+        .q(s5_entry$12$q),
+        .clock(s5_entry$12$clock)
+    );
+    obb_core$grid$0$s5_entry$13 s5_entry$13(
+        .d(s5_entry$13$d),
+        .q(s5_entry$13$q),
+        .clock(s5_entry$13$clock)
+    );
+    obb_core$grid$0$s5_entry$14 s5_entry$14(
+        .d(s5_entry$14$d),
+        .q(s5_entry$14$q),
+        .clock(s5_entry$14$clock)
+    );
+    obb_core$grid$0$s5_entry$15 s5_entry$15(
+        .d(s5_entry$15$d),
+        .q(s5_entry$15$q),
+        .clock(s5_entry$15$clock)
+    );
+    obb_core$grid$0$s5_entry$16 s5_entry$16(
+        .d(s5_entry$16$d),
+        .q(s5_entry$16$q),
+        .clock(s5_entry$16$clock)
+    );
+    obb_core$grid$0$s5_entry$17 s5_entry$17(
+        .d(s5_entry$17$d),
+        .q(s5_entry$17$q),
+        .clock(s5_entry$17$clock)
+    );
+    obb_core$grid$0$s5_entry$18 s5_entry$18(
+        .d(s5_entry$18$d),
+        .q(s5_entry$18$q),
+        .clock(s5_entry$18$clock)
+    );
+    obb_core$grid$0$s5_entry$19 s5_entry$19(
+        .d(s5_entry$19$d),
+        .q(s5_entry$19$q),
+        .clock(s5_entry$19$clock)
+    );
+    obb_core$grid$0$s5_entry$20 s5_entry$20(
+        .d(s5_entry$20$d),
+        .q(s5_entry$20$q),
+        .clock(s5_entry$20$clock)
+    );
+    obb_core$grid$0$s5_entry$21 s5_entry$21(
+        .d(s5_entry$21$d),
+        .q(s5_entry$21$q),
+        .clock(s5_entry$21$clock)
+    );
+    obb_core$grid$0$s5_entry$22 s5_entry$22(
+        .d(s5_entry$22$d),
+        .q(s5_entry$22$q),
+        .clock(s5_entry$22$clock)
+    );
+    obb_core$grid$0$s5_entry$23 s5_entry$23(
+        .d(s5_entry$23$d),
+        .q(s5_entry$23$q),
+        .clock(s5_entry$23$clock)
+    );
+    obb_core$grid$0$s5_entry$24 s5_entry$24(
+        .d(s5_entry$24$d),
+        .q(s5_entry$24$q),
+        .clock(s5_entry$24$clock)
+    );
+    obb_core$grid$0$s5_entry$25 s5_entry$25(
+        .d(s5_entry$25$d),
+        .q(s5_entry$25$q),
+        .clock(s5_entry$25$clock)
+    );
+    obb_core$grid$0$s5_entry$26 s5_entry$26(
+        .d(s5_entry$26$d),
+        .q(s5_entry$26$q),
+        .clock(s5_entry$26$clock)
     );
     obb_core$grid$0$s5_meta_w$0 s5_meta_w$0(
         .d(s5_meta_w$0$d),
@@ -24444,10 +23493,30 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(v2_group_j$0$q),
         .clock(v2_group_j$0$clock)
     );
-    obb_core$grid$0$v3_write$0 v3_write$0(
-        .d(v3_write$0$d),
-        .q(v3_write$0$q),
-        .clock(v3_write$0$clock)
+    obb_core$grid$0$v3_valid$0 v3_valid$0(
+        .d(v3_valid$0$d),
+        .q(v3_valid$0$q),
+        .clock(v3_valid$0$clock)
+    );
+    obb_core$grid$0$v3_overlap$0 v3_overlap$0(
+        .d(v3_overlap$0$d),
+        .q(v3_overlap$0$q),
+        .clock(v3_overlap$0$clock)
+    );
+    obb_core$grid$0$v3_home$0 v3_home$0(
+        .d(v3_home$0$d),
+        .q(v3_home$0$q),
+        .clock(v3_home$0$clock)
+    );
+    obb_core$grid$0$v3_anywhere$0 v3_anywhere$0(
+        .d(v3_anywhere$0$d),
+        .q(v3_anywhere$0$q),
+        .clock(v3_anywhere$0$clock)
+    );
+    obb_core$grid$0$v3_mask$0 v3_mask$0(
+        .d(v3_mask$0$d),
+        .q(v3_mask$0$q),
+        .clock(v3_mask$0$clock)
     );
     obb_core$grid$0$v3_word$0 v3_word$0(
         .d(v3_word$0$d),
@@ -24804,6 +23873,56 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(bank_left$26$q),
         .clock(bank_left$26$clock)
     );
+    obb_core$grid$0$chunk_left$0 chunk_left$0(
+        .d(chunk_left$0$d),
+        .q(chunk_left$0$q),
+        .clock(chunk_left$0$clock)
+    );
+    obb_core$grid$0$chunk_left$1 chunk_left$1(
+        .d(chunk_left$1$d),
+        .q(chunk_left$1$q),
+        .clock(chunk_left$1$clock)
+    );
+    obb_core$grid$0$chunk_left$2 chunk_left$2(
+        .d(chunk_left$2$d),
+        .q(chunk_left$2$q),
+        .clock(chunk_left$2$clock)
+    );
+    obb_core$grid$0$chunk_left$3 chunk_left$3(
+        .d(chunk_left$3$d),
+        .q(chunk_left$3$q),
+        .clock(chunk_left$3$clock)
+    );
+    obb_core$grid$0$chunk_left$4 chunk_left$4(
+        .d(chunk_left$4$d),
+        .q(chunk_left$4$q),
+        .clock(chunk_left$4$clock)
+    );
+    obb_core$grid$0$chunk_left$5 chunk_left$5(
+        .d(chunk_left$5$d),
+        .q(chunk_left$5$q),
+        .clock(chunk_left$5$clock)
+    );
+    obb_core$grid$0$chunk_left$6 chunk_left$6(
+        .d(chunk_left$6$d),
+        .q(chunk_left$6$q),
+        .clock(chunk_left$6$clock)
+    );
+    obb_core$grid$0$chunk_left$7 chunk_left$7(
+        .d(chunk_left$7$d),
+        .q(chunk_left$7$q),
+        .clock(chunk_left$7$clock)
+    );
+    obb_core$grid$0$chunk_left$8 chunk_left$8(
+        .d(chunk_left$8$d),
+        .q(chunk_left$8$q),
+        .clock(chunk_left$8$clock)
+    );
+    obb_core$grid$0$retire_probe_q$0 retire_probe_q$0(
+        .d(retire_probe_q$0$d),
+        .q(retire_probe_q$0$q),
+        .clock(retire_probe_q$0$clock)
+    );
     obb_core$grid$0$pack_lo$0 pack_lo$0(
         .value(pack_lo$0$value),
         .resized(pack_lo$0$resized)
@@ -24820,6 +23939,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .value(pack_mhi$0$value),
         .resized(pack_mhi$0$resized)
     );
+    obb_core$grid$0$idle idle(
+        .d(idle$d),
+        .q(idle$q),
+        .clock(idle$clock)
+    );
     obb_core$grid$0$vis_i$0 vis_i$0(
         .value(vis_i$0$value),
         .resized(vis_i$0$resized)
@@ -24827,6 +23951,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     obb_core$grid$0$vis_j$0 vis_j$0(
         .value(vis_j$0$value),
         .resized(vis_j$0$resized)
+    );
+    obb_core$grid$0$credit_q credit_q(
+        .d(credit_q$d),
+        .q(credit_q$q),
+        .clock(credit_q$clock)
     );
     
     // Update code
@@ -24871,6 +24000,8 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         fetch_q$clock = clock;
         inj$clock = clock;
         inj_kind$clock = clock;
+        idle$clock = clock;
+        credit_q$clock = clock;
         s1_valid$d = s1_valid$q;
         s1_index$d = s1_index$q;
         s1_margin$d = s1_margin$q;
@@ -24911,61 +24042,90 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         fetch_q$d = fetch_q$q;
         inj$d = inj$q;
         inj_kind$d = inj_kind$q;
+        idle$d = idle$q;
+        credit_q$d = credit_q$q;
         cells$clock = clock;
         s4_bucket$0$clock = clock;
         s4_fp$0$clock = clock;
+        s5_entry$0$clock = clock;
         s4_bucket$1$clock = clock;
         s4_fp$1$clock = clock;
+        s5_entry$1$clock = clock;
         s4_bucket$2$clock = clock;
         s4_fp$2$clock = clock;
+        s5_entry$2$clock = clock;
         s4_bucket$3$clock = clock;
         s4_fp$3$clock = clock;
+        s5_entry$3$clock = clock;
         s4_bucket$4$clock = clock;
         s4_fp$4$clock = clock;
+        s5_entry$4$clock = clock;
         s4_bucket$5$clock = clock;
         s4_fp$5$clock = clock;
+        s5_entry$5$clock = clock;
         s4_bucket$6$clock = clock;
         s4_fp$6$clock = clock;
+        s5_entry$6$clock = clock;
         s4_bucket$7$clock = clock;
         s4_fp$7$clock = clock;
+        s5_entry$7$clock = clock;
         s4_bucket$8$clock = clock;
         s4_fp$8$clock = clock;
+        s5_entry$8$clock = clock;
         s4_bucket$9$clock = clock;
         s4_fp$9$clock = clock;
+        s5_entry$9$clock = clock;
         s4_bucket$10$clock = clock;
         s4_fp$10$clock = clock;
+        s5_entry$10$clock = clock;
         s4_bucket$11$clock = clock;
         s4_fp$11$clock = clock;
+        s5_entry$11$clock = clock;
         s4_bucket$12$clock = clock;
         s4_fp$12$clock = clock;
+        s5_entry$12$clock = clock;
         s4_bucket$13$clock = clock;
         s4_fp$13$clock = clock;
+        s5_entry$13$clock = clock;
         s4_bucket$14$clock = clock;
         s4_fp$14$clock = clock;
+        s5_entry$14$clock = clock;
         s4_bucket$15$clock = clock;
         s4_fp$15$clock = clock;
+        s5_entry$15$clock = clock;
         s4_bucket$16$clock = clock;
         s4_fp$16$clock = clock;
+        s5_entry$16$clock = clock;
         s4_bucket$17$clock = clock;
         s4_fp$17$clock = clock;
+        s5_entry$17$clock = clock;
         s4_bucket$18$clock = clock;
         s4_fp$18$clock = clock;
+        s5_entry$18$clock = clock;
         s4_bucket$19$clock = clock;
         s4_fp$19$clock = clock;
+        s5_entry$19$clock = clock;
         s4_bucket$20$clock = clock;
         s4_fp$20$clock = clock;
+        s5_entry$20$clock = clock;
         s4_bucket$21$clock = clock;
         s4_fp$21$clock = clock;
+        s5_entry$21$clock = clock;
         s4_bucket$22$clock = clock;
         s4_fp$22$clock = clock;
+        s5_entry$22$clock = clock;
         s4_bucket$23$clock = clock;
         s4_fp$23$clock = clock;
+        s5_entry$23$clock = clock;
         s4_bucket$24$clock = clock;
         s4_fp$24$clock = clock;
+        s5_entry$24$clock = clock;
         s4_bucket$25$clock = clock;
         s4_fp$25$clock = clock;
+        s5_entry$25$clock = clock;
         s4_bucket$26$clock = clock;
         s4_fp$26$clock = clock;
+        s5_entry$26$clock = clock;
         s1_min$0$clock = clock;
         s1_max$0$clock = clock;
         s2_min$0$clock = clock;
@@ -25047,8 +24207,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$0$clock = clock;
         s5_head$0$clock = clock;
         s5_head2$0$clock = clock;
-        s5_enter$0$clock = clock;
-        s5_wrote$0$clock = clock;
         s5_meta_w$0$clock = clock;
         s4_meta$0$clock = clock;
         s4_fwd$0$clock = clock;
@@ -25072,8 +24230,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$1$clock = clock;
         s5_head$1$clock = clock;
         s5_head2$1$clock = clock;
-        s5_enter$1$clock = clock;
-        s5_wrote$1$clock = clock;
         s5_meta_w$1$clock = clock;
         s4_meta$1$clock = clock;
         s4_fwd$1$clock = clock;
@@ -25097,8 +24253,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$2$clock = clock;
         s5_head$2$clock = clock;
         s5_head2$2$clock = clock;
-        s5_enter$2$clock = clock;
-        s5_wrote$2$clock = clock;
         s5_meta_w$2$clock = clock;
         s4_meta$2$clock = clock;
         s4_fwd$2$clock = clock;
@@ -25122,8 +24276,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$3$clock = clock;
         s5_head$3$clock = clock;
         s5_head2$3$clock = clock;
-        s5_enter$3$clock = clock;
-        s5_wrote$3$clock = clock;
         s5_meta_w$3$clock = clock;
         s4_meta$3$clock = clock;
         s4_fwd$3$clock = clock;
@@ -25147,8 +24299,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$4$clock = clock;
         s5_head$4$clock = clock;
         s5_head2$4$clock = clock;
-        s5_enter$4$clock = clock;
-        s5_wrote$4$clock = clock;
         s5_meta_w$4$clock = clock;
         s4_meta$4$clock = clock;
         s4_fwd$4$clock = clock;
@@ -25172,8 +24322,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$5$clock = clock;
         s5_head$5$clock = clock;
         s5_head2$5$clock = clock;
-        s5_enter$5$clock = clock;
-        s5_wrote$5$clock = clock;
         s5_meta_w$5$clock = clock;
         s4_meta$5$clock = clock;
         s4_fwd$5$clock = clock;
@@ -25197,8 +24345,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$6$clock = clock;
         s5_head$6$clock = clock;
         s5_head2$6$clock = clock;
-        s5_enter$6$clock = clock;
-        s5_wrote$6$clock = clock;
         s5_meta_w$6$clock = clock;
         s4_meta$6$clock = clock;
         s4_fwd$6$clock = clock;
@@ -25222,8 +24368,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$7$clock = clock;
         s5_head$7$clock = clock;
         s5_head2$7$clock = clock;
-        s5_enter$7$clock = clock;
-        s5_wrote$7$clock = clock;
         s5_meta_w$7$clock = clock;
         s4_meta$7$clock = clock;
         s4_fwd$7$clock = clock;
@@ -25247,8 +24391,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$8$clock = clock;
         s5_head$8$clock = clock;
         s5_head2$8$clock = clock;
-        s5_enter$8$clock = clock;
-        s5_wrote$8$clock = clock;
         s5_meta_w$8$clock = clock;
         s4_meta$8$clock = clock;
         s4_fwd$8$clock = clock;
@@ -25272,8 +24414,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$9$clock = clock;
         s5_head$9$clock = clock;
         s5_head2$9$clock = clock;
-        s5_enter$9$clock = clock;
-        s5_wrote$9$clock = clock;
         s5_meta_w$9$clock = clock;
         s4_meta$9$clock = clock;
         s4_fwd$9$clock = clock;
@@ -25297,8 +24437,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$10$clock = clock;
         s5_head$10$clock = clock;
         s5_head2$10$clock = clock;
-        s5_enter$10$clock = clock;
-        s5_wrote$10$clock = clock;
         s5_meta_w$10$clock = clock;
         s4_meta$10$clock = clock;
         s4_fwd$10$clock = clock;
@@ -25322,8 +24460,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$11$clock = clock;
         s5_head$11$clock = clock;
         s5_head2$11$clock = clock;
-        s5_enter$11$clock = clock;
-        s5_wrote$11$clock = clock;
         s5_meta_w$11$clock = clock;
         s4_meta$11$clock = clock;
         s4_fwd$11$clock = clock;
@@ -25347,8 +24483,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$12$clock = clock;
         s5_head$12$clock = clock;
         s5_head2$12$clock = clock;
-        s5_enter$12$clock = clock;
-        s5_wrote$12$clock = clock;
         s5_meta_w$12$clock = clock;
         s4_meta$12$clock = clock;
         s4_fwd$12$clock = clock;
@@ -25372,8 +24506,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$13$clock = clock;
         s5_head$13$clock = clock;
         s5_head2$13$clock = clock;
-        s5_enter$13$clock = clock;
-        s5_wrote$13$clock = clock;
         s5_meta_w$13$clock = clock;
         s4_meta$13$clock = clock;
         s4_fwd$13$clock = clock;
@@ -25397,8 +24529,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$14$clock = clock;
         s5_head$14$clock = clock;
         s5_head2$14$clock = clock;
-        s5_enter$14$clock = clock;
-        s5_wrote$14$clock = clock;
         s5_meta_w$14$clock = clock;
         s4_meta$14$clock = clock;
         s4_fwd$14$clock = clock;
@@ -25422,8 +24552,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$15$clock = clock;
         s5_head$15$clock = clock;
         s5_head2$15$clock = clock;
-        s5_enter$15$clock = clock;
-        s5_wrote$15$clock = clock;
         s5_meta_w$15$clock = clock;
         s4_meta$15$clock = clock;
         s4_fwd$15$clock = clock;
@@ -25447,8 +24575,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$16$clock = clock;
         s5_head$16$clock = clock;
         s5_head2$16$clock = clock;
-        s5_enter$16$clock = clock;
-        s5_wrote$16$clock = clock;
         s5_meta_w$16$clock = clock;
         s4_meta$16$clock = clock;
         s4_fwd$16$clock = clock;
@@ -25472,8 +24598,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$17$clock = clock;
         s5_head$17$clock = clock;
         s5_head2$17$clock = clock;
-        s5_enter$17$clock = clock;
-        s5_wrote$17$clock = clock;
         s5_meta_w$17$clock = clock;
         s4_meta$17$clock = clock;
         s4_fwd$17$clock = clock;
@@ -25497,8 +24621,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$18$clock = clock;
         s5_head$18$clock = clock;
         s5_head2$18$clock = clock;
-        s5_enter$18$clock = clock;
-        s5_wrote$18$clock = clock;
         s5_meta_w$18$clock = clock;
         s4_meta$18$clock = clock;
         s4_fwd$18$clock = clock;
@@ -25522,8 +24644,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$19$clock = clock;
         s5_head$19$clock = clock;
         s5_head2$19$clock = clock;
-        s5_enter$19$clock = clock;
-        s5_wrote$19$clock = clock;
         s5_meta_w$19$clock = clock;
         s4_meta$19$clock = clock;
         s4_fwd$19$clock = clock;
@@ -25547,8 +24667,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$20$clock = clock;
         s5_head$20$clock = clock;
         s5_head2$20$clock = clock;
-        s5_enter$20$clock = clock;
-        s5_wrote$20$clock = clock;
         s5_meta_w$20$clock = clock;
         s4_meta$20$clock = clock;
         s4_fwd$20$clock = clock;
@@ -25572,8 +24690,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$21$clock = clock;
         s5_head$21$clock = clock;
         s5_head2$21$clock = clock;
-        s5_enter$21$clock = clock;
-        s5_wrote$21$clock = clock;
         s5_meta_w$21$clock = clock;
         s4_meta$21$clock = clock;
         s4_fwd$21$clock = clock;
@@ -25597,8 +24713,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$22$clock = clock;
         s5_head$22$clock = clock;
         s5_head2$22$clock = clock;
-        s5_enter$22$clock = clock;
-        s5_wrote$22$clock = clock;
         s5_meta_w$22$clock = clock;
         s4_meta$22$clock = clock;
         s4_fwd$22$clock = clock;
@@ -25622,8 +24736,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$23$clock = clock;
         s5_head$23$clock = clock;
         s5_head2$23$clock = clock;
-        s5_enter$23$clock = clock;
-        s5_wrote$23$clock = clock;
         s5_meta_w$23$clock = clock;
         s4_meta$23$clock = clock;
         s4_fwd$23$clock = clock;
@@ -25647,8 +24759,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$24$clock = clock;
         s5_head$24$clock = clock;
         s5_head2$24$clock = clock;
-        s5_enter$24$clock = clock;
-        s5_wrote$24$clock = clock;
         s5_meta_w$24$clock = clock;
         s4_meta$24$clock = clock;
         s4_fwd$24$clock = clock;
@@ -25672,8 +24782,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$25$clock = clock;
         s5_head$25$clock = clock;
         s5_head2$25$clock = clock;
-        s5_enter$25$clock = clock;
-        s5_wrote$25$clock = clock;
         s5_meta_w$25$clock = clock;
         s4_meta$25$clock = clock;
         s4_fwd$25$clock = clock;
@@ -25697,8 +24805,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$26$clock = clock;
         s5_head$26$clock = clock;
         s5_head2$26$clock = clock;
-        s5_enter$26$clock = clock;
-        s5_wrote$26$clock = clock;
         s5_meta_w$26$clock = clock;
         s4_meta$26$clock = clock;
         s4_fwd$26$clock = clock;
@@ -25722,8 +24828,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$27$clock = clock;
         s5_head$27$clock = clock;
         s5_head2$27$clock = clock;
-        s5_enter$27$clock = clock;
-        s5_wrote$27$clock = clock;
         s5_meta_w$27$clock = clock;
         s4_meta$27$clock = clock;
         s4_fwd$27$clock = clock;
@@ -25747,8 +24851,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$28$clock = clock;
         s5_head$28$clock = clock;
         s5_head2$28$clock = clock;
-        s5_enter$28$clock = clock;
-        s5_wrote$28$clock = clock;
         s5_meta_w$28$clock = clock;
         s4_meta$28$clock = clock;
         s4_fwd$28$clock = clock;
@@ -25772,8 +24874,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$29$clock = clock;
         s5_head$29$clock = clock;
         s5_head2$29$clock = clock;
-        s5_enter$29$clock = clock;
-        s5_wrote$29$clock = clock;
         s5_meta_w$29$clock = clock;
         s4_meta$29$clock = clock;
         s4_fwd$29$clock = clock;
@@ -25797,8 +24897,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$30$clock = clock;
         s5_head$30$clock = clock;
         s5_head2$30$clock = clock;
-        s5_enter$30$clock = clock;
-        s5_wrote$30$clock = clock;
         s5_meta_w$30$clock = clock;
         s4_meta$30$clock = clock;
         s4_fwd$30$clock = clock;
@@ -25822,8 +24920,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$31$clock = clock;
         s5_head$31$clock = clock;
         s5_head2$31$clock = clock;
-        s5_enter$31$clock = clock;
-        s5_wrote$31$clock = clock;
         s5_meta_w$31$clock = clock;
         s4_meta$31$clock = clock;
         s4_fwd$31$clock = clock;
@@ -25847,8 +24943,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$32$clock = clock;
         s5_head$32$clock = clock;
         s5_head2$32$clock = clock;
-        s5_enter$32$clock = clock;
-        s5_wrote$32$clock = clock;
         s5_meta_w$32$clock = clock;
         s4_meta$32$clock = clock;
         s4_fwd$32$clock = clock;
@@ -25872,8 +24966,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$33$clock = clock;
         s5_head$33$clock = clock;
         s5_head2$33$clock = clock;
-        s5_enter$33$clock = clock;
-        s5_wrote$33$clock = clock;
         s5_meta_w$33$clock = clock;
         s4_meta$33$clock = clock;
         s4_fwd$33$clock = clock;
@@ -25897,8 +24989,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$34$clock = clock;
         s5_head$34$clock = clock;
         s5_head2$34$clock = clock;
-        s5_enter$34$clock = clock;
-        s5_wrote$34$clock = clock;
         s5_meta_w$34$clock = clock;
         s4_meta$34$clock = clock;
         s4_fwd$34$clock = clock;
@@ -25922,8 +25012,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$35$clock = clock;
         s5_head$35$clock = clock;
         s5_head2$35$clock = clock;
-        s5_enter$35$clock = clock;
-        s5_wrote$35$clock = clock;
         s5_meta_w$35$clock = clock;
         s4_meta$35$clock = clock;
         s4_fwd$35$clock = clock;
@@ -25947,8 +25035,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$36$clock = clock;
         s5_head$36$clock = clock;
         s5_head2$36$clock = clock;
-        s5_enter$36$clock = clock;
-        s5_wrote$36$clock = clock;
         s5_meta_w$36$clock = clock;
         s4_meta$36$clock = clock;
         s4_fwd$36$clock = clock;
@@ -25972,8 +25058,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$37$clock = clock;
         s5_head$37$clock = clock;
         s5_head2$37$clock = clock;
-        s5_enter$37$clock = clock;
-        s5_wrote$37$clock = clock;
         s5_meta_w$37$clock = clock;
         s4_meta$37$clock = clock;
         s4_fwd$37$clock = clock;
@@ -25997,8 +25081,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$38$clock = clock;
         s5_head$38$clock = clock;
         s5_head2$38$clock = clock;
-        s5_enter$38$clock = clock;
-        s5_wrote$38$clock = clock;
         s5_meta_w$38$clock = clock;
         s4_meta$38$clock = clock;
         s4_fwd$38$clock = clock;
@@ -26022,8 +25104,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$39$clock = clock;
         s5_head$39$clock = clock;
         s5_head2$39$clock = clock;
-        s5_enter$39$clock = clock;
-        s5_wrote$39$clock = clock;
         s5_meta_w$39$clock = clock;
         s4_meta$39$clock = clock;
         s4_fwd$39$clock = clock;
@@ -26047,8 +25127,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$40$clock = clock;
         s5_head$40$clock = clock;
         s5_head2$40$clock = clock;
-        s5_enter$40$clock = clock;
-        s5_wrote$40$clock = clock;
         s5_meta_w$40$clock = clock;
         s4_meta$40$clock = clock;
         s4_fwd$40$clock = clock;
@@ -26072,8 +25150,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$41$clock = clock;
         s5_head$41$clock = clock;
         s5_head2$41$clock = clock;
-        s5_enter$41$clock = clock;
-        s5_wrote$41$clock = clock;
         s5_meta_w$41$clock = clock;
         s4_meta$41$clock = clock;
         s4_fwd$41$clock = clock;
@@ -26097,8 +25173,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$42$clock = clock;
         s5_head$42$clock = clock;
         s5_head2$42$clock = clock;
-        s5_enter$42$clock = clock;
-        s5_wrote$42$clock = clock;
         s5_meta_w$42$clock = clock;
         s4_meta$42$clock = clock;
         s4_fwd$42$clock = clock;
@@ -26122,8 +25196,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$43$clock = clock;
         s5_head$43$clock = clock;
         s5_head2$43$clock = clock;
-        s5_enter$43$clock = clock;
-        s5_wrote$43$clock = clock;
         s5_meta_w$43$clock = clock;
         s4_meta$43$clock = clock;
         s4_fwd$43$clock = clock;
@@ -26147,8 +25219,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$44$clock = clock;
         s5_head$44$clock = clock;
         s5_head2$44$clock = clock;
-        s5_enter$44$clock = clock;
-        s5_wrote$44$clock = clock;
         s5_meta_w$44$clock = clock;
         s4_meta$44$clock = clock;
         s4_fwd$44$clock = clock;
@@ -26172,8 +25242,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$45$clock = clock;
         s5_head$45$clock = clock;
         s5_head2$45$clock = clock;
-        s5_enter$45$clock = clock;
-        s5_wrote$45$clock = clock;
         s5_meta_w$45$clock = clock;
         s4_meta$45$clock = clock;
         s4_fwd$45$clock = clock;
@@ -26197,8 +25265,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$46$clock = clock;
         s5_head$46$clock = clock;
         s5_head2$46$clock = clock;
-        s5_enter$46$clock = clock;
-        s5_wrote$46$clock = clock;
         s5_meta_w$46$clock = clock;
         s4_meta$46$clock = clock;
         s4_fwd$46$clock = clock;
@@ -26222,8 +25288,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$47$clock = clock;
         s5_head$47$clock = clock;
         s5_head2$47$clock = clock;
-        s5_enter$47$clock = clock;
-        s5_wrote$47$clock = clock;
         s5_meta_w$47$clock = clock;
         s4_meta$47$clock = clock;
         s4_fwd$47$clock = clock;
@@ -26247,8 +25311,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$48$clock = clock;
         s5_head$48$clock = clock;
         s5_head2$48$clock = clock;
-        s5_enter$48$clock = clock;
-        s5_wrote$48$clock = clock;
         s5_meta_w$48$clock = clock;
         s4_meta$48$clock = clock;
         s4_fwd$48$clock = clock;
@@ -26272,8 +25334,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$49$clock = clock;
         s5_head$49$clock = clock;
         s5_head2$49$clock = clock;
-        s5_enter$49$clock = clock;
-        s5_wrote$49$clock = clock;
         s5_meta_w$49$clock = clock;
         s4_meta$49$clock = clock;
         s4_fwd$49$clock = clock;
@@ -26297,8 +25357,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$50$clock = clock;
         s5_head$50$clock = clock;
         s5_head2$50$clock = clock;
-        s5_enter$50$clock = clock;
-        s5_wrote$50$clock = clock;
         s5_meta_w$50$clock = clock;
         s4_meta$50$clock = clock;
         s4_fwd$50$clock = clock;
@@ -26322,8 +25380,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$51$clock = clock;
         s5_head$51$clock = clock;
         s5_head2$51$clock = clock;
-        s5_enter$51$clock = clock;
-        s5_wrote$51$clock = clock;
         s5_meta_w$51$clock = clock;
         s4_meta$51$clock = clock;
         s4_fwd$51$clock = clock;
@@ -26347,8 +25403,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$52$clock = clock;
         s5_head$52$clock = clock;
         s5_head2$52$clock = clock;
-        s5_enter$52$clock = clock;
-        s5_wrote$52$clock = clock;
         s5_meta_w$52$clock = clock;
         s4_meta$52$clock = clock;
         s4_fwd$52$clock = clock;
@@ -26372,8 +25426,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$53$clock = clock;
         s5_head$53$clock = clock;
         s5_head2$53$clock = clock;
-        s5_enter$53$clock = clock;
-        s5_wrote$53$clock = clock;
         s5_meta_w$53$clock = clock;
         s4_meta$53$clock = clock;
         s4_fwd$53$clock = clock;
@@ -26397,8 +25449,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$54$clock = clock;
         s5_head$54$clock = clock;
         s5_head2$54$clock = clock;
-        s5_enter$54$clock = clock;
-        s5_wrote$54$clock = clock;
         s5_meta_w$54$clock = clock;
         s4_meta$54$clock = clock;
         s4_fwd$54$clock = clock;
@@ -26422,8 +25472,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$55$clock = clock;
         s5_head$55$clock = clock;
         s5_head2$55$clock = clock;
-        s5_enter$55$clock = clock;
-        s5_wrote$55$clock = clock;
         s5_meta_w$55$clock = clock;
         s4_meta$55$clock = clock;
         s4_fwd$55$clock = clock;
@@ -26447,8 +25495,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$56$clock = clock;
         s5_head$56$clock = clock;
         s5_head2$56$clock = clock;
-        s5_enter$56$clock = clock;
-        s5_wrote$56$clock = clock;
         s5_meta_w$56$clock = clock;
         s4_meta$56$clock = clock;
         s4_fwd$56$clock = clock;
@@ -26472,8 +25518,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$57$clock = clock;
         s5_head$57$clock = clock;
         s5_head2$57$clock = clock;
-        s5_enter$57$clock = clock;
-        s5_wrote$57$clock = clock;
         s5_meta_w$57$clock = clock;
         s4_meta$57$clock = clock;
         s4_fwd$57$clock = clock;
@@ -26497,8 +25541,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$58$clock = clock;
         s5_head$58$clock = clock;
         s5_head2$58$clock = clock;
-        s5_enter$58$clock = clock;
-        s5_wrote$58$clock = clock;
         s5_meta_w$58$clock = clock;
         s4_meta$58$clock = clock;
         s4_fwd$58$clock = clock;
@@ -26522,8 +25564,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$59$clock = clock;
         s5_head$59$clock = clock;
         s5_head2$59$clock = clock;
-        s5_enter$59$clock = clock;
-        s5_wrote$59$clock = clock;
         s5_meta_w$59$clock = clock;
         s4_meta$59$clock = clock;
         s4_fwd$59$clock = clock;
@@ -26547,8 +25587,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$60$clock = clock;
         s5_head$60$clock = clock;
         s5_head2$60$clock = clock;
-        s5_enter$60$clock = clock;
-        s5_wrote$60$clock = clock;
         s5_meta_w$60$clock = clock;
         s4_meta$60$clock = clock;
         s4_fwd$60$clock = clock;
@@ -26572,8 +25610,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$61$clock = clock;
         s5_head$61$clock = clock;
         s5_head2$61$clock = clock;
-        s5_enter$61$clock = clock;
-        s5_wrote$61$clock = clock;
         s5_meta_w$61$clock = clock;
         s4_meta$61$clock = clock;
         s4_fwd$61$clock = clock;
@@ -26597,8 +25633,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$62$clock = clock;
         s5_head$62$clock = clock;
         s5_head2$62$clock = clock;
-        s5_enter$62$clock = clock;
-        s5_wrote$62$clock = clock;
         s5_meta_w$62$clock = clock;
         s4_meta$62$clock = clock;
         s4_fwd$62$clock = clock;
@@ -26622,8 +25656,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$63$clock = clock;
         s5_head$63$clock = clock;
         s5_head2$63$clock = clock;
-        s5_enter$63$clock = clock;
-        s5_wrote$63$clock = clock;
         s5_meta_w$63$clock = clock;
         s4_meta$63$clock = clock;
         s4_fwd$63$clock = clock;
@@ -26647,8 +25679,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$64$clock = clock;
         s5_head$64$clock = clock;
         s5_head2$64$clock = clock;
-        s5_enter$64$clock = clock;
-        s5_wrote$64$clock = clock;
         s5_meta_w$64$clock = clock;
         s4_meta$64$clock = clock;
         s4_fwd$64$clock = clock;
@@ -26672,8 +25702,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$65$clock = clock;
         s5_head$65$clock = clock;
         s5_head2$65$clock = clock;
-        s5_enter$65$clock = clock;
-        s5_wrote$65$clock = clock;
         s5_meta_w$65$clock = clock;
         s4_meta$65$clock = clock;
         s4_fwd$65$clock = clock;
@@ -26697,8 +25725,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$66$clock = clock;
         s5_head$66$clock = clock;
         s5_head2$66$clock = clock;
-        s5_enter$66$clock = clock;
-        s5_wrote$66$clock = clock;
         s5_meta_w$66$clock = clock;
         s4_meta$66$clock = clock;
         s4_fwd$66$clock = clock;
@@ -26722,8 +25748,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$67$clock = clock;
         s5_head$67$clock = clock;
         s5_head2$67$clock = clock;
-        s5_enter$67$clock = clock;
-        s5_wrote$67$clock = clock;
         s5_meta_w$67$clock = clock;
         s4_meta$67$clock = clock;
         s4_fwd$67$clock = clock;
@@ -26747,8 +25771,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$68$clock = clock;
         s5_head$68$clock = clock;
         s5_head2$68$clock = clock;
-        s5_enter$68$clock = clock;
-        s5_wrote$68$clock = clock;
         s5_meta_w$68$clock = clock;
         s4_meta$68$clock = clock;
         s4_fwd$68$clock = clock;
@@ -26772,8 +25794,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$69$clock = clock;
         s5_head$69$clock = clock;
         s5_head2$69$clock = clock;
-        s5_enter$69$clock = clock;
-        s5_wrote$69$clock = clock;
         s5_meta_w$69$clock = clock;
         s4_meta$69$clock = clock;
         s4_fwd$69$clock = clock;
@@ -26797,8 +25817,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$70$clock = clock;
         s5_head$70$clock = clock;
         s5_head2$70$clock = clock;
-        s5_enter$70$clock = clock;
-        s5_wrote$70$clock = clock;
         s5_meta_w$70$clock = clock;
         s4_meta$70$clock = clock;
         s4_fwd$70$clock = clock;
@@ -26822,8 +25840,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$71$clock = clock;
         s5_head$71$clock = clock;
         s5_head2$71$clock = clock;
-        s5_enter$71$clock = clock;
-        s5_wrote$71$clock = clock;
         s5_meta_w$71$clock = clock;
         s4_meta$71$clock = clock;
         s4_fwd$71$clock = clock;
@@ -26847,8 +25863,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$72$clock = clock;
         s5_head$72$clock = clock;
         s5_head2$72$clock = clock;
-        s5_enter$72$clock = clock;
-        s5_wrote$72$clock = clock;
         s5_meta_w$72$clock = clock;
         s4_meta$72$clock = clock;
         s4_fwd$72$clock = clock;
@@ -26872,8 +25886,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$73$clock = clock;
         s5_head$73$clock = clock;
         s5_head2$73$clock = clock;
-        s5_enter$73$clock = clock;
-        s5_wrote$73$clock = clock;
         s5_meta_w$73$clock = clock;
         s4_meta$73$clock = clock;
         s4_fwd$73$clock = clock;
@@ -26897,8 +25909,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$74$clock = clock;
         s5_head$74$clock = clock;
         s5_head2$74$clock = clock;
-        s5_enter$74$clock = clock;
-        s5_wrote$74$clock = clock;
         s5_meta_w$74$clock = clock;
         s4_meta$74$clock = clock;
         s4_fwd$74$clock = clock;
@@ -26922,8 +25932,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$75$clock = clock;
         s5_head$75$clock = clock;
         s5_head2$75$clock = clock;
-        s5_enter$75$clock = clock;
-        s5_wrote$75$clock = clock;
         s5_meta_w$75$clock = clock;
         s4_meta$75$clock = clock;
         s4_fwd$75$clock = clock;
@@ -26947,8 +25955,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$76$clock = clock;
         s5_head$76$clock = clock;
         s5_head2$76$clock = clock;
-        s5_enter$76$clock = clock;
-        s5_wrote$76$clock = clock;
         s5_meta_w$76$clock = clock;
         s4_meta$76$clock = clock;
         s4_fwd$76$clock = clock;
@@ -26972,8 +25978,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$77$clock = clock;
         s5_head$77$clock = clock;
         s5_head2$77$clock = clock;
-        s5_enter$77$clock = clock;
-        s5_wrote$77$clock = clock;
         s5_meta_w$77$clock = clock;
         s4_meta$77$clock = clock;
         s4_fwd$77$clock = clock;
@@ -26997,8 +26001,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$78$clock = clock;
         s5_head$78$clock = clock;
         s5_head2$78$clock = clock;
-        s5_enter$78$clock = clock;
-        s5_wrote$78$clock = clock;
         s5_meta_w$78$clock = clock;
         s4_meta$78$clock = clock;
         s4_fwd$78$clock = clock;
@@ -27022,8 +26024,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$79$clock = clock;
         s5_head$79$clock = clock;
         s5_head2$79$clock = clock;
-        s5_enter$79$clock = clock;
-        s5_wrote$79$clock = clock;
         s5_meta_w$79$clock = clock;
         s4_meta$79$clock = clock;
         s4_fwd$79$clock = clock;
@@ -27047,8 +26047,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_live$80$clock = clock;
         s5_head$80$clock = clock;
         s5_head2$80$clock = clock;
-        s5_enter$80$clock = clock;
-        s5_wrote$80$clock = clock;
         s5_meta_w$80$clock = clock;
         s4_meta$80$clock = clock;
         s4_fwd$80$clock = clock;
@@ -27088,6 +26086,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         rp$0$clock = clock;
         count$0$clock = clock;
         inflight$0$clock = clock;
+        retire_probe_q$0$clock = clock;
         wp$0$d = wp$0$q;
         rp$0$d = rp$0$q;
         count$0$d = count$0$q;
@@ -27142,7 +26141,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         v2_margin_j$0$clock = clock;
         v2_kind$0$clock = clock;
         v2_group_j$0$clock = clock;
-        v3_write$0$clock = clock;
+        v3_valid$0$clock = clock;
+        v3_overlap$0$clock = clock;
+        v3_home$0$clock = clock;
+        v3_anywhere$0$clock = clock;
+        v3_mask$0$clock = clock;
         v3_word$0$clock = clock;
         lnext$0$clock = clock;
         lnext2$0$clock = clock;
@@ -27240,6 +26243,15 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         bank_left$24$clock = clock;
         bank_left$25$clock = clock;
         bank_left$26$clock = clock;
+        chunk_left$0$clock = clock;
+        chunk_left$1$clock = clock;
+        chunk_left$2$clock = clock;
+        chunk_left$3$clock = clock;
+        chunk_left$4$clock = clock;
+        chunk_left$5$clock = clock;
+        chunk_left$6$clock = clock;
+        chunk_left$7$clock = clock;
+        chunk_left$8$clock = clock;
         key_min$0 = key_min_x;
         key_min$1 = key_min_y;
         key_min$2 = key_min_z;
@@ -27288,10 +26300,10 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         kt_group$0$write_data = key_group;
         kt_group$0$read_address_a = 32'h0;
         rd_group$0 = kt_group$0$read_data_b;
-        idle = loaded;
+        idle_next = loaded;
         lprior$0 = 1'b0;
         lhead = 32'h0;
-        idle = idle & (inflight$0$q == 32'h0);
+        idle_next = idle_next & (inflight$0$q == 32'h0);
         lfirst$0 = ((lnext$0$q & top) != 32'h0) & ~lprior$0;
         lprior$1 = lprior$0 | ((lnext$0$q & top) != 32'h0);
         lpick$0 = 32'h0;
@@ -27397,7 +26409,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         case (slow$q)
             SlowState$Fetch:
                 begin
-                    if (idle) begin
+                    if (idle$q) begin
                         if (large_left) begin
                             fetch = 1'b1;
                             lcur$d = lhead ^ top;
@@ -27458,7 +26470,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
                 end
             SlowState$Round:
                 begin
-                    if (idle) begin
+                    if (idle$q) begin
                         inject = 1'b1;
                         inject_kind = 32'h1;
                         if (~last_round$0) begin
@@ -27491,7 +26503,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
                 end
             SlowState$Partner:
                 begin
-                    if (idle) begin
+                    if (idle$q) begin
                         inject = 1'b1;
                         inject_kind = 32'h2;
                         slow$d = SlowState$Fetch;
@@ -27504,6 +26516,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         fetch_q$d = fetch;
         inj$d = inject;
         inj_kind$d = inject_kind;
+        idle$d = idle_next & ~inject;
         cells$key_valid = key_valid | inj$q;
         s1_valid$d = key_valid | inj$q;
         s1_index$d = ((key_index) & 16'hffff);
@@ -28486,6 +27499,33 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_min$2$d = s3_min$2$q;
         s4_max$2$d = s3_max$2$q;
         entry4 = s4_index$q | top;
+        entry_acc$0 = 32'h0;
+        entry_acc$1 = 32'h0;
+        entry_acc$2 = 32'h0;
+        entry_acc$3 = 32'h0;
+        entry_acc$4 = 32'h0;
+        entry_acc$5 = 32'h0;
+        entry_acc$6 = 32'h0;
+        entry_acc$7 = 32'h0;
+        entry_acc$8 = 32'h0;
+        entry_acc$9 = 32'h0;
+        entry_acc$10 = 32'h0;
+        entry_acc$11 = 32'h0;
+        entry_acc$12 = 32'h0;
+        entry_acc$13 = 32'h0;
+        entry_acc$14 = 32'h0;
+        entry_acc$15 = 32'h0;
+        entry_acc$16 = 32'h0;
+        entry_acc$17 = 32'h0;
+        entry_acc$18 = 32'h0;
+        entry_acc$19 = 32'h0;
+        entry_acc$20 = 32'h0;
+        entry_acc$21 = 32'h0;
+        entry_acc$22 = 32'h0;
+        entry_acc$23 = 32'h0;
+        entry_acc$24 = 32'h0;
+        entry_acc$25 = 32'h0;
+        entry_acc$26 = 32'h0;
         entry5 = s5_index$q | top;
         fwd$0 = s4_fwd$0$q;
         meta_eff$0 = s4_meta$0$q;
@@ -28540,8 +27580,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$0$write_address = clear_at$q;
             head2$0$write_data = 32'h0;
         end
-        s5_enter$0$d = s4_enter$0$q & meta_eff$0[32'h9];
-        s5_wrote$0$d = s4_enter$0$q;
+        entry_pick$0 = 32'h0;
+        if (s4_enter$0$q & meta_eff$0[32'h9]) begin
+            entry_pick$0 = old_eff2$0;
+        end
+        entry_acc$0 = entry_acc$0 | entry_pick$0;
         s5_meta_w$0$d = meta_new$0;
         s5_live$0$d = live$0;
         s5_head$0$d = old_eff$0;
@@ -28599,8 +27642,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$1$write_address = clear_at$q;
             head2$1$write_data = 32'h0;
         end
-        s5_enter$1$d = s4_enter$1$q & meta_eff$1[32'h9];
-        s5_wrote$1$d = s4_enter$1$q;
+        entry_pick$1 = 32'h0;
+        if (s4_enter$1$q & meta_eff$1[32'h9]) begin
+            entry_pick$1 = old_eff2$1;
+        end
+        entry_acc$1 = entry_acc$1 | entry_pick$1;
         s5_meta_w$1$d = meta_new$1;
         s5_live$1$d = live$1;
         s5_head$1$d = old_eff$1;
@@ -28658,8 +27704,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$2$write_address = clear_at$q;
             head2$2$write_data = 32'h0;
         end
-        s5_enter$2$d = s4_enter$2$q & meta_eff$2[32'h9];
-        s5_wrote$2$d = s4_enter$2$q;
+        entry_pick$2 = 32'h0;
+        if (s4_enter$2$q & meta_eff$2[32'h9]) begin
+            entry_pick$2 = old_eff2$2;
+        end
+        entry_acc$2 = entry_acc$2 | entry_pick$2;
         s5_meta_w$2$d = meta_new$2;
         s5_live$2$d = live$2;
         s5_head$2$d = old_eff$2;
@@ -28717,8 +27766,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$3$write_address = clear_at$q;
             head2$3$write_data = 32'h0;
         end
-        s5_enter$3$d = s4_enter$3$q & meta_eff$3[32'h9];
-        s5_wrote$3$d = s4_enter$3$q;
+        entry_pick$3 = 32'h0;
+        if (s4_enter$3$q & meta_eff$3[32'h9]) begin
+            entry_pick$3 = old_eff2$3;
+        end
+        entry_acc$3 = entry_acc$3 | entry_pick$3;
         s5_meta_w$3$d = meta_new$3;
         s5_live$3$d = live$3;
         s5_head$3$d = old_eff$3;
@@ -28776,8 +27828,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$4$write_address = clear_at$q;
             head2$4$write_data = 32'h0;
         end
-        s5_enter$4$d = s4_enter$4$q & meta_eff$4[32'h9];
-        s5_wrote$4$d = s4_enter$4$q;
+        entry_pick$4 = 32'h0;
+        if (s4_enter$4$q & meta_eff$4[32'h9]) begin
+            entry_pick$4 = old_eff2$4;
+        end
+        entry_acc$4 = entry_acc$4 | entry_pick$4;
         s5_meta_w$4$d = meta_new$4;
         s5_live$4$d = live$4;
         s5_head$4$d = old_eff$4;
@@ -28835,8 +27890,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$5$write_address = clear_at$q;
             head2$5$write_data = 32'h0;
         end
-        s5_enter$5$d = s4_enter$5$q & meta_eff$5[32'h9];
-        s5_wrote$5$d = s4_enter$5$q;
+        entry_pick$5 = 32'h0;
+        if (s4_enter$5$q & meta_eff$5[32'h9]) begin
+            entry_pick$5 = old_eff2$5;
+        end
+        entry_acc$5 = entry_acc$5 | entry_pick$5;
         s5_meta_w$5$d = meta_new$5;
         s5_live$5$d = live$5;
         s5_head$5$d = old_eff$5;
@@ -28894,8 +27952,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$6$write_address = clear_at$q;
             head2$6$write_data = 32'h0;
         end
-        s5_enter$6$d = s4_enter$6$q & meta_eff$6[32'h9];
-        s5_wrote$6$d = s4_enter$6$q;
+        entry_pick$6 = 32'h0;
+        if (s4_enter$6$q & meta_eff$6[32'h9]) begin
+            entry_pick$6 = old_eff2$6;
+        end
+        entry_acc$6 = entry_acc$6 | entry_pick$6;
         s5_meta_w$6$d = meta_new$6;
         s5_live$6$d = live$6;
         s5_head$6$d = old_eff$6;
@@ -28953,8 +28014,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$7$write_address = clear_at$q;
             head2$7$write_data = 32'h0;
         end
-        s5_enter$7$d = s4_enter$7$q & meta_eff$7[32'h9];
-        s5_wrote$7$d = s4_enter$7$q;
+        entry_pick$7 = 32'h0;
+        if (s4_enter$7$q & meta_eff$7[32'h9]) begin
+            entry_pick$7 = old_eff2$7;
+        end
+        entry_acc$7 = entry_acc$7 | entry_pick$7;
         s5_meta_w$7$d = meta_new$7;
         s5_live$7$d = live$7;
         s5_head$7$d = old_eff$7;
@@ -29012,8 +28076,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$8$write_address = clear_at$q;
             head2$8$write_data = 32'h0;
         end
-        s5_enter$8$d = s4_enter$8$q & meta_eff$8[32'h9];
-        s5_wrote$8$d = s4_enter$8$q;
+        entry_pick$8 = 32'h0;
+        if (s4_enter$8$q & meta_eff$8[32'h9]) begin
+            entry_pick$8 = old_eff2$8;
+        end
+        entry_acc$8 = entry_acc$8 | entry_pick$8;
         s5_meta_w$8$d = meta_new$8;
         s5_live$8$d = live$8;
         s5_head$8$d = old_eff$8;
@@ -29071,8 +28138,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$9$write_address = clear_at$q;
             head2$9$write_data = 32'h0;
         end
-        s5_enter$9$d = s4_enter$9$q & meta_eff$9[32'h9];
-        s5_wrote$9$d = s4_enter$9$q;
+        entry_pick$9 = 32'h0;
+        if (s4_enter$9$q & meta_eff$9[32'h9]) begin
+            entry_pick$9 = old_eff2$9;
+        end
+        entry_acc$9 = entry_acc$9 | entry_pick$9;
         s5_meta_w$9$d = meta_new$9;
         s5_live$9$d = live$9;
         s5_head$9$d = old_eff$9;
@@ -29130,8 +28200,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$10$write_address = clear_at$q;
             head2$10$write_data = 32'h0;
         end
-        s5_enter$10$d = s4_enter$10$q & meta_eff$10[32'h9];
-        s5_wrote$10$d = s4_enter$10$q;
+        entry_pick$10 = 32'h0;
+        if (s4_enter$10$q & meta_eff$10[32'h9]) begin
+            entry_pick$10 = old_eff2$10;
+        end
+        entry_acc$10 = entry_acc$10 | entry_pick$10;
         s5_meta_w$10$d = meta_new$10;
         s5_live$10$d = live$10;
         s5_head$10$d = old_eff$10;
@@ -29189,8 +28262,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$11$write_address = clear_at$q;
             head2$11$write_data = 32'h0;
         end
-        s5_enter$11$d = s4_enter$11$q & meta_eff$11[32'h9];
-        s5_wrote$11$d = s4_enter$11$q;
+        entry_pick$11 = 32'h0;
+        if (s4_enter$11$q & meta_eff$11[32'h9]) begin
+            entry_pick$11 = old_eff2$11;
+        end
+        entry_acc$11 = entry_acc$11 | entry_pick$11;
         s5_meta_w$11$d = meta_new$11;
         s5_live$11$d = live$11;
         s5_head$11$d = old_eff$11;
@@ -29248,8 +28324,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$12$write_address = clear_at$q;
             head2$12$write_data = 32'h0;
         end
-        s5_enter$12$d = s4_enter$12$q & meta_eff$12[32'h9];
-        s5_wrote$12$d = s4_enter$12$q;
+        entry_pick$12 = 32'h0;
+        if (s4_enter$12$q & meta_eff$12[32'h9]) begin
+            entry_pick$12 = old_eff2$12;
+        end
+        entry_acc$12 = entry_acc$12 | entry_pick$12;
         s5_meta_w$12$d = meta_new$12;
         s5_live$12$d = live$12;
         s5_head$12$d = old_eff$12;
@@ -29307,8 +28386,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$13$write_address = clear_at$q;
             head2$13$write_data = 32'h0;
         end
-        s5_enter$13$d = s4_enter$13$q & meta_eff$13[32'h9];
-        s5_wrote$13$d = s4_enter$13$q;
+        entry_pick$13 = 32'h0;
+        if (s4_enter$13$q & meta_eff$13[32'h9]) begin
+            entry_pick$13 = old_eff2$13;
+        end
+        entry_acc$13 = entry_acc$13 | entry_pick$13;
         s5_meta_w$13$d = meta_new$13;
         s5_live$13$d = live$13;
         s5_head$13$d = old_eff$13;
@@ -29366,8 +28448,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$14$write_address = clear_at$q;
             head2$14$write_data = 32'h0;
         end
-        s5_enter$14$d = s4_enter$14$q & meta_eff$14[32'h9];
-        s5_wrote$14$d = s4_enter$14$q;
+        entry_pick$14 = 32'h0;
+        if (s4_enter$14$q & meta_eff$14[32'h9]) begin
+            entry_pick$14 = old_eff2$14;
+        end
+        entry_acc$14 = entry_acc$14 | entry_pick$14;
         s5_meta_w$14$d = meta_new$14;
         s5_live$14$d = live$14;
         s5_head$14$d = old_eff$14;
@@ -29425,8 +28510,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$15$write_address = clear_at$q;
             head2$15$write_data = 32'h0;
         end
-        s5_enter$15$d = s4_enter$15$q & meta_eff$15[32'h9];
-        s5_wrote$15$d = s4_enter$15$q;
+        entry_pick$15 = 32'h0;
+        if (s4_enter$15$q & meta_eff$15[32'h9]) begin
+            entry_pick$15 = old_eff2$15;
+        end
+        entry_acc$15 = entry_acc$15 | entry_pick$15;
         s5_meta_w$15$d = meta_new$15;
         s5_live$15$d = live$15;
         s5_head$15$d = old_eff$15;
@@ -29484,8 +28572,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$16$write_address = clear_at$q;
             head2$16$write_data = 32'h0;
         end
-        s5_enter$16$d = s4_enter$16$q & meta_eff$16[32'h9];
-        s5_wrote$16$d = s4_enter$16$q;
+        entry_pick$16 = 32'h0;
+        if (s4_enter$16$q & meta_eff$16[32'h9]) begin
+            entry_pick$16 = old_eff2$16;
+        end
+        entry_acc$16 = entry_acc$16 | entry_pick$16;
         s5_meta_w$16$d = meta_new$16;
         s5_live$16$d = live$16;
         s5_head$16$d = old_eff$16;
@@ -29543,8 +28634,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$17$write_address = clear_at$q;
             head2$17$write_data = 32'h0;
         end
-        s5_enter$17$d = s4_enter$17$q & meta_eff$17[32'h9];
-        s5_wrote$17$d = s4_enter$17$q;
+        entry_pick$17 = 32'h0;
+        if (s4_enter$17$q & meta_eff$17[32'h9]) begin
+            entry_pick$17 = old_eff2$17;
+        end
+        entry_acc$17 = entry_acc$17 | entry_pick$17;
         s5_meta_w$17$d = meta_new$17;
         s5_live$17$d = live$17;
         s5_head$17$d = old_eff$17;
@@ -29602,8 +28696,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$18$write_address = clear_at$q;
             head2$18$write_data = 32'h0;
         end
-        s5_enter$18$d = s4_enter$18$q & meta_eff$18[32'h9];
-        s5_wrote$18$d = s4_enter$18$q;
+        entry_pick$18 = 32'h0;
+        if (s4_enter$18$q & meta_eff$18[32'h9]) begin
+            entry_pick$18 = old_eff2$18;
+        end
+        entry_acc$18 = entry_acc$18 | entry_pick$18;
         s5_meta_w$18$d = meta_new$18;
         s5_live$18$d = live$18;
         s5_head$18$d = old_eff$18;
@@ -29661,8 +28758,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$19$write_address = clear_at$q;
             head2$19$write_data = 32'h0;
         end
-        s5_enter$19$d = s4_enter$19$q & meta_eff$19[32'h9];
-        s5_wrote$19$d = s4_enter$19$q;
+        entry_pick$19 = 32'h0;
+        if (s4_enter$19$q & meta_eff$19[32'h9]) begin
+            entry_pick$19 = old_eff2$19;
+        end
+        entry_acc$19 = entry_acc$19 | entry_pick$19;
         s5_meta_w$19$d = meta_new$19;
         s5_live$19$d = live$19;
         s5_head$19$d = old_eff$19;
@@ -29720,8 +28820,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$20$write_address = clear_at$q;
             head2$20$write_data = 32'h0;
         end
-        s5_enter$20$d = s4_enter$20$q & meta_eff$20[32'h9];
-        s5_wrote$20$d = s4_enter$20$q;
+        entry_pick$20 = 32'h0;
+        if (s4_enter$20$q & meta_eff$20[32'h9]) begin
+            entry_pick$20 = old_eff2$20;
+        end
+        entry_acc$20 = entry_acc$20 | entry_pick$20;
         s5_meta_w$20$d = meta_new$20;
         s5_live$20$d = live$20;
         s5_head$20$d = old_eff$20;
@@ -29779,8 +28882,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$21$write_address = clear_at$q;
             head2$21$write_data = 32'h0;
         end
-        s5_enter$21$d = s4_enter$21$q & meta_eff$21[32'h9];
-        s5_wrote$21$d = s4_enter$21$q;
+        entry_pick$21 = 32'h0;
+        if (s4_enter$21$q & meta_eff$21[32'h9]) begin
+            entry_pick$21 = old_eff2$21;
+        end
+        entry_acc$21 = entry_acc$21 | entry_pick$21;
         s5_meta_w$21$d = meta_new$21;
         s5_live$21$d = live$21;
         s5_head$21$d = old_eff$21;
@@ -29838,8 +28944,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$22$write_address = clear_at$q;
             head2$22$write_data = 32'h0;
         end
-        s5_enter$22$d = s4_enter$22$q & meta_eff$22[32'h9];
-        s5_wrote$22$d = s4_enter$22$q;
+        entry_pick$22 = 32'h0;
+        if (s4_enter$22$q & meta_eff$22[32'h9]) begin
+            entry_pick$22 = old_eff2$22;
+        end
+        entry_acc$22 = entry_acc$22 | entry_pick$22;
         s5_meta_w$22$d = meta_new$22;
         s5_live$22$d = live$22;
         s5_head$22$d = old_eff$22;
@@ -29897,8 +29006,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$23$write_address = clear_at$q;
             head2$23$write_data = 32'h0;
         end
-        s5_enter$23$d = s4_enter$23$q & meta_eff$23[32'h9];
-        s5_wrote$23$d = s4_enter$23$q;
+        entry_pick$23 = 32'h0;
+        if (s4_enter$23$q & meta_eff$23[32'h9]) begin
+            entry_pick$23 = old_eff2$23;
+        end
+        entry_acc$23 = entry_acc$23 | entry_pick$23;
         s5_meta_w$23$d = meta_new$23;
         s5_live$23$d = live$23;
         s5_head$23$d = old_eff$23;
@@ -29956,8 +29068,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$24$write_address = clear_at$q;
             head2$24$write_data = 32'h0;
         end
-        s5_enter$24$d = s4_enter$24$q & meta_eff$24[32'h9];
-        s5_wrote$24$d = s4_enter$24$q;
+        entry_pick$24 = 32'h0;
+        if (s4_enter$24$q & meta_eff$24[32'h9]) begin
+            entry_pick$24 = old_eff2$24;
+        end
+        entry_acc$24 = entry_acc$24 | entry_pick$24;
         s5_meta_w$24$d = meta_new$24;
         s5_live$24$d = live$24;
         s5_head$24$d = old_eff$24;
@@ -30015,8 +29130,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$25$write_address = clear_at$q;
             head2$25$write_data = 32'h0;
         end
-        s5_enter$25$d = s4_enter$25$q & meta_eff$25[32'h9];
-        s5_wrote$25$d = s4_enter$25$q;
+        entry_pick$25 = 32'h0;
+        if (s4_enter$25$q & meta_eff$25[32'h9]) begin
+            entry_pick$25 = old_eff2$25;
+        end
+        entry_acc$25 = entry_acc$25 | entry_pick$25;
         s5_meta_w$25$d = meta_new$25;
         s5_live$25$d = live$25;
         s5_head$25$d = old_eff$25;
@@ -30074,8 +29192,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$26$write_address = clear_at$q;
             head2$26$write_data = 32'h0;
         end
-        s5_enter$26$d = s4_enter$26$q & meta_eff$26[32'h9];
-        s5_wrote$26$d = s4_enter$26$q;
+        entry_pick$26 = 32'h0;
+        if (s4_enter$26$q & meta_eff$26[32'h9]) begin
+            entry_pick$26 = old_eff2$26;
+        end
+        entry_acc$26 = entry_acc$26 | entry_pick$26;
         s5_meta_w$26$d = meta_new$26;
         s5_live$26$d = live$26;
         s5_head$26$d = old_eff$26;
@@ -30133,8 +29254,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$27$write_address = clear_at$q;
             head2$27$write_data = 32'h0;
         end
-        s5_enter$27$d = s4_enter$27$q & meta_eff$27[32'h9];
-        s5_wrote$27$d = s4_enter$27$q;
+        entry_pick$27 = 32'h0;
+        if (s4_enter$27$q & meta_eff$27[32'h9]) begin
+            entry_pick$27 = old_eff2$27;
+        end
+        entry_acc$0 = entry_acc$0 | entry_pick$27;
         s5_meta_w$27$d = meta_new$27;
         s5_live$27$d = live$27;
         s5_head$27$d = old_eff$27;
@@ -30192,8 +29316,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$28$write_address = clear_at$q;
             head2$28$write_data = 32'h0;
         end
-        s5_enter$28$d = s4_enter$28$q & meta_eff$28[32'h9];
-        s5_wrote$28$d = s4_enter$28$q;
+        entry_pick$28 = 32'h0;
+        if (s4_enter$28$q & meta_eff$28[32'h9]) begin
+            entry_pick$28 = old_eff2$28;
+        end
+        entry_acc$1 = entry_acc$1 | entry_pick$28;
         s5_meta_w$28$d = meta_new$28;
         s5_live$28$d = live$28;
         s5_head$28$d = old_eff$28;
@@ -30251,8 +29378,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$29$write_address = clear_at$q;
             head2$29$write_data = 32'h0;
         end
-        s5_enter$29$d = s4_enter$29$q & meta_eff$29[32'h9];
-        s5_wrote$29$d = s4_enter$29$q;
+        entry_pick$29 = 32'h0;
+        if (s4_enter$29$q & meta_eff$29[32'h9]) begin
+            entry_pick$29 = old_eff2$29;
+        end
+        entry_acc$2 = entry_acc$2 | entry_pick$29;
         s5_meta_w$29$d = meta_new$29;
         s5_live$29$d = live$29;
         s5_head$29$d = old_eff$29;
@@ -30310,8 +29440,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$30$write_address = clear_at$q;
             head2$30$write_data = 32'h0;
         end
-        s5_enter$30$d = s4_enter$30$q & meta_eff$30[32'h9];
-        s5_wrote$30$d = s4_enter$30$q;
+        entry_pick$30 = 32'h0;
+        if (s4_enter$30$q & meta_eff$30[32'h9]) begin
+            entry_pick$30 = old_eff2$30;
+        end
+        entry_acc$3 = entry_acc$3 | entry_pick$30;
         s5_meta_w$30$d = meta_new$30;
         s5_live$30$d = live$30;
         s5_head$30$d = old_eff$30;
@@ -30369,8 +29502,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$31$write_address = clear_at$q;
             head2$31$write_data = 32'h0;
         end
-        s5_enter$31$d = s4_enter$31$q & meta_eff$31[32'h9];
-        s5_wrote$31$d = s4_enter$31$q;
+        entry_pick$31 = 32'h0;
+        if (s4_enter$31$q & meta_eff$31[32'h9]) begin
+            entry_pick$31 = old_eff2$31;
+        end
+        entry_acc$4 = entry_acc$4 | entry_pick$31;
         s5_meta_w$31$d = meta_new$31;
         s5_live$31$d = live$31;
         s5_head$31$d = old_eff$31;
@@ -30428,8 +29564,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$32$write_address = clear_at$q;
             head2$32$write_data = 32'h0;
         end
-        s5_enter$32$d = s4_enter$32$q & meta_eff$32[32'h9];
-        s5_wrote$32$d = s4_enter$32$q;
+        entry_pick$32 = 32'h0;
+        if (s4_enter$32$q & meta_eff$32[32'h9]) begin
+            entry_pick$32 = old_eff2$32;
+        end
+        entry_acc$5 = entry_acc$5 | entry_pick$32;
         s5_meta_w$32$d = meta_new$32;
         s5_live$32$d = live$32;
         s5_head$32$d = old_eff$32;
@@ -30487,8 +29626,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$33$write_address = clear_at$q;
             head2$33$write_data = 32'h0;
         end
-        s5_enter$33$d = s4_enter$33$q & meta_eff$33[32'h9];
-        s5_wrote$33$d = s4_enter$33$q;
+        entry_pick$33 = 32'h0;
+        if (s4_enter$33$q & meta_eff$33[32'h9]) begin
+            entry_pick$33 = old_eff2$33;
+        end
+        entry_acc$6 = entry_acc$6 | entry_pick$33;
         s5_meta_w$33$d = meta_new$33;
         s5_live$33$d = live$33;
         s5_head$33$d = old_eff$33;
@@ -30546,8 +29688,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$34$write_address = clear_at$q;
             head2$34$write_data = 32'h0;
         end
-        s5_enter$34$d = s4_enter$34$q & meta_eff$34[32'h9];
-        s5_wrote$34$d = s4_enter$34$q;
+        entry_pick$34 = 32'h0;
+        if (s4_enter$34$q & meta_eff$34[32'h9]) begin
+            entry_pick$34 = old_eff2$34;
+        end
+        entry_acc$7 = entry_acc$7 | entry_pick$34;
         s5_meta_w$34$d = meta_new$34;
         s5_live$34$d = live$34;
         s5_head$34$d = old_eff$34;
@@ -30605,8 +29750,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$35$write_address = clear_at$q;
             head2$35$write_data = 32'h0;
         end
-        s5_enter$35$d = s4_enter$35$q & meta_eff$35[32'h9];
-        s5_wrote$35$d = s4_enter$35$q;
+        entry_pick$35 = 32'h0;
+        if (s4_enter$35$q & meta_eff$35[32'h9]) begin
+            entry_pick$35 = old_eff2$35;
+        end
+        entry_acc$8 = entry_acc$8 | entry_pick$35;
         s5_meta_w$35$d = meta_new$35;
         s5_live$35$d = live$35;
         s5_head$35$d = old_eff$35;
@@ -30664,8 +29812,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$36$write_address = clear_at$q;
             head2$36$write_data = 32'h0;
         end
-        s5_enter$36$d = s4_enter$36$q & meta_eff$36[32'h9];
-        s5_wrote$36$d = s4_enter$36$q;
+        entry_pick$36 = 32'h0;
+        if (s4_enter$36$q & meta_eff$36[32'h9]) begin
+            entry_pick$36 = old_eff2$36;
+        end
+        entry_acc$9 = entry_acc$9 | entry_pick$36;
         s5_meta_w$36$d = meta_new$36;
         s5_live$36$d = live$36;
         s5_head$36$d = old_eff$36;
@@ -30723,8 +29874,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$37$write_address = clear_at$q;
             head2$37$write_data = 32'h0;
         end
-        s5_enter$37$d = s4_enter$37$q & meta_eff$37[32'h9];
-        s5_wrote$37$d = s4_enter$37$q;
+        entry_pick$37 = 32'h0;
+        if (s4_enter$37$q & meta_eff$37[32'h9]) begin
+            entry_pick$37 = old_eff2$37;
+        end
+        entry_acc$10 = entry_acc$10 | entry_pick$37;
         s5_meta_w$37$d = meta_new$37;
         s5_live$37$d = live$37;
         s5_head$37$d = old_eff$37;
@@ -30782,8 +29936,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$38$write_address = clear_at$q;
             head2$38$write_data = 32'h0;
         end
-        s5_enter$38$d = s4_enter$38$q & meta_eff$38[32'h9];
-        s5_wrote$38$d = s4_enter$38$q;
+        entry_pick$38 = 32'h0;
+        if (s4_enter$38$q & meta_eff$38[32'h9]) begin
+            entry_pick$38 = old_eff2$38;
+        end
+        entry_acc$11 = entry_acc$11 | entry_pick$38;
         s5_meta_w$38$d = meta_new$38;
         s5_live$38$d = live$38;
         s5_head$38$d = old_eff$38;
@@ -30841,8 +29998,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$39$write_address = clear_at$q;
             head2$39$write_data = 32'h0;
         end
-        s5_enter$39$d = s4_enter$39$q & meta_eff$39[32'h9];
-        s5_wrote$39$d = s4_enter$39$q;
+        entry_pick$39 = 32'h0;
+        if (s4_enter$39$q & meta_eff$39[32'h9]) begin
+            entry_pick$39 = old_eff2$39;
+        end
+        entry_acc$12 = entry_acc$12 | entry_pick$39;
         s5_meta_w$39$d = meta_new$39;
         s5_live$39$d = live$39;
         s5_head$39$d = old_eff$39;
@@ -30900,8 +30060,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$40$write_address = clear_at$q;
             head2$40$write_data = 32'h0;
         end
-        s5_enter$40$d = s4_enter$40$q & meta_eff$40[32'h9];
-        s5_wrote$40$d = s4_enter$40$q;
+        entry_pick$40 = 32'h0;
+        if (s4_enter$40$q & meta_eff$40[32'h9]) begin
+            entry_pick$40 = old_eff2$40;
+        end
+        entry_acc$13 = entry_acc$13 | entry_pick$40;
         s5_meta_w$40$d = meta_new$40;
         s5_live$40$d = live$40;
         s5_head$40$d = old_eff$40;
@@ -30959,8 +30122,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$41$write_address = clear_at$q;
             head2$41$write_data = 32'h0;
         end
-        s5_enter$41$d = s4_enter$41$q & meta_eff$41[32'h9];
-        s5_wrote$41$d = s4_enter$41$q;
+        entry_pick$41 = 32'h0;
+        if (s4_enter$41$q & meta_eff$41[32'h9]) begin
+            entry_pick$41 = old_eff2$41;
+        end
+        entry_acc$14 = entry_acc$14 | entry_pick$41;
         s5_meta_w$41$d = meta_new$41;
         s5_live$41$d = live$41;
         s5_head$41$d = old_eff$41;
@@ -31018,8 +30184,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$42$write_address = clear_at$q;
             head2$42$write_data = 32'h0;
         end
-        s5_enter$42$d = s4_enter$42$q & meta_eff$42[32'h9];
-        s5_wrote$42$d = s4_enter$42$q;
+        entry_pick$42 = 32'h0;
+        if (s4_enter$42$q & meta_eff$42[32'h9]) begin
+            entry_pick$42 = old_eff2$42;
+        end
+        entry_acc$15 = entry_acc$15 | entry_pick$42;
         s5_meta_w$42$d = meta_new$42;
         s5_live$42$d = live$42;
         s5_head$42$d = old_eff$42;
@@ -31077,8 +30246,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$43$write_address = clear_at$q;
             head2$43$write_data = 32'h0;
         end
-        s5_enter$43$d = s4_enter$43$q & meta_eff$43[32'h9];
-        s5_wrote$43$d = s4_enter$43$q;
+        entry_pick$43 = 32'h0;
+        if (s4_enter$43$q & meta_eff$43[32'h9]) begin
+            entry_pick$43 = old_eff2$43;
+        end
+        entry_acc$16 = entry_acc$16 | entry_pick$43;
         s5_meta_w$43$d = meta_new$43;
         s5_live$43$d = live$43;
         s5_head$43$d = old_eff$43;
@@ -31136,8 +30308,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$44$write_address = clear_at$q;
             head2$44$write_data = 32'h0;
         end
-        s5_enter$44$d = s4_enter$44$q & meta_eff$44[32'h9];
-        s5_wrote$44$d = s4_enter$44$q;
+        entry_pick$44 = 32'h0;
+        if (s4_enter$44$q & meta_eff$44[32'h9]) begin
+            entry_pick$44 = old_eff2$44;
+        end
+        entry_acc$17 = entry_acc$17 | entry_pick$44;
         s5_meta_w$44$d = meta_new$44;
         s5_live$44$d = live$44;
         s5_head$44$d = old_eff$44;
@@ -31195,8 +30370,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$45$write_address = clear_at$q;
             head2$45$write_data = 32'h0;
         end
-        s5_enter$45$d = s4_enter$45$q & meta_eff$45[32'h9];
-        s5_wrote$45$d = s4_enter$45$q;
+        entry_pick$45 = 32'h0;
+        if (s4_enter$45$q & meta_eff$45[32'h9]) begin
+            entry_pick$45 = old_eff2$45;
+        end
+        entry_acc$18 = entry_acc$18 | entry_pick$45;
         s5_meta_w$45$d = meta_new$45;
         s5_live$45$d = live$45;
         s5_head$45$d = old_eff$45;
@@ -31254,8 +30432,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$46$write_address = clear_at$q;
             head2$46$write_data = 32'h0;
         end
-        s5_enter$46$d = s4_enter$46$q & meta_eff$46[32'h9];
-        s5_wrote$46$d = s4_enter$46$q;
+        entry_pick$46 = 32'h0;
+        if (s4_enter$46$q & meta_eff$46[32'h9]) begin
+            entry_pick$46 = old_eff2$46;
+        end
+        entry_acc$19 = entry_acc$19 | entry_pick$46;
         s5_meta_w$46$d = meta_new$46;
         s5_live$46$d = live$46;
         s5_head$46$d = old_eff$46;
@@ -31313,8 +30494,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$47$write_address = clear_at$q;
             head2$47$write_data = 32'h0;
         end
-        s5_enter$47$d = s4_enter$47$q & meta_eff$47[32'h9];
-        s5_wrote$47$d = s4_enter$47$q;
+        entry_pick$47 = 32'h0;
+        if (s4_enter$47$q & meta_eff$47[32'h9]) begin
+            entry_pick$47 = old_eff2$47;
+        end
+        entry_acc$20 = entry_acc$20 | entry_pick$47;
         s5_meta_w$47$d = meta_new$47;
         s5_live$47$d = live$47;
         s5_head$47$d = old_eff$47;
@@ -31372,8 +30556,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$48$write_address = clear_at$q;
             head2$48$write_data = 32'h0;
         end
-        s5_enter$48$d = s4_enter$48$q & meta_eff$48[32'h9];
-        s5_wrote$48$d = s4_enter$48$q;
+        entry_pick$48 = 32'h0;
+        if (s4_enter$48$q & meta_eff$48[32'h9]) begin
+            entry_pick$48 = old_eff2$48;
+        end
+        entry_acc$21 = entry_acc$21 | entry_pick$48;
         s5_meta_w$48$d = meta_new$48;
         s5_live$48$d = live$48;
         s5_head$48$d = old_eff$48;
@@ -31431,8 +30618,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$49$write_address = clear_at$q;
             head2$49$write_data = 32'h0;
         end
-        s5_enter$49$d = s4_enter$49$q & meta_eff$49[32'h9];
-        s5_wrote$49$d = s4_enter$49$q;
+        entry_pick$49 = 32'h0;
+        if (s4_enter$49$q & meta_eff$49[32'h9]) begin
+            entry_pick$49 = old_eff2$49;
+        end
+        entry_acc$22 = entry_acc$22 | entry_pick$49;
         s5_meta_w$49$d = meta_new$49;
         s5_live$49$d = live$49;
         s5_head$49$d = old_eff$49;
@@ -31490,8 +30680,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$50$write_address = clear_at$q;
             head2$50$write_data = 32'h0;
         end
-        s5_enter$50$d = s4_enter$50$q & meta_eff$50[32'h9];
-        s5_wrote$50$d = s4_enter$50$q;
+        entry_pick$50 = 32'h0;
+        if (s4_enter$50$q & meta_eff$50[32'h9]) begin
+            entry_pick$50 = old_eff2$50;
+        end
+        entry_acc$23 = entry_acc$23 | entry_pick$50;
         s5_meta_w$50$d = meta_new$50;
         s5_live$50$d = live$50;
         s5_head$50$d = old_eff$50;
@@ -31549,8 +30742,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$51$write_address = clear_at$q;
             head2$51$write_data = 32'h0;
         end
-        s5_enter$51$d = s4_enter$51$q & meta_eff$51[32'h9];
-        s5_wrote$51$d = s4_enter$51$q;
+        entry_pick$51 = 32'h0;
+        if (s4_enter$51$q & meta_eff$51[32'h9]) begin
+            entry_pick$51 = old_eff2$51;
+        end
+        entry_acc$24 = entry_acc$24 | entry_pick$51;
         s5_meta_w$51$d = meta_new$51;
         s5_live$51$d = live$51;
         s5_head$51$d = old_eff$51;
@@ -31608,8 +30804,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$52$write_address = clear_at$q;
             head2$52$write_data = 32'h0;
         end
-        s5_enter$52$d = s4_enter$52$q & meta_eff$52[32'h9];
-        s5_wrote$52$d = s4_enter$52$q;
+        entry_pick$52 = 32'h0;
+        if (s4_enter$52$q & meta_eff$52[32'h9]) begin
+            entry_pick$52 = old_eff2$52;
+        end
+        entry_acc$25 = entry_acc$25 | entry_pick$52;
         s5_meta_w$52$d = meta_new$52;
         s5_live$52$d = live$52;
         s5_head$52$d = old_eff$52;
@@ -31667,8 +30866,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$53$write_address = clear_at$q;
             head2$53$write_data = 32'h0;
         end
-        s5_enter$53$d = s4_enter$53$q & meta_eff$53[32'h9];
-        s5_wrote$53$d = s4_enter$53$q;
+        entry_pick$53 = 32'h0;
+        if (s4_enter$53$q & meta_eff$53[32'h9]) begin
+            entry_pick$53 = old_eff2$53;
+        end
+        entry_acc$26 = entry_acc$26 | entry_pick$53;
         s5_meta_w$53$d = meta_new$53;
         s5_live$53$d = live$53;
         s5_head$53$d = old_eff$53;
@@ -31726,8 +30928,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$54$write_address = clear_at$q;
             head2$54$write_data = 32'h0;
         end
-        s5_enter$54$d = s4_enter$54$q & meta_eff$54[32'h9];
-        s5_wrote$54$d = s4_enter$54$q;
+        entry_pick$54 = 32'h0;
+        if (s4_enter$54$q & meta_eff$54[32'h9]) begin
+            entry_pick$54 = old_eff2$54;
+        end
+        entry_acc$0 = entry_acc$0 | entry_pick$54;
         s5_meta_w$54$d = meta_new$54;
         s5_live$54$d = live$54;
         s5_head$54$d = old_eff$54;
@@ -31785,8 +30990,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$55$write_address = clear_at$q;
             head2$55$write_data = 32'h0;
         end
-        s5_enter$55$d = s4_enter$55$q & meta_eff$55[32'h9];
-        s5_wrote$55$d = s4_enter$55$q;
+        entry_pick$55 = 32'h0;
+        if (s4_enter$55$q & meta_eff$55[32'h9]) begin
+            entry_pick$55 = old_eff2$55;
+        end
+        entry_acc$1 = entry_acc$1 | entry_pick$55;
         s5_meta_w$55$d = meta_new$55;
         s5_live$55$d = live$55;
         s5_head$55$d = old_eff$55;
@@ -31844,8 +31052,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$56$write_address = clear_at$q;
             head2$56$write_data = 32'h0;
         end
-        s5_enter$56$d = s4_enter$56$q & meta_eff$56[32'h9];
-        s5_wrote$56$d = s4_enter$56$q;
+        entry_pick$56 = 32'h0;
+        if (s4_enter$56$q & meta_eff$56[32'h9]) begin
+            entry_pick$56 = old_eff2$56;
+        end
+        entry_acc$2 = entry_acc$2 | entry_pick$56;
         s5_meta_w$56$d = meta_new$56;
         s5_live$56$d = live$56;
         s5_head$56$d = old_eff$56;
@@ -31903,8 +31114,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$57$write_address = clear_at$q;
             head2$57$write_data = 32'h0;
         end
-        s5_enter$57$d = s4_enter$57$q & meta_eff$57[32'h9];
-        s5_wrote$57$d = s4_enter$57$q;
+        entry_pick$57 = 32'h0;
+        if (s4_enter$57$q & meta_eff$57[32'h9]) begin
+            entry_pick$57 = old_eff2$57;
+        end
+        entry_acc$3 = entry_acc$3 | entry_pick$57;
         s5_meta_w$57$d = meta_new$57;
         s5_live$57$d = live$57;
         s5_head$57$d = old_eff$57;
@@ -31962,8 +31176,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$58$write_address = clear_at$q;
             head2$58$write_data = 32'h0;
         end
-        s5_enter$58$d = s4_enter$58$q & meta_eff$58[32'h9];
-        s5_wrote$58$d = s4_enter$58$q;
+        entry_pick$58 = 32'h0;
+        if (s4_enter$58$q & meta_eff$58[32'h9]) begin
+            entry_pick$58 = old_eff2$58;
+        end
+        entry_acc$4 = entry_acc$4 | entry_pick$58;
         s5_meta_w$58$d = meta_new$58;
         s5_live$58$d = live$58;
         s5_head$58$d = old_eff$58;
@@ -32021,8 +31238,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$59$write_address = clear_at$q;
             head2$59$write_data = 32'h0;
         end
-        s5_enter$59$d = s4_enter$59$q & meta_eff$59[32'h9];
-        s5_wrote$59$d = s4_enter$59$q;
+        entry_pick$59 = 32'h0;
+        if (s4_enter$59$q & meta_eff$59[32'h9]) begin
+            entry_pick$59 = old_eff2$59;
+        end
+        entry_acc$5 = entry_acc$5 | entry_pick$59;
         s5_meta_w$59$d = meta_new$59;
         s5_live$59$d = live$59;
         s5_head$59$d = old_eff$59;
@@ -32080,8 +31300,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$60$write_address = clear_at$q;
             head2$60$write_data = 32'h0;
         end
-        s5_enter$60$d = s4_enter$60$q & meta_eff$60[32'h9];
-        s5_wrote$60$d = s4_enter$60$q;
+        entry_pick$60 = 32'h0;
+        if (s4_enter$60$q & meta_eff$60[32'h9]) begin
+            entry_pick$60 = old_eff2$60;
+        end
+        entry_acc$6 = entry_acc$6 | entry_pick$60;
         s5_meta_w$60$d = meta_new$60;
         s5_live$60$d = live$60;
         s5_head$60$d = old_eff$60;
@@ -32139,8 +31362,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$61$write_address = clear_at$q;
             head2$61$write_data = 32'h0;
         end
-        s5_enter$61$d = s4_enter$61$q & meta_eff$61[32'h9];
-        s5_wrote$61$d = s4_enter$61$q;
+        entry_pick$61 = 32'h0;
+        if (s4_enter$61$q & meta_eff$61[32'h9]) begin
+            entry_pick$61 = old_eff2$61;
+        end
+        entry_acc$7 = entry_acc$7 | entry_pick$61;
         s5_meta_w$61$d = meta_new$61;
         s5_live$61$d = live$61;
         s5_head$61$d = old_eff$61;
@@ -32198,8 +31424,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$62$write_address = clear_at$q;
             head2$62$write_data = 32'h0;
         end
-        s5_enter$62$d = s4_enter$62$q & meta_eff$62[32'h9];
-        s5_wrote$62$d = s4_enter$62$q;
+        entry_pick$62 = 32'h0;
+        if (s4_enter$62$q & meta_eff$62[32'h9]) begin
+            entry_pick$62 = old_eff2$62;
+        end
+        entry_acc$8 = entry_acc$8 | entry_pick$62;
         s5_meta_w$62$d = meta_new$62;
         s5_live$62$d = live$62;
         s5_head$62$d = old_eff$62;
@@ -32257,8 +31486,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$63$write_address = clear_at$q;
             head2$63$write_data = 32'h0;
         end
-        s5_enter$63$d = s4_enter$63$q & meta_eff$63[32'h9];
-        s5_wrote$63$d = s4_enter$63$q;
+        entry_pick$63 = 32'h0;
+        if (s4_enter$63$q & meta_eff$63[32'h9]) begin
+            entry_pick$63 = old_eff2$63;
+        end
+        entry_acc$9 = entry_acc$9 | entry_pick$63;
         s5_meta_w$63$d = meta_new$63;
         s5_live$63$d = live$63;
         s5_head$63$d = old_eff$63;
@@ -32316,8 +31548,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$64$write_address = clear_at$q;
             head2$64$write_data = 32'h0;
         end
-        s5_enter$64$d = s4_enter$64$q & meta_eff$64[32'h9];
-        s5_wrote$64$d = s4_enter$64$q;
+        entry_pick$64 = 32'h0;
+        if (s4_enter$64$q & meta_eff$64[32'h9]) begin
+            entry_pick$64 = old_eff2$64;
+        end
+        entry_acc$10 = entry_acc$10 | entry_pick$64;
         s5_meta_w$64$d = meta_new$64;
         s5_live$64$d = live$64;
         s5_head$64$d = old_eff$64;
@@ -32375,8 +31610,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$65$write_address = clear_at$q;
             head2$65$write_data = 32'h0;
         end
-        s5_enter$65$d = s4_enter$65$q & meta_eff$65[32'h9];
-        s5_wrote$65$d = s4_enter$65$q;
+        entry_pick$65 = 32'h0;
+        if (s4_enter$65$q & meta_eff$65[32'h9]) begin
+            entry_pick$65 = old_eff2$65;
+        end
+        entry_acc$11 = entry_acc$11 | entry_pick$65;
         s5_meta_w$65$d = meta_new$65;
         s5_live$65$d = live$65;
         s5_head$65$d = old_eff$65;
@@ -32434,8 +31672,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$66$write_address = clear_at$q;
             head2$66$write_data = 32'h0;
         end
-        s5_enter$66$d = s4_enter$66$q & meta_eff$66[32'h9];
-        s5_wrote$66$d = s4_enter$66$q;
+        entry_pick$66 = 32'h0;
+        if (s4_enter$66$q & meta_eff$66[32'h9]) begin
+            entry_pick$66 = old_eff2$66;
+        end
+        entry_acc$12 = entry_acc$12 | entry_pick$66;
         s5_meta_w$66$d = meta_new$66;
         s5_live$66$d = live$66;
         s5_head$66$d = old_eff$66;
@@ -32493,8 +31734,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$67$write_address = clear_at$q;
             head2$67$write_data = 32'h0;
         end
-        s5_enter$67$d = s4_enter$67$q & meta_eff$67[32'h9];
-        s5_wrote$67$d = s4_enter$67$q;
+        entry_pick$67 = 32'h0;
+        if (s4_enter$67$q & meta_eff$67[32'h9]) begin
+            entry_pick$67 = old_eff2$67;
+        end
+        entry_acc$13 = entry_acc$13 | entry_pick$67;
         s5_meta_w$67$d = meta_new$67;
         s5_live$67$d = live$67;
         s5_head$67$d = old_eff$67;
@@ -32552,8 +31796,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$68$write_address = clear_at$q;
             head2$68$write_data = 32'h0;
         end
-        s5_enter$68$d = s4_enter$68$q & meta_eff$68[32'h9];
-        s5_wrote$68$d = s4_enter$68$q;
+        entry_pick$68 = 32'h0;
+        if (s4_enter$68$q & meta_eff$68[32'h9]) begin
+            entry_pick$68 = old_eff2$68;
+        end
+        entry_acc$14 = entry_acc$14 | entry_pick$68;
         s5_meta_w$68$d = meta_new$68;
         s5_live$68$d = live$68;
         s5_head$68$d = old_eff$68;
@@ -32611,8 +31858,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$69$write_address = clear_at$q;
             head2$69$write_data = 32'h0;
         end
-        s5_enter$69$d = s4_enter$69$q & meta_eff$69[32'h9];
-        s5_wrote$69$d = s4_enter$69$q;
+        entry_pick$69 = 32'h0;
+        if (s4_enter$69$q & meta_eff$69[32'h9]) begin
+            entry_pick$69 = old_eff2$69;
+        end
+        entry_acc$15 = entry_acc$15 | entry_pick$69;
         s5_meta_w$69$d = meta_new$69;
         s5_live$69$d = live$69;
         s5_head$69$d = old_eff$69;
@@ -32670,8 +31920,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$70$write_address = clear_at$q;
             head2$70$write_data = 32'h0;
         end
-        s5_enter$70$d = s4_enter$70$q & meta_eff$70[32'h9];
-        s5_wrote$70$d = s4_enter$70$q;
+        entry_pick$70 = 32'h0;
+        if (s4_enter$70$q & meta_eff$70[32'h9]) begin
+            entry_pick$70 = old_eff2$70;
+        end
+        entry_acc$16 = entry_acc$16 | entry_pick$70;
         s5_meta_w$70$d = meta_new$70;
         s5_live$70$d = live$70;
         s5_head$70$d = old_eff$70;
@@ -32729,8 +31982,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$71$write_address = clear_at$q;
             head2$71$write_data = 32'h0;
         end
-        s5_enter$71$d = s4_enter$71$q & meta_eff$71[32'h9];
-        s5_wrote$71$d = s4_enter$71$q;
+        entry_pick$71 = 32'h0;
+        if (s4_enter$71$q & meta_eff$71[32'h9]) begin
+            entry_pick$71 = old_eff2$71;
+        end
+        entry_acc$17 = entry_acc$17 | entry_pick$71;
         s5_meta_w$71$d = meta_new$71;
         s5_live$71$d = live$71;
         s5_head$71$d = old_eff$71;
@@ -32788,8 +32044,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$72$write_address = clear_at$q;
             head2$72$write_data = 32'h0;
         end
-        s5_enter$72$d = s4_enter$72$q & meta_eff$72[32'h9];
-        s5_wrote$72$d = s4_enter$72$q;
+        entry_pick$72 = 32'h0;
+        if (s4_enter$72$q & meta_eff$72[32'h9]) begin
+            entry_pick$72 = old_eff2$72;
+        end
+        entry_acc$18 = entry_acc$18 | entry_pick$72;
         s5_meta_w$72$d = meta_new$72;
         s5_live$72$d = live$72;
         s5_head$72$d = old_eff$72;
@@ -32847,8 +32106,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$73$write_address = clear_at$q;
             head2$73$write_data = 32'h0;
         end
-        s5_enter$73$d = s4_enter$73$q & meta_eff$73[32'h9];
-        s5_wrote$73$d = s4_enter$73$q;
+        entry_pick$73 = 32'h0;
+        if (s4_enter$73$q & meta_eff$73[32'h9]) begin
+            entry_pick$73 = old_eff2$73;
+        end
+        entry_acc$19 = entry_acc$19 | entry_pick$73;
         s5_meta_w$73$d = meta_new$73;
         s5_live$73$d = live$73;
         s5_head$73$d = old_eff$73;
@@ -32906,8 +32168,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$74$write_address = clear_at$q;
             head2$74$write_data = 32'h0;
         end
-        s5_enter$74$d = s4_enter$74$q & meta_eff$74[32'h9];
-        s5_wrote$74$d = s4_enter$74$q;
+        entry_pick$74 = 32'h0;
+        if (s4_enter$74$q & meta_eff$74[32'h9]) begin
+            entry_pick$74 = old_eff2$74;
+        end
+        entry_acc$20 = entry_acc$20 | entry_pick$74;
         s5_meta_w$74$d = meta_new$74;
         s5_live$74$d = live$74;
         s5_head$74$d = old_eff$74;
@@ -32965,8 +32230,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$75$write_address = clear_at$q;
             head2$75$write_data = 32'h0;
         end
-        s5_enter$75$d = s4_enter$75$q & meta_eff$75[32'h9];
-        s5_wrote$75$d = s4_enter$75$q;
+        entry_pick$75 = 32'h0;
+        if (s4_enter$75$q & meta_eff$75[32'h9]) begin
+            entry_pick$75 = old_eff2$75;
+        end
+        entry_acc$21 = entry_acc$21 | entry_pick$75;
         s5_meta_w$75$d = meta_new$75;
         s5_live$75$d = live$75;
         s5_head$75$d = old_eff$75;
@@ -33024,8 +32292,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$76$write_address = clear_at$q;
             head2$76$write_data = 32'h0;
         end
-        s5_enter$76$d = s4_enter$76$q & meta_eff$76[32'h9];
-        s5_wrote$76$d = s4_enter$76$q;
+        entry_pick$76 = 32'h0;
+        if (s4_enter$76$q & meta_eff$76[32'h9]) begin
+            entry_pick$76 = old_eff2$76;
+        end
+        entry_acc$22 = entry_acc$22 | entry_pick$76;
         s5_meta_w$76$d = meta_new$76;
         s5_live$76$d = live$76;
         s5_head$76$d = old_eff$76;
@@ -33083,8 +32354,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$77$write_address = clear_at$q;
             head2$77$write_data = 32'h0;
         end
-        s5_enter$77$d = s4_enter$77$q & meta_eff$77[32'h9];
-        s5_wrote$77$d = s4_enter$77$q;
+        entry_pick$77 = 32'h0;
+        if (s4_enter$77$q & meta_eff$77[32'h9]) begin
+            entry_pick$77 = old_eff2$77;
+        end
+        entry_acc$23 = entry_acc$23 | entry_pick$77;
         s5_meta_w$77$d = meta_new$77;
         s5_live$77$d = live$77;
         s5_head$77$d = old_eff$77;
@@ -33142,8 +32416,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$78$write_address = clear_at$q;
             head2$78$write_data = 32'h0;
         end
-        s5_enter$78$d = s4_enter$78$q & meta_eff$78[32'h9];
-        s5_wrote$78$d = s4_enter$78$q;
+        entry_pick$78 = 32'h0;
+        if (s4_enter$78$q & meta_eff$78[32'h9]) begin
+            entry_pick$78 = old_eff2$78;
+        end
+        entry_acc$24 = entry_acc$24 | entry_pick$78;
         s5_meta_w$78$d = meta_new$78;
         s5_live$78$d = live$78;
         s5_head$78$d = old_eff$78;
@@ -33201,8 +32478,11 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$79$write_address = clear_at$q;
             head2$79$write_data = 32'h0;
         end
-        s5_enter$79$d = s4_enter$79$q & meta_eff$79[32'h9];
-        s5_wrote$79$d = s4_enter$79$q;
+        entry_pick$79 = 32'h0;
+        if (s4_enter$79$q & meta_eff$79[32'h9]) begin
+            entry_pick$79 = old_eff2$79;
+        end
+        entry_acc$25 = entry_acc$25 | entry_pick$79;
         s5_meta_w$79$d = meta_new$79;
         s5_live$79$d = live$79;
         s5_head$79$d = old_eff$79;
@@ -33260,14 +32540,47 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             head2$80$write_address = clear_at$q;
             head2$80$write_data = 32'h0;
         end
-        s5_enter$80$d = s4_enter$80$q & meta_eff$80[32'h9];
-        s5_wrote$80$d = s4_enter$80$q;
+        entry_pick$80 = 32'h0;
+        if (s4_enter$80$q & meta_eff$80[32'h9]) begin
+            entry_pick$80 = old_eff2$80;
+        end
+        entry_acc$26 = entry_acc$26 | entry_pick$80;
         s5_meta_w$80$d = meta_new$80;
         s5_live$80$d = live$80;
         s5_head$80$d = old_eff$80;
         s5_head2$80$d = old_eff2$80;
+        s5_entry$0$d = entry_acc$0;
+        s5_entry$1$d = entry_acc$1;
+        s5_entry$2$d = entry_acc$2;
+        s5_entry$3$d = entry_acc$3;
+        s5_entry$4$d = entry_acc$4;
+        s5_entry$5$d = entry_acc$5;
+        s5_entry$6$d = entry_acc$6;
+        s5_entry$7$d = entry_acc$7;
+        s5_entry$8$d = entry_acc$8;
+        s5_entry$9$d = entry_acc$9;
+        s5_entry$10$d = entry_acc$10;
+        s5_entry$11$d = entry_acc$11;
+        s5_entry$12$d = entry_acc$12;
+        s5_entry$13$d = entry_acc$13;
+        s5_entry$14$d = entry_acc$14;
+        s5_entry$15$d = entry_acc$15;
+        s5_entry$16$d = entry_acc$16;
+        s5_entry$17$d = entry_acc$17;
+        s5_entry$18$d = entry_acc$18;
+        s5_entry$19$d = entry_acc$19;
+        s5_entry$20$d = entry_acc$20;
+        s5_entry$21$d = entry_acc$21;
+        s5_entry$22$d = entry_acc$22;
+        s5_entry$23$d = entry_acc$23;
+        s5_entry$24$d = entry_acc$24;
+        s5_entry$25$d = entry_acc$25;
+        s5_entry$26$d = entry_acc$26;
         s5_large$d = s4_large$q;
-        s5_lprev$d = s4_lprev$q;
+        s5_lprev$d = 32'h0;
+        if (s4_large$q) begin
+            s5_lprev$d = s4_lprev$q;
+        end
         s5_valid$d = s4_valid$q;
         s5_index$d = s4_index$q;
         s5_margin$d = s4_margin$q;
@@ -33277,415 +32590,34 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s5_max$1$d = s4_max$1$q;
         s5_min$2$d = s4_min$2$q;
         s5_max$2$d = s4_max$2$q;
-        succ_acc = 32'h0;
-        if (s5_large$q) begin
-            succ_acc = s5_lprev$q;
-        end
-        succ_pick$0 = 32'h0;
-        if (s5_enter$0$q) begin
-            succ_pick$0 = s5_head2$0$q;
-        end
-        succ_acc = succ_acc | succ_pick$0;
-        succ_pick$1 = 32'h0;
-        if (s5_enter$1$q) begin
-            succ_pick$1 = s5_head2$1$q;
-        end
-        succ_acc = succ_acc | succ_pick$1;
-        succ_pick$2 = 32'h0;
-        if (s5_enter$2$q) begin
-            succ_pick$2 = s5_head2$2$q;
-        end
-        succ_acc = succ_acc | succ_pick$2;
-        succ_pick$3 = 32'h0;
-        if (s5_enter$3$q) begin
-            succ_pick$3 = s5_head2$3$q;
-        end
-        succ_acc = succ_acc | succ_pick$3;
-        succ_pick$4 = 32'h0;
-        if (s5_enter$4$q) begin
-            succ_pick$4 = s5_head2$4$q;
-        end
-        succ_acc = succ_acc | succ_pick$4;
-        succ_pick$5 = 32'h0;
-        if (s5_enter$5$q) begin
-            succ_pick$5 = s5_head2$5$q;
-        end
-        succ_acc = succ_acc | succ_pick$5;
-        succ_pick$6 = 32'h0;
-        if (s5_enter$6$q) begin
-            succ_pick$6 = s5_head2$6$q;
-        end
-        succ_acc = succ_acc | succ_pick$6;
-        succ_pick$7 = 32'h0;
-        if (s5_enter$7$q) begin
-            succ_pick$7 = s5_head2$7$q;
-        end
-        succ_acc = succ_acc | succ_pick$7;
-        succ_pick$8 = 32'h0;
-        if (s5_enter$8$q) begin
-            succ_pick$8 = s5_head2$8$q;
-        end
-        succ_acc = succ_acc | succ_pick$8;
-        succ_pick$9 = 32'h0;
-        if (s5_enter$9$q) begin
-            succ_pick$9 = s5_head2$9$q;
-        end
-        succ_acc = succ_acc | succ_pick$9;
-        succ_pick$10 = 32'h0;
-        if (s5_enter$10$q) begin
-            succ_pick$10 = s5_head2$10$q;
-        end
-        succ_acc = succ_acc | succ_pick$10;
-        succ_pick$11 = 32'h0;
-        if (s5_enter$11$q) begin
-            succ_pick$11 = s5_head2$11$q;
-        end
-        succ_acc = succ_acc | succ_pick$11;
-        succ_pick$12 = 32'h0;
-        if (s5_enter$12$q) begin
-            succ_pick$12 = s5_head2$12$q;
-        end
-        succ_acc = succ_acc | succ_pick$12;
-        succ_pick$13 = 32'h0;
-        if (s5_enter$13$q) begin
-            succ_pick$13 = s5_head2$13$q;
-        end
-        succ_acc = succ_acc | succ_pick$13;
-        succ_pick$14 = 32'h0;
-        if (s5_enter$14$q) begin
-            succ_pick$14 = s5_head2$14$q;
-        end
-        succ_acc = succ_acc | succ_pick$14;
-        succ_pick$15 = 32'h0;
-        if (s5_enter$15$q) begin
-            succ_pick$15 = s5_head2$15$q;
-        end
-        succ_acc = succ_acc | succ_pick$15;
-        succ_pick$16 = 32'h0;
-        if (s5_enter$16$q) begin
-            succ_pick$16 = s5_head2$16$q;
-        end
-        succ_acc = succ_acc | succ_pick$16;
-        succ_pick$17 = 32'h0;
-        if (s5_enter$17$q) begin
-            succ_pick$17 = s5_head2$17$q;
-        end
-        succ_acc = succ_acc | succ_pick$17;
-        succ_pick$18 = 32'h0;
-        if (s5_enter$18$q) begin
-            succ_pick$18 = s5_head2$18$q;
-        end
-        succ_acc = succ_acc | succ_pick$18;
-        succ_pick$19 = 32'h0;
-        if (s5_enter$19$q) begin
-            succ_pick$19 = s5_head2$19$q;
-        end
-        succ_acc = succ_acc | succ_pick$19;
-        succ_pick$20 = 32'h0;
-        if (s5_enter$20$q) begin
-            succ_pick$20 = s5_head2$20$q;
-        end
-        succ_acc = succ_acc | succ_pick$20;
-        succ_pick$21 = 32'h0;
-        if (s5_enter$21$q) begin
-            succ_pick$21 = s5_head2$21$q;
-        end
-        succ_acc = succ_acc | succ_pick$21;
-        succ_pick$22 = 32'h0;
-        if (s5_enter$22$q) begin
-            succ_pick$22 = s5_head2$22$q;
-        end
-        succ_acc = succ_acc | succ_pick$22;
-        succ_pick$23 = 32'h0;
-        if (s5_enter$23$q) begin
-            succ_pick$23 = s5_head2$23$q;
-        end
-        succ_acc = succ_acc | succ_pick$23;
-        succ_pick$24 = 32'h0;
-        if (s5_enter$24$q) begin
-            succ_pick$24 = s5_head2$24$q;
-        end
-        succ_acc = succ_acc | succ_pick$24;
-        succ_pick$25 = 32'h0;
-        if (s5_enter$25$q) begin
-            succ_pick$25 = s5_head2$25$q;
-        end
-        succ_acc = succ_acc | succ_pick$25;
-        succ_pick$26 = 32'h0;
-        if (s5_enter$26$q) begin
-            succ_pick$26 = s5_head2$26$q;
-        end
-        succ_acc = succ_acc | succ_pick$26;
-        succ_pick$27 = 32'h0;
-        if (s5_enter$27$q) begin
-            succ_pick$27 = s5_head2$27$q;
-        end
-        succ_acc = succ_acc | succ_pick$27;
-        succ_pick$28 = 32'h0;
-        if (s5_enter$28$q) begin
-            succ_pick$28 = s5_head2$28$q;
-        end
-        succ_acc = succ_acc | succ_pick$28;
-        succ_pick$29 = 32'h0;
-        if (s5_enter$29$q) begin
-            succ_pick$29 = s5_head2$29$q;
-        end
-        succ_acc = succ_acc | succ_pick$29;
-        succ_pick$30 = 32'h0;
-        if (s5_enter$30$q) begin
-            succ_pick$30 = s5_head2$30$q;
-        end
-        succ_acc = succ_acc | succ_pick$30;
-        succ_pick$31 = 32'h0;
-        if (s5_enter$31$q) begin
-            succ_pick$31 = s5_head2$31$q;
-        end
-        succ_acc = succ_acc | succ_pick$31;
-        succ_pick$32 = 32'h0;
-        if (s5_enter$32$q) begin
-            succ_pick$32 = s5_head2$32$q;
-        end
-        succ_acc = succ_acc | succ_pick$32;
-        succ_pick$33 = 32'h0;
-        if (s5_enter$33$q) begin
-            succ_pick$33 = s5_head2$33$q;
-        end
-        succ_acc = succ_acc | succ_pick$33;
-        succ_pick$34 = 32'h0;
-        if (s5_enter$34$q) begin
-            succ_pick$34 = s5_head2$34$q;
-        end
-        succ_acc = succ_acc | succ_pick$34;
-        succ_pick$35 = 32'h0;
-        if (s5_enter$35$q) begin
-            succ_pick$35 = s5_head2$35$q;
-        end
-        succ_acc = succ_acc | succ_pick$35;
-        succ_pick$36 = 32'h0;
-        if (s5_enter$36$q) begin
-            succ_pick$36 = s5_head2$36$q;
-        end
-        succ_acc = succ_acc | succ_pick$36;
-        succ_pick$37 = 32'h0;
-        if (s5_enter$37$q) begin
-            succ_pick$37 = s5_head2$37$q;
-        end
-        succ_acc = succ_acc | succ_pick$37;
-        succ_pick$38 = 32'h0;
-        if (s5_enter$38$q) begin
-            succ_pick$38 = s5_head2$38$q;
-        end
-        succ_acc = succ_acc | succ_pick$38;
-        succ_pick$39 = 32'h0;
-        if (s5_enter$39$q) begin
-            succ_pick$39 = s5_head2$39$q;
-        end
-        succ_acc = succ_acc | succ_pick$39;
-        succ_pick$40 = 32'h0;
-        if (s5_enter$40$q) begin
-            succ_pick$40 = s5_head2$40$q;
-        end
-        succ_acc = succ_acc | succ_pick$40;
-        succ_pick$41 = 32'h0;
-        if (s5_enter$41$q) begin
-            succ_pick$41 = s5_head2$41$q;
-        end
-        succ_acc = succ_acc | succ_pick$41;
-        succ_pick$42 = 32'h0;
-        if (s5_enter$42$q) begin
-            succ_pick$42 = s5_head2$42$q;
-        end
-        succ_acc = succ_acc | succ_pick$42;
-        succ_pick$43 = 32'h0;
-        if (s5_enter$43$q) begin
-            succ_pick$43 = s5_head2$43$q;
-        end
-        succ_acc = succ_acc | succ_pick$43;
-        succ_pick$44 = 32'h0;
-        if (s5_enter$44$q) begin
-            succ_pick$44 = s5_head2$44$q;
-        end
-        succ_acc = succ_acc | succ_pick$44;
-        succ_pick$45 = 32'h0;
-        if (s5_enter$45$q) begin
-            succ_pick$45 = s5_head2$45$q;
-        end
-        succ_acc = succ_acc | succ_pick$45;
-        succ_pick$46 = 32'h0;
-        if (s5_enter$46$q) begin
-            succ_pick$46 = s5_head2$46$q;
-        end
-        succ_acc = succ_acc | succ_pick$46;
-        succ_pick$47 = 32'h0;
-        if (s5_enter$47$q) begin
-            succ_pick$47 = s5_head2$47$q;
-        end
-        succ_acc = succ_acc | succ_pick$47;
-        succ_pick$48 = 32'h0;
-        if (s5_enter$48$q) begin
-            succ_pick$48 = s5_head2$48$q;
-        end
-        succ_acc = succ_acc | succ_pick$48;
-        succ_pick$49 = 32'h0;
-        if (s5_enter$49$q) begin
-            succ_pick$49 = s5_head2$49$q;
-        end
-        succ_acc = succ_acc | succ_pick$49;
-        succ_pick$50 = 32'h0;
-        if (s5_enter$50$q) begin
-            succ_pick$50 = s5_head2$50$q;
-        end
-        succ_acc = succ_acc | succ_pick$50;
-        succ_pick$51 = 32'h0;
-        if (s5_enter$51$q) begin
-            succ_pick$51 = s5_head2$51$q;
-        end
-        succ_acc = succ_acc | succ_pick$51;
-        succ_pick$52 = 32'h0;
-        if (s5_enter$52$q) begin
-            succ_pick$52 = s5_head2$52$q;
-        end
-        succ_acc = succ_acc | succ_pick$52;
-        succ_pick$53 = 32'h0;
-        if (s5_enter$53$q) begin
-            succ_pick$53 = s5_head2$53$q;
-        end
-        succ_acc = succ_acc | succ_pick$53;
-        succ_pick$54 = 32'h0;
-        if (s5_enter$54$q) begin
-            succ_pick$54 = s5_head2$54$q;
-        end
-        succ_acc = succ_acc | succ_pick$54;
-        succ_pick$55 = 32'h0;
-        if (s5_enter$55$q) begin
-            succ_pick$55 = s5_head2$55$q;
-        end
-        succ_acc = succ_acc | succ_pick$55;
-        succ_pick$56 = 32'h0;
-        if (s5_enter$56$q) begin
-            succ_pick$56 = s5_head2$56$q;
-        end
-        succ_acc = succ_acc | succ_pick$56;
-        succ_pick$57 = 32'h0;
-        if (s5_enter$57$q) begin
-            succ_pick$57 = s5_head2$57$q;
-        end
-        succ_acc = succ_acc | succ_pick$57;
-        succ_pick$58 = 32'h0;
-        if (s5_enter$58$q) begin
-            succ_pick$58 = s5_head2$58$q;
-        end
-        succ_acc = succ_acc | succ_pick$58;
-        succ_pick$59 = 32'h0;
-        if (s5_enter$59$q) begin
-            succ_pick$59 = s5_head2$59$q;
-        end
-        succ_acc = succ_acc | succ_pick$59;
-        succ_pick$60 = 32'h0;
-        if (s5_enter$60$q) begin
-            succ_pick$60 = s5_head2$60$q;
-        end
-        succ_acc = succ_acc | succ_pick$60;
-        succ_pick$61 = 32'h0;
-        if (s5_enter$61$q) begin
-            succ_pick$61 = s5_head2$61$q;
-        end
-        succ_acc = succ_acc | succ_pick$61;
-        succ_pick$62 = 32'h0;
-        if (s5_enter$62$q) begin
-            succ_pick$62 = s5_head2$62$q;
-        end
-        succ_acc = succ_acc | succ_pick$62;
-        succ_pick$63 = 32'h0;
-        if (s5_enter$63$q) begin
-            succ_pick$63 = s5_head2$63$q;
-        end
-        succ_acc = succ_acc | succ_pick$63;
-        succ_pick$64 = 32'h0;
-        if (s5_enter$64$q) begin
-            succ_pick$64 = s5_head2$64$q;
-        end
-        succ_acc = succ_acc | succ_pick$64;
-        succ_pick$65 = 32'h0;
-        if (s5_enter$65$q) begin
-            succ_pick$65 = s5_head2$65$q;
-        end
-        succ_acc = succ_acc | succ_pick$65;
-        succ_pick$66 = 32'h0;
-        if (s5_enter$66$q) begin
-            succ_pick$66 = s5_head2$66$q;
-        end
-        succ_acc = succ_acc | succ_pick$66;
-        succ_pick$67 = 32'h0;
-        if (s5_enter$67$q) begin
-            succ_pick$67 = s5_head2$67$q;
-        end
-        succ_acc = succ_acc | succ_pick$67;
-        succ_pick$68 = 32'h0;
-        if (s5_enter$68$q) begin
-            succ_pick$68 = s5_head2$68$q;
-        end
-        succ_acc = succ_acc | succ_pick$68;
-        succ_pick$69 = 32'h0;
-        if (s5_enter$69$q) begin
-            succ_pick$69 = s5_head2$69$q;
-        end
-        succ_acc = succ_acc | succ_pick$69;
-        succ_pick$70 = 32'h0;
-        if (s5_enter$70$q) begin
-            succ_pick$70 = s5_head2$70$q;
-        end
-        succ_acc = succ_acc | succ_pick$70;
-        succ_pick$71 = 32'h0;
-        if (s5_enter$71$q) begin
-            succ_pick$71 = s5_head2$71$q;
-        end
-        succ_acc = succ_acc | succ_pick$71;
-        succ_pick$72 = 32'h0;
-        if (s5_enter$72$q) begin
-            succ_pick$72 = s5_head2$72$q;
-        end
-        succ_acc = succ_acc | succ_pick$72;
-        succ_pick$73 = 32'h0;
-        if (s5_enter$73$q) begin
-            succ_pick$73 = s5_head2$73$q;
-        end
-        succ_acc = succ_acc | succ_pick$73;
-        succ_pick$74 = 32'h0;
-        if (s5_enter$74$q) begin
-            succ_pick$74 = s5_head2$74$q;
-        end
-        succ_acc = succ_acc | succ_pick$74;
-        succ_pick$75 = 32'h0;
-        if (s5_enter$75$q) begin
-            succ_pick$75 = s5_head2$75$q;
-        end
-        succ_acc = succ_acc | succ_pick$75;
-        succ_pick$76 = 32'h0;
-        if (s5_enter$76$q) begin
-            succ_pick$76 = s5_head2$76$q;
-        end
-        succ_acc = succ_acc | succ_pick$76;
-        succ_pick$77 = 32'h0;
-        if (s5_enter$77$q) begin
-            succ_pick$77 = s5_head2$77$q;
-        end
-        succ_acc = succ_acc | succ_pick$77;
-        succ_pick$78 = 32'h0;
-        if (s5_enter$78$q) begin
-            succ_pick$78 = s5_head2$78$q;
-        end
-        succ_acc = succ_acc | succ_pick$78;
-        succ_pick$79 = 32'h0;
-        if (s5_enter$79$q) begin
-            succ_pick$79 = s5_head2$79$q;
-        end
-        succ_acc = succ_acc | succ_pick$79;
-        succ_pick$80 = 32'h0;
-        if (s5_enter$80$q) begin
-            succ_pick$80 = s5_head2$80$q;
-        end
-        succ_acc = succ_acc | succ_pick$80;
+        succ_acc = s5_lprev$q;
+        succ_acc = succ_acc | s5_entry$0$q;
+        succ_acc = succ_acc | s5_entry$1$q;
+        succ_acc = succ_acc | s5_entry$2$q;
+        succ_acc = succ_acc | s5_entry$3$q;
+        succ_acc = succ_acc | s5_entry$4$q;
+        succ_acc = succ_acc | s5_entry$5$q;
+        succ_acc = succ_acc | s5_entry$6$q;
+        succ_acc = succ_acc | s5_entry$7$q;
+        succ_acc = succ_acc | s5_entry$8$q;
+        succ_acc = succ_acc | s5_entry$9$q;
+        succ_acc = succ_acc | s5_entry$10$q;
+        succ_acc = succ_acc | s5_entry$11$q;
+        succ_acc = succ_acc | s5_entry$12$q;
+        succ_acc = succ_acc | s5_entry$13$q;
+        succ_acc = succ_acc | s5_entry$14$q;
+        succ_acc = succ_acc | s5_entry$15$q;
+        succ_acc = succ_acc | s5_entry$16$q;
+        succ_acc = succ_acc | s5_entry$17$q;
+        succ_acc = succ_acc | s5_entry$18$q;
+        succ_acc = succ_acc | s5_entry$19$q;
+        succ_acc = succ_acc | s5_entry$20$q;
+        succ_acc = succ_acc | s5_entry$21$q;
+        succ_acc = succ_acc | s5_entry$22$q;
+        succ_acc = succ_acc | s5_entry$23$q;
+        succ_acc = succ_acc | s5_entry$24$q;
+        succ_acc = succ_acc | s5_entry$25$q;
+        succ_acc = succ_acc | s5_entry$26$q;
         succ_addr = s5_index$q >> lane_shift;
         any_live$0 = 1'b0;
         any_live$0 = any_live$0 | s5_live$0$q;
@@ -33774,6 +32706,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         succ$0$write_data = succ_acc;
         rec_write$0 = s5_valid$q & (any_live$0 | (s5_kind$q[32'h1] & ((lnext$0$q & top) != 32'h0)));
         retire_probe$0 = s5_valid$q & ~rec_write$0;
+        retire_probe_q$0$d = retire_probe$0;
         rec$0$write_enable = rec_write$0;
         rec$0$write_address = wp$0$q;
         rec$0$write_data = 32'h0;
@@ -34954,34 +33887,43 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         bank_any$25 = bank_any$25 | e_rem$79$q;
         group_prior$80 = bank_any$26;
         bank_any$26 = bank_any$26 | e_rem$80$q;
-        bank_prior$0 = 1'b0;
+        chunk_prior$0 = 1'b0;
+        chunk_prior$1 = chunk_prior$0 | chunk_left$0$q;
+        bank_prior$0 = chunk_prior$0;
         bank_prior$1 = bank_prior$0 | bank_left$0$q;
         bank_prior$2 = bank_prior$1 | bank_left$1$q;
-        bank_prior$3 = bank_prior$2 | bank_left$2$q;
+        chunk_prior$2 = chunk_prior$1 | chunk_left$1$q;
+        bank_prior$3 = chunk_prior$1;
         bank_prior$4 = bank_prior$3 | bank_left$3$q;
         bank_prior$5 = bank_prior$4 | bank_left$4$q;
-        bank_prior$6 = bank_prior$5 | bank_left$5$q;
+        chunk_prior$3 = chunk_prior$2 | chunk_left$2$q;
+        bank_prior$6 = chunk_prior$2;
         bank_prior$7 = bank_prior$6 | bank_left$6$q;
         bank_prior$8 = bank_prior$7 | bank_left$7$q;
-        bank_prior$9 = bank_prior$8 | bank_left$8$q;
+        chunk_prior$4 = chunk_prior$3 | chunk_left$3$q;
+        bank_prior$9 = chunk_prior$3;
         bank_prior$10 = bank_prior$9 | bank_left$9$q;
         bank_prior$11 = bank_prior$10 | bank_left$10$q;
-        bank_prior$12 = bank_prior$11 | bank_left$11$q;
+        chunk_prior$5 = chunk_prior$4 | chunk_left$4$q;
+        bank_prior$12 = chunk_prior$4;
         bank_prior$13 = bank_prior$12 | bank_left$12$q;
         bank_prior$14 = bank_prior$13 | bank_left$13$q;
-        bank_prior$15 = bank_prior$14 | bank_left$14$q;
+        chunk_prior$6 = chunk_prior$5 | chunk_left$5$q;
+        bank_prior$15 = chunk_prior$5;
         bank_prior$16 = bank_prior$15 | bank_left$15$q;
         bank_prior$17 = bank_prior$16 | bank_left$16$q;
-        bank_prior$18 = bank_prior$17 | bank_left$17$q;
+        chunk_prior$7 = chunk_prior$6 | chunk_left$6$q;
+        bank_prior$18 = chunk_prior$6;
         bank_prior$19 = bank_prior$18 | bank_left$18$q;
         bank_prior$20 = bank_prior$19 | bank_left$19$q;
-        bank_prior$21 = bank_prior$20 | bank_left$20$q;
+        chunk_prior$8 = chunk_prior$7 | chunk_left$7$q;
+        bank_prior$21 = chunk_prior$7;
         bank_prior$22 = bank_prior$21 | bank_left$21$q;
         bank_prior$23 = bank_prior$22 | bank_left$22$q;
-        bank_prior$24 = bank_prior$23 | bank_left$23$q;
+        chunk_prior$9 = chunk_prior$8 | chunk_left$8$q;
+        bank_prior$24 = chunk_prior$8;
         bank_prior$25 = bank_prior$24 | bank_left$24$q;
         bank_prior$26 = bank_prior$25 | bank_left$25$q;
-        bank_prior$27 = bank_prior$26 | bank_left$26$q;
         e_first$0 = e_rem$0$q & ~group_prior$0 & ~bank_prior$0;
         e_first$1 = e_rem$1$q & ~group_prior$1 & ~bank_prior$1;
         e_first$2 = e_rem$2$q & ~group_prior$2 & ~bank_prior$2;
@@ -35065,9 +34007,531 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         e_first$80 = e_rem$80$q & ~group_prior$80 & ~bank_prior$26;
         e_push$0 = e_chosen$0$q & ~lq_fill$2$q;
         e_load$0 = (count$0$q != 32'h0) & ~e_busy$0$q;
+        rd_live$0 = (rec$0$read_data & top) != 32'h0;
+        rd_live$1 = (rec$1$read_data & top) != 32'h0;
+        rd_live$2 = (rec$2$read_data & top) != 32'h0;
+        rd_live$3 = (rec$3$read_data & top) != 32'h0;
+        rd_live$4 = (rec$4$read_data & top) != 32'h0;
+        rd_live$5 = (rec$5$read_data & top) != 32'h0;
+        rd_live$6 = (rec$6$read_data & top) != 32'h0;
+        rd_live$7 = (rec$7$read_data & top) != 32'h0;
+        rd_live$8 = (rec$8$read_data & top) != 32'h0;
+        rd_live$9 = (rec$9$read_data & top) != 32'h0;
+        rd_live$10 = (rec$10$read_data & top) != 32'h0;
+        rd_live$11 = (rec$11$read_data & top) != 32'h0;
+        rd_live$12 = (rec$12$read_data & top) != 32'h0;
+        rd_live$13 = (rec$13$read_data & top) != 32'h0;
+        rd_live$14 = (rec$14$read_data & top) != 32'h0;
+        rd_live$15 = (rec$15$read_data & top) != 32'h0;
+        rd_live$16 = (rec$16$read_data & top) != 32'h0;
+        rd_live$17 = (rec$17$read_data & top) != 32'h0;
+        rd_live$18 = (rec$18$read_data & top) != 32'h0;
+        rd_live$19 = (rec$19$read_data & top) != 32'h0;
+        rd_live$20 = (rec$20$read_data & top) != 32'h0;
+        rd_live$21 = (rec$21$read_data & top) != 32'h0;
+        rd_live$22 = (rec$22$read_data & top) != 32'h0;
+        rd_live$23 = (rec$23$read_data & top) != 32'h0;
+        rd_live$24 = (rec$24$read_data & top) != 32'h0;
+        rd_live$25 = (rec$25$read_data & top) != 32'h0;
+        rd_live$26 = (rec$26$read_data & top) != 32'h0;
+        rd_live$27 = (rec$27$read_data & top) != 32'h0;
+        rd_live$28 = (rec$28$read_data & top) != 32'h0;
+        rd_live$29 = (rec$29$read_data & top) != 32'h0;
+        rd_live$30 = (rec$30$read_data & top) != 32'h0;
+        rd_live$31 = (rec$31$read_data & top) != 32'h0;
+        rd_live$32 = (rec$32$read_data & top) != 32'h0;
+        rd_live$33 = (rec$33$read_data & top) != 32'h0;
+        rd_live$34 = (rec$34$read_data & top) != 32'h0;
+        rd_live$35 = (rec$35$read_data & top) != 32'h0;
+        rd_live$36 = (rec$36$read_data & top) != 32'h0;
+        rd_live$37 = (rec$37$read_data & top) != 32'h0;
+        rd_live$38 = (rec$38$read_data & top) != 32'h0;
+        rd_live$39 = (rec$39$read_data & top) != 32'h0;
+        rd_live$40 = (rec$40$read_data & top) != 32'h0;
+        rd_live$41 = (rec$41$read_data & top) != 32'h0;
+        rd_live$42 = (rec$42$read_data & top) != 32'h0;
+        rd_live$43 = (rec$43$read_data & top) != 32'h0;
+        rd_live$44 = (rec$44$read_data & top) != 32'h0;
+        rd_live$45 = (rec$45$read_data & top) != 32'h0;
+        rd_live$46 = (rec$46$read_data & top) != 32'h0;
+        rd_live$47 = (rec$47$read_data & top) != 32'h0;
+        rd_live$48 = (rec$48$read_data & top) != 32'h0;
+        rd_live$49 = (rec$49$read_data & top) != 32'h0;
+        rd_live$50 = (rec$50$read_data & top) != 32'h0;
+        rd_live$51 = (rec$51$read_data & top) != 32'h0;
+        rd_live$52 = (rec$52$read_data & top) != 32'h0;
+        rd_live$53 = (rec$53$read_data & top) != 32'h0;
+        rd_live$54 = (rec$54$read_data & top) != 32'h0;
+        rd_live$55 = (rec$55$read_data & top) != 32'h0;
+        rd_live$56 = (rec$56$read_data & top) != 32'h0;
+        rd_live$57 = (rec$57$read_data & top) != 32'h0;
+        rd_live$58 = (rec$58$read_data & top) != 32'h0;
+        rd_live$59 = (rec$59$read_data & top) != 32'h0;
+        rd_live$60 = (rec$60$read_data & top) != 32'h0;
+        rd_live$61 = (rec$61$read_data & top) != 32'h0;
+        rd_live$62 = (rec$62$read_data & top) != 32'h0;
+        rd_live$63 = (rec$63$read_data & top) != 32'h0;
+        rd_live$64 = (rec$64$read_data & top) != 32'h0;
+        rd_live$65 = (rec$65$read_data & top) != 32'h0;
+        rd_live$66 = (rec$66$read_data & top) != 32'h0;
+        rd_live$67 = (rec$67$read_data & top) != 32'h0;
+        rd_live$68 = (rec$68$read_data & top) != 32'h0;
+        rd_live$69 = (rec$69$read_data & top) != 32'h0;
+        rd_live$70 = (rec$70$read_data & top) != 32'h0;
+        rd_live$71 = (rec$71$read_data & top) != 32'h0;
+        rd_live$72 = (rec$72$read_data & top) != 32'h0;
+        rd_live$73 = (rec$73$read_data & top) != 32'h0;
+        rd_live$74 = (rec$74$read_data & top) != 32'h0;
+        rd_live$75 = (rec$75$read_data & top) != 32'h0;
+        rd_live$76 = (rec$76$read_data & top) != 32'h0;
+        rd_live$77 = (rec$77$read_data & top) != 32'h0;
+        rd_live$78 = (rec$78$read_data & top) != 32'h0;
+        rd_live$79 = (rec$79$read_data & top) != 32'h0;
+        rd_live$80 = (rec$80$read_data & top) != 32'h0;
+        bank_next$0 = 1'b0;
+        bank_load$0 = 1'b0;
+        bank_next$1 = 1'b0;
+        bank_load$1 = 1'b0;
+        bank_next$2 = 1'b0;
+        bank_load$2 = 1'b0;
+        bank_next$3 = 1'b0;
+        bank_load$3 = 1'b0;
+        bank_next$4 = 1'b0;
+        bank_load$4 = 1'b0;
+        bank_next$5 = 1'b0;
+        bank_load$5 = 1'b0;
+        bank_next$6 = 1'b0;
+        bank_load$6 = 1'b0;
+        bank_next$7 = 1'b0;
+        bank_load$7 = 1'b0;
+        bank_next$8 = 1'b0;
+        bank_load$8 = 1'b0;
+        bank_next$9 = 1'b0;
+        bank_load$9 = 1'b0;
+        bank_next$10 = 1'b0;
+        bank_load$10 = 1'b0;
+        bank_next$11 = 1'b0;
+        bank_load$11 = 1'b0;
+        bank_next$12 = 1'b0;
+        bank_load$12 = 1'b0;
+        bank_next$13 = 1'b0;
+        bank_load$13 = 1'b0;
+        bank_next$14 = 1'b0;
+        bank_load$14 = 1'b0;
+        bank_next$15 = 1'b0;
+        bank_load$15 = 1'b0;
+        bank_next$16 = 1'b0;
+        bank_load$16 = 1'b0;
+        bank_next$17 = 1'b0;
+        bank_load$17 = 1'b0;
+        bank_next$18 = 1'b0;
+        bank_load$18 = 1'b0;
+        bank_next$19 = 1'b0;
+        bank_load$19 = 1'b0;
+        bank_next$20 = 1'b0;
+        bank_load$20 = 1'b0;
+        bank_next$21 = 1'b0;
+        bank_load$21 = 1'b0;
+        bank_next$22 = 1'b0;
+        bank_load$22 = 1'b0;
+        bank_next$23 = 1'b0;
+        bank_load$23 = 1'b0;
+        bank_next$24 = 1'b0;
+        bank_load$24 = 1'b0;
+        bank_next$25 = 1'b0;
+        bank_load$25 = 1'b0;
+        bank_next$26 = 1'b0;
+        bank_load$26 = 1'b0;
+        bank_next$0 = bank_next$0 | (e_rem$0$q & ~e_sel$0$q);
+        bank_load$0 = bank_load$0 | rd_live$0;
+        bank_next$1 = bank_next$1 | (e_rem$1$q & ~e_sel$1$q);
+        bank_load$1 = bank_load$1 | rd_live$1;
+        bank_next$2 = bank_next$2 | (e_rem$2$q & ~e_sel$2$q);
+        bank_load$2 = bank_load$2 | rd_live$2;
+        bank_next$3 = bank_next$3 | (e_rem$3$q & ~e_sel$3$q);
+        bank_load$3 = bank_load$3 | rd_live$3;
+        bank_next$4 = bank_next$4 | (e_rem$4$q & ~e_sel$4$q);
+        bank_load$4 = bank_load$4 | rd_live$4;
+        bank_next$5 = bank_next$5 | (e_rem$5$q & ~e_sel$5$q);
+        bank_load$5 = bank_load$5 | rd_live$5;
+        bank_next$6 = bank_next$6 | (e_rem$6$q & ~e_sel$6$q);
+        bank_load$6 = bank_load$6 | rd_live$6;
+        bank_next$7 = bank_next$7 | (e_rem$7$q & ~e_sel$7$q);
+        bank_load$7 = bank_load$7 | rd_live$7;
+        bank_next$8 = bank_next$8 | (e_rem$8$q & ~e_sel$8$q);
+        bank_load$8 = bank_load$8 | rd_live$8;
+        bank_next$9 = bank_next$9 | (e_rem$9$q & ~e_sel$9$q);
+        bank_load$9 = bank_load$9 | rd_live$9;
+        bank_next$10 = bank_next$10 | (e_rem$10$q & ~e_sel$10$q);
+        bank_load$10 = bank_load$10 | rd_live$10;
+        bank_next$11 = bank_next$11 | (e_rem$11$q & ~e_sel$11$q);
+        bank_load$11 = bank_load$11 | rd_live$11;
+        bank_next$12 = bank_next$12 | (e_rem$12$q & ~e_sel$12$q);
+        bank_load$12 = bank_load$12 | rd_live$12;
+        bank_next$13 = bank_next$13 | (e_rem$13$q & ~e_sel$13$q);
+        bank_load$13 = bank_load$13 | rd_live$13;
+        bank_next$14 = bank_next$14 | (e_rem$14$q & ~e_sel$14$q);
+        bank_load$14 = bank_load$14 | rd_live$14;
+        bank_next$15 = bank_next$15 | (e_rem$15$q & ~e_sel$15$q);
+        bank_load$15 = bank_load$15 | rd_live$15;
+        bank_next$16 = bank_next$16 | (e_rem$16$q & ~e_sel$16$q);
+        bank_load$16 = bank_load$16 | rd_live$16;
+        bank_next$17 = bank_next$17 | (e_rem$17$q & ~e_sel$17$q);
+        bank_load$17 = bank_load$17 | rd_live$17;
+        bank_next$18 = bank_next$18 | (e_rem$18$q & ~e_sel$18$q);
+        bank_load$18 = bank_load$18 | rd_live$18;
+        bank_next$19 = bank_next$19 | (e_rem$19$q & ~e_sel$19$q);
+        bank_load$19 = bank_load$19 | rd_live$19;
+        bank_next$20 = bank_next$20 | (e_rem$20$q & ~e_sel$20$q);
+        bank_load$20 = bank_load$20 | rd_live$20;
+        bank_next$21 = bank_next$21 | (e_rem$21$q & ~e_sel$21$q);
+        bank_load$21 = bank_load$21 | rd_live$21;
+        bank_next$22 = bank_next$22 | (e_rem$22$q & ~e_sel$22$q);
+        bank_load$22 = bank_load$22 | rd_live$22;
+        bank_next$23 = bank_next$23 | (e_rem$23$q & ~e_sel$23$q);
+        bank_load$23 = bank_load$23 | rd_live$23;
+        bank_next$24 = bank_next$24 | (e_rem$24$q & ~e_sel$24$q);
+        bank_load$24 = bank_load$24 | rd_live$24;
+        bank_next$25 = bank_next$25 | (e_rem$25$q & ~e_sel$25$q);
+        bank_load$25 = bank_load$25 | rd_live$25;
+        bank_next$26 = bank_next$26 | (e_rem$26$q & ~e_sel$26$q);
+        bank_load$26 = bank_load$26 | rd_live$26;
+        bank_next$0 = bank_next$0 | (e_rem$27$q & ~e_sel$27$q);
+        bank_load$0 = bank_load$0 | rd_live$27;
+        bank_next$1 = bank_next$1 | (e_rem$28$q & ~e_sel$28$q);
+        bank_load$1 = bank_load$1 | rd_live$28;
+        bank_next$2 = bank_next$2 | (e_rem$29$q & ~e_sel$29$q);
+        bank_load$2 = bank_load$2 | rd_live$29;
+        bank_next$3 = bank_next$3 | (e_rem$30$q & ~e_sel$30$q);
+        bank_load$3 = bank_load$3 | rd_live$30;
+        bank_next$4 = bank_next$4 | (e_rem$31$q & ~e_sel$31$q);
+        bank_load$4 = bank_load$4 | rd_live$31;
+        bank_next$5 = bank_next$5 | (e_rem$32$q & ~e_sel$32$q);
+        bank_load$5 = bank_load$5 | rd_live$32;
+        bank_next$6 = bank_next$6 | (e_rem$33$q & ~e_sel$33$q);
+        bank_load$6 = bank_load$6 | rd_live$33;
+        bank_next$7 = bank_next$7 | (e_rem$34$q & ~e_sel$34$q);
+        bank_load$7 = bank_load$7 | rd_live$34;
+        bank_next$8 = bank_next$8 | (e_rem$35$q & ~e_sel$35$q);
+        bank_load$8 = bank_load$8 | rd_live$35;
+        bank_next$9 = bank_next$9 | (e_rem$36$q & ~e_sel$36$q);
+        bank_load$9 = bank_load$9 | rd_live$36;
+        bank_next$10 = bank_next$10 | (e_rem$37$q & ~e_sel$37$q);
+        bank_load$10 = bank_load$10 | rd_live$37;
+        bank_next$11 = bank_next$11 | (e_rem$38$q & ~e_sel$38$q);
+        bank_load$11 = bank_load$11 | rd_live$38;
+        bank_next$12 = bank_next$12 | (e_rem$39$q & ~e_sel$39$q);
+        bank_load$12 = bank_load$12 | rd_live$39;
+        bank_next$13 = bank_next$13 | (e_rem$40$q & ~e_sel$40$q);
+        bank_load$13 = bank_load$13 | rd_live$40;
+        bank_next$14 = bank_next$14 | (e_rem$41$q & ~e_sel$41$q);
+        bank_load$14 = bank_load$14 | rd_live$41;
+        bank_next$15 = bank_next$15 | (e_rem$42$q & ~e_sel$42$q);
+        bank_load$15 = bank_load$15 | rd_live$42;
+        bank_next$16 = bank_next$16 | (e_rem$43$q & ~e_sel$43$q);
+        bank_load$16 = bank_load$16 | rd_live$43;
+        bank_next$17 = bank_next$17 | (e_rem$44$q & ~e_sel$44$q);
+        bank_load$17 = bank_load$17 | rd_live$44;
+        bank_next$18 = bank_next$18 | (e_rem$45$q & ~e_sel$45$q);
+        bank_load$18 = bank_load$18 | rd_live$45;
+        bank_next$19 = bank_next$19 | (e_rem$46$q & ~e_sel$46$q);
+        bank_load$19 = bank_load$19 | rd_live$46;
+        bank_next$20 = bank_next$20 | (e_rem$47$q & ~e_sel$47$q);
+        bank_load$20 = bank_load$20 | rd_live$47;
+        bank_next$21 = bank_next$21 | (e_rem$48$q & ~e_sel$48$q);
+        bank_load$21 = bank_load$21 | rd_live$48;
+        bank_next$22 = bank_next$22 | (e_rem$49$q & ~e_sel$49$q);
+        bank_load$22 = bank_load$22 | rd_live$49;
+        bank_next$23 = bank_next$23 | (e_rem$50$q & ~e_sel$50$q);
+        bank_load$23 = bank_load$23 | rd_live$50;
+        bank_next$24 = bank_next$24 | (e_rem$51$q & ~e_sel$51$q);
+        bank_load$24 = bank_load$24 | rd_live$51;
+        bank_next$25 = bank_next$25 | (e_rem$52$q & ~e_sel$52$q);
+        bank_load$25 = bank_load$25 | rd_live$52;
+        bank_next$26 = bank_next$26 | (e_rem$53$q & ~e_sel$53$q);
+        bank_load$26 = bank_load$26 | rd_live$53;
+        bank_next$0 = bank_next$0 | (e_rem$54$q & ~e_sel$54$q);
+        bank_load$0 = bank_load$0 | rd_live$54;
+        bank_next$1 = bank_next$1 | (e_rem$55$q & ~e_sel$55$q);
+        bank_load$1 = bank_load$1 | rd_live$55;
+        bank_next$2 = bank_next$2 | (e_rem$56$q & ~e_sel$56$q);
+        bank_load$2 = bank_load$2 | rd_live$56;
+        bank_next$3 = bank_next$3 | (e_rem$57$q & ~e_sel$57$q);
+        bank_load$3 = bank_load$3 | rd_live$57;
+        bank_next$4 = bank_next$4 | (e_rem$58$q & ~e_sel$58$q);
+        bank_load$4 = bank_load$4 | rd_live$58;
+        bank_next$5 = bank_next$5 | (e_rem$59$q & ~e_sel$59$q);
+        bank_load$5 = bank_load$5 | rd_live$59;
+        bank_next$6 = bank_next$6 | (e_rem$60$q & ~e_sel$60$q);
+        bank_load$6 = bank_load$6 | rd_live$60;
+        bank_next$7 = bank_next$7 | (e_rem$61$q & ~e_sel$61$q);
+        bank_load$7 = bank_load$7 | rd_live$61;
+        bank_next$8 = bank_next$8 | (e_rem$62$q & ~e_sel$62$q);
+        bank_load$8 = bank_load$8 | rd_live$62;
+        bank_next$9 = bank_next$9 | (e_rem$63$q & ~e_sel$63$q);
+        bank_load$9 = bank_load$9 | rd_live$63;
+        bank_next$10 = bank_next$10 | (e_rem$64$q & ~e_sel$64$q);
+        bank_load$10 = bank_load$10 | rd_live$64;
+        bank_next$11 = bank_next$11 | (e_rem$65$q & ~e_sel$65$q);
+        bank_load$11 = bank_load$11 | rd_live$65;
+        bank_next$12 = bank_next$12 | (e_rem$66$q & ~e_sel$66$q);
+        bank_load$12 = bank_load$12 | rd_live$66;
+        bank_next$13 = bank_next$13 | (e_rem$67$q & ~e_sel$67$q);
+        bank_load$13 = bank_load$13 | rd_live$67;
+        bank_next$14 = bank_next$14 | (e_rem$68$q & ~e_sel$68$q);
+        bank_load$14 = bank_load$14 | rd_live$68;
+        bank_next$15 = bank_next$15 | (e_rem$69$q & ~e_sel$69$q);
+        bank_load$15 = bank_load$15 | rd_live$69;
+        bank_next$16 = bank_next$16 | (e_rem$70$q & ~e_sel$70$q);
+        bank_load$16 = bank_load$16 | rd_live$70;
+        bank_next$17 = bank_next$17 | (e_rem$71$q & ~e_sel$71$q);
+        bank_load$17 = bank_load$17 | rd_live$71;
+        bank_next$18 = bank_next$18 | (e_rem$72$q & ~e_sel$72$q);
+        bank_load$18 = bank_load$18 | rd_live$72;
+        bank_next$19 = bank_next$19 | (e_rem$73$q & ~e_sel$73$q);
+        bank_load$19 = bank_load$19 | rd_live$73;
+        bank_next$20 = bank_next$20 | (e_rem$74$q & ~e_sel$74$q);
+        bank_load$20 = bank_load$20 | rd_live$74;
+        bank_next$21 = bank_next$21 | (e_rem$75$q & ~e_sel$75$q);
+        bank_load$21 = bank_load$21 | rd_live$75;
+        bank_next$22 = bank_next$22 | (e_rem$76$q & ~e_sel$76$q);
+        bank_load$22 = bank_load$22 | rd_live$76;
+        bank_next$23 = bank_next$23 | (e_rem$77$q & ~e_sel$77$q);
+        bank_load$23 = bank_load$23 | rd_live$77;
+        bank_next$24 = bank_next$24 | (e_rem$78$q & ~e_sel$78$q);
+        bank_load$24 = bank_load$24 | rd_live$78;
+        bank_next$25 = bank_next$25 | (e_rem$79$q & ~e_sel$79$q);
+        bank_load$25 = bank_load$25 | rd_live$79;
+        bank_next$26 = bank_next$26 | (e_rem$80$q & ~e_sel$80$q);
+        bank_load$26 = bank_load$26 | rd_live$80;
+        e_more$0 = 1'b0;
+        chunk_next$0 = 1'b0;
+        chunk_load$0 = 1'b0;
+        chunk_next$0 = chunk_next$0 | bank_next$0;
+        chunk_load$0 = chunk_load$0 | bank_load$0;
+        chunk_next$0 = chunk_next$0 | bank_next$1;
+        chunk_load$0 = chunk_load$0 | bank_load$1;
+        chunk_next$0 = chunk_next$0 | bank_next$2;
+        chunk_load$0 = chunk_load$0 | bank_load$2;
+        e_more$0 = e_more$0 | chunk_next$0;
+        chunk_left$0$d = chunk_next$0;
+        if (e_load$0) begin
+            chunk_left$0$d = chunk_load$0;
+        end
+        chunk_next$1 = 1'b0;
+        chunk_load$1 = 1'b0;
+        chunk_next$1 = chunk_next$1 | bank_next$3;
+        chunk_load$1 = chunk_load$1 | bank_load$3;
+        chunk_next$1 = chunk_next$1 | bank_next$4;
+        chunk_load$1 = chunk_load$1 | bank_load$4;
+        chunk_next$1 = chunk_next$1 | bank_next$5;
+        chunk_load$1 = chunk_load$1 | bank_load$5;
+        e_more$0 = e_more$0 | chunk_next$1;
+        chunk_left$1$d = chunk_next$1;
+        if (e_load$0) begin
+            chunk_left$1$d = chunk_load$1;
+        end
+        chunk_next$2 = 1'b0;
+        chunk_load$2 = 1'b0;
+        chunk_next$2 = chunk_next$2 | bank_next$6;
+        chunk_load$2 = chunk_load$2 | bank_load$6;
+        chunk_next$2 = chunk_next$2 | bank_next$7;
+        chunk_load$2 = chunk_load$2 | bank_load$7;
+        chunk_next$2 = chunk_next$2 | bank_next$8;
+        chunk_load$2 = chunk_load$2 | bank_load$8;
+        e_more$0 = e_more$0 | chunk_next$2;
+        chunk_left$2$d = chunk_next$2;
+        if (e_load$0) begin
+            chunk_left$2$d = chunk_load$2;
+        end
+        chunk_next$3 = 1'b0;
+        chunk_load$3 = 1'b0;
+        chunk_next$3 = chunk_next$3 | bank_next$9;
+        chunk_load$3 = chunk_load$3 | bank_load$9;
+        chunk_next$3 = chunk_next$3 | bank_next$10;
+        chunk_load$3 = chunk_load$3 | bank_load$10;
+        chunk_next$3 = chunk_next$3 | bank_next$11;
+        chunk_load$3 = chunk_load$3 | bank_load$11;
+        e_more$0 = e_more$0 | chunk_next$3;
+        chunk_left$3$d = chunk_next$3;
+        if (e_load$0) begin
+            chunk_left$3$d = chunk_load$3;
+        end
+        chunk_next$4 = 1'b0;
+        chunk_load$4 = 1'b0;
+        chunk_next$4 = chunk_next$4 | bank_next$12;
+        chunk_load$4 = chunk_load$4 | bank_load$12;
+        chunk_next$4 = chunk_next$4 | bank_next$13;
+        chunk_load$4 = chunk_load$4 | bank_load$13;
+        chunk_next$4 = chunk_next$4 | bank_next$14;
+        chunk_load$4 = chunk_load$4 | bank_load$14;
+        e_more$0 = e_more$0 | chunk_next$4;
+        chunk_left$4$d = chunk_next$4;
+        if (e_load$0) begin
+            chunk_left$4$d = chunk_load$4;
+        end
+        chunk_next$5 = 1'b0;
+        chunk_load$5 = 1'b0;
+        chunk_next$5 = chunk_next$5 | bank_next$15;
+        chunk_load$5 = chunk_load$5 | bank_load$15;
+        chunk_next$5 = chunk_next$5 | bank_next$16;
+        chunk_load$5 = chunk_load$5 | bank_load$16;
+        chunk_next$5 = chunk_next$5 | bank_next$17;
+        chunk_load$5 = chunk_load$5 | bank_load$17;
+        e_more$0 = e_more$0 | chunk_next$5;
+        chunk_left$5$d = chunk_next$5;
+        if (e_load$0) begin
+            chunk_left$5$d = chunk_load$5;
+        end
+        chunk_next$6 = 1'b0;
+        chunk_load$6 = 1'b0;
+        chunk_next$6 = chunk_next$6 | bank_next$18;
+        chunk_load$6 = chunk_load$6 | bank_load$18;
+        chunk_next$6 = chunk_next$6 | bank_next$19;
+        chunk_load$6 = chunk_load$6 | bank_load$19;
+        chunk_next$6 = chunk_next$6 | bank_next$20;
+        chunk_load$6 = chunk_load$6 | bank_load$20;
+        e_more$0 = e_more$0 | chunk_next$6;
+        chunk_left$6$d = chunk_next$6;
+        if (e_load$0) begin
+            chunk_left$6$d = chunk_load$6;
+        end
+        chunk_next$7 = 1'b0;
+        chunk_load$7 = 1'b0;
+        chunk_next$7 = chunk_next$7 | bank_next$21;
+        chunk_load$7 = chunk_load$7 | bank_load$21;
+        chunk_next$7 = chunk_next$7 | bank_next$22;
+        chunk_load$7 = chunk_load$7 | bank_load$22;
+        chunk_next$7 = chunk_next$7 | bank_next$23;
+        chunk_load$7 = chunk_load$7 | bank_load$23;
+        e_more$0 = e_more$0 | chunk_next$7;
+        chunk_left$7$d = chunk_next$7;
+        if (e_load$0) begin
+            chunk_left$7$d = chunk_load$7;
+        end
+        chunk_next$8 = 1'b0;
+        chunk_load$8 = 1'b0;
+        chunk_next$8 = chunk_next$8 | bank_next$24;
+        chunk_load$8 = chunk_load$8 | bank_load$24;
+        chunk_next$8 = chunk_next$8 | bank_next$25;
+        chunk_load$8 = chunk_load$8 | bank_load$25;
+        chunk_next$8 = chunk_next$8 | bank_next$26;
+        chunk_load$8 = chunk_load$8 | bank_load$26;
+        e_more$0 = e_more$0 | chunk_next$8;
+        chunk_left$8$d = chunk_next$8;
+        if (e_load$0) begin
+            chunk_left$8$d = chunk_load$8;
+        end
+        bank_left$0$d = bank_next$0;
+        if (e_load$0) begin
+            bank_left$0$d = bank_load$0;
+        end
+        bank_left$1$d = bank_next$1;
+        if (e_load$0) begin
+            bank_left$1$d = bank_load$1;
+        end
+        bank_left$2$d = bank_next$2;
+        if (e_load$0) begin
+            bank_left$2$d = bank_load$2;
+        end
+        bank_left$3$d = bank_next$3;
+        if (e_load$0) begin
+            bank_left$3$d = bank_load$3;
+        end
+        bank_left$4$d = bank_next$4;
+        if (e_load$0) begin
+            bank_left$4$d = bank_load$4;
+        end
+        bank_left$5$d = bank_next$5;
+        if (e_load$0) begin
+            bank_left$5$d = bank_load$5;
+        end
+        bank_left$6$d = bank_next$6;
+        if (e_load$0) begin
+            bank_left$6$d = bank_load$6;
+        end
+        bank_left$7$d = bank_next$7;
+        if (e_load$0) begin
+            bank_left$7$d = bank_load$7;
+        end
+        bank_left$8$d = bank_next$8;
+        if (e_load$0) begin
+            bank_left$8$d = bank_load$8;
+        end
+        bank_left$9$d = bank_next$9;
+        if (e_load$0) begin
+            bank_left$9$d = bank_load$9;
+        end
+        bank_left$10$d = bank_next$10;
+        if (e_load$0) begin
+            bank_left$10$d = bank_load$10;
+        end
+        bank_left$11$d = bank_next$11;
+        if (e_load$0) begin
+            bank_left$11$d = bank_load$11;
+        end
+        bank_left$12$d = bank_next$12;
+        if (e_load$0) begin
+            bank_left$12$d = bank_load$12;
+        end
+        bank_left$13$d = bank_next$13;
+        if (e_load$0) begin
+            bank_left$13$d = bank_load$13;
+        end
+        bank_left$14$d = bank_next$14;
+        if (e_load$0) begin
+            bank_left$14$d = bank_load$14;
+        end
+        bank_left$15$d = bank_next$15;
+        if (e_load$0) begin
+            bank_left$15$d = bank_load$15;
+        end
+        bank_left$16$d = bank_next$16;
+        if (e_load$0) begin
+            bank_left$16$d = bank_load$16;
+        end
+        bank_left$17$d = bank_next$17;
+        if (e_load$0) begin
+            bank_left$17$d = bank_load$17;
+        end
+        bank_left$18$d = bank_next$18;
+        if (e_load$0) begin
+            bank_left$18$d = bank_load$18;
+        end
+        bank_left$19$d = bank_next$19;
+        if (e_load$0) begin
+            bank_left$19$d = bank_load$19;
+        end
+        bank_left$20$d = bank_next$20;
+        if (e_load$0) begin
+            bank_left$20$d = bank_load$20;
+        end
+        bank_left$21$d = bank_next$21;
+        if (e_load$0) begin
+            bank_left$21$d = bank_load$21;
+        end
+        bank_left$22$d = bank_next$22;
+        if (e_load$0) begin
+            bank_left$22$d = bank_load$22;
+        end
+        bank_left$23$d = bank_next$23;
+        if (e_load$0) begin
+            bank_left$23$d = bank_load$23;
+        end
+        bank_left$24$d = bank_next$24;
+        if (e_load$0) begin
+            bank_left$24$d = bank_load$24;
+        end
+        bank_left$25$d = bank_next$25;
+        if (e_load$0) begin
+            bank_left$25$d = bank_load$25;
+        end
+        bank_left$26$d = bank_next$26;
+        if (e_load$0) begin
+            bank_left$26$d = bank_load$26;
+        end
         e_out$0 = 32'h0;
         e_out2$0 = 32'h0;
-        e_more$0 = 1'b0;
         e_pick$0 = 32'h0;
         e_pick2$0 = 32'h0;
         if (e_sel$0$q) begin
@@ -35076,7 +34540,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$0;
         e_out2$0 = e_out2$0 | e_pick2$0;
-        e_more$0 = e_more$0 | (e_rem$0$q & ~e_sel$0$q);
         e_pick$1 = 32'h0;
         e_pick2$1 = 32'h0;
         if (e_sel$1$q) begin
@@ -35085,7 +34548,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$1;
         e_out2$0 = e_out2$0 | e_pick2$1;
-        e_more$0 = e_more$0 | (e_rem$1$q & ~e_sel$1$q);
         e_pick$2 = 32'h0;
         e_pick2$2 = 32'h0;
         if (e_sel$2$q) begin
@@ -35094,7 +34556,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$2;
         e_out2$0 = e_out2$0 | e_pick2$2;
-        e_more$0 = e_more$0 | (e_rem$2$q & ~e_sel$2$q);
         e_pick$3 = 32'h0;
         e_pick2$3 = 32'h0;
         if (e_sel$3$q) begin
@@ -35103,7 +34564,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$3;
         e_out2$0 = e_out2$0 | e_pick2$3;
-        e_more$0 = e_more$0 | (e_rem$3$q & ~e_sel$3$q);
         e_pick$4 = 32'h0;
         e_pick2$4 = 32'h0;
         if (e_sel$4$q) begin
@@ -35112,7 +34572,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$4;
         e_out2$0 = e_out2$0 | e_pick2$4;
-        e_more$0 = e_more$0 | (e_rem$4$q & ~e_sel$4$q);
         e_pick$5 = 32'h0;
         e_pick2$5 = 32'h0;
         if (e_sel$5$q) begin
@@ -35121,7 +34580,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$5;
         e_out2$0 = e_out2$0 | e_pick2$5;
-        e_more$0 = e_more$0 | (e_rem$5$q & ~e_sel$5$q);
         e_pick$6 = 32'h0;
         e_pick2$6 = 32'h0;
         if (e_sel$6$q) begin
@@ -35130,7 +34588,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$6;
         e_out2$0 = e_out2$0 | e_pick2$6;
-        e_more$0 = e_more$0 | (e_rem$6$q & ~e_sel$6$q);
         e_pick$7 = 32'h0;
         e_pick2$7 = 32'h0;
         if (e_sel$7$q) begin
@@ -35139,7 +34596,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$7;
         e_out2$0 = e_out2$0 | e_pick2$7;
-        e_more$0 = e_more$0 | (e_rem$7$q & ~e_sel$7$q);
         e_pick$8 = 32'h0;
         e_pick2$8 = 32'h0;
         if (e_sel$8$q) begin
@@ -35148,7 +34604,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$8;
         e_out2$0 = e_out2$0 | e_pick2$8;
-        e_more$0 = e_more$0 | (e_rem$8$q & ~e_sel$8$q);
         e_pick$9 = 32'h0;
         e_pick2$9 = 32'h0;
         if (e_sel$9$q) begin
@@ -35157,7 +34612,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$9;
         e_out2$0 = e_out2$0 | e_pick2$9;
-        e_more$0 = e_more$0 | (e_rem$9$q & ~e_sel$9$q);
         e_pick$10 = 32'h0;
         e_pick2$10 = 32'h0;
         if (e_sel$10$q) begin
@@ -35166,7 +34620,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$10;
         e_out2$0 = e_out2$0 | e_pick2$10;
-        e_more$0 = e_more$0 | (e_rem$10$q & ~e_sel$10$q);
         e_pick$11 = 32'h0;
         e_pick2$11 = 32'h0;
         if (e_sel$11$q) begin
@@ -35175,7 +34628,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$11;
         e_out2$0 = e_out2$0 | e_pick2$11;
-        e_more$0 = e_more$0 | (e_rem$11$q & ~e_sel$11$q);
         e_pick$12 = 32'h0;
         e_pick2$12 = 32'h0;
         if (e_sel$12$q) begin
@@ -35184,7 +34636,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$12;
         e_out2$0 = e_out2$0 | e_pick2$12;
-        e_more$0 = e_more$0 | (e_rem$12$q & ~e_sel$12$q);
         e_pick$13 = 32'h0;
         e_pick2$13 = 32'h0;
         if (e_sel$13$q) begin
@@ -35193,7 +34644,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$13;
         e_out2$0 = e_out2$0 | e_pick2$13;
-        e_more$0 = e_more$0 | (e_rem$13$q & ~e_sel$13$q);
         e_pick$14 = 32'h0;
         e_pick2$14 = 32'h0;
         if (e_sel$14$q) begin
@@ -35202,7 +34652,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$14;
         e_out2$0 = e_out2$0 | e_pick2$14;
-        e_more$0 = e_more$0 | (e_rem$14$q & ~e_sel$14$q);
         e_pick$15 = 32'h0;
         e_pick2$15 = 32'h0;
         if (e_sel$15$q) begin
@@ -35211,7 +34660,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$15;
         e_out2$0 = e_out2$0 | e_pick2$15;
-        e_more$0 = e_more$0 | (e_rem$15$q & ~e_sel$15$q);
         e_pick$16 = 32'h0;
         e_pick2$16 = 32'h0;
         if (e_sel$16$q) begin
@@ -35220,7 +34668,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$16;
         e_out2$0 = e_out2$0 | e_pick2$16;
-        e_more$0 = e_more$0 | (e_rem$16$q & ~e_sel$16$q);
         e_pick$17 = 32'h0;
         e_pick2$17 = 32'h0;
         if (e_sel$17$q) begin
@@ -35229,7 +34676,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$17;
         e_out2$0 = e_out2$0 | e_pick2$17;
-        e_more$0 = e_more$0 | (e_rem$17$q & ~e_sel$17$q);
         e_pick$18 = 32'h0;
         e_pick2$18 = 32'h0;
         if (e_sel$18$q) begin
@@ -35238,7 +34684,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$18;
         e_out2$0 = e_out2$0 | e_pick2$18;
-        e_more$0 = e_more$0 | (e_rem$18$q & ~e_sel$18$q);
         e_pick$19 = 32'h0;
         e_pick2$19 = 32'h0;
         if (e_sel$19$q) begin
@@ -35247,7 +34692,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$19;
         e_out2$0 = e_out2$0 | e_pick2$19;
-        e_more$0 = e_more$0 | (e_rem$19$q & ~e_sel$19$q);
         e_pick$20 = 32'h0;
         e_pick2$20 = 32'h0;
         if (e_sel$20$q) begin
@@ -35256,7 +34700,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$20;
         e_out2$0 = e_out2$0 | e_pick2$20;
-        e_more$0 = e_more$0 | (e_rem$20$q & ~e_sel$20$q);
         e_pick$21 = 32'h0;
         e_pick2$21 = 32'h0;
         if (e_sel$21$q) begin
@@ -35265,7 +34708,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$21;
         e_out2$0 = e_out2$0 | e_pick2$21;
-        e_more$0 = e_more$0 | (e_rem$21$q & ~e_sel$21$q);
         e_pick$22 = 32'h0;
         e_pick2$22 = 32'h0;
         if (e_sel$22$q) begin
@@ -35274,7 +34716,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$22;
         e_out2$0 = e_out2$0 | e_pick2$22;
-        e_more$0 = e_more$0 | (e_rem$22$q & ~e_sel$22$q);
         e_pick$23 = 32'h0;
         e_pick2$23 = 32'h0;
         if (e_sel$23$q) begin
@@ -35283,7 +34724,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$23;
         e_out2$0 = e_out2$0 | e_pick2$23;
-        e_more$0 = e_more$0 | (e_rem$23$q & ~e_sel$23$q);
         e_pick$24 = 32'h0;
         e_pick2$24 = 32'h0;
         if (e_sel$24$q) begin
@@ -35292,7 +34732,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$24;
         e_out2$0 = e_out2$0 | e_pick2$24;
-        e_more$0 = e_more$0 | (e_rem$24$q & ~e_sel$24$q);
         e_pick$25 = 32'h0;
         e_pick2$25 = 32'h0;
         if (e_sel$25$q) begin
@@ -35301,7 +34740,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$25;
         e_out2$0 = e_out2$0 | e_pick2$25;
-        e_more$0 = e_more$0 | (e_rem$25$q & ~e_sel$25$q);
         e_pick$26 = 32'h0;
         e_pick2$26 = 32'h0;
         if (e_sel$26$q) begin
@@ -35310,7 +34748,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$26;
         e_out2$0 = e_out2$0 | e_pick2$26;
-        e_more$0 = e_more$0 | (e_rem$26$q & ~e_sel$26$q);
         e_pick$27 = 32'h0;
         e_pick2$27 = 32'h0;
         if (e_sel$27$q) begin
@@ -35319,7 +34756,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$27;
         e_out2$0 = e_out2$0 | e_pick2$27;
-        e_more$0 = e_more$0 | (e_rem$27$q & ~e_sel$27$q);
         e_pick$28 = 32'h0;
         e_pick2$28 = 32'h0;
         if (e_sel$28$q) begin
@@ -35328,7 +34764,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$28;
         e_out2$0 = e_out2$0 | e_pick2$28;
-        e_more$0 = e_more$0 | (e_rem$28$q & ~e_sel$28$q);
         e_pick$29 = 32'h0;
         e_pick2$29 = 32'h0;
         if (e_sel$29$q) begin
@@ -35337,7 +34772,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$29;
         e_out2$0 = e_out2$0 | e_pick2$29;
-        e_more$0 = e_more$0 | (e_rem$29$q & ~e_sel$29$q);
         e_pick$30 = 32'h0;
         e_pick2$30 = 32'h0;
         if (e_sel$30$q) begin
@@ -35346,7 +34780,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$30;
         e_out2$0 = e_out2$0 | e_pick2$30;
-        e_more$0 = e_more$0 | (e_rem$30$q & ~e_sel$30$q);
         e_pick$31 = 32'h0;
         e_pick2$31 = 32'h0;
         if (e_sel$31$q) begin
@@ -35355,7 +34788,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$31;
         e_out2$0 = e_out2$0 | e_pick2$31;
-        e_more$0 = e_more$0 | (e_rem$31$q & ~e_sel$31$q);
         e_pick$32 = 32'h0;
         e_pick2$32 = 32'h0;
         if (e_sel$32$q) begin
@@ -35364,7 +34796,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$32;
         e_out2$0 = e_out2$0 | e_pick2$32;
-        e_more$0 = e_more$0 | (e_rem$32$q & ~e_sel$32$q);
         e_pick$33 = 32'h0;
         e_pick2$33 = 32'h0;
         if (e_sel$33$q) begin
@@ -35373,7 +34804,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$33;
         e_out2$0 = e_out2$0 | e_pick2$33;
-        e_more$0 = e_more$0 | (e_rem$33$q & ~e_sel$33$q);
         e_pick$34 = 32'h0;
         e_pick2$34 = 32'h0;
         if (e_sel$34$q) begin
@@ -35382,7 +34812,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$34;
         e_out2$0 = e_out2$0 | e_pick2$34;
-        e_more$0 = e_more$0 | (e_rem$34$q & ~e_sel$34$q);
         e_pick$35 = 32'h0;
         e_pick2$35 = 32'h0;
         if (e_sel$35$q) begin
@@ -35391,7 +34820,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$35;
         e_out2$0 = e_out2$0 | e_pick2$35;
-        e_more$0 = e_more$0 | (e_rem$35$q & ~e_sel$35$q);
         e_pick$36 = 32'h0;
         e_pick2$36 = 32'h0;
         if (e_sel$36$q) begin
@@ -35400,7 +34828,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$36;
         e_out2$0 = e_out2$0 | e_pick2$36;
-        e_more$0 = e_more$0 | (e_rem$36$q & ~e_sel$36$q);
         e_pick$37 = 32'h0;
         e_pick2$37 = 32'h0;
         if (e_sel$37$q) begin
@@ -35409,7 +34836,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$37;
         e_out2$0 = e_out2$0 | e_pick2$37;
-        e_more$0 = e_more$0 | (e_rem$37$q & ~e_sel$37$q);
         e_pick$38 = 32'h0;
         e_pick2$38 = 32'h0;
         if (e_sel$38$q) begin
@@ -35418,7 +34844,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$38;
         e_out2$0 = e_out2$0 | e_pick2$38;
-        e_more$0 = e_more$0 | (e_rem$38$q & ~e_sel$38$q);
         e_pick$39 = 32'h0;
         e_pick2$39 = 32'h0;
         if (e_sel$39$q) begin
@@ -35427,7 +34852,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$39;
         e_out2$0 = e_out2$0 | e_pick2$39;
-        e_more$0 = e_more$0 | (e_rem$39$q & ~e_sel$39$q);
         e_pick$40 = 32'h0;
         e_pick2$40 = 32'h0;
         if (e_sel$40$q) begin
@@ -35436,7 +34860,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$40;
         e_out2$0 = e_out2$0 | e_pick2$40;
-        e_more$0 = e_more$0 | (e_rem$40$q & ~e_sel$40$q);
         e_pick$41 = 32'h0;
         e_pick2$41 = 32'h0;
         if (e_sel$41$q) begin
@@ -35445,7 +34868,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$41;
         e_out2$0 = e_out2$0 | e_pick2$41;
-        e_more$0 = e_more$0 | (e_rem$41$q & ~e_sel$41$q);
         e_pick$42 = 32'h0;
         e_pick2$42 = 32'h0;
         if (e_sel$42$q) begin
@@ -35454,7 +34876,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$42;
         e_out2$0 = e_out2$0 | e_pick2$42;
-        e_more$0 = e_more$0 | (e_rem$42$q & ~e_sel$42$q);
         e_pick$43 = 32'h0;
         e_pick2$43 = 32'h0;
         if (e_sel$43$q) begin
@@ -35463,7 +34884,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$43;
         e_out2$0 = e_out2$0 | e_pick2$43;
-        e_more$0 = e_more$0 | (e_rem$43$q & ~e_sel$43$q);
         e_pick$44 = 32'h0;
         e_pick2$44 = 32'h0;
         if (e_sel$44$q) begin
@@ -35472,7 +34892,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$44;
         e_out2$0 = e_out2$0 | e_pick2$44;
-        e_more$0 = e_more$0 | (e_rem$44$q & ~e_sel$44$q);
         e_pick$45 = 32'h0;
         e_pick2$45 = 32'h0;
         if (e_sel$45$q) begin
@@ -35481,7 +34900,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$45;
         e_out2$0 = e_out2$0 | e_pick2$45;
-        e_more$0 = e_more$0 | (e_rem$45$q & ~e_sel$45$q);
         e_pick$46 = 32'h0;
         e_pick2$46 = 32'h0;
         if (e_sel$46$q) begin
@@ -35490,7 +34908,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$46;
         e_out2$0 = e_out2$0 | e_pick2$46;
-        e_more$0 = e_more$0 | (e_rem$46$q & ~e_sel$46$q);
         e_pick$47 = 32'h0;
         e_pick2$47 = 32'h0;
         if (e_sel$47$q) begin
@@ -35499,7 +34916,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$47;
         e_out2$0 = e_out2$0 | e_pick2$47;
-        e_more$0 = e_more$0 | (e_rem$47$q & ~e_sel$47$q);
         e_pick$48 = 32'h0;
         e_pick2$48 = 32'h0;
         if (e_sel$48$q) begin
@@ -35508,7 +34924,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$48;
         e_out2$0 = e_out2$0 | e_pick2$48;
-        e_more$0 = e_more$0 | (e_rem$48$q & ~e_sel$48$q);
         e_pick$49 = 32'h0;
         e_pick2$49 = 32'h0;
         if (e_sel$49$q) begin
@@ -35517,7 +34932,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$49;
         e_out2$0 = e_out2$0 | e_pick2$49;
-        e_more$0 = e_more$0 | (e_rem$49$q & ~e_sel$49$q);
         e_pick$50 = 32'h0;
         e_pick2$50 = 32'h0;
         if (e_sel$50$q) begin
@@ -35526,7 +34940,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$50;
         e_out2$0 = e_out2$0 | e_pick2$50;
-        e_more$0 = e_more$0 | (e_rem$50$q & ~e_sel$50$q);
         e_pick$51 = 32'h0;
         e_pick2$51 = 32'h0;
         if (e_sel$51$q) begin
@@ -35535,7 +34948,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$51;
         e_out2$0 = e_out2$0 | e_pick2$51;
-        e_more$0 = e_more$0 | (e_rem$51$q & ~e_sel$51$q);
         e_pick$52 = 32'h0;
         e_pick2$52 = 32'h0;
         if (e_sel$52$q) begin
@@ -35544,7 +34956,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$52;
         e_out2$0 = e_out2$0 | e_pick2$52;
-        e_more$0 = e_more$0 | (e_rem$52$q & ~e_sel$52$q);
         e_pick$53 = 32'h0;
         e_pick2$53 = 32'h0;
         if (e_sel$53$q) begin
@@ -35553,7 +34964,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$53;
         e_out2$0 = e_out2$0 | e_pick2$53;
-        e_more$0 = e_more$0 | (e_rem$53$q & ~e_sel$53$q);
         e_pick$54 = 32'h0;
         e_pick2$54 = 32'h0;
         if (e_sel$54$q) begin
@@ -35562,7 +34972,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$54;
         e_out2$0 = e_out2$0 | e_pick2$54;
-        e_more$0 = e_more$0 | (e_rem$54$q & ~e_sel$54$q);
         e_pick$55 = 32'h0;
         e_pick2$55 = 32'h0;
         if (e_sel$55$q) begin
@@ -35571,7 +34980,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$55;
         e_out2$0 = e_out2$0 | e_pick2$55;
-        e_more$0 = e_more$0 | (e_rem$55$q & ~e_sel$55$q);
         e_pick$56 = 32'h0;
         e_pick2$56 = 32'h0;
         if (e_sel$56$q) begin
@@ -35580,7 +34988,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$56;
         e_out2$0 = e_out2$0 | e_pick2$56;
-        e_more$0 = e_more$0 | (e_rem$56$q & ~e_sel$56$q);
         e_pick$57 = 32'h0;
         e_pick2$57 = 32'h0;
         if (e_sel$57$q) begin
@@ -35589,7 +34996,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$57;
         e_out2$0 = e_out2$0 | e_pick2$57;
-        e_more$0 = e_more$0 | (e_rem$57$q & ~e_sel$57$q);
         e_pick$58 = 32'h0;
         e_pick2$58 = 32'h0;
         if (e_sel$58$q) begin
@@ -35598,7 +35004,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$58;
         e_out2$0 = e_out2$0 | e_pick2$58;
-        e_more$0 = e_more$0 | (e_rem$58$q & ~e_sel$58$q);
         e_pick$59 = 32'h0;
         e_pick2$59 = 32'h0;
         if (e_sel$59$q) begin
@@ -35607,7 +35012,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$59;
         e_out2$0 = e_out2$0 | e_pick2$59;
-        e_more$0 = e_more$0 | (e_rem$59$q & ~e_sel$59$q);
         e_pick$60 = 32'h0;
         e_pick2$60 = 32'h0;
         if (e_sel$60$q) begin
@@ -35616,7 +35020,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$60;
         e_out2$0 = e_out2$0 | e_pick2$60;
-        e_more$0 = e_more$0 | (e_rem$60$q & ~e_sel$60$q);
         e_pick$61 = 32'h0;
         e_pick2$61 = 32'h0;
         if (e_sel$61$q) begin
@@ -35625,7 +35028,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$61;
         e_out2$0 = e_out2$0 | e_pick2$61;
-        e_more$0 = e_more$0 | (e_rem$61$q & ~e_sel$61$q);
         e_pick$62 = 32'h0;
         e_pick2$62 = 32'h0;
         if (e_sel$62$q) begin
@@ -35634,7 +35036,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$62;
         e_out2$0 = e_out2$0 | e_pick2$62;
-        e_more$0 = e_more$0 | (e_rem$62$q & ~e_sel$62$q);
         e_pick$63 = 32'h0;
         e_pick2$63 = 32'h0;
         if (e_sel$63$q) begin
@@ -35643,7 +35044,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$63;
         e_out2$0 = e_out2$0 | e_pick2$63;
-        e_more$0 = e_more$0 | (e_rem$63$q & ~e_sel$63$q);
         e_pick$64 = 32'h0;
         e_pick2$64 = 32'h0;
         if (e_sel$64$q) begin
@@ -35652,7 +35052,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$64;
         e_out2$0 = e_out2$0 | e_pick2$64;
-        e_more$0 = e_more$0 | (e_rem$64$q & ~e_sel$64$q);
         e_pick$65 = 32'h0;
         e_pick2$65 = 32'h0;
         if (e_sel$65$q) begin
@@ -35661,7 +35060,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$65;
         e_out2$0 = e_out2$0 | e_pick2$65;
-        e_more$0 = e_more$0 | (e_rem$65$q & ~e_sel$65$q);
         e_pick$66 = 32'h0;
         e_pick2$66 = 32'h0;
         if (e_sel$66$q) begin
@@ -35670,7 +35068,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$66;
         e_out2$0 = e_out2$0 | e_pick2$66;
-        e_more$0 = e_more$0 | (e_rem$66$q & ~e_sel$66$q);
         e_pick$67 = 32'h0;
         e_pick2$67 = 32'h0;
         if (e_sel$67$q) begin
@@ -35679,7 +35076,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$67;
         e_out2$0 = e_out2$0 | e_pick2$67;
-        e_more$0 = e_more$0 | (e_rem$67$q & ~e_sel$67$q);
         e_pick$68 = 32'h0;
         e_pick2$68 = 32'h0;
         if (e_sel$68$q) begin
@@ -35688,7 +35084,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$68;
         e_out2$0 = e_out2$0 | e_pick2$68;
-        e_more$0 = e_more$0 | (e_rem$68$q & ~e_sel$68$q);
         e_pick$69 = 32'h0;
         e_pick2$69 = 32'h0;
         if (e_sel$69$q) begin
@@ -35697,7 +35092,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$69;
         e_out2$0 = e_out2$0 | e_pick2$69;
-        e_more$0 = e_more$0 | (e_rem$69$q & ~e_sel$69$q);
         e_pick$70 = 32'h0;
         e_pick2$70 = 32'h0;
         if (e_sel$70$q) begin
@@ -35706,7 +35100,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$70;
         e_out2$0 = e_out2$0 | e_pick2$70;
-        e_more$0 = e_more$0 | (e_rem$70$q & ~e_sel$70$q);
         e_pick$71 = 32'h0;
         e_pick2$71 = 32'h0;
         if (e_sel$71$q) begin
@@ -35715,7 +35108,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$71;
         e_out2$0 = e_out2$0 | e_pick2$71;
-        e_more$0 = e_more$0 | (e_rem$71$q & ~e_sel$71$q);
         e_pick$72 = 32'h0;
         e_pick2$72 = 32'h0;
         if (e_sel$72$q) begin
@@ -35724,7 +35116,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$72;
         e_out2$0 = e_out2$0 | e_pick2$72;
-        e_more$0 = e_more$0 | (e_rem$72$q & ~e_sel$72$q);
         e_pick$73 = 32'h0;
         e_pick2$73 = 32'h0;
         if (e_sel$73$q) begin
@@ -35733,7 +35124,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$73;
         e_out2$0 = e_out2$0 | e_pick2$73;
-        e_more$0 = e_more$0 | (e_rem$73$q & ~e_sel$73$q);
         e_pick$74 = 32'h0;
         e_pick2$74 = 32'h0;
         if (e_sel$74$q) begin
@@ -35742,7 +35132,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$74;
         e_out2$0 = e_out2$0 | e_pick2$74;
-        e_more$0 = e_more$0 | (e_rem$74$q & ~e_sel$74$q);
         e_pick$75 = 32'h0;
         e_pick2$75 = 32'h0;
         if (e_sel$75$q) begin
@@ -35751,7 +35140,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$75;
         e_out2$0 = e_out2$0 | e_pick2$75;
-        e_more$0 = e_more$0 | (e_rem$75$q & ~e_sel$75$q);
         e_pick$76 = 32'h0;
         e_pick2$76 = 32'h0;
         if (e_sel$76$q) begin
@@ -35760,7 +35148,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$76;
         e_out2$0 = e_out2$0 | e_pick2$76;
-        e_more$0 = e_more$0 | (e_rem$76$q & ~e_sel$76$q);
         e_pick$77 = 32'h0;
         e_pick2$77 = 32'h0;
         if (e_sel$77$q) begin
@@ -35769,7 +35156,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$77;
         e_out2$0 = e_out2$0 | e_pick2$77;
-        e_more$0 = e_more$0 | (e_rem$77$q & ~e_sel$77$q);
         e_pick$78 = 32'h0;
         e_pick2$78 = 32'h0;
         if (e_sel$78$q) begin
@@ -35778,7 +35164,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$78;
         e_out2$0 = e_out2$0 | e_pick2$78;
-        e_more$0 = e_more$0 | (e_rem$78$q & ~e_sel$78$q);
         e_pick$79 = 32'h0;
         e_pick2$79 = 32'h0;
         if (e_sel$79$q) begin
@@ -35787,7 +35172,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$79;
         e_out2$0 = e_out2$0 | e_pick2$79;
-        e_more$0 = e_more$0 | (e_rem$79$q & ~e_sel$79$q);
         e_pick$80 = 32'h0;
         e_pick2$80 = 32'h0;
         if (e_sel$80$q) begin
@@ -35796,7 +35180,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         e_out$0 = e_out$0 | e_pick$80;
         e_out2$0 = e_out2$0 | e_pick2$80;
-        e_more$0 = e_more$0 | (e_rem$80$q & ~e_sel$80$q);
         lq_head$0$write_enable = e_push$0;
         lq_head$0$write_address = lq_wp$0$q;
         lq_head$0$write_data = e_out$0;
@@ -36071,7 +35454,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
                 e_rem$80$d = 1'b0;
             end
         end
-        else if (e_busy$0$q) begin
+        else if (e_busy$0$q & ~e_chosen$0$q) begin
             e_chosen$0$d = 1'b1;
             e_sel$0$d = e_first$0;
             e_sel$1$d = e_first$1;
@@ -36155,87 +35538,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             e_sel$79$d = e_first$79;
             e_sel$80$d = e_first$80;
         end
-        rd_live$0 = (rec$0$read_data & top) != 32'h0;
-        rd_live$1 = (rec$1$read_data & top) != 32'h0;
-        rd_live$2 = (rec$2$read_data & top) != 32'h0;
-        rd_live$3 = (rec$3$read_data & top) != 32'h0;
-        rd_live$4 = (rec$4$read_data & top) != 32'h0;
-        rd_live$5 = (rec$5$read_data & top) != 32'h0;
-        rd_live$6 = (rec$6$read_data & top) != 32'h0;
-        rd_live$7 = (rec$7$read_data & top) != 32'h0;
-        rd_live$8 = (rec$8$read_data & top) != 32'h0;
-        rd_live$9 = (rec$9$read_data & top) != 32'h0;
-        rd_live$10 = (rec$10$read_data & top) != 32'h0;
-        rd_live$11 = (rec$11$read_data & top) != 32'h0;
-        rd_live$12 = (rec$12$read_data & top) != 32'h0;
-        rd_live$13 = (rec$13$read_data & top) != 32'h0;
-        rd_live$14 = (rec$14$read_data & top) != 32'h0;
-        rd_live$15 = (rec$15$read_data & top) != 32'h0;
-        rd_live$16 = (rec$16$read_data & top) != 32'h0;
-        rd_live$17 = (rec$17$read_data & top) != 32'h0;
-        rd_live$18 = (rec$18$read_data & top) != 32'h0;
-        rd_live$19 = (rec$19$read_data & top) != 32'h0;
-        rd_live$20 = (rec$20$read_data & top) != 32'h0;
-        rd_live$21 = (rec$21$read_data & top) != 32'h0;
-        rd_live$22 = (rec$22$read_data & top) != 32'h0;
-        rd_live$23 = (rec$23$read_data & top) != 32'h0;
-        rd_live$24 = (rec$24$read_data & top) != 32'h0;
-        rd_live$25 = (rec$25$read_data & top) != 32'h0;
-        rd_live$26 = (rec$26$read_data & top) != 32'h0;
-        rd_live$27 = (rec$27$read_data & top) != 32'h0;
-        rd_live$28 = (rec$28$read_data & top) != 32'h0;
-        rd_live$29 = (rec$29$read_data & top) != 32'h0;
-        rd_live$30 = (rec$30$read_data & top) != 32'h0;
-        rd_live$31 = (rec$31$read_data & top) != 32'h0;
-        rd_live$32 = (rec$32$read_data & top) != 32'h0;
-        rd_live$33 = (rec$33$read_data & top) != 32'h0;
-        rd_live$34 = (rec$34$read_data & top) != 32'h0;
-        rd_live$35 = (rec$35$read_data & top) != 32'h0;
-        rd_live$36 = (rec$36$read_data & top) != 32'h0;
-        rd_live$37 = (rec$37$read_data & top) != 32'h0;
-        rd_live$38 = (rec$38$read_data & top) != 32'h0;
-        rd_live$39 = (rec$39$read_data & top) != 32'h0;
-        rd_live$40 = (rec$40$read_data & top) != 32'h0;
-        rd_live$41 = (rec$41$read_data & top) != 32'h0;
-        rd_live$42 = (rec$42$read_data & top) != 32'h0;
-        rd_live$43 = (rec$43$read_data & top) != 32'h0;
-        rd_live$44 = (rec$44$read_data & top) != 32'h0;
-        rd_live$45 = (rec$45$read_data & top) != 32'h0;
-        rd_live$46 = (rec$46$read_data & top) != 32'h0;
-        rd_live$47 = (rec$47$read_data & top) != 32'h0;
-        rd_live$48 = (rec$48$read_data & top) != 32'h0;
-        rd_live$49 = (rec$49$read_data & top) != 32'h0;
-        rd_live$50 = (rec$50$read_data & top) != 32'h0;
-        rd_live$51 = (rec$51$read_data & top) != 32'h0;
-        rd_live$52 = (rec$52$read_data & top) != 32'h0;
-        rd_live$53 = (rec$53$read_data & top) != 32'h0;
-        rd_live$54 = (rec$54$read_data & top) != 32'h0;
-        rd_live$55 = (rec$55$read_data & top) != 32'h0;
-        rd_live$56 = (rec$56$read_data & top) != 32'h0;
-        rd_live$57 = (rec$57$read_data & top) != 32'h0;
-        rd_live$58 = (rec$58$read_data & top) != 32'h0;
-        rd_live$59 = (rec$59$read_data & top) != 32'h0;
-        rd_live$60 = (rec$60$read_data & top) != 32'h0;
-        rd_live$61 = (rec$61$read_data & top) != 32'h0;
-        rd_live$62 = (rec$62$read_data & top) != 32'h0;
-        rd_live$63 = (rec$63$read_data & top) != 32'h0;
-        rd_live$64 = (rec$64$read_data & top) != 32'h0;
-        rd_live$65 = (rec$65$read_data & top) != 32'h0;
-        rd_live$66 = (rec$66$read_data & top) != 32'h0;
-        rd_live$67 = (rec$67$read_data & top) != 32'h0;
-        rd_live$68 = (rec$68$read_data & top) != 32'h0;
-        rd_live$69 = (rec$69$read_data & top) != 32'h0;
-        rd_live$70 = (rec$70$read_data & top) != 32'h0;
-        rd_live$71 = (rec$71$read_data & top) != 32'h0;
-        rd_live$72 = (rec$72$read_data & top) != 32'h0;
-        rd_live$73 = (rec$73$read_data & top) != 32'h0;
-        rd_live$74 = (rec$74$read_data & top) != 32'h0;
-        rd_live$75 = (rec$75$read_data & top) != 32'h0;
-        rd_live$76 = (rec$76$read_data & top) != 32'h0;
-        rd_live$77 = (rec$77$read_data & top) != 32'h0;
-        rd_live$78 = (rec$78$read_data & top) != 32'h0;
-        rd_live$79 = (rec$79$read_data & top) != 32'h0;
-        rd_live$80 = (rec$80$read_data & top) != 32'h0;
         if (e_load$0) begin
             rp$0$d = rp$0$q + 32'h1;
             e_busy$0$d = 1'b1;
@@ -36493,141 +35795,6 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             e_head$80$d = rec$80$read_data;
             e_head2$80$d = rec2$80$read_data;
         end
-        bank_next$0 = 1'b0;
-        bank_next$1 = 1'b0;
-        bank_next$2 = 1'b0;
-        bank_next$3 = 1'b0;
-        bank_next$4 = 1'b0;
-        bank_next$5 = 1'b0;
-        bank_next$6 = 1'b0;
-        bank_next$7 = 1'b0;
-        bank_next$8 = 1'b0;
-        bank_next$9 = 1'b0;
-        bank_next$10 = 1'b0;
-        bank_next$11 = 1'b0;
-        bank_next$12 = 1'b0;
-        bank_next$13 = 1'b0;
-        bank_next$14 = 1'b0;
-        bank_next$15 = 1'b0;
-        bank_next$16 = 1'b0;
-        bank_next$17 = 1'b0;
-        bank_next$18 = 1'b0;
-        bank_next$19 = 1'b0;
-        bank_next$20 = 1'b0;
-        bank_next$21 = 1'b0;
-        bank_next$22 = 1'b0;
-        bank_next$23 = 1'b0;
-        bank_next$24 = 1'b0;
-        bank_next$25 = 1'b0;
-        bank_next$26 = 1'b0;
-        bank_next$0 = bank_next$0 | e_rem$0$d;
-        bank_next$1 = bank_next$1 | e_rem$1$d;
-        bank_next$2 = bank_next$2 | e_rem$2$d;
-        bank_next$3 = bank_next$3 | e_rem$3$d;
-        bank_next$4 = bank_next$4 | e_rem$4$d;
-        bank_next$5 = bank_next$5 | e_rem$5$d;
-        bank_next$6 = bank_next$6 | e_rem$6$d;
-        bank_next$7 = bank_next$7 | e_rem$7$d;
-        bank_next$8 = bank_next$8 | e_rem$8$d;
-        bank_next$9 = bank_next$9 | e_rem$9$d;
-        bank_next$10 = bank_next$10 | e_rem$10$d;
-        bank_next$11 = bank_next$11 | e_rem$11$d;
-        bank_next$12 = bank_next$12 | e_rem$12$d;
-        bank_next$13 = bank_next$13 | e_rem$13$d;
-        bank_next$14 = bank_next$14 | e_rem$14$d;
-        bank_next$15 = bank_next$15 | e_rem$15$d;
-        bank_next$16 = bank_next$16 | e_rem$16$d;
-        bank_next$17 = bank_next$17 | e_rem$17$d;
-        bank_next$18 = bank_next$18 | e_rem$18$d;
-        bank_next$19 = bank_next$19 | e_rem$19$d;
-        bank_next$20 = bank_next$20 | e_rem$20$d;
-        bank_next$21 = bank_next$21 | e_rem$21$d;
-        bank_next$22 = bank_next$22 | e_rem$22$d;
-        bank_next$23 = bank_next$23 | e_rem$23$d;
-        bank_next$24 = bank_next$24 | e_rem$24$d;
-        bank_next$25 = bank_next$25 | e_rem$25$d;
-        bank_next$26 = bank_next$26 | e_rem$26$d;
-        bank_next$0 = bank_next$0 | e_rem$27$d;
-        bank_next$1 = bank_next$1 | e_rem$28$d;
-        bank_next$2 = bank_next$2 | e_rem$29$d;
-        bank_next$3 = bank_next$3 | e_rem$30$d;
-        bank_next$4 = bank_next$4 | e_rem$31$d;
-        bank_next$5 = bank_next$5 | e_rem$32$d;
-        bank_next$6 = bank_next$6 | e_rem$33$d;
-        bank_next$7 = bank_next$7 | e_rem$34$d;
-        bank_next$8 = bank_next$8 | e_rem$35$d;
-        bank_next$9 = bank_next$9 | e_rem$36$d;
-        bank_next$10 = bank_next$10 | e_rem$37$d;
-        bank_next$11 = bank_next$11 | e_rem$38$d;
-        bank_next$12 = bank_next$12 | e_rem$39$d;
-        bank_next$13 = bank_next$13 | e_rem$40$d;
-        bank_next$14 = bank_next$14 | e_rem$41$d;
-        bank_next$15 = bank_next$15 | e_rem$42$d;
-        bank_next$16 = bank_next$16 | e_rem$43$d;
-        bank_next$17 = bank_next$17 | e_rem$44$d;
-        bank_next$18 = bank_next$18 | e_rem$45$d;
-        bank_next$19 = bank_next$19 | e_rem$46$d;
-        bank_next$20 = bank_next$20 | e_rem$47$d;
-        bank_next$21 = bank_next$21 | e_rem$48$d;
-        bank_next$22 = bank_next$22 | e_rem$49$d;
-        bank_next$23 = bank_next$23 | e_rem$50$d;
-        bank_next$24 = bank_next$24 | e_rem$51$d;
-        bank_next$25 = bank_next$25 | e_rem$52$d;
-        bank_next$26 = bank_next$26 | e_rem$53$d;
-        bank_next$0 = bank_next$0 | e_rem$54$d;
-        bank_next$1 = bank_next$1 | e_rem$55$d;
-        bank_next$2 = bank_next$2 | e_rem$56$d;
-        bank_next$3 = bank_next$3 | e_rem$57$d;
-        bank_next$4 = bank_next$4 | e_rem$58$d;
-        bank_next$5 = bank_next$5 | e_rem$59$d;
-        bank_next$6 = bank_next$6 | e_rem$60$d;
-        bank_next$7 = bank_next$7 | e_rem$61$d;
-        bank_next$8 = bank_next$8 | e_rem$62$d;
-        bank_next$9 = bank_next$9 | e_rem$63$d;
-        bank_next$10 = bank_next$10 | e_rem$64$d;
-        bank_next$11 = bank_next$11 | e_rem$65$d;
-        bank_next$12 = bank_next$12 | e_rem$66$d;
-        bank_next$13 = bank_next$13 | e_rem$67$d;
-        bank_next$14 = bank_next$14 | e_rem$68$d;
-        bank_next$15 = bank_next$15 | e_rem$69$d;
-        bank_next$16 = bank_next$16 | e_rem$70$d;
-        bank_next$17 = bank_next$17 | e_rem$71$d;
-        bank_next$18 = bank_next$18 | e_rem$72$d;
-        bank_next$19 = bank_next$19 | e_rem$73$d;
-        bank_next$20 = bank_next$20 | e_rem$74$d;
-        bank_next$21 = bank_next$21 | e_rem$75$d;
-        bank_next$22 = bank_next$22 | e_rem$76$d;
-        bank_next$23 = bank_next$23 | e_rem$77$d;
-        bank_next$24 = bank_next$24 | e_rem$78$d;
-        bank_next$25 = bank_next$25 | e_rem$79$d;
-        bank_next$26 = bank_next$26 | e_rem$80$d;
-        bank_left$0$d = bank_next$0;
-        bank_left$1$d = bank_next$1;
-        bank_left$2$d = bank_next$2;
-        bank_left$3$d = bank_next$3;
-        bank_left$4$d = bank_next$4;
-        bank_left$5$d = bank_next$5;
-        bank_left$6$d = bank_next$6;
-        bank_left$7$d = bank_next$7;
-        bank_left$8$d = bank_next$8;
-        bank_left$9$d = bank_next$9;
-        bank_left$10$d = bank_next$10;
-        bank_left$11$d = bank_next$11;
-        bank_left$12$d = bank_next$12;
-        bank_left$13$d = bank_next$13;
-        bank_left$14$d = bank_next$14;
-        bank_left$15$d = bank_next$15;
-        bank_left$16$d = bank_next$16;
-        bank_left$17$d = bank_next$17;
-        bank_left$18$d = bank_next$18;
-        bank_left$19$d = bank_next$19;
-        bank_left$20$d = bank_next$20;
-        bank_left$21$d = bank_next$21;
-        bank_left$22$d = bank_next$22;
-        bank_left$23$d = bank_next$23;
-        bank_left$24$d = bank_next$24;
-        bank_left$25$d = bank_next$25;
-        bank_left$26$d = bank_next$26;
         arrive$0 = arrive_q$0$q;
         avail$0 = q0v$0$q | arrive$0;
         need$0 = ~avail$0;
@@ -36763,7 +35930,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         inflight_m$0 = 32'h0;
         inflight_m$1 = 32'h0;
         inflight_m$2 = 32'h0;
-        if (inflight_up == retire_probe$0) begin
+        if (inflight_up == retire_probe_q$0$q) begin
             inflight_m$0 = ones;
         end
         else if (inflight_up) begin
@@ -36778,7 +35945,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         if (retire_rec$0) begin
             inflight$0$d = inflight_n1$0;
         end
-        credit_acc = credit_acc & ((inflight$0$q & credits_used) == 32'h0);
+        credit_acc = credit_acc & ((inflight_inc$0 & credits_used) == 32'h0);
         count_inc$0 = count$0$q + 32'h1;
         count_dec$0 = count$0$q - 32'h1;
         count_m$0 = 32'h0;
@@ -36794,7 +35961,8 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             count_m$2 = ones;
         end
         count$0$d = (count$0$q & count_m$0) | (count_inc$0 & count_m$1) | (count_dec$0 & count_m$2);
-        credit = credit_acc;
+        credit_q$d = credit_acc;
+        credit = credit_q$q;
         lrow = mask >> (((lgroup$q) & 64'hffffffffffffffff) << 64'h3);
         v1_valid$0$d = go$0;
         v1_j$0$d = cand$0 & index_mask;
@@ -36873,10 +36041,14 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         home_ok$0 = (v2_wl$0$q <= v2_jc$0$q) & (v2_jc$0$q <= v2_wh$0$q) & (v2_wl$1$q <= v2_jc$1$q) & (v2_jc$1$q <= v2_wh$1$q) & (v2_wl$2$q <= v2_jc$2$q) & (v2_jc$2$q <= v2_wh$2$q);
         mask_row$0 = lrow >> v2_group_j$0$q;
         mask_ok$0 = mask_row$0[32'h0];
-        pass$0 = overlap$0 & (home_ok$0 | ~v2_kind$0$q[32'h0]) & (mask_ok$0 | ~v2_kind$0$q[32'h1]);
-        v3_write$0$d = v2_valid$0$q & pass$0;
+        v3_valid$0$d = v2_valid$0$q;
+        v3_overlap$0$d = overlap$0;
+        v3_home$0$d = home_ok$0;
+        v3_anywhere$0$d = ~v2_kind$0$q[32'h0];
+        v3_mask$0$d = mask_ok$0 | ~v2_kind$0$q[32'h1];
         v3_word$0$d = cand_word$0;
-        fifo$0$write = v3_write$0$q;
+        pass$0 = v3_valid$0$q & v3_overlap$0$q & (v3_home$0$q | v3_anywhere$0$q) & v3_mask$0$q;
+        fifo$0$write = pass$0;
         fifo$0$data_in = v3_word$0$q;
         lower$0 = 1'b0;
         out_word = 32'h0;
@@ -36898,7 +36070,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         cand_ma = ((unpack_ma) & 28'hfffffff);
         cand_mb = ((out_word) & 28'hfffffff);
         fifo$0$ready = cand_ready & issuer$0;
-        done_walk = idle & ((slow$q == SlowState$Over) | ((slow$q == SlowState$Fetch) & ~large_left));
+        done_walk = idle$q & ((slow$q == SlowState$Over) | ((slow$q == SlowState$Fetch) & ~large_left));
         walked = done_walk;
         if (done_walk & ~clearing$q & ~cleared$q) begin
             clearing$d = 1'b1;
@@ -36912,10 +36084,12 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             end
         end
         drained = cleared$q;
-        drained = drained & fifo$0$empty & ~v1_valid$0$q & ~v2_valid$0$q & ~v3_write$0$q;
+        drained = drained & fifo$0$empty & ~v1_valid$0$q & ~v2_valid$0$q & ~pass$0;
         finished = drained;
         too_wide = wide$q;
         if (start) begin
+            idle$d = 1'b0;
+            credit_q$d = 1'b1;
             clearing$d = 1'b0;
             cleared$d = 1'b0;
             slow$d = SlowState$Fetch;
@@ -37672,7 +36846,6 @@ module obb_core$grid$0$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_m
     localparam  column$67 = 20'h0;
     localparam  column$68 = 20'h0;
     localparam  bucket_mask = 20'h3ff;
-    localparam  three = 23'h3;
     localparam  chunk_at$0 = 8'h0;
     localparam  chunk_at$1 = 8'h6;
     localparam  chunk_at$2 = 8'hc;
@@ -37806,6 +36979,23 @@ module obb_core$grid$0$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_m
     localparam  chunk_residue$61 = 23'h1;
     localparam  chunk_residue$62 = 23'h2;
     localparam  chunk_residue$63 = 23'h0;
+    localparam  pair_at = 8'h2;
+    localparam  pair_residue$0 = 23'h0;
+    localparam  pair_residue$1 = 23'h1;
+    localparam  pair_residue$2 = 23'h2;
+    localparam  pair_residue$3 = 23'h0;
+    localparam  pair_residue$4 = 23'h1;
+    localparam  pair_residue$5 = 23'h2;
+    localparam  pair_residue$6 = 23'h0;
+    localparam  pair_residue$7 = 23'h1;
+    localparam  pair_residue$8 = 23'h2;
+    localparam  pair_residue$9 = 23'h0;
+    localparam  pair_residue$10 = 23'h1;
+    localparam  pair_residue$11 = 23'h2;
+    localparam  pair_residue$12 = 23'h0;
+    localparam  pair_residue$13 = 23'h1;
+    localparam  pair_residue$14 = 23'h2;
+    localparam  pair_residue$15 = 23'h0;
     
     // Stub signals
     reg  valid1$d;
@@ -38509,9 +37699,21 @@ module obb_core$grid$0$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_m
     reg  [22:0] chunk$9;
     reg  [22:0] chunk$10;
     reg  [22:0] chunk$11;
-    reg  [22:0] rsum$0;
-    reg  [22:0] rsum$1;
-    reg  [22:0] rsum$2;
+    reg  [22:0] pair$0;
+    reg  [22:0] pair$1;
+    reg  [22:0] pair$2;
+    reg  [22:0] pair$3;
+    reg  [22:0] pair$4;
+    reg  [22:0] pair$5;
+    reg  [22:0] pair_sum$0;
+    reg  [22:0] pair_sum$1;
+    reg  [22:0] pair_sum$2;
+    reg  [22:0] pair_sum$3;
+    reg  [22:0] pair_sum$4;
+    reg  [22:0] pair_sum$5;
+    reg  [22:0] pairs$0;
+    reg  [22:0] pairs$1;
+    reg  [22:0] pairs$2;
     reg  [19:0] slot_hash$0;
     reg  [19:0] slot_hash$1;
     reg  [19:0] slot_hash$2;
@@ -42148,13 +41350,155 @@ module obb_core$grid$0$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_m
             hacc$71 = hacc$70 ^ column$22;
         end
         hash2$2$d = hacc$71;
-        rsum$0 = res1$0$q + res1$1$q + res1$2$q + res1$3$q;
-        res2$0$d = rsum$0;
-        if (rsum$0 >= 32'h3) begin
-            res2$0$d = (rsum$0 - 32'h3) & three;
+        pair$0 = (res1$0$q << pair_at) | res1$1$q;
+        pair_sum$0 = 32'h0;
+        if (pair$0 == chunk_value$0) begin
+            pair_sum$0 = pair_residue$0;
         end
-        if (rsum$0 >= 32'h6) begin
-            res2$0$d = (rsum$0 - 32'h6) & three;
+        if (pair$0 == chunk_value$1) begin
+            pair_sum$0 = pair_residue$1;
+        end
+        if (pair$0 == chunk_value$2) begin
+            pair_sum$0 = pair_residue$2;
+        end
+        if (pair$0 == chunk_value$3) begin
+            pair_sum$0 = pair_residue$3;
+        end
+        if (pair$0 == chunk_value$4) begin
+            pair_sum$0 = pair_residue$4;
+        end
+        if (pair$0 == chunk_value$5) begin
+            pair_sum$0 = pair_residue$5;
+        end
+        if (pair$0 == chunk_value$6) begin
+            pair_sum$0 = pair_residue$6;
+        end
+        if (pair$0 == chunk_value$7) begin
+            pair_sum$0 = pair_residue$7;
+        end
+        if (pair$0 == chunk_value$8) begin
+            pair_sum$0 = pair_residue$8;
+        end
+        if (pair$0 == chunk_value$9) begin
+            pair_sum$0 = pair_residue$9;
+        end
+        if (pair$0 == chunk_value$10) begin
+            pair_sum$0 = pair_residue$10;
+        end
+        if (pair$0 == chunk_value$11) begin
+            pair_sum$0 = pair_residue$11;
+        end
+        if (pair$0 == chunk_value$12) begin
+            pair_sum$0 = pair_residue$12;
+        end
+        if (pair$0 == chunk_value$13) begin
+            pair_sum$0 = pair_residue$13;
+        end
+        if (pair$0 == chunk_value$14) begin
+            pair_sum$0 = pair_residue$14;
+        end
+        if (pair$0 == chunk_value$15) begin
+            pair_sum$0 = pair_residue$15;
+        end
+        pair$1 = (res1$2$q << pair_at) | res1$3$q;
+        pair_sum$1 = 32'h0;
+        if (pair$1 == chunk_value$0) begin
+            pair_sum$1 = pair_residue$0;
+        end
+        if (pair$1 == chunk_value$1) begin
+            pair_sum$1 = pair_residue$1;
+        end
+        if (pair$1 == chunk_value$2) begin
+            pair_sum$1 = pair_residue$2;
+        end
+        if (pair$1 == chunk_value$3) begin
+            pair_sum$1 = pair_residue$3;
+        end
+        if (pair$1 == chunk_value$4) begin
+            pair_sum$1 = pair_residue$4;
+        end
+        if (pair$1 == chunk_value$5) begin
+            pair_sum$1 = pair_residue$5;
+        end
+        if (pair$1 == chunk_value$6) begin
+            pair_sum$1 = pair_residue$6;
+        end
+        if (pair$1 == chunk_value$7) begin
+            pair_sum$1 = pair_residue$7;
+        end
+        if (pair$1 == chunk_value$8) begin
+            pair_sum$1 = pair_residue$8;
+        end
+        if (pair$1 == chunk_value$9) begin
+            pair_sum$1 = pair_residue$9;
+        end
+        if (pair$1 == chunk_value$10) begin
+            pair_sum$1 = pair_residue$10;
+        end
+        if (pair$1 == chunk_value$11) begin
+            pair_sum$1 = pair_residue$11;
+        end
+        if (pair$1 == chunk_value$12) begin
+            pair_sum$1 = pair_residue$12;
+        end
+        if (pair$1 == chunk_value$13) begin
+            pair_sum$1 = pair_residue$13;
+        end
+        if (pair$1 == chunk_value$14) begin
+            pair_sum$1 = pair_residue$14;
+        end
+        if (pair$1 == chunk_value$15) begin
+            pair_sum$1 = pair_residue$15;
+        end
+        pairs$0 = (pair_sum$0 << pair_at) | pair_sum$1;
+        res2$0$d = 32'h0;
+        if (pairs$0 == chunk_value$0) begin
+            res2$0$d = pair_residue$0;
+        end
+        if (pairs$0 == chunk_value$1) begin
+            res2$0$d = pair_residue$1;
+        end
+        if (pairs$0 == chunk_value$2) begin
+            res2$0$d = pair_residue$2;
+        end
+        if (pairs$0 == chunk_value$3) begin
+            res2$0$d = pair_residue$3;
+        end
+        if (pairs$0 == chunk_value$4) begin
+            res2$0$d = pair_residue$4;
+        end
+        if (pairs$0 == chunk_value$5) begin
+            res2$0$d = pair_residue$5;
+        end
+        if (pairs$0 == chunk_value$6) begin
+            res2$0$d = pair_residue$6;
+        end
+        if (pairs$0 == chunk_value$7) begin
+            res2$0$d = pair_residue$7;
+        end
+        if (pairs$0 == chunk_value$8) begin
+            res2$0$d = pair_residue$8;
+        end
+        if (pairs$0 == chunk_value$9) begin
+            res2$0$d = pair_residue$9;
+        end
+        if (pairs$0 == chunk_value$10) begin
+            res2$0$d = pair_residue$10;
+        end
+        if (pairs$0 == chunk_value$11) begin
+            res2$0$d = pair_residue$11;
+        end
+        if (pairs$0 == chunk_value$12) begin
+            res2$0$d = pair_residue$12;
+        end
+        if (pairs$0 == chunk_value$13) begin
+            res2$0$d = pair_residue$13;
+        end
+        if (pairs$0 == chunk_value$14) begin
+            res2$0$d = pair_residue$14;
+        end
+        if (pairs$0 == chunk_value$15) begin
+            res2$0$d = pair_residue$15;
         end
         third2$1$d = third1$1$q;
         hacc$72 = 32'h0;
@@ -42439,13 +41783,155 @@ module obb_core$grid$0$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_m
             hacc$143 = hacc$142 ^ column$45;
         end
         hash2$5$d = hacc$143;
-        rsum$1 = res1$4$q + res1$5$q + res1$6$q + res1$7$q;
-        res2$1$d = rsum$1;
-        if (rsum$1 >= 32'h3) begin
-            res2$1$d = (rsum$1 - 32'h3) & three;
+        pair$2 = (res1$4$q << pair_at) | res1$5$q;
+        pair_sum$2 = 32'h0;
+        if (pair$2 == chunk_value$0) begin
+            pair_sum$2 = pair_residue$0;
         end
-        if (rsum$1 >= 32'h6) begin
-            res2$1$d = (rsum$1 - 32'h6) & three;
+        if (pair$2 == chunk_value$1) begin
+            pair_sum$2 = pair_residue$1;
+        end
+        if (pair$2 == chunk_value$2) begin
+            pair_sum$2 = pair_residue$2;
+        end
+        if (pair$2 == chunk_value$3) begin
+            pair_sum$2 = pair_residue$3;
+        end
+        if (pair$2 == chunk_value$4) begin
+            pair_sum$2 = pair_residue$4;
+        end
+        if (pair$2 == chunk_value$5) begin
+            pair_sum$2 = pair_residue$5;
+        end
+        if (pair$2 == chunk_value$6) begin
+            pair_sum$2 = pair_residue$6;
+        end
+        if (pair$2 == chunk_value$7) begin
+            pair_sum$2 = pair_residue$7;
+        end
+        if (pair$2 == chunk_value$8) begin
+            pair_sum$2 = pair_residue$8;
+        end
+        if (pair$2 == chunk_value$9) begin
+            pair_sum$2 = pair_residue$9;
+        end
+        if (pair$2 == chunk_value$10) begin
+            pair_sum$2 = pair_residue$10;
+        end
+        if (pair$2 == chunk_value$11) begin
+            pair_sum$2 = pair_residue$11;
+        end
+        if (pair$2 == chunk_value$12) begin
+            pair_sum$2 = pair_residue$12;
+        end
+        if (pair$2 == chunk_value$13) begin
+            pair_sum$2 = pair_residue$13;
+        end
+        if (pair$2 == chunk_value$14) begin
+            pair_sum$2 = pair_residue$14;
+        end
+        if (pair$2 == chunk_value$15) begin
+            pair_sum$2 = pair_residue$15;
+        end
+        pair$3 = (res1$6$q << pair_at) | res1$7$q;
+        pair_sum$3 = 32'h0;
+        if (pair$3 == chunk_value$0) begin
+            pair_sum$3 = pair_residue$0;
+        end
+        if (pair$3 == chunk_value$1) begin
+            pair_sum$3 = pair_residue$1;
+        end
+        if (pair$3 == chunk_value$2) begin
+            pair_sum$3 = pair_residue$2;
+        end
+        if (pair$3 == chunk_value$3) begin
+            pair_sum$3 = pair_residue$3;
+        end
+        if (pair$3 == chunk_value$4) begin
+            pair_sum$3 = pair_residue$4;
+        end
+        if (pair$3 == chunk_value$5) begin
+            pair_sum$3 = pair_residue$5;
+        end
+        if (pair$3 == chunk_value$6) begin
+            pair_sum$3 = pair_residue$6;
+        end
+        if (pair$3 == chunk_value$7) begin
+            pair_sum$3 = pair_residue$7;
+        end
+        if (pair$3 == chunk_value$8) begin
+            pair_sum$3 = pair_residue$8;
+        end
+        if (pair$3 == chunk_value$9) begin
+            pair_sum$3 = pair_residue$9;
+        end
+        if (pair$3 == chunk_value$10) begin
+            pair_sum$3 = pair_residue$10;
+        end
+        if (pair$3 == chunk_value$11) begin
+            pair_sum$3 = pair_residue$11;
+        end
+        if (pair$3 == chunk_value$12) begin
+            pair_sum$3 = pair_residue$12;
+        end
+        if (pair$3 == chunk_value$13) begin
+            pair_sum$3 = pair_residue$13;
+        end
+        if (pair$3 == chunk_value$14) begin
+            pair_sum$3 = pair_residue$14;
+        end
+        if (pair$3 == chunk_value$15) begin
+            pair_sum$3 = pair_residue$15;
+        end
+        pairs$1 = (pair_sum$2 << pair_at) | pair_sum$3;
+        res2$1$d = 32'h0;
+        if (pairs$1 == chunk_value$0) begin
+            res2$1$d = pair_residue$0;
+        end
+        if (pairs$1 == chunk_value$1) begin
+            res2$1$d = pair_residue$1;
+        end
+        if (pairs$1 == chunk_value$2) begin
+            res2$1$d = pair_residue$2;
+        end
+        if (pairs$1 == chunk_value$3) begin
+            res2$1$d = pair_residue$3;
+        end
+        if (pairs$1 == chunk_value$4) begin
+            res2$1$d = pair_residue$4;
+        end
+        if (pairs$1 == chunk_value$5) begin
+            res2$1$d = pair_residue$5;
+        end
+        if (pairs$1 == chunk_value$6) begin
+            res2$1$d = pair_residue$6;
+        end
+        if (pairs$1 == chunk_value$7) begin
+            res2$1$d = pair_residue$7;
+        end
+        if (pairs$1 == chunk_value$8) begin
+            res2$1$d = pair_residue$8;
+        end
+        if (pairs$1 == chunk_value$9) begin
+            res2$1$d = pair_residue$9;
+        end
+        if (pairs$1 == chunk_value$10) begin
+            res2$1$d = pair_residue$10;
+        end
+        if (pairs$1 == chunk_value$11) begin
+            res2$1$d = pair_residue$11;
+        end
+        if (pairs$1 == chunk_value$12) begin
+            res2$1$d = pair_residue$12;
+        end
+        if (pairs$1 == chunk_value$13) begin
+            res2$1$d = pair_residue$13;
+        end
+        if (pairs$1 == chunk_value$14) begin
+            res2$1$d = pair_residue$14;
+        end
+        if (pairs$1 == chunk_value$15) begin
+            res2$1$d = pair_residue$15;
         end
         third2$2$d = third1$2$q;
         hacc$144 = 32'h0;
@@ -42730,13 +42216,155 @@ module obb_core$grid$0$cells(clock,key_valid,key_min$0,key_min$1,key_min$2,key_m
             hacc$215 = hacc$214 ^ column$68;
         end
         hash2$8$d = hacc$215;
-        rsum$2 = res1$8$q + res1$9$q + res1$10$q + res1$11$q;
-        res2$2$d = rsum$2;
-        if (rsum$2 >= 32'h3) begin
-            res2$2$d = (rsum$2 - 32'h3) & three;
+        pair$4 = (res1$8$q << pair_at) | res1$9$q;
+        pair_sum$4 = 32'h0;
+        if (pair$4 == chunk_value$0) begin
+            pair_sum$4 = pair_residue$0;
         end
-        if (rsum$2 >= 32'h6) begin
-            res2$2$d = (rsum$2 - 32'h6) & three;
+        if (pair$4 == chunk_value$1) begin
+            pair_sum$4 = pair_residue$1;
+        end
+        if (pair$4 == chunk_value$2) begin
+            pair_sum$4 = pair_residue$2;
+        end
+        if (pair$4 == chunk_value$3) begin
+            pair_sum$4 = pair_residue$3;
+        end
+        if (pair$4 == chunk_value$4) begin
+            pair_sum$4 = pair_residue$4;
+        end
+        if (pair$4 == chunk_value$5) begin
+            pair_sum$4 = pair_residue$5;
+        end
+        if (pair$4 == chunk_value$6) begin
+            pair_sum$4 = pair_residue$6;
+        end
+        if (pair$4 == chunk_value$7) begin
+            pair_sum$4 = pair_residue$7;
+        end
+        if (pair$4 == chunk_value$8) begin
+            pair_sum$4 = pair_residue$8;
+        end
+        if (pair$4 == chunk_value$9) begin
+            pair_sum$4 = pair_residue$9;
+        end
+        if (pair$4 == chunk_value$10) begin
+            pair_sum$4 = pair_residue$10;
+        end
+        if (pair$4 == chunk_value$11) begin
+            pair_sum$4 = pair_residue$11;
+        end
+        if (pair$4 == chunk_value$12) begin
+            pair_sum$4 = pair_residue$12;
+        end
+        if (pair$4 == chunk_value$13) begin
+            pair_sum$4 = pair_residue$13;
+        end
+        if (pair$4 == chunk_value$14) begin
+            pair_sum$4 = pair_residue$14;
+        end
+        if (pair$4 == chunk_value$15) begin
+            pair_sum$4 = pair_residue$15;
+        end
+        pair$5 = (res1$10$q << pair_at) | res1$11$q;
+        pair_sum$5 = 32'h0;
+        if (pair$5 == chunk_value$0) begin
+            pair_sum$5 = pair_residue$0;
+        end
+        if (pair$5 == chunk_value$1) begin
+            pair_sum$5 = pair_residue$1;
+        end
+        if (pair$5 == chunk_value$2) begin
+            pair_sum$5 = pair_residue$2;
+        end
+        if (pair$5 == chunk_value$3) begin
+            pair_sum$5 = pair_residue$3;
+        end
+        if (pair$5 == chunk_value$4) begin
+            pair_sum$5 = pair_residue$4;
+        end
+        if (pair$5 == chunk_value$5) begin
+            pair_sum$5 = pair_residue$5;
+        end
+        if (pair$5 == chunk_value$6) begin
+            pair_sum$5 = pair_residue$6;
+        end
+        if (pair$5 == chunk_value$7) begin
+            pair_sum$5 = pair_residue$7;
+        end
+        if (pair$5 == chunk_value$8) begin
+            pair_sum$5 = pair_residue$8;
+        end
+        if (pair$5 == chunk_value$9) begin
+            pair_sum$5 = pair_residue$9;
+        end
+        if (pair$5 == chunk_value$10) begin
+            pair_sum$5 = pair_residue$10;
+        end
+        if (pair$5 == chunk_value$11) begin
+            pair_sum$5 = pair_residue$11;
+        end
+        if (pair$5 == chunk_value$12) begin
+            pair_sum$5 = pair_residue$12;
+        end
+        if (pair$5 == chunk_value$13) begin
+            pair_sum$5 = pair_residue$13;
+        end
+        if (pair$5 == chunk_value$14) begin
+            pair_sum$5 = pair_residue$14;
+        end
+        if (pair$5 == chunk_value$15) begin
+            pair_sum$5 = pair_residue$15;
+        end
+        pairs$2 = (pair_sum$4 << pair_at) | pair_sum$5;
+        res2$2$d = 32'h0;
+        if (pairs$2 == chunk_value$0) begin
+            res2$2$d = pair_residue$0;
+        end
+        if (pairs$2 == chunk_value$1) begin
+            res2$2$d = pair_residue$1;
+        end
+        if (pairs$2 == chunk_value$2) begin
+            res2$2$d = pair_residue$2;
+        end
+        if (pairs$2 == chunk_value$3) begin
+            res2$2$d = pair_residue$3;
+        end
+        if (pairs$2 == chunk_value$4) begin
+            res2$2$d = pair_residue$4;
+        end
+        if (pairs$2 == chunk_value$5) begin
+            res2$2$d = pair_residue$5;
+        end
+        if (pairs$2 == chunk_value$6) begin
+            res2$2$d = pair_residue$6;
+        end
+        if (pairs$2 == chunk_value$7) begin
+            res2$2$d = pair_residue$7;
+        end
+        if (pairs$2 == chunk_value$8) begin
+            res2$2$d = pair_residue$8;
+        end
+        if (pairs$2 == chunk_value$9) begin
+            res2$2$d = pair_residue$9;
+        end
+        if (pairs$2 == chunk_value$10) begin
+            res2$2$d = pair_residue$10;
+        end
+        if (pairs$2 == chunk_value$11) begin
+            res2$2$d = pair_residue$11;
+        end
+        if (pairs$2 == chunk_value$12) begin
+            res2$2$d = pair_residue$12;
+        end
+        if (pairs$2 == chunk_value$13) begin
+            res2$2$d = pair_residue$13;
+        end
+        if (pairs$2 == chunk_value$14) begin
+            res2$2$d = pair_residue$14;
+        end
+        if (pairs$2 == chunk_value$15) begin
+            res2$2$d = pair_residue$15;
         end
         slot_hash$0 = hash2$0$q;
         slot_hash$1 = hash2$1$q;
@@ -46042,6 +45670,177 @@ module obb_core$grid$0$cells$width1$2(d,q,clock);
 endmodule // obb_core$grid$0$cells$width1$2
 
 
+module obb_core$grid$0$chunk_left$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$chunk_left$0
+
+
+module obb_core$grid$0$chunk_left$1(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$chunk_left$1
+
+
+module obb_core$grid$0$chunk_left$2(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$chunk_left$2
+
+
+module obb_core$grid$0$chunk_left$3(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$chunk_left$3
+
+
+module obb_core$grid$0$chunk_left$4(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$chunk_left$4
+
+
+module obb_core$grid$0$chunk_left$5(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$chunk_left$5
+
+
+module obb_core$grid$0$chunk_left$6(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$chunk_left$6
+
+
+module obb_core$grid$0$chunk_left$7(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$chunk_left$7
+
+
+module obb_core$grid$0$chunk_left$8(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$chunk_left$8
+
+
 module obb_core$grid$0$clear_at(d,q,clock);
     
     // Module arguments
@@ -46116,6 +45915,25 @@ module obb_core$grid$0$count$0(d,q,clock);
     end
           
 endmodule // obb_core$grid$0$count$0
+
+
+module obb_core$grid$0$credit_q(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$credit_q
 
 
 module obb_core$grid$0$cur_index$0(d,q,clock);
@@ -57923,6 +57741,25 @@ module obb_core$grid$0$head2$9(clock,write_enable,write_address,write_data,read_
 endmodule // obb_core$grid$0$head2$9
 
 
+module obb_core$grid$0$idle(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$idle
+
+
 module obb_core$grid$0$inflight$0(d,q,clock);
     
     // Module arguments
@@ -59077,15 +58914,27 @@ module obb_core$grid$0$lq_head$0(clock,write_enable,write_address,write_data,rea
     output reg  [15:0] read_data;
     
     // Update code (custom)
-    (* ram_style = "distributed" *)
-    reg [15:0] mem [0:3];
+    reg [15:0] mem_0;
+    reg [15:0] mem_1;
+    reg [15:0] mem_2;
+    reg [15:0] mem_3;
     always @(posedge clock) begin
        if (write_enable) begin
-          mem[write_address] <= write_data;
+          case (write_address)
+             0: mem_0 <= write_data;
+             1: mem_1 <= write_data;
+             2: mem_2 <= write_data;
+             3: mem_3 <= write_data;
+          endcase
        end
     end
     always @(*) begin
-       read_data = mem[read_address];
+       case (read_address)
+          0: read_data = mem_0;
+          1: read_data = mem_1;
+          2: read_data = mem_2;
+          3: read_data = mem_3;
+       endcase
     end
 endmodule // obb_core$grid$0$lq_head$0
 
@@ -59101,15 +58950,27 @@ module obb_core$grid$0$lq_head2$0(clock,write_enable,write_address,write_data,re
     output reg  [15:0] read_data;
     
     // Update code (custom)
-    (* ram_style = "distributed" *)
-    reg [15:0] mem [0:3];
+    reg [15:0] mem_0;
+    reg [15:0] mem_1;
+    reg [15:0] mem_2;
+    reg [15:0] mem_3;
     always @(posedge clock) begin
        if (write_enable) begin
-          mem[write_address] <= write_data;
+          case (write_address)
+             0: mem_0 <= write_data;
+             1: mem_1 <= write_data;
+             2: mem_2 <= write_data;
+             3: mem_3 <= write_data;
+          endcase
        end
     end
     always @(*) begin
-       read_data = mem[read_address];
+       case (read_address)
+          0: read_data = mem_0;
+          1: read_data = mem_1;
+          2: read_data = mem_2;
+          3: read_data = mem_3;
+       endcase
     end
 endmodule // obb_core$grid$0$lq_head2$0
 
@@ -66076,6 +65937,25 @@ module obb_core$grid$0$rec_box$0$min_ram$2(clock,write_enable,write_address,writ
        read_data = mem[read_address];
     end
 endmodule // obb_core$grid$0$rec_box$0$min_ram$2
+
+
+module obb_core$grid$0$retire_probe_q$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$retire_probe_q$0
 
 
 module obb_core$grid$0$rleft$0(d,q,clock);
@@ -77402,1543 +77282,517 @@ module obb_core$grid$0$s4_walk$9(d,q,clock);
 endmodule // obb_core$grid$0$s4_walk$9
 
 
-module obb_core$grid$0$s5_enter$0(d,q,clock);
+module obb_core$grid$0$s5_entry$0(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$0
+endmodule // obb_core$grid$0$s5_entry$0
 
 
-module obb_core$grid$0$s5_enter$1(d,q,clock);
+module obb_core$grid$0$s5_entry$1(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$1
+endmodule // obb_core$grid$0$s5_entry$1
 
 
-module obb_core$grid$0$s5_enter$10(d,q,clock);
+module obb_core$grid$0$s5_entry$10(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$10
+endmodule // obb_core$grid$0$s5_entry$10
 
 
-module obb_core$grid$0$s5_enter$11(d,q,clock);
+module obb_core$grid$0$s5_entry$11(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$11
+endmodule // obb_core$grid$0$s5_entry$11
 
 
-module obb_core$grid$0$s5_enter$12(d,q,clock);
+module obb_core$grid$0$s5_entry$12(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$12
+endmodule // obb_core$grid$0$s5_entry$12
 
 
-module obb_core$grid$0$s5_enter$13(d,q,clock);
+module obb_core$grid$0$s5_entry$13(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$13
+endmodule // obb_core$grid$0$s5_entry$13
 
 
-module obb_core$grid$0$s5_enter$14(d,q,clock);
+module obb_core$grid$0$s5_entry$14(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$14
+endmodule // obb_core$grid$0$s5_entry$14
 
 
-module obb_core$grid$0$s5_enter$15(d,q,clock);
+module obb_core$grid$0$s5_entry$15(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$15
+endmodule // obb_core$grid$0$s5_entry$15
 
 
-module obb_core$grid$0$s5_enter$16(d,q,clock);
+module obb_core$grid$0$s5_entry$16(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$16
+endmodule // obb_core$grid$0$s5_entry$16
 
 
-module obb_core$grid$0$s5_enter$17(d,q,clock);
+module obb_core$grid$0$s5_entry$17(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$17
+endmodule // obb_core$grid$0$s5_entry$17
 
 
-module obb_core$grid$0$s5_enter$18(d,q,clock);
+module obb_core$grid$0$s5_entry$18(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$18
+endmodule // obb_core$grid$0$s5_entry$18
 
 
-module obb_core$grid$0$s5_enter$19(d,q,clock);
+module obb_core$grid$0$s5_entry$19(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$19
+endmodule // obb_core$grid$0$s5_entry$19
 
 
-module obb_core$grid$0$s5_enter$2(d,q,clock);
+module obb_core$grid$0$s5_entry$2(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$2
+endmodule // obb_core$grid$0$s5_entry$2
 
 
-module obb_core$grid$0$s5_enter$20(d,q,clock);
+module obb_core$grid$0$s5_entry$20(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$20
+endmodule // obb_core$grid$0$s5_entry$20
 
 
-module obb_core$grid$0$s5_enter$21(d,q,clock);
+module obb_core$grid$0$s5_entry$21(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$21
+endmodule // obb_core$grid$0$s5_entry$21
 
 
-module obb_core$grid$0$s5_enter$22(d,q,clock);
+module obb_core$grid$0$s5_entry$22(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$22
+endmodule // obb_core$grid$0$s5_entry$22
 
 
-module obb_core$grid$0$s5_enter$23(d,q,clock);
+module obb_core$grid$0$s5_entry$23(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$23
+endmodule // obb_core$grid$0$s5_entry$23
 
 
-module obb_core$grid$0$s5_enter$24(d,q,clock);
+module obb_core$grid$0$s5_entry$24(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$24
+endmodule // obb_core$grid$0$s5_entry$24
 
 
-module obb_core$grid$0$s5_enter$25(d,q,clock);
+module obb_core$grid$0$s5_entry$25(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$25
+endmodule // obb_core$grid$0$s5_entry$25
 
 
-module obb_core$grid$0$s5_enter$26(d,q,clock);
+module obb_core$grid$0$s5_entry$26(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$26
+endmodule // obb_core$grid$0$s5_entry$26
 
 
-module obb_core$grid$0$s5_enter$27(d,q,clock);
+module obb_core$grid$0$s5_entry$3(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$27
+endmodule // obb_core$grid$0$s5_entry$3
 
 
-module obb_core$grid$0$s5_enter$28(d,q,clock);
+module obb_core$grid$0$s5_entry$4(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$28
+endmodule // obb_core$grid$0$s5_entry$4
 
 
-module obb_core$grid$0$s5_enter$29(d,q,clock);
+module obb_core$grid$0$s5_entry$5(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$29
+endmodule // obb_core$grid$0$s5_entry$5
 
 
-module obb_core$grid$0$s5_enter$3(d,q,clock);
+module obb_core$grid$0$s5_entry$6(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$3
+endmodule // obb_core$grid$0$s5_entry$6
 
 
-module obb_core$grid$0$s5_enter$30(d,q,clock);
+module obb_core$grid$0$s5_entry$7(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$30
+endmodule // obb_core$grid$0$s5_entry$7
 
 
-module obb_core$grid$0$s5_enter$31(d,q,clock);
+module obb_core$grid$0$s5_entry$8(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$31
+endmodule // obb_core$grid$0$s5_entry$8
 
 
-module obb_core$grid$0$s5_enter$32(d,q,clock);
+module obb_core$grid$0$s5_entry$9(d,q,clock);
     
     // Module arguments
-    input wire  d;
-    output reg  q;
+    input wire  [15:0] d;
+    output reg  [15:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 1'h0;
+       q = 16'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$grid$0$s5_enter$32
-
-
-module obb_core$grid$0$s5_enter$33(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$33
-
-
-module obb_core$grid$0$s5_enter$34(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$34
-
-
-module obb_core$grid$0$s5_enter$35(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$35
-
-
-module obb_core$grid$0$s5_enter$36(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$36
-
-
-module obb_core$grid$0$s5_enter$37(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$37
-
-
-module obb_core$grid$0$s5_enter$38(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$38
-
-
-module obb_core$grid$0$s5_enter$39(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$39
-
-
-module obb_core$grid$0$s5_enter$4(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$4
-
-
-module obb_core$grid$0$s5_enter$40(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$40
-
-
-module obb_core$grid$0$s5_enter$41(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$41
-
-
-module obb_core$grid$0$s5_enter$42(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$42
-
-
-module obb_core$grid$0$s5_enter$43(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$43
-
-
-module obb_core$grid$0$s5_enter$44(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$44
-
-
-module obb_core$grid$0$s5_enter$45(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$45
-
-
-module obb_core$grid$0$s5_enter$46(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$46
-
-
-module obb_core$grid$0$s5_enter$47(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$47
-
-
-module obb_core$grid$0$s5_enter$48(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$48
-
-
-module obb_core$grid$0$s5_enter$49(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$49
-
-
-module obb_core$grid$0$s5_enter$5(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$5
-
-
-module obb_core$grid$0$s5_enter$50(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$50
-
-
-module obb_core$grid$0$s5_enter$51(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$51
-
-
-module obb_core$grid$0$s5_enter$52(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$52
-
-
-module obb_core$grid$0$s5_enter$53(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$53
-
-
-module obb_core$grid$0$s5_enter$54(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$54
-
-
-module obb_core$grid$0$s5_enter$55(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$55
-
-
-module obb_core$grid$0$s5_enter$56(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$56
-
-
-module obb_core$grid$0$s5_enter$57(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$57
-
-
-module obb_core$grid$0$s5_enter$58(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$58
-
-
-module obb_core$grid$0$s5_enter$59(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$59
-
-
-module obb_core$grid$0$s5_enter$6(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$6
-
-
-module obb_core$grid$0$s5_enter$60(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$60
-
-
-module obb_core$grid$0$s5_enter$61(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$61
-
-
-module obb_core$grid$0$s5_enter$62(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$62
-
-
-module obb_core$grid$0$s5_enter$63(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$63
-
-
-module obb_core$grid$0$s5_enter$64(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$64
-
-
-module obb_core$grid$0$s5_enter$65(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$65
-
-
-module obb_core$grid$0$s5_enter$66(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$66
-
-
-module obb_core$grid$0$s5_enter$67(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$67
-
-
-module obb_core$grid$0$s5_enter$68(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$68
-
-
-module obb_core$grid$0$s5_enter$69(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$69
-
-
-module obb_core$grid$0$s5_enter$7(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$7
-
-
-module obb_core$grid$0$s5_enter$70(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$70
-
-
-module obb_core$grid$0$s5_enter$71(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$71
-
-
-module obb_core$grid$0$s5_enter$72(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$72
-
-
-module obb_core$grid$0$s5_enter$73(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$73
-
-
-module obb_core$grid$0$s5_enter$74(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$74
-
-
-module obb_core$grid$0$s5_enter$75(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$75
-
-
-module obb_core$grid$0$s5_enter$76(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$76
-
-
-module obb_core$grid$0$s5_enter$77(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$77
-
-
-module obb_core$grid$0$s5_enter$78(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$78
-
-
-module obb_core$grid$0$s5_enter$79(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$79
-
-
-module obb_core$grid$0$s5_enter$8(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$8
-
-
-module obb_core$grid$0$s5_enter$80(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$80
-
-
-module obb_core$grid$0$s5_enter$9(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_enter$9
+endmodule // obb_core$grid$0$s5_entry$9
 
 
 module obb_core$grid$0$s5_head$0(d,q,clock);
@@ -85344,1545 +84198,6 @@ module obb_core$grid$0$s5_valid(d,q,clock);
 endmodule // obb_core$grid$0$s5_valid
 
 
-module obb_core$grid$0$s5_wrote$0(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$0
-
-
-module obb_core$grid$0$s5_wrote$1(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$1
-
-
-module obb_core$grid$0$s5_wrote$10(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$10
-
-
-module obb_core$grid$0$s5_wrote$11(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$11
-
-
-module obb_core$grid$0$s5_wrote$12(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$12
-
-
-module obb_core$grid$0$s5_wrote$13(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$13
-
-
-module obb_core$grid$0$s5_wrote$14(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$14
-
-
-module obb_core$grid$0$s5_wrote$15(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$15
-
-
-module obb_core$grid$0$s5_wrote$16(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$16
-
-
-module obb_core$grid$0$s5_wrote$17(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$17
-
-
-module obb_core$grid$0$s5_wrote$18(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$18
-
-
-module obb_core$grid$0$s5_wrote$19(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$19
-
-
-module obb_core$grid$0$s5_wrote$2(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$2
-
-
-module obb_core$grid$0$s5_wrote$20(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$20
-
-
-module obb_core$grid$0$s5_wrote$21(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$21
-
-
-module obb_core$grid$0$s5_wrote$22(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$22
-
-
-module obb_core$grid$0$s5_wrote$23(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$23
-
-
-module obb_core$grid$0$s5_wrote$24(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$24
-
-
-module obb_core$grid$0$s5_wrote$25(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$25
-
-
-module obb_core$grid$0$s5_wrote$26(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$26
-
-
-module obb_core$grid$0$s5_wrote$27(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$27
-
-
-module obb_core$grid$0$s5_wrote$28(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$28
-
-
-module obb_core$grid$0$s5_wrote$29(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$29
-
-
-module obb_core$grid$0$s5_wrote$3(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$3
-
-
-module obb_core$grid$0$s5_wrote$30(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$30
-
-
-module obb_core$grid$0$s5_wrote$31(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$31
-
-
-module obb_core$grid$0$s5_wrote$32(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$32
-
-
-module obb_core$grid$0$s5_wrote$33(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$33
-
-
-module obb_core$grid$0$s5_wrote$34(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$34
-
-
-module obb_core$grid$0$s5_wrote$35(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$35
-
-
-module obb_core$grid$0$s5_wrote$36(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$36
-
-
-module obb_core$grid$0$s5_wrote$37(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$37
-
-
-module obb_core$grid$0$s5_wrote$38(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$38
-
-
-module obb_core$grid$0$s5_wrote$39(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$39
-
-
-module obb_core$grid$0$s5_wrote$4(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$4
-
-
-module obb_core$grid$0$s5_wrote$40(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$40
-
-
-module obb_core$grid$0$s5_wrote$41(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$41
-
-
-module obb_core$grid$0$s5_wrote$42(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$42
-
-
-module obb_core$grid$0$s5_wrote$43(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$43
-
-
-module obb_core$grid$0$s5_wrote$44(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$44
-
-
-module obb_core$grid$0$s5_wrote$45(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$45
-
-
-module obb_core$grid$0$s5_wrote$46(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$46
-
-
-module obb_core$grid$0$s5_wrote$47(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$47
-
-
-module obb_core$grid$0$s5_wrote$48(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$48
-
-
-module obb_core$grid$0$s5_wrote$49(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$49
-
-
-module obb_core$grid$0$s5_wrote$5(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$5
-
-
-module obb_core$grid$0$s5_wrote$50(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$50
-
-
-module obb_core$grid$0$s5_wrote$51(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$51
-
-
-module obb_core$grid$0$s5_wrote$52(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$52
-
-
-module obb_core$grid$0$s5_wrote$53(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$53
-
-
-module obb_core$grid$0$s5_wrote$54(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$54
-
-
-module obb_core$grid$0$s5_wrote$55(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$55
-
-
-module obb_core$grid$0$s5_wrote$56(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$56
-
-
-module obb_core$grid$0$s5_wrote$57(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$57
-
-
-module obb_core$grid$0$s5_wrote$58(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$58
-
-
-module obb_core$grid$0$s5_wrote$59(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$59
-
-
-module obb_core$grid$0$s5_wrote$6(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$6
-
-
-module obb_core$grid$0$s5_wrote$60(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$60
-
-
-module obb_core$grid$0$s5_wrote$61(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$61
-
-
-module obb_core$grid$0$s5_wrote$62(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$62
-
-
-module obb_core$grid$0$s5_wrote$63(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$63
-
-
-module obb_core$grid$0$s5_wrote$64(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$64
-
-
-module obb_core$grid$0$s5_wrote$65(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$65
-
-
-module obb_core$grid$0$s5_wrote$66(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$66
-
-
-module obb_core$grid$0$s5_wrote$67(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$67
-
-
-module obb_core$grid$0$s5_wrote$68(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$68
-
-
-module obb_core$grid$0$s5_wrote$69(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$69
-
-
-module obb_core$grid$0$s5_wrote$7(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$7
-
-
-module obb_core$grid$0$s5_wrote$70(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$70
-
-
-module obb_core$grid$0$s5_wrote$71(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$71
-
-
-module obb_core$grid$0$s5_wrote$72(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$72
-
-
-module obb_core$grid$0$s5_wrote$73(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$73
-
-
-module obb_core$grid$0$s5_wrote$74(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$74
-
-
-module obb_core$grid$0$s5_wrote$75(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$75
-
-
-module obb_core$grid$0$s5_wrote$76(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$76
-
-
-module obb_core$grid$0$s5_wrote$77(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$77
-
-
-module obb_core$grid$0$s5_wrote$78(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$78
-
-
-module obb_core$grid$0$s5_wrote$79(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$79
-
-
-module obb_core$grid$0$s5_wrote$8(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$8
-
-
-module obb_core$grid$0$s5_wrote$80(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$80
-
-
-module obb_core$grid$0$s5_wrote$9(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$s5_wrote$9
-
-
 module obb_core$grid$0$slane$0(d,q,clock);
     
     // Module arguments
@@ -87717,6 +85032,101 @@ module obb_core$grid$0$v2_wl$2(d,q,clock);
 endmodule // obb_core$grid$0$v2_wl$2
 
 
+module obb_core$grid$0$v3_anywhere$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$v3_anywhere$0
+
+
+module obb_core$grid$0$v3_home$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$v3_home$0
+
+
+module obb_core$grid$0$v3_mask$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$v3_mask$0
+
+
+module obb_core$grid$0$v3_overlap$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$v3_overlap$0
+
+
+module obb_core$grid$0$v3_valid$0(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$v3_valid$0
+
+
 module obb_core$grid$0$v3_word$0(d,q,clock);
     
     // Module arguments
@@ -87734,25 +85144,6 @@ module obb_core$grid$0$v3_word$0(d,q,clock);
     end
           
 endmodule // obb_core$grid$0$v3_word$0
-
-
-module obb_core$grid$0$v3_write$0(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$grid$0$v3_write$0
 
 
 module obb_core$grid$0$vis_i$0(value,resized);

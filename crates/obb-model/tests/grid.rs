@@ -158,11 +158,12 @@ fn clock_model_by_hand() {
     // clock after its write), so the walker waits two clocks after box 1's one visit and one
     // after box 2's two; each later list (three visits or more) is queued before the walker is
     // free, so the other 42 visits run back to back. The last record retires the clock after
-    // its last visit, and the walk is over the clock after that. No box is accepted once the
+    // its last visit; the clock after that has nothing in flight, and the walk is over on the
+    // next (the idle flag is a register). No box is accepted once the
     // candidates come out of their queue, so each issues LAT_GRID_CHECK after its visit.
     let first_visit = 2 + LAT_PROJECT + LAT_PROBE;
     let last_visit = first_visit + run.work.visited + 2;
-    let walked = last_visit + 2;
+    let walked = last_visit + 3;
     let schedule = grid_schedule(&frame.grid_walk(&GroupMask::All));
     let mut visits = vec![first_visit, first_visit + 3, first_visit + 4];
     visits.extend(first_visit + 6..=last_visit);
@@ -184,8 +185,9 @@ fn clock_model_by_hand() {
     assert_eq!(c.total, walked + 1 + clear);
 
     // Three boxes, cross-group: 0 and 1 touch, 2 is far. Box 1 visits box 0 on the first clock
-    // its list is the walker's; box 2 has no record and retires on its probe clock (K + 5, before
-    // that visit); box 1 retires the clock after its visit.
+    // its list is the walker's; box 2 has no record and retires at K + 6 (its probe clock K + 5,
+    // registered; before that visit); box 1 retires the clock after its visit, and the walk is
+    // over two clocks later.
     let scene = Scene {
         obbs: vec![
             Obb::aligned([0.0; 3], [0.5; 3], 0),
@@ -200,8 +202,8 @@ fn clock_model_by_hand() {
     let visit = 2 + LAT_PROJECT + LAT_PROBE;
     let schedule = grid_schedule(&frame.grid_walk(&cfg.groups));
     assert_eq!(schedule.visits, vec![visit]);
-    assert_eq!(schedule.walked, visit + 2);
-    assert_eq!(run.cycles.total, visit + 3 + clear);
+    assert_eq!(schedule.walked, visit + 3);
+    assert_eq!(run.cycles.total, visit + 4 + clear);
 }
 
 /// Three coincident boxes on two lanes (all pairs), worked out by hand from the rules in
@@ -239,8 +241,9 @@ fn clock_model_of_two_lanes_by_hand() {
     );
     let run = frame.detect(BroadPhase::Grid, &GroupMask::All);
     assert_eq!(run.stream, vec![[0, 1], [1, 2], [0, 2]]);
-    // Lane 0 retires box 2 the clock after its last visit; the walk is over the clock after.
-    assert_eq!(s.walked, first + 5);
+    // Lane 0 retires box 2 the clock after its last visit; the walk is over two clocks later
+    // (the idle flag is a register).
+    assert_eq!(s.walked, first + 6);
 }
 
 /// 200 coincident boxes: the walker falls behind, the boxes waiting for it use up the credits,

@@ -347,11 +347,37 @@ impl<'a> Expected<'a> {
     }
 }
 
-/// Compares a simulated frame with the model: the pair stream in order, the counters, and
-/// (with the pair stream never throttled) the cycle count; `done` within three clocks of it.
-/// Over capacity: the flag, and no pair. Incomplete: the flag, and only the model's pairs.
-/// Returns the first difference.
-pub fn compare(got: &SimFrame, want: &Expected, throttled: bool) -> Result<(), String> {
+/// How the pair stream was taken, and so what of the model's run it must show.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Taken {
+    /// On every clock: the model's pairs in the model's order, in the model's cycles.
+    Freely,
+    /// Throttled, one walker lane: the model's order, in more cycles (the stream stalls the
+    /// broad phase).
+    Throttled,
+    /// Throttled, several grid walker lanes: the model's pairs with their repeats, in more
+    /// cycles, but their order may differ: the lowest lane with a candidate issues it, and a
+    /// stall changes which lanes hold one when the issue resumes.
+    ThrottledLanes,
+}
+
+impl Taken {
+    /// The pair stream taken one clock in `ready_every`, with `lanes` walker lanes.
+    pub fn of(ready_every: u32, lanes: u32) -> Taken {
+        match (ready_every > 1, lanes > 1) {
+            (false, _) => Taken::Freely,
+            (true, false) => Taken::Throttled,
+            (true, true) => Taken::ThrottledLanes,
+        }
+    }
+}
+
+/// Compares a simulated frame with the model: the pair stream (in order unless `taken` says
+/// otherwise), the counters, and (with the pair stream never throttled) the cycle count; `done`
+/// within three clocks of it. Over capacity: the flag, and no pair. Incomplete: the flag, and
+/// only the model's pairs. Returns the first difference.
+pub fn compare(got: &SimFrame, want: &Expected, taken: Taken) -> Result<(), String> {
+    let throttled = taken != Taken::Freely;
     let run = match want {
         Expected::Incomplete(run) => {
             if !got.capacity_exceeded {
@@ -397,15 +423,22 @@ pub fn compare(got: &SimFrame, want: &Expected, throttled: bool) -> Result<(), S
     if got.capacity_exceeded {
         return Err("capacity_exceeded is high, but the boxes fit".into());
     }
-    if let Some(k) = (0..got.stream.len().max(run.stream.len()))
-        .find(|&k| got.stream.get(k) != run.stream.get(k))
-    {
+    let (mut core, mut model) = (got.stream.clone(), run.stream.clone());
+    let what = match taken {
+        Taken::ThrottledLanes => {
+            core.sort_unstable();
+            model.sort_unstable();
+            "sorted stream"
+        }
+        Taken::Freely | Taken::Throttled => "stream",
+    };
+    if let Some(k) = (0..core.len().max(model.len())).find(|&k| core.get(k) != model.get(k)) {
         return Err(format!(
-            "pair {k} of the stream: core {:?}, model {:?} ({} and {} pairs in all)",
-            got.stream.get(k),
-            run.stream.get(k),
-            got.stream.len(),
-            run.stream.len()
+            "pair {k} of the {what}: core {:?}, model {:?} ({} and {} pairs in all)",
+            core.get(k),
+            model.get(k),
+            core.len(),
+            model.len()
         ));
     }
     let c = run.counters();

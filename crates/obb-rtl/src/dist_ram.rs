@@ -5,8 +5,12 @@
 //! at the clock edge; `read_data` shows the memory at `read_address`
 //! at once, including a write of the edge just past. `zeroed` makes a memory that holds zeros
 //! from power-up (the LUTs' INIT; the simulation model's too) with fewer entries than the
-//! address reaches (the caller never addresses beyond them). A Rust simulation model plus
-//! hand-written Verilog, co-simulated in `tests/leaves.rs`.
+//! address reaches (the caller never addresses beyond them). `registers` makes one of
+//! flip-flops and a read multiplexer instead (written out register by register, so that every
+//! tool maps it so): synthesis then sees the read as logic and counts its LUT level, where a
+//! distributed RAM's read is a level its mapper (yosys' ABC) does not see, and may stack three
+//! more behind. A Rust simulation model plus hand-written Verilog, co-simulated in
+//! `tests/leaves.rs`.
 
 use rust_hdl::prelude::*;
 use std::collections::BTreeMap;
@@ -21,9 +25,11 @@ pub struct DistRam<D: Synth, const A: usize> {
     pub read_data: Signal<Out, D>,
     /// The simulation model's memory (not a port: rust-hdl skips fields named with `_`).
     _mem: BTreeMap<Bits<A>, D>,
-    /// Entries held, and whether the Verilog states their zeros at power-up.
+    /// Entries held, whether the Verilog states their zeros at power-up, whether they are
+    /// flip-flops.
     _depth: u64,
     _zeroed: bool,
+    _registers: bool,
 }
 
 impl<D: Synth, const A: usize> Default for DistRam<D, A> {
@@ -36,6 +42,14 @@ impl<D: Synth, const A: usize> DistRam<D, A> {
     /// A memory of `depth` entries, at most `2^A`, zero from power-up.
     pub fn zeroed(depth: u64) -> Self {
         Self::new(depth, true)
+    }
+
+    /// A memory of `2^A` flip-flop entries.
+    pub fn registers() -> Self {
+        DistRam {
+            _registers: true,
+            ..Self::new(1 << A, false)
+        }
     }
 
     fn new(depth: u64, zeroed: bool) -> Self {
@@ -53,6 +67,7 @@ impl<D: Synth, const A: usize> DistRam<D, A> {
             _mem: BTreeMap::new(),
             _depth: depth,
             _zeroed: zeroed,
+            _registers: false,
         }
     }
 }
@@ -73,6 +88,9 @@ impl<D: Synth, const A: usize> Logic for DistRam<D, A> {
         self.read_data.connect();
     }
     fn hdl(&self) -> Verilog {
+        if self._registers {
+            return Verilog::Custom(self.registers_verilog());
+        }
         Verilog::Custom(format!(
             "\
 (* ram_style = \"distributed\" *)
@@ -98,5 +116,37 @@ end
                 String::new()
             },
         ))
+    }
+}
+
+impl<D: Synth, const A: usize> DistRam<D, A> {
+    /// The flip-flop memory: one register per entry, a `case` to write and one to read.
+    fn registers_verilog(&self) -> String {
+        let entries = 0..1u64 << A;
+        let regs: String = entries
+            .clone()
+            .map(|k| format!("reg [{}:0] mem_{k};\n", D::BITS - 1))
+            .collect();
+        let writes: String = entries
+            .clone()
+            .map(|k| format!("         {k}: mem_{k} <= write_data;\n"))
+            .collect();
+        let reads: String = entries
+            .map(|k| format!("      {k}: read_data = mem_{k};\n"))
+            .collect();
+        format!(
+            "\
+{regs}always @(posedge clock) begin
+   if (write_enable) begin
+      case (write_address)
+{writes}      endcase
+   end
+end
+always @(*) begin
+   case (read_address)
+{reads}   endcase
+end
+"
+        )
     }
 }

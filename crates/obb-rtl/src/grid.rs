@@ -7,8 +7,8 @@
 //! | K | a box's keys leave the projection (`key_valid`) |
 //! | K+1 to K+3 | `GridCells`: the window's cells, and per bank (cell coordinates mod 3) its cell's bucket and fingerprint |
 //! | K+3 | the list heads of every bank and group are read (distributed RAM, at once) and registered |
-//! | K+4 | the lists to walk decided; the box is entered in its home cell's list (the entry the box before wrote at K+3 forwarded) |
-//! | K+5 | its entry (second successor) written; the lists to walk written to the record queue, or the box retires |
+//! | K+4 | the lists to walk decided; the box is entered in its home cell's list (the entry the box before wrote at K+3 forwarded); its entry picked per bank |
+//! | K+5 | its entry (second successor, ORed over the banks) written; the lists to walk written to the record queue, or the box retires (registered, counted at K+6) |
 //! | K+6 | the enumerator may load the record |
 //! | K+7 | it chooses the record's first list |
 //! | K+8 | it writes it to the list queue |
@@ -37,9 +37,9 @@
 //! A box larger than a cell (*large*) is entered in no list: at K+3 it joins the chain of large
 //! boxes (`lnext` and `lnext2`, its first two, latest first) and its successor entry takes the
 //! chain's old second. The slow path runs when the load is over and nothing is in flight
-//! (*idle*): a sequencer fetches each large box of the chain (its keys on port B, its entry: the
-//! large box two places on), plans its window, and injects its *rounds*
-//! into the probe as boxes whose keys span two or three cells per axis (kind *round*: they read
+//! (*idle*, a register set from the clock before's counts): a sequencer fetches each large box
+//! of the chain (its keys on port B, its entry: the large box two places on), plans its window,
+//! and injects its *rounds* into the probe as boxes whose keys span two or three cells per axis (kind *round*: they read
 //! lists and enter none; the key check takes the large box's keys, and passes a box only if its
 //! home cell is in the round, so a list read in two rounds gives its pairs once); then, when
 //! large boxes follow, one record of one list, the rest of the chain (kind *partner*: the key
@@ -55,8 +55,10 @@
 //! per-box tables (successor, keys, margin, group: box i at `i >> log2 lanes`), written as the
 //! box's keys arrive, so that every walker reads its own. The large boxes chain per lane; the
 //! slow path takes lane 0's chain, then lane 1's, and a record of the rest of the chains has
-//! one list on every lane: the lane's chain as left. A box is accepted when every lane has a
-//! credit; the lowest lane with a candidate on its queue's output issues it.
+//! one list on every lane: the lane's chain as left. A box is accepted when the credit is set (a
+//! register: on the clock before, every lane had fewer than `GRID_CREDITS - 1` boxes in flight,
+//! so that one accepted then still finds room); the lowest lane with a candidate on its queue's
+//! output issues it.
 
 use crate::box_queue::{BoxQueue, KIND};
 use crate::dist_ram::DistRam;
@@ -118,7 +120,8 @@ pub struct GridPhase<const A: usize, const C: usize> {
     pub accept: Signal<In, Bit>,
     /// Every box of the frame has been accepted.
     pub loaded: Signal<In, Bit>,
-    /// Fewer than `GRID_CREDITS` boxes accepted and not retired: the core may accept.
+    /// The credit (a register): on the clock before, every lane had fewer than
+    /// `GRID_CREDITS - 1` boxes accepted and not retired. The core may accept.
     pub credit: Signal<Out, Bit>,
     /// A box's keys, margin and group from the projection, and its index.
     pub key_valid: Signal<In, Bit>,
@@ -261,12 +264,14 @@ pub struct GridPhase<const A: usize, const C: usize> {
     s5_live: Vec<DFF<Bit>>,
     s5_head: Vec<DFF<Bits<C>>>,
     s5_head2: Vec<DFF<Bits<C>>>,
-    /// Per list: the box entered it and it held a box (its old second is the box's entry).
-    s5_enter: Vec<DFF<Bit>>,
-    /// Per list: the box entered it, and the owner it wrote (forwarded to the next box).
-    s5_wrote: Vec<DFF<Bit>>,
+    /// Per bank: the old second of the list the box entered there, if that list held a box
+    /// (zero in every other bank): the box's entry. Picked among the bank's lists at K+4, so
+    /// that K+5 only ORs the banks (one pick of all 81 lists at K+5 took three levels of wide
+    /// LUTs before the successor table).
+    s5_entry: Vec<DFF<Bits<C>>>,
+    /// Per list: the owner the box wrote (forwarded to the next box).
     s5_meta_w: Vec<DFF<Bits<META>>>,
-    /// A large box arrived: the chain's old second is its entry.
+    /// A large box arrived: the chain's old second is its entry (zero for any other box).
     s5_large: DFF<Bit>,
     s5_lprev: DFF<Bits<C>>,
     // Memories.
@@ -309,7 +314,9 @@ pub struct GridPhase<const A: usize, const C: usize> {
     e_max: Vec<DFF<Bits<CENTER>>>,
     e_margin: Vec<DFF<Bits<MARGIN>>>,
     e_kind: Vec<DFF<Bits<KIND>>>,
-    /// The list queue: per entry a list's head, its box, whether it is its record's last.
+    /// The list queue: per entry a list's head, its box, whether it is its record's last. The
+    /// heads are flip-flops (`DistRam::registers`): the walker's next visit is picked from
+    /// them, and synthesis maps that pick for its depth only when it sees the read as logic.
     lq_head: Vec<DistRam<Bits<C>, LQ>>,
     lq_head2: Vec<DistRam<Bits<C>, LQ>>,
     lq_box: Vec<BoxQueue<LQ, C>>,
@@ -368,9 +375,15 @@ pub struct GridPhase<const A: usize, const C: usize> {
     v2_wh: Vec<DFF<Bits<CENTER>>>,
     v2_jc: Vec<DFF<Bits<CENTER>>>,
     v2_group_j: Vec<DFF<Bits<GROUP>>>,
-    /// V+3: the verdict and the candidate, registered, so that the compares and the queue's
-    /// count (chosen by the write) are not one path.
-    v3_write: Vec<DFF<Bit>>,
+    /// V+3: the key check's terms, registered (the visit is valid, the keys overlap, the visited
+    /// box's home is in the round or need not be, the mask pairs the groups or need not), and
+    /// the candidate: only one LUT follows the compares' carry chains, and the verdict (`pass`,
+    /// their AND) is a LUT ahead of the queue's count, which the write picks.
+    v3_valid: Vec<DFF<Bit>>,
+    v3_overlap: Vec<DFF<Bit>>,
+    v3_home: Vec<DFF<Bit>>,
+    v3_anywhere: Vec<DFF<Bit>>,
+    v3_mask: Vec<DFF<Bit>>,
     v3_word: Vec<DFF<Bits<CAND>>>,
     fifo: Vec<PairFifo<CAND>>,
     // End of frame.
@@ -444,21 +457,29 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// K+4: per list its old second if the box entered it (zero elsewhere: it entered one at
     /// most), their OR: the box's entry; the box has lists to walk. (Pure ORs, balanced by
     /// synthesis into trees.)
-    succ_pick: Vec<Signal<Local, Bits<C>>>,
     succ_acc: Signal<Local, Bits<C>>,
+    /// K+4: per list, its old second if the box enters it and it holds a box; per bank, their OR.
+    entry_pick: Vec<Signal<Local, Bits<C>>>,
+    entry_acc: Vec<Signal<Local, Bits<C>>>,
     any_live: Vec<Signal<Local, Bit>>,
-    /// The enumerator's choice, in the walker's order (bank, then group): per bank, a list is
-    /// left in it; per list, a list of a lower group is left in its bank; a list is left in a
-    /// bank before b (`bank_prior[b]`); the list is the first left. Pure ANDs and ORs, which
+    /// The enumerator's choice, in the walker's order (bank, then group): per list, a list of a
+    /// lower group is left in its bank (`group_prior`); a list is left in a bank before b
+    /// (`bank_prior[b]`, from the registered flags of the chunks of three banks before b's and of
+    /// the banks before b in its chunk); the list is the first left. Pure ANDs and ORs, which
     /// synthesis balances into trees (written as `if`s, they became multiplexer chains).
-    /// (Per lane and bank at `27 k + b`; `bank_prior` at `28 k + b`.)
+    /// (Per lane and bank at `27 k + b`, per chunk at `9 k + c`; `chunk_prior` at `10 k + c`.)
     bank_any: Vec<Signal<Local, Bit>>,
-    /// Per bank, a list is left in it: registered (from the lists' next values), so that the
-    /// choice's widest OR (`bank_prior`) starts at registers.
-    bank_next: Vec<Signal<Local, Bit>>,
-    bank_left: Vec<DFF<Bit>>,
     group_prior: Vec<Signal<Local, Bit>>,
+    chunk_prior: Vec<Signal<Local, Bit>>,
     bank_prior: Vec<Signal<Local, Bit>>,
+    /// Per bank and per chunk, a list is left in it, registered: the lists left but the chosen,
+    /// or the loaded record's lists.
+    bank_next: Vec<Signal<Local, Bit>>,
+    bank_load: Vec<Signal<Local, Bit>>,
+    bank_left: Vec<DFF<Bit>>,
+    chunk_next: Vec<Signal<Local, Bit>>,
+    chunk_load: Vec<Signal<Local, Bit>>,
+    chunk_left: Vec<DFF<Bit>>,
     e_first: Vec<Signal<Local, Bit>>,
     /// A list is written to the list queue: its head (each list's masked by the one-hot choice,
     /// then ORed); a list other than the chosen is left (none: it is the record's last).
@@ -516,6 +537,9 @@ pub struct GridPhase<const A: usize, const C: usize> {
     go: Vec<Signal<Local, Bit>>,
     stall: Vec<Signal<Local, Bit>>,
     retire_probe: Vec<Signal<Local, Bit>>,
+    /// The probe's retirement, registered (K+6): the count then follows from registers, not
+    /// from the OR of the box's lists.
+    retire_probe_q: Vec<DFF<Bit>>,
     rec_write: Vec<Signal<Local, Bit>>,
     overlap: Vec<Signal<Local, Bit>>,
     swap: Vec<Signal<Local, Bit>>,
@@ -529,9 +553,12 @@ pub struct GridPhase<const A: usize, const C: usize> {
     margin_lo: Vec<Signal<Local, Bits<MARGIN>>>,
     margin_hi: Vec<Signal<Local, Bits<MARGIN>>>,
     done_walk: Signal<Local, Bit>,
-    /// The slow path: nothing in flight after the load; this clock fetches a large box,
-    /// injects a record (and of which kind, with which keys).
-    idle: Signal<Local, Bit>,
+    /// The slow path: nothing in flight after the load on the clock before, nothing launched
+    /// (a register, so that the counts and the sequencer are not one path), and its next
+    /// value; this clock fetches a large box, injects a record (and of which kind, with which
+    /// keys).
+    idle: DFF<Bit>,
+    idle_next: Signal<Local, Bit>,
     fetch: Signal<Local, Bit>,
     inject: Signal<Local, Bit>,
     inject_kind: Signal<Local, Bits<KIND>>,
@@ -565,7 +592,8 @@ pub struct GridPhase<const A: usize, const C: usize> {
     plan_wide: Signal<Local, Bit>,
     /// K+3: a large arriving box joins the chain.
     large_in: Signal<Local, Bit>,
-    /// V+2: the visited box's home is in the round; the mask pairs the groups; the pair passes.
+    /// V+2: the visited box's home is in the round; the mask pairs the groups. V+3: the pair
+    /// passes.
     home_ok: Vec<Signal<Local, Bit>>,
     /// The round's first cell; all ones unless it is cell zero.
     wl_cell: Vec<Signal<Local, Bits<CENTER>>>,
@@ -596,6 +624,8 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// some lane's queue's output; every lane is drained (and the list heads are clear).
     large_left: Signal<Local, Bit>,
     credit_acc: Signal<Local, Bit>,
+    /// The credit, registered: every lane had room for two more boxes on the clock before.
+    credit_q: DFF<Bit>,
     out_valid: Signal<Local, Bit>,
     drained: Signal<Local, Bit>,
     /// The group mask's row of the slow path's box's group.
@@ -740,8 +770,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             s5_live: vec(lists),
             s5_head: vec(lists),
             s5_head2: vec(lists),
-            s5_enter: vec(lists),
-            s5_wrote: vec(lists),
+            s5_entry: vec(27),
             s5_meta_w: vec(lists),
             s5_large: Default::default(),
             s5_lprev: Default::default(),
@@ -775,8 +804,8 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             e_max: vec(3 * lanes),
             e_margin: vec(lanes),
             e_kind: vec(lanes),
-            lq_head: vec(lanes),
-            lq_head2: vec(lanes),
+            lq_head: (0..lanes).map(|_| DistRam::registers()).collect(),
+            lq_head2: (0..lanes).map(|_| DistRam::registers()).collect(),
             lq_box: vec(lanes),
             lq_last: vec(lanes),
             lq_wp: vec(lanes),
@@ -817,7 +846,11 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             v2_wh: vec(3 * lanes),
             v2_jc: vec(3 * lanes),
             v2_group_j: vec(lanes),
-            v3_write: vec(lanes),
+            v3_valid: vec(lanes),
+            v3_overlap: vec(lanes),
+            v3_home: vec(lanes),
+            v3_anywhere: vec(lanes),
+            v3_mask: vec(lanes),
             v3_word: vec(lanes),
             fifo: (0..lanes)
                 .map(|_| PairFifo::new(GRID_CAND_STALL as u64))
@@ -860,14 +893,20 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             old_eff2: vec(lists),
             live: vec(lists),
             meta_new: vec(lists),
-            succ_pick: vec(lists),
+            entry_pick: vec(lists),
+            entry_acc: vec(27),
             succ_acc: Default::default(),
             any_live: vec(lanes),
             bank_any: vec(27 * lanes),
-            bank_next: vec(27 * lanes),
-            bank_left: vec(27 * lanes),
             group_prior: vec(lists),
-            bank_prior: vec(28 * lanes),
+            chunk_prior: vec(10 * lanes),
+            bank_prior: vec(27 * lanes),
+            bank_next: vec(27 * lanes),
+            bank_load: vec(27 * lanes),
+            bank_left: vec(27 * lanes),
+            chunk_next: vec(9 * lanes),
+            chunk_load: vec(9 * lanes),
+            chunk_left: vec(9 * lanes),
             e_first: vec(lists),
             e_push: vec(lanes),
             e_pick: vec(lists),
@@ -907,6 +946,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             go: vec(lanes),
             stall: vec(lanes),
             retire_probe: vec(lanes),
+            retire_probe_q: vec(lanes),
             rec_write: vec(lanes),
             overlap: vec(lanes),
             swap: vec(lanes),
@@ -916,6 +956,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             margin_hi: vec(lanes),
             done_walk: Default::default(),
             idle: Default::default(),
+            idle_next: Default::default(),
             fetch: Default::default(),
             inject: Default::default(),
             inject_kind: Default::default(),
@@ -965,6 +1006,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             pack_mhi: vec(lanes),
             large_left: Default::default(),
             credit_acc: Default::default(),
+            credit_q: Default::default(),
             out_valid: Default::default(),
             drained: Default::default(),
             lrow: Default::default(),
@@ -992,12 +1034,13 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             s2_group, s3_valid, s3_index, s3_margin, s3_group, s3_allowed, s4_valid, s4_large,
             s4_lprev, s4_index, s4_margin, s4_kind, s4_home_fp, s5_valid, s5_large, s5_lprev,
             s5_index, s5_margin, clearing, cleared, clear_at, s1_kind, s2_kind, s3_kind, s5_kind,
-            slow, lcur, lmargin, lgroup, wide, fetch_q, inj, inj_kind
+            slow, lcur, lmargin, lgroup, wide, fetch_q, inj, inj_kind, idle, credit_q
         );
         clock!(self, clock, cells);
         for b in 0..27 {
             self.s4_bucket[b].clock.next = self.clock.val();
             self.s4_fp[b].clock.next = self.clock.val();
+            self.s5_entry[b].clock.next = self.clock.val();
         }
         for x in 0..3 {
             self.s1_min[x].clock.next = self.clock.val();
@@ -1031,8 +1074,6 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.s5_live[l].clock.next = self.clock.val();
             self.s5_head[l].clock.next = self.clock.val();
             self.s5_head2[l].clock.next = self.clock.val();
-            self.s5_enter[l].clock.next = self.clock.val();
-            self.s5_wrote[l].clock.next = self.clock.val();
             self.s5_meta_w[l].clock.next = self.clock.val();
             self.s4_meta[l].clock.next = self.clock.val();
             self.s4_fwd[l].clock.next = self.clock.val();
@@ -1075,6 +1116,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.rp[k].clock.next = self.clock.val();
             self.count[k].clock.next = self.clock.val();
             self.inflight[k].clock.next = self.clock.val();
+            self.retire_probe_q[k].clock.next = self.clock.val();
             self.wp[k].d.next = self.wp[k].q.val();
             self.rp[k].d.next = self.rp[k].q.val();
             self.count[k].d.next = self.count[k].q.val();
@@ -1129,7 +1171,11 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.v2_margin_j[k].clock.next = self.clock.val();
             self.v2_kind[k].clock.next = self.clock.val();
             self.v2_group_j[k].clock.next = self.clock.val();
-            self.v3_write[k].clock.next = self.clock.val();
+            self.v3_valid[k].clock.next = self.clock.val();
+            self.v3_overlap[k].clock.next = self.clock.val();
+            self.v3_home[k].clock.next = self.clock.val();
+            self.v3_anywhere[k].clock.next = self.clock.val();
+            self.v3_mask[k].clock.next = self.clock.val();
             self.v3_word[k].clock.next = self.clock.val();
             self.lnext[k].clock.next = self.clock.val();
             self.lnext2[k].clock.next = self.clock.val();
@@ -1162,6 +1208,9 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             }
             for b in 0..27 {
                 self.bank_left[27 * k + b].clock.next = self.clock.val();
+            }
+            for c in 0..9 {
+                self.chunk_left[9 * k + c].clock.next = self.clock.val();
             }
         }
 
@@ -1210,11 +1259,11 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             // The slow path's sequencer (it injects after the load, when no box arrives, nothing
             // in flight on any lane). Its next large box: the head of the first lane's chain that
             // holds one.
-            self.idle.next = self.loaded.val();
+            self.idle_next.next = self.loaded.val();
             self.lprior[0].next = false;
             self.lhead.next = 0.into();
             for k in 0..self._lanes {
-                self.idle.next = self.idle.val() & (self.inflight[k].q.val() == 0);
+                self.idle_next.next = self.idle_next.val() & (self.inflight[k].q.val() == 0);
                 self.lfirst[k].next =
                     ((self.lnext[k].q.val() & self.top.val()) != 0) & !self.lprior[k].val();
                 self.lprior[k + 1].next =
@@ -1271,7 +1320,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             }
             match self.slow.q.val() {
                 SlowState::Fetch => {
-                    if self.idle.val() {
+                    if self.idle.q.val() {
                         if self.large_left.val() {
                             self.fetch.next = true;
                             self.lcur.d.next = self.lhead.val() ^ self.top.val();
@@ -1329,7 +1378,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 SlowState::Round => {
                     // Inject the round; step x, then y, then z; after the last, the rest of the
                     // chains (if any large box is left) or the next box.
-                    if self.idle.val() {
+                    if self.idle.q.val() {
                         self.inject.next = true;
                         self.inject_kind.next = 1.into();
                         if !self.last_round[0].val() {
@@ -1357,7 +1406,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     }
                 }
                 SlowState::Partner => {
-                    if self.idle.val() {
+                    if self.idle.q.val() {
                         self.inject.next = true;
                         self.inject_kind.next = 2.into();
                         self.slow.d.next = SlowState::Fetch;
@@ -1369,6 +1418,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.fetch_q.d.next = self.fetch.val();
             self.inj.d.next = self.inject.val();
             self.inj_kind.d.next = self.inject_kind.val();
+            self.idle.d.next = self.idle_next.val() & !self.inject.val();
             // K+1 to K+3: the cells of the box's window (`GridCells`); its index, keys, margin and
             // group alongside. An injected record takes the place of an arriving box.
             self.cells.key_valid.next = self.key_valid.val() | self.inj.q.val();
@@ -1500,6 +1550,9 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             // mixes it; the list's old head becomes its second, and the old second the box's entry
             // (written at K+5). At the end of a frame the clear writes every bucket empty.
             self.entry4.next = self.s4_index.q.val() | self.top.val();
+            for b in 0..27 {
+                self.entry_acc[b].next = 0.into();
+            }
             self.entry5.next = self.s5_index.q.val() | self.top.val();
             for k in 0..self._lanes {
                 for q in 0..self._groups {
@@ -1598,11 +1651,15 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                                 self.clear_at.q.val();
                             self.head2[lpl * k + 27 * q + b].write_data.next = 0.into();
                         }
-                        self.s5_enter[lpl * k + 27 * q + b].d.next =
-                            self.s4_enter[lpl * k + 27 * q + b].q.val()
-                                & self.meta_eff[lpl * k + 27 * q + b].val().get_bit(9);
-                        self.s5_wrote[lpl * k + 27 * q + b].d.next =
-                            self.s4_enter[lpl * k + 27 * q + b].q.val();
+                        self.entry_pick[lpl * k + 27 * q + b].next = 0.into();
+                        if self.s4_enter[lpl * k + 27 * q + b].q.val()
+                            & self.meta_eff[lpl * k + 27 * q + b].val().get_bit(9)
+                        {
+                            self.entry_pick[lpl * k + 27 * q + b].next =
+                                self.old_eff2[lpl * k + 27 * q + b].val();
+                        }
+                        self.entry_acc[b].next =
+                            self.entry_acc[b].val() | self.entry_pick[lpl * k + 27 * q + b].val();
                         self.s5_meta_w[lpl * k + 27 * q + b].d.next =
                             self.meta_new[lpl * k + 27 * q + b].val();
                         self.s5_live[lpl * k + 27 * q + b].d.next =
@@ -1614,8 +1671,14 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     }
                 }
             }
+            for b in 0..27 {
+                self.s5_entry[b].d.next = self.entry_acc[b].val();
+            }
             self.s5_large.d.next = self.s4_large.q.val();
-            self.s5_lprev.d.next = self.s4_lprev.q.val();
+            self.s5_lprev.d.next = 0.into();
+            if self.s4_large.q.val() {
+                self.s5_lprev.d.next = self.s4_lprev.q.val();
+            }
             self.s5_valid.d.next = self.s4_valid.q.val();
             self.s5_index.d.next = self.s4_index.q.val();
             self.s5_margin.d.next = self.s4_margin.q.val();
@@ -1629,16 +1692,9 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             // K+4 at the earliest, and reads it five clocks after that, at its first visit.) A box
             // with lists to walk is written to the record queue; any other retires. The rest of the
             // chain is one list (the first), from the large box's successor (`lnext`, `lnext2`).
-            self.succ_acc.next = 0.into();
-            if self.s5_large.q.val() {
-                self.succ_acc.next = self.s5_lprev.q.val();
-            }
-            for l in 0..self._lists {
-                self.succ_pick[l].next = 0.into();
-                if self.s5_enter[l].q.val() {
-                    self.succ_pick[l].next = self.s5_head2[l].q.val();
-                }
-                self.succ_acc.next = self.succ_acc.val() | self.succ_pick[l].val();
+            self.succ_acc.next = self.s5_lprev.q.val();
+            for b in 0..27 {
+                self.succ_acc.next = self.succ_acc.val() | self.s5_entry[b].q.val();
             }
             // Per lane: the box's entry goes to its lane's bank; a record of the lane's lists to
             // walk to its record queue. The rest of the chains is one list on each lane: its own
@@ -1659,6 +1715,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                         | (self.s5_kind.q.val().get_bit(1)
                             & ((self.lnext[k].q.val() & self.top.val()) != 0)));
                 self.retire_probe[k].next = self.s5_valid.q.val() & !self.rec_write[k].val();
+                self.retire_probe_q[k].d.next = self.retire_probe[k].val();
                 for l in 0..self._lpl {
                     self.rec[lpl * k + l].write_enable.next = self.rec_write[k].val();
                     self.rec[lpl * k + l].write_address.next = self.wp[k].q.val();
@@ -1714,24 +1771,73 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                             | self.e_rem[lpl * k + 27 * q + b].q.val();
                     }
                 }
-                self.bank_prior[28 * k].next = false;
-                for b in 0..27 {
-                    self.bank_prior[28 * k + b + 1].next =
-                        self.bank_prior[28 * k + b].val() | self.bank_left[27 * k + b].q.val();
+                // The banks before b: the chunks before b's, then b's chunk's banks before it.
+                self.chunk_prior[10 * k].next = false;
+                for c in 0..9 {
+                    self.chunk_prior[10 * k + c + 1].next =
+                        self.chunk_prior[10 * k + c].val() | self.chunk_left[9 * k + c].q.val();
+                    self.bank_prior[27 * k + 3 * c].next = self.chunk_prior[10 * k + c].val();
+                    for i in 1..3 {
+                        self.bank_prior[27 * k + 3 * c + i].next =
+                            self.bank_prior[27 * k + 3 * c + i - 1].val()
+                                | self.bank_left[27 * k + 3 * c + i - 1].q.val();
+                    }
                 }
                 for q in 0..self._groups {
                     for b in 0..27 {
                         self.e_first[lpl * k + 27 * q + b].next =
                             self.e_rem[lpl * k + 27 * q + b].q.val()
                                 & !self.group_prior[lpl * k + 27 * q + b].val()
-                                & !self.bank_prior[28 * k + b].val();
+                                & !self.bank_prior[27 * k + b].val();
                     }
                 }
                 self.e_push[k].next = self.e_chosen[k].q.val() & !self.lq_fill[3 * k + 2].q.val();
                 self.e_load[k].next = (self.count[k].q.val() != 0) & !self.e_busy[k].q.val();
+                for l in 0..self._lpl {
+                    self.rd_live[lpl * k + l].next =
+                        (self.rec[lpl * k + l].read_data.val() & self.top.val()) != 0;
+                }
+                // What is left after this clock, per bank and per chunk, registered for the next
+                // choice: on a load, the record's lists; else the lists left but the chosen (the
+                // lists left after its write, computed before the write's late enable: a choice
+                // only follows a load or a write). The choice's widest ORs start at registers.
+                for b in 0..27 {
+                    self.bank_next[27 * k + b].next = false;
+                    self.bank_load[27 * k + b].next = false;
+                }
+                for q in 0..self._groups {
+                    for b in 0..27 {
+                        self.bank_next[27 * k + b].next = self.bank_next[27 * k + b].val()
+                            | (self.e_rem[lpl * k + 27 * q + b].q.val()
+                                & !self.e_sel[lpl * k + 27 * q + b].q.val());
+                        self.bank_load[27 * k + b].next = self.bank_load[27 * k + b].val()
+                            | self.rd_live[lpl * k + 27 * q + b].val();
+                    }
+                }
+                self.e_more[k].next = false;
+                for c in 0..9 {
+                    self.chunk_next[9 * k + c].next = false;
+                    self.chunk_load[9 * k + c].next = false;
+                    for i in 0..3 {
+                        self.chunk_next[9 * k + c].next = self.chunk_next[9 * k + c].val()
+                            | self.bank_next[27 * k + 3 * c + i].val();
+                        self.chunk_load[9 * k + c].next = self.chunk_load[9 * k + c].val()
+                            | self.bank_load[27 * k + 3 * c + i].val();
+                    }
+                    self.e_more[k].next = self.e_more[k].val() | self.chunk_next[9 * k + c].val();
+                    self.chunk_left[9 * k + c].d.next = self.chunk_next[9 * k + c].val();
+                    if self.e_load[k].val() {
+                        self.chunk_left[9 * k + c].d.next = self.chunk_load[9 * k + c].val();
+                    }
+                }
+                for b in 0..27 {
+                    self.bank_left[27 * k + b].d.next = self.bank_next[27 * k + b].val();
+                    if self.e_load[k].val() {
+                        self.bank_left[27 * k + b].d.next = self.bank_load[27 * k + b].val();
+                    }
+                }
                 self.e_out[k].next = 0.into();
                 self.e_out2[k].next = 0.into();
-                self.e_more[k].next = false;
                 for l in 0..self._lpl {
                     self.e_pick[lpl * k + l].next = 0.into();
                     self.e_pick2[lpl * k + l].next = 0.into();
@@ -1741,8 +1847,6 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     }
                     self.e_out[k].next = self.e_out[k].val() | self.e_pick[lpl * k + l].val();
                     self.e_out2[k].next = self.e_out2[k].val() | self.e_pick2[lpl * k + l].val();
-                    self.e_more[k].next = self.e_more[k].val()
-                        | (self.e_rem[lpl * k + l].q.val() & !self.e_sel[lpl * k + l].q.val());
                 }
                 self.lq_head[k].write_enable.next = self.e_push[k].val();
                 self.lq_head[k].write_address.next = self.lq_wp[k].q.val();
@@ -1779,15 +1883,13 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                             self.e_rem[lpl * k + l].d.next = false;
                         }
                     }
-                } else if self.e_busy[k].q.val() {
+                } else if self.e_busy[k].q.val() & !self.e_chosen[k].q.val() {
+                    // The choice holds while its write waits: the lists left registered for it
+                    // (`bank_left`, `chunk_left`) already leave the chosen out.
                     self.e_chosen[k].d.next = true;
                     for l in 0..self._lpl {
                         self.e_sel[lpl * k + l].d.next = self.e_first[lpl * k + l].val();
                     }
-                }
-                for l in 0..self._lpl {
-                    self.rd_live[lpl * k + l].next =
-                        (self.rec[lpl * k + l].read_data.val() & self.top.val()) != 0;
                 }
                 if self.e_load[k].val() {
                     self.rp[k].d.next = self.rp[k].q.val() + 1;
@@ -1807,18 +1909,6 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                         self.e_head[lpl * k + l].d.next = self.rec[lpl * k + l].read_data.val();
                         self.e_head2[lpl * k + l].d.next = self.rec2[lpl * k + l].read_data.val();
                     }
-                }
-                for b in 0..27 {
-                    self.bank_next[27 * k + b].next = false;
-                }
-                for q in 0..self._groups {
-                    for b in 0..27 {
-                        self.bank_next[27 * k + b].next = self.bank_next[27 * k + b].val()
-                            | self.e_rem[lpl * k + 27 * q + b].d.val();
-                    }
-                }
-                for b in 0..27 {
-                    self.bank_left[27 * k + b].d.next = self.bank_next[27 * k + b].val();
                 }
             }
 
@@ -1971,7 +2061,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 for m in 0..3 {
                     self.inflight_m[3 * k + m].next = 0.into();
                 }
-                if self.inflight_up.val() == self.retire_probe[k].val() {
+                if self.inflight_up.val() == self.retire_probe_q[k].q.val() {
                     self.inflight_m[3 * k].next = self.ones.val();
                 } else if self.inflight_up.val() {
                     self.inflight_m[3 * k + 1].next = self.ones.val();
@@ -1991,7 +2081,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     self.inflight[k].d.next = self.inflight_n1[k].val();
                 }
                 self.credit_acc.next = self.credit_acc.val()
-                    & ((self.inflight[k].q.val() & self.credits_used.val()) == 0);
+                    & ((self.inflight_inc[k].val() & self.credits_used.val()) == 0);
                 self.count_inc[k].next = self.count[k].q.val() + 1;
                 self.count_dec[k].next = self.count[k].q.val() - 1;
                 for m in 0..3 {
@@ -2008,7 +2098,8 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     | (self.count_inc[k].val() & self.count_m[3 * k + 1].val())
                     | (self.count_dec[k].val() & self.count_m[3 * k + 2].val());
             }
-            self.credit.next = self.credit_acc.val();
+            self.credit_q.d.next = self.credit_acc.val();
+            self.credit.next = self.credit_q.q.val();
 
             // The key check, per lane: V+1 the visited box's keys come from the lane's banks;
             // V+2 they are compared with the walking box's; V+3 a candidate (lower index first)
@@ -2085,12 +2176,18 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     & (self.v2_jc[3 * k + 2].q.val() <= self.v2_wh[3 * k + 2].q.val());
                 self.mask_row[k].next = self.lrow.val() >> self.v2_group_j[k].q.val();
                 self.mask_ok[k].next = self.mask_row[k].val().get_bit(0);
-                self.pass[k].next = self.overlap[k].val()
-                    & (self.home_ok[k].val() | !self.v2_kind[k].q.val().get_bit(0))
-                    & (self.mask_ok[k].val() | !self.v2_kind[k].q.val().get_bit(1));
-                self.v3_write[k].d.next = self.v2_valid[k].q.val() & self.pass[k].val();
+                self.v3_valid[k].d.next = self.v2_valid[k].q.val();
+                self.v3_overlap[k].d.next = self.overlap[k].val();
+                self.v3_home[k].d.next = self.home_ok[k].val();
+                self.v3_anywhere[k].d.next = !self.v2_kind[k].q.val().get_bit(0);
+                self.v3_mask[k].d.next =
+                    self.mask_ok[k].val() | !self.v2_kind[k].q.val().get_bit(1);
                 self.v3_word[k].d.next = self.cand_word[k].val();
-                self.fifo[k].write.next = self.v3_write[k].q.val();
+                self.pass[k].next = self.v3_valid[k].q.val()
+                    & self.v3_overlap[k].q.val()
+                    & (self.v3_home[k].q.val() | self.v3_anywhere[k].q.val())
+                    & self.v3_mask[k].q.val();
+                self.fifo[k].write.next = self.pass[k].val();
                 self.fifo[k].data_in.next = self.v3_word[k].q.val();
             }
             // The candidate stream: the lowest lane with a candidate on its queue's output issues it.
@@ -2125,7 +2222,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
 
             // The end: every box accepted and retired, the slow path over; then the clear, one
             // bucket a clock.
-            self.done_walk.next = self.idle.val()
+            self.done_walk.next = self.idle.q.val()
                 & ((self.slow.q.val() == SlowState::Over)
                     | ((self.slow.q.val() == SlowState::Fetch) & !self.large_left.val()));
             self.walked.next = self.done_walk.val();
@@ -2146,11 +2243,13 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     & self.fifo[k].empty.val()
                     & !self.v1_valid[k].q.val()
                     & !self.v2_valid[k].q.val()
-                    & !self.v3_write[k].q.val();
+                    & !self.pass[k].val();
             }
             self.finished.next = self.drained.val();
             self.too_wide.next = self.wide.q.val();
             if self.start.val() {
+                self.idle.d.next = false;
+                self.credit_q.d.next = true;
                 self.clearing.d.next = false;
                 self.cleared.d.next = false;
                 self.slow.d.next = SlowState::Fetch;

@@ -49,13 +49,15 @@ pub struct GridCells {
     /// Per axis and coordinate bit, the hash's column (`23 x + i`).
     column: Vec<Constant<Bits<HASH>>>,
     bucket_mask: Constant<Bits<HASH>>,
-    /// 3; per 6-bit chunk of a coordinate its shift, its mask, and per value of a chunk the
-    /// value and its residue mod 3.
-    three: Constant<Bits<COORD>>,
+    /// Per 6-bit chunk of a coordinate its shift, its mask, and per value of a chunk the
+    /// value and its residue mod 3; per pair of residues side by side (`4 a + b`, the shift
+    /// 2) their sum mod 3.
     chunk_at: Vec<Constant<Bits<8>>>,
     chunk_mask: Constant<Bits<COORD>>,
     chunk_value: Vec<Constant<Bits<COORD>>>,
     chunk_residue: Vec<Constant<Bits<COORD>>>,
+    pair_at: Constant<Bits<8>>,
+    pair_residue: Vec<Constant<Bits<COORD>>>,
     valid1: DFF<Bit>,
     valid2: DFF<Bit>,
     valid3: DFF<Bit>,
@@ -81,11 +83,14 @@ pub struct GridCells {
     home_fp_r: DFF<Bits<FP>>,
     /// Per axis and cell: the hash accumulated over the coordinate's bits (`24 (3 x + d) + i`).
     hacc: Vec<Signal<Local, Bits<HASH>>>,
-    /// Per axis: the first cell; per 6-bit chunk of it its value; per axis the chunks'
-    /// residues summed.
+    /// Per axis: the first cell; per 6-bit chunk of it its value; per axis and pair of
+    /// chunks (`2 x + p`) their residues side by side and summed mod 3; per axis those two
+    /// sums side by side.
     first: [Signal<Local, Bits<COORD>>; 3],
     chunk: [Signal<Local, Bits<COORD>>; 12],
-    rsum: [Signal<Local, Bits<COORD>>; 3],
+    pair: [Signal<Local, Bits<COORD>>; 6],
+    pair_sum: [Signal<Local, Bits<COORD>>; 6],
+    pairs: [Signal<Local, Bits<COORD>>; 3],
     /// Per axis and residue `3 x + r`: the window cell's hash, whether it is in the window,
     /// whether it is the home cell.
     slot_hash: [Signal<Local, Bits<HASH>>; 9],
@@ -134,11 +139,14 @@ impl GridCells {
             cell_bits: Constant::new(u64::from(shape.cell_bits).into()),
             column,
             bucket_mask: Constant::new(((1u64 << shape.hash_bits) - 1).into()),
-            three: Constant::new(3u64.into()),
             chunk_at: (0..4u64).map(|c| Constant::new((6 * c).into())).collect(),
             chunk_mask: Constant::new(63u64.into()),
             chunk_value: (0..64u64).map(|v| Constant::new(v.into())).collect(),
             chunk_residue: (0..64u64).map(|v| Constant::new((v % 3).into())).collect(),
+            pair_at: Constant::new(2u64.into()),
+            pair_residue: (0..16u64)
+                .map(|v| Constant::new((((v >> 2) + (v & 3)) % 3).into()))
+                .collect(),
             valid1: Default::default(),
             valid2: Default::default(),
             valid3: Default::default(),
@@ -159,7 +167,9 @@ impl GridCells {
             hacc: vec(9 * (COORD + 1)),
             first: Default::default(),
             chunk: Default::default(),
-            rsum: Default::default(),
+            pair: Default::default(),
+            pair_sum: Default::default(),
+            pairs: Default::default(),
             slot_hash: Default::default(),
             slot_in: Default::default(),
             slot_home: Default::default(),
@@ -245,17 +255,27 @@ impl Logic for GridCells {
                 }
                 self.hash2[3 * x + d].d.next = self.hacc[24 * (3 * x + d) + 23].val();
             }
-            // Four residues: at most 8.
-            self.rsum[x].next = self.res1[4 * x].q.val()
-                + self.res1[4 * x + 1].q.val()
-                + self.res1[4 * x + 2].q.val()
-                + self.res1[4 * x + 3].q.val();
-            self.res2[x].d.next = self.rsum[x].val();
-            if self.rsum[x].val() >= 3 {
-                self.res2[x].d.next = (self.rsum[x].val() - 3) & self.three.val();
+            // The four residues summed mod 3 in two steps, each a table of two residues side
+            // by side, so that each is one LUT per bit (summed and reduced by compares, they
+            // went through two carry chains and four LUT levels).
+            for p in 0..2 {
+                self.pair[2 * x + p].next = (self.res1[4 * x + 2 * p].q.val()
+                    << self.pair_at.val())
+                    | self.res1[4 * x + 2 * p + 1].q.val();
+                self.pair_sum[2 * x + p].next = 0.into();
+                for v in 0..16 {
+                    if self.pair[2 * x + p].val() == self.chunk_value[v].val() {
+                        self.pair_sum[2 * x + p].next = self.pair_residue[v].val();
+                    }
+                }
             }
-            if self.rsum[x].val() >= 6 {
-                self.res2[x].d.next = (self.rsum[x].val() - 6) & self.three.val();
+            self.pairs[x].next =
+                (self.pair_sum[2 * x].val() << self.pair_at.val()) | self.pair_sum[2 * x + 1].val();
+            self.res2[x].d.next = 0.into();
+            for v in 0..16 {
+                if self.pairs[x].val() == self.chunk_value[v].val() {
+                    self.res2[x].d.next = self.pair_residue[v].val();
+                }
             }
         }
 

@@ -12,7 +12,7 @@ use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame, ModelRun, QObb};
 use obb_model::generate::surgical;
 use obb_model::{Obb, Scene};
 use obb_rtl::core::{ObbCore, COUNT, INDEX};
-use obb_rtl::cosim::{box_ports, compare, prepare, Expected, SimFrame};
+use obb_rtl::cosim::{box_ports, compare, prepare, Expected, SimFrame, Taken};
 use obb_rtl::leaf::{sbits, uval};
 use obb_rtl::projection::{CENTER, HALF, ROT};
 use obb_rtl::verilator::Port;
@@ -170,7 +170,7 @@ fn run(cfg: &HwConfig, frames: &[Frame]) {
     for (k, (h, v)) in hdl.iter().zip(&verilator).enumerate() {
         assert_eq!(h, v, "rust-hdl and Verilator differ at clock {k}");
     }
-    judge(frames, &words, &hdl, &starts, &models);
+    judge(cfg, frames, &words, &hdl, &starts, &models);
 }
 
 /// The input words of `frames` back to back, where each frame starts, and the model's runs.
@@ -217,6 +217,7 @@ fn stimulus(
 
 /// Each frame's outputs agree with the model's run (or report capacity exceeded).
 fn judge(
+    cfg: &HwConfig,
     frames: &[Frame],
     words: &[Vec<u64>],
     hdl: &[Vec<u64>],
@@ -234,7 +235,7 @@ fn judge(
             run.as_ref().map(|r| r.cycles)
         );
         let want = Expected::of(run.as_ref());
-        if let Err(e) = compare(&got, &want, f.ready_every > 1) {
+        if let Err(e) = compare(&got, &want, Taken::of(f.ready_every as u32, cfg.lanes)) {
             panic!("{}: {e}", f.name);
         }
         if let (Some(run), true) = (run, f.ready_every > 1) {
@@ -462,7 +463,7 @@ fn default_core_on_1000_boxes_of_the_surgical_scene() {
     )];
     let (words, starts, models) = stimulus(&cfg, &frames);
     let hdl = rust_hdl::<15, 16>(&cfg, &words);
-    judge(&frames, &words, &hdl, &starts, &models);
+    judge(&cfg, &frames, &words, &hdl, &starts, &models);
 }
 
 /// Random boxes: up to 40 in a small cube, any rotation, half-lengths from zero up, groups
@@ -524,7 +525,7 @@ fn random_scenes_match_the_model() {
             let frames = [frame_of("random", Scene { obbs })];
             let (words, starts, models) = stimulus(&cfg, &frames);
             let hdl = rust_hdl::<A, { A + 1 }>(&cfg, &words);
-            judge(&frames, &words, &hdl, &starts, &models);
+            judge(&cfg, &frames, &words, &hdl, &starts, &models);
             Ok(())
         })
         .unwrap();

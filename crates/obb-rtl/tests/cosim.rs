@@ -10,7 +10,7 @@ use obb_model::fixed::{BroadPhase, HwConfig};
 use obb_model::generate::{surgical, SURGICAL_DEFAULT_N};
 use obb_model::{GroupMask, Scene};
 use obb_rtl::cosim::{
-    build, compare, frame_clocks, prepare, stimulus, Expected, Level, RunOptions, SimFrame,
+    build, compare, frame_clocks, prepare, stimulus, Expected, Level, RunOptions, SimFrame, Taken,
 };
 use obb_rtl::synth;
 use obb_rtl::verilator::{scratch_dir, Simulator};
@@ -51,7 +51,7 @@ fn cosim(
     let got = bench.run(&stim, boxes.len(), &opts, |_| {}).unwrap();
     let secs = start.elapsed().as_secs_f64();
     let want = Expected::of(run.as_ref());
-    if let Err(e) = compare(&got, &want, ready_every > 1) {
+    if let Err(e) = compare(&got, &want, Taken::of(ready_every, cfg.lanes)) {
         panic!("{name} ({sim:?}, {level:?}): {e}");
     }
     eprintln!(

@@ -174,40 +174,38 @@ fn table_ram_matches_its_verilog() {
     assert_eq!(out, model);
 }
 
-/// The distributed RAM: its model against a plain array (the read port shows the memory at
-/// once, a write of the edge just past included), and its Verilog against its model.
+/// The distributed RAM, and its flip-flop form: its model against a plain array (the read port
+/// shows the memory at once, a write of the edge just past included), and its Verilog against
+/// its model.
 #[test]
 fn dist_ram_matches_its_verilog() {
     const A: usize = 4;
     const D: usize = 9;
-    let v = memory_traffic(A, D, 1);
-    let mut uut: DistRam<Bits<D>, A> = Default::default();
-    uut.connect_all();
-    let mut mem = [0u64; 1 << A];
-    let mut model = Vec::new();
-    for x in &v {
-        uut.write_enable.next = x[0] == 1;
-        uut.write_address.next = x[1].into();
-        uut.write_data.next = x[2].into();
-        uut.read_address.next = x[3].into();
-        tick(&mut uut, |u, c| u.clock.next = Clock::from(c));
-        if x[0] == 1 {
-            mem[x[1] as usize] = x[2];
+    let make: [fn() -> DistRam<Bits<D>, A>; 2] = [DistRam::default, DistRam::registers];
+    for (make, name) in make.into_iter().zip(["dist_ram", "dist_ram_registers"]) {
+        let v = memory_traffic(A, D, 1);
+        let mut uut = make();
+        uut.connect_all();
+        let mut mem = [0u64; 1 << A];
+        let mut model = Vec::new();
+        for x in &v {
+            uut.write_enable.next = x[0] == 1;
+            uut.write_address.next = x[1].into();
+            uut.write_data.next = x[2].into();
+            uut.read_address.next = x[3].into();
+            tick(&mut uut, |u, c| u.clock.next = Clock::from(c));
+            if x[0] == 1 {
+                mem[x[1] as usize] = x[2];
+            }
+            let got = uval(uut.read_data.val());
+            assert_eq!(got, mem[x[3] as usize], "{name} model, {x:?}");
+            model.push(vec![got]);
         }
-        let got = uval(uut.read_data.val());
-        assert_eq!(got, mem[x[3] as usize], "model, {x:?}");
-        model.push(vec![got]);
+        let mut inputs = write_ports(A, D);
+        inputs.push(Port::new("read_address", A));
+        let out = in_verilator(&mut make(), name, &inputs, &[Port::new("read_data", D)], &v);
+        assert_eq!(out, model, "{name}: Verilog against its model");
     }
-    let mut inputs = write_ports(A, D);
-    inputs.push(Port::new("read_address", A));
-    let out = in_verilator(
-        &mut DistRam::<Bits<D>, A>::default(),
-        "dist_ram",
-        &inputs,
-        &[Port::new("read_data", D)],
-        &v,
-    );
-    assert_eq!(out, model);
 }
 
 /// The pair FIFO's specification, clock by clock: entries stored in order; the output register

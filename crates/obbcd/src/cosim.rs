@@ -8,7 +8,7 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use obb_model::fixed::grid::MAX_WINDOW;
 use obb_model::Scene;
-use obb_rtl::cosim::{self, compare, prepare, Expected, Level, RunOptions};
+use obb_rtl::cosim::{self, compare, prepare, Expected, Level, RunOptions, Taken};
 use obb_rtl::verilator::Simulator;
 use obb_rtl::{cache, generate, synth};
 use std::path::PathBuf;
@@ -124,7 +124,7 @@ pub fn run(a: CosimArgs) -> Result<()> {
     pairs.sort_unstable();
     pairs.dedup();
     let want = Expected::of(run.as_ref());
-    let verdict = compare(&got, &want, a.ready_every > 1);
+    let verdict = compare(&got, &want, Taken::of(a.ready_every, cfg.lanes));
     println!(
         "simulator={} level={} obbs={} pairs={} reported={} candidates={} sat={} cycles={} \
          model_cycles={} frame_ms={:.3} clock_ns={} sim_s={secs:.2} clocks_per_s={:.0}",

@@ -47,8 +47,8 @@ pub const GRID_CREDITS: usize = 32;
 /// Grid: the candidate queue's stored entries at which the walker pauses.
 pub const GRID_CAND_STALL: usize = 32;
 /// Grid: clocks from a visit to its candidate's first possible issue: the keys read and
-/// registered, compared, the verdict registered and written to the candidate queue, loaded on
-/// its output register.
+/// registered, compared, the compares' results registered and written to the candidate queue,
+/// loaded on its output register.
 pub const LAT_GRID_CHECK: u64 = 5;
 /// Grid: clocks from a candidate's issue to the SAT's inputs: its geometry read and registered.
 pub const GRID_ISSUE_TO_SAT: u64 = 2;

@@ -4,13 +4,15 @@
 //! accepted; "at clock t" means the clock whose edge ends it, so a register written at t is
 //! read from t + 1. The rules, each a register or a queue of the block:
 //!
-//! - **Accept.** A box is accepted at clock t when boxes are left and fewer than
-//!   `GRID_CREDITS` boxes were accepted before t and not retired before t (on every lane). Its
-//!   keys leave the projection `LAT_PROJECT` clocks later (clock K).
+//! - **Accept.** A box is accepted at clock t when boxes are left and the credit is set: on
+//!   every lane, fewer than `GRID_CREDITS - 1` boxes were accepted before t - 1 and not retired
+//!   before t - 1 (a register, so one more, accepted at t - 1, still finds room; the first
+//!   clock has the credit). Its keys leave the projection `LAT_PROJECT` clocks later (clock K).
 //! - **Probe.** The window's cells, their banks and buckets take three clocks; at K + 3 the list
 //!   heads are read; at K + 4 the box is entered and the lists it must walk are decided; at
 //!   K + 5 they are written to the record queue, or, when it has none (or is large), it
-//!   retires. Its record is in the queue from K + 6 = accept + `LAT_PROJECT` + `LAT_RECORD`.
+//!   retires at K + 6 (the retirement is registered). Its record is in the queue from
+//!   K + 6 = accept + `LAT_PROJECT` + `LAT_RECORD`.
 //! - **Enumerate.** The enumerator takes the records in box order and writes their lists to the
 //!   list queue (`LIST_QUEUE` entries), each over two clocks: on a clock it writes none it
 //!   chooses its record's next list; a chosen list is written on a clock when at most
@@ -23,29 +25,30 @@
 //!   visit, when the walker reads that its last list has ended. It pauses on a clock when
 //!   the candidate queue stores `GRID_CAND_STALL` entries or more (its output register not
 //!   counted); a list it takes on such a clock leaves the list queue then.
-//! - **Check.** A visit at V is read from the key table at V + 1, compared at V + 2, its verdict
-//!   registered at V + 3 and, when the keys overlap, written to the candidate queue
-//!   (`obb_rtl::pair_fifo`): stored from V + 4, on its output register from V + 5 at the
+//! - **Check.** A visit at V is read from the key table at V + 1, compared at V + 2, the
+//!   compares' results registered at V + 3 and, when the keys overlap, written to the
+//!   candidate queue (`obb_rtl::pair_fifo`): stored from V + 4, on its output register from V + 5 at the
 //!   earliest (`LAT_GRID_CHECK`).
 //! - **Issue.** The candidate on the output register is issued on a clock when no box is accepted
 //!   (the geometry tables' port A writes the arriving box); the output register takes the next
 //!   stored entry on a clock it is empty or issued. An issued candidate is on the SAT's inputs
 //!   `GRID_ISSUE_TO_SAT` clocks later.
-//! - **Slow path.** A sequencer works when every box has been accepted and nothing is in
-//!   flight (accepted or injected, not retired): call that clock *idle*. Per large box, in the
+//! - **Slow path.** A sequencer works on *idle* clocks: a clock is idle when on the clock
+//!   before every box had been accepted, nothing was in flight (accepted or injected, not
+//!   retired) and nothing was launched (the flag is a register). Per large box, in the
 //!   chain's order: an idle clock fetches it, the next puts its address on port B (its keys
 //!   and its successor, the next large box, are read), the next registers them, the next plans
 //!   its window (or, too wide, ends the slow path); then each round is *launched* on an idle
 //!   clock and injected on the next as a box whose keys span the round's cells, probed and
 //!   walked as an arriving box is (its keys at the injection clock K, its record in the queue
-//!   from K + `LAT_RECORD`, retiring at K + 5 when it has no list); then, if a large box
+//!   from K + `LAT_RECORD`, retiring at K + 6 when it has no list); then, if a large box
 //!   follows, a record of one list, the rest of the chain, is launched the same way.
 //! - **Lanes.** With several, each lane has its own record queue, enumerator, list queue,
 //!   walker, key check and candidate queue, on its lane's lists, by the rules above. A box (or
 //!   injected record) is in flight on every lane from its accept (injection) until that lane
-//!   retires it; a box is accepted when every lane has a credit, and a clock is idle when no
-//!   lane has one in flight. On a clock with no accept, the lowest lane with a candidate on its
-//!   output register issues it.
+//!   retires it; a box is accepted when the credit is set on every lane, and a clock is idle
+//!   when no lane had one in flight on the clock before. On a clock with no accept, the lowest
+//!   lane with a candidate on its output register issues it.
 //! - **End.** The walk is over on the first idle clock with no large box left to fetch (or
 //!   after a window too wide). From the clock after that, every list head is
 //!   cleared for the next frame, one bucket of every bank a clock (`2^grid_hash_bits` clocks),
@@ -253,14 +256,14 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
     let keys_out = |accept: u64| accept + LAT_PROJECT;
     let mut lanes: Vec<Lane> = (0..walk.lanes).map(|_| Lane::default()).collect();
     // Boxes and injected records enter the probe at K: on each lane a record from
-    // K + LAT_RECORD, or a retirement at K + 5 when it has no list there. A record's lists on a
+    // K + LAT_RECORD, or a retirement at K + 6 when it has no list there. A record's lists on a
     // lane are the next of `walk.lists` that hold its visits there.
     let (mut next_list, mut next_visit) = (0usize, 0usize);
     let mut probe = |k: u64, counts: &[usize], lanes: &mut [Lane]| {
         for (lane, &count) in lanes.iter_mut().zip(counts) {
             lane.inflight += 1;
             if count == 0 {
-                lane.retire_probe.push_back(k + LAT_RECORD - 1);
+                lane.retire_probe.push_back(k + LAT_RECORD);
                 continue;
             }
             let (first, visit) = (next_list, next_visit);
@@ -283,6 +286,9 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
     let mut large = 0usize;
     let mut last_issue = 0u64;
     let mut t = 0u64;
+    // The credit and the idle flag are registers, set from the clock before's counts (so that
+    // no path runs from the counts to the load and the slow path in one clock).
+    let (mut credit, mut idle) = (true, false);
     loop {
         t += 1;
         for lane in &mut lanes {
@@ -290,7 +296,12 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
         }
         // (A frame of no box: its end marker comes at clock 1, and is seen from clock 2.)
         let marked = n > 0 || t > 1;
-        let idle = s.accepts.len() == n && lanes.iter().all(|lane| lane.inflight == 0) && marked;
+        // The registers' next values, from this clock's counts: a credit when one more box
+        // leaves room; idle when every box is accepted, nothing is in flight and nothing is
+        // launched on this clock.
+        let credit_next = lanes.iter().all(|l| l.inflight + 1 < GRID_CREDITS);
+        let mut idle_next =
+            s.accepts.len() == n && lanes.iter().all(|lane| lane.inflight == 0) && marked;
         // The slow path.
         let more = large < walk.large.len();
         if idle && s.walked == 0 && (slow == Slow::Over || (slow == Slow::Fetch && !more)) {
@@ -310,6 +321,7 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
                 let l = &walk.large[large];
                 let counts = &l.rounds[r * walk.lanes..(r + 1) * walk.lanes];
                 probe(t + 1, counts, &mut lanes);
+                idle_next = false;
                 if (r + 1) * walk.lanes < l.rounds.len() {
                     Slow::Round(r + 1)
                 } else if l.partners.iter().any(|&p| p > 0) {
@@ -321,13 +333,14 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
             }
             Slow::Partner if idle => {
                 probe(t + 1, &walk.large[large].partners, &mut lanes);
+                idle_next = false;
                 large += 1;
                 Slow::Fetch
             }
             other => other,
         };
-        // Accept: every lane has a credit.
-        let accept = s.accepts.len() < n && lanes.iter().all(|l| l.inflight < GRID_CREDITS);
+        // Accept: the credit is set.
+        let accept = s.accepts.len() < n && credit;
         if accept {
             let k = s.accepts.len();
             s.accepts.push(t);
@@ -363,6 +376,7 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
             }
             lane.list_queue.extend(written);
         }
+        (credit, idle) = (credit_next, idle_next);
         if s.walked > 0 && lanes.iter().all(Lane::drained) {
             break;
         }
