@@ -2,12 +2,14 @@
 //! reference reports, under a spread of configurations from the narrowest to the widest formats
 //! (docs/numerics.md), with the sweep (which takes boxes of any size) and with the grid (cells
 //! sized to the case's largest box). Each case also checks that the reference itself finds the
-//! collisions the case is built to have, so that no case passes by being empty.
+//! collisions the case is built to have, so that no case passes by being empty. The
+//! configuration `obbcd plan` writes for each case takes it without a miss too.
 
 mod common;
 
 use common::{axes_of, f32_axes, tilted, touching};
 use obb_model::aabb::Aabb;
+use obb_model::fixed::plan::{plan, Aims};
 use obb_model::fixed::{BroadPhase, HwConfig, Margins, ModelFrame};
 use obb_model::{detect, EngineKind, GroupMask, Obb, Pair, Prepared, Scene};
 
@@ -87,6 +89,20 @@ fn never_missed(scene: &Scene, expected: usize) {
                 );
             }
         }
+    }
+    // The configuration `obbcd plan` writes for the scene, run as the core runs it.
+    let planned = plan(std::slice::from_ref(scene), &Aims::default())
+        .expect("every valid scene can be planned for")
+        .cfg;
+    let run = ModelFrame::new(scene, &planned)
+        .expect("a plan holds its scene")
+        .run();
+    assert!(!run.work.incomplete, "a window too wide with {planned:?}");
+    for p in &truth {
+        assert!(
+            run.pairs.binary_search(p).is_ok(),
+            "missed {p:?} with the plan {planned:?}"
+        );
     }
 }
 

@@ -9,6 +9,7 @@ use crate::projection::{self, Projection};
 use crate::radix::KeySort;
 use crate::sat::{self, Sat};
 use anyhow::{bail, Context, Result};
+use obb_model::fixed::grid::MAX_KEY_BITS;
 use obb_model::fixed::{cycles, grid, BroadPhase, HwConfig};
 use obb_model::radix::RadixSorter;
 use serde::Serialize;
@@ -219,17 +220,19 @@ pub fn block(cfg: &HwConfig, module: &str) -> Result<String> {
     Ok(header(cfg) + &body)
 }
 
+// The model's bound on the grid's keys is the block's.
+const _: () = assert!(MAX_KEY_BITS as usize == crate::grid_cells::COORD - 1);
+
 /// Checks that the grid block supports `cfg`: valid, and cell coordinates (keys shifted by the
 /// cell bits, plus 2) within the keys' width.
 pub fn check_grid(cfg: &HwConfig) -> Result<()> {
     cfg.validate()?;
-    if cfg.key_bits >= crate::grid_cells::COORD as u32 {
+    if cfg.key_bits > MAX_KEY_BITS {
         bail!(
             "configuration key `key_bits`: {} with the grid, whose cell coordinates take up to \
-             `key_bits` + 1 bits of {}: at most {}",
+             `key_bits` + 1 bits of {}: at most {MAX_KEY_BITS}",
             cfg.key_bits,
             crate::grid_cells::COORD,
-            crate::grid_cells::COORD - 1
         );
     }
     Ok(())

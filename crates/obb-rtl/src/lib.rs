@@ -1,6 +1,7 @@
 //! obb-rtl: the obbcd collision-detection core described in rust-hdl, checked cycle by cycle
 //! against the bit-exact model in `obb-model` (`obb_model::fixed`), and its Verilog generator.
 
+pub mod aims;
 pub mod bin_table;
 pub mod box_queue;
 pub mod cache;

@@ -197,3 +197,57 @@ fn the_synthesis_report_is_for_the_committed_rtl() {
         "reports/synth.md is stale: run `cargo run --release -p obbcd -- synth`"
     );
 }
+
+/// `gen-rtl --scene` plans for the scenes and writes that plan's core; a configuration and
+/// scenes together are refused with a message.
+#[test]
+fn gen_rtl_plans_for_scenes() {
+    use obb_model::fixed::plan::{plan, Aims};
+    let dir = std::env::temp_dir().join(format!("obb-rtl-gen-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = obb_model::generate::surgical(400, 1).unwrap();
+    let path = dir.join("scene.json");
+    scene.save(&path).unwrap();
+    let out = dir.join("rtl");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "--scene".to_string(),
+            path.display().to_string(),
+            "--out".to_string(),
+            out.display().to_string(),
+            "--ucf".to_string(),
+            dir.join("c.ucf").display().to_string(),
+            "--tcl".to_string(),
+            dir.join("b.tcl").display().to_string(),
+        ];
+        args.extend(extra.iter().map(|s| s.to_string()));
+        std::process::Command::new(env!("CARGO_BIN_EXE_gen-rtl"))
+            .args(&args)
+            .output()
+            .unwrap()
+    };
+    let done = run(&["--groups", "cross"]);
+    let said = String::from_utf8_lossy(&done.stdout);
+    assert!(
+        done.status.success(),
+        "{said} {}",
+        String::from_utf8_lossy(&done.stderr)
+    );
+    assert!(said.starts_with("planned: "), "{said}");
+    let aims = Aims {
+        groups: obb_model::GroupMask::Cross,
+        ..Aims::default()
+    };
+    let planned = plan(std::slice::from_ref(&scene), &aims).unwrap().cfg;
+    assert_ne!(planned, HwConfig::default(), "the plan is the scene's own");
+    for (name, text) in files(&planned).unwrap() {
+        let written = std::fs::read_to_string(out.join(&name)).unwrap();
+        assert!(written == text, "{name} is not the planned core's");
+    }
+    let both = run(&["--config", path.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&both.stderr);
+    assert!(
+        !both.status.success() && err.contains("--config and --scene"),
+        "{err}"
+    );
+}

@@ -4,9 +4,11 @@
 use crate::timing::median_ms;
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use obb_model::fixed::accuracy::{differences, reference_pairs};
 use obb_model::fixed::grid::MAX_WINDOW;
+use obb_model::fixed::plan::{plan, Aims};
 use obb_model::fixed::{HwConfig, ModelFrame};
-use obb_model::{detect, EngineKind, GroupMask, Pair, Prepared, Scene};
+use obb_model::{EngineKind, GroupMask, Pair, Prepared, Scene};
 use serde::Serialize;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -50,10 +52,11 @@ pub struct DetectArgs {
     #[arg(long, default_value = "grid")]
     engine: EngineArg,
     /// Which group pairs: `all`, `cross` (different groups only) or a list like `0-1,0-2,1-2`.
-    /// Default: `all`, or the configuration's `groups` for `--engine model`.
+    /// Default: `all`, or with `--engine model --config` the configuration's `groups`.
     #[arg(long)]
     groups: Option<GroupMask>,
-    /// Hardware configuration (TOML) for `--engine model`; default: the built-in one.
+    /// Hardware configuration (TOML) for `--engine model`; default: one planned for the scene
+    /// (`obbcd plan`, with `--groups` and the default aims).
     #[arg(long)]
     config: Option<PathBuf>,
     /// Run the detection N times and report the median time.
@@ -82,24 +85,6 @@ pub fn load_config(path: Option<&Path>) -> Result<HwConfig> {
         Some(p) => HwConfig::load(p)?,
         None => HwConfig::default(),
     })
-}
-
-/// The f64 reference pairs (the CPU grid) under `mask`.
-pub fn reference_pairs(scene: &Scene, mask: &GroupMask) -> Vec<Pair> {
-    let mut prepared = Prepared::default();
-    detect(EngineKind::Grid, &prepared.update(&scene.obbs), mask).0
-}
-
-/// Pairs of `model` not in `reference` (false positives) and pairs of `reference` not in
-/// `model` (false negatives); both sorted ascending.
-pub fn differences(model: &[Pair], reference: &[Pair]) -> (Vec<Pair>, Vec<Pair>) {
-    let only = |a: &[Pair], b: &[Pair]| -> Vec<Pair> {
-        a.iter()
-            .filter(|p| b.binary_search(p).is_err())
-            .copied()
-            .collect()
-    };
-    (only(model, reference), only(reference, model))
 }
 
 pub fn run(a: DetectArgs) -> Result<()> {
@@ -143,11 +128,31 @@ fn run_cpu(a: &DetectArgs, scene: &Scene, kind: EngineKind) -> Result<()> {
     Ok(())
 }
 
-fn run_model(a: &DetectArgs, scene: &Scene) -> Result<()> {
-    let mut cfg = load_config(a.config.as_deref())?;
+/// The model's configuration: the file (its mask replaced by `--groups`), or a plan for the
+/// scene, which every scene the CPU engines take fits.
+fn model_config(a: &DetectArgs, scene: &Scene) -> Result<HwConfig> {
+    let Some(path) = &a.config else {
+        let aims = Aims {
+            groups: a.groups.clone().unwrap_or_default(),
+            ..Aims::default()
+        };
+        let plan = plan(std::slice::from_ref(scene), &aims)
+            .context("cannot plan a configuration for the scene")?;
+        eprintln!(
+            "planned for the scene (obbcd plan writes it; --config takes a file): {}",
+            plan.summary()
+        );
+        return Ok(plan.cfg);
+    };
+    let mut cfg = HwConfig::load(path)?;
     if let Some(mask) = &a.groups {
         cfg.groups = mask.clone();
     }
+    Ok(cfg)
+}
+
+fn run_model(a: &DetectArgs, scene: &Scene) -> Result<()> {
+    let cfg = model_config(a, scene)?;
     let frame = ModelFrame::new(scene, &cfg)
         .context("the scene does not fit the hardware configuration")?;
     let (ms, run) = median_ms(a.repeat, || frame.run());

@@ -2,19 +2,18 @@
 //! false negatives (which must be 0) against the f64 reference, the worst AABB inflation, and
 //! the modelled cycles per frame: the paper's Figure 9 with the error added.
 
-use crate::detect::{differences, load_config, reference_pairs};
+use crate::detect::load_config;
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use obb_model::aabb::Aabb;
+use obb_model::fixed::accuracy::{
+    at_width, differences, false_positive_rate, reference_pairs, worst_inflation_um, MAX_WIDTH,
+    MIN_WIDTH,
+};
 use obb_model::fixed::grid::MAX_WINDOW;
-use obb_model::fixed::{HwConfig, ModelFrame};
+use obb_model::fixed::ModelFrame;
 use obb_model::Scene;
 use std::fmt::Write as _;
 use std::path::PathBuf;
-
-/// Widest supported width: the SAT's T·a operand must fit a DSP48E1 port (docs/numerics.md).
-const MAX_WIDTH: u32 = 23;
-const MIN_WIDTH: u32 = 8;
 
 #[derive(Args)]
 pub struct ErrorArgs {
@@ -69,34 +68,6 @@ fn parse_widths(s: &str) -> Result<Vec<u32>> {
     Ok(widths)
 }
 
-/// The configuration for data width `w`: centers and keys of `w` bits, the LSB fitted.
-fn at_width(base: &HwConfig, w: u32, scene: &Scene) -> HwConfig {
-    HwConfig {
-        center_bits: w,
-        key_bits: w,
-        half_bits: base.half_bits.min(w - 1),
-        radix_digit_bits: base.radix_digit_bits.min(w),
-        ..base.clone()
-    }
-    .fitted(scene)
-}
-
-/// Worst distance in µm by which a key interval reaches beyond the f64 AABB.
-fn worst_inflation_um(frame: &ModelFrame, scene: &Scene) -> f64 {
-    let cfg = &frame.cfg;
-    let (q, s) = (cfg.lsb_mm, cfg.key_shift());
-    let offset = 1i64 << (cfg.center_bits - 1);
-    let mm = |k: u64| ((k << s) as i64 - offset) as f64 * q;
-    let mut worst: f64 = 0.0;
-    for (o, (lo, hi)) in scene.obbs.iter().zip(&frame.keys) {
-        let b = Aabb::of(o);
-        for x in 0..3 {
-            worst = worst.max(b.min[x] - mm(lo[x])).max(mm(hi[x]) - b.max[x]);
-        }
-    }
-    worst * 1e3
-}
-
 pub fn run(a: ErrorArgs) -> Result<()> {
     let scene = Scene::load(&a.scene)?;
     let base = load_config(a.config.as_deref())?;
@@ -114,7 +85,7 @@ pub fn run(a: ErrorArgs) -> Result<()> {
     println!("width  lsb_um   pairs  false_pos  fp_rate  false_neg  inflation_um  cycles");
     let mut missed_any = false;
     for w in widths {
-        let cfg = at_width(&base, w, &scene);
+        let cfg = at_width(&base, w).fitted(&scene);
         let frame = ModelFrame::new(&scene, &cfg)
             .with_context(|| format!("width {w}: the scene does not fit"))?;
         let run = frame.run();
@@ -129,7 +100,7 @@ pub fn run(a: ErrorArgs) -> Result<()> {
         }
         let (fp, missed) = differences(&run.pairs, &reference);
         missed_any |= !missed.is_empty();
-        let rate = fp.len() as f64 / run.pairs.len().max(1) as f64;
+        let rate = false_positive_rate(fp.len(), run.pairs.len());
         let inflation = worst_inflation_um(&frame, &scene);
         let lsb_um = cfg.lsb_mm * 1e3;
         println!(

@@ -5,6 +5,7 @@ mod cosim;
 mod detect;
 mod error;
 mod parry;
+mod plan;
 mod scene;
 mod stats;
 mod synth;
@@ -40,6 +41,9 @@ enum Command {
     /// For each data width: the fixed-point model's false positives and negatives against the
     /// f64 reference, the worst AABB inflation and the modelled cycles per frame.
     Error(error::ErrorArgs),
+    /// Plan a hardware configuration from scenes and aims: each key with the figure that
+    /// decided it (TOML).
+    Plan(plan::PlanArgs),
     /// Run one frame of a scene through the emitted Verilog in Verilator or Icarus and compare
     /// the pairs, counters and cycles with the bit-exact model.
     Cosim(cosim::CosimArgs),
@@ -65,6 +69,7 @@ fn main() -> ExitCode {
         Command::Stats(a) => stats::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Error(a) => error::run(a),
+        Command::Plan(a) => plan::run(a),
         Command::Cosim(a) => cosim::run(a),
         Command::Synth(a) => synth::run(a),
     };

@@ -229,10 +229,25 @@ fn model_errors_name_the_problem() {
     std::fs::write(&plate, r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[50,1,1]},{"center":[0,0,1],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]}]}"#).unwrap();
     let grid_cfg = tmp("grid.toml");
     std::fs::write(&grid_cfg, "broad_phase = \"grid\"\ngroups = \"all\"\n").unwrap();
-    let cases: [(&[&str], &str); 6] = [
+    // An empty configuration is the built-in one, whose centers reach ±512 mm.
+    let empty_cfg = tmp("empty.toml");
+    std::fs::write(&empty_cfg, "").unwrap();
+    let cases: [(&[&str], &str); 7] = [
         (
-            &["detect", "--scene", f, "--engine", "model"],
+            &[
+                "detect",
+                "--scene",
+                f,
+                "--engine",
+                "model",
+                "--config",
+                empty_cfg.to_str().unwrap(),
+            ],
             "obb 1: center[0] 900 mm",
+        ),
+        (
+            &["plan", "--scene", f, "--fp-rate", "2"],
+            "false-positive rate aim 2",
         ),
         (
             &[
@@ -357,4 +372,110 @@ fn cosim_matches_the_model_and_reports_problems() {
             "--ready-every must be at least 1",
         ),
     ]);
+}
+
+/// Without `--config` the model plans for the scene: a scene beyond the built-in ranges (a
+/// 498 mm box 900 mm out) and a one-group scene run, with the CPU engines' default mask (all
+/// pairs), and `plan`'s TOML is a configuration `detect --config` takes, with the same result.
+#[test]
+fn the_model_plans_for_any_scene_the_cpu_engines_take() {
+    let wide = tmp("wide.json");
+    std::fs::write(
+        &wide,
+        r#"{"obbs":[
+        {"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[498.37,1,1]},
+        {"center":[900,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]},
+        {"center":[497,0.5,0],"axes":[[0.6,0.8,0],[-0.8,0.6,0],[0,0,1]],"half":[1,2,3]},
+        {"center":[-10,0,2.5],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1.5]}]}"#,
+    )
+    .unwrap();
+    let one_group = tmp("one.json");
+    ok(&[
+        "scene",
+        "uniform",
+        "--n",
+        "300",
+        "--density",
+        "0.2",
+        "-o",
+        one_group.to_str().unwrap(),
+    ]);
+    for scene in [&wide, &one_group] {
+        let s = scene.to_str().unwrap();
+        let cpu = String::from_utf8(
+            ok(&[
+                "detect",
+                "--scene",
+                s,
+                "-o",
+                tmp("plan-cpu.json").to_str().unwrap(),
+            ])
+            .stdout,
+        )
+        .unwrap();
+        let out = ok(&[
+            "detect",
+            "--scene",
+            s,
+            "--engine",
+            "model",
+            "-o",
+            tmp("plan-model.json").to_str().unwrap(),
+        ]);
+        let line = String::from_utf8(out.stdout).unwrap();
+        let told = String::from_utf8(out.stderr).unwrap();
+        assert!(told.contains("planned for the scene"), "{told}");
+        assert_eq!(field(&line, "groups"), "all");
+        assert_eq!(field(&line, "false_negatives"), "0");
+        let pairs: usize = field(&cpu, "pairs").parse().unwrap();
+        assert!(pairs > 0, "{s}: the scene has colliding pairs");
+        let fp: usize = field(&line, "false_positives").parse().unwrap();
+        assert_eq!(
+            field(&line, "pairs").parse::<usize>().unwrap(),
+            pairs + fp,
+            "{cpu} / {line}"
+        );
+
+        // The plan, written and read back: the same configuration, the same frame.
+        let toml = tmp("planned.toml");
+        let planned = ok(&["plan", "--scene", s, "-o", toml.to_str().unwrap()]);
+        let figures = String::from_utf8(planned.stdout).unwrap();
+        assert!(figures.contains("wrote"), "{figures}");
+        let text = std::fs::read_to_string(&toml).unwrap();
+        // Each planned key follows the comment that says why.
+        let lines: Vec<&str> = text.lines().collect();
+        for key in ["center_bits", "lsb_mm", "capacity", "broad_phase", "groups"] {
+            let at = lines
+                .iter()
+                .position(|l| l.starts_with(&format!("{key} = ")))
+                .unwrap_or_else(|| panic!("no {key} in {text}"));
+            assert!(
+                at > 0 && lines[at - 1].starts_with("# ") && !lines[at - 1].contains("not planned"),
+                "{key} has no reason: {text}"
+            );
+        }
+        let again = ok(&[
+            "detect",
+            "--scene",
+            s,
+            "--engine",
+            "model",
+            "--config",
+            toml.to_str().unwrap(),
+        ]);
+        let again = String::from_utf8(again.stdout).unwrap();
+        for key in [
+            "pairs",
+            "false_positives",
+            "cycles",
+            "broad_phase",
+            "groups",
+        ] {
+            assert_eq!(
+                field(&again, key),
+                field(&line, key),
+                "{key}: {again} / {line}"
+            );
+        }
+    }
 }

@@ -370,9 +370,14 @@ impl HwConfig {
     /// fits: its AABB within half the center range (the rest is room for rounding), its
     /// half-lengths within `half_bits`.
     pub fn fitted(&self, scene: &Scene) -> HwConfig {
+        self.fitted_all([scene])
+    }
+
+    /// `fitted` for every box of `scenes` at once: the coarsest of their LSBs.
+    pub fn fitted_all<'a>(&self, scenes: impl IntoIterator<Item = &'a Scene>) -> HwConfig {
         let mut reach: f64 = 0.0;
         let mut half: f64 = 0.0;
-        for o in &scene.obbs {
+        for o in scenes.into_iter().flat_map(|s| &s.obbs) {
             let b = Aabb::of(o);
             reach = (0..3).fold(reach, |r, x| r.max(b.min[x].abs()).max(b.max[x].abs()));
             half = o.half.iter().fold(half, |h, &v| h.max(v));

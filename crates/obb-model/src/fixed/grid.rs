@@ -42,6 +42,9 @@ use crate::groups::GroupMask;
 pub const BANKS: usize = 27;
 /// The most bucket bits (`grid_hash_bits`): the fingerprint's rows come after them.
 pub const MAX_HASH_BITS: u32 = 12;
+/// The widest sort keys the grid block takes: its cell coordinates (keys shifted, plus 2) are
+/// 23-bit registers (`obb_rtl::grid_cells::COORD`).
+pub const MAX_KEY_BITS: u32 = 22;
 /// Bits of a cell's fingerprint, which a list keeps of the cell that entered it first.
 pub const FINGERPRINT_BITS: u32 = 8;
 /// Cells per axis a large box's window may span (eight rounds): a wider one makes the frame

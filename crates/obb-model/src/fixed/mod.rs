@@ -3,6 +3,7 @@
 //! reference finds on the original boxes, for every supported configuration
 //! (docs/numerics.md, tests/fixed.rs, tests/stiff.rs).
 
+pub mod accuracy;
 pub mod broad;
 pub mod config;
 pub mod cycles;
@@ -10,6 +11,7 @@ pub mod frame;
 pub mod grid;
 pub mod grid_clocks;
 pub mod margins;
+pub mod plan;
 pub mod quantize;
 pub mod sat;
 

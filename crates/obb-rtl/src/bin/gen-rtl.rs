@@ -1,8 +1,9 @@
 //! `gen-rtl`: writes the core's Verilog and its manifest for a hardware configuration.
 
-use anyhow::Result;
+use anyhow::{bail, Result};
 use clap::Parser;
 use obb_model::fixed::HwConfig;
+use obb_rtl::aims::AimArgs;
 use std::path::PathBuf;
 
 #[derive(Parser)]
@@ -11,9 +12,12 @@ use std::path::PathBuf;
     about = "Write the obbcd core's Verilog, manifest, ISE constraints and xtclsh project script"
 )]
 struct Args {
-    /// Hardware configuration (TOML); default: the built-in one.
+    /// Hardware configuration (TOML); default: the built-in one, or with `--scene` the plan
+    /// for the scenes (as `obbcd plan`).
     #[arg(long)]
     config: Option<PathBuf>,
+    #[command(flatten)]
+    aims: AimArgs,
     /// Output directory of the Verilog and the manifest.
     #[arg(long, default_value = "rtl-out")]
     out: PathBuf,
@@ -27,9 +31,17 @@ struct Args {
 
 fn main() -> Result<()> {
     let a = Args::parse();
-    let cfg = match &a.config {
-        Some(p) => HwConfig::load(p)?,
-        None => HwConfig::default(),
+    let cfg = match (&a.config, a.aims.scenes.is_empty()) {
+        (Some(_), false) => {
+            bail!("--config and --scene: give a configuration or scenes to plan one")
+        }
+        (Some(p), true) => HwConfig::load(p)?,
+        (None, true) => HwConfig::default(),
+        (None, false) => {
+            let plan = a.aims.plan()?;
+            println!("planned: {}", plan.summary());
+            plan.cfg
+        }
     };
     for name in obb_rtl::generate::write(&cfg, &a.out)? {
         println!("wrote {}", a.out.join(name).display());
