@@ -241,16 +241,9 @@ pub enum Mapping {
     Simulation,
 }
 
-/// The yosys netlist of `verilog` (top module `top`) mapped for `mapping`, from `cache` or
-/// synthesized into it: returns the entry's directory, with `net.json` (for `analyze`),
-/// `syn.v` (for gate-level simulation), yosys' own cell counts `stat.txt` and `yosys.log`, and
-/// whether it was cached.
-pub fn netlist(
-    verilog: &str,
-    top: &str,
-    mapping: Mapping,
-    cache: &Path,
-) -> Result<(PathBuf, bool)> {
+/// The yosys script for `top` mapped for `mapping`, and the cache entry of `verilog`'s netlist
+/// (keyed by the Verilog, yosys' version and the script).
+fn netlist_entry(verilog: &str, top: &str, mapping: Mapping) -> Result<(String, String)> {
     let version = Command::new("yosys")
         .arg("-V")
         .output()
@@ -270,6 +263,20 @@ pub fn netlist(
         "yosys-{}",
         cache::key(&[verilog.as_bytes(), &version, script.as_bytes()])
     );
+    Ok((script, name))
+}
+
+/// The yosys netlist of `verilog` (top module `top`) mapped for `mapping`, from `cache` or
+/// synthesized into it: returns the entry's directory, with `net.json` (for `analyze`),
+/// `syn.v` (for gate-level simulation), yosys' own cell counts `stat.txt` and `yosys.log`, and
+/// whether it was cached.
+pub fn netlist(
+    verilog: &str,
+    top: &str,
+    mapping: Mapping,
+    cache: &Path,
+) -> Result<(PathBuf, bool)> {
+    let (script, name) = netlist_entry(verilog, top, mapping)?;
     cache::entry(cache, &name, |dir| {
         std::fs::write(dir.join("core.v"), verilog)?;
         let out = Command::new("yosys")
@@ -286,6 +293,33 @@ pub fn netlist(
         }
         Ok(())
     })
+}
+
+/// The estimated period (ns, the slowest path under [`DELAYS`]) of `verilog`'s report netlist
+/// in `cache`. With `synthesize` a missing netlist is synthesized (minutes; the grid core about
+/// half an hour); without it, `None` when there is none (or no yosys to key it by). The
+/// analysis is kept in the cache beside the netlist, so a second look is immediate.
+pub fn period_ns(verilog: &str, top: &str, cache: &Path, synthesize: bool) -> Result<Option<f64>> {
+    let name = match netlist_entry(verilog, top, Mapping::Report) {
+        Ok((_, name)) => name,
+        Err(_) if !synthesize => return Ok(None),
+        Err(e) => return Err(e),
+    };
+    if !synthesize && !cache.join(&name).join("ok").is_file() {
+        return Ok(None);
+    }
+    let (netlist, _) = netlist(verilog, top, Mapping::Report, cache)?;
+    let (dir, _) = cache::entry(cache, &format!("period-{name}"), |dir| {
+        let report = analyze(&netlist.join("net.json"), top)?;
+        std::fs::write(dir.join("period_ns"), report.worst.delay_ns.to_string())?;
+        Ok(())
+    })?;
+    let text = std::fs::read_to_string(dir.join("period_ns"))?;
+    let ns = text
+        .trim()
+        .parse()
+        .with_context(|| format!("{}: not a period", dir.join("period_ns").display()))?;
+    Ok(Some(ns))
 }
 
 /// A parameter's value: yosys writes numbers as binary strings.

@@ -4,6 +4,7 @@ mod bench;
 mod cosim;
 mod detect;
 mod error;
+mod error_plot;
 mod parry;
 mod plan;
 mod scene;

@@ -188,31 +188,65 @@ fn model_engine_and_error_table() {
     assert_eq!(field(&line, "groups"), "cross");
     assert_eq!(field(&line, "broad_phase"), "sweep");
 
+    // Error against run time: two widths, two broad phases, no synthesis in an empty cache, so
+    // every period is `clock_ns`.
     let csv = tmp("err.csv");
+    let svg = tmp("err.svg");
     let out = ok(&[
         "error",
         "--scene",
         s,
         "--widths",
-        "12..14",
+        "14..15",
+        "--broad-phases",
+        "grid,sweep",
+        "--cache",
+        tmp("empty-cache").to_str().unwrap(),
         "--csv",
         csv.to_str().unwrap(),
+        "--svg",
+        svg.to_str().unwrap(),
     ]);
     let printed = String::from_utf8(out.stdout).unwrap();
     assert_eq!(
         printed.lines().count(),
-        2 + 3,
-        "summary, header, one row per width"
+        2 + 4,
+        "summary, header, one row per width and broad phase: {printed}"
     );
     let table = std::fs::read_to_string(&csv).unwrap();
     let rows: Vec<&str> = table.lines().collect();
-    assert_eq!(rows.len(), 4);
-    assert!(rows[0].starts_with("width,lsb_um,pairs,false_positives,fp_rate,false_negatives"));
-    for (row, w) in rows[1..].iter().zip(12..) {
+    assert_eq!(
+        rows[0],
+        "width,broad_phase,lsb_um,pairs,false_positives,fp_rate,false_negatives,inflation_um,\
+         clocks,period_ns,period_from,frame_ms,rate_hz,pareto"
+    );
+    assert_eq!(rows.len(), 5);
+    let mut points = Vec::new();
+    for (row, (w, phase)) in
+        rows[1..]
+            .iter()
+            .zip([(14, "grid"), (14, "sweep"), (15, "grid"), (15, "sweep")])
+    {
         let cols: Vec<&str> = row.split(',').collect();
-        assert_eq!(cols[0], w.to_string());
-        assert_eq!(cols[5], "0", "false negatives at width {w}");
+        assert_eq!((cols[0], cols[1]), (w.to_string().as_str(), phase), "{row}");
+        assert_eq!(cols[6], "0", "false negatives: {row}");
+        assert_eq!((cols[9], cols[10]), ("4", "clock_ns"), "{row}");
+        let clocks: f64 = cols[8].parse().unwrap();
+        let frame_ms: f64 = cols[11].parse().unwrap();
+        assert!((frame_ms - clocks * 4e-6).abs() <= 1e-9 * frame_ms, "{row}");
+        let fp_rate: f64 = cols[5].parse().unwrap();
+        points.push((frame_ms, fp_rate, cols[13] == "true"));
     }
+    // On the Pareto front exactly when no other row is as fast and as accurate, and better in
+    // one of the two.
+    for &(t, e, on_front) in &points {
+        let beaten = points
+            .iter()
+            .any(|&(ot, oe, _)| ot <= t && oe <= e && (ot < t || oe < e));
+        assert_eq!(on_front, !beaten, "{table}");
+    }
+    let plot = std::fs::read_to_string(&svg).unwrap();
+    assert!(plot.starts_with("<svg") && plot.contains("Pareto front") && plot.contains("sweep"));
 }
 
 #[test]
@@ -232,7 +266,7 @@ fn model_errors_name_the_problem() {
     // An empty configuration is the built-in one, whose centers reach ±512 mm.
     let empty_cfg = tmp("empty.toml");
     std::fs::write(&empty_cfg, "").unwrap();
-    let cases: [(&[&str], &str); 7] = [
+    let cases: [(&[&str], &str); 8] = [
         (
             &[
                 "detect",
@@ -248,6 +282,10 @@ fn model_errors_name_the_problem() {
         (
             &["plan", "--scene", f, "--fp-rate", "2"],
             "false-positive rate aim 2",
+        ),
+        (
+            &["error", "--scene", f, "--broad-phases", "grid,warp"],
+            "unknown broad phase `warp`",
         ),
         (
             &[

@@ -3,7 +3,8 @@
 //! the worst AABB inflation, and the configuration at a data width. Shared by `obbcd error`,
 //! `obbcd detect --engine model` and the planner (`plan`).
 
-use super::{HwConfig, ModelFrame};
+use super::grid::MAX_KEY_BITS;
+use super::{BroadPhase, HwConfig, ModelFrame};
 use crate::aabb::Aabb;
 use crate::engines::{detect, EngineKind, Pair};
 use crate::groups::GroupMask;
@@ -40,11 +41,16 @@ pub fn false_positive_rate(false_positives: usize, reported: usize) -> f64 {
 }
 
 /// `base` at data width `w`: centers and sort keys of `w` bits (half-lengths and radix digits
-/// no wider), its LSB not yet fitted to a scene.
+/// no wider; the grid's keys at most `MAX_KEY_BITS`, what its block holds), its LSB not yet
+/// fitted to a scene.
 pub fn at_width(base: &HwConfig, w: u32) -> HwConfig {
+    let keys = match base.broad_phase {
+        BroadPhase::Grid => w.min(MAX_KEY_BITS),
+        _ => w,
+    };
     HwConfig {
         center_bits: w,
-        key_bits: w,
+        key_bits: keys,
         half_bits: base.half_bits.min(w - 1),
         radix_digit_bits: base.radix_digit_bits.min(w),
         ..base.clone()

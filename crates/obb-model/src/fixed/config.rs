@@ -35,6 +35,28 @@ impl std::fmt::Display for BroadPhase {
     }
 }
 
+impl BroadPhase {
+    /// Every broad phase, the default first.
+    pub const ALL: [BroadPhase; 4] = [
+        BroadPhase::Grid,
+        BroadPhase::Sweep,
+        BroadPhase::ImprovedSap,
+        BroadPhase::Brute,
+    ];
+}
+
+impl std::str::FromStr for BroadPhase {
+    type Err = String;
+
+    /// The names `Display` writes (and the TOML takes).
+    fn from_str(s: &str) -> Result<Self, String> {
+        BroadPhase::ALL
+            .into_iter()
+            .find(|b| b.to_string() == s)
+            .ok_or_else(|| format!("unknown broad phase `{s}`: grid, sweep, improved-sap or brute"))
+    }
+}
+
 /// Width of a box's group number in the core: groups 0 to 7.
 pub const GROUP_BITS: u32 = 3;
 /// The most grid walker lanes (`lanes`).

@@ -402,11 +402,7 @@ fn check_aims(scenes: &[Scene], aims: &Aims) -> Result<(), PlanError> {
 
 /// `base` at data width `w` (keys no wider than the grid takes), its LSB fitted to `scenes`.
 fn widths(base: &HwConfig, w: u32, scenes: &[Scene]) -> HwConfig {
-    HwConfig {
-        key_bits: w.min(MAX_KEY_BITS),
-        ..at_width(base, w)
-    }
-    .fitted_all(scenes)
+    at_width(base, w).fitted_all(scenes)
 }
 
 /// `cfg` with grid cells as large as the largest box's key extent, so that no box takes the
