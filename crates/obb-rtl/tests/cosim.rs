@@ -186,6 +186,46 @@ fn grid_core_on_all_pairs_and_under_back_pressure() {
 /// surgical scene; each on a frame over capacity, which it flags, reporting nothing (the grid
 /// after walking the boxes it took). Icarus runs the grid's 27 banks at under a hundred clocks
 /// a second, so the grid's longer frames run in Verilator alone, here and in the other tests.
+/// Cores planned for their scenes (`obbcd plan`: narrower widths, the capacity, the broad phase
+/// and the cell from the scene): each in Verilator on its scene equals the model, clock for
+/// clock, and takes the clocks the plan reports.
+#[test]
+fn planned_cores_on_their_scenes() {
+    use obb_model::fixed::plan::{plan, Aims};
+    for (name, scene, groups) in [
+        ("stiff, planned", stiff(), GroupMask::All),
+        (
+            "surgical 2000 cross-group, planned",
+            surgical(2000, 3).unwrap(),
+            GroupMask::Cross,
+        ),
+    ] {
+        let aims = Aims {
+            groups,
+            ..Aims::default()
+        };
+        let p = plan(std::slice::from_ref(&scene), &aims).unwrap();
+        assert_ne!(
+            p.cfg.capacity,
+            HwConfig::default().capacity,
+            "{}",
+            p.summary()
+        );
+        let design = obb_rtl::generate::core(&p.cfg).unwrap();
+        let got = cosim(
+            &p.cfg,
+            &design,
+            Level::Rtl,
+            Simulator::Verilator,
+            &scene,
+            1,
+            name,
+        );
+        assert_eq!(got.cycles, p.scenes[0].clocks, "{name}: {}", p.summary());
+        eprintln!("{name}: {}", p.summary());
+    }
+}
+
 #[test]
 fn small_cores_in_verilator_and_icarus() {
     let grid = HwConfig {
