@@ -105,6 +105,22 @@ fn plans_follow_the_aims() {
     let (fast, fast_clocks) = lanes(1.01e9 / (clocks as f64 * 4.0));
     assert!(fast > 1, "one lane does not reach the rate");
     assert!(fast_clocks < clocks);
+    // A rate no core reaches: the plan says so, naming the rate it does reach.
+    let beyond = plan(
+        &scene,
+        &Aims {
+            rate_hz: Some(1e12),
+            ..Aims::default()
+        },
+    )
+    .unwrap();
+    assert!(
+        beyond.unmet.len() == 1 && beyond.unmet[0].contains("below the 1000000000000 Hz asked"),
+        "{:?}",
+        beyond.unmet
+    );
+    assert!(beyond.to_toml().contains("# Aim not met: "));
+    assert!(loose.unmet.is_empty() && strict.unmet.is_empty());
     // Cross-group asks for fewer pairs: no more clocks than all pairs.
     let cross = plan(
         &scene,

@@ -43,6 +43,10 @@ impl AimArgs {
             rate_hz: self.rate_hz,
             period_ns: self.period_ns,
         };
-        plan(&scenes, &aims).context("cannot plan a configuration for the scenes")
+        let plan = plan(&scenes, &aims).context("cannot plan a configuration for the scenes")?;
+        for aim in &plan.unmet {
+            eprintln!("warning: aim not met: {aim}");
+        }
+        Ok(plan)
     }
 }

@@ -142,6 +142,9 @@ fn model_config(a: &DetectArgs, scene: &Scene) -> Result<HwConfig> {
             "planned for the scene (obbcd plan writes it; --config takes a file): {}",
             plan.summary()
         );
+        for aim in &plan.unmet {
+            eprintln!("warning: aim not met: {aim}");
+        }
         return Ok(plan.cfg);
     };
     let mut cfg = HwConfig::load(path)?;

@@ -75,6 +75,8 @@ pub struct Plan {
     pub cfg: HwConfig,
     pub choices: Vec<Choice>,
     pub scenes: Vec<SceneFigures>,
+    /// The aims the planned core does not meet, each with the figure that falls short.
+    pub unmet: Vec<String>,
 }
 
 /// Why no configuration can be planned.
@@ -377,10 +379,27 @@ pub fn plan(scenes: &[Scene], aims: &Aims) -> Result<Plan, PlanError> {
             false_positives: fp.len(),
         });
     }
+    let mut unmet = Vec::new();
+    if rate > aims.fp_rate {
+        unmet.push(format!(
+            "false-positive rate {rate:.4} on scene {}, above the {} asked (the widest width)",
+            worst.scene, aims.fp_rate
+        ));
+    }
+    let slowest = figures.iter().map(|f| f.clocks).max().unwrap_or(0);
+    if let Some(f) = aims.rate_hz.filter(|&f| frame_rate(slowest) < f) {
+        unmet.push(format!(
+            "{:.0} frames per second at {} ns ({slowest} clocks on the slowest scene), below \
+             the {f} Hz asked",
+            frame_rate(slowest),
+            aims.period_ns
+        ));
+    }
     Ok(Plan {
         cfg,
         choices,
         scenes: figures,
+        unmet,
     })
 }
 
@@ -528,6 +547,9 @@ impl Plan {
         let mut out = String::from(
             "# Planned by obbcd plan: each key's comment names the figure that decided it.\n",
         );
+        for aim in &self.unmet {
+            out.push_str(&format!("# Aim not met: {aim}.\n"));
+        }
         for line in self.cfg.to_toml().lines() {
             let key = line.split(" = ").next().unwrap_or("");
             match self.choices.iter().find(|c| c.key == key) {
