@@ -39,8 +39,9 @@ enum Command {
     Stats(stats::StatsArgs),
     /// Time every engine and parry3d on the surgical scene and on uniform scenes.
     Bench(bench::BenchArgs),
-    /// For each data width: the fixed-point model's false positives and negatives against the
-    /// f64 reference, the worst AABB inflation and the modelled cycles per frame.
+    /// Error against run time: for each data width and broad phase, the fixed-point model's
+    /// false positives and negatives against the f64 reference, the worst AABB inflation, the
+    /// clocks, the period and the frame time, and the Pareto front (CSV, SVG plot).
     Error(error::ErrorArgs),
     /// Plan a hardware configuration from scenes and aims: each key with the figure that
     /// decided it (TOML).
