@@ -171,16 +171,17 @@ pub fn plan(scenes: &[Scene], aims: &Aims) -> Result<Plan, PlanError> {
         .collect();
 
     // The narrowest width whose false-positive rate meets the aim on every scene.
+    // The scenes are quantized once a width: the cell changes no key.
     let mut chosen = None;
     for w in MIN_WIDTH..=MAX_WIDTH {
-        let cfg = with_fitted_cell(&widths(&base, w, scenes), scenes)?;
-        let worst = worst_fp_rate(&cfg, scenes, &references, w)?;
-        if worst.rate <= aims.fp_rate {
-            chosen = Some((w, cfg, worst));
+        let at = widths(&base, w, scenes);
+        let quantized = frames(&at, scenes)?;
+        let cfg = with_fitted_cell(&at, &quantized);
+        let worst = worst_fp_rate(&frames_with(&quantized, &cfg), &references, w)?;
+        let meets = worst.rate <= aims.fp_rate;
+        chosen = Some((w, cfg, worst));
+        if meets {
             break;
-        }
-        if w == MAX_WIDTH {
-            chosen = Some((w, cfg, worst));
         }
     }
     let (w, cfg, worst) = chosen.expect("the widths are not empty");
@@ -424,10 +425,10 @@ fn widths(base: &HwConfig, w: u32, scenes: &[Scene]) -> HwConfig {
     at_width(base, w).fitted_all(scenes)
 }
 
-/// `cfg` with grid cells as large as the largest box's key extent, so that no box takes the
-/// slow path.
-fn with_fitted_cell(cfg: &HwConfig, scenes: &[Scene]) -> Result<HwConfig, PlanError> {
-    let extent = frames(cfg, scenes)?
+/// `cfg` with grid cells as large as the largest key extent of a box of `frames` (quantized in
+/// `cfg`'s formats), so that no box takes the slow path.
+fn with_fitted_cell(cfg: &HwConfig, frames: &[ModelFrame]) -> HwConfig {
+    let extent = frames
         .iter()
         .flat_map(|f| &f.keys)
         .flat_map(|(lo, hi)| (0..3).map(move |x| hi[x] - lo[x]))
@@ -435,10 +436,10 @@ fn with_fitted_cell(cfg: &HwConfig, scenes: &[Scene]) -> Result<HwConfig, PlanEr
         .unwrap_or(0);
     let bits = (64 - extent.max(1).saturating_sub(1).leading_zeros()).min(cfg.key_bits);
     let key_unit = cfg.lsb_mm * f64::from(1u32 << cfg.key_shift());
-    Ok(HwConfig {
+    HwConfig {
         grid_cell_mm: key_unit * f64::from(1u32 << bits),
         ..cfg.clone()
-    })
+    }
 }
 
 /// The scenes in `cfg`'s formats.
@@ -481,17 +482,16 @@ struct FalsePositives {
     pairs: usize,
 }
 
-/// The scene of `scenes` with the worst false-positive rate under `cfg`; a missed pair is an
-/// error.
+/// The frame of `frames` (the scenes under one configuration) with the worst false-positive
+/// rate; a missed pair is an error.
 fn worst_fp_rate(
-    cfg: &HwConfig,
-    scenes: &[Scene],
+    frames: &[ModelFrame],
     references: &[Vec<Pair>],
     width: u32,
 ) -> Result<FalsePositives, PlanError> {
     let mut worst = FalsePositives::default();
-    for (k, f) in frames(cfg, scenes)?.iter().enumerate() {
-        let run = f.detect(BroadPhase::Grid, &cfg.groups);
+    for (k, f) in frames.iter().enumerate() {
+        let run = f.detect(BroadPhase::Grid, &f.cfg.groups);
         let (fp, missed) = differences(&run.pairs, &references[k]);
         if let Some(&first) = missed.first() {
             return Err(PlanError::Missed {
