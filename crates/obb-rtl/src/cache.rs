@@ -36,6 +36,12 @@ pub fn key(parts: &[&[u8]]) -> String {
         .collect()
 }
 
+/// The entry `name` in `cache` if it is built, without building it.
+pub fn built(cache: &Path, name: &str) -> Option<PathBuf> {
+    let dir = cache.join(name);
+    dir.join("ok").is_file().then_some(dir)
+}
+
 /// The entry `name` in `cache`, built by `build` (in a fresh directory) if it is not there yet.
 /// Returns the entry's directory and whether it was already built.
 pub fn entry(
@@ -48,10 +54,10 @@ pub fn entry(
     static BUILDING: Mutex<()> = Mutex::new(());
     static CALLS: AtomicUsize = AtomicUsize::new(0);
     let _one = BUILDING.lock().unwrap_or_else(|p| p.into_inner());
-    let dir = cache.join(name);
-    if dir.join("ok").is_file() {
+    if let Some(dir) = built(cache, name) {
         return Ok((dir, true));
     }
+    let dir = cache.join(name);
     std::fs::create_dir_all(cache).with_context(|| format!("cannot create {}", cache.display()))?;
     let call = CALLS.fetch_add(1, Ordering::Relaxed);
     let work = cache.join(format!("{name}.{}-{call}.tmp", std::process::id()));

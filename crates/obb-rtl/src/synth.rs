@@ -260,10 +260,23 @@ fn netlist_entry(verilog: &str, top: &str, mapping: Mapping) -> Result<(String, 
         }
     );
     let name = format!(
-        "yosys-{}",
+        "{NETLIST_PREFIX}{}",
         cache::key(&[verilog.as_bytes(), &version, script.as_bytes()])
     );
     Ok((script, name))
+}
+
+/// The start of a netlist's cache entry name.
+const NETLIST_PREFIX: &str = "yosys-";
+
+/// Whether `cache` holds any netlist: a cheap look before generating Verilog to find one.
+pub fn has_netlists(cache: &Path) -> bool {
+    std::fs::read_dir(cache)
+        .map(|d| {
+            d.flatten()
+                .any(|e| e.file_name().to_string_lossy().starts_with(NETLIST_PREFIX))
+        })
+        .unwrap_or(false)
 }
 
 /// The yosys netlist of `verilog` (top module `top`) mapped for `mapping`, from `cache` or
@@ -305,10 +318,11 @@ pub fn period_ns(verilog: &str, top: &str, cache: &Path, synthesize: bool) -> Re
         Err(_) if !synthesize => return Ok(None),
         Err(e) => return Err(e),
     };
-    if !synthesize && !cache.join(&name).join("ok").is_file() {
-        return Ok(None);
-    }
-    let (netlist, _) = netlist(verilog, top, Mapping::Report, cache)?;
+    let netlist = match cache::built(cache, &name) {
+        Some(dir) => dir,
+        None if synthesize => netlist(verilog, top, Mapping::Report, cache)?.0,
+        None => return Ok(None),
+    };
     let (dir, _) = cache::entry(cache, &format!("period-{name}"), |dir| {
         let report = analyze(&netlist.join("net.json"), top)?;
         std::fs::write(dir.join("period_ns"), report.worst.delay_ns.to_string())?;

@@ -118,7 +118,6 @@ pub struct Row {
     pub lsb_um: f64,
     pub pairs: usize,
     pub false_positives: usize,
-    pub fp_rate: f64,
     pub false_negatives: usize,
     pub inflation_um: f64,
     pub clocks: u64,
@@ -128,6 +127,10 @@ pub struct Row {
 }
 
 impl Row {
+    pub fn fp_rate(&self) -> f64 {
+        false_positive_rate(self.false_positives, self.pairs)
+    }
+
     pub fn frame_ms(&self) -> f64 {
         self.clocks as f64 * self.period_ns * 1e-6
     }
@@ -141,9 +144,9 @@ impl Row {
 /// and better on the other beats).
 fn mark_pareto(rows: &mut [Row]) {
     for k in 0..rows.len() {
-        let (t, e) = (rows[k].frame_ms(), rows[k].fp_rate);
+        let (t, e) = (rows[k].frame_ms(), rows[k].fp_rate());
         rows[k].pareto = !rows.iter().any(|o| {
-            let (ot, oe) = (o.frame_ms(), o.fp_rate);
+            let (ot, oe) = (o.frame_ms(), o.fp_rate());
             ot <= t && oe <= e && (ot < t || oe < e)
         });
     }
@@ -183,12 +186,7 @@ pub fn run(a: ErrorArgs) -> Result<()> {
         .clone()
         .unwrap_or_else(cache::default_dir)
         .join("synth");
-    let known = std::fs::read_dir(&cache)
-        .map(|d| {
-            d.flatten()
-                .any(|e| e.file_name().to_string_lossy().starts_with("yosys-"))
-        })
-        .unwrap_or(false);
+    let known = synth::has_netlists(&cache);
     println!(
         "groups={} reference_pairs={} obbs={}",
         base.groups,
@@ -232,7 +230,6 @@ pub fn run(a: ErrorArgs) -> Result<()> {
                 lsb_um: cfg.lsb_mm * 1e3,
                 pairs: run.pairs.len(),
                 false_positives: fp.len(),
-                fp_rate: false_positive_rate(fp.len(), run.pairs.len()),
                 false_negatives: missed.len(),
                 inflation_um: worst_inflation_um(&frame, &scene),
                 clocks: run.cycles.total,
@@ -289,7 +286,7 @@ const COLUMNS: [Column; 14] = [
     ("false_positives", 15, |r| {
         Cell::Int(r.false_positives as u64)
     }),
-    ("fp_rate", 7, |r| Cell::Real(r.fp_rate, 4)),
+    ("fp_rate", 7, |r| Cell::Real(r.fp_rate(), 4)),
     ("false_negatives", 15, |r| {
         Cell::Int(r.false_negatives as u64)
     }),
@@ -348,14 +345,14 @@ fn csv(rows: &[Row]) -> String {
 mod tests {
     use super::*;
 
-    fn row(clocks: u64, fp_rate: f64) -> Row {
+    /// A row of `clocks` whose false-positive rate is `tenths` / 10.
+    fn row(clocks: u64, tenths: usize) -> Row {
         Row {
             width: 16,
             broad_phase: BroadPhase::Grid,
             lsb_um: 1.0,
             pairs: 10,
-            false_positives: 0,
-            fp_rate,
+            false_positives: tenths,
             false_negatives: 0,
             inflation_um: 0.0,
             clocks,
@@ -367,15 +364,15 @@ mod tests {
 
     #[test]
     fn the_pareto_front_keeps_what_nothing_beats() {
-        // (clocks, rate): the fastest, the most accurate, one between them on the front, one
+        // (clocks, tenths of a rate): the fastest, the most accurate, one between them on the front, one
         // beaten on both, one tied on time and worse on error, and a duplicate of a front point.
         let mut rows = vec![
-            row(100, 0.5),
-            row(1000, 0.0),
-            row(300, 0.1),
-            row(400, 0.2),
-            row(100, 0.6),
-            row(300, 0.1),
+            row(100, 5),
+            row(1000, 0),
+            row(300, 1),
+            row(400, 2),
+            row(100, 6),
+            row(300, 1),
         ];
         mark_pareto(&mut rows);
         let front: Vec<bool> = rows.iter().map(|r| r.pareto).collect();

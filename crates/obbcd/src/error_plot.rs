@@ -17,7 +17,7 @@ pub fn svg(rows: &[Row], title: &str, path: &Path) -> Result<()> {
         bail!("nothing to plot: no configuration completed a frame");
     };
     let slowest = rows.iter().map(Row::frame_ms).fold(fastest, f64::max);
-    let worst = rows.iter().map(|r| r.fp_rate).fold(0.01, f64::max);
+    let worst = rows.iter().map(|r| r.fp_rate()).fold(0.01, f64::max);
     let root = SVGBackend::new(path, (1000, 640)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
@@ -46,7 +46,7 @@ pub fn svg(rows: &[Row], title: &str, path: &Path) -> Result<()> {
                     PeriodFrom::Synthesis => color.filled(),
                     PeriodFrom::ClockNs => color.stroke_width(2),
                 };
-                Circle::new((r.frame_ms(), r.fp_rate), 5, style)
+                Circle::new((r.frame_ms(), r.fp_rate()), 5, style)
             }))?
             .label(phase.to_string())
             .legend(move |(x, y)| Circle::new((x, y), 5, color.filled()));
@@ -55,7 +55,7 @@ pub fn svg(rows: &[Row], title: &str, path: &Path) -> Result<()> {
     front.sort_by(|a, b| a.frame_ms().total_cmp(&b.frame_ms()));
     chart
         .draw_series(LineSeries::new(
-            front.iter().map(|r| (r.frame_ms(), r.fp_rate)),
+            front.iter().map(|r| (r.frame_ms(), r.fp_rate())),
             BLACK.stroke_width(1),
         ))?
         .label("Pareto front")
@@ -63,7 +63,7 @@ pub fn svg(rows: &[Row], title: &str, path: &Path) -> Result<()> {
     chart.draw_series(front.iter().map(|r| {
         Text::new(
             format!(" {} bits", r.width),
-            (r.frame_ms(), r.fp_rate),
+            (r.frame_ms(), r.fp_rate()),
             (FONT, 12),
         )
     }))?;
