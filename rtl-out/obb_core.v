@@ -2,11 +2,12 @@
 // Configuration: center_bits=20 half_bits=17 rot_bits=18 key_bits=20 lsb_mm=0.0009765625
 
 
-module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_center$1,obb_center$2,obb_half$0,obb_half$1,obb_half$2,obb_axes$0,obb_axes$1,obb_axes$2,obb_axes$3,obb_axes$4,obb_axes$5,obb_axes$6,obb_axes$7,obb_axes$8,obb_group,pair_valid,pair_ready,pair_a,pair_b,done,busy,capacity_exceeded,cycles,candidates,sat_tests,pairs);
+module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_center$0,obb_center$1,obb_center$2,obb_half$0,obb_half$1,obb_half$2,obb_axes$0,obb_axes$1,obb_axes$2,obb_axes$3,obb_axes$4,obb_axes$5,obb_axes$6,obb_axes$7,obb_axes$8,obb_group,pair_valid,pair_ready,pair_a,pair_b,done,busy,capacity_exceeded,cycles,candidates,sat_tests,pairs);
     
     // Module arguments
     input wire  clock;
     input wire  frame_start;
+    input wire  frame_update;
     input wire  obb_valid;
     output reg  obb_ready;
     input wire  obb_last;
@@ -46,6 +47,8 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     localparam  mask = 64'h7fbfdfeff7fbfdfe;
     localparam  drain = 8'h1a;
     localparam  grid_drain = 8'h17;
+    localparam  resident_set = 8'h0;
+    localparam  has_resident = 1'b0;
     
     // Enums
     localparam CoreState$Idle = 0;
@@ -84,6 +87,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     wire  [27:0] projection$margin;
     reg  grid$0$clock;
     reg  grid$0$start;
+    reg  grid$0$update;
     reg  grid$0$accept;
     reg  grid$0$loaded;
     wire  grid$0$credit;
@@ -343,6 +347,18 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  [39:0] n_pairs$d;
     wire  [39:0] n_pairs$q;
     reg  n_pairs$clock;
+    reg  [15:0] res_loaded$d;
+    wire  [15:0] res_loaded$q;
+    reg  res_loaded$clock;
+    reg  res_room$d;
+    wire  res_room$q;
+    reg  res_room$clock;
+    reg  haptic$d;
+    wire  haptic$q;
+    reg  haptic$clock;
+    reg  streamed_seen$d;
+    wire  streamed_seen$q;
+    reg  streamed_seen$clock;
     reg  k_valid$d;
     wire  k_valid$q;
     reg  k_valid$clock;
@@ -788,6 +804,8 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     reg  candidate;
     reg  swap;
     reg  hit;
+    reg  [7:0] res_row;
+    reg  obb_res;
     
     // Sub module instances
     obb_core$projection projection(
@@ -820,6 +838,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
     obb_core$grid$0 grid$0(
         .clock(grid$0$clock),
         .start(grid$0$start),
+        .update(grid$0$update),
         .accept(grid$0$accept),
         .loaded(grid$0$loaded),
         .credit(grid$0$credit),
@@ -1155,6 +1174,26 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         .d(n_pairs$d),
         .q(n_pairs$q),
         .clock(n_pairs$clock)
+    );
+    obb_core$res_loaded res_loaded(
+        .d(res_loaded$d),
+        .q(res_loaded$q),
+        .clock(res_loaded$clock)
+    );
+    obb_core$res_room res_room(
+        .d(res_room$d),
+        .q(res_room$q),
+        .clock(res_room$clock)
+    );
+    obb_core$haptic haptic(
+        .d(haptic$d),
+        .q(haptic$q),
+        .clock(haptic$clock)
+    );
+    obb_core$streamed_seen streamed_seen(
+        .d(streamed_seen$d),
+        .q(streamed_seen$q),
+        .clock(streamed_seen$clock)
     );
     obb_core$k_valid k_valid(
         .d(k_valid$d),
@@ -1852,6 +1891,10 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         n_tests$clock = clock;
         n_pairs$clock = clock;
         pending$clock = clock;
+        res_loaded$clock = clock;
+        res_room$clock = clock;
+        haptic$clock = clock;
+        streamed_seen$clock = clock;
         k_valid$clock = clock;
         k_i$clock = clock;
         k_j$clock = clock;
@@ -1890,6 +1933,10 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
         n_tests$d = n_tests$q;
         n_pairs$d = n_pairs$q;
         pending$d = pending$q;
+        res_loaded$d = res_loaded$q;
+        res_room$d = res_room$q;
+        haptic$d = haptic$q;
+        streamed_seen$d = streamed_seen$q;
         k_valid$d = k_valid$q;
         k_i$d = k_i$q;
         k_j$d = k_j$q;
@@ -2164,6 +2211,22 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
                 room$d = 1'b0;
             end
         end
+        res_row = resident_set >> ((obb_group) & 8'hff);
+        obb_res = has_resident & res_row[32'h0];
+        if (accept) begin
+            if (obb_res) begin
+                if (haptic$q | streamed_seen$q) begin
+                    over$d = 1'b1;
+                end
+                else begin
+                    res_loaded$d = loaded$q + 32'h1;
+                    res_room$d = loaded$q != last_slot;
+                end
+            end
+            else begin
+                streamed_seen$d = 1'b1;
+            end
+        end
         projected_at = ((projected$q) & 15'h7fff);
         if (sweep) begin
             sort_in_valid = projection$valid_out;
@@ -2174,6 +2237,7 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
             projected$d = projected$q + 32'h1;
         end
         grid$0$start = frame_start;
+        grid$0$update = frame_update;
         grid$0$accept = accept;
         grid$0$loaded = ~ready$q & ~frame_start;
         grid$0$key_valid = projection$valid_out;
@@ -2520,6 +2584,19 @@ module obb_core(clock,frame_start,obb_valid,obb_ready,obb_last,obb_center$0,obb_
             n_visits$d = 32'h0;
             n_tests$d = 32'h0;
             n_pairs$d = 32'h0;
+            streamed_seen$d = 1'b0;
+            haptic$d = has_resident & ~frame_update;
+            if (has_resident) begin
+                if (frame_update) begin
+                    res_loaded$d = 32'h0;
+                    res_room$d = 1'b1;
+                end
+                else begin
+                    loaded$d = res_loaded$q;
+                    projected$d = res_loaded$q;
+                    room$d = res_room$q;
+                end
+            end
         end
     end
     
@@ -4133,11 +4210,12 @@ module obb_core$geo_half_b$2(d,q,clock);
 endmodule // obb_core$geo_half_b$2
 
 
-module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x,key_min_y,key_min_z,key_max_x,key_max_y,key_max_z,key_margin,key_group,visit,visit_i0,visit_i1,visit_i2,visit_i3,visit_j0,visit_j1,visit_j2,visit_j3,visited,cand_valid,cand_ready,cand_a,cand_b,cand_ma,cand_mb,walked,finished,too_wide);
+module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_index,key_min_x,key_min_y,key_min_z,key_max_x,key_max_y,key_max_z,key_margin,key_group,visit,visit_i0,visit_i1,visit_i2,visit_i3,visit_j0,visit_j1,visit_j2,visit_j3,visited,cand_valid,cand_ready,cand_a,cand_b,cand_ma,cand_mb,walked,finished,too_wide);
     
     // Module arguments
     input wire  clock;
     input wire  start;
+    input wire  update;
     input wire  accept;
     input wire  loaded;
     output reg  credit;
@@ -4181,6 +4259,12 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     localparam  lane_at$0 = 8'h0;
     localparam  last_bucket = 20'h3ff;
     localparam  mask = 64'h7fbfdfeff7fbfdfe;
+    localparam  haptic_mask = 64'h7fbfdfeff7fbfdfe;
+    localparam  resident_set = 8'h0;
+    localparam  has_resident = 1'b0;
+    localparam  group_streamed$0 = 1'b1;
+    localparam  group_streamed$1 = 1'b1;
+    localparam  group_streamed$2 = 1'b1;
     localparam  credits_used = 7'b1100000;
     localparam  top = 16'h8000;
     localparam  index_mask = 16'h7fff;
@@ -11308,6 +11392,21 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  credit_q$d;
     wire  credit_q$q;
     reg  credit_q$clock;
+    reg  [63:0] fmask$d;
+    wire  [63:0] fmask$q;
+    reg  fmask$clock;
+    reg  pre_clear$d;
+    wire  pre_clear$q;
+    reg  pre_clear$clock;
+    reg  [15:0] res_lnext$0$d;
+    wire  [15:0] res_lnext$0$q;
+    reg  res_lnext$0$clock;
+    reg  [15:0] res_lnext2$0$d;
+    wire  [15:0] res_lnext2$0$q;
+    reg  res_lnext2$0$clock;
+    reg  update_q$d;
+    wire  update_q$q;
+    reg  update_q$clock;
     
     // Local signals
     reg  [22:0] key_min$0;
@@ -13198,6 +13297,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
     reg  out_valid;
     reg  drained;
     reg  [63:0] lrow;
+    reg  clear_last;
+    reg  [7:0] res_row;
+    reg  s3_res;
     
     // Sub module instances
     obb_core$grid$0$cells cells(
@@ -23957,6 +24059,31 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         .q(credit_q$q),
         .clock(credit_q$clock)
     );
+    obb_core$grid$0$fmask fmask(
+        .d(fmask$d),
+        .q(fmask$q),
+        .clock(fmask$clock)
+    );
+    obb_core$grid$0$pre_clear pre_clear(
+        .d(pre_clear$d),
+        .q(pre_clear$q),
+        .clock(pre_clear$clock)
+    );
+    obb_core$grid$0$res_lnext$0 res_lnext$0(
+        .d(res_lnext$0$d),
+        .q(res_lnext$0$q),
+        .clock(res_lnext$0$clock)
+    );
+    obb_core$grid$0$res_lnext2$0 res_lnext2$0(
+        .d(res_lnext2$0$d),
+        .q(res_lnext2$0$q),
+        .clock(res_lnext2$0$clock)
+    );
+    obb_core$grid$0$update_q update_q(
+        .d(update_q$d),
+        .q(update_q$q),
+        .clock(update_q$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -24002,6 +24129,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         inj_kind$clock = clock;
         idle$clock = clock;
         credit_q$clock = clock;
+        fmask$clock = clock;
+        pre_clear$clock = clock;
+        update_q$clock = clock;
         s1_valid$d = s1_valid$q;
         s1_index$d = s1_index$q;
         s1_margin$d = s1_margin$q;
@@ -24044,6 +24174,9 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         inj_kind$d = inj_kind$q;
         idle$d = idle$q;
         credit_q$d = credit_q$q;
+        fmask$d = fmask$q;
+        pre_clear$d = pre_clear$q;
+        update_q$d = update_q$q;
         cells$clock = clock;
         s4_bucket$0$clock = clock;
         s4_fp$0$clock = clock;
@@ -26149,6 +26282,10 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         v3_word$0$clock = clock;
         lnext$0$clock = clock;
         lnext2$0$clock = clock;
+        res_lnext$0$clock = clock;
+        res_lnext2$0$clock = clock;
+        res_lnext$0$d = res_lnext$0$q;
+        res_lnext2$0$d = res_lnext2$0$q;
         slane$0$clock = clock;
         lnext$0$d = lnext$0$q;
         lnext2$0$d = lnext2$0$q;
@@ -26581,7 +26718,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s2_max$2$d = s1_max$2$q;
         s3_min$2$d = s2_min$2$q;
         s3_max$2$d = s2_max$2$q;
-        allowed = mask >> (((s2_group$q) & 64'hffffffffffffffff) << 64'h3);
+        allowed = fmask$q >> (((s2_group$q) & 64'hffffffffffffffff) << 64'h3);
         s3_allowed$d = allowed;
         entry = s3_index$q | top;
         s3_lane$0$d = (s2_index$q & lane_mask) == lane_id$0;
@@ -27481,11 +27618,17 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         s4_home_fp$d = cells$home_fp;
         large_in = s3_valid$q & (s3_kind$q == 32'h0) & ~cells$small_box;
         s4_large$d = large_in;
+        res_row = resident_set >> ((s3_group$q) & 8'hff);
+        s3_res = update_q$q & res_row[32'h0];
         if (s3_lane$0$q) begin
             s4_lprev$d = lnext2$0$q;
             if (large_in) begin
                 lnext$0$d = entry;
                 lnext2$0$d = lnext$0$q;
+                if (s3_res) begin
+                    res_lnext$0$d = entry;
+                    res_lnext2$0$d = lnext$0$q;
+                end
             end
         end
         s4_valid$d = s3_valid$q;
@@ -27569,7 +27712,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$0$write_enable = s4_enter$0$q;
         head2$0$write_address = s4_bucket$0$q;
         head2$0$write_data = old_eff$0;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$0$write_enable = 1'b1;
             meta$0$write_address = clear_at$q;
             meta$0$write_data = 32'h0;
@@ -27631,7 +27774,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$1$write_enable = s4_enter$1$q;
         head2$1$write_address = s4_bucket$1$q;
         head2$1$write_data = old_eff$1;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$1$write_enable = 1'b1;
             meta$1$write_address = clear_at$q;
             meta$1$write_data = 32'h0;
@@ -27693,7 +27836,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$2$write_enable = s4_enter$2$q;
         head2$2$write_address = s4_bucket$2$q;
         head2$2$write_data = old_eff$2;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$2$write_enable = 1'b1;
             meta$2$write_address = clear_at$q;
             meta$2$write_data = 32'h0;
@@ -27755,7 +27898,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$3$write_enable = s4_enter$3$q;
         head2$3$write_address = s4_bucket$3$q;
         head2$3$write_data = old_eff$3;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$3$write_enable = 1'b1;
             meta$3$write_address = clear_at$q;
             meta$3$write_data = 32'h0;
@@ -27817,7 +27960,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$4$write_enable = s4_enter$4$q;
         head2$4$write_address = s4_bucket$4$q;
         head2$4$write_data = old_eff$4;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$4$write_enable = 1'b1;
             meta$4$write_address = clear_at$q;
             meta$4$write_data = 32'h0;
@@ -27879,7 +28022,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$5$write_enable = s4_enter$5$q;
         head2$5$write_address = s4_bucket$5$q;
         head2$5$write_data = old_eff$5;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$5$write_enable = 1'b1;
             meta$5$write_address = clear_at$q;
             meta$5$write_data = 32'h0;
@@ -27941,7 +28084,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$6$write_enable = s4_enter$6$q;
         head2$6$write_address = s4_bucket$6$q;
         head2$6$write_data = old_eff$6;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$6$write_enable = 1'b1;
             meta$6$write_address = clear_at$q;
             meta$6$write_data = 32'h0;
@@ -28003,7 +28146,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$7$write_enable = s4_enter$7$q;
         head2$7$write_address = s4_bucket$7$q;
         head2$7$write_data = old_eff$7;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$7$write_enable = 1'b1;
             meta$7$write_address = clear_at$q;
             meta$7$write_data = 32'h0;
@@ -28065,7 +28208,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$8$write_enable = s4_enter$8$q;
         head2$8$write_address = s4_bucket$8$q;
         head2$8$write_data = old_eff$8;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$8$write_enable = 1'b1;
             meta$8$write_address = clear_at$q;
             meta$8$write_data = 32'h0;
@@ -28127,7 +28270,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$9$write_enable = s4_enter$9$q;
         head2$9$write_address = s4_bucket$9$q;
         head2$9$write_data = old_eff$9;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$9$write_enable = 1'b1;
             meta$9$write_address = clear_at$q;
             meta$9$write_data = 32'h0;
@@ -28189,7 +28332,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$10$write_enable = s4_enter$10$q;
         head2$10$write_address = s4_bucket$10$q;
         head2$10$write_data = old_eff$10;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$10$write_enable = 1'b1;
             meta$10$write_address = clear_at$q;
             meta$10$write_data = 32'h0;
@@ -28251,7 +28394,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$11$write_enable = s4_enter$11$q;
         head2$11$write_address = s4_bucket$11$q;
         head2$11$write_data = old_eff$11;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$11$write_enable = 1'b1;
             meta$11$write_address = clear_at$q;
             meta$11$write_data = 32'h0;
@@ -28313,7 +28456,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$12$write_enable = s4_enter$12$q;
         head2$12$write_address = s4_bucket$12$q;
         head2$12$write_data = old_eff$12;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$12$write_enable = 1'b1;
             meta$12$write_address = clear_at$q;
             meta$12$write_data = 32'h0;
@@ -28375,7 +28518,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$13$write_enable = s4_enter$13$q;
         head2$13$write_address = s4_bucket$13$q;
         head2$13$write_data = old_eff$13;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$13$write_enable = 1'b1;
             meta$13$write_address = clear_at$q;
             meta$13$write_data = 32'h0;
@@ -28437,7 +28580,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$14$write_enable = s4_enter$14$q;
         head2$14$write_address = s4_bucket$14$q;
         head2$14$write_data = old_eff$14;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$14$write_enable = 1'b1;
             meta$14$write_address = clear_at$q;
             meta$14$write_data = 32'h0;
@@ -28499,7 +28642,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$15$write_enable = s4_enter$15$q;
         head2$15$write_address = s4_bucket$15$q;
         head2$15$write_data = old_eff$15;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$15$write_enable = 1'b1;
             meta$15$write_address = clear_at$q;
             meta$15$write_data = 32'h0;
@@ -28561,7 +28704,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$16$write_enable = s4_enter$16$q;
         head2$16$write_address = s4_bucket$16$q;
         head2$16$write_data = old_eff$16;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$16$write_enable = 1'b1;
             meta$16$write_address = clear_at$q;
             meta$16$write_data = 32'h0;
@@ -28623,7 +28766,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$17$write_enable = s4_enter$17$q;
         head2$17$write_address = s4_bucket$17$q;
         head2$17$write_data = old_eff$17;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$17$write_enable = 1'b1;
             meta$17$write_address = clear_at$q;
             meta$17$write_data = 32'h0;
@@ -28685,7 +28828,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$18$write_enable = s4_enter$18$q;
         head2$18$write_address = s4_bucket$18$q;
         head2$18$write_data = old_eff$18;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$18$write_enable = 1'b1;
             meta$18$write_address = clear_at$q;
             meta$18$write_data = 32'h0;
@@ -28747,7 +28890,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$19$write_enable = s4_enter$19$q;
         head2$19$write_address = s4_bucket$19$q;
         head2$19$write_data = old_eff$19;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$19$write_enable = 1'b1;
             meta$19$write_address = clear_at$q;
             meta$19$write_data = 32'h0;
@@ -28809,7 +28952,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$20$write_enable = s4_enter$20$q;
         head2$20$write_address = s4_bucket$20$q;
         head2$20$write_data = old_eff$20;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$20$write_enable = 1'b1;
             meta$20$write_address = clear_at$q;
             meta$20$write_data = 32'h0;
@@ -28871,7 +29014,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$21$write_enable = s4_enter$21$q;
         head2$21$write_address = s4_bucket$21$q;
         head2$21$write_data = old_eff$21;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$21$write_enable = 1'b1;
             meta$21$write_address = clear_at$q;
             meta$21$write_data = 32'h0;
@@ -28933,7 +29076,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$22$write_enable = s4_enter$22$q;
         head2$22$write_address = s4_bucket$22$q;
         head2$22$write_data = old_eff$22;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$22$write_enable = 1'b1;
             meta$22$write_address = clear_at$q;
             meta$22$write_data = 32'h0;
@@ -28995,7 +29138,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$23$write_enable = s4_enter$23$q;
         head2$23$write_address = s4_bucket$23$q;
         head2$23$write_data = old_eff$23;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$23$write_enable = 1'b1;
             meta$23$write_address = clear_at$q;
             meta$23$write_data = 32'h0;
@@ -29057,7 +29200,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$24$write_enable = s4_enter$24$q;
         head2$24$write_address = s4_bucket$24$q;
         head2$24$write_data = old_eff$24;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$24$write_enable = 1'b1;
             meta$24$write_address = clear_at$q;
             meta$24$write_data = 32'h0;
@@ -29119,7 +29262,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$25$write_enable = s4_enter$25$q;
         head2$25$write_address = s4_bucket$25$q;
         head2$25$write_data = old_eff$25;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$25$write_enable = 1'b1;
             meta$25$write_address = clear_at$q;
             meta$25$write_data = 32'h0;
@@ -29181,7 +29324,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$26$write_enable = s4_enter$26$q;
         head2$26$write_address = s4_bucket$26$q;
         head2$26$write_data = old_eff$26;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$26$write_enable = 1'b1;
             meta$26$write_address = clear_at$q;
             meta$26$write_data = 32'h0;
@@ -29243,7 +29386,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$27$write_enable = s4_enter$27$q;
         head2$27$write_address = s4_bucket$0$q;
         head2$27$write_data = old_eff$27;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$27$write_enable = 1'b1;
             meta$27$write_address = clear_at$q;
             meta$27$write_data = 32'h0;
@@ -29305,7 +29448,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$28$write_enable = s4_enter$28$q;
         head2$28$write_address = s4_bucket$1$q;
         head2$28$write_data = old_eff$28;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$28$write_enable = 1'b1;
             meta$28$write_address = clear_at$q;
             meta$28$write_data = 32'h0;
@@ -29367,7 +29510,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$29$write_enable = s4_enter$29$q;
         head2$29$write_address = s4_bucket$2$q;
         head2$29$write_data = old_eff$29;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$29$write_enable = 1'b1;
             meta$29$write_address = clear_at$q;
             meta$29$write_data = 32'h0;
@@ -29429,7 +29572,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$30$write_enable = s4_enter$30$q;
         head2$30$write_address = s4_bucket$3$q;
         head2$30$write_data = old_eff$30;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$30$write_enable = 1'b1;
             meta$30$write_address = clear_at$q;
             meta$30$write_data = 32'h0;
@@ -29491,7 +29634,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$31$write_enable = s4_enter$31$q;
         head2$31$write_address = s4_bucket$4$q;
         head2$31$write_data = old_eff$31;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$31$write_enable = 1'b1;
             meta$31$write_address = clear_at$q;
             meta$31$write_data = 32'h0;
@@ -29553,7 +29696,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$32$write_enable = s4_enter$32$q;
         head2$32$write_address = s4_bucket$5$q;
         head2$32$write_data = old_eff$32;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$32$write_enable = 1'b1;
             meta$32$write_address = clear_at$q;
             meta$32$write_data = 32'h0;
@@ -29615,7 +29758,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$33$write_enable = s4_enter$33$q;
         head2$33$write_address = s4_bucket$6$q;
         head2$33$write_data = old_eff$33;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$33$write_enable = 1'b1;
             meta$33$write_address = clear_at$q;
             meta$33$write_data = 32'h0;
@@ -29677,7 +29820,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$34$write_enable = s4_enter$34$q;
         head2$34$write_address = s4_bucket$7$q;
         head2$34$write_data = old_eff$34;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$34$write_enable = 1'b1;
             meta$34$write_address = clear_at$q;
             meta$34$write_data = 32'h0;
@@ -29739,7 +29882,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$35$write_enable = s4_enter$35$q;
         head2$35$write_address = s4_bucket$8$q;
         head2$35$write_data = old_eff$35;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$35$write_enable = 1'b1;
             meta$35$write_address = clear_at$q;
             meta$35$write_data = 32'h0;
@@ -29801,7 +29944,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$36$write_enable = s4_enter$36$q;
         head2$36$write_address = s4_bucket$9$q;
         head2$36$write_data = old_eff$36;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$36$write_enable = 1'b1;
             meta$36$write_address = clear_at$q;
             meta$36$write_data = 32'h0;
@@ -29863,7 +30006,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$37$write_enable = s4_enter$37$q;
         head2$37$write_address = s4_bucket$10$q;
         head2$37$write_data = old_eff$37;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$37$write_enable = 1'b1;
             meta$37$write_address = clear_at$q;
             meta$37$write_data = 32'h0;
@@ -29925,7 +30068,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$38$write_enable = s4_enter$38$q;
         head2$38$write_address = s4_bucket$11$q;
         head2$38$write_data = old_eff$38;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$38$write_enable = 1'b1;
             meta$38$write_address = clear_at$q;
             meta$38$write_data = 32'h0;
@@ -29987,7 +30130,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$39$write_enable = s4_enter$39$q;
         head2$39$write_address = s4_bucket$12$q;
         head2$39$write_data = old_eff$39;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$39$write_enable = 1'b1;
             meta$39$write_address = clear_at$q;
             meta$39$write_data = 32'h0;
@@ -30049,7 +30192,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$40$write_enable = s4_enter$40$q;
         head2$40$write_address = s4_bucket$13$q;
         head2$40$write_data = old_eff$40;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$40$write_enable = 1'b1;
             meta$40$write_address = clear_at$q;
             meta$40$write_data = 32'h0;
@@ -30111,7 +30254,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$41$write_enable = s4_enter$41$q;
         head2$41$write_address = s4_bucket$14$q;
         head2$41$write_data = old_eff$41;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$41$write_enable = 1'b1;
             meta$41$write_address = clear_at$q;
             meta$41$write_data = 32'h0;
@@ -30173,7 +30316,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$42$write_enable = s4_enter$42$q;
         head2$42$write_address = s4_bucket$15$q;
         head2$42$write_data = old_eff$42;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$42$write_enable = 1'b1;
             meta$42$write_address = clear_at$q;
             meta$42$write_data = 32'h0;
@@ -30235,7 +30378,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$43$write_enable = s4_enter$43$q;
         head2$43$write_address = s4_bucket$16$q;
         head2$43$write_data = old_eff$43;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$43$write_enable = 1'b1;
             meta$43$write_address = clear_at$q;
             meta$43$write_data = 32'h0;
@@ -30297,7 +30440,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$44$write_enable = s4_enter$44$q;
         head2$44$write_address = s4_bucket$17$q;
         head2$44$write_data = old_eff$44;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$44$write_enable = 1'b1;
             meta$44$write_address = clear_at$q;
             meta$44$write_data = 32'h0;
@@ -30359,7 +30502,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$45$write_enable = s4_enter$45$q;
         head2$45$write_address = s4_bucket$18$q;
         head2$45$write_data = old_eff$45;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$45$write_enable = 1'b1;
             meta$45$write_address = clear_at$q;
             meta$45$write_data = 32'h0;
@@ -30421,7 +30564,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$46$write_enable = s4_enter$46$q;
         head2$46$write_address = s4_bucket$19$q;
         head2$46$write_data = old_eff$46;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$46$write_enable = 1'b1;
             meta$46$write_address = clear_at$q;
             meta$46$write_data = 32'h0;
@@ -30483,7 +30626,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$47$write_enable = s4_enter$47$q;
         head2$47$write_address = s4_bucket$20$q;
         head2$47$write_data = old_eff$47;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$47$write_enable = 1'b1;
             meta$47$write_address = clear_at$q;
             meta$47$write_data = 32'h0;
@@ -30545,7 +30688,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$48$write_enable = s4_enter$48$q;
         head2$48$write_address = s4_bucket$21$q;
         head2$48$write_data = old_eff$48;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$48$write_enable = 1'b1;
             meta$48$write_address = clear_at$q;
             meta$48$write_data = 32'h0;
@@ -30607,7 +30750,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$49$write_enable = s4_enter$49$q;
         head2$49$write_address = s4_bucket$22$q;
         head2$49$write_data = old_eff$49;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$49$write_enable = 1'b1;
             meta$49$write_address = clear_at$q;
             meta$49$write_data = 32'h0;
@@ -30669,7 +30812,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$50$write_enable = s4_enter$50$q;
         head2$50$write_address = s4_bucket$23$q;
         head2$50$write_data = old_eff$50;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$50$write_enable = 1'b1;
             meta$50$write_address = clear_at$q;
             meta$50$write_data = 32'h0;
@@ -30731,7 +30874,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$51$write_enable = s4_enter$51$q;
         head2$51$write_address = s4_bucket$24$q;
         head2$51$write_data = old_eff$51;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$51$write_enable = 1'b1;
             meta$51$write_address = clear_at$q;
             meta$51$write_data = 32'h0;
@@ -30793,7 +30936,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$52$write_enable = s4_enter$52$q;
         head2$52$write_address = s4_bucket$25$q;
         head2$52$write_data = old_eff$52;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$52$write_enable = 1'b1;
             meta$52$write_address = clear_at$q;
             meta$52$write_data = 32'h0;
@@ -30855,7 +30998,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$53$write_enable = s4_enter$53$q;
         head2$53$write_address = s4_bucket$26$q;
         head2$53$write_data = old_eff$53;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$53$write_enable = 1'b1;
             meta$53$write_address = clear_at$q;
             meta$53$write_data = 32'h0;
@@ -30917,7 +31060,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$54$write_enable = s4_enter$54$q;
         head2$54$write_address = s4_bucket$0$q;
         head2$54$write_data = old_eff$54;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$54$write_enable = 1'b1;
             meta$54$write_address = clear_at$q;
             meta$54$write_data = 32'h0;
@@ -30979,7 +31122,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$55$write_enable = s4_enter$55$q;
         head2$55$write_address = s4_bucket$1$q;
         head2$55$write_data = old_eff$55;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$55$write_enable = 1'b1;
             meta$55$write_address = clear_at$q;
             meta$55$write_data = 32'h0;
@@ -31041,7 +31184,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$56$write_enable = s4_enter$56$q;
         head2$56$write_address = s4_bucket$2$q;
         head2$56$write_data = old_eff$56;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$56$write_enable = 1'b1;
             meta$56$write_address = clear_at$q;
             meta$56$write_data = 32'h0;
@@ -31103,7 +31246,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$57$write_enable = s4_enter$57$q;
         head2$57$write_address = s4_bucket$3$q;
         head2$57$write_data = old_eff$57;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$57$write_enable = 1'b1;
             meta$57$write_address = clear_at$q;
             meta$57$write_data = 32'h0;
@@ -31165,7 +31308,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$58$write_enable = s4_enter$58$q;
         head2$58$write_address = s4_bucket$4$q;
         head2$58$write_data = old_eff$58;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$58$write_enable = 1'b1;
             meta$58$write_address = clear_at$q;
             meta$58$write_data = 32'h0;
@@ -31227,7 +31370,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$59$write_enable = s4_enter$59$q;
         head2$59$write_address = s4_bucket$5$q;
         head2$59$write_data = old_eff$59;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$59$write_enable = 1'b1;
             meta$59$write_address = clear_at$q;
             meta$59$write_data = 32'h0;
@@ -31289,7 +31432,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$60$write_enable = s4_enter$60$q;
         head2$60$write_address = s4_bucket$6$q;
         head2$60$write_data = old_eff$60;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$60$write_enable = 1'b1;
             meta$60$write_address = clear_at$q;
             meta$60$write_data = 32'h0;
@@ -31351,7 +31494,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$61$write_enable = s4_enter$61$q;
         head2$61$write_address = s4_bucket$7$q;
         head2$61$write_data = old_eff$61;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$61$write_enable = 1'b1;
             meta$61$write_address = clear_at$q;
             meta$61$write_data = 32'h0;
@@ -31413,7 +31556,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$62$write_enable = s4_enter$62$q;
         head2$62$write_address = s4_bucket$8$q;
         head2$62$write_data = old_eff$62;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$62$write_enable = 1'b1;
             meta$62$write_address = clear_at$q;
             meta$62$write_data = 32'h0;
@@ -31475,7 +31618,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$63$write_enable = s4_enter$63$q;
         head2$63$write_address = s4_bucket$9$q;
         head2$63$write_data = old_eff$63;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$63$write_enable = 1'b1;
             meta$63$write_address = clear_at$q;
             meta$63$write_data = 32'h0;
@@ -31537,7 +31680,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$64$write_enable = s4_enter$64$q;
         head2$64$write_address = s4_bucket$10$q;
         head2$64$write_data = old_eff$64;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$64$write_enable = 1'b1;
             meta$64$write_address = clear_at$q;
             meta$64$write_data = 32'h0;
@@ -31599,7 +31742,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$65$write_enable = s4_enter$65$q;
         head2$65$write_address = s4_bucket$11$q;
         head2$65$write_data = old_eff$65;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$65$write_enable = 1'b1;
             meta$65$write_address = clear_at$q;
             meta$65$write_data = 32'h0;
@@ -31661,7 +31804,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$66$write_enable = s4_enter$66$q;
         head2$66$write_address = s4_bucket$12$q;
         head2$66$write_data = old_eff$66;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$66$write_enable = 1'b1;
             meta$66$write_address = clear_at$q;
             meta$66$write_data = 32'h0;
@@ -31723,7 +31866,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$67$write_enable = s4_enter$67$q;
         head2$67$write_address = s4_bucket$13$q;
         head2$67$write_data = old_eff$67;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$67$write_enable = 1'b1;
             meta$67$write_address = clear_at$q;
             meta$67$write_data = 32'h0;
@@ -31785,7 +31928,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$68$write_enable = s4_enter$68$q;
         head2$68$write_address = s4_bucket$14$q;
         head2$68$write_data = old_eff$68;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$68$write_enable = 1'b1;
             meta$68$write_address = clear_at$q;
             meta$68$write_data = 32'h0;
@@ -31847,7 +31990,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$69$write_enable = s4_enter$69$q;
         head2$69$write_address = s4_bucket$15$q;
         head2$69$write_data = old_eff$69;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$69$write_enable = 1'b1;
             meta$69$write_address = clear_at$q;
             meta$69$write_data = 32'h0;
@@ -31909,7 +32052,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$70$write_enable = s4_enter$70$q;
         head2$70$write_address = s4_bucket$16$q;
         head2$70$write_data = old_eff$70;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$70$write_enable = 1'b1;
             meta$70$write_address = clear_at$q;
             meta$70$write_data = 32'h0;
@@ -31971,7 +32114,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$71$write_enable = s4_enter$71$q;
         head2$71$write_address = s4_bucket$17$q;
         head2$71$write_data = old_eff$71;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$71$write_enable = 1'b1;
             meta$71$write_address = clear_at$q;
             meta$71$write_data = 32'h0;
@@ -32033,7 +32176,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$72$write_enable = s4_enter$72$q;
         head2$72$write_address = s4_bucket$18$q;
         head2$72$write_data = old_eff$72;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$72$write_enable = 1'b1;
             meta$72$write_address = clear_at$q;
             meta$72$write_data = 32'h0;
@@ -32095,7 +32238,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$73$write_enable = s4_enter$73$q;
         head2$73$write_address = s4_bucket$19$q;
         head2$73$write_data = old_eff$73;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$73$write_enable = 1'b1;
             meta$73$write_address = clear_at$q;
             meta$73$write_data = 32'h0;
@@ -32157,7 +32300,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$74$write_enable = s4_enter$74$q;
         head2$74$write_address = s4_bucket$20$q;
         head2$74$write_data = old_eff$74;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$74$write_enable = 1'b1;
             meta$74$write_address = clear_at$q;
             meta$74$write_data = 32'h0;
@@ -32219,7 +32362,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$75$write_enable = s4_enter$75$q;
         head2$75$write_address = s4_bucket$21$q;
         head2$75$write_data = old_eff$75;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$75$write_enable = 1'b1;
             meta$75$write_address = clear_at$q;
             meta$75$write_data = 32'h0;
@@ -32281,7 +32424,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$76$write_enable = s4_enter$76$q;
         head2$76$write_address = s4_bucket$22$q;
         head2$76$write_data = old_eff$76;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$76$write_enable = 1'b1;
             meta$76$write_address = clear_at$q;
             meta$76$write_data = 32'h0;
@@ -32343,7 +32486,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$77$write_enable = s4_enter$77$q;
         head2$77$write_address = s4_bucket$23$q;
         head2$77$write_data = old_eff$77;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$77$write_enable = 1'b1;
             meta$77$write_address = clear_at$q;
             meta$77$write_data = 32'h0;
@@ -32405,7 +32548,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$78$write_enable = s4_enter$78$q;
         head2$78$write_address = s4_bucket$24$q;
         head2$78$write_data = old_eff$78;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$78$write_enable = 1'b1;
             meta$78$write_address = clear_at$q;
             meta$78$write_data = 32'h0;
@@ -32467,7 +32610,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$79$write_enable = s4_enter$79$q;
         head2$79$write_address = s4_bucket$25$q;
         head2$79$write_data = old_eff$79;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$79$write_enable = 1'b1;
             meta$79$write_address = clear_at$q;
             meta$79$write_data = 32'h0;
@@ -32529,7 +32672,7 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         head2$80$write_enable = s4_enter$80$q;
         head2$80$write_address = s4_bucket$26$q;
         head2$80$write_data = old_eff$80;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$80$write_enable = 1'b1;
             meta$80$write_address = clear_at$q;
             meta$80$write_data = 32'h0;
@@ -35961,9 +36104,10 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             count_m$2 = ones;
         end
         count$0$d = (count$0$q & count_m$0) | (count_inc$0 & count_m$1) | (count_dec$0 & count_m$2);
-        credit_q$d = credit_acc;
+        clear_last = clear_at$q == last_bucket;
+        credit_q$d = credit_acc & ~(pre_clear$q & ~clear_last);
         credit = credit_q$q;
-        lrow = mask >> (((lgroup$q) & 64'hffffffffffffffff) << 64'h3);
+        lrow = fmask$q >> (((lgroup$q) & 64'hffffffffffffffff) << 64'h3);
         v1_valid$0$d = go$0;
         v1_j$0$d = cand$0 & index_mask;
         v2_valid$0$d = v1_valid$0$q;
@@ -36078,9 +36222,10 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
         end
         if (clearing$q) begin
             clear_at$d = clear_at$q + 32'h1;
-            if (clear_at$q == last_bucket) begin
+            if (clear_last) begin
                 clearing$d = 1'b0;
-                cleared$d = 1'b1;
+                pre_clear$d = 1'b0;
+                cleared$d = ~pre_clear$q;
             end
         end
         drained = cleared$q;
@@ -36092,6 +36237,20 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             credit_q$d = 1'b1;
             clearing$d = 1'b0;
             cleared$d = 1'b0;
+            update_q$d = update;
+            fmask$d = mask;
+            pre_clear$d = 1'b0;
+            if (has_resident) begin
+                if (update) begin
+                    clearing$d = 1'b1;
+                    clear_at$d = 32'h0;
+                    pre_clear$d = 1'b1;
+                    credit_q$d = 1'b0;
+                end
+                else begin
+                    fmask$d = haptic_mask;
+                end
+            end
             slow$d = SlowState$Fetch;
             wide$d = 1'b0;
             wp$0$d = 32'h0;
@@ -36112,6 +36271,16 @@ module obb_core$grid$0(clock,start,accept,loaded,credit,key_valid,key_index,key_
             arrive_q$0$d = 1'b0;
             lnext$0$d = 32'h0;
             lnext2$0$d = 32'h0;
+            if (has_resident) begin
+                if (update) begin
+                    res_lnext$0$d = 32'h0;
+                    res_lnext2$0$d = 32'h0;
+                end
+                else begin
+                    lnext$0$d = res_lnext$0$q;
+                    lnext2$0$d = res_lnext2$0$q;
+                end
+            end
         end
     end
     
@@ -52881,6 +53050,25 @@ module obb_core$grid$0$fifo$0$wptr(d,q,clock);
 endmodule // obb_core$grid$0$fifo$0$wptr
 
 
+module obb_core$grid$0$fmask(d,q,clock);
+    
+    // Module arguments
+    input wire  [63:0] d;
+    output reg  [63:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 64'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$fmask
+
+
 module obb_core$grid$0$head$0(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
@@ -61523,6 +61711,25 @@ module obb_core$grid$0$pack_mlo$0(value,resized);
 endmodule // obb_core$grid$0$pack_mlo$0
 
 
+module obb_core$grid$0$pre_clear(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$pre_clear
+
+
 module obb_core$grid$0$q0$0(d,q,clock);
     
     // Module arguments
@@ -65937,6 +66144,44 @@ module obb_core$grid$0$rec_box$0$min_ram$2(clock,write_enable,write_address,writ
        read_data = mem[read_address];
     end
 endmodule // obb_core$grid$0$rec_box$0$min_ram$2
+
+
+module obb_core$grid$0$res_lnext$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$res_lnext$0
+
+
+module obb_core$grid$0$res_lnext2$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$res_lnext2$0
 
 
 module obb_core$grid$0$retire_probe_q$0(d,q,clock);
@@ -84291,6 +84536,25 @@ module obb_core$grid$0$succ_q$0(d,q,clock);
 endmodule // obb_core$grid$0$succ_q$0
 
 
+module obb_core$grid$0$update_q(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$update_q
+
+
 module obb_core$grid$0$v1_i$0(d,q,clock);
     
     // Module arguments
@@ -85538,6 +85802,25 @@ module obb_core$half$2(clock,write_enable,write_address,write_data,read_address_
        read_data_b <= mem[read_address_b];
     end
 endmodule // obb_core$half$2
+
+
+module obb_core$haptic(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$haptic
 
 
 module obb_core$k_i(d,q,clock);
@@ -88997,6 +89280,44 @@ module obb_core$ready(d,q,clock);
     end
           
 endmodule // obb_core$ready
+
+
+module obb_core$res_loaded(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$res_loaded
+
+
+module obb_core$res_room(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$res_room
 
 
 module obb_core$room(d,q,clock);
@@ -104844,6 +105165,25 @@ module obb_core$state(d,q,clock);
     end
           
 endmodule // obb_core$state
+
+
+module obb_core$streamed_seen(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$streamed_seen
 
 
 module obb_core$tag_a$0(d,q,clock);

@@ -1,11 +1,13 @@
-// Test bench for obb_core: one frame of a scene, for Verilator (--binary), Icarus and the
-// gate-level netlist alike. Written by hand; `obbcd cosim` compiles it with the emitted core.
+// Test bench for obb_core: frames of a scene back to back, for Verilator (--binary), Icarus
+// and the gate-level netlist alike. Written by hand; `obbcd cosim` compiles it with the
+// emitted core.
 //
 // Plusargs:
-//   +stim=FILE    the boxes, one hex word per line (sim/README.md has the layout)
-//   +boxes=N      how many lines of FILE to stream (0: an empty frame)
-//   +out=FILE     written: one line `pair A B` per pair taken from the stream, in order, then
-//                 `done CLOCKS CYCLES CANDIDATES SAT_TESTS PAIRS CAPACITY_EXCEEDED`
+//   +stim=FILE    per frame a line `UPDATE N` (decimal: frame_update, the boxes), then the N
+//                 boxes, one hex word per line (README.md, "File formats", has the layout)
+//   +frames=F     how many frames FILE holds
+//   +out=FILE     written, per frame: one line `pair A B` per pair taken from the stream, in
+//                 order, then `done CLOCKS CYCLES CANDIDATES SAT_TESTS PAIRS CAPACITY_EXCEEDED`
 //   +ready=K      pair_ready is high one clock in K (default 1: always), to throttle the stream
 //   +timeout=T    give up (exit code non-zero) after T clocks without `done` (default 2^40)
 //   +progress=P   print `progress CLOCK` every P clocks (default 0: never)
@@ -21,6 +23,7 @@ module tb;
   // Inputs, changed only just after a rising edge (nonblocking), so the core samples them
   // cleanly on the next one.
   reg frame_start = 1'b0;
+  reg frame_update = 1'b0;
   reg obb_valid = 1'b0;
   reg obb_last = 1'b0;
   reg pair_ready = 1'b0;
@@ -32,7 +35,7 @@ module tb;
 
   obb_core dut (
     .clock(clock),
-    .frame_start(frame_start),
+    .frame_start(frame_start), .frame_update(frame_update),
     .obb_valid(obb_valid), .obb_ready(obb_ready), .obb_last(obb_last),
     .obb_center$0(word[0*CENTER +: CENTER]),
     .obb_center$1(word[1*CENTER +: CENTER]),
@@ -58,7 +61,7 @@ module tb;
 
   reg [WORD-1:0] read_word;
   reg [1023:0] stim_name, out_name, vcd_name;
-  integer stim, out, boxes, ready_every, progress, sent, scanned;
+  integer stim, out, boxes, ready_every, progress, sent, scanned, frames, frame, update;
   reg [63:0] clocks, timeout;
   reg started;
 
@@ -79,7 +82,7 @@ module tb;
   initial begin
     if (!$value$plusargs("stim=%s", stim_name)) begin $display("error: no +stim"); $fatal(1); end
     if (!$value$plusargs("out=%s", out_name)) begin $display("error: no +out"); $fatal(1); end
-    if (!$value$plusargs("boxes=%d", boxes)) begin $display("error: no +boxes"); $fatal(1); end
+    if (!$value$plusargs("frames=%d", frames)) begin $display("error: no +frames"); $fatal(1); end
     if (!$value$plusargs("ready=%d", ready_every)) ready_every = 1;
     if (!$value$plusargs("progress=%d", progress)) progress = 0;
     if (!$value$plusargs("timeout=%d", timeout)) timeout = 64'd1 << 40;
@@ -94,14 +97,24 @@ module tb;
     if (out == 0) begin $display("error: cannot write %0s", out_name); $fatal(1); end
     sent = 0;
     clocks = 0;
+    frame = 0;
     started = 1'b0;
   end
 
   always @(posedge clock) begin
     if (!started) begin
-      // Clock 0: begin the frame; the first box (or the empty frame's marker) follows.
+      // Clock 0 of a frame: its header, then frame_start; the first box (or the empty frame's
+      // marker) follows.
+      scanned = $fscanf(stim, "%d %d\n", update, boxes);
+      if (scanned != 2) begin
+        $display("error: %0s has no header for frame %0d of %0d", stim_name, frame, frames);
+        $fatal(1);
+      end
+      sent = 0;
+      clocks <= 0;
       started <= 1'b1;
       frame_start <= 1'b1;
+      frame_update <= update != 0;
     end else begin
       frame_start <= 1'b0;
       clocks <= clocks + 1;
@@ -133,8 +146,13 @@ module tb;
       if (done && clocks > 1) begin
         $fwrite(out, "done %0d %0d %0d %0d %0d %0d\n", clocks, cycles, candidates, sat_tests,
                 pairs, capacity_exceeded);
-        $fclose(out);
-        $finish;
+        frame = frame + 1;
+        if (frame == frames) begin
+          $fclose(out);
+          $finish;
+        end
+        // The next frame starts on the next clock.
+        started <= 1'b0;
       end
       if (clocks >= timeout) begin
         $display("error: no done after %0d clocks", clocks);

@@ -2,11 +2,12 @@
 // Configuration: center_bits=20 half_bits=17 rot_bits=18 key_bits=20 lsb_mm=0.0009765625
 
 
-module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x,key_min_y,key_min_z,key_max_x,key_max_y,key_max_z,key_margin,key_group,visit,visit_i0,visit_i1,visit_i2,visit_i3,visit_j0,visit_j1,visit_j2,visit_j3,visited,cand_valid,cand_ready,cand_a,cand_b,cand_ma,cand_mb,walked,finished,too_wide);
+module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,key_min_x,key_min_y,key_min_z,key_max_x,key_max_y,key_max_z,key_margin,key_group,visit,visit_i0,visit_i1,visit_i2,visit_i3,visit_j0,visit_j1,visit_j2,visit_j3,visited,cand_valid,cand_ready,cand_a,cand_b,cand_ma,cand_mb,walked,finished,too_wide);
     
     // Module arguments
     input wire  clock;
     input wire  start;
+    input wire  update;
     input wire  accept;
     input wire  loaded;
     output reg  credit;
@@ -50,6 +51,12 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
     localparam  lane_at$0 = 8'h0;
     localparam  last_bucket = 20'h3ff;
     localparam  mask = 64'h7fbfdfeff7fbfdfe;
+    localparam  haptic_mask = 64'h7fbfdfeff7fbfdfe;
+    localparam  resident_set = 8'h0;
+    localparam  has_resident = 1'b0;
+    localparam  group_streamed$0 = 1'b1;
+    localparam  group_streamed$1 = 1'b1;
+    localparam  group_streamed$2 = 1'b1;
     localparam  credits_used = 7'b1100000;
     localparam  top = 16'h8000;
     localparam  index_mask = 16'h7fff;
@@ -7177,6 +7184,21 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
     reg  credit_q$d;
     wire  credit_q$q;
     reg  credit_q$clock;
+    reg  [63:0] fmask$d;
+    wire  [63:0] fmask$q;
+    reg  fmask$clock;
+    reg  pre_clear$d;
+    wire  pre_clear$q;
+    reg  pre_clear$clock;
+    reg  [15:0] res_lnext$0$d;
+    wire  [15:0] res_lnext$0$q;
+    reg  res_lnext$0$clock;
+    reg  [15:0] res_lnext2$0$d;
+    wire  [15:0] res_lnext2$0$q;
+    reg  res_lnext2$0$clock;
+    reg  update_q$d;
+    wire  update_q$q;
+    reg  update_q$clock;
     
     // Local signals
     reg  [22:0] key_min$0;
@@ -9067,6 +9089,9 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
     reg  out_valid;
     reg  drained;
     reg  [63:0] lrow;
+    reg  clear_last;
+    reg  [7:0] res_row;
+    reg  s3_res;
     
     // Sub module instances
     grid_phase$cells cells(
@@ -19826,6 +19851,31 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         .q(credit_q$q),
         .clock(credit_q$clock)
     );
+    grid_phase$fmask fmask(
+        .d(fmask$d),
+        .q(fmask$q),
+        .clock(fmask$clock)
+    );
+    grid_phase$pre_clear pre_clear(
+        .d(pre_clear$d),
+        .q(pre_clear$q),
+        .clock(pre_clear$clock)
+    );
+    grid_phase$res_lnext$0 res_lnext$0(
+        .d(res_lnext$0$d),
+        .q(res_lnext$0$q),
+        .clock(res_lnext$0$clock)
+    );
+    grid_phase$res_lnext2$0 res_lnext2$0(
+        .d(res_lnext2$0$d),
+        .q(res_lnext2$0$q),
+        .clock(res_lnext2$0$clock)
+    );
+    grid_phase$update_q update_q(
+        .d(update_q$d),
+        .q(update_q$q),
+        .clock(update_q$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -19871,6 +19921,9 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         inj_kind$clock = clock;
         idle$clock = clock;
         credit_q$clock = clock;
+        fmask$clock = clock;
+        pre_clear$clock = clock;
+        update_q$clock = clock;
         s1_valid$d = s1_valid$q;
         s1_index$d = s1_index$q;
         s1_margin$d = s1_margin$q;
@@ -19913,6 +19966,9 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         inj_kind$d = inj_kind$q;
         idle$d = idle$q;
         credit_q$d = credit_q$q;
+        fmask$d = fmask$q;
+        pre_clear$d = pre_clear$q;
+        update_q$d = update_q$q;
         cells$clock = clock;
         s4_bucket$0$clock = clock;
         s4_fp$0$clock = clock;
@@ -22018,6 +22074,10 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         v3_word$0$clock = clock;
         lnext$0$clock = clock;
         lnext2$0$clock = clock;
+        res_lnext$0$clock = clock;
+        res_lnext2$0$clock = clock;
+        res_lnext$0$d = res_lnext$0$q;
+        res_lnext2$0$d = res_lnext2$0$q;
         slane$0$clock = clock;
         lnext$0$d = lnext$0$q;
         lnext2$0$d = lnext2$0$q;
@@ -22450,7 +22510,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s2_max$2$d = s1_max$2$q;
         s3_min$2$d = s2_min$2$q;
         s3_max$2$d = s2_max$2$q;
-        allowed = mask >> (((s2_group$q) & 64'hffffffffffffffff) << 64'h3);
+        allowed = fmask$q >> (((s2_group$q) & 64'hffffffffffffffff) << 64'h3);
         s3_allowed$d = allowed;
         entry = s3_index$q | top;
         s3_lane$0$d = (s2_index$q & lane_mask) == lane_id$0;
@@ -23350,11 +23410,17 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         s4_home_fp$d = cells$home_fp;
         large_in = s3_valid$q & (s3_kind$q == 32'h0) & ~cells$small_box;
         s4_large$d = large_in;
+        res_row = resident_set >> ((s3_group$q) & 8'hff);
+        s3_res = update_q$q & res_row[32'h0];
         if (s3_lane$0$q) begin
             s4_lprev$d = lnext2$0$q;
             if (large_in) begin
                 lnext$0$d = entry;
                 lnext2$0$d = lnext$0$q;
+                if (s3_res) begin
+                    res_lnext$0$d = entry;
+                    res_lnext2$0$d = lnext$0$q;
+                end
             end
         end
         s4_valid$d = s3_valid$q;
@@ -23438,7 +23504,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$0$write_enable = s4_enter$0$q;
         head2$0$write_address = s4_bucket$0$q;
         head2$0$write_data = old_eff$0;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$0$write_enable = 1'b1;
             meta$0$write_address = clear_at$q;
             meta$0$write_data = 32'h0;
@@ -23500,7 +23566,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$1$write_enable = s4_enter$1$q;
         head2$1$write_address = s4_bucket$1$q;
         head2$1$write_data = old_eff$1;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$1$write_enable = 1'b1;
             meta$1$write_address = clear_at$q;
             meta$1$write_data = 32'h0;
@@ -23562,7 +23628,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$2$write_enable = s4_enter$2$q;
         head2$2$write_address = s4_bucket$2$q;
         head2$2$write_data = old_eff$2;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$2$write_enable = 1'b1;
             meta$2$write_address = clear_at$q;
             meta$2$write_data = 32'h0;
@@ -23624,7 +23690,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$3$write_enable = s4_enter$3$q;
         head2$3$write_address = s4_bucket$3$q;
         head2$3$write_data = old_eff$3;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$3$write_enable = 1'b1;
             meta$3$write_address = clear_at$q;
             meta$3$write_data = 32'h0;
@@ -23686,7 +23752,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$4$write_enable = s4_enter$4$q;
         head2$4$write_address = s4_bucket$4$q;
         head2$4$write_data = old_eff$4;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$4$write_enable = 1'b1;
             meta$4$write_address = clear_at$q;
             meta$4$write_data = 32'h0;
@@ -23748,7 +23814,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$5$write_enable = s4_enter$5$q;
         head2$5$write_address = s4_bucket$5$q;
         head2$5$write_data = old_eff$5;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$5$write_enable = 1'b1;
             meta$5$write_address = clear_at$q;
             meta$5$write_data = 32'h0;
@@ -23810,7 +23876,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$6$write_enable = s4_enter$6$q;
         head2$6$write_address = s4_bucket$6$q;
         head2$6$write_data = old_eff$6;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$6$write_enable = 1'b1;
             meta$6$write_address = clear_at$q;
             meta$6$write_data = 32'h0;
@@ -23872,7 +23938,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$7$write_enable = s4_enter$7$q;
         head2$7$write_address = s4_bucket$7$q;
         head2$7$write_data = old_eff$7;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$7$write_enable = 1'b1;
             meta$7$write_address = clear_at$q;
             meta$7$write_data = 32'h0;
@@ -23934,7 +24000,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$8$write_enable = s4_enter$8$q;
         head2$8$write_address = s4_bucket$8$q;
         head2$8$write_data = old_eff$8;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$8$write_enable = 1'b1;
             meta$8$write_address = clear_at$q;
             meta$8$write_data = 32'h0;
@@ -23996,7 +24062,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$9$write_enable = s4_enter$9$q;
         head2$9$write_address = s4_bucket$9$q;
         head2$9$write_data = old_eff$9;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$9$write_enable = 1'b1;
             meta$9$write_address = clear_at$q;
             meta$9$write_data = 32'h0;
@@ -24058,7 +24124,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$10$write_enable = s4_enter$10$q;
         head2$10$write_address = s4_bucket$10$q;
         head2$10$write_data = old_eff$10;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$10$write_enable = 1'b1;
             meta$10$write_address = clear_at$q;
             meta$10$write_data = 32'h0;
@@ -24120,7 +24186,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$11$write_enable = s4_enter$11$q;
         head2$11$write_address = s4_bucket$11$q;
         head2$11$write_data = old_eff$11;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$11$write_enable = 1'b1;
             meta$11$write_address = clear_at$q;
             meta$11$write_data = 32'h0;
@@ -24182,7 +24248,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$12$write_enable = s4_enter$12$q;
         head2$12$write_address = s4_bucket$12$q;
         head2$12$write_data = old_eff$12;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$12$write_enable = 1'b1;
             meta$12$write_address = clear_at$q;
             meta$12$write_data = 32'h0;
@@ -24244,7 +24310,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$13$write_enable = s4_enter$13$q;
         head2$13$write_address = s4_bucket$13$q;
         head2$13$write_data = old_eff$13;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$13$write_enable = 1'b1;
             meta$13$write_address = clear_at$q;
             meta$13$write_data = 32'h0;
@@ -24306,7 +24372,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$14$write_enable = s4_enter$14$q;
         head2$14$write_address = s4_bucket$14$q;
         head2$14$write_data = old_eff$14;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$14$write_enable = 1'b1;
             meta$14$write_address = clear_at$q;
             meta$14$write_data = 32'h0;
@@ -24368,7 +24434,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$15$write_enable = s4_enter$15$q;
         head2$15$write_address = s4_bucket$15$q;
         head2$15$write_data = old_eff$15;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$15$write_enable = 1'b1;
             meta$15$write_address = clear_at$q;
             meta$15$write_data = 32'h0;
@@ -24430,7 +24496,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$16$write_enable = s4_enter$16$q;
         head2$16$write_address = s4_bucket$16$q;
         head2$16$write_data = old_eff$16;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$16$write_enable = 1'b1;
             meta$16$write_address = clear_at$q;
             meta$16$write_data = 32'h0;
@@ -24492,7 +24558,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$17$write_enable = s4_enter$17$q;
         head2$17$write_address = s4_bucket$17$q;
         head2$17$write_data = old_eff$17;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$17$write_enable = 1'b1;
             meta$17$write_address = clear_at$q;
             meta$17$write_data = 32'h0;
@@ -24554,7 +24620,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$18$write_enable = s4_enter$18$q;
         head2$18$write_address = s4_bucket$18$q;
         head2$18$write_data = old_eff$18;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$18$write_enable = 1'b1;
             meta$18$write_address = clear_at$q;
             meta$18$write_data = 32'h0;
@@ -24616,7 +24682,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$19$write_enable = s4_enter$19$q;
         head2$19$write_address = s4_bucket$19$q;
         head2$19$write_data = old_eff$19;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$19$write_enable = 1'b1;
             meta$19$write_address = clear_at$q;
             meta$19$write_data = 32'h0;
@@ -24678,7 +24744,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$20$write_enable = s4_enter$20$q;
         head2$20$write_address = s4_bucket$20$q;
         head2$20$write_data = old_eff$20;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$20$write_enable = 1'b1;
             meta$20$write_address = clear_at$q;
             meta$20$write_data = 32'h0;
@@ -24740,7 +24806,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$21$write_enable = s4_enter$21$q;
         head2$21$write_address = s4_bucket$21$q;
         head2$21$write_data = old_eff$21;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$21$write_enable = 1'b1;
             meta$21$write_address = clear_at$q;
             meta$21$write_data = 32'h0;
@@ -24802,7 +24868,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$22$write_enable = s4_enter$22$q;
         head2$22$write_address = s4_bucket$22$q;
         head2$22$write_data = old_eff$22;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$22$write_enable = 1'b1;
             meta$22$write_address = clear_at$q;
             meta$22$write_data = 32'h0;
@@ -24864,7 +24930,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$23$write_enable = s4_enter$23$q;
         head2$23$write_address = s4_bucket$23$q;
         head2$23$write_data = old_eff$23;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$23$write_enable = 1'b1;
             meta$23$write_address = clear_at$q;
             meta$23$write_data = 32'h0;
@@ -24926,7 +24992,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$24$write_enable = s4_enter$24$q;
         head2$24$write_address = s4_bucket$24$q;
         head2$24$write_data = old_eff$24;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$24$write_enable = 1'b1;
             meta$24$write_address = clear_at$q;
             meta$24$write_data = 32'h0;
@@ -24988,7 +25054,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$25$write_enable = s4_enter$25$q;
         head2$25$write_address = s4_bucket$25$q;
         head2$25$write_data = old_eff$25;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$25$write_enable = 1'b1;
             meta$25$write_address = clear_at$q;
             meta$25$write_data = 32'h0;
@@ -25050,7 +25116,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$26$write_enable = s4_enter$26$q;
         head2$26$write_address = s4_bucket$26$q;
         head2$26$write_data = old_eff$26;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$0)) begin
             meta$26$write_enable = 1'b1;
             meta$26$write_address = clear_at$q;
             meta$26$write_data = 32'h0;
@@ -25112,7 +25178,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$27$write_enable = s4_enter$27$q;
         head2$27$write_address = s4_bucket$0$q;
         head2$27$write_data = old_eff$27;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$27$write_enable = 1'b1;
             meta$27$write_address = clear_at$q;
             meta$27$write_data = 32'h0;
@@ -25174,7 +25240,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$28$write_enable = s4_enter$28$q;
         head2$28$write_address = s4_bucket$1$q;
         head2$28$write_data = old_eff$28;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$28$write_enable = 1'b1;
             meta$28$write_address = clear_at$q;
             meta$28$write_data = 32'h0;
@@ -25236,7 +25302,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$29$write_enable = s4_enter$29$q;
         head2$29$write_address = s4_bucket$2$q;
         head2$29$write_data = old_eff$29;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$29$write_enable = 1'b1;
             meta$29$write_address = clear_at$q;
             meta$29$write_data = 32'h0;
@@ -25298,7 +25364,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$30$write_enable = s4_enter$30$q;
         head2$30$write_address = s4_bucket$3$q;
         head2$30$write_data = old_eff$30;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$30$write_enable = 1'b1;
             meta$30$write_address = clear_at$q;
             meta$30$write_data = 32'h0;
@@ -25360,7 +25426,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$31$write_enable = s4_enter$31$q;
         head2$31$write_address = s4_bucket$4$q;
         head2$31$write_data = old_eff$31;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$31$write_enable = 1'b1;
             meta$31$write_address = clear_at$q;
             meta$31$write_data = 32'h0;
@@ -25422,7 +25488,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$32$write_enable = s4_enter$32$q;
         head2$32$write_address = s4_bucket$5$q;
         head2$32$write_data = old_eff$32;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$32$write_enable = 1'b1;
             meta$32$write_address = clear_at$q;
             meta$32$write_data = 32'h0;
@@ -25484,7 +25550,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$33$write_enable = s4_enter$33$q;
         head2$33$write_address = s4_bucket$6$q;
         head2$33$write_data = old_eff$33;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$33$write_enable = 1'b1;
             meta$33$write_address = clear_at$q;
             meta$33$write_data = 32'h0;
@@ -25546,7 +25612,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$34$write_enable = s4_enter$34$q;
         head2$34$write_address = s4_bucket$7$q;
         head2$34$write_data = old_eff$34;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$34$write_enable = 1'b1;
             meta$34$write_address = clear_at$q;
             meta$34$write_data = 32'h0;
@@ -25608,7 +25674,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$35$write_enable = s4_enter$35$q;
         head2$35$write_address = s4_bucket$8$q;
         head2$35$write_data = old_eff$35;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$35$write_enable = 1'b1;
             meta$35$write_address = clear_at$q;
             meta$35$write_data = 32'h0;
@@ -25670,7 +25736,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$36$write_enable = s4_enter$36$q;
         head2$36$write_address = s4_bucket$9$q;
         head2$36$write_data = old_eff$36;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$36$write_enable = 1'b1;
             meta$36$write_address = clear_at$q;
             meta$36$write_data = 32'h0;
@@ -25732,7 +25798,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$37$write_enable = s4_enter$37$q;
         head2$37$write_address = s4_bucket$10$q;
         head2$37$write_data = old_eff$37;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$37$write_enable = 1'b1;
             meta$37$write_address = clear_at$q;
             meta$37$write_data = 32'h0;
@@ -25794,7 +25860,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$38$write_enable = s4_enter$38$q;
         head2$38$write_address = s4_bucket$11$q;
         head2$38$write_data = old_eff$38;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$38$write_enable = 1'b1;
             meta$38$write_address = clear_at$q;
             meta$38$write_data = 32'h0;
@@ -25856,7 +25922,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$39$write_enable = s4_enter$39$q;
         head2$39$write_address = s4_bucket$12$q;
         head2$39$write_data = old_eff$39;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$39$write_enable = 1'b1;
             meta$39$write_address = clear_at$q;
             meta$39$write_data = 32'h0;
@@ -25918,7 +25984,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$40$write_enable = s4_enter$40$q;
         head2$40$write_address = s4_bucket$13$q;
         head2$40$write_data = old_eff$40;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$40$write_enable = 1'b1;
             meta$40$write_address = clear_at$q;
             meta$40$write_data = 32'h0;
@@ -25980,7 +26046,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$41$write_enable = s4_enter$41$q;
         head2$41$write_address = s4_bucket$14$q;
         head2$41$write_data = old_eff$41;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$41$write_enable = 1'b1;
             meta$41$write_address = clear_at$q;
             meta$41$write_data = 32'h0;
@@ -26042,7 +26108,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$42$write_enable = s4_enter$42$q;
         head2$42$write_address = s4_bucket$15$q;
         head2$42$write_data = old_eff$42;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$42$write_enable = 1'b1;
             meta$42$write_address = clear_at$q;
             meta$42$write_data = 32'h0;
@@ -26104,7 +26170,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$43$write_enable = s4_enter$43$q;
         head2$43$write_address = s4_bucket$16$q;
         head2$43$write_data = old_eff$43;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$43$write_enable = 1'b1;
             meta$43$write_address = clear_at$q;
             meta$43$write_data = 32'h0;
@@ -26166,7 +26232,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$44$write_enable = s4_enter$44$q;
         head2$44$write_address = s4_bucket$17$q;
         head2$44$write_data = old_eff$44;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$44$write_enable = 1'b1;
             meta$44$write_address = clear_at$q;
             meta$44$write_data = 32'h0;
@@ -26228,7 +26294,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$45$write_enable = s4_enter$45$q;
         head2$45$write_address = s4_bucket$18$q;
         head2$45$write_data = old_eff$45;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$45$write_enable = 1'b1;
             meta$45$write_address = clear_at$q;
             meta$45$write_data = 32'h0;
@@ -26290,7 +26356,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$46$write_enable = s4_enter$46$q;
         head2$46$write_address = s4_bucket$19$q;
         head2$46$write_data = old_eff$46;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$46$write_enable = 1'b1;
             meta$46$write_address = clear_at$q;
             meta$46$write_data = 32'h0;
@@ -26352,7 +26418,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$47$write_enable = s4_enter$47$q;
         head2$47$write_address = s4_bucket$20$q;
         head2$47$write_data = old_eff$47;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$47$write_enable = 1'b1;
             meta$47$write_address = clear_at$q;
             meta$47$write_data = 32'h0;
@@ -26414,7 +26480,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$48$write_enable = s4_enter$48$q;
         head2$48$write_address = s4_bucket$21$q;
         head2$48$write_data = old_eff$48;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$48$write_enable = 1'b1;
             meta$48$write_address = clear_at$q;
             meta$48$write_data = 32'h0;
@@ -26476,7 +26542,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$49$write_enable = s4_enter$49$q;
         head2$49$write_address = s4_bucket$22$q;
         head2$49$write_data = old_eff$49;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$49$write_enable = 1'b1;
             meta$49$write_address = clear_at$q;
             meta$49$write_data = 32'h0;
@@ -26538,7 +26604,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$50$write_enable = s4_enter$50$q;
         head2$50$write_address = s4_bucket$23$q;
         head2$50$write_data = old_eff$50;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$50$write_enable = 1'b1;
             meta$50$write_address = clear_at$q;
             meta$50$write_data = 32'h0;
@@ -26600,7 +26666,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$51$write_enable = s4_enter$51$q;
         head2$51$write_address = s4_bucket$24$q;
         head2$51$write_data = old_eff$51;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$51$write_enable = 1'b1;
             meta$51$write_address = clear_at$q;
             meta$51$write_data = 32'h0;
@@ -26662,7 +26728,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$52$write_enable = s4_enter$52$q;
         head2$52$write_address = s4_bucket$25$q;
         head2$52$write_data = old_eff$52;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$52$write_enable = 1'b1;
             meta$52$write_address = clear_at$q;
             meta$52$write_data = 32'h0;
@@ -26724,7 +26790,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$53$write_enable = s4_enter$53$q;
         head2$53$write_address = s4_bucket$26$q;
         head2$53$write_data = old_eff$53;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$1)) begin
             meta$53$write_enable = 1'b1;
             meta$53$write_address = clear_at$q;
             meta$53$write_data = 32'h0;
@@ -26786,7 +26852,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$54$write_enable = s4_enter$54$q;
         head2$54$write_address = s4_bucket$0$q;
         head2$54$write_data = old_eff$54;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$54$write_enable = 1'b1;
             meta$54$write_address = clear_at$q;
             meta$54$write_data = 32'h0;
@@ -26848,7 +26914,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$55$write_enable = s4_enter$55$q;
         head2$55$write_address = s4_bucket$1$q;
         head2$55$write_data = old_eff$55;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$55$write_enable = 1'b1;
             meta$55$write_address = clear_at$q;
             meta$55$write_data = 32'h0;
@@ -26910,7 +26976,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$56$write_enable = s4_enter$56$q;
         head2$56$write_address = s4_bucket$2$q;
         head2$56$write_data = old_eff$56;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$56$write_enable = 1'b1;
             meta$56$write_address = clear_at$q;
             meta$56$write_data = 32'h0;
@@ -26972,7 +27038,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$57$write_enable = s4_enter$57$q;
         head2$57$write_address = s4_bucket$3$q;
         head2$57$write_data = old_eff$57;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$57$write_enable = 1'b1;
             meta$57$write_address = clear_at$q;
             meta$57$write_data = 32'h0;
@@ -27034,7 +27100,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$58$write_enable = s4_enter$58$q;
         head2$58$write_address = s4_bucket$4$q;
         head2$58$write_data = old_eff$58;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$58$write_enable = 1'b1;
             meta$58$write_address = clear_at$q;
             meta$58$write_data = 32'h0;
@@ -27096,7 +27162,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$59$write_enable = s4_enter$59$q;
         head2$59$write_address = s4_bucket$5$q;
         head2$59$write_data = old_eff$59;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$59$write_enable = 1'b1;
             meta$59$write_address = clear_at$q;
             meta$59$write_data = 32'h0;
@@ -27158,7 +27224,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$60$write_enable = s4_enter$60$q;
         head2$60$write_address = s4_bucket$6$q;
         head2$60$write_data = old_eff$60;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$60$write_enable = 1'b1;
             meta$60$write_address = clear_at$q;
             meta$60$write_data = 32'h0;
@@ -27220,7 +27286,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$61$write_enable = s4_enter$61$q;
         head2$61$write_address = s4_bucket$7$q;
         head2$61$write_data = old_eff$61;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$61$write_enable = 1'b1;
             meta$61$write_address = clear_at$q;
             meta$61$write_data = 32'h0;
@@ -27282,7 +27348,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$62$write_enable = s4_enter$62$q;
         head2$62$write_address = s4_bucket$8$q;
         head2$62$write_data = old_eff$62;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$62$write_enable = 1'b1;
             meta$62$write_address = clear_at$q;
             meta$62$write_data = 32'h0;
@@ -27344,7 +27410,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$63$write_enable = s4_enter$63$q;
         head2$63$write_address = s4_bucket$9$q;
         head2$63$write_data = old_eff$63;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$63$write_enable = 1'b1;
             meta$63$write_address = clear_at$q;
             meta$63$write_data = 32'h0;
@@ -27406,7 +27472,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$64$write_enable = s4_enter$64$q;
         head2$64$write_address = s4_bucket$10$q;
         head2$64$write_data = old_eff$64;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$64$write_enable = 1'b1;
             meta$64$write_address = clear_at$q;
             meta$64$write_data = 32'h0;
@@ -27468,7 +27534,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$65$write_enable = s4_enter$65$q;
         head2$65$write_address = s4_bucket$11$q;
         head2$65$write_data = old_eff$65;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$65$write_enable = 1'b1;
             meta$65$write_address = clear_at$q;
             meta$65$write_data = 32'h0;
@@ -27530,7 +27596,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$66$write_enable = s4_enter$66$q;
         head2$66$write_address = s4_bucket$12$q;
         head2$66$write_data = old_eff$66;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$66$write_enable = 1'b1;
             meta$66$write_address = clear_at$q;
             meta$66$write_data = 32'h0;
@@ -27592,7 +27658,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$67$write_enable = s4_enter$67$q;
         head2$67$write_address = s4_bucket$13$q;
         head2$67$write_data = old_eff$67;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$67$write_enable = 1'b1;
             meta$67$write_address = clear_at$q;
             meta$67$write_data = 32'h0;
@@ -27654,7 +27720,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$68$write_enable = s4_enter$68$q;
         head2$68$write_address = s4_bucket$14$q;
         head2$68$write_data = old_eff$68;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$68$write_enable = 1'b1;
             meta$68$write_address = clear_at$q;
             meta$68$write_data = 32'h0;
@@ -27716,7 +27782,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$69$write_enable = s4_enter$69$q;
         head2$69$write_address = s4_bucket$15$q;
         head2$69$write_data = old_eff$69;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$69$write_enable = 1'b1;
             meta$69$write_address = clear_at$q;
             meta$69$write_data = 32'h0;
@@ -27778,7 +27844,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$70$write_enable = s4_enter$70$q;
         head2$70$write_address = s4_bucket$16$q;
         head2$70$write_data = old_eff$70;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$70$write_enable = 1'b1;
             meta$70$write_address = clear_at$q;
             meta$70$write_data = 32'h0;
@@ -27840,7 +27906,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$71$write_enable = s4_enter$71$q;
         head2$71$write_address = s4_bucket$17$q;
         head2$71$write_data = old_eff$71;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$71$write_enable = 1'b1;
             meta$71$write_address = clear_at$q;
             meta$71$write_data = 32'h0;
@@ -27902,7 +27968,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$72$write_enable = s4_enter$72$q;
         head2$72$write_address = s4_bucket$18$q;
         head2$72$write_data = old_eff$72;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$72$write_enable = 1'b1;
             meta$72$write_address = clear_at$q;
             meta$72$write_data = 32'h0;
@@ -27964,7 +28030,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$73$write_enable = s4_enter$73$q;
         head2$73$write_address = s4_bucket$19$q;
         head2$73$write_data = old_eff$73;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$73$write_enable = 1'b1;
             meta$73$write_address = clear_at$q;
             meta$73$write_data = 32'h0;
@@ -28026,7 +28092,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$74$write_enable = s4_enter$74$q;
         head2$74$write_address = s4_bucket$20$q;
         head2$74$write_data = old_eff$74;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$74$write_enable = 1'b1;
             meta$74$write_address = clear_at$q;
             meta$74$write_data = 32'h0;
@@ -28088,7 +28154,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$75$write_enable = s4_enter$75$q;
         head2$75$write_address = s4_bucket$21$q;
         head2$75$write_data = old_eff$75;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$75$write_enable = 1'b1;
             meta$75$write_address = clear_at$q;
             meta$75$write_data = 32'h0;
@@ -28150,7 +28216,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$76$write_enable = s4_enter$76$q;
         head2$76$write_address = s4_bucket$22$q;
         head2$76$write_data = old_eff$76;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$76$write_enable = 1'b1;
             meta$76$write_address = clear_at$q;
             meta$76$write_data = 32'h0;
@@ -28212,7 +28278,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$77$write_enable = s4_enter$77$q;
         head2$77$write_address = s4_bucket$23$q;
         head2$77$write_data = old_eff$77;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$77$write_enable = 1'b1;
             meta$77$write_address = clear_at$q;
             meta$77$write_data = 32'h0;
@@ -28274,7 +28340,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$78$write_enable = s4_enter$78$q;
         head2$78$write_address = s4_bucket$24$q;
         head2$78$write_data = old_eff$78;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$78$write_enable = 1'b1;
             meta$78$write_address = clear_at$q;
             meta$78$write_data = 32'h0;
@@ -28336,7 +28402,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$79$write_enable = s4_enter$79$q;
         head2$79$write_address = s4_bucket$25$q;
         head2$79$write_data = old_eff$79;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$79$write_enable = 1'b1;
             meta$79$write_address = clear_at$q;
             meta$79$write_data = 32'h0;
@@ -28398,7 +28464,7 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         head2$80$write_enable = s4_enter$80$q;
         head2$80$write_address = s4_bucket$26$q;
         head2$80$write_data = old_eff$80;
-        if (clearing$q) begin
+        if (clearing$q & (pre_clear$q | group_streamed$2)) begin
             meta$80$write_enable = 1'b1;
             meta$80$write_address = clear_at$q;
             meta$80$write_data = 32'h0;
@@ -31830,9 +31896,10 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             count_m$2 = ones;
         end
         count$0$d = (count$0$q & count_m$0) | (count_inc$0 & count_m$1) | (count_dec$0 & count_m$2);
-        credit_q$d = credit_acc;
+        clear_last = clear_at$q == last_bucket;
+        credit_q$d = credit_acc & ~(pre_clear$q & ~clear_last);
         credit = credit_q$q;
-        lrow = mask >> (((lgroup$q) & 64'hffffffffffffffff) << 64'h3);
+        lrow = fmask$q >> (((lgroup$q) & 64'hffffffffffffffff) << 64'h3);
         v1_valid$0$d = go$0;
         v1_j$0$d = cand$0 & index_mask;
         v2_valid$0$d = v1_valid$0$q;
@@ -31947,9 +32014,10 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
         end
         if (clearing$q) begin
             clear_at$d = clear_at$q + 32'h1;
-            if (clear_at$q == last_bucket) begin
+            if (clear_last) begin
                 clearing$d = 1'b0;
-                cleared$d = 1'b1;
+                pre_clear$d = 1'b0;
+                cleared$d = ~pre_clear$q;
             end
         end
         drained = cleared$q;
@@ -31961,6 +32029,20 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             credit_q$d = 1'b1;
             clearing$d = 1'b0;
             cleared$d = 1'b0;
+            update_q$d = update;
+            fmask$d = mask;
+            pre_clear$d = 1'b0;
+            if (has_resident) begin
+                if (update) begin
+                    clearing$d = 1'b1;
+                    clear_at$d = 32'h0;
+                    pre_clear$d = 1'b1;
+                    credit_q$d = 1'b0;
+                end
+                else begin
+                    fmask$d = haptic_mask;
+                end
+            end
             slow$d = SlowState$Fetch;
             wide$d = 1'b0;
             wp$0$d = 32'h0;
@@ -31981,6 +32063,16 @@ module grid_phase(clock,start,accept,loaded,credit,key_valid,key_index,key_min_x
             arrive_q$0$d = 1'b0;
             lnext$0$d = 32'h0;
             lnext2$0$d = 32'h0;
+            if (has_resident) begin
+                if (update) begin
+                    res_lnext$0$d = 32'h0;
+                    res_lnext2$0$d = 32'h0;
+                end
+                else begin
+                    lnext$0$d = res_lnext$0$q;
+                    lnext2$0$d = res_lnext2$0$q;
+                end
+            end
         end
     end
     
@@ -48750,6 +48842,25 @@ module grid_phase$fifo$0$wptr(d,q,clock);
 endmodule // grid_phase$fifo$0$wptr
 
 
+module grid_phase$fmask(d,q,clock);
+    
+    // Module arguments
+    input wire  [63:0] d;
+    output reg  [63:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 64'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$fmask
+
+
 module grid_phase$head$0(clock,write_enable,write_address,write_data,read_address,read_data);
     
     // Module arguments
@@ -57392,6 +57503,25 @@ module grid_phase$pack_mlo$0(value,resized);
 endmodule // grid_phase$pack_mlo$0
 
 
+module grid_phase$pre_clear(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$pre_clear
+
+
 module grid_phase$q0$0(d,q,clock);
     
     // Module arguments
@@ -61806,6 +61936,44 @@ module grid_phase$rec_box$0$min_ram$2(clock,write_enable,write_address,write_dat
        read_data = mem[read_address];
     end
 endmodule // grid_phase$rec_box$0$min_ram$2
+
+
+module grid_phase$res_lnext$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$res_lnext$0
+
+
+module grid_phase$res_lnext2$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$res_lnext2$0
 
 
 module grid_phase$retire_probe_q$0(d,q,clock);
@@ -80158,6 +80326,25 @@ module grid_phase$succ_q$0(d,q,clock);
     end
           
 endmodule // grid_phase$succ_q$0
+
+
+module grid_phase$update_q(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$update_q
 
 
 module grid_phase$v1_i$0(d,q,clock);

@@ -76,6 +76,11 @@ pub struct ObbCore<const A: usize, const C: usize> {
     pub clock: Signal<In, Clock>,
     /// Pulse: clear the counters and begin a frame (boxes are accepted from the next clock).
     pub frame_start: Signal<In, Bit>,
+    /// With `frame_start` (grid, `resident_groups`): an update frame, which loads every box, the
+    /// resident groups' first, and keeps those. Low: a haptic frame, which streams only the
+    /// other groups' boxes (indices from the resident count on) and reports no pair of two
+    /// resident groups. Ignored without resident groups.
+    pub frame_update: Signal<In, Bit>,
     /// The OBB stream: offset-binary centers, half-lengths, axes (`obb_axes[3k + x]`, Q1.f),
     /// group; `obb_last` ends the frame, with its last box or (for an empty frame) alone.
     pub obb_valid: Signal<In, Bit>,
@@ -116,6 +121,9 @@ pub struct ObbCore<const A: usize, const C: usize> {
     mask: Constant<Bits<MASK>>,
     drain: Constant<Bits<8>>,
     grid_drain: Constant<Bits<8>>,
+    /// Resident groups: bit g for group g; any at all.
+    resident_set: Constant<Bits<8>>,
+    has_resident: Constant<Bit>,
     // Stages. The broad phase's blocks are there only when configured (each list holds one
     // block or none): the radix sort for sweep and improved-sap, the sweep's walker, the other
     // walker for brute and improved-sap, the grid.
@@ -162,6 +170,12 @@ pub struct ObbCore<const A: usize, const C: usize> {
     n_visits: DFF<Bits<COUNT>>,
     n_tests: DFF<Bits<COUNT>>,
     n_pairs: DFF<Bits<COUNT>>,
+    /// The resident boxes the last update frame loaded (a haptic frame's first index), and
+    /// whether the tables had room after them; a haptic frame; a box of a streamed group came.
+    res_loaded: DFF<Bits<C>>,
+    res_room: DFF<Bit>,
+    haptic: DFF<Bit>,
+    streamed_seen: DFF<Bit>,
     // Pipeline registers: the visit (K) and its keys read (key_*, margin_*, group_*), the
     // keys registered (R), the candidate (C), its geometry read (G) and registered (H,
     // geo_*), the pair's indices alongside the SAT (tag_*).
@@ -248,6 +262,9 @@ pub struct ObbCore<const A: usize, const C: usize> {
     candidate: Signal<Local, Bit>,
     swap: Signal<Local, Bit>,
     hit: Signal<Local, Bit>,
+    /// The resident set shifted to the arriving box's group; the box is of a resident group.
+    res_row: Signal<Local, Bits<8>>,
+    obb_res: Signal<Local, Bit>,
 }
 
 impl<const A: usize, const C: usize> ObbCore<A, C> {
@@ -270,6 +287,7 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             address_bits(cfg) <= A,
             "capacity fits the tables and the sort"
         );
+        let resident_set: u64 = cfg.resident_groups.iter().map(|&g| 1u64 << g).sum();
         let mut mask = Bits::<MASK>::default();
         for g in 0..1u32 << GROUP {
             for h in 0..1u32 << GROUP {
@@ -281,6 +299,7 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
         ObbCore {
             clock: Default::default(),
             frame_start: Default::default(),
+            frame_update: Default::default(),
             obb_valid: Default::default(),
             obb_ready: Default::default(),
             obb_last: Default::default(),
@@ -306,6 +325,8 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             mask: Constant::new(mask),
             drain: Constant::new(DRAIN.into()),
             grid_drain: Constant::new(GRID_DRAIN.into()),
+            resident_set: Constant::new(resident_set.into()),
+            has_resident: Constant::new(resident_set != 0),
             projection: Projection::new(cfg),
             radix: (0..radixes)
                 .map(|_| KeySort::new(sort_key_bits(cfg), cfg.radix_digit_bits))
@@ -341,6 +362,12 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             n_visits: Default::default(),
             n_tests: Default::default(),
             n_pairs: Default::default(),
+            res_loaded: Default::default(),
+            res_room: Default::default(),
+            haptic: Default::default(),
+            streamed_seen: Default::default(),
+            res_row: Default::default(),
+            obb_res: Default::default(),
             k_valid: Default::default(),
             k_i: Default::default(),
             k_j: Default::default(),
@@ -422,10 +449,50 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, state, stall, loaded, ready, room, projected, over, countdown, n_cycles,
-            n_visits, n_tests, n_pairs, pending, k_valid, k_i, k_j, margin_a, margin_b, group_a,
-            group_b, r_valid, r_i, r_j, c_valid, c_a, c_b, c_ma, c_mb, g_valid, g_a, g_b, g_ma,
-            g_mb, h_valid, h_a, h_b, h_ma, h_mb
+            self,
+            clock,
+            state,
+            stall,
+            loaded,
+            ready,
+            room,
+            projected,
+            over,
+            countdown,
+            n_cycles,
+            n_visits,
+            n_tests,
+            n_pairs,
+            pending,
+            res_loaded,
+            res_room,
+            haptic,
+            streamed_seen,
+            k_valid,
+            k_i,
+            k_j,
+            margin_a,
+            margin_b,
+            group_a,
+            group_b,
+            r_valid,
+            r_i,
+            r_j,
+            c_valid,
+            c_a,
+            c_b,
+            c_ma,
+            c_mb,
+            g_valid,
+            g_a,
+            g_b,
+            g_ma,
+            g_mb,
+            h_valid,
+            h_a,
+            h_b,
+            h_ma,
+            h_mb
         );
         clock!(self, clock, projection, sat, fifo);
         for k in 0..self._radixes {
@@ -579,6 +646,24 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
                 self.room.d.next = false;
             }
         }
+        // Resident groups: an update frame keeps the count of its resident boxes, which come
+        // first; a resident box in a haptic frame, or after a streamed one, makes the frame
+        // incomplete (and the resident lists unsure: the next frame must be an update).
+        // (rust-hdl writes a bit of an expression as Verilog cannot read: a local first.)
+        self.res_row.next = self.resident_set.val() >> bit_cast::<8, GROUP>(self.obb_group.val());
+        self.obb_res.next = self.has_resident.val() & self.res_row.val().get_bit(0);
+        if self.accept.val() {
+            if self.obb_res.val() {
+                if self.haptic.q.val() | self.streamed_seen.q.val() {
+                    self.over.d.next = true;
+                } else {
+                    self.res_loaded.d.next = self.loaded.q.val() + 1;
+                    self.res_room.d.next = self.loaded.q.val() != self.last_slot.val();
+                }
+            } else {
+                self.streamed_seen.d.next = true;
+            }
+        }
 
         // Projected: keys, margin and group stored at the box's index; sweep sorts min x.
         self.projected_at.next = bit_cast::<A, C>(self.projected.q.val());
@@ -610,6 +695,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         // (banked by lane).
         for k in 0..self._grids {
             self.grid[k].start.next = self.frame_start.val();
+            self.grid[k].update.next = self.frame_update.val();
             self.grid[k].accept.next = self.accept.val();
             self.grid[k].loaded.next = !self.ready.q.val() & !self.frame_start.val();
             self.grid[k].key_valid.next = self.projection.valid_out.val();
@@ -923,6 +1009,19 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.n_visits.d.next = 0.into();
             self.n_tests.d.next = 0.into();
             self.n_pairs.d.next = 0.into();
+            self.streamed_seen.d.next = false;
+            self.haptic.d.next = self.has_resident.val() & !self.frame_update.val();
+            if self.has_resident.val() {
+                if self.frame_update.val() {
+                    self.res_loaded.d.next = 0.into();
+                    self.res_room.d.next = true;
+                } else {
+                    // A haptic frame's boxes follow the resident ones.
+                    self.loaded.d.next = self.res_loaded.q.val();
+                    self.projected.d.next = self.res_loaded.q.val();
+                    self.room.d.next = self.res_room.q.val();
+                }
+            }
         }
     }
 }

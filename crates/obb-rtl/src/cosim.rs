@@ -81,9 +81,18 @@ pub fn box_word(b: &QObb, cfg: &HwConfig) -> String {
     hex_word(&box_ports(b, cfg))
 }
 
-/// The stimulus file: one box per line.
-pub fn stimulus(obbs: &[QObb], cfg: &HwConfig) -> String {
-    obbs.iter().map(|b| box_word(b, cfg) + "\n").collect()
+/// One frame for the test bench: whether it is an update frame (`frame_update`; a frame of
+/// a configuration without resident groups is one), and its boxes.
+pub type BenchFrame<'a> = (bool, &'a [QObb]);
+
+/// The stimulus file: per frame a line `UPDATE N`, then its N boxes, one per line.
+pub fn stimulus(frames: &[BenchFrame], cfg: &HwConfig) -> String {
+    let mut text = String::new();
+    for &(update, obbs) in frames {
+        text += &format!("{} {}\n", u8::from(update), obbs.len());
+        text.extend(obbs.iter().map(|b| box_word(b, cfg) + "\n"));
+    }
+    text
 }
 
 /// Which Verilog of the core is simulated: the emitted RTL, or the yosys netlist of it
@@ -210,7 +219,7 @@ impl Default for RunOptions {
     }
 }
 
-/// What the simulated core gave for one frame.
+/// What the simulated core gave for one frame (of a run of several back to back).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SimFrame {
     /// The pairs taken from the stream, in order.
@@ -226,21 +235,21 @@ pub struct SimFrame {
 }
 
 impl Bench {
-    /// Runs one frame of the `boxes` boxes in the stimulus file `stim` (`stimulus`); calls
-    /// `progress` with the clock count as the simulation reports it.
+    /// Runs the `frames` frames of the stimulus file `stim` (`stimulus`) back to back; calls
+    /// `progress` with the frame's clock count as the simulation reports it.
     pub fn run(
         &self,
         stim: &Path,
-        boxes: usize,
+        frames: usize,
         opts: &RunOptions,
         mut progress: impl FnMut(u64),
-    ) -> Result<SimFrame> {
+    ) -> Result<Vec<SimFrame>> {
         let stim = std::path::absolute(stim)?;
         let out = stim.with_extension("out");
         let mut args = vec![
             format!("+stim={}", stim.display()),
             format!("+out={}", out.display()),
-            format!("+boxes={boxes}"),
+            format!("+frames={frames}"),
             format!("+ready={}", opts.ready_every),
             format!("+timeout={}", opts.timeout),
             format!("+progress={}", opts.progress_every),
@@ -293,12 +302,21 @@ impl Bench {
                 said.join("\n")
             )
         })?;
-        parse_result(&text).with_context(|| format!("in {}", out.display()))
+        let got = parse_result(&text).with_context(|| format!("in {}", out.display()))?;
+        if got.len() != frames {
+            bail!(
+                "{}: {} of the {frames} frames finished",
+                out.display(),
+                got.len()
+            );
+        }
+        Ok(got)
     }
 }
 
-/// Reads the test bench's result file.
-fn parse_result(text: &str) -> Result<SimFrame> {
+/// Reads the test bench's result file: the frames that finished.
+fn parse_result(text: &str) -> Result<Vec<SimFrame>> {
+    let mut frames = Vec::new();
     let mut stream = Vec::new();
     for line in text.lines() {
         let mut words = line.split_whitespace();
@@ -309,8 +327,8 @@ fn parse_result(text: &str) -> Result<SimFrame> {
         match (tag, nums.as_slice()) {
             (Some("pair"), &[a, b]) => stream.push([a as u32, b as u32]),
             (Some("done"), &[clocks, cycles, candidates, sat_tests, pairs, over]) => {
-                return Ok(SimFrame {
-                    stream,
+                frames.push(SimFrame {
+                    stream: std::mem::take(&mut stream),
                     clocks,
                     cycles,
                     candidates,
@@ -322,7 +340,7 @@ fn parse_result(text: &str) -> Result<SimFrame> {
             _ => bail!("bad line `{line}`"),
         }
     }
-    bail!("the frame did not finish (no `done` line)")
+    Ok(frames)
 }
 
 /// The model's verdict on a frame whose boxes all fit, or the capacity error for one that does

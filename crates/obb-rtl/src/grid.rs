@@ -46,6 +46,12 @@
 //! check applies the group mask). A window of more than `MAX_WINDOW` cells on an axis ends the
 //! slow path and raises the sticky `too_wide`: the frame is incomplete.
 //!
+//! With `resident_groups`, an update frame (`update` with `start`) clears every list head
+//! before its load, and the clear after its walk (and every walk's) writes only the lists of
+//! the groups that are not resident; the chain of large boxes as the resident boxes (loaded
+//! first) left it is kept (`res_lnext`), and a haptic frame starts its chain from it and takes
+//! the haptic mask, which pairs no two resident groups (docs/hardware.md, "Resident groups").
+//!
 //! With `lanes` walker lanes (a power of two up to 8), box i is on lane `i mod lanes`, as in the
 //! model. The probe (K to K+5) is shared: every bucket has a list per group and lane, a box
 //! reads every lane's lists and enters its own lane's (list l of lane k at `lpl k + l`, `lpl`
@@ -114,8 +120,14 @@ const _: () = assert!(GRID_CAND_STALL as u64 + 3 < pair_fifo::DEPTH);
 #[derive(LogicBlock)]
 pub struct GridPhase<const A: usize, const C: usize> {
     pub clock: Signal<In, Clock>,
-    /// Pulse: a new frame (the list heads were cleared at the end of the last).
+    /// Pulse: a new frame (the list heads were cleared at the end of the last, but the
+    /// resident groups').
     pub start: Signal<In, Bit>,
+    /// With `start`, the frame is an update frame (`resident_groups`): it clears every list
+    /// head before its first box, and loads the resident groups. Without, with resident groups,
+    /// a haptic frame: the resident lists and chain of large boxes stay, and the mask leaves
+    /// out the pairs of two resident groups. (Without resident groups, ignored.)
+    pub update: Signal<In, Bit>,
     /// A box is accepted this clock (the core's load).
     pub accept: Signal<In, Bit>,
     /// Every box of the frame has been accepted.
@@ -184,7 +196,14 @@ pub struct GridPhase<const A: usize, const C: usize> {
     lane_bit: Vec<Constant<Bits<8>>>,
     lane_at: Vec<Constant<Bits<8>>>,
     last_bucket: Constant<Bits<BUCKET>>,
+    /// The group mask of an update (or any) frame, and of a haptic frame.
     mask: Constant<Bits<MASK>>,
+    haptic_mask: Constant<Bits<MASK>>,
+    /// Resident groups (`resident_groups`): bit g for group g; any at all; per group with
+    /// lists, whether it is not resident (its lists are cleared after every frame).
+    resident_set: Constant<Bits<8>>,
+    has_resident: Constant<Bit>,
+    group_streamed: Vec<Constant<Bit>>,
     /// The bits of `inflight` at or above `GRID_CREDITS` (a power of two): none set, a credit
     /// is left. (A mask, not a compare: a compare is a carry chain in synthesis.)
     credits_used: Constant<Bits<COUNT>>,
@@ -630,6 +649,21 @@ pub struct GridPhase<const A: usize, const C: usize> {
     drained: Signal<Local, Bit>,
     /// The group mask's row of the slow path's box's group.
     lrow: Signal<Local, Bits<MASK>>,
+    /// The frame's group mask (the haptic one in a haptic frame).
+    fmask: DFF<Bits<MASK>>,
+    /// The clear before an update frame's load runs (it writes every list; the clear after a
+    /// walk only the streamed groups'); the clear is at its last bucket.
+    pre_clear: DFF<Bit>,
+    clear_last: Signal<Local, Bit>,
+    /// The resident set shifted to the box's group at K+3; the box is of a resident group, in
+    /// an update frame.
+    res_row: Signal<Local, Bits<8>>,
+    s3_res: Signal<Local, Bit>,
+    /// Per lane, the chain of large boxes as the resident ones left it (`lnext`, `lnext2`):
+    /// a haptic frame's chain starts from it.
+    res_lnext: Vec<DFF<Bits<C>>>,
+    res_lnext2: Vec<DFF<Bits<C>>>,
+    update_q: DFF<Bit>,
 }
 
 impl<const A: usize, const C: usize> GridPhase<A, C> {
@@ -655,10 +689,21 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
                 }
             }
         }
+        let mut haptic_mask = Bits::<MASK>::default();
+        let haptic = cfg.haptic_mask();
+        for g in 0..1u32 << GROUP {
+            for h in 0..1u32 << GROUP {
+                if haptic.allows(g, h) {
+                    haptic_mask = haptic_mask.replace_bit((g << GROUP | h) as usize, true);
+                }
+            }
+        }
+        let resident_set: u64 = cfg.resident_groups.iter().map(|&g| 1u64 << g).sum();
         let buckets = 1u64 << shape.hash_bits;
         GridPhase {
             clock: Default::default(),
             start: Default::default(),
+            update: Default::default(),
             accept: Default::default(),
             loaded: Default::default(),
             credit: Default::default(),
@@ -709,6 +754,12 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
                 .collect(),
             last_bucket: Constant::new((buckets - 1).into()),
             mask: Constant::new(mask),
+            haptic_mask: Constant::new(haptic_mask),
+            resident_set: Constant::new(resident_set.into()),
+            has_resident: Constant::new(resident_set != 0),
+            group_streamed: (0..groups as u32)
+                .map(|g| Constant::new(!cfg.is_resident(g)))
+                .collect(),
             credits_used: Constant::new(((1u64 << COUNT) - GRID_CREDITS as u64).into()),
             top: Constant::new((1u64 << A).into()),
             index_mask: Constant::new(((1u64 << A) - 1).into()),
@@ -1010,6 +1061,14 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             out_valid: Default::default(),
             drained: Default::default(),
             lrow: Default::default(),
+            fmask: Default::default(),
+            pre_clear: Default::default(),
+            clear_last: Default::default(),
+            res_row: Default::default(),
+            s3_res: Default::default(),
+            res_lnext: vec(lanes),
+            res_lnext2: vec(lanes),
+            update_q: Default::default(),
             s3_lane: vec(lanes),
             s4_lane: vec(lanes),
             s5_lane: vec(lanes),
@@ -1034,7 +1093,8 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             s2_group, s3_valid, s3_index, s3_margin, s3_group, s3_allowed, s4_valid, s4_large,
             s4_lprev, s4_index, s4_margin, s4_kind, s4_home_fp, s5_valid, s5_large, s5_lprev,
             s5_index, s5_margin, clearing, cleared, clear_at, s1_kind, s2_kind, s3_kind, s5_kind,
-            slow, lcur, lmargin, lgroup, wide, fetch_q, inj, inj_kind, idle, credit_q
+            slow, lcur, lmargin, lgroup, wide, fetch_q, inj, inj_kind, idle, credit_q, fmask,
+            pre_clear, update_q
         );
         clock!(self, clock, cells);
         for b in 0..27 {
@@ -1179,6 +1239,10 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.v3_word[k].clock.next = self.clock.val();
             self.lnext[k].clock.next = self.clock.val();
             self.lnext2[k].clock.next = self.clock.val();
+            self.res_lnext[k].clock.next = self.clock.val();
+            self.res_lnext2[k].clock.next = self.clock.val();
+            self.res_lnext[k].d.next = self.res_lnext[k].q.val();
+            self.res_lnext2[k].d.next = self.res_lnext2[k].q.val();
             self.slane[k].clock.next = self.clock.val();
             self.lnext[k].d.next = self.lnext[k].q.val();
             self.lnext2[k].d.next = self.lnext2[k].q.val();
@@ -1460,7 +1524,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 self.s3_max[x].d.next = self.s2_max[x].q.val();
             }
             self.allowed.next =
-                self.mask.val() >> (bit_cast::<MASK, GROUP>(self.s2_group.q.val()) << 3_u64);
+                self.fmask.q.val() >> (bit_cast::<MASK, GROUP>(self.s2_group.q.val()) << 3_u64);
             self.s3_allowed.d.next = self.allowed.val();
 
             // K+3, per list (bank b, group h): the list heads are read at the bank's bucket and
@@ -1523,12 +1587,21 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.large_in.next =
                 self.s3_valid.q.val() & (self.s3_kind.q.val() == 0) & !self.cells.small_box.val();
             self.s4_large.d.next = self.large_in.val();
+            // An update frame's resident boxes come first: the chain as they leave it is where a
+            // haptic frame's starts.
+            self.res_row.next =
+                self.resident_set.val() >> bit_cast::<8, GROUP>(self.s3_group.q.val());
+            self.s3_res.next = self.update_q.q.val() & self.res_row.val().get_bit(0);
             for k in 0..self._lanes {
                 if self.s3_lane[k].q.val() {
                     self.s4_lprev.d.next = self.lnext2[k].q.val();
                     if self.large_in.val() {
                         self.lnext[k].d.next = self.entry.val();
                         self.lnext2[k].d.next = self.lnext[k].q.val();
+                        if self.s3_res.val() {
+                            self.res_lnext[k].d.next = self.entry.val();
+                            self.res_lnext2[k].d.next = self.lnext[k].q.val();
+                        }
                     }
                 }
             }
@@ -1637,7 +1710,9 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                             self.s4_bucket[b].q.val();
                         self.head2[lpl * k + 27 * q + b].write_data.next =
                             self.old_eff[lpl * k + 27 * q + b].val();
-                        if self.clearing.q.val() {
+                        if self.clearing.q.val()
+                            & (self.pre_clear.q.val() | self.group_streamed[q].val())
+                        {
                             self.meta[lpl * k + 27 * q + b].write_enable.next = true;
                             self.meta[lpl * k + 27 * q + b].write_address.next =
                                 self.clear_at.q.val();
@@ -2098,7 +2173,10 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     | (self.count_inc[k].val() & self.count_m[3 * k + 1].val())
                     | (self.count_dec[k].val() & self.count_m[3 * k + 2].val());
             }
-            self.credit_q.d.next = self.credit_acc.val();
+            // (No box is taken while the list heads are cleared before an update frame's load.)
+            self.clear_last.next = self.clear_at.q.val() == self.last_bucket.val();
+            self.credit_q.d.next =
+                self.credit_acc.val() & !(self.pre_clear.q.val() & !self.clear_last.val());
             self.credit.next = self.credit_q.q.val();
 
             // The key check, per lane: V+1 the visited box's keys come from the lane's banks;
@@ -2107,7 +2185,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             // the chain's boxes pass if the mask pairs the groups (`lrow`: the mask's row of the
             // slow path's box's group).
             self.lrow.next =
-                self.mask.val() >> (bit_cast::<MASK, GROUP>(self.lgroup.q.val()) << 3_u64);
+                self.fmask.q.val() >> (bit_cast::<MASK, GROUP>(self.lgroup.q.val()) << 3_u64);
             for k in 0..self._lanes {
                 self.v1_valid[k].d.next = self.go[k].val();
                 self.v1_j[k].d.next = self.cand[k].val() & self.index_mask.val();
@@ -2232,9 +2310,10 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             }
             if self.clearing.q.val() {
                 self.clear_at.d.next = self.clear_at.q.val() + 1;
-                if self.clear_at.q.val() == self.last_bucket.val() {
+                if self.clear_last.val() {
                     self.clearing.d.next = false;
-                    self.cleared.d.next = true;
+                    self.pre_clear.d.next = false;
+                    self.cleared.d.next = !self.pre_clear.q.val();
                 }
             }
             self.drained.next = self.cleared.q.val();
@@ -2252,6 +2331,21 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 self.credit_q.d.next = true;
                 self.clearing.d.next = false;
                 self.cleared.d.next = false;
+                // An update frame (with resident groups) clears every list first; a haptic frame
+                // takes the haptic mask and the resident chain.
+                self.update_q.d.next = self.update.val();
+                self.fmask.d.next = self.mask.val();
+                self.pre_clear.d.next = false;
+                if self.has_resident.val() {
+                    if self.update.val() {
+                        self.clearing.d.next = true;
+                        self.clear_at.d.next = 0.into();
+                        self.pre_clear.d.next = true;
+                        self.credit_q.d.next = false;
+                    } else {
+                        self.fmask.d.next = self.haptic_mask.val();
+                    }
+                }
                 self.slow.d.next = SlowState::Fetch;
                 self.wide.d.next = false;
                 for k in 0..self._lanes {
@@ -2273,6 +2367,15 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     self.arrive_q[k].d.next = false;
                     self.lnext[k].d.next = 0.into();
                     self.lnext2[k].d.next = 0.into();
+                    if self.has_resident.val() {
+                        if self.update.val() {
+                            self.res_lnext[k].d.next = 0.into();
+                            self.res_lnext2[k].d.next = 0.into();
+                        } else {
+                            self.lnext[k].d.next = self.res_lnext[k].q.val();
+                            self.lnext2[k].d.next = self.res_lnext2[k].q.val();
+                        }
+                    }
                 }
             }
         }

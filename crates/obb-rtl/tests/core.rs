@@ -22,8 +22,10 @@ use rust_hdl::prelude::*;
 const A: usize = 9;
 
 /// Input word: frame_start, obb_valid, obb_last, centers (3), halves (3), axes (9), group,
-/// pair_ready.
-const WORD: usize = 20;
+/// pair_ready, frame_update.
+const WORD: usize = 21;
+const READY: usize = 19;
+const UPDATE: usize = 20;
 
 fn inputs() -> Vec<Port> {
     let mut p = vec![
@@ -36,6 +38,7 @@ fn inputs() -> Vec<Port> {
     p.extend(common::ports("obb_axes", 9, ROT));
     p.push(Port::new("obb_group", 3));
     p.push(Port::new("pair_ready", 1));
+    p.push(Port::new("frame_update", 1));
     p
 }
 
@@ -56,13 +59,13 @@ fn outputs() -> Vec<Port> {
     ]
 }
 
-/// The words of one frame: `frame_start`, the boxes (the last with `obb_last`, or the marker
+/// The words of one frame: `frame_start` (with `frame_update` unless `haptic`), the boxes (the last with `obb_last`, or the marker
 /// alone for no boxes), then `idle` clocks; `ready(k)` drives `pair_ready` on clock k. Box k is
 /// offered from the clock after box k - 1 was taken until clock `accepts[k]` (the model's
 /// clock for its acceptance: the grid's credits hold the load), so that a core taking it on
 /// another clock takes a box twice or leaves one out.
 fn frame(
-    boxes: &[QObb],
+    (boxes, haptic): (&[QObb], bool),
     accepts: &[u64],
     cfg: &HwConfig,
     idle: usize,
@@ -70,10 +73,11 @@ fn frame(
 ) -> Vec<Vec<u64>> {
     let mut words = vec![vec![0; WORD]];
     words[0][0] = 1;
+    words[0][UPDATE] = u64::from(!haptic);
     for (i, b) in boxes.iter().enumerate() {
         let mut w = vec![0, 1, u64::from(i + 1 == boxes.len())];
         w.extend(box_ports(b, cfg).map(|(v, _)| v));
-        w.push(0);
+        w.extend([0, 0]);
         while (words.len() as u64) <= accepts[i] {
             words.push(w.clone());
         }
@@ -85,7 +89,7 @@ fn frame(
     }
     words.extend((0..idle).map(|_| vec![0; WORD]));
     for (k, w) in words.iter_mut().enumerate() {
-        w[WORD - 1] = u64::from(ready(k));
+        w[READY] = u64::from(ready(k));
     }
     words
 }
@@ -104,7 +108,8 @@ fn rust_hdl<const A: usize, const C: usize>(cfg: &HwConfig, words: &[Vec<u64>]) 
             u.obb_axes[k].next = sbits(signed(w[9 + k], ROT));
         }
         u.obb_group.next = w[18].into();
-        u.pair_ready.next = w[19] == 1;
+        u.pair_ready.next = w[READY] == 1;
+        u.frame_update.next = w[UPDATE] == 1;
     };
     let read = |u: &Core<A, C>| {
         vec![
@@ -131,7 +136,7 @@ fn outcome(words: &[Vec<u64>], out: &[Vec<u64>], from: usize) -> SimFrame {
     let mut stream = Vec::new();
     for k in from + 1..out.len() {
         let before = &out[k - 1];
-        if before[0] == 1 && words[k][WORD - 1] == 1 {
+        if before[0] == 1 && words[k][READY] == 1 {
             stream.push([before[1] as u32, before[2] as u32]);
         }
         if out[k][3] == 1 {
@@ -157,6 +162,9 @@ struct Frame {
     scene: Scene,
     /// `pair_ready` on one clock in this many.
     ready_every: usize,
+    /// A haptic frame (`resident_groups`): `scene` holds the streamed boxes, which follow the
+    /// resident ones of the last update frame.
+    haptic: bool,
 }
 
 /// Runs `frames` back to back through one core for `cfg` in rust-hdl and in Verilator: both
@@ -182,13 +190,25 @@ fn stimulus(
     let mut words = Vec::new();
     let mut starts = Vec::new();
     let mut models = Vec::new();
+    let mut last: Option<ModelFrame> = None;
     for f in frames {
         // (The grid's cells are a length: its scenes keep the configuration's LSB.)
         let fit = match cfg.broad_phase {
             BroadPhase::Grid => cfg.clone(),
             _ => cfg.fitted(&f.scene),
         };
-        let (m, boxes) = prepare(&f.scene, &fit).unwrap_or_else(|e| panic!("{}: {e}", f.name));
+        let (m, boxes) = match (&last, f.haptic) {
+            (Some(update), true) => {
+                let m = update
+                    .haptic(&f.scene)
+                    .unwrap_or_else(|e| panic!("{}: {e}", f.name));
+                let boxes = m.streamed().to_vec();
+                (Some(m), boxes)
+            }
+            (None, true) => panic!("{}: a haptic frame follows an update frame", f.name),
+            (_, false) => prepare(&f.scene, &fit).unwrap_or_else(|e| panic!("{}: {e}", f.name)),
+        };
+        last.clone_from(&m);
         let run = m.as_ref().map(ModelFrame::run);
         let accepts = match (&m, fit.broad_phase) {
             (Some(m), BroadPhase::Grid) => grid_schedule(&m.grid_walk(&fit.groups)).accepts,
@@ -207,7 +227,7 @@ fn stimulus(
         // test bench).
         let loaded = accepts.last().map_or(0, |&t| t as usize);
         starts.push(words.len());
-        words.extend(frame(&boxes, &accepts, &fit, idle, &|k| {
+        words.extend(frame((&boxes, f.haptic), &accepts, &fit, idle, &|k| {
             k % every == 0 || (fit.broad_phase == BroadPhase::Grid && k <= loaded)
         }));
         models.push(run);
@@ -253,6 +273,7 @@ fn frame_of(name: &'static str, scene: Scene) -> Frame {
         name,
         scene,
         ready_every: 1,
+        haptic: false,
     }
 }
 
@@ -277,6 +298,7 @@ fn sweep_core_matches_the_model() {
                 name: "dense, throttled",
                 scene: dense(120),
                 ready_every: 4,
+                haptic: false,
             },
             frame_of("one box", first(touching_pairs(), 1)),
             frame_of("no box", Scene { obbs: vec![] }),
@@ -300,6 +322,7 @@ fn grid_core_matches_the_model() {
                 name: "dense, throttled",
                 scene: three_groups(dense(120)),
                 ready_every: 8,
+                haptic: false,
             },
             frame_of("one box", first(touching_pairs(), 1)),
             frame_of("no box", Scene { obbs: vec![] }),
@@ -331,12 +354,74 @@ fn grid_core_with_lanes_matches_the_model() {
                 name: "dense, throttled",
                 scene: three_groups(dense(120)),
                 ready_every: 8,
+                haptic: false,
             },
             frame_of(
                 "a box larger than a cell, first",
                 with_plate(touching_pairs(), true),
             ),
             frame_of("no box", Scene { obbs: vec![] }),
+        ],
+    );
+}
+
+/// Resident groups (`resident_groups = [0]`, every group pair): the tissue loaded by update
+/// frames and kept; haptic frames stream the instruments, moving, and report no tissue-tissue
+/// pair. A resident plate larger than a cell is on the chain every haptic frame's slow path
+/// takes; a streamed one joins it; an empty haptic frame; a second update
+/// with other tissue and no plate replaces the first's lists and chain.
+#[test]
+fn grid_core_keeps_resident_groups() {
+    let cfg = HwConfig {
+        resident_groups: vec![0],
+        ..grid_all_pairs(1)
+    };
+    let scene = surgical(300, 11).unwrap();
+    let of = |s: &Scene, tissue: bool| Scene {
+        obbs: s
+            .obbs
+            .iter()
+            .filter(|o| (o.group == 0) == tissue)
+            .cloned()
+            .collect(),
+    };
+    // The instruments moved k steps of 3 mm towards the tissue and along it.
+    let instruments = |k: f64| {
+        let mut s = of(&scene, false);
+        for o in &mut s.obbs {
+            o.center[0] += 3.0 * k;
+            o.center[2] -= 1.5 * k;
+        }
+        s
+    };
+    let tip = scene.obbs.last().unwrap().center;
+    let plate = |group| Obb::aligned(tip, [20.0, 20.0, 0.5], group);
+    let join = |a: Scene, b: Scene| Scene {
+        obbs: a.obbs.into_iter().chain(b.obbs).collect(),
+    };
+    let mut first = of(&scene, true);
+    first.obbs.insert(0, plate(0));
+    let mut with_plate = instruments(1.0);
+    with_plate.obbs.push(plate(2));
+    let haptic = |name, scene, ready_every| Frame {
+        name,
+        scene,
+        ready_every,
+        haptic: true,
+    };
+    run(
+        &cfg,
+        &[
+            frame_of("update", join(first, instruments(0.0))),
+            haptic("haptic 1", instruments(1.0), 1),
+            haptic("haptic 2", instruments(2.0), 1),
+            haptic("haptic with a streamed plate", with_plate, 1),
+            haptic("haptic, no box", Scene { obbs: vec![] }, 1),
+            frame_of(
+                "update, other tissue",
+                join(of(&surgical(300, 12).unwrap(), true), instruments(0.0)),
+            ),
+            haptic("haptic 3", instruments(3.0), 1),
         ],
     );
 }

@@ -6,7 +6,7 @@
 mod common;
 
 use common::scenes::{dense, first, stiff, touching_pairs};
-use obb_model::fixed::{BroadPhase, HwConfig};
+use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame};
 use obb_model::generate::{surgical, SURGICAL_DEFAULT_N};
 use obb_model::{GroupMask, Scene};
 use obb_rtl::cosim::{
@@ -38,7 +38,7 @@ fn cosim(
     let bench = build(design, level, sim, false, &cache()).unwrap();
     let dir = scratch_dir("cosim").unwrap();
     let stim = dir.join("stim.hex");
-    std::fs::write(&stim, stimulus(&boxes, cfg)).unwrap();
+    std::fs::write(&stim, stimulus(&[(true, &boxes)], cfg)).unwrap();
     let run = model.map(|m| m.run());
     let clocks = frame_clocks(scene, cfg, run.as_ref()).unwrap();
     let pairs = run.as_ref().map_or(0, |r| r.reported());
@@ -48,7 +48,7 @@ fn cosim(
         ..RunOptions::default()
     };
     let start = Instant::now();
-    let got = bench.run(&stim, boxes.len(), &opts, |_| {}).unwrap();
+    let got = bench.run(&stim, 1, &opts, |_| {}).unwrap().remove(0);
     let secs = start.elapsed().as_secs_f64();
     let want = Expected::of(run.as_ref());
     if let Err(e) = compare(&got, &want, Taken::of(ready_every, cfg.lanes)) {
@@ -223,6 +223,81 @@ fn planned_cores_on_their_scenes() {
         );
         assert_eq!(got.cycles, p.scenes[0].clocks, "{name}: {}", p.summary());
         eprintln!("{name}: {}", p.summary());
+    }
+}
+
+/// Resident tissue (`resident_groups = [0]`, cross-group, the default core otherwise) on the
+/// surgical scene in Verilator, frames back to back: an update frame, haptic frames with the
+/// instruments moving, a second update, a haptic frame after it; and the same with the pair
+/// stream throttled. Every frame as the model's, the haptic frames' clocks
+/// printed (the README's figures).
+#[test]
+fn resident_tissue_with_haptic_frames() {
+    let cfg = HwConfig {
+        resident_groups: vec![0],
+        ..HwConfig::default()
+    };
+    let design = obb_rtl::generate::core(&cfg).unwrap();
+    let bench = build(&design, Level::Rtl, Simulator::Verilator, false, &cache()).unwrap();
+    let scene = surgical(SURGICAL_DEFAULT_N, 1).unwrap();
+    for ready_every in [1, 4] {
+        let moved = |k: f64| Scene {
+            obbs: scene
+                .obbs
+                .iter()
+                .filter(|o| o.group != 0)
+                .map(|o| {
+                    let mut o = o.clone();
+                    o.center[0] += 0.2 * k;
+                    o.center[2] -= 0.1 * k;
+                    o
+                })
+                .collect(),
+        };
+        let update = ModelFrame::new(&scene, &cfg).unwrap();
+        let mut models = vec![("update", update.clone())];
+        for k in 1..=3 {
+            let h = models.last().unwrap().1.haptic(&moved(k as f64)).unwrap();
+            models.push(("haptic", h));
+        }
+        models.push(("update", update.clone()));
+        models.push(("haptic", update.haptic(&moved(4.0)).unwrap()));
+        let frames: Vec<(bool, &[_])> = models
+            .iter()
+            .map(|(_, m)| (m.resident.is_none(), m.streamed()))
+            .collect();
+        let dir = scratch_dir("cosim").unwrap();
+        let stim = dir.join("stim.hex");
+        std::fs::write(&stim, stimulus(&frames, &cfg)).unwrap();
+        let runs: Vec<_> = models.iter().map(|(_, m)| m.run()).collect();
+        let clocks: u64 = runs
+            .iter()
+            .map(|r| r.cycles.total + r.reported() * u64::from(ready_every))
+            .sum();
+        let opts = RunOptions {
+            ready_every,
+            timeout: 2 * clocks + 10_000,
+            ..RunOptions::default()
+        };
+        let got = bench.run(&stim, frames.len(), &opts, |_| {}).unwrap();
+        for (k, ((kind, m), (sim, run))) in models.iter().zip(got.iter().zip(&runs)).enumerate() {
+            if let Err(e) = compare(sim, &Expected::of(Some(run)), Taken::of(ready_every, 1)) {
+                panic!("ready one clock in {ready_every}, frame {k} ({kind}): {e}");
+            }
+            eprintln!(
+                "ready one clock in {ready_every}, frame {k} ({kind}): {} boxes streamed, {} \
+                 pairs, {} cycles",
+                m.streamed().len(),
+                sim.stream.len(),
+                sim.cycles
+            );
+        }
+        // A haptic frame streams the instruments only: far fewer clocks than an update.
+        assert!(
+            got[1].cycles < got[0].cycles * 2 / 3,
+            "{:?}",
+            runs[1].cycles
+        );
     }
 }
 

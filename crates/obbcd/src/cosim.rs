@@ -1,12 +1,14 @@
-//! `obbcd cosim`: one frame of a scene through the emitted Verilog of the core in a real
-//! simulator, compared with the bit-exact model: the pair stream in order, the counters and the
-//! clock count. Any difference fails the command with the first one.
+//! `obbcd cosim`: one frame of a scene (and, with resident groups, haptic frames after it)
+//! through the emitted Verilog of the core in a real simulator, compared with the bit-exact
+//! model: the pair stream in order, the counters and the clock count. Any difference fails the
+//! command with the first one.
 
 use crate::detect::{load_config, write_pairs};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use obb_model::fixed::grid::MAX_WINDOW;
+use obb_model::fixed::{HwConfig, ModelFrame};
 use obb_model::Scene;
 use obb_rtl::cosim::{self, compare, prepare, Expected, Level, RunOptions, Taken};
 use obb_rtl::verilator::Simulator;
@@ -39,7 +41,12 @@ pub struct CosimArgs {
     /// The receiver takes a pair one clock in N (back-pressure on the pair stream).
     #[arg(long, default_value_t = 1)]
     ready_every: u32,
-    /// Pairs JSON file to write (as `obbcd detect` writes it).
+    /// With `resident_groups` in the configuration: after the scene's (update) frame, this many
+    /// haptic frames, each streaming the scene's boxes of the other groups again while the core
+    /// keeps the resident ones; each is compared with the model and gets its own line.
+    #[arg(long, default_value_t = 0)]
+    haptic_frames: usize,
+    /// Pairs JSON file to write (as `obbcd detect` writes it), of the first frame.
     #[arg(short = 'o', long = "output")]
     output: Option<PathBuf>,
     /// Waveform file (VCD) of the whole frame.
@@ -65,6 +72,8 @@ pub fn run(a: CosimArgs) -> Result<()> {
     let (model, boxes) =
         prepare(&scene, &cfg).context("the scene does not fit the hardware configuration")?;
     let run = model.as_ref().map(|m| m.run());
+    let haptic = haptic_frames(&scene, &cfg, model.as_ref(), a.haptic_frames)?;
+    let haptic_runs: Vec<_> = haptic.iter().map(|m| m.run()).collect();
     let cache = a.cache.clone().unwrap_or_else(cache::default_dir);
     let sim = match a.simulator {
         SimulatorArg::Verilator => Simulator::Verilator,
@@ -96,9 +105,14 @@ pub fn run(a: CosimArgs) -> Result<()> {
     let work = cache.join(format!("run-{}", std::process::id()));
     std::fs::create_dir_all(&work).with_context(|| format!("cannot create {}", work.display()))?;
     let stim = work.join("stim.hex");
-    std::fs::write(&stim, cosim::stimulus(&boxes, &cfg))?;
+    let mut frames = vec![(true, boxes.as_slice())];
+    frames.extend(haptic.iter().map(|m| (false, m.streamed())));
+    std::fs::write(&stim, cosim::stimulus(&frames, &cfg))?;
     // The model's clocks, or for a frame over capacity a bound: the bar's length.
-    let expect = cosim::frame_clocks(&scene, &cfg, run.as_ref())?;
+    let expect = cosim::frame_clocks(&scene, &cfg, run.as_ref())?
+        + haptic_runs.iter().map(|r| r.cycles.total).sum::<u64>();
+    let reported = run.as_ref().map_or(0, |r| r.reported())
+        + haptic_runs.iter().map(|r| r.reported()).sum::<u64>();
     let bar = ProgressBar::new(expect).with_style(
         ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} clocks ({eta})")
             .expect("a valid template"),
@@ -108,38 +122,62 @@ pub fn run(a: CosimArgs) -> Result<()> {
         ready_every: a.ready_every,
         // A core that never says `done` is a failure, not a hang: twice the clocks the frame
         // can take with every pair waiting `ready_every` clocks.
-        timeout: 2 * (expect + run.as_ref().map_or(0, |r| r.reported()) * u64::from(a.ready_every))
-            + 10_000,
+        timeout: 2 * (expect + reported * u64::from(a.ready_every)) + 10_000,
         progress_every: (expect / 200).max(1000),
         vcd: a.vcd.clone(),
     };
     let start = Instant::now();
-    let result = bench.run(&stim, boxes.len(), &opts, |clock| bar.set_position(clock));
+    // (The bar follows the frames' clocks one after another.)
+    let mut done = 0;
+    let mut last = 0;
+    let result = bench.run(&stim, frames.len(), &opts, |clock| {
+        if clock < last {
+            done += last;
+        }
+        last = clock;
+        bar.set_position(done + clock)
+    });
     bar.finish_and_clear();
     let _ = std::fs::remove_dir_all(&work);
-    let got = result?;
+    let mut got = result?;
     let secs = start.elapsed().as_secs_f64();
+    let later = got.split_off(1);
+    let got = got.remove(0);
+    let line = |frame: &str, got: &cosim::SimFrame, obbs: usize, pairs: usize, model: u64| {
+        format!(
+            "frame={frame} simulator={} level={} obbs={obbs} pairs={pairs} reported={} \
+             candidates={} sat={} cycles={} model_cycles={model} frame_ms={:.3} clock_ns={}",
+            format!("{sim:?}").to_lowercase(),
+            if a.gate_level { "gates" } else { "rtl" },
+            got.pairs,
+            got.candidates,
+            got.sat_tests,
+            got.cycles,
+            got.cycles as f64 * cfg.clock_ns * 1e-6,
+            cfg.clock_ns,
+        )
+    };
 
     let mut pairs = got.stream.clone();
     pairs.sort_unstable();
     pairs.dedup();
     let want = Expected::of(run.as_ref());
     let verdict = compare(&got, &want, Taken::of(a.ready_every, cfg.lanes));
+    let total_clocks: u64 = got.clocks + later.iter().map(|f| f.clocks).sum::<u64>();
     println!(
-        "simulator={} level={} obbs={} pairs={} reported={} candidates={} sat={} cycles={} \
-         model_cycles={} frame_ms={:.3} clock_ns={} sim_s={secs:.2} clocks_per_s={:.0}",
-        format!("{sim:?}").to_lowercase(),
-        if a.gate_level { "gates" } else { "rtl" },
-        boxes.len(),
-        pairs.len(),
-        got.pairs,
-        got.candidates,
-        got.sat_tests,
-        got.cycles,
-        run.as_ref().map_or(0, |r| r.cycles.total),
-        got.cycles as f64 * cfg.clock_ns * 1e-6,
-        cfg.clock_ns,
-        got.clocks as f64 / secs,
+        "{} sim_s={secs:.2} clocks_per_s={:.0}",
+        line(
+            if cfg.resident_groups.is_empty() {
+                "whole"
+            } else {
+                "update"
+            },
+            &got,
+            boxes.len(),
+            pairs.len(),
+            run.as_ref().map_or(0, |r| r.cycles.total)
+        ),
+        total_clocks as f64 / secs,
     );
     if let Err(e) = verdict {
         bail!("the core and the model differ: {e}");
@@ -162,8 +200,63 @@ pub fn run(a: CosimArgs) -> Result<()> {
             got.stream.len()
         );
     }
+    for (k, ((m, r), sim_frame)) in haptic.iter().zip(&haptic_runs).zip(&later).enumerate() {
+        let mut pairs = sim_frame.stream.clone();
+        pairs.sort_unstable();
+        pairs.dedup();
+        println!(
+            "{}",
+            line(
+                "haptic",
+                sim_frame,
+                m.streamed().len(),
+                pairs.len(),
+                r.cycles.total
+            )
+        );
+        if let Err(e) = compare(
+            sim_frame,
+            &Expected::of(Some(r)),
+            Taken::of(a.ready_every, cfg.lanes),
+        ) {
+            bail!("haptic frame {}: the core and the model differ: {e}", k + 1);
+        }
+    }
     if let Some(path) = &a.output {
         write_pairs(path, &pairs)?;
     }
     Ok(())
+}
+
+/// The model's `count` haptic frames after the scene's frame `update`: each streams the
+/// scene's boxes of the groups that are not resident.
+fn haptic_frames(
+    scene: &Scene,
+    cfg: &HwConfig,
+    update: Option<&ModelFrame>,
+    count: usize,
+) -> Result<Vec<ModelFrame>> {
+    if count == 0 {
+        return Ok(Vec::new());
+    }
+    if cfg.resident_groups.is_empty() {
+        bail!(
+            "--haptic-frames needs resident groups: the configuration's `resident_groups` is empty"
+        );
+    }
+    let Some(update) = update else {
+        bail!("--haptic-frames: the scene's frame is over capacity, so no group is resident");
+    };
+    let streamed = Scene {
+        obbs: scene
+            .obbs
+            .iter()
+            .filter(|o| !cfg.is_resident(o.group))
+            .cloned()
+            .collect(),
+    };
+    let first = update
+        .haptic(&streamed)
+        .context("the haptic frame does not fit the hardware configuration")?;
+    Ok(vec![first; count])
 }

@@ -104,6 +104,11 @@ pub struct HwConfig {
     /// Grid: groups with lists of their own, 0 to `grid_groups - 1`; a box of a higher group
     /// is rejected on the host.
     pub grid_groups: u32,
+    /// Grid: groups whose boxes stay in the core between frames (the tissue, rebuilt at about
+    /// 25 Hz): an *update* frame loads them (first, before the other groups' boxes) with
+    /// everything else; a *haptic* frame streams only the other groups' boxes, which meet the
+    /// resident ones in the lists the update left. Empty: every frame loads every box.
+    pub resident_groups: Vec<u32>,
     /// Width of the SAT's 15 comparisons: both sides drop their low bits down to this width
     /// when their full width, center_bits + rot_bits + 2, is wider.
     pub sat_bits: u32,
@@ -134,6 +139,7 @@ impl Default for HwConfig {
             grid_cell_mm: 2.0,
             grid_hash_bits: 10,
             grid_groups: 3,
+            resident_groups: Vec::new(),
             sat_bits: 40,
             clock_ns: 4.0,
             speed_grade: 2,
@@ -319,6 +325,28 @@ impl HwConfig {
                 ),
             ));
         }
+        if let Some(&g) = self
+            .resident_groups
+            .iter()
+            .find(|&&g| g >= self.grid_groups)
+        {
+            return Err(invalid(
+                "resident_groups",
+                format!(
+                    "group {g} is beyond the grid's {} groups (`grid_groups`)",
+                    self.grid_groups
+                ),
+            ));
+        }
+        if !self.resident_groups.is_empty() && self.broad_phase != BroadPhase::Grid {
+            return Err(invalid(
+                "resident_groups",
+                format!(
+                    "{:?} with broad phase `{}`: only the grid keeps boxes between frames",
+                    self.resident_groups, self.broad_phase
+                ),
+            ));
+        }
         if let GroupMask::Pairs(list) = &self.groups {
             if let Some(&(_, h)) = list.iter().find(|&&(_, h)| h >= 1 << GROUP_BITS) {
                 return Err(invalid(
@@ -373,6 +401,25 @@ impl HwConfig {
             BroadPhase::Grid => self.grid_groups,
             _ => 1 << GROUP_BITS,
         }
+    }
+
+    /// Whether group `g`'s boxes stay in the core between frames (`resident_groups`).
+    pub fn is_resident(&self, g: u32) -> bool {
+        self.resident_groups.contains(&g)
+    }
+
+    /// The pairs a haptic frame reports: `groups` but those of two resident groups, which the
+    /// last update frame reported and which no haptic frame changes.
+    pub fn haptic_mask(&self) -> GroupMask {
+        let all = 1 << GROUP_BITS;
+        GroupMask::Pairs(
+            (0..all)
+                .flat_map(|g| (g..all).map(move |h| (g, h)))
+                .filter(|&(g, h)| {
+                    self.groups.allows(g, h) && !(self.is_resident(g) && self.is_resident(h))
+                })
+                .collect(),
+        )
     }
 
     /// Bits dropped from an end point to make its sort key.

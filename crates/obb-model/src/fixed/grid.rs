@@ -28,6 +28,11 @@
 //! axis is not read: the slow path stops there, and the frame is *incomplete* (the core flags
 //! it; a larger cell takes the box).
 //!
+//! With `resident_groups`, a haptic frame's first boxes (`ModelFrame::resident`) are the last
+//! update frame's resident ones, still in the core: they are entered without a probe, in their
+//! order, which rebuilds the lists and the chain the update left, and only the streamed boxes
+//! after them probe (docs/numerics.md, "Resident groups").
+//!
 //! With `lanes` walkers, box `i` is on lane `i mod lanes`: each bucket has a list per group and
 //! lane, a box enters its lane's list and probes every lane's, and the large boxes chain per
 //! lane. A lane's walker then visits only its lane's boxes, so in the hardware each reads its
@@ -283,8 +288,9 @@ impl Lists {
 pub struct GridWalk {
     /// Walker lanes: box `i` is on lane `i % lanes`, which walks its lists.
     pub lanes: usize,
-    /// Per box and lane (`visits[i * lanes + lane]`), its visits on that lane (none for a large
-    /// box; they follow each other in `passes`).
+    /// Per box the frame streams (a haptic frame's resident boxes are not) and lane
+    /// (`visits[i * lanes + lane]`), its visits on that lane (none for a large box; they follow
+    /// each other in `passes`).
     pub visits: Vec<usize>,
     /// Per visit, in order: the pair passed the key check (and, on the slow path, the mask and
     /// the home cell).
@@ -301,6 +307,9 @@ pub struct GridWalk {
     pub too_wide: Option<usize>,
     /// Bucket bits of a bank: the list heads take `2^hash_bits` clocks to clear.
     pub hash_bits: u32,
+    /// An update frame (`resident_groups`): every list head is cleared before the first box
+    /// is taken, for the resident groups' lists are kept after a frame.
+    pub clear_first: bool,
 }
 
 /// A large box's slow path, after the load: its window read in rounds (at most one cell per
@@ -332,6 +341,7 @@ pub(super) fn walk(
         lanes,
         visits: Vec::with_capacity(n * lanes),
         hash_bits: shape.hash_bits,
+        clear_first: frame.resident.is_none() && !frame.cfg.resident_groups.is_empty(),
         ..GridWalk::default()
     };
     // `send` checks the mask and the keys and counts what it emits; a visit outside its home
@@ -354,14 +364,23 @@ pub(super) fn walk(
         out.pairs.push((i as u32, j as u32));
     };
     let mut large = Vec::new();
+    // A haptic frame's resident boxes are in the lists the update frame left (entered in the
+    // same order, so the lists are the same): they probe nothing and are not loaded.
+    let resident = frame.resident.unwrap_or(0);
     for i in 0..n {
         let (lo, hi) = &frame.keys[i];
+        let g = frame.obbs[i].group;
         if !shape.is_small(lo, hi) {
             large.push(i);
-            out.visits.extend(std::iter::repeat_n(0, lanes));
+            if i >= resident {
+                out.visits.extend(std::iter::repeat_n(0, lanes));
+            }
             continue;
         }
-        let g = frame.obbs[i].group;
+        if i < resident {
+            lists.enter(&shape.home(lo), g, i);
+            continue;
+        }
         let (wlo, whi) = shape.window(lo, hi);
         for lane in 0..lanes {
             let first = out.passes.len();

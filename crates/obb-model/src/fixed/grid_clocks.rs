@@ -49,6 +49,10 @@
 //!   retires it; a box is accepted when the credit is set on every lane, and a clock is idle
 //!   when no lane had one in flight on the clock before. On a clock with no accept, the lowest
 //!   lane with a candidate on its output register issues it.
+//! - **Update frame** (`resident_groups`): before the first accept, every list head is
+//!   cleared, one bucket of every bank a clock (clocks 1 to `2^grid_hash_bits`); the credit is
+//!   set from the clock after. The clear after the walk then clears only the lists of the
+//!   groups that are not resident.
 //! - **End.** The walk is over on the first idle clock with no large box left to fetch (or
 //!   after a window too wide). From the clock after that, every list head is
 //!   cleared for the next frame, one bucket of every bank a clock (`2^grid_hash_bits` clocks),
@@ -289,6 +293,9 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
     // The credit and the idle flag are registers, set from the clock before's counts (so that
     // no path runs from the counts to the load and the slow path in one clock).
     let (mut credit, mut idle) = (true, false);
+    // An update frame clears the list heads on its first clocks.
+    let clear = 1u64 << walk.hash_bits;
+    let cleared_first = if walk.clear_first { clear } else { 0 };
     loop {
         t += 1;
         for lane in &mut lanes {
@@ -339,8 +346,8 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
             }
             other => other,
         };
-        // Accept: the credit is set.
-        let accept = s.accepts.len() < n && credit;
+        // Accept: the credit is set (and the list heads are clear).
+        let accept = s.accepts.len() < n && credit && t > cleared_first;
         if accept {
             let k = s.accepts.len();
             s.accepts.push(t);
@@ -382,13 +389,15 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
         }
     }
     let load = s.accepts.last().map_or(1, |&a| keys_out(a)) + LAT_KEY_WRITE;
-    let clear = 1u64 << walk.hash_bits;
     let verdict = if candidates == 0 {
         0
     } else {
         last_issue + GRID_ISSUE_TO_SAT + LAT_SAT
     };
-    let end = (s.walked + 1 + clear).max(verdict).max(load);
+    // (The clear after the walk waits for the one before the load.)
+    let end = (s.walked.max(cleared_first + 1) + 1 + clear)
+        .max(verdict)
+        .max(load);
     s.clocks = GridClocks {
         load,
         walk: s.walked.max(load) - load,

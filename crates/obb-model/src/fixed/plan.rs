@@ -158,6 +158,12 @@ pub fn plan(scenes: &[Scene], aims: &Aims) -> Result<Plan, PlanError> {
     };
     why("groups", format!("the pairs asked for: {}", aims.groups));
     why(
+        "resident_groups",
+        "none: every frame loads every box (name the groups the core keeps between frames, \
+         such as the tissue, for haptic frames)"
+            .into(),
+    );
+    why(
         "grid_groups",
         format!("the scenes' groups run from 0 to {top_group}"),
     );

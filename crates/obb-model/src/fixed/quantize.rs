@@ -54,6 +54,20 @@ pub enum QuantizeError {
         "obb {index}: its axes deviate from orthonormality by {error:e}, more than the configured ortho_tol {tol:e}"
     )]
     Ortho { index: usize, error: f64, tol: f64 },
+    #[error(
+        "obb {index}: group {group} is resident (`resident_groups`), and an update frame loads \
+         the resident groups' boxes first: it follows obb {after} of a streamed group"
+    )]
+    ResidentOrder {
+        index: usize,
+        group: u32,
+        after: usize,
+    },
+    #[error(
+        "obb {index}: group {group} is resident (`resident_groups`): a haptic frame streams \
+         only the other groups' boxes (the resident ones come with an update frame)"
+    )]
+    ResidentStreamed { index: usize, group: u32 },
     /// A box that fails the scene's own validation (NaN, negative half-length, ...).
     #[error(transparent)]
     Invalid(#[from] SceneError),
