@@ -141,6 +141,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
     localparam  list_group$78 = 3'b10;
     localparam  list_group$79 = 3'b10;
     localparam  list_group$80 = 3'b10;
+    localparam  group_keep = 3'b111;
     localparam  cell_bits = 8'hb;
     localparam  max_span = 23'h16;
     localparam  at_a = 8'h4c;
@@ -22524,7 +22525,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$0$d = head$0$read_data;
         s4_old2$0$d = head2$0$read_data;
         s4_walk$0$d = s3_valid$q & cells$small_box & cells$inside$0 & allow$0[32'h0];
-        s4_enter$0$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & (s3_group$q == list_group$0) & s3_lane$0$q;
+        s4_enter$0$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & ((s3_group$q & group_keep) == list_group$0) & s3_lane$0$q;
         meta$1$read_address = cells$bucket$1;
         head$1$read_address = cells$bucket$1;
         allow$1 = s3_allowed$q >> list_group$1;
@@ -22533,7 +22534,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$1$d = head$1$read_data;
         s4_old2$1$d = head2$1$read_data;
         s4_walk$1$d = s3_valid$q & cells$small_box & cells$inside$1 & allow$1[32'h0];
-        s4_enter$1$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & (s3_group$q == list_group$1) & s3_lane$0$q;
+        s4_enter$1$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & ((s3_group$q & group_keep) == list_group$1) & s3_lane$0$q;
         meta$2$read_address = cells$bucket$2;
         head$2$read_address = cells$bucket$2;
         allow$2 = s3_allowed$q >> list_group$2;
@@ -22542,7 +22543,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$2$d = head$2$read_data;
         s4_old2$2$d = head2$2$read_data;
         s4_walk$2$d = s3_valid$q & cells$small_box & cells$inside$2 & allow$2[32'h0];
-        s4_enter$2$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & (s3_group$q == list_group$2) & s3_lane$0$q;
+        s4_enter$2$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & ((s3_group$q & group_keep) == list_group$2) & s3_lane$0$q;
         meta$3$read_address = cells$bucket$3;
         head$3$read_address = cells$bucket$3;
         allow$3 = s3_allowed$q >> list_group$3;
@@ -22551,7 +22552,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$3$d = head$3$read_data;
         s4_old2$3$d = head2$3$read_data;
         s4_walk$3$d = s3_valid$q & cells$small_box & cells$inside$3 & allow$3[32'h0];
-        s4_enter$3$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & (s3_group$q == list_group$3) & s3_lane$0$q;
+        s4_enter$3$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & ((s3_group$q & group_keep) == list_group$3) & s3_lane$0$q;
         meta$4$read_address = cells$bucket$4;
         head$4$read_address = cells$bucket$4;
         allow$4 = s3_allowed$q >> list_group$4;
@@ -22560,7 +22561,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$4$d = head$4$read_data;
         s4_old2$4$d = head2$4$read_data;
         s4_walk$4$d = s3_valid$q & cells$small_box & cells$inside$4 & allow$4[32'h0];
-        s4_enter$4$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & (s3_group$q == list_group$4) & s3_lane$0$q;
+        s4_enter$4$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & ((s3_group$q & group_keep) == list_group$4) & s3_lane$0$q;
         meta$5$read_address = cells$bucket$5;
         head$5$read_address = cells$bucket$5;
         allow$5 = s3_allowed$q >> list_group$5;
@@ -22569,7 +22570,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$5$d = head$5$read_data;
         s4_old2$5$d = head2$5$read_data;
         s4_walk$5$d = s3_valid$q & cells$small_box & cells$inside$5 & allow$5[32'h0];
-        s4_enter$5$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & (s3_group$q == list_group$5) & s3_lane$0$q;
+        s4_enter$5$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & ((s3_group$q & group_keep) == list_group$5) & s3_lane$0$q;
         meta$6$read_address = cells$bucket$6;
         head$6$read_address = cells$bucket$6;
         allow$6 = s3_allowed$q >> list_group$6;
@@ -22578,7 +22579,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$6$d = head$6$read_data;
         s4_old2$6$d = head2$6$read_data;
         s4_walk$6$d = s3_valid$q & cells$small_box & cells$inside$6 & allow$6[32'h0];
-        s4_enter$6$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & (s3_group$q == list_group$6) & s3_lane$0$q;
+        s4_enter$6$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & ((s3_group$q & group_keep) == list_group$6) & s3_lane$0$q;
         meta$7$read_address = cells$bucket$7;
         head$7$read_address = cells$bucket$7;
         allow$7 = s3_allowed$q >> list_group$7;
@@ -22587,7 +22588,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$7$d = head$7$read_data;
         s4_old2$7$d = head2$7$read_data;
         s4_walk$7$d = s3_valid$q & cells$small_box & cells$inside$7 & allow$7[32'h0];
-        s4_enter$7$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & (s3_group$q == list_group$7) & s3_lane$0$q;
+        s4_enter$7$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & ((s3_group$q & group_keep) == list_group$7) & s3_lane$0$q;
         meta$8$read_address = cells$bucket$8;
         head$8$read_address = cells$bucket$8;
         allow$8 = s3_allowed$q >> list_group$8;
@@ -22596,7 +22597,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$8$d = head$8$read_data;
         s4_old2$8$d = head2$8$read_data;
         s4_walk$8$d = s3_valid$q & cells$small_box & cells$inside$8 & allow$8[32'h0];
-        s4_enter$8$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & (s3_group$q == list_group$8) & s3_lane$0$q;
+        s4_enter$8$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & ((s3_group$q & group_keep) == list_group$8) & s3_lane$0$q;
         meta$9$read_address = cells$bucket$9;
         head$9$read_address = cells$bucket$9;
         allow$9 = s3_allowed$q >> list_group$9;
@@ -22605,7 +22606,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$9$d = head$9$read_data;
         s4_old2$9$d = head2$9$read_data;
         s4_walk$9$d = s3_valid$q & cells$small_box & cells$inside$9 & allow$9[32'h0];
-        s4_enter$9$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & (s3_group$q == list_group$9) & s3_lane$0$q;
+        s4_enter$9$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & ((s3_group$q & group_keep) == list_group$9) & s3_lane$0$q;
         meta$10$read_address = cells$bucket$10;
         head$10$read_address = cells$bucket$10;
         allow$10 = s3_allowed$q >> list_group$10;
@@ -22614,7 +22615,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$10$d = head$10$read_data;
         s4_old2$10$d = head2$10$read_data;
         s4_walk$10$d = s3_valid$q & cells$small_box & cells$inside$10 & allow$10[32'h0];
-        s4_enter$10$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & (s3_group$q == list_group$10) & s3_lane$0$q;
+        s4_enter$10$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & ((s3_group$q & group_keep) == list_group$10) & s3_lane$0$q;
         meta$11$read_address = cells$bucket$11;
         head$11$read_address = cells$bucket$11;
         allow$11 = s3_allowed$q >> list_group$11;
@@ -22623,7 +22624,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$11$d = head$11$read_data;
         s4_old2$11$d = head2$11$read_data;
         s4_walk$11$d = s3_valid$q & cells$small_box & cells$inside$11 & allow$11[32'h0];
-        s4_enter$11$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & (s3_group$q == list_group$11) & s3_lane$0$q;
+        s4_enter$11$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & ((s3_group$q & group_keep) == list_group$11) & s3_lane$0$q;
         meta$12$read_address = cells$bucket$12;
         head$12$read_address = cells$bucket$12;
         allow$12 = s3_allowed$q >> list_group$12;
@@ -22632,7 +22633,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$12$d = head$12$read_data;
         s4_old2$12$d = head2$12$read_data;
         s4_walk$12$d = s3_valid$q & cells$small_box & cells$inside$12 & allow$12[32'h0];
-        s4_enter$12$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & (s3_group$q == list_group$12) & s3_lane$0$q;
+        s4_enter$12$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & ((s3_group$q & group_keep) == list_group$12) & s3_lane$0$q;
         meta$13$read_address = cells$bucket$13;
         head$13$read_address = cells$bucket$13;
         allow$13 = s3_allowed$q >> list_group$13;
@@ -22641,7 +22642,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$13$d = head$13$read_data;
         s4_old2$13$d = head2$13$read_data;
         s4_walk$13$d = s3_valid$q & cells$small_box & cells$inside$13 & allow$13[32'h0];
-        s4_enter$13$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & (s3_group$q == list_group$13) & s3_lane$0$q;
+        s4_enter$13$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & ((s3_group$q & group_keep) == list_group$13) & s3_lane$0$q;
         meta$14$read_address = cells$bucket$14;
         head$14$read_address = cells$bucket$14;
         allow$14 = s3_allowed$q >> list_group$14;
@@ -22650,7 +22651,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$14$d = head$14$read_data;
         s4_old2$14$d = head2$14$read_data;
         s4_walk$14$d = s3_valid$q & cells$small_box & cells$inside$14 & allow$14[32'h0];
-        s4_enter$14$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & (s3_group$q == list_group$14) & s3_lane$0$q;
+        s4_enter$14$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & ((s3_group$q & group_keep) == list_group$14) & s3_lane$0$q;
         meta$15$read_address = cells$bucket$15;
         head$15$read_address = cells$bucket$15;
         allow$15 = s3_allowed$q >> list_group$15;
@@ -22659,7 +22660,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$15$d = head$15$read_data;
         s4_old2$15$d = head2$15$read_data;
         s4_walk$15$d = s3_valid$q & cells$small_box & cells$inside$15 & allow$15[32'h0];
-        s4_enter$15$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & (s3_group$q == list_group$15) & s3_lane$0$q;
+        s4_enter$15$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & ((s3_group$q & group_keep) == list_group$15) & s3_lane$0$q;
         meta$16$read_address = cells$bucket$16;
         head$16$read_address = cells$bucket$16;
         allow$16 = s3_allowed$q >> list_group$16;
@@ -22668,7 +22669,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$16$d = head$16$read_data;
         s4_old2$16$d = head2$16$read_data;
         s4_walk$16$d = s3_valid$q & cells$small_box & cells$inside$16 & allow$16[32'h0];
-        s4_enter$16$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & (s3_group$q == list_group$16) & s3_lane$0$q;
+        s4_enter$16$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & ((s3_group$q & group_keep) == list_group$16) & s3_lane$0$q;
         meta$17$read_address = cells$bucket$17;
         head$17$read_address = cells$bucket$17;
         allow$17 = s3_allowed$q >> list_group$17;
@@ -22677,7 +22678,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$17$d = head$17$read_data;
         s4_old2$17$d = head2$17$read_data;
         s4_walk$17$d = s3_valid$q & cells$small_box & cells$inside$17 & allow$17[32'h0];
-        s4_enter$17$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & (s3_group$q == list_group$17) & s3_lane$0$q;
+        s4_enter$17$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & ((s3_group$q & group_keep) == list_group$17) & s3_lane$0$q;
         meta$18$read_address = cells$bucket$18;
         head$18$read_address = cells$bucket$18;
         allow$18 = s3_allowed$q >> list_group$18;
@@ -22686,7 +22687,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$18$d = head$18$read_data;
         s4_old2$18$d = head2$18$read_data;
         s4_walk$18$d = s3_valid$q & cells$small_box & cells$inside$18 & allow$18[32'h0];
-        s4_enter$18$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & (s3_group$q == list_group$18) & s3_lane$0$q;
+        s4_enter$18$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & ((s3_group$q & group_keep) == list_group$18) & s3_lane$0$q;
         meta$19$read_address = cells$bucket$19;
         head$19$read_address = cells$bucket$19;
         allow$19 = s3_allowed$q >> list_group$19;
@@ -22695,7 +22696,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$19$d = head$19$read_data;
         s4_old2$19$d = head2$19$read_data;
         s4_walk$19$d = s3_valid$q & cells$small_box & cells$inside$19 & allow$19[32'h0];
-        s4_enter$19$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & (s3_group$q == list_group$19) & s3_lane$0$q;
+        s4_enter$19$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & ((s3_group$q & group_keep) == list_group$19) & s3_lane$0$q;
         meta$20$read_address = cells$bucket$20;
         head$20$read_address = cells$bucket$20;
         allow$20 = s3_allowed$q >> list_group$20;
@@ -22704,7 +22705,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$20$d = head$20$read_data;
         s4_old2$20$d = head2$20$read_data;
         s4_walk$20$d = s3_valid$q & cells$small_box & cells$inside$20 & allow$20[32'h0];
-        s4_enter$20$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & (s3_group$q == list_group$20) & s3_lane$0$q;
+        s4_enter$20$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & ((s3_group$q & group_keep) == list_group$20) & s3_lane$0$q;
         meta$21$read_address = cells$bucket$21;
         head$21$read_address = cells$bucket$21;
         allow$21 = s3_allowed$q >> list_group$21;
@@ -22713,7 +22714,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$21$d = head$21$read_data;
         s4_old2$21$d = head2$21$read_data;
         s4_walk$21$d = s3_valid$q & cells$small_box & cells$inside$21 & allow$21[32'h0];
-        s4_enter$21$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & (s3_group$q == list_group$21) & s3_lane$0$q;
+        s4_enter$21$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & ((s3_group$q & group_keep) == list_group$21) & s3_lane$0$q;
         meta$22$read_address = cells$bucket$22;
         head$22$read_address = cells$bucket$22;
         allow$22 = s3_allowed$q >> list_group$22;
@@ -22722,7 +22723,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$22$d = head$22$read_data;
         s4_old2$22$d = head2$22$read_data;
         s4_walk$22$d = s3_valid$q & cells$small_box & cells$inside$22 & allow$22[32'h0];
-        s4_enter$22$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & (s3_group$q == list_group$22) & s3_lane$0$q;
+        s4_enter$22$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & ((s3_group$q & group_keep) == list_group$22) & s3_lane$0$q;
         meta$23$read_address = cells$bucket$23;
         head$23$read_address = cells$bucket$23;
         allow$23 = s3_allowed$q >> list_group$23;
@@ -22731,7 +22732,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$23$d = head$23$read_data;
         s4_old2$23$d = head2$23$read_data;
         s4_walk$23$d = s3_valid$q & cells$small_box & cells$inside$23 & allow$23[32'h0];
-        s4_enter$23$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & (s3_group$q == list_group$23) & s3_lane$0$q;
+        s4_enter$23$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & ((s3_group$q & group_keep) == list_group$23) & s3_lane$0$q;
         meta$24$read_address = cells$bucket$24;
         head$24$read_address = cells$bucket$24;
         allow$24 = s3_allowed$q >> list_group$24;
@@ -22740,7 +22741,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$24$d = head$24$read_data;
         s4_old2$24$d = head2$24$read_data;
         s4_walk$24$d = s3_valid$q & cells$small_box & cells$inside$24 & allow$24[32'h0];
-        s4_enter$24$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & (s3_group$q == list_group$24) & s3_lane$0$q;
+        s4_enter$24$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & ((s3_group$q & group_keep) == list_group$24) & s3_lane$0$q;
         meta$25$read_address = cells$bucket$25;
         head$25$read_address = cells$bucket$25;
         allow$25 = s3_allowed$q >> list_group$25;
@@ -22749,7 +22750,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$25$d = head$25$read_data;
         s4_old2$25$d = head2$25$read_data;
         s4_walk$25$d = s3_valid$q & cells$small_box & cells$inside$25 & allow$25[32'h0];
-        s4_enter$25$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & (s3_group$q == list_group$25) & s3_lane$0$q;
+        s4_enter$25$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & ((s3_group$q & group_keep) == list_group$25) & s3_lane$0$q;
         meta$26$read_address = cells$bucket$26;
         head$26$read_address = cells$bucket$26;
         allow$26 = s3_allowed$q >> list_group$26;
@@ -22758,7 +22759,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$26$d = head$26$read_data;
         s4_old2$26$d = head2$26$read_data;
         s4_walk$26$d = s3_valid$q & cells$small_box & cells$inside$26 & allow$26[32'h0];
-        s4_enter$26$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & (s3_group$q == list_group$26) & s3_lane$0$q;
+        s4_enter$26$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & ((s3_group$q & group_keep) == list_group$26) & s3_lane$0$q;
         meta$27$read_address = cells$bucket$0;
         head$27$read_address = cells$bucket$0;
         allow$27 = s3_allowed$q >> list_group$27;
@@ -22767,7 +22768,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$27$d = head$27$read_data;
         s4_old2$27$d = head2$27$read_data;
         s4_walk$27$d = s3_valid$q & cells$small_box & cells$inside$0 & allow$27[32'h0];
-        s4_enter$27$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & (s3_group$q == list_group$27) & s3_lane$0$q;
+        s4_enter$27$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & ((s3_group$q & group_keep) == list_group$27) & s3_lane$0$q;
         meta$28$read_address = cells$bucket$1;
         head$28$read_address = cells$bucket$1;
         allow$28 = s3_allowed$q >> list_group$28;
@@ -22776,7 +22777,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$28$d = head$28$read_data;
         s4_old2$28$d = head2$28$read_data;
         s4_walk$28$d = s3_valid$q & cells$small_box & cells$inside$1 & allow$28[32'h0];
-        s4_enter$28$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & (s3_group$q == list_group$28) & s3_lane$0$q;
+        s4_enter$28$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & ((s3_group$q & group_keep) == list_group$28) & s3_lane$0$q;
         meta$29$read_address = cells$bucket$2;
         head$29$read_address = cells$bucket$2;
         allow$29 = s3_allowed$q >> list_group$29;
@@ -22785,7 +22786,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$29$d = head$29$read_data;
         s4_old2$29$d = head2$29$read_data;
         s4_walk$29$d = s3_valid$q & cells$small_box & cells$inside$2 & allow$29[32'h0];
-        s4_enter$29$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & (s3_group$q == list_group$29) & s3_lane$0$q;
+        s4_enter$29$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & ((s3_group$q & group_keep) == list_group$29) & s3_lane$0$q;
         meta$30$read_address = cells$bucket$3;
         head$30$read_address = cells$bucket$3;
         allow$30 = s3_allowed$q >> list_group$30;
@@ -22794,7 +22795,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$30$d = head$30$read_data;
         s4_old2$30$d = head2$30$read_data;
         s4_walk$30$d = s3_valid$q & cells$small_box & cells$inside$3 & allow$30[32'h0];
-        s4_enter$30$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & (s3_group$q == list_group$30) & s3_lane$0$q;
+        s4_enter$30$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & ((s3_group$q & group_keep) == list_group$30) & s3_lane$0$q;
         meta$31$read_address = cells$bucket$4;
         head$31$read_address = cells$bucket$4;
         allow$31 = s3_allowed$q >> list_group$31;
@@ -22803,7 +22804,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$31$d = head$31$read_data;
         s4_old2$31$d = head2$31$read_data;
         s4_walk$31$d = s3_valid$q & cells$small_box & cells$inside$4 & allow$31[32'h0];
-        s4_enter$31$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & (s3_group$q == list_group$31) & s3_lane$0$q;
+        s4_enter$31$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & ((s3_group$q & group_keep) == list_group$31) & s3_lane$0$q;
         meta$32$read_address = cells$bucket$5;
         head$32$read_address = cells$bucket$5;
         allow$32 = s3_allowed$q >> list_group$32;
@@ -22812,7 +22813,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$32$d = head$32$read_data;
         s4_old2$32$d = head2$32$read_data;
         s4_walk$32$d = s3_valid$q & cells$small_box & cells$inside$5 & allow$32[32'h0];
-        s4_enter$32$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & (s3_group$q == list_group$32) & s3_lane$0$q;
+        s4_enter$32$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & ((s3_group$q & group_keep) == list_group$32) & s3_lane$0$q;
         meta$33$read_address = cells$bucket$6;
         head$33$read_address = cells$bucket$6;
         allow$33 = s3_allowed$q >> list_group$33;
@@ -22821,7 +22822,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$33$d = head$33$read_data;
         s4_old2$33$d = head2$33$read_data;
         s4_walk$33$d = s3_valid$q & cells$small_box & cells$inside$6 & allow$33[32'h0];
-        s4_enter$33$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & (s3_group$q == list_group$33) & s3_lane$0$q;
+        s4_enter$33$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & ((s3_group$q & group_keep) == list_group$33) & s3_lane$0$q;
         meta$34$read_address = cells$bucket$7;
         head$34$read_address = cells$bucket$7;
         allow$34 = s3_allowed$q >> list_group$34;
@@ -22830,7 +22831,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$34$d = head$34$read_data;
         s4_old2$34$d = head2$34$read_data;
         s4_walk$34$d = s3_valid$q & cells$small_box & cells$inside$7 & allow$34[32'h0];
-        s4_enter$34$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & (s3_group$q == list_group$34) & s3_lane$0$q;
+        s4_enter$34$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & ((s3_group$q & group_keep) == list_group$34) & s3_lane$0$q;
         meta$35$read_address = cells$bucket$8;
         head$35$read_address = cells$bucket$8;
         allow$35 = s3_allowed$q >> list_group$35;
@@ -22839,7 +22840,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$35$d = head$35$read_data;
         s4_old2$35$d = head2$35$read_data;
         s4_walk$35$d = s3_valid$q & cells$small_box & cells$inside$8 & allow$35[32'h0];
-        s4_enter$35$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & (s3_group$q == list_group$35) & s3_lane$0$q;
+        s4_enter$35$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & ((s3_group$q & group_keep) == list_group$35) & s3_lane$0$q;
         meta$36$read_address = cells$bucket$9;
         head$36$read_address = cells$bucket$9;
         allow$36 = s3_allowed$q >> list_group$36;
@@ -22848,7 +22849,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$36$d = head$36$read_data;
         s4_old2$36$d = head2$36$read_data;
         s4_walk$36$d = s3_valid$q & cells$small_box & cells$inside$9 & allow$36[32'h0];
-        s4_enter$36$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & (s3_group$q == list_group$36) & s3_lane$0$q;
+        s4_enter$36$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & ((s3_group$q & group_keep) == list_group$36) & s3_lane$0$q;
         meta$37$read_address = cells$bucket$10;
         head$37$read_address = cells$bucket$10;
         allow$37 = s3_allowed$q >> list_group$37;
@@ -22857,7 +22858,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$37$d = head$37$read_data;
         s4_old2$37$d = head2$37$read_data;
         s4_walk$37$d = s3_valid$q & cells$small_box & cells$inside$10 & allow$37[32'h0];
-        s4_enter$37$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & (s3_group$q == list_group$37) & s3_lane$0$q;
+        s4_enter$37$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & ((s3_group$q & group_keep) == list_group$37) & s3_lane$0$q;
         meta$38$read_address = cells$bucket$11;
         head$38$read_address = cells$bucket$11;
         allow$38 = s3_allowed$q >> list_group$38;
@@ -22866,7 +22867,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$38$d = head$38$read_data;
         s4_old2$38$d = head2$38$read_data;
         s4_walk$38$d = s3_valid$q & cells$small_box & cells$inside$11 & allow$38[32'h0];
-        s4_enter$38$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & (s3_group$q == list_group$38) & s3_lane$0$q;
+        s4_enter$38$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & ((s3_group$q & group_keep) == list_group$38) & s3_lane$0$q;
         meta$39$read_address = cells$bucket$12;
         head$39$read_address = cells$bucket$12;
         allow$39 = s3_allowed$q >> list_group$39;
@@ -22875,7 +22876,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$39$d = head$39$read_data;
         s4_old2$39$d = head2$39$read_data;
         s4_walk$39$d = s3_valid$q & cells$small_box & cells$inside$12 & allow$39[32'h0];
-        s4_enter$39$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & (s3_group$q == list_group$39) & s3_lane$0$q;
+        s4_enter$39$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & ((s3_group$q & group_keep) == list_group$39) & s3_lane$0$q;
         meta$40$read_address = cells$bucket$13;
         head$40$read_address = cells$bucket$13;
         allow$40 = s3_allowed$q >> list_group$40;
@@ -22884,7 +22885,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$40$d = head$40$read_data;
         s4_old2$40$d = head2$40$read_data;
         s4_walk$40$d = s3_valid$q & cells$small_box & cells$inside$13 & allow$40[32'h0];
-        s4_enter$40$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & (s3_group$q == list_group$40) & s3_lane$0$q;
+        s4_enter$40$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & ((s3_group$q & group_keep) == list_group$40) & s3_lane$0$q;
         meta$41$read_address = cells$bucket$14;
         head$41$read_address = cells$bucket$14;
         allow$41 = s3_allowed$q >> list_group$41;
@@ -22893,7 +22894,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$41$d = head$41$read_data;
         s4_old2$41$d = head2$41$read_data;
         s4_walk$41$d = s3_valid$q & cells$small_box & cells$inside$14 & allow$41[32'h0];
-        s4_enter$41$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & (s3_group$q == list_group$41) & s3_lane$0$q;
+        s4_enter$41$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & ((s3_group$q & group_keep) == list_group$41) & s3_lane$0$q;
         meta$42$read_address = cells$bucket$15;
         head$42$read_address = cells$bucket$15;
         allow$42 = s3_allowed$q >> list_group$42;
@@ -22902,7 +22903,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$42$d = head$42$read_data;
         s4_old2$42$d = head2$42$read_data;
         s4_walk$42$d = s3_valid$q & cells$small_box & cells$inside$15 & allow$42[32'h0];
-        s4_enter$42$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & (s3_group$q == list_group$42) & s3_lane$0$q;
+        s4_enter$42$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & ((s3_group$q & group_keep) == list_group$42) & s3_lane$0$q;
         meta$43$read_address = cells$bucket$16;
         head$43$read_address = cells$bucket$16;
         allow$43 = s3_allowed$q >> list_group$43;
@@ -22911,7 +22912,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$43$d = head$43$read_data;
         s4_old2$43$d = head2$43$read_data;
         s4_walk$43$d = s3_valid$q & cells$small_box & cells$inside$16 & allow$43[32'h0];
-        s4_enter$43$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & (s3_group$q == list_group$43) & s3_lane$0$q;
+        s4_enter$43$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & ((s3_group$q & group_keep) == list_group$43) & s3_lane$0$q;
         meta$44$read_address = cells$bucket$17;
         head$44$read_address = cells$bucket$17;
         allow$44 = s3_allowed$q >> list_group$44;
@@ -22920,7 +22921,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$44$d = head$44$read_data;
         s4_old2$44$d = head2$44$read_data;
         s4_walk$44$d = s3_valid$q & cells$small_box & cells$inside$17 & allow$44[32'h0];
-        s4_enter$44$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & (s3_group$q == list_group$44) & s3_lane$0$q;
+        s4_enter$44$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & ((s3_group$q & group_keep) == list_group$44) & s3_lane$0$q;
         meta$45$read_address = cells$bucket$18;
         head$45$read_address = cells$bucket$18;
         allow$45 = s3_allowed$q >> list_group$45;
@@ -22929,7 +22930,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$45$d = head$45$read_data;
         s4_old2$45$d = head2$45$read_data;
         s4_walk$45$d = s3_valid$q & cells$small_box & cells$inside$18 & allow$45[32'h0];
-        s4_enter$45$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & (s3_group$q == list_group$45) & s3_lane$0$q;
+        s4_enter$45$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & ((s3_group$q & group_keep) == list_group$45) & s3_lane$0$q;
         meta$46$read_address = cells$bucket$19;
         head$46$read_address = cells$bucket$19;
         allow$46 = s3_allowed$q >> list_group$46;
@@ -22938,7 +22939,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$46$d = head$46$read_data;
         s4_old2$46$d = head2$46$read_data;
         s4_walk$46$d = s3_valid$q & cells$small_box & cells$inside$19 & allow$46[32'h0];
-        s4_enter$46$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & (s3_group$q == list_group$46) & s3_lane$0$q;
+        s4_enter$46$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & ((s3_group$q & group_keep) == list_group$46) & s3_lane$0$q;
         meta$47$read_address = cells$bucket$20;
         head$47$read_address = cells$bucket$20;
         allow$47 = s3_allowed$q >> list_group$47;
@@ -22947,7 +22948,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$47$d = head$47$read_data;
         s4_old2$47$d = head2$47$read_data;
         s4_walk$47$d = s3_valid$q & cells$small_box & cells$inside$20 & allow$47[32'h0];
-        s4_enter$47$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & (s3_group$q == list_group$47) & s3_lane$0$q;
+        s4_enter$47$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & ((s3_group$q & group_keep) == list_group$47) & s3_lane$0$q;
         meta$48$read_address = cells$bucket$21;
         head$48$read_address = cells$bucket$21;
         allow$48 = s3_allowed$q >> list_group$48;
@@ -22956,7 +22957,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$48$d = head$48$read_data;
         s4_old2$48$d = head2$48$read_data;
         s4_walk$48$d = s3_valid$q & cells$small_box & cells$inside$21 & allow$48[32'h0];
-        s4_enter$48$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & (s3_group$q == list_group$48) & s3_lane$0$q;
+        s4_enter$48$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & ((s3_group$q & group_keep) == list_group$48) & s3_lane$0$q;
         meta$49$read_address = cells$bucket$22;
         head$49$read_address = cells$bucket$22;
         allow$49 = s3_allowed$q >> list_group$49;
@@ -22965,7 +22966,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$49$d = head$49$read_data;
         s4_old2$49$d = head2$49$read_data;
         s4_walk$49$d = s3_valid$q & cells$small_box & cells$inside$22 & allow$49[32'h0];
-        s4_enter$49$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & (s3_group$q == list_group$49) & s3_lane$0$q;
+        s4_enter$49$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & ((s3_group$q & group_keep) == list_group$49) & s3_lane$0$q;
         meta$50$read_address = cells$bucket$23;
         head$50$read_address = cells$bucket$23;
         allow$50 = s3_allowed$q >> list_group$50;
@@ -22974,7 +22975,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$50$d = head$50$read_data;
         s4_old2$50$d = head2$50$read_data;
         s4_walk$50$d = s3_valid$q & cells$small_box & cells$inside$23 & allow$50[32'h0];
-        s4_enter$50$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & (s3_group$q == list_group$50) & s3_lane$0$q;
+        s4_enter$50$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & ((s3_group$q & group_keep) == list_group$50) & s3_lane$0$q;
         meta$51$read_address = cells$bucket$24;
         head$51$read_address = cells$bucket$24;
         allow$51 = s3_allowed$q >> list_group$51;
@@ -22983,7 +22984,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$51$d = head$51$read_data;
         s4_old2$51$d = head2$51$read_data;
         s4_walk$51$d = s3_valid$q & cells$small_box & cells$inside$24 & allow$51[32'h0];
-        s4_enter$51$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & (s3_group$q == list_group$51) & s3_lane$0$q;
+        s4_enter$51$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & ((s3_group$q & group_keep) == list_group$51) & s3_lane$0$q;
         meta$52$read_address = cells$bucket$25;
         head$52$read_address = cells$bucket$25;
         allow$52 = s3_allowed$q >> list_group$52;
@@ -22992,7 +22993,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$52$d = head$52$read_data;
         s4_old2$52$d = head2$52$read_data;
         s4_walk$52$d = s3_valid$q & cells$small_box & cells$inside$25 & allow$52[32'h0];
-        s4_enter$52$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & (s3_group$q == list_group$52) & s3_lane$0$q;
+        s4_enter$52$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & ((s3_group$q & group_keep) == list_group$52) & s3_lane$0$q;
         meta$53$read_address = cells$bucket$26;
         head$53$read_address = cells$bucket$26;
         allow$53 = s3_allowed$q >> list_group$53;
@@ -23001,7 +23002,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$53$d = head$53$read_data;
         s4_old2$53$d = head2$53$read_data;
         s4_walk$53$d = s3_valid$q & cells$small_box & cells$inside$26 & allow$53[32'h0];
-        s4_enter$53$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & (s3_group$q == list_group$53) & s3_lane$0$q;
+        s4_enter$53$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & ((s3_group$q & group_keep) == list_group$53) & s3_lane$0$q;
         meta$54$read_address = cells$bucket$0;
         head$54$read_address = cells$bucket$0;
         allow$54 = s3_allowed$q >> list_group$54;
@@ -23010,7 +23011,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$54$d = head$54$read_data;
         s4_old2$54$d = head2$54$read_data;
         s4_walk$54$d = s3_valid$q & cells$small_box & cells$inside$0 & allow$54[32'h0];
-        s4_enter$54$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & (s3_group$q == list_group$54) & s3_lane$0$q;
+        s4_enter$54$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$0 & ((s3_group$q & group_keep) == list_group$54) & s3_lane$0$q;
         meta$55$read_address = cells$bucket$1;
         head$55$read_address = cells$bucket$1;
         allow$55 = s3_allowed$q >> list_group$55;
@@ -23019,7 +23020,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$55$d = head$55$read_data;
         s4_old2$55$d = head2$55$read_data;
         s4_walk$55$d = s3_valid$q & cells$small_box & cells$inside$1 & allow$55[32'h0];
-        s4_enter$55$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & (s3_group$q == list_group$55) & s3_lane$0$q;
+        s4_enter$55$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$1 & ((s3_group$q & group_keep) == list_group$55) & s3_lane$0$q;
         meta$56$read_address = cells$bucket$2;
         head$56$read_address = cells$bucket$2;
         allow$56 = s3_allowed$q >> list_group$56;
@@ -23028,7 +23029,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$56$d = head$56$read_data;
         s4_old2$56$d = head2$56$read_data;
         s4_walk$56$d = s3_valid$q & cells$small_box & cells$inside$2 & allow$56[32'h0];
-        s4_enter$56$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & (s3_group$q == list_group$56) & s3_lane$0$q;
+        s4_enter$56$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$2 & ((s3_group$q & group_keep) == list_group$56) & s3_lane$0$q;
         meta$57$read_address = cells$bucket$3;
         head$57$read_address = cells$bucket$3;
         allow$57 = s3_allowed$q >> list_group$57;
@@ -23037,7 +23038,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$57$d = head$57$read_data;
         s4_old2$57$d = head2$57$read_data;
         s4_walk$57$d = s3_valid$q & cells$small_box & cells$inside$3 & allow$57[32'h0];
-        s4_enter$57$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & (s3_group$q == list_group$57) & s3_lane$0$q;
+        s4_enter$57$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$3 & ((s3_group$q & group_keep) == list_group$57) & s3_lane$0$q;
         meta$58$read_address = cells$bucket$4;
         head$58$read_address = cells$bucket$4;
         allow$58 = s3_allowed$q >> list_group$58;
@@ -23046,7 +23047,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$58$d = head$58$read_data;
         s4_old2$58$d = head2$58$read_data;
         s4_walk$58$d = s3_valid$q & cells$small_box & cells$inside$4 & allow$58[32'h0];
-        s4_enter$58$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & (s3_group$q == list_group$58) & s3_lane$0$q;
+        s4_enter$58$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$4 & ((s3_group$q & group_keep) == list_group$58) & s3_lane$0$q;
         meta$59$read_address = cells$bucket$5;
         head$59$read_address = cells$bucket$5;
         allow$59 = s3_allowed$q >> list_group$59;
@@ -23055,7 +23056,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$59$d = head$59$read_data;
         s4_old2$59$d = head2$59$read_data;
         s4_walk$59$d = s3_valid$q & cells$small_box & cells$inside$5 & allow$59[32'h0];
-        s4_enter$59$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & (s3_group$q == list_group$59) & s3_lane$0$q;
+        s4_enter$59$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$5 & ((s3_group$q & group_keep) == list_group$59) & s3_lane$0$q;
         meta$60$read_address = cells$bucket$6;
         head$60$read_address = cells$bucket$6;
         allow$60 = s3_allowed$q >> list_group$60;
@@ -23064,7 +23065,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$60$d = head$60$read_data;
         s4_old2$60$d = head2$60$read_data;
         s4_walk$60$d = s3_valid$q & cells$small_box & cells$inside$6 & allow$60[32'h0];
-        s4_enter$60$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & (s3_group$q == list_group$60) & s3_lane$0$q;
+        s4_enter$60$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$6 & ((s3_group$q & group_keep) == list_group$60) & s3_lane$0$q;
         meta$61$read_address = cells$bucket$7;
         head$61$read_address = cells$bucket$7;
         allow$61 = s3_allowed$q >> list_group$61;
@@ -23073,7 +23074,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$61$d = head$61$read_data;
         s4_old2$61$d = head2$61$read_data;
         s4_walk$61$d = s3_valid$q & cells$small_box & cells$inside$7 & allow$61[32'h0];
-        s4_enter$61$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & (s3_group$q == list_group$61) & s3_lane$0$q;
+        s4_enter$61$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$7 & ((s3_group$q & group_keep) == list_group$61) & s3_lane$0$q;
         meta$62$read_address = cells$bucket$8;
         head$62$read_address = cells$bucket$8;
         allow$62 = s3_allowed$q >> list_group$62;
@@ -23082,7 +23083,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$62$d = head$62$read_data;
         s4_old2$62$d = head2$62$read_data;
         s4_walk$62$d = s3_valid$q & cells$small_box & cells$inside$8 & allow$62[32'h0];
-        s4_enter$62$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & (s3_group$q == list_group$62) & s3_lane$0$q;
+        s4_enter$62$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$8 & ((s3_group$q & group_keep) == list_group$62) & s3_lane$0$q;
         meta$63$read_address = cells$bucket$9;
         head$63$read_address = cells$bucket$9;
         allow$63 = s3_allowed$q >> list_group$63;
@@ -23091,7 +23092,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$63$d = head$63$read_data;
         s4_old2$63$d = head2$63$read_data;
         s4_walk$63$d = s3_valid$q & cells$small_box & cells$inside$9 & allow$63[32'h0];
-        s4_enter$63$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & (s3_group$q == list_group$63) & s3_lane$0$q;
+        s4_enter$63$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$9 & ((s3_group$q & group_keep) == list_group$63) & s3_lane$0$q;
         meta$64$read_address = cells$bucket$10;
         head$64$read_address = cells$bucket$10;
         allow$64 = s3_allowed$q >> list_group$64;
@@ -23100,7 +23101,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$64$d = head$64$read_data;
         s4_old2$64$d = head2$64$read_data;
         s4_walk$64$d = s3_valid$q & cells$small_box & cells$inside$10 & allow$64[32'h0];
-        s4_enter$64$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & (s3_group$q == list_group$64) & s3_lane$0$q;
+        s4_enter$64$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$10 & ((s3_group$q & group_keep) == list_group$64) & s3_lane$0$q;
         meta$65$read_address = cells$bucket$11;
         head$65$read_address = cells$bucket$11;
         allow$65 = s3_allowed$q >> list_group$65;
@@ -23109,7 +23110,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$65$d = head$65$read_data;
         s4_old2$65$d = head2$65$read_data;
         s4_walk$65$d = s3_valid$q & cells$small_box & cells$inside$11 & allow$65[32'h0];
-        s4_enter$65$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & (s3_group$q == list_group$65) & s3_lane$0$q;
+        s4_enter$65$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$11 & ((s3_group$q & group_keep) == list_group$65) & s3_lane$0$q;
         meta$66$read_address = cells$bucket$12;
         head$66$read_address = cells$bucket$12;
         allow$66 = s3_allowed$q >> list_group$66;
@@ -23118,7 +23119,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$66$d = head$66$read_data;
         s4_old2$66$d = head2$66$read_data;
         s4_walk$66$d = s3_valid$q & cells$small_box & cells$inside$12 & allow$66[32'h0];
-        s4_enter$66$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & (s3_group$q == list_group$66) & s3_lane$0$q;
+        s4_enter$66$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$12 & ((s3_group$q & group_keep) == list_group$66) & s3_lane$0$q;
         meta$67$read_address = cells$bucket$13;
         head$67$read_address = cells$bucket$13;
         allow$67 = s3_allowed$q >> list_group$67;
@@ -23127,7 +23128,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$67$d = head$67$read_data;
         s4_old2$67$d = head2$67$read_data;
         s4_walk$67$d = s3_valid$q & cells$small_box & cells$inside$13 & allow$67[32'h0];
-        s4_enter$67$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & (s3_group$q == list_group$67) & s3_lane$0$q;
+        s4_enter$67$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$13 & ((s3_group$q & group_keep) == list_group$67) & s3_lane$0$q;
         meta$68$read_address = cells$bucket$14;
         head$68$read_address = cells$bucket$14;
         allow$68 = s3_allowed$q >> list_group$68;
@@ -23136,7 +23137,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$68$d = head$68$read_data;
         s4_old2$68$d = head2$68$read_data;
         s4_walk$68$d = s3_valid$q & cells$small_box & cells$inside$14 & allow$68[32'h0];
-        s4_enter$68$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & (s3_group$q == list_group$68) & s3_lane$0$q;
+        s4_enter$68$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$14 & ((s3_group$q & group_keep) == list_group$68) & s3_lane$0$q;
         meta$69$read_address = cells$bucket$15;
         head$69$read_address = cells$bucket$15;
         allow$69 = s3_allowed$q >> list_group$69;
@@ -23145,7 +23146,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$69$d = head$69$read_data;
         s4_old2$69$d = head2$69$read_data;
         s4_walk$69$d = s3_valid$q & cells$small_box & cells$inside$15 & allow$69[32'h0];
-        s4_enter$69$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & (s3_group$q == list_group$69) & s3_lane$0$q;
+        s4_enter$69$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$15 & ((s3_group$q & group_keep) == list_group$69) & s3_lane$0$q;
         meta$70$read_address = cells$bucket$16;
         head$70$read_address = cells$bucket$16;
         allow$70 = s3_allowed$q >> list_group$70;
@@ -23154,7 +23155,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$70$d = head$70$read_data;
         s4_old2$70$d = head2$70$read_data;
         s4_walk$70$d = s3_valid$q & cells$small_box & cells$inside$16 & allow$70[32'h0];
-        s4_enter$70$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & (s3_group$q == list_group$70) & s3_lane$0$q;
+        s4_enter$70$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$16 & ((s3_group$q & group_keep) == list_group$70) & s3_lane$0$q;
         meta$71$read_address = cells$bucket$17;
         head$71$read_address = cells$bucket$17;
         allow$71 = s3_allowed$q >> list_group$71;
@@ -23163,7 +23164,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$71$d = head$71$read_data;
         s4_old2$71$d = head2$71$read_data;
         s4_walk$71$d = s3_valid$q & cells$small_box & cells$inside$17 & allow$71[32'h0];
-        s4_enter$71$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & (s3_group$q == list_group$71) & s3_lane$0$q;
+        s4_enter$71$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$17 & ((s3_group$q & group_keep) == list_group$71) & s3_lane$0$q;
         meta$72$read_address = cells$bucket$18;
         head$72$read_address = cells$bucket$18;
         allow$72 = s3_allowed$q >> list_group$72;
@@ -23172,7 +23173,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$72$d = head$72$read_data;
         s4_old2$72$d = head2$72$read_data;
         s4_walk$72$d = s3_valid$q & cells$small_box & cells$inside$18 & allow$72[32'h0];
-        s4_enter$72$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & (s3_group$q == list_group$72) & s3_lane$0$q;
+        s4_enter$72$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$18 & ((s3_group$q & group_keep) == list_group$72) & s3_lane$0$q;
         meta$73$read_address = cells$bucket$19;
         head$73$read_address = cells$bucket$19;
         allow$73 = s3_allowed$q >> list_group$73;
@@ -23181,7 +23182,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$73$d = head$73$read_data;
         s4_old2$73$d = head2$73$read_data;
         s4_walk$73$d = s3_valid$q & cells$small_box & cells$inside$19 & allow$73[32'h0];
-        s4_enter$73$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & (s3_group$q == list_group$73) & s3_lane$0$q;
+        s4_enter$73$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$19 & ((s3_group$q & group_keep) == list_group$73) & s3_lane$0$q;
         meta$74$read_address = cells$bucket$20;
         head$74$read_address = cells$bucket$20;
         allow$74 = s3_allowed$q >> list_group$74;
@@ -23190,7 +23191,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$74$d = head$74$read_data;
         s4_old2$74$d = head2$74$read_data;
         s4_walk$74$d = s3_valid$q & cells$small_box & cells$inside$20 & allow$74[32'h0];
-        s4_enter$74$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & (s3_group$q == list_group$74) & s3_lane$0$q;
+        s4_enter$74$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$20 & ((s3_group$q & group_keep) == list_group$74) & s3_lane$0$q;
         meta$75$read_address = cells$bucket$21;
         head$75$read_address = cells$bucket$21;
         allow$75 = s3_allowed$q >> list_group$75;
@@ -23199,7 +23200,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$75$d = head$75$read_data;
         s4_old2$75$d = head2$75$read_data;
         s4_walk$75$d = s3_valid$q & cells$small_box & cells$inside$21 & allow$75[32'h0];
-        s4_enter$75$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & (s3_group$q == list_group$75) & s3_lane$0$q;
+        s4_enter$75$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$21 & ((s3_group$q & group_keep) == list_group$75) & s3_lane$0$q;
         meta$76$read_address = cells$bucket$22;
         head$76$read_address = cells$bucket$22;
         allow$76 = s3_allowed$q >> list_group$76;
@@ -23208,7 +23209,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$76$d = head$76$read_data;
         s4_old2$76$d = head2$76$read_data;
         s4_walk$76$d = s3_valid$q & cells$small_box & cells$inside$22 & allow$76[32'h0];
-        s4_enter$76$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & (s3_group$q == list_group$76) & s3_lane$0$q;
+        s4_enter$76$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$22 & ((s3_group$q & group_keep) == list_group$76) & s3_lane$0$q;
         meta$77$read_address = cells$bucket$23;
         head$77$read_address = cells$bucket$23;
         allow$77 = s3_allowed$q >> list_group$77;
@@ -23217,7 +23218,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$77$d = head$77$read_data;
         s4_old2$77$d = head2$77$read_data;
         s4_walk$77$d = s3_valid$q & cells$small_box & cells$inside$23 & allow$77[32'h0];
-        s4_enter$77$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & (s3_group$q == list_group$77) & s3_lane$0$q;
+        s4_enter$77$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$23 & ((s3_group$q & group_keep) == list_group$77) & s3_lane$0$q;
         meta$78$read_address = cells$bucket$24;
         head$78$read_address = cells$bucket$24;
         allow$78 = s3_allowed$q >> list_group$78;
@@ -23226,7 +23227,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$78$d = head$78$read_data;
         s4_old2$78$d = head2$78$read_data;
         s4_walk$78$d = s3_valid$q & cells$small_box & cells$inside$24 & allow$78[32'h0];
-        s4_enter$78$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & (s3_group$q == list_group$78) & s3_lane$0$q;
+        s4_enter$78$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$24 & ((s3_group$q & group_keep) == list_group$78) & s3_lane$0$q;
         meta$79$read_address = cells$bucket$25;
         head$79$read_address = cells$bucket$25;
         allow$79 = s3_allowed$q >> list_group$79;
@@ -23235,7 +23236,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$79$d = head$79$read_data;
         s4_old2$79$d = head2$79$read_data;
         s4_walk$79$d = s3_valid$q & cells$small_box & cells$inside$25 & allow$79[32'h0];
-        s4_enter$79$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & (s3_group$q == list_group$79) & s3_lane$0$q;
+        s4_enter$79$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$25 & ((s3_group$q & group_keep) == list_group$79) & s3_lane$0$q;
         meta$80$read_address = cells$bucket$26;
         head$80$read_address = cells$bucket$26;
         allow$80 = s3_allowed$q >> list_group$80;
@@ -23244,7 +23245,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         s4_old$80$d = head$80$read_data;
         s4_old2$80$d = head2$80$read_data;
         s4_walk$80$d = s3_valid$q & cells$small_box & cells$inside$26 & allow$80[32'h0];
-        s4_enter$80$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & (s3_group$q == list_group$80) & s3_lane$0$q;
+        s4_enter$80$d = s3_valid$q & (s3_kind$q == 32'h0) & cells$small_box & cells$home$26 & ((s3_group$q & group_keep) == list_group$80) & s3_lane$0$q;
         s4_bucket$0$d = cells$bucket$0;
         s4_fp$0$d = cells$fp$0;
         same$0 = cells$bucket$0 == s4_bucket$0$q;

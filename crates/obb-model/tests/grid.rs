@@ -63,18 +63,27 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(3000))]
 
     /// Boxes spread over many cells, with few buckets (most lists mixed, some owned by another
-    /// cell), small cells (some boxes large) and every mask: the grid reports brute force's
-    /// pairs, each once.
+    /// cell), small cells (some boxes large), a list per group or one for all, and every mask:
+    /// the grid reports brute force's pairs, each once.
     #[test]
     fn spread_scenes_with_few_buckets(
         obbs in proptest::collection::vec(common::obb(40.0, 2.5, 3), 0..80),
         cell_exp in 0i32..=3,
         grid_hash_bits in 1u32..=4,
         lanes in prop::sample::select(vec![1u32, 2, 4, 8]),
+        grid_group_lists in any::<bool>(),
         mask in common::mask(),
     ) {
         let scene = Scene { obbs };
-        let cfg = grid(HwConfig { grid_cell_mm: 2f64.powi(cell_exp), grid_hash_bits, lanes, ..HwConfig::default() });
+        let cfg = grid(HwConfig {
+            grid_cell_mm: 2f64.powi(cell_exp),
+            grid_hash_bits,
+            lanes,
+            grid_group_lists,
+            // One list needs a configured mask that pairs every group; the walk takes `mask`.
+            groups: GroupMask::All,
+            ..HwConfig::default()
+        });
         let m = ModelFrame::new(&scene, &cfg).unwrap();
         let run = m.detect(BroadPhase::Grid, &mask);
         let brute = m.detect(BroadPhase::Brute, &mask);
@@ -403,6 +412,11 @@ fn grid_keys_are_checked() {
     assert!(bad("grid_cell_mm = 0.0").contains("grid_cell_mm"));
     assert!(bad("grid_hash_bits = 0").contains("grid_hash_bits"));
     assert!(bad("grid_hash_bits = 13").contains("grid_hash_bits"));
+    // One list for every group: only where the mask pairs every group, and none is resident.
+    assert!(bad("grid_group_lists = false").contains("grid_group_lists"));
+    let all = "groups = \"all\"\ngrid_group_lists = false";
+    assert_eq!(HwConfig::parse(all, "t").unwrap().list_groups(), 1);
+    assert!(bad(&format!("{all}\nresident_groups = [0]")).contains("grid_group_lists"));
     // 2 mm at 2^-10 mm and 20-bit keys: 2^11 key units; never finer than a key unit nor wider
     // than the key range.
     assert_eq!(HwConfig::default().grid_cell_bits(), 11);

@@ -133,6 +133,11 @@ fn plans_follow_the_aims() {
     let all = plan(&scene, &Aims::default()).unwrap();
     assert!(cross.scenes[0].clocks <= all.scenes[0].clocks);
     assert!(cross.scenes[0].pairs < all.scenes[0].pairs);
+    // One list for every group only where every group pair is wanted.
+    assert!(cross.cfg.grid_group_lists, "{}", cross.to_toml());
+    // All pairs: both list layouts are tried.
+    let toml = all.to_toml();
+    assert!(toml.contains("1 one list: "), "{toml}");
 }
 
 #[test]
@@ -152,6 +157,7 @@ fn every_key_is_explained_and_the_toml_reads_back() {
         "broad_phase",
         "lanes",
         "groups",
+        "grid_group_lists",
     ] {
         let line = lines
             .iter()

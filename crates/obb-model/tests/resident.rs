@@ -5,6 +5,7 @@
 //! misses a pair of the f64 reference.
 
 use obb_model::fixed::accuracy::{differences, reference_pairs};
+use obb_model::fixed::stream::{interleaved, reordered, STREAM_WAYS};
 use obb_model::fixed::{HwConfig, ModelFrame, QuantizeError};
 use obb_model::generate::surgical;
 use obb_model::{GroupMask, Scene};
@@ -68,7 +69,12 @@ fn haptic_frames_report_what_whole_frames_report_less_the_resident_pairs() {
         assert_eq!(update.resident_boxes(), n_tissue);
         let mut last = update.clone();
         for k in 1..=4 {
-            let streamed = instruments_at(&scene, k, 0.4);
+            // Every other frame streams the instruments interleaved.
+            let moved = instruments_at(&scene, k, 0.4);
+            let streamed = match k % 2 {
+                0 => reordered(&moved, &interleaved(moved.obbs.len(), STREAM_WAYS)),
+                _ => moved,
+            };
             let haptic = last.haptic(&streamed).unwrap();
             assert_eq!(haptic.resident, Some(n_tissue));
             let got = haptic.run();
@@ -167,7 +173,8 @@ fn resident_boxes_out_of_place_are_refused() {
 }
 
 /// The figures of the surgical scene (printed; `--nocapture`): the update frame's clocks and
-/// the haptic frames', with one walker lane and with two; where the visits are in the stream.
+/// the haptic frames', with one walker lane and with two, the instruments streamed in the
+/// scene's order and interleaved; where the visits are in the scene's order.
 #[test]
 fn surgical_haptic_frame_figures() {
     let scene = surgical(17_500, 1).unwrap();
@@ -183,28 +190,34 @@ fn surgical_haptic_frame_figures() {
             u.cycles,
             u.pairs.len()
         );
-        let mut last = update;
         for k in 0..3 {
-            let haptic = last.haptic(&instruments_at(&scene, k, 0.4)).unwrap();
-            let h = haptic.run();
-            eprintln!(
-                "{lanes} lane(s), haptic {k}: {:?}, {} visits, {} pairs",
-                h.cycles,
-                h.work.visited,
-                h.pairs.len()
-            );
-            if k == 0 {
-                // The visits per eighth of the stream: the jaws come in two runs.
-                let walk = haptic.grid_walk(&cfg.groups);
-                let n = walk.visits.len();
-                let mut eighths = [0usize; 8];
-                for (i, &v) in walk.visits.iter().enumerate() {
-                    eighths[i * 8 / n] += v;
+            let moved = instruments_at(&scene, k, 0.4);
+            let spread = reordered(&moved, &interleaved(moved.obbs.len(), STREAM_WAYS));
+            let mut clocks = Vec::new();
+            for (order, streamed) in [("scene order", &moved), ("interleaved", &spread)] {
+                let haptic = update.haptic(streamed).unwrap();
+                let h = haptic.run();
+                eprintln!(
+                    "{lanes} lane(s), haptic {k}, {order}: {:?}, {} visits, {} pairs",
+                    h.cycles,
+                    h.work.visited,
+                    h.pairs.len()
+                );
+                assert!(h.cycles.total < u.cycles.total);
+                clocks.push(h.cycles.total);
+                if k == 0 && order == "scene order" {
+                    // The visits per eighth of the stream: the jaws come in two runs.
+                    let walk = haptic.grid_walk(&cfg.groups);
+                    let n = walk.visits.len();
+                    let mut eighths = [0usize; 8];
+                    for (i, &v) in walk.visits.iter().enumerate() {
+                        eighths[i * 8 / n] += v;
+                    }
+                    eprintln!("{lanes} lane(s), visits per eighth of the stream: {eighths:?}");
                 }
-                eprintln!("{lanes} lane(s), visits per eighth of the stream: {eighths:?}");
             }
-            assert!(h.cycles.total < u.cycles.total);
-            last = haptic;
+            // Spread over the stream, the jaws' visits overlap the load.
+            assert!(clocks[1] < clocks[0], "{clocks:?}");
         }
     }
 }

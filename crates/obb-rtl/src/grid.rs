@@ -212,6 +212,9 @@ pub struct GridPhase<const A: usize, const C: usize> {
     index_mask: Constant<Bits<C>>,
     /// Per list (stored at `27 h + b`): its group h.
     list_group: Vec<Constant<Bits<GROUP>>>,
+    /// The bits of a box's group that name its list: all of them, or none with one list for
+    /// every group (`grid_group_lists = false`).
+    group_keep: Constant<Bits<GROUP>>,
     /// log2 of the cell edge; the widest span of a large box in cells (`MAX_WINDOW - 2`).
     cell_bits: Constant<Bits<8>>,
     max_span: Constant<Bits<CENTER>>,
@@ -763,6 +766,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             credits_used: Constant::new(((1u64 << COUNT) - GRID_CREDITS as u64).into()),
             top: Constant::new((1u64 << A).into()),
             index_mask: Constant::new(((1u64 << A) - 1).into()),
+            group_keep: Constant::new(if groups == 1 { 0u64 } else { 7 }.into()),
             list_group: (0..lists)
                 .map(|l| Constant::new(((l % lpl / BANKS) as u64).into()))
                 .collect(),
@@ -1563,7 +1567,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                             & (self.s3_kind.q.val() == 0)
                             & self.cells.small_box.val()
                             & self.cells.home[b].val()
-                            & (self.s3_group.q.val()
+                            & ((self.s3_group.q.val() & self.group_keep.val())
                                 == self.list_group[lpl * k + 27 * q + b].val())
                             & self.s3_lane[k].q.val();
                     }

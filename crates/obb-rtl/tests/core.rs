@@ -339,6 +339,19 @@ fn grid_core_matches_the_model() {
     );
 }
 
+/// The grid with one list for every group (`grid_group_lists = false`, every group pair): a
+/// box enters list 0 whatever its group, and each probe walks it.
+#[test]
+fn grid_core_with_one_list_matches_the_model() {
+    run(
+        &HwConfig {
+            grid_group_lists: false,
+            ..grid_all_pairs(1)
+        },
+        &grid_variant_frames(),
+    );
+}
+
 /// The grid with four walker lanes, every group pair: each lane's lists, walker and candidate
 /// queue, the candidates issued lowest lane first, the visits counted several a clock; the
 /// large boxes chained per lane. Long (Verilator takes about ten minutes over its 324 lists):
@@ -348,21 +361,29 @@ fn grid_core_matches_the_model() {
 fn grid_core_with_lanes_matches_the_model() {
     run(
         &grid_all_pairs(4),
-        &[
-            frame_of("surgical", surgical(300, 11).unwrap()),
-            Frame {
-                name: "dense, throttled",
-                scene: three_groups(dense(120)),
-                ready_every: 8,
-                haptic: false,
-            },
-            frame_of(
-                "a box larger than a cell, first",
-                with_plate(touching_pairs(), true),
-            ),
-            frame_of("no box", Scene { obbs: vec![] }),
-        ],
+        &grid_variant_frames()
+            .into_iter()
+            .chain([frame_of("no box", Scene { obbs: vec![] })])
+            .collect::<Vec<_>>(),
     );
+}
+
+/// The frames a variant of the grid core (lanes, lists) runs: boxes of three groups, a
+/// throttled pair stream, a box on the slow path.
+fn grid_variant_frames() -> Vec<Frame> {
+    vec![
+        frame_of("surgical", surgical(300, 11).unwrap()),
+        Frame {
+            name: "dense, throttled",
+            scene: three_groups(dense(120)),
+            ready_every: 8,
+            haptic: false,
+        },
+        frame_of(
+            "a box larger than a cell, first",
+            with_plate(touching_pairs(), true),
+        ),
+    ]
 }
 
 /// Resident groups (`resident_groups = [0]`, every group pair): the tissue loaded by update

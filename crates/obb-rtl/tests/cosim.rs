@@ -6,6 +6,7 @@
 mod common;
 
 use common::scenes::{dense, first, stiff, touching_pairs};
+use obb_model::fixed::stream::{interleaved, reordered, STREAM_WAYS};
 use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame};
 use obb_model::generate::{surgical, SURGICAL_DEFAULT_N};
 use obb_model::{GroupMask, Scene};
@@ -257,11 +258,17 @@ fn resident_tissue_with_haptic_frames() {
         let update = ModelFrame::new(&scene, &cfg).unwrap();
         let mut models = vec![("update", update.clone())];
         for k in 1..=3 {
-            let h = models.last().unwrap().1.haptic(&moved(k as f64)).unwrap();
+            // The first in the scene's order, the others interleaved as the host streams them.
+            let ways = if k == 1 { 1 } else { STREAM_WAYS };
+            let m = moved(k as f64);
+            let m = reordered(&m, &interleaved(m.obbs.len(), ways));
+            let h = models.last().unwrap().1.haptic(&m).unwrap();
             models.push(("haptic", h));
         }
         models.push(("update", update.clone()));
-        models.push(("haptic", update.haptic(&moved(4.0)).unwrap()));
+        let m = moved(4.0);
+        let m = reordered(&m, &interleaved(m.obbs.len(), STREAM_WAYS));
+        models.push(("haptic", update.haptic(&m).unwrap()));
         let frames: Vec<(bool, &[_])> = models
             .iter()
             .map(|(_, m)| (m.resident.is_none(), m.streamed()))

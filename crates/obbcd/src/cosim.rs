@@ -8,6 +8,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use obb_model::fixed::grid::MAX_WINDOW;
+use obb_model::fixed::stream::{interleaved, reordered, STREAM_WAYS};
 use obb_model::fixed::{HwConfig, ModelFrame};
 use obb_model::Scene;
 use obb_rtl::cosim::{self, compare, prepare, Expected, Level, RunOptions, Taken};
@@ -46,6 +47,11 @@ pub struct CosimArgs {
     /// keeps the resident ones; each is compared with the model and gets its own line.
     #[arg(long, default_value_t = 0)]
     haptic_frames: usize,
+    /// Haptic frames stream the boxes interleaved in this many ways (box 0, W, 2W, ..., then
+    /// box 1, 1 + W, ...), which spreads the runs of boxes that meet many others over the
+    /// frame; 1 streams them in the scene's order.
+    #[arg(long, default_value_t = STREAM_WAYS)]
+    interleave: usize,
     /// Pairs JSON file to write (as `obbcd detect` writes it), of the first frame.
     #[arg(short = 'o', long = "output")]
     output: Option<PathBuf>,
@@ -67,12 +73,15 @@ pub fn run(a: CosimArgs) -> Result<()> {
     if a.ready_every == 0 {
         bail!("--ready-every must be at least 1");
     }
+    if a.interleave == 0 {
+        bail!("--interleave must be at least 1 (1: the scene's order)");
+    }
     let scene = Scene::load(&a.scene)?;
     let cfg = load_config(a.config.as_deref())?;
     let (model, boxes) =
         prepare(&scene, &cfg).context("the scene does not fit the hardware configuration")?;
     let run = model.as_ref().map(|m| m.run());
-    let haptic = haptic_frames(&scene, &cfg, model.as_ref(), a.haptic_frames)?;
+    let haptic = haptic_frames(&scene, &cfg, model.as_ref(), a.haptic_frames, a.interleave)?;
     let haptic_runs: Vec<_> = haptic.iter().map(|m| m.run()).collect();
     let cache = a.cache.clone().unwrap_or_else(cache::default_dir);
     let sim = match a.simulator {
@@ -229,12 +238,13 @@ pub fn run(a: CosimArgs) -> Result<()> {
 }
 
 /// The model's `count` haptic frames after the scene's frame `update`: each streams the
-/// scene's boxes of the groups that are not resident.
+/// scene's boxes of the groups that are not resident, interleaved in `ways` ways.
 fn haptic_frames(
     scene: &Scene,
     cfg: &HwConfig,
     update: Option<&ModelFrame>,
     count: usize,
+    ways: usize,
 ) -> Result<Vec<ModelFrame>> {
     if count == 0 {
         return Ok(Vec::new());
@@ -255,6 +265,7 @@ fn haptic_frames(
             .cloned()
             .collect(),
     };
+    let streamed = reordered(&streamed, &interleaved(streamed.obbs.len(), ways));
     let first = update
         .haptic(&streamed)
         .context("the haptic frame does not fit the hardware configuration")?;

@@ -109,6 +109,11 @@ pub struct HwConfig {
     /// everything else; a *haptic* frame streams only the other groups' boxes, which meet the
     /// resident ones in the lists the update left. Empty: every frame loads every box.
     pub resident_groups: Vec<u32>,
+    /// Grid: a list per group in each bucket (true), so that a probe walks only the lists of
+    /// the groups its own pairs with, or one list for every group (false): the list heads'
+    /// memory over `grid_groups`, for a mask that pairs every group with every group (each
+    /// list is then walked whole anyway), at the cost of more lists of mixed cells.
+    pub grid_group_lists: bool,
     /// Width of the SAT's 15 comparisons: both sides drop their low bits down to this width
     /// when their full width, center_bits + rot_bits + 2, is wider.
     pub sat_bits: u32,
@@ -140,6 +145,7 @@ impl Default for HwConfig {
             grid_hash_bits: 10,
             grid_groups: 3,
             resident_groups: Vec::new(),
+            grid_group_lists: true,
             sat_bits: 40,
             clock_ns: 4.0,
             speed_grade: 2,
@@ -347,6 +353,19 @@ impl HwConfig {
                 ),
             ));
         }
+        let gg = self.grid_groups;
+        let every_pair = (0..gg).all(|g| (0..gg).all(|h| self.groups.allows(g, h)));
+        let one_list_fits = every_pair && self.resident_groups.is_empty();
+        if !self.grid_group_lists && !one_list_fits {
+            return Err(invalid(
+                "grid_group_lists",
+                format!(
+                    "false (one list for every group) needs a mask that pairs every group with \
+                     every group and no resident group; `groups` is `{}`",
+                    self.groups
+                ),
+            ));
+        }
         if let GroupMask::Pairs(list) = &self.groups {
             if let Some(&(_, h)) = list.iter().find(|&&(_, h)| h >= 1 << GROUP_BITS) {
                 return Err(invalid(
@@ -400,6 +419,15 @@ impl HwConfig {
         match self.broad_phase {
             BroadPhase::Grid => self.grid_groups,
             _ => 1 << GROUP_BITS,
+        }
+    }
+
+    /// Grid: lists per bucket (and lane): one per group (`grid_groups`), or one for every
+    /// group (`grid_group_lists = false`).
+    pub fn list_groups(&self) -> u32 {
+        match self.grid_group_lists {
+            true => self.grid_groups,
+            false => 1,
         }
     }
 

@@ -39,7 +39,7 @@
 //! own bank of the per-box tables.
 
 use super::broad::BroadWork;
-use super::config::HwConfig;
+use super::config::{HwConfig, GROUP_BITS};
 use super::frame::ModelFrame;
 use crate::groups::GroupMask;
 
@@ -67,7 +67,8 @@ pub struct GridShape {
     pub coord_bits: u32,
     /// Bits of a bucket within a bank.
     pub hash_bits: u32,
-    /// Lists per bucket: one per group a box may be in (`HwConfig::groups_allowed`).
+    /// Lists per bucket (`HwConfig::list_groups`): one per group a box may be in, or one for
+    /// every group; a box of group g is on list `g % groups`.
     pub groups: u32,
 }
 
@@ -78,7 +79,7 @@ impl GridShape {
             cell_bits,
             coord_bits: cfg.key_bits - cell_bits + 1,
             hash_bits: cfg.grid_hash_bits,
-            groups: cfg.groups_allowed(),
+            groups: cfg.list_groups(),
         }
     }
 
@@ -240,7 +241,7 @@ impl Lists {
         }
     }
 
-    /// Where `cell`'s list of group `g` on `lane` is in `lists`.
+    /// Where `cell`'s list `g` (`GridShape::groups`) on `lane` is in `lists`.
     fn slot(&self, cell: &[u64; 3], g: u32, lane: usize) -> usize {
         let base = (GridShape::bank(cell) * self.buckets + self.shape.bucket(cell))
             * self.shape.groups as usize;
@@ -249,7 +250,7 @@ impl Lists {
 
     /// Box `i` of group `g` enters its lane's list of its home cell.
     fn enter(&mut self, home: &[u64; 3], g: u32, i: usize) {
-        let slot = self.slot(home, g, i % self.lanes);
+        let slot = self.slot(home, g % self.shape.groups, i % self.lanes);
         self.next[i] = self.lists[slot].enter(self.shape.fingerprint(home), i);
     }
 
@@ -263,12 +264,19 @@ impl Lists {
         mask: &GroupMask,
         mut meet: impl FnMut(&[u64; 3], usize, bool),
     ) {
+        // One list for every group: walked if the box's group pairs with any (the key check
+        // applies the mask; the hardware's mask, with one list, pairs every group).
+        let any = (0..1 << GROUP_BITS).any(|h| mask.allows(g, h));
+        let walked = |h: u32| match self.shape.groups {
+            1 => any,
+            _ => mask.allows(g, h),
+        };
         for b in 0..BANKS {
             let Some(cell) = GridShape::cell_in_bank(b, first, last) else {
                 continue;
             };
             let fp = self.shape.fingerprint(&cell);
-            for h in (0..self.shape.groups).filter(|&h| mask.allows(g, h)) {
+            for h in (0..self.shape.groups).filter(|&h| walked(h)) {
                 let mut j = self.lists[self.slot(&cell, h, lane)].first_for(fp);
                 let mut starts = true;
                 while j != NONE {

@@ -14,6 +14,7 @@ pub mod margins;
 pub mod plan;
 pub mod quantize;
 pub mod sat;
+pub mod stream;
 
 pub use config::{BroadPhase, ConfigError, HwConfig};
 pub use cycles::{frame_cycles, FrameCycles};

@@ -312,7 +312,12 @@ pub fn plan(scenes: &[Scene], aims: &Aims) -> Result<Plan, PlanError> {
             ),
         );
     } else {
-        for key in ["grid_cell_mm", "lanes", "grid_hash_bits"] {
+        for key in [
+            "grid_cell_mm",
+            "lanes",
+            "grid_hash_bits",
+            "grid_group_lists",
+        ] {
             why(key, format!("not used by the {}", cfg.broad_phase));
         }
     }
@@ -324,17 +329,35 @@ pub fn plan(scenes: &[Scene], aims: &Aims) -> Result<Plan, PlanError> {
         let mut tried = Vec::new();
         let mut lanes = 1;
         cfg.grid_hash_bits = hash_bits(&cfg, 1);
+        // One list for every group, when the mask pairs them all: more buckets in the same
+        // memory, against more lists of mixed cells; the faster is kept.
+        let one_list = HwConfig {
+            grid_group_lists: false,
+            ..cfg.clone()
+        }
+        .validate()
+        .is_ok();
         loop {
-            let lane_cfg = HwConfig {
-                lanes,
-                grid_hash_bits: hash_bits(&cfg, lanes),
-                ..cfg.clone()
-            };
-            let c = slowest(&frames, &lane_cfg);
-            tried.push(format!("{lanes}: {c} clocks"));
-            let fast = c < clocks;
-            if lanes == 1 || fast {
-                (clocks, cfg) = (c, lane_cfg);
+            for group_lists in [true, false] {
+                if !group_lists && !one_list {
+                    continue;
+                }
+                let lane_cfg = HwConfig {
+                    lanes,
+                    grid_group_lists: group_lists,
+                    ..cfg.clone()
+                };
+                let lane_cfg = HwConfig {
+                    grid_hash_bits: hash_bits(&lane_cfg, lanes),
+                    ..lane_cfg
+                };
+                let c = slowest(&frames, &lane_cfg);
+                let first = tried.is_empty();
+                let lists = if group_lists { "" } else { " one list" };
+                tried.push(format!("{lanes}{lists}: {c} clocks"));
+                if first || c < clocks {
+                    (clocks, cfg) = (c, lane_cfg);
+                }
             }
             let reached = aims.rate_hz.is_none_or(|f| frame_rate(clocks) >= f);
             if reached || lanes == MAX_LANES {
@@ -355,11 +378,25 @@ pub fn plan(scenes: &[Scene], aims: &Aims) -> Result<Plan, PlanError> {
         };
         why("lanes", format!("{aim} (lanes: {})", tried.join(", ")));
         why(
+            "grid_group_lists",
+            match (one_list, cfg.grid_group_lists) {
+                (false, _) => "a list per group: the mask does not pair every group".to_string(),
+                (true, true) => {
+                    format!("a list per group: the fewer clocks ({})", tried.join(", "))
+                }
+                (true, false) => format!(
+                    "one list for every group (the mask pairs them all): the fewer clocks ({})",
+                    tried.join(", ")
+                ),
+            },
+        );
+        why(
             "grid_hash_bits",
             format!(
-                "as many buckets as the default list heads' memory holds for {} groups on {} \
-                 lane(s)",
-                cfg.grid_groups, cfg.lanes
+                "as many buckets as the default list heads' memory holds for {} list(s) a \
+                 bucket on {} lane(s)",
+                cfg.list_groups(),
+                cfg.lanes
             ),
         );
     }
@@ -520,12 +557,12 @@ fn worst_fp_rate(
     Ok(worst)
 }
 
-/// Bucket bits for `lanes` lanes: the most whose list heads (27 banks, a list per group, lane
-/// and bucket) are no more than the default core's (3 groups, one lane, 2^10 buckets).
+/// Bucket bits for `lanes` lanes: the most whose list heads (27 banks, `list_groups` lists per
+/// lane and bucket) are no more than the default core's (3 groups, one lane, 2^10 buckets).
 fn hash_bits(cfg: &HwConfig, lanes: u32) -> u32 {
     let default = HwConfig::default();
     let budget = u64::from(default.grid_groups) << default.grid_hash_bits;
-    let per_bucket = u64::from(cfg.grid_groups) * u64::from(lanes);
+    let per_bucket = u64::from(cfg.list_groups()) * u64::from(lanes);
     (budget / per_bucket)
         .ilog2()
         .clamp(1, super::grid::MAX_HASH_BITS)
