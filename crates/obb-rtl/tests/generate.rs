@@ -62,7 +62,9 @@ fn the_manifest_lists_the_verilog_ports() {
         (
             "obb_core",
             "obb_core.v",
-            1 + 1 + 3 + 3 + 3 + 9 + 1 + 4 + 3 + 4,
+            // clock; frame_start, frame_update; the box's handshake, center, half-lengths,
+            // axes and group; the pair stream; done, busy, capacity_exceeded; the counters.
+            1 + 2 + 3 + 3 + 3 + 9 + 1 + 4 + 3 + 4,
         ),
         (
             "projection",

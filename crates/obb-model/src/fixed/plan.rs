@@ -330,8 +330,8 @@ pub fn plan(scenes: &[Scene], aims: &Aims) -> Result<Plan, PlanError> {
         let mut lanes = 1;
         cfg.grid_hash_bits = hash_bits(&cfg, 1);
         // One list for every group, when the mask pairs them all: more buckets in the same
-        // memory (up to the cap), fewer lists to enumerate, against more lists of mixed
-        // cells; the faster is kept. (One group has one list a bucket either way.)
+        // memory, fewer lists to enumerate, against more lists of mixed cells; the faster is
+        // kept. (One group has one list a bucket either way.)
         let one_list = cfg.grid_groups > 1
             && HwConfig {
                 grid_group_lists: false,
@@ -397,8 +397,7 @@ pub fn plan(scenes: &[Scene], aims: &Aims) -> Result<Plan, PlanError> {
             "grid_hash_bits",
             format!(
                 "as many buckets as the default list heads' memory holds for {} list(s) a \
-                 bucket on {} lane(s), at most 2^{MAX_PLANNED_HASH_BITS} (a list heads' read \
-                 deeper takes a fourth LUT level)",
+                 bucket on {} lane(s)",
                 cfg.list_groups(),
                 cfg.lanes
             ),
@@ -561,21 +560,15 @@ fn worst_fp_rate(
     Ok(worst)
 }
 
-/// The most bucket bits a plan gives a list heads' memory: at 2^11 its read takes a fourth LUT
-/// level (yosys' mapping of a planned one-group core with 2^11 buckets: 1,082 register bits
-/// behind 4 levels, from the bucket to the heads read), against the core's 3.
-pub const MAX_PLANNED_HASH_BITS: u32 = 10;
-
 /// Bucket bits for `lanes` lanes: the most whose list heads (27 banks, `list_groups` lists per
-/// lane and bucket) are no more than the default core's (3 groups, one lane, 2^10 buckets), and
-/// no more than `MAX_PLANNED_HASH_BITS`.
+/// lane and bucket) are no more than the default core's (3 groups, one lane, 2^10 buckets).
 fn hash_bits(cfg: &HwConfig, lanes: u32) -> u32 {
     let default = HwConfig::default();
     let budget = u64::from(default.grid_groups) << default.grid_hash_bits;
     let per_bucket = u64::from(cfg.list_groups()) * u64::from(lanes);
     (budget / per_bucket)
         .ilog2()
-        .clamp(1, MAX_PLANNED_HASH_BITS)
+        .clamp(1, super::grid::MAX_HASH_BITS)
 }
 
 impl Plan {
