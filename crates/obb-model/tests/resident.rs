@@ -5,7 +5,7 @@
 //! misses a pair of the f64 reference.
 
 use obb_model::fixed::accuracy::{differences, reference_pairs};
-use obb_model::fixed::stream::{interleaved, reordered, STREAM_WAYS};
+use obb_model::fixed::stream::{interleave, STREAM_WAYS};
 use obb_model::fixed::{HwConfig, ModelFrame, QuantizeError};
 use obb_model::generate::surgical;
 use obb_model::{GroupMask, Scene};
@@ -72,7 +72,7 @@ fn haptic_frames_report_what_whole_frames_report_less_the_resident_pairs() {
             // Every other frame streams the instruments interleaved.
             let moved = instruments_at(&scene, k, 0.4);
             let streamed = match k % 2 {
-                0 => reordered(&moved, &interleaved(moved.obbs.len(), STREAM_WAYS)),
+                0 => interleave(&moved, STREAM_WAYS),
                 _ => moved,
             };
             let haptic = last.haptic(&streamed).unwrap();
@@ -192,7 +192,7 @@ fn surgical_haptic_frame_figures() {
         );
         for k in 0..3 {
             let moved = instruments_at(&scene, k, 0.4);
-            let spread = reordered(&moved, &interleaved(moved.obbs.len(), STREAM_WAYS));
+            let spread = interleave(&moved, STREAM_WAYS);
             let mut clocks = Vec::new();
             for (order, streamed) in [("scene order", &moved), ("interleaved", &spread)] {
                 let haptic = update.haptic(streamed).unwrap();

@@ -684,23 +684,18 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
         let lists = lpl * lanes;
         // A lane's banks of the per-box tables hold its boxes: every `lanes`-th.
         let depth = (1u64 << A) / lanes as u64;
-        let mut mask = Bits::<MASK>::default();
-        for g in 0..1u32 << GROUP {
-            for h in 0..1u32 << GROUP {
-                if cfg.groups.allows(g, h) {
-                    mask = mask.replace_bit((g << GROUP | h) as usize, true);
+        // The mask as bits: bit `8 g + h` for each pair of groups it allows.
+        let mask_bits = |m: &obb_model::GroupMask| {
+            let mut bits = Bits::<MASK>::default();
+            for g in 0..1u32 << GROUP {
+                for h in (0..1u32 << GROUP).filter(|&h| m.allows(g, h)) {
+                    bits = bits.replace_bit((g << GROUP | h) as usize, true);
                 }
             }
-        }
-        let mut haptic_mask = Bits::<MASK>::default();
-        let haptic = cfg.haptic_mask();
-        for g in 0..1u32 << GROUP {
-            for h in 0..1u32 << GROUP {
-                if haptic.allows(g, h) {
-                    haptic_mask = haptic_mask.replace_bit((g << GROUP | h) as usize, true);
-                }
-            }
-        }
+            bits
+        };
+        let mask = mask_bits(&cfg.groups);
+        let haptic_mask = mask_bits(&cfg.haptic_mask());
         let resident_set: u64 = cfg.resident_groups.iter().map(|&g| 1u64 << g).sum();
         let buckets = 1u64 << shape.hash_bits;
         GridPhase {
@@ -766,7 +761,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             credits_used: Constant::new(((1u64 << COUNT) - GRID_CREDITS as u64).into()),
             top: Constant::new((1u64 << A).into()),
             index_mask: Constant::new(((1u64 << A) - 1).into()),
-            group_keep: Constant::new(if groups == 1 { 0u64 } else { 7 }.into()),
+            group_keep: Constant::new(if groups == 1 { 0 } else { (1u64 << GROUP) - 1 }.into()),
             list_group: (0..lists)
                 .map(|l| Constant::new(((l % lpl / BANKS) as u64).into()))
                 .collect(),

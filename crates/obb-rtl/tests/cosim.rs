@@ -6,7 +6,7 @@
 mod common;
 
 use common::scenes::{dense, first, stiff, touching_pairs};
-use obb_model::fixed::stream::{interleaved, reordered, STREAM_WAYS};
+use obb_model::fixed::stream::{interleave, STREAM_WAYS};
 use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame};
 use obb_model::generate::{surgical, SURGICAL_DEFAULT_N};
 use obb_model::{GroupMask, Scene};
@@ -260,14 +260,12 @@ fn resident_tissue_with_haptic_frames() {
         for k in 1..=3 {
             // The first in the scene's order, the others interleaved as the host streams them.
             let ways = if k == 1 { 1 } else { STREAM_WAYS };
-            let m = moved(k as f64);
-            let m = reordered(&m, &interleaved(m.obbs.len(), ways));
+            let m = interleave(&moved(k as f64), ways);
             let h = models.last().unwrap().1.haptic(&m).unwrap();
             models.push(("haptic", h));
         }
         models.push(("update", update.clone()));
-        let m = moved(4.0);
-        let m = reordered(&m, &interleaved(m.obbs.len(), STREAM_WAYS));
+        let m = interleave(&moved(4.0), STREAM_WAYS);
         models.push(("haptic", update.haptic(&m).unwrap()));
         let frames: Vec<(bool, &[_])> = models
             .iter()

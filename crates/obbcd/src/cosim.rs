@@ -8,7 +8,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use obb_model::fixed::grid::MAX_WINDOW;
-use obb_model::fixed::stream::{interleaved, reordered, STREAM_WAYS};
+use obb_model::fixed::stream::{interleave, STREAM_WAYS};
 use obb_model::fixed::{HwConfig, ModelFrame};
 use obb_model::Scene;
 use obb_rtl::cosim::{self, compare, prepare, Expected, Level, RunOptions, Taken};
@@ -265,7 +265,7 @@ fn haptic_frames(
             .cloned()
             .collect(),
     };
-    let streamed = reordered(&streamed, &interleaved(streamed.obbs.len(), ways));
+    let streamed = interleave(&streamed, ways);
     let first = update
         .haptic(&streamed)
         .context("the haptic frame does not fit the hardware configuration")?;

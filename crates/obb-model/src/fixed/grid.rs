@@ -266,7 +266,7 @@ impl Lists {
     ) {
         // One list for every group: walked if the box's group pairs with any (the key check
         // applies the mask; the hardware's mask, with one list, pairs every group).
-        let any = (0..1 << GROUP_BITS).any(|h| mask.allows(g, h));
+        let any = self.shape.groups == 1 && (0..1 << GROUP_BITS).any(|h| mask.allows(g, h));
         let walked = |h: u32| match self.shape.groups {
             1 => any,
             _ => mask.allows(g, h),

@@ -340,10 +340,8 @@ pub fn plan(scenes: &[Scene], aims: &Aims) -> Result<Plan, PlanError> {
             .validate()
             .is_ok();
         loop {
-            for group_lists in [true, false] {
-                if !group_lists && !one_list {
-                    continue;
-                }
+            let layouts: &[bool] = if one_list { &[true, false] } else { &[true] };
+            for &group_lists in layouts {
                 let lane_cfg = HwConfig {
                     lanes,
                     grid_group_lists: group_lists,

@@ -15,7 +15,7 @@ use crate::scene::Scene;
 /// (README, "Resident tissue").
 pub const STREAM_WAYS: usize = 16;
 
-/// The stream order of `n` boxes in `ways` ways (1: the scene's order): the k-th box streamed
+/// The stream order of `n` boxes in `ways` ways (1, or 0: the scene's order): the k-th box streamed
 /// is box `order[k]` of the scene, so a pair the core reports as (`kept` + k, ...) in a haptic
 /// frame that follows `kept` resident boxes is the scene's box `order[k]`.
 pub fn interleaved(n: usize, ways: usize) -> Vec<usize> {
@@ -23,10 +23,13 @@ pub fn interleaved(n: usize, ways: usize) -> Vec<usize> {
     (0..ways).flat_map(|w| (w..n).step_by(ways)).collect()
 }
 
-/// `scene`'s boxes in `order` (a permutation of its indices, as `interleaved` gives).
-pub fn reordered(scene: &Scene, order: &[usize]) -> Scene {
+/// `scene`'s boxes in the order `interleaved` gives them.
+pub fn interleave(scene: &Scene, ways: usize) -> Scene {
     Scene {
-        obbs: order.iter().map(|&i| scene.obbs[i].clone()).collect(),
+        obbs: interleaved(scene.obbs.len(), ways)
+            .into_iter()
+            .map(|i| scene.obbs[i].clone())
+            .collect(),
     }
 }
 
