@@ -11,7 +11,11 @@
 //   +ready=K      pair_ready is high one clock in K (default 1: always), to throttle the stream
 //   +timeout=T    give up (exit code non-zero) after T clocks without `done` (default 2^40)
 //   +progress=P   print `progress CLOCK` every P clocks (default 0: never)
-//   +vcd=FILE     dump the waves (Verilator: build with --trace)
+//   +waves=FILE   record waves (Verilator: build with --trace or --trace-fst; Icarus: vvp -fst
+//                 for FST), from clock +waves_from=A (default 0) of the whole run; with
+//                 +waves_to=B the run ends at clock B (Verilator ignores $dumpoff), and such a
+//                 run's result is not complete; +waves_depth=D levels of hierarchy (Icarus;
+//                 with Verilator the build takes --trace-depth)
 `timescale 1ns/1ps
 module tb;
   localparam CENTER = 23, HALF = 17, ROT = 18, GROUP = 3, INDEX = 20, COUNT = 40;
@@ -60,10 +64,12 @@ module tb;
   );
 
   reg [WORD-1:0] read_word;
-  reg [1023:0] stim_name, out_name, vcd_name;
+  reg [1023:0] stim_name, out_name, waves_name;
   integer stim, out, boxes, ready_every, progress, sent, scanned, frames, frame, update;
-  reg [63:0] clocks, timeout;
-  reg started;
+  integer waves_depth;
+  reg [63:0] clocks, timeout, waves_from, waves_to;
+  reg [63:0] run_clock = 64'd0;
+  reg started, waves;
 
   // Puts the next box on the inputs from the next clock on (the read is blocking, the
   // assignment not, so that the core never sees a box early); a short file is an error, not a
@@ -86,10 +92,12 @@ module tb;
     if (!$value$plusargs("ready=%d", ready_every)) ready_every = 1;
     if (!$value$plusargs("progress=%d", progress)) progress = 0;
     if (!$value$plusargs("timeout=%d", timeout)) timeout = 64'd1 << 40;
-    if ($value$plusargs("vcd=%s", vcd_name)) begin
-      $dumpfile(vcd_name);
-      $dumpvars(0, tb);
-    end
+    // The file is opened here, the dump starts at the window's first clock.
+    waves = $value$plusargs("waves=%s", waves_name);
+    if (waves) $dumpfile(waves_name);
+    if (!$value$plusargs("waves_from=%d", waves_from)) waves_from = 0;
+    if (!$value$plusargs("waves_to=%d", waves_to)) waves_to = 0;
+    if (!$value$plusargs("waves_depth=%d", waves_depth)) waves_depth = 0;
     if (ready_every < 1) begin $display("error: +ready must be at least 1"); $fatal(1); end
     stim = $fopen(stim_name, "r");
     if (stim == 0) begin $display("error: cannot read %0s", stim_name); $fatal(1); end
@@ -102,6 +110,9 @@ module tb;
   end
 
   always @(posedge clock) begin
+    run_clock <= run_clock + 1;
+    if (waves && run_clock == waves_from) $dumpvars(waves_depth, tb);
+    if (waves && waves_to != 0 && run_clock == waves_to) $finish;
     if (!started) begin
       // Clock 0 of a frame: its header, then frame_start; the first box (or the empty frame's
       // marker) follows.

@@ -36,20 +36,23 @@ pub struct Scene {
     pub obbs: Vec<Obb>,
 }
 
-/// What is wrong with a scene file or a scene.
+/// What is wrong with a scene file or a scene. Each message states its cause itself (the
+/// causes are not also chained as `source`, which would print them twice under `{:#}`).
 #[derive(Debug, Error)]
 pub enum SceneError {
-    #[error("cannot read scene file {path}: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
+    #[error("cannot read scene file {path}: {cause}")]
+    Io { path: String, cause: std::io::Error },
+    #[error("cannot write scene file {path}: {cause}")]
+    Write { path: String, cause: std::io::Error },
     #[error("scene file {path} is empty")]
     Empty { path: String },
-    #[error("scene file {path} is not a valid scene: {source}")]
+    /// Malformed JSON or a value of the wrong shape; `at` names the OBB and the field where the
+    /// parser got that far (`obb 3, field `center``), else the JSON path.
+    #[error("scene file {path} is not a valid scene: {at}{cause}")]
     Json {
         path: String,
-        source: serde_json::Error,
+        at: String,
+        cause: serde_json::Error,
     },
     #[error("the scene has {0} obbs, more than the limit of {MAX_OBBS}")]
     TooMany(usize),
@@ -145,9 +148,14 @@ impl Scene {
         if text.trim().is_empty() {
             return Err(SceneError::Empty { path: path.into() });
         }
-        let scene: Scene = serde_json::from_str(text).map_err(|source| SceneError::Json {
-            path: path.into(),
-            source,
+        let mut json = serde_json::Deserializer::from_str(text);
+        let scene: Scene = serde_path_to_error::deserialize(&mut json).map_err(|e| {
+            let at = json_location(e.path());
+            SceneError::Json {
+                path: path.into(),
+                at,
+                cause: e.into_inner(),
+            }
         })?;
         scene.validate()?;
         Ok(scene)
@@ -156,9 +164,9 @@ impl Scene {
     /// Reads and validates a JSON scene file.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
         let name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        let text = std::fs::read_to_string(path).map_err(|cause| SceneError::Io {
             path: name.clone(),
-            source,
+            cause,
         })?;
         Scene::from_json(&text, &name)
     }
@@ -170,9 +178,30 @@ impl Scene {
 
     /// Writes the JSON form.
     pub fn save(&self, path: &Path) -> Result<(), SceneError> {
-        std::fs::write(path, self.to_json()).map_err(|source| SceneError::Io {
+        std::fs::write(path, self.to_json()).map_err(|cause| SceneError::Write {
             path: path.display().to_string(),
-            source,
+            cause,
         })
+    }
+}
+
+/// Where in a scene file the parser stopped, as the validation names it (`obb 3, field
+/// `center`: `), or the JSON path outside the boxes; empty at the top level.
+fn json_location(path: &serde_path_to_error::Path) -> String {
+    use serde_path_to_error::Segment;
+    let segments: Vec<&Segment> = path.iter().collect();
+    match segments.as_slice() {
+        [] => String::new(),
+        [Segment::Map { key }, Segment::Seq { index }, rest @ ..] if key == "obbs" => {
+            let field: Vec<String> = rest.iter().map(|s| s.to_string()).collect();
+            match field.as_slice() {
+                [] => format!("obb {index}: "),
+                _ => format!(
+                    "obb {index}, field `{}`: ",
+                    field.join("").trim_start_matches('.')
+                ),
+            }
+        }
+        _ => format!("at `{path}`: "),
     }
 }

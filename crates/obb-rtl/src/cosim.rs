@@ -6,6 +6,7 @@
 
 use crate::cache;
 use crate::verilator::{binary_build, hex_word, output, Simulator};
+use crate::waves::{Trace, WaveFormat, Waves};
 use anyhow::{bail, Context, Result};
 use obb_model::fixed::{quantize, HwConfig, ModelFrame, ModelRun, QObb, QuantizeError};
 use obb_model::{Pair, Scene};
@@ -133,13 +134,13 @@ pub fn cells_sim() -> Result<PathBuf> {
 }
 
 /// Builds the test bench around `design` (the core's Verilog, or its netlist) in `sim`, with
-/// waves if `trace`; reuses a build of the same sources, simulator version and options from
-/// `cache`.
+/// waves if `trace` is given; reuses a build of the same sources, simulator version and options
+/// from `cache`.
 pub fn build(
     design: &str,
     level: Level,
     sim: Simulator,
-    trace: bool,
+    trace: Option<Trace>,
     cache: &Path,
 ) -> Result<Bench> {
     let version = match sim {
@@ -150,11 +151,12 @@ pub fn build(
         Level::Rtl => String::new(),
         Level::Gates => std::fs::read_to_string(cells_sim()?)?,
     };
-    let options = format!("{level:?} trace={trace}");
+    let flags = compile_flags(sim, level, trace);
+    let options = format!("{level:?} {}", flags.join(" "));
     let parts = [TESTBENCH, design, &cells, &version, &options].map(str::as_bytes);
     let name = format!(
         "{sim:?}-{level:?}{}-{}",
-        if trace { "-trace" } else { "" },
+        if trace.is_some() { "-trace" } else { "" },
         cache::key(&parts)
     )
     .to_lowercase();
@@ -166,28 +168,50 @@ pub fn build(
             std::fs::write(work.join("cells_sim.v"), &cells)?;
             sources.push("cells_sim.v");
         }
-        compile(work, sim, level, trace, &sources)
+        compile(work, sim, &flags, &sources)
     })?;
     Ok(Bench { dir, sim, cached })
 }
 
-fn compile(work: &Path, sim: Simulator, level: Level, trace: bool, sources: &[&str]) -> Result<()> {
+/// The simulator's flags for a build, all of them part of the build's cache key (a changed flag
+/// must not reuse a stale build).
+fn compile_flags(sim: Simulator, level: Level, trace: Option<Trace>) -> Vec<String> {
+    let mut flags = Vec::new();
     match sim {
         Simulator::Verilator => {
-            let mut cmd = binary_build(work);
+            let base = binary_build(Path::new(""));
+            flags.extend(base.get_args().map(|a| a.to_string_lossy().into_owned()));
             if level == Level::Gates {
-                cmd.args(["-Wno-lint", "-Wno-style"]);
+                flags.extend(["-Wno-lint", "-Wno-style"].map(String::from));
             }
-            if trace {
-                cmd.arg("--trace");
+            if let Some(t) = trace {
+                flags.push(match t.format {
+                    WaveFormat::Vcd => "--trace".into(),
+                    WaveFormat::Fst => "--trace-fst".into(),
+                });
+                if t.depth > 0 {
+                    flags.extend(["--trace-depth".into(), t.depth.to_string()]);
+                }
             }
-            output(cmd.args(sources), "verilator (build)")?;
+        }
+        Simulator::Icarus => flags.extend(["-g2012", "-s", "tb", "-o", "tb.vvp"].map(String::from)),
+    }
+    flags
+}
+
+fn compile(work: &Path, sim: Simulator, flags: &[String], sources: &[&str]) -> Result<()> {
+    match sim {
+        Simulator::Verilator => {
+            // `flags` begins with `binary_build`'s own.
+            let mut cmd = Command::new("verilator");
+            cmd.current_dir(work).args(flags).args(sources);
+            output(&mut cmd, "verilator (build)")?;
         }
         Simulator::Icarus => {
             output(
                 Command::new("iverilog")
                     .current_dir(work)
-                    .args(["-g2012", "-s", "tb", "-o", "tb.vvp"])
+                    .args(flags)
                     .args(sources),
                 "iverilog (build)",
             )?;
@@ -205,7 +229,6 @@ pub struct RunOptions {
     pub timeout: u64,
     /// Clocks between progress reports (0: none).
     pub progress_every: u64,
-    pub vcd: Option<PathBuf>,
 }
 
 impl Default for RunOptions {
@@ -214,7 +237,6 @@ impl Default for RunOptions {
             ready_every: 1,
             timeout: 1 << 40,
             progress_every: 0,
-            vcd: None,
         }
     }
 }
@@ -242,21 +264,61 @@ impl Bench {
         stim: &Path,
         frames: usize,
         opts: &RunOptions,
-        mut progress: impl FnMut(u64),
+        progress: impl FnMut(u64),
     ) -> Result<Vec<SimFrame>> {
+        let out = std::path::absolute(stim)?.with_extension("out");
+        let errors = self.simulate(stim, frames, opts, &[], progress)?;
+        let text = std::fs::read_to_string(&out)
+            .with_context(|| format!("the simulation wrote no {}:\n{errors}", out.display()))?;
+        let got = parse_result(&text).with_context(|| format!("in {}", out.display()))?;
+        if got.len() != frames {
+            bail!(
+                "{}: {} of the {frames} frames finished",
+                out.display(),
+                got.len()
+            );
+        }
+        Ok(got)
+    }
+
+    /// Runs the stimulus again on a traced build (`build` with `waves.trace()`), recording
+    /// `waves`; the run ends at the window's end, so its result is not compared.
+    pub fn record(
+        &self,
+        stim: &Path,
+        frames: usize,
+        opts: &RunOptions,
+        waves: &Waves,
+        progress: impl FnMut(u64),
+    ) -> Result<()> {
+        let mut args = waves.plusargs()?;
+        if self.sim == Simulator::Icarus && waves.format()? == WaveFormat::Fst {
+            // vvp's own flag (before the plusargs) selects FST for `$dumpfile`.
+            args.insert(0, "-fst".into());
+        }
+        let _ = std::fs::remove_file(&waves.path);
+        self.simulate(stim, frames, opts, &args, progress)?;
+        if !waves.path.is_file() {
+            bail!(
+                "the simulation wrote no {} (is the window past the run's end?)",
+                waves.path.display()
+            );
+        }
+        Ok(())
+    }
+
+    /// Runs the test bench on `stim` with `extra` arguments; calls `progress` with the clocks
+    /// the simulation reports; fails with what it said if it fails. Returns its stderr.
+    fn simulate(
+        &self,
+        stim: &Path,
+        frames: usize,
+        opts: &RunOptions,
+        extra: &[String],
+        mut progress: impl FnMut(u64),
+    ) -> Result<String> {
         let stim = std::path::absolute(stim)?;
         let out = stim.with_extension("out");
-        let mut args = vec![
-            format!("+stim={}", stim.display()),
-            format!("+out={}", out.display()),
-            format!("+frames={frames}"),
-            format!("+ready={}", opts.ready_every),
-            format!("+timeout={}", opts.timeout),
-            format!("+progress={}", opts.progress_every),
-        ];
-        if let Some(v) = &opts.vcd {
-            args.push(format!("+vcd={}", std::path::absolute(v)?.display()));
-        }
         let mut cmd = match self.sim {
             Simulator::Verilator => Command::new(self.dir.join("obj/Vtb")),
             Simulator::Icarus => {
@@ -267,7 +329,13 @@ impl Bench {
         };
         let _ = std::fs::remove_file(&out);
         let mut child = cmd
-            .args(&args)
+            .args(extra)
+            .arg(format!("+stim={}", stim.display()))
+            .arg(format!("+out={}", out.display()))
+            .arg(format!("+frames={frames}"))
+            .arg(format!("+ready={}", opts.ready_every))
+            .arg(format!("+timeout={}", opts.timeout))
+            .arg(format!("+progress={}", opts.progress_every))
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
@@ -295,22 +363,7 @@ impl Bench {
                 said.join("\n")
             );
         }
-        let text = std::fs::read_to_string(&out).with_context(|| {
-            format!(
-                "the simulation wrote no {}:\n{}\n{errors}",
-                out.display(),
-                said.join("\n")
-            )
-        })?;
-        let got = parse_result(&text).with_context(|| format!("in {}", out.display()))?;
-        if got.len() != frames {
-            bail!(
-                "{}: {} of the {frames} frames finished",
-                out.display(),
-                got.len()
-            );
-        }
-        Ok(got)
+        Ok(said.join("\n") + "\n" + &errors)
     }
 }
 

@@ -27,3 +27,4 @@ pub mod synth;
 pub mod table_ram;
 pub mod verilator;
 pub mod walker;
+pub mod waves;

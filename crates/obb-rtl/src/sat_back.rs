@@ -362,151 +362,57 @@ impl Logic for SatBack {
         for i in 0..9 {
             self.round.r[i].next = self.r[i].val();
         }
-        // Clocks 2-6: face radii, P, r_A and the minors (halves after clock 1: ha[0..3]).
-        self.face_a_dot[0].a0.next = self.round.r_up[0].val();
-        self.face_a_dot[0].a1.next = self.round.r_up[1].val();
-        self.face_a_dot[0].a2.next = self.round.r_up[2].val();
-        self.face_a_dot[0].b0.next = self.hb[0].q.val();
-        self.face_a_dot[0].b1.next = self.hb[1].q.val();
-        self.face_a_dot[0].b2.next = self.hb[2].q.val();
-        self.face_b_dot[0].a0.next = self.round.r_up[0].val();
-        self.face_b_dot[0].a1.next = self.round.r_up[3].val();
-        self.face_b_dot[0].a2.next = self.round.r_up[6].val();
-        self.face_b_dot[0].b0.next = self.ha[0].q.val();
-        self.face_b_dot[0].b1.next = self.ha[1].q.val();
-        self.face_b_dot[0].b2.next = self.ha[2].q.val();
-        self.face_a_dot[1].a0.next = self.round.r_up[3].val();
-        self.face_a_dot[1].a1.next = self.round.r_up[4].val();
-        self.face_a_dot[1].a2.next = self.round.r_up[5].val();
-        self.face_a_dot[1].b0.next = self.hb[0].q.val();
-        self.face_a_dot[1].b1.next = self.hb[1].q.val();
-        self.face_a_dot[1].b2.next = self.hb[2].q.val();
-        self.face_b_dot[1].a0.next = self.round.r_up[1].val();
-        self.face_b_dot[1].a1.next = self.round.r_up[4].val();
-        self.face_b_dot[1].a2.next = self.round.r_up[7].val();
-        self.face_b_dot[1].b0.next = self.ha[0].q.val();
-        self.face_b_dot[1].b1.next = self.ha[1].q.val();
-        self.face_b_dot[1].b2.next = self.ha[2].q.val();
-        self.face_a_dot[2].a0.next = self.round.r_up[6].val();
-        self.face_a_dot[2].a1.next = self.round.r_up[7].val();
-        self.face_a_dot[2].a2.next = self.round.r_up[8].val();
-        self.face_a_dot[2].b0.next = self.hb[0].q.val();
-        self.face_a_dot[2].b1.next = self.hb[1].q.val();
-        self.face_a_dot[2].b2.next = self.hb[2].q.val();
-        self.face_b_dot[2].a0.next = self.round.r_up[2].val();
-        self.face_b_dot[2].a1.next = self.round.r_up[5].val();
-        self.face_b_dot[2].a2.next = self.round.r_up[8].val();
-        self.face_b_dot[2].b0.next = self.ha[0].q.val();
-        self.face_b_dot[2].b1.next = self.ha[1].q.val();
-        self.face_b_dot[2].b2.next = self.ha[2].q.val();
-        self.p_dot[0].a0.next = self.round.th[2].val();
-        self.p_dot[0].b0.next = self.round.rt[3].val();
-        self.p_dot[0].a1.next = self.round.th[1].val();
-        self.p_dot[0].b1.next = self.round.rt[6].val();
-        self.ra_dot[0].a0.next = self.ha[1].q.val();
-        self.ra_dot[0].b0.next = self.round.art[6].val();
-        self.ra_dot[0].a1.next = self.ha[2].q.val();
-        self.ra_dot[0].b1.next = self.round.art[3].val();
-        self.p_dot[1].a0.next = self.round.th[2].val();
-        self.p_dot[1].b0.next = self.round.rt[4].val();
-        self.p_dot[1].a1.next = self.round.th[1].val();
-        self.p_dot[1].b1.next = self.round.rt[7].val();
-        self.ra_dot[1].a0.next = self.ha[1].q.val();
-        self.ra_dot[1].b0.next = self.round.art[7].val();
-        self.ra_dot[1].a1.next = self.ha[2].q.val();
-        self.ra_dot[1].b1.next = self.round.art[4].val();
-        self.p_dot[2].a0.next = self.round.th[2].val();
-        self.p_dot[2].b0.next = self.round.rt[5].val();
-        self.p_dot[2].a1.next = self.round.th[1].val();
-        self.p_dot[2].b1.next = self.round.rt[8].val();
-        self.ra_dot[2].a0.next = self.ha[1].q.val();
-        self.ra_dot[2].b0.next = self.round.art[8].val();
-        self.ra_dot[2].a1.next = self.ha[2].q.val();
-        self.ra_dot[2].b1.next = self.round.art[5].val();
-        self.minor_dot[0].a0.next = self.round.rt[3].val();
-        self.minor_dot[0].b0.next = self.round.rt[7].val();
-        self.minor_dot[0].a1.next = self.round.rt[6].val();
-        self.minor_dot[0].b1.next = self.round.rt[4].val();
-        self.minor_dot[1].a0.next = self.round.rt[3].val();
-        self.minor_dot[1].b0.next = self.round.rt[8].val();
-        self.minor_dot[1].a1.next = self.round.rt[6].val();
-        self.minor_dot[1].b1.next = self.round.rt[5].val();
-        self.minor_dot[2].a0.next = self.round.rt[4].val();
-        self.minor_dot[2].b0.next = self.round.rt[8].val();
-        self.minor_dot[2].a1.next = self.round.rt[7].val();
-        self.minor_dot[2].b1.next = self.round.rt[5].val();
-        self.p_dot[3].a0.next = self.round.th[0].val();
-        self.p_dot[3].b0.next = self.round.rt[6].val();
-        self.p_dot[3].a1.next = self.round.th[2].val();
-        self.p_dot[3].b1.next = self.round.rt[0].val();
-        self.ra_dot[3].a0.next = self.ha[2].q.val();
-        self.ra_dot[3].b0.next = self.round.art[0].val();
-        self.ra_dot[3].a1.next = self.ha[0].q.val();
-        self.ra_dot[3].b1.next = self.round.art[6].val();
-        self.p_dot[4].a0.next = self.round.th[0].val();
-        self.p_dot[4].b0.next = self.round.rt[7].val();
-        self.p_dot[4].a1.next = self.round.th[2].val();
-        self.p_dot[4].b1.next = self.round.rt[1].val();
-        self.ra_dot[4].a0.next = self.ha[2].q.val();
-        self.ra_dot[4].b0.next = self.round.art[1].val();
-        self.ra_dot[4].a1.next = self.ha[0].q.val();
-        self.ra_dot[4].b1.next = self.round.art[7].val();
-        self.p_dot[5].a0.next = self.round.th[0].val();
-        self.p_dot[5].b0.next = self.round.rt[8].val();
-        self.p_dot[5].a1.next = self.round.th[2].val();
-        self.p_dot[5].b1.next = self.round.rt[2].val();
-        self.ra_dot[5].a0.next = self.ha[2].q.val();
-        self.ra_dot[5].b0.next = self.round.art[2].val();
-        self.ra_dot[5].a1.next = self.ha[0].q.val();
-        self.ra_dot[5].b1.next = self.round.art[8].val();
-        self.minor_dot[3].a0.next = self.round.rt[6].val();
-        self.minor_dot[3].b0.next = self.round.rt[1].val();
-        self.minor_dot[3].a1.next = self.round.rt[0].val();
-        self.minor_dot[3].b1.next = self.round.rt[7].val();
-        self.minor_dot[4].a0.next = self.round.rt[6].val();
-        self.minor_dot[4].b0.next = self.round.rt[2].val();
-        self.minor_dot[4].a1.next = self.round.rt[0].val();
-        self.minor_dot[4].b1.next = self.round.rt[8].val();
-        self.minor_dot[5].a0.next = self.round.rt[7].val();
-        self.minor_dot[5].b0.next = self.round.rt[2].val();
-        self.minor_dot[5].a1.next = self.round.rt[1].val();
-        self.minor_dot[5].b1.next = self.round.rt[8].val();
-        self.p_dot[6].a0.next = self.round.th[1].val();
-        self.p_dot[6].b0.next = self.round.rt[0].val();
-        self.p_dot[6].a1.next = self.round.th[0].val();
-        self.p_dot[6].b1.next = self.round.rt[3].val();
-        self.ra_dot[6].a0.next = self.ha[0].q.val();
-        self.ra_dot[6].b0.next = self.round.art[3].val();
-        self.ra_dot[6].a1.next = self.ha[1].q.val();
-        self.ra_dot[6].b1.next = self.round.art[0].val();
-        self.p_dot[7].a0.next = self.round.th[1].val();
-        self.p_dot[7].b0.next = self.round.rt[1].val();
-        self.p_dot[7].a1.next = self.round.th[0].val();
-        self.p_dot[7].b1.next = self.round.rt[4].val();
-        self.ra_dot[7].a0.next = self.ha[0].q.val();
-        self.ra_dot[7].b0.next = self.round.art[4].val();
-        self.ra_dot[7].a1.next = self.ha[1].q.val();
-        self.ra_dot[7].b1.next = self.round.art[1].val();
-        self.p_dot[8].a0.next = self.round.th[1].val();
-        self.p_dot[8].b0.next = self.round.rt[2].val();
-        self.p_dot[8].a1.next = self.round.th[0].val();
-        self.p_dot[8].b1.next = self.round.rt[5].val();
-        self.ra_dot[8].a0.next = self.ha[0].q.val();
-        self.ra_dot[8].b0.next = self.round.art[5].val();
-        self.ra_dot[8].a1.next = self.ha[1].q.val();
-        self.ra_dot[8].b1.next = self.round.art[2].val();
-        self.minor_dot[6].a0.next = self.round.rt[0].val();
-        self.minor_dot[6].b0.next = self.round.rt[4].val();
-        self.minor_dot[6].a1.next = self.round.rt[3].val();
-        self.minor_dot[6].b1.next = self.round.rt[1].val();
-        self.minor_dot[7].a0.next = self.round.rt[0].val();
-        self.minor_dot[7].b0.next = self.round.rt[5].val();
-        self.minor_dot[7].a1.next = self.round.rt[3].val();
-        self.minor_dot[7].b1.next = self.round.rt[2].val();
-        self.minor_dot[8].a0.next = self.round.rt[1].val();
-        self.minor_dot[8].b0.next = self.round.rt[5].val();
-        self.minor_dot[8].a1.next = self.round.rt[4].val();
-        self.minor_dot[8].b1.next = self.round.rt[2].val();
+        // Clocks 2-6: face radii, P, r_A and the minors (halves after clock 1: ha[0..3]), as
+        // `obb_model::fixed::sat::sat_terms` states them. R = A Bᵀ row-major (`r_up`, `rt`,
+        // `art` hold |R| rounded up, R rounded, |R| rounded, at `3 i + j`); `th` is t in A's
+        // frame. For face i, and for the cross axis A_i x B_j at c = 3 i + j, with the
+        // cyclic (i1, i2) = ((i + 1) % 3, (i + 2) % 3) and column pair p = j of
+        // {0, 1}, {0, 2}, {1, 2} (its columns (j / 2, (j + 3) / 2)):
+        //
+        // | product | a0 * b0 + a1 * b1 (+ a2 * b2) |
+        // | --- | --- |
+        // | face_a[i] = r_A of axis A_i | r_up[3 i + k] * h^B_k, k = 0..3 |
+        // | face_b[i] = r_B of axis B_i | r_up[3 k + i] * h^A_k, k = 0..3 |
+        // | P[c] = t . (A_i x B_j) | th[i2] * rt[3 i1 + j] - th[i1] * rt[3 i2 + j] |
+        // | r_A[c] | h^A_i1 * art[3 i2 + j] + h^A_i2 * art[3 i1 + j] |
+        // | minor[3 i + p] of rows i1, i2, columns p | rt[3 i1 + p0] * rt[3 i2 + p1] - rt[3 i2 + p0] * rt[3 i1 + p1] |
+        //
+        // The loops unroll to the literal indices in the Verilog (`hdl_gen` evaluates index
+        // expressions), in the order the products were written by hand before.
+        for i in 0..3 {
+            self.face_a_dot[i].a0.next = self.round.r_up[3 * i].val();
+            self.face_a_dot[i].a1.next = self.round.r_up[3 * i + 1].val();
+            self.face_a_dot[i].a2.next = self.round.r_up[3 * i + 2].val();
+            self.face_a_dot[i].b0.next = self.hb[0].q.val();
+            self.face_a_dot[i].b1.next = self.hb[1].q.val();
+            self.face_a_dot[i].b2.next = self.hb[2].q.val();
+            self.face_b_dot[i].a0.next = self.round.r_up[i].val();
+            self.face_b_dot[i].a1.next = self.round.r_up[3 + i].val();
+            self.face_b_dot[i].a2.next = self.round.r_up[6 + i].val();
+            self.face_b_dot[i].b0.next = self.ha[0].q.val();
+            self.face_b_dot[i].b1.next = self.ha[1].q.val();
+            self.face_b_dot[i].b2.next = self.ha[2].q.val();
+        }
+        for i in 0..3 {
+            for j in 0..3 {
+                self.p_dot[3 * i + j].a0.next = self.round.th[(i + 2) % 3].val();
+                self.p_dot[3 * i + j].b0.next = self.round.rt[3 * ((i + 1) % 3) + j].val();
+                self.p_dot[3 * i + j].a1.next = self.round.th[(i + 1) % 3].val();
+                self.p_dot[3 * i + j].b1.next = self.round.rt[3 * ((i + 2) % 3) + j].val();
+                self.ra_dot[3 * i + j].a0.next = self.ha[(i + 1) % 3].q.val();
+                self.ra_dot[3 * i + j].b0.next = self.round.art[3 * ((i + 2) % 3) + j].val();
+                self.ra_dot[3 * i + j].a1.next = self.ha[(i + 2) % 3].q.val();
+                self.ra_dot[3 * i + j].b1.next = self.round.art[3 * ((i + 1) % 3) + j].val();
+            }
+            for p in 0..3 {
+                self.minor_dot[3 * i + p].a0.next = self.round.rt[3 * ((i + 1) % 3) + p / 2].val();
+                self.minor_dot[3 * i + p].b0.next =
+                    self.round.rt[3 * ((i + 2) % 3) + (p + 3) / 2].val();
+                self.minor_dot[3 * i + p].a1.next = self.round.rt[3 * ((i + 2) % 3) + p / 2].val();
+                self.minor_dot[3 * i + p].b1.next =
+                    self.round.rt[3 * ((i + 1) % 3) + (p + 3) / 2].val();
+            }
+        }
         // Clock 7: ceil(|minor| / 2^f) and |P|.
         for c in 0..9 {
             self.minor_abs[c].x.next = self.minor_dot[c].p.val();
@@ -514,6 +420,8 @@ impl Logic for SatBack {
             self.p_abs[c].x.next = self.p_dot[c].p.val();
             self.p_abs[c].s.next = self.zero.val();
         }
+        // Written out: `hdl_gen` does not substitute a loop index inside a generic call's
+        // arguments (`signed_cast::<MINOR>(self.minor_abs[c].y.val())` does not compile).
         self.minor_s[0].next = signed_cast::<MINOR>(self.minor_abs[0].y.val());
         self.minor_s[1].next = signed_cast::<MINOR>(self.minor_abs[1].y.val());
         self.minor_s[2].next = signed_cast::<MINOR>(self.minor_abs[2].y.val());
@@ -523,43 +431,18 @@ impl Logic for SatBack {
         self.minor_s[6].next = signed_cast::<MINOR>(self.minor_abs[6].y.val());
         self.minor_s[7].next = signed_cast::<MINOR>(self.minor_abs[7].y.val());
         self.minor_s[8].next = signed_cast::<MINOR>(self.minor_abs[8].y.val());
-        // Clocks 8-12: r_B = Σ_(l != j) h^B_l minor(i, {j, l}) (halves after clock 7: hb[18..21]).
-        self.rb_dot[0].a0.next = self.minor_s[0].val();
-        self.rb_dot[0].b0.next = self.hb[19].q.val();
-        self.rb_dot[0].a1.next = self.minor_s[1].val();
-        self.rb_dot[0].b1.next = self.hb[20].q.val();
-        self.rb_dot[1].a0.next = self.minor_s[0].val();
-        self.rb_dot[1].b0.next = self.hb[18].q.val();
-        self.rb_dot[1].a1.next = self.minor_s[2].val();
-        self.rb_dot[1].b1.next = self.hb[20].q.val();
-        self.rb_dot[2].a0.next = self.minor_s[1].val();
-        self.rb_dot[2].b0.next = self.hb[18].q.val();
-        self.rb_dot[2].a1.next = self.minor_s[2].val();
-        self.rb_dot[2].b1.next = self.hb[19].q.val();
-        self.rb_dot[3].a0.next = self.minor_s[3].val();
-        self.rb_dot[3].b0.next = self.hb[19].q.val();
-        self.rb_dot[3].a1.next = self.minor_s[4].val();
-        self.rb_dot[3].b1.next = self.hb[20].q.val();
-        self.rb_dot[4].a0.next = self.minor_s[3].val();
-        self.rb_dot[4].b0.next = self.hb[18].q.val();
-        self.rb_dot[4].a1.next = self.minor_s[5].val();
-        self.rb_dot[4].b1.next = self.hb[20].q.val();
-        self.rb_dot[5].a0.next = self.minor_s[4].val();
-        self.rb_dot[5].b0.next = self.hb[18].q.val();
-        self.rb_dot[5].a1.next = self.minor_s[5].val();
-        self.rb_dot[5].b1.next = self.hb[19].q.val();
-        self.rb_dot[6].a0.next = self.minor_s[6].val();
-        self.rb_dot[6].b0.next = self.hb[19].q.val();
-        self.rb_dot[6].a1.next = self.minor_s[7].val();
-        self.rb_dot[6].b1.next = self.hb[20].q.val();
-        self.rb_dot[7].a0.next = self.minor_s[6].val();
-        self.rb_dot[7].b0.next = self.hb[18].q.val();
-        self.rb_dot[7].a1.next = self.minor_s[8].val();
-        self.rb_dot[7].b1.next = self.hb[20].q.val();
-        self.rb_dot[8].a0.next = self.minor_s[7].val();
-        self.rb_dot[8].b0.next = self.hb[18].q.val();
-        self.rb_dot[8].a1.next = self.minor_s[8].val();
-        self.rb_dot[8].b1.next = self.hb[19].q.val();
+        // Clocks 8-12: r_B[3 i + j] = Σ_(l != j) h^B_l minor(i, {j, l}) (halves after clock 7:
+        // hb[18..21]): for j = 0, 1, 2 the column pairs {0, 1} and {0, 2}, {0, 1} and {1, 2},
+        // {0, 2} and {1, 2}, that is minors 3 i + j / 2 and 3 i + (j + 3) / 2, times h^B of the
+        // other column of each, (2 - j) / 2 and 2 - j / 2.
+        for i in 0..3 {
+            for j in 0..3 {
+                self.rb_dot[3 * i + j].a0.next = self.minor_s[3 * i + j / 2].val();
+                self.rb_dot[3 * i + j].b0.next = self.hb[18 + (2 - j) / 2].q.val();
+                self.rb_dot[3 * i + j].a1.next = self.minor_s[3 * i + (j + 3) / 2].val();
+                self.rb_dot[3 * i + j].b1.next = self.hb[20 - j / 2].q.val();
+            }
+        }
         // Delay lines to clock 12.
         for i in 0..3 {
             self.at_d[i].d.next = self.round.abs_t[i].val();

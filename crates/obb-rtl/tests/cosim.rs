@@ -15,6 +15,7 @@ use obb_rtl::cosim::{
 };
 use obb_rtl::synth;
 use obb_rtl::verilator::{scratch_dir, Simulator};
+use obb_rtl::waves::Waves;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -36,7 +37,7 @@ fn cosim(
     name: &str,
 ) -> SimFrame {
     let (model, boxes) = prepare(scene, cfg).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let bench = build(design, level, sim, false, &cache()).unwrap();
+    let bench = build(design, level, sim, None, &cache()).unwrap();
     let dir = scratch_dir("cosim").unwrap();
     let stim = dir.join("stim.hex");
     std::fs::write(&stim, stimulus(&[(true, &boxes)], cfg)).unwrap();
@@ -239,7 +240,7 @@ fn resident_tissue_with_haptic_frames() {
         ..HwConfig::default()
     };
     let design = obb_rtl::generate::core(&cfg).unwrap();
-    let bench = build(&design, Level::Rtl, Simulator::Verilator, false, &cache()).unwrap();
+    let bench = build(&design, Level::Rtl, Simulator::Verilator, None, &cache()).unwrap();
     let scene = surgical(SURGICAL_DEFAULT_N, 1).unwrap();
     for ready_every in [1, 4] {
         let moved = |k: f64| Scene {
@@ -355,6 +356,65 @@ fn small_cores_in_verilator_and_icarus() {
             }
         }
     }
+}
+
+/// `Bench::record`: a window of clocks at a depth, in VCD and FST, in Verilator and Icarus. The
+/// window holds two value changes of the clock a clock (and the edges at its ends); depth 1 is
+/// the test bench's signals only, depth 2 reaches into `obb_core`; FST is the smaller file.
+#[test]
+fn waves_record_a_window_at_a_depth() {
+    let cfg = HwConfig {
+        broad_phase: BroadPhase::Sweep,
+        capacity: 256,
+        ..HwConfig::default()
+    };
+    let design = obb_rtl::generate::core(&cfg).unwrap();
+    let (_, boxes) = prepare(&touching_pairs(), &cfg).unwrap();
+    let dir = scratch_dir("waves").unwrap();
+    let stim = dir.join("stim.hex");
+    std::fs::write(&stim, stimulus(&[(true, &boxes)], &cfg)).unwrap();
+    let (from, to) = (20, 60);
+    let record = |sim: Simulator, file: &str, depth: u32| {
+        let waves = Waves::new(&dir.join(file), from, Some(to), depth).unwrap();
+        let bench = build(
+            &design,
+            Level::Rtl,
+            sim,
+            Some(waves.trace().unwrap()),
+            &cache(),
+        )
+        .unwrap();
+        bench
+            .record(&stim, 1, &RunOptions::default(), &waves, |_| {})
+            .unwrap_or_else(|e| panic!("{sim:?} {file}: {e}"));
+        waves.path
+    };
+    for sim in [Simulator::Verilator, Simulator::Icarus] {
+        let vcd = std::fs::read_to_string(record(sim, "d1.vcd", 1)).unwrap();
+        let times = vcd.lines().filter(|l| l.starts_with('#')).count() as u64;
+        assert!(
+            (2 * (to - from) - 1..=2 * (to - from) + 2).contains(&times),
+            "{sim:?}: {times} time steps in a window of {} clocks",
+            to - from
+        );
+        assert!(vcd.contains(" clock "), "{sim:?}: no clock in the VCD");
+        assert!(
+            !vcd.contains("module dut"),
+            "{sim:?}: depth 1 reaches into the core"
+        );
+    }
+    let deep = std::fs::read_to_string(record(Simulator::Icarus, "d2.vcd", 2)).unwrap();
+    assert!(
+        deep.contains("module dut"),
+        "depth 2 does not reach the core"
+    );
+    let fst = std::fs::metadata(record(Simulator::Verilator, "d2.fst", 2)).unwrap();
+    assert!(
+        fst.len() > 0 && fst.len() < deep.len() as u64,
+        "FST {} bytes, VCD {}",
+        fst.len(),
+        deep.len()
+    );
 }
 
 /// yosys' netlist of a small sweep core (capacity 256, mapped for simulation: no block RAM,

@@ -3,6 +3,7 @@
 //! model: the pair stream in order, the counters and the clock count. Any difference fails the
 //! command with the first one.
 
+use crate::builtin::scene_or_builtin;
 use crate::detect::{load_config, write_pairs};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
@@ -13,8 +14,9 @@ use obb_model::fixed::{HwConfig, ModelFrame};
 use obb_model::Scene;
 use obb_rtl::cosim::{self, compare, prepare, Expected, Level, RunOptions, Taken};
 use obb_rtl::verilator::Simulator;
+use obb_rtl::waves::Waves;
 use obb_rtl::{cache, generate, synth};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -25,9 +27,9 @@ pub enum SimulatorArg {
 
 #[derive(Args)]
 pub struct CosimArgs {
-    /// Scene JSON file.
+    /// Scene JSON file; default: the built-in surgical scene (`obbcd scene surgical`).
     #[arg(long)]
-    scene: PathBuf,
+    scene: Option<PathBuf>,
     /// Hardware configuration (TOML); default: the built-in one.
     #[arg(long)]
     config: Option<PathBuf>,
@@ -55,9 +57,20 @@ pub struct CosimArgs {
     /// Pairs JSON file to write (as `obbcd detect` writes it), of the first frame.
     #[arg(short = 'o', long = "output")]
     output: Option<PathBuf>,
-    /// Waveform file (VCD) of the whole frame.
+    /// Record waves to this file, VCD (`.vcd`) or FST (`.fst`, many times smaller; GTKWave
+    /// reads both), in a second run of the stimulus on a traced build after the compared one.
     #[arg(long)]
-    vcd: Option<PathBuf>,
+    waves: Option<PathBuf>,
+    /// The first clock recorded, counted over the whole run (all its frames).
+    #[arg(long, default_value_t = 0, requires = "waves")]
+    waves_from: u64,
+    /// The recording run ends at this clock (default: the run's end).
+    #[arg(long, requires = "waves")]
+    waves_to: Option<u64>,
+    /// Levels of hierarchy recorded: 1 the test bench's signals, 2 also `obb_core`'s ports and
+    /// its own signals, ...; 0 all.
+    #[arg(long, default_value_t = 0, requires = "waves")]
+    waves_depth: u32,
     /// Cache of simulator builds and netlists (default: $OBBCD_CACHE, else ~/.cache/obbcd).
     #[arg(long)]
     cache: Option<PathBuf>,
@@ -76,7 +89,12 @@ pub fn run(a: CosimArgs) -> Result<()> {
     if a.interleave == 0 {
         bail!("--interleave must be at least 1 (1: the scene's order)");
     }
-    let scene = Scene::load(&a.scene)?;
+    let waves = a
+        .waves
+        .as_deref()
+        .map(|p| Waves::new(p, a.waves_from, a.waves_to, a.waves_depth))
+        .transpose()?;
+    let scene = scene_or_builtin(a.scene.as_deref())?;
     let cfg = load_config(a.config.as_deref())?;
     let (model, boxes) =
         prepare(&scene, &cfg).context("the scene does not fit the hardware configuration")?;
@@ -104,7 +122,7 @@ pub fn run(a: CosimArgs) -> Result<()> {
         Level::Rtl
     };
     let bar = spinner(format!("building the {sim:?} simulation"));
-    let bench = cosim::build(&design, level, sim, a.vcd.is_some(), &cache.join("cosim"))?;
+    let bench = cosim::build(&design, level, sim, None, &cache.join("cosim"))?;
     bar.finish_and_clear();
     eprintln!(
         "{sim:?} build: {}",
@@ -133,7 +151,6 @@ pub fn run(a: CosimArgs) -> Result<()> {
         // can take with every pair waiting `ready_every` clocks.
         timeout: 2 * (expect + reported * u64::from(a.ready_every)) + 10_000,
         progress_every: (expect / 200).max(1000),
-        vcd: a.vcd.clone(),
     };
     let start = Instant::now();
     // (The bar follows the frames' clocks one after another.)
@@ -147,9 +164,17 @@ pub fn run(a: CosimArgs) -> Result<()> {
         bar.set_position(done + clock)
     });
     bar.finish_and_clear();
+    let secs = start.elapsed().as_secs_f64();
+    // The waves are recorded whatever the verdict: a difference is when they are wanted.
+    let recorded = match &waves {
+        Some(w) if result.is_ok() => {
+            record_waves(&design, level, sim, &cache, &stim, frames.len(), &opts, w)
+        }
+        _ => Ok(()),
+    };
     let _ = std::fs::remove_dir_all(&work);
     let mut got = result?;
-    let secs = start.elapsed().as_secs_f64();
+    recorded?;
     let later = got.split_off(1);
     let got = got.remove(0);
     let line = |frame: &str, got: &cosim::SimFrame, obbs: usize, pairs: usize, model: u64| {
@@ -234,6 +259,33 @@ pub fn run(a: CosimArgs) -> Result<()> {
     if let Some(path) = &a.output {
         write_pairs(path, &pairs)?;
     }
+    Ok(())
+}
+
+/// Runs the stimulus `stim` again on a traced build, recording `waves`.
+#[allow(clippy::too_many_arguments)]
+fn record_waves(
+    design: &str,
+    level: Level,
+    sim: Simulator,
+    cache: &Path,
+    stim: &Path,
+    frames: usize,
+    opts: &RunOptions,
+    waves: &Waves,
+) -> Result<()> {
+    let bar = spinner(format!("building the traced {sim:?} simulation"));
+    let traced = cosim::build(
+        design,
+        level,
+        sim,
+        Some(waves.trace()?),
+        &cache.join("cosim"),
+    )?;
+    bar.set_message(format!("recording {}", waves.path.display()));
+    traced.record(stim, frames, opts, waves, |_| {})?;
+    bar.finish_and_clear();
+    eprintln!("waves: {}", waves.path.display());
     Ok(())
 }
 

@@ -1,6 +1,7 @@
 //! `obbcd detect`: the colliding pairs of a scene, by a CPU engine or by the fixed-point model of
 //! the core.
 
+use crate::builtin::scene_or_builtin;
 use crate::timing::median_ms;
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -10,6 +11,7 @@ use obb_model::fixed::plan::{plan, Aims};
 use obb_model::fixed::{HwConfig, ModelFrame};
 use obb_model::{EngineKind, GroupMask, Pair, Prepared, Scene};
 use serde::Serialize;
+use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
@@ -45,9 +47,9 @@ impl fmt::Display for EngineArg {
 
 #[derive(Args)]
 pub struct DetectArgs {
-    /// Scene JSON file.
+    /// Scene JSON file; default: the built-in surgical scene (`obbcd scene surgical`).
     #[arg(long)]
-    scene: PathBuf,
+    scene: Option<PathBuf>,
     /// brute, sap, improved-sap, sweep, grid, or model (the fixed-point core).
     #[arg(long, default_value = "grid")]
     engine: EngineArg,
@@ -88,19 +90,41 @@ pub fn load_config(path: Option<&Path>) -> Result<HwConfig> {
 }
 
 pub fn run(a: DetectArgs) -> Result<()> {
-    let scene = Scene::load(&a.scene)?;
-    match a.engine {
-        EngineArg::Cpu(kind) => {
-            if a.config.is_some() {
-                bail!("--config applies to --engine model only");
-            }
-            run_cpu(&a, &scene, kind)
-        }
-        EngineArg::Model => run_model(&a, &scene),
+    if a.config.is_some() && a.engine != EngineArg::Model {
+        bail!("--config applies to --engine model only");
     }
+    let scene = scene_or_builtin(a.scene.as_deref())?;
+    let pairs = match a.engine {
+        EngineArg::Cpu(kind) => run_cpu(&a, &scene, kind)?,
+        EngineArg::Model => run_model(&a, &scene)?,
+    };
+    println!("{}", by_group_pair(&scene, &pairs));
+    if a.scene.is_none() {
+        eprintln!(
+            "next: `obbcd detect --engine model` runs the frame through the bit-exact model of \
+             the hardware core; `obbcd cosim` through its Verilog in Verilator (the core's \
+             default mask, cross-group)"
+        );
+    }
+    Ok(())
 }
 
-fn run_cpu(a: &DetectArgs, scene: &Scene, kind: EngineKind) -> Result<()> {
+/// The pairs counted by the groups of their boxes: `pairs_by_groups 0-0=.. 0-1=..`, every
+/// group pair that has a pair, in order.
+fn by_group_pair(scene: &Scene, pairs: &[Pair]) -> String {
+    let mut counts = BTreeMap::<(u32, u32), usize>::new();
+    for &[i, j] in pairs {
+        let (g, h) = (scene.obbs[i as usize].group, scene.obbs[j as usize].group);
+        *counts.entry((g.min(h), g.max(h))).or_default() += 1;
+    }
+    let mut line = String::from("pairs_by_groups");
+    for ((g, h), n) in counts {
+        line += &format!(" {g}-{h}={n}");
+    }
+    line
+}
+
+fn run_cpu(a: &DetectArgs, scene: &Scene, kind: EngineKind) -> Result<Vec<Pair>> {
     let mask = a.groups.clone().unwrap_or_default();
     let mut engine = kind.build();
     let mut boxes = Prepared::default();
@@ -125,7 +149,7 @@ fn run_cpu(a: &DetectArgs, scene: &Scene, kind: EngineKind) -> Result<()> {
         counters.pairs,
         rayon::current_num_threads()
     );
-    Ok(())
+    Ok(pairs)
 }
 
 /// The model's configuration: the file (its mask replaced by `--groups`), or a plan for the
@@ -154,7 +178,7 @@ fn model_config(a: &DetectArgs, scene: &Scene) -> Result<HwConfig> {
     Ok(cfg)
 }
 
-fn run_model(a: &DetectArgs, scene: &Scene) -> Result<()> {
+fn run_model(a: &DetectArgs, scene: &Scene) -> Result<Vec<Pair>> {
     let cfg = model_config(a, scene)?;
     let frame = ModelFrame::new(scene, &cfg)
         .context("the scene does not fit the hardware configuration")?;
@@ -193,5 +217,5 @@ fn run_model(a: &DetectArgs, scene: &Scene) -> Result<()> {
             missed.len()
         );
     }
-    Ok(())
+    Ok(run.pairs)
 }

@@ -1,6 +1,7 @@
 //! `obbcd`: scenes, CPU collision detection, the fixed-point model, statistics and benchmarks.
 
 mod bench;
+mod builtin;
 mod cosim;
 mod detect;
 mod error;

@@ -1,5 +1,6 @@
 //! `obbcd scene`: generate a scene.
 
+use crate::builtin::DEFAULT_SEED;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use obb_model::generate::{surgical, uniform, SURGICAL_DEFAULT_N, UNIFORM_DEFAULT_DENSITY};
@@ -19,7 +20,7 @@ pub struct SceneArgs {
     /// Number of boxes (surgical: 17,500; uniform: 10,000).
     #[arg(long)]
     n: Option<usize>,
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = DEFAULT_SEED)]
     seed: u64,
     /// uniform: total box volume over cube volume.
     #[arg(long, default_value_t = UNIFORM_DEFAULT_DENSITY)]

@@ -21,7 +21,8 @@ fn ok(args: &[&str]) -> Output {
     out
 }
 
-/// Each command fails, without a panic, with a message containing its text.
+/// Each command fails, without a panic, with a message containing its text and stating each
+/// cause once (no part of the `a: b: c` chain repeated).
 fn fails_with(cases: &[(&[&str], &str)]) {
     for (args, want) in cases {
         let out = obbcd(args);
@@ -29,6 +30,13 @@ fn fails_with(cases: &[(&[&str], &str)]) {
         assert!(!out.status.success(), "{args:?} should fail");
         assert!(err.contains(want), "{args:?}: `{err}` lacks `{want}`");
         assert!(!err.contains("panicked"), "{args:?} panicked");
+        let parts: Vec<&str> = err.trim().split(": ").collect();
+        for (k, part) in parts.iter().enumerate() {
+            assert!(
+                !parts[k + 1..].contains(part),
+                "{args:?}: `{err}` says `{part}` twice"
+            );
+        }
     }
 }
 
@@ -95,13 +103,63 @@ fn scene_detect_and_stats() {
     assert!(text.lines().last().unwrap().starts_with("grid cell_mm="));
 }
 
+/// `detect` with no scene runs the built-in surgical scene (what `scene surgical` writes), says
+/// so, and counts the pairs by group pair; the same pairs as from the written file.
+#[test]
+fn detect_without_a_scene_runs_the_builtin_surgical_scene() {
+    let out = ok(&["detect"]);
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        stderr.contains("the built-in surgical scene, 17500 OBBs"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("next: `obbcd detect --engine model`"),
+        "{stderr}"
+    );
+    assert_eq!(field(&stdout, "obbs"), "17500");
+    let by_groups = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("pairs_by_groups "))
+        .unwrap_or_else(|| panic!("no pairs_by_groups line in `{stdout}`"));
+    let counts: Vec<(&str, usize)> = by_groups
+        .split_whitespace()
+        .map(|kv| {
+            let (k, v) = kv.split_once('=').unwrap();
+            (k, v.parse().unwrap())
+        })
+        .collect();
+    let total: usize = counts.iter().map(|c| c.1).sum();
+    assert_eq!(total.to_string(), field(&stdout, "pairs"));
+    // The instruments touch the tissue: the pairs that matter are there.
+    assert!(
+        counts.iter().any(|&(k, n)| k == "0-1" && n > 0),
+        "{by_groups}"
+    );
+    let scene = tmp("builtin.json");
+    ok(&["scene", "surgical", "-o", scene.to_str().unwrap()]);
+    let from_file = ok(&["detect", "--scene", scene.to_str().unwrap()]);
+    let from_file = String::from_utf8(from_file.stdout).unwrap();
+    assert_eq!(field(&from_file, "pairs"), field(&stdout, "pairs"));
+    assert!(from_file.contains(&format!("pairs_by_groups {by_groups}")));
+}
+
 #[test]
 fn bad_input_fails_with_a_message() {
     let bad = tmp("bad.json");
     std::fs::write(&bad, r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,-1,1],"group":0}]}"#).unwrap();
     let empty = tmp("empty.json");
     std::fs::write(&empty, "").unwrap();
-    let cases: [(&[&str], &str); 6] = [
+    let short = tmp("short.json");
+    std::fs::write(
+        &short,
+        r#"{"obbs":[{"center":[0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]}]}"#,
+    )
+    .unwrap();
+    let typed = tmp("typed.json");
+    std::fs::write(&typed, r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]},{"center":[0,0,0],"axes":[[1,0,0],[0,1,"x"],[0,0,1]],"half":[1,1,1]}]}"#).unwrap();
+    let cases: [(&[&str], &str); 12] = [
         (
             &["detect", "--scene", bad.to_str().unwrap()],
             "obb 0: field `half` has -1",
@@ -109,7 +167,23 @@ fn bad_input_fails_with_a_message() {
         (&["detect", "--scene", empty.to_str().unwrap()], "is empty"),
         (
             &["detect", "--scene", "/no/such.json"],
-            "cannot read scene file",
+            "cannot read scene file /no/such.json: No such file",
+        ),
+        (
+            &["detect", "--scene", short.to_str().unwrap()],
+            "obb 0, field `center`: invalid length 2, expected an array of length 3",
+        ),
+        (
+            &["detect", "--scene", typed.to_str().unwrap()],
+            "obb 1, field `axes[1][2]`: invalid type: string",
+        ),
+        (
+            &["detect", "--engine", "model", "--config", "/no/such.toml"],
+            "cannot read configuration /no/such.toml: No such file",
+        ),
+        (
+            &["scene", "uniform", "--n", "10", "-o", "/no/such/dir/x.json"],
+            "cannot write scene file /no/such/dir/x.json",
         ),
         (
             &[
@@ -134,6 +208,22 @@ fn bad_input_fails_with_a_message() {
         (
             &["scene", "uniform", "--n", "0", "-o", "/tmp/x.json"],
             "--n must be at least 1",
+        ),
+        (
+            &["cosim", "--waves", "/tmp/w.txt"],
+            "the extension names the format, .vcd or .fst",
+        ),
+        (
+            &[
+                "cosim",
+                "--waves",
+                "/tmp/w.fst",
+                "--waves-from",
+                "9",
+                "--waves-to",
+                "9",
+            ],
+            "the waveform window is empty",
         ),
     ];
     fails_with(&cases);

@@ -153,18 +153,16 @@ impl Default for HwConfig {
     }
 }
 
-/// What is wrong with a configuration.
+/// What is wrong with a configuration. Each message states its cause itself (not also chained
+/// as `source`, which would print it twice under `{:#}`).
 #[derive(Debug, Error)]
 pub enum ConfigError {
-    #[error("cannot read configuration {path}: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
-    #[error("configuration {path} is not valid TOML for obbcd: {source}")]
+    #[error("cannot read configuration {path}: {cause}")]
+    Io { path: String, cause: std::io::Error },
+    #[error("configuration {path} is not valid TOML for obbcd: {cause}")]
     Toml {
         path: String,
-        source: Box<toml::de::Error>,
+        cause: Box<toml::de::Error>,
     },
     #[error("configuration key `{key}`: {problem}")]
     Invalid { key: &'static str, problem: String },
@@ -205,18 +203,18 @@ impl HwConfig {
     /// Reads and checks a TOML file.
     pub fn load(path: &Path) -> Result<HwConfig, ConfigError> {
         let shown = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Io {
+        let text = std::fs::read_to_string(path).map_err(|cause| ConfigError::Io {
             path: shown.clone(),
-            source,
+            cause,
         })?;
         Self::parse(&text, &shown)
     }
 
     /// Parses and checks TOML text; `origin` names it in errors.
     pub fn parse(text: &str, origin: &str) -> Result<HwConfig, ConfigError> {
-        let cfg: HwConfig = toml::from_str(text).map_err(|source| ConfigError::Toml {
+        let cfg: HwConfig = toml::from_str(text).map_err(|cause| ConfigError::Toml {
             path: origin.to_string(),
-            source: Box::new(source),
+            cause: Box::new(cause),
         })?;
         cfg.validate()?;
         Ok(cfg)

@@ -1,6 +1,6 @@
 //! The cycle model of one frame: what the core's stages cost, as a function of N, the broad
 //! phase's work and the configuration. It is the specification the hardware's cycle count is
-//! checked against (issue 4); the latencies are the pipeline depths it must have.
+//! checked against; the latencies are the pipeline depths it must have.
 
 use super::broad::BroadWork;
 

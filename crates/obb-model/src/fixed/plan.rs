@@ -96,8 +96,8 @@ pub enum PlanError {
         boxes: usize,
         max: u32,
     },
-    #[error("scene {scene}: {source}")]
-    Quantize { scene: usize, source: QuantizeError },
+    #[error("scene {scene}: {cause}")]
+    Quantize { scene: usize, cause: QuantizeError },
     #[error(
         "scene {scene} at {width} bits: the model misses {missed} pair(s) of the f64 reference, \
          first {first:?}: this is a bug"
@@ -109,7 +109,7 @@ pub enum PlanError {
         first: Pair,
     },
     #[error("the planned configuration is invalid: {0}")]
-    Config(#[from] ConfigError),
+    Config(ConfigError),
 }
 
 /// The most boxes the core's indices hold.
@@ -401,7 +401,7 @@ pub fn plan(scenes: &[Scene], aims: &Aims) -> Result<Plan, PlanError> {
             ),
         );
     }
-    cfg.validate()?;
+    cfg.validate().map_err(PlanError::Config)?;
 
     // The figures of the planned core.
     let frames = frames_with(&frames, &cfg);
@@ -492,7 +492,7 @@ fn frames(cfg: &HwConfig, scenes: &[Scene]) -> Result<Vec<ModelFrame>, PlanError
         .iter()
         .enumerate()
         .map(|(scene, s)| {
-            ModelFrame::new(s, cfg).map_err(|source| PlanError::Quantize { scene, source })
+            ModelFrame::new(s, cfg).map_err(|cause| PlanError::Quantize { scene, cause })
         })
         .collect()
 }
