@@ -17,27 +17,43 @@ pub struct BoxQueue<const A: usize, const C: usize> {
     pub write_enable: Signal<In, Bit>,
     pub write_address: Signal<In, Bits<A>>,
     pub read_address: Signal<In, Bits<A>>,
-    /// The box written: its index (with the flag bit), keys, margin, record kind.
-    /// (Axis by axis, not arrays: the grid keeps a queue per lane in a list, and rust-hdl emits
-    /// an array port of a listed block wrongly.)
+    // The ports come axis by axis, not as arrays: the grid keeps a queue per lane in a list,
+    // and rust-hdl emits an array port of a listed block wrongly.
+    /// The box written: its index (with the flag bit).
     pub in_index: Signal<In, Bits<C>>,
+    /// The box written: its min key on x.
     pub in_min_x: Signal<In, Bits<CENTER>>,
+    /// The box written: its min key on y.
     pub in_min_y: Signal<In, Bits<CENTER>>,
+    /// The box written: its min key on z.
     pub in_min_z: Signal<In, Bits<CENTER>>,
+    /// The box written: its max key on x.
     pub in_max_x: Signal<In, Bits<CENTER>>,
+    /// The box written: its max key on y.
     pub in_max_y: Signal<In, Bits<CENTER>>,
+    /// The box written: its max key on z.
     pub in_max_z: Signal<In, Bits<CENTER>>,
+    /// The box written: its projection margin.
     pub in_margin: Signal<In, Bits<MARGIN>>,
+    /// The box written: its record kind (`KIND`).
     pub in_kind: Signal<In, Bits<KIND>>,
-    /// The box at `read_address`.
+    /// The box at `read_address`: its index (with the flag bit).
     pub index: Signal<Out, Bits<C>>,
+    /// The box at `read_address`: its min key on x.
     pub min_x: Signal<Out, Bits<CENTER>>,
+    /// The box at `read_address`: its min key on y.
     pub min_y: Signal<Out, Bits<CENTER>>,
+    /// The box at `read_address`: its min key on z.
     pub min_z: Signal<Out, Bits<CENTER>>,
+    /// The box at `read_address`: its max key on x.
     pub max_x: Signal<Out, Bits<CENTER>>,
+    /// The box at `read_address`: its max key on y.
     pub max_y: Signal<Out, Bits<CENTER>>,
+    /// The box at `read_address`: its max key on z.
     pub max_z: Signal<Out, Bits<CENTER>>,
+    /// The box at `read_address`: its projection margin.
     pub margin: Signal<Out, Bits<MARGIN>>,
+    /// The box at `read_address`: its record kind (`KIND`).
     pub kind: Signal<Out, Bits<KIND>>,
     index_ram: DistRam<Bits<C>, A>,
     min_ram: [DistRam<Bits<CENTER>, A>; 3],

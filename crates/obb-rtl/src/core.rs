@@ -18,7 +18,6 @@
 //! Every block RAM output goes straight into a register (the RAMB36E1's output register,
 //! DO_REG, is not inferred by yosys): 2.45 ns from the clock, no logic after it.
 
-use crate::generate::{address_bits, sort_key_bits};
 use crate::grid::GridPhase;
 use crate::pair_fifo::{self, PairFifo};
 use crate::projection::{Projection, CENTER, HALF, MARGIN, ROT};
@@ -56,6 +55,25 @@ const DRAIN: u64 = LAT_BROAD + sat::LATENCY - 1;
 /// Grid: clocks after a candidate's issue until its SAT verdict is in the FIFO.
 const GRID_DRAIN: u64 = GRID_ISSUE_TO_SAT + sat::LATENCY - 1;
 
+/// Address bits of the per-box tables and the sort for `cfg`: `capacity` entries, twice that
+/// with improved-sap (which sorts two end points per box); at least `radix::MIN_ADDRESS`,
+/// for the sort's counters also count its bins.
+pub fn address_bits(cfg: &HwConfig) -> usize {
+    let entries = match cfg.broad_phase {
+        BroadPhase::ImprovedSap => 2 * cfg.capacity,
+        _ => cfg.capacity,
+    };
+    (entries.next_power_of_two().trailing_zeros() as usize).max(crate::radix::MIN_ADDRESS)
+}
+
+/// Key bits of the radix sort: end point keys take one bit more (min before max).
+pub fn sort_key_bits(cfg: &HwConfig) -> u32 {
+    match cfg.broad_phase {
+        BroadPhase::ImprovedSap => cfg.key_bits + 1,
+        _ => cfg.key_bits,
+    }
+}
+
 #[derive(Copy, Clone, Debug, PartialEq, LogicState)]
 pub enum CoreState {
     Idle,
@@ -81,22 +99,31 @@ pub struct ObbCore<const A: usize, const C: usize> {
     /// other groups' boxes (indices from the resident count on) and reports no pair of two
     /// resident groups. Ignored without resident groups.
     pub frame_update: Signal<In, Bit>,
-    /// The OBB stream: offset-binary centers, half-lengths, axes (`obb_axes[3k + x]`, Q1.f),
-    /// group; `obb_last` ends the frame, with its last box or (for an empty frame) alone.
+    /// The OBB stream: a box is on the `obb_*` inputs; it is taken on a clock with `obb_ready`.
     pub obb_valid: Signal<In, Bit>,
+    /// The core takes the box on the inputs this clock (while it loads and has room).
     pub obb_ready: Signal<Out, Bit>,
+    /// Ends the frame: with its last box, or alone for an empty frame.
     pub obb_last: Signal<In, Bit>,
+    /// The box's center, offset binary, in LSBs.
     pub obb_center: [Signal<In, Bits<CENTER>>; 3],
+    /// The box's half-lengths, rounded up, in LSBs.
     pub obb_half: [Signal<In, Bits<HALF>>; 3],
+    /// The box's axes, `obb_axes[3k + x]` entry x of axis k, Q1.f.
     pub obb_axes: [Signal<In, Signed<ROT>>; 9],
+    /// The box's group.
     pub obb_group: Signal<In, Bits<GROUP>>,
-    /// The pair stream: box indices a < b in load order; held until `pair_ready`.
+    /// A pair is on `pair_a`, `pair_b`, held until taken (`pair_ready`).
     pub pair_valid: Signal<Out, Bit>,
+    /// The receiver takes the pair this clock.
     pub pair_ready: Signal<In, Bit>,
+    /// The pair's lower box index (its place in the load).
     pub pair_a: Signal<Out, Bits<INDEX>>,
+    /// The pair's higher box index.
     pub pair_b: Signal<Out, Bits<INDEX>>,
     /// The frame is computed and every pair has left; held until the next `frame_start`.
     pub done: Signal<Out, Bit>,
+    /// A frame is under way (from `frame_start` until `done`).
     pub busy: Signal<Out, Bit>,
     /// Sticky for the frame: more boxes than `capacity` arrived, or (grid) a large box's window
     /// spans more than `MAX_WINDOW` cells on an axis: the frame is incomplete. From then on it
@@ -105,9 +132,11 @@ pub struct ObbCore<const A: usize, const C: usize> {
     pub capacity_exceeded: Signal<Out, Bit>,
     /// Clocks from the first load clock to the last SAT verdict.
     pub cycles: Signal<Out, Bits<COUNT>>,
-    /// Index pairs the broad phase visited, candidates sent to the SAT, pairs reported.
+    /// Visits: index pairs the broad phase looked at (the glossary's *visit*).
     pub candidates: Signal<Out, Bits<COUNT>>,
+    /// SAT tests: pairs whose keys overlap, sent to the SAT.
     pub sat_tests: Signal<Out, Bits<COUNT>>,
+    /// Pairs reported on the pair stream.
     pub pairs: Signal<Out, Bits<COUNT>>,
     // Configuration.
     sweep: Constant<Bit>,

@@ -135,39 +135,61 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// The credit (a register): on the clock before, every lane had fewer than
     /// `GRID_CREDITS - 1` boxes accepted and not retired. The core may accept.
     pub credit: Signal<Out, Bit>,
-    /// A box's keys, margin and group from the projection, and its index.
+    /// A box's keys, margin and group from the projection are on the `key_*` inputs.
     pub key_valid: Signal<In, Bit>,
+    /// The box's index.
     pub key_index: Signal<In, Bits<A>>,
-    /// (Axis by axis, not arrays: the core holds the block in a list, and rust-hdl emits an
-    /// array port of a listed block wrongly.)
+    // The keys come axis by axis, not as arrays: the core holds the block in a list, and
+    // rust-hdl emits an array port of a listed block wrongly.
+    /// The box's min key on x.
     pub key_min_x: Signal<In, Bits<CENTER>>,
+    /// The box's min key on y.
     pub key_min_y: Signal<In, Bits<CENTER>>,
+    /// The box's min key on z.
     pub key_min_z: Signal<In, Bits<CENTER>>,
+    /// The box's max key on x.
     pub key_max_x: Signal<In, Bits<CENTER>>,
+    /// The box's max key on y.
     pub key_max_y: Signal<In, Bits<CENTER>>,
+    /// The box's max key on z.
     pub key_max_z: Signal<In, Bits<CENTER>>,
+    /// The box's projection margin.
     pub key_margin: Signal<In, Bits<MARGIN>>,
+    /// The box's group.
     pub key_group: Signal<In, Bits<GROUP>>,
-    /// The visits made this clock: bit k, lane k visits; its walking box i and visited box j,
-    /// 32 bits a lane (lane k in `visit_i{k/2}` from bit `32 (k mod 2)`). For the tests: the
-    /// core counts `visited`.
+    /// The visits made this clock: bit k, lane k visits (for the tests: the core counts
+    /// `visited`). Lane k's boxes are in `visit_i{k/2}` and `visit_j{k/2}` from bit
+    /// `32 (k mod 2)`.
     pub visit: Signal<Out, Bits<8>>,
+    /// Lanes 0 and 1: the walking box i of their visits (32 bits a lane).
     pub visit_i0: Signal<Out, Bits<64>>,
+    /// Lanes 2 and 3: the walking box i of their visits (32 bits a lane).
     pub visit_i1: Signal<Out, Bits<64>>,
+    /// Lanes 4 and 5: the walking box i of their visits (32 bits a lane).
     pub visit_i2: Signal<Out, Bits<64>>,
+    /// Lanes 6 and 7: the walking box i of their visits (32 bits a lane).
     pub visit_i3: Signal<Out, Bits<64>>,
+    /// Lanes 0 and 1: the visited box j of their visits (32 bits a lane).
     pub visit_j0: Signal<Out, Bits<64>>,
+    /// Lanes 2 and 3: the visited box j of their visits (32 bits a lane).
     pub visit_j1: Signal<Out, Bits<64>>,
+    /// Lanes 4 and 5: the visited box j of their visits (32 bits a lane).
     pub visit_j2: Signal<Out, Bits<64>>,
+    /// Lanes 6 and 7: the visited box j of their visits (32 bits a lane).
     pub visit_j3: Signal<Out, Bits<64>>,
     /// The visits made a clock before, counted (from registers).
     pub visited: Signal<Out, Bits<4>>,
-    /// The candidate stream (first word fall-through): taken on a clock with `cand_ready`.
+    /// The candidate stream (first word fall-through): a SAT test is on the `cand_*` outputs.
     pub cand_valid: Signal<Out, Bit>,
+    /// The core takes the candidate this clock.
     pub cand_ready: Signal<In, Bit>,
+    /// The candidate's lower box index.
     pub cand_a: Signal<Out, Bits<A>>,
+    /// The candidate's higher box index.
     pub cand_b: Signal<Out, Bits<A>>,
+    /// The projection margin of box `cand_a`.
     pub cand_ma: Signal<Out, Bits<MARGIN>>,
+    /// The projection margin of box `cand_b`.
     pub cand_mb: Signal<Out, Bits<MARGIN>>,
     /// Every box has retired and the slow path is done: the walk is over (the list heads are
     /// being cleared).

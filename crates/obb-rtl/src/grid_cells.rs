@@ -33,15 +33,19 @@ pub struct GridCells {
     pub key_valid: Signal<In, Bit>,
     pub key_min: [Signal<In, Bits<CENTER>>; 3],
     pub key_max: [Signal<In, Bits<CENTER>>; 3],
-    /// `LATENCY` clocks later: the box's keys span at most one cell edge on every axis.
+    /// The box's cells are on the outputs, `LATENCY` clocks after its keys.
     pub valid: Signal<Out, Bit>,
+    /// The box's keys span at most one cell edge on every axis.
     pub small_box: Signal<Out, Bit>,
-    /// Per bank: its cell's bucket and fingerprint, whether the window has a cell there, whether
-    /// that is the home cell.
+    /// Per bank: its cell's bucket.
     pub bucket: [Signal<Out, Bits<BUCKET>>; 27],
+    /// Per bank: its cell's fingerprint.
     pub fp: [Signal<Out, Bits<FP>>; 27],
+    /// Per bank: the window has a cell there.
     pub inside: [Signal<Out, Bit>; 27],
+    /// Per bank: its cell is the home cell (the one holding the box's lower corner).
     pub home: [Signal<Out, Bit>; 27],
+    /// The home cell's fingerprint.
     pub home_fp: Signal<Out, Bits<FP>>,
     /// The cell edge in key units (a box at most this wide on every axis is small), its log2.
     cell_edge: Constant<Bits<CENTER>>,

@@ -1,30 +1,35 @@
 //! obb-rtl: the obbcd collision-detection core described in rust-hdl, checked cycle by cycle
-//! against the bit-exact model in `obb-model` (`obb_model::fixed`), and its Verilog generator.
+//! against the bit-exact model in `obb-model` (`obb_model::fixed`), and the tool flow around it
+//! (`flow`: Verilog generation, simulators, synthesis estimate, ISE hand-off).
+//!
+//! The hardware, in the order a box goes through the core:
 
-pub mod aims;
+// Building blocks: arithmetic leaves (each product one DSP48E1), memories, a width adapter.
+pub mod dist_ram;
+pub mod leaf;
+pub mod resize;
+pub mod table_ram;
+
+// The projection: a box's AABB keys and SAT margin.
+pub mod projection;
+
+// The broad phases: the radix sort (sweep, improved-sap), the walkers, and the grid.
 pub mod bin_table;
 pub mod box_queue;
-pub mod cache;
-pub mod core;
-pub mod cosim;
-pub mod dist_ram;
-pub mod emit;
-pub mod generate;
 pub mod grid;
 pub mod grid_cells;
-pub mod handoff;
-pub mod leaf;
-pub mod pair_fifo;
-pub mod projection;
 pub mod radix;
-pub mod resize;
+pub mod sweep;
+pub mod walker;
+
+// The narrow phase: the 15-axis SAT, front and back, and the pair stream's FIFO.
+pub mod pair_fifo;
 pub mod sat;
 pub mod sat_back;
 pub mod sat_front;
 pub mod sat_round;
-pub mod sweep;
-pub mod synth;
-pub mod table_ram;
-pub mod verilator;
-pub mod walker;
-pub mod waves;
+
+// The whole core.
+pub mod core;
+
+pub mod flow;

@@ -36,7 +36,9 @@ pub struct PairFifo<const W: usize> {
     pub data_in: Signal<In, Bits<W>>,
     /// The receiver takes `data_out` on a clock with `valid` and `ready` high.
     pub ready: Signal<In, Bit>,
+    /// An entry is on `data_out`.
     pub valid: Signal<Out, Bit>,
+    /// The oldest entry.
     pub data_out: Signal<Out, Bits<W>>,
     /// Nothing stored and nothing on the output.
     pub empty: Signal<Out, Bit>,

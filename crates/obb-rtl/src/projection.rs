@@ -48,12 +48,17 @@ pub struct Projection {
     pub valid_in: Signal<In, Bit>,
     /// Centers, offset binary.
     pub center: [Signal<In, Bits<CENTER>>; 3],
+    /// Half-lengths, rounded up.
     pub half: [Signal<In, Bits<HALF>>; 3],
     /// `axes[3k + x]`: entry x of axis k, Q1.f.
     pub axes: [Signal<In, Signed<ROT>>; 9],
+    /// The box's keys and margin are on the outputs, `LATENCY` clocks after `valid_in`.
     pub valid_out: Signal<Out, Bit>,
+    /// The AABB's lower end points, as keys.
     pub key_min: [Signal<Out, Bits<CENTER>>; 3],
+    /// The AABB's upper end points, as keys.
     pub key_max: [Signal<Out, Bits<CENTER>>; 3],
+    /// The box's SAT margin (docs/numerics.md).
     pub margin: Signal<Out, Bits<MARGIN>>,
     // Configuration constants.
     frac1: Constant<Bits<8>>,

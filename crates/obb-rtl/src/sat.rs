@@ -17,16 +17,23 @@ const _: () = assert!(sat_front::LATENCY == 6);
 pub struct Sat {
     pub clock: Signal<In, Clock>,
     pub valid_in: Signal<In, Bit>,
-    /// Box A (the lower index): offset centers, half-lengths, axes, projection margin.
+    /// Box A (the lower index): its center, offset binary.
     pub center_a: [Signal<In, Bits<CENTER>>; 3],
+    /// Box A's half-lengths.
     pub half_a: [Signal<In, Bits<HALF>>; 3],
+    /// Box A's axes, `axes_a[3k + x]`.
     pub axes_a: [Signal<In, Signed<ROT>>; 9],
+    /// Box A's projection margin.
     pub margin_a: Signal<In, Bits<MARGIN>>,
-    /// Box B.
+    /// Box B (the higher index): its center, offset binary.
     pub center_b: [Signal<In, Bits<CENTER>>; 3],
+    /// Box B's half-lengths.
     pub half_b: [Signal<In, Bits<HALF>>; 3],
+    /// Box B's axes, `axes_b[3k + x]`.
     pub axes_b: [Signal<In, Signed<ROT>>; 9],
+    /// Box B's projection margin.
     pub margin_b: Signal<In, Bits<MARGIN>>,
+    /// The pair's verdict is on `hit`, `LATENCY` clocks after `valid_in`.
     pub valid_out: Signal<Out, Bit>,
     /// No axis separates the pair: it is reported.
     pub hit: Signal<Out, Bit>,

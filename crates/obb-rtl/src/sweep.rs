@@ -45,21 +45,29 @@ pub struct SweepWalker<const A: usize, const C: usize> {
     pub clock: Signal<In, Clock>,
     /// Begin a walk over the `n` sorted entries (their keys in the key table).
     pub start: Signal<In, Bit>,
+    /// The number of entries, taken with `start`.
     pub n: Signal<In, Bits<C>>,
     /// Read no further entry this clock.
     pub stall: Signal<In, Bit>,
-    /// The sorted entries' read port: address out, min x key and box one clock later.
+    /// The sorted entries' read port: the address read.
     pub rd_addr: Signal<Out, Bits<A>>,
+    /// The entry's min x key, one clock after its address.
     pub rd_key: Signal<In, Bits<KEY>>,
+    /// The entry's box, one clock after its address.
     pub rd_val: Signal<In, Bits<VAL>>,
-    /// The key table: port A reads box i, port B box j; `a_max` is port A's max x key.
+    /// The key table's port A: box i's address.
     pub a_addr: Signal<Out, Bits<A>>,
+    /// The key table's port B: box j's address.
     pub b_addr: Signal<Out, Bits<A>>,
+    /// Port A's max x key (box i's), one clock after its address.
     pub a_max: Signal<In, Bits<CENTER>>,
     /// A visit this clock: (i, j), keys requested on ports A and B.
     pub visit: Signal<Out, Bit>,
+    /// The visit's box i (the outer box).
     pub vi: Signal<Out, Bits<A>>,
+    /// The visit's box j.
     pub vj: Signal<Out, Bits<A>>,
+    /// The walk is over (held until the next `start`).
     pub finished: Signal<Out, Bit>,
     /// A walk is on; it is over (held until the next `start`).
     running: DFF<Bit>,

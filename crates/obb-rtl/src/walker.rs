@@ -40,34 +40,51 @@ pub struct Walker<const A: usize, const C: usize> {
     pub clock: Signal<In, Clock>,
     /// Begin a walk over `n` boxes (keys in the key table).
     pub start: Signal<In, Bit>,
+    /// The number of boxes, taken with `start`.
     pub n: Signal<In, Bits<C>>,
     /// Do not visit this clock.
     pub stall: Signal<In, Bit>,
-    /// Improved-sap: the sorted end points' read port (address out, entry one clock later).
+    /// Improved-sap: the sorted end points' read port, the address read.
     pub rd_addr: Signal<Out, Bits<A>>,
+    /// Improved-sap: the end point read, one clock after its address.
     pub rd_val: Signal<In, Bits<VAL>>,
-    /// The key table: port A reads box i, port B box j; `a_min_*`, `a_max_*` are port A's keys
-    /// (axis by axis, not arrays: the core holds the walker in a list, and rust-hdl emits an
-    /// array port of a listed block wrongly).
+    // The keys come axis by axis, not as arrays: the core holds the walker in a list, and
+    // rust-hdl emits an array port of a listed block wrongly.
+    /// The key table's port A: box i's address.
     pub a_addr: Signal<Out, Bits<A>>,
+    /// The key table's port B: box j's address.
     pub b_addr: Signal<Out, Bits<A>>,
+    /// Port A's min key on x (box i's), one clock after its address.
     pub a_min_x: Signal<In, Bits<CENTER>>,
+    /// Port A's min key on y (box i's), one clock after its address.
     pub a_min_y: Signal<In, Bits<CENTER>>,
+    /// Port A's min key on z (box i's), one clock after its address.
     pub a_min_z: Signal<In, Bits<CENTER>>,
+    /// Port A's max key on x (box i's), one clock after its address.
     pub a_max_x: Signal<In, Bits<CENTER>>,
+    /// Port A's max key on y (box i's), one clock after its address.
     pub a_max_y: Signal<In, Bits<CENTER>>,
+    /// Port A's max key on z (box i's), one clock after its address.
     pub a_max_z: Signal<In, Bits<CENTER>>,
-    /// Improved-sap drives the radix sort: `start`, one entry per clock, `go`, `done`.
+    /// Improved-sap: a sort starts.
     pub sort_start: Signal<Out, Bit>,
+    /// Improved-sap: an entry for the sort is on `sort_key`, `sort_val` (one per clock).
     pub sort_valid: Signal<Out, Bit>,
+    /// Improved-sap: the entry's key (the end point).
     pub sort_key: Signal<Out, Bits<KEY>>,
+    /// Improved-sap: the entry's value (the box and the kind of end point).
     pub sort_val: Signal<Out, Bits<VAL>>,
+    /// Improved-sap: every entry is in; the sort runs.
     pub sort_go: Signal<Out, Bit>,
+    /// Improved-sap: the sort is done.
     pub sort_done: Signal<In, Bit>,
     /// A visit this clock: (i, j), keys requested on ports A and B.
     pub visit: Signal<Out, Bit>,
+    /// The visit's box i.
     pub vi: Signal<Out, Bits<A>>,
+    /// The visit's box j.
     pub vj: Signal<Out, Bits<A>>,
+    /// The walk is over (held until the next `start`).
     pub finished: Signal<Out, Bit>,
     /// Improved-sap, or brute.
     sap: Constant<Bit>,

@@ -12,10 +12,10 @@ use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame, ModelRun, QObb};
 use obb_model::generate::surgical;
 use obb_model::{Obb, Scene};
 use obb_rtl::core::{ObbCore, COUNT, INDEX};
-use obb_rtl::cosim::{box_ports, compare, prepare, Expected, SimFrame, Taken};
+use obb_rtl::flow::cosim::{box_ports, compare, prepare, Expected, SimFrame, Taken};
+use obb_rtl::flow::verilator::Port;
 use obb_rtl::leaf::{sbits, uval};
 use obb_rtl::projection::{CENTER, HALF, ROT};
-use obb_rtl::verilator::Port;
 use rust_hdl::prelude::*;
 
 /// Table address bits of the small cores (capacity 512).
@@ -173,7 +173,7 @@ fn run(cfg: &HwConfig, frames: &[Frame]) {
     let (words, starts, models) = stimulus(cfg, frames);
     let hdl = rust_hdl::<A, { A + 1 }>(cfg, &words);
     let verilog =
-        obb_rtl::emit::verilog(&mut ObbCore::<A, { A + 1 }>::new(cfg), "obb_core").unwrap();
+        obb_rtl::flow::emit::verilog(&mut ObbCore::<A, { A + 1 }>::new(cfg), "obb_core").unwrap();
     let verilator = run_verilator(&verilog, "obb_core", &inputs(), &outputs(), &words);
     for (k, (h, v)) in hdl.iter().zip(&verilator).enumerate() {
         assert_eq!(h, v, "rust-hdl and Verilator differ at clock {k}");

@@ -1,7 +1,7 @@
 //! The emitted core on whole scenes, through the test bench `sim/tb_obb_core.v`: in Verilator,
 //! and in Icarus as a second opinion. Every frame's pair
 //! stream (in order), counters and clock count must equal the bit-exact model's
-//! (`obb_rtl::cosim::compare`), as `obbcd cosim` checks them.
+//! (`obb_rtl::flow::cosim::compare`), as `obbcd cosim` checks them.
 
 mod common;
 
@@ -10,12 +10,12 @@ use obb_model::fixed::stream::{interleave, STREAM_WAYS};
 use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame};
 use obb_model::generate::{surgical, SURGICAL_DEFAULT_N};
 use obb_model::{GroupMask, Scene};
-use obb_rtl::cosim::{
+use obb_rtl::flow::cosim::{
     build, compare, frame_clocks, prepare, stimulus, Expected, Level, RunOptions, SimFrame, Taken,
 };
-use obb_rtl::synth;
-use obb_rtl::verilator::{scratch_dir, Simulator};
-use obb_rtl::waves::Waves;
+use obb_rtl::flow::synth;
+use obb_rtl::flow::verilator::{scratch_dir, Simulator};
+use obb_rtl::flow::waves::Waves;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -73,7 +73,7 @@ fn cosim(
 fn default_core_from_one_box_to_the_full_surgical_scene() {
     let cfg = HwConfig::default();
     assert_eq!(cfg.broad_phase, BroadPhase::Grid);
-    let design = obb_rtl::generate::core(&cfg).unwrap();
+    let design = obb_rtl::flow::generate::core(&cfg).unwrap();
     let full = surgical(SURGICAL_DEFAULT_N, 1).unwrap();
     let scenes = [
         ("no box", Scene { obbs: vec![] }),
@@ -105,7 +105,7 @@ fn sweep_core_on_surgical_stiff_and_dense_scenes_with_back_pressure() {
         broad_phase: BroadPhase::Sweep,
         ..HwConfig::default()
     };
-    let design = obb_rtl::generate::core(&cfg).unwrap();
+    let design = obb_rtl::flow::generate::core(&cfg).unwrap();
     let run = |scene: &Scene, ready, name| {
         cosim(
             &cfg,
@@ -146,7 +146,7 @@ fn grid_core_on_all_pairs_and_under_back_pressure() {
         groups: GroupMask::All,
         ..HwConfig::default()
     };
-    let design = obb_rtl::generate::core(&all).unwrap();
+    let design = obb_rtl::flow::generate::core(&all).unwrap();
     cosim(
         &all,
         &design,
@@ -161,7 +161,7 @@ fn grid_core_on_all_pairs_and_under_back_pressure() {
         grid_groups: 8,
         ..all
     };
-    let design = obb_rtl::generate::core(&dense_cfg).unwrap();
+    let design = obb_rtl::flow::generate::core(&dense_cfg).unwrap();
     let run = |ready, name| {
         cosim(
             &dense_cfg,
@@ -213,7 +213,7 @@ fn planned_cores_on_their_scenes() {
             "{}",
             p.summary()
         );
-        let design = obb_rtl::generate::core(&p.cfg).unwrap();
+        let design = obb_rtl::flow::generate::core(&p.cfg).unwrap();
         let got = cosim(
             &p.cfg,
             &design,
@@ -239,7 +239,7 @@ fn resident_tissue_with_haptic_frames() {
         resident_groups: vec![0],
         ..HwConfig::default()
     };
-    let design = obb_rtl::generate::core(&cfg).unwrap();
+    let design = obb_rtl::flow::generate::core(&cfg).unwrap();
     let bench = build(&design, Level::Rtl, Simulator::Verilator, None, &cache()).unwrap();
     let scene = surgical(SURGICAL_DEFAULT_N, 1).unwrap();
     for ready_every in [1, 4] {
@@ -338,7 +338,7 @@ fn small_cores_in_verilator_and_icarus() {
         ),
     ];
     for (cfg, scenes) in [(&sweep, &sweep_scenes[..]), (&grid, &grid_scenes[..])] {
-        let design = obb_rtl::generate::core(cfg).unwrap();
+        let design = obb_rtl::flow::generate::core(cfg).unwrap();
         for (name, scene, icarus) in scenes {
             let name = format!("{}, {name}", cfg.broad_phase);
             let v = cosim(
@@ -368,7 +368,7 @@ fn waves_record_a_window_at_a_depth() {
         capacity: 256,
         ..HwConfig::default()
     };
-    let design = obb_rtl::generate::core(&cfg).unwrap();
+    let design = obb_rtl::flow::generate::core(&cfg).unwrap();
     let (_, boxes) = prepare(&touching_pairs(), &cfg).unwrap();
     let dir = scratch_dir("waves").unwrap();
     let stim = dir.join("stim.hex");
@@ -430,7 +430,7 @@ fn the_netlist_matches_the_model_and_the_analysis_counts_what_yosys_counts() {
         broad_phase: BroadPhase::Sweep,
         ..HwConfig::default()
     };
-    let rtl = obb_rtl::generate::core(&cfg).unwrap();
+    let rtl = obb_rtl::flow::generate::core(&cfg).unwrap();
     let (dir, _) = synth::netlist(
         &rtl,
         "obb_core",

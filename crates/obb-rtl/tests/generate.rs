@@ -2,7 +2,7 @@
 //! configuration, a manifest that matches the Verilog, and clear errors for bad configurations.
 
 use obb_model::fixed::HwConfig;
-use obb_rtl::generate::{files, ports};
+use obb_rtl::flow::generate::{files, ports};
 use std::path::Path;
 
 #[test]
@@ -114,8 +114,8 @@ fn the_manifest_lists_the_verilog_ports() {
 #[test]
 fn the_default_core_lints_clean() {
     let fresh = files(&HwConfig::default()).unwrap();
-    let dir = obb_rtl::verilator::scratch_dir("lint-obb-core").unwrap();
-    obb_rtl::verilator::lint(&dir, file(&fresh, "obb_core.v"), "obb_core").unwrap();
+    let dir = obb_rtl::flow::verilator::scratch_dir("lint-obb-core").unwrap();
+    obb_rtl::flow::verilator::lint(&dir, file(&fresh, "obb_core.v"), "obb_core").unwrap();
 }
 
 #[test]
@@ -193,7 +193,7 @@ fn the_synthesis_report_is_for_the_committed_rtl() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let rtl = std::fs::read_to_string(root.join("rtl-out/obb_core.v")).unwrap();
     let report = std::fs::read_to_string(root.join("reports/synth.md")).unwrap();
-    let digest = obb_rtl::cache::key(&[rtl.as_bytes()]);
+    let digest = obb_rtl::flow::cache::key(&[rtl.as_bytes()]);
     assert!(
         report.contains(&format!("SHA-256 prefix `{digest}`")),
         "reports/synth.md is stale: run `cargo run --release -p obbcd -- synth`"

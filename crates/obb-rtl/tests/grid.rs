@@ -14,9 +14,9 @@ use obb_model::fixed::grid_clocks::grid_schedule;
 use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame};
 use obb_model::generate::{slabs, surgical, uniform};
 use obb_model::{GroupMask, Obb, Scene};
+use obb_rtl::flow::verilator::Port;
 use obb_rtl::grid::GridPhase;
 use obb_rtl::projection::{CENTER, MARGIN};
-use obb_rtl::verilator::Port;
 use rust_hdl::prelude::*;
 
 const A: usize = 10;
@@ -464,7 +464,7 @@ fn block_verilog_matches_rust_hdl_and_the_model(cases: Vec<(&'static str, HwConf
     for (what, cfg, scene) in cases {
         let c = case(&scene, &cfg, &cfg.groups);
         let verilog =
-            obb_rtl::emit::verilog(&mut GridPhase::<A, C>::new(&cfg), "grid_phase").unwrap();
+            obb_rtl::flow::emit::verilog(&mut GridPhase::<A, C>::new(&cfg), "grid_phase").unwrap();
         let rows = common::run_verilator(
             &verilog,
             "grid_phase",
@@ -594,7 +594,8 @@ fn grid_cells_match_the_model() {
         for (t, (g, w)) in rust_rows.iter().zip(&want).enumerate() {
             assert_eq!(g, w, "{what}, rust-hdl, row {t}");
         }
-        let verilog = obb_rtl::emit::verilog(&mut GridCells::new(&cfg), "grid_cells").unwrap();
+        let verilog =
+            obb_rtl::flow::emit::verilog(&mut GridCells::new(&cfg), "grid_cells").unwrap();
         let mut inputs = vec![Port::new("key_valid", 1)];
         inputs.extend(common::ports("key_min", 3, CENTER));
         inputs.extend(common::ports("key_max", 3, CENTER));

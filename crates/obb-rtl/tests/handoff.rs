@@ -4,7 +4,7 @@
 //! and `process` procedures, sets the XC6VHX565T project up and adds files that exist.
 
 use obb_model::fixed::HwConfig;
-use obb_rtl::generate::{files, handoff, ports};
+use obb_rtl::flow::generate::{files, handoff, ports};
 use std::path::Path;
 use std::process::Command;
 
@@ -83,7 +83,7 @@ fn the_ise_script_runs_under_tclsh_with_stubs() {
          source {{{}}}\n",
         script.display()
     );
-    let dir = obb_rtl::verilator::scratch_dir("tclsh").unwrap();
+    let dir = obb_rtl::flow::verilator::scratch_dir("tclsh").unwrap();
     std::fs::write(dir.join("driver.tcl"), driver).unwrap();
     let out = Command::new("tclsh")
         .current_dir(&dir)

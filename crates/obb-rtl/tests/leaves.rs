@@ -4,12 +4,12 @@
 
 use obb_rtl::bin_table::BinTable;
 use obb_rtl::dist_ram::DistRam;
+use obb_rtl::flow::verilator::{self, Port};
 use obb_rtl::leaf::{sbits, uval, AbsTwice, UMul};
 use obb_rtl::pair_fifo::{self, PairFifo};
 use obb_rtl::sat_front::{RR, TU};
 use obb_rtl::sat_round::{SatRound, ABS_TU, RT, R_UP, TH};
 use obb_rtl::table_ram::TableRam;
-use obb_rtl::verilator::{self, Port};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use rust_hdl::prelude::*;
@@ -39,7 +39,7 @@ fn in_verilator<B: Block>(
     outputs: &[Port],
     vectors: &[Vec<u64>],
 ) -> Vec<Vec<u64>> {
-    let verilog = obb_rtl::emit::verilog(block, name).unwrap();
+    let verilog = obb_rtl::flow::emit::verilog(block, name).unwrap();
     let dir = verilator::scratch_dir(name).unwrap();
     verilator::lint(&dir, &verilog, name).unwrap();
     verilator::simulate(&dir, &verilog, name, "clock", inputs, outputs, vectors).unwrap()

@@ -8,9 +8,9 @@ use common::{check, ports, raw, run_rust_hdl, run_verilator, signed};
 use obb_model::fixed::{keys, project, quantize, HwConfig, Margins, QObb};
 use obb_model::generate::{surgical, uniform};
 use obb_model::Scene;
+use obb_rtl::flow::verilator::{Port, Simulator};
 use obb_rtl::leaf::{sbits, uval};
 use obb_rtl::projection::{Projection, CENTER, HALF, LATENCY, MARGIN, ROT};
-use obb_rtl::verilator::{Port, Simulator};
 use rust_hdl::prelude::*;
 
 /// One clock's inputs: valid, offset centers (3), half-lengths (3), rotation entries (9, raw).
@@ -81,7 +81,7 @@ fn rust_hdl(cfg: &HwConfig, vectors: &[Vec<u64>]) -> Vec<Vec<u64>> {
 
 /// The emitted Verilog in Verilator and in Icarus.
 fn simulators(cfg: &HwConfig, vectors: &[Vec<u64>]) -> (Vec<Vec<u64>>, Vec<Vec<u64>>) {
-    let verilog = obb_rtl::emit::verilog(&mut Projection::new(cfg), "projection").unwrap();
+    let verilog = obb_rtl::flow::emit::verilog(&mut Projection::new(cfg), "projection").unwrap();
     let mut inputs = vec![Port::new("valid_in", 1)];
     inputs.extend(ports("center", 3, CENTER));
     inputs.extend(ports("half", 3, HALF));
@@ -92,8 +92,8 @@ fn simulators(cfg: &HwConfig, vectors: &[Vec<u64>]) -> (Vec<Vec<u64>>, Vec<Vec<u
     outputs.push(Port::new("margin", MARGIN));
     let verilator = run_verilator(&verilog, "projection", &inputs, &outputs, vectors);
     // Icarus as a second opinion, on the same words.
-    let dir = obb_rtl::verilator::scratch_dir("projection-icarus").unwrap();
-    let icarus = obb_rtl::verilator::simulate_with(
+    let dir = obb_rtl::flow::verilator::scratch_dir("projection-icarus").unwrap();
+    let icarus = obb_rtl::flow::verilator::simulate_with(
         Simulator::Icarus,
         &dir,
         &verilog,

@@ -196,8 +196,8 @@ fn radix_sort_verilog_matches_the_model_in_verilator() {
 
 /// `n` random keys of `key_bits` bits sorted by the emitted Verilog of the K-bit sort.
 fn verilator_sort<const K: usize, const E: usize>(n: usize, key_bits: u32, digit: u32) {
+    use obb_rtl::flow::verilator::Port;
     use obb_rtl::radix::VAL;
-    use obb_rtl::verilator::Port;
     let mut runner = proptest::test_runner::TestRunner::deterministic();
     let keys: Vec<u64> =
         proptest::collection::vec(prop_oneof![0..(1u64 << key_bits), 0..4u64], n..=n)
@@ -207,7 +207,7 @@ fn verilator_sort<const K: usize, const E: usize>(n: usize, key_bits: u32, digit
     let (want, clocks) = model_sort(&keys, key_bits, digit);
     let v = vectors(&keys, clocks);
     let mut u = Sorter::<K, E>::new(key_bits, digit);
-    let verilog = obb_rtl::emit::verilog(&mut u, "radix_sort").unwrap();
+    let verilog = obb_rtl::flow::emit::verilog(&mut u, "radix_sort").unwrap();
     let inputs = [
         Port::new("start", 1),
         Port::new("in_valid", 1),

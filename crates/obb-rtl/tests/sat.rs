@@ -6,10 +6,10 @@ mod common;
 use common::{check, pairs, ports, raw, run_rust_hdl, run_verilator, signed};
 use obb_model::fixed::{HwConfig, ModelFrame};
 use obb_model::generate::{surgical, uniform};
+use obb_rtl::flow::verilator::Port;
 use obb_rtl::leaf::sbits;
 use obb_rtl::projection::{CENTER, HALF, MARGIN, ROT};
 use obb_rtl::sat::{Sat, LATENCY};
-use obb_rtl::verilator::Port;
 use rust_hdl::prelude::*;
 
 /// Inputs: valid, then for A and for B: centers (3), halves (3), axes (9), margin.
@@ -53,7 +53,7 @@ fn run(m: &ModelFrame, pairs: &[(usize, usize)]) {
     let got = run_rust_hdl(&mut Sat::new(&m.cfg), &vectors, apply, clock, read);
     check(&got, &want, "rust-hdl");
 
-    let verilog = obb_rtl::emit::verilog(&mut Sat::new(&m.cfg), "sat").unwrap();
+    let verilog = obb_rtl::flow::emit::verilog(&mut Sat::new(&m.cfg), "sat").unwrap();
     let mut inputs = vec![Port::new("valid_in", 1)];
     for side in ["a", "b"] {
         inputs.extend(ports(&format!("center_{side}"), 3, CENTER));

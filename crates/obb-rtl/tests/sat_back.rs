@@ -9,10 +9,10 @@ use common::{check, pairs, ports, raw, run_rust_hdl, run_verilator, signed};
 use obb_model::fixed::sat::{sat_products, MINOR_PAIRS};
 use obb_model::fixed::{HwConfig, ModelFrame};
 use obb_model::generate::{surgical, uniform};
+use obb_rtl::flow::verilator::Port;
 use obb_rtl::leaf::sbits;
 use obb_rtl::sat_back::{SatBack, HALF_S, LATENCY, PAIR_MARGIN};
 use obb_rtl::sat_front::{RR, TU};
-use obb_rtl::verilator::Port;
 use rust_hdl::prelude::*;
 
 /// Inputs: valid, t (3), u (3), R (9), halves of A (3) and B (3), the pair margin.
@@ -63,7 +63,7 @@ fn run(m: &ModelFrame, pairs: &[(usize, usize)]) {
     let got = run_rust_hdl(&mut SatBack::new(cfg), &vectors, apply, clock, read);
     check(&got, &want, "rust-hdl");
 
-    let verilog = obb_rtl::emit::verilog(&mut SatBack::new(cfg), "sat_back").unwrap();
+    let verilog = obb_rtl::flow::emit::verilog(&mut SatBack::new(cfg), "sat_back").unwrap();
     let mut inputs = vec![Port::new("valid_in", 1)];
     inputs.extend(ports("t", 3, TU));
     inputs.extend(ports("u", 3, TU));

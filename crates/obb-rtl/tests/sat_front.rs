@@ -8,10 +8,10 @@ use obb_model::fixed::sat::sat_products;
 use obb_model::fixed::{quantize, HwConfig, QObb};
 use obb_model::generate::{surgical, uniform};
 use obb_model::{Obb, Scene};
+use obb_rtl::flow::verilator::Port;
 use obb_rtl::leaf::{sbits, sval};
 use obb_rtl::projection::{CENTER, ROT};
 use obb_rtl::sat_front::{SatFront, LATENCY, RR, TU};
-use obb_rtl::verilator::Port;
 use rust_hdl::prelude::*;
 
 fn input(a: &QObb, b: &QObb, cfg: &HwConfig) -> Vec<u64> {
@@ -93,7 +93,7 @@ fn sat_front_matches_the_model_in_rust_hdl_and_verilator() {
     let got = run_rust_hdl(&mut SatFront::default(), &vectors, apply, clock, read);
     check(&got, &want, "rust-hdl");
 
-    let verilog = obb_rtl::emit::verilog(&mut SatFront::default(), "sat_front").unwrap();
+    let verilog = obb_rtl::flow::emit::verilog(&mut SatFront::default(), "sat_front").unwrap();
     let mut inputs = vec![Port::new("valid_in", 1)];
     inputs.extend(ports("center_a", 3, CENTER));
     inputs.extend(ports("center_b", 3, CENTER));

@@ -2,7 +2,7 @@
 //! before a synthesis, the analysis' period after it, the same from the cache without yosys
 //! running again, and none for other Verilog.
 
-use obb_rtl::synth;
+use obb_rtl::flow::synth;
 
 const ADDER: &str = "module tiny(input clock, input [7:0] a, input [7:0] b, output reg [7:0] q);
   reg [7:0] ra, rb;

@@ -12,10 +12,10 @@ use obb_model::fixed::grid::MAX_WINDOW;
 use obb_model::fixed::stream::{interleave, STREAM_WAYS};
 use obb_model::fixed::{HwConfig, ModelFrame};
 use obb_model::Scene;
-use obb_rtl::cosim::{self, compare, prepare, Expected, Level, RunOptions, Taken};
-use obb_rtl::verilator::Simulator;
-use obb_rtl::waves::Waves;
-use obb_rtl::{cache, generate, synth};
+use obb_rtl::flow::cosim::{self, compare, prepare, Expected, Level, RunOptions, Taken};
+use obb_rtl::flow::verilator::Simulator;
+use obb_rtl::flow::waves::Waves;
+use obb_rtl::flow::{cache, generate, synth};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 

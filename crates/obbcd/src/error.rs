@@ -17,7 +17,7 @@ use obb_model::fixed::accuracy::{
 use obb_model::fixed::grid::MAX_WINDOW;
 use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame};
 use obb_model::Scene;
-use obb_rtl::{cache, generate, synth};
+use obb_rtl::flow::{cache, generate, synth};
 use std::path::{Path, PathBuf};
 
 #[derive(Args)]

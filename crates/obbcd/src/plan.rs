@@ -3,7 +3,7 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use obb_rtl::aims::AimArgs;
+use obb_rtl::flow::aims::AimArgs;
 use std::path::PathBuf;
 
 #[derive(Args)]

@@ -7,8 +7,10 @@ use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::ProgressBar;
 use obb_model::fixed::HwConfig;
-use obb_rtl::synth::{self, PathGroup, Report, AIM_NS, PAPER, XC6VHX565T};
-use obb_rtl::{cache, generate};
+use obb_rtl::flow::synth::{
+    self, DelayModel, PathGroup, Report, Resources, AIM_NS, PAPER, XC6VHX565T,
+};
+use obb_rtl::flow::{cache, generate};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -123,10 +125,20 @@ fn pct(used: f64, of: u64) -> String {
     format!("{:.1} %", 100.0 * used / of as f64)
 }
 
+/// The report: the configuration, the resources beside the paper's, the pipelining and logic
+/// depth, the targets met or not, and the delay model.
 fn markdown(cfg: &HwConfig, top: &str, rtl: &str, r: &Report) -> String {
-    let res = &r.resources;
-    let d = &r.delays;
     let mut s = String::new();
+    header(&mut s, cfg, top, rtl);
+    resources(&mut s, top, &r.resources);
+    depth(&mut s, r);
+    targets(&mut s, r);
+    delay_model(&mut s, &r.delays);
+    s
+}
+
+/// The title, what wrote the report, the configuration, and that the period is an estimate.
+fn header(s: &mut String, cfg: &HwConfig, top: &str, rtl: &str) {
     let _ = writeln!(
         s,
         "# Synthesis estimate: `{top}` on the {}\n\n\
@@ -148,6 +160,10 @@ fn markdown(cfg: &HwConfig, top: &str, rtl: &str, r: &Report) -> String {
         cfg.key_bits,
         cfg.clock_ns,
     );
+}
+
+/// The resources against the device and the paper's two designs.
+fn resources(s: &mut String, top: &str, res: &Resources) {
     let _ = writeln!(
         s,
         "## Resources\n\n\
@@ -210,6 +226,12 @@ fn markdown(cfg: &HwConfig, top: &str, rtl: &str, r: &Report) -> String {
     for (a, b, c, e, f) in rows {
         let _ = writeln!(s, "| {a} | {b} | {c} | {e} | {f} |");
     }
+}
+
+/// DSP and block RAM pipelining, the slowest and the deepest paths, the estimated period, and
+/// the paths deeper than 3 LUT levels or slower than the aim, by register families.
+fn depth(s: &mut String, r: &Report) {
+    let res = &r.resources;
     let w = &r.worst;
     let period = w.delay_ns;
     let _ = writeln!(
@@ -243,7 +265,7 @@ fn markdown(cfg: &HwConfig, top: &str, rtl: &str, r: &Report) -> String {
         PAPER[1].period_ns,
     );
     groups(
-        &mut s,
+        s,
         &format!(
             "Endpoints behind more than 3 LUT levels, by the register families they run \
              between (deepest first; {} of {} groups)",
@@ -253,7 +275,7 @@ fn markdown(cfg: &HwConfig, top: &str, rtl: &str, r: &Report) -> String {
         &r.deep_groups,
     );
     groups(
-        &mut s,
+        s,
         &format!(
             "Endpoints slower than {AIM_NS} ns under the model: {}. By the register families \
              they run between (slowest first; {} of {} groups)",
@@ -263,6 +285,13 @@ fn markdown(cfg: &HwConfig, top: &str, rtl: &str, r: &Report) -> String {
         ),
         &r.slow_groups,
     );
+}
+
+/// Each target, what was measured, and whether it is met.
+fn targets(s: &mut String, r: &Report) {
+    let res = &r.resources;
+    let ram = res.ramb36_equivalent();
+    let period = r.worst.delay_ns;
     let met = |ok: bool| if ok { "met" } else { "**not met**" };
     let paper = &PAPER[1];
     let _ = writeln!(
@@ -288,6 +317,10 @@ fn markdown(cfg: &HwConfig, top: &str, rtl: &str, r: &Report) -> String {
         ram,
         met(ram < paper.ramb36.unwrap_or(0) as f64),
     );
+}
+
+/// The delay model's figures.
+fn delay_model(s: &mut String, d: &DelayModel) {
     let _ = writeln!(
         s,
         "## Delay model (ns)\n\n\
@@ -323,5 +356,4 @@ fn markdown(cfg: &HwConfig, top: &str, rtl: &str, r: &Report) -> String {
         d.dsp_setup_p,
         d.dsp_setup_pcin,
     );
-    s
 }

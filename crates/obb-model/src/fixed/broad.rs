@@ -11,33 +11,10 @@ use super::config::BroadPhase;
 use super::cycles::sort_cycles;
 use super::frame::ModelFrame;
 use super::grid::{self, GridWalk};
-use super::grid_clocks::{grid_schedule, GridClocks};
+use super::grid_clocks::grid_schedule;
+pub use super::work::BroadWork;
 use crate::groups::GroupMask;
 use crate::radix::RadixSorter;
-
-/// The work of one broad phase on one frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct BroadWork {
-    /// Grid: boxes larger than a cell, met on the slow path after the load.
-    pub large: u64,
-    /// Grid: a large box's window was too wide for the slow path (`grid::MAX_WINDOW`): the
-    /// frame's pairs are incomplete, and the core flags it.
-    pub incomplete: bool,
-    /// Radix passes, summed over the sorts.
-    pub passes: u64,
-    /// Keys moved by the radix passes: each sort's length times its passes, summed.
-    pub moves: u64,
-    /// Clocks of the sorts (`cycles::sort_cycles`), summed.
-    pub sort_cycles: u64,
-    /// Index pairs the broad phase visits (one per clock per lane).
-    pub visited: u64,
-    /// Clocks of the walk (`walk_cycles`).
-    pub walk: u64,
-    /// Pairs sent to the SAT stage.
-    pub emitted: u64,
-    /// Grid: the load and the walk, which overlap (`grid_clocks`).
-    pub grid: Option<GridClocks>,
-}
 
 /// Runs the broad phase `mode` on `frame`, calling `emit(i, j)` for each pair it sends to the
 /// SAT stage, in order. Returns its work.

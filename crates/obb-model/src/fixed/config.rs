@@ -87,6 +87,7 @@ pub struct HwConfig {
     pub ortho_tol: f64,
     /// Most OBBs in a frame.
     pub capacity: u32,
+    /// The broad phase the core is built with.
     pub broad_phase: BroadPhase,
     /// Which group pairs are reported (`all`, `cross`, or a list like `0-1,0-2,1-2`).
     pub groups: GroupMask,
@@ -151,6 +152,20 @@ impl Default for HwConfig {
             speed_grade: 2,
         }
     }
+}
+
+/// The grid's most bucket bits (`grid_hash_bits`): the fingerprint's rows come after them.
+pub const MAX_HASH_BITS: u32 = 12;
+/// The widest sort keys the grid block takes: its cell coordinates (keys shifted, plus 2) are
+/// 23-bit registers (`obb_rtl::grid_cells::COORD`).
+pub const MAX_KEY_BITS: u32 = 22;
+
+/// η: the quantized axes' Gram matrix deviates from `2^2f I` by at most `η 2^2f` per entry
+/// (docs/numerics.md, "The quantized axes are nearly orthonormal").
+pub fn eta(cfg: &HwConfig) -> f64 {
+    let two_f = f64::from(1u32 << cfg.frac_bits());
+    let tol = cfg.ortho_tol;
+    tol + 3f64.sqrt() * (1.0 + tol) / two_f + 0.75 / (two_f * two_f)
 }
 
 /// What is wrong with a configuration. Each message states its cause itself (not also chained
@@ -233,7 +248,7 @@ impl HwConfig {
             "grid_hash_bits",
             self.grid_hash_bits,
             1,
-            super::grid::MAX_HASH_BITS,
+            MAX_HASH_BITS,
             "a bank's buckets, one list head per bucket and group",
         )?;
         in_range(
@@ -315,10 +330,8 @@ impl HwConfig {
         )?;
         // |t̂| = |T·a| / 2^f <= √3 √(1+η) 2^center_bits must fit the DSP's 25-bit port; only
         // the coarsest rotations (f = 2, η about 0.5) with 23-bit centers fail.
-        let t_hat = 3f64.sqrt()
-            * (1.0 + super::margins::eta(self)).sqrt()
-            * f64::from(1u32 << self.center_bits)
-            + 1.0;
+        let t_hat =
+            3f64.sqrt() * (1.0 + eta(self)).sqrt() * f64::from(1u32 << self.center_bits) + 1.0;
         if t_hat >= f64::from(1u32 << (DSP_A_BITS - 1)) {
             return Err(invalid(
                 "center_bits",

@@ -2,7 +2,7 @@
 //! phase's work and the configuration. It is the specification the hardware's cycle count is
 //! checked against; the latencies are the pipeline depths it must have.
 
-use super::broad::BroadWork;
+use super::work::BroadWork;
 
 /// Pipeline depth of the projection stage: input registers, `2|r|+1`, three DSP stages, sums,
 /// end points, keys (`obb_rtl::projection`, checked equal by its test).
@@ -69,6 +69,7 @@ pub struct FrameCycles {
     /// The last visit's way through the key check and the SAT (the grid: also the clear of its
     /// list heads).
     pub drain: u64,
+    /// The frame's clocks, the sum of the stages (the core's `cycles`).
     pub total: u64,
 }
 

@@ -38,18 +38,14 @@
 //! lane. A lane's walker then visits only its lane's boxes, so in the hardware each reads its
 //! own bank of the per-box tables.
 
-use super::broad::BroadWork;
 use super::config::{HwConfig, GROUP_BITS};
 use super::frame::ModelFrame;
+use super::work::BroadWork;
 use crate::groups::GroupMask;
 
 /// Banks of list heads: a cell's bank is its coordinates mod 3, `x + 3 y + 9 z`.
 pub const BANKS: usize = 27;
-/// The most bucket bits (`grid_hash_bits`): the fingerprint's rows come after them.
-pub const MAX_HASH_BITS: u32 = 12;
-/// The widest sort keys the grid block takes: its cell coordinates (keys shifted, plus 2) are
-/// 23-bit registers (`obb_rtl::grid_cells::COORD`).
-pub const MAX_KEY_BITS: u32 = 22;
+pub use super::config::{MAX_HASH_BITS, MAX_KEY_BITS};
 /// Bits of a cell's fingerprint, which a list keeps of the cell that entered it first.
 pub const FINGERPRINT_BITS: u32 = 8;
 /// Cells per axis a large box's window may span (eight rounds): a wider one makes the frame

@@ -64,17 +64,8 @@ use super::cycles::{
     LAT_SAT,
 };
 use super::grid::GridWalk;
+pub use super::work::GridClocks;
 use std::collections::VecDeque;
-
-/// The grid's clocks, from the first load clock: the load ends when the last keys are in the
-/// key table; the walk, when every box has retired and the slow path is done; the drain is
-/// the rest (the clear of the list heads, the last verdicts).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct GridClocks {
-    pub load: u64,
-    pub walk: u64,
-    pub drain: u64,
-}
 
 /// What the grid block does on which clock: the schedule the RTL is checked against.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -91,6 +82,7 @@ pub struct GridSchedule {
     pub fetches: Vec<(u64, usize)>,
     /// The clock the walk is over (the block's `walked` is high from it).
     pub walked: u64,
+    /// The frame's clocks as the grid spends them.
     pub clocks: GridClocks,
 }
 

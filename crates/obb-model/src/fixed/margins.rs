@@ -23,13 +23,7 @@ pub struct Margins {
     pub compare_shift: u32,
 }
 
-/// η: the quantized axes' Gram matrix deviates from `2^2f I` by at most `η 2^2f` per entry
-/// (docs/numerics.md, "The quantized axes are nearly orthonormal").
-pub fn eta(cfg: &HwConfig) -> f64 {
-    let two_f = f64::from(1u32 << cfg.frac_bits());
-    let tol = cfg.ortho_tol;
-    tol + 3f64.sqrt() * (1.0 + tol) / two_f + 0.75 / (two_f * two_f)
-}
+pub use super::config::eta;
 
 /// A real bound made an integer bound: rounded up, with room for the f64 rounding of the
 /// formula itself (a few ulps, far below the 1e-9 relative pad).
@@ -64,7 +58,7 @@ impl Margins {
     }
 
     fn per_box_sum(&self, sum: i64) -> i64 {
-        super::quantize::ceil_shift(sum * self.beta_num, BETA_SHIFT)
+        super::rounding::ceil_shift(sum * self.beta_num, BETA_SHIFT)
     }
 
     /// The widest gap, in LSBs, at which the face-axis test can still report two boxes whose

@@ -13,11 +13,15 @@ pub mod grid_clocks;
 pub mod margins;
 pub mod plan;
 pub mod quantize;
+pub mod rounding;
+pub mod run;
 pub mod sat;
 pub mod stream;
+pub mod work;
 
 pub use config::{BroadPhase, ConfigError, HwConfig};
 pub use cycles::{frame_cycles, FrameCycles};
-pub use frame::{ModelFrame, ModelRun};
+pub use frame::ModelFrame;
 pub use margins::Margins;
 pub use quantize::{keys, project, quantize, Projected, QObb, QuantizeError};
+pub use run::ModelRun;

@@ -3,6 +3,7 @@
 
 use super::config::HwConfig;
 use super::margins::Margins;
+use super::rounding::ceil_shift;
 use crate::aabb::U;
 use crate::scene::{Obb, Scene, SceneError};
 use thiserror::Error;
@@ -16,6 +17,7 @@ pub struct QObb {
     pub half: [i64; 3],
     /// `axes[k][x]`, rounded to nearest, in units of 2^-f.
     pub axes: [[i64; 3]; 3],
+    /// The box's group, as in the scene.
     pub group: u32,
 }
 
@@ -182,12 +184,6 @@ fn project_extent(b: &QObb, cfg: &HwConfig) -> [i64; 3] {
             .sum();
         ceil_shift(sum + (1 << f), f + 1)
     })
-}
-
-/// `ceil(v / 2^s)` for `v >= 0`.
-#[inline]
-pub(crate) fn ceil_shift(v: i64, s: u32) -> i64 {
-    (v + (1 << s) - 1) >> s
 }
 
 /// The projection stage: AABB end points (min down, max up) and the SAT margin.

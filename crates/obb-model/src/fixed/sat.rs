@@ -3,7 +3,8 @@
 //! the margins of `Margins`. Separated only if separated for certain (docs/numerics.md).
 
 use super::margins::Margins;
-use super::quantize::{ceil_shift, Projected, QObb};
+use super::quantize::{Projected, QObb};
+use super::rounding::ceil_shift;
 
 #[inline]
 fn dot(p: &[i64; 3], q: &[i64; 3]) -> i64 {

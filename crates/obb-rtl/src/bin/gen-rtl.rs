@@ -3,7 +3,7 @@
 use anyhow::{bail, Result};
 use clap::Parser;
 use obb_model::fixed::HwConfig;
-use obb_rtl::aims::AimArgs;
+use obb_rtl::flow::aims::AimArgs;
 use std::path::PathBuf;
 
 #[derive(Parser)]
@@ -43,10 +43,10 @@ fn main() -> Result<()> {
             plan.cfg
         }
     };
-    for name in obb_rtl::generate::write(&cfg, &a.out)? {
+    for name in obb_rtl::flow::generate::write(&cfg, &a.out)? {
         println!("wrote {}", a.out.join(name).display());
     }
-    obb_rtl::generate::write_handoff(&cfg, &a.out, &a.ucf, &a.tcl)?;
+    obb_rtl::flow::generate::write_handoff(&cfg, &a.out, &a.ucf, &a.tcl)?;
     println!("wrote {}", a.ucf.display());
     println!("wrote {}", a.tcl.display());
     Ok(())

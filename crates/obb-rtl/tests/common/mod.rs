@@ -7,7 +7,7 @@ pub mod scenes;
 use obb_model::fixed::broad;
 use obb_model::fixed::{BroadPhase, ModelFrame};
 use obb_model::GroupMask;
-use obb_rtl::verilator::{self, Port};
+use obb_rtl::flow::verilator::{self, Port};
 use rust_hdl::prelude::*;
 
 /// Sign-extends the low `bits` of `v`.

@@ -2,8 +2,8 @@
 //! configuration, each module's ports and latency). Deterministic: the same configuration gives
 //! the same bytes.
 
-use crate::core::{self, ObbCore};
-use crate::emit;
+use crate::core::{self, address_bits, sort_key_bits, ObbCore};
+use crate::flow::emit;
 use crate::grid::GridPhase;
 use crate::projection::{self, Projection};
 use crate::radix::KeySort;
@@ -33,6 +33,7 @@ pub struct ModuleInfo {
     pub latency: u64,
     /// Inputs accepted per clock.
     pub throughput: u64,
+    /// The module's ports, as in its Verilog.
     pub ports: Vec<PortInfo>,
 }
 
@@ -78,21 +79,26 @@ pub fn ports(verilog: &str, top: &str) -> Vec<PortInfo> {
 /// The stage latencies and sizes of the core, for the manifest (`obb_model::fixed::cycles`).
 #[derive(Clone, Debug, Serialize)]
 pub struct CoreInfo {
-    /// Clocks of the projection pipeline; the key table write after it.
+    /// Clocks of the projection pipeline.
     pub lat_project: u64,
+    /// Clocks of the key table's write after the projection.
     pub lat_key_write: u64,
-    /// Clocks from a broad-phase visit to the SAT's inputs, and of the SAT.
+    /// Clocks from a broad-phase visit to the SAT's inputs.
     pub lat_broad: u64,
+    /// Clocks of the SAT.
     pub lat_sat: u64,
-    /// Radix sort: digit bits, passes; each pass `2^digit + n + 6` clocks, plus 3 per sort
+    /// Radix sort: the digit's bits; each pass takes `2^digit + n + 6` clocks, plus 3 per sort
     /// (`cycles::sort_cycles`).
     pub sort_digit_bits: u32,
+    /// Radix sort: passes per sort.
     pub sort_passes: u32,
     /// Entries of every per-box table (a power of two at least `capacity`).
     pub table_depth: u64,
-    /// Entries of the pair FIFO, and the fill at which the broad phase stalls.
+    /// Entries of the pair FIFO.
     pub fifo_depth: u64,
+    /// The pair FIFO's fill at which the broad phase stalls.
     pub fifo_stall_fill: u64,
+    /// Width of the status counters (`cycles`, `candidates`, `sat_tests`, `pairs`).
     pub counter_bits: usize,
     /// The grid's clocks (`obb_model::fixed::grid_clocks`), with `broad_phase = "grid"`.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -106,9 +112,9 @@ pub struct GridInfo {
     pub lat_probe: u64,
     /// Boxes accepted and not retired, at most: the load waits beyond.
     pub credits: usize,
-    /// Clocks from a visit to its candidate's first possible issue, and from the issue to the
-    /// SAT's inputs.
+    /// Clocks from a visit to its candidate's first possible issue.
     pub lat_check: u64,
+    /// Clocks from the issue to the SAT's inputs.
     pub issue_to_sat: u64,
     /// The candidate queue's fill at which the walker pauses.
     pub candidate_stall_fill: usize,
@@ -140,25 +146,6 @@ pub fn check_supported(cfg: &HwConfig) -> Result<()> {
         BroadPhase::Grid => check_grid(cfg)?,
     }
     Ok(())
-}
-
-/// Address bits of the per-box tables and the sort for `cfg`: `capacity` entries, twice that
-/// with improved-sap (which sorts two end points per box); at least `radix::MIN_ADDRESS`,
-/// for the sort's counters also count its bins.
-pub fn address_bits(cfg: &HwConfig) -> usize {
-    let entries = match cfg.broad_phase {
-        BroadPhase::ImprovedSap => 2 * cfg.capacity,
-        _ => cfg.capacity,
-    };
-    (entries.next_power_of_two().trailing_zeros() as usize).max(crate::radix::MIN_ADDRESS)
-}
-
-/// Key bits of the radix sort: end point keys take one bit more (min before max).
-pub fn sort_key_bits(cfg: &HwConfig) -> u32 {
-    match cfg.broad_phase {
-        BroadPhase::ImprovedSap => cfg.key_bits + 1,
-        _ => cfg.key_bits,
-    }
 }
 
 /// Calls `$f::<A, A + 1>($args)` for the address width `$a` (8 to 20): rust-hdl's widths are
@@ -336,8 +323,8 @@ pub fn handoff(cfg: &HwConfig, verilog: &str, constraints: &str) -> Result<(Stri
     check_supported(cfg)?;
     let head = header(cfg);
     Ok((
-        crate::handoff::ucf(cfg, &head),
-        crate::handoff::build_tcl(cfg, &head, verilog, constraints),
+        crate::flow::handoff::ucf(cfg, &head),
+        crate::flow::handoff::build_tcl(cfg, &head, verilog, constraints),
     ))
 }
 

@@ -4,9 +4,9 @@
 //! builds it in Verilator or Icarus (once per design: builds are cached), runs it, reads the
 //! result and compares it with the bit-exact model. `obbcd cosim` is its command line.
 
-use crate::cache;
-use crate::verilator::{binary_build, hex_word, output, Simulator};
-use crate::waves::{Trace, WaveFormat, Waves};
+use crate::flow::cache;
+use crate::flow::verilator::{binary_build, hex_word, output, Simulator};
+use crate::flow::waves::{Trace, WaveFormat, Waves};
 use anyhow::{bail, Context, Result};
 use obb_model::fixed::{quantize, HwConfig, ModelFrame, ModelRun, QObb, QuantizeError};
 use obb_model::{Pair, Scene};
@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 /// The test bench, compiled into the binary so that `obbcd` runs anywhere.
-pub const TESTBENCH: &str = include_str!("../../../sim/tb_obb_core.v");
+pub const TESTBENCH: &str = include_str!("../../../../sim/tb_obb_core.v");
 
 /// The model's frame for `scene` and the boxes to stream. A scene over capacity has no model
 /// frame; its boxes are quantized anyway, for the core must see them to flag the frame.
@@ -248,11 +248,15 @@ pub struct SimFrame {
     pub stream: Vec<Pair>,
     /// Clocks from `frame_start` until `done` was seen.
     pub clocks: u64,
-    /// The status outputs at `done`.
+    /// The `cycles` output at `done`.
     pub cycles: u64,
+    /// The `candidates` output (visits) at `done`.
     pub candidates: u64,
+    /// The `sat_tests` output at `done`.
     pub sat_tests: u64,
+    /// The `pairs` output at `done`.
     pub pairs: u64,
+    /// The `capacity_exceeded` output at `done`.
     pub capacity_exceeded: bool,
 }
 

@@ -5,7 +5,7 @@
 //! turns the worst path into a clock period with the stated delay model (`DelayModel`). The
 //! period is an estimate: yosys has no Virtex-6 timing and places nothing.
 
-use crate::cache;
+use crate::flow::cache;
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use serde_json::Value;
