@@ -638,9 +638,34 @@ fn listed_block(name: &str) -> Option<usize> {
 }
 
 /// Walks every path from a launching output through the combinational cells to a capturing
-/// input, in topological order.
+/// input, in topological order, and reads the pipelining off the cells.
 fn walk(cells: &[Cell], d: &DelayModel) -> Report {
-    let resources = count(cells);
+    let arrival = arrivals(cells, d);
+    let ends = endpoints(cells, &arrival, d);
+    let (dsp_without_mreg, dsp_without_preg, bram_without_output_register) = pipelining(cells);
+    Report {
+        resources: count(cells),
+        dsp_without_mreg,
+        dsp_without_preg,
+        bram_without_output_register,
+        endpoints_over_3_luts: ends.over,
+        deep_groups: ends.deep_groups.sorted(|g| g.luts),
+        endpoints_over_aim: ends.slow,
+        slow_groups: ends.slow_groups.sorted(|g| g.ns),
+        worst: ends.worst,
+        deepest: ends.deepest,
+        delays: d.clone(),
+    }
+}
+
+/// When a path's signal leaves its cell: a carry chain's output takes the chain's exit.
+fn leave(a: &Arrival, d: &DelayModel) -> f64 {
+    a.t + if a.in_chain { d.carry_out } else { 0.0 }
+}
+
+/// The arrival at every net driven by a launching output or a combinational cell: the latest
+/// and the deepest path to it, in Kahn's order over the combinational cells.
+fn arrivals(cells: &[Cell], d: &DelayModel) -> HashMap<u64, Arrival> {
     // The combinational cells and the read side of distributed RAM.
     let comb = |c: &Cell| matches!(c.kind, Kind::Lut | Kind::Muxf | Kind::Carry | Kind::LutRam);
     let mut driver: HashMap<u64, usize> = HashMap::new();
@@ -697,7 +722,6 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
     let mut ready: Vec<usize> = (0..cells.len())
         .filter(|&i| comb(&cells[i]) && waiting[i] == 0)
         .collect();
-    let leave = |a: &Arrival| a.t + if a.in_chain { d.carry_out } else { 0.0 };
     while let Some(i) = ready.pop() {
         let c = &cells[i];
         // The latest input and the deepest one among those `arc` admits, with what this cell
@@ -711,9 +735,9 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
                     let Some(a) = arrival.get(b) else { continue };
                     let t = match (c.kind, pin.as_str()) {
                         (Kind::Carry, "CI") => a.t + d.carry_block,
-                        (Kind::Carry, _) => leave(a) + d.carry_in,
-                        (Kind::Muxf, _) => leave(a) + d.muxf,
-                        _ => leave(a) + d.lut_level,
+                        (Kind::Carry, _) => leave(a, d) + d.carry_in,
+                        (Kind::Muxf, _) => leave(a, d) + d.muxf,
+                        _ => leave(a, d) + d.lut_level,
                     };
                     let next = Arrival {
                         t,
@@ -765,12 +789,29 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
             }
         }
     }
-    let mut worst = PathInfo::default();
-    let mut deepest = DeepPath::default();
-    let mut over = 0;
-    let mut slow = 0;
-    let mut deep_groups = Grouping::default();
-    let mut slow_groups = Grouping::default();
+    arrival
+}
+
+/// What the capturing inputs see.
+#[derive(Default)]
+struct Endpoints {
+    /// The slowest path under the delay model.
+    worst: PathInfo,
+    /// The path with the most LUT levels.
+    deepest: DeepPath,
+    /// Endpoint bits behind more than 3 LUT levels.
+    over: u64,
+    /// Endpoint bits slower than `AIM_NS`.
+    slow: u64,
+    /// The deep endpoints by register families.
+    deep_groups: Grouping,
+    /// The slow endpoints by register families.
+    slow_groups: Grouping,
+}
+
+/// Every capturing input's path: the slowest, the deepest, and those over the aims, grouped.
+fn endpoints(cells: &[Cell], arrival: &HashMap<u64, Arrival>, d: &DelayModel) -> Endpoints {
+    let mut e = Endpoints::default();
     for c in cells {
         for (pin, bs) in &c.inputs {
             let Some(setup) = capture(c, pin, d) else {
@@ -778,9 +819,9 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
             };
             for b in bs.iter().flatten() {
                 let Some(a) = arrival.get(b) else { continue };
-                let total = leave(a) + setup;
-                if total > worst.delay_ns {
-                    worst = PathInfo {
+                let total = leave(a, d) + setup;
+                if total > e.worst.delay_ns {
+                    e.worst = PathInfo {
                         delay_ns: total,
                         luts: a.luts,
                         carry4: a.carry,
@@ -788,24 +829,32 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
                         to: format!("{}.{pin}", c.name),
                     };
                 }
-                if a.depth > deepest.luts {
-                    deepest = DeepPath {
+                if a.depth > e.deepest.luts {
+                    e.deepest = DeepPath {
                         luts: a.depth,
                         from: cells[a.depth_from].name.clone(),
                         to: format!("{}.{pin}", c.name),
                     };
                 }
                 if a.depth > 3 {
-                    over += 1;
-                    deep_groups.add(&cells[a.depth_from].name, &c.name, a.depth, total);
+                    e.over += 1;
+                    e.deep_groups
+                        .add(&cells[a.depth_from].name, &c.name, a.depth, total);
                 }
                 if total > AIM_NS {
-                    slow += 1;
-                    slow_groups.add(&cells[a.from].name, &c.name, a.luts, total);
+                    e.slow += 1;
+                    e.slow_groups
+                        .add(&cells[a.from].name, &c.name, a.luts, total);
                 }
             }
         }
     }
+    e
+}
+
+/// DSP48E1s multiplying without MREG, DSP48E1s without PREG, and block RAMs with a used read
+/// port without its output register.
+fn pipelining(cells: &[Cell]) -> (u64, u64, u64) {
     let dsp = cells.iter().filter(|c| c.kind == Kind::Dsp);
     let dsp_without_mreg = dsp
         .clone()
@@ -833,19 +882,11 @@ fn walk(cells: &[Cell], d: &DelayModel) -> Report {
             })
         })
         .count() as u64;
-    Report {
-        resources,
+    (
         dsp_without_mreg,
         dsp_without_preg,
         bram_without_output_register,
-        endpoints_over_3_luts: over,
-        deep_groups: deep_groups.sorted(|g| g.luts),
-        endpoints_over_aim: slow,
-        slow_groups: slow_groups.sorted(|g| g.ns),
-        worst,
-        deepest,
-        delays: d.clone(),
-    }
+    )
 }
 
 #[cfg(test)]
