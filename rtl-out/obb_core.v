@@ -2,7 +2,7 @@
 // Configuration: center_bits=20 half_bits=17 rot_bits=18 key_bits=20 lsb_mm=0.0009765625
 
 
-module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_center$0,obb_center$1,obb_center$2,obb_half$0,obb_half$1,obb_half$2,obb_axes$0,obb_axes$1,obb_axes$2,obb_axes$3,obb_axes$4,obb_axes$5,obb_axes$6,obb_axes$7,obb_axes$8,obb_group,pair_valid,pair_ready,pair_a,pair_b,done,busy,capacity_exceeded,cycles,candidates,sat_tests,pairs);
+module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_center$0,obb_center$1,obb_center$2,obb_half$0,obb_half$1,obb_half$2,obb_axes$0,obb_axes$1,obb_axes$2,obb_axes$3,obb_axes$4,obb_axes$5,obb_axes$6,obb_axes$7,obb_axes$8,obb_group,pair_valid,pair_ready,pair_a,pair_b,done,busy,capacity_exceeded,cycles,visits,sat_tests,pairs);
     
     // Module arguments
     input wire  clock;
@@ -35,7 +35,7 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     output reg  busy;
     output reg  capacity_exceeded;
     output reg  [39:0] cycles;
-    output reg  [39:0] candidates;
+    output reg  [39:0] visits;
     output reg  [39:0] sat_tests;
     output reg  [39:0] pairs;
     
@@ -110,13 +110,13 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     wire  [63:0] grid$0$visit_j1;
     wire  [63:0] grid$0$visit_j2;
     wire  [63:0] grid$0$visit_j3;
-    wire  [3:0] grid$0$visited;
-    wire  grid$0$cand_valid;
-    reg  grid$0$cand_ready;
-    wire  [14:0] grid$0$cand_a;
-    wire  [14:0] grid$0$cand_b;
-    wire  [27:0] grid$0$cand_ma;
-    wire  [27:0] grid$0$cand_mb;
+    wire  [3:0] grid$0$visits;
+    wire  grid$0$test_valid;
+    reg  grid$0$test_ready;
+    wire  [14:0] grid$0$test_a;
+    wire  [14:0] grid$0$test_b;
+    wire  [27:0] grid$0$test_ma;
+    wire  [27:0] grid$0$test_mb;
     wire  grid$0$walked;
     wire  grid$0$finished;
     wire  grid$0$too_wide;
@@ -284,30 +284,9 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     reg  [14:0] axes$8$read_address_b;
     wire signed [17:0] axes$8$read_data_a;
     wire signed [17:0] axes$8$read_data_b;
-    reg  [2:0] gdelay$0$d;
-    wire  [2:0] gdelay$0$q;
-    reg  gdelay$0$clock;
-    reg  [2:0] gdelay$1$d;
-    wire  [2:0] gdelay$1$q;
-    reg  gdelay$1$clock;
-    reg  [2:0] gdelay$2$d;
-    wire  [2:0] gdelay$2$q;
-    reg  gdelay$2$clock;
-    reg  [2:0] gdelay$3$d;
-    wire  [2:0] gdelay$3$q;
-    reg  gdelay$3$clock;
-    reg  [2:0] gdelay$4$d;
-    wire  [2:0] gdelay$4$q;
-    reg  gdelay$4$clock;
-    reg  [2:0] gdelay$5$d;
-    wire  [2:0] gdelay$5$q;
-    reg  gdelay$5$clock;
-    reg  [2:0] gdelay$6$d;
-    wire  [2:0] gdelay$6$q;
-    reg  gdelay$6$clock;
-    reg  [2:0] gdelay$7$d;
-    wire  [2:0] gdelay$7$q;
-    reg  gdelay$7$clock;
+    reg  gdelay$clock;
+    reg  [2:0] gdelay$d;
+    wire  [2:0] gdelay$q;
     reg  [2:0] state$d;
     wire  [2:0] state$q;
     reg  state$clock;
@@ -560,213 +539,15 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     reg signed [17:0] geo_axes_b$8$d;
     wire signed [17:0] geo_axes_b$8$q;
     reg  geo_axes_b$8$clock;
-    reg  [14:0] tag_a$0$d;
-    wire  [14:0] tag_a$0$q;
-    reg  tag_a$0$clock;
-    reg  [14:0] tag_a$1$d;
-    wire  [14:0] tag_a$1$q;
-    reg  tag_a$1$clock;
-    reg  [14:0] tag_a$2$d;
-    wire  [14:0] tag_a$2$q;
-    reg  tag_a$2$clock;
-    reg  [14:0] tag_a$3$d;
-    wire  [14:0] tag_a$3$q;
-    reg  tag_a$3$clock;
-    reg  [14:0] tag_a$4$d;
-    wire  [14:0] tag_a$4$q;
-    reg  tag_a$4$clock;
-    reg  [14:0] tag_a$5$d;
-    wire  [14:0] tag_a$5$q;
-    reg  tag_a$5$clock;
-    reg  [14:0] tag_a$6$d;
-    wire  [14:0] tag_a$6$q;
-    reg  tag_a$6$clock;
-    reg  [14:0] tag_a$7$d;
-    wire  [14:0] tag_a$7$q;
-    reg  tag_a$7$clock;
-    reg  [14:0] tag_a$8$d;
-    wire  [14:0] tag_a$8$q;
-    reg  tag_a$8$clock;
-    reg  [14:0] tag_a$9$d;
-    wire  [14:0] tag_a$9$q;
-    reg  tag_a$9$clock;
-    reg  [14:0] tag_a$10$d;
-    wire  [14:0] tag_a$10$q;
-    reg  tag_a$10$clock;
-    reg  [14:0] tag_a$11$d;
-    wire  [14:0] tag_a$11$q;
-    reg  tag_a$11$clock;
-    reg  [14:0] tag_a$12$d;
-    wire  [14:0] tag_a$12$q;
-    reg  tag_a$12$clock;
-    reg  [14:0] tag_a$13$d;
-    wire  [14:0] tag_a$13$q;
-    reg  tag_a$13$clock;
-    reg  [14:0] tag_a$14$d;
-    wire  [14:0] tag_a$14$q;
-    reg  tag_a$14$clock;
-    reg  [14:0] tag_a$15$d;
-    wire  [14:0] tag_a$15$q;
-    reg  tag_a$15$clock;
-    reg  [14:0] tag_a$16$d;
-    wire  [14:0] tag_a$16$q;
-    reg  tag_a$16$clock;
-    reg  [14:0] tag_a$17$d;
-    wire  [14:0] tag_a$17$q;
-    reg  tag_a$17$clock;
-    reg  [14:0] tag_a$18$d;
-    wire  [14:0] tag_a$18$q;
-    reg  tag_a$18$clock;
-    reg  [14:0] tag_a$19$d;
-    wire  [14:0] tag_a$19$q;
-    reg  tag_a$19$clock;
-    reg  [14:0] tag_a$20$d;
-    wire  [14:0] tag_a$20$q;
-    reg  tag_a$20$clock;
-    reg  [14:0] tag_a$21$d;
-    wire  [14:0] tag_a$21$q;
-    reg  tag_a$21$clock;
-    reg  [14:0] tag_b$0$d;
-    wire  [14:0] tag_b$0$q;
-    reg  tag_b$0$clock;
-    reg  [14:0] tag_b$1$d;
-    wire  [14:0] tag_b$1$q;
-    reg  tag_b$1$clock;
-    reg  [14:0] tag_b$2$d;
-    wire  [14:0] tag_b$2$q;
-    reg  tag_b$2$clock;
-    reg  [14:0] tag_b$3$d;
-    wire  [14:0] tag_b$3$q;
-    reg  tag_b$3$clock;
-    reg  [14:0] tag_b$4$d;
-    wire  [14:0] tag_b$4$q;
-    reg  tag_b$4$clock;
-    reg  [14:0] tag_b$5$d;
-    wire  [14:0] tag_b$5$q;
-    reg  tag_b$5$clock;
-    reg  [14:0] tag_b$6$d;
-    wire  [14:0] tag_b$6$q;
-    reg  tag_b$6$clock;
-    reg  [14:0] tag_b$7$d;
-    wire  [14:0] tag_b$7$q;
-    reg  tag_b$7$clock;
-    reg  [14:0] tag_b$8$d;
-    wire  [14:0] tag_b$8$q;
-    reg  tag_b$8$clock;
-    reg  [14:0] tag_b$9$d;
-    wire  [14:0] tag_b$9$q;
-    reg  tag_b$9$clock;
-    reg  [14:0] tag_b$10$d;
-    wire  [14:0] tag_b$10$q;
-    reg  tag_b$10$clock;
-    reg  [14:0] tag_b$11$d;
-    wire  [14:0] tag_b$11$q;
-    reg  tag_b$11$clock;
-    reg  [14:0] tag_b$12$d;
-    wire  [14:0] tag_b$12$q;
-    reg  tag_b$12$clock;
-    reg  [14:0] tag_b$13$d;
-    wire  [14:0] tag_b$13$q;
-    reg  tag_b$13$clock;
-    reg  [14:0] tag_b$14$d;
-    wire  [14:0] tag_b$14$q;
-    reg  tag_b$14$clock;
-    reg  [14:0] tag_b$15$d;
-    wire  [14:0] tag_b$15$q;
-    reg  tag_b$15$clock;
-    reg  [14:0] tag_b$16$d;
-    wire  [14:0] tag_b$16$q;
-    reg  tag_b$16$clock;
-    reg  [14:0] tag_b$17$d;
-    wire  [14:0] tag_b$17$q;
-    reg  tag_b$17$clock;
-    reg  [14:0] tag_b$18$d;
-    wire  [14:0] tag_b$18$q;
-    reg  tag_b$18$clock;
-    reg  [14:0] tag_b$19$d;
-    wire  [14:0] tag_b$19$q;
-    reg  tag_b$19$clock;
-    reg  [14:0] tag_b$20$d;
-    wire  [14:0] tag_b$20$q;
-    reg  tag_b$20$clock;
-    reg  [14:0] tag_b$21$d;
-    wire  [14:0] tag_b$21$q;
-    reg  tag_b$21$clock;
-    reg  k_overlap$0$d;
-    wire  k_overlap$0$q;
-    reg  k_overlap$0$clock;
-    reg  k_overlap$1$d;
-    wire  k_overlap$1$q;
-    reg  k_overlap$1$clock;
-    reg  k_overlap$2$d;
-    wire  k_overlap$2$q;
-    reg  k_overlap$2$clock;
-    reg  k_overlap$3$d;
-    wire  k_overlap$3$q;
-    reg  k_overlap$3$clock;
-    reg  k_overlap$4$d;
-    wire  k_overlap$4$q;
-    reg  k_overlap$4$clock;
-    reg  k_overlap$5$d;
-    wire  k_overlap$5$q;
-    reg  k_overlap$5$clock;
-    reg  k_overlap$6$d;
-    wire  k_overlap$6$q;
-    reg  k_overlap$6$clock;
-    reg  k_overlap$7$d;
-    wire  k_overlap$7$q;
-    reg  k_overlap$7$clock;
-    reg  k_overlap$8$d;
-    wire  k_overlap$8$q;
-    reg  k_overlap$8$clock;
-    reg  k_overlap$9$d;
-    wire  k_overlap$9$q;
-    reg  k_overlap$9$clock;
-    reg  k_overlap$10$d;
-    wire  k_overlap$10$q;
-    reg  k_overlap$10$clock;
-    reg  k_overlap$11$d;
-    wire  k_overlap$11$q;
-    reg  k_overlap$11$clock;
-    reg  k_overlap$12$d;
-    wire  k_overlap$12$q;
-    reg  k_overlap$12$clock;
-    reg  k_overlap$13$d;
-    wire  k_overlap$13$q;
-    reg  k_overlap$13$clock;
-    reg  k_overlap$14$d;
-    wire  k_overlap$14$q;
-    reg  k_overlap$14$clock;
-    reg  k_overlap$15$d;
-    wire  k_overlap$15$q;
-    reg  k_overlap$15$clock;
-    reg  k_overlap$16$d;
-    wire  k_overlap$16$q;
-    reg  k_overlap$16$clock;
-    reg  k_overlap$17$d;
-    wire  k_overlap$17$q;
-    reg  k_overlap$17$clock;
-    reg  k_overlap$18$d;
-    wire  k_overlap$18$q;
-    reg  k_overlap$18$clock;
-    reg  k_overlap$19$d;
-    wire  k_overlap$19$q;
-    reg  k_overlap$19$clock;
-    reg  k_overlap$20$d;
-    wire  k_overlap$20$q;
-    reg  k_overlap$20$clock;
-    reg  k_overlap$21$d;
-    wire  k_overlap$21$q;
-    reg  k_overlap$21$clock;
-    reg  k_overlap$22$d;
-    wire  k_overlap$22$q;
-    reg  k_overlap$22$clock;
-    reg  k_overlap$23$d;
-    wire  k_overlap$23$q;
-    reg  k_overlap$23$clock;
-    reg  k_overlap$24$d;
-    wire  k_overlap$24$q;
-    reg  k_overlap$24$clock;
+    reg  tag_a$clock;
+    reg  [14:0] tag_a$d;
+    wire  [14:0] tag_a$q;
+    reg  tag_b$clock;
+    reg  [14:0] tag_b$d;
+    wire  [14:0] tag_b$q;
+    reg  k_overlap$clock;
+    reg  k_overlap$d;
+    wire  k_overlap$q;
     
     // Local signals
     reg  walk_start;
@@ -787,21 +568,21 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     reg  [23:0] sorted_key;
     reg  [19:0] sorted_val;
     reg  grid_credit;
-    reg  grid_cand_valid;
-    reg  [14:0] grid_cand_a;
-    reg  [14:0] grid_cand_b;
-    reg  [27:0] grid_cand_ma;
-    reg  [27:0] grid_cand_mb;
+    reg  grid_test_valid;
+    reg  [14:0] grid_test_a;
+    reg  [14:0] grid_test_b;
+    reg  [27:0] grid_test_ma;
+    reg  [27:0] grid_test_mb;
     reg  grid_finished;
     reg  grid_too_wide;
-    reg  [3:0] grid_visited;
+    reg  [3:0] grid_visits;
     reg  [14:0] projected_at;
     reg  accept;
     reg  issue;
     reg  overlap;
     reg  [63:0] gidx;
     reg  [63:0] shifted;
-    reg  candidate;
+    reg  key_pass;
     reg  swap;
     reg  hit;
     reg  [7:0] res_row;
@@ -861,13 +642,13 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         .visit_j1(grid$0$visit_j1),
         .visit_j2(grid$0$visit_j2),
         .visit_j3(grid$0$visit_j3),
-        .visited(grid$0$visited),
-        .cand_valid(grid$0$cand_valid),
-        .cand_ready(grid$0$cand_ready),
-        .cand_a(grid$0$cand_a),
-        .cand_b(grid$0$cand_b),
-        .cand_ma(grid$0$cand_ma),
-        .cand_mb(grid$0$cand_mb),
+        .visits(grid$0$visits),
+        .test_valid(grid$0$test_valid),
+        .test_ready(grid$0$test_ready),
+        .test_a(grid$0$test_a),
+        .test_b(grid$0$test_b),
+        .test_ma(grid$0$test_ma),
+        .test_mb(grid$0$test_mb),
         .walked(grid$0$walked),
         .finished(grid$0$finished),
         .too_wide(grid$0$too_wide)
@@ -1070,45 +851,10 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         .read_data_a(axes$8$read_data_a),
         .read_data_b(axes$8$read_data_b)
     );
-    obb_core$gdelay$0 gdelay$0(
-        .d(gdelay$0$d),
-        .q(gdelay$0$q),
-        .clock(gdelay$0$clock)
-    );
-    obb_core$gdelay$1 gdelay$1(
-        .d(gdelay$1$d),
-        .q(gdelay$1$q),
-        .clock(gdelay$1$clock)
-    );
-    obb_core$gdelay$2 gdelay$2(
-        .d(gdelay$2$d),
-        .q(gdelay$2$q),
-        .clock(gdelay$2$clock)
-    );
-    obb_core$gdelay$3 gdelay$3(
-        .d(gdelay$3$d),
-        .q(gdelay$3$q),
-        .clock(gdelay$3$clock)
-    );
-    obb_core$gdelay$4 gdelay$4(
-        .d(gdelay$4$d),
-        .q(gdelay$4$q),
-        .clock(gdelay$4$clock)
-    );
-    obb_core$gdelay$5 gdelay$5(
-        .d(gdelay$5$d),
-        .q(gdelay$5$q),
-        .clock(gdelay$5$clock)
-    );
-    obb_core$gdelay$6 gdelay$6(
-        .d(gdelay$6$d),
-        .q(gdelay$6$q),
-        .clock(gdelay$6$clock)
-    );
-    obb_core$gdelay$7 gdelay$7(
-        .d(gdelay$7$d),
-        .q(gdelay$7$q),
-        .clock(gdelay$7$clock)
+    obb_core$gdelay gdelay(
+        .clock(gdelay$clock),
+        .d(gdelay$d),
+        .q(gdelay$q)
     );
     obb_core$state state(
         .d(state$d),
@@ -1530,350 +1276,20 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         .q(geo_axes_b$8$q),
         .clock(geo_axes_b$8$clock)
     );
-    obb_core$tag_a$0 tag_a$0(
-        .d(tag_a$0$d),
-        .q(tag_a$0$q),
-        .clock(tag_a$0$clock)
-    );
-    obb_core$tag_a$1 tag_a$1(
-        .d(tag_a$1$d),
-        .q(tag_a$1$q),
-        .clock(tag_a$1$clock)
-    );
-    obb_core$tag_a$2 tag_a$2(
-        .d(tag_a$2$d),
-        .q(tag_a$2$q),
-        .clock(tag_a$2$clock)
-    );
-    obb_core$tag_a$3 tag_a$3(
-        .d(tag_a$3$d),
-        .q(tag_a$3$q),
-        .clock(tag_a$3$clock)
-    );
-    obb_core$tag_a$4 tag_a$4(
-        .d(tag_a$4$d),
-        .q(tag_a$4$q),
-        .clock(tag_a$4$clock)
-    );
-    obb_core$tag_a$5 tag_a$5(
-        .d(tag_a$5$d),
-        .q(tag_a$5$q),
-        .clock(tag_a$5$clock)
-    );
-    obb_core$tag_a$6 tag_a$6(
-        .d(tag_a$6$d),
-        .q(tag_a$6$q),
-        .clock(tag_a$6$clock)
-    );
-    obb_core$tag_a$7 tag_a$7(
-        .d(tag_a$7$d),
-        .q(tag_a$7$q),
-        .clock(tag_a$7$clock)
-    );
-    obb_core$tag_a$8 tag_a$8(
-        .d(tag_a$8$d),
-        .q(tag_a$8$q),
-        .clock(tag_a$8$clock)
-    );
-    obb_core$tag_a$9 tag_a$9(
-        .d(tag_a$9$d),
-        .q(tag_a$9$q),
-        .clock(tag_a$9$clock)
-    );
-    obb_core$tag_a$10 tag_a$10(
-        .d(tag_a$10$d),
-        .q(tag_a$10$q),
-        .clock(tag_a$10$clock)
-    );
-    obb_core$tag_a$11 tag_a$11(
-        .d(tag_a$11$d),
-        .q(tag_a$11$q),
-        .clock(tag_a$11$clock)
-    );
-    obb_core$tag_a$12 tag_a$12(
-        .d(tag_a$12$d),
-        .q(tag_a$12$q),
-        .clock(tag_a$12$clock)
-    );
-    obb_core$tag_a$13 tag_a$13(
-        .d(tag_a$13$d),
-        .q(tag_a$13$q),
-        .clock(tag_a$13$clock)
-    );
-    obb_core$tag_a$14 tag_a$14(
-        .d(tag_a$14$d),
-        .q(tag_a$14$q),
-        .clock(tag_a$14$clock)
-    );
-    obb_core$tag_a$15 tag_a$15(
-        .d(tag_a$15$d),
-        .q(tag_a$15$q),
-        .clock(tag_a$15$clock)
-    );
-    obb_core$tag_a$16 tag_a$16(
-        .d(tag_a$16$d),
-        .q(tag_a$16$q),
-        .clock(tag_a$16$clock)
-    );
-    obb_core$tag_a$17 tag_a$17(
-        .d(tag_a$17$d),
-        .q(tag_a$17$q),
-        .clock(tag_a$17$clock)
-    );
-    obb_core$tag_a$18 tag_a$18(
-        .d(tag_a$18$d),
-        .q(tag_a$18$q),
-        .clock(tag_a$18$clock)
-    );
-    obb_core$tag_a$19 tag_a$19(
-        .d(tag_a$19$d),
-        .q(tag_a$19$q),
-        .clock(tag_a$19$clock)
-    );
-    obb_core$tag_a$20 tag_a$20(
-        .d(tag_a$20$d),
-        .q(tag_a$20$q),
-        .clock(tag_a$20$clock)
-    );
-    obb_core$tag_a$21 tag_a$21(
-        .d(tag_a$21$d),
-        .q(tag_a$21$q),
-        .clock(tag_a$21$clock)
-    );
-    obb_core$tag_b$0 tag_b$0(
-        .d(tag_b$0$d),
-        .q(tag_b$0$q),
-        .clock(tag_b$0$clock)
-    );
-    obb_core$tag_b$1 tag_b$1(
-        .d(tag_b$1$d),
-        .q(tag_b$1$q),
-        .clock(tag_b$1$clock)
-    );
-    obb_core$tag_b$2 tag_b$2(
-        .d(tag_b$2$d),
-        .q(tag_b$2$q),
-        .clock(tag_b$2$clock)
-    );
-    obb_core$tag_b$3 tag_b$3(
-        .d(tag_b$3$d),
-        .q(tag_b$3$q),
-        .clock(tag_b$3$clock)
-    );
-    obb_core$tag_b$4 tag_b$4(
-        .d(tag_b$4$d),
-        .q(tag_b$4$q),
-        .clock(tag_b$4$clock)
-    );
-    obb_core$tag_b$5 tag_b$5(
-        .d(tag_b$5$d),
-        .q(tag_b$5$q),
-        .clock(tag_b$5$clock)
-    );
-    obb_core$tag_b$6 tag_b$6(
-        .d(tag_b$6$d),
-        .q(tag_b$6$q),
-        .clock(tag_b$6$clock)
-    );
-    obb_core$tag_b$7 tag_b$7(
-        .d(tag_b$7$d),
-        .q(tag_b$7$q),
-        .clock(tag_b$7$clock)
-    );
-    obb_core$tag_b$8 tag_b$8(
-        .d(tag_b$8$d),
-        .q(tag_b$8$q),
-        .clock(tag_b$8$clock)
-    );
-    obb_core$tag_b$9 tag_b$9(
-        .d(tag_b$9$d),
-        .q(tag_b$9$q),
-        .clock(tag_b$9$clock)
-    );
-    obb_core$tag_b$10 tag_b$10(
-        .d(tag_b$10$d),
-        .q(tag_b$10$q),
-        .clock(tag_b$10$clock)
-    );
-    obb_core$tag_b$11 tag_b$11(
-        .d(tag_b$11$d),
-        .q(tag_b$11$q),
-        .clock(tag_b$11$clock)
-    );
-    obb_core$tag_b$12 tag_b$12(
-        .d(tag_b$12$d),
-        .q(tag_b$12$q),
-        .clock(tag_b$12$clock)
-    );
-    obb_core$tag_b$13 tag_b$13(
-        .d(tag_b$13$d),
-        .q(tag_b$13$q),
-        .clock(tag_b$13$clock)
-    );
-    obb_core$tag_b$14 tag_b$14(
-        .d(tag_b$14$d),
-        .q(tag_b$14$q),
-        .clock(tag_b$14$clock)
-    );
-    obb_core$tag_b$15 tag_b$15(
-        .d(tag_b$15$d),
-        .q(tag_b$15$q),
-        .clock(tag_b$15$clock)
-    );
-    obb_core$tag_b$16 tag_b$16(
-        .d(tag_b$16$d),
-        .q(tag_b$16$q),
-        .clock(tag_b$16$clock)
-    );
-    obb_core$tag_b$17 tag_b$17(
-        .d(tag_b$17$d),
-        .q(tag_b$17$q),
-        .clock(tag_b$17$clock)
-    );
-    obb_core$tag_b$18 tag_b$18(
-        .d(tag_b$18$d),
-        .q(tag_b$18$q),
-        .clock(tag_b$18$clock)
-    );
-    obb_core$tag_b$19 tag_b$19(
-        .d(tag_b$19$d),
-        .q(tag_b$19$q),
-        .clock(tag_b$19$clock)
-    );
-    obb_core$tag_b$20 tag_b$20(
-        .d(tag_b$20$d),
-        .q(tag_b$20$q),
-        .clock(tag_b$20$clock)
-    );
-    obb_core$tag_b$21 tag_b$21(
-        .d(tag_b$21$d),
-        .q(tag_b$21$q),
-        .clock(tag_b$21$clock)
-    );
-    obb_core$k_overlap$0 k_overlap$0(
-        .d(k_overlap$0$d),
-        .q(k_overlap$0$q),
-        .clock(k_overlap$0$clock)
-    );
-    obb_core$k_overlap$1 k_overlap$1(
-        .d(k_overlap$1$d),
-        .q(k_overlap$1$q),
-        .clock(k_overlap$1$clock)
-    );
-    obb_core$k_overlap$2 k_overlap$2(
-        .d(k_overlap$2$d),
-        .q(k_overlap$2$q),
-        .clock(k_overlap$2$clock)
-    );
-    obb_core$k_overlap$3 k_overlap$3(
-        .d(k_overlap$3$d),
-        .q(k_overlap$3$q),
-        .clock(k_overlap$3$clock)
-    );
-    obb_core$k_overlap$4 k_overlap$4(
-        .d(k_overlap$4$d),
-        .q(k_overlap$4$q),
-        .clock(k_overlap$4$clock)
-    );
-    obb_core$k_overlap$5 k_overlap$5(
-        .d(k_overlap$5$d),
-        .q(k_overlap$5$q),
-        .clock(k_overlap$5$clock)
-    );
-    obb_core$k_overlap$6 k_overlap$6(
-        .d(k_overlap$6$d),
-        .q(k_overlap$6$q),
-        .clock(k_overlap$6$clock)
-    );
-    obb_core$k_overlap$7 k_overlap$7(
-        .d(k_overlap$7$d),
-        .q(k_overlap$7$q),
-        .clock(k_overlap$7$clock)
-    );
-    obb_core$k_overlap$8 k_overlap$8(
-        .d(k_overlap$8$d),
-        .q(k_overlap$8$q),
-        .clock(k_overlap$8$clock)
-    );
-    obb_core$k_overlap$9 k_overlap$9(
-        .d(k_overlap$9$d),
-        .q(k_overlap$9$q),
-        .clock(k_overlap$9$clock)
-    );
-    obb_core$k_overlap$10 k_overlap$10(
-        .d(k_overlap$10$d),
-        .q(k_overlap$10$q),
-        .clock(k_overlap$10$clock)
-    );
-    obb_core$k_overlap$11 k_overlap$11(
-        .d(k_overlap$11$d),
-        .q(k_overlap$11$q),
-        .clock(k_overlap$11$clock)
-    );
-    obb_core$k_overlap$12 k_overlap$12(
-        .d(k_overlap$12$d),
-        .q(k_overlap$12$q),
-        .clock(k_overlap$12$clock)
-    );
-    obb_core$k_overlap$13 k_overlap$13(
-        .d(k_overlap$13$d),
-        .q(k_overlap$13$q),
-        .clock(k_overlap$13$clock)
-    );
-    obb_core$k_overlap$14 k_overlap$14(
-        .d(k_overlap$14$d),
-        .q(k_overlap$14$q),
-        .clock(k_overlap$14$clock)
-    );
-    obb_core$k_overlap$15 k_overlap$15(
-        .d(k_overlap$15$d),
-        .q(k_overlap$15$q),
-        .clock(k_overlap$15$clock)
-    );
-    obb_core$k_overlap$16 k_overlap$16(
-        .d(k_overlap$16$d),
-        .q(k_overlap$16$q),
-        .clock(k_overlap$16$clock)
-    );
-    obb_core$k_overlap$17 k_overlap$17(
-        .d(k_overlap$17$d),
-        .q(k_overlap$17$q),
-        .clock(k_overlap$17$clock)
-    );
-    obb_core$k_overlap$18 k_overlap$18(
-        .d(k_overlap$18$d),
-        .q(k_overlap$18$q),
-        .clock(k_overlap$18$clock)
-    );
-    obb_core$k_overlap$19 k_overlap$19(
-        .d(k_overlap$19$d),
-        .q(k_overlap$19$q),
-        .clock(k_overlap$19$clock)
-    );
-    obb_core$k_overlap$20 k_overlap$20(
-        .d(k_overlap$20$d),
-        .q(k_overlap$20$q),
-        .clock(k_overlap$20$clock)
-    );
-    obb_core$k_overlap$21 k_overlap$21(
-        .d(k_overlap$21$d),
-        .q(k_overlap$21$q),
-        .clock(k_overlap$21$clock)
-    );
-    obb_core$k_overlap$22 k_overlap$22(
-        .d(k_overlap$22$d),
-        .q(k_overlap$22$q),
-        .clock(k_overlap$22$clock)
-    );
-    obb_core$k_overlap$23 k_overlap$23(
-        .d(k_overlap$23$d),
-        .q(k_overlap$23$q),
-        .clock(k_overlap$23$clock)
-    );
-    obb_core$k_overlap$24 k_overlap$24(
-        .d(k_overlap$24$d),
-        .q(k_overlap$24$q),
-        .clock(k_overlap$24$clock)
+    obb_core$tag_a tag_a(
+        .clock(tag_a$clock),
+        .d(tag_a$d),
+        .q(tag_a$q)
+    );
+    obb_core$tag_b tag_b(
+        .clock(tag_b$clock),
+        .d(tag_b$d),
+        .q(tag_b$q)
+    );
+    obb_core$k_overlap k_overlap(
+        .clock(k_overlap$clock),
+        .d(k_overlap$d),
+        .q(k_overlap$q)
     );
     
     // Update code
@@ -2023,92 +1439,19 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         geo_center_b$2$clock = clock;
         geo_half_a$2$clock = clock;
         geo_half_b$2$clock = clock;
-        gdelay$0$clock = clock;
-        gdelay$1$clock = clock;
-        gdelay$2$clock = clock;
-        gdelay$3$clock = clock;
-        gdelay$4$clock = clock;
-        gdelay$5$clock = clock;
-        gdelay$6$clock = clock;
-        gdelay$7$clock = clock;
-        k_overlap$0$clock = clock;
-        k_overlap$1$clock = clock;
-        k_overlap$2$clock = clock;
-        k_overlap$3$clock = clock;
-        k_overlap$4$clock = clock;
-        k_overlap$5$clock = clock;
-        k_overlap$6$clock = clock;
-        k_overlap$7$clock = clock;
-        k_overlap$8$clock = clock;
-        k_overlap$9$clock = clock;
-        k_overlap$10$clock = clock;
-        k_overlap$11$clock = clock;
-        k_overlap$12$clock = clock;
-        k_overlap$13$clock = clock;
-        k_overlap$14$clock = clock;
-        k_overlap$15$clock = clock;
-        k_overlap$16$clock = clock;
-        k_overlap$17$clock = clock;
-        k_overlap$18$clock = clock;
-        k_overlap$19$clock = clock;
-        k_overlap$20$clock = clock;
-        k_overlap$21$clock = clock;
-        k_overlap$22$clock = clock;
-        k_overlap$23$clock = clock;
-        k_overlap$24$clock = clock;
-        tag_a$0$clock = clock;
-        tag_b$0$clock = clock;
-        tag_a$1$clock = clock;
-        tag_b$1$clock = clock;
-        tag_a$2$clock = clock;
-        tag_b$2$clock = clock;
-        tag_a$3$clock = clock;
-        tag_b$3$clock = clock;
-        tag_a$4$clock = clock;
-        tag_b$4$clock = clock;
-        tag_a$5$clock = clock;
-        tag_b$5$clock = clock;
-        tag_a$6$clock = clock;
-        tag_b$6$clock = clock;
-        tag_a$7$clock = clock;
-        tag_b$7$clock = clock;
-        tag_a$8$clock = clock;
-        tag_b$8$clock = clock;
-        tag_a$9$clock = clock;
-        tag_b$9$clock = clock;
-        tag_a$10$clock = clock;
-        tag_b$10$clock = clock;
-        tag_a$11$clock = clock;
-        tag_b$11$clock = clock;
-        tag_a$12$clock = clock;
-        tag_b$12$clock = clock;
-        tag_a$13$clock = clock;
-        tag_b$13$clock = clock;
-        tag_a$14$clock = clock;
-        tag_b$14$clock = clock;
-        tag_a$15$clock = clock;
-        tag_b$15$clock = clock;
-        tag_a$16$clock = clock;
-        tag_b$16$clock = clock;
-        tag_a$17$clock = clock;
-        tag_b$17$clock = clock;
-        tag_a$18$clock = clock;
-        tag_b$18$clock = clock;
-        tag_a$19$clock = clock;
-        tag_b$19$clock = clock;
-        tag_a$20$clock = clock;
-        tag_b$20$clock = clock;
-        tag_a$21$clock = clock;
-        tag_b$21$clock = clock;
+        gdelay$clock = clock;
+        k_overlap$clock = clock;
+        tag_a$clock = clock;
+        tag_b$clock = clock;
         grid_credit = 1'b0;
-        grid_cand_valid = 1'b0;
-        grid_cand_a = 32'h0;
-        grid_cand_b = 32'h0;
-        grid_cand_ma = 32'h0;
-        grid_cand_mb = 32'h0;
+        grid_test_valid = 1'b0;
+        grid_test_a = 32'h0;
+        grid_test_b = 32'h0;
+        grid_test_ma = 32'h0;
+        grid_test_mb = 32'h0;
         grid_finished = 1'b0;
         grid_too_wide = 1'b0;
-        grid_visited = 32'h0;
+        grid_visits = 32'h0;
         visit = 1'b0;
         vi = 32'h0;
         vj = 32'h0;
@@ -2125,14 +1468,14 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         sort_in_key = 32'h0;
         sort_in_val = 32'h0;
         grid_credit = grid$0$credit;
-        grid_cand_valid = grid$0$cand_valid;
-        grid_cand_a = grid$0$cand_a;
-        grid_cand_b = grid$0$cand_b;
-        grid_cand_ma = grid$0$cand_ma;
-        grid_cand_mb = grid$0$cand_mb;
+        grid_test_valid = grid$0$test_valid;
+        grid_test_a = grid$0$test_a;
+        grid_test_b = grid$0$test_b;
+        grid_test_ma = grid$0$test_ma;
+        grid_test_mb = grid$0$test_mb;
         grid_finished = grid$0$finished;
         grid_too_wide = grid$0$too_wide;
-        grid_visited = grid$0$visited;
+        grid_visits = grid$0$visits;
         credit = grid_credit | ~grid_mode | ~room$q;
         obb_ready = ready$q & credit;
         accept = obb_ready & obb_valid & room$q;
@@ -2197,14 +1540,7 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         axes$8$write_data = obb_axes$8;
         projection$axes$8 = obb_axes$8;
         projection$valid_in = accept;
-        gdelay$0$d = obb_group;
-        gdelay$1$d = gdelay$0$q;
-        gdelay$2$d = gdelay$1$q;
-        gdelay$3$d = gdelay$2$q;
-        gdelay$4$d = gdelay$3$q;
-        gdelay$5$d = gdelay$4$q;
-        gdelay$6$d = gdelay$5$q;
-        gdelay$7$d = gdelay$6$q;
+        gdelay$d = obb_group;
         if (accept) begin
             loaded$d = loaded$q + 32'h1;
             if (loaded$q == last_slot) begin
@@ -2249,7 +1585,7 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         grid$0$key_max_y = projection$key_max$1;
         grid$0$key_max_z = projection$key_max$2;
         grid$0$key_margin = projection$margin;
-        grid$0$key_group = gdelay$7$q;
+        grid$0$key_group = gdelay$q;
         stall$d = fifo$almost_full;
         walk_start = 1'b0;
         k_valid$d = visit;
@@ -2278,39 +1614,15 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
             n_visits$d = n_visits$q + 32'h1;
         end
         if (grid_mode & ~over$q) begin
-            n_visits$d = n_visits$q + ((grid_visited) & 40'hffffffffff);
+            n_visits$d = n_visits$q + ((grid_visits) & 40'hffffffffff);
         end
         overlap = (key_min_a$0$q <= key_max_b$0$q) & (key_min_b$0$q <= key_max_a$0$q) & (key_min_a$1$q <= key_max_b$1$q) & (key_min_b$1$q <= key_max_a$1$q) & (key_min_a$2$q <= key_max_b$2$q) & (key_min_b$2$q <= key_max_a$2$q);
         gidx = (((group_a$q) & 64'hffffffffffffffff) << 64'h3) | ((group_b$q) & 64'hffffffffffffffff);
         shifted = mask >> gidx;
-        candidate = r_valid$q & (overlap | sap) & shifted[32'h0] & ~grid_mode;
-        k_overlap$0$d = overlap;
-        k_overlap$1$d = k_overlap$0$q;
-        k_overlap$2$d = k_overlap$1$q;
-        k_overlap$3$d = k_overlap$2$q;
-        k_overlap$4$d = k_overlap$3$q;
-        k_overlap$5$d = k_overlap$4$q;
-        k_overlap$6$d = k_overlap$5$q;
-        k_overlap$7$d = k_overlap$6$q;
-        k_overlap$8$d = k_overlap$7$q;
-        k_overlap$9$d = k_overlap$8$q;
-        k_overlap$10$d = k_overlap$9$q;
-        k_overlap$11$d = k_overlap$10$q;
-        k_overlap$12$d = k_overlap$11$q;
-        k_overlap$13$d = k_overlap$12$q;
-        k_overlap$14$d = k_overlap$13$q;
-        k_overlap$15$d = k_overlap$14$q;
-        k_overlap$16$d = k_overlap$15$q;
-        k_overlap$17$d = k_overlap$16$q;
-        k_overlap$18$d = k_overlap$17$q;
-        k_overlap$19$d = k_overlap$18$q;
-        k_overlap$20$d = k_overlap$19$q;
-        k_overlap$21$d = k_overlap$20$q;
-        k_overlap$22$d = k_overlap$21$q;
-        k_overlap$23$d = k_overlap$22$q;
-        k_overlap$24$d = k_overlap$23$q;
+        key_pass = r_valid$q & (overlap | sap) & shifted[32'h0] & ~grid_mode;
+        k_overlap$d = overlap;
         swap = r_j$q < r_i$q;
-        c_valid$d = candidate;
+        c_valid$d = key_pass;
         c_a$d = r_i$q;
         c_b$d = r_j$q;
         c_ma$d = margin_a$q;
@@ -2321,8 +1633,8 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
             c_ma$d = margin_b$q;
             c_mb$d = margin_a$q;
         end
-        issue = grid_cand_valid & ~accept & ~stall$q;
-        grid$0$cand_ready = issue;
+        issue = grid_test_valid & ~accept & ~stall$q;
+        grid$0$test_ready = issue;
         g_valid$d = c_valid$q;
         g_a$d = c_a$q;
         g_b$d = c_b$q;
@@ -2330,10 +1642,10 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         g_mb$d = c_mb$q;
         if (grid_mode) begin
             g_valid$d = issue;
-            g_a$d = grid_cand_a;
-            g_b$d = grid_cand_b;
-            g_ma$d = grid_cand_ma;
-            g_mb$d = grid_cand_mb;
+            g_a$d = grid_test_a;
+            g_b$d = grid_test_b;
+            g_ma$d = grid_test_ma;
+            g_mb$d = grid_test_mb;
         end
         center$0$read_address_a = g_a$d;
         center$0$read_address_b = g_b$d;
@@ -2436,53 +1748,11 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         sat$axes_b$8 = geo_axes_b$8$q;
         sat$margin_a = h_ma$q;
         sat$margin_b = h_mb$q;
-        tag_a$0$d = h_a$q;
-        tag_b$0$d = h_b$q;
-        tag_a$1$d = tag_a$0$q;
-        tag_b$1$d = tag_b$0$q;
-        tag_a$2$d = tag_a$1$q;
-        tag_b$2$d = tag_b$1$q;
-        tag_a$3$d = tag_a$2$q;
-        tag_b$3$d = tag_b$2$q;
-        tag_a$4$d = tag_a$3$q;
-        tag_b$4$d = tag_b$3$q;
-        tag_a$5$d = tag_a$4$q;
-        tag_b$5$d = tag_b$4$q;
-        tag_a$6$d = tag_a$5$q;
-        tag_b$6$d = tag_b$5$q;
-        tag_a$7$d = tag_a$6$q;
-        tag_b$7$d = tag_b$6$q;
-        tag_a$8$d = tag_a$7$q;
-        tag_b$8$d = tag_b$7$q;
-        tag_a$9$d = tag_a$8$q;
-        tag_b$9$d = tag_b$8$q;
-        tag_a$10$d = tag_a$9$q;
-        tag_b$10$d = tag_b$9$q;
-        tag_a$11$d = tag_a$10$q;
-        tag_b$11$d = tag_b$10$q;
-        tag_a$12$d = tag_a$11$q;
-        tag_b$12$d = tag_b$11$q;
-        tag_a$13$d = tag_a$12$q;
-        tag_b$13$d = tag_b$12$q;
-        tag_a$14$d = tag_a$13$q;
-        tag_b$14$d = tag_b$13$q;
-        tag_a$15$d = tag_a$14$q;
-        tag_b$15$d = tag_b$14$q;
-        tag_a$16$d = tag_a$15$q;
-        tag_b$16$d = tag_b$15$q;
-        tag_a$17$d = tag_a$16$q;
-        tag_b$17$d = tag_b$16$q;
-        tag_a$18$d = tag_a$17$q;
-        tag_b$18$d = tag_b$17$q;
-        tag_a$19$d = tag_a$18$q;
-        tag_b$19$d = tag_b$18$q;
-        tag_a$20$d = tag_a$19$q;
-        tag_b$20$d = tag_b$19$q;
-        tag_a$21$d = tag_a$20$q;
-        tag_b$21$d = tag_b$20$q;
-        hit = sat$valid_out & sat$hit & (k_overlap$24$q | grid_mode) & ~over$q;
+        tag_a$d = h_a$q;
+        tag_b$d = h_b$q;
+        hit = sat$valid_out & sat$hit & (k_overlap$q | grid_mode) & ~over$q;
         fifo$write = hit;
-        fifo$data_in = (((tag_a$21$q) & 40'hffffffffff) << 64'h14) | ((tag_b$21$q) & 40'hffffffffff);
+        fifo$data_in = (((tag_a$q) & 40'hffffffffff) << 64'h14) | ((tag_b$q) & 40'hffffffffff);
         if (hit) begin
             n_pairs$d = n_pairs$q + 32'h1;
         end
@@ -2497,7 +1767,7 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
             over$d = 1'b1;
         end
         cycles = n_cycles$q;
-        candidates = n_visits$q;
+        visits = n_visits$q;
         sat_tests = n_tests$q;
         pairs = n_pairs$q;
         if (busy) begin
@@ -3488,7 +2758,106 @@ module obb_core$g_valid(d,q,clock);
 endmodule // obb_core$g_valid
 
 
-module obb_core$gdelay$0(d,q,clock);
+module obb_core$gdelay(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [2:0] d;
+    output reg  [2:0] q;
+    
+    // Stub signals
+    reg  [2:0] stage$0$d;
+    wire  [2:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [2:0] stage$1$d;
+    wire  [2:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [2:0] stage$2$d;
+    wire  [2:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [2:0] stage$3$d;
+    wire  [2:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [2:0] stage$4$d;
+    wire  [2:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [2:0] stage$5$d;
+    wire  [2:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [2:0] stage$6$d;
+    wire  [2:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [2:0] stage$7$d;
+    wire  [2:0] stage$7$q;
+    reg  stage$7$clock;
+    
+    // Sub module instances
+    obb_core$gdelay$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$gdelay$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$gdelay$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$gdelay$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$gdelay$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$gdelay$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    obb_core$gdelay$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    obb_core$gdelay$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        q = stage$7$q;
+    end
+    
+endmodule // obb_core$gdelay
+
+
+module obb_core$gdelay$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [2:0] d;
@@ -3504,10 +2873,10 @@ module obb_core$gdelay$0(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$gdelay$0
+endmodule // obb_core$gdelay$stage$0
 
 
-module obb_core$gdelay$1(d,q,clock);
+module obb_core$gdelay$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [2:0] d;
@@ -3523,10 +2892,10 @@ module obb_core$gdelay$1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$gdelay$1
+endmodule // obb_core$gdelay$stage$1
 
 
-module obb_core$gdelay$2(d,q,clock);
+module obb_core$gdelay$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [2:0] d;
@@ -3542,10 +2911,10 @@ module obb_core$gdelay$2(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$gdelay$2
+endmodule // obb_core$gdelay$stage$2
 
 
-module obb_core$gdelay$3(d,q,clock);
+module obb_core$gdelay$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [2:0] d;
@@ -3561,10 +2930,10 @@ module obb_core$gdelay$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$gdelay$3
+endmodule // obb_core$gdelay$stage$3
 
 
-module obb_core$gdelay$4(d,q,clock);
+module obb_core$gdelay$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [2:0] d;
@@ -3580,10 +2949,10 @@ module obb_core$gdelay$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$gdelay$4
+endmodule // obb_core$gdelay$stage$4
 
 
-module obb_core$gdelay$5(d,q,clock);
+module obb_core$gdelay$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [2:0] d;
@@ -3599,10 +2968,10 @@ module obb_core$gdelay$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$gdelay$5
+endmodule // obb_core$gdelay$stage$5
 
 
-module obb_core$gdelay$6(d,q,clock);
+module obb_core$gdelay$stage$6(d,q,clock);
     
     // Module arguments
     input wire  [2:0] d;
@@ -3618,10 +2987,10 @@ module obb_core$gdelay$6(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$gdelay$6
+endmodule // obb_core$gdelay$stage$6
 
 
-module obb_core$gdelay$7(d,q,clock);
+module obb_core$gdelay$stage$7(d,q,clock);
     
     // Module arguments
     input wire  [2:0] d;
@@ -3637,7 +3006,7 @@ module obb_core$gdelay$7(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$gdelay$7
+endmodule // obb_core$gdelay$stage$7
 
 
 module obb_core$geo_axes_a$0(d,q,clock);
@@ -4210,7 +3579,7 @@ module obb_core$geo_half_b$2(d,q,clock);
 endmodule // obb_core$geo_half_b$2
 
 
-module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_index,key_min_x,key_min_y,key_min_z,key_max_x,key_max_y,key_max_z,key_margin,key_group,visit,visit_i0,visit_i1,visit_i2,visit_i3,visit_j0,visit_j1,visit_j2,visit_j3,visited,cand_valid,cand_ready,cand_a,cand_b,cand_ma,cand_mb,walked,finished,too_wide);
+module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_index,key_min_x,key_min_y,key_min_z,key_max_x,key_max_y,key_max_z,key_margin,key_group,visit,visit_i0,visit_i1,visit_i2,visit_i3,visit_j0,visit_j1,visit_j2,visit_j3,visits,test_valid,test_ready,test_a,test_b,test_ma,test_mb,walked,finished,too_wide);
     
     // Module arguments
     input wire  clock;
@@ -4238,13 +3607,13 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
     output reg  [63:0] visit_j1;
     output reg  [63:0] visit_j2;
     output reg  [63:0] visit_j3;
-    output reg  [3:0] visited;
-    output reg  cand_valid;
-    input wire  cand_ready;
-    output reg  [14:0] cand_a;
-    output reg  [14:0] cand_b;
-    output reg  [27:0] cand_ma;
-    output reg  [27:0] cand_mb;
+    output reg  [3:0] visits;
+    output reg  test_valid;
+    input wire  test_ready;
+    output reg  [14:0] test_a;
+    output reg  [14:0] test_b;
+    output reg  [27:0] test_ma;
+    output reg  [27:0] test_mb;
     output reg  walked;
     output reg  finished;
     output reg  too_wide;
@@ -13186,23 +12555,23 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
     reg  [6:0] count_m$0;
     reg  [6:0] count_m$1;
     reg  [6:0] count_m$2;
-    reg  [95:0] cand_word$0;
+    reg  [95:0] test_word$0;
     reg  [95:0] unpack_a;
     reg  [95:0] unpack_b;
     reg  [95:0] unpack_ma;
-    reg  [15:0] cand$0;
+    reg  [15:0] next_box$0;
     reg  [15:0] entry;
     reg  [15:0] entry4;
     reg  [15:0] entry5;
-    reg  cand_ok$0;
+    reg  next_ok$0;
     reg  go$0;
     reg  stall$0;
     reg  retire_probe$0;
     reg  rec_write$0;
     reg  overlap$0;
     reg  swap$0;
-    reg  [15:0] cand_lo$0;
-    reg  [15:0] cand_hi$0;
+    reg  [15:0] test_lo$0;
+    reg  [15:0] test_hi$0;
     reg  [27:0] margin_lo$0;
     reg  [27:0] margin_hi$0;
     reg  done_walk;
@@ -13292,7 +12661,7 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
     reg  [63:0] vis_pack_j$1;
     reg  [63:0] vis_pack_j$2;
     reg  [63:0] vis_pack_j$3;
-    reg  [3:0] visited_acc;
+    reg  [3:0] visits_acc;
     reg  large_left;
     reg  credit_acc;
     reg  out_valid;
@@ -35944,15 +35313,15 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
         need$0 = ~avail$0;
         take$0 = need$0 & lq_fill$0$q;
         retire_rec$0 = need$0 & cur_valid$0$q & cur_last$0$q;
-        cand$0 = lq_head$0$read_data;
+        next_box$0 = lq_head$0$read_data;
         if (fetch_q$q) begin
-            cand$0 = lcur$q;
+            next_box$0 = lcur$q;
         end
         if (arrive$0) begin
-            cand$0 = succ_q$0$q;
+            next_box$0 = succ_q$0$q;
         end
         if (q0v$0$q) begin
-            cand$0 = q0$0$q;
+            next_box$0 = q0$0$q;
         end
         after$0 = succ_q$0$q;
         if (q1v$0$q) begin
@@ -35963,19 +35332,19 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
             after$0 = lq_head2$0$read_data;
             after_v$0 = (lq_head2$0$read_data & top) != 32'h0;
         end
-        cand_ok$0 = avail$0 | take$0;
+        next_ok$0 = avail$0 | take$0;
         stall$0 = fifo$0$almost_full;
-        go$0 = cand_ok$0 & ~stall$0;
+        go$0 = next_ok$0 & ~stall$0;
         if (go$0) begin
             q0$0$d = after$0;
             q0v$0$d = after_v$0;
             q1v$0$d = 1'b0;
         end
         else begin
-            q0$0$d = cand$0;
-            q0v$0$d = cand_ok$0;
+            q0$0$d = next_box$0;
+            q0v$0$d = next_ok$0;
             q1$0$d = after$0;
-            q1v$0$d = cand_ok$0 & after_v$0;
+            q1v$0$d = next_ok$0 & after_v$0;
         end
         r1$0$d = go$0;
         arrive_q$0$d = r1$0$q & ((succ$0$read_data_b & top) != 32'h0);
@@ -36025,7 +35394,7 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
             lq_fill$1$d = lq_fill$2$q;
             lq_fill$2$d = 1'b0;
         end
-        rd_address$0 = (cand$0 & index_mask) >> lane_shift;
+        rd_address$0 = (next_box$0 & index_mask) >> lane_shift;
         succ$0$read_address_a = 32'h0;
         succ$0$read_address_b = rd_address$0;
         kt_min$0$read_address_b = rd_address$0;
@@ -36045,14 +35414,14 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
         vis_pack_j$2 = 32'h0;
         vis_pack_i$3 = 32'h0;
         vis_pack_j$3 = 32'h0;
-        visited_acc = 32'h0;
+        visits_acc = 32'h0;
         vis_i$0$value = v1_i$0$d;
-        vis_j$0$value = cand$0 & index_mask;
+        vis_j$0$value = next_box$0 & index_mask;
         if (go$0) begin
             visit_acc = visit_acc | lane_bit$0;
         end
         if (v1_valid$0$q) begin
-            visited_acc = visited_acc + 32'h1;
+            visits_acc = visits_acc + 32'h1;
         end
         vis_pack_i$0 = vis_pack_i$0 | (vis_i$0$resized << lane_at$0);
         vis_pack_j$0 = vis_pack_j$0 | (vis_j$0$resized << lane_at$0);
@@ -36065,7 +35434,7 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
         visit_j1 = vis_pack_j$1;
         visit_j2 = vis_pack_j$2;
         visit_j3 = vis_pack_j$3;
-        visited = visited_acc;
+        visits = visits_acc;
         inflight_up = accept | inject;
         credit_acc = 1'b1;
         inflight_inc$0 = inflight$0$q + 32'h1;
@@ -36110,7 +35479,7 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
         credit = credit_q$q;
         lrow = fmask$q >> (((lgroup$q) & 64'hffffffffffffffff) << 64'h3);
         v1_valid$0$d = go$0;
-        v1_j$0$d = cand$0 & index_mask;
+        v1_j$0$d = next_box$0 & index_mask;
         v2_valid$0$d = v1_valid$0$q;
         v2_i$0$d = v1_i$0$q;
         v2_j$0$d = v1_j$0$q;
@@ -36168,21 +35537,21 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
         v2_max_j$2$d = rd_max$2;
         overlap$0 = (v2_min_i$0$q <= v2_max_j$0$q) & (v2_min_j$0$q <= v2_max_i$0$q) & (v2_min_i$1$q <= v2_max_j$1$q) & (v2_min_j$1$q <= v2_max_i$1$q) & (v2_min_i$2$q <= v2_max_j$2$q) & (v2_min_j$2$q <= v2_max_i$2$q);
         swap$0 = v2_i$0$q < v2_j$0$q;
-        cand_lo$0 = v2_j$0$q;
-        cand_hi$0 = v2_i$0$q;
+        test_lo$0 = v2_j$0$q;
+        test_hi$0 = v2_i$0$q;
         margin_lo$0 = v2_margin_j$0$q;
         margin_hi$0 = v2_margin_i$0$q;
         if (swap$0) begin
-            cand_lo$0 = v2_i$0$q;
-            cand_hi$0 = v2_j$0$q;
+            test_lo$0 = v2_i$0$q;
+            test_hi$0 = v2_j$0$q;
             margin_lo$0 = v2_margin_i$0$q;
             margin_hi$0 = v2_margin_j$0$q;
         end
-        pack_lo$0$value = cand_lo$0;
-        pack_hi$0$value = cand_hi$0;
+        pack_lo$0$value = test_lo$0;
+        pack_hi$0$value = test_hi$0;
         pack_mlo$0$value = margin_lo$0;
         pack_mhi$0$value = margin_hi$0;
-        cand_word$0 = (pack_lo$0$resized << at_a) | (pack_hi$0$resized << at_b) | (pack_mlo$0$resized << at_ma) | pack_mhi$0$resized;
+        test_word$0 = (pack_lo$0$resized << at_a) | (pack_hi$0$resized << at_b) | (pack_mlo$0$resized << at_ma) | pack_mhi$0$resized;
         home_ok$0 = (v2_wl$0$q <= v2_jc$0$q) & (v2_jc$0$q <= v2_wh$0$q) & (v2_wl$1$q <= v2_jc$1$q) & (v2_jc$1$q <= v2_wh$1$q) & (v2_wl$2$q <= v2_jc$2$q) & (v2_jc$2$q <= v2_wh$2$q);
         mask_row$0 = lrow >> v2_group_j$0$q;
         mask_ok$0 = mask_row$0[32'h0];
@@ -36191,7 +35560,7 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
         v3_home$0$d = home_ok$0;
         v3_anywhere$0$d = ~v2_kind$0$q[32'h0];
         v3_mask$0$d = mask_ok$0 | ~v2_kind$0$q[32'h1];
-        v3_word$0$d = cand_word$0;
+        v3_word$0$d = test_word$0;
         pass$0 = v3_valid$0$q & v3_overlap$0$q & (v3_home$0$q | v3_anywhere$0$q) & v3_mask$0$q;
         fifo$0$write = pass$0;
         fifo$0$data_in = v3_word$0$q;
@@ -36206,15 +35575,15 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
         end
         out_word = out_word | out_pick$0;
         out_valid = out_valid | fifo$0$valid;
-        cand_valid = out_valid;
+        test_valid = out_valid;
         unpack_a = out_word >> at_a;
         unpack_b = out_word >> at_b;
         unpack_ma = out_word >> at_ma;
-        cand_a = ((unpack_a) & 15'h7fff);
-        cand_b = ((unpack_b) & 15'h7fff);
-        cand_ma = ((unpack_ma) & 28'hfffffff);
-        cand_mb = ((out_word) & 28'hfffffff);
-        fifo$0$ready = cand_ready & issuer$0;
+        test_a = ((unpack_a) & 15'h7fff);
+        test_b = ((unpack_b) & 15'h7fff);
+        test_ma = ((unpack_ma) & 28'hfffffff);
+        test_mb = ((out_word) & 28'hfffffff);
+        fifo$0$ready = test_ready & issuer$0;
         done_walk = idle$q & ((slow$q == SlowState$Over) | ((slow$q == SlowState$Fetch) & ~large_left));
         walked = done_walk;
         if (done_walk & ~clearing$q & ~cleared$q) begin
@@ -85862,7 +85231,276 @@ module obb_core$k_j(d,q,clock);
 endmodule // obb_core$k_j
 
 
-module obb_core$k_overlap$0(d,q,clock);
+module obb_core$k_overlap(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  d;
+    output reg  q;
+    
+    // Stub signals
+    reg  stage$0$d;
+    wire  stage$0$q;
+    reg  stage$0$clock;
+    reg  stage$1$d;
+    wire  stage$1$q;
+    reg  stage$1$clock;
+    reg  stage$2$d;
+    wire  stage$2$q;
+    reg  stage$2$clock;
+    reg  stage$3$d;
+    wire  stage$3$q;
+    reg  stage$3$clock;
+    reg  stage$4$d;
+    wire  stage$4$q;
+    reg  stage$4$clock;
+    reg  stage$5$d;
+    wire  stage$5$q;
+    reg  stage$5$clock;
+    reg  stage$6$d;
+    wire  stage$6$q;
+    reg  stage$6$clock;
+    reg  stage$7$d;
+    wire  stage$7$q;
+    reg  stage$7$clock;
+    reg  stage$8$d;
+    wire  stage$8$q;
+    reg  stage$8$clock;
+    reg  stage$9$d;
+    wire  stage$9$q;
+    reg  stage$9$clock;
+    reg  stage$10$d;
+    wire  stage$10$q;
+    reg  stage$10$clock;
+    reg  stage$11$d;
+    wire  stage$11$q;
+    reg  stage$11$clock;
+    reg  stage$12$d;
+    wire  stage$12$q;
+    reg  stage$12$clock;
+    reg  stage$13$d;
+    wire  stage$13$q;
+    reg  stage$13$clock;
+    reg  stage$14$d;
+    wire  stage$14$q;
+    reg  stage$14$clock;
+    reg  stage$15$d;
+    wire  stage$15$q;
+    reg  stage$15$clock;
+    reg  stage$16$d;
+    wire  stage$16$q;
+    reg  stage$16$clock;
+    reg  stage$17$d;
+    wire  stage$17$q;
+    reg  stage$17$clock;
+    reg  stage$18$d;
+    wire  stage$18$q;
+    reg  stage$18$clock;
+    reg  stage$19$d;
+    wire  stage$19$q;
+    reg  stage$19$clock;
+    reg  stage$20$d;
+    wire  stage$20$q;
+    reg  stage$20$clock;
+    reg  stage$21$d;
+    wire  stage$21$q;
+    reg  stage$21$clock;
+    reg  stage$22$d;
+    wire  stage$22$q;
+    reg  stage$22$clock;
+    reg  stage$23$d;
+    wire  stage$23$q;
+    reg  stage$23$clock;
+    reg  stage$24$d;
+    wire  stage$24$q;
+    reg  stage$24$clock;
+    
+    // Sub module instances
+    obb_core$k_overlap$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$k_overlap$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$k_overlap$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$k_overlap$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$k_overlap$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$k_overlap$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    obb_core$k_overlap$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    obb_core$k_overlap$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    obb_core$k_overlap$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    obb_core$k_overlap$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    obb_core$k_overlap$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    obb_core$k_overlap$stage$11 stage$11(
+        .d(stage$11$d),
+        .q(stage$11$q),
+        .clock(stage$11$clock)
+    );
+    obb_core$k_overlap$stage$12 stage$12(
+        .d(stage$12$d),
+        .q(stage$12$q),
+        .clock(stage$12$clock)
+    );
+    obb_core$k_overlap$stage$13 stage$13(
+        .d(stage$13$d),
+        .q(stage$13$q),
+        .clock(stage$13$clock)
+    );
+    obb_core$k_overlap$stage$14 stage$14(
+        .d(stage$14$d),
+        .q(stage$14$q),
+        .clock(stage$14$clock)
+    );
+    obb_core$k_overlap$stage$15 stage$15(
+        .d(stage$15$d),
+        .q(stage$15$q),
+        .clock(stage$15$clock)
+    );
+    obb_core$k_overlap$stage$16 stage$16(
+        .d(stage$16$d),
+        .q(stage$16$q),
+        .clock(stage$16$clock)
+    );
+    obb_core$k_overlap$stage$17 stage$17(
+        .d(stage$17$d),
+        .q(stage$17$q),
+        .clock(stage$17$clock)
+    );
+    obb_core$k_overlap$stage$18 stage$18(
+        .d(stage$18$d),
+        .q(stage$18$q),
+        .clock(stage$18$clock)
+    );
+    obb_core$k_overlap$stage$19 stage$19(
+        .d(stage$19$d),
+        .q(stage$19$q),
+        .clock(stage$19$clock)
+    );
+    obb_core$k_overlap$stage$20 stage$20(
+        .d(stage$20$d),
+        .q(stage$20$q),
+        .clock(stage$20$clock)
+    );
+    obb_core$k_overlap$stage$21 stage$21(
+        .d(stage$21$d),
+        .q(stage$21$q),
+        .clock(stage$21$clock)
+    );
+    obb_core$k_overlap$stage$22 stage$22(
+        .d(stage$22$d),
+        .q(stage$22$q),
+        .clock(stage$22$clock)
+    );
+    obb_core$k_overlap$stage$23 stage$23(
+        .d(stage$23$d),
+        .q(stage$23$q),
+        .clock(stage$23$clock)
+    );
+    obb_core$k_overlap$stage$24 stage$24(
+        .d(stage$24$d),
+        .q(stage$24$q),
+        .clock(stage$24$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$11$clock = clock;
+        stage$12$clock = clock;
+        stage$13$clock = clock;
+        stage$14$clock = clock;
+        stage$15$clock = clock;
+        stage$16$clock = clock;
+        stage$17$clock = clock;
+        stage$18$clock = clock;
+        stage$19$clock = clock;
+        stage$20$clock = clock;
+        stage$21$clock = clock;
+        stage$22$clock = clock;
+        stage$23$clock = clock;
+        stage$24$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        stage$11$d = stage$10$q;
+        stage$12$d = stage$11$q;
+        stage$13$d = stage$12$q;
+        stage$14$d = stage$13$q;
+        stage$15$d = stage$14$q;
+        stage$16$d = stage$15$q;
+        stage$17$d = stage$16$q;
+        stage$18$d = stage$17$q;
+        stage$19$d = stage$18$q;
+        stage$20$d = stage$19$q;
+        stage$21$d = stage$20$q;
+        stage$22$d = stage$21$q;
+        stage$23$d = stage$22$q;
+        stage$24$d = stage$23$q;
+        q = stage$24$q;
+    end
+    
+endmodule // obb_core$k_overlap
+
+
+module obb_core$k_overlap$stage$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -85878,10 +85516,10 @@ module obb_core$k_overlap$0(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$0
+endmodule // obb_core$k_overlap$stage$0
 
 
-module obb_core$k_overlap$1(d,q,clock);
+module obb_core$k_overlap$stage$1(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -85897,10 +85535,10 @@ module obb_core$k_overlap$1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$1
+endmodule // obb_core$k_overlap$stage$1
 
 
-module obb_core$k_overlap$10(d,q,clock);
+module obb_core$k_overlap$stage$10(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -85916,10 +85554,10 @@ module obb_core$k_overlap$10(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$10
+endmodule // obb_core$k_overlap$stage$10
 
 
-module obb_core$k_overlap$11(d,q,clock);
+module obb_core$k_overlap$stage$11(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -85935,10 +85573,10 @@ module obb_core$k_overlap$11(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$11
+endmodule // obb_core$k_overlap$stage$11
 
 
-module obb_core$k_overlap$12(d,q,clock);
+module obb_core$k_overlap$stage$12(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -85954,10 +85592,10 @@ module obb_core$k_overlap$12(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$12
+endmodule // obb_core$k_overlap$stage$12
 
 
-module obb_core$k_overlap$13(d,q,clock);
+module obb_core$k_overlap$stage$13(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -85973,10 +85611,10 @@ module obb_core$k_overlap$13(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$13
+endmodule // obb_core$k_overlap$stage$13
 
 
-module obb_core$k_overlap$14(d,q,clock);
+module obb_core$k_overlap$stage$14(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -85992,10 +85630,10 @@ module obb_core$k_overlap$14(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$14
+endmodule // obb_core$k_overlap$stage$14
 
 
-module obb_core$k_overlap$15(d,q,clock);
+module obb_core$k_overlap$stage$15(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86011,10 +85649,10 @@ module obb_core$k_overlap$15(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$15
+endmodule // obb_core$k_overlap$stage$15
 
 
-module obb_core$k_overlap$16(d,q,clock);
+module obb_core$k_overlap$stage$16(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86030,10 +85668,10 @@ module obb_core$k_overlap$16(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$16
+endmodule // obb_core$k_overlap$stage$16
 
 
-module obb_core$k_overlap$17(d,q,clock);
+module obb_core$k_overlap$stage$17(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86049,10 +85687,10 @@ module obb_core$k_overlap$17(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$17
+endmodule // obb_core$k_overlap$stage$17
 
 
-module obb_core$k_overlap$18(d,q,clock);
+module obb_core$k_overlap$stage$18(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86068,10 +85706,10 @@ module obb_core$k_overlap$18(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$18
+endmodule // obb_core$k_overlap$stage$18
 
 
-module obb_core$k_overlap$19(d,q,clock);
+module obb_core$k_overlap$stage$19(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86087,10 +85725,10 @@ module obb_core$k_overlap$19(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$19
+endmodule // obb_core$k_overlap$stage$19
 
 
-module obb_core$k_overlap$2(d,q,clock);
+module obb_core$k_overlap$stage$2(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86106,10 +85744,10 @@ module obb_core$k_overlap$2(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$2
+endmodule // obb_core$k_overlap$stage$2
 
 
-module obb_core$k_overlap$20(d,q,clock);
+module obb_core$k_overlap$stage$20(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86125,10 +85763,10 @@ module obb_core$k_overlap$20(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$20
+endmodule // obb_core$k_overlap$stage$20
 
 
-module obb_core$k_overlap$21(d,q,clock);
+module obb_core$k_overlap$stage$21(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86144,10 +85782,10 @@ module obb_core$k_overlap$21(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$21
+endmodule // obb_core$k_overlap$stage$21
 
 
-module obb_core$k_overlap$22(d,q,clock);
+module obb_core$k_overlap$stage$22(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86163,10 +85801,10 @@ module obb_core$k_overlap$22(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$22
+endmodule // obb_core$k_overlap$stage$22
 
 
-module obb_core$k_overlap$23(d,q,clock);
+module obb_core$k_overlap$stage$23(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86182,10 +85820,10 @@ module obb_core$k_overlap$23(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$23
+endmodule // obb_core$k_overlap$stage$23
 
 
-module obb_core$k_overlap$24(d,q,clock);
+module obb_core$k_overlap$stage$24(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86201,10 +85839,10 @@ module obb_core$k_overlap$24(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$24
+endmodule // obb_core$k_overlap$stage$24
 
 
-module obb_core$k_overlap$3(d,q,clock);
+module obb_core$k_overlap$stage$3(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86220,10 +85858,10 @@ module obb_core$k_overlap$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$3
+endmodule // obb_core$k_overlap$stage$3
 
 
-module obb_core$k_overlap$4(d,q,clock);
+module obb_core$k_overlap$stage$4(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86239,10 +85877,10 @@ module obb_core$k_overlap$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$4
+endmodule // obb_core$k_overlap$stage$4
 
 
-module obb_core$k_overlap$5(d,q,clock);
+module obb_core$k_overlap$stage$5(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86258,10 +85896,10 @@ module obb_core$k_overlap$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$5
+endmodule // obb_core$k_overlap$stage$5
 
 
-module obb_core$k_overlap$6(d,q,clock);
+module obb_core$k_overlap$stage$6(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86277,10 +85915,10 @@ module obb_core$k_overlap$6(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$6
+endmodule // obb_core$k_overlap$stage$6
 
 
-module obb_core$k_overlap$7(d,q,clock);
+module obb_core$k_overlap$stage$7(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86296,10 +85934,10 @@ module obb_core$k_overlap$7(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$7
+endmodule // obb_core$k_overlap$stage$7
 
 
-module obb_core$k_overlap$8(d,q,clock);
+module obb_core$k_overlap$stage$8(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86315,10 +85953,10 @@ module obb_core$k_overlap$8(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$8
+endmodule // obb_core$k_overlap$stage$8
 
 
-module obb_core$k_overlap$9(d,q,clock);
+module obb_core$k_overlap$stage$9(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -86334,7 +85972,7 @@ module obb_core$k_overlap$9(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$k_overlap$9
+endmodule // obb_core$k_overlap$stage$9
 
 
 module obb_core$k_valid(d,q,clock);
@@ -86813,84 +86451,18 @@ module obb_core$projection(clock,valid_in,center$0,center$1,center$2,half$0,half
     localparam  margin_shift = 8'h8;
     
     // Stub signals
-    reg  valid$0$d;
-    wire  valid$0$q;
-    reg  valid$0$clock;
-    reg  valid$1$d;
-    wire  valid$1$q;
-    reg  valid$1$clock;
-    reg  valid$2$d;
-    wire  valid$2$q;
-    reg  valid$2$clock;
-    reg  valid$3$d;
-    wire  valid$3$q;
-    reg  valid$3$clock;
-    reg  valid$4$d;
-    wire  valid$4$q;
-    reg  valid$4$clock;
-    reg  valid$5$d;
-    wire  valid$5$q;
-    reg  valid$5$clock;
-    reg  valid$6$d;
-    wire  valid$6$q;
-    reg  valid$6$clock;
-    reg  valid$7$d;
-    wire  valid$7$q;
-    reg  valid$7$clock;
+    reg  valid$clock;
+    reg  valid$d;
+    wire  valid$q;
+    reg  center_r$0$clock;
     reg  [22:0] center_r$0$d;
     wire  [22:0] center_r$0$q;
-    reg  center_r$0$clock;
+    reg  center_r$1$clock;
     reg  [22:0] center_r$1$d;
     wire  [22:0] center_r$1$q;
-    reg  center_r$1$clock;
+    reg  center_r$2$clock;
     reg  [22:0] center_r$2$d;
     wire  [22:0] center_r$2$q;
-    reg  center_r$2$clock;
-    reg  [22:0] center_r$3$d;
-    wire  [22:0] center_r$3$q;
-    reg  center_r$3$clock;
-    reg  [22:0] center_r$4$d;
-    wire  [22:0] center_r$4$q;
-    reg  center_r$4$clock;
-    reg  [22:0] center_r$5$d;
-    wire  [22:0] center_r$5$q;
-    reg  center_r$5$clock;
-    reg  [22:0] center_r$6$d;
-    wire  [22:0] center_r$6$q;
-    reg  center_r$6$clock;
-    reg  [22:0] center_r$7$d;
-    wire  [22:0] center_r$7$q;
-    reg  center_r$7$clock;
-    reg  [22:0] center_r$8$d;
-    wire  [22:0] center_r$8$q;
-    reg  center_r$8$clock;
-    reg  [22:0] center_r$9$d;
-    wire  [22:0] center_r$9$q;
-    reg  center_r$9$clock;
-    reg  [22:0] center_r$10$d;
-    wire  [22:0] center_r$10$q;
-    reg  center_r$10$clock;
-    reg  [22:0] center_r$11$d;
-    wire  [22:0] center_r$11$q;
-    reg  center_r$11$clock;
-    reg  [22:0] center_r$12$d;
-    wire  [22:0] center_r$12$q;
-    reg  center_r$12$clock;
-    reg  [22:0] center_r$13$d;
-    wire  [22:0] center_r$13$q;
-    reg  center_r$13$clock;
-    reg  [22:0] center_r$14$d;
-    wire  [22:0] center_r$14$q;
-    reg  center_r$14$clock;
-    reg  [22:0] center_r$15$d;
-    wire  [22:0] center_r$15$q;
-    reg  center_r$15$clock;
-    reg  [22:0] center_r$16$d;
-    wire  [22:0] center_r$16$q;
-    reg  center_r$16$clock;
-    reg  [22:0] center_r$17$d;
-    wire  [22:0] center_r$17$q;
-    reg  center_r$17$clock;
     reg  [16:0] half_r$0$d;
     wire  [16:0] half_r$0$q;
     reg  half_r$0$clock;
@@ -87084,135 +86656,25 @@ module obb_core$projection(clock,valid_in,center$0,center$1,center$2,half$0,half
     reg  [34:0] sb_c;
     
     // Sub module instances
-    obb_core$projection$valid$0 valid$0(
-        .d(valid$0$d),
-        .q(valid$0$q),
-        .clock(valid$0$clock)
-    );
-    obb_core$projection$valid$1 valid$1(
-        .d(valid$1$d),
-        .q(valid$1$q),
-        .clock(valid$1$clock)
-    );
-    obb_core$projection$valid$2 valid$2(
-        .d(valid$2$d),
-        .q(valid$2$q),
-        .clock(valid$2$clock)
-    );
-    obb_core$projection$valid$3 valid$3(
-        .d(valid$3$d),
-        .q(valid$3$q),
-        .clock(valid$3$clock)
-    );
-    obb_core$projection$valid$4 valid$4(
-        .d(valid$4$d),
-        .q(valid$4$q),
-        .clock(valid$4$clock)
-    );
-    obb_core$projection$valid$5 valid$5(
-        .d(valid$5$d),
-        .q(valid$5$q),
-        .clock(valid$5$clock)
-    );
-    obb_core$projection$valid$6 valid$6(
-        .d(valid$6$d),
-        .q(valid$6$q),
-        .clock(valid$6$clock)
-    );
-    obb_core$projection$valid$7 valid$7(
-        .d(valid$7$d),
-        .q(valid$7$q),
-        .clock(valid$7$clock)
+    obb_core$projection$valid valid(
+        .clock(valid$clock),
+        .d(valid$d),
+        .q(valid$q)
     );
     obb_core$projection$center_r$0 center_r$0(
+        .clock(center_r$0$clock),
         .d(center_r$0$d),
-        .q(center_r$0$q),
-        .clock(center_r$0$clock)
+        .q(center_r$0$q)
     );
     obb_core$projection$center_r$1 center_r$1(
+        .clock(center_r$1$clock),
         .d(center_r$1$d),
-        .q(center_r$1$q),
-        .clock(center_r$1$clock)
+        .q(center_r$1$q)
     );
     obb_core$projection$center_r$2 center_r$2(
+        .clock(center_r$2$clock),
         .d(center_r$2$d),
-        .q(center_r$2$q),
-        .clock(center_r$2$clock)
-    );
-    obb_core$projection$center_r$3 center_r$3(
-        .d(center_r$3$d),
-        .q(center_r$3$q),
-        .clock(center_r$3$clock)
-    );
-    obb_core$projection$center_r$4 center_r$4(
-        .d(center_r$4$d),
-        .q(center_r$4$q),
-        .clock(center_r$4$clock)
-    );
-    obb_core$projection$center_r$5 center_r$5(
-        .d(center_r$5$d),
-        .q(center_r$5$q),
-        .clock(center_r$5$clock)
-    );
-    obb_core$projection$center_r$6 center_r$6(
-        .d(center_r$6$d),
-        .q(center_r$6$q),
-        .clock(center_r$6$clock)
-    );
-    obb_core$projection$center_r$7 center_r$7(
-        .d(center_r$7$d),
-        .q(center_r$7$q),
-        .clock(center_r$7$clock)
-    );
-    obb_core$projection$center_r$8 center_r$8(
-        .d(center_r$8$d),
-        .q(center_r$8$q),
-        .clock(center_r$8$clock)
-    );
-    obb_core$projection$center_r$9 center_r$9(
-        .d(center_r$9$d),
-        .q(center_r$9$q),
-        .clock(center_r$9$clock)
-    );
-    obb_core$projection$center_r$10 center_r$10(
-        .d(center_r$10$d),
-        .q(center_r$10$q),
-        .clock(center_r$10$clock)
-    );
-    obb_core$projection$center_r$11 center_r$11(
-        .d(center_r$11$d),
-        .q(center_r$11$q),
-        .clock(center_r$11$clock)
-    );
-    obb_core$projection$center_r$12 center_r$12(
-        .d(center_r$12$d),
-        .q(center_r$12$q),
-        .clock(center_r$12$clock)
-    );
-    obb_core$projection$center_r$13 center_r$13(
-        .d(center_r$13$d),
-        .q(center_r$13$q),
-        .clock(center_r$13$clock)
-    );
-    obb_core$projection$center_r$14 center_r$14(
-        .d(center_r$14$d),
-        .q(center_r$14$q),
-        .clock(center_r$14$clock)
-    );
-    obb_core$projection$center_r$15 center_r$15(
-        .d(center_r$15$d),
-        .q(center_r$15$q),
-        .clock(center_r$15$clock)
-    );
-    obb_core$projection$center_r$16 center_r$16(
-        .d(center_r$16$d),
-        .q(center_r$16$q),
-        .clock(center_r$16$clock)
-    );
-    obb_core$projection$center_r$17 center_r$17(
-        .d(center_r$17$d),
-        .q(center_r$17$q),
-        .clock(center_r$17$clock)
+        .q(center_r$2$q)
     );
     obb_core$projection$half_r$0 half_r$0(
         .d(half_r$0$d),
@@ -87492,32 +86954,8 @@ module obb_core$projection(clock,valid_in,center$0,center$1,center$2,half$0,half
     
     // Update code
     always @(*) begin
-        valid$0$clock = clock;
-        valid$1$clock = clock;
-        valid$2$clock = clock;
-        valid$3$clock = clock;
-        valid$4$clock = clock;
-        valid$5$clock = clock;
-        valid$6$clock = clock;
-        valid$7$clock = clock;
+        valid$clock = clock;
         center_r$0$clock = clock;
-        center_r$1$clock = clock;
-        center_r$2$clock = clock;
-        center_r$3$clock = clock;
-        center_r$4$clock = clock;
-        center_r$5$clock = clock;
-        center_r$6$clock = clock;
-        center_r$7$clock = clock;
-        center_r$8$clock = clock;
-        center_r$9$clock = clock;
-        center_r$10$clock = clock;
-        center_r$11$clock = clock;
-        center_r$12$clock = clock;
-        center_r$13$clock = clock;
-        center_r$14$clock = clock;
-        center_r$15$clock = clock;
-        center_r$16$clock = clock;
-        center_r$17$clock = clock;
         half_r$0$clock = clock;
         hdelay$0$clock = clock;
         sum$0$clock = clock;
@@ -87525,6 +86963,7 @@ module obb_core$projection(clock,valid_in,center$0,center$1,center$2,half$0,half
         hi$0$clock = clock;
         kmin$0$clock = clock;
         kmax$0$clock = clock;
+        center_r$1$clock = clock;
         half_r$1$clock = clock;
         hdelay$1$clock = clock;
         sum$1$clock = clock;
@@ -87532,6 +86971,7 @@ module obb_core$projection(clock,valid_in,center$0,center$1,center$2,half$0,half
         hi$1$clock = clock;
         kmin$1$clock = clock;
         kmax$1$clock = clock;
+        center_r$2$clock = clock;
         half_r$2$clock = clock;
         hdelay$2$clock = clock;
         sum$2$clock = clock;
@@ -87571,35 +87011,13 @@ module obb_core$projection(clock,valid_in,center$0,center$1,center$2,half$0,half
         margin_r$0$clock = clock;
         margin_r$1$clock = clock;
         margin_o$clock = clock;
-        valid$0$d = valid_in;
-        valid$1$d = valid$0$q;
-        valid$2$d = valid$1$q;
-        valid$3$d = valid$2$q;
-        valid$4$d = valid$3$q;
-        valid$5$d = valid$4$q;
-        valid$6$d = valid$5$q;
-        valid$7$d = valid$6$q;
+        valid$d = valid_in;
         center_r$0$d = center$0;
         half_r$0$d = half$0;
         center_r$1$d = center$1;
         half_r$1$d = half$1;
         center_r$2$d = center$2;
         half_r$2$d = half$2;
-        center_r$3$d = center_r$0$q;
-        center_r$4$d = center_r$1$q;
-        center_r$5$d = center_r$2$q;
-        center_r$6$d = center_r$3$q;
-        center_r$7$d = center_r$4$q;
-        center_r$8$d = center_r$5$q;
-        center_r$9$d = center_r$6$q;
-        center_r$10$d = center_r$7$q;
-        center_r$11$d = center_r$8$q;
-        center_r$12$d = center_r$9$q;
-        center_r$13$d = center_r$10$q;
-        center_r$14$d = center_r$11$q;
-        center_r$15$d = center_r$12$q;
-        center_r$16$d = center_r$13$q;
-        center_r$17$d = center_r$14$q;
         axes_r$0$d = axes$0;
         axes_r$1$d = axes$1;
         axes_r$2$d = axes$2;
@@ -87655,9 +87073,9 @@ module obb_core$projection(clock,valid_in,center$0,center$1,center$2,half$0,half
         extent$0 = ((sum$0$q >> frac1) & 24'hffffff);
         extent$1 = ((sum$1$q >> frac1) & 24'hffffff);
         extent$2 = ((sum$2$q >> frac1) & 24'hffffff);
-        wide$0 = ((center_r$15$q) & 24'hffffff);
-        wide$1 = ((center_r$16$q) & 24'hffffff);
-        wide$2 = ((center_r$17$q) & 24'hffffff);
+        wide$0 = ((center_r$0$q) & 24'hffffff);
+        wide$1 = ((center_r$1$q) & 24'hffffff);
+        wide$2 = ((center_r$2$q) & 24'hffffff);
         lo$0$d = wide$0 - extent$0;
         hi$0$d = wide$0 + extent$0;
         rounded$0 = hi$0$q + key_round;
@@ -87686,7 +87104,7 @@ module obb_core$projection(clock,valid_in,center$0,center$1,center$2,half$0,half
         key_max$1 = kmax$1$q;
         key_min$2 = kmin$2$q;
         key_max$2 = kmax$2$q;
-        valid_out = valid$7$q;
+        valid_out = valid$q;
         margin = margin_o$q;
     end
     
@@ -87864,26 +87282,86 @@ module obb_core$projection$axes_r$8(d,q,clock);
 endmodule // obb_core$projection$axes_r$8
 
 
-module obb_core$projection$center_r$0(d,q,clock);
+module obb_core$projection$center_r$0(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire  [22:0] d;
     output reg  [22:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
+    // Stub signals
+    reg  [22:0] stage$0$d;
+    wire  [22:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [22:0] stage$1$d;
+    wire  [22:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [22:0] stage$2$d;
+    wire  [22:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [22:0] stage$3$d;
+    wire  [22:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [22:0] stage$4$d;
+    wire  [22:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [22:0] stage$5$d;
+    wire  [22:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$projection$center_r$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$projection$center_r$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$projection$center_r$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$projection$center_r$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$projection$center_r$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$projection$center_r$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
     end
     
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
 endmodule // obb_core$projection$center_r$0
 
 
-module obb_core$projection$center_r$1(d,q,clock);
+module obb_core$projection$center_r$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -87899,10 +87377,184 @@ module obb_core$projection$center_r$1(d,q,clock);
        q <= d;
     end
           
+endmodule // obb_core$projection$center_r$0$stage$0
+
+
+module obb_core$projection$center_r$0$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$projection$center_r$0$stage$1
+
+
+module obb_core$projection$center_r$0$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$projection$center_r$0$stage$2
+
+
+module obb_core$projection$center_r$0$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$projection$center_r$0$stage$3
+
+
+module obb_core$projection$center_r$0$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$projection$center_r$0$stage$4
+
+
+module obb_core$projection$center_r$0$stage$5(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$projection$center_r$0$stage$5
+
+
+module obb_core$projection$center_r$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    
+    // Stub signals
+    reg  [22:0] stage$0$d;
+    wire  [22:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [22:0] stage$1$d;
+    wire  [22:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [22:0] stage$2$d;
+    wire  [22:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [22:0] stage$3$d;
+    wire  [22:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [22:0] stage$4$d;
+    wire  [22:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [22:0] stage$5$d;
+    wire  [22:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$projection$center_r$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$projection$center_r$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$projection$center_r$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$projection$center_r$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$projection$center_r$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$projection$center_r$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
 endmodule // obb_core$projection$center_r$1
 
 
-module obb_core$projection$center_r$10(d,q,clock);
+module obb_core$projection$center_r$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -87918,10 +87570,10 @@ module obb_core$projection$center_r$10(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$center_r$10
+endmodule // obb_core$projection$center_r$1$stage$0
 
 
-module obb_core$projection$center_r$11(d,q,clock);
+module obb_core$projection$center_r$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -87937,10 +87589,10 @@ module obb_core$projection$center_r$11(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$center_r$11
+endmodule // obb_core$projection$center_r$1$stage$1
 
 
-module obb_core$projection$center_r$12(d,q,clock);
+module obb_core$projection$center_r$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -87956,10 +87608,10 @@ module obb_core$projection$center_r$12(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$center_r$12
+endmodule // obb_core$projection$center_r$1$stage$2
 
 
-module obb_core$projection$center_r$13(d,q,clock);
+module obb_core$projection$center_r$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -87975,10 +87627,10 @@ module obb_core$projection$center_r$13(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$center_r$13
+endmodule // obb_core$projection$center_r$1$stage$3
 
 
-module obb_core$projection$center_r$14(d,q,clock);
+module obb_core$projection$center_r$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -87994,10 +87646,10 @@ module obb_core$projection$center_r$14(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$center_r$14
+endmodule // obb_core$projection$center_r$1$stage$4
 
 
-module obb_core$projection$center_r$15(d,q,clock);
+module obb_core$projection$center_r$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -88013,67 +87665,89 @@ module obb_core$projection$center_r$15(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$center_r$15
+endmodule // obb_core$projection$center_r$1$stage$5
 
 
-module obb_core$projection$center_r$16(d,q,clock);
+module obb_core$projection$center_r$2(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire  [22:0] d;
     output reg  [22:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
+    // Stub signals
+    reg  [22:0] stage$0$d;
+    wire  [22:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [22:0] stage$1$d;
+    wire  [22:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [22:0] stage$2$d;
+    wire  [22:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [22:0] stage$3$d;
+    wire  [22:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [22:0] stage$4$d;
+    wire  [22:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [22:0] stage$5$d;
+    wire  [22:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$projection$center_r$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$projection$center_r$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$projection$center_r$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$projection$center_r$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$projection$center_r$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$projection$center_r$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
     end
     
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$projection$center_r$16
-
-
-module obb_core$projection$center_r$17(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$projection$center_r$17
-
-
-module obb_core$projection$center_r$2(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
 endmodule // obb_core$projection$center_r$2
 
 
-module obb_core$projection$center_r$3(d,q,clock);
+module obb_core$projection$center_r$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -88089,10 +87763,10 @@ module obb_core$projection$center_r$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$center_r$3
+endmodule // obb_core$projection$center_r$2$stage$0
 
 
-module obb_core$projection$center_r$4(d,q,clock);
+module obb_core$projection$center_r$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -88108,10 +87782,10 @@ module obb_core$projection$center_r$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$center_r$4
+endmodule // obb_core$projection$center_r$2$stage$1
 
 
-module obb_core$projection$center_r$5(d,q,clock);
+module obb_core$projection$center_r$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -88127,10 +87801,10 @@ module obb_core$projection$center_r$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$center_r$5
+endmodule // obb_core$projection$center_r$2$stage$2
 
 
-module obb_core$projection$center_r$6(d,q,clock);
+module obb_core$projection$center_r$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -88146,10 +87820,10 @@ module obb_core$projection$center_r$6(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$center_r$6
+endmodule // obb_core$projection$center_r$2$stage$3
 
 
-module obb_core$projection$center_r$7(d,q,clock);
+module obb_core$projection$center_r$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -88165,10 +87839,10 @@ module obb_core$projection$center_r$7(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$center_r$7
+endmodule // obb_core$projection$center_r$2$stage$4
 
 
-module obb_core$projection$center_r$8(d,q,clock);
+module obb_core$projection$center_r$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -88184,26 +87858,7 @@ module obb_core$projection$center_r$8(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$center_r$8
-
-
-module obb_core$projection$center_r$9(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$projection$center_r$9
+endmodule // obb_core$projection$center_r$2$stage$5
 
 
 module obb_core$projection$half_r$0(d,q,clock);
@@ -89055,7 +88710,106 @@ module obb_core$projection$terms$8(r,t,clock);
 endmodule // obb_core$projection$terms$8
 
 
-module obb_core$projection$valid$0(d,q,clock);
+module obb_core$projection$valid(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  d;
+    output reg  q;
+    
+    // Stub signals
+    reg  stage$0$d;
+    wire  stage$0$q;
+    reg  stage$0$clock;
+    reg  stage$1$d;
+    wire  stage$1$q;
+    reg  stage$1$clock;
+    reg  stage$2$d;
+    wire  stage$2$q;
+    reg  stage$2$clock;
+    reg  stage$3$d;
+    wire  stage$3$q;
+    reg  stage$3$clock;
+    reg  stage$4$d;
+    wire  stage$4$q;
+    reg  stage$4$clock;
+    reg  stage$5$d;
+    wire  stage$5$q;
+    reg  stage$5$clock;
+    reg  stage$6$d;
+    wire  stage$6$q;
+    reg  stage$6$clock;
+    reg  stage$7$d;
+    wire  stage$7$q;
+    reg  stage$7$clock;
+    
+    // Sub module instances
+    obb_core$projection$valid$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$projection$valid$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$projection$valid$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$projection$valid$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$projection$valid$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$projection$valid$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    obb_core$projection$valid$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    obb_core$projection$valid$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        q = stage$7$q;
+    end
+    
+endmodule // obb_core$projection$valid
+
+
+module obb_core$projection$valid$stage$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -89071,10 +88825,10 @@ module obb_core$projection$valid$0(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$valid$0
+endmodule // obb_core$projection$valid$stage$0
 
 
-module obb_core$projection$valid$1(d,q,clock);
+module obb_core$projection$valid$stage$1(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -89090,10 +88844,10 @@ module obb_core$projection$valid$1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$valid$1
+endmodule // obb_core$projection$valid$stage$1
 
 
-module obb_core$projection$valid$2(d,q,clock);
+module obb_core$projection$valid$stage$2(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -89109,10 +88863,10 @@ module obb_core$projection$valid$2(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$valid$2
+endmodule // obb_core$projection$valid$stage$2
 
 
-module obb_core$projection$valid$3(d,q,clock);
+module obb_core$projection$valid$stage$3(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -89128,10 +88882,10 @@ module obb_core$projection$valid$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$valid$3
+endmodule // obb_core$projection$valid$stage$3
 
 
-module obb_core$projection$valid$4(d,q,clock);
+module obb_core$projection$valid$stage$4(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -89147,10 +88901,10 @@ module obb_core$projection$valid$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$valid$4
+endmodule // obb_core$projection$valid$stage$4
 
 
-module obb_core$projection$valid$5(d,q,clock);
+module obb_core$projection$valid$stage$5(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -89166,10 +88920,10 @@ module obb_core$projection$valid$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$valid$5
+endmodule // obb_core$projection$valid$stage$5
 
 
-module obb_core$projection$valid$6(d,q,clock);
+module obb_core$projection$valid$stage$6(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -89185,10 +88939,10 @@ module obb_core$projection$valid$6(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$valid$6
+endmodule // obb_core$projection$valid$stage$6
 
 
-module obb_core$projection$valid$7(d,q,clock);
+module obb_core$projection$valid$stage$7(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -89204,7 +88958,7 @@ module obb_core$projection$valid$7(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$projection$valid$7
+endmodule // obb_core$projection$valid$stage$7
 
 
 module obb_core$r_i(d,q,clock);
@@ -89449,132 +89203,27 @@ module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,hal
     reg  [28:0] back$pair_margin;
     wire  back$valid_out;
     wire  back$hit;
+    reg  ha$0$clock;
     reg signed [17:0] ha$0$d;
     wire signed [17:0] ha$0$q;
-    reg  ha$0$clock;
+    reg  ha$1$clock;
     reg signed [17:0] ha$1$d;
     wire signed [17:0] ha$1$q;
-    reg  ha$1$clock;
+    reg  ha$2$clock;
     reg signed [17:0] ha$2$d;
     wire signed [17:0] ha$2$q;
-    reg  ha$2$clock;
-    reg signed [17:0] ha$3$d;
-    wire signed [17:0] ha$3$q;
-    reg  ha$3$clock;
-    reg signed [17:0] ha$4$d;
-    wire signed [17:0] ha$4$q;
-    reg  ha$4$clock;
-    reg signed [17:0] ha$5$d;
-    wire signed [17:0] ha$5$q;
-    reg  ha$5$clock;
-    reg signed [17:0] ha$6$d;
-    wire signed [17:0] ha$6$q;
-    reg  ha$6$clock;
-    reg signed [17:0] ha$7$d;
-    wire signed [17:0] ha$7$q;
-    reg  ha$7$clock;
-    reg signed [17:0] ha$8$d;
-    wire signed [17:0] ha$8$q;
-    reg  ha$8$clock;
-    reg signed [17:0] ha$9$d;
-    wire signed [17:0] ha$9$q;
-    reg  ha$9$clock;
-    reg signed [17:0] ha$10$d;
-    wire signed [17:0] ha$10$q;
-    reg  ha$10$clock;
-    reg signed [17:0] ha$11$d;
-    wire signed [17:0] ha$11$q;
-    reg  ha$11$clock;
-    reg signed [17:0] ha$12$d;
-    wire signed [17:0] ha$12$q;
-    reg  ha$12$clock;
-    reg signed [17:0] ha$13$d;
-    wire signed [17:0] ha$13$q;
-    reg  ha$13$clock;
-    reg signed [17:0] ha$14$d;
-    wire signed [17:0] ha$14$q;
-    reg  ha$14$clock;
-    reg signed [17:0] ha$15$d;
-    wire signed [17:0] ha$15$q;
-    reg  ha$15$clock;
-    reg signed [17:0] ha$16$d;
-    wire signed [17:0] ha$16$q;
-    reg  ha$16$clock;
-    reg signed [17:0] ha$17$d;
-    wire signed [17:0] ha$17$q;
-    reg  ha$17$clock;
+    reg  hb$0$clock;
     reg signed [17:0] hb$0$d;
     wire signed [17:0] hb$0$q;
-    reg  hb$0$clock;
+    reg  hb$1$clock;
     reg signed [17:0] hb$1$d;
     wire signed [17:0] hb$1$q;
-    reg  hb$1$clock;
+    reg  hb$2$clock;
     reg signed [17:0] hb$2$d;
     wire signed [17:0] hb$2$q;
-    reg  hb$2$clock;
-    reg signed [17:0] hb$3$d;
-    wire signed [17:0] hb$3$q;
-    reg  hb$3$clock;
-    reg signed [17:0] hb$4$d;
-    wire signed [17:0] hb$4$q;
-    reg  hb$4$clock;
-    reg signed [17:0] hb$5$d;
-    wire signed [17:0] hb$5$q;
-    reg  hb$5$clock;
-    reg signed [17:0] hb$6$d;
-    wire signed [17:0] hb$6$q;
-    reg  hb$6$clock;
-    reg signed [17:0] hb$7$d;
-    wire signed [17:0] hb$7$q;
-    reg  hb$7$clock;
-    reg signed [17:0] hb$8$d;
-    wire signed [17:0] hb$8$q;
-    reg  hb$8$clock;
-    reg signed [17:0] hb$9$d;
-    wire signed [17:0] hb$9$q;
-    reg  hb$9$clock;
-    reg signed [17:0] hb$10$d;
-    wire signed [17:0] hb$10$q;
-    reg  hb$10$clock;
-    reg signed [17:0] hb$11$d;
-    wire signed [17:0] hb$11$q;
-    reg  hb$11$clock;
-    reg signed [17:0] hb$12$d;
-    wire signed [17:0] hb$12$q;
-    reg  hb$12$clock;
-    reg signed [17:0] hb$13$d;
-    wire signed [17:0] hb$13$q;
-    reg  hb$13$clock;
-    reg signed [17:0] hb$14$d;
-    wire signed [17:0] hb$14$q;
-    reg  hb$14$clock;
-    reg signed [17:0] hb$15$d;
-    wire signed [17:0] hb$15$q;
-    reg  hb$15$clock;
-    reg signed [17:0] hb$16$d;
-    wire signed [17:0] hb$16$q;
-    reg  hb$16$clock;
-    reg signed [17:0] hb$17$d;
-    wire signed [17:0] hb$17$q;
-    reg  hb$17$clock;
-    reg  [28:0] pm$0$d;
-    wire  [28:0] pm$0$q;
-    reg  pm$0$clock;
-    reg  [28:0] pm$1$d;
-    wire  [28:0] pm$1$q;
-    reg  pm$1$clock;
-    reg  [28:0] pm$2$d;
-    wire  [28:0] pm$2$q;
-    reg  pm$2$clock;
-    reg  [28:0] pm$3$d;
-    wire  [28:0] pm$3$q;
-    reg  pm$3$clock;
-    reg  [28:0] pm$4$d;
-    wire  [28:0] pm$4$q;
-    reg  pm$4$clock;
-    reg  [28:0] pm$5$d;
-    wire  [28:0] pm$5$q;
-    reg  pm$5$clock;
+    reg  pm$clock;
+    reg  [28:0] pm$d;
+    wire  [28:0] pm$q;
     
     // Local signals
     reg signed [17:0] ha_s$0;
@@ -89659,214 +89308,39 @@ module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,hal
         .hit(back$hit)
     );
     obb_core$sat$ha$0 ha$0(
+        .clock(ha$0$clock),
         .d(ha$0$d),
-        .q(ha$0$q),
-        .clock(ha$0$clock)
+        .q(ha$0$q)
     );
     obb_core$sat$ha$1 ha$1(
+        .clock(ha$1$clock),
         .d(ha$1$d),
-        .q(ha$1$q),
-        .clock(ha$1$clock)
+        .q(ha$1$q)
     );
     obb_core$sat$ha$2 ha$2(
+        .clock(ha$2$clock),
         .d(ha$2$d),
-        .q(ha$2$q),
-        .clock(ha$2$clock)
-    );
-    obb_core$sat$ha$3 ha$3(
-        .d(ha$3$d),
-        .q(ha$3$q),
-        .clock(ha$3$clock)
-    );
-    obb_core$sat$ha$4 ha$4(
-        .d(ha$4$d),
-        .q(ha$4$q),
-        .clock(ha$4$clock)
-    );
-    obb_core$sat$ha$5 ha$5(
-        .d(ha$5$d),
-        .q(ha$5$q),
-        .clock(ha$5$clock)
-    );
-    obb_core$sat$ha$6 ha$6(
-        .d(ha$6$d),
-        .q(ha$6$q),
-        .clock(ha$6$clock)
-    );
-    obb_core$sat$ha$7 ha$7(
-        .d(ha$7$d),
-        .q(ha$7$q),
-        .clock(ha$7$clock)
-    );
-    obb_core$sat$ha$8 ha$8(
-        .d(ha$8$d),
-        .q(ha$8$q),
-        .clock(ha$8$clock)
-    );
-    obb_core$sat$ha$9 ha$9(
-        .d(ha$9$d),
-        .q(ha$9$q),
-        .clock(ha$9$clock)
-    );
-    obb_core$sat$ha$10 ha$10(
-        .d(ha$10$d),
-        .q(ha$10$q),
-        .clock(ha$10$clock)
-    );
-    obb_core$sat$ha$11 ha$11(
-        .d(ha$11$d),
-        .q(ha$11$q),
-        .clock(ha$11$clock)
-    );
-    obb_core$sat$ha$12 ha$12(
-        .d(ha$12$d),
-        .q(ha$12$q),
-        .clock(ha$12$clock)
-    );
-    obb_core$sat$ha$13 ha$13(
-        .d(ha$13$d),
-        .q(ha$13$q),
-        .clock(ha$13$clock)
-    );
-    obb_core$sat$ha$14 ha$14(
-        .d(ha$14$d),
-        .q(ha$14$q),
-        .clock(ha$14$clock)
-    );
-    obb_core$sat$ha$15 ha$15(
-        .d(ha$15$d),
-        .q(ha$15$q),
-        .clock(ha$15$clock)
-    );
-    obb_core$sat$ha$16 ha$16(
-        .d(ha$16$d),
-        .q(ha$16$q),
-        .clock(ha$16$clock)
-    );
-    obb_core$sat$ha$17 ha$17(
-        .d(ha$17$d),
-        .q(ha$17$q),
-        .clock(ha$17$clock)
+        .q(ha$2$q)
     );
     obb_core$sat$hb$0 hb$0(
+        .clock(hb$0$clock),
         .d(hb$0$d),
-        .q(hb$0$q),
-        .clock(hb$0$clock)
+        .q(hb$0$q)
     );
     obb_core$sat$hb$1 hb$1(
+        .clock(hb$1$clock),
         .d(hb$1$d),
-        .q(hb$1$q),
-        .clock(hb$1$clock)
+        .q(hb$1$q)
     );
     obb_core$sat$hb$2 hb$2(
+        .clock(hb$2$clock),
         .d(hb$2$d),
-        .q(hb$2$q),
-        .clock(hb$2$clock)
+        .q(hb$2$q)
     );
-    obb_core$sat$hb$3 hb$3(
-        .d(hb$3$d),
-        .q(hb$3$q),
-        .clock(hb$3$clock)
-    );
-    obb_core$sat$hb$4 hb$4(
-        .d(hb$4$d),
-        .q(hb$4$q),
-        .clock(hb$4$clock)
-    );
-    obb_core$sat$hb$5 hb$5(
-        .d(hb$5$d),
-        .q(hb$5$q),
-        .clock(hb$5$clock)
-    );
-    obb_core$sat$hb$6 hb$6(
-        .d(hb$6$d),
-        .q(hb$6$q),
-        .clock(hb$6$clock)
-    );
-    obb_core$sat$hb$7 hb$7(
-        .d(hb$7$d),
-        .q(hb$7$q),
-        .clock(hb$7$clock)
-    );
-    obb_core$sat$hb$8 hb$8(
-        .d(hb$8$d),
-        .q(hb$8$q),
-        .clock(hb$8$clock)
-    );
-    obb_core$sat$hb$9 hb$9(
-        .d(hb$9$d),
-        .q(hb$9$q),
-        .clock(hb$9$clock)
-    );
-    obb_core$sat$hb$10 hb$10(
-        .d(hb$10$d),
-        .q(hb$10$q),
-        .clock(hb$10$clock)
-    );
-    obb_core$sat$hb$11 hb$11(
-        .d(hb$11$d),
-        .q(hb$11$q),
-        .clock(hb$11$clock)
-    );
-    obb_core$sat$hb$12 hb$12(
-        .d(hb$12$d),
-        .q(hb$12$q),
-        .clock(hb$12$clock)
-    );
-    obb_core$sat$hb$13 hb$13(
-        .d(hb$13$d),
-        .q(hb$13$q),
-        .clock(hb$13$clock)
-    );
-    obb_core$sat$hb$14 hb$14(
-        .d(hb$14$d),
-        .q(hb$14$q),
-        .clock(hb$14$clock)
-    );
-    obb_core$sat$hb$15 hb$15(
-        .d(hb$15$d),
-        .q(hb$15$q),
-        .clock(hb$15$clock)
-    );
-    obb_core$sat$hb$16 hb$16(
-        .d(hb$16$d),
-        .q(hb$16$q),
-        .clock(hb$16$clock)
-    );
-    obb_core$sat$hb$17 hb$17(
-        .d(hb$17$d),
-        .q(hb$17$q),
-        .clock(hb$17$clock)
-    );
-    obb_core$sat$pm$0 pm$0(
-        .d(pm$0$d),
-        .q(pm$0$q),
-        .clock(pm$0$clock)
-    );
-    obb_core$sat$pm$1 pm$1(
-        .d(pm$1$d),
-        .q(pm$1$q),
-        .clock(pm$1$clock)
-    );
-    obb_core$sat$pm$2 pm$2(
-        .d(pm$2$d),
-        .q(pm$2$q),
-        .clock(pm$2$clock)
-    );
-    obb_core$sat$pm$3 pm$3(
-        .d(pm$3$d),
-        .q(pm$3$q),
-        .clock(pm$3$clock)
-    );
-    obb_core$sat$pm$4 pm$4(
-        .d(pm$4$d),
-        .q(pm$4$q),
-        .clock(pm$4$clock)
-    );
-    obb_core$sat$pm$5 pm$5(
-        .d(pm$5$d),
-        .q(pm$5$q),
-        .clock(pm$5$clock)
+    obb_core$sat$pm pm(
+        .clock(pm$clock),
+        .d(pm$d),
+        .q(pm$q)
     );
     
     // Update code
@@ -89879,42 +89353,7 @@ module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,hal
         hb$1$clock = clock;
         ha$2$clock = clock;
         hb$2$clock = clock;
-        ha$3$clock = clock;
-        hb$3$clock = clock;
-        ha$4$clock = clock;
-        hb$4$clock = clock;
-        ha$5$clock = clock;
-        hb$5$clock = clock;
-        ha$6$clock = clock;
-        hb$6$clock = clock;
-        ha$7$clock = clock;
-        hb$7$clock = clock;
-        ha$8$clock = clock;
-        hb$8$clock = clock;
-        ha$9$clock = clock;
-        hb$9$clock = clock;
-        ha$10$clock = clock;
-        hb$10$clock = clock;
-        ha$11$clock = clock;
-        hb$11$clock = clock;
-        ha$12$clock = clock;
-        hb$12$clock = clock;
-        ha$13$clock = clock;
-        hb$13$clock = clock;
-        ha$14$clock = clock;
-        hb$14$clock = clock;
-        ha$15$clock = clock;
-        hb$15$clock = clock;
-        ha$16$clock = clock;
-        hb$16$clock = clock;
-        ha$17$clock = clock;
-        hb$17$clock = clock;
-        pm$0$clock = clock;
-        pm$1$clock = clock;
-        pm$2$clock = clock;
-        pm$3$clock = clock;
-        pm$4$clock = clock;
-        pm$5$clock = clock;
+        pm$clock = clock;
         front$valid_in = valid_in;
         front$center_a$0 = center_a$0;
         front$center_b$0 = center_b$0;
@@ -89953,55 +89392,20 @@ module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,hal
         hb$1$d = hb_s$1;
         ha$2$d = ha_s$2;
         hb$2$d = hb_s$2;
-        ha$3$d = ha$0$q;
-        hb$3$d = hb$0$q;
-        ha$4$d = ha$1$q;
-        hb$4$d = hb$1$q;
-        ha$5$d = ha$2$q;
-        hb$5$d = hb$2$q;
-        ha$6$d = ha$3$q;
-        hb$6$d = hb$3$q;
-        ha$7$d = ha$4$q;
-        hb$7$d = hb$4$q;
-        ha$8$d = ha$5$q;
-        hb$8$d = hb$5$q;
-        ha$9$d = ha$6$q;
-        hb$9$d = hb$6$q;
-        ha$10$d = ha$7$q;
-        hb$10$d = hb$7$q;
-        ha$11$d = ha$8$q;
-        hb$11$d = hb$8$q;
-        ha$12$d = ha$9$q;
-        hb$12$d = hb$9$q;
-        ha$13$d = ha$10$q;
-        hb$13$d = hb$10$q;
-        ha$14$d = ha$11$q;
-        hb$14$d = hb$11$q;
-        ha$15$d = ha$12$q;
-        hb$15$d = hb$12$q;
-        ha$16$d = ha$13$q;
-        hb$16$d = hb$13$q;
-        ha$17$d = ha$14$q;
-        hb$17$d = hb$14$q;
-        pm$0$d = pair;
-        pm$1$d = pm$0$q;
-        pm$2$d = pm$1$q;
-        pm$3$d = pm$2$q;
-        pm$4$d = pm$3$q;
-        pm$5$d = pm$4$q;
+        pm$d = pair;
         back$valid_in = front$valid_out;
         back$t$0 = front$t$0;
         back$u$0 = front$u$0;
-        back$half_a$0 = ha$15$q;
-        back$half_b$0 = hb$15$q;
+        back$half_a$0 = ha$0$q;
+        back$half_b$0 = hb$0$q;
         back$t$1 = front$t$1;
         back$u$1 = front$u$1;
-        back$half_a$1 = ha$16$q;
-        back$half_b$1 = hb$16$q;
+        back$half_a$1 = ha$1$q;
+        back$half_b$1 = hb$1$q;
         back$t$2 = front$t$2;
         back$u$2 = front$u$2;
-        back$half_a$2 = ha$17$q;
-        back$half_b$2 = hb$17$q;
+        back$half_a$2 = ha$2$q;
+        back$half_b$2 = hb$2$q;
         back$r$0 = front$r$0;
         back$r$1 = front$r$1;
         back$r$2 = front$r$2;
@@ -90011,7 +89415,7 @@ module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,hal
         back$r$6 = front$r$6;
         back$r$7 = front$r$7;
         back$r$8 = front$r$8;
-        back$pair_margin = pm$5$q;
+        back$pair_margin = pm$q;
         valid_out = back$valid_out;
         hit = back$hit;
     end
@@ -90057,54 +89461,9 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     localparam  cross_margin = 24'h576e9;
     
     // Stub signals
-    reg  valid$0$d;
-    wire  valid$0$q;
-    reg  valid$0$clock;
-    reg  valid$1$d;
-    wire  valid$1$q;
-    reg  valid$1$clock;
-    reg  valid$2$d;
-    wire  valid$2$q;
-    reg  valid$2$clock;
-    reg  valid$3$d;
-    wire  valid$3$q;
-    reg  valid$3$clock;
-    reg  valid$4$d;
-    wire  valid$4$q;
-    reg  valid$4$clock;
-    reg  valid$5$d;
-    wire  valid$5$q;
-    reg  valid$5$clock;
-    reg  valid$6$d;
-    wire  valid$6$q;
-    reg  valid$6$clock;
-    reg  valid$7$d;
-    wire  valid$7$q;
-    reg  valid$7$clock;
-    reg  valid$8$d;
-    wire  valid$8$q;
-    reg  valid$8$clock;
-    reg  valid$9$d;
-    wire  valid$9$q;
-    reg  valid$9$clock;
-    reg  valid$10$d;
-    wire  valid$10$q;
-    reg  valid$10$clock;
-    reg  valid$11$d;
-    wire  valid$11$q;
-    reg  valid$11$clock;
-    reg  valid$12$d;
-    wire  valid$12$q;
-    reg  valid$12$clock;
-    reg  valid$13$d;
-    wire  valid$13$q;
-    reg  valid$13$clock;
-    reg  valid$14$d;
-    wire  valid$14$q;
-    reg  valid$14$clock;
-    reg  valid$15$d;
-    wire  valid$15$q;
-    reg  valid$15$clock;
+    reg  valid$clock;
+    reg  valid$d;
+    wire  valid$q;
     reg signed [43:0] round$t$0;
     reg signed [43:0] round$t$1;
     reg signed [43:0] round$t$2;
@@ -90158,258 +89517,63 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     wire signed [24:0] round$th$1;
     wire signed [24:0] round$th$2;
     reg  round$clock;
-    reg signed [17:0] ha$0$d;
-    wire signed [17:0] ha$0$q;
-    reg  ha$0$clock;
-    reg signed [17:0] ha$1$d;
-    wire signed [17:0] ha$1$q;
-    reg  ha$1$clock;
-    reg signed [17:0] ha$2$d;
-    wire signed [17:0] ha$2$q;
-    reg  ha$2$clock;
-    reg signed [17:0] ha$3$d;
-    wire signed [17:0] ha$3$q;
-    reg  ha$3$clock;
-    reg signed [17:0] ha$4$d;
-    wire signed [17:0] ha$4$q;
-    reg  ha$4$clock;
-    reg signed [17:0] ha$5$d;
-    wire signed [17:0] ha$5$q;
-    reg  ha$5$clock;
-    reg signed [17:0] ha$6$d;
-    wire signed [17:0] ha$6$q;
-    reg  ha$6$clock;
-    reg signed [17:0] ha$7$d;
-    wire signed [17:0] ha$7$q;
-    reg  ha$7$clock;
-    reg signed [17:0] ha$8$d;
-    wire signed [17:0] ha$8$q;
-    reg  ha$8$clock;
-    reg signed [17:0] ha$9$d;
-    wire signed [17:0] ha$9$q;
-    reg  ha$9$clock;
-    reg signed [17:0] ha$10$d;
-    wire signed [17:0] ha$10$q;
-    reg  ha$10$clock;
-    reg signed [17:0] ha$11$d;
-    wire signed [17:0] ha$11$q;
-    reg  ha$11$clock;
-    reg signed [17:0] ha$12$d;
-    wire signed [17:0] ha$12$q;
-    reg  ha$12$clock;
-    reg signed [17:0] ha$13$d;
-    wire signed [17:0] ha$13$q;
-    reg  ha$13$clock;
-    reg signed [17:0] ha$14$d;
-    wire signed [17:0] ha$14$q;
-    reg  ha$14$clock;
-    reg signed [17:0] ha$15$d;
-    wire signed [17:0] ha$15$q;
-    reg  ha$15$clock;
-    reg signed [17:0] ha$16$d;
-    wire signed [17:0] ha$16$q;
-    reg  ha$16$clock;
-    reg signed [17:0] ha$17$d;
-    wire signed [17:0] ha$17$q;
-    reg  ha$17$clock;
-    reg signed [17:0] ha$18$d;
-    wire signed [17:0] ha$18$q;
-    reg  ha$18$clock;
-    reg signed [17:0] ha$19$d;
-    wire signed [17:0] ha$19$q;
-    reg  ha$19$clock;
-    reg signed [17:0] ha$20$d;
-    wire signed [17:0] ha$20$q;
-    reg  ha$20$clock;
-    reg signed [17:0] ha$21$d;
-    wire signed [17:0] ha$21$q;
-    reg  ha$21$clock;
-    reg signed [17:0] ha$22$d;
-    wire signed [17:0] ha$22$q;
-    reg  ha$22$clock;
-    reg signed [17:0] ha$23$d;
-    wire signed [17:0] ha$23$q;
-    reg  ha$23$clock;
-    reg signed [17:0] ha$24$d;
-    wire signed [17:0] ha$24$q;
-    reg  ha$24$clock;
-    reg signed [17:0] ha$25$d;
-    wire signed [17:0] ha$25$q;
-    reg  ha$25$clock;
-    reg signed [17:0] ha$26$d;
-    wire signed [17:0] ha$26$q;
-    reg  ha$26$clock;
-    reg signed [17:0] ha$27$d;
-    wire signed [17:0] ha$27$q;
-    reg  ha$27$clock;
-    reg signed [17:0] ha$28$d;
-    wire signed [17:0] ha$28$q;
-    reg  ha$28$clock;
-    reg signed [17:0] ha$29$d;
-    wire signed [17:0] ha$29$q;
-    reg  ha$29$clock;
-    reg signed [17:0] ha$30$d;
-    wire signed [17:0] ha$30$q;
-    reg  ha$30$clock;
-    reg signed [17:0] ha$31$d;
-    wire signed [17:0] ha$31$q;
-    reg  ha$31$clock;
-    reg signed [17:0] ha$32$d;
-    wire signed [17:0] ha$32$q;
-    reg  ha$32$clock;
-    reg signed [17:0] ha$33$d;
-    wire signed [17:0] ha$33$q;
-    reg  ha$33$clock;
-    reg signed [17:0] ha$34$d;
-    wire signed [17:0] ha$34$q;
-    reg  ha$34$clock;
-    reg signed [17:0] ha$35$d;
-    wire signed [17:0] ha$35$q;
-    reg  ha$35$clock;
-    reg signed [17:0] hb$0$d;
-    wire signed [17:0] hb$0$q;
-    reg  hb$0$clock;
-    reg signed [17:0] hb$1$d;
-    wire signed [17:0] hb$1$q;
-    reg  hb$1$clock;
-    reg signed [17:0] hb$2$d;
-    wire signed [17:0] hb$2$q;
-    reg  hb$2$clock;
-    reg signed [17:0] hb$3$d;
-    wire signed [17:0] hb$3$q;
-    reg  hb$3$clock;
-    reg signed [17:0] hb$4$d;
-    wire signed [17:0] hb$4$q;
-    reg  hb$4$clock;
-    reg signed [17:0] hb$5$d;
-    wire signed [17:0] hb$5$q;
-    reg  hb$5$clock;
-    reg signed [17:0] hb$6$d;
-    wire signed [17:0] hb$6$q;
-    reg  hb$6$clock;
-    reg signed [17:0] hb$7$d;
-    wire signed [17:0] hb$7$q;
-    reg  hb$7$clock;
-    reg signed [17:0] hb$8$d;
-    wire signed [17:0] hb$8$q;
-    reg  hb$8$clock;
-    reg signed [17:0] hb$9$d;
-    wire signed [17:0] hb$9$q;
-    reg  hb$9$clock;
-    reg signed [17:0] hb$10$d;
-    wire signed [17:0] hb$10$q;
-    reg  hb$10$clock;
-    reg signed [17:0] hb$11$d;
-    wire signed [17:0] hb$11$q;
-    reg  hb$11$clock;
-    reg signed [17:0] hb$12$d;
-    wire signed [17:0] hb$12$q;
-    reg  hb$12$clock;
-    reg signed [17:0] hb$13$d;
-    wire signed [17:0] hb$13$q;
-    reg  hb$13$clock;
-    reg signed [17:0] hb$14$d;
-    wire signed [17:0] hb$14$q;
-    reg  hb$14$clock;
-    reg signed [17:0] hb$15$d;
-    wire signed [17:0] hb$15$q;
-    reg  hb$15$clock;
-    reg signed [17:0] hb$16$d;
-    wire signed [17:0] hb$16$q;
-    reg  hb$16$clock;
-    reg signed [17:0] hb$17$d;
-    wire signed [17:0] hb$17$q;
-    reg  hb$17$clock;
-    reg signed [17:0] hb$18$d;
-    wire signed [17:0] hb$18$q;
-    reg  hb$18$clock;
-    reg signed [17:0] hb$19$d;
-    wire signed [17:0] hb$19$q;
-    reg  hb$19$clock;
-    reg signed [17:0] hb$20$d;
-    wire signed [17:0] hb$20$q;
-    reg  hb$20$clock;
-    reg signed [17:0] hb$21$d;
-    wire signed [17:0] hb$21$q;
-    reg  hb$21$clock;
-    reg signed [17:0] hb$22$d;
-    wire signed [17:0] hb$22$q;
-    reg  hb$22$clock;
-    reg signed [17:0] hb$23$d;
-    wire signed [17:0] hb$23$q;
-    reg  hb$23$clock;
-    reg signed [17:0] hb$24$d;
-    wire signed [17:0] hb$24$q;
-    reg  hb$24$clock;
-    reg signed [17:0] hb$25$d;
-    wire signed [17:0] hb$25$q;
-    reg  hb$25$clock;
-    reg signed [17:0] hb$26$d;
-    wire signed [17:0] hb$26$q;
-    reg  hb$26$clock;
-    reg signed [17:0] hb$27$d;
-    wire signed [17:0] hb$27$q;
-    reg  hb$27$clock;
-    reg signed [17:0] hb$28$d;
-    wire signed [17:0] hb$28$q;
-    reg  hb$28$clock;
-    reg signed [17:0] hb$29$d;
-    wire signed [17:0] hb$29$q;
-    reg  hb$29$clock;
-    reg signed [17:0] hb$30$d;
-    wire signed [17:0] hb$30$q;
-    reg  hb$30$clock;
-    reg signed [17:0] hb$31$d;
-    wire signed [17:0] hb$31$q;
-    reg  hb$31$clock;
-    reg signed [17:0] hb$32$d;
-    wire signed [17:0] hb$32$q;
-    reg  hb$32$clock;
-    reg signed [17:0] hb$33$d;
-    wire signed [17:0] hb$33$q;
-    reg  hb$33$clock;
-    reg signed [17:0] hb$34$d;
-    wire signed [17:0] hb$34$q;
-    reg  hb$34$clock;
-    reg signed [17:0] hb$35$d;
-    wire signed [17:0] hb$35$q;
-    reg  hb$35$clock;
-    reg  [28:0] pm$0$d;
-    wire  [28:0] pm$0$q;
-    reg  pm$0$clock;
-    reg  [28:0] pm$1$d;
-    wire  [28:0] pm$1$q;
-    reg  pm$1$clock;
-    reg  [28:0] pm$2$d;
-    wire  [28:0] pm$2$q;
-    reg  pm$2$clock;
-    reg  [28:0] pm$3$d;
-    wire  [28:0] pm$3$q;
-    reg  pm$3$clock;
-    reg  [28:0] pm$4$d;
-    wire  [28:0] pm$4$q;
-    reg  pm$4$clock;
-    reg  [28:0] pm$5$d;
-    wire  [28:0] pm$5$q;
-    reg  pm$5$clock;
-    reg  [28:0] pm$6$d;
-    wire  [28:0] pm$6$q;
-    reg  pm$6$clock;
-    reg  [28:0] pm$7$d;
-    wire  [28:0] pm$7$q;
-    reg  pm$7$clock;
-    reg  [28:0] pm$8$d;
-    wire  [28:0] pm$8$q;
-    reg  pm$8$clock;
-    reg  [28:0] pm$9$d;
-    wire  [28:0] pm$9$q;
-    reg  pm$9$clock;
-    reg  [28:0] pm$10$d;
-    wire  [28:0] pm$10$q;
-    reg  pm$10$clock;
-    reg  [28:0] pm$11$d;
-    wire  [28:0] pm$11$q;
-    reg  pm$11$clock;
+    reg  ha_products$0$clock;
+    reg signed [17:0] ha_products$0$d;
+    wire signed [17:0] ha_products$0$q;
+    reg  ha_products$1$clock;
+    reg signed [17:0] ha_products$1$d;
+    wire signed [17:0] ha_products$1$q;
+    reg  ha_products$2$clock;
+    reg signed [17:0] ha_products$2$d;
+    wire signed [17:0] ha_products$2$q;
+    reg  hb_products$0$clock;
+    reg signed [17:0] hb_products$0$d;
+    wire signed [17:0] hb_products$0$q;
+    reg  hb_products$1$clock;
+    reg signed [17:0] hb_products$1$d;
+    wire signed [17:0] hb_products$1$q;
+    reg  hb_products$2$clock;
+    reg signed [17:0] hb_products$2$d;
+    wire signed [17:0] hb_products$2$q;
+    reg  ha_r_b$0$clock;
+    reg signed [17:0] ha_r_b$0$d;
+    wire signed [17:0] ha_r_b$0$q;
+    reg  ha_r_b$1$clock;
+    reg signed [17:0] ha_r_b$1$d;
+    wire signed [17:0] ha_r_b$1$q;
+    reg  ha_r_b$2$clock;
+    reg signed [17:0] ha_r_b$2$d;
+    wire signed [17:0] ha_r_b$2$q;
+    reg  hb_r_b$0$clock;
+    reg signed [17:0] hb_r_b$0$d;
+    wire signed [17:0] hb_r_b$0$q;
+    reg  hb_r_b$1$clock;
+    reg signed [17:0] hb_r_b$1$d;
+    wire signed [17:0] hb_r_b$1$q;
+    reg  hb_r_b$2$clock;
+    reg signed [17:0] hb_r_b$2$d;
+    wire signed [17:0] hb_r_b$2$q;
+    reg  ha_decide$0$clock;
+    reg signed [17:0] ha_decide$0$d;
+    wire signed [17:0] ha_decide$0$q;
+    reg  ha_decide$1$clock;
+    reg signed [17:0] ha_decide$1$d;
+    wire signed [17:0] ha_decide$1$q;
+    reg  ha_decide$2$clock;
+    reg signed [17:0] ha_decide$2$d;
+    wire signed [17:0] ha_decide$2$q;
+    reg  hb_decide$0$clock;
+    reg signed [17:0] hb_decide$0$d;
+    wire signed [17:0] hb_decide$0$q;
+    reg  hb_decide$1$clock;
+    reg signed [17:0] hb_decide$1$d;
+    wire signed [17:0] hb_decide$1$q;
+    reg  hb_decide$2$clock;
+    reg signed [17:0] hb_decide$2$d;
+    wire signed [17:0] hb_decide$2$q;
+    reg  margin_decide$clock;
+    reg  [28:0] margin_decide$d;
+    wire  [28:0] margin_decide$q;
     reg signed [18:0] face_a_dot$0$a0;
     reg signed [18:0] face_a_dot$0$a1;
     reg signed [18:0] face_a_dot$0$a2;
@@ -90746,609 +89910,96 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     reg signed [17:0] rb_dot$8$b1;
     wire signed [39:0] rb_dot$8$p;
     reg  rb_dot$8$clock;
-    reg  [42:0] at_d$0$d;
-    wire  [42:0] at_d$0$q;
-    reg  at_d$0$clock;
-    reg  [42:0] at_d$1$d;
-    wire  [42:0] at_d$1$q;
-    reg  at_d$1$clock;
-    reg  [42:0] at_d$2$d;
-    wire  [42:0] at_d$2$q;
-    reg  at_d$2$clock;
-    reg  [42:0] at_d$3$d;
-    wire  [42:0] at_d$3$q;
-    reg  at_d$3$clock;
-    reg  [42:0] at_d$4$d;
-    wire  [42:0] at_d$4$q;
-    reg  at_d$4$clock;
-    reg  [42:0] at_d$5$d;
-    wire  [42:0] at_d$5$q;
-    reg  at_d$5$clock;
-    reg  [42:0] at_d$6$d;
-    wire  [42:0] at_d$6$q;
-    reg  at_d$6$clock;
-    reg  [42:0] at_d$7$d;
-    wire  [42:0] at_d$7$q;
-    reg  at_d$7$clock;
-    reg  [42:0] at_d$8$d;
-    wire  [42:0] at_d$8$q;
-    reg  at_d$8$clock;
-    reg  [42:0] at_d$9$d;
-    wire  [42:0] at_d$9$q;
-    reg  at_d$9$clock;
-    reg  [42:0] at_d$10$d;
-    wire  [42:0] at_d$10$q;
-    reg  at_d$10$clock;
-    reg  [42:0] at_d$11$d;
-    wire  [42:0] at_d$11$q;
-    reg  at_d$11$clock;
-    reg  [42:0] at_d$12$d;
-    wire  [42:0] at_d$12$q;
-    reg  at_d$12$clock;
-    reg  [42:0] at_d$13$d;
-    wire  [42:0] at_d$13$q;
-    reg  at_d$13$clock;
-    reg  [42:0] at_d$14$d;
-    wire  [42:0] at_d$14$q;
-    reg  at_d$14$clock;
-    reg  [42:0] at_d$15$d;
-    wire  [42:0] at_d$15$q;
-    reg  at_d$15$clock;
-    reg  [42:0] at_d$16$d;
-    wire  [42:0] at_d$16$q;
-    reg  at_d$16$clock;
-    reg  [42:0] at_d$17$d;
-    wire  [42:0] at_d$17$q;
-    reg  at_d$17$clock;
-    reg  [42:0] at_d$18$d;
-    wire  [42:0] at_d$18$q;
-    reg  at_d$18$clock;
-    reg  [42:0] at_d$19$d;
-    wire  [42:0] at_d$19$q;
-    reg  at_d$19$clock;
-    reg  [42:0] at_d$20$d;
-    wire  [42:0] at_d$20$q;
-    reg  at_d$20$clock;
-    reg  [42:0] at_d$21$d;
-    wire  [42:0] at_d$21$q;
-    reg  at_d$21$clock;
-    reg  [42:0] at_d$22$d;
-    wire  [42:0] at_d$22$q;
-    reg  at_d$22$clock;
-    reg  [42:0] at_d$23$d;
-    wire  [42:0] at_d$23$q;
-    reg  at_d$23$clock;
-    reg  [42:0] at_d$24$d;
-    wire  [42:0] at_d$24$q;
-    reg  at_d$24$clock;
-    reg  [42:0] at_d$25$d;
-    wire  [42:0] at_d$25$q;
-    reg  at_d$25$clock;
-    reg  [42:0] at_d$26$d;
-    wire  [42:0] at_d$26$q;
-    reg  at_d$26$clock;
-    reg  [42:0] at_d$27$d;
-    wire  [42:0] at_d$27$q;
-    reg  at_d$27$clock;
-    reg  [42:0] at_d$28$d;
-    wire  [42:0] at_d$28$q;
-    reg  at_d$28$clock;
-    reg  [42:0] at_d$29$d;
-    wire  [42:0] at_d$29$q;
-    reg  at_d$29$clock;
-    reg  [42:0] at_d$30$d;
-    wire  [42:0] at_d$30$q;
-    reg  at_d$30$clock;
-    reg  [42:0] at_d$31$d;
-    wire  [42:0] at_d$31$q;
-    reg  at_d$31$clock;
-    reg  [42:0] at_d$32$d;
-    wire  [42:0] at_d$32$q;
-    reg  at_d$32$clock;
-    reg  [42:0] au_d$0$d;
-    wire  [42:0] au_d$0$q;
-    reg  au_d$0$clock;
-    reg  [42:0] au_d$1$d;
-    wire  [42:0] au_d$1$q;
-    reg  au_d$1$clock;
-    reg  [42:0] au_d$2$d;
-    wire  [42:0] au_d$2$q;
-    reg  au_d$2$clock;
-    reg  [42:0] au_d$3$d;
-    wire  [42:0] au_d$3$q;
-    reg  au_d$3$clock;
-    reg  [42:0] au_d$4$d;
-    wire  [42:0] au_d$4$q;
-    reg  au_d$4$clock;
-    reg  [42:0] au_d$5$d;
-    wire  [42:0] au_d$5$q;
-    reg  au_d$5$clock;
-    reg  [42:0] au_d$6$d;
-    wire  [42:0] au_d$6$q;
-    reg  au_d$6$clock;
-    reg  [42:0] au_d$7$d;
-    wire  [42:0] au_d$7$q;
-    reg  au_d$7$clock;
-    reg  [42:0] au_d$8$d;
-    wire  [42:0] au_d$8$q;
-    reg  au_d$8$clock;
-    reg  [42:0] au_d$9$d;
-    wire  [42:0] au_d$9$q;
-    reg  au_d$9$clock;
-    reg  [42:0] au_d$10$d;
-    wire  [42:0] au_d$10$q;
-    reg  au_d$10$clock;
-    reg  [42:0] au_d$11$d;
-    wire  [42:0] au_d$11$q;
-    reg  au_d$11$clock;
-    reg  [42:0] au_d$12$d;
-    wire  [42:0] au_d$12$q;
-    reg  au_d$12$clock;
-    reg  [42:0] au_d$13$d;
-    wire  [42:0] au_d$13$q;
-    reg  au_d$13$clock;
-    reg  [42:0] au_d$14$d;
-    wire  [42:0] au_d$14$q;
-    reg  au_d$14$clock;
-    reg  [42:0] au_d$15$d;
-    wire  [42:0] au_d$15$q;
-    reg  au_d$15$clock;
-    reg  [42:0] au_d$16$d;
-    wire  [42:0] au_d$16$q;
-    reg  au_d$16$clock;
-    reg  [42:0] au_d$17$d;
-    wire  [42:0] au_d$17$q;
-    reg  au_d$17$clock;
-    reg  [42:0] au_d$18$d;
-    wire  [42:0] au_d$18$q;
-    reg  au_d$18$clock;
-    reg  [42:0] au_d$19$d;
-    wire  [42:0] au_d$19$q;
-    reg  au_d$19$clock;
-    reg  [42:0] au_d$20$d;
-    wire  [42:0] au_d$20$q;
-    reg  au_d$20$clock;
-    reg  [42:0] au_d$21$d;
-    wire  [42:0] au_d$21$q;
-    reg  au_d$21$clock;
-    reg  [42:0] au_d$22$d;
-    wire  [42:0] au_d$22$q;
-    reg  au_d$22$clock;
-    reg  [42:0] au_d$23$d;
-    wire  [42:0] au_d$23$q;
-    reg  au_d$23$clock;
-    reg  [42:0] au_d$24$d;
-    wire  [42:0] au_d$24$q;
-    reg  au_d$24$clock;
-    reg  [42:0] au_d$25$d;
-    wire  [42:0] au_d$25$q;
-    reg  au_d$25$clock;
-    reg  [42:0] au_d$26$d;
-    wire  [42:0] au_d$26$q;
-    reg  au_d$26$clock;
-    reg  [42:0] au_d$27$d;
-    wire  [42:0] au_d$27$q;
-    reg  au_d$27$clock;
-    reg  [42:0] au_d$28$d;
-    wire  [42:0] au_d$28$q;
-    reg  au_d$28$clock;
-    reg  [42:0] au_d$29$d;
-    wire  [42:0] au_d$29$q;
-    reg  au_d$29$clock;
-    reg  [42:0] au_d$30$d;
-    wire  [42:0] au_d$30$q;
-    reg  au_d$30$clock;
-    reg  [42:0] au_d$31$d;
-    wire  [42:0] au_d$31$q;
-    reg  au_d$31$clock;
-    reg  [42:0] au_d$32$d;
-    wire  [42:0] au_d$32$q;
-    reg  au_d$32$clock;
-    reg signed [38:0] fa_d$0$d;
-    wire signed [38:0] fa_d$0$q;
-    reg  fa_d$0$clock;
-    reg signed [38:0] fa_d$1$d;
-    wire signed [38:0] fa_d$1$q;
-    reg  fa_d$1$clock;
-    reg signed [38:0] fa_d$2$d;
-    wire signed [38:0] fa_d$2$q;
-    reg  fa_d$2$clock;
-    reg signed [38:0] fa_d$3$d;
-    wire signed [38:0] fa_d$3$q;
-    reg  fa_d$3$clock;
-    reg signed [38:0] fa_d$4$d;
-    wire signed [38:0] fa_d$4$q;
-    reg  fa_d$4$clock;
-    reg signed [38:0] fa_d$5$d;
-    wire signed [38:0] fa_d$5$q;
-    reg  fa_d$5$clock;
-    reg signed [38:0] fa_d$6$d;
-    wire signed [38:0] fa_d$6$q;
-    reg  fa_d$6$clock;
-    reg signed [38:0] fa_d$7$d;
-    wire signed [38:0] fa_d$7$q;
-    reg  fa_d$7$clock;
-    reg signed [38:0] fa_d$8$d;
-    wire signed [38:0] fa_d$8$q;
-    reg  fa_d$8$clock;
-    reg signed [38:0] fa_d$9$d;
-    wire signed [38:0] fa_d$9$q;
-    reg  fa_d$9$clock;
-    reg signed [38:0] fa_d$10$d;
-    wire signed [38:0] fa_d$10$q;
-    reg  fa_d$10$clock;
-    reg signed [38:0] fa_d$11$d;
-    wire signed [38:0] fa_d$11$q;
-    reg  fa_d$11$clock;
-    reg signed [38:0] fa_d$12$d;
-    wire signed [38:0] fa_d$12$q;
-    reg  fa_d$12$clock;
-    reg signed [38:0] fa_d$13$d;
-    wire signed [38:0] fa_d$13$q;
-    reg  fa_d$13$clock;
-    reg signed [38:0] fa_d$14$d;
-    wire signed [38:0] fa_d$14$q;
-    reg  fa_d$14$clock;
-    reg signed [38:0] fa_d$15$d;
-    wire signed [38:0] fa_d$15$q;
-    reg  fa_d$15$clock;
-    reg signed [38:0] fa_d$16$d;
-    wire signed [38:0] fa_d$16$q;
-    reg  fa_d$16$clock;
-    reg signed [38:0] fa_d$17$d;
-    wire signed [38:0] fa_d$17$q;
-    reg  fa_d$17$clock;
-    reg signed [38:0] fb_d$0$d;
-    wire signed [38:0] fb_d$0$q;
-    reg  fb_d$0$clock;
-    reg signed [38:0] fb_d$1$d;
-    wire signed [38:0] fb_d$1$q;
-    reg  fb_d$1$clock;
-    reg signed [38:0] fb_d$2$d;
-    wire signed [38:0] fb_d$2$q;
-    reg  fb_d$2$clock;
-    reg signed [38:0] fb_d$3$d;
-    wire signed [38:0] fb_d$3$q;
-    reg  fb_d$3$clock;
-    reg signed [38:0] fb_d$4$d;
-    wire signed [38:0] fb_d$4$q;
-    reg  fb_d$4$clock;
-    reg signed [38:0] fb_d$5$d;
-    wire signed [38:0] fb_d$5$q;
-    reg  fb_d$5$clock;
-    reg signed [38:0] fb_d$6$d;
-    wire signed [38:0] fb_d$6$q;
-    reg  fb_d$6$clock;
-    reg signed [38:0] fb_d$7$d;
-    wire signed [38:0] fb_d$7$q;
-    reg  fb_d$7$clock;
-    reg signed [38:0] fb_d$8$d;
-    wire signed [38:0] fb_d$8$q;
-    reg  fb_d$8$clock;
-    reg signed [38:0] fb_d$9$d;
-    wire signed [38:0] fb_d$9$q;
-    reg  fb_d$9$clock;
-    reg signed [38:0] fb_d$10$d;
-    wire signed [38:0] fb_d$10$q;
-    reg  fb_d$10$clock;
-    reg signed [38:0] fb_d$11$d;
-    wire signed [38:0] fb_d$11$q;
-    reg  fb_d$11$clock;
-    reg signed [38:0] fb_d$12$d;
-    wire signed [38:0] fb_d$12$q;
-    reg  fb_d$12$clock;
-    reg signed [38:0] fb_d$13$d;
-    wire signed [38:0] fb_d$13$q;
-    reg  fb_d$13$clock;
-    reg signed [38:0] fb_d$14$d;
-    wire signed [38:0] fb_d$14$q;
-    reg  fb_d$14$clock;
-    reg signed [38:0] fb_d$15$d;
-    wire signed [38:0] fb_d$15$q;
-    reg  fb_d$15$clock;
-    reg signed [38:0] fb_d$16$d;
-    wire signed [38:0] fb_d$16$q;
-    reg  fb_d$16$clock;
-    reg signed [38:0] fb_d$17$d;
-    wire signed [38:0] fb_d$17$q;
-    reg  fb_d$17$clock;
-    reg signed [36:0] ra_d$0$d;
-    wire signed [36:0] ra_d$0$q;
-    reg  ra_d$0$clock;
-    reg signed [36:0] ra_d$1$d;
-    wire signed [36:0] ra_d$1$q;
-    reg  ra_d$1$clock;
-    reg signed [36:0] ra_d$2$d;
-    wire signed [36:0] ra_d$2$q;
-    reg  ra_d$2$clock;
-    reg signed [36:0] ra_d$3$d;
-    wire signed [36:0] ra_d$3$q;
-    reg  ra_d$3$clock;
-    reg signed [36:0] ra_d$4$d;
-    wire signed [36:0] ra_d$4$q;
-    reg  ra_d$4$clock;
-    reg signed [36:0] ra_d$5$d;
-    wire signed [36:0] ra_d$5$q;
-    reg  ra_d$5$clock;
-    reg signed [36:0] ra_d$6$d;
-    wire signed [36:0] ra_d$6$q;
-    reg  ra_d$6$clock;
-    reg signed [36:0] ra_d$7$d;
-    wire signed [36:0] ra_d$7$q;
-    reg  ra_d$7$clock;
-    reg signed [36:0] ra_d$8$d;
-    wire signed [36:0] ra_d$8$q;
-    reg  ra_d$8$clock;
-    reg signed [36:0] ra_d$9$d;
-    wire signed [36:0] ra_d$9$q;
-    reg  ra_d$9$clock;
-    reg signed [36:0] ra_d$10$d;
-    wire signed [36:0] ra_d$10$q;
-    reg  ra_d$10$clock;
-    reg signed [36:0] ra_d$11$d;
-    wire signed [36:0] ra_d$11$q;
-    reg  ra_d$11$clock;
-    reg signed [36:0] ra_d$12$d;
-    wire signed [36:0] ra_d$12$q;
-    reg  ra_d$12$clock;
-    reg signed [36:0] ra_d$13$d;
-    wire signed [36:0] ra_d$13$q;
-    reg  ra_d$13$clock;
-    reg signed [36:0] ra_d$14$d;
-    wire signed [36:0] ra_d$14$q;
-    reg  ra_d$14$clock;
-    reg signed [36:0] ra_d$15$d;
-    wire signed [36:0] ra_d$15$q;
-    reg  ra_d$15$clock;
-    reg signed [36:0] ra_d$16$d;
-    wire signed [36:0] ra_d$16$q;
-    reg  ra_d$16$clock;
-    reg signed [36:0] ra_d$17$d;
-    wire signed [36:0] ra_d$17$q;
-    reg  ra_d$17$clock;
-    reg signed [36:0] ra_d$18$d;
-    wire signed [36:0] ra_d$18$q;
-    reg  ra_d$18$clock;
-    reg signed [36:0] ra_d$19$d;
-    wire signed [36:0] ra_d$19$q;
-    reg  ra_d$19$clock;
-    reg signed [36:0] ra_d$20$d;
-    wire signed [36:0] ra_d$20$q;
-    reg  ra_d$20$clock;
-    reg signed [36:0] ra_d$21$d;
-    wire signed [36:0] ra_d$21$q;
-    reg  ra_d$21$clock;
-    reg signed [36:0] ra_d$22$d;
-    wire signed [36:0] ra_d$22$q;
-    reg  ra_d$22$clock;
-    reg signed [36:0] ra_d$23$d;
-    wire signed [36:0] ra_d$23$q;
-    reg  ra_d$23$clock;
-    reg signed [36:0] ra_d$24$d;
-    wire signed [36:0] ra_d$24$q;
-    reg  ra_d$24$clock;
-    reg signed [36:0] ra_d$25$d;
-    wire signed [36:0] ra_d$25$q;
-    reg  ra_d$25$clock;
-    reg signed [36:0] ra_d$26$d;
-    wire signed [36:0] ra_d$26$q;
-    reg  ra_d$26$clock;
-    reg signed [36:0] ra_d$27$d;
-    wire signed [36:0] ra_d$27$q;
-    reg  ra_d$27$clock;
-    reg signed [36:0] ra_d$28$d;
-    wire signed [36:0] ra_d$28$q;
-    reg  ra_d$28$clock;
-    reg signed [36:0] ra_d$29$d;
-    wire signed [36:0] ra_d$29$q;
-    reg  ra_d$29$clock;
-    reg signed [36:0] ra_d$30$d;
-    wire signed [36:0] ra_d$30$q;
-    reg  ra_d$30$clock;
-    reg signed [36:0] ra_d$31$d;
-    wire signed [36:0] ra_d$31$q;
-    reg  ra_d$31$clock;
-    reg signed [36:0] ra_d$32$d;
-    wire signed [36:0] ra_d$32$q;
-    reg  ra_d$32$clock;
-    reg signed [36:0] ra_d$33$d;
-    wire signed [36:0] ra_d$33$q;
-    reg  ra_d$33$clock;
-    reg signed [36:0] ra_d$34$d;
-    wire signed [36:0] ra_d$34$q;
-    reg  ra_d$34$clock;
-    reg signed [36:0] ra_d$35$d;
-    wire signed [36:0] ra_d$35$q;
-    reg  ra_d$35$clock;
-    reg signed [36:0] ra_d$36$d;
-    wire signed [36:0] ra_d$36$q;
-    reg  ra_d$36$clock;
-    reg signed [36:0] ra_d$37$d;
-    wire signed [36:0] ra_d$37$q;
-    reg  ra_d$37$clock;
-    reg signed [36:0] ra_d$38$d;
-    wire signed [36:0] ra_d$38$q;
-    reg  ra_d$38$clock;
-    reg signed [36:0] ra_d$39$d;
-    wire signed [36:0] ra_d$39$q;
-    reg  ra_d$39$clock;
-    reg signed [36:0] ra_d$40$d;
-    wire signed [36:0] ra_d$40$q;
-    reg  ra_d$40$clock;
-    reg signed [36:0] ra_d$41$d;
-    wire signed [36:0] ra_d$41$q;
-    reg  ra_d$41$clock;
-    reg signed [36:0] ra_d$42$d;
-    wire signed [36:0] ra_d$42$q;
-    reg  ra_d$42$clock;
-    reg signed [36:0] ra_d$43$d;
-    wire signed [36:0] ra_d$43$q;
-    reg  ra_d$43$clock;
-    reg signed [36:0] ra_d$44$d;
-    wire signed [36:0] ra_d$44$q;
-    reg  ra_d$44$clock;
-    reg signed [36:0] ra_d$45$d;
-    wire signed [36:0] ra_d$45$q;
-    reg  ra_d$45$clock;
-    reg signed [36:0] ra_d$46$d;
-    wire signed [36:0] ra_d$46$q;
-    reg  ra_d$46$clock;
-    reg signed [36:0] ra_d$47$d;
-    wire signed [36:0] ra_d$47$q;
-    reg  ra_d$47$clock;
-    reg signed [36:0] ra_d$48$d;
-    wire signed [36:0] ra_d$48$q;
-    reg  ra_d$48$clock;
-    reg signed [36:0] ra_d$49$d;
-    wire signed [36:0] ra_d$49$q;
-    reg  ra_d$49$clock;
-    reg signed [36:0] ra_d$50$d;
-    wire signed [36:0] ra_d$50$q;
-    reg  ra_d$50$clock;
-    reg signed [36:0] ra_d$51$d;
-    wire signed [36:0] ra_d$51$q;
-    reg  ra_d$51$clock;
-    reg signed [36:0] ra_d$52$d;
-    wire signed [36:0] ra_d$52$q;
-    reg  ra_d$52$clock;
-    reg signed [36:0] ra_d$53$d;
-    wire signed [36:0] ra_d$53$q;
-    reg  ra_d$53$clock;
-    reg  [43:0] pa_d$0$d;
-    wire  [43:0] pa_d$0$q;
-    reg  pa_d$0$clock;
-    reg  [43:0] pa_d$1$d;
-    wire  [43:0] pa_d$1$q;
-    reg  pa_d$1$clock;
-    reg  [43:0] pa_d$2$d;
-    wire  [43:0] pa_d$2$q;
-    reg  pa_d$2$clock;
-    reg  [43:0] pa_d$3$d;
-    wire  [43:0] pa_d$3$q;
-    reg  pa_d$3$clock;
-    reg  [43:0] pa_d$4$d;
-    wire  [43:0] pa_d$4$q;
-    reg  pa_d$4$clock;
-    reg  [43:0] pa_d$5$d;
-    wire  [43:0] pa_d$5$q;
-    reg  pa_d$5$clock;
-    reg  [43:0] pa_d$6$d;
-    wire  [43:0] pa_d$6$q;
-    reg  pa_d$6$clock;
-    reg  [43:0] pa_d$7$d;
-    wire  [43:0] pa_d$7$q;
-    reg  pa_d$7$clock;
-    reg  [43:0] pa_d$8$d;
-    wire  [43:0] pa_d$8$q;
-    reg  pa_d$8$clock;
-    reg  [43:0] pa_d$9$d;
-    wire  [43:0] pa_d$9$q;
-    reg  pa_d$9$clock;
-    reg  [43:0] pa_d$10$d;
-    wire  [43:0] pa_d$10$q;
-    reg  pa_d$10$clock;
-    reg  [43:0] pa_d$11$d;
-    wire  [43:0] pa_d$11$q;
-    reg  pa_d$11$clock;
-    reg  [43:0] pa_d$12$d;
-    wire  [43:0] pa_d$12$q;
-    reg  pa_d$12$clock;
-    reg  [43:0] pa_d$13$d;
-    wire  [43:0] pa_d$13$q;
-    reg  pa_d$13$clock;
-    reg  [43:0] pa_d$14$d;
-    wire  [43:0] pa_d$14$q;
-    reg  pa_d$14$clock;
-    reg  [43:0] pa_d$15$d;
-    wire  [43:0] pa_d$15$q;
-    reg  pa_d$15$clock;
-    reg  [43:0] pa_d$16$d;
-    wire  [43:0] pa_d$16$q;
-    reg  pa_d$16$clock;
-    reg  [43:0] pa_d$17$d;
-    wire  [43:0] pa_d$17$q;
-    reg  pa_d$17$clock;
-    reg  [43:0] pa_d$18$d;
-    wire  [43:0] pa_d$18$q;
-    reg  pa_d$18$clock;
-    reg  [43:0] pa_d$19$d;
-    wire  [43:0] pa_d$19$q;
-    reg  pa_d$19$clock;
-    reg  [43:0] pa_d$20$d;
-    wire  [43:0] pa_d$20$q;
-    reg  pa_d$20$clock;
-    reg  [43:0] pa_d$21$d;
-    wire  [43:0] pa_d$21$q;
-    reg  pa_d$21$clock;
-    reg  [43:0] pa_d$22$d;
-    wire  [43:0] pa_d$22$q;
-    reg  pa_d$22$clock;
-    reg  [43:0] pa_d$23$d;
-    wire  [43:0] pa_d$23$q;
-    reg  pa_d$23$clock;
-    reg  [43:0] pa_d$24$d;
-    wire  [43:0] pa_d$24$q;
-    reg  pa_d$24$clock;
-    reg  [43:0] pa_d$25$d;
-    wire  [43:0] pa_d$25$q;
-    reg  pa_d$25$clock;
-    reg  [43:0] pa_d$26$d;
-    wire  [43:0] pa_d$26$q;
-    reg  pa_d$26$clock;
-    reg  [43:0] pa_d$27$d;
-    wire  [43:0] pa_d$27$q;
-    reg  pa_d$27$clock;
-    reg  [43:0] pa_d$28$d;
-    wire  [43:0] pa_d$28$q;
-    reg  pa_d$28$clock;
-    reg  [43:0] pa_d$29$d;
-    wire  [43:0] pa_d$29$q;
-    reg  pa_d$29$clock;
-    reg  [43:0] pa_d$30$d;
-    wire  [43:0] pa_d$30$q;
-    reg  pa_d$30$clock;
-    reg  [43:0] pa_d$31$d;
-    wire  [43:0] pa_d$31$q;
-    reg  pa_d$31$clock;
-    reg  [43:0] pa_d$32$d;
-    wire  [43:0] pa_d$32$q;
-    reg  pa_d$32$clock;
-    reg  [43:0] pa_d$33$d;
-    wire  [43:0] pa_d$33$q;
-    reg  pa_d$33$clock;
-    reg  [43:0] pa_d$34$d;
-    wire  [43:0] pa_d$34$q;
-    reg  pa_d$34$clock;
-    reg  [43:0] pa_d$35$d;
-    wire  [43:0] pa_d$35$q;
-    reg  pa_d$35$clock;
-    reg  [43:0] pa_d$36$d;
-    wire  [43:0] pa_d$36$q;
-    reg  pa_d$36$clock;
-    reg  [43:0] pa_d$37$d;
-    wire  [43:0] pa_d$37$q;
-    reg  pa_d$37$clock;
-    reg  [43:0] pa_d$38$d;
-    wire  [43:0] pa_d$38$q;
-    reg  pa_d$38$clock;
-    reg  [43:0] pa_d$39$d;
-    wire  [43:0] pa_d$39$q;
-    reg  pa_d$39$clock;
-    reg  [43:0] pa_d$40$d;
-    wire  [43:0] pa_d$40$q;
-    reg  pa_d$40$clock;
-    reg  [43:0] pa_d$41$d;
-    wire  [43:0] pa_d$41$q;
-    reg  pa_d$41$clock;
-    reg  [43:0] pa_d$42$d;
-    wire  [43:0] pa_d$42$q;
-    reg  pa_d$42$clock;
-    reg  [43:0] pa_d$43$d;
-    wire  [43:0] pa_d$43$q;
-    reg  pa_d$43$clock;
-    reg  [43:0] pa_d$44$d;
-    wire  [43:0] pa_d$44$q;
-    reg  pa_d$44$clock;
+    reg  abs_t_decide$0$clock;
+    reg  [42:0] abs_t_decide$0$d;
+    wire  [42:0] abs_t_decide$0$q;
+    reg  abs_t_decide$1$clock;
+    reg  [42:0] abs_t_decide$1$d;
+    wire  [42:0] abs_t_decide$1$q;
+    reg  abs_t_decide$2$clock;
+    reg  [42:0] abs_t_decide$2$d;
+    wire  [42:0] abs_t_decide$2$q;
+    reg  abs_u_decide$0$clock;
+    reg  [42:0] abs_u_decide$0$d;
+    wire  [42:0] abs_u_decide$0$q;
+    reg  abs_u_decide$1$clock;
+    reg  [42:0] abs_u_decide$1$d;
+    wire  [42:0] abs_u_decide$1$q;
+    reg  abs_u_decide$2$clock;
+    reg  [42:0] abs_u_decide$2$d;
+    wire  [42:0] abs_u_decide$2$q;
+    reg  face_a_decide$0$clock;
+    reg signed [38:0] face_a_decide$0$d;
+    wire signed [38:0] face_a_decide$0$q;
+    reg  face_a_decide$1$clock;
+    reg signed [38:0] face_a_decide$1$d;
+    wire signed [38:0] face_a_decide$1$q;
+    reg  face_a_decide$2$clock;
+    reg signed [38:0] face_a_decide$2$d;
+    wire signed [38:0] face_a_decide$2$q;
+    reg  face_b_decide$0$clock;
+    reg signed [38:0] face_b_decide$0$d;
+    wire signed [38:0] face_b_decide$0$q;
+    reg  face_b_decide$1$clock;
+    reg signed [38:0] face_b_decide$1$d;
+    wire signed [38:0] face_b_decide$1$q;
+    reg  face_b_decide$2$clock;
+    reg signed [38:0] face_b_decide$2$d;
+    wire signed [38:0] face_b_decide$2$q;
+    reg  r_a_decide$0$clock;
+    reg signed [36:0] r_a_decide$0$d;
+    wire signed [36:0] r_a_decide$0$q;
+    reg  r_a_decide$1$clock;
+    reg signed [36:0] r_a_decide$1$d;
+    wire signed [36:0] r_a_decide$1$q;
+    reg  r_a_decide$2$clock;
+    reg signed [36:0] r_a_decide$2$d;
+    wire signed [36:0] r_a_decide$2$q;
+    reg  r_a_decide$3$clock;
+    reg signed [36:0] r_a_decide$3$d;
+    wire signed [36:0] r_a_decide$3$q;
+    reg  r_a_decide$4$clock;
+    reg signed [36:0] r_a_decide$4$d;
+    wire signed [36:0] r_a_decide$4$q;
+    reg  r_a_decide$5$clock;
+    reg signed [36:0] r_a_decide$5$d;
+    wire signed [36:0] r_a_decide$5$q;
+    reg  r_a_decide$6$clock;
+    reg signed [36:0] r_a_decide$6$d;
+    wire signed [36:0] r_a_decide$6$q;
+    reg  r_a_decide$7$clock;
+    reg signed [36:0] r_a_decide$7$d;
+    wire signed [36:0] r_a_decide$7$q;
+    reg  r_a_decide$8$clock;
+    reg signed [36:0] r_a_decide$8$d;
+    wire signed [36:0] r_a_decide$8$q;
+    reg  abs_p_decide$0$clock;
+    reg  [43:0] abs_p_decide$0$d;
+    wire  [43:0] abs_p_decide$0$q;
+    reg  abs_p_decide$1$clock;
+    reg  [43:0] abs_p_decide$1$d;
+    wire  [43:0] abs_p_decide$1$q;
+    reg  abs_p_decide$2$clock;
+    reg  [43:0] abs_p_decide$2$d;
+    wire  [43:0] abs_p_decide$2$q;
+    reg  abs_p_decide$3$clock;
+    reg  [43:0] abs_p_decide$3$d;
+    wire  [43:0] abs_p_decide$3$q;
+    reg  abs_p_decide$4$clock;
+    reg  [43:0] abs_p_decide$4$d;
+    wire  [43:0] abs_p_decide$4$q;
+    reg  abs_p_decide$5$clock;
+    reg  [43:0] abs_p_decide$5$d;
+    wire  [43:0] abs_p_decide$5$q;
+    reg  abs_p_decide$6$clock;
+    reg  [43:0] abs_p_decide$6$d;
+    wire  [43:0] abs_p_decide$6$q;
+    reg  abs_p_decide$7$clock;
+    reg  [43:0] abs_p_decide$7$d;
+    wire  [43:0] abs_p_decide$7$q;
+    reg  abs_p_decide$8$clock;
+    reg  [43:0] abs_p_decide$8$d;
+    wire  [43:0] abs_p_decide$8$q;
     reg  [42:0] decide$abs_t$0;
     reg  [42:0] decide$abs_t$1;
     reg  [42:0] decide$abs_t$2;
@@ -91414,85 +90065,10 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     reg signed [20:0] minor_s$8;
     
     // Sub module instances
-    obb_core$sat$back$valid$0 valid$0(
-        .d(valid$0$d),
-        .q(valid$0$q),
-        .clock(valid$0$clock)
-    );
-    obb_core$sat$back$valid$1 valid$1(
-        .d(valid$1$d),
-        .q(valid$1$q),
-        .clock(valid$1$clock)
-    );
-    obb_core$sat$back$valid$2 valid$2(
-        .d(valid$2$d),
-        .q(valid$2$q),
-        .clock(valid$2$clock)
-    );
-    obb_core$sat$back$valid$3 valid$3(
-        .d(valid$3$d),
-        .q(valid$3$q),
-        .clock(valid$3$clock)
-    );
-    obb_core$sat$back$valid$4 valid$4(
-        .d(valid$4$d),
-        .q(valid$4$q),
-        .clock(valid$4$clock)
-    );
-    obb_core$sat$back$valid$5 valid$5(
-        .d(valid$5$d),
-        .q(valid$5$q),
-        .clock(valid$5$clock)
-    );
-    obb_core$sat$back$valid$6 valid$6(
-        .d(valid$6$d),
-        .q(valid$6$q),
-        .clock(valid$6$clock)
-    );
-    obb_core$sat$back$valid$7 valid$7(
-        .d(valid$7$d),
-        .q(valid$7$q),
-        .clock(valid$7$clock)
-    );
-    obb_core$sat$back$valid$8 valid$8(
-        .d(valid$8$d),
-        .q(valid$8$q),
-        .clock(valid$8$clock)
-    );
-    obb_core$sat$back$valid$9 valid$9(
-        .d(valid$9$d),
-        .q(valid$9$q),
-        .clock(valid$9$clock)
-    );
-    obb_core$sat$back$valid$10 valid$10(
-        .d(valid$10$d),
-        .q(valid$10$q),
-        .clock(valid$10$clock)
-    );
-    obb_core$sat$back$valid$11 valid$11(
-        .d(valid$11$d),
-        .q(valid$11$q),
-        .clock(valid$11$clock)
-    );
-    obb_core$sat$back$valid$12 valid$12(
-        .d(valid$12$d),
-        .q(valid$12$q),
-        .clock(valid$12$clock)
-    );
-    obb_core$sat$back$valid$13 valid$13(
-        .d(valid$13$d),
-        .q(valid$13$q),
-        .clock(valid$13$clock)
-    );
-    obb_core$sat$back$valid$14 valid$14(
-        .d(valid$14$d),
-        .q(valid$14$q),
-        .clock(valid$14$clock)
-    );
-    obb_core$sat$back$valid$15 valid$15(
-        .d(valid$15$d),
-        .q(valid$15$q),
-        .clock(valid$15$clock)
+    obb_core$sat$back$valid valid(
+        .clock(valid$clock),
+        .d(valid$d),
+        .q(valid$q)
     );
     obb_core$sat$back$round round(
         .t$0(round$t$0),
@@ -91549,425 +90125,100 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         .th$2(round$th$2),
         .clock(round$clock)
     );
-    obb_core$sat$back$ha$0 ha$0(
-        .d(ha$0$d),
-        .q(ha$0$q),
-        .clock(ha$0$clock)
-    );
-    obb_core$sat$back$ha$1 ha$1(
-        .d(ha$1$d),
-        .q(ha$1$q),
-        .clock(ha$1$clock)
-    );
-    obb_core$sat$back$ha$2 ha$2(
-        .d(ha$2$d),
-        .q(ha$2$q),
-        .clock(ha$2$clock)
-    );
-    obb_core$sat$back$ha$3 ha$3(
-        .d(ha$3$d),
-        .q(ha$3$q),
-        .clock(ha$3$clock)
-    );
-    obb_core$sat$back$ha$4 ha$4(
-        .d(ha$4$d),
-        .q(ha$4$q),
-        .clock(ha$4$clock)
-    );
-    obb_core$sat$back$ha$5 ha$5(
-        .d(ha$5$d),
-        .q(ha$5$q),
-        .clock(ha$5$clock)
-    );
-    obb_core$sat$back$ha$6 ha$6(
-        .d(ha$6$d),
-        .q(ha$6$q),
-        .clock(ha$6$clock)
-    );
-    obb_core$sat$back$ha$7 ha$7(
-        .d(ha$7$d),
-        .q(ha$7$q),
-        .clock(ha$7$clock)
-    );
-    obb_core$sat$back$ha$8 ha$8(
-        .d(ha$8$d),
-        .q(ha$8$q),
-        .clock(ha$8$clock)
-    );
-    obb_core$sat$back$ha$9 ha$9(
-        .d(ha$9$d),
-        .q(ha$9$q),
-        .clock(ha$9$clock)
-    );
-    obb_core$sat$back$ha$10 ha$10(
-        .d(ha$10$d),
-        .q(ha$10$q),
-        .clock(ha$10$clock)
-    );
-    obb_core$sat$back$ha$11 ha$11(
-        .d(ha$11$d),
-        .q(ha$11$q),
-        .clock(ha$11$clock)
-    );
-    obb_core$sat$back$ha$12 ha$12(
-        .d(ha$12$d),
-        .q(ha$12$q),
-        .clock(ha$12$clock)
-    );
-    obb_core$sat$back$ha$13 ha$13(
-        .d(ha$13$d),
-        .q(ha$13$q),
-        .clock(ha$13$clock)
-    );
-    obb_core$sat$back$ha$14 ha$14(
-        .d(ha$14$d),
-        .q(ha$14$q),
-        .clock(ha$14$clock)
-    );
-    obb_core$sat$back$ha$15 ha$15(
-        .d(ha$15$d),
-        .q(ha$15$q),
-        .clock(ha$15$clock)
-    );
-    obb_core$sat$back$ha$16 ha$16(
-        .d(ha$16$d),
-        .q(ha$16$q),
-        .clock(ha$16$clock)
-    );
-    obb_core$sat$back$ha$17 ha$17(
-        .d(ha$17$d),
-        .q(ha$17$q),
-        .clock(ha$17$clock)
-    );
-    obb_core$sat$back$ha$18 ha$18(
-        .d(ha$18$d),
-        .q(ha$18$q),
-        .clock(ha$18$clock)
-    );
-    obb_core$sat$back$ha$19 ha$19(
-        .d(ha$19$d),
-        .q(ha$19$q),
-        .clock(ha$19$clock)
-    );
-    obb_core$sat$back$ha$20 ha$20(
-        .d(ha$20$d),
-        .q(ha$20$q),
-        .clock(ha$20$clock)
-    );
-    obb_core$sat$back$ha$21 ha$21(
-        .d(ha$21$d),
-        .q(ha$21$q),
-        .clock(ha$21$clock)
-    );
-    obb_core$sat$back$ha$22 ha$22(
-        .d(ha$22$d),
-        .q(ha$22$q),
-        .clock(ha$22$clock)
-    );
-    obb_core$sat$back$ha$23 ha$23(
-        .d(ha$23$d),
-        .q(ha$23$q),
-        .clock(ha$23$clock)
-    );
-    obb_core$sat$back$ha$24 ha$24(
-        .d(ha$24$d),
-        .q(ha$24$q),
-        .clock(ha$24$clock)
-    );
-    obb_core$sat$back$ha$25 ha$25(
-        .d(ha$25$d),
-        .q(ha$25$q),
-        .clock(ha$25$clock)
-    );
-    obb_core$sat$back$ha$26 ha$26(
-        .d(ha$26$d),
-        .q(ha$26$q),
-        .clock(ha$26$clock)
-    );
-    obb_core$sat$back$ha$27 ha$27(
-        .d(ha$27$d),
-        .q(ha$27$q),
-        .clock(ha$27$clock)
-    );
-    obb_core$sat$back$ha$28 ha$28(
-        .d(ha$28$d),
-        .q(ha$28$q),
-        .clock(ha$28$clock)
-    );
-    obb_core$sat$back$ha$29 ha$29(
-        .d(ha$29$d),
-        .q(ha$29$q),
-        .clock(ha$29$clock)
-    );
-    obb_core$sat$back$ha$30 ha$30(
-        .d(ha$30$d),
-        .q(ha$30$q),
-        .clock(ha$30$clock)
-    );
-    obb_core$sat$back$ha$31 ha$31(
-        .d(ha$31$d),
-        .q(ha$31$q),
-        .clock(ha$31$clock)
-    );
-    obb_core$sat$back$ha$32 ha$32(
-        .d(ha$32$d),
-        .q(ha$32$q),
-        .clock(ha$32$clock)
-    );
-    obb_core$sat$back$ha$33 ha$33(
-        .d(ha$33$d),
-        .q(ha$33$q),
-        .clock(ha$33$clock)
-    );
-    obb_core$sat$back$ha$34 ha$34(
-        .d(ha$34$d),
-        .q(ha$34$q),
-        .clock(ha$34$clock)
-    );
-    obb_core$sat$back$ha$35 ha$35(
-        .d(ha$35$d),
-        .q(ha$35$q),
-        .clock(ha$35$clock)
-    );
-    obb_core$sat$back$hb$0 hb$0(
-        .d(hb$0$d),
-        .q(hb$0$q),
-        .clock(hb$0$clock)
-    );
-    obb_core$sat$back$hb$1 hb$1(
-        .d(hb$1$d),
-        .q(hb$1$q),
-        .clock(hb$1$clock)
-    );
-    obb_core$sat$back$hb$2 hb$2(
-        .d(hb$2$d),
-        .q(hb$2$q),
-        .clock(hb$2$clock)
-    );
-    obb_core$sat$back$hb$3 hb$3(
-        .d(hb$3$d),
-        .q(hb$3$q),
-        .clock(hb$3$clock)
-    );
-    obb_core$sat$back$hb$4 hb$4(
-        .d(hb$4$d),
-        .q(hb$4$q),
-        .clock(hb$4$clock)
-    );
-    obb_core$sat$back$hb$5 hb$5(
-        .d(hb$5$d),
-        .q(hb$5$q),
-        .clock(hb$5$clock)
-    );
-    obb_core$sat$back$hb$6 hb$6(
-        .d(hb$6$d),
-        .q(hb$6$q),
-        .clock(hb$6$clock)
-    );
-    obb_core$sat$back$hb$7 hb$7(
-        .d(hb$7$d),
-        .q(hb$7$q),
-        .clock(hb$7$clock)
-    );
-    obb_core$sat$back$hb$8 hb$8(
-        .d(hb$8$d),
-        .q(hb$8$q),
-        .clock(hb$8$clock)
-    );
-    obb_core$sat$back$hb$9 hb$9(
-        .d(hb$9$d),
-        .q(hb$9$q),
-        .clock(hb$9$clock)
-    );
-    obb_core$sat$back$hb$10 hb$10(
-        .d(hb$10$d),
-        .q(hb$10$q),
-        .clock(hb$10$clock)
-    );
-    obb_core$sat$back$hb$11 hb$11(
-        .d(hb$11$d),
-        .q(hb$11$q),
-        .clock(hb$11$clock)
-    );
-    obb_core$sat$back$hb$12 hb$12(
-        .d(hb$12$d),
-        .q(hb$12$q),
-        .clock(hb$12$clock)
-    );
-    obb_core$sat$back$hb$13 hb$13(
-        .d(hb$13$d),
-        .q(hb$13$q),
-        .clock(hb$13$clock)
-    );
-    obb_core$sat$back$hb$14 hb$14(
-        .d(hb$14$d),
-        .q(hb$14$q),
-        .clock(hb$14$clock)
-    );
-    obb_core$sat$back$hb$15 hb$15(
-        .d(hb$15$d),
-        .q(hb$15$q),
-        .clock(hb$15$clock)
-    );
-    obb_core$sat$back$hb$16 hb$16(
-        .d(hb$16$d),
-        .q(hb$16$q),
-        .clock(hb$16$clock)
-    );
-    obb_core$sat$back$hb$17 hb$17(
-        .d(hb$17$d),
-        .q(hb$17$q),
-        .clock(hb$17$clock)
-    );
-    obb_core$sat$back$hb$18 hb$18(
-        .d(hb$18$d),
-        .q(hb$18$q),
-        .clock(hb$18$clock)
-    );
-    obb_core$sat$back$hb$19 hb$19(
-        .d(hb$19$d),
-        .q(hb$19$q),
-        .clock(hb$19$clock)
-    );
-    obb_core$sat$back$hb$20 hb$20(
-        .d(hb$20$d),
-        .q(hb$20$q),
-        .clock(hb$20$clock)
-    );
-    obb_core$sat$back$hb$21 hb$21(
-        .d(hb$21$d),
-        .q(hb$21$q),
-        .clock(hb$21$clock)
-    );
-    obb_core$sat$back$hb$22 hb$22(
-        .d(hb$22$d),
-        .q(hb$22$q),
-        .clock(hb$22$clock)
-    );
-    obb_core$sat$back$hb$23 hb$23(
-        .d(hb$23$d),
-        .q(hb$23$q),
-        .clock(hb$23$clock)
-    );
-    obb_core$sat$back$hb$24 hb$24(
-        .d(hb$24$d),
-        .q(hb$24$q),
-        .clock(hb$24$clock)
-    );
-    obb_core$sat$back$hb$25 hb$25(
-        .d(hb$25$d),
-        .q(hb$25$q),
-        .clock(hb$25$clock)
-    );
-    obb_core$sat$back$hb$26 hb$26(
-        .d(hb$26$d),
-        .q(hb$26$q),
-        .clock(hb$26$clock)
-    );
-    obb_core$sat$back$hb$27 hb$27(
-        .d(hb$27$d),
-        .q(hb$27$q),
-        .clock(hb$27$clock)
-    );
-    obb_core$sat$back$hb$28 hb$28(
-        .d(hb$28$d),
-        .q(hb$28$q),
-        .clock(hb$28$clock)
-    );
-    obb_core$sat$back$hb$29 hb$29(
-        .d(hb$29$d),
-        .q(hb$29$q),
-        .clock(hb$29$clock)
-    );
-    obb_core$sat$back$hb$30 hb$30(
-        .d(hb$30$d),
-        .q(hb$30$q),
-        .clock(hb$30$clock)
-    );
-    obb_core$sat$back$hb$31 hb$31(
-        .d(hb$31$d),
-        .q(hb$31$q),
-        .clock(hb$31$clock)
-    );
-    obb_core$sat$back$hb$32 hb$32(
-        .d(hb$32$d),
-        .q(hb$32$q),
-        .clock(hb$32$clock)
-    );
-    obb_core$sat$back$hb$33 hb$33(
-        .d(hb$33$d),
-        .q(hb$33$q),
-        .clock(hb$33$clock)
-    );
-    obb_core$sat$back$hb$34 hb$34(
-        .d(hb$34$d),
-        .q(hb$34$q),
-        .clock(hb$34$clock)
-    );
-    obb_core$sat$back$hb$35 hb$35(
-        .d(hb$35$d),
-        .q(hb$35$q),
-        .clock(hb$35$clock)
-    );
-    obb_core$sat$back$pm$0 pm$0(
-        .d(pm$0$d),
-        .q(pm$0$q),
-        .clock(pm$0$clock)
-    );
-    obb_core$sat$back$pm$1 pm$1(
-        .d(pm$1$d),
-        .q(pm$1$q),
-        .clock(pm$1$clock)
-    );
-    obb_core$sat$back$pm$2 pm$2(
-        .d(pm$2$d),
-        .q(pm$2$q),
-        .clock(pm$2$clock)
-    );
-    obb_core$sat$back$pm$3 pm$3(
-        .d(pm$3$d),
-        .q(pm$3$q),
-        .clock(pm$3$clock)
-    );
-    obb_core$sat$back$pm$4 pm$4(
-        .d(pm$4$d),
-        .q(pm$4$q),
-        .clock(pm$4$clock)
-    );
-    obb_core$sat$back$pm$5 pm$5(
-        .d(pm$5$d),
-        .q(pm$5$q),
-        .clock(pm$5$clock)
-    );
-    obb_core$sat$back$pm$6 pm$6(
-        .d(pm$6$d),
-        .q(pm$6$q),
-        .clock(pm$6$clock)
-    );
-    obb_core$sat$back$pm$7 pm$7(
-        .d(pm$7$d),
-        .q(pm$7$q),
-        .clock(pm$7$clock)
-    );
-    obb_core$sat$back$pm$8 pm$8(
-        .d(pm$8$d),
-        .q(pm$8$q),
-        .clock(pm$8$clock)
-    );
-    obb_core$sat$back$pm$9 pm$9(
-        .d(pm$9$d),
-        .q(pm$9$q),
-        .clock(pm$9$clock)
-    );
-    obb_core$sat$back$pm$10 pm$10(
-        .d(pm$10$d),
-        .q(pm$10$q),
-        .clock(pm$10$clock)
-    );
-    obb_core$sat$back$pm$11 pm$11(
-        .d(pm$11$d),
-        .q(pm$11$q),
-        .clock(pm$11$clock)
+    obb_core$sat$back$ha_products$0 ha_products$0(
+        .clock(ha_products$0$clock),
+        .d(ha_products$0$d),
+        .q(ha_products$0$q)
+    );
+    obb_core$sat$back$ha_products$1 ha_products$1(
+        .clock(ha_products$1$clock),
+        .d(ha_products$1$d),
+        .q(ha_products$1$q)
+    );
+    obb_core$sat$back$ha_products$2 ha_products$2(
+        .clock(ha_products$2$clock),
+        .d(ha_products$2$d),
+        .q(ha_products$2$q)
+    );
+    obb_core$sat$back$hb_products$0 hb_products$0(
+        .clock(hb_products$0$clock),
+        .d(hb_products$0$d),
+        .q(hb_products$0$q)
+    );
+    obb_core$sat$back$hb_products$1 hb_products$1(
+        .clock(hb_products$1$clock),
+        .d(hb_products$1$d),
+        .q(hb_products$1$q)
+    );
+    obb_core$sat$back$hb_products$2 hb_products$2(
+        .clock(hb_products$2$clock),
+        .d(hb_products$2$d),
+        .q(hb_products$2$q)
+    );
+    obb_core$sat$back$ha_r_b$0 ha_r_b$0(
+        .clock(ha_r_b$0$clock),
+        .d(ha_r_b$0$d),
+        .q(ha_r_b$0$q)
+    );
+    obb_core$sat$back$ha_r_b$1 ha_r_b$1(
+        .clock(ha_r_b$1$clock),
+        .d(ha_r_b$1$d),
+        .q(ha_r_b$1$q)
+    );
+    obb_core$sat$back$ha_r_b$2 ha_r_b$2(
+        .clock(ha_r_b$2$clock),
+        .d(ha_r_b$2$d),
+        .q(ha_r_b$2$q)
+    );
+    obb_core$sat$back$hb_r_b$0 hb_r_b$0(
+        .clock(hb_r_b$0$clock),
+        .d(hb_r_b$0$d),
+        .q(hb_r_b$0$q)
+    );
+    obb_core$sat$back$hb_r_b$1 hb_r_b$1(
+        .clock(hb_r_b$1$clock),
+        .d(hb_r_b$1$d),
+        .q(hb_r_b$1$q)
+    );
+    obb_core$sat$back$hb_r_b$2 hb_r_b$2(
+        .clock(hb_r_b$2$clock),
+        .d(hb_r_b$2$d),
+        .q(hb_r_b$2$q)
+    );
+    obb_core$sat$back$ha_decide$0 ha_decide$0(
+        .clock(ha_decide$0$clock),
+        .d(ha_decide$0$d),
+        .q(ha_decide$0$q)
+    );
+    obb_core$sat$back$ha_decide$1 ha_decide$1(
+        .clock(ha_decide$1$clock),
+        .d(ha_decide$1$d),
+        .q(ha_decide$1$q)
+    );
+    obb_core$sat$back$ha_decide$2 ha_decide$2(
+        .clock(ha_decide$2$clock),
+        .d(ha_decide$2$d),
+        .q(ha_decide$2$q)
+    );
+    obb_core$sat$back$hb_decide$0 hb_decide$0(
+        .clock(hb_decide$0$clock),
+        .d(hb_decide$0$d),
+        .q(hb_decide$0$q)
+    );
+    obb_core$sat$back$hb_decide$1 hb_decide$1(
+        .clock(hb_decide$1$clock),
+        .d(hb_decide$1$d),
+        .q(hb_decide$1$q)
+    );
+    obb_core$sat$back$hb_decide$2 hb_decide$2(
+        .clock(hb_decide$2$clock),
+        .d(hb_decide$2$d),
+        .q(hb_decide$2$q)
+    );
+    obb_core$sat$back$margin_decide margin_decide(
+        .clock(margin_decide$clock),
+        .d(margin_decide$d),
+        .q(margin_decide$q)
     );
     obb_core$sat$back$face_a_dot$0 face_a_dot$0(
         .a0(face_a_dot$0$a0),
@@ -92425,1010 +90676,155 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         .p(rb_dot$8$p),
         .clock(rb_dot$8$clock)
     );
-    obb_core$sat$back$at_d$0 at_d$0(
-        .d(at_d$0$d),
-        .q(at_d$0$q),
-        .clock(at_d$0$clock)
-    );
-    obb_core$sat$back$at_d$1 at_d$1(
-        .d(at_d$1$d),
-        .q(at_d$1$q),
-        .clock(at_d$1$clock)
-    );
-    obb_core$sat$back$at_d$2 at_d$2(
-        .d(at_d$2$d),
-        .q(at_d$2$q),
-        .clock(at_d$2$clock)
-    );
-    obb_core$sat$back$at_d$3 at_d$3(
-        .d(at_d$3$d),
-        .q(at_d$3$q),
-        .clock(at_d$3$clock)
-    );
-    obb_core$sat$back$at_d$4 at_d$4(
-        .d(at_d$4$d),
-        .q(at_d$4$q),
-        .clock(at_d$4$clock)
-    );
-    obb_core$sat$back$at_d$5 at_d$5(
-        .d(at_d$5$d),
-        .q(at_d$5$q),
-        .clock(at_d$5$clock)
-    );
-    obb_core$sat$back$at_d$6 at_d$6(
-        .d(at_d$6$d),
-        .q(at_d$6$q),
-        .clock(at_d$6$clock)
-    );
-    obb_core$sat$back$at_d$7 at_d$7(
-        .d(at_d$7$d),
-        .q(at_d$7$q),
-        .clock(at_d$7$clock)
-    );
-    obb_core$sat$back$at_d$8 at_d$8(
-        .d(at_d$8$d),
-        .q(at_d$8$q),
-        .clock(at_d$8$clock)
-    );
-    obb_core$sat$back$at_d$9 at_d$9(
-        .d(at_d$9$d),
-        .q(at_d$9$q),
-        .clock(at_d$9$clock)
-    );
-    obb_core$sat$back$at_d$10 at_d$10(
-        .d(at_d$10$d),
-        .q(at_d$10$q),
-        .clock(at_d$10$clock)
-    );
-    obb_core$sat$back$at_d$11 at_d$11(
-        .d(at_d$11$d),
-        .q(at_d$11$q),
-        .clock(at_d$11$clock)
-    );
-    obb_core$sat$back$at_d$12 at_d$12(
-        .d(at_d$12$d),
-        .q(at_d$12$q),
-        .clock(at_d$12$clock)
-    );
-    obb_core$sat$back$at_d$13 at_d$13(
-        .d(at_d$13$d),
-        .q(at_d$13$q),
-        .clock(at_d$13$clock)
-    );
-    obb_core$sat$back$at_d$14 at_d$14(
-        .d(at_d$14$d),
-        .q(at_d$14$q),
-        .clock(at_d$14$clock)
-    );
-    obb_core$sat$back$at_d$15 at_d$15(
-        .d(at_d$15$d),
-        .q(at_d$15$q),
-        .clock(at_d$15$clock)
-    );
-    obb_core$sat$back$at_d$16 at_d$16(
-        .d(at_d$16$d),
-        .q(at_d$16$q),
-        .clock(at_d$16$clock)
-    );
-    obb_core$sat$back$at_d$17 at_d$17(
-        .d(at_d$17$d),
-        .q(at_d$17$q),
-        .clock(at_d$17$clock)
-    );
-    obb_core$sat$back$at_d$18 at_d$18(
-        .d(at_d$18$d),
-        .q(at_d$18$q),
-        .clock(at_d$18$clock)
-    );
-    obb_core$sat$back$at_d$19 at_d$19(
-        .d(at_d$19$d),
-        .q(at_d$19$q),
-        .clock(at_d$19$clock)
-    );
-    obb_core$sat$back$at_d$20 at_d$20(
-        .d(at_d$20$d),
-        .q(at_d$20$q),
-        .clock(at_d$20$clock)
-    );
-    obb_core$sat$back$at_d$21 at_d$21(
-        .d(at_d$21$d),
-        .q(at_d$21$q),
-        .clock(at_d$21$clock)
-    );
-    obb_core$sat$back$at_d$22 at_d$22(
-        .d(at_d$22$d),
-        .q(at_d$22$q),
-        .clock(at_d$22$clock)
-    );
-    obb_core$sat$back$at_d$23 at_d$23(
-        .d(at_d$23$d),
-        .q(at_d$23$q),
-        .clock(at_d$23$clock)
-    );
-    obb_core$sat$back$at_d$24 at_d$24(
-        .d(at_d$24$d),
-        .q(at_d$24$q),
-        .clock(at_d$24$clock)
-    );
-    obb_core$sat$back$at_d$25 at_d$25(
-        .d(at_d$25$d),
-        .q(at_d$25$q),
-        .clock(at_d$25$clock)
-    );
-    obb_core$sat$back$at_d$26 at_d$26(
-        .d(at_d$26$d),
-        .q(at_d$26$q),
-        .clock(at_d$26$clock)
-    );
-    obb_core$sat$back$at_d$27 at_d$27(
-        .d(at_d$27$d),
-        .q(at_d$27$q),
-        .clock(at_d$27$clock)
-    );
-    obb_core$sat$back$at_d$28 at_d$28(
-        .d(at_d$28$d),
-        .q(at_d$28$q),
-        .clock(at_d$28$clock)
-    );
-    obb_core$sat$back$at_d$29 at_d$29(
-        .d(at_d$29$d),
-        .q(at_d$29$q),
-        .clock(at_d$29$clock)
-    );
-    obb_core$sat$back$at_d$30 at_d$30(
-        .d(at_d$30$d),
-        .q(at_d$30$q),
-        .clock(at_d$30$clock)
-    );
-    obb_core$sat$back$at_d$31 at_d$31(
-        .d(at_d$31$d),
-        .q(at_d$31$q),
-        .clock(at_d$31$clock)
-    );
-    obb_core$sat$back$at_d$32 at_d$32(
-        .d(at_d$32$d),
-        .q(at_d$32$q),
-        .clock(at_d$32$clock)
-    );
-    obb_core$sat$back$au_d$0 au_d$0(
-        .d(au_d$0$d),
-        .q(au_d$0$q),
-        .clock(au_d$0$clock)
-    );
-    obb_core$sat$back$au_d$1 au_d$1(
-        .d(au_d$1$d),
-        .q(au_d$1$q),
-        .clock(au_d$1$clock)
-    );
-    obb_core$sat$back$au_d$2 au_d$2(
-        .d(au_d$2$d),
-        .q(au_d$2$q),
-        .clock(au_d$2$clock)
-    );
-    obb_core$sat$back$au_d$3 au_d$3(
-        .d(au_d$3$d),
-        .q(au_d$3$q),
-        .clock(au_d$3$clock)
-    );
-    obb_core$sat$back$au_d$4 au_d$4(
-        .d(au_d$4$d),
-        .q(au_d$4$q),
-        .clock(au_d$4$clock)
-    );
-    obb_core$sat$back$au_d$5 au_d$5(
-        .d(au_d$5$d),
-        .q(au_d$5$q),
-        .clock(au_d$5$clock)
-    );
-    obb_core$sat$back$au_d$6 au_d$6(
-        .d(au_d$6$d),
-        .q(au_d$6$q),
-        .clock(au_d$6$clock)
-    );
-    obb_core$sat$back$au_d$7 au_d$7(
-        .d(au_d$7$d),
-        .q(au_d$7$q),
-        .clock(au_d$7$clock)
-    );
-    obb_core$sat$back$au_d$8 au_d$8(
-        .d(au_d$8$d),
-        .q(au_d$8$q),
-        .clock(au_d$8$clock)
-    );
-    obb_core$sat$back$au_d$9 au_d$9(
-        .d(au_d$9$d),
-        .q(au_d$9$q),
-        .clock(au_d$9$clock)
-    );
-    obb_core$sat$back$au_d$10 au_d$10(
-        .d(au_d$10$d),
-        .q(au_d$10$q),
-        .clock(au_d$10$clock)
-    );
-    obb_core$sat$back$au_d$11 au_d$11(
-        .d(au_d$11$d),
-        .q(au_d$11$q),
-        .clock(au_d$11$clock)
-    );
-    obb_core$sat$back$au_d$12 au_d$12(
-        .d(au_d$12$d),
-        .q(au_d$12$q),
-        .clock(au_d$12$clock)
-    );
-    obb_core$sat$back$au_d$13 au_d$13(
-        .d(au_d$13$d),
-        .q(au_d$13$q),
-        .clock(au_d$13$clock)
-    );
-    obb_core$sat$back$au_d$14 au_d$14(
-        .d(au_d$14$d),
-        .q(au_d$14$q),
-        .clock(au_d$14$clock)
-    );
-    obb_core$sat$back$au_d$15 au_d$15(
-        .d(au_d$15$d),
-        .q(au_d$15$q),
-        .clock(au_d$15$clock)
-    );
-    obb_core$sat$back$au_d$16 au_d$16(
-        .d(au_d$16$d),
-        .q(au_d$16$q),
-        .clock(au_d$16$clock)
-    );
-    obb_core$sat$back$au_d$17 au_d$17(
-        .d(au_d$17$d),
-        .q(au_d$17$q),
-        .clock(au_d$17$clock)
-    );
-    obb_core$sat$back$au_d$18 au_d$18(
-        .d(au_d$18$d),
-        .q(au_d$18$q),
-        .clock(au_d$18$clock)
-    );
-    obb_core$sat$back$au_d$19 au_d$19(
-        .d(au_d$19$d),
-        .q(au_d$19$q),
-        .clock(au_d$19$clock)
-    );
-    obb_core$sat$back$au_d$20 au_d$20(
-        .d(au_d$20$d),
-        .q(au_d$20$q),
-        .clock(au_d$20$clock)
-    );
-    obb_core$sat$back$au_d$21 au_d$21(
-        .d(au_d$21$d),
-        .q(au_d$21$q),
-        .clock(au_d$21$clock)
-    );
-    obb_core$sat$back$au_d$22 au_d$22(
-        .d(au_d$22$d),
-        .q(au_d$22$q),
-        .clock(au_d$22$clock)
-    );
-    obb_core$sat$back$au_d$23 au_d$23(
-        .d(au_d$23$d),
-        .q(au_d$23$q),
-        .clock(au_d$23$clock)
-    );
-    obb_core$sat$back$au_d$24 au_d$24(
-        .d(au_d$24$d),
-        .q(au_d$24$q),
-        .clock(au_d$24$clock)
-    );
-    obb_core$sat$back$au_d$25 au_d$25(
-        .d(au_d$25$d),
-        .q(au_d$25$q),
-        .clock(au_d$25$clock)
-    );
-    obb_core$sat$back$au_d$26 au_d$26(
-        .d(au_d$26$d),
-        .q(au_d$26$q),
-        .clock(au_d$26$clock)
-    );
-    obb_core$sat$back$au_d$27 au_d$27(
-        .d(au_d$27$d),
-        .q(au_d$27$q),
-        .clock(au_d$27$clock)
-    );
-    obb_core$sat$back$au_d$28 au_d$28(
-        .d(au_d$28$d),
-        .q(au_d$28$q),
-        .clock(au_d$28$clock)
-    );
-    obb_core$sat$back$au_d$29 au_d$29(
-        .d(au_d$29$d),
-        .q(au_d$29$q),
-        .clock(au_d$29$clock)
-    );
-    obb_core$sat$back$au_d$30 au_d$30(
-        .d(au_d$30$d),
-        .q(au_d$30$q),
-        .clock(au_d$30$clock)
-    );
-    obb_core$sat$back$au_d$31 au_d$31(
-        .d(au_d$31$d),
-        .q(au_d$31$q),
-        .clock(au_d$31$clock)
-    );
-    obb_core$sat$back$au_d$32 au_d$32(
-        .d(au_d$32$d),
-        .q(au_d$32$q),
-        .clock(au_d$32$clock)
-    );
-    obb_core$sat$back$fa_d$0 fa_d$0(
-        .d(fa_d$0$d),
-        .q(fa_d$0$q),
-        .clock(fa_d$0$clock)
-    );
-    obb_core$sat$back$fa_d$1 fa_d$1(
-        .d(fa_d$1$d),
-        .q(fa_d$1$q),
-        .clock(fa_d$1$clock)
-    );
-    obb_core$sat$back$fa_d$2 fa_d$2(
-        .d(fa_d$2$d),
-        .q(fa_d$2$q),
-        .clock(fa_d$2$clock)
-    );
-    obb_core$sat$back$fa_d$3 fa_d$3(
-        .d(fa_d$3$d),
-        .q(fa_d$3$q),
-        .clock(fa_d$3$clock)
-    );
-    obb_core$sat$back$fa_d$4 fa_d$4(
-        .d(fa_d$4$d),
-        .q(fa_d$4$q),
-        .clock(fa_d$4$clock)
-    );
-    obb_core$sat$back$fa_d$5 fa_d$5(
-        .d(fa_d$5$d),
-        .q(fa_d$5$q),
-        .clock(fa_d$5$clock)
-    );
-    obb_core$sat$back$fa_d$6 fa_d$6(
-        .d(fa_d$6$d),
-        .q(fa_d$6$q),
-        .clock(fa_d$6$clock)
-    );
-    obb_core$sat$back$fa_d$7 fa_d$7(
-        .d(fa_d$7$d),
-        .q(fa_d$7$q),
-        .clock(fa_d$7$clock)
-    );
-    obb_core$sat$back$fa_d$8 fa_d$8(
-        .d(fa_d$8$d),
-        .q(fa_d$8$q),
-        .clock(fa_d$8$clock)
-    );
-    obb_core$sat$back$fa_d$9 fa_d$9(
-        .d(fa_d$9$d),
-        .q(fa_d$9$q),
-        .clock(fa_d$9$clock)
-    );
-    obb_core$sat$back$fa_d$10 fa_d$10(
-        .d(fa_d$10$d),
-        .q(fa_d$10$q),
-        .clock(fa_d$10$clock)
-    );
-    obb_core$sat$back$fa_d$11 fa_d$11(
-        .d(fa_d$11$d),
-        .q(fa_d$11$q),
-        .clock(fa_d$11$clock)
-    );
-    obb_core$sat$back$fa_d$12 fa_d$12(
-        .d(fa_d$12$d),
-        .q(fa_d$12$q),
-        .clock(fa_d$12$clock)
-    );
-    obb_core$sat$back$fa_d$13 fa_d$13(
-        .d(fa_d$13$d),
-        .q(fa_d$13$q),
-        .clock(fa_d$13$clock)
-    );
-    obb_core$sat$back$fa_d$14 fa_d$14(
-        .d(fa_d$14$d),
-        .q(fa_d$14$q),
-        .clock(fa_d$14$clock)
-    );
-    obb_core$sat$back$fa_d$15 fa_d$15(
-        .d(fa_d$15$d),
-        .q(fa_d$15$q),
-        .clock(fa_d$15$clock)
-    );
-    obb_core$sat$back$fa_d$16 fa_d$16(
-        .d(fa_d$16$d),
-        .q(fa_d$16$q),
-        .clock(fa_d$16$clock)
-    );
-    obb_core$sat$back$fa_d$17 fa_d$17(
-        .d(fa_d$17$d),
-        .q(fa_d$17$q),
-        .clock(fa_d$17$clock)
-    );
-    obb_core$sat$back$fb_d$0 fb_d$0(
-        .d(fb_d$0$d),
-        .q(fb_d$0$q),
-        .clock(fb_d$0$clock)
-    );
-    obb_core$sat$back$fb_d$1 fb_d$1(
-        .d(fb_d$1$d),
-        .q(fb_d$1$q),
-        .clock(fb_d$1$clock)
-    );
-    obb_core$sat$back$fb_d$2 fb_d$2(
-        .d(fb_d$2$d),
-        .q(fb_d$2$q),
-        .clock(fb_d$2$clock)
-    );
-    obb_core$sat$back$fb_d$3 fb_d$3(
-        .d(fb_d$3$d),
-        .q(fb_d$3$q),
-        .clock(fb_d$3$clock)
-    );
-    obb_core$sat$back$fb_d$4 fb_d$4(
-        .d(fb_d$4$d),
-        .q(fb_d$4$q),
-        .clock(fb_d$4$clock)
-    );
-    obb_core$sat$back$fb_d$5 fb_d$5(
-        .d(fb_d$5$d),
-        .q(fb_d$5$q),
-        .clock(fb_d$5$clock)
-    );
-    obb_core$sat$back$fb_d$6 fb_d$6(
-        .d(fb_d$6$d),
-        .q(fb_d$6$q),
-        .clock(fb_d$6$clock)
-    );
-    obb_core$sat$back$fb_d$7 fb_d$7(
-        .d(fb_d$7$d),
-        .q(fb_d$7$q),
-        .clock(fb_d$7$clock)
-    );
-    obb_core$sat$back$fb_d$8 fb_d$8(
-        .d(fb_d$8$d),
-        .q(fb_d$8$q),
-        .clock(fb_d$8$clock)
-    );
-    obb_core$sat$back$fb_d$9 fb_d$9(
-        .d(fb_d$9$d),
-        .q(fb_d$9$q),
-        .clock(fb_d$9$clock)
-    );
-    obb_core$sat$back$fb_d$10 fb_d$10(
-        .d(fb_d$10$d),
-        .q(fb_d$10$q),
-        .clock(fb_d$10$clock)
-    );
-    obb_core$sat$back$fb_d$11 fb_d$11(
-        .d(fb_d$11$d),
-        .q(fb_d$11$q),
-        .clock(fb_d$11$clock)
-    );
-    obb_core$sat$back$fb_d$12 fb_d$12(
-        .d(fb_d$12$d),
-        .q(fb_d$12$q),
-        .clock(fb_d$12$clock)
-    );
-    obb_core$sat$back$fb_d$13 fb_d$13(
-        .d(fb_d$13$d),
-        .q(fb_d$13$q),
-        .clock(fb_d$13$clock)
-    );
-    obb_core$sat$back$fb_d$14 fb_d$14(
-        .d(fb_d$14$d),
-        .q(fb_d$14$q),
-        .clock(fb_d$14$clock)
-    );
-    obb_core$sat$back$fb_d$15 fb_d$15(
-        .d(fb_d$15$d),
-        .q(fb_d$15$q),
-        .clock(fb_d$15$clock)
-    );
-    obb_core$sat$back$fb_d$16 fb_d$16(
-        .d(fb_d$16$d),
-        .q(fb_d$16$q),
-        .clock(fb_d$16$clock)
-    );
-    obb_core$sat$back$fb_d$17 fb_d$17(
-        .d(fb_d$17$d),
-        .q(fb_d$17$q),
-        .clock(fb_d$17$clock)
-    );
-    obb_core$sat$back$ra_d$0 ra_d$0(
-        .d(ra_d$0$d),
-        .q(ra_d$0$q),
-        .clock(ra_d$0$clock)
-    );
-    obb_core$sat$back$ra_d$1 ra_d$1(
-        .d(ra_d$1$d),
-        .q(ra_d$1$q),
-        .clock(ra_d$1$clock)
-    );
-    obb_core$sat$back$ra_d$2 ra_d$2(
-        .d(ra_d$2$d),
-        .q(ra_d$2$q),
-        .clock(ra_d$2$clock)
-    );
-    obb_core$sat$back$ra_d$3 ra_d$3(
-        .d(ra_d$3$d),
-        .q(ra_d$3$q),
-        .clock(ra_d$3$clock)
-    );
-    obb_core$sat$back$ra_d$4 ra_d$4(
-        .d(ra_d$4$d),
-        .q(ra_d$4$q),
-        .clock(ra_d$4$clock)
-    );
-    obb_core$sat$back$ra_d$5 ra_d$5(
-        .d(ra_d$5$d),
-        .q(ra_d$5$q),
-        .clock(ra_d$5$clock)
-    );
-    obb_core$sat$back$ra_d$6 ra_d$6(
-        .d(ra_d$6$d),
-        .q(ra_d$6$q),
-        .clock(ra_d$6$clock)
-    );
-    obb_core$sat$back$ra_d$7 ra_d$7(
-        .d(ra_d$7$d),
-        .q(ra_d$7$q),
-        .clock(ra_d$7$clock)
-    );
-    obb_core$sat$back$ra_d$8 ra_d$8(
-        .d(ra_d$8$d),
-        .q(ra_d$8$q),
-        .clock(ra_d$8$clock)
-    );
-    obb_core$sat$back$ra_d$9 ra_d$9(
-        .d(ra_d$9$d),
-        .q(ra_d$9$q),
-        .clock(ra_d$9$clock)
-    );
-    obb_core$sat$back$ra_d$10 ra_d$10(
-        .d(ra_d$10$d),
-        .q(ra_d$10$q),
-        .clock(ra_d$10$clock)
-    );
-    obb_core$sat$back$ra_d$11 ra_d$11(
-        .d(ra_d$11$d),
-        .q(ra_d$11$q),
-        .clock(ra_d$11$clock)
-    );
-    obb_core$sat$back$ra_d$12 ra_d$12(
-        .d(ra_d$12$d),
-        .q(ra_d$12$q),
-        .clock(ra_d$12$clock)
-    );
-    obb_core$sat$back$ra_d$13 ra_d$13(
-        .d(ra_d$13$d),
-        .q(ra_d$13$q),
-        .clock(ra_d$13$clock)
-    );
-    obb_core$sat$back$ra_d$14 ra_d$14(
-        .d(ra_d$14$d),
-        .q(ra_d$14$q),
-        .clock(ra_d$14$clock)
-    );
-    obb_core$sat$back$ra_d$15 ra_d$15(
-        .d(ra_d$15$d),
-        .q(ra_d$15$q),
-        .clock(ra_d$15$clock)
-    );
-    obb_core$sat$back$ra_d$16 ra_d$16(
-        .d(ra_d$16$d),
-        .q(ra_d$16$q),
-        .clock(ra_d$16$clock)
-    );
-    obb_core$sat$back$ra_d$17 ra_d$17(
-        .d(ra_d$17$d),
-        .q(ra_d$17$q),
-        .clock(ra_d$17$clock)
-    );
-    obb_core$sat$back$ra_d$18 ra_d$18(
-        .d(ra_d$18$d),
-        .q(ra_d$18$q),
-        .clock(ra_d$18$clock)
-    );
-    obb_core$sat$back$ra_d$19 ra_d$19(
-        .d(ra_d$19$d),
-        .q(ra_d$19$q),
-        .clock(ra_d$19$clock)
-    );
-    obb_core$sat$back$ra_d$20 ra_d$20(
-        .d(ra_d$20$d),
-        .q(ra_d$20$q),
-        .clock(ra_d$20$clock)
-    );
-    obb_core$sat$back$ra_d$21 ra_d$21(
-        .d(ra_d$21$d),
-        .q(ra_d$21$q),
-        .clock(ra_d$21$clock)
-    );
-    obb_core$sat$back$ra_d$22 ra_d$22(
-        .d(ra_d$22$d),
-        .q(ra_d$22$q),
-        .clock(ra_d$22$clock)
-    );
-    obb_core$sat$back$ra_d$23 ra_d$23(
-        .d(ra_d$23$d),
-        .q(ra_d$23$q),
-        .clock(ra_d$23$clock)
-    );
-    obb_core$sat$back$ra_d$24 ra_d$24(
-        .d(ra_d$24$d),
-        .q(ra_d$24$q),
-        .clock(ra_d$24$clock)
-    );
-    obb_core$sat$back$ra_d$25 ra_d$25(
-        .d(ra_d$25$d),
-        .q(ra_d$25$q),
-        .clock(ra_d$25$clock)
-    );
-    obb_core$sat$back$ra_d$26 ra_d$26(
-        .d(ra_d$26$d),
-        .q(ra_d$26$q),
-        .clock(ra_d$26$clock)
-    );
-    obb_core$sat$back$ra_d$27 ra_d$27(
-        .d(ra_d$27$d),
-        .q(ra_d$27$q),
-        .clock(ra_d$27$clock)
-    );
-    obb_core$sat$back$ra_d$28 ra_d$28(
-        .d(ra_d$28$d),
-        .q(ra_d$28$q),
-        .clock(ra_d$28$clock)
-    );
-    obb_core$sat$back$ra_d$29 ra_d$29(
-        .d(ra_d$29$d),
-        .q(ra_d$29$q),
-        .clock(ra_d$29$clock)
-    );
-    obb_core$sat$back$ra_d$30 ra_d$30(
-        .d(ra_d$30$d),
-        .q(ra_d$30$q),
-        .clock(ra_d$30$clock)
-    );
-    obb_core$sat$back$ra_d$31 ra_d$31(
-        .d(ra_d$31$d),
-        .q(ra_d$31$q),
-        .clock(ra_d$31$clock)
-    );
-    obb_core$sat$back$ra_d$32 ra_d$32(
-        .d(ra_d$32$d),
-        .q(ra_d$32$q),
-        .clock(ra_d$32$clock)
-    );
-    obb_core$sat$back$ra_d$33 ra_d$33(
-        .d(ra_d$33$d),
-        .q(ra_d$33$q),
-        .clock(ra_d$33$clock)
-    );
-    obb_core$sat$back$ra_d$34 ra_d$34(
-        .d(ra_d$34$d),
-        .q(ra_d$34$q),
-        .clock(ra_d$34$clock)
-    );
-    obb_core$sat$back$ra_d$35 ra_d$35(
-        .d(ra_d$35$d),
-        .q(ra_d$35$q),
-        .clock(ra_d$35$clock)
-    );
-    obb_core$sat$back$ra_d$36 ra_d$36(
-        .d(ra_d$36$d),
-        .q(ra_d$36$q),
-        .clock(ra_d$36$clock)
-    );
-    obb_core$sat$back$ra_d$37 ra_d$37(
-        .d(ra_d$37$d),
-        .q(ra_d$37$q),
-        .clock(ra_d$37$clock)
-    );
-    obb_core$sat$back$ra_d$38 ra_d$38(
-        .d(ra_d$38$d),
-        .q(ra_d$38$q),
-        .clock(ra_d$38$clock)
-    );
-    obb_core$sat$back$ra_d$39 ra_d$39(
-        .d(ra_d$39$d),
-        .q(ra_d$39$q),
-        .clock(ra_d$39$clock)
-    );
-    obb_core$sat$back$ra_d$40 ra_d$40(
-        .d(ra_d$40$d),
-        .q(ra_d$40$q),
-        .clock(ra_d$40$clock)
-    );
-    obb_core$sat$back$ra_d$41 ra_d$41(
-        .d(ra_d$41$d),
-        .q(ra_d$41$q),
-        .clock(ra_d$41$clock)
-    );
-    obb_core$sat$back$ra_d$42 ra_d$42(
-        .d(ra_d$42$d),
-        .q(ra_d$42$q),
-        .clock(ra_d$42$clock)
-    );
-    obb_core$sat$back$ra_d$43 ra_d$43(
-        .d(ra_d$43$d),
-        .q(ra_d$43$q),
-        .clock(ra_d$43$clock)
-    );
-    obb_core$sat$back$ra_d$44 ra_d$44(
-        .d(ra_d$44$d),
-        .q(ra_d$44$q),
-        .clock(ra_d$44$clock)
-    );
-    obb_core$sat$back$ra_d$45 ra_d$45(
-        .d(ra_d$45$d),
-        .q(ra_d$45$q),
-        .clock(ra_d$45$clock)
-    );
-    obb_core$sat$back$ra_d$46 ra_d$46(
-        .d(ra_d$46$d),
-        .q(ra_d$46$q),
-        .clock(ra_d$46$clock)
-    );
-    obb_core$sat$back$ra_d$47 ra_d$47(
-        .d(ra_d$47$d),
-        .q(ra_d$47$q),
-        .clock(ra_d$47$clock)
-    );
-    obb_core$sat$back$ra_d$48 ra_d$48(
-        .d(ra_d$48$d),
-        .q(ra_d$48$q),
-        .clock(ra_d$48$clock)
-    );
-    obb_core$sat$back$ra_d$49 ra_d$49(
-        .d(ra_d$49$d),
-        .q(ra_d$49$q),
-        .clock(ra_d$49$clock)
-    );
-    obb_core$sat$back$ra_d$50 ra_d$50(
-        .d(ra_d$50$d),
-        .q(ra_d$50$q),
-        .clock(ra_d$50$clock)
-    );
-    obb_core$sat$back$ra_d$51 ra_d$51(
-        .d(ra_d$51$d),
-        .q(ra_d$51$q),
-        .clock(ra_d$51$clock)
-    );
-    obb_core$sat$back$ra_d$52 ra_d$52(
-        .d(ra_d$52$d),
-        .q(ra_d$52$q),
-        .clock(ra_d$52$clock)
-    );
-    obb_core$sat$back$ra_d$53 ra_d$53(
-        .d(ra_d$53$d),
-        .q(ra_d$53$q),
-        .clock(ra_d$53$clock)
-    );
-    obb_core$sat$back$pa_d$0 pa_d$0(
-        .d(pa_d$0$d),
-        .q(pa_d$0$q),
-        .clock(pa_d$0$clock)
-    );
-    obb_core$sat$back$pa_d$1 pa_d$1(
-        .d(pa_d$1$d),
-        .q(pa_d$1$q),
-        .clock(pa_d$1$clock)
-    );
-    obb_core$sat$back$pa_d$2 pa_d$2(
-        .d(pa_d$2$d),
-        .q(pa_d$2$q),
-        .clock(pa_d$2$clock)
-    );
-    obb_core$sat$back$pa_d$3 pa_d$3(
-        .d(pa_d$3$d),
-        .q(pa_d$3$q),
-        .clock(pa_d$3$clock)
-    );
-    obb_core$sat$back$pa_d$4 pa_d$4(
-        .d(pa_d$4$d),
-        .q(pa_d$4$q),
-        .clock(pa_d$4$clock)
-    );
-    obb_core$sat$back$pa_d$5 pa_d$5(
-        .d(pa_d$5$d),
-        .q(pa_d$5$q),
-        .clock(pa_d$5$clock)
-    );
-    obb_core$sat$back$pa_d$6 pa_d$6(
-        .d(pa_d$6$d),
-        .q(pa_d$6$q),
-        .clock(pa_d$6$clock)
-    );
-    obb_core$sat$back$pa_d$7 pa_d$7(
-        .d(pa_d$7$d),
-        .q(pa_d$7$q),
-        .clock(pa_d$7$clock)
-    );
-    obb_core$sat$back$pa_d$8 pa_d$8(
-        .d(pa_d$8$d),
-        .q(pa_d$8$q),
-        .clock(pa_d$8$clock)
-    );
-    obb_core$sat$back$pa_d$9 pa_d$9(
-        .d(pa_d$9$d),
-        .q(pa_d$9$q),
-        .clock(pa_d$9$clock)
-    );
-    obb_core$sat$back$pa_d$10 pa_d$10(
-        .d(pa_d$10$d),
-        .q(pa_d$10$q),
-        .clock(pa_d$10$clock)
-    );
-    obb_core$sat$back$pa_d$11 pa_d$11(
-        .d(pa_d$11$d),
-        .q(pa_d$11$q),
-        .clock(pa_d$11$clock)
-    );
-    obb_core$sat$back$pa_d$12 pa_d$12(
-        .d(pa_d$12$d),
-        .q(pa_d$12$q),
-        .clock(pa_d$12$clock)
-    );
-    obb_core$sat$back$pa_d$13 pa_d$13(
-        .d(pa_d$13$d),
-        .q(pa_d$13$q),
-        .clock(pa_d$13$clock)
-    );
-    obb_core$sat$back$pa_d$14 pa_d$14(
-        .d(pa_d$14$d),
-        .q(pa_d$14$q),
-        .clock(pa_d$14$clock)
-    );
-    obb_core$sat$back$pa_d$15 pa_d$15(
-        .d(pa_d$15$d),
-        .q(pa_d$15$q),
-        .clock(pa_d$15$clock)
-    );
-    obb_core$sat$back$pa_d$16 pa_d$16(
-        .d(pa_d$16$d),
-        .q(pa_d$16$q),
-        .clock(pa_d$16$clock)
-    );
-    obb_core$sat$back$pa_d$17 pa_d$17(
-        .d(pa_d$17$d),
-        .q(pa_d$17$q),
-        .clock(pa_d$17$clock)
-    );
-    obb_core$sat$back$pa_d$18 pa_d$18(
-        .d(pa_d$18$d),
-        .q(pa_d$18$q),
-        .clock(pa_d$18$clock)
-    );
-    obb_core$sat$back$pa_d$19 pa_d$19(
-        .d(pa_d$19$d),
-        .q(pa_d$19$q),
-        .clock(pa_d$19$clock)
-    );
-    obb_core$sat$back$pa_d$20 pa_d$20(
-        .d(pa_d$20$d),
-        .q(pa_d$20$q),
-        .clock(pa_d$20$clock)
-    );
-    obb_core$sat$back$pa_d$21 pa_d$21(
-        .d(pa_d$21$d),
-        .q(pa_d$21$q),
-        .clock(pa_d$21$clock)
-    );
-    obb_core$sat$back$pa_d$22 pa_d$22(
-        .d(pa_d$22$d),
-        .q(pa_d$22$q),
-        .clock(pa_d$22$clock)
-    );
-    obb_core$sat$back$pa_d$23 pa_d$23(
-        .d(pa_d$23$d),
-        .q(pa_d$23$q),
-        .clock(pa_d$23$clock)
-    );
-    obb_core$sat$back$pa_d$24 pa_d$24(
-        .d(pa_d$24$d),
-        .q(pa_d$24$q),
-        .clock(pa_d$24$clock)
-    );
-    obb_core$sat$back$pa_d$25 pa_d$25(
-        .d(pa_d$25$d),
-        .q(pa_d$25$q),
-        .clock(pa_d$25$clock)
-    );
-    obb_core$sat$back$pa_d$26 pa_d$26(
-        .d(pa_d$26$d),
-        .q(pa_d$26$q),
-        .clock(pa_d$26$clock)
-    );
-    obb_core$sat$back$pa_d$27 pa_d$27(
-        .d(pa_d$27$d),
-        .q(pa_d$27$q),
-        .clock(pa_d$27$clock)
-    );
-    obb_core$sat$back$pa_d$28 pa_d$28(
-        .d(pa_d$28$d),
-        .q(pa_d$28$q),
-        .clock(pa_d$28$clock)
-    );
-    obb_core$sat$back$pa_d$29 pa_d$29(
-        .d(pa_d$29$d),
-        .q(pa_d$29$q),
-        .clock(pa_d$29$clock)
-    );
-    obb_core$sat$back$pa_d$30 pa_d$30(
-        .d(pa_d$30$d),
-        .q(pa_d$30$q),
-        .clock(pa_d$30$clock)
-    );
-    obb_core$sat$back$pa_d$31 pa_d$31(
-        .d(pa_d$31$d),
-        .q(pa_d$31$q),
-        .clock(pa_d$31$clock)
-    );
-    obb_core$sat$back$pa_d$32 pa_d$32(
-        .d(pa_d$32$d),
-        .q(pa_d$32$q),
-        .clock(pa_d$32$clock)
-    );
-    obb_core$sat$back$pa_d$33 pa_d$33(
-        .d(pa_d$33$d),
-        .q(pa_d$33$q),
-        .clock(pa_d$33$clock)
-    );
-    obb_core$sat$back$pa_d$34 pa_d$34(
-        .d(pa_d$34$d),
-        .q(pa_d$34$q),
-        .clock(pa_d$34$clock)
-    );
-    obb_core$sat$back$pa_d$35 pa_d$35(
-        .d(pa_d$35$d),
-        .q(pa_d$35$q),
-        .clock(pa_d$35$clock)
-    );
-    obb_core$sat$back$pa_d$36 pa_d$36(
-        .d(pa_d$36$d),
-        .q(pa_d$36$q),
-        .clock(pa_d$36$clock)
-    );
-    obb_core$sat$back$pa_d$37 pa_d$37(
-        .d(pa_d$37$d),
-        .q(pa_d$37$q),
-        .clock(pa_d$37$clock)
-    );
-    obb_core$sat$back$pa_d$38 pa_d$38(
-        .d(pa_d$38$d),
-        .q(pa_d$38$q),
-        .clock(pa_d$38$clock)
-    );
-    obb_core$sat$back$pa_d$39 pa_d$39(
-        .d(pa_d$39$d),
-        .q(pa_d$39$q),
-        .clock(pa_d$39$clock)
-    );
-    obb_core$sat$back$pa_d$40 pa_d$40(
-        .d(pa_d$40$d),
-        .q(pa_d$40$q),
-        .clock(pa_d$40$clock)
-    );
-    obb_core$sat$back$pa_d$41 pa_d$41(
-        .d(pa_d$41$d),
-        .q(pa_d$41$q),
-        .clock(pa_d$41$clock)
-    );
-    obb_core$sat$back$pa_d$42 pa_d$42(
-        .d(pa_d$42$d),
-        .q(pa_d$42$q),
-        .clock(pa_d$42$clock)
-    );
-    obb_core$sat$back$pa_d$43 pa_d$43(
-        .d(pa_d$43$d),
-        .q(pa_d$43$q),
-        .clock(pa_d$43$clock)
-    );
-    obb_core$sat$back$pa_d$44 pa_d$44(
-        .d(pa_d$44$d),
-        .q(pa_d$44$q),
-        .clock(pa_d$44$clock)
+    obb_core$sat$back$abs_t_decide$0 abs_t_decide$0(
+        .clock(abs_t_decide$0$clock),
+        .d(abs_t_decide$0$d),
+        .q(abs_t_decide$0$q)
+    );
+    obb_core$sat$back$abs_t_decide$1 abs_t_decide$1(
+        .clock(abs_t_decide$1$clock),
+        .d(abs_t_decide$1$d),
+        .q(abs_t_decide$1$q)
+    );
+    obb_core$sat$back$abs_t_decide$2 abs_t_decide$2(
+        .clock(abs_t_decide$2$clock),
+        .d(abs_t_decide$2$d),
+        .q(abs_t_decide$2$q)
+    );
+    obb_core$sat$back$abs_u_decide$0 abs_u_decide$0(
+        .clock(abs_u_decide$0$clock),
+        .d(abs_u_decide$0$d),
+        .q(abs_u_decide$0$q)
+    );
+    obb_core$sat$back$abs_u_decide$1 abs_u_decide$1(
+        .clock(abs_u_decide$1$clock),
+        .d(abs_u_decide$1$d),
+        .q(abs_u_decide$1$q)
+    );
+    obb_core$sat$back$abs_u_decide$2 abs_u_decide$2(
+        .clock(abs_u_decide$2$clock),
+        .d(abs_u_decide$2$d),
+        .q(abs_u_decide$2$q)
+    );
+    obb_core$sat$back$face_a_decide$0 face_a_decide$0(
+        .clock(face_a_decide$0$clock),
+        .d(face_a_decide$0$d),
+        .q(face_a_decide$0$q)
+    );
+    obb_core$sat$back$face_a_decide$1 face_a_decide$1(
+        .clock(face_a_decide$1$clock),
+        .d(face_a_decide$1$d),
+        .q(face_a_decide$1$q)
+    );
+    obb_core$sat$back$face_a_decide$2 face_a_decide$2(
+        .clock(face_a_decide$2$clock),
+        .d(face_a_decide$2$d),
+        .q(face_a_decide$2$q)
+    );
+    obb_core$sat$back$face_b_decide$0 face_b_decide$0(
+        .clock(face_b_decide$0$clock),
+        .d(face_b_decide$0$d),
+        .q(face_b_decide$0$q)
+    );
+    obb_core$sat$back$face_b_decide$1 face_b_decide$1(
+        .clock(face_b_decide$1$clock),
+        .d(face_b_decide$1$d),
+        .q(face_b_decide$1$q)
+    );
+    obb_core$sat$back$face_b_decide$2 face_b_decide$2(
+        .clock(face_b_decide$2$clock),
+        .d(face_b_decide$2$d),
+        .q(face_b_decide$2$q)
+    );
+    obb_core$sat$back$r_a_decide$0 r_a_decide$0(
+        .clock(r_a_decide$0$clock),
+        .d(r_a_decide$0$d),
+        .q(r_a_decide$0$q)
+    );
+    obb_core$sat$back$r_a_decide$1 r_a_decide$1(
+        .clock(r_a_decide$1$clock),
+        .d(r_a_decide$1$d),
+        .q(r_a_decide$1$q)
+    );
+    obb_core$sat$back$r_a_decide$2 r_a_decide$2(
+        .clock(r_a_decide$2$clock),
+        .d(r_a_decide$2$d),
+        .q(r_a_decide$2$q)
+    );
+    obb_core$sat$back$r_a_decide$3 r_a_decide$3(
+        .clock(r_a_decide$3$clock),
+        .d(r_a_decide$3$d),
+        .q(r_a_decide$3$q)
+    );
+    obb_core$sat$back$r_a_decide$4 r_a_decide$4(
+        .clock(r_a_decide$4$clock),
+        .d(r_a_decide$4$d),
+        .q(r_a_decide$4$q)
+    );
+    obb_core$sat$back$r_a_decide$5 r_a_decide$5(
+        .clock(r_a_decide$5$clock),
+        .d(r_a_decide$5$d),
+        .q(r_a_decide$5$q)
+    );
+    obb_core$sat$back$r_a_decide$6 r_a_decide$6(
+        .clock(r_a_decide$6$clock),
+        .d(r_a_decide$6$d),
+        .q(r_a_decide$6$q)
+    );
+    obb_core$sat$back$r_a_decide$7 r_a_decide$7(
+        .clock(r_a_decide$7$clock),
+        .d(r_a_decide$7$d),
+        .q(r_a_decide$7$q)
+    );
+    obb_core$sat$back$r_a_decide$8 r_a_decide$8(
+        .clock(r_a_decide$8$clock),
+        .d(r_a_decide$8$d),
+        .q(r_a_decide$8$q)
+    );
+    obb_core$sat$back$abs_p_decide$0 abs_p_decide$0(
+        .clock(abs_p_decide$0$clock),
+        .d(abs_p_decide$0$d),
+        .q(abs_p_decide$0$q)
+    );
+    obb_core$sat$back$abs_p_decide$1 abs_p_decide$1(
+        .clock(abs_p_decide$1$clock),
+        .d(abs_p_decide$1$d),
+        .q(abs_p_decide$1$q)
+    );
+    obb_core$sat$back$abs_p_decide$2 abs_p_decide$2(
+        .clock(abs_p_decide$2$clock),
+        .d(abs_p_decide$2$d),
+        .q(abs_p_decide$2$q)
+    );
+    obb_core$sat$back$abs_p_decide$3 abs_p_decide$3(
+        .clock(abs_p_decide$3$clock),
+        .d(abs_p_decide$3$d),
+        .q(abs_p_decide$3$q)
+    );
+    obb_core$sat$back$abs_p_decide$4 abs_p_decide$4(
+        .clock(abs_p_decide$4$clock),
+        .d(abs_p_decide$4$d),
+        .q(abs_p_decide$4$q)
+    );
+    obb_core$sat$back$abs_p_decide$5 abs_p_decide$5(
+        .clock(abs_p_decide$5$clock),
+        .d(abs_p_decide$5$d),
+        .q(abs_p_decide$5$q)
+    );
+    obb_core$sat$back$abs_p_decide$6 abs_p_decide$6(
+        .clock(abs_p_decide$6$clock),
+        .d(abs_p_decide$6$d),
+        .q(abs_p_decide$6$q)
+    );
+    obb_core$sat$back$abs_p_decide$7 abs_p_decide$7(
+        .clock(abs_p_decide$7$clock),
+        .d(abs_p_decide$7$d),
+        .q(abs_p_decide$7$q)
+    );
+    obb_core$sat$back$abs_p_decide$8 abs_p_decide$8(
+        .clock(abs_p_decide$8$clock),
+        .d(abs_p_decide$8$d),
+        .q(abs_p_decide$8$q)
     );
     obb_core$sat$back$decide decide(
         .abs_t$0(decide$abs_t$0),
@@ -93487,106 +90883,56 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
     
     // Update code
     always @(*) begin
-        valid$0$clock = clock;
-        valid$1$clock = clock;
-        valid$2$clock = clock;
-        valid$3$clock = clock;
-        valid$4$clock = clock;
-        valid$5$clock = clock;
-        valid$6$clock = clock;
-        valid$7$clock = clock;
-        valid$8$clock = clock;
-        valid$9$clock = clock;
-        valid$10$clock = clock;
-        valid$11$clock = clock;
-        valid$12$clock = clock;
-        valid$13$clock = clock;
-        valid$14$clock = clock;
-        valid$15$clock = clock;
-        ha$0$clock = clock;
-        ha$1$clock = clock;
-        ha$2$clock = clock;
-        ha$3$clock = clock;
-        ha$4$clock = clock;
-        ha$5$clock = clock;
-        ha$6$clock = clock;
-        ha$7$clock = clock;
-        ha$8$clock = clock;
-        ha$9$clock = clock;
-        ha$10$clock = clock;
-        ha$11$clock = clock;
-        ha$12$clock = clock;
-        ha$13$clock = clock;
-        ha$14$clock = clock;
-        ha$15$clock = clock;
-        ha$16$clock = clock;
-        ha$17$clock = clock;
-        ha$18$clock = clock;
-        ha$19$clock = clock;
-        ha$20$clock = clock;
-        ha$21$clock = clock;
-        ha$22$clock = clock;
-        ha$23$clock = clock;
-        ha$24$clock = clock;
-        ha$25$clock = clock;
-        ha$26$clock = clock;
-        ha$27$clock = clock;
-        ha$28$clock = clock;
-        ha$29$clock = clock;
-        ha$30$clock = clock;
-        ha$31$clock = clock;
-        ha$32$clock = clock;
-        ha$33$clock = clock;
-        ha$34$clock = clock;
-        ha$35$clock = clock;
-        hb$0$clock = clock;
-        hb$1$clock = clock;
-        hb$2$clock = clock;
-        hb$3$clock = clock;
-        hb$4$clock = clock;
-        hb$5$clock = clock;
-        hb$6$clock = clock;
-        hb$7$clock = clock;
-        hb$8$clock = clock;
-        hb$9$clock = clock;
-        hb$10$clock = clock;
-        hb$11$clock = clock;
-        hb$12$clock = clock;
-        hb$13$clock = clock;
-        hb$14$clock = clock;
-        hb$15$clock = clock;
-        hb$16$clock = clock;
-        hb$17$clock = clock;
-        hb$18$clock = clock;
-        hb$19$clock = clock;
-        hb$20$clock = clock;
-        hb$21$clock = clock;
-        hb$22$clock = clock;
-        hb$23$clock = clock;
-        hb$24$clock = clock;
-        hb$25$clock = clock;
-        hb$26$clock = clock;
-        hb$27$clock = clock;
-        hb$28$clock = clock;
-        hb$29$clock = clock;
-        hb$30$clock = clock;
-        hb$31$clock = clock;
-        hb$32$clock = clock;
-        hb$33$clock = clock;
-        hb$34$clock = clock;
-        hb$35$clock = clock;
-        pm$0$clock = clock;
-        pm$1$clock = clock;
-        pm$2$clock = clock;
-        pm$3$clock = clock;
-        pm$4$clock = clock;
-        pm$5$clock = clock;
-        pm$6$clock = clock;
-        pm$7$clock = clock;
-        pm$8$clock = clock;
-        pm$9$clock = clock;
-        pm$10$clock = clock;
-        pm$11$clock = clock;
+        valid$clock = clock;
+        margin_decide$clock = clock;
+        ha_products$0$clock = clock;
+        hb_products$0$clock = clock;
+        ha_r_b$0$clock = clock;
+        hb_r_b$0$clock = clock;
+        ha_decide$0$clock = clock;
+        hb_decide$0$clock = clock;
+        abs_t_decide$0$clock = clock;
+        abs_u_decide$0$clock = clock;
+        face_a_decide$0$clock = clock;
+        face_b_decide$0$clock = clock;
+        ha_products$1$clock = clock;
+        hb_products$1$clock = clock;
+        ha_r_b$1$clock = clock;
+        hb_r_b$1$clock = clock;
+        ha_decide$1$clock = clock;
+        hb_decide$1$clock = clock;
+        abs_t_decide$1$clock = clock;
+        abs_u_decide$1$clock = clock;
+        face_a_decide$1$clock = clock;
+        face_b_decide$1$clock = clock;
+        ha_products$2$clock = clock;
+        hb_products$2$clock = clock;
+        ha_r_b$2$clock = clock;
+        hb_r_b$2$clock = clock;
+        ha_decide$2$clock = clock;
+        hb_decide$2$clock = clock;
+        abs_t_decide$2$clock = clock;
+        abs_u_decide$2$clock = clock;
+        face_a_decide$2$clock = clock;
+        face_b_decide$2$clock = clock;
+        r_a_decide$0$clock = clock;
+        abs_p_decide$0$clock = clock;
+        r_a_decide$1$clock = clock;
+        abs_p_decide$1$clock = clock;
+        r_a_decide$2$clock = clock;
+        abs_p_decide$2$clock = clock;
+        r_a_decide$3$clock = clock;
+        abs_p_decide$3$clock = clock;
+        r_a_decide$4$clock = clock;
+        abs_p_decide$4$clock = clock;
+        r_a_decide$5$clock = clock;
+        abs_p_decide$5$clock = clock;
+        r_a_decide$6$clock = clock;
+        abs_p_decide$6$clock = clock;
+        r_a_decide$7$clock = clock;
+        abs_p_decide$7$clock = clock;
+        r_a_decide$8$clock = clock;
+        abs_p_decide$8$clock = clock;
         face_a_dot$0$clock = clock;
         face_a_dot$1$clock = clock;
         face_a_dot$2$clock = clock;
@@ -93647,309 +90993,28 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         rb_dot$6$clock = clock;
         rb_dot$7$clock = clock;
         rb_dot$8$clock = clock;
-        at_d$0$clock = clock;
-        at_d$1$clock = clock;
-        at_d$2$clock = clock;
-        at_d$3$clock = clock;
-        at_d$4$clock = clock;
-        at_d$5$clock = clock;
-        at_d$6$clock = clock;
-        at_d$7$clock = clock;
-        at_d$8$clock = clock;
-        at_d$9$clock = clock;
-        at_d$10$clock = clock;
-        at_d$11$clock = clock;
-        at_d$12$clock = clock;
-        at_d$13$clock = clock;
-        at_d$14$clock = clock;
-        at_d$15$clock = clock;
-        at_d$16$clock = clock;
-        at_d$17$clock = clock;
-        at_d$18$clock = clock;
-        at_d$19$clock = clock;
-        at_d$20$clock = clock;
-        at_d$21$clock = clock;
-        at_d$22$clock = clock;
-        at_d$23$clock = clock;
-        at_d$24$clock = clock;
-        at_d$25$clock = clock;
-        at_d$26$clock = clock;
-        at_d$27$clock = clock;
-        at_d$28$clock = clock;
-        at_d$29$clock = clock;
-        at_d$30$clock = clock;
-        at_d$31$clock = clock;
-        at_d$32$clock = clock;
-        au_d$0$clock = clock;
-        au_d$1$clock = clock;
-        au_d$2$clock = clock;
-        au_d$3$clock = clock;
-        au_d$4$clock = clock;
-        au_d$5$clock = clock;
-        au_d$6$clock = clock;
-        au_d$7$clock = clock;
-        au_d$8$clock = clock;
-        au_d$9$clock = clock;
-        au_d$10$clock = clock;
-        au_d$11$clock = clock;
-        au_d$12$clock = clock;
-        au_d$13$clock = clock;
-        au_d$14$clock = clock;
-        au_d$15$clock = clock;
-        au_d$16$clock = clock;
-        au_d$17$clock = clock;
-        au_d$18$clock = clock;
-        au_d$19$clock = clock;
-        au_d$20$clock = clock;
-        au_d$21$clock = clock;
-        au_d$22$clock = clock;
-        au_d$23$clock = clock;
-        au_d$24$clock = clock;
-        au_d$25$clock = clock;
-        au_d$26$clock = clock;
-        au_d$27$clock = clock;
-        au_d$28$clock = clock;
-        au_d$29$clock = clock;
-        au_d$30$clock = clock;
-        au_d$31$clock = clock;
-        au_d$32$clock = clock;
-        fa_d$0$clock = clock;
-        fa_d$1$clock = clock;
-        fa_d$2$clock = clock;
-        fa_d$3$clock = clock;
-        fa_d$4$clock = clock;
-        fa_d$5$clock = clock;
-        fa_d$6$clock = clock;
-        fa_d$7$clock = clock;
-        fa_d$8$clock = clock;
-        fa_d$9$clock = clock;
-        fa_d$10$clock = clock;
-        fa_d$11$clock = clock;
-        fa_d$12$clock = clock;
-        fa_d$13$clock = clock;
-        fa_d$14$clock = clock;
-        fa_d$15$clock = clock;
-        fa_d$16$clock = clock;
-        fa_d$17$clock = clock;
-        fb_d$0$clock = clock;
-        fb_d$1$clock = clock;
-        fb_d$2$clock = clock;
-        fb_d$3$clock = clock;
-        fb_d$4$clock = clock;
-        fb_d$5$clock = clock;
-        fb_d$6$clock = clock;
-        fb_d$7$clock = clock;
-        fb_d$8$clock = clock;
-        fb_d$9$clock = clock;
-        fb_d$10$clock = clock;
-        fb_d$11$clock = clock;
-        fb_d$12$clock = clock;
-        fb_d$13$clock = clock;
-        fb_d$14$clock = clock;
-        fb_d$15$clock = clock;
-        fb_d$16$clock = clock;
-        fb_d$17$clock = clock;
-        ra_d$0$clock = clock;
-        ra_d$1$clock = clock;
-        ra_d$2$clock = clock;
-        ra_d$3$clock = clock;
-        ra_d$4$clock = clock;
-        ra_d$5$clock = clock;
-        ra_d$6$clock = clock;
-        ra_d$7$clock = clock;
-        ra_d$8$clock = clock;
-        ra_d$9$clock = clock;
-        ra_d$10$clock = clock;
-        ra_d$11$clock = clock;
-        ra_d$12$clock = clock;
-        ra_d$13$clock = clock;
-        ra_d$14$clock = clock;
-        ra_d$15$clock = clock;
-        ra_d$16$clock = clock;
-        ra_d$17$clock = clock;
-        ra_d$18$clock = clock;
-        ra_d$19$clock = clock;
-        ra_d$20$clock = clock;
-        ra_d$21$clock = clock;
-        ra_d$22$clock = clock;
-        ra_d$23$clock = clock;
-        ra_d$24$clock = clock;
-        ra_d$25$clock = clock;
-        ra_d$26$clock = clock;
-        ra_d$27$clock = clock;
-        ra_d$28$clock = clock;
-        ra_d$29$clock = clock;
-        ra_d$30$clock = clock;
-        ra_d$31$clock = clock;
-        ra_d$32$clock = clock;
-        ra_d$33$clock = clock;
-        ra_d$34$clock = clock;
-        ra_d$35$clock = clock;
-        ra_d$36$clock = clock;
-        ra_d$37$clock = clock;
-        ra_d$38$clock = clock;
-        ra_d$39$clock = clock;
-        ra_d$40$clock = clock;
-        ra_d$41$clock = clock;
-        ra_d$42$clock = clock;
-        ra_d$43$clock = clock;
-        ra_d$44$clock = clock;
-        ra_d$45$clock = clock;
-        ra_d$46$clock = clock;
-        ra_d$47$clock = clock;
-        ra_d$48$clock = clock;
-        ra_d$49$clock = clock;
-        ra_d$50$clock = clock;
-        ra_d$51$clock = clock;
-        ra_d$52$clock = clock;
-        ra_d$53$clock = clock;
-        pa_d$0$clock = clock;
-        pa_d$1$clock = clock;
-        pa_d$2$clock = clock;
-        pa_d$3$clock = clock;
-        pa_d$4$clock = clock;
-        pa_d$5$clock = clock;
-        pa_d$6$clock = clock;
-        pa_d$7$clock = clock;
-        pa_d$8$clock = clock;
-        pa_d$9$clock = clock;
-        pa_d$10$clock = clock;
-        pa_d$11$clock = clock;
-        pa_d$12$clock = clock;
-        pa_d$13$clock = clock;
-        pa_d$14$clock = clock;
-        pa_d$15$clock = clock;
-        pa_d$16$clock = clock;
-        pa_d$17$clock = clock;
-        pa_d$18$clock = clock;
-        pa_d$19$clock = clock;
-        pa_d$20$clock = clock;
-        pa_d$21$clock = clock;
-        pa_d$22$clock = clock;
-        pa_d$23$clock = clock;
-        pa_d$24$clock = clock;
-        pa_d$25$clock = clock;
-        pa_d$26$clock = clock;
-        pa_d$27$clock = clock;
-        pa_d$28$clock = clock;
-        pa_d$29$clock = clock;
-        pa_d$30$clock = clock;
-        pa_d$31$clock = clock;
-        pa_d$32$clock = clock;
-        pa_d$33$clock = clock;
-        pa_d$34$clock = clock;
-        pa_d$35$clock = clock;
-        pa_d$36$clock = clock;
-        pa_d$37$clock = clock;
-        pa_d$38$clock = clock;
-        pa_d$39$clock = clock;
-        pa_d$40$clock = clock;
-        pa_d$41$clock = clock;
-        pa_d$42$clock = clock;
-        pa_d$43$clock = clock;
-        pa_d$44$clock = clock;
         round$clock = clock;
         decide$clock = clock;
-        valid$0$d = valid_in;
-        valid$1$d = valid$0$q;
-        valid$2$d = valid$1$q;
-        valid$3$d = valid$2$q;
-        valid$4$d = valid$3$q;
-        valid$5$d = valid$4$q;
-        valid$6$d = valid$5$q;
-        valid$7$d = valid$6$q;
-        valid$8$d = valid$7$q;
-        valid$9$d = valid$8$q;
-        valid$10$d = valid$9$q;
-        valid$11$d = valid$10$q;
-        valid$12$d = valid$11$q;
-        valid$13$d = valid$12$q;
-        valid$14$d = valid$13$q;
-        valid$15$d = valid$14$q;
-        pm$0$d = pair_margin;
-        pm$1$d = pm$0$q;
-        pm$2$d = pm$1$q;
-        pm$3$d = pm$2$q;
-        pm$4$d = pm$3$q;
-        pm$5$d = pm$4$q;
-        pm$6$d = pm$5$q;
-        pm$7$d = pm$6$q;
-        pm$8$d = pm$7$q;
-        pm$9$d = pm$8$q;
-        pm$10$d = pm$9$q;
-        pm$11$d = pm$10$q;
-        ha$0$d = half_a$0;
-        hb$0$d = half_b$0;
-        ha$1$d = half_a$1;
-        hb$1$d = half_b$1;
-        ha$2$d = half_a$2;
-        hb$2$d = half_b$2;
-        ha$3$d = ha$0$q;
-        hb$3$d = hb$0$q;
-        ha$4$d = ha$1$q;
-        hb$4$d = hb$1$q;
-        ha$5$d = ha$2$q;
-        hb$5$d = hb$2$q;
-        ha$6$d = ha$3$q;
-        hb$6$d = hb$3$q;
-        ha$7$d = ha$4$q;
-        hb$7$d = hb$4$q;
-        ha$8$d = ha$5$q;
-        hb$8$d = hb$5$q;
-        ha$9$d = ha$6$q;
-        hb$9$d = hb$6$q;
-        ha$10$d = ha$7$q;
-        hb$10$d = hb$7$q;
-        ha$11$d = ha$8$q;
-        hb$11$d = hb$8$q;
-        ha$12$d = ha$9$q;
-        hb$12$d = hb$9$q;
-        ha$13$d = ha$10$q;
-        hb$13$d = hb$10$q;
-        ha$14$d = ha$11$q;
-        hb$14$d = hb$11$q;
-        ha$15$d = ha$12$q;
-        hb$15$d = hb$12$q;
-        ha$16$d = ha$13$q;
-        hb$16$d = hb$13$q;
-        ha$17$d = ha$14$q;
-        hb$17$d = hb$14$q;
-        ha$18$d = ha$15$q;
-        hb$18$d = hb$15$q;
-        ha$19$d = ha$16$q;
-        hb$19$d = hb$16$q;
-        ha$20$d = ha$17$q;
-        hb$20$d = hb$17$q;
-        ha$21$d = ha$18$q;
-        hb$21$d = hb$18$q;
-        ha$22$d = ha$19$q;
-        hb$22$d = hb$19$q;
-        ha$23$d = ha$20$q;
-        hb$23$d = hb$20$q;
-        ha$24$d = ha$21$q;
-        hb$24$d = hb$21$q;
-        ha$25$d = ha$22$q;
-        hb$25$d = hb$22$q;
-        ha$26$d = ha$23$q;
-        hb$26$d = hb$23$q;
-        ha$27$d = ha$24$q;
-        hb$27$d = hb$24$q;
-        ha$28$d = ha$25$q;
-        hb$28$d = hb$25$q;
-        ha$29$d = ha$26$q;
-        hb$29$d = hb$26$q;
-        ha$30$d = ha$27$q;
-        hb$30$d = hb$27$q;
-        ha$31$d = ha$28$q;
-        hb$31$d = hb$28$q;
-        ha$32$d = ha$29$q;
-        hb$32$d = hb$29$q;
-        ha$33$d = ha$30$q;
-        hb$33$d = hb$30$q;
-        ha$34$d = ha$31$q;
-        hb$34$d = hb$31$q;
-        ha$35$d = ha$32$q;
-        hb$35$d = hb$32$q;
+        valid$d = valid_in;
+        margin_decide$d = pair_margin;
+        ha_products$0$d = half_a$0;
+        hb_products$0$d = half_b$0;
+        ha_r_b$0$d = ha_products$0$q;
+        hb_r_b$0$d = hb_products$0$q;
+        ha_decide$0$d = ha_r_b$0$q;
+        hb_decide$0$d = hb_r_b$0$q;
+        ha_products$1$d = half_a$1;
+        hb_products$1$d = half_b$1;
+        ha_r_b$1$d = ha_products$1$q;
+        hb_r_b$1$d = hb_products$1$q;
+        ha_decide$1$d = ha_r_b$1$q;
+        hb_decide$1$d = hb_r_b$1$q;
+        ha_products$2$d = half_a$2;
+        hb_products$2$d = half_b$2;
+        ha_r_b$2$d = ha_products$2$q;
+        hb_r_b$2$d = hb_products$2$q;
+        ha_decide$2$d = ha_r_b$2$q;
+        hb_decide$2$d = hb_r_b$2$q;
         round$f = frac;
         round$t$0 = t$0;
         round$u$0 = u$0;
@@ -93969,62 +91034,62 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         face_a_dot$0$a0 = round$r_up$0;
         face_a_dot$0$a1 = round$r_up$1;
         face_a_dot$0$a2 = round$r_up$2;
-        face_a_dot$0$b0 = hb$0$q;
-        face_a_dot$0$b1 = hb$1$q;
-        face_a_dot$0$b2 = hb$2$q;
+        face_a_dot$0$b0 = hb_products$0$q;
+        face_a_dot$0$b1 = hb_products$1$q;
+        face_a_dot$0$b2 = hb_products$2$q;
         face_b_dot$0$a0 = round$r_up$0;
         face_b_dot$0$a1 = round$r_up$3;
         face_b_dot$0$a2 = round$r_up$6;
-        face_b_dot$0$b0 = ha$0$q;
-        face_b_dot$0$b1 = ha$1$q;
-        face_b_dot$0$b2 = ha$2$q;
+        face_b_dot$0$b0 = ha_products$0$q;
+        face_b_dot$0$b1 = ha_products$1$q;
+        face_b_dot$0$b2 = ha_products$2$q;
         face_a_dot$1$a0 = round$r_up$3;
         face_a_dot$1$a1 = round$r_up$4;
         face_a_dot$1$a2 = round$r_up$5;
-        face_a_dot$1$b0 = hb$0$q;
-        face_a_dot$1$b1 = hb$1$q;
-        face_a_dot$1$b2 = hb$2$q;
+        face_a_dot$1$b0 = hb_products$0$q;
+        face_a_dot$1$b1 = hb_products$1$q;
+        face_a_dot$1$b2 = hb_products$2$q;
         face_b_dot$1$a0 = round$r_up$1;
         face_b_dot$1$a1 = round$r_up$4;
         face_b_dot$1$a2 = round$r_up$7;
-        face_b_dot$1$b0 = ha$0$q;
-        face_b_dot$1$b1 = ha$1$q;
-        face_b_dot$1$b2 = ha$2$q;
+        face_b_dot$1$b0 = ha_products$0$q;
+        face_b_dot$1$b1 = ha_products$1$q;
+        face_b_dot$1$b2 = ha_products$2$q;
         face_a_dot$2$a0 = round$r_up$6;
         face_a_dot$2$a1 = round$r_up$7;
         face_a_dot$2$a2 = round$r_up$8;
-        face_a_dot$2$b0 = hb$0$q;
-        face_a_dot$2$b1 = hb$1$q;
-        face_a_dot$2$b2 = hb$2$q;
+        face_a_dot$2$b0 = hb_products$0$q;
+        face_a_dot$2$b1 = hb_products$1$q;
+        face_a_dot$2$b2 = hb_products$2$q;
         face_b_dot$2$a0 = round$r_up$2;
         face_b_dot$2$a1 = round$r_up$5;
         face_b_dot$2$a2 = round$r_up$8;
-        face_b_dot$2$b0 = ha$0$q;
-        face_b_dot$2$b1 = ha$1$q;
-        face_b_dot$2$b2 = ha$2$q;
+        face_b_dot$2$b0 = ha_products$0$q;
+        face_b_dot$2$b1 = ha_products$1$q;
+        face_b_dot$2$b2 = ha_products$2$q;
         p_dot$0$a0 = round$th$2;
         p_dot$0$b0 = round$rt$3;
         p_dot$0$a1 = round$th$1;
         p_dot$0$b1 = round$rt$6;
-        ra_dot$0$a0 = ha$1$q;
+        ra_dot$0$a0 = ha_products$1$q;
         ra_dot$0$b0 = round$art$6;
-        ra_dot$0$a1 = ha$2$q;
+        ra_dot$0$a1 = ha_products$2$q;
         ra_dot$0$b1 = round$art$3;
         p_dot$1$a0 = round$th$2;
         p_dot$1$b0 = round$rt$4;
         p_dot$1$a1 = round$th$1;
         p_dot$1$b1 = round$rt$7;
-        ra_dot$1$a0 = ha$1$q;
+        ra_dot$1$a0 = ha_products$1$q;
         ra_dot$1$b0 = round$art$7;
-        ra_dot$1$a1 = ha$2$q;
+        ra_dot$1$a1 = ha_products$2$q;
         ra_dot$1$b1 = round$art$4;
         p_dot$2$a0 = round$th$2;
         p_dot$2$b0 = round$rt$5;
         p_dot$2$a1 = round$th$1;
         p_dot$2$b1 = round$rt$8;
-        ra_dot$2$a0 = ha$1$q;
+        ra_dot$2$a0 = ha_products$1$q;
         ra_dot$2$b0 = round$art$8;
-        ra_dot$2$a1 = ha$2$q;
+        ra_dot$2$a1 = ha_products$2$q;
         ra_dot$2$b1 = round$art$5;
         minor_dot$0$a0 = round$rt$3;
         minor_dot$0$b0 = round$rt$7;
@@ -94042,25 +91107,25 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         p_dot$3$b0 = round$rt$6;
         p_dot$3$a1 = round$th$2;
         p_dot$3$b1 = round$rt$0;
-        ra_dot$3$a0 = ha$2$q;
+        ra_dot$3$a0 = ha_products$2$q;
         ra_dot$3$b0 = round$art$0;
-        ra_dot$3$a1 = ha$0$q;
+        ra_dot$3$a1 = ha_products$0$q;
         ra_dot$3$b1 = round$art$6;
         p_dot$4$a0 = round$th$0;
         p_dot$4$b0 = round$rt$7;
         p_dot$4$a1 = round$th$2;
         p_dot$4$b1 = round$rt$1;
-        ra_dot$4$a0 = ha$2$q;
+        ra_dot$4$a0 = ha_products$2$q;
         ra_dot$4$b0 = round$art$1;
-        ra_dot$4$a1 = ha$0$q;
+        ra_dot$4$a1 = ha_products$0$q;
         ra_dot$4$b1 = round$art$7;
         p_dot$5$a0 = round$th$0;
         p_dot$5$b0 = round$rt$8;
         p_dot$5$a1 = round$th$2;
         p_dot$5$b1 = round$rt$2;
-        ra_dot$5$a0 = ha$2$q;
+        ra_dot$5$a0 = ha_products$2$q;
         ra_dot$5$b0 = round$art$2;
-        ra_dot$5$a1 = ha$0$q;
+        ra_dot$5$a1 = ha_products$0$q;
         ra_dot$5$b1 = round$art$8;
         minor_dot$3$a0 = round$rt$6;
         minor_dot$3$b0 = round$rt$1;
@@ -94078,25 +91143,25 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         p_dot$6$b0 = round$rt$0;
         p_dot$6$a1 = round$th$0;
         p_dot$6$b1 = round$rt$3;
-        ra_dot$6$a0 = ha$0$q;
+        ra_dot$6$a0 = ha_products$0$q;
         ra_dot$6$b0 = round$art$3;
-        ra_dot$6$a1 = ha$1$q;
+        ra_dot$6$a1 = ha_products$1$q;
         ra_dot$6$b1 = round$art$0;
         p_dot$7$a0 = round$th$1;
         p_dot$7$b0 = round$rt$1;
         p_dot$7$a1 = round$th$0;
         p_dot$7$b1 = round$rt$4;
-        ra_dot$7$a0 = ha$0$q;
+        ra_dot$7$a0 = ha_products$0$q;
         ra_dot$7$b0 = round$art$4;
-        ra_dot$7$a1 = ha$1$q;
+        ra_dot$7$a1 = ha_products$1$q;
         ra_dot$7$b1 = round$art$1;
         p_dot$8$a0 = round$th$1;
         p_dot$8$b0 = round$rt$2;
         p_dot$8$a1 = round$th$0;
         p_dot$8$b1 = round$rt$5;
-        ra_dot$8$a0 = ha$0$q;
+        ra_dot$8$a0 = ha_products$0$q;
         ra_dot$8$b0 = round$art$5;
-        ra_dot$8$a1 = ha$1$q;
+        ra_dot$8$a1 = ha_products$1$q;
         ra_dot$8$b1 = round$art$2;
         minor_dot$6$a0 = round$rt$0;
         minor_dot$6$b0 = round$rt$4;
@@ -94156,302 +91221,1736 @@ module obb_core$sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,
         minor_s$7 = $signed(minor_abs$7$y);
         minor_s$8 = $signed(minor_abs$8$y);
         rb_dot$0$a0 = minor_s$0;
-        rb_dot$0$b0 = hb$19$q;
+        rb_dot$0$b0 = hb_r_b$1$q;
         rb_dot$0$a1 = minor_s$1;
-        rb_dot$0$b1 = hb$20$q;
+        rb_dot$0$b1 = hb_r_b$2$q;
         rb_dot$1$a0 = minor_s$0;
-        rb_dot$1$b0 = hb$18$q;
+        rb_dot$1$b0 = hb_r_b$0$q;
         rb_dot$1$a1 = minor_s$2;
-        rb_dot$1$b1 = hb$20$q;
+        rb_dot$1$b1 = hb_r_b$2$q;
         rb_dot$2$a0 = minor_s$1;
-        rb_dot$2$b0 = hb$18$q;
+        rb_dot$2$b0 = hb_r_b$0$q;
         rb_dot$2$a1 = minor_s$2;
-        rb_dot$2$b1 = hb$19$q;
+        rb_dot$2$b1 = hb_r_b$1$q;
         rb_dot$3$a0 = minor_s$3;
-        rb_dot$3$b0 = hb$19$q;
+        rb_dot$3$b0 = hb_r_b$1$q;
         rb_dot$3$a1 = minor_s$4;
-        rb_dot$3$b1 = hb$20$q;
+        rb_dot$3$b1 = hb_r_b$2$q;
         rb_dot$4$a0 = minor_s$3;
-        rb_dot$4$b0 = hb$18$q;
+        rb_dot$4$b0 = hb_r_b$0$q;
         rb_dot$4$a1 = minor_s$5;
-        rb_dot$4$b1 = hb$20$q;
+        rb_dot$4$b1 = hb_r_b$2$q;
         rb_dot$5$a0 = minor_s$4;
-        rb_dot$5$b0 = hb$18$q;
+        rb_dot$5$b0 = hb_r_b$0$q;
         rb_dot$5$a1 = minor_s$5;
-        rb_dot$5$b1 = hb$19$q;
+        rb_dot$5$b1 = hb_r_b$1$q;
         rb_dot$6$a0 = minor_s$6;
-        rb_dot$6$b0 = hb$19$q;
+        rb_dot$6$b0 = hb_r_b$1$q;
         rb_dot$6$a1 = minor_s$7;
-        rb_dot$6$b1 = hb$20$q;
+        rb_dot$6$b1 = hb_r_b$2$q;
         rb_dot$7$a0 = minor_s$6;
-        rb_dot$7$b0 = hb$18$q;
+        rb_dot$7$b0 = hb_r_b$0$q;
         rb_dot$7$a1 = minor_s$8;
-        rb_dot$7$b1 = hb$20$q;
+        rb_dot$7$b1 = hb_r_b$2$q;
         rb_dot$8$a0 = minor_s$7;
-        rb_dot$8$b0 = hb$18$q;
+        rb_dot$8$b0 = hb_r_b$0$q;
         rb_dot$8$a1 = minor_s$8;
-        rb_dot$8$b1 = hb$19$q;
-        at_d$0$d = round$abs_t$0;
-        au_d$0$d = round$abs_u$0;
-        fa_d$0$d = face_a_dot$0$p;
-        fb_d$0$d = face_b_dot$0$p;
-        at_d$1$d = round$abs_t$1;
-        au_d$1$d = round$abs_u$1;
-        fa_d$1$d = face_a_dot$1$p;
-        fb_d$1$d = face_b_dot$1$p;
-        at_d$2$d = round$abs_t$2;
-        au_d$2$d = round$abs_u$2;
-        fa_d$2$d = face_a_dot$2$p;
-        fb_d$2$d = face_b_dot$2$p;
-        at_d$3$d = at_d$0$q;
-        au_d$3$d = au_d$0$q;
-        at_d$4$d = at_d$1$q;
-        au_d$4$d = au_d$1$q;
-        at_d$5$d = at_d$2$q;
-        au_d$5$d = au_d$2$q;
-        at_d$6$d = at_d$3$q;
-        au_d$6$d = au_d$3$q;
-        at_d$7$d = at_d$4$q;
-        au_d$7$d = au_d$4$q;
-        at_d$8$d = at_d$5$q;
-        au_d$8$d = au_d$5$q;
-        at_d$9$d = at_d$6$q;
-        au_d$9$d = au_d$6$q;
-        at_d$10$d = at_d$7$q;
-        au_d$10$d = au_d$7$q;
-        at_d$11$d = at_d$8$q;
-        au_d$11$d = au_d$8$q;
-        at_d$12$d = at_d$9$q;
-        au_d$12$d = au_d$9$q;
-        at_d$13$d = at_d$10$q;
-        au_d$13$d = au_d$10$q;
-        at_d$14$d = at_d$11$q;
-        au_d$14$d = au_d$11$q;
-        at_d$15$d = at_d$12$q;
-        au_d$15$d = au_d$12$q;
-        at_d$16$d = at_d$13$q;
-        au_d$16$d = au_d$13$q;
-        at_d$17$d = at_d$14$q;
-        au_d$17$d = au_d$14$q;
-        at_d$18$d = at_d$15$q;
-        au_d$18$d = au_d$15$q;
-        at_d$19$d = at_d$16$q;
-        au_d$19$d = au_d$16$q;
-        at_d$20$d = at_d$17$q;
-        au_d$20$d = au_d$17$q;
-        at_d$21$d = at_d$18$q;
-        au_d$21$d = au_d$18$q;
-        at_d$22$d = at_d$19$q;
-        au_d$22$d = au_d$19$q;
-        at_d$23$d = at_d$20$q;
-        au_d$23$d = au_d$20$q;
-        at_d$24$d = at_d$21$q;
-        au_d$24$d = au_d$21$q;
-        at_d$25$d = at_d$22$q;
-        au_d$25$d = au_d$22$q;
-        at_d$26$d = at_d$23$q;
-        au_d$26$d = au_d$23$q;
-        at_d$27$d = at_d$24$q;
-        au_d$27$d = au_d$24$q;
-        at_d$28$d = at_d$25$q;
-        au_d$28$d = au_d$25$q;
-        at_d$29$d = at_d$26$q;
-        au_d$29$d = au_d$26$q;
-        at_d$30$d = at_d$27$q;
-        au_d$30$d = au_d$27$q;
-        at_d$31$d = at_d$28$q;
-        au_d$31$d = au_d$28$q;
-        at_d$32$d = at_d$29$q;
-        au_d$32$d = au_d$29$q;
-        fa_d$3$d = fa_d$0$q;
-        fb_d$3$d = fb_d$0$q;
-        fa_d$4$d = fa_d$1$q;
-        fb_d$4$d = fb_d$1$q;
-        fa_d$5$d = fa_d$2$q;
-        fb_d$5$d = fb_d$2$q;
-        fa_d$6$d = fa_d$3$q;
-        fb_d$6$d = fb_d$3$q;
-        fa_d$7$d = fa_d$4$q;
-        fb_d$7$d = fb_d$4$q;
-        fa_d$8$d = fa_d$5$q;
-        fb_d$8$d = fb_d$5$q;
-        fa_d$9$d = fa_d$6$q;
-        fb_d$9$d = fb_d$6$q;
-        fa_d$10$d = fa_d$7$q;
-        fb_d$10$d = fb_d$7$q;
-        fa_d$11$d = fa_d$8$q;
-        fb_d$11$d = fb_d$8$q;
-        fa_d$12$d = fa_d$9$q;
-        fb_d$12$d = fb_d$9$q;
-        fa_d$13$d = fa_d$10$q;
-        fb_d$13$d = fb_d$10$q;
-        fa_d$14$d = fa_d$11$q;
-        fb_d$14$d = fb_d$11$q;
-        fa_d$15$d = fa_d$12$q;
-        fb_d$15$d = fb_d$12$q;
-        fa_d$16$d = fa_d$13$q;
-        fb_d$16$d = fb_d$13$q;
-        fa_d$17$d = fa_d$14$q;
-        fb_d$17$d = fb_d$14$q;
-        ra_d$0$d = ra_dot$0$p;
-        pa_d$0$d = p_abs$0$y;
-        ra_d$1$d = ra_dot$1$p;
-        pa_d$1$d = p_abs$1$y;
-        ra_d$2$d = ra_dot$2$p;
-        pa_d$2$d = p_abs$2$y;
-        ra_d$3$d = ra_dot$3$p;
-        pa_d$3$d = p_abs$3$y;
-        ra_d$4$d = ra_dot$4$p;
-        pa_d$4$d = p_abs$4$y;
-        ra_d$5$d = ra_dot$5$p;
-        pa_d$5$d = p_abs$5$y;
-        ra_d$6$d = ra_dot$6$p;
-        pa_d$6$d = p_abs$6$y;
-        ra_d$7$d = ra_dot$7$p;
-        pa_d$7$d = p_abs$7$y;
-        ra_d$8$d = ra_dot$8$p;
-        pa_d$8$d = p_abs$8$y;
-        ra_d$9$d = ra_d$0$q;
-        ra_d$10$d = ra_d$1$q;
-        ra_d$11$d = ra_d$2$q;
-        ra_d$12$d = ra_d$3$q;
-        ra_d$13$d = ra_d$4$q;
-        ra_d$14$d = ra_d$5$q;
-        ra_d$15$d = ra_d$6$q;
-        ra_d$16$d = ra_d$7$q;
-        ra_d$17$d = ra_d$8$q;
-        ra_d$18$d = ra_d$9$q;
-        ra_d$19$d = ra_d$10$q;
-        ra_d$20$d = ra_d$11$q;
-        ra_d$21$d = ra_d$12$q;
-        ra_d$22$d = ra_d$13$q;
-        ra_d$23$d = ra_d$14$q;
-        ra_d$24$d = ra_d$15$q;
-        ra_d$25$d = ra_d$16$q;
-        ra_d$26$d = ra_d$17$q;
-        ra_d$27$d = ra_d$18$q;
-        ra_d$28$d = ra_d$19$q;
-        ra_d$29$d = ra_d$20$q;
-        ra_d$30$d = ra_d$21$q;
-        ra_d$31$d = ra_d$22$q;
-        ra_d$32$d = ra_d$23$q;
-        ra_d$33$d = ra_d$24$q;
-        ra_d$34$d = ra_d$25$q;
-        ra_d$35$d = ra_d$26$q;
-        ra_d$36$d = ra_d$27$q;
-        ra_d$37$d = ra_d$28$q;
-        ra_d$38$d = ra_d$29$q;
-        ra_d$39$d = ra_d$30$q;
-        ra_d$40$d = ra_d$31$q;
-        ra_d$41$d = ra_d$32$q;
-        ra_d$42$d = ra_d$33$q;
-        ra_d$43$d = ra_d$34$q;
-        ra_d$44$d = ra_d$35$q;
-        ra_d$45$d = ra_d$36$q;
-        ra_d$46$d = ra_d$37$q;
-        ra_d$47$d = ra_d$38$q;
-        ra_d$48$d = ra_d$39$q;
-        ra_d$49$d = ra_d$40$q;
-        ra_d$50$d = ra_d$41$q;
-        ra_d$51$d = ra_d$42$q;
-        ra_d$52$d = ra_d$43$q;
-        ra_d$53$d = ra_d$44$q;
-        pa_d$9$d = pa_d$0$q;
-        pa_d$10$d = pa_d$1$q;
-        pa_d$11$d = pa_d$2$q;
-        pa_d$12$d = pa_d$3$q;
-        pa_d$13$d = pa_d$4$q;
-        pa_d$14$d = pa_d$5$q;
-        pa_d$15$d = pa_d$6$q;
-        pa_d$16$d = pa_d$7$q;
-        pa_d$17$d = pa_d$8$q;
-        pa_d$18$d = pa_d$9$q;
-        pa_d$19$d = pa_d$10$q;
-        pa_d$20$d = pa_d$11$q;
-        pa_d$21$d = pa_d$12$q;
-        pa_d$22$d = pa_d$13$q;
-        pa_d$23$d = pa_d$14$q;
-        pa_d$24$d = pa_d$15$q;
-        pa_d$25$d = pa_d$16$q;
-        pa_d$26$d = pa_d$17$q;
-        pa_d$27$d = pa_d$18$q;
-        pa_d$28$d = pa_d$19$q;
-        pa_d$29$d = pa_d$20$q;
-        pa_d$30$d = pa_d$21$q;
-        pa_d$31$d = pa_d$22$q;
-        pa_d$32$d = pa_d$23$q;
-        pa_d$33$d = pa_d$24$q;
-        pa_d$34$d = pa_d$25$q;
-        pa_d$35$d = pa_d$26$q;
-        pa_d$36$d = pa_d$27$q;
-        pa_d$37$d = pa_d$28$q;
-        pa_d$38$d = pa_d$29$q;
-        pa_d$39$d = pa_d$30$q;
-        pa_d$40$d = pa_d$31$q;
-        pa_d$41$d = pa_d$32$q;
-        pa_d$42$d = pa_d$33$q;
-        pa_d$43$d = pa_d$34$q;
-        pa_d$44$d = pa_d$35$q;
+        rb_dot$8$b1 = hb_r_b$1$q;
+        abs_t_decide$0$d = round$abs_t$0;
+        abs_u_decide$0$d = round$abs_u$0;
+        face_a_decide$0$d = face_a_dot$0$p;
+        face_b_decide$0$d = face_b_dot$0$p;
+        abs_t_decide$1$d = round$abs_t$1;
+        abs_u_decide$1$d = round$abs_u$1;
+        face_a_decide$1$d = face_a_dot$1$p;
+        face_b_decide$1$d = face_b_dot$1$p;
+        abs_t_decide$2$d = round$abs_t$2;
+        abs_u_decide$2$d = round$abs_u$2;
+        face_a_decide$2$d = face_a_dot$2$p;
+        face_b_decide$2$d = face_b_dot$2$p;
+        r_a_decide$0$d = ra_dot$0$p;
+        abs_p_decide$0$d = p_abs$0$y;
+        r_a_decide$1$d = ra_dot$1$p;
+        abs_p_decide$1$d = p_abs$1$y;
+        r_a_decide$2$d = ra_dot$2$p;
+        abs_p_decide$2$d = p_abs$2$y;
+        r_a_decide$3$d = ra_dot$3$p;
+        abs_p_decide$3$d = p_abs$3$y;
+        r_a_decide$4$d = ra_dot$4$p;
+        abs_p_decide$4$d = p_abs$4$y;
+        r_a_decide$5$d = ra_dot$5$p;
+        abs_p_decide$5$d = p_abs$5$y;
+        r_a_decide$6$d = ra_dot$6$p;
+        abs_p_decide$6$d = p_abs$6$y;
+        r_a_decide$7$d = ra_dot$7$p;
+        abs_p_decide$7$d = p_abs$7$y;
+        r_a_decide$8$d = ra_dot$8$p;
+        abs_p_decide$8$d = p_abs$8$y;
         decide$f = frac;
         decide$k = shift;
         decide$face_margin = face_margin;
         decide$cross_margin = cross_margin;
-        decide$pair_margin = pm$11$q;
-        decide$abs_t$0 = at_d$30$q;
-        decide$abs_u$0 = au_d$30$q;
-        decide$face_a$0 = fa_d$15$q;
-        decide$face_b$0 = fb_d$15$q;
-        decide$half_a$0 = ha$33$q;
-        decide$half_b$0 = hb$33$q;
-        decide$abs_t$1 = at_d$31$q;
-        decide$abs_u$1 = au_d$31$q;
-        decide$face_a$1 = fa_d$16$q;
-        decide$face_b$1 = fb_d$16$q;
-        decide$half_a$1 = ha$34$q;
-        decide$half_b$1 = hb$34$q;
-        decide$abs_t$2 = at_d$32$q;
-        decide$abs_u$2 = au_d$32$q;
-        decide$face_a$2 = fa_d$17$q;
-        decide$face_b$2 = fb_d$17$q;
-        decide$half_a$2 = ha$35$q;
-        decide$half_b$2 = hb$35$q;
-        decide$abs_p$0 = pa_d$36$q;
-        decide$r_a$0 = ra_d$45$q;
+        decide$pair_margin = margin_decide$q;
+        decide$abs_t$0 = abs_t_decide$0$q;
+        decide$abs_u$0 = abs_u_decide$0$q;
+        decide$face_a$0 = face_a_decide$0$q;
+        decide$face_b$0 = face_b_decide$0$q;
+        decide$half_a$0 = ha_decide$0$q;
+        decide$half_b$0 = hb_decide$0$q;
+        decide$abs_t$1 = abs_t_decide$1$q;
+        decide$abs_u$1 = abs_u_decide$1$q;
+        decide$face_a$1 = face_a_decide$1$q;
+        decide$face_b$1 = face_b_decide$1$q;
+        decide$half_a$1 = ha_decide$1$q;
+        decide$half_b$1 = hb_decide$1$q;
+        decide$abs_t$2 = abs_t_decide$2$q;
+        decide$abs_u$2 = abs_u_decide$2$q;
+        decide$face_a$2 = face_a_decide$2$q;
+        decide$face_b$2 = face_b_decide$2$q;
+        decide$half_a$2 = ha_decide$2$q;
+        decide$half_b$2 = hb_decide$2$q;
+        decide$abs_p$0 = abs_p_decide$0$q;
+        decide$r_a$0 = r_a_decide$0$q;
         decide$r_b$0 = rb_dot$0$p;
-        decide$abs_p$1 = pa_d$37$q;
-        decide$r_a$1 = ra_d$46$q;
+        decide$abs_p$1 = abs_p_decide$1$q;
+        decide$r_a$1 = r_a_decide$1$q;
         decide$r_b$1 = rb_dot$1$p;
-        decide$abs_p$2 = pa_d$38$q;
-        decide$r_a$2 = ra_d$47$q;
+        decide$abs_p$2 = abs_p_decide$2$q;
+        decide$r_a$2 = r_a_decide$2$q;
         decide$r_b$2 = rb_dot$2$p;
-        decide$abs_p$3 = pa_d$39$q;
-        decide$r_a$3 = ra_d$48$q;
+        decide$abs_p$3 = abs_p_decide$3$q;
+        decide$r_a$3 = r_a_decide$3$q;
         decide$r_b$3 = rb_dot$3$p;
-        decide$abs_p$4 = pa_d$40$q;
-        decide$r_a$4 = ra_d$49$q;
+        decide$abs_p$4 = abs_p_decide$4$q;
+        decide$r_a$4 = r_a_decide$4$q;
         decide$r_b$4 = rb_dot$4$p;
-        decide$abs_p$5 = pa_d$41$q;
-        decide$r_a$5 = ra_d$50$q;
+        decide$abs_p$5 = abs_p_decide$5$q;
+        decide$r_a$5 = r_a_decide$5$q;
         decide$r_b$5 = rb_dot$5$p;
-        decide$abs_p$6 = pa_d$42$q;
-        decide$r_a$6 = ra_d$51$q;
+        decide$abs_p$6 = abs_p_decide$6$q;
+        decide$r_a$6 = r_a_decide$6$q;
         decide$r_b$6 = rb_dot$6$p;
-        decide$abs_p$7 = pa_d$43$q;
-        decide$r_a$7 = ra_d$52$q;
+        decide$abs_p$7 = abs_p_decide$7$q;
+        decide$r_a$7 = r_a_decide$7$q;
         decide$r_b$7 = rb_dot$7$p;
-        decide$abs_p$8 = pa_d$44$q;
-        decide$r_a$8 = ra_d$53$q;
+        decide$abs_p$8 = abs_p_decide$8$q;
+        decide$r_a$8 = r_a_decide$8$q;
         decide$r_b$8 = rb_dot$8$p;
-        valid_out = valid$15$q;
+        valid_out = valid$q;
         hit = decide$hit;
     end
     
 endmodule // obb_core$sat$back
 
 
-module obb_core$sat$back$at_d$0(d,q,clock);
+module obb_core$sat$back$abs_p_decide$0(clock,d,q);
     
     // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$abs_p_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$abs_p_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$abs_p_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$abs_p_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$abs_p_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // obb_core$sat$back$abs_p_decide$0
+
+
+module obb_core$sat$back$abs_p_decide$0$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$0$stage$0
+
+
+module obb_core$sat$back$abs_p_decide$0$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$0$stage$1
+
+
+module obb_core$sat$back$abs_p_decide$0$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$0$stage$2
+
+
+module obb_core$sat$back$abs_p_decide$0$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$0$stage$3
+
+
+module obb_core$sat$back$abs_p_decide$0$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$0$stage$4
+
+
+module obb_core$sat$back$abs_p_decide$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$abs_p_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$abs_p_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$abs_p_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$abs_p_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$abs_p_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // obb_core$sat$back$abs_p_decide$1
+
+
+module obb_core$sat$back$abs_p_decide$1$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$1$stage$0
+
+
+module obb_core$sat$back$abs_p_decide$1$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$1$stage$1
+
+
+module obb_core$sat$back$abs_p_decide$1$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$1$stage$2
+
+
+module obb_core$sat$back$abs_p_decide$1$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$1$stage$3
+
+
+module obb_core$sat$back$abs_p_decide$1$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$1$stage$4
+
+
+module obb_core$sat$back$abs_p_decide$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$abs_p_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$abs_p_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$abs_p_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$abs_p_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$abs_p_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // obb_core$sat$back$abs_p_decide$2
+
+
+module obb_core$sat$back$abs_p_decide$2$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$2$stage$0
+
+
+module obb_core$sat$back$abs_p_decide$2$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$2$stage$1
+
+
+module obb_core$sat$back$abs_p_decide$2$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$2$stage$2
+
+
+module obb_core$sat$back$abs_p_decide$2$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$2$stage$3
+
+
+module obb_core$sat$back$abs_p_decide$2$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$2$stage$4
+
+
+module obb_core$sat$back$abs_p_decide$3(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$abs_p_decide$3$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$abs_p_decide$3$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$abs_p_decide$3$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$abs_p_decide$3$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$abs_p_decide$3$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // obb_core$sat$back$abs_p_decide$3
+
+
+module obb_core$sat$back$abs_p_decide$3$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$3$stage$0
+
+
+module obb_core$sat$back$abs_p_decide$3$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$3$stage$1
+
+
+module obb_core$sat$back$abs_p_decide$3$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$3$stage$2
+
+
+module obb_core$sat$back$abs_p_decide$3$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$3$stage$3
+
+
+module obb_core$sat$back$abs_p_decide$3$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$3$stage$4
+
+
+module obb_core$sat$back$abs_p_decide$4(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$abs_p_decide$4$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$abs_p_decide$4$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$abs_p_decide$4$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$abs_p_decide$4$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$abs_p_decide$4$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // obb_core$sat$back$abs_p_decide$4
+
+
+module obb_core$sat$back$abs_p_decide$4$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$4$stage$0
+
+
+module obb_core$sat$back$abs_p_decide$4$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$4$stage$1
+
+
+module obb_core$sat$back$abs_p_decide$4$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$4$stage$2
+
+
+module obb_core$sat$back$abs_p_decide$4$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$4$stage$3
+
+
+module obb_core$sat$back$abs_p_decide$4$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$4$stage$4
+
+
+module obb_core$sat$back$abs_p_decide$5(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$abs_p_decide$5$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$abs_p_decide$5$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$abs_p_decide$5$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$abs_p_decide$5$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$abs_p_decide$5$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // obb_core$sat$back$abs_p_decide$5
+
+
+module obb_core$sat$back$abs_p_decide$5$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$5$stage$0
+
+
+module obb_core$sat$back$abs_p_decide$5$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$5$stage$1
+
+
+module obb_core$sat$back$abs_p_decide$5$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$5$stage$2
+
+
+module obb_core$sat$back$abs_p_decide$5$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$5$stage$3
+
+
+module obb_core$sat$back$abs_p_decide$5$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$5$stage$4
+
+
+module obb_core$sat$back$abs_p_decide$6(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$abs_p_decide$6$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$abs_p_decide$6$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$abs_p_decide$6$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$abs_p_decide$6$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$abs_p_decide$6$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // obb_core$sat$back$abs_p_decide$6
+
+
+module obb_core$sat$back$abs_p_decide$6$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$6$stage$0
+
+
+module obb_core$sat$back$abs_p_decide$6$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$6$stage$1
+
+
+module obb_core$sat$back$abs_p_decide$6$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$6$stage$2
+
+
+module obb_core$sat$back$abs_p_decide$6$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$6$stage$3
+
+
+module obb_core$sat$back$abs_p_decide$6$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$6$stage$4
+
+
+module obb_core$sat$back$abs_p_decide$7(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$abs_p_decide$7$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$abs_p_decide$7$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$abs_p_decide$7$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$abs_p_decide$7$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$abs_p_decide$7$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // obb_core$sat$back$abs_p_decide$7
+
+
+module obb_core$sat$back$abs_p_decide$7$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$7$stage$0
+
+
+module obb_core$sat$back$abs_p_decide$7$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$7$stage$1
+
+
+module obb_core$sat$back$abs_p_decide$7$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$7$stage$2
+
+
+module obb_core$sat$back$abs_p_decide$7$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$7$stage$3
+
+
+module obb_core$sat$back$abs_p_decide$7$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$7$stage$4
+
+
+module obb_core$sat$back$abs_p_decide$8(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$abs_p_decide$8$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$abs_p_decide$8$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$abs_p_decide$8$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$abs_p_decide$8$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$abs_p_decide$8$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // obb_core$sat$back$abs_p_decide$8
+
+
+module obb_core$sat$back$abs_p_decide$8$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$8$stage$0
+
+
+module obb_core$sat$back$abs_p_decide$8$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$8$stage$1
+
+
+module obb_core$sat$back$abs_p_decide$8$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$8$stage$2
+
+
+module obb_core$sat$back$abs_p_decide$8$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$8$stage$3
+
+
+module obb_core$sat$back$abs_p_decide$8$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$abs_p_decide$8$stage$4
+
+
+module obb_core$sat$back$abs_t_decide$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    
+    // Stub signals
+    reg  [42:0] stage$0$d;
+    wire  [42:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [42:0] stage$1$d;
+    wire  [42:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [42:0] stage$2$d;
+    wire  [42:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [42:0] stage$3$d;
+    wire  [42:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [42:0] stage$4$d;
+    wire  [42:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [42:0] stage$5$d;
+    wire  [42:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [42:0] stage$6$d;
+    wire  [42:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [42:0] stage$7$d;
+    wire  [42:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [42:0] stage$8$d;
+    wire  [42:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [42:0] stage$9$d;
+    wire  [42:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [42:0] stage$10$d;
+    wire  [42:0] stage$10$q;
+    reg  stage$10$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$abs_t_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$abs_t_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$abs_t_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$abs_t_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$abs_t_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$abs_t_decide$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    obb_core$sat$back$abs_t_decide$0$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    obb_core$sat$back$abs_t_decide$0$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    obb_core$sat$back$abs_t_decide$0$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    obb_core$sat$back$abs_t_decide$0$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    obb_core$sat$back$abs_t_decide$0$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        q = stage$10$q;
+    end
+    
+endmodule // obb_core$sat$back$abs_t_decide$0
+
+
+module obb_core$sat$back$abs_t_decide$0$stage$0(d,q,clock);
+    
+    // Module arguments
     input wire  [42:0] d;
     output reg  [42:0] q;
     input wire  clock;
@@ -94465,10 +92964,10 @@ module obb_core$sat$back$at_d$0(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$0
+endmodule // obb_core$sat$back$abs_t_decide$0$stage$0
 
 
-module obb_core$sat$back$at_d$1(d,q,clock);
+module obb_core$sat$back$abs_t_decide$0$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94484,10 +92983,10 @@ module obb_core$sat$back$at_d$1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$1
+endmodule // obb_core$sat$back$abs_t_decide$0$stage$1
 
 
-module obb_core$sat$back$at_d$10(d,q,clock);
+module obb_core$sat$back$abs_t_decide$0$stage$10(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94503,10 +93002,10 @@ module obb_core$sat$back$at_d$10(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$10
+endmodule // obb_core$sat$back$abs_t_decide$0$stage$10
 
 
-module obb_core$sat$back$at_d$11(d,q,clock);
+module obb_core$sat$back$abs_t_decide$0$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94522,10 +93021,10 @@ module obb_core$sat$back$at_d$11(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$11
+endmodule // obb_core$sat$back$abs_t_decide$0$stage$2
 
 
-module obb_core$sat$back$at_d$12(d,q,clock);
+module obb_core$sat$back$abs_t_decide$0$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94541,10 +93040,10 @@ module obb_core$sat$back$at_d$12(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$12
+endmodule // obb_core$sat$back$abs_t_decide$0$stage$3
 
 
-module obb_core$sat$back$at_d$13(d,q,clock);
+module obb_core$sat$back$abs_t_decide$0$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94560,10 +93059,10 @@ module obb_core$sat$back$at_d$13(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$13
+endmodule // obb_core$sat$back$abs_t_decide$0$stage$4
 
 
-module obb_core$sat$back$at_d$14(d,q,clock);
+module obb_core$sat$back$abs_t_decide$0$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94579,10 +93078,10 @@ module obb_core$sat$back$at_d$14(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$14
+endmodule // obb_core$sat$back$abs_t_decide$0$stage$5
 
 
-module obb_core$sat$back$at_d$15(d,q,clock);
+module obb_core$sat$back$abs_t_decide$0$stage$6(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94598,10 +93097,10 @@ module obb_core$sat$back$at_d$15(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$15
+endmodule // obb_core$sat$back$abs_t_decide$0$stage$6
 
 
-module obb_core$sat$back$at_d$16(d,q,clock);
+module obb_core$sat$back$abs_t_decide$0$stage$7(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94617,10 +93116,10 @@ module obb_core$sat$back$at_d$16(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$16
+endmodule // obb_core$sat$back$abs_t_decide$0$stage$7
 
 
-module obb_core$sat$back$at_d$17(d,q,clock);
+module obb_core$sat$back$abs_t_decide$0$stage$8(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94636,10 +93135,10 @@ module obb_core$sat$back$at_d$17(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$17
+endmodule // obb_core$sat$back$abs_t_decide$0$stage$8
 
 
-module obb_core$sat$back$at_d$18(d,q,clock);
+module obb_core$sat$back$abs_t_decide$0$stage$9(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94655,10 +93154,139 @@ module obb_core$sat$back$at_d$18(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$18
+endmodule // obb_core$sat$back$abs_t_decide$0$stage$9
+
+
+module obb_core$sat$back$abs_t_decide$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    
+    // Stub signals
+    reg  [42:0] stage$0$d;
+    wire  [42:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [42:0] stage$1$d;
+    wire  [42:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [42:0] stage$2$d;
+    wire  [42:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [42:0] stage$3$d;
+    wire  [42:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [42:0] stage$4$d;
+    wire  [42:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [42:0] stage$5$d;
+    wire  [42:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [42:0] stage$6$d;
+    wire  [42:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [42:0] stage$7$d;
+    wire  [42:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [42:0] stage$8$d;
+    wire  [42:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [42:0] stage$9$d;
+    wire  [42:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [42:0] stage$10$d;
+    wire  [42:0] stage$10$q;
+    reg  stage$10$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$abs_t_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$abs_t_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$abs_t_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$abs_t_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$abs_t_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$abs_t_decide$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    obb_core$sat$back$abs_t_decide$1$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    obb_core$sat$back$abs_t_decide$1$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    obb_core$sat$back$abs_t_decide$1$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    obb_core$sat$back$abs_t_decide$1$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    obb_core$sat$back$abs_t_decide$1$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        q = stage$10$q;
+    end
+    
+endmodule // obb_core$sat$back$abs_t_decide$1
 
 
-module obb_core$sat$back$at_d$19(d,q,clock);
+module obb_core$sat$back$abs_t_decide$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94674,10 +93302,10 @@ module obb_core$sat$back$at_d$19(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$19
+endmodule // obb_core$sat$back$abs_t_decide$1$stage$0
 
 
-module obb_core$sat$back$at_d$2(d,q,clock);
+module obb_core$sat$back$abs_t_decide$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94693,10 +93321,10 @@ module obb_core$sat$back$at_d$2(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$2
+endmodule // obb_core$sat$back$abs_t_decide$1$stage$1
 
 
-module obb_core$sat$back$at_d$20(d,q,clock);
+module obb_core$sat$back$abs_t_decide$1$stage$10(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94712,10 +93340,10 @@ module obb_core$sat$back$at_d$20(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$20
+endmodule // obb_core$sat$back$abs_t_decide$1$stage$10
 
 
-module obb_core$sat$back$at_d$21(d,q,clock);
+module obb_core$sat$back$abs_t_decide$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94731,10 +93359,10 @@ module obb_core$sat$back$at_d$21(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$21
+endmodule // obb_core$sat$back$abs_t_decide$1$stage$2
 
 
-module obb_core$sat$back$at_d$22(d,q,clock);
+module obb_core$sat$back$abs_t_decide$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94750,10 +93378,10 @@ module obb_core$sat$back$at_d$22(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$22
+endmodule // obb_core$sat$back$abs_t_decide$1$stage$3
 
 
-module obb_core$sat$back$at_d$23(d,q,clock);
+module obb_core$sat$back$abs_t_decide$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94769,10 +93397,10 @@ module obb_core$sat$back$at_d$23(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$23
+endmodule // obb_core$sat$back$abs_t_decide$1$stage$4
 
 
-module obb_core$sat$back$at_d$24(d,q,clock);
+module obb_core$sat$back$abs_t_decide$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94788,10 +93416,10 @@ module obb_core$sat$back$at_d$24(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$24
+endmodule // obb_core$sat$back$abs_t_decide$1$stage$5
 
 
-module obb_core$sat$back$at_d$25(d,q,clock);
+module obb_core$sat$back$abs_t_decide$1$stage$6(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94807,10 +93435,10 @@ module obb_core$sat$back$at_d$25(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$25
+endmodule // obb_core$sat$back$abs_t_decide$1$stage$6
 
 
-module obb_core$sat$back$at_d$26(d,q,clock);
+module obb_core$sat$back$abs_t_decide$1$stage$7(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94826,10 +93454,10 @@ module obb_core$sat$back$at_d$26(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$26
+endmodule // obb_core$sat$back$abs_t_decide$1$stage$7
 
 
-module obb_core$sat$back$at_d$27(d,q,clock);
+module obb_core$sat$back$abs_t_decide$1$stage$8(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94845,10 +93473,10 @@ module obb_core$sat$back$at_d$27(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$27
+endmodule // obb_core$sat$back$abs_t_decide$1$stage$8
 
 
-module obb_core$sat$back$at_d$28(d,q,clock);
+module obb_core$sat$back$abs_t_decide$1$stage$9(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94864,10 +93492,139 @@ module obb_core$sat$back$at_d$28(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$28
+endmodule // obb_core$sat$back$abs_t_decide$1$stage$9
+
+
+module obb_core$sat$back$abs_t_decide$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    
+    // Stub signals
+    reg  [42:0] stage$0$d;
+    wire  [42:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [42:0] stage$1$d;
+    wire  [42:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [42:0] stage$2$d;
+    wire  [42:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [42:0] stage$3$d;
+    wire  [42:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [42:0] stage$4$d;
+    wire  [42:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [42:0] stage$5$d;
+    wire  [42:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [42:0] stage$6$d;
+    wire  [42:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [42:0] stage$7$d;
+    wire  [42:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [42:0] stage$8$d;
+    wire  [42:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [42:0] stage$9$d;
+    wire  [42:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [42:0] stage$10$d;
+    wire  [42:0] stage$10$q;
+    reg  stage$10$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$abs_t_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$abs_t_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$abs_t_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$abs_t_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$abs_t_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$abs_t_decide$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    obb_core$sat$back$abs_t_decide$2$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    obb_core$sat$back$abs_t_decide$2$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    obb_core$sat$back$abs_t_decide$2$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    obb_core$sat$back$abs_t_decide$2$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    obb_core$sat$back$abs_t_decide$2$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        q = stage$10$q;
+    end
+    
+endmodule // obb_core$sat$back$abs_t_decide$2
 
 
-module obb_core$sat$back$at_d$29(d,q,clock);
+module obb_core$sat$back$abs_t_decide$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94883,10 +93640,10 @@ module obb_core$sat$back$at_d$29(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$29
+endmodule // obb_core$sat$back$abs_t_decide$2$stage$0
 
 
-module obb_core$sat$back$at_d$3(d,q,clock);
+module obb_core$sat$back$abs_t_decide$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94902,10 +93659,10 @@ module obb_core$sat$back$at_d$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$3
+endmodule // obb_core$sat$back$abs_t_decide$2$stage$1
 
 
-module obb_core$sat$back$at_d$30(d,q,clock);
+module obb_core$sat$back$abs_t_decide$2$stage$10(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94921,10 +93678,10 @@ module obb_core$sat$back$at_d$30(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$30
+endmodule // obb_core$sat$back$abs_t_decide$2$stage$10
 
 
-module obb_core$sat$back$at_d$31(d,q,clock);
+module obb_core$sat$back$abs_t_decide$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94940,10 +93697,10 @@ module obb_core$sat$back$at_d$31(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$31
+endmodule // obb_core$sat$back$abs_t_decide$2$stage$2
 
 
-module obb_core$sat$back$at_d$32(d,q,clock);
+module obb_core$sat$back$abs_t_decide$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94959,10 +93716,10 @@ module obb_core$sat$back$at_d$32(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$32
+endmodule // obb_core$sat$back$abs_t_decide$2$stage$3
 
 
-module obb_core$sat$back$at_d$4(d,q,clock);
+module obb_core$sat$back$abs_t_decide$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94978,10 +93735,10 @@ module obb_core$sat$back$at_d$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$4
+endmodule // obb_core$sat$back$abs_t_decide$2$stage$4
 
 
-module obb_core$sat$back$at_d$5(d,q,clock);
+module obb_core$sat$back$abs_t_decide$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -94997,10 +93754,10 @@ module obb_core$sat$back$at_d$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$5
+endmodule // obb_core$sat$back$abs_t_decide$2$stage$5
 
 
-module obb_core$sat$back$at_d$6(d,q,clock);
+module obb_core$sat$back$abs_t_decide$2$stage$6(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95016,10 +93773,10 @@ module obb_core$sat$back$at_d$6(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$6
+endmodule // obb_core$sat$back$abs_t_decide$2$stage$6
 
 
-module obb_core$sat$back$at_d$7(d,q,clock);
+module obb_core$sat$back$abs_t_decide$2$stage$7(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95035,10 +93792,10 @@ module obb_core$sat$back$at_d$7(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$7
+endmodule // obb_core$sat$back$abs_t_decide$2$stage$7
 
 
-module obb_core$sat$back$at_d$8(d,q,clock);
+module obb_core$sat$back$abs_t_decide$2$stage$8(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95054,10 +93811,10 @@ module obb_core$sat$back$at_d$8(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$8
+endmodule // obb_core$sat$back$abs_t_decide$2$stage$8
 
 
-module obb_core$sat$back$at_d$9(d,q,clock);
+module obb_core$sat$back$abs_t_decide$2$stage$9(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95073,10 +93830,139 @@ module obb_core$sat$back$at_d$9(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$at_d$9
+endmodule // obb_core$sat$back$abs_t_decide$2$stage$9
+
+
+module obb_core$sat$back$abs_u_decide$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    
+    // Stub signals
+    reg  [42:0] stage$0$d;
+    wire  [42:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [42:0] stage$1$d;
+    wire  [42:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [42:0] stage$2$d;
+    wire  [42:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [42:0] stage$3$d;
+    wire  [42:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [42:0] stage$4$d;
+    wire  [42:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [42:0] stage$5$d;
+    wire  [42:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [42:0] stage$6$d;
+    wire  [42:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [42:0] stage$7$d;
+    wire  [42:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [42:0] stage$8$d;
+    wire  [42:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [42:0] stage$9$d;
+    wire  [42:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [42:0] stage$10$d;
+    wire  [42:0] stage$10$q;
+    reg  stage$10$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$abs_u_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$abs_u_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$abs_u_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$abs_u_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$abs_u_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$abs_u_decide$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    obb_core$sat$back$abs_u_decide$0$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    obb_core$sat$back$abs_u_decide$0$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    obb_core$sat$back$abs_u_decide$0$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    obb_core$sat$back$abs_u_decide$0$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    obb_core$sat$back$abs_u_decide$0$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        q = stage$10$q;
+    end
+    
+endmodule // obb_core$sat$back$abs_u_decide$0
 
 
-module obb_core$sat$back$au_d$0(d,q,clock);
+module obb_core$sat$back$abs_u_decide$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95092,10 +93978,10 @@ module obb_core$sat$back$au_d$0(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$0
+endmodule // obb_core$sat$back$abs_u_decide$0$stage$0
 
 
-module obb_core$sat$back$au_d$1(d,q,clock);
+module obb_core$sat$back$abs_u_decide$0$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95111,10 +93997,10 @@ module obb_core$sat$back$au_d$1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$1
+endmodule // obb_core$sat$back$abs_u_decide$0$stage$1
 
 
-module obb_core$sat$back$au_d$10(d,q,clock);
+module obb_core$sat$back$abs_u_decide$0$stage$10(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95130,10 +94016,10 @@ module obb_core$sat$back$au_d$10(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$10
+endmodule // obb_core$sat$back$abs_u_decide$0$stage$10
 
 
-module obb_core$sat$back$au_d$11(d,q,clock);
+module obb_core$sat$back$abs_u_decide$0$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95149,10 +94035,10 @@ module obb_core$sat$back$au_d$11(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$11
+endmodule // obb_core$sat$back$abs_u_decide$0$stage$2
 
 
-module obb_core$sat$back$au_d$12(d,q,clock);
+module obb_core$sat$back$abs_u_decide$0$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95168,10 +94054,10 @@ module obb_core$sat$back$au_d$12(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$12
+endmodule // obb_core$sat$back$abs_u_decide$0$stage$3
 
 
-module obb_core$sat$back$au_d$13(d,q,clock);
+module obb_core$sat$back$abs_u_decide$0$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95187,10 +94073,10 @@ module obb_core$sat$back$au_d$13(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$13
+endmodule // obb_core$sat$back$abs_u_decide$0$stage$4
 
 
-module obb_core$sat$back$au_d$14(d,q,clock);
+module obb_core$sat$back$abs_u_decide$0$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95206,10 +94092,10 @@ module obb_core$sat$back$au_d$14(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$14
+endmodule // obb_core$sat$back$abs_u_decide$0$stage$5
 
 
-module obb_core$sat$back$au_d$15(d,q,clock);
+module obb_core$sat$back$abs_u_decide$0$stage$6(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95225,10 +94111,10 @@ module obb_core$sat$back$au_d$15(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$15
+endmodule // obb_core$sat$back$abs_u_decide$0$stage$6
 
 
-module obb_core$sat$back$au_d$16(d,q,clock);
+module obb_core$sat$back$abs_u_decide$0$stage$7(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95244,10 +94130,10 @@ module obb_core$sat$back$au_d$16(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$16
+endmodule // obb_core$sat$back$abs_u_decide$0$stage$7
 
 
-module obb_core$sat$back$au_d$17(d,q,clock);
+module obb_core$sat$back$abs_u_decide$0$stage$8(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95263,10 +94149,10 @@ module obb_core$sat$back$au_d$17(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$17
+endmodule // obb_core$sat$back$abs_u_decide$0$stage$8
 
 
-module obb_core$sat$back$au_d$18(d,q,clock);
+module obb_core$sat$back$abs_u_decide$0$stage$9(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95282,10 +94168,139 @@ module obb_core$sat$back$au_d$18(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$18
+endmodule // obb_core$sat$back$abs_u_decide$0$stage$9
+
+
+module obb_core$sat$back$abs_u_decide$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    
+    // Stub signals
+    reg  [42:0] stage$0$d;
+    wire  [42:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [42:0] stage$1$d;
+    wire  [42:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [42:0] stage$2$d;
+    wire  [42:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [42:0] stage$3$d;
+    wire  [42:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [42:0] stage$4$d;
+    wire  [42:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [42:0] stage$5$d;
+    wire  [42:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [42:0] stage$6$d;
+    wire  [42:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [42:0] stage$7$d;
+    wire  [42:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [42:0] stage$8$d;
+    wire  [42:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [42:0] stage$9$d;
+    wire  [42:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [42:0] stage$10$d;
+    wire  [42:0] stage$10$q;
+    reg  stage$10$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$abs_u_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$abs_u_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$abs_u_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$abs_u_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$abs_u_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$abs_u_decide$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    obb_core$sat$back$abs_u_decide$1$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    obb_core$sat$back$abs_u_decide$1$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    obb_core$sat$back$abs_u_decide$1$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    obb_core$sat$back$abs_u_decide$1$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    obb_core$sat$back$abs_u_decide$1$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        q = stage$10$q;
+    end
+    
+endmodule // obb_core$sat$back$abs_u_decide$1
 
 
-module obb_core$sat$back$au_d$19(d,q,clock);
+module obb_core$sat$back$abs_u_decide$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95301,10 +94316,10 @@ module obb_core$sat$back$au_d$19(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$19
+endmodule // obb_core$sat$back$abs_u_decide$1$stage$0
 
 
-module obb_core$sat$back$au_d$2(d,q,clock);
+module obb_core$sat$back$abs_u_decide$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95320,10 +94335,10 @@ module obb_core$sat$back$au_d$2(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$2
+endmodule // obb_core$sat$back$abs_u_decide$1$stage$1
 
 
-module obb_core$sat$back$au_d$20(d,q,clock);
+module obb_core$sat$back$abs_u_decide$1$stage$10(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95339,10 +94354,10 @@ module obb_core$sat$back$au_d$20(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$20
+endmodule // obb_core$sat$back$abs_u_decide$1$stage$10
 
 
-module obb_core$sat$back$au_d$21(d,q,clock);
+module obb_core$sat$back$abs_u_decide$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95358,10 +94373,10 @@ module obb_core$sat$back$au_d$21(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$21
+endmodule // obb_core$sat$back$abs_u_decide$1$stage$2
 
 
-module obb_core$sat$back$au_d$22(d,q,clock);
+module obb_core$sat$back$abs_u_decide$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95377,10 +94392,10 @@ module obb_core$sat$back$au_d$22(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$22
+endmodule // obb_core$sat$back$abs_u_decide$1$stage$3
 
 
-module obb_core$sat$back$au_d$23(d,q,clock);
+module obb_core$sat$back$abs_u_decide$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95396,10 +94411,10 @@ module obb_core$sat$back$au_d$23(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$23
+endmodule // obb_core$sat$back$abs_u_decide$1$stage$4
 
 
-module obb_core$sat$back$au_d$24(d,q,clock);
+module obb_core$sat$back$abs_u_decide$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95415,10 +94430,10 @@ module obb_core$sat$back$au_d$24(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$24
+endmodule // obb_core$sat$back$abs_u_decide$1$stage$5
 
 
-module obb_core$sat$back$au_d$25(d,q,clock);
+module obb_core$sat$back$abs_u_decide$1$stage$6(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95434,10 +94449,10 @@ module obb_core$sat$back$au_d$25(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$25
+endmodule // obb_core$sat$back$abs_u_decide$1$stage$6
 
 
-module obb_core$sat$back$au_d$26(d,q,clock);
+module obb_core$sat$back$abs_u_decide$1$stage$7(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95453,10 +94468,10 @@ module obb_core$sat$back$au_d$26(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$26
+endmodule // obb_core$sat$back$abs_u_decide$1$stage$7
 
 
-module obb_core$sat$back$au_d$27(d,q,clock);
+module obb_core$sat$back$abs_u_decide$1$stage$8(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95472,10 +94487,10 @@ module obb_core$sat$back$au_d$27(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$27
+endmodule // obb_core$sat$back$abs_u_decide$1$stage$8
 
 
-module obb_core$sat$back$au_d$28(d,q,clock);
+module obb_core$sat$back$abs_u_decide$1$stage$9(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95491,10 +94506,139 @@ module obb_core$sat$back$au_d$28(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$28
+endmodule // obb_core$sat$back$abs_u_decide$1$stage$9
+
+
+module obb_core$sat$back$abs_u_decide$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    
+    // Stub signals
+    reg  [42:0] stage$0$d;
+    wire  [42:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [42:0] stage$1$d;
+    wire  [42:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [42:0] stage$2$d;
+    wire  [42:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [42:0] stage$3$d;
+    wire  [42:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [42:0] stage$4$d;
+    wire  [42:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [42:0] stage$5$d;
+    wire  [42:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [42:0] stage$6$d;
+    wire  [42:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [42:0] stage$7$d;
+    wire  [42:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [42:0] stage$8$d;
+    wire  [42:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [42:0] stage$9$d;
+    wire  [42:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [42:0] stage$10$d;
+    wire  [42:0] stage$10$q;
+    reg  stage$10$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$abs_u_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$abs_u_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$abs_u_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$abs_u_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$abs_u_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$abs_u_decide$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    obb_core$sat$back$abs_u_decide$2$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    obb_core$sat$back$abs_u_decide$2$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    obb_core$sat$back$abs_u_decide$2$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    obb_core$sat$back$abs_u_decide$2$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    obb_core$sat$back$abs_u_decide$2$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        q = stage$10$q;
+    end
+    
+endmodule // obb_core$sat$back$abs_u_decide$2
 
 
-module obb_core$sat$back$au_d$29(d,q,clock);
+module obb_core$sat$back$abs_u_decide$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95510,10 +94654,10 @@ module obb_core$sat$back$au_d$29(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$29
+endmodule // obb_core$sat$back$abs_u_decide$2$stage$0
 
 
-module obb_core$sat$back$au_d$3(d,q,clock);
+module obb_core$sat$back$abs_u_decide$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95529,10 +94673,10 @@ module obb_core$sat$back$au_d$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$3
+endmodule // obb_core$sat$back$abs_u_decide$2$stage$1
 
 
-module obb_core$sat$back$au_d$30(d,q,clock);
+module obb_core$sat$back$abs_u_decide$2$stage$10(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95548,10 +94692,10 @@ module obb_core$sat$back$au_d$30(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$30
+endmodule // obb_core$sat$back$abs_u_decide$2$stage$10
 
 
-module obb_core$sat$back$au_d$31(d,q,clock);
+module obb_core$sat$back$abs_u_decide$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95567,10 +94711,10 @@ module obb_core$sat$back$au_d$31(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$31
+endmodule // obb_core$sat$back$abs_u_decide$2$stage$2
 
 
-module obb_core$sat$back$au_d$32(d,q,clock);
+module obb_core$sat$back$abs_u_decide$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95586,10 +94730,10 @@ module obb_core$sat$back$au_d$32(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$32
+endmodule // obb_core$sat$back$abs_u_decide$2$stage$3
 
 
-module obb_core$sat$back$au_d$4(d,q,clock);
+module obb_core$sat$back$abs_u_decide$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95605,10 +94749,10 @@ module obb_core$sat$back$au_d$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$4
+endmodule // obb_core$sat$back$abs_u_decide$2$stage$4
 
 
-module obb_core$sat$back$au_d$5(d,q,clock);
+module obb_core$sat$back$abs_u_decide$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95624,10 +94768,10 @@ module obb_core$sat$back$au_d$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$5
+endmodule // obb_core$sat$back$abs_u_decide$2$stage$5
 
 
-module obb_core$sat$back$au_d$6(d,q,clock);
+module obb_core$sat$back$abs_u_decide$2$stage$6(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95643,10 +94787,10 @@ module obb_core$sat$back$au_d$6(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$6
+endmodule // obb_core$sat$back$abs_u_decide$2$stage$6
 
 
-module obb_core$sat$back$au_d$7(d,q,clock);
+module obb_core$sat$back$abs_u_decide$2$stage$7(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95662,10 +94806,10 @@ module obb_core$sat$back$au_d$7(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$7
+endmodule // obb_core$sat$back$abs_u_decide$2$stage$7
 
 
-module obb_core$sat$back$au_d$8(d,q,clock);
+module obb_core$sat$back$abs_u_decide$2$stage$8(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95681,10 +94825,10 @@ module obb_core$sat$back$au_d$8(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$8
+endmodule // obb_core$sat$back$abs_u_decide$2$stage$8
 
 
-module obb_core$sat$back$au_d$9(d,q,clock);
+module obb_core$sat$back$abs_u_decide$2$stage$9(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -95700,7 +94844,7 @@ module obb_core$sat$back$au_d$9(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$au_d$9
+endmodule // obb_core$sat$back$abs_u_decide$2$stage$9
 
 
 module obb_core$sat$back$decide(abs_t$0,abs_t$1,abs_t$2,abs_u$0,abs_u$1,abs_u$2,face_a$0,face_a$1,face_a$2,face_b$0,face_b$1,face_b$2,abs_p$0,abs_p$1,abs_p$2,abs_p$3,abs_p$4,abs_p$5,abs_p$6,abs_p$7,abs_p$8,r_a$0,r_a$1,r_a$2,r_a$3,r_a$4,r_a$5,r_a$6,r_a$7,r_a$8,r_b$0,r_b$1,r_b$2,r_b$3,r_b$4,r_b$5,r_b$6,r_b$7,r_b$8,half_a$0,half_a$1,half_a$2,half_b$0,half_b$1,half_b$2,pair_margin,f,k,face_margin,cross_margin,hit,clock);
@@ -95855,7 +94999,86 @@ module obb_core$sat$back$decide(abs_t$0,abs_t$1,abs_t$2,abs_u$0,abs_u$1,abs_u$2,
 endmodule // obb_core$sat$back$decide
 
 
-module obb_core$sat$back$fa_d$0(d,q,clock);
+module obb_core$sat$back$face_a_decide$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    
+    // Stub signals
+    reg signed [38:0] stage$0$d;
+    wire signed [38:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [38:0] stage$1$d;
+    wire signed [38:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [38:0] stage$2$d;
+    wire signed [38:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [38:0] stage$3$d;
+    wire signed [38:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [38:0] stage$4$d;
+    wire signed [38:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [38:0] stage$5$d;
+    wire signed [38:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$face_a_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$face_a_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$face_a_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$face_a_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$face_a_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$face_a_decide$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$face_a_decide$0
+
+
+module obb_core$sat$back$face_a_decide$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -95871,10 +95094,10 @@ module obb_core$sat$back$fa_d$0(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$0
+endmodule // obb_core$sat$back$face_a_decide$0$stage$0
 
 
-module obb_core$sat$back$fa_d$1(d,q,clock);
+module obb_core$sat$back$face_a_decide$0$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -95890,10 +95113,10 @@ module obb_core$sat$back$fa_d$1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$1
+endmodule // obb_core$sat$back$face_a_decide$0$stage$1
 
 
-module obb_core$sat$back$fa_d$10(d,q,clock);
+module obb_core$sat$back$face_a_decide$0$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -95909,10 +95132,10 @@ module obb_core$sat$back$fa_d$10(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$10
+endmodule // obb_core$sat$back$face_a_decide$0$stage$2
 
 
-module obb_core$sat$back$fa_d$11(d,q,clock);
+module obb_core$sat$back$face_a_decide$0$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -95928,10 +95151,10 @@ module obb_core$sat$back$fa_d$11(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$11
+endmodule // obb_core$sat$back$face_a_decide$0$stage$3
 
 
-module obb_core$sat$back$fa_d$12(d,q,clock);
+module obb_core$sat$back$face_a_decide$0$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -95947,10 +95170,10 @@ module obb_core$sat$back$fa_d$12(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$12
+endmodule // obb_core$sat$back$face_a_decide$0$stage$4
 
 
-module obb_core$sat$back$fa_d$13(d,q,clock);
+module obb_core$sat$back$face_a_decide$0$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -95966,10 +95189,89 @@ module obb_core$sat$back$fa_d$13(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$13
+endmodule // obb_core$sat$back$face_a_decide$0$stage$5
 
 
-module obb_core$sat$back$fa_d$14(d,q,clock);
+module obb_core$sat$back$face_a_decide$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    
+    // Stub signals
+    reg signed [38:0] stage$0$d;
+    wire signed [38:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [38:0] stage$1$d;
+    wire signed [38:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [38:0] stage$2$d;
+    wire signed [38:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [38:0] stage$3$d;
+    wire signed [38:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [38:0] stage$4$d;
+    wire signed [38:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [38:0] stage$5$d;
+    wire signed [38:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$face_a_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$face_a_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$face_a_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$face_a_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$face_a_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$face_a_decide$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$face_a_decide$1
+
+
+module obb_core$sat$back$face_a_decide$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -95985,10 +95287,10 @@ module obb_core$sat$back$fa_d$14(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$14
+endmodule // obb_core$sat$back$face_a_decide$1$stage$0
 
 
-module obb_core$sat$back$fa_d$15(d,q,clock);
+module obb_core$sat$back$face_a_decide$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -96004,10 +95306,10 @@ module obb_core$sat$back$fa_d$15(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$15
+endmodule // obb_core$sat$back$face_a_decide$1$stage$1
 
 
-module obb_core$sat$back$fa_d$16(d,q,clock);
+module obb_core$sat$back$face_a_decide$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -96023,10 +95325,10 @@ module obb_core$sat$back$fa_d$16(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$16
+endmodule // obb_core$sat$back$face_a_decide$1$stage$2
 
 
-module obb_core$sat$back$fa_d$17(d,q,clock);
+module obb_core$sat$back$face_a_decide$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -96042,10 +95344,10 @@ module obb_core$sat$back$fa_d$17(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$17
+endmodule // obb_core$sat$back$face_a_decide$1$stage$3
 
 
-module obb_core$sat$back$fa_d$2(d,q,clock);
+module obb_core$sat$back$face_a_decide$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -96061,10 +95363,10 @@ module obb_core$sat$back$fa_d$2(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$2
+endmodule // obb_core$sat$back$face_a_decide$1$stage$4
 
 
-module obb_core$sat$back$fa_d$3(d,q,clock);
+module obb_core$sat$back$face_a_decide$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -96080,10 +95382,89 @@ module obb_core$sat$back$fa_d$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$3
+endmodule // obb_core$sat$back$face_a_decide$1$stage$5
 
 
-module obb_core$sat$back$fa_d$4(d,q,clock);
+module obb_core$sat$back$face_a_decide$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    
+    // Stub signals
+    reg signed [38:0] stage$0$d;
+    wire signed [38:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [38:0] stage$1$d;
+    wire signed [38:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [38:0] stage$2$d;
+    wire signed [38:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [38:0] stage$3$d;
+    wire signed [38:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [38:0] stage$4$d;
+    wire signed [38:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [38:0] stage$5$d;
+    wire signed [38:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$face_a_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$face_a_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$face_a_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$face_a_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$face_a_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$face_a_decide$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$face_a_decide$2
+
+
+module obb_core$sat$back$face_a_decide$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -96099,10 +95480,10 @@ module obb_core$sat$back$fa_d$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$4
+endmodule // obb_core$sat$back$face_a_decide$2$stage$0
 
 
-module obb_core$sat$back$fa_d$5(d,q,clock);
+module obb_core$sat$back$face_a_decide$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -96118,10 +95499,10 @@ module obb_core$sat$back$fa_d$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$5
+endmodule // obb_core$sat$back$face_a_decide$2$stage$1
 
 
-module obb_core$sat$back$fa_d$6(d,q,clock);
+module obb_core$sat$back$face_a_decide$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -96137,10 +95518,10 @@ module obb_core$sat$back$fa_d$6(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$6
+endmodule // obb_core$sat$back$face_a_decide$2$stage$2
 
 
-module obb_core$sat$back$fa_d$7(d,q,clock);
+module obb_core$sat$back$face_a_decide$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -96156,10 +95537,10 @@ module obb_core$sat$back$fa_d$7(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$7
+endmodule // obb_core$sat$back$face_a_decide$2$stage$3
 
 
-module obb_core$sat$back$fa_d$8(d,q,clock);
+module obb_core$sat$back$face_a_decide$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -96175,10 +95556,10 @@ module obb_core$sat$back$fa_d$8(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$8
+endmodule // obb_core$sat$back$face_a_decide$2$stage$4
 
 
-module obb_core$sat$back$fa_d$9(d,q,clock);
+module obb_core$sat$back$face_a_decide$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -96194,7 +95575,7 @@ module obb_core$sat$back$fa_d$9(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fa_d$9
+endmodule // obb_core$sat$back$face_a_decide$2$stage$5
 
 
 module obb_core$sat$back$face_a_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
@@ -96326,6 +95707,585 @@ module obb_core$sat$back$face_a_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
 endmodule // obb_core$sat$back$face_a_dot$2
 
 
+module obb_core$sat$back$face_b_decide$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    
+    // Stub signals
+    reg signed [38:0] stage$0$d;
+    wire signed [38:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [38:0] stage$1$d;
+    wire signed [38:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [38:0] stage$2$d;
+    wire signed [38:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [38:0] stage$3$d;
+    wire signed [38:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [38:0] stage$4$d;
+    wire signed [38:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [38:0] stage$5$d;
+    wire signed [38:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$face_b_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$face_b_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$face_b_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$face_b_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$face_b_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$face_b_decide$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$face_b_decide$0
+
+
+module obb_core$sat$back$face_b_decide$0$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$0$stage$0
+
+
+module obb_core$sat$back$face_b_decide$0$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$0$stage$1
+
+
+module obb_core$sat$back$face_b_decide$0$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$0$stage$2
+
+
+module obb_core$sat$back$face_b_decide$0$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$0$stage$3
+
+
+module obb_core$sat$back$face_b_decide$0$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$0$stage$4
+
+
+module obb_core$sat$back$face_b_decide$0$stage$5(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$0$stage$5
+
+
+module obb_core$sat$back$face_b_decide$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    
+    // Stub signals
+    reg signed [38:0] stage$0$d;
+    wire signed [38:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [38:0] stage$1$d;
+    wire signed [38:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [38:0] stage$2$d;
+    wire signed [38:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [38:0] stage$3$d;
+    wire signed [38:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [38:0] stage$4$d;
+    wire signed [38:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [38:0] stage$5$d;
+    wire signed [38:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$face_b_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$face_b_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$face_b_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$face_b_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$face_b_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$face_b_decide$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$face_b_decide$1
+
+
+module obb_core$sat$back$face_b_decide$1$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$1$stage$0
+
+
+module obb_core$sat$back$face_b_decide$1$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$1$stage$1
+
+
+module obb_core$sat$back$face_b_decide$1$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$1$stage$2
+
+
+module obb_core$sat$back$face_b_decide$1$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$1$stage$3
+
+
+module obb_core$sat$back$face_b_decide$1$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$1$stage$4
+
+
+module obb_core$sat$back$face_b_decide$1$stage$5(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$1$stage$5
+
+
+module obb_core$sat$back$face_b_decide$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    
+    // Stub signals
+    reg signed [38:0] stage$0$d;
+    wire signed [38:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [38:0] stage$1$d;
+    wire signed [38:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [38:0] stage$2$d;
+    wire signed [38:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [38:0] stage$3$d;
+    wire signed [38:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [38:0] stage$4$d;
+    wire signed [38:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [38:0] stage$5$d;
+    wire signed [38:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$face_b_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$face_b_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$face_b_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$face_b_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$face_b_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$face_b_decide$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$face_b_decide$2
+
+
+module obb_core$sat$back$face_b_decide$2$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$2$stage$0
+
+
+module obb_core$sat$back$face_b_decide$2$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$2$stage$1
+
+
+module obb_core$sat$back$face_b_decide$2$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$2$stage$2
+
+
+module obb_core$sat$back$face_b_decide$2$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$2$stage$3
+
+
+module obb_core$sat$back$face_b_decide$2$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$2$stage$4
+
+
+module obb_core$sat$back$face_b_decide$2$stage$5(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$back$face_b_decide$2$stage$5
+
+
 module obb_core$sat$back$face_b_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     
     // Module arguments
@@ -96455,368 +96415,528 @@ module obb_core$sat$back$face_b_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
 endmodule // obb_core$sat$back$face_b_dot$2
 
 
-module obb_core$sat$back$fb_d$0(d,q,clock);
+module obb_core$sat$back$ha_decide$0(clock,d,q);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
     input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     
-    // Update code (custom)
-    initial begin
-       q = 39'h0;
-    end
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
     
-    always @(posedge clock) begin
-       q <= d;
+    // Sub module instances
+    obb_core$sat$back$ha_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$ha_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$ha_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$ha_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$ha_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
     end
-          
-endmodule // obb_core$sat$back$fb_d$0
+    
+endmodule // obb_core$sat$back$ha_decide$0
 
 
-module obb_core$sat$back$fb_d$1(d,q,clock);
+module obb_core$sat$back$ha_decide$0$stage$0(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fb_d$1
+endmodule // obb_core$sat$back$ha_decide$0$stage$0
 
 
-module obb_core$sat$back$fb_d$10(d,q,clock);
+module obb_core$sat$back$ha_decide$0$stage$1(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fb_d$10
+endmodule // obb_core$sat$back$ha_decide$0$stage$1
 
 
-module obb_core$sat$back$fb_d$11(d,q,clock);
+module obb_core$sat$back$ha_decide$0$stage$2(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fb_d$11
+endmodule // obb_core$sat$back$ha_decide$0$stage$2
 
 
-module obb_core$sat$back$fb_d$12(d,q,clock);
+module obb_core$sat$back$ha_decide$0$stage$3(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fb_d$12
+endmodule // obb_core$sat$back$ha_decide$0$stage$3
 
 
-module obb_core$sat$back$fb_d$13(d,q,clock);
+module obb_core$sat$back$ha_decide$0$stage$4(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fb_d$13
+endmodule // obb_core$sat$back$ha_decide$0$stage$4
 
 
-module obb_core$sat$back$fb_d$14(d,q,clock);
+module obb_core$sat$back$ha_decide$1(clock,d,q);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
     input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     
-    // Update code (custom)
-    initial begin
-       q = 39'h0;
-    end
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
     
-    always @(posedge clock) begin
-       q <= d;
+    // Sub module instances
+    obb_core$sat$back$ha_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$ha_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$ha_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$ha_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$ha_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
     end
-          
-endmodule // obb_core$sat$back$fb_d$14
+    
+endmodule // obb_core$sat$back$ha_decide$1
 
 
-module obb_core$sat$back$fb_d$15(d,q,clock);
+module obb_core$sat$back$ha_decide$1$stage$0(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fb_d$15
+endmodule // obb_core$sat$back$ha_decide$1$stage$0
 
 
-module obb_core$sat$back$fb_d$16(d,q,clock);
+module obb_core$sat$back$ha_decide$1$stage$1(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fb_d$16
+endmodule // obb_core$sat$back$ha_decide$1$stage$1
 
 
-module obb_core$sat$back$fb_d$17(d,q,clock);
+module obb_core$sat$back$ha_decide$1$stage$2(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fb_d$17
+endmodule // obb_core$sat$back$ha_decide$1$stage$2
 
 
-module obb_core$sat$back$fb_d$2(d,q,clock);
+module obb_core$sat$back$ha_decide$1$stage$3(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fb_d$2
+endmodule // obb_core$sat$back$ha_decide$1$stage$3
 
 
-module obb_core$sat$back$fb_d$3(d,q,clock);
+module obb_core$sat$back$ha_decide$1$stage$4(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fb_d$3
+endmodule // obb_core$sat$back$ha_decide$1$stage$4
 
 
-module obb_core$sat$back$fb_d$4(d,q,clock);
+module obb_core$sat$back$ha_decide$2(clock,d,q);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
     input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     
-    // Update code (custom)
-    initial begin
-       q = 39'h0;
-    end
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
     
-    always @(posedge clock) begin
-       q <= d;
+    // Sub module instances
+    obb_core$sat$back$ha_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$ha_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$ha_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$ha_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$ha_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
     end
-          
-endmodule // obb_core$sat$back$fb_d$4
+    
+endmodule // obb_core$sat$back$ha_decide$2
 
 
-module obb_core$sat$back$fb_d$5(d,q,clock);
+module obb_core$sat$back$ha_decide$2$stage$0(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fb_d$5
+endmodule // obb_core$sat$back$ha_decide$2$stage$0
 
 
-module obb_core$sat$back$fb_d$6(d,q,clock);
+module obb_core$sat$back$ha_decide$2$stage$1(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fb_d$6
+endmodule // obb_core$sat$back$ha_decide$2$stage$1
 
 
-module obb_core$sat$back$fb_d$7(d,q,clock);
+module obb_core$sat$back$ha_decide$2$stage$2(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fb_d$7
+endmodule // obb_core$sat$back$ha_decide$2$stage$2
 
 
-module obb_core$sat$back$fb_d$8(d,q,clock);
+module obb_core$sat$back$ha_decide$2$stage$3(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fb_d$8
+endmodule // obb_core$sat$back$ha_decide$2$stage$3
 
 
-module obb_core$sat$back$fb_d$9(d,q,clock);
+module obb_core$sat$back$ha_decide$2$stage$4(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$fb_d$9
+endmodule // obb_core$sat$back$ha_decide$2$stage$4
 
 
-module obb_core$sat$back$ha$0(d,q,clock);
+module obb_core$sat$back$ha_products$0(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire signed [17:0] d;
     output reg signed [17:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
     
-    always @(posedge clock) begin
-       q <= d;
+    // Sub module instances
+    obb_core$sat$back$ha_products$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$0$d = d;
+        q = stage$0$q;
     end
-          
-endmodule // obb_core$sat$back$ha$0
+    
+endmodule // obb_core$sat$back$ha_products$0
 
 
-module obb_core$sat$back$ha$1(d,q,clock);
+module obb_core$sat$back$ha_products$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -96832,29 +96952,39 @@ module obb_core$sat$back$ha$1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$1
+endmodule // obb_core$sat$back$ha_products$0$stage$0
 
 
-module obb_core$sat$back$ha$10(d,q,clock);
+module obb_core$sat$back$ha_products$1(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire signed [17:0] d;
     output reg signed [17:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
     
-    always @(posedge clock) begin
-       q <= d;
+    // Sub module instances
+    obb_core$sat$back$ha_products$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$0$d = d;
+        q = stage$0$q;
     end
-          
-endmodule // obb_core$sat$back$ha$10
+    
+endmodule // obb_core$sat$back$ha_products$1
 
 
-module obb_core$sat$back$ha$11(d,q,clock);
+module obb_core$sat$back$ha_products$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -96870,29 +97000,39 @@ module obb_core$sat$back$ha$11(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$11
+endmodule // obb_core$sat$back$ha_products$1$stage$0
 
 
-module obb_core$sat$back$ha$12(d,q,clock);
+module obb_core$sat$back$ha_products$2(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire signed [17:0] d;
     output reg signed [17:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
     
-    always @(posedge clock) begin
-       q <= d;
+    // Sub module instances
+    obb_core$sat$back$ha_products$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$0$d = d;
+        q = stage$0$q;
     end
-          
-endmodule // obb_core$sat$back$ha$12
+    
+endmodule // obb_core$sat$back$ha_products$2
 
 
-module obb_core$sat$back$ha$13(d,q,clock);
+module obb_core$sat$back$ha_products$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -96908,10 +97048,89 @@ module obb_core$sat$back$ha$13(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$13
+endmodule // obb_core$sat$back$ha_products$2$stage$0
+
+
+module obb_core$sat$back$ha_r_b$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$ha_r_b$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$ha_r_b$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$ha_r_b$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$ha_r_b$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$ha_r_b$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$ha_r_b$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$ha_r_b$0
 
 
-module obb_core$sat$back$ha$14(d,q,clock);
+module obb_core$sat$back$ha_r_b$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -96927,10 +97146,10 @@ module obb_core$sat$back$ha$14(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$14
+endmodule // obb_core$sat$back$ha_r_b$0$stage$0
 
 
-module obb_core$sat$back$ha$15(d,q,clock);
+module obb_core$sat$back$ha_r_b$0$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -96946,10 +97165,10 @@ module obb_core$sat$back$ha$15(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$15
+endmodule // obb_core$sat$back$ha_r_b$0$stage$1
 
 
-module obb_core$sat$back$ha$16(d,q,clock);
+module obb_core$sat$back$ha_r_b$0$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -96965,10 +97184,10 @@ module obb_core$sat$back$ha$16(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$16
+endmodule // obb_core$sat$back$ha_r_b$0$stage$2
 
 
-module obb_core$sat$back$ha$17(d,q,clock);
+module obb_core$sat$back$ha_r_b$0$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -96984,10 +97203,10 @@ module obb_core$sat$back$ha$17(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$17
+endmodule // obb_core$sat$back$ha_r_b$0$stage$3
 
 
-module obb_core$sat$back$ha$18(d,q,clock);
+module obb_core$sat$back$ha_r_b$0$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97003,10 +97222,10 @@ module obb_core$sat$back$ha$18(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$18
+endmodule // obb_core$sat$back$ha_r_b$0$stage$4
 
 
-module obb_core$sat$back$ha$19(d,q,clock);
+module obb_core$sat$back$ha_r_b$0$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97022,10 +97241,89 @@ module obb_core$sat$back$ha$19(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$19
+endmodule // obb_core$sat$back$ha_r_b$0$stage$5
+
+
+module obb_core$sat$back$ha_r_b$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$ha_r_b$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$ha_r_b$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$ha_r_b$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$ha_r_b$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$ha_r_b$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$ha_r_b$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$ha_r_b$1
 
 
-module obb_core$sat$back$ha$2(d,q,clock);
+module obb_core$sat$back$ha_r_b$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97041,10 +97339,10 @@ module obb_core$sat$back$ha$2(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$2
+endmodule // obb_core$sat$back$ha_r_b$1$stage$0
 
 
-module obb_core$sat$back$ha$20(d,q,clock);
+module obb_core$sat$back$ha_r_b$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97060,10 +97358,10 @@ module obb_core$sat$back$ha$20(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$20
+endmodule // obb_core$sat$back$ha_r_b$1$stage$1
 
 
-module obb_core$sat$back$ha$21(d,q,clock);
+module obb_core$sat$back$ha_r_b$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97079,10 +97377,10 @@ module obb_core$sat$back$ha$21(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$21
+endmodule // obb_core$sat$back$ha_r_b$1$stage$2
 
 
-module obb_core$sat$back$ha$22(d,q,clock);
+module obb_core$sat$back$ha_r_b$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97098,10 +97396,10 @@ module obb_core$sat$back$ha$22(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$22
+endmodule // obb_core$sat$back$ha_r_b$1$stage$3
 
 
-module obb_core$sat$back$ha$23(d,q,clock);
+module obb_core$sat$back$ha_r_b$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97117,10 +97415,10 @@ module obb_core$sat$back$ha$23(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$23
+endmodule // obb_core$sat$back$ha_r_b$1$stage$4
 
 
-module obb_core$sat$back$ha$24(d,q,clock);
+module obb_core$sat$back$ha_r_b$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97136,10 +97434,89 @@ module obb_core$sat$back$ha$24(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$24
+endmodule // obb_core$sat$back$ha_r_b$1$stage$5
+
+
+module obb_core$sat$back$ha_r_b$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$ha_r_b$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$ha_r_b$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$ha_r_b$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$ha_r_b$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$ha_r_b$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$ha_r_b$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$ha_r_b$2
 
 
-module obb_core$sat$back$ha$25(d,q,clock);
+module obb_core$sat$back$ha_r_b$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97155,10 +97532,10 @@ module obb_core$sat$back$ha$25(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$25
+endmodule // obb_core$sat$back$ha_r_b$2$stage$0
 
 
-module obb_core$sat$back$ha$26(d,q,clock);
+module obb_core$sat$back$ha_r_b$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97174,10 +97551,10 @@ module obb_core$sat$back$ha$26(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$26
+endmodule // obb_core$sat$back$ha_r_b$2$stage$1
 
 
-module obb_core$sat$back$ha$27(d,q,clock);
+module obb_core$sat$back$ha_r_b$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97193,10 +97570,10 @@ module obb_core$sat$back$ha$27(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$27
+endmodule // obb_core$sat$back$ha_r_b$2$stage$2
 
 
-module obb_core$sat$back$ha$28(d,q,clock);
+module obb_core$sat$back$ha_r_b$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97212,10 +97589,10 @@ module obb_core$sat$back$ha$28(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$28
+endmodule // obb_core$sat$back$ha_r_b$2$stage$3
 
 
-module obb_core$sat$back$ha$29(d,q,clock);
+module obb_core$sat$back$ha_r_b$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97231,10 +97608,10 @@ module obb_core$sat$back$ha$29(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$29
+endmodule // obb_core$sat$back$ha_r_b$2$stage$4
 
 
-module obb_core$sat$back$ha$3(d,q,clock);
+module obb_core$sat$back$ha_r_b$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97250,10 +97627,79 @@ module obb_core$sat$back$ha$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$3
+endmodule // obb_core$sat$back$ha_r_b$2$stage$5
+
+
+module obb_core$sat$back$hb_decide$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$hb_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$hb_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$hb_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$hb_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$hb_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // obb_core$sat$back$hb_decide$0
 
 
-module obb_core$sat$back$ha$30(d,q,clock);
+module obb_core$sat$back$hb_decide$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97269,10 +97715,10 @@ module obb_core$sat$back$ha$30(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$30
+endmodule // obb_core$sat$back$hb_decide$0$stage$0
 
 
-module obb_core$sat$back$ha$31(d,q,clock);
+module obb_core$sat$back$hb_decide$0$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97288,10 +97734,10 @@ module obb_core$sat$back$ha$31(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$31
+endmodule // obb_core$sat$back$hb_decide$0$stage$1
 
 
-module obb_core$sat$back$ha$32(d,q,clock);
+module obb_core$sat$back$hb_decide$0$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97307,10 +97753,10 @@ module obb_core$sat$back$ha$32(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$32
+endmodule // obb_core$sat$back$hb_decide$0$stage$2
 
 
-module obb_core$sat$back$ha$33(d,q,clock);
+module obb_core$sat$back$hb_decide$0$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97326,10 +97772,10 @@ module obb_core$sat$back$ha$33(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$33
+endmodule // obb_core$sat$back$hb_decide$0$stage$3
 
 
-module obb_core$sat$back$ha$34(d,q,clock);
+module obb_core$sat$back$hb_decide$0$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97345,10 +97791,79 @@ module obb_core$sat$back$ha$34(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$34
+endmodule // obb_core$sat$back$hb_decide$0$stage$4
+
+
+module obb_core$sat$back$hb_decide$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$hb_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$hb_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$hb_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$hb_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$hb_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // obb_core$sat$back$hb_decide$1
 
 
-module obb_core$sat$back$ha$35(d,q,clock);
+module obb_core$sat$back$hb_decide$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97364,10 +97879,10 @@ module obb_core$sat$back$ha$35(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$35
+endmodule // obb_core$sat$back$hb_decide$1$stage$0
 
 
-module obb_core$sat$back$ha$4(d,q,clock);
+module obb_core$sat$back$hb_decide$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97383,10 +97898,10 @@ module obb_core$sat$back$ha$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$4
+endmodule // obb_core$sat$back$hb_decide$1$stage$1
 
 
-module obb_core$sat$back$ha$5(d,q,clock);
+module obb_core$sat$back$hb_decide$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97402,10 +97917,10 @@ module obb_core$sat$back$ha$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$5
+endmodule // obb_core$sat$back$hb_decide$1$stage$2
 
 
-module obb_core$sat$back$ha$6(d,q,clock);
+module obb_core$sat$back$hb_decide$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97421,10 +97936,10 @@ module obb_core$sat$back$ha$6(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$6
+endmodule // obb_core$sat$back$hb_decide$1$stage$3
 
 
-module obb_core$sat$back$ha$7(d,q,clock);
+module obb_core$sat$back$hb_decide$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97440,10 +97955,79 @@ module obb_core$sat$back$ha$7(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$7
+endmodule // obb_core$sat$back$hb_decide$1$stage$4
+
+
+module obb_core$sat$back$hb_decide$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$hb_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$hb_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$hb_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$hb_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$hb_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // obb_core$sat$back$hb_decide$2
 
 
-module obb_core$sat$back$ha$8(d,q,clock);
+module obb_core$sat$back$hb_decide$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97459,10 +98043,10 @@ module obb_core$sat$back$ha$8(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$8
+endmodule // obb_core$sat$back$hb_decide$2$stage$0
 
 
-module obb_core$sat$back$ha$9(d,q,clock);
+module obb_core$sat$back$hb_decide$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97478,10 +98062,10 @@ module obb_core$sat$back$ha$9(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ha$9
+endmodule // obb_core$sat$back$hb_decide$2$stage$1
 
 
-module obb_core$sat$back$hb$0(d,q,clock);
+module obb_core$sat$back$hb_decide$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97497,10 +98081,10 @@ module obb_core$sat$back$hb$0(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$0
+endmodule // obb_core$sat$back$hb_decide$2$stage$2
 
 
-module obb_core$sat$back$hb$1(d,q,clock);
+module obb_core$sat$back$hb_decide$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97516,10 +98100,10 @@ module obb_core$sat$back$hb$1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$1
+endmodule // obb_core$sat$back$hb_decide$2$stage$3
 
 
-module obb_core$sat$back$hb$10(d,q,clock);
+module obb_core$sat$back$hb_decide$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97535,10 +98119,39 @@ module obb_core$sat$back$hb$10(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$10
+endmodule // obb_core$sat$back$hb_decide$2$stage$4
+
+
+module obb_core$sat$back$hb_products$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$hb_products$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$0$d = d;
+        q = stage$0$q;
+    end
+    
+endmodule // obb_core$sat$back$hb_products$0
 
 
-module obb_core$sat$back$hb$11(d,q,clock);
+module obb_core$sat$back$hb_products$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97554,10 +98167,39 @@ module obb_core$sat$back$hb$11(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$11
+endmodule // obb_core$sat$back$hb_products$0$stage$0
+
+
+module obb_core$sat$back$hb_products$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$hb_products$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$0$d = d;
+        q = stage$0$q;
+    end
+    
+endmodule // obb_core$sat$back$hb_products$1
 
 
-module obb_core$sat$back$hb$12(d,q,clock);
+module obb_core$sat$back$hb_products$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97573,12 +98215,41 @@ module obb_core$sat$back$hb$12(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$12
+endmodule // obb_core$sat$back$hb_products$1$stage$0
 
 
-module obb_core$sat$back$hb$13(d,q,clock);
+module obb_core$sat$back$hb_products$2(clock,d,q);
     
     // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$hb_products$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$0$d = d;
+        q = stage$0$q;
+    end
+    
+endmodule // obb_core$sat$back$hb_products$2
+
+
+module obb_core$sat$back$hb_products$2$stage$0(d,q,clock);
+    
+    // Module arguments
     input wire signed [17:0] d;
     output reg signed [17:0] q;
     input wire  clock;
@@ -97592,10 +98263,89 @@ module obb_core$sat$back$hb$13(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$13
+endmodule // obb_core$sat$back$hb_products$2$stage$0
+
+
+module obb_core$sat$back$hb_r_b$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$hb_r_b$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$hb_r_b$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$hb_r_b$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$hb_r_b$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$hb_r_b$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$hb_r_b$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$hb_r_b$0
 
 
-module obb_core$sat$back$hb$14(d,q,clock);
+module obb_core$sat$back$hb_r_b$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97611,10 +98361,10 @@ module obb_core$sat$back$hb$14(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$14
+endmodule // obb_core$sat$back$hb_r_b$0$stage$0
 
 
-module obb_core$sat$back$hb$15(d,q,clock);
+module obb_core$sat$back$hb_r_b$0$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97630,10 +98380,10 @@ module obb_core$sat$back$hb$15(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$15
+endmodule // obb_core$sat$back$hb_r_b$0$stage$1
 
 
-module obb_core$sat$back$hb$16(d,q,clock);
+module obb_core$sat$back$hb_r_b$0$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97649,10 +98399,10 @@ module obb_core$sat$back$hb$16(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$16
+endmodule // obb_core$sat$back$hb_r_b$0$stage$2
 
 
-module obb_core$sat$back$hb$17(d,q,clock);
+module obb_core$sat$back$hb_r_b$0$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97668,10 +98418,10 @@ module obb_core$sat$back$hb$17(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$17
+endmodule // obb_core$sat$back$hb_r_b$0$stage$3
 
 
-module obb_core$sat$back$hb$18(d,q,clock);
+module obb_core$sat$back$hb_r_b$0$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97687,10 +98437,10 @@ module obb_core$sat$back$hb$18(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$18
+endmodule // obb_core$sat$back$hb_r_b$0$stage$4
 
 
-module obb_core$sat$back$hb$19(d,q,clock);
+module obb_core$sat$back$hb_r_b$0$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97706,10 +98456,89 @@ module obb_core$sat$back$hb$19(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$19
+endmodule // obb_core$sat$back$hb_r_b$0$stage$5
+
+
+module obb_core$sat$back$hb_r_b$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$hb_r_b$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$hb_r_b$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$hb_r_b$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$hb_r_b$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$hb_r_b$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$hb_r_b$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$hb_r_b$1
 
 
-module obb_core$sat$back$hb$2(d,q,clock);
+module obb_core$sat$back$hb_r_b$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97725,10 +98554,10 @@ module obb_core$sat$back$hb$2(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$2
+endmodule // obb_core$sat$back$hb_r_b$1$stage$0
 
 
-module obb_core$sat$back$hb$20(d,q,clock);
+module obb_core$sat$back$hb_r_b$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97744,10 +98573,10 @@ module obb_core$sat$back$hb$20(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$20
+endmodule // obb_core$sat$back$hb_r_b$1$stage$1
 
 
-module obb_core$sat$back$hb$21(d,q,clock);
+module obb_core$sat$back$hb_r_b$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97763,10 +98592,10 @@ module obb_core$sat$back$hb$21(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$21
+endmodule // obb_core$sat$back$hb_r_b$1$stage$2
 
 
-module obb_core$sat$back$hb$22(d,q,clock);
+module obb_core$sat$back$hb_r_b$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97782,10 +98611,10 @@ module obb_core$sat$back$hb$22(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$22
+endmodule // obb_core$sat$back$hb_r_b$1$stage$3
 
 
-module obb_core$sat$back$hb$23(d,q,clock);
+module obb_core$sat$back$hb_r_b$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97801,10 +98630,10 @@ module obb_core$sat$back$hb$23(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$23
+endmodule // obb_core$sat$back$hb_r_b$1$stage$4
 
 
-module obb_core$sat$back$hb$24(d,q,clock);
+module obb_core$sat$back$hb_r_b$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97820,10 +98649,89 @@ module obb_core$sat$back$hb$24(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$24
+endmodule // obb_core$sat$back$hb_r_b$1$stage$5
+
 
+module obb_core$sat$back$hb_r_b$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$hb_r_b$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$hb_r_b$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$hb_r_b$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$hb_r_b$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$hb_r_b$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$hb_r_b$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$hb_r_b$2
+
 
-module obb_core$sat$back$hb$25(d,q,clock);
+module obb_core$sat$back$hb_r_b$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97839,10 +98747,10 @@ module obb_core$sat$back$hb$25(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$25
+endmodule // obb_core$sat$back$hb_r_b$2$stage$0
 
 
-module obb_core$sat$back$hb$26(d,q,clock);
+module obb_core$sat$back$hb_r_b$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97858,10 +98766,10 @@ module obb_core$sat$back$hb$26(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$26
+endmodule // obb_core$sat$back$hb_r_b$2$stage$1
 
 
-module obb_core$sat$back$hb$27(d,q,clock);
+module obb_core$sat$back$hb_r_b$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97877,10 +98785,10 @@ module obb_core$sat$back$hb$27(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$27
+endmodule // obb_core$sat$back$hb_r_b$2$stage$2
 
 
-module obb_core$sat$back$hb$28(d,q,clock);
+module obb_core$sat$back$hb_r_b$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97896,10 +98804,10 @@ module obb_core$sat$back$hb$28(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$28
+endmodule // obb_core$sat$back$hb_r_b$2$stage$3
 
 
-module obb_core$sat$back$hb$29(d,q,clock);
+module obb_core$sat$back$hb_r_b$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97915,10 +98823,10 @@ module obb_core$sat$back$hb$29(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$29
+endmodule // obb_core$sat$back$hb_r_b$2$stage$4
 
 
-module obb_core$sat$back$hb$3(d,q,clock);
+module obb_core$sat$back$hb_r_b$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -97934,235 +98842,374 @@ module obb_core$sat$back$hb$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$3
+endmodule // obb_core$sat$back$hb_r_b$2$stage$5
 
 
-module obb_core$sat$back$hb$30(d,q,clock);
+module obb_core$sat$back$margin_decide(clock,d,q);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  clock;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
+    
+    // Stub signals
+    reg  [28:0] stage$0$d;
+    wire  [28:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [28:0] stage$1$d;
+    wire  [28:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [28:0] stage$2$d;
+    wire  [28:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [28:0] stage$3$d;
+    wire  [28:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [28:0] stage$4$d;
+    wire  [28:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [28:0] stage$5$d;
+    wire  [28:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [28:0] stage$6$d;
+    wire  [28:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [28:0] stage$7$d;
+    wire  [28:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [28:0] stage$8$d;
+    wire  [28:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [28:0] stage$9$d;
+    wire  [28:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [28:0] stage$10$d;
+    wire  [28:0] stage$10$q;
+    reg  stage$10$clock;
+    reg  [28:0] stage$11$d;
+    wire  [28:0] stage$11$q;
+    reg  stage$11$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$margin_decide$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$margin_decide$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$margin_decide$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$margin_decide$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$margin_decide$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$margin_decide$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    obb_core$sat$back$margin_decide$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    obb_core$sat$back$margin_decide$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    obb_core$sat$back$margin_decide$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    obb_core$sat$back$margin_decide$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    obb_core$sat$back$margin_decide$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    obb_core$sat$back$margin_decide$stage$11 stage$11(
+        .d(stage$11$d),
+        .q(stage$11$q),
+        .clock(stage$11$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$11$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        stage$11$d = stage$10$q;
+        q = stage$11$q;
+    end
+    
+endmodule // obb_core$sat$back$margin_decide
+
+
+module obb_core$sat$back$margin_decide$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$30
+endmodule // obb_core$sat$back$margin_decide$stage$0
 
 
-module obb_core$sat$back$hb$31(d,q,clock);
+module obb_core$sat$back$margin_decide$stage$1(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$31
+endmodule // obb_core$sat$back$margin_decide$stage$1
 
 
-module obb_core$sat$back$hb$32(d,q,clock);
+module obb_core$sat$back$margin_decide$stage$10(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$32
+endmodule // obb_core$sat$back$margin_decide$stage$10
 
 
-module obb_core$sat$back$hb$33(d,q,clock);
+module obb_core$sat$back$margin_decide$stage$11(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$33
+endmodule // obb_core$sat$back$margin_decide$stage$11
 
 
-module obb_core$sat$back$hb$34(d,q,clock);
+module obb_core$sat$back$margin_decide$stage$2(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$34
+endmodule // obb_core$sat$back$margin_decide$stage$2
 
 
-module obb_core$sat$back$hb$35(d,q,clock);
+module obb_core$sat$back$margin_decide$stage$3(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$35
+endmodule // obb_core$sat$back$margin_decide$stage$3
 
 
-module obb_core$sat$back$hb$4(d,q,clock);
+module obb_core$sat$back$margin_decide$stage$4(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$4
+endmodule // obb_core$sat$back$margin_decide$stage$4
 
 
-module obb_core$sat$back$hb$5(d,q,clock);
+module obb_core$sat$back$margin_decide$stage$5(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$5
+endmodule // obb_core$sat$back$margin_decide$stage$5
 
 
-module obb_core$sat$back$hb$6(d,q,clock);
+module obb_core$sat$back$margin_decide$stage$6(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$6
+endmodule // obb_core$sat$back$margin_decide$stage$6
 
 
-module obb_core$sat$back$hb$7(d,q,clock);
+module obb_core$sat$back$margin_decide$stage$7(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$7
+endmodule // obb_core$sat$back$margin_decide$stage$7
 
 
-module obb_core$sat$back$hb$8(d,q,clock);
+module obb_core$sat$back$margin_decide$stage$8(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$8
+endmodule // obb_core$sat$back$margin_decide$stage$8
 
 
-module obb_core$sat$back$hb$9(d,q,clock);
+module obb_core$sat$back$margin_decide$stage$9(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // obb_core$sat$back$hb$9
+endmodule // obb_core$sat$back$margin_decide$stage$9
 
 
 module obb_core$sat$back$minor_abs$0(x,s,y,clock);
@@ -99191,1090 +100238,86 @@ module obb_core$sat$back$p_dot$8(a0,a1,b0,b1,p,clock);
 endmodule // obb_core$sat$back$p_dot$8
 
 
-module obb_core$sat$back$pa_d$0(d,q,clock);
+module obb_core$sat$back$r_a_decide$0(clock,d,q);
     
     // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
     input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$0
-
-
-module obb_core$sat$back$pa_d$1(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$1
-
-
-module obb_core$sat$back$pa_d$10(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$10
-
-
-module obb_core$sat$back$pa_d$11(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$11
-
-
-module obb_core$sat$back$pa_d$12(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$12
-
-
-module obb_core$sat$back$pa_d$13(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$13
-
-
-module obb_core$sat$back$pa_d$14(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$14
-
-
-module obb_core$sat$back$pa_d$15(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$15
-
-
-module obb_core$sat$back$pa_d$16(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$16
-
-
-module obb_core$sat$back$pa_d$17(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$17
-
-
-module obb_core$sat$back$pa_d$18(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$18
-
-
-module obb_core$sat$back$pa_d$19(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$19
-
-
-module obb_core$sat$back$pa_d$2(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$2
-
-
-module obb_core$sat$back$pa_d$20(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$20
-
-
-module obb_core$sat$back$pa_d$21(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$21
-
-
-module obb_core$sat$back$pa_d$22(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$22
-
-
-module obb_core$sat$back$pa_d$23(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$23
-
-
-module obb_core$sat$back$pa_d$24(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$24
-
-
-module obb_core$sat$back$pa_d$25(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$25
-
-
-module obb_core$sat$back$pa_d$26(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$26
-
-
-module obb_core$sat$back$pa_d$27(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$27
-
-
-module obb_core$sat$back$pa_d$28(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$28
-
-
-module obb_core$sat$back$pa_d$29(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$29
-
-
-module obb_core$sat$back$pa_d$3(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$3
-
-
-module obb_core$sat$back$pa_d$30(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$30
-
-
-module obb_core$sat$back$pa_d$31(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$31
-
-
-module obb_core$sat$back$pa_d$32(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$32
-
-
-module obb_core$sat$back$pa_d$33(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$33
-
-
-module obb_core$sat$back$pa_d$34(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$34
-
-
-module obb_core$sat$back$pa_d$35(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$35
-
-
-module obb_core$sat$back$pa_d$36(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$36
-
-
-module obb_core$sat$back$pa_d$37(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$37
-
-
-module obb_core$sat$back$pa_d$38(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$38
-
-
-module obb_core$sat$back$pa_d$39(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$39
-
-
-module obb_core$sat$back$pa_d$4(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$4
-
-
-module obb_core$sat$back$pa_d$40(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$40
-
-
-module obb_core$sat$back$pa_d$41(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$41
-
-
-module obb_core$sat$back$pa_d$42(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$42
-
-
-module obb_core$sat$back$pa_d$43(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$43
-
-
-module obb_core$sat$back$pa_d$44(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$44
-
-
-module obb_core$sat$back$pa_d$5(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$5
-
-
-module obb_core$sat$back$pa_d$6(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$6
-
-
-module obb_core$sat$back$pa_d$7(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$7
-
-
-module obb_core$sat$back$pa_d$8(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$8
-
-
-module obb_core$sat$back$pa_d$9(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pa_d$9
-
-
-module obb_core$sat$back$pm$0(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pm$0
-
-
-module obb_core$sat$back$pm$1(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pm$1
-
-
-module obb_core$sat$back$pm$10(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pm$10
-
-
-module obb_core$sat$back$pm$11(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pm$11
-
-
-module obb_core$sat$back$pm$2(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pm$2
-
-
-module obb_core$sat$back$pm$3(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pm$3
-
-
-module obb_core$sat$back$pm$4(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pm$4
-
-
-module obb_core$sat$back$pm$5(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pm$5
-
-
-module obb_core$sat$back$pm$6(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pm$6
-
-
-module obb_core$sat$back$pm$7(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pm$7
-
-
-module obb_core$sat$back$pm$8(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pm$8
-
-
-module obb_core$sat$back$pm$9(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$back$pm$9
-
-
-module obb_core$sat$back$ra_d$0(d,q,clock);
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$r_a_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$r_a_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$r_a_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$r_a_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$r_a_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$r_a_decide$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$r_a_decide$0
+
+
+module obb_core$sat$back$r_a_decide$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100290,10 +100333,10 @@ module obb_core$sat$back$ra_d$0(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$0
+endmodule // obb_core$sat$back$r_a_decide$0$stage$0
 
 
-module obb_core$sat$back$ra_d$1(d,q,clock);
+module obb_core$sat$back$r_a_decide$0$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100309,10 +100352,10 @@ module obb_core$sat$back$ra_d$1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$1
+endmodule // obb_core$sat$back$r_a_decide$0$stage$1
 
 
-module obb_core$sat$back$ra_d$10(d,q,clock);
+module obb_core$sat$back$r_a_decide$0$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100328,10 +100371,10 @@ module obb_core$sat$back$ra_d$10(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$10
+endmodule // obb_core$sat$back$r_a_decide$0$stage$2
 
 
-module obb_core$sat$back$ra_d$11(d,q,clock);
+module obb_core$sat$back$r_a_decide$0$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100347,10 +100390,10 @@ module obb_core$sat$back$ra_d$11(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$11
+endmodule // obb_core$sat$back$r_a_decide$0$stage$3
 
 
-module obb_core$sat$back$ra_d$12(d,q,clock);
+module obb_core$sat$back$r_a_decide$0$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100366,10 +100409,10 @@ module obb_core$sat$back$ra_d$12(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$12
+endmodule // obb_core$sat$back$r_a_decide$0$stage$4
 
 
-module obb_core$sat$back$ra_d$13(d,q,clock);
+module obb_core$sat$back$r_a_decide$0$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100385,10 +100428,89 @@ module obb_core$sat$back$ra_d$13(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$13
+endmodule // obb_core$sat$back$r_a_decide$0$stage$5
 
 
-module obb_core$sat$back$ra_d$14(d,q,clock);
+module obb_core$sat$back$r_a_decide$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$r_a_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$r_a_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$r_a_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$r_a_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$r_a_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$r_a_decide$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$r_a_decide$1
+
+
+module obb_core$sat$back$r_a_decide$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100404,10 +100526,10 @@ module obb_core$sat$back$ra_d$14(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$14
+endmodule // obb_core$sat$back$r_a_decide$1$stage$0
 
 
-module obb_core$sat$back$ra_d$15(d,q,clock);
+module obb_core$sat$back$r_a_decide$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100423,10 +100545,10 @@ module obb_core$sat$back$ra_d$15(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$15
+endmodule // obb_core$sat$back$r_a_decide$1$stage$1
 
 
-module obb_core$sat$back$ra_d$16(d,q,clock);
+module obb_core$sat$back$r_a_decide$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100442,10 +100564,10 @@ module obb_core$sat$back$ra_d$16(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$16
+endmodule // obb_core$sat$back$r_a_decide$1$stage$2
 
 
-module obb_core$sat$back$ra_d$17(d,q,clock);
+module obb_core$sat$back$r_a_decide$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100461,10 +100583,10 @@ module obb_core$sat$back$ra_d$17(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$17
+endmodule // obb_core$sat$back$r_a_decide$1$stage$3
 
 
-module obb_core$sat$back$ra_d$18(d,q,clock);
+module obb_core$sat$back$r_a_decide$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100480,10 +100602,10 @@ module obb_core$sat$back$ra_d$18(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$18
+endmodule // obb_core$sat$back$r_a_decide$1$stage$4
 
 
-module obb_core$sat$back$ra_d$19(d,q,clock);
+module obb_core$sat$back$r_a_decide$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100499,10 +100621,89 @@ module obb_core$sat$back$ra_d$19(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$19
+endmodule // obb_core$sat$back$r_a_decide$1$stage$5
 
 
-module obb_core$sat$back$ra_d$2(d,q,clock);
+module obb_core$sat$back$r_a_decide$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$r_a_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$r_a_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$r_a_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$r_a_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$r_a_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$r_a_decide$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$r_a_decide$2
+
+
+module obb_core$sat$back$r_a_decide$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100518,10 +100719,10 @@ module obb_core$sat$back$ra_d$2(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$2
+endmodule // obb_core$sat$back$r_a_decide$2$stage$0
 
 
-module obb_core$sat$back$ra_d$20(d,q,clock);
+module obb_core$sat$back$r_a_decide$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100537,10 +100738,10 @@ module obb_core$sat$back$ra_d$20(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$20
+endmodule // obb_core$sat$back$r_a_decide$2$stage$1
 
 
-module obb_core$sat$back$ra_d$21(d,q,clock);
+module obb_core$sat$back$r_a_decide$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100556,10 +100757,10 @@ module obb_core$sat$back$ra_d$21(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$21
+endmodule // obb_core$sat$back$r_a_decide$2$stage$2
 
 
-module obb_core$sat$back$ra_d$22(d,q,clock);
+module obb_core$sat$back$r_a_decide$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100575,10 +100776,10 @@ module obb_core$sat$back$ra_d$22(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$22
+endmodule // obb_core$sat$back$r_a_decide$2$stage$3
 
 
-module obb_core$sat$back$ra_d$23(d,q,clock);
+module obb_core$sat$back$r_a_decide$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100594,10 +100795,10 @@ module obb_core$sat$back$ra_d$23(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$23
+endmodule // obb_core$sat$back$r_a_decide$2$stage$4
 
 
-module obb_core$sat$back$ra_d$24(d,q,clock);
+module obb_core$sat$back$r_a_decide$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100613,10 +100814,89 @@ module obb_core$sat$back$ra_d$24(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$24
+endmodule // obb_core$sat$back$r_a_decide$2$stage$5
 
 
-module obb_core$sat$back$ra_d$25(d,q,clock);
+module obb_core$sat$back$r_a_decide$3(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$r_a_decide$3$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$r_a_decide$3$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$r_a_decide$3$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$r_a_decide$3$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$r_a_decide$3$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$r_a_decide$3$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$r_a_decide$3
+
+
+module obb_core$sat$back$r_a_decide$3$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100632,10 +100912,10 @@ module obb_core$sat$back$ra_d$25(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$25
+endmodule // obb_core$sat$back$r_a_decide$3$stage$0
 
 
-module obb_core$sat$back$ra_d$26(d,q,clock);
+module obb_core$sat$back$r_a_decide$3$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100651,10 +100931,10 @@ module obb_core$sat$back$ra_d$26(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$26
+endmodule // obb_core$sat$back$r_a_decide$3$stage$1
 
 
-module obb_core$sat$back$ra_d$27(d,q,clock);
+module obb_core$sat$back$r_a_decide$3$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100670,10 +100950,10 @@ module obb_core$sat$back$ra_d$27(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$27
+endmodule // obb_core$sat$back$r_a_decide$3$stage$2
 
 
-module obb_core$sat$back$ra_d$28(d,q,clock);
+module obb_core$sat$back$r_a_decide$3$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100689,10 +100969,10 @@ module obb_core$sat$back$ra_d$28(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$28
+endmodule // obb_core$sat$back$r_a_decide$3$stage$3
 
 
-module obb_core$sat$back$ra_d$29(d,q,clock);
+module obb_core$sat$back$r_a_decide$3$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100708,10 +100988,10 @@ module obb_core$sat$back$ra_d$29(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$29
+endmodule // obb_core$sat$back$r_a_decide$3$stage$4
 
 
-module obb_core$sat$back$ra_d$3(d,q,clock);
+module obb_core$sat$back$r_a_decide$3$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100727,10 +101007,89 @@ module obb_core$sat$back$ra_d$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$3
+endmodule // obb_core$sat$back$r_a_decide$3$stage$5
 
 
-module obb_core$sat$back$ra_d$30(d,q,clock);
+module obb_core$sat$back$r_a_decide$4(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$r_a_decide$4$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$r_a_decide$4$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$r_a_decide$4$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$r_a_decide$4$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$r_a_decide$4$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$r_a_decide$4$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$r_a_decide$4
+
+
+module obb_core$sat$back$r_a_decide$4$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100746,10 +101105,10 @@ module obb_core$sat$back$ra_d$30(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$30
+endmodule // obb_core$sat$back$r_a_decide$4$stage$0
 
 
-module obb_core$sat$back$ra_d$31(d,q,clock);
+module obb_core$sat$back$r_a_decide$4$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100765,10 +101124,10 @@ module obb_core$sat$back$ra_d$31(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$31
+endmodule // obb_core$sat$back$r_a_decide$4$stage$1
 
 
-module obb_core$sat$back$ra_d$32(d,q,clock);
+module obb_core$sat$back$r_a_decide$4$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100784,10 +101143,10 @@ module obb_core$sat$back$ra_d$32(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$32
+endmodule // obb_core$sat$back$r_a_decide$4$stage$2
 
 
-module obb_core$sat$back$ra_d$33(d,q,clock);
+module obb_core$sat$back$r_a_decide$4$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100803,10 +101162,10 @@ module obb_core$sat$back$ra_d$33(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$33
+endmodule // obb_core$sat$back$r_a_decide$4$stage$3
 
 
-module obb_core$sat$back$ra_d$34(d,q,clock);
+module obb_core$sat$back$r_a_decide$4$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100822,10 +101181,10 @@ module obb_core$sat$back$ra_d$34(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$34
+endmodule // obb_core$sat$back$r_a_decide$4$stage$4
 
 
-module obb_core$sat$back$ra_d$35(d,q,clock);
+module obb_core$sat$back$r_a_decide$4$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100841,10 +101200,89 @@ module obb_core$sat$back$ra_d$35(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$35
+endmodule // obb_core$sat$back$r_a_decide$4$stage$5
 
 
-module obb_core$sat$back$ra_d$36(d,q,clock);
+module obb_core$sat$back$r_a_decide$5(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$r_a_decide$5$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$r_a_decide$5$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$r_a_decide$5$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$r_a_decide$5$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$r_a_decide$5$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$r_a_decide$5$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$r_a_decide$5
+
+
+module obb_core$sat$back$r_a_decide$5$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100860,10 +101298,10 @@ module obb_core$sat$back$ra_d$36(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$36
+endmodule // obb_core$sat$back$r_a_decide$5$stage$0
 
 
-module obb_core$sat$back$ra_d$37(d,q,clock);
+module obb_core$sat$back$r_a_decide$5$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100879,10 +101317,10 @@ module obb_core$sat$back$ra_d$37(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$37
+endmodule // obb_core$sat$back$r_a_decide$5$stage$1
 
 
-module obb_core$sat$back$ra_d$38(d,q,clock);
+module obb_core$sat$back$r_a_decide$5$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100898,10 +101336,10 @@ module obb_core$sat$back$ra_d$38(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$38
+endmodule // obb_core$sat$back$r_a_decide$5$stage$2
 
 
-module obb_core$sat$back$ra_d$39(d,q,clock);
+module obb_core$sat$back$r_a_decide$5$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100917,10 +101355,10 @@ module obb_core$sat$back$ra_d$39(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$39
+endmodule // obb_core$sat$back$r_a_decide$5$stage$3
 
 
-module obb_core$sat$back$ra_d$4(d,q,clock);
+module obb_core$sat$back$r_a_decide$5$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100936,10 +101374,10 @@ module obb_core$sat$back$ra_d$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$4
+endmodule // obb_core$sat$back$r_a_decide$5$stage$4
 
 
-module obb_core$sat$back$ra_d$40(d,q,clock);
+module obb_core$sat$back$r_a_decide$5$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100955,10 +101393,89 @@ module obb_core$sat$back$ra_d$40(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$40
+endmodule // obb_core$sat$back$r_a_decide$5$stage$5
 
 
-module obb_core$sat$back$ra_d$41(d,q,clock);
+module obb_core$sat$back$r_a_decide$6(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$r_a_decide$6$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$r_a_decide$6$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$r_a_decide$6$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$r_a_decide$6$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$r_a_decide$6$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$r_a_decide$6$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$r_a_decide$6
+
+
+module obb_core$sat$back$r_a_decide$6$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100974,10 +101491,10 @@ module obb_core$sat$back$ra_d$41(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$41
+endmodule // obb_core$sat$back$r_a_decide$6$stage$0
 
 
-module obb_core$sat$back$ra_d$42(d,q,clock);
+module obb_core$sat$back$r_a_decide$6$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -100993,10 +101510,10 @@ module obb_core$sat$back$ra_d$42(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$42
+endmodule // obb_core$sat$back$r_a_decide$6$stage$1
 
 
-module obb_core$sat$back$ra_d$43(d,q,clock);
+module obb_core$sat$back$r_a_decide$6$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101012,10 +101529,10 @@ module obb_core$sat$back$ra_d$43(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$43
+endmodule // obb_core$sat$back$r_a_decide$6$stage$2
 
 
-module obb_core$sat$back$ra_d$44(d,q,clock);
+module obb_core$sat$back$r_a_decide$6$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101031,10 +101548,10 @@ module obb_core$sat$back$ra_d$44(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$44
+endmodule // obb_core$sat$back$r_a_decide$6$stage$3
 
 
-module obb_core$sat$back$ra_d$45(d,q,clock);
+module obb_core$sat$back$r_a_decide$6$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101050,10 +101567,10 @@ module obb_core$sat$back$ra_d$45(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$45
+endmodule // obb_core$sat$back$r_a_decide$6$stage$4
 
 
-module obb_core$sat$back$ra_d$46(d,q,clock);
+module obb_core$sat$back$r_a_decide$6$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101069,10 +101586,89 @@ module obb_core$sat$back$ra_d$46(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$46
+endmodule // obb_core$sat$back$r_a_decide$6$stage$5
 
 
-module obb_core$sat$back$ra_d$47(d,q,clock);
+module obb_core$sat$back$r_a_decide$7(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$r_a_decide$7$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$r_a_decide$7$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$r_a_decide$7$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$r_a_decide$7$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$r_a_decide$7$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$r_a_decide$7$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$r_a_decide$7
+
+
+module obb_core$sat$back$r_a_decide$7$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101088,10 +101684,10 @@ module obb_core$sat$back$ra_d$47(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$47
+endmodule // obb_core$sat$back$r_a_decide$7$stage$0
 
 
-module obb_core$sat$back$ra_d$48(d,q,clock);
+module obb_core$sat$back$r_a_decide$7$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101107,10 +101703,10 @@ module obb_core$sat$back$ra_d$48(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$48
+endmodule // obb_core$sat$back$r_a_decide$7$stage$1
 
 
-module obb_core$sat$back$ra_d$49(d,q,clock);
+module obb_core$sat$back$r_a_decide$7$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101126,10 +101722,10 @@ module obb_core$sat$back$ra_d$49(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$49
+endmodule // obb_core$sat$back$r_a_decide$7$stage$2
 
 
-module obb_core$sat$back$ra_d$5(d,q,clock);
+module obb_core$sat$back$r_a_decide$7$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101145,10 +101741,10 @@ module obb_core$sat$back$ra_d$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$5
+endmodule // obb_core$sat$back$r_a_decide$7$stage$3
 
 
-module obb_core$sat$back$ra_d$50(d,q,clock);
+module obb_core$sat$back$r_a_decide$7$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101164,10 +101760,10 @@ module obb_core$sat$back$ra_d$50(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$50
+endmodule // obb_core$sat$back$r_a_decide$7$stage$4
 
 
-module obb_core$sat$back$ra_d$51(d,q,clock);
+module obb_core$sat$back$r_a_decide$7$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101183,10 +101779,89 @@ module obb_core$sat$back$ra_d$51(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$51
+endmodule // obb_core$sat$back$r_a_decide$7$stage$5
 
 
-module obb_core$sat$back$ra_d$52(d,q,clock);
+module obb_core$sat$back$r_a_decide$8(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$r_a_decide$8$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$r_a_decide$8$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$r_a_decide$8$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$r_a_decide$8$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$r_a_decide$8$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$r_a_decide$8$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$back$r_a_decide$8
+
+
+module obb_core$sat$back$r_a_decide$8$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101202,10 +101877,10 @@ module obb_core$sat$back$ra_d$52(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$52
+endmodule // obb_core$sat$back$r_a_decide$8$stage$0
 
 
-module obb_core$sat$back$ra_d$53(d,q,clock);
+module obb_core$sat$back$r_a_decide$8$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101221,10 +101896,10 @@ module obb_core$sat$back$ra_d$53(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$53
+endmodule // obb_core$sat$back$r_a_decide$8$stage$1
 
 
-module obb_core$sat$back$ra_d$6(d,q,clock);
+module obb_core$sat$back$r_a_decide$8$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101240,10 +101915,10 @@ module obb_core$sat$back$ra_d$6(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$6
+endmodule // obb_core$sat$back$r_a_decide$8$stage$2
 
 
-module obb_core$sat$back$ra_d$7(d,q,clock);
+module obb_core$sat$back$r_a_decide$8$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101259,10 +101934,10 @@ module obb_core$sat$back$ra_d$7(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$7
+endmodule // obb_core$sat$back$r_a_decide$8$stage$3
 
 
-module obb_core$sat$back$ra_d$8(d,q,clock);
+module obb_core$sat$back$r_a_decide$8$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101278,10 +101953,10 @@ module obb_core$sat$back$ra_d$8(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$8
+endmodule // obb_core$sat$back$r_a_decide$8$stage$4
 
 
-module obb_core$sat$back$ra_d$9(d,q,clock);
+module obb_core$sat$back$r_a_decide$8$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -101297,7 +101972,7 @@ module obb_core$sat$back$ra_d$9(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$ra_d$9
+endmodule // obb_core$sat$back$r_a_decide$8$stage$5
 
 
 module obb_core$sat$back$ra_dot$0(a0,a1,b0,b1,p,clock);
@@ -102146,7 +102821,186 @@ module obb_core$sat$back$round(t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
 endmodule // obb_core$sat$back$round
 
 
-module obb_core$sat$back$valid$0(d,q,clock);
+module obb_core$sat$back$valid(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  d;
+    output reg  q;
+    
+    // Stub signals
+    reg  stage$0$d;
+    wire  stage$0$q;
+    reg  stage$0$clock;
+    reg  stage$1$d;
+    wire  stage$1$q;
+    reg  stage$1$clock;
+    reg  stage$2$d;
+    wire  stage$2$q;
+    reg  stage$2$clock;
+    reg  stage$3$d;
+    wire  stage$3$q;
+    reg  stage$3$clock;
+    reg  stage$4$d;
+    wire  stage$4$q;
+    reg  stage$4$clock;
+    reg  stage$5$d;
+    wire  stage$5$q;
+    reg  stage$5$clock;
+    reg  stage$6$d;
+    wire  stage$6$q;
+    reg  stage$6$clock;
+    reg  stage$7$d;
+    wire  stage$7$q;
+    reg  stage$7$clock;
+    reg  stage$8$d;
+    wire  stage$8$q;
+    reg  stage$8$clock;
+    reg  stage$9$d;
+    wire  stage$9$q;
+    reg  stage$9$clock;
+    reg  stage$10$d;
+    wire  stage$10$q;
+    reg  stage$10$clock;
+    reg  stage$11$d;
+    wire  stage$11$q;
+    reg  stage$11$clock;
+    reg  stage$12$d;
+    wire  stage$12$q;
+    reg  stage$12$clock;
+    reg  stage$13$d;
+    wire  stage$13$q;
+    reg  stage$13$clock;
+    reg  stage$14$d;
+    wire  stage$14$q;
+    reg  stage$14$clock;
+    reg  stage$15$d;
+    wire  stage$15$q;
+    reg  stage$15$clock;
+    
+    // Sub module instances
+    obb_core$sat$back$valid$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$back$valid$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$back$valid$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$back$valid$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$back$valid$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$back$valid$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    obb_core$sat$back$valid$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    obb_core$sat$back$valid$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    obb_core$sat$back$valid$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    obb_core$sat$back$valid$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    obb_core$sat$back$valid$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    obb_core$sat$back$valid$stage$11 stage$11(
+        .d(stage$11$d),
+        .q(stage$11$q),
+        .clock(stage$11$clock)
+    );
+    obb_core$sat$back$valid$stage$12 stage$12(
+        .d(stage$12$d),
+        .q(stage$12$q),
+        .clock(stage$12$clock)
+    );
+    obb_core$sat$back$valid$stage$13 stage$13(
+        .d(stage$13$d),
+        .q(stage$13$q),
+        .clock(stage$13$clock)
+    );
+    obb_core$sat$back$valid$stage$14 stage$14(
+        .d(stage$14$d),
+        .q(stage$14$q),
+        .clock(stage$14$clock)
+    );
+    obb_core$sat$back$valid$stage$15 stage$15(
+        .d(stage$15$d),
+        .q(stage$15$q),
+        .clock(stage$15$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$11$clock = clock;
+        stage$12$clock = clock;
+        stage$13$clock = clock;
+        stage$14$clock = clock;
+        stage$15$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        stage$11$d = stage$10$q;
+        stage$12$d = stage$11$q;
+        stage$13$d = stage$12$q;
+        stage$14$d = stage$13$q;
+        stage$15$d = stage$14$q;
+        q = stage$15$q;
+    end
+    
+endmodule // obb_core$sat$back$valid
+
+
+module obb_core$sat$back$valid$stage$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102162,10 +103016,10 @@ module obb_core$sat$back$valid$0(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$0
+endmodule // obb_core$sat$back$valid$stage$0
 
 
-module obb_core$sat$back$valid$1(d,q,clock);
+module obb_core$sat$back$valid$stage$1(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102181,10 +103035,10 @@ module obb_core$sat$back$valid$1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$1
+endmodule // obb_core$sat$back$valid$stage$1
 
 
-module obb_core$sat$back$valid$10(d,q,clock);
+module obb_core$sat$back$valid$stage$10(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102200,10 +103054,10 @@ module obb_core$sat$back$valid$10(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$10
+endmodule // obb_core$sat$back$valid$stage$10
 
 
-module obb_core$sat$back$valid$11(d,q,clock);
+module obb_core$sat$back$valid$stage$11(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102219,10 +103073,10 @@ module obb_core$sat$back$valid$11(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$11
+endmodule // obb_core$sat$back$valid$stage$11
 
 
-module obb_core$sat$back$valid$12(d,q,clock);
+module obb_core$sat$back$valid$stage$12(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102238,10 +103092,10 @@ module obb_core$sat$back$valid$12(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$12
+endmodule // obb_core$sat$back$valid$stage$12
 
 
-module obb_core$sat$back$valid$13(d,q,clock);
+module obb_core$sat$back$valid$stage$13(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102257,10 +103111,10 @@ module obb_core$sat$back$valid$13(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$13
+endmodule // obb_core$sat$back$valid$stage$13
 
 
-module obb_core$sat$back$valid$14(d,q,clock);
+module obb_core$sat$back$valid$stage$14(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102276,10 +103130,10 @@ module obb_core$sat$back$valid$14(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$14
+endmodule // obb_core$sat$back$valid$stage$14
 
 
-module obb_core$sat$back$valid$15(d,q,clock);
+module obb_core$sat$back$valid$stage$15(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102295,10 +103149,10 @@ module obb_core$sat$back$valid$15(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$15
+endmodule // obb_core$sat$back$valid$stage$15
 
 
-module obb_core$sat$back$valid$2(d,q,clock);
+module obb_core$sat$back$valid$stage$2(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102314,10 +103168,10 @@ module obb_core$sat$back$valid$2(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$2
+endmodule // obb_core$sat$back$valid$stage$2
 
 
-module obb_core$sat$back$valid$3(d,q,clock);
+module obb_core$sat$back$valid$stage$3(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102333,10 +103187,10 @@ module obb_core$sat$back$valid$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$3
+endmodule // obb_core$sat$back$valid$stage$3
 
 
-module obb_core$sat$back$valid$4(d,q,clock);
+module obb_core$sat$back$valid$stage$4(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102352,10 +103206,10 @@ module obb_core$sat$back$valid$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$4
+endmodule // obb_core$sat$back$valid$stage$4
 
 
-module obb_core$sat$back$valid$5(d,q,clock);
+module obb_core$sat$back$valid$stage$5(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102371,10 +103225,10 @@ module obb_core$sat$back$valid$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$5
+endmodule // obb_core$sat$back$valid$stage$5
 
 
-module obb_core$sat$back$valid$6(d,q,clock);
+module obb_core$sat$back$valid$stage$6(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102390,10 +103244,10 @@ module obb_core$sat$back$valid$6(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$6
+endmodule // obb_core$sat$back$valid$stage$6
 
 
-module obb_core$sat$back$valid$7(d,q,clock);
+module obb_core$sat$back$valid$stage$7(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102409,10 +103263,10 @@ module obb_core$sat$back$valid$7(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$7
+endmodule // obb_core$sat$back$valid$stage$7
 
 
-module obb_core$sat$back$valid$8(d,q,clock);
+module obb_core$sat$back$valid$stage$8(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102428,10 +103282,10 @@ module obb_core$sat$back$valid$8(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$8
+endmodule // obb_core$sat$back$valid$stage$8
 
 
-module obb_core$sat$back$valid$9(d,q,clock);
+module obb_core$sat$back$valid$stage$9(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -102447,7 +103301,7 @@ module obb_core$sat$back$valid$9(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$back$valid$9
+endmodule // obb_core$sat$back$valid$stage$9
 
 
 module obb_core$sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center_b$0,center_b$1,center_b$2,axes_a$0,axes_a$1,axes_a$2,axes_a$3,axes_a$4,axes_a$5,axes_a$6,axes_a$7,axes_a$8,axes_b$0,axes_b$1,axes_b$2,axes_b$3,axes_b$4,axes_b$5,axes_b$6,axes_b$7,axes_b$8,valid_out,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r$6,r$7,r$8);
@@ -102497,24 +103351,9 @@ module obb_core$sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center
     output reg signed [37:0] r$8;
     
     // Stub signals
-    reg  valid$0$d;
-    wire  valid$0$q;
-    reg  valid$0$clock;
-    reg  valid$1$d;
-    wire  valid$1$q;
-    reg  valid$1$clock;
-    reg  valid$2$d;
-    wire  valid$2$q;
-    reg  valid$2$clock;
-    reg  valid$3$d;
-    wire  valid$3$q;
-    reg  valid$3$clock;
-    reg  valid$4$d;
-    wire  valid$4$q;
-    reg  valid$4$clock;
-    reg  valid$5$d;
-    wire  valid$5$q;
-    reg  valid$5$clock;
+    reg  valid$clock;
+    reg  valid$d;
+    wire  valid$q;
     reg  [22:0] world$0$a;
     reg  [22:0] world$0$b;
     wire signed [23:0] world$0$d;
@@ -102703,35 +103542,10 @@ module obb_core$sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center
     reg  r_dot$8$clock;
     
     // Sub module instances
-    obb_core$sat$front$valid$0 valid$0(
-        .d(valid$0$d),
-        .q(valid$0$q),
-        .clock(valid$0$clock)
-    );
-    obb_core$sat$front$valid$1 valid$1(
-        .d(valid$1$d),
-        .q(valid$1$q),
-        .clock(valid$1$clock)
-    );
-    obb_core$sat$front$valid$2 valid$2(
-        .d(valid$2$d),
-        .q(valid$2$q),
-        .clock(valid$2$clock)
-    );
-    obb_core$sat$front$valid$3 valid$3(
-        .d(valid$3$d),
-        .q(valid$3$q),
-        .clock(valid$3$clock)
-    );
-    obb_core$sat$front$valid$4 valid$4(
-        .d(valid$4$d),
-        .q(valid$4$q),
-        .clock(valid$4$clock)
-    );
-    obb_core$sat$front$valid$5 valid$5(
-        .d(valid$5$d),
-        .q(valid$5$q),
-        .clock(valid$5$clock)
+    obb_core$sat$front$valid valid(
+        .clock(valid$clock),
+        .d(valid$d),
+        .q(valid$q)
     );
     obb_core$sat$front$world$0 world$0(
         .a(world$0$a),
@@ -102994,12 +103808,7 @@ module obb_core$sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center
     
     // Update code
     always @(*) begin
-        valid$0$clock = clock;
-        valid$1$clock = clock;
-        valid$2$clock = clock;
-        valid$3$clock = clock;
-        valid$4$clock = clock;
-        valid$5$clock = clock;
+        valid$clock = clock;
         world$0$clock = clock;
         t_dot$0$clock = clock;
         u_dot$0$clock = clock;
@@ -103036,12 +103845,7 @@ module obb_core$sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center
         axes_a_r$8$clock = clock;
         axes_b_r$8$clock = clock;
         r_dot$8$clock = clock;
-        valid$0$d = valid_in;
-        valid$1$d = valid$0$q;
-        valid$2$d = valid$1$q;
-        valid$3$d = valid$2$q;
-        valid$4$d = valid$3$q;
-        valid$5$d = valid$4$q;
+        valid$d = valid_in;
         world$0$a = center_a$0;
         world$0$b = center_b$0;
         world$1$a = center_a$1;
@@ -103171,7 +103975,7 @@ module obb_core$sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center
         r_dot$8$b1 = axes_b_r$7$q;
         r_dot$8$b2 = axes_b_r$8$q;
         r$8 = r_dot$8$p;
-        valid_out = valid$5$q;
+        valid_out = valid$q;
     end
     
 endmodule // obb_core$sat$front
@@ -104164,7 +104968,86 @@ module obb_core$sat$front$u_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
 endmodule // obb_core$sat$front$u_dot$2
 
 
-module obb_core$sat$front$valid$0(d,q,clock);
+module obb_core$sat$front$valid(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  d;
+    output reg  q;
+    
+    // Stub signals
+    reg  stage$0$d;
+    wire  stage$0$q;
+    reg  stage$0$clock;
+    reg  stage$1$d;
+    wire  stage$1$q;
+    reg  stage$1$clock;
+    reg  stage$2$d;
+    wire  stage$2$q;
+    reg  stage$2$clock;
+    reg  stage$3$d;
+    wire  stage$3$q;
+    reg  stage$3$clock;
+    reg  stage$4$d;
+    wire  stage$4$q;
+    reg  stage$4$clock;
+    reg  stage$5$d;
+    wire  stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$front$valid$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$front$valid$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$front$valid$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$front$valid$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$front$valid$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$front$valid$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // obb_core$sat$front$valid
+
+
+module obb_core$sat$front$valid$stage$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -104180,10 +105063,10 @@ module obb_core$sat$front$valid$0(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$front$valid$0
+endmodule // obb_core$sat$front$valid$stage$0
 
 
-module obb_core$sat$front$valid$1(d,q,clock);
+module obb_core$sat$front$valid$stage$1(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -104199,10 +105082,10 @@ module obb_core$sat$front$valid$1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$front$valid$1
+endmodule // obb_core$sat$front$valid$stage$1
 
 
-module obb_core$sat$front$valid$2(d,q,clock);
+module obb_core$sat$front$valid$stage$2(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -104218,10 +105101,10 @@ module obb_core$sat$front$valid$2(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$front$valid$2
+endmodule // obb_core$sat$front$valid$stage$2
 
 
-module obb_core$sat$front$valid$3(d,q,clock);
+module obb_core$sat$front$valid$stage$3(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -104237,10 +105120,10 @@ module obb_core$sat$front$valid$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$front$valid$3
+endmodule // obb_core$sat$front$valid$stage$3
 
 
-module obb_core$sat$front$valid$4(d,q,clock);
+module obb_core$sat$front$valid$stage$4(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -104256,10 +105139,10 @@ module obb_core$sat$front$valid$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$front$valid$4
+endmodule // obb_core$sat$front$valid$stage$4
 
 
-module obb_core$sat$front$valid$5(d,q,clock);
+module obb_core$sat$front$valid$stage$5(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -104275,7 +105158,7 @@ module obb_core$sat$front$valid$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$front$valid$5
+endmodule // obb_core$sat$front$valid$stage$5
 
 
 module obb_core$sat$front$world$0(a,b,d,clock);
@@ -104323,26 +105206,86 @@ module obb_core$sat$front$world$2(a,b,d,clock);
 endmodule // obb_core$sat$front$world$2
 
 
-module obb_core$sat$ha$0(d,q,clock);
+module obb_core$sat$ha$0(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire signed [17:0] d;
     output reg signed [17:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$ha$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$ha$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$ha$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$ha$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$ha$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$ha$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
     end
     
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
 endmodule // obb_core$sat$ha$0
 
 
-module obb_core$sat$ha$1(d,q,clock);
+module obb_core$sat$ha$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104358,10 +105301,184 @@ module obb_core$sat$ha$1(d,q,clock);
        q <= d;
     end
           
+endmodule // obb_core$sat$ha$0$stage$0
+
+
+module obb_core$sat$ha$0$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$ha$0$stage$1
+
+
+module obb_core$sat$ha$0$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$ha$0$stage$2
+
+
+module obb_core$sat$ha$0$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$ha$0$stage$3
+
+
+module obb_core$sat$ha$0$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$ha$0$stage$4
+
+
+module obb_core$sat$ha$0$stage$5(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$ha$0$stage$5
+
+
+module obb_core$sat$ha$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$ha$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$ha$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$ha$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$ha$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$ha$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$ha$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
 endmodule // obb_core$sat$ha$1
 
 
-module obb_core$sat$ha$10(d,q,clock);
+module obb_core$sat$ha$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104377,10 +105494,10 @@ module obb_core$sat$ha$10(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$ha$10
+endmodule // obb_core$sat$ha$1$stage$0
 
 
-module obb_core$sat$ha$11(d,q,clock);
+module obb_core$sat$ha$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104396,10 +105513,10 @@ module obb_core$sat$ha$11(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$ha$11
+endmodule // obb_core$sat$ha$1$stage$1
 
 
-module obb_core$sat$ha$12(d,q,clock);
+module obb_core$sat$ha$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104415,10 +105532,10 @@ module obb_core$sat$ha$12(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$ha$12
+endmodule // obb_core$sat$ha$1$stage$2
 
 
-module obb_core$sat$ha$13(d,q,clock);
+module obb_core$sat$ha$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104434,10 +105551,10 @@ module obb_core$sat$ha$13(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$ha$13
+endmodule // obb_core$sat$ha$1$stage$3
 
 
-module obb_core$sat$ha$14(d,q,clock);
+module obb_core$sat$ha$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104453,10 +105570,10 @@ module obb_core$sat$ha$14(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$ha$14
+endmodule // obb_core$sat$ha$1$stage$4
 
 
-module obb_core$sat$ha$15(d,q,clock);
+module obb_core$sat$ha$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104472,67 +105589,89 @@ module obb_core$sat$ha$15(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$ha$15
+endmodule // obb_core$sat$ha$1$stage$5
 
 
-module obb_core$sat$ha$16(d,q,clock);
+module obb_core$sat$ha$2(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire signed [17:0] d;
     output reg signed [17:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$ha$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$ha$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$ha$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$ha$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$ha$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$ha$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
     end
     
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$ha$16
-
-
-module obb_core$sat$ha$17(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$ha$17
-
-
-module obb_core$sat$ha$2(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
 endmodule // obb_core$sat$ha$2
 
 
-module obb_core$sat$ha$3(d,q,clock);
+module obb_core$sat$ha$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104548,10 +105687,10 @@ module obb_core$sat$ha$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$ha$3
+endmodule // obb_core$sat$ha$2$stage$0
 
 
-module obb_core$sat$ha$4(d,q,clock);
+module obb_core$sat$ha$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104567,10 +105706,10 @@ module obb_core$sat$ha$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$ha$4
+endmodule // obb_core$sat$ha$2$stage$1
 
 
-module obb_core$sat$ha$5(d,q,clock);
+module obb_core$sat$ha$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104586,10 +105725,10 @@ module obb_core$sat$ha$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$ha$5
+endmodule // obb_core$sat$ha$2$stage$2
 
 
-module obb_core$sat$ha$6(d,q,clock);
+module obb_core$sat$ha$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104605,10 +105744,10 @@ module obb_core$sat$ha$6(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$ha$6
+endmodule // obb_core$sat$ha$2$stage$3
 
 
-module obb_core$sat$ha$7(d,q,clock);
+module obb_core$sat$ha$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104624,10 +105763,10 @@ module obb_core$sat$ha$7(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$ha$7
+endmodule // obb_core$sat$ha$2$stage$4
 
 
-module obb_core$sat$ha$8(d,q,clock);
+module obb_core$sat$ha$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104643,48 +105782,89 @@ module obb_core$sat$ha$8(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$ha$8
+endmodule // obb_core$sat$ha$2$stage$5
 
 
-module obb_core$sat$ha$9(d,q,clock);
+module obb_core$sat$hb$0(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire signed [17:0] d;
     output reg signed [17:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$hb$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$hb$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$hb$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$hb$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$hb$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$hb$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
     end
     
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$ha$9
-
-
-module obb_core$sat$hb$0(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
 endmodule // obb_core$sat$hb$0
 
 
-module obb_core$sat$hb$1(d,q,clock);
+module obb_core$sat$hb$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104700,10 +105880,184 @@ module obb_core$sat$hb$1(d,q,clock);
        q <= d;
     end
           
+endmodule // obb_core$sat$hb$0$stage$0
+
+
+module obb_core$sat$hb$0$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$hb$0$stage$1
+
+
+module obb_core$sat$hb$0$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$hb$0$stage$2
+
+
+module obb_core$sat$hb$0$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$hb$0$stage$3
+
+
+module obb_core$sat$hb$0$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$hb$0$stage$4
+
+
+module obb_core$sat$hb$0$stage$5(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$sat$hb$0$stage$5
+
+
+module obb_core$sat$hb$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$hb$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$hb$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$hb$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$hb$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$hb$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$hb$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
 endmodule // obb_core$sat$hb$1
 
 
-module obb_core$sat$hb$10(d,q,clock);
+module obb_core$sat$hb$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104719,10 +106073,10 @@ module obb_core$sat$hb$10(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$hb$10
+endmodule // obb_core$sat$hb$1$stage$0
 
 
-module obb_core$sat$hb$11(d,q,clock);
+module obb_core$sat$hb$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104738,10 +106092,10 @@ module obb_core$sat$hb$11(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$hb$11
+endmodule // obb_core$sat$hb$1$stage$1
 
 
-module obb_core$sat$hb$12(d,q,clock);
+module obb_core$sat$hb$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104757,10 +106111,10 @@ module obb_core$sat$hb$12(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$hb$12
+endmodule // obb_core$sat$hb$1$stage$2
 
 
-module obb_core$sat$hb$13(d,q,clock);
+module obb_core$sat$hb$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104776,10 +106130,10 @@ module obb_core$sat$hb$13(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$hb$13
+endmodule // obb_core$sat$hb$1$stage$3
 
 
-module obb_core$sat$hb$14(d,q,clock);
+module obb_core$sat$hb$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104795,10 +106149,10 @@ module obb_core$sat$hb$14(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$hb$14
+endmodule // obb_core$sat$hb$1$stage$4
 
 
-module obb_core$sat$hb$15(d,q,clock);
+module obb_core$sat$hb$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104814,67 +106168,89 @@ module obb_core$sat$hb$15(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$hb$15
+endmodule // obb_core$sat$hb$1$stage$5
 
 
-module obb_core$sat$hb$16(d,q,clock);
+module obb_core$sat$hb$2(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire signed [17:0] d;
     output reg signed [17:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$hb$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$hb$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$hb$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$hb$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$hb$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$hb$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
     end
     
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$hb$16
-
-
-module obb_core$sat$hb$17(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$hb$17
-
-
-module obb_core$sat$hb$2(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
 endmodule // obb_core$sat$hb$2
 
 
-module obb_core$sat$hb$3(d,q,clock);
+module obb_core$sat$hb$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104890,10 +106266,10 @@ module obb_core$sat$hb$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$hb$3
+endmodule // obb_core$sat$hb$2$stage$0
 
 
-module obb_core$sat$hb$4(d,q,clock);
+module obb_core$sat$hb$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104909,10 +106285,10 @@ module obb_core$sat$hb$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$hb$4
+endmodule // obb_core$sat$hb$2$stage$1
 
 
-module obb_core$sat$hb$5(d,q,clock);
+module obb_core$sat$hb$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104928,10 +106304,10 @@ module obb_core$sat$hb$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$hb$5
+endmodule // obb_core$sat$hb$2$stage$2
 
 
-module obb_core$sat$hb$6(d,q,clock);
+module obb_core$sat$hb$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104947,10 +106323,10 @@ module obb_core$sat$hb$6(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$hb$6
+endmodule // obb_core$sat$hb$2$stage$3
 
 
-module obb_core$sat$hb$7(d,q,clock);
+module obb_core$sat$hb$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104966,10 +106342,10 @@ module obb_core$sat$hb$7(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$hb$7
+endmodule // obb_core$sat$hb$2$stage$4
 
 
-module obb_core$sat$hb$8(d,q,clock);
+module obb_core$sat$hb$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -104985,29 +106361,89 @@ module obb_core$sat$hb$8(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$hb$8
+endmodule // obb_core$sat$hb$2$stage$5
 
 
-module obb_core$sat$hb$9(d,q,clock);
+module obb_core$sat$pm(clock,d,q);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
     input wire  clock;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
+    // Stub signals
+    reg  [28:0] stage$0$d;
+    wire  [28:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [28:0] stage$1$d;
+    wire  [28:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [28:0] stage$2$d;
+    wire  [28:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [28:0] stage$3$d;
+    wire  [28:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [28:0] stage$4$d;
+    wire  [28:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [28:0] stage$5$d;
+    wire  [28:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    obb_core$sat$pm$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$sat$pm$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$sat$pm$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$sat$pm$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$sat$pm$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$sat$pm$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
     end
     
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$sat$hb$9
+endmodule // obb_core$sat$pm
 
 
-module obb_core$sat$pm$0(d,q,clock);
+module obb_core$sat$pm$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [28:0] d;
@@ -105023,10 +106459,10 @@ module obb_core$sat$pm$0(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$pm$0
+endmodule // obb_core$sat$pm$stage$0
 
 
-module obb_core$sat$pm$1(d,q,clock);
+module obb_core$sat$pm$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [28:0] d;
@@ -105042,10 +106478,10 @@ module obb_core$sat$pm$1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$pm$1
+endmodule // obb_core$sat$pm$stage$1
 
 
-module obb_core$sat$pm$2(d,q,clock);
+module obb_core$sat$pm$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [28:0] d;
@@ -105061,10 +106497,10 @@ module obb_core$sat$pm$2(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$pm$2
+endmodule // obb_core$sat$pm$stage$2
 
 
-module obb_core$sat$pm$3(d,q,clock);
+module obb_core$sat$pm$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [28:0] d;
@@ -105080,10 +106516,10 @@ module obb_core$sat$pm$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$pm$3
+endmodule // obb_core$sat$pm$stage$3
 
 
-module obb_core$sat$pm$4(d,q,clock);
+module obb_core$sat$pm$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [28:0] d;
@@ -105099,10 +106535,10 @@ module obb_core$sat$pm$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$pm$4
+endmodule // obb_core$sat$pm$stage$4
 
 
-module obb_core$sat$pm$5(d,q,clock);
+module obb_core$sat$pm$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [28:0] d;
@@ -105118,7 +106554,7 @@ module obb_core$sat$pm$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$sat$pm$5
+endmodule // obb_core$sat$pm$stage$5
 
 
 module obb_core$stall(d,q,clock);
@@ -105187,7 +106623,246 @@ module obb_core$streamed_seen(d,q,clock);
 endmodule // obb_core$streamed_seen
 
 
-module obb_core$tag_a$0(d,q,clock);
+module obb_core$tag_a(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    
+    // Stub signals
+    reg  [14:0] stage$0$d;
+    wire  [14:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [14:0] stage$1$d;
+    wire  [14:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [14:0] stage$2$d;
+    wire  [14:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [14:0] stage$3$d;
+    wire  [14:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [14:0] stage$4$d;
+    wire  [14:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [14:0] stage$5$d;
+    wire  [14:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [14:0] stage$6$d;
+    wire  [14:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [14:0] stage$7$d;
+    wire  [14:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [14:0] stage$8$d;
+    wire  [14:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [14:0] stage$9$d;
+    wire  [14:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [14:0] stage$10$d;
+    wire  [14:0] stage$10$q;
+    reg  stage$10$clock;
+    reg  [14:0] stage$11$d;
+    wire  [14:0] stage$11$q;
+    reg  stage$11$clock;
+    reg  [14:0] stage$12$d;
+    wire  [14:0] stage$12$q;
+    reg  stage$12$clock;
+    reg  [14:0] stage$13$d;
+    wire  [14:0] stage$13$q;
+    reg  stage$13$clock;
+    reg  [14:0] stage$14$d;
+    wire  [14:0] stage$14$q;
+    reg  stage$14$clock;
+    reg  [14:0] stage$15$d;
+    wire  [14:0] stage$15$q;
+    reg  stage$15$clock;
+    reg  [14:0] stage$16$d;
+    wire  [14:0] stage$16$q;
+    reg  stage$16$clock;
+    reg  [14:0] stage$17$d;
+    wire  [14:0] stage$17$q;
+    reg  stage$17$clock;
+    reg  [14:0] stage$18$d;
+    wire  [14:0] stage$18$q;
+    reg  stage$18$clock;
+    reg  [14:0] stage$19$d;
+    wire  [14:0] stage$19$q;
+    reg  stage$19$clock;
+    reg  [14:0] stage$20$d;
+    wire  [14:0] stage$20$q;
+    reg  stage$20$clock;
+    reg  [14:0] stage$21$d;
+    wire  [14:0] stage$21$q;
+    reg  stage$21$clock;
+    
+    // Sub module instances
+    obb_core$tag_a$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$tag_a$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$tag_a$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$tag_a$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$tag_a$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$tag_a$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    obb_core$tag_a$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    obb_core$tag_a$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    obb_core$tag_a$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    obb_core$tag_a$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    obb_core$tag_a$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    obb_core$tag_a$stage$11 stage$11(
+        .d(stage$11$d),
+        .q(stage$11$q),
+        .clock(stage$11$clock)
+    );
+    obb_core$tag_a$stage$12 stage$12(
+        .d(stage$12$d),
+        .q(stage$12$q),
+        .clock(stage$12$clock)
+    );
+    obb_core$tag_a$stage$13 stage$13(
+        .d(stage$13$d),
+        .q(stage$13$q),
+        .clock(stage$13$clock)
+    );
+    obb_core$tag_a$stage$14 stage$14(
+        .d(stage$14$d),
+        .q(stage$14$q),
+        .clock(stage$14$clock)
+    );
+    obb_core$tag_a$stage$15 stage$15(
+        .d(stage$15$d),
+        .q(stage$15$q),
+        .clock(stage$15$clock)
+    );
+    obb_core$tag_a$stage$16 stage$16(
+        .d(stage$16$d),
+        .q(stage$16$q),
+        .clock(stage$16$clock)
+    );
+    obb_core$tag_a$stage$17 stage$17(
+        .d(stage$17$d),
+        .q(stage$17$q),
+        .clock(stage$17$clock)
+    );
+    obb_core$tag_a$stage$18 stage$18(
+        .d(stage$18$d),
+        .q(stage$18$q),
+        .clock(stage$18$clock)
+    );
+    obb_core$tag_a$stage$19 stage$19(
+        .d(stage$19$d),
+        .q(stage$19$q),
+        .clock(stage$19$clock)
+    );
+    obb_core$tag_a$stage$20 stage$20(
+        .d(stage$20$d),
+        .q(stage$20$q),
+        .clock(stage$20$clock)
+    );
+    obb_core$tag_a$stage$21 stage$21(
+        .d(stage$21$d),
+        .q(stage$21$q),
+        .clock(stage$21$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$11$clock = clock;
+        stage$12$clock = clock;
+        stage$13$clock = clock;
+        stage$14$clock = clock;
+        stage$15$clock = clock;
+        stage$16$clock = clock;
+        stage$17$clock = clock;
+        stage$18$clock = clock;
+        stage$19$clock = clock;
+        stage$20$clock = clock;
+        stage$21$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        stage$11$d = stage$10$q;
+        stage$12$d = stage$11$q;
+        stage$13$d = stage$12$q;
+        stage$14$d = stage$13$q;
+        stage$15$d = stage$14$q;
+        stage$16$d = stage$15$q;
+        stage$17$d = stage$16$q;
+        stage$18$d = stage$17$q;
+        stage$19$d = stage$18$q;
+        stage$20$d = stage$19$q;
+        stage$21$d = stage$20$q;
+        q = stage$21$q;
+    end
+    
+endmodule // obb_core$tag_a
+
+
+module obb_core$tag_a$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105203,10 +106878,10 @@ module obb_core$tag_a$0(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$0
+endmodule // obb_core$tag_a$stage$0
 
 
-module obb_core$tag_a$1(d,q,clock);
+module obb_core$tag_a$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105222,10 +106897,10 @@ module obb_core$tag_a$1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$1
+endmodule // obb_core$tag_a$stage$1
 
 
-module obb_core$tag_a$10(d,q,clock);
+module obb_core$tag_a$stage$10(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105241,10 +106916,10 @@ module obb_core$tag_a$10(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$10
+endmodule // obb_core$tag_a$stage$10
 
 
-module obb_core$tag_a$11(d,q,clock);
+module obb_core$tag_a$stage$11(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105260,10 +106935,10 @@ module obb_core$tag_a$11(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$11
+endmodule // obb_core$tag_a$stage$11
 
 
-module obb_core$tag_a$12(d,q,clock);
+module obb_core$tag_a$stage$12(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105279,10 +106954,10 @@ module obb_core$tag_a$12(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$12
+endmodule // obb_core$tag_a$stage$12
 
 
-module obb_core$tag_a$13(d,q,clock);
+module obb_core$tag_a$stage$13(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105298,10 +106973,10 @@ module obb_core$tag_a$13(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$13
+endmodule // obb_core$tag_a$stage$13
 
 
-module obb_core$tag_a$14(d,q,clock);
+module obb_core$tag_a$stage$14(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105317,10 +106992,10 @@ module obb_core$tag_a$14(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$14
+endmodule // obb_core$tag_a$stage$14
 
 
-module obb_core$tag_a$15(d,q,clock);
+module obb_core$tag_a$stage$15(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105336,10 +107011,10 @@ module obb_core$tag_a$15(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$15
+endmodule // obb_core$tag_a$stage$15
 
 
-module obb_core$tag_a$16(d,q,clock);
+module obb_core$tag_a$stage$16(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105355,10 +107030,10 @@ module obb_core$tag_a$16(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$16
+endmodule // obb_core$tag_a$stage$16
 
 
-module obb_core$tag_a$17(d,q,clock);
+module obb_core$tag_a$stage$17(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105374,10 +107049,10 @@ module obb_core$tag_a$17(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$17
+endmodule // obb_core$tag_a$stage$17
 
 
-module obb_core$tag_a$18(d,q,clock);
+module obb_core$tag_a$stage$18(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105393,10 +107068,10 @@ module obb_core$tag_a$18(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$18
+endmodule // obb_core$tag_a$stage$18
 
 
-module obb_core$tag_a$19(d,q,clock);
+module obb_core$tag_a$stage$19(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105412,10 +107087,10 @@ module obb_core$tag_a$19(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$19
+endmodule // obb_core$tag_a$stage$19
 
 
-module obb_core$tag_a$2(d,q,clock);
+module obb_core$tag_a$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105431,10 +107106,10 @@ module obb_core$tag_a$2(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$2
+endmodule // obb_core$tag_a$stage$2
 
 
-module obb_core$tag_a$20(d,q,clock);
+module obb_core$tag_a$stage$20(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105450,10 +107125,10 @@ module obb_core$tag_a$20(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$20
+endmodule // obb_core$tag_a$stage$20
 
 
-module obb_core$tag_a$21(d,q,clock);
+module obb_core$tag_a$stage$21(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105469,10 +107144,10 @@ module obb_core$tag_a$21(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$21
+endmodule // obb_core$tag_a$stage$21
 
 
-module obb_core$tag_a$3(d,q,clock);
+module obb_core$tag_a$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105488,10 +107163,10 @@ module obb_core$tag_a$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$3
+endmodule // obb_core$tag_a$stage$3
 
 
-module obb_core$tag_a$4(d,q,clock);
+module obb_core$tag_a$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105507,10 +107182,10 @@ module obb_core$tag_a$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$4
+endmodule // obb_core$tag_a$stage$4
 
 
-module obb_core$tag_a$5(d,q,clock);
+module obb_core$tag_a$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105526,10 +107201,10 @@ module obb_core$tag_a$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$5
+endmodule // obb_core$tag_a$stage$5
 
 
-module obb_core$tag_a$6(d,q,clock);
+module obb_core$tag_a$stage$6(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105545,10 +107220,10 @@ module obb_core$tag_a$6(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$6
+endmodule // obb_core$tag_a$stage$6
 
 
-module obb_core$tag_a$7(d,q,clock);
+module obb_core$tag_a$stage$7(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105564,10 +107239,10 @@ module obb_core$tag_a$7(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$7
+endmodule // obb_core$tag_a$stage$7
 
 
-module obb_core$tag_a$8(d,q,clock);
+module obb_core$tag_a$stage$8(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105583,10 +107258,10 @@ module obb_core$tag_a$8(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$8
+endmodule // obb_core$tag_a$stage$8
 
 
-module obb_core$tag_a$9(d,q,clock);
+module obb_core$tag_a$stage$9(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105602,10 +107277,249 @@ module obb_core$tag_a$9(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_a$9
+endmodule // obb_core$tag_a$stage$9
 
 
-module obb_core$tag_b$0(d,q,clock);
+module obb_core$tag_b(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    
+    // Stub signals
+    reg  [14:0] stage$0$d;
+    wire  [14:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [14:0] stage$1$d;
+    wire  [14:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [14:0] stage$2$d;
+    wire  [14:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [14:0] stage$3$d;
+    wire  [14:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [14:0] stage$4$d;
+    wire  [14:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [14:0] stage$5$d;
+    wire  [14:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [14:0] stage$6$d;
+    wire  [14:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [14:0] stage$7$d;
+    wire  [14:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [14:0] stage$8$d;
+    wire  [14:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [14:0] stage$9$d;
+    wire  [14:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [14:0] stage$10$d;
+    wire  [14:0] stage$10$q;
+    reg  stage$10$clock;
+    reg  [14:0] stage$11$d;
+    wire  [14:0] stage$11$q;
+    reg  stage$11$clock;
+    reg  [14:0] stage$12$d;
+    wire  [14:0] stage$12$q;
+    reg  stage$12$clock;
+    reg  [14:0] stage$13$d;
+    wire  [14:0] stage$13$q;
+    reg  stage$13$clock;
+    reg  [14:0] stage$14$d;
+    wire  [14:0] stage$14$q;
+    reg  stage$14$clock;
+    reg  [14:0] stage$15$d;
+    wire  [14:0] stage$15$q;
+    reg  stage$15$clock;
+    reg  [14:0] stage$16$d;
+    wire  [14:0] stage$16$q;
+    reg  stage$16$clock;
+    reg  [14:0] stage$17$d;
+    wire  [14:0] stage$17$q;
+    reg  stage$17$clock;
+    reg  [14:0] stage$18$d;
+    wire  [14:0] stage$18$q;
+    reg  stage$18$clock;
+    reg  [14:0] stage$19$d;
+    wire  [14:0] stage$19$q;
+    reg  stage$19$clock;
+    reg  [14:0] stage$20$d;
+    wire  [14:0] stage$20$q;
+    reg  stage$20$clock;
+    reg  [14:0] stage$21$d;
+    wire  [14:0] stage$21$q;
+    reg  stage$21$clock;
+    
+    // Sub module instances
+    obb_core$tag_b$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    obb_core$tag_b$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    obb_core$tag_b$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    obb_core$tag_b$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    obb_core$tag_b$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    obb_core$tag_b$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    obb_core$tag_b$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    obb_core$tag_b$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    obb_core$tag_b$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    obb_core$tag_b$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    obb_core$tag_b$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    obb_core$tag_b$stage$11 stage$11(
+        .d(stage$11$d),
+        .q(stage$11$q),
+        .clock(stage$11$clock)
+    );
+    obb_core$tag_b$stage$12 stage$12(
+        .d(stage$12$d),
+        .q(stage$12$q),
+        .clock(stage$12$clock)
+    );
+    obb_core$tag_b$stage$13 stage$13(
+        .d(stage$13$d),
+        .q(stage$13$q),
+        .clock(stage$13$clock)
+    );
+    obb_core$tag_b$stage$14 stage$14(
+        .d(stage$14$d),
+        .q(stage$14$q),
+        .clock(stage$14$clock)
+    );
+    obb_core$tag_b$stage$15 stage$15(
+        .d(stage$15$d),
+        .q(stage$15$q),
+        .clock(stage$15$clock)
+    );
+    obb_core$tag_b$stage$16 stage$16(
+        .d(stage$16$d),
+        .q(stage$16$q),
+        .clock(stage$16$clock)
+    );
+    obb_core$tag_b$stage$17 stage$17(
+        .d(stage$17$d),
+        .q(stage$17$q),
+        .clock(stage$17$clock)
+    );
+    obb_core$tag_b$stage$18 stage$18(
+        .d(stage$18$d),
+        .q(stage$18$q),
+        .clock(stage$18$clock)
+    );
+    obb_core$tag_b$stage$19 stage$19(
+        .d(stage$19$d),
+        .q(stage$19$q),
+        .clock(stage$19$clock)
+    );
+    obb_core$tag_b$stage$20 stage$20(
+        .d(stage$20$d),
+        .q(stage$20$q),
+        .clock(stage$20$clock)
+    );
+    obb_core$tag_b$stage$21 stage$21(
+        .d(stage$21$d),
+        .q(stage$21$q),
+        .clock(stage$21$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$11$clock = clock;
+        stage$12$clock = clock;
+        stage$13$clock = clock;
+        stage$14$clock = clock;
+        stage$15$clock = clock;
+        stage$16$clock = clock;
+        stage$17$clock = clock;
+        stage$18$clock = clock;
+        stage$19$clock = clock;
+        stage$20$clock = clock;
+        stage$21$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        stage$11$d = stage$10$q;
+        stage$12$d = stage$11$q;
+        stage$13$d = stage$12$q;
+        stage$14$d = stage$13$q;
+        stage$15$d = stage$14$q;
+        stage$16$d = stage$15$q;
+        stage$17$d = stage$16$q;
+        stage$18$d = stage$17$q;
+        stage$19$d = stage$18$q;
+        stage$20$d = stage$19$q;
+        stage$21$d = stage$20$q;
+        q = stage$21$q;
+    end
+    
+endmodule // obb_core$tag_b
+
+
+module obb_core$tag_b$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105621,10 +107535,10 @@ module obb_core$tag_b$0(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$0
+endmodule // obb_core$tag_b$stage$0
 
 
-module obb_core$tag_b$1(d,q,clock);
+module obb_core$tag_b$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105640,10 +107554,10 @@ module obb_core$tag_b$1(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$1
+endmodule // obb_core$tag_b$stage$1
 
 
-module obb_core$tag_b$10(d,q,clock);
+module obb_core$tag_b$stage$10(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105659,10 +107573,10 @@ module obb_core$tag_b$10(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$10
+endmodule // obb_core$tag_b$stage$10
 
 
-module obb_core$tag_b$11(d,q,clock);
+module obb_core$tag_b$stage$11(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105678,10 +107592,10 @@ module obb_core$tag_b$11(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$11
+endmodule // obb_core$tag_b$stage$11
 
 
-module obb_core$tag_b$12(d,q,clock);
+module obb_core$tag_b$stage$12(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105697,10 +107611,10 @@ module obb_core$tag_b$12(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$12
+endmodule // obb_core$tag_b$stage$12
 
 
-module obb_core$tag_b$13(d,q,clock);
+module obb_core$tag_b$stage$13(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105716,10 +107630,10 @@ module obb_core$tag_b$13(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$13
+endmodule // obb_core$tag_b$stage$13
 
 
-module obb_core$tag_b$14(d,q,clock);
+module obb_core$tag_b$stage$14(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105735,10 +107649,10 @@ module obb_core$tag_b$14(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$14
+endmodule // obb_core$tag_b$stage$14
 
 
-module obb_core$tag_b$15(d,q,clock);
+module obb_core$tag_b$stage$15(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105754,10 +107668,10 @@ module obb_core$tag_b$15(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$15
+endmodule // obb_core$tag_b$stage$15
 
 
-module obb_core$tag_b$16(d,q,clock);
+module obb_core$tag_b$stage$16(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105773,10 +107687,10 @@ module obb_core$tag_b$16(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$16
+endmodule // obb_core$tag_b$stage$16
 
 
-module obb_core$tag_b$17(d,q,clock);
+module obb_core$tag_b$stage$17(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105792,10 +107706,10 @@ module obb_core$tag_b$17(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$17
+endmodule // obb_core$tag_b$stage$17
 
 
-module obb_core$tag_b$18(d,q,clock);
+module obb_core$tag_b$stage$18(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105811,10 +107725,10 @@ module obb_core$tag_b$18(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$18
+endmodule // obb_core$tag_b$stage$18
 
 
-module obb_core$tag_b$19(d,q,clock);
+module obb_core$tag_b$stage$19(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105830,10 +107744,10 @@ module obb_core$tag_b$19(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$19
+endmodule // obb_core$tag_b$stage$19
 
 
-module obb_core$tag_b$2(d,q,clock);
+module obb_core$tag_b$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105849,10 +107763,10 @@ module obb_core$tag_b$2(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$2
+endmodule // obb_core$tag_b$stage$2
 
 
-module obb_core$tag_b$20(d,q,clock);
+module obb_core$tag_b$stage$20(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105868,10 +107782,10 @@ module obb_core$tag_b$20(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$20
+endmodule // obb_core$tag_b$stage$20
 
 
-module obb_core$tag_b$21(d,q,clock);
+module obb_core$tag_b$stage$21(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105887,10 +107801,10 @@ module obb_core$tag_b$21(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$21
+endmodule // obb_core$tag_b$stage$21
 
 
-module obb_core$tag_b$3(d,q,clock);
+module obb_core$tag_b$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105906,10 +107820,10 @@ module obb_core$tag_b$3(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$3
+endmodule // obb_core$tag_b$stage$3
 
 
-module obb_core$tag_b$4(d,q,clock);
+module obb_core$tag_b$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105925,10 +107839,10 @@ module obb_core$tag_b$4(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$4
+endmodule // obb_core$tag_b$stage$4
 
 
-module obb_core$tag_b$5(d,q,clock);
+module obb_core$tag_b$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105944,10 +107858,10 @@ module obb_core$tag_b$5(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$5
+endmodule // obb_core$tag_b$stage$5
 
 
-module obb_core$tag_b$6(d,q,clock);
+module obb_core$tag_b$stage$6(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105963,10 +107877,10 @@ module obb_core$tag_b$6(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$6
+endmodule // obb_core$tag_b$stage$6
 
 
-module obb_core$tag_b$7(d,q,clock);
+module obb_core$tag_b$stage$7(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -105982,10 +107896,10 @@ module obb_core$tag_b$7(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$7
+endmodule // obb_core$tag_b$stage$7
 
 
-module obb_core$tag_b$8(d,q,clock);
+module obb_core$tag_b$stage$8(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -106001,10 +107915,10 @@ module obb_core$tag_b$8(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$8
+endmodule // obb_core$tag_b$stage$8
 
 
-module obb_core$tag_b$9(d,q,clock);
+module obb_core$tag_b$stage$9(d,q,clock);
     
     // Module arguments
     input wire  [14:0] d;
@@ -106020,4 +107934,4 @@ module obb_core$tag_b$9(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$tag_b$9
+endmodule // obb_core$tag_b$stage$9

@@ -35,7 +35,7 @@ module tb;
 
   wire obb_ready, pair_valid, done, busy, capacity_exceeded;
   wire [INDEX-1:0] pair_a, pair_b;
-  wire [COUNT-1:0] cycles, candidates, sat_tests, pairs;
+  wire [COUNT-1:0] cycles, visits, sat_tests, pairs;
 
   obb_core dut (
     .clock(clock),
@@ -60,7 +60,7 @@ module tb;
     .pair_valid(pair_valid), .pair_ready(pair_ready),
     .pair_a(pair_a), .pair_b(pair_b),
     .done(done), .busy(busy), .capacity_exceeded(capacity_exceeded),
-    .cycles(cycles), .candidates(candidates), .sat_tests(sat_tests), .pairs(pairs)
+    .cycles(cycles), .visits(visits), .sat_tests(sat_tests), .pairs(pairs)
   );
 
   reg [WORD-1:0] read_word;
@@ -155,7 +155,7 @@ module tb;
       pair_ready <= (clocks + 1) % ready_every == 0;
       if (progress != 0 && clocks % progress == 0) $display("progress %0d", clocks);
       if (done && clocks > 1) begin
-        $fwrite(out, "done %0d %0d %0d %0d %0d %0d\n", clocks, cycles, candidates, sat_tests,
+        $fwrite(out, "done %0d %0d %0d %0d %0d %0d\n", clocks, cycles, visits, sat_tests,
                 pairs, capacity_exceeded);
         frame = frame + 1;
         if (frame == frames) begin

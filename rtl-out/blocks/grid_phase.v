@@ -2,7 +2,7 @@
 // Configuration: center_bits=20 half_bits=17 rot_bits=18 key_bits=20 lsb_mm=0.0009765625
 
 
-module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,key_min_x,key_min_y,key_min_z,key_max_x,key_max_y,key_max_z,key_margin,key_group,visit,visit_i0,visit_i1,visit_i2,visit_i3,visit_j0,visit_j1,visit_j2,visit_j3,visited,cand_valid,cand_ready,cand_a,cand_b,cand_ma,cand_mb,walked,finished,too_wide);
+module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,key_min_x,key_min_y,key_min_z,key_max_x,key_max_y,key_max_z,key_margin,key_group,visit,visit_i0,visit_i1,visit_i2,visit_i3,visit_j0,visit_j1,visit_j2,visit_j3,visits,test_valid,test_ready,test_a,test_b,test_ma,test_mb,walked,finished,too_wide);
     
     // Module arguments
     input wire  clock;
@@ -30,13 +30,13 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
     output reg  [63:0] visit_j1;
     output reg  [63:0] visit_j2;
     output reg  [63:0] visit_j3;
-    output reg  [3:0] visited;
-    output reg  cand_valid;
-    input wire  cand_ready;
-    output reg  [14:0] cand_a;
-    output reg  [14:0] cand_b;
-    output reg  [27:0] cand_ma;
-    output reg  [27:0] cand_mb;
+    output reg  [3:0] visits;
+    output reg  test_valid;
+    input wire  test_ready;
+    output reg  [14:0] test_a;
+    output reg  [14:0] test_b;
+    output reg  [27:0] test_ma;
+    output reg  [27:0] test_mb;
     output reg  walked;
     output reg  finished;
     output reg  too_wide;
@@ -8978,23 +8978,23 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
     reg  [6:0] count_m$0;
     reg  [6:0] count_m$1;
     reg  [6:0] count_m$2;
-    reg  [95:0] cand_word$0;
+    reg  [95:0] test_word$0;
     reg  [95:0] unpack_a;
     reg  [95:0] unpack_b;
     reg  [95:0] unpack_ma;
-    reg  [15:0] cand$0;
+    reg  [15:0] next_box$0;
     reg  [15:0] entry;
     reg  [15:0] entry4;
     reg  [15:0] entry5;
-    reg  cand_ok$0;
+    reg  next_ok$0;
     reg  go$0;
     reg  stall$0;
     reg  retire_probe$0;
     reg  rec_write$0;
     reg  overlap$0;
     reg  swap$0;
-    reg  [15:0] cand_lo$0;
-    reg  [15:0] cand_hi$0;
+    reg  [15:0] test_lo$0;
+    reg  [15:0] test_hi$0;
     reg  [27:0] margin_lo$0;
     reg  [27:0] margin_hi$0;
     reg  done_walk;
@@ -9084,7 +9084,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
     reg  [63:0] vis_pack_j$1;
     reg  [63:0] vis_pack_j$2;
     reg  [63:0] vis_pack_j$3;
-    reg  [3:0] visited_acc;
+    reg  [3:0] visits_acc;
     reg  large_left;
     reg  credit_acc;
     reg  out_valid;
@@ -31736,15 +31736,15 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         need$0 = ~avail$0;
         take$0 = need$0 & lq_fill$0$q;
         retire_rec$0 = need$0 & cur_valid$0$q & cur_last$0$q;
-        cand$0 = lq_head$0$read_data;
+        next_box$0 = lq_head$0$read_data;
         if (fetch_q$q) begin
-            cand$0 = lcur$q;
+            next_box$0 = lcur$q;
         end
         if (arrive$0) begin
-            cand$0 = succ_q$0$q;
+            next_box$0 = succ_q$0$q;
         end
         if (q0v$0$q) begin
-            cand$0 = q0$0$q;
+            next_box$0 = q0$0$q;
         end
         after$0 = succ_q$0$q;
         if (q1v$0$q) begin
@@ -31755,19 +31755,19 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
             after$0 = lq_head2$0$read_data;
             after_v$0 = (lq_head2$0$read_data & top) != 32'h0;
         end
-        cand_ok$0 = avail$0 | take$0;
+        next_ok$0 = avail$0 | take$0;
         stall$0 = fifo$0$almost_full;
-        go$0 = cand_ok$0 & ~stall$0;
+        go$0 = next_ok$0 & ~stall$0;
         if (go$0) begin
             q0$0$d = after$0;
             q0v$0$d = after_v$0;
             q1v$0$d = 1'b0;
         end
         else begin
-            q0$0$d = cand$0;
-            q0v$0$d = cand_ok$0;
+            q0$0$d = next_box$0;
+            q0v$0$d = next_ok$0;
             q1$0$d = after$0;
-            q1v$0$d = cand_ok$0 & after_v$0;
+            q1v$0$d = next_ok$0 & after_v$0;
         end
         r1$0$d = go$0;
         arrive_q$0$d = r1$0$q & ((succ$0$read_data_b & top) != 32'h0);
@@ -31817,7 +31817,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
             lq_fill$1$d = lq_fill$2$q;
             lq_fill$2$d = 1'b0;
         end
-        rd_address$0 = (cand$0 & index_mask) >> lane_shift;
+        rd_address$0 = (next_box$0 & index_mask) >> lane_shift;
         succ$0$read_address_a = 32'h0;
         succ$0$read_address_b = rd_address$0;
         kt_min$0$read_address_b = rd_address$0;
@@ -31837,14 +31837,14 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         vis_pack_j$2 = 32'h0;
         vis_pack_i$3 = 32'h0;
         vis_pack_j$3 = 32'h0;
-        visited_acc = 32'h0;
+        visits_acc = 32'h0;
         vis_i$0$value = v1_i$0$d;
-        vis_j$0$value = cand$0 & index_mask;
+        vis_j$0$value = next_box$0 & index_mask;
         if (go$0) begin
             visit_acc = visit_acc | lane_bit$0;
         end
         if (v1_valid$0$q) begin
-            visited_acc = visited_acc + 32'h1;
+            visits_acc = visits_acc + 32'h1;
         end
         vis_pack_i$0 = vis_pack_i$0 | (vis_i$0$resized << lane_at$0);
         vis_pack_j$0 = vis_pack_j$0 | (vis_j$0$resized << lane_at$0);
@@ -31857,7 +31857,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         visit_j1 = vis_pack_j$1;
         visit_j2 = vis_pack_j$2;
         visit_j3 = vis_pack_j$3;
-        visited = visited_acc;
+        visits = visits_acc;
         inflight_up = accept | inject;
         credit_acc = 1'b1;
         inflight_inc$0 = inflight$0$q + 32'h1;
@@ -31902,7 +31902,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         credit = credit_q$q;
         lrow = fmask$q >> (((lgroup$q) & 64'hffffffffffffffff) << 64'h3);
         v1_valid$0$d = go$0;
-        v1_j$0$d = cand$0 & index_mask;
+        v1_j$0$d = next_box$0 & index_mask;
         v2_valid$0$d = v1_valid$0$q;
         v2_i$0$d = v1_i$0$q;
         v2_j$0$d = v1_j$0$q;
@@ -31960,21 +31960,21 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         v2_max_j$2$d = rd_max$2;
         overlap$0 = (v2_min_i$0$q <= v2_max_j$0$q) & (v2_min_j$0$q <= v2_max_i$0$q) & (v2_min_i$1$q <= v2_max_j$1$q) & (v2_min_j$1$q <= v2_max_i$1$q) & (v2_min_i$2$q <= v2_max_j$2$q) & (v2_min_j$2$q <= v2_max_i$2$q);
         swap$0 = v2_i$0$q < v2_j$0$q;
-        cand_lo$0 = v2_j$0$q;
-        cand_hi$0 = v2_i$0$q;
+        test_lo$0 = v2_j$0$q;
+        test_hi$0 = v2_i$0$q;
         margin_lo$0 = v2_margin_j$0$q;
         margin_hi$0 = v2_margin_i$0$q;
         if (swap$0) begin
-            cand_lo$0 = v2_i$0$q;
-            cand_hi$0 = v2_j$0$q;
+            test_lo$0 = v2_i$0$q;
+            test_hi$0 = v2_j$0$q;
             margin_lo$0 = v2_margin_i$0$q;
             margin_hi$0 = v2_margin_j$0$q;
         end
-        pack_lo$0$value = cand_lo$0;
-        pack_hi$0$value = cand_hi$0;
+        pack_lo$0$value = test_lo$0;
+        pack_hi$0$value = test_hi$0;
         pack_mlo$0$value = margin_lo$0;
         pack_mhi$0$value = margin_hi$0;
-        cand_word$0 = (pack_lo$0$resized << at_a) | (pack_hi$0$resized << at_b) | (pack_mlo$0$resized << at_ma) | pack_mhi$0$resized;
+        test_word$0 = (pack_lo$0$resized << at_a) | (pack_hi$0$resized << at_b) | (pack_mlo$0$resized << at_ma) | pack_mhi$0$resized;
         home_ok$0 = (v2_wl$0$q <= v2_jc$0$q) & (v2_jc$0$q <= v2_wh$0$q) & (v2_wl$1$q <= v2_jc$1$q) & (v2_jc$1$q <= v2_wh$1$q) & (v2_wl$2$q <= v2_jc$2$q) & (v2_jc$2$q <= v2_wh$2$q);
         mask_row$0 = lrow >> v2_group_j$0$q;
         mask_ok$0 = mask_row$0[32'h0];
@@ -31983,7 +31983,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         v3_home$0$d = home_ok$0;
         v3_anywhere$0$d = ~v2_kind$0$q[32'h0];
         v3_mask$0$d = mask_ok$0 | ~v2_kind$0$q[32'h1];
-        v3_word$0$d = cand_word$0;
+        v3_word$0$d = test_word$0;
         pass$0 = v3_valid$0$q & v3_overlap$0$q & (v3_home$0$q | v3_anywhere$0$q) & v3_mask$0$q;
         fifo$0$write = pass$0;
         fifo$0$data_in = v3_word$0$q;
@@ -31998,15 +31998,15 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         end
         out_word = out_word | out_pick$0;
         out_valid = out_valid | fifo$0$valid;
-        cand_valid = out_valid;
+        test_valid = out_valid;
         unpack_a = out_word >> at_a;
         unpack_b = out_word >> at_b;
         unpack_ma = out_word >> at_ma;
-        cand_a = ((unpack_a) & 15'h7fff);
-        cand_b = ((unpack_b) & 15'h7fff);
-        cand_ma = ((unpack_ma) & 28'hfffffff);
-        cand_mb = ((out_word) & 28'hfffffff);
-        fifo$0$ready = cand_ready & issuer$0;
+        test_a = ((unpack_a) & 15'h7fff);
+        test_b = ((unpack_b) & 15'h7fff);
+        test_ma = ((unpack_ma) & 28'hfffffff);
+        test_mb = ((out_word) & 28'hfffffff);
+        fifo$0$ready = test_ready & issuer$0;
         done_walk = idle$q & ((slow$q == SlowState$Over) | ((slow$q == SlowState$Fetch) & ~large_left));
         walked = done_walk;
         if (done_walk & ~clearing$q & ~cleared$q) begin

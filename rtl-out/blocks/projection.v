@@ -41,84 +41,18 @@ module projection(clock,valid_in,center$0,center$1,center$2,half$0,half$1,half$2
     localparam  margin_shift = 8'h8;
     
     // Stub signals
-    reg  valid$0$d;
-    wire  valid$0$q;
-    reg  valid$0$clock;
-    reg  valid$1$d;
-    wire  valid$1$q;
-    reg  valid$1$clock;
-    reg  valid$2$d;
-    wire  valid$2$q;
-    reg  valid$2$clock;
-    reg  valid$3$d;
-    wire  valid$3$q;
-    reg  valid$3$clock;
-    reg  valid$4$d;
-    wire  valid$4$q;
-    reg  valid$4$clock;
-    reg  valid$5$d;
-    wire  valid$5$q;
-    reg  valid$5$clock;
-    reg  valid$6$d;
-    wire  valid$6$q;
-    reg  valid$6$clock;
-    reg  valid$7$d;
-    wire  valid$7$q;
-    reg  valid$7$clock;
+    reg  valid$clock;
+    reg  valid$d;
+    wire  valid$q;
+    reg  center_r$0$clock;
     reg  [22:0] center_r$0$d;
     wire  [22:0] center_r$0$q;
-    reg  center_r$0$clock;
+    reg  center_r$1$clock;
     reg  [22:0] center_r$1$d;
     wire  [22:0] center_r$1$q;
-    reg  center_r$1$clock;
+    reg  center_r$2$clock;
     reg  [22:0] center_r$2$d;
     wire  [22:0] center_r$2$q;
-    reg  center_r$2$clock;
-    reg  [22:0] center_r$3$d;
-    wire  [22:0] center_r$3$q;
-    reg  center_r$3$clock;
-    reg  [22:0] center_r$4$d;
-    wire  [22:0] center_r$4$q;
-    reg  center_r$4$clock;
-    reg  [22:0] center_r$5$d;
-    wire  [22:0] center_r$5$q;
-    reg  center_r$5$clock;
-    reg  [22:0] center_r$6$d;
-    wire  [22:0] center_r$6$q;
-    reg  center_r$6$clock;
-    reg  [22:0] center_r$7$d;
-    wire  [22:0] center_r$7$q;
-    reg  center_r$7$clock;
-    reg  [22:0] center_r$8$d;
-    wire  [22:0] center_r$8$q;
-    reg  center_r$8$clock;
-    reg  [22:0] center_r$9$d;
-    wire  [22:0] center_r$9$q;
-    reg  center_r$9$clock;
-    reg  [22:0] center_r$10$d;
-    wire  [22:0] center_r$10$q;
-    reg  center_r$10$clock;
-    reg  [22:0] center_r$11$d;
-    wire  [22:0] center_r$11$q;
-    reg  center_r$11$clock;
-    reg  [22:0] center_r$12$d;
-    wire  [22:0] center_r$12$q;
-    reg  center_r$12$clock;
-    reg  [22:0] center_r$13$d;
-    wire  [22:0] center_r$13$q;
-    reg  center_r$13$clock;
-    reg  [22:0] center_r$14$d;
-    wire  [22:0] center_r$14$q;
-    reg  center_r$14$clock;
-    reg  [22:0] center_r$15$d;
-    wire  [22:0] center_r$15$q;
-    reg  center_r$15$clock;
-    reg  [22:0] center_r$16$d;
-    wire  [22:0] center_r$16$q;
-    reg  center_r$16$clock;
-    reg  [22:0] center_r$17$d;
-    wire  [22:0] center_r$17$q;
-    reg  center_r$17$clock;
     reg  [16:0] half_r$0$d;
     wire  [16:0] half_r$0$q;
     reg  half_r$0$clock;
@@ -312,135 +246,25 @@ module projection(clock,valid_in,center$0,center$1,center$2,half$0,half$1,half$2
     reg  [34:0] sb_c;
     
     // Sub module instances
-    projection$valid$0 valid$0(
-        .d(valid$0$d),
-        .q(valid$0$q),
-        .clock(valid$0$clock)
-    );
-    projection$valid$1 valid$1(
-        .d(valid$1$d),
-        .q(valid$1$q),
-        .clock(valid$1$clock)
-    );
-    projection$valid$2 valid$2(
-        .d(valid$2$d),
-        .q(valid$2$q),
-        .clock(valid$2$clock)
-    );
-    projection$valid$3 valid$3(
-        .d(valid$3$d),
-        .q(valid$3$q),
-        .clock(valid$3$clock)
-    );
-    projection$valid$4 valid$4(
-        .d(valid$4$d),
-        .q(valid$4$q),
-        .clock(valid$4$clock)
-    );
-    projection$valid$5 valid$5(
-        .d(valid$5$d),
-        .q(valid$5$q),
-        .clock(valid$5$clock)
-    );
-    projection$valid$6 valid$6(
-        .d(valid$6$d),
-        .q(valid$6$q),
-        .clock(valid$6$clock)
-    );
-    projection$valid$7 valid$7(
-        .d(valid$7$d),
-        .q(valid$7$q),
-        .clock(valid$7$clock)
+    projection$valid valid(
+        .clock(valid$clock),
+        .d(valid$d),
+        .q(valid$q)
     );
     projection$center_r$0 center_r$0(
+        .clock(center_r$0$clock),
         .d(center_r$0$d),
-        .q(center_r$0$q),
-        .clock(center_r$0$clock)
+        .q(center_r$0$q)
     );
     projection$center_r$1 center_r$1(
+        .clock(center_r$1$clock),
         .d(center_r$1$d),
-        .q(center_r$1$q),
-        .clock(center_r$1$clock)
+        .q(center_r$1$q)
     );
     projection$center_r$2 center_r$2(
+        .clock(center_r$2$clock),
         .d(center_r$2$d),
-        .q(center_r$2$q),
-        .clock(center_r$2$clock)
-    );
-    projection$center_r$3 center_r$3(
-        .d(center_r$3$d),
-        .q(center_r$3$q),
-        .clock(center_r$3$clock)
-    );
-    projection$center_r$4 center_r$4(
-        .d(center_r$4$d),
-        .q(center_r$4$q),
-        .clock(center_r$4$clock)
-    );
-    projection$center_r$5 center_r$5(
-        .d(center_r$5$d),
-        .q(center_r$5$q),
-        .clock(center_r$5$clock)
-    );
-    projection$center_r$6 center_r$6(
-        .d(center_r$6$d),
-        .q(center_r$6$q),
-        .clock(center_r$6$clock)
-    );
-    projection$center_r$7 center_r$7(
-        .d(center_r$7$d),
-        .q(center_r$7$q),
-        .clock(center_r$7$clock)
-    );
-    projection$center_r$8 center_r$8(
-        .d(center_r$8$d),
-        .q(center_r$8$q),
-        .clock(center_r$8$clock)
-    );
-    projection$center_r$9 center_r$9(
-        .d(center_r$9$d),
-        .q(center_r$9$q),
-        .clock(center_r$9$clock)
-    );
-    projection$center_r$10 center_r$10(
-        .d(center_r$10$d),
-        .q(center_r$10$q),
-        .clock(center_r$10$clock)
-    );
-    projection$center_r$11 center_r$11(
-        .d(center_r$11$d),
-        .q(center_r$11$q),
-        .clock(center_r$11$clock)
-    );
-    projection$center_r$12 center_r$12(
-        .d(center_r$12$d),
-        .q(center_r$12$q),
-        .clock(center_r$12$clock)
-    );
-    projection$center_r$13 center_r$13(
-        .d(center_r$13$d),
-        .q(center_r$13$q),
-        .clock(center_r$13$clock)
-    );
-    projection$center_r$14 center_r$14(
-        .d(center_r$14$d),
-        .q(center_r$14$q),
-        .clock(center_r$14$clock)
-    );
-    projection$center_r$15 center_r$15(
-        .d(center_r$15$d),
-        .q(center_r$15$q),
-        .clock(center_r$15$clock)
-    );
-    projection$center_r$16 center_r$16(
-        .d(center_r$16$d),
-        .q(center_r$16$q),
-        .clock(center_r$16$clock)
-    );
-    projection$center_r$17 center_r$17(
-        .d(center_r$17$d),
-        .q(center_r$17$q),
-        .clock(center_r$17$clock)
+        .q(center_r$2$q)
     );
     projection$half_r$0 half_r$0(
         .d(half_r$0$d),
@@ -720,32 +544,8 @@ module projection(clock,valid_in,center$0,center$1,center$2,half$0,half$1,half$2
     
     // Update code
     always @(*) begin
-        valid$0$clock = clock;
-        valid$1$clock = clock;
-        valid$2$clock = clock;
-        valid$3$clock = clock;
-        valid$4$clock = clock;
-        valid$5$clock = clock;
-        valid$6$clock = clock;
-        valid$7$clock = clock;
+        valid$clock = clock;
         center_r$0$clock = clock;
-        center_r$1$clock = clock;
-        center_r$2$clock = clock;
-        center_r$3$clock = clock;
-        center_r$4$clock = clock;
-        center_r$5$clock = clock;
-        center_r$6$clock = clock;
-        center_r$7$clock = clock;
-        center_r$8$clock = clock;
-        center_r$9$clock = clock;
-        center_r$10$clock = clock;
-        center_r$11$clock = clock;
-        center_r$12$clock = clock;
-        center_r$13$clock = clock;
-        center_r$14$clock = clock;
-        center_r$15$clock = clock;
-        center_r$16$clock = clock;
-        center_r$17$clock = clock;
         half_r$0$clock = clock;
         hdelay$0$clock = clock;
         sum$0$clock = clock;
@@ -753,6 +553,7 @@ module projection(clock,valid_in,center$0,center$1,center$2,half$0,half$1,half$2
         hi$0$clock = clock;
         kmin$0$clock = clock;
         kmax$0$clock = clock;
+        center_r$1$clock = clock;
         half_r$1$clock = clock;
         hdelay$1$clock = clock;
         sum$1$clock = clock;
@@ -760,6 +561,7 @@ module projection(clock,valid_in,center$0,center$1,center$2,half$0,half$1,half$2
         hi$1$clock = clock;
         kmin$1$clock = clock;
         kmax$1$clock = clock;
+        center_r$2$clock = clock;
         half_r$2$clock = clock;
         hdelay$2$clock = clock;
         sum$2$clock = clock;
@@ -799,35 +601,13 @@ module projection(clock,valid_in,center$0,center$1,center$2,half$0,half$1,half$2
         margin_r$0$clock = clock;
         margin_r$1$clock = clock;
         margin_o$clock = clock;
-        valid$0$d = valid_in;
-        valid$1$d = valid$0$q;
-        valid$2$d = valid$1$q;
-        valid$3$d = valid$2$q;
-        valid$4$d = valid$3$q;
-        valid$5$d = valid$4$q;
-        valid$6$d = valid$5$q;
-        valid$7$d = valid$6$q;
+        valid$d = valid_in;
         center_r$0$d = center$0;
         half_r$0$d = half$0;
         center_r$1$d = center$1;
         half_r$1$d = half$1;
         center_r$2$d = center$2;
         half_r$2$d = half$2;
-        center_r$3$d = center_r$0$q;
-        center_r$4$d = center_r$1$q;
-        center_r$5$d = center_r$2$q;
-        center_r$6$d = center_r$3$q;
-        center_r$7$d = center_r$4$q;
-        center_r$8$d = center_r$5$q;
-        center_r$9$d = center_r$6$q;
-        center_r$10$d = center_r$7$q;
-        center_r$11$d = center_r$8$q;
-        center_r$12$d = center_r$9$q;
-        center_r$13$d = center_r$10$q;
-        center_r$14$d = center_r$11$q;
-        center_r$15$d = center_r$12$q;
-        center_r$16$d = center_r$13$q;
-        center_r$17$d = center_r$14$q;
         axes_r$0$d = axes$0;
         axes_r$1$d = axes$1;
         axes_r$2$d = axes$2;
@@ -883,9 +663,9 @@ module projection(clock,valid_in,center$0,center$1,center$2,half$0,half$1,half$2
         extent$0 = ((sum$0$q >> frac1) & 24'hffffff);
         extent$1 = ((sum$1$q >> frac1) & 24'hffffff);
         extent$2 = ((sum$2$q >> frac1) & 24'hffffff);
-        wide$0 = ((center_r$15$q) & 24'hffffff);
-        wide$1 = ((center_r$16$q) & 24'hffffff);
-        wide$2 = ((center_r$17$q) & 24'hffffff);
+        wide$0 = ((center_r$0$q) & 24'hffffff);
+        wide$1 = ((center_r$1$q) & 24'hffffff);
+        wide$2 = ((center_r$2$q) & 24'hffffff);
         lo$0$d = wide$0 - extent$0;
         hi$0$d = wide$0 + extent$0;
         rounded$0 = hi$0$q + key_round;
@@ -914,7 +694,7 @@ module projection(clock,valid_in,center$0,center$1,center$2,half$0,half$1,half$2
         key_max$1 = kmax$1$q;
         key_min$2 = kmin$2$q;
         key_max$2 = kmax$2$q;
-        valid_out = valid$7$q;
+        valid_out = valid$q;
         margin = margin_o$q;
     end
     
@@ -1092,26 +872,86 @@ module projection$axes_r$8(d,q,clock);
 endmodule // projection$axes_r$8
 
 
-module projection$center_r$0(d,q,clock);
+module projection$center_r$0(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire  [22:0] d;
     output reg  [22:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
+    // Stub signals
+    reg  [22:0] stage$0$d;
+    wire  [22:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [22:0] stage$1$d;
+    wire  [22:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [22:0] stage$2$d;
+    wire  [22:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [22:0] stage$3$d;
+    wire  [22:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [22:0] stage$4$d;
+    wire  [22:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [22:0] stage$5$d;
+    wire  [22:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    projection$center_r$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    projection$center_r$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    projection$center_r$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    projection$center_r$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    projection$center_r$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    projection$center_r$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
     end
     
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
 endmodule // projection$center_r$0
 
 
-module projection$center_r$1(d,q,clock);
+module projection$center_r$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -1127,10 +967,184 @@ module projection$center_r$1(d,q,clock);
        q <= d;
     end
           
+endmodule // projection$center_r$0$stage$0
+
+
+module projection$center_r$0$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // projection$center_r$0$stage$1
+
+
+module projection$center_r$0$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // projection$center_r$0$stage$2
+
+
+module projection$center_r$0$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // projection$center_r$0$stage$3
+
+
+module projection$center_r$0$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // projection$center_r$0$stage$4
+
+
+module projection$center_r$0$stage$5(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // projection$center_r$0$stage$5
+
+
+module projection$center_r$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    
+    // Stub signals
+    reg  [22:0] stage$0$d;
+    wire  [22:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [22:0] stage$1$d;
+    wire  [22:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [22:0] stage$2$d;
+    wire  [22:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [22:0] stage$3$d;
+    wire  [22:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [22:0] stage$4$d;
+    wire  [22:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [22:0] stage$5$d;
+    wire  [22:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    projection$center_r$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    projection$center_r$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    projection$center_r$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    projection$center_r$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    projection$center_r$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    projection$center_r$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
 endmodule // projection$center_r$1
 
 
-module projection$center_r$10(d,q,clock);
+module projection$center_r$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -1146,10 +1160,10 @@ module projection$center_r$10(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$center_r$10
+endmodule // projection$center_r$1$stage$0
 
 
-module projection$center_r$11(d,q,clock);
+module projection$center_r$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -1165,10 +1179,10 @@ module projection$center_r$11(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$center_r$11
+endmodule // projection$center_r$1$stage$1
 
 
-module projection$center_r$12(d,q,clock);
+module projection$center_r$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -1184,10 +1198,10 @@ module projection$center_r$12(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$center_r$12
+endmodule // projection$center_r$1$stage$2
 
 
-module projection$center_r$13(d,q,clock);
+module projection$center_r$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -1203,10 +1217,10 @@ module projection$center_r$13(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$center_r$13
+endmodule // projection$center_r$1$stage$3
 
 
-module projection$center_r$14(d,q,clock);
+module projection$center_r$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -1222,10 +1236,10 @@ module projection$center_r$14(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$center_r$14
+endmodule // projection$center_r$1$stage$4
 
 
-module projection$center_r$15(d,q,clock);
+module projection$center_r$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -1241,67 +1255,89 @@ module projection$center_r$15(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$center_r$15
+endmodule // projection$center_r$1$stage$5
 
 
-module projection$center_r$16(d,q,clock);
+module projection$center_r$2(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire  [22:0] d;
     output reg  [22:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
+    // Stub signals
+    reg  [22:0] stage$0$d;
+    wire  [22:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [22:0] stage$1$d;
+    wire  [22:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [22:0] stage$2$d;
+    wire  [22:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [22:0] stage$3$d;
+    wire  [22:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [22:0] stage$4$d;
+    wire  [22:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [22:0] stage$5$d;
+    wire  [22:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    projection$center_r$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    projection$center_r$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    projection$center_r$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    projection$center_r$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    projection$center_r$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    projection$center_r$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
     end
     
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // projection$center_r$16
-
-
-module projection$center_r$17(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // projection$center_r$17
-
-
-module projection$center_r$2(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
 endmodule // projection$center_r$2
 
 
-module projection$center_r$3(d,q,clock);
+module projection$center_r$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -1317,10 +1353,10 @@ module projection$center_r$3(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$center_r$3
+endmodule // projection$center_r$2$stage$0
 
 
-module projection$center_r$4(d,q,clock);
+module projection$center_r$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -1336,10 +1372,10 @@ module projection$center_r$4(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$center_r$4
+endmodule // projection$center_r$2$stage$1
 
 
-module projection$center_r$5(d,q,clock);
+module projection$center_r$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -1355,10 +1391,10 @@ module projection$center_r$5(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$center_r$5
+endmodule // projection$center_r$2$stage$2
 
 
-module projection$center_r$6(d,q,clock);
+module projection$center_r$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -1374,10 +1410,10 @@ module projection$center_r$6(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$center_r$6
+endmodule // projection$center_r$2$stage$3
 
 
-module projection$center_r$7(d,q,clock);
+module projection$center_r$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -1393,10 +1429,10 @@ module projection$center_r$7(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$center_r$7
+endmodule // projection$center_r$2$stage$4
 
 
-module projection$center_r$8(d,q,clock);
+module projection$center_r$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [22:0] d;
@@ -1412,26 +1448,7 @@ module projection$center_r$8(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$center_r$8
-
-
-module projection$center_r$9(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // projection$center_r$9
+endmodule // projection$center_r$2$stage$5
 
 
 module projection$half_r$0(d,q,clock);
@@ -2283,7 +2300,106 @@ module projection$terms$8(r,t,clock);
 endmodule // projection$terms$8
 
 
-module projection$valid$0(d,q,clock);
+module projection$valid(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  d;
+    output reg  q;
+    
+    // Stub signals
+    reg  stage$0$d;
+    wire  stage$0$q;
+    reg  stage$0$clock;
+    reg  stage$1$d;
+    wire  stage$1$q;
+    reg  stage$1$clock;
+    reg  stage$2$d;
+    wire  stage$2$q;
+    reg  stage$2$clock;
+    reg  stage$3$d;
+    wire  stage$3$q;
+    reg  stage$3$clock;
+    reg  stage$4$d;
+    wire  stage$4$q;
+    reg  stage$4$clock;
+    reg  stage$5$d;
+    wire  stage$5$q;
+    reg  stage$5$clock;
+    reg  stage$6$d;
+    wire  stage$6$q;
+    reg  stage$6$clock;
+    reg  stage$7$d;
+    wire  stage$7$q;
+    reg  stage$7$clock;
+    
+    // Sub module instances
+    projection$valid$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    projection$valid$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    projection$valid$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    projection$valid$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    projection$valid$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    projection$valid$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    projection$valid$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    projection$valid$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        q = stage$7$q;
+    end
+    
+endmodule // projection$valid
+
+
+module projection$valid$stage$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -2299,10 +2415,10 @@ module projection$valid$0(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$valid$0
+endmodule // projection$valid$stage$0
 
 
-module projection$valid$1(d,q,clock);
+module projection$valid$stage$1(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -2318,10 +2434,10 @@ module projection$valid$1(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$valid$1
+endmodule // projection$valid$stage$1
 
 
-module projection$valid$2(d,q,clock);
+module projection$valid$stage$2(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -2337,10 +2453,10 @@ module projection$valid$2(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$valid$2
+endmodule // projection$valid$stage$2
 
 
-module projection$valid$3(d,q,clock);
+module projection$valid$stage$3(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -2356,10 +2472,10 @@ module projection$valid$3(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$valid$3
+endmodule // projection$valid$stage$3
 
 
-module projection$valid$4(d,q,clock);
+module projection$valid$stage$4(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -2375,10 +2491,10 @@ module projection$valid$4(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$valid$4
+endmodule // projection$valid$stage$4
 
 
-module projection$valid$5(d,q,clock);
+module projection$valid$stage$5(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -2394,10 +2510,10 @@ module projection$valid$5(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$valid$5
+endmodule // projection$valid$stage$5
 
 
-module projection$valid$6(d,q,clock);
+module projection$valid$stage$6(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -2413,10 +2529,10 @@ module projection$valid$6(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$valid$6
+endmodule // projection$valid$stage$6
 
 
-module projection$valid$7(d,q,clock);
+module projection$valid$stage$7(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -2432,4 +2548,4 @@ module projection$valid$7(d,q,clock);
        q <= d;
     end
           
-endmodule // projection$valid$7
+endmodule // projection$valid$stage$7

@@ -111,132 +111,27 @@ module sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,hal
     reg  [28:0] back$pair_margin;
     wire  back$valid_out;
     wire  back$hit;
+    reg  ha$0$clock;
     reg signed [17:0] ha$0$d;
     wire signed [17:0] ha$0$q;
-    reg  ha$0$clock;
+    reg  ha$1$clock;
     reg signed [17:0] ha$1$d;
     wire signed [17:0] ha$1$q;
-    reg  ha$1$clock;
+    reg  ha$2$clock;
     reg signed [17:0] ha$2$d;
     wire signed [17:0] ha$2$q;
-    reg  ha$2$clock;
-    reg signed [17:0] ha$3$d;
-    wire signed [17:0] ha$3$q;
-    reg  ha$3$clock;
-    reg signed [17:0] ha$4$d;
-    wire signed [17:0] ha$4$q;
-    reg  ha$4$clock;
-    reg signed [17:0] ha$5$d;
-    wire signed [17:0] ha$5$q;
-    reg  ha$5$clock;
-    reg signed [17:0] ha$6$d;
-    wire signed [17:0] ha$6$q;
-    reg  ha$6$clock;
-    reg signed [17:0] ha$7$d;
-    wire signed [17:0] ha$7$q;
-    reg  ha$7$clock;
-    reg signed [17:0] ha$8$d;
-    wire signed [17:0] ha$8$q;
-    reg  ha$8$clock;
-    reg signed [17:0] ha$9$d;
-    wire signed [17:0] ha$9$q;
-    reg  ha$9$clock;
-    reg signed [17:0] ha$10$d;
-    wire signed [17:0] ha$10$q;
-    reg  ha$10$clock;
-    reg signed [17:0] ha$11$d;
-    wire signed [17:0] ha$11$q;
-    reg  ha$11$clock;
-    reg signed [17:0] ha$12$d;
-    wire signed [17:0] ha$12$q;
-    reg  ha$12$clock;
-    reg signed [17:0] ha$13$d;
-    wire signed [17:0] ha$13$q;
-    reg  ha$13$clock;
-    reg signed [17:0] ha$14$d;
-    wire signed [17:0] ha$14$q;
-    reg  ha$14$clock;
-    reg signed [17:0] ha$15$d;
-    wire signed [17:0] ha$15$q;
-    reg  ha$15$clock;
-    reg signed [17:0] ha$16$d;
-    wire signed [17:0] ha$16$q;
-    reg  ha$16$clock;
-    reg signed [17:0] ha$17$d;
-    wire signed [17:0] ha$17$q;
-    reg  ha$17$clock;
+    reg  hb$0$clock;
     reg signed [17:0] hb$0$d;
     wire signed [17:0] hb$0$q;
-    reg  hb$0$clock;
+    reg  hb$1$clock;
     reg signed [17:0] hb$1$d;
     wire signed [17:0] hb$1$q;
-    reg  hb$1$clock;
+    reg  hb$2$clock;
     reg signed [17:0] hb$2$d;
     wire signed [17:0] hb$2$q;
-    reg  hb$2$clock;
-    reg signed [17:0] hb$3$d;
-    wire signed [17:0] hb$3$q;
-    reg  hb$3$clock;
-    reg signed [17:0] hb$4$d;
-    wire signed [17:0] hb$4$q;
-    reg  hb$4$clock;
-    reg signed [17:0] hb$5$d;
-    wire signed [17:0] hb$5$q;
-    reg  hb$5$clock;
-    reg signed [17:0] hb$6$d;
-    wire signed [17:0] hb$6$q;
-    reg  hb$6$clock;
-    reg signed [17:0] hb$7$d;
-    wire signed [17:0] hb$7$q;
-    reg  hb$7$clock;
-    reg signed [17:0] hb$8$d;
-    wire signed [17:0] hb$8$q;
-    reg  hb$8$clock;
-    reg signed [17:0] hb$9$d;
-    wire signed [17:0] hb$9$q;
-    reg  hb$9$clock;
-    reg signed [17:0] hb$10$d;
-    wire signed [17:0] hb$10$q;
-    reg  hb$10$clock;
-    reg signed [17:0] hb$11$d;
-    wire signed [17:0] hb$11$q;
-    reg  hb$11$clock;
-    reg signed [17:0] hb$12$d;
-    wire signed [17:0] hb$12$q;
-    reg  hb$12$clock;
-    reg signed [17:0] hb$13$d;
-    wire signed [17:0] hb$13$q;
-    reg  hb$13$clock;
-    reg signed [17:0] hb$14$d;
-    wire signed [17:0] hb$14$q;
-    reg  hb$14$clock;
-    reg signed [17:0] hb$15$d;
-    wire signed [17:0] hb$15$q;
-    reg  hb$15$clock;
-    reg signed [17:0] hb$16$d;
-    wire signed [17:0] hb$16$q;
-    reg  hb$16$clock;
-    reg signed [17:0] hb$17$d;
-    wire signed [17:0] hb$17$q;
-    reg  hb$17$clock;
-    reg  [28:0] pm$0$d;
-    wire  [28:0] pm$0$q;
-    reg  pm$0$clock;
-    reg  [28:0] pm$1$d;
-    wire  [28:0] pm$1$q;
-    reg  pm$1$clock;
-    reg  [28:0] pm$2$d;
-    wire  [28:0] pm$2$q;
-    reg  pm$2$clock;
-    reg  [28:0] pm$3$d;
-    wire  [28:0] pm$3$q;
-    reg  pm$3$clock;
-    reg  [28:0] pm$4$d;
-    wire  [28:0] pm$4$q;
-    reg  pm$4$clock;
-    reg  [28:0] pm$5$d;
-    wire  [28:0] pm$5$q;
-    reg  pm$5$clock;
+    reg  pm$clock;
+    reg  [28:0] pm$d;
+    wire  [28:0] pm$q;
     
     // Local signals
     reg signed [17:0] ha_s$0;
@@ -321,214 +216,39 @@ module sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,hal
         .hit(back$hit)
     );
     sat$ha$0 ha$0(
+        .clock(ha$0$clock),
         .d(ha$0$d),
-        .q(ha$0$q),
-        .clock(ha$0$clock)
+        .q(ha$0$q)
     );
     sat$ha$1 ha$1(
+        .clock(ha$1$clock),
         .d(ha$1$d),
-        .q(ha$1$q),
-        .clock(ha$1$clock)
+        .q(ha$1$q)
     );
     sat$ha$2 ha$2(
+        .clock(ha$2$clock),
         .d(ha$2$d),
-        .q(ha$2$q),
-        .clock(ha$2$clock)
-    );
-    sat$ha$3 ha$3(
-        .d(ha$3$d),
-        .q(ha$3$q),
-        .clock(ha$3$clock)
-    );
-    sat$ha$4 ha$4(
-        .d(ha$4$d),
-        .q(ha$4$q),
-        .clock(ha$4$clock)
-    );
-    sat$ha$5 ha$5(
-        .d(ha$5$d),
-        .q(ha$5$q),
-        .clock(ha$5$clock)
-    );
-    sat$ha$6 ha$6(
-        .d(ha$6$d),
-        .q(ha$6$q),
-        .clock(ha$6$clock)
-    );
-    sat$ha$7 ha$7(
-        .d(ha$7$d),
-        .q(ha$7$q),
-        .clock(ha$7$clock)
-    );
-    sat$ha$8 ha$8(
-        .d(ha$8$d),
-        .q(ha$8$q),
-        .clock(ha$8$clock)
-    );
-    sat$ha$9 ha$9(
-        .d(ha$9$d),
-        .q(ha$9$q),
-        .clock(ha$9$clock)
-    );
-    sat$ha$10 ha$10(
-        .d(ha$10$d),
-        .q(ha$10$q),
-        .clock(ha$10$clock)
-    );
-    sat$ha$11 ha$11(
-        .d(ha$11$d),
-        .q(ha$11$q),
-        .clock(ha$11$clock)
-    );
-    sat$ha$12 ha$12(
-        .d(ha$12$d),
-        .q(ha$12$q),
-        .clock(ha$12$clock)
-    );
-    sat$ha$13 ha$13(
-        .d(ha$13$d),
-        .q(ha$13$q),
-        .clock(ha$13$clock)
-    );
-    sat$ha$14 ha$14(
-        .d(ha$14$d),
-        .q(ha$14$q),
-        .clock(ha$14$clock)
-    );
-    sat$ha$15 ha$15(
-        .d(ha$15$d),
-        .q(ha$15$q),
-        .clock(ha$15$clock)
-    );
-    sat$ha$16 ha$16(
-        .d(ha$16$d),
-        .q(ha$16$q),
-        .clock(ha$16$clock)
-    );
-    sat$ha$17 ha$17(
-        .d(ha$17$d),
-        .q(ha$17$q),
-        .clock(ha$17$clock)
+        .q(ha$2$q)
     );
     sat$hb$0 hb$0(
+        .clock(hb$0$clock),
         .d(hb$0$d),
-        .q(hb$0$q),
-        .clock(hb$0$clock)
+        .q(hb$0$q)
     );
     sat$hb$1 hb$1(
+        .clock(hb$1$clock),
         .d(hb$1$d),
-        .q(hb$1$q),
-        .clock(hb$1$clock)
+        .q(hb$1$q)
     );
     sat$hb$2 hb$2(
+        .clock(hb$2$clock),
         .d(hb$2$d),
-        .q(hb$2$q),
-        .clock(hb$2$clock)
+        .q(hb$2$q)
     );
-    sat$hb$3 hb$3(
-        .d(hb$3$d),
-        .q(hb$3$q),
-        .clock(hb$3$clock)
-    );
-    sat$hb$4 hb$4(
-        .d(hb$4$d),
-        .q(hb$4$q),
-        .clock(hb$4$clock)
-    );
-    sat$hb$5 hb$5(
-        .d(hb$5$d),
-        .q(hb$5$q),
-        .clock(hb$5$clock)
-    );
-    sat$hb$6 hb$6(
-        .d(hb$6$d),
-        .q(hb$6$q),
-        .clock(hb$6$clock)
-    );
-    sat$hb$7 hb$7(
-        .d(hb$7$d),
-        .q(hb$7$q),
-        .clock(hb$7$clock)
-    );
-    sat$hb$8 hb$8(
-        .d(hb$8$d),
-        .q(hb$8$q),
-        .clock(hb$8$clock)
-    );
-    sat$hb$9 hb$9(
-        .d(hb$9$d),
-        .q(hb$9$q),
-        .clock(hb$9$clock)
-    );
-    sat$hb$10 hb$10(
-        .d(hb$10$d),
-        .q(hb$10$q),
-        .clock(hb$10$clock)
-    );
-    sat$hb$11 hb$11(
-        .d(hb$11$d),
-        .q(hb$11$q),
-        .clock(hb$11$clock)
-    );
-    sat$hb$12 hb$12(
-        .d(hb$12$d),
-        .q(hb$12$q),
-        .clock(hb$12$clock)
-    );
-    sat$hb$13 hb$13(
-        .d(hb$13$d),
-        .q(hb$13$q),
-        .clock(hb$13$clock)
-    );
-    sat$hb$14 hb$14(
-        .d(hb$14$d),
-        .q(hb$14$q),
-        .clock(hb$14$clock)
-    );
-    sat$hb$15 hb$15(
-        .d(hb$15$d),
-        .q(hb$15$q),
-        .clock(hb$15$clock)
-    );
-    sat$hb$16 hb$16(
-        .d(hb$16$d),
-        .q(hb$16$q),
-        .clock(hb$16$clock)
-    );
-    sat$hb$17 hb$17(
-        .d(hb$17$d),
-        .q(hb$17$q),
-        .clock(hb$17$clock)
-    );
-    sat$pm$0 pm$0(
-        .d(pm$0$d),
-        .q(pm$0$q),
-        .clock(pm$0$clock)
-    );
-    sat$pm$1 pm$1(
-        .d(pm$1$d),
-        .q(pm$1$q),
-        .clock(pm$1$clock)
-    );
-    sat$pm$2 pm$2(
-        .d(pm$2$d),
-        .q(pm$2$q),
-        .clock(pm$2$clock)
-    );
-    sat$pm$3 pm$3(
-        .d(pm$3$d),
-        .q(pm$3$q),
-        .clock(pm$3$clock)
-    );
-    sat$pm$4 pm$4(
-        .d(pm$4$d),
-        .q(pm$4$q),
-        .clock(pm$4$clock)
-    );
-    sat$pm$5 pm$5(
-        .d(pm$5$d),
-        .q(pm$5$q),
-        .clock(pm$5$clock)
+    sat$pm pm(
+        .clock(pm$clock),
+        .d(pm$d),
+        .q(pm$q)
     );
     
     // Update code
@@ -541,42 +261,7 @@ module sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,hal
         hb$1$clock = clock;
         ha$2$clock = clock;
         hb$2$clock = clock;
-        ha$3$clock = clock;
-        hb$3$clock = clock;
-        ha$4$clock = clock;
-        hb$4$clock = clock;
-        ha$5$clock = clock;
-        hb$5$clock = clock;
-        ha$6$clock = clock;
-        hb$6$clock = clock;
-        ha$7$clock = clock;
-        hb$7$clock = clock;
-        ha$8$clock = clock;
-        hb$8$clock = clock;
-        ha$9$clock = clock;
-        hb$9$clock = clock;
-        ha$10$clock = clock;
-        hb$10$clock = clock;
-        ha$11$clock = clock;
-        hb$11$clock = clock;
-        ha$12$clock = clock;
-        hb$12$clock = clock;
-        ha$13$clock = clock;
-        hb$13$clock = clock;
-        ha$14$clock = clock;
-        hb$14$clock = clock;
-        ha$15$clock = clock;
-        hb$15$clock = clock;
-        ha$16$clock = clock;
-        hb$16$clock = clock;
-        ha$17$clock = clock;
-        hb$17$clock = clock;
-        pm$0$clock = clock;
-        pm$1$clock = clock;
-        pm$2$clock = clock;
-        pm$3$clock = clock;
-        pm$4$clock = clock;
-        pm$5$clock = clock;
+        pm$clock = clock;
         front$valid_in = valid_in;
         front$center_a$0 = center_a$0;
         front$center_b$0 = center_b$0;
@@ -615,55 +300,20 @@ module sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,hal
         hb$1$d = hb_s$1;
         ha$2$d = ha_s$2;
         hb$2$d = hb_s$2;
-        ha$3$d = ha$0$q;
-        hb$3$d = hb$0$q;
-        ha$4$d = ha$1$q;
-        hb$4$d = hb$1$q;
-        ha$5$d = ha$2$q;
-        hb$5$d = hb$2$q;
-        ha$6$d = ha$3$q;
-        hb$6$d = hb$3$q;
-        ha$7$d = ha$4$q;
-        hb$7$d = hb$4$q;
-        ha$8$d = ha$5$q;
-        hb$8$d = hb$5$q;
-        ha$9$d = ha$6$q;
-        hb$9$d = hb$6$q;
-        ha$10$d = ha$7$q;
-        hb$10$d = hb$7$q;
-        ha$11$d = ha$8$q;
-        hb$11$d = hb$8$q;
-        ha$12$d = ha$9$q;
-        hb$12$d = hb$9$q;
-        ha$13$d = ha$10$q;
-        hb$13$d = hb$10$q;
-        ha$14$d = ha$11$q;
-        hb$14$d = hb$11$q;
-        ha$15$d = ha$12$q;
-        hb$15$d = hb$12$q;
-        ha$16$d = ha$13$q;
-        hb$16$d = hb$13$q;
-        ha$17$d = ha$14$q;
-        hb$17$d = hb$14$q;
-        pm$0$d = pair;
-        pm$1$d = pm$0$q;
-        pm$2$d = pm$1$q;
-        pm$3$d = pm$2$q;
-        pm$4$d = pm$3$q;
-        pm$5$d = pm$4$q;
+        pm$d = pair;
         back$valid_in = front$valid_out;
         back$t$0 = front$t$0;
         back$u$0 = front$u$0;
-        back$half_a$0 = ha$15$q;
-        back$half_b$0 = hb$15$q;
+        back$half_a$0 = ha$0$q;
+        back$half_b$0 = hb$0$q;
         back$t$1 = front$t$1;
         back$u$1 = front$u$1;
-        back$half_a$1 = ha$16$q;
-        back$half_b$1 = hb$16$q;
+        back$half_a$1 = ha$1$q;
+        back$half_b$1 = hb$1$q;
         back$t$2 = front$t$2;
         back$u$2 = front$u$2;
-        back$half_a$2 = ha$17$q;
-        back$half_b$2 = hb$17$q;
+        back$half_a$2 = ha$2$q;
+        back$half_b$2 = hb$2$q;
         back$r$0 = front$r$0;
         back$r$1 = front$r$1;
         back$r$2 = front$r$2;
@@ -673,7 +323,7 @@ module sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,hal
         back$r$6 = front$r$6;
         back$r$7 = front$r$7;
         back$r$8 = front$r$8;
-        back$pair_margin = pm$5$q;
+        back$pair_margin = pm$q;
         valid_out = back$valid_out;
         hit = back$hit;
     end
@@ -719,54 +369,9 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     localparam  cross_margin = 24'h576e9;
     
     // Stub signals
-    reg  valid$0$d;
-    wire  valid$0$q;
-    reg  valid$0$clock;
-    reg  valid$1$d;
-    wire  valid$1$q;
-    reg  valid$1$clock;
-    reg  valid$2$d;
-    wire  valid$2$q;
-    reg  valid$2$clock;
-    reg  valid$3$d;
-    wire  valid$3$q;
-    reg  valid$3$clock;
-    reg  valid$4$d;
-    wire  valid$4$q;
-    reg  valid$4$clock;
-    reg  valid$5$d;
-    wire  valid$5$q;
-    reg  valid$5$clock;
-    reg  valid$6$d;
-    wire  valid$6$q;
-    reg  valid$6$clock;
-    reg  valid$7$d;
-    wire  valid$7$q;
-    reg  valid$7$clock;
-    reg  valid$8$d;
-    wire  valid$8$q;
-    reg  valid$8$clock;
-    reg  valid$9$d;
-    wire  valid$9$q;
-    reg  valid$9$clock;
-    reg  valid$10$d;
-    wire  valid$10$q;
-    reg  valid$10$clock;
-    reg  valid$11$d;
-    wire  valid$11$q;
-    reg  valid$11$clock;
-    reg  valid$12$d;
-    wire  valid$12$q;
-    reg  valid$12$clock;
-    reg  valid$13$d;
-    wire  valid$13$q;
-    reg  valid$13$clock;
-    reg  valid$14$d;
-    wire  valid$14$q;
-    reg  valid$14$clock;
-    reg  valid$15$d;
-    wire  valid$15$q;
-    reg  valid$15$clock;
+    reg  valid$clock;
+    reg  valid$d;
+    wire  valid$q;
     reg signed [43:0] round$t$0;
     reg signed [43:0] round$t$1;
     reg signed [43:0] round$t$2;
@@ -820,258 +425,63 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     wire signed [24:0] round$th$1;
     wire signed [24:0] round$th$2;
     reg  round$clock;
-    reg signed [17:0] ha$0$d;
-    wire signed [17:0] ha$0$q;
-    reg  ha$0$clock;
-    reg signed [17:0] ha$1$d;
-    wire signed [17:0] ha$1$q;
-    reg  ha$1$clock;
-    reg signed [17:0] ha$2$d;
-    wire signed [17:0] ha$2$q;
-    reg  ha$2$clock;
-    reg signed [17:0] ha$3$d;
-    wire signed [17:0] ha$3$q;
-    reg  ha$3$clock;
-    reg signed [17:0] ha$4$d;
-    wire signed [17:0] ha$4$q;
-    reg  ha$4$clock;
-    reg signed [17:0] ha$5$d;
-    wire signed [17:0] ha$5$q;
-    reg  ha$5$clock;
-    reg signed [17:0] ha$6$d;
-    wire signed [17:0] ha$6$q;
-    reg  ha$6$clock;
-    reg signed [17:0] ha$7$d;
-    wire signed [17:0] ha$7$q;
-    reg  ha$7$clock;
-    reg signed [17:0] ha$8$d;
-    wire signed [17:0] ha$8$q;
-    reg  ha$8$clock;
-    reg signed [17:0] ha$9$d;
-    wire signed [17:0] ha$9$q;
-    reg  ha$9$clock;
-    reg signed [17:0] ha$10$d;
-    wire signed [17:0] ha$10$q;
-    reg  ha$10$clock;
-    reg signed [17:0] ha$11$d;
-    wire signed [17:0] ha$11$q;
-    reg  ha$11$clock;
-    reg signed [17:0] ha$12$d;
-    wire signed [17:0] ha$12$q;
-    reg  ha$12$clock;
-    reg signed [17:0] ha$13$d;
-    wire signed [17:0] ha$13$q;
-    reg  ha$13$clock;
-    reg signed [17:0] ha$14$d;
-    wire signed [17:0] ha$14$q;
-    reg  ha$14$clock;
-    reg signed [17:0] ha$15$d;
-    wire signed [17:0] ha$15$q;
-    reg  ha$15$clock;
-    reg signed [17:0] ha$16$d;
-    wire signed [17:0] ha$16$q;
-    reg  ha$16$clock;
-    reg signed [17:0] ha$17$d;
-    wire signed [17:0] ha$17$q;
-    reg  ha$17$clock;
-    reg signed [17:0] ha$18$d;
-    wire signed [17:0] ha$18$q;
-    reg  ha$18$clock;
-    reg signed [17:0] ha$19$d;
-    wire signed [17:0] ha$19$q;
-    reg  ha$19$clock;
-    reg signed [17:0] ha$20$d;
-    wire signed [17:0] ha$20$q;
-    reg  ha$20$clock;
-    reg signed [17:0] ha$21$d;
-    wire signed [17:0] ha$21$q;
-    reg  ha$21$clock;
-    reg signed [17:0] ha$22$d;
-    wire signed [17:0] ha$22$q;
-    reg  ha$22$clock;
-    reg signed [17:0] ha$23$d;
-    wire signed [17:0] ha$23$q;
-    reg  ha$23$clock;
-    reg signed [17:0] ha$24$d;
-    wire signed [17:0] ha$24$q;
-    reg  ha$24$clock;
-    reg signed [17:0] ha$25$d;
-    wire signed [17:0] ha$25$q;
-    reg  ha$25$clock;
-    reg signed [17:0] ha$26$d;
-    wire signed [17:0] ha$26$q;
-    reg  ha$26$clock;
-    reg signed [17:0] ha$27$d;
-    wire signed [17:0] ha$27$q;
-    reg  ha$27$clock;
-    reg signed [17:0] ha$28$d;
-    wire signed [17:0] ha$28$q;
-    reg  ha$28$clock;
-    reg signed [17:0] ha$29$d;
-    wire signed [17:0] ha$29$q;
-    reg  ha$29$clock;
-    reg signed [17:0] ha$30$d;
-    wire signed [17:0] ha$30$q;
-    reg  ha$30$clock;
-    reg signed [17:0] ha$31$d;
-    wire signed [17:0] ha$31$q;
-    reg  ha$31$clock;
-    reg signed [17:0] ha$32$d;
-    wire signed [17:0] ha$32$q;
-    reg  ha$32$clock;
-    reg signed [17:0] ha$33$d;
-    wire signed [17:0] ha$33$q;
-    reg  ha$33$clock;
-    reg signed [17:0] ha$34$d;
-    wire signed [17:0] ha$34$q;
-    reg  ha$34$clock;
-    reg signed [17:0] ha$35$d;
-    wire signed [17:0] ha$35$q;
-    reg  ha$35$clock;
-    reg signed [17:0] hb$0$d;
-    wire signed [17:0] hb$0$q;
-    reg  hb$0$clock;
-    reg signed [17:0] hb$1$d;
-    wire signed [17:0] hb$1$q;
-    reg  hb$1$clock;
-    reg signed [17:0] hb$2$d;
-    wire signed [17:0] hb$2$q;
-    reg  hb$2$clock;
-    reg signed [17:0] hb$3$d;
-    wire signed [17:0] hb$3$q;
-    reg  hb$3$clock;
-    reg signed [17:0] hb$4$d;
-    wire signed [17:0] hb$4$q;
-    reg  hb$4$clock;
-    reg signed [17:0] hb$5$d;
-    wire signed [17:0] hb$5$q;
-    reg  hb$5$clock;
-    reg signed [17:0] hb$6$d;
-    wire signed [17:0] hb$6$q;
-    reg  hb$6$clock;
-    reg signed [17:0] hb$7$d;
-    wire signed [17:0] hb$7$q;
-    reg  hb$7$clock;
-    reg signed [17:0] hb$8$d;
-    wire signed [17:0] hb$8$q;
-    reg  hb$8$clock;
-    reg signed [17:0] hb$9$d;
-    wire signed [17:0] hb$9$q;
-    reg  hb$9$clock;
-    reg signed [17:0] hb$10$d;
-    wire signed [17:0] hb$10$q;
-    reg  hb$10$clock;
-    reg signed [17:0] hb$11$d;
-    wire signed [17:0] hb$11$q;
-    reg  hb$11$clock;
-    reg signed [17:0] hb$12$d;
-    wire signed [17:0] hb$12$q;
-    reg  hb$12$clock;
-    reg signed [17:0] hb$13$d;
-    wire signed [17:0] hb$13$q;
-    reg  hb$13$clock;
-    reg signed [17:0] hb$14$d;
-    wire signed [17:0] hb$14$q;
-    reg  hb$14$clock;
-    reg signed [17:0] hb$15$d;
-    wire signed [17:0] hb$15$q;
-    reg  hb$15$clock;
-    reg signed [17:0] hb$16$d;
-    wire signed [17:0] hb$16$q;
-    reg  hb$16$clock;
-    reg signed [17:0] hb$17$d;
-    wire signed [17:0] hb$17$q;
-    reg  hb$17$clock;
-    reg signed [17:0] hb$18$d;
-    wire signed [17:0] hb$18$q;
-    reg  hb$18$clock;
-    reg signed [17:0] hb$19$d;
-    wire signed [17:0] hb$19$q;
-    reg  hb$19$clock;
-    reg signed [17:0] hb$20$d;
-    wire signed [17:0] hb$20$q;
-    reg  hb$20$clock;
-    reg signed [17:0] hb$21$d;
-    wire signed [17:0] hb$21$q;
-    reg  hb$21$clock;
-    reg signed [17:0] hb$22$d;
-    wire signed [17:0] hb$22$q;
-    reg  hb$22$clock;
-    reg signed [17:0] hb$23$d;
-    wire signed [17:0] hb$23$q;
-    reg  hb$23$clock;
-    reg signed [17:0] hb$24$d;
-    wire signed [17:0] hb$24$q;
-    reg  hb$24$clock;
-    reg signed [17:0] hb$25$d;
-    wire signed [17:0] hb$25$q;
-    reg  hb$25$clock;
-    reg signed [17:0] hb$26$d;
-    wire signed [17:0] hb$26$q;
-    reg  hb$26$clock;
-    reg signed [17:0] hb$27$d;
-    wire signed [17:0] hb$27$q;
-    reg  hb$27$clock;
-    reg signed [17:0] hb$28$d;
-    wire signed [17:0] hb$28$q;
-    reg  hb$28$clock;
-    reg signed [17:0] hb$29$d;
-    wire signed [17:0] hb$29$q;
-    reg  hb$29$clock;
-    reg signed [17:0] hb$30$d;
-    wire signed [17:0] hb$30$q;
-    reg  hb$30$clock;
-    reg signed [17:0] hb$31$d;
-    wire signed [17:0] hb$31$q;
-    reg  hb$31$clock;
-    reg signed [17:0] hb$32$d;
-    wire signed [17:0] hb$32$q;
-    reg  hb$32$clock;
-    reg signed [17:0] hb$33$d;
-    wire signed [17:0] hb$33$q;
-    reg  hb$33$clock;
-    reg signed [17:0] hb$34$d;
-    wire signed [17:0] hb$34$q;
-    reg  hb$34$clock;
-    reg signed [17:0] hb$35$d;
-    wire signed [17:0] hb$35$q;
-    reg  hb$35$clock;
-    reg  [28:0] pm$0$d;
-    wire  [28:0] pm$0$q;
-    reg  pm$0$clock;
-    reg  [28:0] pm$1$d;
-    wire  [28:0] pm$1$q;
-    reg  pm$1$clock;
-    reg  [28:0] pm$2$d;
-    wire  [28:0] pm$2$q;
-    reg  pm$2$clock;
-    reg  [28:0] pm$3$d;
-    wire  [28:0] pm$3$q;
-    reg  pm$3$clock;
-    reg  [28:0] pm$4$d;
-    wire  [28:0] pm$4$q;
-    reg  pm$4$clock;
-    reg  [28:0] pm$5$d;
-    wire  [28:0] pm$5$q;
-    reg  pm$5$clock;
-    reg  [28:0] pm$6$d;
-    wire  [28:0] pm$6$q;
-    reg  pm$6$clock;
-    reg  [28:0] pm$7$d;
-    wire  [28:0] pm$7$q;
-    reg  pm$7$clock;
-    reg  [28:0] pm$8$d;
-    wire  [28:0] pm$8$q;
-    reg  pm$8$clock;
-    reg  [28:0] pm$9$d;
-    wire  [28:0] pm$9$q;
-    reg  pm$9$clock;
-    reg  [28:0] pm$10$d;
-    wire  [28:0] pm$10$q;
-    reg  pm$10$clock;
-    reg  [28:0] pm$11$d;
-    wire  [28:0] pm$11$q;
-    reg  pm$11$clock;
+    reg  ha_products$0$clock;
+    reg signed [17:0] ha_products$0$d;
+    wire signed [17:0] ha_products$0$q;
+    reg  ha_products$1$clock;
+    reg signed [17:0] ha_products$1$d;
+    wire signed [17:0] ha_products$1$q;
+    reg  ha_products$2$clock;
+    reg signed [17:0] ha_products$2$d;
+    wire signed [17:0] ha_products$2$q;
+    reg  hb_products$0$clock;
+    reg signed [17:0] hb_products$0$d;
+    wire signed [17:0] hb_products$0$q;
+    reg  hb_products$1$clock;
+    reg signed [17:0] hb_products$1$d;
+    wire signed [17:0] hb_products$1$q;
+    reg  hb_products$2$clock;
+    reg signed [17:0] hb_products$2$d;
+    wire signed [17:0] hb_products$2$q;
+    reg  ha_r_b$0$clock;
+    reg signed [17:0] ha_r_b$0$d;
+    wire signed [17:0] ha_r_b$0$q;
+    reg  ha_r_b$1$clock;
+    reg signed [17:0] ha_r_b$1$d;
+    wire signed [17:0] ha_r_b$1$q;
+    reg  ha_r_b$2$clock;
+    reg signed [17:0] ha_r_b$2$d;
+    wire signed [17:0] ha_r_b$2$q;
+    reg  hb_r_b$0$clock;
+    reg signed [17:0] hb_r_b$0$d;
+    wire signed [17:0] hb_r_b$0$q;
+    reg  hb_r_b$1$clock;
+    reg signed [17:0] hb_r_b$1$d;
+    wire signed [17:0] hb_r_b$1$q;
+    reg  hb_r_b$2$clock;
+    reg signed [17:0] hb_r_b$2$d;
+    wire signed [17:0] hb_r_b$2$q;
+    reg  ha_decide$0$clock;
+    reg signed [17:0] ha_decide$0$d;
+    wire signed [17:0] ha_decide$0$q;
+    reg  ha_decide$1$clock;
+    reg signed [17:0] ha_decide$1$d;
+    wire signed [17:0] ha_decide$1$q;
+    reg  ha_decide$2$clock;
+    reg signed [17:0] ha_decide$2$d;
+    wire signed [17:0] ha_decide$2$q;
+    reg  hb_decide$0$clock;
+    reg signed [17:0] hb_decide$0$d;
+    wire signed [17:0] hb_decide$0$q;
+    reg  hb_decide$1$clock;
+    reg signed [17:0] hb_decide$1$d;
+    wire signed [17:0] hb_decide$1$q;
+    reg  hb_decide$2$clock;
+    reg signed [17:0] hb_decide$2$d;
+    wire signed [17:0] hb_decide$2$q;
+    reg  margin_decide$clock;
+    reg  [28:0] margin_decide$d;
+    wire  [28:0] margin_decide$q;
     reg signed [18:0] face_a_dot$0$a0;
     reg signed [18:0] face_a_dot$0$a1;
     reg signed [18:0] face_a_dot$0$a2;
@@ -1408,609 +818,96 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     reg signed [17:0] rb_dot$8$b1;
     wire signed [39:0] rb_dot$8$p;
     reg  rb_dot$8$clock;
-    reg  [42:0] at_d$0$d;
-    wire  [42:0] at_d$0$q;
-    reg  at_d$0$clock;
-    reg  [42:0] at_d$1$d;
-    wire  [42:0] at_d$1$q;
-    reg  at_d$1$clock;
-    reg  [42:0] at_d$2$d;
-    wire  [42:0] at_d$2$q;
-    reg  at_d$2$clock;
-    reg  [42:0] at_d$3$d;
-    wire  [42:0] at_d$3$q;
-    reg  at_d$3$clock;
-    reg  [42:0] at_d$4$d;
-    wire  [42:0] at_d$4$q;
-    reg  at_d$4$clock;
-    reg  [42:0] at_d$5$d;
-    wire  [42:0] at_d$5$q;
-    reg  at_d$5$clock;
-    reg  [42:0] at_d$6$d;
-    wire  [42:0] at_d$6$q;
-    reg  at_d$6$clock;
-    reg  [42:0] at_d$7$d;
-    wire  [42:0] at_d$7$q;
-    reg  at_d$7$clock;
-    reg  [42:0] at_d$8$d;
-    wire  [42:0] at_d$8$q;
-    reg  at_d$8$clock;
-    reg  [42:0] at_d$9$d;
-    wire  [42:0] at_d$9$q;
-    reg  at_d$9$clock;
-    reg  [42:0] at_d$10$d;
-    wire  [42:0] at_d$10$q;
-    reg  at_d$10$clock;
-    reg  [42:0] at_d$11$d;
-    wire  [42:0] at_d$11$q;
-    reg  at_d$11$clock;
-    reg  [42:0] at_d$12$d;
-    wire  [42:0] at_d$12$q;
-    reg  at_d$12$clock;
-    reg  [42:0] at_d$13$d;
-    wire  [42:0] at_d$13$q;
-    reg  at_d$13$clock;
-    reg  [42:0] at_d$14$d;
-    wire  [42:0] at_d$14$q;
-    reg  at_d$14$clock;
-    reg  [42:0] at_d$15$d;
-    wire  [42:0] at_d$15$q;
-    reg  at_d$15$clock;
-    reg  [42:0] at_d$16$d;
-    wire  [42:0] at_d$16$q;
-    reg  at_d$16$clock;
-    reg  [42:0] at_d$17$d;
-    wire  [42:0] at_d$17$q;
-    reg  at_d$17$clock;
-    reg  [42:0] at_d$18$d;
-    wire  [42:0] at_d$18$q;
-    reg  at_d$18$clock;
-    reg  [42:0] at_d$19$d;
-    wire  [42:0] at_d$19$q;
-    reg  at_d$19$clock;
-    reg  [42:0] at_d$20$d;
-    wire  [42:0] at_d$20$q;
-    reg  at_d$20$clock;
-    reg  [42:0] at_d$21$d;
-    wire  [42:0] at_d$21$q;
-    reg  at_d$21$clock;
-    reg  [42:0] at_d$22$d;
-    wire  [42:0] at_d$22$q;
-    reg  at_d$22$clock;
-    reg  [42:0] at_d$23$d;
-    wire  [42:0] at_d$23$q;
-    reg  at_d$23$clock;
-    reg  [42:0] at_d$24$d;
-    wire  [42:0] at_d$24$q;
-    reg  at_d$24$clock;
-    reg  [42:0] at_d$25$d;
-    wire  [42:0] at_d$25$q;
-    reg  at_d$25$clock;
-    reg  [42:0] at_d$26$d;
-    wire  [42:0] at_d$26$q;
-    reg  at_d$26$clock;
-    reg  [42:0] at_d$27$d;
-    wire  [42:0] at_d$27$q;
-    reg  at_d$27$clock;
-    reg  [42:0] at_d$28$d;
-    wire  [42:0] at_d$28$q;
-    reg  at_d$28$clock;
-    reg  [42:0] at_d$29$d;
-    wire  [42:0] at_d$29$q;
-    reg  at_d$29$clock;
-    reg  [42:0] at_d$30$d;
-    wire  [42:0] at_d$30$q;
-    reg  at_d$30$clock;
-    reg  [42:0] at_d$31$d;
-    wire  [42:0] at_d$31$q;
-    reg  at_d$31$clock;
-    reg  [42:0] at_d$32$d;
-    wire  [42:0] at_d$32$q;
-    reg  at_d$32$clock;
-    reg  [42:0] au_d$0$d;
-    wire  [42:0] au_d$0$q;
-    reg  au_d$0$clock;
-    reg  [42:0] au_d$1$d;
-    wire  [42:0] au_d$1$q;
-    reg  au_d$1$clock;
-    reg  [42:0] au_d$2$d;
-    wire  [42:0] au_d$2$q;
-    reg  au_d$2$clock;
-    reg  [42:0] au_d$3$d;
-    wire  [42:0] au_d$3$q;
-    reg  au_d$3$clock;
-    reg  [42:0] au_d$4$d;
-    wire  [42:0] au_d$4$q;
-    reg  au_d$4$clock;
-    reg  [42:0] au_d$5$d;
-    wire  [42:0] au_d$5$q;
-    reg  au_d$5$clock;
-    reg  [42:0] au_d$6$d;
-    wire  [42:0] au_d$6$q;
-    reg  au_d$6$clock;
-    reg  [42:0] au_d$7$d;
-    wire  [42:0] au_d$7$q;
-    reg  au_d$7$clock;
-    reg  [42:0] au_d$8$d;
-    wire  [42:0] au_d$8$q;
-    reg  au_d$8$clock;
-    reg  [42:0] au_d$9$d;
-    wire  [42:0] au_d$9$q;
-    reg  au_d$9$clock;
-    reg  [42:0] au_d$10$d;
-    wire  [42:0] au_d$10$q;
-    reg  au_d$10$clock;
-    reg  [42:0] au_d$11$d;
-    wire  [42:0] au_d$11$q;
-    reg  au_d$11$clock;
-    reg  [42:0] au_d$12$d;
-    wire  [42:0] au_d$12$q;
-    reg  au_d$12$clock;
-    reg  [42:0] au_d$13$d;
-    wire  [42:0] au_d$13$q;
-    reg  au_d$13$clock;
-    reg  [42:0] au_d$14$d;
-    wire  [42:0] au_d$14$q;
-    reg  au_d$14$clock;
-    reg  [42:0] au_d$15$d;
-    wire  [42:0] au_d$15$q;
-    reg  au_d$15$clock;
-    reg  [42:0] au_d$16$d;
-    wire  [42:0] au_d$16$q;
-    reg  au_d$16$clock;
-    reg  [42:0] au_d$17$d;
-    wire  [42:0] au_d$17$q;
-    reg  au_d$17$clock;
-    reg  [42:0] au_d$18$d;
-    wire  [42:0] au_d$18$q;
-    reg  au_d$18$clock;
-    reg  [42:0] au_d$19$d;
-    wire  [42:0] au_d$19$q;
-    reg  au_d$19$clock;
-    reg  [42:0] au_d$20$d;
-    wire  [42:0] au_d$20$q;
-    reg  au_d$20$clock;
-    reg  [42:0] au_d$21$d;
-    wire  [42:0] au_d$21$q;
-    reg  au_d$21$clock;
-    reg  [42:0] au_d$22$d;
-    wire  [42:0] au_d$22$q;
-    reg  au_d$22$clock;
-    reg  [42:0] au_d$23$d;
-    wire  [42:0] au_d$23$q;
-    reg  au_d$23$clock;
-    reg  [42:0] au_d$24$d;
-    wire  [42:0] au_d$24$q;
-    reg  au_d$24$clock;
-    reg  [42:0] au_d$25$d;
-    wire  [42:0] au_d$25$q;
-    reg  au_d$25$clock;
-    reg  [42:0] au_d$26$d;
-    wire  [42:0] au_d$26$q;
-    reg  au_d$26$clock;
-    reg  [42:0] au_d$27$d;
-    wire  [42:0] au_d$27$q;
-    reg  au_d$27$clock;
-    reg  [42:0] au_d$28$d;
-    wire  [42:0] au_d$28$q;
-    reg  au_d$28$clock;
-    reg  [42:0] au_d$29$d;
-    wire  [42:0] au_d$29$q;
-    reg  au_d$29$clock;
-    reg  [42:0] au_d$30$d;
-    wire  [42:0] au_d$30$q;
-    reg  au_d$30$clock;
-    reg  [42:0] au_d$31$d;
-    wire  [42:0] au_d$31$q;
-    reg  au_d$31$clock;
-    reg  [42:0] au_d$32$d;
-    wire  [42:0] au_d$32$q;
-    reg  au_d$32$clock;
-    reg signed [38:0] fa_d$0$d;
-    wire signed [38:0] fa_d$0$q;
-    reg  fa_d$0$clock;
-    reg signed [38:0] fa_d$1$d;
-    wire signed [38:0] fa_d$1$q;
-    reg  fa_d$1$clock;
-    reg signed [38:0] fa_d$2$d;
-    wire signed [38:0] fa_d$2$q;
-    reg  fa_d$2$clock;
-    reg signed [38:0] fa_d$3$d;
-    wire signed [38:0] fa_d$3$q;
-    reg  fa_d$3$clock;
-    reg signed [38:0] fa_d$4$d;
-    wire signed [38:0] fa_d$4$q;
-    reg  fa_d$4$clock;
-    reg signed [38:0] fa_d$5$d;
-    wire signed [38:0] fa_d$5$q;
-    reg  fa_d$5$clock;
-    reg signed [38:0] fa_d$6$d;
-    wire signed [38:0] fa_d$6$q;
-    reg  fa_d$6$clock;
-    reg signed [38:0] fa_d$7$d;
-    wire signed [38:0] fa_d$7$q;
-    reg  fa_d$7$clock;
-    reg signed [38:0] fa_d$8$d;
-    wire signed [38:0] fa_d$8$q;
-    reg  fa_d$8$clock;
-    reg signed [38:0] fa_d$9$d;
-    wire signed [38:0] fa_d$9$q;
-    reg  fa_d$9$clock;
-    reg signed [38:0] fa_d$10$d;
-    wire signed [38:0] fa_d$10$q;
-    reg  fa_d$10$clock;
-    reg signed [38:0] fa_d$11$d;
-    wire signed [38:0] fa_d$11$q;
-    reg  fa_d$11$clock;
-    reg signed [38:0] fa_d$12$d;
-    wire signed [38:0] fa_d$12$q;
-    reg  fa_d$12$clock;
-    reg signed [38:0] fa_d$13$d;
-    wire signed [38:0] fa_d$13$q;
-    reg  fa_d$13$clock;
-    reg signed [38:0] fa_d$14$d;
-    wire signed [38:0] fa_d$14$q;
-    reg  fa_d$14$clock;
-    reg signed [38:0] fa_d$15$d;
-    wire signed [38:0] fa_d$15$q;
-    reg  fa_d$15$clock;
-    reg signed [38:0] fa_d$16$d;
-    wire signed [38:0] fa_d$16$q;
-    reg  fa_d$16$clock;
-    reg signed [38:0] fa_d$17$d;
-    wire signed [38:0] fa_d$17$q;
-    reg  fa_d$17$clock;
-    reg signed [38:0] fb_d$0$d;
-    wire signed [38:0] fb_d$0$q;
-    reg  fb_d$0$clock;
-    reg signed [38:0] fb_d$1$d;
-    wire signed [38:0] fb_d$1$q;
-    reg  fb_d$1$clock;
-    reg signed [38:0] fb_d$2$d;
-    wire signed [38:0] fb_d$2$q;
-    reg  fb_d$2$clock;
-    reg signed [38:0] fb_d$3$d;
-    wire signed [38:0] fb_d$3$q;
-    reg  fb_d$3$clock;
-    reg signed [38:0] fb_d$4$d;
-    wire signed [38:0] fb_d$4$q;
-    reg  fb_d$4$clock;
-    reg signed [38:0] fb_d$5$d;
-    wire signed [38:0] fb_d$5$q;
-    reg  fb_d$5$clock;
-    reg signed [38:0] fb_d$6$d;
-    wire signed [38:0] fb_d$6$q;
-    reg  fb_d$6$clock;
-    reg signed [38:0] fb_d$7$d;
-    wire signed [38:0] fb_d$7$q;
-    reg  fb_d$7$clock;
-    reg signed [38:0] fb_d$8$d;
-    wire signed [38:0] fb_d$8$q;
-    reg  fb_d$8$clock;
-    reg signed [38:0] fb_d$9$d;
-    wire signed [38:0] fb_d$9$q;
-    reg  fb_d$9$clock;
-    reg signed [38:0] fb_d$10$d;
-    wire signed [38:0] fb_d$10$q;
-    reg  fb_d$10$clock;
-    reg signed [38:0] fb_d$11$d;
-    wire signed [38:0] fb_d$11$q;
-    reg  fb_d$11$clock;
-    reg signed [38:0] fb_d$12$d;
-    wire signed [38:0] fb_d$12$q;
-    reg  fb_d$12$clock;
-    reg signed [38:0] fb_d$13$d;
-    wire signed [38:0] fb_d$13$q;
-    reg  fb_d$13$clock;
-    reg signed [38:0] fb_d$14$d;
-    wire signed [38:0] fb_d$14$q;
-    reg  fb_d$14$clock;
-    reg signed [38:0] fb_d$15$d;
-    wire signed [38:0] fb_d$15$q;
-    reg  fb_d$15$clock;
-    reg signed [38:0] fb_d$16$d;
-    wire signed [38:0] fb_d$16$q;
-    reg  fb_d$16$clock;
-    reg signed [38:0] fb_d$17$d;
-    wire signed [38:0] fb_d$17$q;
-    reg  fb_d$17$clock;
-    reg signed [36:0] ra_d$0$d;
-    wire signed [36:0] ra_d$0$q;
-    reg  ra_d$0$clock;
-    reg signed [36:0] ra_d$1$d;
-    wire signed [36:0] ra_d$1$q;
-    reg  ra_d$1$clock;
-    reg signed [36:0] ra_d$2$d;
-    wire signed [36:0] ra_d$2$q;
-    reg  ra_d$2$clock;
-    reg signed [36:0] ra_d$3$d;
-    wire signed [36:0] ra_d$3$q;
-    reg  ra_d$3$clock;
-    reg signed [36:0] ra_d$4$d;
-    wire signed [36:0] ra_d$4$q;
-    reg  ra_d$4$clock;
-    reg signed [36:0] ra_d$5$d;
-    wire signed [36:0] ra_d$5$q;
-    reg  ra_d$5$clock;
-    reg signed [36:0] ra_d$6$d;
-    wire signed [36:0] ra_d$6$q;
-    reg  ra_d$6$clock;
-    reg signed [36:0] ra_d$7$d;
-    wire signed [36:0] ra_d$7$q;
-    reg  ra_d$7$clock;
-    reg signed [36:0] ra_d$8$d;
-    wire signed [36:0] ra_d$8$q;
-    reg  ra_d$8$clock;
-    reg signed [36:0] ra_d$9$d;
-    wire signed [36:0] ra_d$9$q;
-    reg  ra_d$9$clock;
-    reg signed [36:0] ra_d$10$d;
-    wire signed [36:0] ra_d$10$q;
-    reg  ra_d$10$clock;
-    reg signed [36:0] ra_d$11$d;
-    wire signed [36:0] ra_d$11$q;
-    reg  ra_d$11$clock;
-    reg signed [36:0] ra_d$12$d;
-    wire signed [36:0] ra_d$12$q;
-    reg  ra_d$12$clock;
-    reg signed [36:0] ra_d$13$d;
-    wire signed [36:0] ra_d$13$q;
-    reg  ra_d$13$clock;
-    reg signed [36:0] ra_d$14$d;
-    wire signed [36:0] ra_d$14$q;
-    reg  ra_d$14$clock;
-    reg signed [36:0] ra_d$15$d;
-    wire signed [36:0] ra_d$15$q;
-    reg  ra_d$15$clock;
-    reg signed [36:0] ra_d$16$d;
-    wire signed [36:0] ra_d$16$q;
-    reg  ra_d$16$clock;
-    reg signed [36:0] ra_d$17$d;
-    wire signed [36:0] ra_d$17$q;
-    reg  ra_d$17$clock;
-    reg signed [36:0] ra_d$18$d;
-    wire signed [36:0] ra_d$18$q;
-    reg  ra_d$18$clock;
-    reg signed [36:0] ra_d$19$d;
-    wire signed [36:0] ra_d$19$q;
-    reg  ra_d$19$clock;
-    reg signed [36:0] ra_d$20$d;
-    wire signed [36:0] ra_d$20$q;
-    reg  ra_d$20$clock;
-    reg signed [36:0] ra_d$21$d;
-    wire signed [36:0] ra_d$21$q;
-    reg  ra_d$21$clock;
-    reg signed [36:0] ra_d$22$d;
-    wire signed [36:0] ra_d$22$q;
-    reg  ra_d$22$clock;
-    reg signed [36:0] ra_d$23$d;
-    wire signed [36:0] ra_d$23$q;
-    reg  ra_d$23$clock;
-    reg signed [36:0] ra_d$24$d;
-    wire signed [36:0] ra_d$24$q;
-    reg  ra_d$24$clock;
-    reg signed [36:0] ra_d$25$d;
-    wire signed [36:0] ra_d$25$q;
-    reg  ra_d$25$clock;
-    reg signed [36:0] ra_d$26$d;
-    wire signed [36:0] ra_d$26$q;
-    reg  ra_d$26$clock;
-    reg signed [36:0] ra_d$27$d;
-    wire signed [36:0] ra_d$27$q;
-    reg  ra_d$27$clock;
-    reg signed [36:0] ra_d$28$d;
-    wire signed [36:0] ra_d$28$q;
-    reg  ra_d$28$clock;
-    reg signed [36:0] ra_d$29$d;
-    wire signed [36:0] ra_d$29$q;
-    reg  ra_d$29$clock;
-    reg signed [36:0] ra_d$30$d;
-    wire signed [36:0] ra_d$30$q;
-    reg  ra_d$30$clock;
-    reg signed [36:0] ra_d$31$d;
-    wire signed [36:0] ra_d$31$q;
-    reg  ra_d$31$clock;
-    reg signed [36:0] ra_d$32$d;
-    wire signed [36:0] ra_d$32$q;
-    reg  ra_d$32$clock;
-    reg signed [36:0] ra_d$33$d;
-    wire signed [36:0] ra_d$33$q;
-    reg  ra_d$33$clock;
-    reg signed [36:0] ra_d$34$d;
-    wire signed [36:0] ra_d$34$q;
-    reg  ra_d$34$clock;
-    reg signed [36:0] ra_d$35$d;
-    wire signed [36:0] ra_d$35$q;
-    reg  ra_d$35$clock;
-    reg signed [36:0] ra_d$36$d;
-    wire signed [36:0] ra_d$36$q;
-    reg  ra_d$36$clock;
-    reg signed [36:0] ra_d$37$d;
-    wire signed [36:0] ra_d$37$q;
-    reg  ra_d$37$clock;
-    reg signed [36:0] ra_d$38$d;
-    wire signed [36:0] ra_d$38$q;
-    reg  ra_d$38$clock;
-    reg signed [36:0] ra_d$39$d;
-    wire signed [36:0] ra_d$39$q;
-    reg  ra_d$39$clock;
-    reg signed [36:0] ra_d$40$d;
-    wire signed [36:0] ra_d$40$q;
-    reg  ra_d$40$clock;
-    reg signed [36:0] ra_d$41$d;
-    wire signed [36:0] ra_d$41$q;
-    reg  ra_d$41$clock;
-    reg signed [36:0] ra_d$42$d;
-    wire signed [36:0] ra_d$42$q;
-    reg  ra_d$42$clock;
-    reg signed [36:0] ra_d$43$d;
-    wire signed [36:0] ra_d$43$q;
-    reg  ra_d$43$clock;
-    reg signed [36:0] ra_d$44$d;
-    wire signed [36:0] ra_d$44$q;
-    reg  ra_d$44$clock;
-    reg signed [36:0] ra_d$45$d;
-    wire signed [36:0] ra_d$45$q;
-    reg  ra_d$45$clock;
-    reg signed [36:0] ra_d$46$d;
-    wire signed [36:0] ra_d$46$q;
-    reg  ra_d$46$clock;
-    reg signed [36:0] ra_d$47$d;
-    wire signed [36:0] ra_d$47$q;
-    reg  ra_d$47$clock;
-    reg signed [36:0] ra_d$48$d;
-    wire signed [36:0] ra_d$48$q;
-    reg  ra_d$48$clock;
-    reg signed [36:0] ra_d$49$d;
-    wire signed [36:0] ra_d$49$q;
-    reg  ra_d$49$clock;
-    reg signed [36:0] ra_d$50$d;
-    wire signed [36:0] ra_d$50$q;
-    reg  ra_d$50$clock;
-    reg signed [36:0] ra_d$51$d;
-    wire signed [36:0] ra_d$51$q;
-    reg  ra_d$51$clock;
-    reg signed [36:0] ra_d$52$d;
-    wire signed [36:0] ra_d$52$q;
-    reg  ra_d$52$clock;
-    reg signed [36:0] ra_d$53$d;
-    wire signed [36:0] ra_d$53$q;
-    reg  ra_d$53$clock;
-    reg  [43:0] pa_d$0$d;
-    wire  [43:0] pa_d$0$q;
-    reg  pa_d$0$clock;
-    reg  [43:0] pa_d$1$d;
-    wire  [43:0] pa_d$1$q;
-    reg  pa_d$1$clock;
-    reg  [43:0] pa_d$2$d;
-    wire  [43:0] pa_d$2$q;
-    reg  pa_d$2$clock;
-    reg  [43:0] pa_d$3$d;
-    wire  [43:0] pa_d$3$q;
-    reg  pa_d$3$clock;
-    reg  [43:0] pa_d$4$d;
-    wire  [43:0] pa_d$4$q;
-    reg  pa_d$4$clock;
-    reg  [43:0] pa_d$5$d;
-    wire  [43:0] pa_d$5$q;
-    reg  pa_d$5$clock;
-    reg  [43:0] pa_d$6$d;
-    wire  [43:0] pa_d$6$q;
-    reg  pa_d$6$clock;
-    reg  [43:0] pa_d$7$d;
-    wire  [43:0] pa_d$7$q;
-    reg  pa_d$7$clock;
-    reg  [43:0] pa_d$8$d;
-    wire  [43:0] pa_d$8$q;
-    reg  pa_d$8$clock;
-    reg  [43:0] pa_d$9$d;
-    wire  [43:0] pa_d$9$q;
-    reg  pa_d$9$clock;
-    reg  [43:0] pa_d$10$d;
-    wire  [43:0] pa_d$10$q;
-    reg  pa_d$10$clock;
-    reg  [43:0] pa_d$11$d;
-    wire  [43:0] pa_d$11$q;
-    reg  pa_d$11$clock;
-    reg  [43:0] pa_d$12$d;
-    wire  [43:0] pa_d$12$q;
-    reg  pa_d$12$clock;
-    reg  [43:0] pa_d$13$d;
-    wire  [43:0] pa_d$13$q;
-    reg  pa_d$13$clock;
-    reg  [43:0] pa_d$14$d;
-    wire  [43:0] pa_d$14$q;
-    reg  pa_d$14$clock;
-    reg  [43:0] pa_d$15$d;
-    wire  [43:0] pa_d$15$q;
-    reg  pa_d$15$clock;
-    reg  [43:0] pa_d$16$d;
-    wire  [43:0] pa_d$16$q;
-    reg  pa_d$16$clock;
-    reg  [43:0] pa_d$17$d;
-    wire  [43:0] pa_d$17$q;
-    reg  pa_d$17$clock;
-    reg  [43:0] pa_d$18$d;
-    wire  [43:0] pa_d$18$q;
-    reg  pa_d$18$clock;
-    reg  [43:0] pa_d$19$d;
-    wire  [43:0] pa_d$19$q;
-    reg  pa_d$19$clock;
-    reg  [43:0] pa_d$20$d;
-    wire  [43:0] pa_d$20$q;
-    reg  pa_d$20$clock;
-    reg  [43:0] pa_d$21$d;
-    wire  [43:0] pa_d$21$q;
-    reg  pa_d$21$clock;
-    reg  [43:0] pa_d$22$d;
-    wire  [43:0] pa_d$22$q;
-    reg  pa_d$22$clock;
-    reg  [43:0] pa_d$23$d;
-    wire  [43:0] pa_d$23$q;
-    reg  pa_d$23$clock;
-    reg  [43:0] pa_d$24$d;
-    wire  [43:0] pa_d$24$q;
-    reg  pa_d$24$clock;
-    reg  [43:0] pa_d$25$d;
-    wire  [43:0] pa_d$25$q;
-    reg  pa_d$25$clock;
-    reg  [43:0] pa_d$26$d;
-    wire  [43:0] pa_d$26$q;
-    reg  pa_d$26$clock;
-    reg  [43:0] pa_d$27$d;
-    wire  [43:0] pa_d$27$q;
-    reg  pa_d$27$clock;
-    reg  [43:0] pa_d$28$d;
-    wire  [43:0] pa_d$28$q;
-    reg  pa_d$28$clock;
-    reg  [43:0] pa_d$29$d;
-    wire  [43:0] pa_d$29$q;
-    reg  pa_d$29$clock;
-    reg  [43:0] pa_d$30$d;
-    wire  [43:0] pa_d$30$q;
-    reg  pa_d$30$clock;
-    reg  [43:0] pa_d$31$d;
-    wire  [43:0] pa_d$31$q;
-    reg  pa_d$31$clock;
-    reg  [43:0] pa_d$32$d;
-    wire  [43:0] pa_d$32$q;
-    reg  pa_d$32$clock;
-    reg  [43:0] pa_d$33$d;
-    wire  [43:0] pa_d$33$q;
-    reg  pa_d$33$clock;
-    reg  [43:0] pa_d$34$d;
-    wire  [43:0] pa_d$34$q;
-    reg  pa_d$34$clock;
-    reg  [43:0] pa_d$35$d;
-    wire  [43:0] pa_d$35$q;
-    reg  pa_d$35$clock;
-    reg  [43:0] pa_d$36$d;
-    wire  [43:0] pa_d$36$q;
-    reg  pa_d$36$clock;
-    reg  [43:0] pa_d$37$d;
-    wire  [43:0] pa_d$37$q;
-    reg  pa_d$37$clock;
-    reg  [43:0] pa_d$38$d;
-    wire  [43:0] pa_d$38$q;
-    reg  pa_d$38$clock;
-    reg  [43:0] pa_d$39$d;
-    wire  [43:0] pa_d$39$q;
-    reg  pa_d$39$clock;
-    reg  [43:0] pa_d$40$d;
-    wire  [43:0] pa_d$40$q;
-    reg  pa_d$40$clock;
-    reg  [43:0] pa_d$41$d;
-    wire  [43:0] pa_d$41$q;
-    reg  pa_d$41$clock;
-    reg  [43:0] pa_d$42$d;
-    wire  [43:0] pa_d$42$q;
-    reg  pa_d$42$clock;
-    reg  [43:0] pa_d$43$d;
-    wire  [43:0] pa_d$43$q;
-    reg  pa_d$43$clock;
-    reg  [43:0] pa_d$44$d;
-    wire  [43:0] pa_d$44$q;
-    reg  pa_d$44$clock;
+    reg  abs_t_decide$0$clock;
+    reg  [42:0] abs_t_decide$0$d;
+    wire  [42:0] abs_t_decide$0$q;
+    reg  abs_t_decide$1$clock;
+    reg  [42:0] abs_t_decide$1$d;
+    wire  [42:0] abs_t_decide$1$q;
+    reg  abs_t_decide$2$clock;
+    reg  [42:0] abs_t_decide$2$d;
+    wire  [42:0] abs_t_decide$2$q;
+    reg  abs_u_decide$0$clock;
+    reg  [42:0] abs_u_decide$0$d;
+    wire  [42:0] abs_u_decide$0$q;
+    reg  abs_u_decide$1$clock;
+    reg  [42:0] abs_u_decide$1$d;
+    wire  [42:0] abs_u_decide$1$q;
+    reg  abs_u_decide$2$clock;
+    reg  [42:0] abs_u_decide$2$d;
+    wire  [42:0] abs_u_decide$2$q;
+    reg  face_a_decide$0$clock;
+    reg signed [38:0] face_a_decide$0$d;
+    wire signed [38:0] face_a_decide$0$q;
+    reg  face_a_decide$1$clock;
+    reg signed [38:0] face_a_decide$1$d;
+    wire signed [38:0] face_a_decide$1$q;
+    reg  face_a_decide$2$clock;
+    reg signed [38:0] face_a_decide$2$d;
+    wire signed [38:0] face_a_decide$2$q;
+    reg  face_b_decide$0$clock;
+    reg signed [38:0] face_b_decide$0$d;
+    wire signed [38:0] face_b_decide$0$q;
+    reg  face_b_decide$1$clock;
+    reg signed [38:0] face_b_decide$1$d;
+    wire signed [38:0] face_b_decide$1$q;
+    reg  face_b_decide$2$clock;
+    reg signed [38:0] face_b_decide$2$d;
+    wire signed [38:0] face_b_decide$2$q;
+    reg  r_a_decide$0$clock;
+    reg signed [36:0] r_a_decide$0$d;
+    wire signed [36:0] r_a_decide$0$q;
+    reg  r_a_decide$1$clock;
+    reg signed [36:0] r_a_decide$1$d;
+    wire signed [36:0] r_a_decide$1$q;
+    reg  r_a_decide$2$clock;
+    reg signed [36:0] r_a_decide$2$d;
+    wire signed [36:0] r_a_decide$2$q;
+    reg  r_a_decide$3$clock;
+    reg signed [36:0] r_a_decide$3$d;
+    wire signed [36:0] r_a_decide$3$q;
+    reg  r_a_decide$4$clock;
+    reg signed [36:0] r_a_decide$4$d;
+    wire signed [36:0] r_a_decide$4$q;
+    reg  r_a_decide$5$clock;
+    reg signed [36:0] r_a_decide$5$d;
+    wire signed [36:0] r_a_decide$5$q;
+    reg  r_a_decide$6$clock;
+    reg signed [36:0] r_a_decide$6$d;
+    wire signed [36:0] r_a_decide$6$q;
+    reg  r_a_decide$7$clock;
+    reg signed [36:0] r_a_decide$7$d;
+    wire signed [36:0] r_a_decide$7$q;
+    reg  r_a_decide$8$clock;
+    reg signed [36:0] r_a_decide$8$d;
+    wire signed [36:0] r_a_decide$8$q;
+    reg  abs_p_decide$0$clock;
+    reg  [43:0] abs_p_decide$0$d;
+    wire  [43:0] abs_p_decide$0$q;
+    reg  abs_p_decide$1$clock;
+    reg  [43:0] abs_p_decide$1$d;
+    wire  [43:0] abs_p_decide$1$q;
+    reg  abs_p_decide$2$clock;
+    reg  [43:0] abs_p_decide$2$d;
+    wire  [43:0] abs_p_decide$2$q;
+    reg  abs_p_decide$3$clock;
+    reg  [43:0] abs_p_decide$3$d;
+    wire  [43:0] abs_p_decide$3$q;
+    reg  abs_p_decide$4$clock;
+    reg  [43:0] abs_p_decide$4$d;
+    wire  [43:0] abs_p_decide$4$q;
+    reg  abs_p_decide$5$clock;
+    reg  [43:0] abs_p_decide$5$d;
+    wire  [43:0] abs_p_decide$5$q;
+    reg  abs_p_decide$6$clock;
+    reg  [43:0] abs_p_decide$6$d;
+    wire  [43:0] abs_p_decide$6$q;
+    reg  abs_p_decide$7$clock;
+    reg  [43:0] abs_p_decide$7$d;
+    wire  [43:0] abs_p_decide$7$q;
+    reg  abs_p_decide$8$clock;
+    reg  [43:0] abs_p_decide$8$d;
+    wire  [43:0] abs_p_decide$8$q;
     reg  [42:0] decide$abs_t$0;
     reg  [42:0] decide$abs_t$1;
     reg  [42:0] decide$abs_t$2;
@@ -2076,85 +973,10 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     reg signed [20:0] minor_s$8;
     
     // Sub module instances
-    sat$back$valid$0 valid$0(
-        .d(valid$0$d),
-        .q(valid$0$q),
-        .clock(valid$0$clock)
-    );
-    sat$back$valid$1 valid$1(
-        .d(valid$1$d),
-        .q(valid$1$q),
-        .clock(valid$1$clock)
-    );
-    sat$back$valid$2 valid$2(
-        .d(valid$2$d),
-        .q(valid$2$q),
-        .clock(valid$2$clock)
-    );
-    sat$back$valid$3 valid$3(
-        .d(valid$3$d),
-        .q(valid$3$q),
-        .clock(valid$3$clock)
-    );
-    sat$back$valid$4 valid$4(
-        .d(valid$4$d),
-        .q(valid$4$q),
-        .clock(valid$4$clock)
-    );
-    sat$back$valid$5 valid$5(
-        .d(valid$5$d),
-        .q(valid$5$q),
-        .clock(valid$5$clock)
-    );
-    sat$back$valid$6 valid$6(
-        .d(valid$6$d),
-        .q(valid$6$q),
-        .clock(valid$6$clock)
-    );
-    sat$back$valid$7 valid$7(
-        .d(valid$7$d),
-        .q(valid$7$q),
-        .clock(valid$7$clock)
-    );
-    sat$back$valid$8 valid$8(
-        .d(valid$8$d),
-        .q(valid$8$q),
-        .clock(valid$8$clock)
-    );
-    sat$back$valid$9 valid$9(
-        .d(valid$9$d),
-        .q(valid$9$q),
-        .clock(valid$9$clock)
-    );
-    sat$back$valid$10 valid$10(
-        .d(valid$10$d),
-        .q(valid$10$q),
-        .clock(valid$10$clock)
-    );
-    sat$back$valid$11 valid$11(
-        .d(valid$11$d),
-        .q(valid$11$q),
-        .clock(valid$11$clock)
-    );
-    sat$back$valid$12 valid$12(
-        .d(valid$12$d),
-        .q(valid$12$q),
-        .clock(valid$12$clock)
-    );
-    sat$back$valid$13 valid$13(
-        .d(valid$13$d),
-        .q(valid$13$q),
-        .clock(valid$13$clock)
-    );
-    sat$back$valid$14 valid$14(
-        .d(valid$14$d),
-        .q(valid$14$q),
-        .clock(valid$14$clock)
-    );
-    sat$back$valid$15 valid$15(
-        .d(valid$15$d),
-        .q(valid$15$q),
-        .clock(valid$15$clock)
+    sat$back$valid valid(
+        .clock(valid$clock),
+        .d(valid$d),
+        .q(valid$q)
     );
     sat$back$round round(
         .t$0(round$t$0),
@@ -2211,425 +1033,100 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         .th$2(round$th$2),
         .clock(round$clock)
     );
-    sat$back$ha$0 ha$0(
-        .d(ha$0$d),
-        .q(ha$0$q),
-        .clock(ha$0$clock)
-    );
-    sat$back$ha$1 ha$1(
-        .d(ha$1$d),
-        .q(ha$1$q),
-        .clock(ha$1$clock)
-    );
-    sat$back$ha$2 ha$2(
-        .d(ha$2$d),
-        .q(ha$2$q),
-        .clock(ha$2$clock)
-    );
-    sat$back$ha$3 ha$3(
-        .d(ha$3$d),
-        .q(ha$3$q),
-        .clock(ha$3$clock)
-    );
-    sat$back$ha$4 ha$4(
-        .d(ha$4$d),
-        .q(ha$4$q),
-        .clock(ha$4$clock)
-    );
-    sat$back$ha$5 ha$5(
-        .d(ha$5$d),
-        .q(ha$5$q),
-        .clock(ha$5$clock)
-    );
-    sat$back$ha$6 ha$6(
-        .d(ha$6$d),
-        .q(ha$6$q),
-        .clock(ha$6$clock)
-    );
-    sat$back$ha$7 ha$7(
-        .d(ha$7$d),
-        .q(ha$7$q),
-        .clock(ha$7$clock)
-    );
-    sat$back$ha$8 ha$8(
-        .d(ha$8$d),
-        .q(ha$8$q),
-        .clock(ha$8$clock)
-    );
-    sat$back$ha$9 ha$9(
-        .d(ha$9$d),
-        .q(ha$9$q),
-        .clock(ha$9$clock)
-    );
-    sat$back$ha$10 ha$10(
-        .d(ha$10$d),
-        .q(ha$10$q),
-        .clock(ha$10$clock)
-    );
-    sat$back$ha$11 ha$11(
-        .d(ha$11$d),
-        .q(ha$11$q),
-        .clock(ha$11$clock)
-    );
-    sat$back$ha$12 ha$12(
-        .d(ha$12$d),
-        .q(ha$12$q),
-        .clock(ha$12$clock)
-    );
-    sat$back$ha$13 ha$13(
-        .d(ha$13$d),
-        .q(ha$13$q),
-        .clock(ha$13$clock)
-    );
-    sat$back$ha$14 ha$14(
-        .d(ha$14$d),
-        .q(ha$14$q),
-        .clock(ha$14$clock)
-    );
-    sat$back$ha$15 ha$15(
-        .d(ha$15$d),
-        .q(ha$15$q),
-        .clock(ha$15$clock)
-    );
-    sat$back$ha$16 ha$16(
-        .d(ha$16$d),
-        .q(ha$16$q),
-        .clock(ha$16$clock)
-    );
-    sat$back$ha$17 ha$17(
-        .d(ha$17$d),
-        .q(ha$17$q),
-        .clock(ha$17$clock)
-    );
-    sat$back$ha$18 ha$18(
-        .d(ha$18$d),
-        .q(ha$18$q),
-        .clock(ha$18$clock)
-    );
-    sat$back$ha$19 ha$19(
-        .d(ha$19$d),
-        .q(ha$19$q),
-        .clock(ha$19$clock)
-    );
-    sat$back$ha$20 ha$20(
-        .d(ha$20$d),
-        .q(ha$20$q),
-        .clock(ha$20$clock)
-    );
-    sat$back$ha$21 ha$21(
-        .d(ha$21$d),
-        .q(ha$21$q),
-        .clock(ha$21$clock)
-    );
-    sat$back$ha$22 ha$22(
-        .d(ha$22$d),
-        .q(ha$22$q),
-        .clock(ha$22$clock)
-    );
-    sat$back$ha$23 ha$23(
-        .d(ha$23$d),
-        .q(ha$23$q),
-        .clock(ha$23$clock)
-    );
-    sat$back$ha$24 ha$24(
-        .d(ha$24$d),
-        .q(ha$24$q),
-        .clock(ha$24$clock)
-    );
-    sat$back$ha$25 ha$25(
-        .d(ha$25$d),
-        .q(ha$25$q),
-        .clock(ha$25$clock)
-    );
-    sat$back$ha$26 ha$26(
-        .d(ha$26$d),
-        .q(ha$26$q),
-        .clock(ha$26$clock)
-    );
-    sat$back$ha$27 ha$27(
-        .d(ha$27$d),
-        .q(ha$27$q),
-        .clock(ha$27$clock)
-    );
-    sat$back$ha$28 ha$28(
-        .d(ha$28$d),
-        .q(ha$28$q),
-        .clock(ha$28$clock)
-    );
-    sat$back$ha$29 ha$29(
-        .d(ha$29$d),
-        .q(ha$29$q),
-        .clock(ha$29$clock)
-    );
-    sat$back$ha$30 ha$30(
-        .d(ha$30$d),
-        .q(ha$30$q),
-        .clock(ha$30$clock)
-    );
-    sat$back$ha$31 ha$31(
-        .d(ha$31$d),
-        .q(ha$31$q),
-        .clock(ha$31$clock)
-    );
-    sat$back$ha$32 ha$32(
-        .d(ha$32$d),
-        .q(ha$32$q),
-        .clock(ha$32$clock)
-    );
-    sat$back$ha$33 ha$33(
-        .d(ha$33$d),
-        .q(ha$33$q),
-        .clock(ha$33$clock)
-    );
-    sat$back$ha$34 ha$34(
-        .d(ha$34$d),
-        .q(ha$34$q),
-        .clock(ha$34$clock)
-    );
-    sat$back$ha$35 ha$35(
-        .d(ha$35$d),
-        .q(ha$35$q),
-        .clock(ha$35$clock)
-    );
-    sat$back$hb$0 hb$0(
-        .d(hb$0$d),
-        .q(hb$0$q),
-        .clock(hb$0$clock)
-    );
-    sat$back$hb$1 hb$1(
-        .d(hb$1$d),
-        .q(hb$1$q),
-        .clock(hb$1$clock)
-    );
-    sat$back$hb$2 hb$2(
-        .d(hb$2$d),
-        .q(hb$2$q),
-        .clock(hb$2$clock)
-    );
-    sat$back$hb$3 hb$3(
-        .d(hb$3$d),
-        .q(hb$3$q),
-        .clock(hb$3$clock)
-    );
-    sat$back$hb$4 hb$4(
-        .d(hb$4$d),
-        .q(hb$4$q),
-        .clock(hb$4$clock)
-    );
-    sat$back$hb$5 hb$5(
-        .d(hb$5$d),
-        .q(hb$5$q),
-        .clock(hb$5$clock)
-    );
-    sat$back$hb$6 hb$6(
-        .d(hb$6$d),
-        .q(hb$6$q),
-        .clock(hb$6$clock)
-    );
-    sat$back$hb$7 hb$7(
-        .d(hb$7$d),
-        .q(hb$7$q),
-        .clock(hb$7$clock)
-    );
-    sat$back$hb$8 hb$8(
-        .d(hb$8$d),
-        .q(hb$8$q),
-        .clock(hb$8$clock)
-    );
-    sat$back$hb$9 hb$9(
-        .d(hb$9$d),
-        .q(hb$9$q),
-        .clock(hb$9$clock)
-    );
-    sat$back$hb$10 hb$10(
-        .d(hb$10$d),
-        .q(hb$10$q),
-        .clock(hb$10$clock)
-    );
-    sat$back$hb$11 hb$11(
-        .d(hb$11$d),
-        .q(hb$11$q),
-        .clock(hb$11$clock)
-    );
-    sat$back$hb$12 hb$12(
-        .d(hb$12$d),
-        .q(hb$12$q),
-        .clock(hb$12$clock)
-    );
-    sat$back$hb$13 hb$13(
-        .d(hb$13$d),
-        .q(hb$13$q),
-        .clock(hb$13$clock)
-    );
-    sat$back$hb$14 hb$14(
-        .d(hb$14$d),
-        .q(hb$14$q),
-        .clock(hb$14$clock)
-    );
-    sat$back$hb$15 hb$15(
-        .d(hb$15$d),
-        .q(hb$15$q),
-        .clock(hb$15$clock)
-    );
-    sat$back$hb$16 hb$16(
-        .d(hb$16$d),
-        .q(hb$16$q),
-        .clock(hb$16$clock)
-    );
-    sat$back$hb$17 hb$17(
-        .d(hb$17$d),
-        .q(hb$17$q),
-        .clock(hb$17$clock)
-    );
-    sat$back$hb$18 hb$18(
-        .d(hb$18$d),
-        .q(hb$18$q),
-        .clock(hb$18$clock)
-    );
-    sat$back$hb$19 hb$19(
-        .d(hb$19$d),
-        .q(hb$19$q),
-        .clock(hb$19$clock)
-    );
-    sat$back$hb$20 hb$20(
-        .d(hb$20$d),
-        .q(hb$20$q),
-        .clock(hb$20$clock)
-    );
-    sat$back$hb$21 hb$21(
-        .d(hb$21$d),
-        .q(hb$21$q),
-        .clock(hb$21$clock)
-    );
-    sat$back$hb$22 hb$22(
-        .d(hb$22$d),
-        .q(hb$22$q),
-        .clock(hb$22$clock)
-    );
-    sat$back$hb$23 hb$23(
-        .d(hb$23$d),
-        .q(hb$23$q),
-        .clock(hb$23$clock)
-    );
-    sat$back$hb$24 hb$24(
-        .d(hb$24$d),
-        .q(hb$24$q),
-        .clock(hb$24$clock)
-    );
-    sat$back$hb$25 hb$25(
-        .d(hb$25$d),
-        .q(hb$25$q),
-        .clock(hb$25$clock)
-    );
-    sat$back$hb$26 hb$26(
-        .d(hb$26$d),
-        .q(hb$26$q),
-        .clock(hb$26$clock)
-    );
-    sat$back$hb$27 hb$27(
-        .d(hb$27$d),
-        .q(hb$27$q),
-        .clock(hb$27$clock)
-    );
-    sat$back$hb$28 hb$28(
-        .d(hb$28$d),
-        .q(hb$28$q),
-        .clock(hb$28$clock)
-    );
-    sat$back$hb$29 hb$29(
-        .d(hb$29$d),
-        .q(hb$29$q),
-        .clock(hb$29$clock)
-    );
-    sat$back$hb$30 hb$30(
-        .d(hb$30$d),
-        .q(hb$30$q),
-        .clock(hb$30$clock)
-    );
-    sat$back$hb$31 hb$31(
-        .d(hb$31$d),
-        .q(hb$31$q),
-        .clock(hb$31$clock)
-    );
-    sat$back$hb$32 hb$32(
-        .d(hb$32$d),
-        .q(hb$32$q),
-        .clock(hb$32$clock)
-    );
-    sat$back$hb$33 hb$33(
-        .d(hb$33$d),
-        .q(hb$33$q),
-        .clock(hb$33$clock)
-    );
-    sat$back$hb$34 hb$34(
-        .d(hb$34$d),
-        .q(hb$34$q),
-        .clock(hb$34$clock)
-    );
-    sat$back$hb$35 hb$35(
-        .d(hb$35$d),
-        .q(hb$35$q),
-        .clock(hb$35$clock)
-    );
-    sat$back$pm$0 pm$0(
-        .d(pm$0$d),
-        .q(pm$0$q),
-        .clock(pm$0$clock)
-    );
-    sat$back$pm$1 pm$1(
-        .d(pm$1$d),
-        .q(pm$1$q),
-        .clock(pm$1$clock)
-    );
-    sat$back$pm$2 pm$2(
-        .d(pm$2$d),
-        .q(pm$2$q),
-        .clock(pm$2$clock)
-    );
-    sat$back$pm$3 pm$3(
-        .d(pm$3$d),
-        .q(pm$3$q),
-        .clock(pm$3$clock)
-    );
-    sat$back$pm$4 pm$4(
-        .d(pm$4$d),
-        .q(pm$4$q),
-        .clock(pm$4$clock)
-    );
-    sat$back$pm$5 pm$5(
-        .d(pm$5$d),
-        .q(pm$5$q),
-        .clock(pm$5$clock)
-    );
-    sat$back$pm$6 pm$6(
-        .d(pm$6$d),
-        .q(pm$6$q),
-        .clock(pm$6$clock)
-    );
-    sat$back$pm$7 pm$7(
-        .d(pm$7$d),
-        .q(pm$7$q),
-        .clock(pm$7$clock)
-    );
-    sat$back$pm$8 pm$8(
-        .d(pm$8$d),
-        .q(pm$8$q),
-        .clock(pm$8$clock)
-    );
-    sat$back$pm$9 pm$9(
-        .d(pm$9$d),
-        .q(pm$9$q),
-        .clock(pm$9$clock)
-    );
-    sat$back$pm$10 pm$10(
-        .d(pm$10$d),
-        .q(pm$10$q),
-        .clock(pm$10$clock)
-    );
-    sat$back$pm$11 pm$11(
-        .d(pm$11$d),
-        .q(pm$11$q),
-        .clock(pm$11$clock)
+    sat$back$ha_products$0 ha_products$0(
+        .clock(ha_products$0$clock),
+        .d(ha_products$0$d),
+        .q(ha_products$0$q)
+    );
+    sat$back$ha_products$1 ha_products$1(
+        .clock(ha_products$1$clock),
+        .d(ha_products$1$d),
+        .q(ha_products$1$q)
+    );
+    sat$back$ha_products$2 ha_products$2(
+        .clock(ha_products$2$clock),
+        .d(ha_products$2$d),
+        .q(ha_products$2$q)
+    );
+    sat$back$hb_products$0 hb_products$0(
+        .clock(hb_products$0$clock),
+        .d(hb_products$0$d),
+        .q(hb_products$0$q)
+    );
+    sat$back$hb_products$1 hb_products$1(
+        .clock(hb_products$1$clock),
+        .d(hb_products$1$d),
+        .q(hb_products$1$q)
+    );
+    sat$back$hb_products$2 hb_products$2(
+        .clock(hb_products$2$clock),
+        .d(hb_products$2$d),
+        .q(hb_products$2$q)
+    );
+    sat$back$ha_r_b$0 ha_r_b$0(
+        .clock(ha_r_b$0$clock),
+        .d(ha_r_b$0$d),
+        .q(ha_r_b$0$q)
+    );
+    sat$back$ha_r_b$1 ha_r_b$1(
+        .clock(ha_r_b$1$clock),
+        .d(ha_r_b$1$d),
+        .q(ha_r_b$1$q)
+    );
+    sat$back$ha_r_b$2 ha_r_b$2(
+        .clock(ha_r_b$2$clock),
+        .d(ha_r_b$2$d),
+        .q(ha_r_b$2$q)
+    );
+    sat$back$hb_r_b$0 hb_r_b$0(
+        .clock(hb_r_b$0$clock),
+        .d(hb_r_b$0$d),
+        .q(hb_r_b$0$q)
+    );
+    sat$back$hb_r_b$1 hb_r_b$1(
+        .clock(hb_r_b$1$clock),
+        .d(hb_r_b$1$d),
+        .q(hb_r_b$1$q)
+    );
+    sat$back$hb_r_b$2 hb_r_b$2(
+        .clock(hb_r_b$2$clock),
+        .d(hb_r_b$2$d),
+        .q(hb_r_b$2$q)
+    );
+    sat$back$ha_decide$0 ha_decide$0(
+        .clock(ha_decide$0$clock),
+        .d(ha_decide$0$d),
+        .q(ha_decide$0$q)
+    );
+    sat$back$ha_decide$1 ha_decide$1(
+        .clock(ha_decide$1$clock),
+        .d(ha_decide$1$d),
+        .q(ha_decide$1$q)
+    );
+    sat$back$ha_decide$2 ha_decide$2(
+        .clock(ha_decide$2$clock),
+        .d(ha_decide$2$d),
+        .q(ha_decide$2$q)
+    );
+    sat$back$hb_decide$0 hb_decide$0(
+        .clock(hb_decide$0$clock),
+        .d(hb_decide$0$d),
+        .q(hb_decide$0$q)
+    );
+    sat$back$hb_decide$1 hb_decide$1(
+        .clock(hb_decide$1$clock),
+        .d(hb_decide$1$d),
+        .q(hb_decide$1$q)
+    );
+    sat$back$hb_decide$2 hb_decide$2(
+        .clock(hb_decide$2$clock),
+        .d(hb_decide$2$d),
+        .q(hb_decide$2$q)
+    );
+    sat$back$margin_decide margin_decide(
+        .clock(margin_decide$clock),
+        .d(margin_decide$d),
+        .q(margin_decide$q)
     );
     sat$back$face_a_dot$0 face_a_dot$0(
         .a0(face_a_dot$0$a0),
@@ -3087,1010 +1584,155 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         .p(rb_dot$8$p),
         .clock(rb_dot$8$clock)
     );
-    sat$back$at_d$0 at_d$0(
-        .d(at_d$0$d),
-        .q(at_d$0$q),
-        .clock(at_d$0$clock)
-    );
-    sat$back$at_d$1 at_d$1(
-        .d(at_d$1$d),
-        .q(at_d$1$q),
-        .clock(at_d$1$clock)
-    );
-    sat$back$at_d$2 at_d$2(
-        .d(at_d$2$d),
-        .q(at_d$2$q),
-        .clock(at_d$2$clock)
-    );
-    sat$back$at_d$3 at_d$3(
-        .d(at_d$3$d),
-        .q(at_d$3$q),
-        .clock(at_d$3$clock)
-    );
-    sat$back$at_d$4 at_d$4(
-        .d(at_d$4$d),
-        .q(at_d$4$q),
-        .clock(at_d$4$clock)
-    );
-    sat$back$at_d$5 at_d$5(
-        .d(at_d$5$d),
-        .q(at_d$5$q),
-        .clock(at_d$5$clock)
-    );
-    sat$back$at_d$6 at_d$6(
-        .d(at_d$6$d),
-        .q(at_d$6$q),
-        .clock(at_d$6$clock)
-    );
-    sat$back$at_d$7 at_d$7(
-        .d(at_d$7$d),
-        .q(at_d$7$q),
-        .clock(at_d$7$clock)
-    );
-    sat$back$at_d$8 at_d$8(
-        .d(at_d$8$d),
-        .q(at_d$8$q),
-        .clock(at_d$8$clock)
-    );
-    sat$back$at_d$9 at_d$9(
-        .d(at_d$9$d),
-        .q(at_d$9$q),
-        .clock(at_d$9$clock)
-    );
-    sat$back$at_d$10 at_d$10(
-        .d(at_d$10$d),
-        .q(at_d$10$q),
-        .clock(at_d$10$clock)
-    );
-    sat$back$at_d$11 at_d$11(
-        .d(at_d$11$d),
-        .q(at_d$11$q),
-        .clock(at_d$11$clock)
-    );
-    sat$back$at_d$12 at_d$12(
-        .d(at_d$12$d),
-        .q(at_d$12$q),
-        .clock(at_d$12$clock)
-    );
-    sat$back$at_d$13 at_d$13(
-        .d(at_d$13$d),
-        .q(at_d$13$q),
-        .clock(at_d$13$clock)
-    );
-    sat$back$at_d$14 at_d$14(
-        .d(at_d$14$d),
-        .q(at_d$14$q),
-        .clock(at_d$14$clock)
-    );
-    sat$back$at_d$15 at_d$15(
-        .d(at_d$15$d),
-        .q(at_d$15$q),
-        .clock(at_d$15$clock)
-    );
-    sat$back$at_d$16 at_d$16(
-        .d(at_d$16$d),
-        .q(at_d$16$q),
-        .clock(at_d$16$clock)
-    );
-    sat$back$at_d$17 at_d$17(
-        .d(at_d$17$d),
-        .q(at_d$17$q),
-        .clock(at_d$17$clock)
-    );
-    sat$back$at_d$18 at_d$18(
-        .d(at_d$18$d),
-        .q(at_d$18$q),
-        .clock(at_d$18$clock)
-    );
-    sat$back$at_d$19 at_d$19(
-        .d(at_d$19$d),
-        .q(at_d$19$q),
-        .clock(at_d$19$clock)
-    );
-    sat$back$at_d$20 at_d$20(
-        .d(at_d$20$d),
-        .q(at_d$20$q),
-        .clock(at_d$20$clock)
-    );
-    sat$back$at_d$21 at_d$21(
-        .d(at_d$21$d),
-        .q(at_d$21$q),
-        .clock(at_d$21$clock)
-    );
-    sat$back$at_d$22 at_d$22(
-        .d(at_d$22$d),
-        .q(at_d$22$q),
-        .clock(at_d$22$clock)
-    );
-    sat$back$at_d$23 at_d$23(
-        .d(at_d$23$d),
-        .q(at_d$23$q),
-        .clock(at_d$23$clock)
-    );
-    sat$back$at_d$24 at_d$24(
-        .d(at_d$24$d),
-        .q(at_d$24$q),
-        .clock(at_d$24$clock)
-    );
-    sat$back$at_d$25 at_d$25(
-        .d(at_d$25$d),
-        .q(at_d$25$q),
-        .clock(at_d$25$clock)
-    );
-    sat$back$at_d$26 at_d$26(
-        .d(at_d$26$d),
-        .q(at_d$26$q),
-        .clock(at_d$26$clock)
-    );
-    sat$back$at_d$27 at_d$27(
-        .d(at_d$27$d),
-        .q(at_d$27$q),
-        .clock(at_d$27$clock)
-    );
-    sat$back$at_d$28 at_d$28(
-        .d(at_d$28$d),
-        .q(at_d$28$q),
-        .clock(at_d$28$clock)
-    );
-    sat$back$at_d$29 at_d$29(
-        .d(at_d$29$d),
-        .q(at_d$29$q),
-        .clock(at_d$29$clock)
-    );
-    sat$back$at_d$30 at_d$30(
-        .d(at_d$30$d),
-        .q(at_d$30$q),
-        .clock(at_d$30$clock)
-    );
-    sat$back$at_d$31 at_d$31(
-        .d(at_d$31$d),
-        .q(at_d$31$q),
-        .clock(at_d$31$clock)
-    );
-    sat$back$at_d$32 at_d$32(
-        .d(at_d$32$d),
-        .q(at_d$32$q),
-        .clock(at_d$32$clock)
-    );
-    sat$back$au_d$0 au_d$0(
-        .d(au_d$0$d),
-        .q(au_d$0$q),
-        .clock(au_d$0$clock)
-    );
-    sat$back$au_d$1 au_d$1(
-        .d(au_d$1$d),
-        .q(au_d$1$q),
-        .clock(au_d$1$clock)
-    );
-    sat$back$au_d$2 au_d$2(
-        .d(au_d$2$d),
-        .q(au_d$2$q),
-        .clock(au_d$2$clock)
-    );
-    sat$back$au_d$3 au_d$3(
-        .d(au_d$3$d),
-        .q(au_d$3$q),
-        .clock(au_d$3$clock)
-    );
-    sat$back$au_d$4 au_d$4(
-        .d(au_d$4$d),
-        .q(au_d$4$q),
-        .clock(au_d$4$clock)
-    );
-    sat$back$au_d$5 au_d$5(
-        .d(au_d$5$d),
-        .q(au_d$5$q),
-        .clock(au_d$5$clock)
-    );
-    sat$back$au_d$6 au_d$6(
-        .d(au_d$6$d),
-        .q(au_d$6$q),
-        .clock(au_d$6$clock)
-    );
-    sat$back$au_d$7 au_d$7(
-        .d(au_d$7$d),
-        .q(au_d$7$q),
-        .clock(au_d$7$clock)
-    );
-    sat$back$au_d$8 au_d$8(
-        .d(au_d$8$d),
-        .q(au_d$8$q),
-        .clock(au_d$8$clock)
-    );
-    sat$back$au_d$9 au_d$9(
-        .d(au_d$9$d),
-        .q(au_d$9$q),
-        .clock(au_d$9$clock)
-    );
-    sat$back$au_d$10 au_d$10(
-        .d(au_d$10$d),
-        .q(au_d$10$q),
-        .clock(au_d$10$clock)
-    );
-    sat$back$au_d$11 au_d$11(
-        .d(au_d$11$d),
-        .q(au_d$11$q),
-        .clock(au_d$11$clock)
-    );
-    sat$back$au_d$12 au_d$12(
-        .d(au_d$12$d),
-        .q(au_d$12$q),
-        .clock(au_d$12$clock)
-    );
-    sat$back$au_d$13 au_d$13(
-        .d(au_d$13$d),
-        .q(au_d$13$q),
-        .clock(au_d$13$clock)
-    );
-    sat$back$au_d$14 au_d$14(
-        .d(au_d$14$d),
-        .q(au_d$14$q),
-        .clock(au_d$14$clock)
-    );
-    sat$back$au_d$15 au_d$15(
-        .d(au_d$15$d),
-        .q(au_d$15$q),
-        .clock(au_d$15$clock)
-    );
-    sat$back$au_d$16 au_d$16(
-        .d(au_d$16$d),
-        .q(au_d$16$q),
-        .clock(au_d$16$clock)
-    );
-    sat$back$au_d$17 au_d$17(
-        .d(au_d$17$d),
-        .q(au_d$17$q),
-        .clock(au_d$17$clock)
-    );
-    sat$back$au_d$18 au_d$18(
-        .d(au_d$18$d),
-        .q(au_d$18$q),
-        .clock(au_d$18$clock)
-    );
-    sat$back$au_d$19 au_d$19(
-        .d(au_d$19$d),
-        .q(au_d$19$q),
-        .clock(au_d$19$clock)
-    );
-    sat$back$au_d$20 au_d$20(
-        .d(au_d$20$d),
-        .q(au_d$20$q),
-        .clock(au_d$20$clock)
-    );
-    sat$back$au_d$21 au_d$21(
-        .d(au_d$21$d),
-        .q(au_d$21$q),
-        .clock(au_d$21$clock)
-    );
-    sat$back$au_d$22 au_d$22(
-        .d(au_d$22$d),
-        .q(au_d$22$q),
-        .clock(au_d$22$clock)
-    );
-    sat$back$au_d$23 au_d$23(
-        .d(au_d$23$d),
-        .q(au_d$23$q),
-        .clock(au_d$23$clock)
-    );
-    sat$back$au_d$24 au_d$24(
-        .d(au_d$24$d),
-        .q(au_d$24$q),
-        .clock(au_d$24$clock)
-    );
-    sat$back$au_d$25 au_d$25(
-        .d(au_d$25$d),
-        .q(au_d$25$q),
-        .clock(au_d$25$clock)
-    );
-    sat$back$au_d$26 au_d$26(
-        .d(au_d$26$d),
-        .q(au_d$26$q),
-        .clock(au_d$26$clock)
-    );
-    sat$back$au_d$27 au_d$27(
-        .d(au_d$27$d),
-        .q(au_d$27$q),
-        .clock(au_d$27$clock)
-    );
-    sat$back$au_d$28 au_d$28(
-        .d(au_d$28$d),
-        .q(au_d$28$q),
-        .clock(au_d$28$clock)
-    );
-    sat$back$au_d$29 au_d$29(
-        .d(au_d$29$d),
-        .q(au_d$29$q),
-        .clock(au_d$29$clock)
-    );
-    sat$back$au_d$30 au_d$30(
-        .d(au_d$30$d),
-        .q(au_d$30$q),
-        .clock(au_d$30$clock)
-    );
-    sat$back$au_d$31 au_d$31(
-        .d(au_d$31$d),
-        .q(au_d$31$q),
-        .clock(au_d$31$clock)
-    );
-    sat$back$au_d$32 au_d$32(
-        .d(au_d$32$d),
-        .q(au_d$32$q),
-        .clock(au_d$32$clock)
-    );
-    sat$back$fa_d$0 fa_d$0(
-        .d(fa_d$0$d),
-        .q(fa_d$0$q),
-        .clock(fa_d$0$clock)
-    );
-    sat$back$fa_d$1 fa_d$1(
-        .d(fa_d$1$d),
-        .q(fa_d$1$q),
-        .clock(fa_d$1$clock)
-    );
-    sat$back$fa_d$2 fa_d$2(
-        .d(fa_d$2$d),
-        .q(fa_d$2$q),
-        .clock(fa_d$2$clock)
-    );
-    sat$back$fa_d$3 fa_d$3(
-        .d(fa_d$3$d),
-        .q(fa_d$3$q),
-        .clock(fa_d$3$clock)
-    );
-    sat$back$fa_d$4 fa_d$4(
-        .d(fa_d$4$d),
-        .q(fa_d$4$q),
-        .clock(fa_d$4$clock)
-    );
-    sat$back$fa_d$5 fa_d$5(
-        .d(fa_d$5$d),
-        .q(fa_d$5$q),
-        .clock(fa_d$5$clock)
-    );
-    sat$back$fa_d$6 fa_d$6(
-        .d(fa_d$6$d),
-        .q(fa_d$6$q),
-        .clock(fa_d$6$clock)
-    );
-    sat$back$fa_d$7 fa_d$7(
-        .d(fa_d$7$d),
-        .q(fa_d$7$q),
-        .clock(fa_d$7$clock)
-    );
-    sat$back$fa_d$8 fa_d$8(
-        .d(fa_d$8$d),
-        .q(fa_d$8$q),
-        .clock(fa_d$8$clock)
-    );
-    sat$back$fa_d$9 fa_d$9(
-        .d(fa_d$9$d),
-        .q(fa_d$9$q),
-        .clock(fa_d$9$clock)
-    );
-    sat$back$fa_d$10 fa_d$10(
-        .d(fa_d$10$d),
-        .q(fa_d$10$q),
-        .clock(fa_d$10$clock)
-    );
-    sat$back$fa_d$11 fa_d$11(
-        .d(fa_d$11$d),
-        .q(fa_d$11$q),
-        .clock(fa_d$11$clock)
-    );
-    sat$back$fa_d$12 fa_d$12(
-        .d(fa_d$12$d),
-        .q(fa_d$12$q),
-        .clock(fa_d$12$clock)
-    );
-    sat$back$fa_d$13 fa_d$13(
-        .d(fa_d$13$d),
-        .q(fa_d$13$q),
-        .clock(fa_d$13$clock)
-    );
-    sat$back$fa_d$14 fa_d$14(
-        .d(fa_d$14$d),
-        .q(fa_d$14$q),
-        .clock(fa_d$14$clock)
-    );
-    sat$back$fa_d$15 fa_d$15(
-        .d(fa_d$15$d),
-        .q(fa_d$15$q),
-        .clock(fa_d$15$clock)
-    );
-    sat$back$fa_d$16 fa_d$16(
-        .d(fa_d$16$d),
-        .q(fa_d$16$q),
-        .clock(fa_d$16$clock)
-    );
-    sat$back$fa_d$17 fa_d$17(
-        .d(fa_d$17$d),
-        .q(fa_d$17$q),
-        .clock(fa_d$17$clock)
-    );
-    sat$back$fb_d$0 fb_d$0(
-        .d(fb_d$0$d),
-        .q(fb_d$0$q),
-        .clock(fb_d$0$clock)
-    );
-    sat$back$fb_d$1 fb_d$1(
-        .d(fb_d$1$d),
-        .q(fb_d$1$q),
-        .clock(fb_d$1$clock)
-    );
-    sat$back$fb_d$2 fb_d$2(
-        .d(fb_d$2$d),
-        .q(fb_d$2$q),
-        .clock(fb_d$2$clock)
-    );
-    sat$back$fb_d$3 fb_d$3(
-        .d(fb_d$3$d),
-        .q(fb_d$3$q),
-        .clock(fb_d$3$clock)
-    );
-    sat$back$fb_d$4 fb_d$4(
-        .d(fb_d$4$d),
-        .q(fb_d$4$q),
-        .clock(fb_d$4$clock)
-    );
-    sat$back$fb_d$5 fb_d$5(
-        .d(fb_d$5$d),
-        .q(fb_d$5$q),
-        .clock(fb_d$5$clock)
-    );
-    sat$back$fb_d$6 fb_d$6(
-        .d(fb_d$6$d),
-        .q(fb_d$6$q),
-        .clock(fb_d$6$clock)
-    );
-    sat$back$fb_d$7 fb_d$7(
-        .d(fb_d$7$d),
-        .q(fb_d$7$q),
-        .clock(fb_d$7$clock)
-    );
-    sat$back$fb_d$8 fb_d$8(
-        .d(fb_d$8$d),
-        .q(fb_d$8$q),
-        .clock(fb_d$8$clock)
-    );
-    sat$back$fb_d$9 fb_d$9(
-        .d(fb_d$9$d),
-        .q(fb_d$9$q),
-        .clock(fb_d$9$clock)
-    );
-    sat$back$fb_d$10 fb_d$10(
-        .d(fb_d$10$d),
-        .q(fb_d$10$q),
-        .clock(fb_d$10$clock)
-    );
-    sat$back$fb_d$11 fb_d$11(
-        .d(fb_d$11$d),
-        .q(fb_d$11$q),
-        .clock(fb_d$11$clock)
-    );
-    sat$back$fb_d$12 fb_d$12(
-        .d(fb_d$12$d),
-        .q(fb_d$12$q),
-        .clock(fb_d$12$clock)
-    );
-    sat$back$fb_d$13 fb_d$13(
-        .d(fb_d$13$d),
-        .q(fb_d$13$q),
-        .clock(fb_d$13$clock)
-    );
-    sat$back$fb_d$14 fb_d$14(
-        .d(fb_d$14$d),
-        .q(fb_d$14$q),
-        .clock(fb_d$14$clock)
-    );
-    sat$back$fb_d$15 fb_d$15(
-        .d(fb_d$15$d),
-        .q(fb_d$15$q),
-        .clock(fb_d$15$clock)
-    );
-    sat$back$fb_d$16 fb_d$16(
-        .d(fb_d$16$d),
-        .q(fb_d$16$q),
-        .clock(fb_d$16$clock)
-    );
-    sat$back$fb_d$17 fb_d$17(
-        .d(fb_d$17$d),
-        .q(fb_d$17$q),
-        .clock(fb_d$17$clock)
-    );
-    sat$back$ra_d$0 ra_d$0(
-        .d(ra_d$0$d),
-        .q(ra_d$0$q),
-        .clock(ra_d$0$clock)
-    );
-    sat$back$ra_d$1 ra_d$1(
-        .d(ra_d$1$d),
-        .q(ra_d$1$q),
-        .clock(ra_d$1$clock)
-    );
-    sat$back$ra_d$2 ra_d$2(
-        .d(ra_d$2$d),
-        .q(ra_d$2$q),
-        .clock(ra_d$2$clock)
-    );
-    sat$back$ra_d$3 ra_d$3(
-        .d(ra_d$3$d),
-        .q(ra_d$3$q),
-        .clock(ra_d$3$clock)
-    );
-    sat$back$ra_d$4 ra_d$4(
-        .d(ra_d$4$d),
-        .q(ra_d$4$q),
-        .clock(ra_d$4$clock)
-    );
-    sat$back$ra_d$5 ra_d$5(
-        .d(ra_d$5$d),
-        .q(ra_d$5$q),
-        .clock(ra_d$5$clock)
-    );
-    sat$back$ra_d$6 ra_d$6(
-        .d(ra_d$6$d),
-        .q(ra_d$6$q),
-        .clock(ra_d$6$clock)
-    );
-    sat$back$ra_d$7 ra_d$7(
-        .d(ra_d$7$d),
-        .q(ra_d$7$q),
-        .clock(ra_d$7$clock)
-    );
-    sat$back$ra_d$8 ra_d$8(
-        .d(ra_d$8$d),
-        .q(ra_d$8$q),
-        .clock(ra_d$8$clock)
-    );
-    sat$back$ra_d$9 ra_d$9(
-        .d(ra_d$9$d),
-        .q(ra_d$9$q),
-        .clock(ra_d$9$clock)
-    );
-    sat$back$ra_d$10 ra_d$10(
-        .d(ra_d$10$d),
-        .q(ra_d$10$q),
-        .clock(ra_d$10$clock)
-    );
-    sat$back$ra_d$11 ra_d$11(
-        .d(ra_d$11$d),
-        .q(ra_d$11$q),
-        .clock(ra_d$11$clock)
-    );
-    sat$back$ra_d$12 ra_d$12(
-        .d(ra_d$12$d),
-        .q(ra_d$12$q),
-        .clock(ra_d$12$clock)
-    );
-    sat$back$ra_d$13 ra_d$13(
-        .d(ra_d$13$d),
-        .q(ra_d$13$q),
-        .clock(ra_d$13$clock)
-    );
-    sat$back$ra_d$14 ra_d$14(
-        .d(ra_d$14$d),
-        .q(ra_d$14$q),
-        .clock(ra_d$14$clock)
-    );
-    sat$back$ra_d$15 ra_d$15(
-        .d(ra_d$15$d),
-        .q(ra_d$15$q),
-        .clock(ra_d$15$clock)
-    );
-    sat$back$ra_d$16 ra_d$16(
-        .d(ra_d$16$d),
-        .q(ra_d$16$q),
-        .clock(ra_d$16$clock)
-    );
-    sat$back$ra_d$17 ra_d$17(
-        .d(ra_d$17$d),
-        .q(ra_d$17$q),
-        .clock(ra_d$17$clock)
-    );
-    sat$back$ra_d$18 ra_d$18(
-        .d(ra_d$18$d),
-        .q(ra_d$18$q),
-        .clock(ra_d$18$clock)
-    );
-    sat$back$ra_d$19 ra_d$19(
-        .d(ra_d$19$d),
-        .q(ra_d$19$q),
-        .clock(ra_d$19$clock)
-    );
-    sat$back$ra_d$20 ra_d$20(
-        .d(ra_d$20$d),
-        .q(ra_d$20$q),
-        .clock(ra_d$20$clock)
-    );
-    sat$back$ra_d$21 ra_d$21(
-        .d(ra_d$21$d),
-        .q(ra_d$21$q),
-        .clock(ra_d$21$clock)
-    );
-    sat$back$ra_d$22 ra_d$22(
-        .d(ra_d$22$d),
-        .q(ra_d$22$q),
-        .clock(ra_d$22$clock)
-    );
-    sat$back$ra_d$23 ra_d$23(
-        .d(ra_d$23$d),
-        .q(ra_d$23$q),
-        .clock(ra_d$23$clock)
-    );
-    sat$back$ra_d$24 ra_d$24(
-        .d(ra_d$24$d),
-        .q(ra_d$24$q),
-        .clock(ra_d$24$clock)
-    );
-    sat$back$ra_d$25 ra_d$25(
-        .d(ra_d$25$d),
-        .q(ra_d$25$q),
-        .clock(ra_d$25$clock)
-    );
-    sat$back$ra_d$26 ra_d$26(
-        .d(ra_d$26$d),
-        .q(ra_d$26$q),
-        .clock(ra_d$26$clock)
-    );
-    sat$back$ra_d$27 ra_d$27(
-        .d(ra_d$27$d),
-        .q(ra_d$27$q),
-        .clock(ra_d$27$clock)
-    );
-    sat$back$ra_d$28 ra_d$28(
-        .d(ra_d$28$d),
-        .q(ra_d$28$q),
-        .clock(ra_d$28$clock)
-    );
-    sat$back$ra_d$29 ra_d$29(
-        .d(ra_d$29$d),
-        .q(ra_d$29$q),
-        .clock(ra_d$29$clock)
-    );
-    sat$back$ra_d$30 ra_d$30(
-        .d(ra_d$30$d),
-        .q(ra_d$30$q),
-        .clock(ra_d$30$clock)
-    );
-    sat$back$ra_d$31 ra_d$31(
-        .d(ra_d$31$d),
-        .q(ra_d$31$q),
-        .clock(ra_d$31$clock)
-    );
-    sat$back$ra_d$32 ra_d$32(
-        .d(ra_d$32$d),
-        .q(ra_d$32$q),
-        .clock(ra_d$32$clock)
-    );
-    sat$back$ra_d$33 ra_d$33(
-        .d(ra_d$33$d),
-        .q(ra_d$33$q),
-        .clock(ra_d$33$clock)
-    );
-    sat$back$ra_d$34 ra_d$34(
-        .d(ra_d$34$d),
-        .q(ra_d$34$q),
-        .clock(ra_d$34$clock)
-    );
-    sat$back$ra_d$35 ra_d$35(
-        .d(ra_d$35$d),
-        .q(ra_d$35$q),
-        .clock(ra_d$35$clock)
-    );
-    sat$back$ra_d$36 ra_d$36(
-        .d(ra_d$36$d),
-        .q(ra_d$36$q),
-        .clock(ra_d$36$clock)
-    );
-    sat$back$ra_d$37 ra_d$37(
-        .d(ra_d$37$d),
-        .q(ra_d$37$q),
-        .clock(ra_d$37$clock)
-    );
-    sat$back$ra_d$38 ra_d$38(
-        .d(ra_d$38$d),
-        .q(ra_d$38$q),
-        .clock(ra_d$38$clock)
-    );
-    sat$back$ra_d$39 ra_d$39(
-        .d(ra_d$39$d),
-        .q(ra_d$39$q),
-        .clock(ra_d$39$clock)
-    );
-    sat$back$ra_d$40 ra_d$40(
-        .d(ra_d$40$d),
-        .q(ra_d$40$q),
-        .clock(ra_d$40$clock)
-    );
-    sat$back$ra_d$41 ra_d$41(
-        .d(ra_d$41$d),
-        .q(ra_d$41$q),
-        .clock(ra_d$41$clock)
-    );
-    sat$back$ra_d$42 ra_d$42(
-        .d(ra_d$42$d),
-        .q(ra_d$42$q),
-        .clock(ra_d$42$clock)
-    );
-    sat$back$ra_d$43 ra_d$43(
-        .d(ra_d$43$d),
-        .q(ra_d$43$q),
-        .clock(ra_d$43$clock)
-    );
-    sat$back$ra_d$44 ra_d$44(
-        .d(ra_d$44$d),
-        .q(ra_d$44$q),
-        .clock(ra_d$44$clock)
-    );
-    sat$back$ra_d$45 ra_d$45(
-        .d(ra_d$45$d),
-        .q(ra_d$45$q),
-        .clock(ra_d$45$clock)
-    );
-    sat$back$ra_d$46 ra_d$46(
-        .d(ra_d$46$d),
-        .q(ra_d$46$q),
-        .clock(ra_d$46$clock)
-    );
-    sat$back$ra_d$47 ra_d$47(
-        .d(ra_d$47$d),
-        .q(ra_d$47$q),
-        .clock(ra_d$47$clock)
-    );
-    sat$back$ra_d$48 ra_d$48(
-        .d(ra_d$48$d),
-        .q(ra_d$48$q),
-        .clock(ra_d$48$clock)
-    );
-    sat$back$ra_d$49 ra_d$49(
-        .d(ra_d$49$d),
-        .q(ra_d$49$q),
-        .clock(ra_d$49$clock)
-    );
-    sat$back$ra_d$50 ra_d$50(
-        .d(ra_d$50$d),
-        .q(ra_d$50$q),
-        .clock(ra_d$50$clock)
-    );
-    sat$back$ra_d$51 ra_d$51(
-        .d(ra_d$51$d),
-        .q(ra_d$51$q),
-        .clock(ra_d$51$clock)
-    );
-    sat$back$ra_d$52 ra_d$52(
-        .d(ra_d$52$d),
-        .q(ra_d$52$q),
-        .clock(ra_d$52$clock)
-    );
-    sat$back$ra_d$53 ra_d$53(
-        .d(ra_d$53$d),
-        .q(ra_d$53$q),
-        .clock(ra_d$53$clock)
-    );
-    sat$back$pa_d$0 pa_d$0(
-        .d(pa_d$0$d),
-        .q(pa_d$0$q),
-        .clock(pa_d$0$clock)
-    );
-    sat$back$pa_d$1 pa_d$1(
-        .d(pa_d$1$d),
-        .q(pa_d$1$q),
-        .clock(pa_d$1$clock)
-    );
-    sat$back$pa_d$2 pa_d$2(
-        .d(pa_d$2$d),
-        .q(pa_d$2$q),
-        .clock(pa_d$2$clock)
-    );
-    sat$back$pa_d$3 pa_d$3(
-        .d(pa_d$3$d),
-        .q(pa_d$3$q),
-        .clock(pa_d$3$clock)
-    );
-    sat$back$pa_d$4 pa_d$4(
-        .d(pa_d$4$d),
-        .q(pa_d$4$q),
-        .clock(pa_d$4$clock)
-    );
-    sat$back$pa_d$5 pa_d$5(
-        .d(pa_d$5$d),
-        .q(pa_d$5$q),
-        .clock(pa_d$5$clock)
-    );
-    sat$back$pa_d$6 pa_d$6(
-        .d(pa_d$6$d),
-        .q(pa_d$6$q),
-        .clock(pa_d$6$clock)
-    );
-    sat$back$pa_d$7 pa_d$7(
-        .d(pa_d$7$d),
-        .q(pa_d$7$q),
-        .clock(pa_d$7$clock)
-    );
-    sat$back$pa_d$8 pa_d$8(
-        .d(pa_d$8$d),
-        .q(pa_d$8$q),
-        .clock(pa_d$8$clock)
-    );
-    sat$back$pa_d$9 pa_d$9(
-        .d(pa_d$9$d),
-        .q(pa_d$9$q),
-        .clock(pa_d$9$clock)
-    );
-    sat$back$pa_d$10 pa_d$10(
-        .d(pa_d$10$d),
-        .q(pa_d$10$q),
-        .clock(pa_d$10$clock)
-    );
-    sat$back$pa_d$11 pa_d$11(
-        .d(pa_d$11$d),
-        .q(pa_d$11$q),
-        .clock(pa_d$11$clock)
-    );
-    sat$back$pa_d$12 pa_d$12(
-        .d(pa_d$12$d),
-        .q(pa_d$12$q),
-        .clock(pa_d$12$clock)
-    );
-    sat$back$pa_d$13 pa_d$13(
-        .d(pa_d$13$d),
-        .q(pa_d$13$q),
-        .clock(pa_d$13$clock)
-    );
-    sat$back$pa_d$14 pa_d$14(
-        .d(pa_d$14$d),
-        .q(pa_d$14$q),
-        .clock(pa_d$14$clock)
-    );
-    sat$back$pa_d$15 pa_d$15(
-        .d(pa_d$15$d),
-        .q(pa_d$15$q),
-        .clock(pa_d$15$clock)
-    );
-    sat$back$pa_d$16 pa_d$16(
-        .d(pa_d$16$d),
-        .q(pa_d$16$q),
-        .clock(pa_d$16$clock)
-    );
-    sat$back$pa_d$17 pa_d$17(
-        .d(pa_d$17$d),
-        .q(pa_d$17$q),
-        .clock(pa_d$17$clock)
-    );
-    sat$back$pa_d$18 pa_d$18(
-        .d(pa_d$18$d),
-        .q(pa_d$18$q),
-        .clock(pa_d$18$clock)
-    );
-    sat$back$pa_d$19 pa_d$19(
-        .d(pa_d$19$d),
-        .q(pa_d$19$q),
-        .clock(pa_d$19$clock)
-    );
-    sat$back$pa_d$20 pa_d$20(
-        .d(pa_d$20$d),
-        .q(pa_d$20$q),
-        .clock(pa_d$20$clock)
-    );
-    sat$back$pa_d$21 pa_d$21(
-        .d(pa_d$21$d),
-        .q(pa_d$21$q),
-        .clock(pa_d$21$clock)
-    );
-    sat$back$pa_d$22 pa_d$22(
-        .d(pa_d$22$d),
-        .q(pa_d$22$q),
-        .clock(pa_d$22$clock)
-    );
-    sat$back$pa_d$23 pa_d$23(
-        .d(pa_d$23$d),
-        .q(pa_d$23$q),
-        .clock(pa_d$23$clock)
-    );
-    sat$back$pa_d$24 pa_d$24(
-        .d(pa_d$24$d),
-        .q(pa_d$24$q),
-        .clock(pa_d$24$clock)
-    );
-    sat$back$pa_d$25 pa_d$25(
-        .d(pa_d$25$d),
-        .q(pa_d$25$q),
-        .clock(pa_d$25$clock)
-    );
-    sat$back$pa_d$26 pa_d$26(
-        .d(pa_d$26$d),
-        .q(pa_d$26$q),
-        .clock(pa_d$26$clock)
-    );
-    sat$back$pa_d$27 pa_d$27(
-        .d(pa_d$27$d),
-        .q(pa_d$27$q),
-        .clock(pa_d$27$clock)
-    );
-    sat$back$pa_d$28 pa_d$28(
-        .d(pa_d$28$d),
-        .q(pa_d$28$q),
-        .clock(pa_d$28$clock)
-    );
-    sat$back$pa_d$29 pa_d$29(
-        .d(pa_d$29$d),
-        .q(pa_d$29$q),
-        .clock(pa_d$29$clock)
-    );
-    sat$back$pa_d$30 pa_d$30(
-        .d(pa_d$30$d),
-        .q(pa_d$30$q),
-        .clock(pa_d$30$clock)
-    );
-    sat$back$pa_d$31 pa_d$31(
-        .d(pa_d$31$d),
-        .q(pa_d$31$q),
-        .clock(pa_d$31$clock)
-    );
-    sat$back$pa_d$32 pa_d$32(
-        .d(pa_d$32$d),
-        .q(pa_d$32$q),
-        .clock(pa_d$32$clock)
-    );
-    sat$back$pa_d$33 pa_d$33(
-        .d(pa_d$33$d),
-        .q(pa_d$33$q),
-        .clock(pa_d$33$clock)
-    );
-    sat$back$pa_d$34 pa_d$34(
-        .d(pa_d$34$d),
-        .q(pa_d$34$q),
-        .clock(pa_d$34$clock)
-    );
-    sat$back$pa_d$35 pa_d$35(
-        .d(pa_d$35$d),
-        .q(pa_d$35$q),
-        .clock(pa_d$35$clock)
-    );
-    sat$back$pa_d$36 pa_d$36(
-        .d(pa_d$36$d),
-        .q(pa_d$36$q),
-        .clock(pa_d$36$clock)
-    );
-    sat$back$pa_d$37 pa_d$37(
-        .d(pa_d$37$d),
-        .q(pa_d$37$q),
-        .clock(pa_d$37$clock)
-    );
-    sat$back$pa_d$38 pa_d$38(
-        .d(pa_d$38$d),
-        .q(pa_d$38$q),
-        .clock(pa_d$38$clock)
-    );
-    sat$back$pa_d$39 pa_d$39(
-        .d(pa_d$39$d),
-        .q(pa_d$39$q),
-        .clock(pa_d$39$clock)
-    );
-    sat$back$pa_d$40 pa_d$40(
-        .d(pa_d$40$d),
-        .q(pa_d$40$q),
-        .clock(pa_d$40$clock)
-    );
-    sat$back$pa_d$41 pa_d$41(
-        .d(pa_d$41$d),
-        .q(pa_d$41$q),
-        .clock(pa_d$41$clock)
-    );
-    sat$back$pa_d$42 pa_d$42(
-        .d(pa_d$42$d),
-        .q(pa_d$42$q),
-        .clock(pa_d$42$clock)
-    );
-    sat$back$pa_d$43 pa_d$43(
-        .d(pa_d$43$d),
-        .q(pa_d$43$q),
-        .clock(pa_d$43$clock)
-    );
-    sat$back$pa_d$44 pa_d$44(
-        .d(pa_d$44$d),
-        .q(pa_d$44$q),
-        .clock(pa_d$44$clock)
+    sat$back$abs_t_decide$0 abs_t_decide$0(
+        .clock(abs_t_decide$0$clock),
+        .d(abs_t_decide$0$d),
+        .q(abs_t_decide$0$q)
+    );
+    sat$back$abs_t_decide$1 abs_t_decide$1(
+        .clock(abs_t_decide$1$clock),
+        .d(abs_t_decide$1$d),
+        .q(abs_t_decide$1$q)
+    );
+    sat$back$abs_t_decide$2 abs_t_decide$2(
+        .clock(abs_t_decide$2$clock),
+        .d(abs_t_decide$2$d),
+        .q(abs_t_decide$2$q)
+    );
+    sat$back$abs_u_decide$0 abs_u_decide$0(
+        .clock(abs_u_decide$0$clock),
+        .d(abs_u_decide$0$d),
+        .q(abs_u_decide$0$q)
+    );
+    sat$back$abs_u_decide$1 abs_u_decide$1(
+        .clock(abs_u_decide$1$clock),
+        .d(abs_u_decide$1$d),
+        .q(abs_u_decide$1$q)
+    );
+    sat$back$abs_u_decide$2 abs_u_decide$2(
+        .clock(abs_u_decide$2$clock),
+        .d(abs_u_decide$2$d),
+        .q(abs_u_decide$2$q)
+    );
+    sat$back$face_a_decide$0 face_a_decide$0(
+        .clock(face_a_decide$0$clock),
+        .d(face_a_decide$0$d),
+        .q(face_a_decide$0$q)
+    );
+    sat$back$face_a_decide$1 face_a_decide$1(
+        .clock(face_a_decide$1$clock),
+        .d(face_a_decide$1$d),
+        .q(face_a_decide$1$q)
+    );
+    sat$back$face_a_decide$2 face_a_decide$2(
+        .clock(face_a_decide$2$clock),
+        .d(face_a_decide$2$d),
+        .q(face_a_decide$2$q)
+    );
+    sat$back$face_b_decide$0 face_b_decide$0(
+        .clock(face_b_decide$0$clock),
+        .d(face_b_decide$0$d),
+        .q(face_b_decide$0$q)
+    );
+    sat$back$face_b_decide$1 face_b_decide$1(
+        .clock(face_b_decide$1$clock),
+        .d(face_b_decide$1$d),
+        .q(face_b_decide$1$q)
+    );
+    sat$back$face_b_decide$2 face_b_decide$2(
+        .clock(face_b_decide$2$clock),
+        .d(face_b_decide$2$d),
+        .q(face_b_decide$2$q)
+    );
+    sat$back$r_a_decide$0 r_a_decide$0(
+        .clock(r_a_decide$0$clock),
+        .d(r_a_decide$0$d),
+        .q(r_a_decide$0$q)
+    );
+    sat$back$r_a_decide$1 r_a_decide$1(
+        .clock(r_a_decide$1$clock),
+        .d(r_a_decide$1$d),
+        .q(r_a_decide$1$q)
+    );
+    sat$back$r_a_decide$2 r_a_decide$2(
+        .clock(r_a_decide$2$clock),
+        .d(r_a_decide$2$d),
+        .q(r_a_decide$2$q)
+    );
+    sat$back$r_a_decide$3 r_a_decide$3(
+        .clock(r_a_decide$3$clock),
+        .d(r_a_decide$3$d),
+        .q(r_a_decide$3$q)
+    );
+    sat$back$r_a_decide$4 r_a_decide$4(
+        .clock(r_a_decide$4$clock),
+        .d(r_a_decide$4$d),
+        .q(r_a_decide$4$q)
+    );
+    sat$back$r_a_decide$5 r_a_decide$5(
+        .clock(r_a_decide$5$clock),
+        .d(r_a_decide$5$d),
+        .q(r_a_decide$5$q)
+    );
+    sat$back$r_a_decide$6 r_a_decide$6(
+        .clock(r_a_decide$6$clock),
+        .d(r_a_decide$6$d),
+        .q(r_a_decide$6$q)
+    );
+    sat$back$r_a_decide$7 r_a_decide$7(
+        .clock(r_a_decide$7$clock),
+        .d(r_a_decide$7$d),
+        .q(r_a_decide$7$q)
+    );
+    sat$back$r_a_decide$8 r_a_decide$8(
+        .clock(r_a_decide$8$clock),
+        .d(r_a_decide$8$d),
+        .q(r_a_decide$8$q)
+    );
+    sat$back$abs_p_decide$0 abs_p_decide$0(
+        .clock(abs_p_decide$0$clock),
+        .d(abs_p_decide$0$d),
+        .q(abs_p_decide$0$q)
+    );
+    sat$back$abs_p_decide$1 abs_p_decide$1(
+        .clock(abs_p_decide$1$clock),
+        .d(abs_p_decide$1$d),
+        .q(abs_p_decide$1$q)
+    );
+    sat$back$abs_p_decide$2 abs_p_decide$2(
+        .clock(abs_p_decide$2$clock),
+        .d(abs_p_decide$2$d),
+        .q(abs_p_decide$2$q)
+    );
+    sat$back$abs_p_decide$3 abs_p_decide$3(
+        .clock(abs_p_decide$3$clock),
+        .d(abs_p_decide$3$d),
+        .q(abs_p_decide$3$q)
+    );
+    sat$back$abs_p_decide$4 abs_p_decide$4(
+        .clock(abs_p_decide$4$clock),
+        .d(abs_p_decide$4$d),
+        .q(abs_p_decide$4$q)
+    );
+    sat$back$abs_p_decide$5 abs_p_decide$5(
+        .clock(abs_p_decide$5$clock),
+        .d(abs_p_decide$5$d),
+        .q(abs_p_decide$5$q)
+    );
+    sat$back$abs_p_decide$6 abs_p_decide$6(
+        .clock(abs_p_decide$6$clock),
+        .d(abs_p_decide$6$d),
+        .q(abs_p_decide$6$q)
+    );
+    sat$back$abs_p_decide$7 abs_p_decide$7(
+        .clock(abs_p_decide$7$clock),
+        .d(abs_p_decide$7$d),
+        .q(abs_p_decide$7$q)
+    );
+    sat$back$abs_p_decide$8 abs_p_decide$8(
+        .clock(abs_p_decide$8$clock),
+        .d(abs_p_decide$8$d),
+        .q(abs_p_decide$8$q)
     );
     sat$back$decide decide(
         .abs_t$0(decide$abs_t$0),
@@ -4149,106 +1791,56 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     
     // Update code
     always @(*) begin
-        valid$0$clock = clock;
-        valid$1$clock = clock;
-        valid$2$clock = clock;
-        valid$3$clock = clock;
-        valid$4$clock = clock;
-        valid$5$clock = clock;
-        valid$6$clock = clock;
-        valid$7$clock = clock;
-        valid$8$clock = clock;
-        valid$9$clock = clock;
-        valid$10$clock = clock;
-        valid$11$clock = clock;
-        valid$12$clock = clock;
-        valid$13$clock = clock;
-        valid$14$clock = clock;
-        valid$15$clock = clock;
-        ha$0$clock = clock;
-        ha$1$clock = clock;
-        ha$2$clock = clock;
-        ha$3$clock = clock;
-        ha$4$clock = clock;
-        ha$5$clock = clock;
-        ha$6$clock = clock;
-        ha$7$clock = clock;
-        ha$8$clock = clock;
-        ha$9$clock = clock;
-        ha$10$clock = clock;
-        ha$11$clock = clock;
-        ha$12$clock = clock;
-        ha$13$clock = clock;
-        ha$14$clock = clock;
-        ha$15$clock = clock;
-        ha$16$clock = clock;
-        ha$17$clock = clock;
-        ha$18$clock = clock;
-        ha$19$clock = clock;
-        ha$20$clock = clock;
-        ha$21$clock = clock;
-        ha$22$clock = clock;
-        ha$23$clock = clock;
-        ha$24$clock = clock;
-        ha$25$clock = clock;
-        ha$26$clock = clock;
-        ha$27$clock = clock;
-        ha$28$clock = clock;
-        ha$29$clock = clock;
-        ha$30$clock = clock;
-        ha$31$clock = clock;
-        ha$32$clock = clock;
-        ha$33$clock = clock;
-        ha$34$clock = clock;
-        ha$35$clock = clock;
-        hb$0$clock = clock;
-        hb$1$clock = clock;
-        hb$2$clock = clock;
-        hb$3$clock = clock;
-        hb$4$clock = clock;
-        hb$5$clock = clock;
-        hb$6$clock = clock;
-        hb$7$clock = clock;
-        hb$8$clock = clock;
-        hb$9$clock = clock;
-        hb$10$clock = clock;
-        hb$11$clock = clock;
-        hb$12$clock = clock;
-        hb$13$clock = clock;
-        hb$14$clock = clock;
-        hb$15$clock = clock;
-        hb$16$clock = clock;
-        hb$17$clock = clock;
-        hb$18$clock = clock;
-        hb$19$clock = clock;
-        hb$20$clock = clock;
-        hb$21$clock = clock;
-        hb$22$clock = clock;
-        hb$23$clock = clock;
-        hb$24$clock = clock;
-        hb$25$clock = clock;
-        hb$26$clock = clock;
-        hb$27$clock = clock;
-        hb$28$clock = clock;
-        hb$29$clock = clock;
-        hb$30$clock = clock;
-        hb$31$clock = clock;
-        hb$32$clock = clock;
-        hb$33$clock = clock;
-        hb$34$clock = clock;
-        hb$35$clock = clock;
-        pm$0$clock = clock;
-        pm$1$clock = clock;
-        pm$2$clock = clock;
-        pm$3$clock = clock;
-        pm$4$clock = clock;
-        pm$5$clock = clock;
-        pm$6$clock = clock;
-        pm$7$clock = clock;
-        pm$8$clock = clock;
-        pm$9$clock = clock;
-        pm$10$clock = clock;
-        pm$11$clock = clock;
+        valid$clock = clock;
+        margin_decide$clock = clock;
+        ha_products$0$clock = clock;
+        hb_products$0$clock = clock;
+        ha_r_b$0$clock = clock;
+        hb_r_b$0$clock = clock;
+        ha_decide$0$clock = clock;
+        hb_decide$0$clock = clock;
+        abs_t_decide$0$clock = clock;
+        abs_u_decide$0$clock = clock;
+        face_a_decide$0$clock = clock;
+        face_b_decide$0$clock = clock;
+        ha_products$1$clock = clock;
+        hb_products$1$clock = clock;
+        ha_r_b$1$clock = clock;
+        hb_r_b$1$clock = clock;
+        ha_decide$1$clock = clock;
+        hb_decide$1$clock = clock;
+        abs_t_decide$1$clock = clock;
+        abs_u_decide$1$clock = clock;
+        face_a_decide$1$clock = clock;
+        face_b_decide$1$clock = clock;
+        ha_products$2$clock = clock;
+        hb_products$2$clock = clock;
+        ha_r_b$2$clock = clock;
+        hb_r_b$2$clock = clock;
+        ha_decide$2$clock = clock;
+        hb_decide$2$clock = clock;
+        abs_t_decide$2$clock = clock;
+        abs_u_decide$2$clock = clock;
+        face_a_decide$2$clock = clock;
+        face_b_decide$2$clock = clock;
+        r_a_decide$0$clock = clock;
+        abs_p_decide$0$clock = clock;
+        r_a_decide$1$clock = clock;
+        abs_p_decide$1$clock = clock;
+        r_a_decide$2$clock = clock;
+        abs_p_decide$2$clock = clock;
+        r_a_decide$3$clock = clock;
+        abs_p_decide$3$clock = clock;
+        r_a_decide$4$clock = clock;
+        abs_p_decide$4$clock = clock;
+        r_a_decide$5$clock = clock;
+        abs_p_decide$5$clock = clock;
+        r_a_decide$6$clock = clock;
+        abs_p_decide$6$clock = clock;
+        r_a_decide$7$clock = clock;
+        abs_p_decide$7$clock = clock;
+        r_a_decide$8$clock = clock;
+        abs_p_decide$8$clock = clock;
         face_a_dot$0$clock = clock;
         face_a_dot$1$clock = clock;
         face_a_dot$2$clock = clock;
@@ -4309,309 +1901,28 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         rb_dot$6$clock = clock;
         rb_dot$7$clock = clock;
         rb_dot$8$clock = clock;
-        at_d$0$clock = clock;
-        at_d$1$clock = clock;
-        at_d$2$clock = clock;
-        at_d$3$clock = clock;
-        at_d$4$clock = clock;
-        at_d$5$clock = clock;
-        at_d$6$clock = clock;
-        at_d$7$clock = clock;
-        at_d$8$clock = clock;
-        at_d$9$clock = clock;
-        at_d$10$clock = clock;
-        at_d$11$clock = clock;
-        at_d$12$clock = clock;
-        at_d$13$clock = clock;
-        at_d$14$clock = clock;
-        at_d$15$clock = clock;
-        at_d$16$clock = clock;
-        at_d$17$clock = clock;
-        at_d$18$clock = clock;
-        at_d$19$clock = clock;
-        at_d$20$clock = clock;
-        at_d$21$clock = clock;
-        at_d$22$clock = clock;
-        at_d$23$clock = clock;
-        at_d$24$clock = clock;
-        at_d$25$clock = clock;
-        at_d$26$clock = clock;
-        at_d$27$clock = clock;
-        at_d$28$clock = clock;
-        at_d$29$clock = clock;
-        at_d$30$clock = clock;
-        at_d$31$clock = clock;
-        at_d$32$clock = clock;
-        au_d$0$clock = clock;
-        au_d$1$clock = clock;
-        au_d$2$clock = clock;
-        au_d$3$clock = clock;
-        au_d$4$clock = clock;
-        au_d$5$clock = clock;
-        au_d$6$clock = clock;
-        au_d$7$clock = clock;
-        au_d$8$clock = clock;
-        au_d$9$clock = clock;
-        au_d$10$clock = clock;
-        au_d$11$clock = clock;
-        au_d$12$clock = clock;
-        au_d$13$clock = clock;
-        au_d$14$clock = clock;
-        au_d$15$clock = clock;
-        au_d$16$clock = clock;
-        au_d$17$clock = clock;
-        au_d$18$clock = clock;
-        au_d$19$clock = clock;
-        au_d$20$clock = clock;
-        au_d$21$clock = clock;
-        au_d$22$clock = clock;
-        au_d$23$clock = clock;
-        au_d$24$clock = clock;
-        au_d$25$clock = clock;
-        au_d$26$clock = clock;
-        au_d$27$clock = clock;
-        au_d$28$clock = clock;
-        au_d$29$clock = clock;
-        au_d$30$clock = clock;
-        au_d$31$clock = clock;
-        au_d$32$clock = clock;
-        fa_d$0$clock = clock;
-        fa_d$1$clock = clock;
-        fa_d$2$clock = clock;
-        fa_d$3$clock = clock;
-        fa_d$4$clock = clock;
-        fa_d$5$clock = clock;
-        fa_d$6$clock = clock;
-        fa_d$7$clock = clock;
-        fa_d$8$clock = clock;
-        fa_d$9$clock = clock;
-        fa_d$10$clock = clock;
-        fa_d$11$clock = clock;
-        fa_d$12$clock = clock;
-        fa_d$13$clock = clock;
-        fa_d$14$clock = clock;
-        fa_d$15$clock = clock;
-        fa_d$16$clock = clock;
-        fa_d$17$clock = clock;
-        fb_d$0$clock = clock;
-        fb_d$1$clock = clock;
-        fb_d$2$clock = clock;
-        fb_d$3$clock = clock;
-        fb_d$4$clock = clock;
-        fb_d$5$clock = clock;
-        fb_d$6$clock = clock;
-        fb_d$7$clock = clock;
-        fb_d$8$clock = clock;
-        fb_d$9$clock = clock;
-        fb_d$10$clock = clock;
-        fb_d$11$clock = clock;
-        fb_d$12$clock = clock;
-        fb_d$13$clock = clock;
-        fb_d$14$clock = clock;
-        fb_d$15$clock = clock;
-        fb_d$16$clock = clock;
-        fb_d$17$clock = clock;
-        ra_d$0$clock = clock;
-        ra_d$1$clock = clock;
-        ra_d$2$clock = clock;
-        ra_d$3$clock = clock;
-        ra_d$4$clock = clock;
-        ra_d$5$clock = clock;
-        ra_d$6$clock = clock;
-        ra_d$7$clock = clock;
-        ra_d$8$clock = clock;
-        ra_d$9$clock = clock;
-        ra_d$10$clock = clock;
-        ra_d$11$clock = clock;
-        ra_d$12$clock = clock;
-        ra_d$13$clock = clock;
-        ra_d$14$clock = clock;
-        ra_d$15$clock = clock;
-        ra_d$16$clock = clock;
-        ra_d$17$clock = clock;
-        ra_d$18$clock = clock;
-        ra_d$19$clock = clock;
-        ra_d$20$clock = clock;
-        ra_d$21$clock = clock;
-        ra_d$22$clock = clock;
-        ra_d$23$clock = clock;
-        ra_d$24$clock = clock;
-        ra_d$25$clock = clock;
-        ra_d$26$clock = clock;
-        ra_d$27$clock = clock;
-        ra_d$28$clock = clock;
-        ra_d$29$clock = clock;
-        ra_d$30$clock = clock;
-        ra_d$31$clock = clock;
-        ra_d$32$clock = clock;
-        ra_d$33$clock = clock;
-        ra_d$34$clock = clock;
-        ra_d$35$clock = clock;
-        ra_d$36$clock = clock;
-        ra_d$37$clock = clock;
-        ra_d$38$clock = clock;
-        ra_d$39$clock = clock;
-        ra_d$40$clock = clock;
-        ra_d$41$clock = clock;
-        ra_d$42$clock = clock;
-        ra_d$43$clock = clock;
-        ra_d$44$clock = clock;
-        ra_d$45$clock = clock;
-        ra_d$46$clock = clock;
-        ra_d$47$clock = clock;
-        ra_d$48$clock = clock;
-        ra_d$49$clock = clock;
-        ra_d$50$clock = clock;
-        ra_d$51$clock = clock;
-        ra_d$52$clock = clock;
-        ra_d$53$clock = clock;
-        pa_d$0$clock = clock;
-        pa_d$1$clock = clock;
-        pa_d$2$clock = clock;
-        pa_d$3$clock = clock;
-        pa_d$4$clock = clock;
-        pa_d$5$clock = clock;
-        pa_d$6$clock = clock;
-        pa_d$7$clock = clock;
-        pa_d$8$clock = clock;
-        pa_d$9$clock = clock;
-        pa_d$10$clock = clock;
-        pa_d$11$clock = clock;
-        pa_d$12$clock = clock;
-        pa_d$13$clock = clock;
-        pa_d$14$clock = clock;
-        pa_d$15$clock = clock;
-        pa_d$16$clock = clock;
-        pa_d$17$clock = clock;
-        pa_d$18$clock = clock;
-        pa_d$19$clock = clock;
-        pa_d$20$clock = clock;
-        pa_d$21$clock = clock;
-        pa_d$22$clock = clock;
-        pa_d$23$clock = clock;
-        pa_d$24$clock = clock;
-        pa_d$25$clock = clock;
-        pa_d$26$clock = clock;
-        pa_d$27$clock = clock;
-        pa_d$28$clock = clock;
-        pa_d$29$clock = clock;
-        pa_d$30$clock = clock;
-        pa_d$31$clock = clock;
-        pa_d$32$clock = clock;
-        pa_d$33$clock = clock;
-        pa_d$34$clock = clock;
-        pa_d$35$clock = clock;
-        pa_d$36$clock = clock;
-        pa_d$37$clock = clock;
-        pa_d$38$clock = clock;
-        pa_d$39$clock = clock;
-        pa_d$40$clock = clock;
-        pa_d$41$clock = clock;
-        pa_d$42$clock = clock;
-        pa_d$43$clock = clock;
-        pa_d$44$clock = clock;
         round$clock = clock;
         decide$clock = clock;
-        valid$0$d = valid_in;
-        valid$1$d = valid$0$q;
-        valid$2$d = valid$1$q;
-        valid$3$d = valid$2$q;
-        valid$4$d = valid$3$q;
-        valid$5$d = valid$4$q;
-        valid$6$d = valid$5$q;
-        valid$7$d = valid$6$q;
-        valid$8$d = valid$7$q;
-        valid$9$d = valid$8$q;
-        valid$10$d = valid$9$q;
-        valid$11$d = valid$10$q;
-        valid$12$d = valid$11$q;
-        valid$13$d = valid$12$q;
-        valid$14$d = valid$13$q;
-        valid$15$d = valid$14$q;
-        pm$0$d = pair_margin;
-        pm$1$d = pm$0$q;
-        pm$2$d = pm$1$q;
-        pm$3$d = pm$2$q;
-        pm$4$d = pm$3$q;
-        pm$5$d = pm$4$q;
-        pm$6$d = pm$5$q;
-        pm$7$d = pm$6$q;
-        pm$8$d = pm$7$q;
-        pm$9$d = pm$8$q;
-        pm$10$d = pm$9$q;
-        pm$11$d = pm$10$q;
-        ha$0$d = half_a$0;
-        hb$0$d = half_b$0;
-        ha$1$d = half_a$1;
-        hb$1$d = half_b$1;
-        ha$2$d = half_a$2;
-        hb$2$d = half_b$2;
-        ha$3$d = ha$0$q;
-        hb$3$d = hb$0$q;
-        ha$4$d = ha$1$q;
-        hb$4$d = hb$1$q;
-        ha$5$d = ha$2$q;
-        hb$5$d = hb$2$q;
-        ha$6$d = ha$3$q;
-        hb$6$d = hb$3$q;
-        ha$7$d = ha$4$q;
-        hb$7$d = hb$4$q;
-        ha$8$d = ha$5$q;
-        hb$8$d = hb$5$q;
-        ha$9$d = ha$6$q;
-        hb$9$d = hb$6$q;
-        ha$10$d = ha$7$q;
-        hb$10$d = hb$7$q;
-        ha$11$d = ha$8$q;
-        hb$11$d = hb$8$q;
-        ha$12$d = ha$9$q;
-        hb$12$d = hb$9$q;
-        ha$13$d = ha$10$q;
-        hb$13$d = hb$10$q;
-        ha$14$d = ha$11$q;
-        hb$14$d = hb$11$q;
-        ha$15$d = ha$12$q;
-        hb$15$d = hb$12$q;
-        ha$16$d = ha$13$q;
-        hb$16$d = hb$13$q;
-        ha$17$d = ha$14$q;
-        hb$17$d = hb$14$q;
-        ha$18$d = ha$15$q;
-        hb$18$d = hb$15$q;
-        ha$19$d = ha$16$q;
-        hb$19$d = hb$16$q;
-        ha$20$d = ha$17$q;
-        hb$20$d = hb$17$q;
-        ha$21$d = ha$18$q;
-        hb$21$d = hb$18$q;
-        ha$22$d = ha$19$q;
-        hb$22$d = hb$19$q;
-        ha$23$d = ha$20$q;
-        hb$23$d = hb$20$q;
-        ha$24$d = ha$21$q;
-        hb$24$d = hb$21$q;
-        ha$25$d = ha$22$q;
-        hb$25$d = hb$22$q;
-        ha$26$d = ha$23$q;
-        hb$26$d = hb$23$q;
-        ha$27$d = ha$24$q;
-        hb$27$d = hb$24$q;
-        ha$28$d = ha$25$q;
-        hb$28$d = hb$25$q;
-        ha$29$d = ha$26$q;
-        hb$29$d = hb$26$q;
-        ha$30$d = ha$27$q;
-        hb$30$d = hb$27$q;
-        ha$31$d = ha$28$q;
-        hb$31$d = hb$28$q;
-        ha$32$d = ha$29$q;
-        hb$32$d = hb$29$q;
-        ha$33$d = ha$30$q;
-        hb$33$d = hb$30$q;
-        ha$34$d = ha$31$q;
-        hb$34$d = hb$31$q;
-        ha$35$d = ha$32$q;
-        hb$35$d = hb$32$q;
+        valid$d = valid_in;
+        margin_decide$d = pair_margin;
+        ha_products$0$d = half_a$0;
+        hb_products$0$d = half_b$0;
+        ha_r_b$0$d = ha_products$0$q;
+        hb_r_b$0$d = hb_products$0$q;
+        ha_decide$0$d = ha_r_b$0$q;
+        hb_decide$0$d = hb_r_b$0$q;
+        ha_products$1$d = half_a$1;
+        hb_products$1$d = half_b$1;
+        ha_r_b$1$d = ha_products$1$q;
+        hb_r_b$1$d = hb_products$1$q;
+        ha_decide$1$d = ha_r_b$1$q;
+        hb_decide$1$d = hb_r_b$1$q;
+        ha_products$2$d = half_a$2;
+        hb_products$2$d = half_b$2;
+        ha_r_b$2$d = ha_products$2$q;
+        hb_r_b$2$d = hb_products$2$q;
+        ha_decide$2$d = ha_r_b$2$q;
+        hb_decide$2$d = hb_r_b$2$q;
         round$f = frac;
         round$t$0 = t$0;
         round$u$0 = u$0;
@@ -4631,62 +1942,62 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         face_a_dot$0$a0 = round$r_up$0;
         face_a_dot$0$a1 = round$r_up$1;
         face_a_dot$0$a2 = round$r_up$2;
-        face_a_dot$0$b0 = hb$0$q;
-        face_a_dot$0$b1 = hb$1$q;
-        face_a_dot$0$b2 = hb$2$q;
+        face_a_dot$0$b0 = hb_products$0$q;
+        face_a_dot$0$b1 = hb_products$1$q;
+        face_a_dot$0$b2 = hb_products$2$q;
         face_b_dot$0$a0 = round$r_up$0;
         face_b_dot$0$a1 = round$r_up$3;
         face_b_dot$0$a2 = round$r_up$6;
-        face_b_dot$0$b0 = ha$0$q;
-        face_b_dot$0$b1 = ha$1$q;
-        face_b_dot$0$b2 = ha$2$q;
+        face_b_dot$0$b0 = ha_products$0$q;
+        face_b_dot$0$b1 = ha_products$1$q;
+        face_b_dot$0$b2 = ha_products$2$q;
         face_a_dot$1$a0 = round$r_up$3;
         face_a_dot$1$a1 = round$r_up$4;
         face_a_dot$1$a2 = round$r_up$5;
-        face_a_dot$1$b0 = hb$0$q;
-        face_a_dot$1$b1 = hb$1$q;
-        face_a_dot$1$b2 = hb$2$q;
+        face_a_dot$1$b0 = hb_products$0$q;
+        face_a_dot$1$b1 = hb_products$1$q;
+        face_a_dot$1$b2 = hb_products$2$q;
         face_b_dot$1$a0 = round$r_up$1;
         face_b_dot$1$a1 = round$r_up$4;
         face_b_dot$1$a2 = round$r_up$7;
-        face_b_dot$1$b0 = ha$0$q;
-        face_b_dot$1$b1 = ha$1$q;
-        face_b_dot$1$b2 = ha$2$q;
+        face_b_dot$1$b0 = ha_products$0$q;
+        face_b_dot$1$b1 = ha_products$1$q;
+        face_b_dot$1$b2 = ha_products$2$q;
         face_a_dot$2$a0 = round$r_up$6;
         face_a_dot$2$a1 = round$r_up$7;
         face_a_dot$2$a2 = round$r_up$8;
-        face_a_dot$2$b0 = hb$0$q;
-        face_a_dot$2$b1 = hb$1$q;
-        face_a_dot$2$b2 = hb$2$q;
+        face_a_dot$2$b0 = hb_products$0$q;
+        face_a_dot$2$b1 = hb_products$1$q;
+        face_a_dot$2$b2 = hb_products$2$q;
         face_b_dot$2$a0 = round$r_up$2;
         face_b_dot$2$a1 = round$r_up$5;
         face_b_dot$2$a2 = round$r_up$8;
-        face_b_dot$2$b0 = ha$0$q;
-        face_b_dot$2$b1 = ha$1$q;
-        face_b_dot$2$b2 = ha$2$q;
+        face_b_dot$2$b0 = ha_products$0$q;
+        face_b_dot$2$b1 = ha_products$1$q;
+        face_b_dot$2$b2 = ha_products$2$q;
         p_dot$0$a0 = round$th$2;
         p_dot$0$b0 = round$rt$3;
         p_dot$0$a1 = round$th$1;
         p_dot$0$b1 = round$rt$6;
-        ra_dot$0$a0 = ha$1$q;
+        ra_dot$0$a0 = ha_products$1$q;
         ra_dot$0$b0 = round$art$6;
-        ra_dot$0$a1 = ha$2$q;
+        ra_dot$0$a1 = ha_products$2$q;
         ra_dot$0$b1 = round$art$3;
         p_dot$1$a0 = round$th$2;
         p_dot$1$b0 = round$rt$4;
         p_dot$1$a1 = round$th$1;
         p_dot$1$b1 = round$rt$7;
-        ra_dot$1$a0 = ha$1$q;
+        ra_dot$1$a0 = ha_products$1$q;
         ra_dot$1$b0 = round$art$7;
-        ra_dot$1$a1 = ha$2$q;
+        ra_dot$1$a1 = ha_products$2$q;
         ra_dot$1$b1 = round$art$4;
         p_dot$2$a0 = round$th$2;
         p_dot$2$b0 = round$rt$5;
         p_dot$2$a1 = round$th$1;
         p_dot$2$b1 = round$rt$8;
-        ra_dot$2$a0 = ha$1$q;
+        ra_dot$2$a0 = ha_products$1$q;
         ra_dot$2$b0 = round$art$8;
-        ra_dot$2$a1 = ha$2$q;
+        ra_dot$2$a1 = ha_products$2$q;
         ra_dot$2$b1 = round$art$5;
         minor_dot$0$a0 = round$rt$3;
         minor_dot$0$b0 = round$rt$7;
@@ -4704,25 +2015,25 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         p_dot$3$b0 = round$rt$6;
         p_dot$3$a1 = round$th$2;
         p_dot$3$b1 = round$rt$0;
-        ra_dot$3$a0 = ha$2$q;
+        ra_dot$3$a0 = ha_products$2$q;
         ra_dot$3$b0 = round$art$0;
-        ra_dot$3$a1 = ha$0$q;
+        ra_dot$3$a1 = ha_products$0$q;
         ra_dot$3$b1 = round$art$6;
         p_dot$4$a0 = round$th$0;
         p_dot$4$b0 = round$rt$7;
         p_dot$4$a1 = round$th$2;
         p_dot$4$b1 = round$rt$1;
-        ra_dot$4$a0 = ha$2$q;
+        ra_dot$4$a0 = ha_products$2$q;
         ra_dot$4$b0 = round$art$1;
-        ra_dot$4$a1 = ha$0$q;
+        ra_dot$4$a1 = ha_products$0$q;
         ra_dot$4$b1 = round$art$7;
         p_dot$5$a0 = round$th$0;
         p_dot$5$b0 = round$rt$8;
         p_dot$5$a1 = round$th$2;
         p_dot$5$b1 = round$rt$2;
-        ra_dot$5$a0 = ha$2$q;
+        ra_dot$5$a0 = ha_products$2$q;
         ra_dot$5$b0 = round$art$2;
-        ra_dot$5$a1 = ha$0$q;
+        ra_dot$5$a1 = ha_products$0$q;
         ra_dot$5$b1 = round$art$8;
         minor_dot$3$a0 = round$rt$6;
         minor_dot$3$b0 = round$rt$1;
@@ -4740,25 +2051,25 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         p_dot$6$b0 = round$rt$0;
         p_dot$6$a1 = round$th$0;
         p_dot$6$b1 = round$rt$3;
-        ra_dot$6$a0 = ha$0$q;
+        ra_dot$6$a0 = ha_products$0$q;
         ra_dot$6$b0 = round$art$3;
-        ra_dot$6$a1 = ha$1$q;
+        ra_dot$6$a1 = ha_products$1$q;
         ra_dot$6$b1 = round$art$0;
         p_dot$7$a0 = round$th$1;
         p_dot$7$b0 = round$rt$1;
         p_dot$7$a1 = round$th$0;
         p_dot$7$b1 = round$rt$4;
-        ra_dot$7$a0 = ha$0$q;
+        ra_dot$7$a0 = ha_products$0$q;
         ra_dot$7$b0 = round$art$4;
-        ra_dot$7$a1 = ha$1$q;
+        ra_dot$7$a1 = ha_products$1$q;
         ra_dot$7$b1 = round$art$1;
         p_dot$8$a0 = round$th$1;
         p_dot$8$b0 = round$rt$2;
         p_dot$8$a1 = round$th$0;
         p_dot$8$b1 = round$rt$5;
-        ra_dot$8$a0 = ha$0$q;
+        ra_dot$8$a0 = ha_products$0$q;
         ra_dot$8$b0 = round$art$5;
-        ra_dot$8$a1 = ha$1$q;
+        ra_dot$8$a1 = ha_products$1$q;
         ra_dot$8$b1 = round$art$2;
         minor_dot$6$a0 = round$rt$0;
         minor_dot$6$b0 = round$rt$4;
@@ -4818,302 +2129,1736 @@ module sat$back(clock,valid_in,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
         minor_s$7 = $signed(minor_abs$7$y);
         minor_s$8 = $signed(minor_abs$8$y);
         rb_dot$0$a0 = minor_s$0;
-        rb_dot$0$b0 = hb$19$q;
+        rb_dot$0$b0 = hb_r_b$1$q;
         rb_dot$0$a1 = minor_s$1;
-        rb_dot$0$b1 = hb$20$q;
+        rb_dot$0$b1 = hb_r_b$2$q;
         rb_dot$1$a0 = minor_s$0;
-        rb_dot$1$b0 = hb$18$q;
+        rb_dot$1$b0 = hb_r_b$0$q;
         rb_dot$1$a1 = minor_s$2;
-        rb_dot$1$b1 = hb$20$q;
+        rb_dot$1$b1 = hb_r_b$2$q;
         rb_dot$2$a0 = minor_s$1;
-        rb_dot$2$b0 = hb$18$q;
+        rb_dot$2$b0 = hb_r_b$0$q;
         rb_dot$2$a1 = minor_s$2;
-        rb_dot$2$b1 = hb$19$q;
+        rb_dot$2$b1 = hb_r_b$1$q;
         rb_dot$3$a0 = minor_s$3;
-        rb_dot$3$b0 = hb$19$q;
+        rb_dot$3$b0 = hb_r_b$1$q;
         rb_dot$3$a1 = minor_s$4;
-        rb_dot$3$b1 = hb$20$q;
+        rb_dot$3$b1 = hb_r_b$2$q;
         rb_dot$4$a0 = minor_s$3;
-        rb_dot$4$b0 = hb$18$q;
+        rb_dot$4$b0 = hb_r_b$0$q;
         rb_dot$4$a1 = minor_s$5;
-        rb_dot$4$b1 = hb$20$q;
+        rb_dot$4$b1 = hb_r_b$2$q;
         rb_dot$5$a0 = minor_s$4;
-        rb_dot$5$b0 = hb$18$q;
+        rb_dot$5$b0 = hb_r_b$0$q;
         rb_dot$5$a1 = minor_s$5;
-        rb_dot$5$b1 = hb$19$q;
+        rb_dot$5$b1 = hb_r_b$1$q;
         rb_dot$6$a0 = minor_s$6;
-        rb_dot$6$b0 = hb$19$q;
+        rb_dot$6$b0 = hb_r_b$1$q;
         rb_dot$6$a1 = minor_s$7;
-        rb_dot$6$b1 = hb$20$q;
+        rb_dot$6$b1 = hb_r_b$2$q;
         rb_dot$7$a0 = minor_s$6;
-        rb_dot$7$b0 = hb$18$q;
+        rb_dot$7$b0 = hb_r_b$0$q;
         rb_dot$7$a1 = minor_s$8;
-        rb_dot$7$b1 = hb$20$q;
+        rb_dot$7$b1 = hb_r_b$2$q;
         rb_dot$8$a0 = minor_s$7;
-        rb_dot$8$b0 = hb$18$q;
+        rb_dot$8$b0 = hb_r_b$0$q;
         rb_dot$8$a1 = minor_s$8;
-        rb_dot$8$b1 = hb$19$q;
-        at_d$0$d = round$abs_t$0;
-        au_d$0$d = round$abs_u$0;
-        fa_d$0$d = face_a_dot$0$p;
-        fb_d$0$d = face_b_dot$0$p;
-        at_d$1$d = round$abs_t$1;
-        au_d$1$d = round$abs_u$1;
-        fa_d$1$d = face_a_dot$1$p;
-        fb_d$1$d = face_b_dot$1$p;
-        at_d$2$d = round$abs_t$2;
-        au_d$2$d = round$abs_u$2;
-        fa_d$2$d = face_a_dot$2$p;
-        fb_d$2$d = face_b_dot$2$p;
-        at_d$3$d = at_d$0$q;
-        au_d$3$d = au_d$0$q;
-        at_d$4$d = at_d$1$q;
-        au_d$4$d = au_d$1$q;
-        at_d$5$d = at_d$2$q;
-        au_d$5$d = au_d$2$q;
-        at_d$6$d = at_d$3$q;
-        au_d$6$d = au_d$3$q;
-        at_d$7$d = at_d$4$q;
-        au_d$7$d = au_d$4$q;
-        at_d$8$d = at_d$5$q;
-        au_d$8$d = au_d$5$q;
-        at_d$9$d = at_d$6$q;
-        au_d$9$d = au_d$6$q;
-        at_d$10$d = at_d$7$q;
-        au_d$10$d = au_d$7$q;
-        at_d$11$d = at_d$8$q;
-        au_d$11$d = au_d$8$q;
-        at_d$12$d = at_d$9$q;
-        au_d$12$d = au_d$9$q;
-        at_d$13$d = at_d$10$q;
-        au_d$13$d = au_d$10$q;
-        at_d$14$d = at_d$11$q;
-        au_d$14$d = au_d$11$q;
-        at_d$15$d = at_d$12$q;
-        au_d$15$d = au_d$12$q;
-        at_d$16$d = at_d$13$q;
-        au_d$16$d = au_d$13$q;
-        at_d$17$d = at_d$14$q;
-        au_d$17$d = au_d$14$q;
-        at_d$18$d = at_d$15$q;
-        au_d$18$d = au_d$15$q;
-        at_d$19$d = at_d$16$q;
-        au_d$19$d = au_d$16$q;
-        at_d$20$d = at_d$17$q;
-        au_d$20$d = au_d$17$q;
-        at_d$21$d = at_d$18$q;
-        au_d$21$d = au_d$18$q;
-        at_d$22$d = at_d$19$q;
-        au_d$22$d = au_d$19$q;
-        at_d$23$d = at_d$20$q;
-        au_d$23$d = au_d$20$q;
-        at_d$24$d = at_d$21$q;
-        au_d$24$d = au_d$21$q;
-        at_d$25$d = at_d$22$q;
-        au_d$25$d = au_d$22$q;
-        at_d$26$d = at_d$23$q;
-        au_d$26$d = au_d$23$q;
-        at_d$27$d = at_d$24$q;
-        au_d$27$d = au_d$24$q;
-        at_d$28$d = at_d$25$q;
-        au_d$28$d = au_d$25$q;
-        at_d$29$d = at_d$26$q;
-        au_d$29$d = au_d$26$q;
-        at_d$30$d = at_d$27$q;
-        au_d$30$d = au_d$27$q;
-        at_d$31$d = at_d$28$q;
-        au_d$31$d = au_d$28$q;
-        at_d$32$d = at_d$29$q;
-        au_d$32$d = au_d$29$q;
-        fa_d$3$d = fa_d$0$q;
-        fb_d$3$d = fb_d$0$q;
-        fa_d$4$d = fa_d$1$q;
-        fb_d$4$d = fb_d$1$q;
-        fa_d$5$d = fa_d$2$q;
-        fb_d$5$d = fb_d$2$q;
-        fa_d$6$d = fa_d$3$q;
-        fb_d$6$d = fb_d$3$q;
-        fa_d$7$d = fa_d$4$q;
-        fb_d$7$d = fb_d$4$q;
-        fa_d$8$d = fa_d$5$q;
-        fb_d$8$d = fb_d$5$q;
-        fa_d$9$d = fa_d$6$q;
-        fb_d$9$d = fb_d$6$q;
-        fa_d$10$d = fa_d$7$q;
-        fb_d$10$d = fb_d$7$q;
-        fa_d$11$d = fa_d$8$q;
-        fb_d$11$d = fb_d$8$q;
-        fa_d$12$d = fa_d$9$q;
-        fb_d$12$d = fb_d$9$q;
-        fa_d$13$d = fa_d$10$q;
-        fb_d$13$d = fb_d$10$q;
-        fa_d$14$d = fa_d$11$q;
-        fb_d$14$d = fb_d$11$q;
-        fa_d$15$d = fa_d$12$q;
-        fb_d$15$d = fb_d$12$q;
-        fa_d$16$d = fa_d$13$q;
-        fb_d$16$d = fb_d$13$q;
-        fa_d$17$d = fa_d$14$q;
-        fb_d$17$d = fb_d$14$q;
-        ra_d$0$d = ra_dot$0$p;
-        pa_d$0$d = p_abs$0$y;
-        ra_d$1$d = ra_dot$1$p;
-        pa_d$1$d = p_abs$1$y;
-        ra_d$2$d = ra_dot$2$p;
-        pa_d$2$d = p_abs$2$y;
-        ra_d$3$d = ra_dot$3$p;
-        pa_d$3$d = p_abs$3$y;
-        ra_d$4$d = ra_dot$4$p;
-        pa_d$4$d = p_abs$4$y;
-        ra_d$5$d = ra_dot$5$p;
-        pa_d$5$d = p_abs$5$y;
-        ra_d$6$d = ra_dot$6$p;
-        pa_d$6$d = p_abs$6$y;
-        ra_d$7$d = ra_dot$7$p;
-        pa_d$7$d = p_abs$7$y;
-        ra_d$8$d = ra_dot$8$p;
-        pa_d$8$d = p_abs$8$y;
-        ra_d$9$d = ra_d$0$q;
-        ra_d$10$d = ra_d$1$q;
-        ra_d$11$d = ra_d$2$q;
-        ra_d$12$d = ra_d$3$q;
-        ra_d$13$d = ra_d$4$q;
-        ra_d$14$d = ra_d$5$q;
-        ra_d$15$d = ra_d$6$q;
-        ra_d$16$d = ra_d$7$q;
-        ra_d$17$d = ra_d$8$q;
-        ra_d$18$d = ra_d$9$q;
-        ra_d$19$d = ra_d$10$q;
-        ra_d$20$d = ra_d$11$q;
-        ra_d$21$d = ra_d$12$q;
-        ra_d$22$d = ra_d$13$q;
-        ra_d$23$d = ra_d$14$q;
-        ra_d$24$d = ra_d$15$q;
-        ra_d$25$d = ra_d$16$q;
-        ra_d$26$d = ra_d$17$q;
-        ra_d$27$d = ra_d$18$q;
-        ra_d$28$d = ra_d$19$q;
-        ra_d$29$d = ra_d$20$q;
-        ra_d$30$d = ra_d$21$q;
-        ra_d$31$d = ra_d$22$q;
-        ra_d$32$d = ra_d$23$q;
-        ra_d$33$d = ra_d$24$q;
-        ra_d$34$d = ra_d$25$q;
-        ra_d$35$d = ra_d$26$q;
-        ra_d$36$d = ra_d$27$q;
-        ra_d$37$d = ra_d$28$q;
-        ra_d$38$d = ra_d$29$q;
-        ra_d$39$d = ra_d$30$q;
-        ra_d$40$d = ra_d$31$q;
-        ra_d$41$d = ra_d$32$q;
-        ra_d$42$d = ra_d$33$q;
-        ra_d$43$d = ra_d$34$q;
-        ra_d$44$d = ra_d$35$q;
-        ra_d$45$d = ra_d$36$q;
-        ra_d$46$d = ra_d$37$q;
-        ra_d$47$d = ra_d$38$q;
-        ra_d$48$d = ra_d$39$q;
-        ra_d$49$d = ra_d$40$q;
-        ra_d$50$d = ra_d$41$q;
-        ra_d$51$d = ra_d$42$q;
-        ra_d$52$d = ra_d$43$q;
-        ra_d$53$d = ra_d$44$q;
-        pa_d$9$d = pa_d$0$q;
-        pa_d$10$d = pa_d$1$q;
-        pa_d$11$d = pa_d$2$q;
-        pa_d$12$d = pa_d$3$q;
-        pa_d$13$d = pa_d$4$q;
-        pa_d$14$d = pa_d$5$q;
-        pa_d$15$d = pa_d$6$q;
-        pa_d$16$d = pa_d$7$q;
-        pa_d$17$d = pa_d$8$q;
-        pa_d$18$d = pa_d$9$q;
-        pa_d$19$d = pa_d$10$q;
-        pa_d$20$d = pa_d$11$q;
-        pa_d$21$d = pa_d$12$q;
-        pa_d$22$d = pa_d$13$q;
-        pa_d$23$d = pa_d$14$q;
-        pa_d$24$d = pa_d$15$q;
-        pa_d$25$d = pa_d$16$q;
-        pa_d$26$d = pa_d$17$q;
-        pa_d$27$d = pa_d$18$q;
-        pa_d$28$d = pa_d$19$q;
-        pa_d$29$d = pa_d$20$q;
-        pa_d$30$d = pa_d$21$q;
-        pa_d$31$d = pa_d$22$q;
-        pa_d$32$d = pa_d$23$q;
-        pa_d$33$d = pa_d$24$q;
-        pa_d$34$d = pa_d$25$q;
-        pa_d$35$d = pa_d$26$q;
-        pa_d$36$d = pa_d$27$q;
-        pa_d$37$d = pa_d$28$q;
-        pa_d$38$d = pa_d$29$q;
-        pa_d$39$d = pa_d$30$q;
-        pa_d$40$d = pa_d$31$q;
-        pa_d$41$d = pa_d$32$q;
-        pa_d$42$d = pa_d$33$q;
-        pa_d$43$d = pa_d$34$q;
-        pa_d$44$d = pa_d$35$q;
+        rb_dot$8$b1 = hb_r_b$1$q;
+        abs_t_decide$0$d = round$abs_t$0;
+        abs_u_decide$0$d = round$abs_u$0;
+        face_a_decide$0$d = face_a_dot$0$p;
+        face_b_decide$0$d = face_b_dot$0$p;
+        abs_t_decide$1$d = round$abs_t$1;
+        abs_u_decide$1$d = round$abs_u$1;
+        face_a_decide$1$d = face_a_dot$1$p;
+        face_b_decide$1$d = face_b_dot$1$p;
+        abs_t_decide$2$d = round$abs_t$2;
+        abs_u_decide$2$d = round$abs_u$2;
+        face_a_decide$2$d = face_a_dot$2$p;
+        face_b_decide$2$d = face_b_dot$2$p;
+        r_a_decide$0$d = ra_dot$0$p;
+        abs_p_decide$0$d = p_abs$0$y;
+        r_a_decide$1$d = ra_dot$1$p;
+        abs_p_decide$1$d = p_abs$1$y;
+        r_a_decide$2$d = ra_dot$2$p;
+        abs_p_decide$2$d = p_abs$2$y;
+        r_a_decide$3$d = ra_dot$3$p;
+        abs_p_decide$3$d = p_abs$3$y;
+        r_a_decide$4$d = ra_dot$4$p;
+        abs_p_decide$4$d = p_abs$4$y;
+        r_a_decide$5$d = ra_dot$5$p;
+        abs_p_decide$5$d = p_abs$5$y;
+        r_a_decide$6$d = ra_dot$6$p;
+        abs_p_decide$6$d = p_abs$6$y;
+        r_a_decide$7$d = ra_dot$7$p;
+        abs_p_decide$7$d = p_abs$7$y;
+        r_a_decide$8$d = ra_dot$8$p;
+        abs_p_decide$8$d = p_abs$8$y;
         decide$f = frac;
         decide$k = shift;
         decide$face_margin = face_margin;
         decide$cross_margin = cross_margin;
-        decide$pair_margin = pm$11$q;
-        decide$abs_t$0 = at_d$30$q;
-        decide$abs_u$0 = au_d$30$q;
-        decide$face_a$0 = fa_d$15$q;
-        decide$face_b$0 = fb_d$15$q;
-        decide$half_a$0 = ha$33$q;
-        decide$half_b$0 = hb$33$q;
-        decide$abs_t$1 = at_d$31$q;
-        decide$abs_u$1 = au_d$31$q;
-        decide$face_a$1 = fa_d$16$q;
-        decide$face_b$1 = fb_d$16$q;
-        decide$half_a$1 = ha$34$q;
-        decide$half_b$1 = hb$34$q;
-        decide$abs_t$2 = at_d$32$q;
-        decide$abs_u$2 = au_d$32$q;
-        decide$face_a$2 = fa_d$17$q;
-        decide$face_b$2 = fb_d$17$q;
-        decide$half_a$2 = ha$35$q;
-        decide$half_b$2 = hb$35$q;
-        decide$abs_p$0 = pa_d$36$q;
-        decide$r_a$0 = ra_d$45$q;
+        decide$pair_margin = margin_decide$q;
+        decide$abs_t$0 = abs_t_decide$0$q;
+        decide$abs_u$0 = abs_u_decide$0$q;
+        decide$face_a$0 = face_a_decide$0$q;
+        decide$face_b$0 = face_b_decide$0$q;
+        decide$half_a$0 = ha_decide$0$q;
+        decide$half_b$0 = hb_decide$0$q;
+        decide$abs_t$1 = abs_t_decide$1$q;
+        decide$abs_u$1 = abs_u_decide$1$q;
+        decide$face_a$1 = face_a_decide$1$q;
+        decide$face_b$1 = face_b_decide$1$q;
+        decide$half_a$1 = ha_decide$1$q;
+        decide$half_b$1 = hb_decide$1$q;
+        decide$abs_t$2 = abs_t_decide$2$q;
+        decide$abs_u$2 = abs_u_decide$2$q;
+        decide$face_a$2 = face_a_decide$2$q;
+        decide$face_b$2 = face_b_decide$2$q;
+        decide$half_a$2 = ha_decide$2$q;
+        decide$half_b$2 = hb_decide$2$q;
+        decide$abs_p$0 = abs_p_decide$0$q;
+        decide$r_a$0 = r_a_decide$0$q;
         decide$r_b$0 = rb_dot$0$p;
-        decide$abs_p$1 = pa_d$37$q;
-        decide$r_a$1 = ra_d$46$q;
+        decide$abs_p$1 = abs_p_decide$1$q;
+        decide$r_a$1 = r_a_decide$1$q;
         decide$r_b$1 = rb_dot$1$p;
-        decide$abs_p$2 = pa_d$38$q;
-        decide$r_a$2 = ra_d$47$q;
+        decide$abs_p$2 = abs_p_decide$2$q;
+        decide$r_a$2 = r_a_decide$2$q;
         decide$r_b$2 = rb_dot$2$p;
-        decide$abs_p$3 = pa_d$39$q;
-        decide$r_a$3 = ra_d$48$q;
+        decide$abs_p$3 = abs_p_decide$3$q;
+        decide$r_a$3 = r_a_decide$3$q;
         decide$r_b$3 = rb_dot$3$p;
-        decide$abs_p$4 = pa_d$40$q;
-        decide$r_a$4 = ra_d$49$q;
+        decide$abs_p$4 = abs_p_decide$4$q;
+        decide$r_a$4 = r_a_decide$4$q;
         decide$r_b$4 = rb_dot$4$p;
-        decide$abs_p$5 = pa_d$41$q;
-        decide$r_a$5 = ra_d$50$q;
+        decide$abs_p$5 = abs_p_decide$5$q;
+        decide$r_a$5 = r_a_decide$5$q;
         decide$r_b$5 = rb_dot$5$p;
-        decide$abs_p$6 = pa_d$42$q;
-        decide$r_a$6 = ra_d$51$q;
+        decide$abs_p$6 = abs_p_decide$6$q;
+        decide$r_a$6 = r_a_decide$6$q;
         decide$r_b$6 = rb_dot$6$p;
-        decide$abs_p$7 = pa_d$43$q;
-        decide$r_a$7 = ra_d$52$q;
+        decide$abs_p$7 = abs_p_decide$7$q;
+        decide$r_a$7 = r_a_decide$7$q;
         decide$r_b$7 = rb_dot$7$p;
-        decide$abs_p$8 = pa_d$44$q;
-        decide$r_a$8 = ra_d$53$q;
+        decide$abs_p$8 = abs_p_decide$8$q;
+        decide$r_a$8 = r_a_decide$8$q;
         decide$r_b$8 = rb_dot$8$p;
-        valid_out = valid$15$q;
+        valid_out = valid$q;
         hit = decide$hit;
     end
     
 endmodule // sat$back
 
 
-module sat$back$at_d$0(d,q,clock);
+module sat$back$abs_p_decide$0(clock,d,q);
     
     // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    sat$back$abs_p_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$abs_p_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$abs_p_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$abs_p_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$abs_p_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // sat$back$abs_p_decide$0
+
+
+module sat$back$abs_p_decide$0$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$0$stage$0
+
+
+module sat$back$abs_p_decide$0$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$0$stage$1
+
+
+module sat$back$abs_p_decide$0$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$0$stage$2
+
+
+module sat$back$abs_p_decide$0$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$0$stage$3
+
+
+module sat$back$abs_p_decide$0$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$0$stage$4
+
+
+module sat$back$abs_p_decide$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    sat$back$abs_p_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$abs_p_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$abs_p_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$abs_p_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$abs_p_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // sat$back$abs_p_decide$1
+
+
+module sat$back$abs_p_decide$1$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$1$stage$0
+
+
+module sat$back$abs_p_decide$1$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$1$stage$1
+
+
+module sat$back$abs_p_decide$1$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$1$stage$2
+
+
+module sat$back$abs_p_decide$1$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$1$stage$3
+
+
+module sat$back$abs_p_decide$1$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$1$stage$4
+
+
+module sat$back$abs_p_decide$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    sat$back$abs_p_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$abs_p_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$abs_p_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$abs_p_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$abs_p_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // sat$back$abs_p_decide$2
+
+
+module sat$back$abs_p_decide$2$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$2$stage$0
+
+
+module sat$back$abs_p_decide$2$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$2$stage$1
+
+
+module sat$back$abs_p_decide$2$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$2$stage$2
+
+
+module sat$back$abs_p_decide$2$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$2$stage$3
+
+
+module sat$back$abs_p_decide$2$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$2$stage$4
+
+
+module sat$back$abs_p_decide$3(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    sat$back$abs_p_decide$3$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$abs_p_decide$3$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$abs_p_decide$3$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$abs_p_decide$3$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$abs_p_decide$3$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // sat$back$abs_p_decide$3
+
+
+module sat$back$abs_p_decide$3$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$3$stage$0
+
+
+module sat$back$abs_p_decide$3$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$3$stage$1
+
+
+module sat$back$abs_p_decide$3$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$3$stage$2
+
+
+module sat$back$abs_p_decide$3$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$3$stage$3
+
+
+module sat$back$abs_p_decide$3$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$3$stage$4
+
+
+module sat$back$abs_p_decide$4(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    sat$back$abs_p_decide$4$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$abs_p_decide$4$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$abs_p_decide$4$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$abs_p_decide$4$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$abs_p_decide$4$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // sat$back$abs_p_decide$4
+
+
+module sat$back$abs_p_decide$4$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$4$stage$0
+
+
+module sat$back$abs_p_decide$4$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$4$stage$1
+
+
+module sat$back$abs_p_decide$4$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$4$stage$2
+
+
+module sat$back$abs_p_decide$4$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$4$stage$3
+
+
+module sat$back$abs_p_decide$4$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$4$stage$4
+
+
+module sat$back$abs_p_decide$5(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    sat$back$abs_p_decide$5$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$abs_p_decide$5$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$abs_p_decide$5$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$abs_p_decide$5$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$abs_p_decide$5$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // sat$back$abs_p_decide$5
+
+
+module sat$back$abs_p_decide$5$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$5$stage$0
+
+
+module sat$back$abs_p_decide$5$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$5$stage$1
+
+
+module sat$back$abs_p_decide$5$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$5$stage$2
+
+
+module sat$back$abs_p_decide$5$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$5$stage$3
+
+
+module sat$back$abs_p_decide$5$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$5$stage$4
+
+
+module sat$back$abs_p_decide$6(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    sat$back$abs_p_decide$6$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$abs_p_decide$6$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$abs_p_decide$6$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$abs_p_decide$6$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$abs_p_decide$6$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // sat$back$abs_p_decide$6
+
+
+module sat$back$abs_p_decide$6$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$6$stage$0
+
+
+module sat$back$abs_p_decide$6$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$6$stage$1
+
+
+module sat$back$abs_p_decide$6$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$6$stage$2
+
+
+module sat$back$abs_p_decide$6$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$6$stage$3
+
+
+module sat$back$abs_p_decide$6$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$6$stage$4
+
+
+module sat$back$abs_p_decide$7(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    sat$back$abs_p_decide$7$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$abs_p_decide$7$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$abs_p_decide$7$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$abs_p_decide$7$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$abs_p_decide$7$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // sat$back$abs_p_decide$7
+
+
+module sat$back$abs_p_decide$7$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$7$stage$0
+
+
+module sat$back$abs_p_decide$7$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$7$stage$1
+
+
+module sat$back$abs_p_decide$7$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$7$stage$2
+
+
+module sat$back$abs_p_decide$7$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$7$stage$3
+
+
+module sat$back$abs_p_decide$7$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$7$stage$4
+
+
+module sat$back$abs_p_decide$8(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    
+    // Stub signals
+    reg  [43:0] stage$0$d;
+    wire  [43:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [43:0] stage$1$d;
+    wire  [43:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [43:0] stage$2$d;
+    wire  [43:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [43:0] stage$3$d;
+    wire  [43:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [43:0] stage$4$d;
+    wire  [43:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    sat$back$abs_p_decide$8$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$abs_p_decide$8$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$abs_p_decide$8$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$abs_p_decide$8$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$abs_p_decide$8$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // sat$back$abs_p_decide$8
+
+
+module sat$back$abs_p_decide$8$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$8$stage$0
+
+
+module sat$back$abs_p_decide$8$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$8$stage$1
+
+
+module sat$back$abs_p_decide$8$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$8$stage$2
+
+
+module sat$back$abs_p_decide$8$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$8$stage$3
+
+
+module sat$back$abs_p_decide$8$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire  [43:0] d;
+    output reg  [43:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 44'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$abs_p_decide$8$stage$4
+
+
+module sat$back$abs_t_decide$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    
+    // Stub signals
+    reg  [42:0] stage$0$d;
+    wire  [42:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [42:0] stage$1$d;
+    wire  [42:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [42:0] stage$2$d;
+    wire  [42:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [42:0] stage$3$d;
+    wire  [42:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [42:0] stage$4$d;
+    wire  [42:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [42:0] stage$5$d;
+    wire  [42:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [42:0] stage$6$d;
+    wire  [42:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [42:0] stage$7$d;
+    wire  [42:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [42:0] stage$8$d;
+    wire  [42:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [42:0] stage$9$d;
+    wire  [42:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [42:0] stage$10$d;
+    wire  [42:0] stage$10$q;
+    reg  stage$10$clock;
+    
+    // Sub module instances
+    sat$back$abs_t_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$abs_t_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$abs_t_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$abs_t_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$abs_t_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$abs_t_decide$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    sat$back$abs_t_decide$0$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    sat$back$abs_t_decide$0$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    sat$back$abs_t_decide$0$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    sat$back$abs_t_decide$0$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    sat$back$abs_t_decide$0$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        q = stage$10$q;
+    end
+    
+endmodule // sat$back$abs_t_decide$0
+
+
+module sat$back$abs_t_decide$0$stage$0(d,q,clock);
+    
+    // Module arguments
     input wire  [42:0] d;
     output reg  [42:0] q;
     input wire  clock;
@@ -5127,10 +3872,10 @@ module sat$back$at_d$0(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$0
+endmodule // sat$back$abs_t_decide$0$stage$0
 
 
-module sat$back$at_d$1(d,q,clock);
+module sat$back$abs_t_decide$0$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5146,10 +3891,10 @@ module sat$back$at_d$1(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$1
+endmodule // sat$back$abs_t_decide$0$stage$1
 
 
-module sat$back$at_d$10(d,q,clock);
+module sat$back$abs_t_decide$0$stage$10(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5165,10 +3910,10 @@ module sat$back$at_d$10(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$10
+endmodule // sat$back$abs_t_decide$0$stage$10
 
 
-module sat$back$at_d$11(d,q,clock);
+module sat$back$abs_t_decide$0$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5184,10 +3929,10 @@ module sat$back$at_d$11(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$11
+endmodule // sat$back$abs_t_decide$0$stage$2
 
 
-module sat$back$at_d$12(d,q,clock);
+module sat$back$abs_t_decide$0$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5203,10 +3948,10 @@ module sat$back$at_d$12(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$12
+endmodule // sat$back$abs_t_decide$0$stage$3
 
 
-module sat$back$at_d$13(d,q,clock);
+module sat$back$abs_t_decide$0$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5222,10 +3967,10 @@ module sat$back$at_d$13(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$13
+endmodule // sat$back$abs_t_decide$0$stage$4
 
 
-module sat$back$at_d$14(d,q,clock);
+module sat$back$abs_t_decide$0$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5241,10 +3986,10 @@ module sat$back$at_d$14(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$14
+endmodule // sat$back$abs_t_decide$0$stage$5
 
 
-module sat$back$at_d$15(d,q,clock);
+module sat$back$abs_t_decide$0$stage$6(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5260,10 +4005,10 @@ module sat$back$at_d$15(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$15
+endmodule // sat$back$abs_t_decide$0$stage$6
 
 
-module sat$back$at_d$16(d,q,clock);
+module sat$back$abs_t_decide$0$stage$7(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5279,10 +4024,10 @@ module sat$back$at_d$16(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$16
+endmodule // sat$back$abs_t_decide$0$stage$7
 
 
-module sat$back$at_d$17(d,q,clock);
+module sat$back$abs_t_decide$0$stage$8(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5298,10 +4043,10 @@ module sat$back$at_d$17(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$17
+endmodule // sat$back$abs_t_decide$0$stage$8
 
 
-module sat$back$at_d$18(d,q,clock);
+module sat$back$abs_t_decide$0$stage$9(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5317,10 +4062,139 @@ module sat$back$at_d$18(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$18
+endmodule // sat$back$abs_t_decide$0$stage$9
+
+
+module sat$back$abs_t_decide$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    
+    // Stub signals
+    reg  [42:0] stage$0$d;
+    wire  [42:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [42:0] stage$1$d;
+    wire  [42:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [42:0] stage$2$d;
+    wire  [42:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [42:0] stage$3$d;
+    wire  [42:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [42:0] stage$4$d;
+    wire  [42:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [42:0] stage$5$d;
+    wire  [42:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [42:0] stage$6$d;
+    wire  [42:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [42:0] stage$7$d;
+    wire  [42:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [42:0] stage$8$d;
+    wire  [42:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [42:0] stage$9$d;
+    wire  [42:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [42:0] stage$10$d;
+    wire  [42:0] stage$10$q;
+    reg  stage$10$clock;
+    
+    // Sub module instances
+    sat$back$abs_t_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$abs_t_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$abs_t_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$abs_t_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$abs_t_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$abs_t_decide$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    sat$back$abs_t_decide$1$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    sat$back$abs_t_decide$1$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    sat$back$abs_t_decide$1$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    sat$back$abs_t_decide$1$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    sat$back$abs_t_decide$1$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        q = stage$10$q;
+    end
+    
+endmodule // sat$back$abs_t_decide$1
 
 
-module sat$back$at_d$19(d,q,clock);
+module sat$back$abs_t_decide$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5336,10 +4210,10 @@ module sat$back$at_d$19(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$19
+endmodule // sat$back$abs_t_decide$1$stage$0
 
 
-module sat$back$at_d$2(d,q,clock);
+module sat$back$abs_t_decide$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5355,10 +4229,10 @@ module sat$back$at_d$2(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$2
+endmodule // sat$back$abs_t_decide$1$stage$1
 
 
-module sat$back$at_d$20(d,q,clock);
+module sat$back$abs_t_decide$1$stage$10(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5374,10 +4248,10 @@ module sat$back$at_d$20(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$20
+endmodule // sat$back$abs_t_decide$1$stage$10
 
 
-module sat$back$at_d$21(d,q,clock);
+module sat$back$abs_t_decide$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5393,10 +4267,10 @@ module sat$back$at_d$21(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$21
+endmodule // sat$back$abs_t_decide$1$stage$2
 
 
-module sat$back$at_d$22(d,q,clock);
+module sat$back$abs_t_decide$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5412,10 +4286,10 @@ module sat$back$at_d$22(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$22
+endmodule // sat$back$abs_t_decide$1$stage$3
 
 
-module sat$back$at_d$23(d,q,clock);
+module sat$back$abs_t_decide$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5431,10 +4305,10 @@ module sat$back$at_d$23(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$23
+endmodule // sat$back$abs_t_decide$1$stage$4
 
 
-module sat$back$at_d$24(d,q,clock);
+module sat$back$abs_t_decide$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5450,10 +4324,10 @@ module sat$back$at_d$24(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$24
+endmodule // sat$back$abs_t_decide$1$stage$5
 
 
-module sat$back$at_d$25(d,q,clock);
+module sat$back$abs_t_decide$1$stage$6(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5469,10 +4343,10 @@ module sat$back$at_d$25(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$25
+endmodule // sat$back$abs_t_decide$1$stage$6
 
 
-module sat$back$at_d$26(d,q,clock);
+module sat$back$abs_t_decide$1$stage$7(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5488,10 +4362,10 @@ module sat$back$at_d$26(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$26
+endmodule // sat$back$abs_t_decide$1$stage$7
 
 
-module sat$back$at_d$27(d,q,clock);
+module sat$back$abs_t_decide$1$stage$8(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5507,10 +4381,10 @@ module sat$back$at_d$27(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$27
+endmodule // sat$back$abs_t_decide$1$stage$8
 
 
-module sat$back$at_d$28(d,q,clock);
+module sat$back$abs_t_decide$1$stage$9(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5526,10 +4400,139 @@ module sat$back$at_d$28(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$28
+endmodule // sat$back$abs_t_decide$1$stage$9
+
+
+module sat$back$abs_t_decide$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    
+    // Stub signals
+    reg  [42:0] stage$0$d;
+    wire  [42:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [42:0] stage$1$d;
+    wire  [42:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [42:0] stage$2$d;
+    wire  [42:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [42:0] stage$3$d;
+    wire  [42:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [42:0] stage$4$d;
+    wire  [42:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [42:0] stage$5$d;
+    wire  [42:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [42:0] stage$6$d;
+    wire  [42:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [42:0] stage$7$d;
+    wire  [42:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [42:0] stage$8$d;
+    wire  [42:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [42:0] stage$9$d;
+    wire  [42:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [42:0] stage$10$d;
+    wire  [42:0] stage$10$q;
+    reg  stage$10$clock;
+    
+    // Sub module instances
+    sat$back$abs_t_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$abs_t_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$abs_t_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$abs_t_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$abs_t_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$abs_t_decide$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    sat$back$abs_t_decide$2$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    sat$back$abs_t_decide$2$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    sat$back$abs_t_decide$2$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    sat$back$abs_t_decide$2$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    sat$back$abs_t_decide$2$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        q = stage$10$q;
+    end
+    
+endmodule // sat$back$abs_t_decide$2
 
 
-module sat$back$at_d$29(d,q,clock);
+module sat$back$abs_t_decide$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5545,10 +4548,10 @@ module sat$back$at_d$29(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$29
+endmodule // sat$back$abs_t_decide$2$stage$0
 
 
-module sat$back$at_d$3(d,q,clock);
+module sat$back$abs_t_decide$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5564,10 +4567,10 @@ module sat$back$at_d$3(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$3
+endmodule // sat$back$abs_t_decide$2$stage$1
 
 
-module sat$back$at_d$30(d,q,clock);
+module sat$back$abs_t_decide$2$stage$10(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5583,10 +4586,10 @@ module sat$back$at_d$30(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$30
+endmodule // sat$back$abs_t_decide$2$stage$10
 
 
-module sat$back$at_d$31(d,q,clock);
+module sat$back$abs_t_decide$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5602,10 +4605,10 @@ module sat$back$at_d$31(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$31
+endmodule // sat$back$abs_t_decide$2$stage$2
 
 
-module sat$back$at_d$32(d,q,clock);
+module sat$back$abs_t_decide$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5621,10 +4624,10 @@ module sat$back$at_d$32(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$32
+endmodule // sat$back$abs_t_decide$2$stage$3
 
 
-module sat$back$at_d$4(d,q,clock);
+module sat$back$abs_t_decide$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5640,10 +4643,10 @@ module sat$back$at_d$4(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$4
+endmodule // sat$back$abs_t_decide$2$stage$4
 
 
-module sat$back$at_d$5(d,q,clock);
+module sat$back$abs_t_decide$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5659,10 +4662,10 @@ module sat$back$at_d$5(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$5
+endmodule // sat$back$abs_t_decide$2$stage$5
 
 
-module sat$back$at_d$6(d,q,clock);
+module sat$back$abs_t_decide$2$stage$6(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5678,10 +4681,10 @@ module sat$back$at_d$6(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$6
+endmodule // sat$back$abs_t_decide$2$stage$6
 
 
-module sat$back$at_d$7(d,q,clock);
+module sat$back$abs_t_decide$2$stage$7(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5697,10 +4700,10 @@ module sat$back$at_d$7(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$7
+endmodule // sat$back$abs_t_decide$2$stage$7
 
 
-module sat$back$at_d$8(d,q,clock);
+module sat$back$abs_t_decide$2$stage$8(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5716,10 +4719,10 @@ module sat$back$at_d$8(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$8
+endmodule // sat$back$abs_t_decide$2$stage$8
 
 
-module sat$back$at_d$9(d,q,clock);
+module sat$back$abs_t_decide$2$stage$9(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5735,10 +4738,139 @@ module sat$back$at_d$9(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$at_d$9
+endmodule // sat$back$abs_t_decide$2$stage$9
+
+
+module sat$back$abs_u_decide$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    
+    // Stub signals
+    reg  [42:0] stage$0$d;
+    wire  [42:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [42:0] stage$1$d;
+    wire  [42:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [42:0] stage$2$d;
+    wire  [42:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [42:0] stage$3$d;
+    wire  [42:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [42:0] stage$4$d;
+    wire  [42:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [42:0] stage$5$d;
+    wire  [42:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [42:0] stage$6$d;
+    wire  [42:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [42:0] stage$7$d;
+    wire  [42:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [42:0] stage$8$d;
+    wire  [42:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [42:0] stage$9$d;
+    wire  [42:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [42:0] stage$10$d;
+    wire  [42:0] stage$10$q;
+    reg  stage$10$clock;
+    
+    // Sub module instances
+    sat$back$abs_u_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$abs_u_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$abs_u_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$abs_u_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$abs_u_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$abs_u_decide$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    sat$back$abs_u_decide$0$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    sat$back$abs_u_decide$0$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    sat$back$abs_u_decide$0$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    sat$back$abs_u_decide$0$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    sat$back$abs_u_decide$0$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        q = stage$10$q;
+    end
+    
+endmodule // sat$back$abs_u_decide$0
 
 
-module sat$back$au_d$0(d,q,clock);
+module sat$back$abs_u_decide$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5754,10 +4886,10 @@ module sat$back$au_d$0(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$0
+endmodule // sat$back$abs_u_decide$0$stage$0
 
 
-module sat$back$au_d$1(d,q,clock);
+module sat$back$abs_u_decide$0$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5773,10 +4905,10 @@ module sat$back$au_d$1(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$1
+endmodule // sat$back$abs_u_decide$0$stage$1
 
 
-module sat$back$au_d$10(d,q,clock);
+module sat$back$abs_u_decide$0$stage$10(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5792,10 +4924,10 @@ module sat$back$au_d$10(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$10
+endmodule // sat$back$abs_u_decide$0$stage$10
 
 
-module sat$back$au_d$11(d,q,clock);
+module sat$back$abs_u_decide$0$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5811,10 +4943,10 @@ module sat$back$au_d$11(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$11
+endmodule // sat$back$abs_u_decide$0$stage$2
 
 
-module sat$back$au_d$12(d,q,clock);
+module sat$back$abs_u_decide$0$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5830,10 +4962,10 @@ module sat$back$au_d$12(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$12
+endmodule // sat$back$abs_u_decide$0$stage$3
 
 
-module sat$back$au_d$13(d,q,clock);
+module sat$back$abs_u_decide$0$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5849,10 +4981,10 @@ module sat$back$au_d$13(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$13
+endmodule // sat$back$abs_u_decide$0$stage$4
 
 
-module sat$back$au_d$14(d,q,clock);
+module sat$back$abs_u_decide$0$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5868,10 +5000,10 @@ module sat$back$au_d$14(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$14
+endmodule // sat$back$abs_u_decide$0$stage$5
 
 
-module sat$back$au_d$15(d,q,clock);
+module sat$back$abs_u_decide$0$stage$6(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5887,10 +5019,10 @@ module sat$back$au_d$15(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$15
+endmodule // sat$back$abs_u_decide$0$stage$6
 
 
-module sat$back$au_d$16(d,q,clock);
+module sat$back$abs_u_decide$0$stage$7(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5906,10 +5038,10 @@ module sat$back$au_d$16(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$16
+endmodule // sat$back$abs_u_decide$0$stage$7
 
 
-module sat$back$au_d$17(d,q,clock);
+module sat$back$abs_u_decide$0$stage$8(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5925,10 +5057,10 @@ module sat$back$au_d$17(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$17
+endmodule // sat$back$abs_u_decide$0$stage$8
 
 
-module sat$back$au_d$18(d,q,clock);
+module sat$back$abs_u_decide$0$stage$9(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5944,10 +5076,139 @@ module sat$back$au_d$18(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$18
+endmodule // sat$back$abs_u_decide$0$stage$9
+
+
+module sat$back$abs_u_decide$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    
+    // Stub signals
+    reg  [42:0] stage$0$d;
+    wire  [42:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [42:0] stage$1$d;
+    wire  [42:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [42:0] stage$2$d;
+    wire  [42:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [42:0] stage$3$d;
+    wire  [42:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [42:0] stage$4$d;
+    wire  [42:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [42:0] stage$5$d;
+    wire  [42:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [42:0] stage$6$d;
+    wire  [42:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [42:0] stage$7$d;
+    wire  [42:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [42:0] stage$8$d;
+    wire  [42:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [42:0] stage$9$d;
+    wire  [42:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [42:0] stage$10$d;
+    wire  [42:0] stage$10$q;
+    reg  stage$10$clock;
+    
+    // Sub module instances
+    sat$back$abs_u_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$abs_u_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$abs_u_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$abs_u_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$abs_u_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$abs_u_decide$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    sat$back$abs_u_decide$1$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    sat$back$abs_u_decide$1$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    sat$back$abs_u_decide$1$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    sat$back$abs_u_decide$1$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    sat$back$abs_u_decide$1$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        q = stage$10$q;
+    end
+    
+endmodule // sat$back$abs_u_decide$1
 
 
-module sat$back$au_d$19(d,q,clock);
+module sat$back$abs_u_decide$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5963,10 +5224,10 @@ module sat$back$au_d$19(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$19
+endmodule // sat$back$abs_u_decide$1$stage$0
 
 
-module sat$back$au_d$2(d,q,clock);
+module sat$back$abs_u_decide$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -5982,10 +5243,10 @@ module sat$back$au_d$2(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$2
+endmodule // sat$back$abs_u_decide$1$stage$1
 
 
-module sat$back$au_d$20(d,q,clock);
+module sat$back$abs_u_decide$1$stage$10(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6001,10 +5262,10 @@ module sat$back$au_d$20(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$20
+endmodule // sat$back$abs_u_decide$1$stage$10
 
 
-module sat$back$au_d$21(d,q,clock);
+module sat$back$abs_u_decide$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6020,10 +5281,10 @@ module sat$back$au_d$21(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$21
+endmodule // sat$back$abs_u_decide$1$stage$2
 
 
-module sat$back$au_d$22(d,q,clock);
+module sat$back$abs_u_decide$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6039,10 +5300,10 @@ module sat$back$au_d$22(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$22
+endmodule // sat$back$abs_u_decide$1$stage$3
 
 
-module sat$back$au_d$23(d,q,clock);
+module sat$back$abs_u_decide$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6058,10 +5319,10 @@ module sat$back$au_d$23(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$23
+endmodule // sat$back$abs_u_decide$1$stage$4
 
 
-module sat$back$au_d$24(d,q,clock);
+module sat$back$abs_u_decide$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6077,10 +5338,10 @@ module sat$back$au_d$24(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$24
+endmodule // sat$back$abs_u_decide$1$stage$5
 
 
-module sat$back$au_d$25(d,q,clock);
+module sat$back$abs_u_decide$1$stage$6(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6096,10 +5357,10 @@ module sat$back$au_d$25(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$25
+endmodule // sat$back$abs_u_decide$1$stage$6
 
 
-module sat$back$au_d$26(d,q,clock);
+module sat$back$abs_u_decide$1$stage$7(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6115,10 +5376,10 @@ module sat$back$au_d$26(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$26
+endmodule // sat$back$abs_u_decide$1$stage$7
 
 
-module sat$back$au_d$27(d,q,clock);
+module sat$back$abs_u_decide$1$stage$8(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6134,10 +5395,10 @@ module sat$back$au_d$27(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$27
+endmodule // sat$back$abs_u_decide$1$stage$8
 
 
-module sat$back$au_d$28(d,q,clock);
+module sat$back$abs_u_decide$1$stage$9(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6153,10 +5414,139 @@ module sat$back$au_d$28(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$28
+endmodule // sat$back$abs_u_decide$1$stage$9
+
+
+module sat$back$abs_u_decide$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  [42:0] d;
+    output reg  [42:0] q;
+    
+    // Stub signals
+    reg  [42:0] stage$0$d;
+    wire  [42:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [42:0] stage$1$d;
+    wire  [42:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [42:0] stage$2$d;
+    wire  [42:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [42:0] stage$3$d;
+    wire  [42:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [42:0] stage$4$d;
+    wire  [42:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [42:0] stage$5$d;
+    wire  [42:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [42:0] stage$6$d;
+    wire  [42:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [42:0] stage$7$d;
+    wire  [42:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [42:0] stage$8$d;
+    wire  [42:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [42:0] stage$9$d;
+    wire  [42:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [42:0] stage$10$d;
+    wire  [42:0] stage$10$q;
+    reg  stage$10$clock;
+    
+    // Sub module instances
+    sat$back$abs_u_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$abs_u_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$abs_u_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$abs_u_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$abs_u_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$abs_u_decide$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    sat$back$abs_u_decide$2$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    sat$back$abs_u_decide$2$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    sat$back$abs_u_decide$2$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    sat$back$abs_u_decide$2$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    sat$back$abs_u_decide$2$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        q = stage$10$q;
+    end
+    
+endmodule // sat$back$abs_u_decide$2
 
 
-module sat$back$au_d$29(d,q,clock);
+module sat$back$abs_u_decide$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6172,10 +5562,10 @@ module sat$back$au_d$29(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$29
+endmodule // sat$back$abs_u_decide$2$stage$0
 
 
-module sat$back$au_d$3(d,q,clock);
+module sat$back$abs_u_decide$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6191,10 +5581,10 @@ module sat$back$au_d$3(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$3
+endmodule // sat$back$abs_u_decide$2$stage$1
 
 
-module sat$back$au_d$30(d,q,clock);
+module sat$back$abs_u_decide$2$stage$10(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6210,10 +5600,10 @@ module sat$back$au_d$30(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$30
+endmodule // sat$back$abs_u_decide$2$stage$10
 
 
-module sat$back$au_d$31(d,q,clock);
+module sat$back$abs_u_decide$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6229,10 +5619,10 @@ module sat$back$au_d$31(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$31
+endmodule // sat$back$abs_u_decide$2$stage$2
 
 
-module sat$back$au_d$32(d,q,clock);
+module sat$back$abs_u_decide$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6248,10 +5638,10 @@ module sat$back$au_d$32(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$32
+endmodule // sat$back$abs_u_decide$2$stage$3
 
 
-module sat$back$au_d$4(d,q,clock);
+module sat$back$abs_u_decide$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6267,10 +5657,10 @@ module sat$back$au_d$4(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$4
+endmodule // sat$back$abs_u_decide$2$stage$4
 
 
-module sat$back$au_d$5(d,q,clock);
+module sat$back$abs_u_decide$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6286,10 +5676,10 @@ module sat$back$au_d$5(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$5
+endmodule // sat$back$abs_u_decide$2$stage$5
 
 
-module sat$back$au_d$6(d,q,clock);
+module sat$back$abs_u_decide$2$stage$6(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6305,10 +5695,10 @@ module sat$back$au_d$6(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$6
+endmodule // sat$back$abs_u_decide$2$stage$6
 
 
-module sat$back$au_d$7(d,q,clock);
+module sat$back$abs_u_decide$2$stage$7(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6324,10 +5714,10 @@ module sat$back$au_d$7(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$7
+endmodule // sat$back$abs_u_decide$2$stage$7
 
 
-module sat$back$au_d$8(d,q,clock);
+module sat$back$abs_u_decide$2$stage$8(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6343,10 +5733,10 @@ module sat$back$au_d$8(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$8
+endmodule // sat$back$abs_u_decide$2$stage$8
 
 
-module sat$back$au_d$9(d,q,clock);
+module sat$back$abs_u_decide$2$stage$9(d,q,clock);
     
     // Module arguments
     input wire  [42:0] d;
@@ -6362,7 +5752,7 @@ module sat$back$au_d$9(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$au_d$9
+endmodule // sat$back$abs_u_decide$2$stage$9
 
 
 module sat$back$decide(abs_t$0,abs_t$1,abs_t$2,abs_u$0,abs_u$1,abs_u$2,face_a$0,face_a$1,face_a$2,face_b$0,face_b$1,face_b$2,abs_p$0,abs_p$1,abs_p$2,abs_p$3,abs_p$4,abs_p$5,abs_p$6,abs_p$7,abs_p$8,r_a$0,r_a$1,r_a$2,r_a$3,r_a$4,r_a$5,r_a$6,r_a$7,r_a$8,r_b$0,r_b$1,r_b$2,r_b$3,r_b$4,r_b$5,r_b$6,r_b$7,r_b$8,half_a$0,half_a$1,half_a$2,half_b$0,half_b$1,half_b$2,pair_margin,f,k,face_margin,cross_margin,hit,clock);
@@ -6517,7 +5907,86 @@ module sat$back$decide(abs_t$0,abs_t$1,abs_t$2,abs_u$0,abs_u$1,abs_u$2,face_a$0,
 endmodule // sat$back$decide
 
 
-module sat$back$fa_d$0(d,q,clock);
+module sat$back$face_a_decide$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    
+    // Stub signals
+    reg signed [38:0] stage$0$d;
+    wire signed [38:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [38:0] stage$1$d;
+    wire signed [38:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [38:0] stage$2$d;
+    wire signed [38:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [38:0] stage$3$d;
+    wire signed [38:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [38:0] stage$4$d;
+    wire signed [38:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [38:0] stage$5$d;
+    wire signed [38:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$face_a_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$face_a_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$face_a_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$face_a_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$face_a_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$face_a_decide$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$face_a_decide$0
+
+
+module sat$back$face_a_decide$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6533,10 +6002,10 @@ module sat$back$fa_d$0(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$0
+endmodule // sat$back$face_a_decide$0$stage$0
 
 
-module sat$back$fa_d$1(d,q,clock);
+module sat$back$face_a_decide$0$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6552,10 +6021,10 @@ module sat$back$fa_d$1(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$1
+endmodule // sat$back$face_a_decide$0$stage$1
 
 
-module sat$back$fa_d$10(d,q,clock);
+module sat$back$face_a_decide$0$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6571,10 +6040,10 @@ module sat$back$fa_d$10(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$10
+endmodule // sat$back$face_a_decide$0$stage$2
 
 
-module sat$back$fa_d$11(d,q,clock);
+module sat$back$face_a_decide$0$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6590,10 +6059,10 @@ module sat$back$fa_d$11(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$11
+endmodule // sat$back$face_a_decide$0$stage$3
 
 
-module sat$back$fa_d$12(d,q,clock);
+module sat$back$face_a_decide$0$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6609,10 +6078,10 @@ module sat$back$fa_d$12(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$12
+endmodule // sat$back$face_a_decide$0$stage$4
 
 
-module sat$back$fa_d$13(d,q,clock);
+module sat$back$face_a_decide$0$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6628,10 +6097,89 @@ module sat$back$fa_d$13(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$13
+endmodule // sat$back$face_a_decide$0$stage$5
 
 
-module sat$back$fa_d$14(d,q,clock);
+module sat$back$face_a_decide$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    
+    // Stub signals
+    reg signed [38:0] stage$0$d;
+    wire signed [38:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [38:0] stage$1$d;
+    wire signed [38:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [38:0] stage$2$d;
+    wire signed [38:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [38:0] stage$3$d;
+    wire signed [38:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [38:0] stage$4$d;
+    wire signed [38:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [38:0] stage$5$d;
+    wire signed [38:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$face_a_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$face_a_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$face_a_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$face_a_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$face_a_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$face_a_decide$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$face_a_decide$1
+
+
+module sat$back$face_a_decide$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6647,10 +6195,10 @@ module sat$back$fa_d$14(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$14
+endmodule // sat$back$face_a_decide$1$stage$0
 
 
-module sat$back$fa_d$15(d,q,clock);
+module sat$back$face_a_decide$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6666,10 +6214,10 @@ module sat$back$fa_d$15(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$15
+endmodule // sat$back$face_a_decide$1$stage$1
 
 
-module sat$back$fa_d$16(d,q,clock);
+module sat$back$face_a_decide$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6685,10 +6233,10 @@ module sat$back$fa_d$16(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$16
+endmodule // sat$back$face_a_decide$1$stage$2
 
 
-module sat$back$fa_d$17(d,q,clock);
+module sat$back$face_a_decide$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6704,10 +6252,10 @@ module sat$back$fa_d$17(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$17
+endmodule // sat$back$face_a_decide$1$stage$3
 
 
-module sat$back$fa_d$2(d,q,clock);
+module sat$back$face_a_decide$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6723,10 +6271,10 @@ module sat$back$fa_d$2(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$2
+endmodule // sat$back$face_a_decide$1$stage$4
 
 
-module sat$back$fa_d$3(d,q,clock);
+module sat$back$face_a_decide$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6742,10 +6290,89 @@ module sat$back$fa_d$3(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$3
+endmodule // sat$back$face_a_decide$1$stage$5
 
 
-module sat$back$fa_d$4(d,q,clock);
+module sat$back$face_a_decide$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    
+    // Stub signals
+    reg signed [38:0] stage$0$d;
+    wire signed [38:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [38:0] stage$1$d;
+    wire signed [38:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [38:0] stage$2$d;
+    wire signed [38:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [38:0] stage$3$d;
+    wire signed [38:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [38:0] stage$4$d;
+    wire signed [38:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [38:0] stage$5$d;
+    wire signed [38:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$face_a_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$face_a_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$face_a_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$face_a_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$face_a_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$face_a_decide$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$face_a_decide$2
+
+
+module sat$back$face_a_decide$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6761,10 +6388,10 @@ module sat$back$fa_d$4(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$4
+endmodule // sat$back$face_a_decide$2$stage$0
 
 
-module sat$back$fa_d$5(d,q,clock);
+module sat$back$face_a_decide$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6780,10 +6407,10 @@ module sat$back$fa_d$5(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$5
+endmodule // sat$back$face_a_decide$2$stage$1
 
 
-module sat$back$fa_d$6(d,q,clock);
+module sat$back$face_a_decide$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6799,10 +6426,10 @@ module sat$back$fa_d$6(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$6
+endmodule // sat$back$face_a_decide$2$stage$2
 
 
-module sat$back$fa_d$7(d,q,clock);
+module sat$back$face_a_decide$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6818,10 +6445,10 @@ module sat$back$fa_d$7(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$7
+endmodule // sat$back$face_a_decide$2$stage$3
 
 
-module sat$back$fa_d$8(d,q,clock);
+module sat$back$face_a_decide$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6837,10 +6464,10 @@ module sat$back$fa_d$8(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$8
+endmodule // sat$back$face_a_decide$2$stage$4
 
 
-module sat$back$fa_d$9(d,q,clock);
+module sat$back$face_a_decide$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [38:0] d;
@@ -6856,7 +6483,7 @@ module sat$back$fa_d$9(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$fa_d$9
+endmodule // sat$back$face_a_decide$2$stage$5
 
 
 module sat$back$face_a_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
@@ -6988,6 +6615,585 @@ module sat$back$face_a_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
 endmodule // sat$back$face_a_dot$2
 
 
+module sat$back$face_b_decide$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    
+    // Stub signals
+    reg signed [38:0] stage$0$d;
+    wire signed [38:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [38:0] stage$1$d;
+    wire signed [38:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [38:0] stage$2$d;
+    wire signed [38:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [38:0] stage$3$d;
+    wire signed [38:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [38:0] stage$4$d;
+    wire signed [38:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [38:0] stage$5$d;
+    wire signed [38:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$face_b_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$face_b_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$face_b_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$face_b_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$face_b_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$face_b_decide$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$face_b_decide$0
+
+
+module sat$back$face_b_decide$0$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$0$stage$0
+
+
+module sat$back$face_b_decide$0$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$0$stage$1
+
+
+module sat$back$face_b_decide$0$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$0$stage$2
+
+
+module sat$back$face_b_decide$0$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$0$stage$3
+
+
+module sat$back$face_b_decide$0$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$0$stage$4
+
+
+module sat$back$face_b_decide$0$stage$5(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$0$stage$5
+
+
+module sat$back$face_b_decide$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    
+    // Stub signals
+    reg signed [38:0] stage$0$d;
+    wire signed [38:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [38:0] stage$1$d;
+    wire signed [38:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [38:0] stage$2$d;
+    wire signed [38:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [38:0] stage$3$d;
+    wire signed [38:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [38:0] stage$4$d;
+    wire signed [38:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [38:0] stage$5$d;
+    wire signed [38:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$face_b_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$face_b_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$face_b_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$face_b_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$face_b_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$face_b_decide$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$face_b_decide$1
+
+
+module sat$back$face_b_decide$1$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$1$stage$0
+
+
+module sat$back$face_b_decide$1$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$1$stage$1
+
+
+module sat$back$face_b_decide$1$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$1$stage$2
+
+
+module sat$back$face_b_decide$1$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$1$stage$3
+
+
+module sat$back$face_b_decide$1$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$1$stage$4
+
+
+module sat$back$face_b_decide$1$stage$5(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$1$stage$5
+
+
+module sat$back$face_b_decide$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    
+    // Stub signals
+    reg signed [38:0] stage$0$d;
+    wire signed [38:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [38:0] stage$1$d;
+    wire signed [38:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [38:0] stage$2$d;
+    wire signed [38:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [38:0] stage$3$d;
+    wire signed [38:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [38:0] stage$4$d;
+    wire signed [38:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [38:0] stage$5$d;
+    wire signed [38:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$face_b_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$face_b_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$face_b_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$face_b_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$face_b_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$face_b_decide$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$face_b_decide$2
+
+
+module sat$back$face_b_decide$2$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$2$stage$0
+
+
+module sat$back$face_b_decide$2$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$2$stage$1
+
+
+module sat$back$face_b_decide$2$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$2$stage$2
+
+
+module sat$back$face_b_decide$2$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$2$stage$3
+
+
+module sat$back$face_b_decide$2$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$2$stage$4
+
+
+module sat$back$face_b_decide$2$stage$5(d,q,clock);
+    
+    // Module arguments
+    input wire signed [38:0] d;
+    output reg signed [38:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 39'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$back$face_b_decide$2$stage$5
+
+
 module sat$back$face_b_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     
     // Module arguments
@@ -7117,368 +7323,528 @@ module sat$back$face_b_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
 endmodule // sat$back$face_b_dot$2
 
 
-module sat$back$fb_d$0(d,q,clock);
+module sat$back$ha_decide$0(clock,d,q);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
     input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     
-    // Update code (custom)
-    initial begin
-       q = 39'h0;
-    end
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
     
-    always @(posedge clock) begin
-       q <= d;
+    // Sub module instances
+    sat$back$ha_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$ha_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$ha_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$ha_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$ha_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
     end
-          
-endmodule // sat$back$fb_d$0
+    
+endmodule // sat$back$ha_decide$0
 
 
-module sat$back$fb_d$1(d,q,clock);
+module sat$back$ha_decide$0$stage$0(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$fb_d$1
+endmodule // sat$back$ha_decide$0$stage$0
 
 
-module sat$back$fb_d$10(d,q,clock);
+module sat$back$ha_decide$0$stage$1(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$fb_d$10
+endmodule // sat$back$ha_decide$0$stage$1
 
 
-module sat$back$fb_d$11(d,q,clock);
+module sat$back$ha_decide$0$stage$2(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$fb_d$11
+endmodule // sat$back$ha_decide$0$stage$2
 
 
-module sat$back$fb_d$12(d,q,clock);
+module sat$back$ha_decide$0$stage$3(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$fb_d$12
+endmodule // sat$back$ha_decide$0$stage$3
 
 
-module sat$back$fb_d$13(d,q,clock);
+module sat$back$ha_decide$0$stage$4(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$fb_d$13
+endmodule // sat$back$ha_decide$0$stage$4
 
 
-module sat$back$fb_d$14(d,q,clock);
+module sat$back$ha_decide$1(clock,d,q);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
     input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     
-    // Update code (custom)
-    initial begin
-       q = 39'h0;
-    end
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
     
-    always @(posedge clock) begin
-       q <= d;
+    // Sub module instances
+    sat$back$ha_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$ha_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$ha_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$ha_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$ha_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
     end
-          
-endmodule // sat$back$fb_d$14
+    
+endmodule // sat$back$ha_decide$1
 
 
-module sat$back$fb_d$15(d,q,clock);
+module sat$back$ha_decide$1$stage$0(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$fb_d$15
+endmodule // sat$back$ha_decide$1$stage$0
 
 
-module sat$back$fb_d$16(d,q,clock);
+module sat$back$ha_decide$1$stage$1(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$fb_d$16
+endmodule // sat$back$ha_decide$1$stage$1
 
 
-module sat$back$fb_d$17(d,q,clock);
+module sat$back$ha_decide$1$stage$2(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$fb_d$17
+endmodule // sat$back$ha_decide$1$stage$2
 
 
-module sat$back$fb_d$2(d,q,clock);
+module sat$back$ha_decide$1$stage$3(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$fb_d$2
+endmodule // sat$back$ha_decide$1$stage$3
 
 
-module sat$back$fb_d$3(d,q,clock);
+module sat$back$ha_decide$1$stage$4(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$fb_d$3
+endmodule // sat$back$ha_decide$1$stage$4
 
 
-module sat$back$fb_d$4(d,q,clock);
+module sat$back$ha_decide$2(clock,d,q);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
     input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     
-    // Update code (custom)
-    initial begin
-       q = 39'h0;
-    end
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
     
-    always @(posedge clock) begin
-       q <= d;
+    // Sub module instances
+    sat$back$ha_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$ha_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$ha_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$ha_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$ha_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
     end
-          
-endmodule // sat$back$fb_d$4
+    
+endmodule // sat$back$ha_decide$2
 
 
-module sat$back$fb_d$5(d,q,clock);
+module sat$back$ha_decide$2$stage$0(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$fb_d$5
+endmodule // sat$back$ha_decide$2$stage$0
 
 
-module sat$back$fb_d$6(d,q,clock);
+module sat$back$ha_decide$2$stage$1(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$fb_d$6
+endmodule // sat$back$ha_decide$2$stage$1
 
 
-module sat$back$fb_d$7(d,q,clock);
+module sat$back$ha_decide$2$stage$2(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$fb_d$7
+endmodule // sat$back$ha_decide$2$stage$2
 
 
-module sat$back$fb_d$8(d,q,clock);
+module sat$back$ha_decide$2$stage$3(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$fb_d$8
+endmodule // sat$back$ha_decide$2$stage$3
 
 
-module sat$back$fb_d$9(d,q,clock);
+module sat$back$ha_decide$2$stage$4(d,q,clock);
     
     // Module arguments
-    input wire signed [38:0] d;
-    output reg signed [38:0] q;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 39'h0;
+       q = 18'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$fb_d$9
+endmodule // sat$back$ha_decide$2$stage$4
 
 
-module sat$back$ha$0(d,q,clock);
+module sat$back$ha_products$0(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire signed [17:0] d;
     output reg signed [17:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
     
-    always @(posedge clock) begin
-       q <= d;
+    // Sub module instances
+    sat$back$ha_products$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$0$d = d;
+        q = stage$0$q;
     end
-          
-endmodule // sat$back$ha$0
+    
+endmodule // sat$back$ha_products$0
 
 
-module sat$back$ha$1(d,q,clock);
+module sat$back$ha_products$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7494,29 +7860,39 @@ module sat$back$ha$1(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$1
+endmodule // sat$back$ha_products$0$stage$0
 
 
-module sat$back$ha$10(d,q,clock);
+module sat$back$ha_products$1(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire signed [17:0] d;
     output reg signed [17:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
     
-    always @(posedge clock) begin
-       q <= d;
+    // Sub module instances
+    sat$back$ha_products$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$0$d = d;
+        q = stage$0$q;
     end
-          
-endmodule // sat$back$ha$10
+    
+endmodule // sat$back$ha_products$1
 
 
-module sat$back$ha$11(d,q,clock);
+module sat$back$ha_products$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7532,29 +7908,39 @@ module sat$back$ha$11(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$11
+endmodule // sat$back$ha_products$1$stage$0
 
 
-module sat$back$ha$12(d,q,clock);
+module sat$back$ha_products$2(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire signed [17:0] d;
     output reg signed [17:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
     
-    always @(posedge clock) begin
-       q <= d;
+    // Sub module instances
+    sat$back$ha_products$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$0$d = d;
+        q = stage$0$q;
     end
-          
-endmodule // sat$back$ha$12
+    
+endmodule // sat$back$ha_products$2
 
 
-module sat$back$ha$13(d,q,clock);
+module sat$back$ha_products$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7570,10 +7956,89 @@ module sat$back$ha$13(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$13
+endmodule // sat$back$ha_products$2$stage$0
+
+
+module sat$back$ha_r_b$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$ha_r_b$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$ha_r_b$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$ha_r_b$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$ha_r_b$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$ha_r_b$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$ha_r_b$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$ha_r_b$0
 
 
-module sat$back$ha$14(d,q,clock);
+module sat$back$ha_r_b$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7589,10 +8054,10 @@ module sat$back$ha$14(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$14
+endmodule // sat$back$ha_r_b$0$stage$0
 
 
-module sat$back$ha$15(d,q,clock);
+module sat$back$ha_r_b$0$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7608,10 +8073,10 @@ module sat$back$ha$15(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$15
+endmodule // sat$back$ha_r_b$0$stage$1
 
 
-module sat$back$ha$16(d,q,clock);
+module sat$back$ha_r_b$0$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7627,10 +8092,10 @@ module sat$back$ha$16(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$16
+endmodule // sat$back$ha_r_b$0$stage$2
 
 
-module sat$back$ha$17(d,q,clock);
+module sat$back$ha_r_b$0$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7646,10 +8111,10 @@ module sat$back$ha$17(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$17
+endmodule // sat$back$ha_r_b$0$stage$3
 
 
-module sat$back$ha$18(d,q,clock);
+module sat$back$ha_r_b$0$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7665,10 +8130,10 @@ module sat$back$ha$18(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$18
+endmodule // sat$back$ha_r_b$0$stage$4
 
 
-module sat$back$ha$19(d,q,clock);
+module sat$back$ha_r_b$0$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7684,10 +8149,89 @@ module sat$back$ha$19(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$19
+endmodule // sat$back$ha_r_b$0$stage$5
+
+
+module sat$back$ha_r_b$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$ha_r_b$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$ha_r_b$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$ha_r_b$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$ha_r_b$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$ha_r_b$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$ha_r_b$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$ha_r_b$1
 
 
-module sat$back$ha$2(d,q,clock);
+module sat$back$ha_r_b$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7703,10 +8247,10 @@ module sat$back$ha$2(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$2
+endmodule // sat$back$ha_r_b$1$stage$0
 
 
-module sat$back$ha$20(d,q,clock);
+module sat$back$ha_r_b$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7722,10 +8266,10 @@ module sat$back$ha$20(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$20
+endmodule // sat$back$ha_r_b$1$stage$1
 
 
-module sat$back$ha$21(d,q,clock);
+module sat$back$ha_r_b$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7741,10 +8285,10 @@ module sat$back$ha$21(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$21
+endmodule // sat$back$ha_r_b$1$stage$2
 
 
-module sat$back$ha$22(d,q,clock);
+module sat$back$ha_r_b$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7760,10 +8304,10 @@ module sat$back$ha$22(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$22
+endmodule // sat$back$ha_r_b$1$stage$3
 
 
-module sat$back$ha$23(d,q,clock);
+module sat$back$ha_r_b$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7779,10 +8323,10 @@ module sat$back$ha$23(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$23
+endmodule // sat$back$ha_r_b$1$stage$4
 
 
-module sat$back$ha$24(d,q,clock);
+module sat$back$ha_r_b$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7798,10 +8342,89 @@ module sat$back$ha$24(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$24
+endmodule // sat$back$ha_r_b$1$stage$5
+
+
+module sat$back$ha_r_b$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$ha_r_b$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$ha_r_b$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$ha_r_b$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$ha_r_b$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$ha_r_b$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$ha_r_b$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$ha_r_b$2
 
 
-module sat$back$ha$25(d,q,clock);
+module sat$back$ha_r_b$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7817,10 +8440,10 @@ module sat$back$ha$25(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$25
+endmodule // sat$back$ha_r_b$2$stage$0
 
 
-module sat$back$ha$26(d,q,clock);
+module sat$back$ha_r_b$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7836,10 +8459,10 @@ module sat$back$ha$26(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$26
+endmodule // sat$back$ha_r_b$2$stage$1
 
 
-module sat$back$ha$27(d,q,clock);
+module sat$back$ha_r_b$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7855,10 +8478,10 @@ module sat$back$ha$27(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$27
+endmodule // sat$back$ha_r_b$2$stage$2
 
 
-module sat$back$ha$28(d,q,clock);
+module sat$back$ha_r_b$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7874,10 +8497,10 @@ module sat$back$ha$28(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$28
+endmodule // sat$back$ha_r_b$2$stage$3
 
 
-module sat$back$ha$29(d,q,clock);
+module sat$back$ha_r_b$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7893,10 +8516,10 @@ module sat$back$ha$29(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$29
+endmodule // sat$back$ha_r_b$2$stage$4
 
 
-module sat$back$ha$3(d,q,clock);
+module sat$back$ha_r_b$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7912,10 +8535,79 @@ module sat$back$ha$3(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$3
+endmodule // sat$back$ha_r_b$2$stage$5
+
+
+module sat$back$hb_decide$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    sat$back$hb_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$hb_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$hb_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$hb_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$hb_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // sat$back$hb_decide$0
 
 
-module sat$back$ha$30(d,q,clock);
+module sat$back$hb_decide$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7931,10 +8623,10 @@ module sat$back$ha$30(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$30
+endmodule // sat$back$hb_decide$0$stage$0
 
 
-module sat$back$ha$31(d,q,clock);
+module sat$back$hb_decide$0$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7950,10 +8642,10 @@ module sat$back$ha$31(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$31
+endmodule // sat$back$hb_decide$0$stage$1
 
 
-module sat$back$ha$32(d,q,clock);
+module sat$back$hb_decide$0$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7969,10 +8661,10 @@ module sat$back$ha$32(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$32
+endmodule // sat$back$hb_decide$0$stage$2
 
 
-module sat$back$ha$33(d,q,clock);
+module sat$back$hb_decide$0$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -7988,10 +8680,10 @@ module sat$back$ha$33(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$33
+endmodule // sat$back$hb_decide$0$stage$3
 
 
-module sat$back$ha$34(d,q,clock);
+module sat$back$hb_decide$0$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8007,10 +8699,79 @@ module sat$back$ha$34(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$34
+endmodule // sat$back$hb_decide$0$stage$4
+
+
+module sat$back$hb_decide$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    sat$back$hb_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$hb_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$hb_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$hb_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$hb_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // sat$back$hb_decide$1
 
 
-module sat$back$ha$35(d,q,clock);
+module sat$back$hb_decide$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8026,10 +8787,10 @@ module sat$back$ha$35(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$35
+endmodule // sat$back$hb_decide$1$stage$0
 
 
-module sat$back$ha$4(d,q,clock);
+module sat$back$hb_decide$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8045,10 +8806,10 @@ module sat$back$ha$4(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$4
+endmodule // sat$back$hb_decide$1$stage$1
 
 
-module sat$back$ha$5(d,q,clock);
+module sat$back$hb_decide$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8064,10 +8825,10 @@ module sat$back$ha$5(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$5
+endmodule // sat$back$hb_decide$1$stage$2
 
 
-module sat$back$ha$6(d,q,clock);
+module sat$back$hb_decide$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8083,10 +8844,10 @@ module sat$back$ha$6(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$6
+endmodule // sat$back$hb_decide$1$stage$3
 
 
-module sat$back$ha$7(d,q,clock);
+module sat$back$hb_decide$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8102,10 +8863,79 @@ module sat$back$ha$7(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$7
+endmodule // sat$back$hb_decide$1$stage$4
+
+
+module sat$back$hb_decide$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    
+    // Sub module instances
+    sat$back$hb_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$hb_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$hb_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$hb_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$hb_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        q = stage$4$q;
+    end
+    
+endmodule // sat$back$hb_decide$2
 
 
-module sat$back$ha$8(d,q,clock);
+module sat$back$hb_decide$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8121,10 +8951,10 @@ module sat$back$ha$8(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$8
+endmodule // sat$back$hb_decide$2$stage$0
 
 
-module sat$back$ha$9(d,q,clock);
+module sat$back$hb_decide$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8140,10 +8970,10 @@ module sat$back$ha$9(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ha$9
+endmodule // sat$back$hb_decide$2$stage$1
 
 
-module sat$back$hb$0(d,q,clock);
+module sat$back$hb_decide$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8159,10 +8989,10 @@ module sat$back$hb$0(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$0
+endmodule // sat$back$hb_decide$2$stage$2
 
 
-module sat$back$hb$1(d,q,clock);
+module sat$back$hb_decide$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8178,10 +9008,10 @@ module sat$back$hb$1(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$1
+endmodule // sat$back$hb_decide$2$stage$3
 
 
-module sat$back$hb$10(d,q,clock);
+module sat$back$hb_decide$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8197,10 +9027,39 @@ module sat$back$hb$10(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$10
+endmodule // sat$back$hb_decide$2$stage$4
+
+
+module sat$back$hb_products$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    
+    // Sub module instances
+    sat$back$hb_products$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$0$d = d;
+        q = stage$0$q;
+    end
+    
+endmodule // sat$back$hb_products$0
 
 
-module sat$back$hb$11(d,q,clock);
+module sat$back$hb_products$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8216,10 +9075,39 @@ module sat$back$hb$11(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$11
+endmodule // sat$back$hb_products$0$stage$0
+
+
+module sat$back$hb_products$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    
+    // Sub module instances
+    sat$back$hb_products$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$0$d = d;
+        q = stage$0$q;
+    end
+    
+endmodule // sat$back$hb_products$1
 
 
-module sat$back$hb$12(d,q,clock);
+module sat$back$hb_products$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8235,12 +9123,41 @@ module sat$back$hb$12(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$12
+endmodule // sat$back$hb_products$1$stage$0
 
 
-module sat$back$hb$13(d,q,clock);
+module sat$back$hb_products$2(clock,d,q);
     
     // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    
+    // Sub module instances
+    sat$back$hb_products$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$0$d = d;
+        q = stage$0$q;
+    end
+    
+endmodule // sat$back$hb_products$2
+
+
+module sat$back$hb_products$2$stage$0(d,q,clock);
+    
+    // Module arguments
     input wire signed [17:0] d;
     output reg signed [17:0] q;
     input wire  clock;
@@ -8254,10 +9171,89 @@ module sat$back$hb$13(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$13
+endmodule // sat$back$hb_products$2$stage$0
+
+
+module sat$back$hb_r_b$0(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$hb_r_b$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$hb_r_b$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$hb_r_b$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$hb_r_b$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$hb_r_b$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$hb_r_b$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$hb_r_b$0
 
 
-module sat$back$hb$14(d,q,clock);
+module sat$back$hb_r_b$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8273,10 +9269,10 @@ module sat$back$hb$14(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$14
+endmodule // sat$back$hb_r_b$0$stage$0
 
 
-module sat$back$hb$15(d,q,clock);
+module sat$back$hb_r_b$0$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8292,10 +9288,10 @@ module sat$back$hb$15(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$15
+endmodule // sat$back$hb_r_b$0$stage$1
 
 
-module sat$back$hb$16(d,q,clock);
+module sat$back$hb_r_b$0$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8311,10 +9307,10 @@ module sat$back$hb$16(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$16
+endmodule // sat$back$hb_r_b$0$stage$2
 
 
-module sat$back$hb$17(d,q,clock);
+module sat$back$hb_r_b$0$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8330,10 +9326,10 @@ module sat$back$hb$17(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$17
+endmodule // sat$back$hb_r_b$0$stage$3
 
 
-module sat$back$hb$18(d,q,clock);
+module sat$back$hb_r_b$0$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8349,10 +9345,10 @@ module sat$back$hb$18(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$18
+endmodule // sat$back$hb_r_b$0$stage$4
 
 
-module sat$back$hb$19(d,q,clock);
+module sat$back$hb_r_b$0$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8368,10 +9364,89 @@ module sat$back$hb$19(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$19
+endmodule // sat$back$hb_r_b$0$stage$5
+
+
+module sat$back$hb_r_b$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$hb_r_b$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$hb_r_b$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$hb_r_b$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$hb_r_b$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$hb_r_b$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$hb_r_b$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$hb_r_b$1
 
 
-module sat$back$hb$2(d,q,clock);
+module sat$back$hb_r_b$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8387,10 +9462,10 @@ module sat$back$hb$2(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$2
+endmodule // sat$back$hb_r_b$1$stage$0
 
 
-module sat$back$hb$20(d,q,clock);
+module sat$back$hb_r_b$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8406,10 +9481,10 @@ module sat$back$hb$20(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$20
+endmodule // sat$back$hb_r_b$1$stage$1
 
 
-module sat$back$hb$21(d,q,clock);
+module sat$back$hb_r_b$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8425,10 +9500,10 @@ module sat$back$hb$21(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$21
+endmodule // sat$back$hb_r_b$1$stage$2
 
 
-module sat$back$hb$22(d,q,clock);
+module sat$back$hb_r_b$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8444,10 +9519,10 @@ module sat$back$hb$22(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$22
+endmodule // sat$back$hb_r_b$1$stage$3
 
 
-module sat$back$hb$23(d,q,clock);
+module sat$back$hb_r_b$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8463,10 +9538,10 @@ module sat$back$hb$23(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$23
+endmodule // sat$back$hb_r_b$1$stage$4
 
 
-module sat$back$hb$24(d,q,clock);
+module sat$back$hb_r_b$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8482,10 +9557,89 @@ module sat$back$hb$24(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$24
+endmodule // sat$back$hb_r_b$1$stage$5
+
 
+module sat$back$hb_r_b$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$hb_r_b$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$hb_r_b$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$hb_r_b$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$hb_r_b$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$hb_r_b$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$hb_r_b$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$hb_r_b$2
+
 
-module sat$back$hb$25(d,q,clock);
+module sat$back$hb_r_b$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8501,10 +9655,10 @@ module sat$back$hb$25(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$25
+endmodule // sat$back$hb_r_b$2$stage$0
 
 
-module sat$back$hb$26(d,q,clock);
+module sat$back$hb_r_b$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8520,10 +9674,10 @@ module sat$back$hb$26(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$26
+endmodule // sat$back$hb_r_b$2$stage$1
 
 
-module sat$back$hb$27(d,q,clock);
+module sat$back$hb_r_b$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8539,10 +9693,10 @@ module sat$back$hb$27(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$27
+endmodule // sat$back$hb_r_b$2$stage$2
 
 
-module sat$back$hb$28(d,q,clock);
+module sat$back$hb_r_b$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8558,10 +9712,10 @@ module sat$back$hb$28(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$28
+endmodule // sat$back$hb_r_b$2$stage$3
 
 
-module sat$back$hb$29(d,q,clock);
+module sat$back$hb_r_b$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8577,10 +9731,10 @@ module sat$back$hb$29(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$29
+endmodule // sat$back$hb_r_b$2$stage$4
 
 
-module sat$back$hb$3(d,q,clock);
+module sat$back$hb_r_b$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -8596,235 +9750,374 @@ module sat$back$hb$3(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$hb$3
+endmodule // sat$back$hb_r_b$2$stage$5
 
 
-module sat$back$hb$30(d,q,clock);
+module sat$back$margin_decide(clock,d,q);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  clock;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
+    
+    // Stub signals
+    reg  [28:0] stage$0$d;
+    wire  [28:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [28:0] stage$1$d;
+    wire  [28:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [28:0] stage$2$d;
+    wire  [28:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [28:0] stage$3$d;
+    wire  [28:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [28:0] stage$4$d;
+    wire  [28:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [28:0] stage$5$d;
+    wire  [28:0] stage$5$q;
+    reg  stage$5$clock;
+    reg  [28:0] stage$6$d;
+    wire  [28:0] stage$6$q;
+    reg  stage$6$clock;
+    reg  [28:0] stage$7$d;
+    wire  [28:0] stage$7$q;
+    reg  stage$7$clock;
+    reg  [28:0] stage$8$d;
+    wire  [28:0] stage$8$q;
+    reg  stage$8$clock;
+    reg  [28:0] stage$9$d;
+    wire  [28:0] stage$9$q;
+    reg  stage$9$clock;
+    reg  [28:0] stage$10$d;
+    wire  [28:0] stage$10$q;
+    reg  stage$10$clock;
+    reg  [28:0] stage$11$d;
+    wire  [28:0] stage$11$q;
+    reg  stage$11$clock;
+    
+    // Sub module instances
+    sat$back$margin_decide$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$margin_decide$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$margin_decide$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$margin_decide$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$margin_decide$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$margin_decide$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    sat$back$margin_decide$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    sat$back$margin_decide$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    sat$back$margin_decide$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    sat$back$margin_decide$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    sat$back$margin_decide$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    sat$back$margin_decide$stage$11 stage$11(
+        .d(stage$11$d),
+        .q(stage$11$q),
+        .clock(stage$11$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$11$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        stage$11$d = stage$10$q;
+        q = stage$11$q;
+    end
+    
+endmodule // sat$back$margin_decide
+
+
+module sat$back$margin_decide$stage$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$hb$30
+endmodule // sat$back$margin_decide$stage$0
 
 
-module sat$back$hb$31(d,q,clock);
+module sat$back$margin_decide$stage$1(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$hb$31
+endmodule // sat$back$margin_decide$stage$1
 
 
-module sat$back$hb$32(d,q,clock);
+module sat$back$margin_decide$stage$10(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$hb$32
+endmodule // sat$back$margin_decide$stage$10
 
 
-module sat$back$hb$33(d,q,clock);
+module sat$back$margin_decide$stage$11(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$hb$33
+endmodule // sat$back$margin_decide$stage$11
 
 
-module sat$back$hb$34(d,q,clock);
+module sat$back$margin_decide$stage$2(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$hb$34
+endmodule // sat$back$margin_decide$stage$2
 
 
-module sat$back$hb$35(d,q,clock);
+module sat$back$margin_decide$stage$3(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$hb$35
+endmodule // sat$back$margin_decide$stage$3
 
 
-module sat$back$hb$4(d,q,clock);
+module sat$back$margin_decide$stage$4(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$hb$4
+endmodule // sat$back$margin_decide$stage$4
 
 
-module sat$back$hb$5(d,q,clock);
+module sat$back$margin_decide$stage$5(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$hb$5
+endmodule // sat$back$margin_decide$stage$5
 
 
-module sat$back$hb$6(d,q,clock);
+module sat$back$margin_decide$stage$6(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$hb$6
+endmodule // sat$back$margin_decide$stage$6
 
 
-module sat$back$hb$7(d,q,clock);
+module sat$back$margin_decide$stage$7(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$hb$7
+endmodule // sat$back$margin_decide$stage$7
 
 
-module sat$back$hb$8(d,q,clock);
+module sat$back$margin_decide$stage$8(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$hb$8
+endmodule // sat$back$margin_decide$stage$8
 
 
-module sat$back$hb$9(d,q,clock);
+module sat$back$margin_decide$stage$9(d,q,clock);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     input wire  clock;
     
     // Update code (custom)
     initial begin
-       q = 18'h0;
+       q = 29'h0;
     end
     
     always @(posedge clock) begin
        q <= d;
     end
           
-endmodule // sat$back$hb$9
+endmodule // sat$back$margin_decide$stage$9
 
 
 module sat$back$minor_abs$0(x,s,y,clock);
@@ -9853,1090 +11146,86 @@ module sat$back$p_dot$8(a0,a1,b0,b1,p,clock);
 endmodule // sat$back$p_dot$8
 
 
-module sat$back$pa_d$0(d,q,clock);
+module sat$back$r_a_decide$0(clock,d,q);
     
     // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
     input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$0
-
-
-module sat$back$pa_d$1(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$1
-
-
-module sat$back$pa_d$10(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$10
-
-
-module sat$back$pa_d$11(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$11
-
-
-module sat$back$pa_d$12(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$12
-
-
-module sat$back$pa_d$13(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$13
-
-
-module sat$back$pa_d$14(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$14
-
-
-module sat$back$pa_d$15(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$15
-
-
-module sat$back$pa_d$16(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$16
-
-
-module sat$back$pa_d$17(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$17
-
-
-module sat$back$pa_d$18(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$18
-
-
-module sat$back$pa_d$19(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$19
-
-
-module sat$back$pa_d$2(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$2
-
-
-module sat$back$pa_d$20(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$20
-
-
-module sat$back$pa_d$21(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$21
-
-
-module sat$back$pa_d$22(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$22
-
-
-module sat$back$pa_d$23(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$23
-
-
-module sat$back$pa_d$24(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$24
-
-
-module sat$back$pa_d$25(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$25
-
-
-module sat$back$pa_d$26(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$26
-
-
-module sat$back$pa_d$27(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$27
-
-
-module sat$back$pa_d$28(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$28
-
-
-module sat$back$pa_d$29(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$29
-
-
-module sat$back$pa_d$3(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$3
-
-
-module sat$back$pa_d$30(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$30
-
-
-module sat$back$pa_d$31(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$31
-
-
-module sat$back$pa_d$32(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$32
-
-
-module sat$back$pa_d$33(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$33
-
-
-module sat$back$pa_d$34(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$34
-
-
-module sat$back$pa_d$35(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$35
-
-
-module sat$back$pa_d$36(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$36
-
-
-module sat$back$pa_d$37(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$37
-
-
-module sat$back$pa_d$38(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$38
-
-
-module sat$back$pa_d$39(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$39
-
-
-module sat$back$pa_d$4(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$4
-
-
-module sat$back$pa_d$40(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$40
-
-
-module sat$back$pa_d$41(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$41
-
-
-module sat$back$pa_d$42(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$42
-
-
-module sat$back$pa_d$43(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$43
-
-
-module sat$back$pa_d$44(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$44
-
-
-module sat$back$pa_d$5(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$5
-
-
-module sat$back$pa_d$6(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$6
-
-
-module sat$back$pa_d$7(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$7
-
-
-module sat$back$pa_d$8(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$8
-
-
-module sat$back$pa_d$9(d,q,clock);
-    
-    // Module arguments
-    input wire  [43:0] d;
-    output reg  [43:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 44'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pa_d$9
-
-
-module sat$back$pm$0(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pm$0
-
-
-module sat$back$pm$1(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pm$1
-
-
-module sat$back$pm$10(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pm$10
-
-
-module sat$back$pm$11(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pm$11
-
-
-module sat$back$pm$2(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pm$2
-
-
-module sat$back$pm$3(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pm$3
-
-
-module sat$back$pm$4(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pm$4
-
-
-module sat$back$pm$5(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pm$5
-
-
-module sat$back$pm$6(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pm$6
-
-
-module sat$back$pm$7(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pm$7
-
-
-module sat$back$pm$8(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pm$8
-
-
-module sat$back$pm$9(d,q,clock);
-    
-    // Module arguments
-    input wire  [28:0] d;
-    output reg  [28:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 29'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$back$pm$9
-
-
-module sat$back$ra_d$0(d,q,clock);
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$r_a_decide$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$r_a_decide$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$r_a_decide$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$r_a_decide$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$r_a_decide$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$r_a_decide$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$r_a_decide$0
+
+
+module sat$back$r_a_decide$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -10952,10 +11241,10 @@ module sat$back$ra_d$0(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$0
+endmodule // sat$back$r_a_decide$0$stage$0
 
 
-module sat$back$ra_d$1(d,q,clock);
+module sat$back$r_a_decide$0$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -10971,10 +11260,10 @@ module sat$back$ra_d$1(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$1
+endmodule // sat$back$r_a_decide$0$stage$1
 
 
-module sat$back$ra_d$10(d,q,clock);
+module sat$back$r_a_decide$0$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -10990,10 +11279,10 @@ module sat$back$ra_d$10(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$10
+endmodule // sat$back$r_a_decide$0$stage$2
 
 
-module sat$back$ra_d$11(d,q,clock);
+module sat$back$r_a_decide$0$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11009,10 +11298,10 @@ module sat$back$ra_d$11(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$11
+endmodule // sat$back$r_a_decide$0$stage$3
 
 
-module sat$back$ra_d$12(d,q,clock);
+module sat$back$r_a_decide$0$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11028,10 +11317,10 @@ module sat$back$ra_d$12(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$12
+endmodule // sat$back$r_a_decide$0$stage$4
 
 
-module sat$back$ra_d$13(d,q,clock);
+module sat$back$r_a_decide$0$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11047,10 +11336,89 @@ module sat$back$ra_d$13(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$13
+endmodule // sat$back$r_a_decide$0$stage$5
 
 
-module sat$back$ra_d$14(d,q,clock);
+module sat$back$r_a_decide$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$r_a_decide$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$r_a_decide$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$r_a_decide$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$r_a_decide$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$r_a_decide$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$r_a_decide$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$r_a_decide$1
+
+
+module sat$back$r_a_decide$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11066,10 +11434,10 @@ module sat$back$ra_d$14(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$14
+endmodule // sat$back$r_a_decide$1$stage$0
 
 
-module sat$back$ra_d$15(d,q,clock);
+module sat$back$r_a_decide$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11085,10 +11453,10 @@ module sat$back$ra_d$15(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$15
+endmodule // sat$back$r_a_decide$1$stage$1
 
 
-module sat$back$ra_d$16(d,q,clock);
+module sat$back$r_a_decide$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11104,10 +11472,10 @@ module sat$back$ra_d$16(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$16
+endmodule // sat$back$r_a_decide$1$stage$2
 
 
-module sat$back$ra_d$17(d,q,clock);
+module sat$back$r_a_decide$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11123,10 +11491,10 @@ module sat$back$ra_d$17(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$17
+endmodule // sat$back$r_a_decide$1$stage$3
 
 
-module sat$back$ra_d$18(d,q,clock);
+module sat$back$r_a_decide$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11142,10 +11510,10 @@ module sat$back$ra_d$18(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$18
+endmodule // sat$back$r_a_decide$1$stage$4
 
 
-module sat$back$ra_d$19(d,q,clock);
+module sat$back$r_a_decide$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11161,10 +11529,89 @@ module sat$back$ra_d$19(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$19
+endmodule // sat$back$r_a_decide$1$stage$5
 
 
-module sat$back$ra_d$2(d,q,clock);
+module sat$back$r_a_decide$2(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$r_a_decide$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$r_a_decide$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$r_a_decide$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$r_a_decide$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$r_a_decide$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$r_a_decide$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$r_a_decide$2
+
+
+module sat$back$r_a_decide$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11180,10 +11627,10 @@ module sat$back$ra_d$2(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$2
+endmodule // sat$back$r_a_decide$2$stage$0
 
 
-module sat$back$ra_d$20(d,q,clock);
+module sat$back$r_a_decide$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11199,10 +11646,10 @@ module sat$back$ra_d$20(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$20
+endmodule // sat$back$r_a_decide$2$stage$1
 
 
-module sat$back$ra_d$21(d,q,clock);
+module sat$back$r_a_decide$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11218,10 +11665,10 @@ module sat$back$ra_d$21(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$21
+endmodule // sat$back$r_a_decide$2$stage$2
 
 
-module sat$back$ra_d$22(d,q,clock);
+module sat$back$r_a_decide$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11237,10 +11684,10 @@ module sat$back$ra_d$22(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$22
+endmodule // sat$back$r_a_decide$2$stage$3
 
 
-module sat$back$ra_d$23(d,q,clock);
+module sat$back$r_a_decide$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11256,10 +11703,10 @@ module sat$back$ra_d$23(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$23
+endmodule // sat$back$r_a_decide$2$stage$4
 
 
-module sat$back$ra_d$24(d,q,clock);
+module sat$back$r_a_decide$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11275,10 +11722,89 @@ module sat$back$ra_d$24(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$24
+endmodule // sat$back$r_a_decide$2$stage$5
 
 
-module sat$back$ra_d$25(d,q,clock);
+module sat$back$r_a_decide$3(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$r_a_decide$3$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$r_a_decide$3$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$r_a_decide$3$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$r_a_decide$3$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$r_a_decide$3$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$r_a_decide$3$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$r_a_decide$3
+
+
+module sat$back$r_a_decide$3$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11294,10 +11820,10 @@ module sat$back$ra_d$25(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$25
+endmodule // sat$back$r_a_decide$3$stage$0
 
 
-module sat$back$ra_d$26(d,q,clock);
+module sat$back$r_a_decide$3$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11313,10 +11839,10 @@ module sat$back$ra_d$26(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$26
+endmodule // sat$back$r_a_decide$3$stage$1
 
 
-module sat$back$ra_d$27(d,q,clock);
+module sat$back$r_a_decide$3$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11332,10 +11858,10 @@ module sat$back$ra_d$27(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$27
+endmodule // sat$back$r_a_decide$3$stage$2
 
 
-module sat$back$ra_d$28(d,q,clock);
+module sat$back$r_a_decide$3$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11351,10 +11877,10 @@ module sat$back$ra_d$28(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$28
+endmodule // sat$back$r_a_decide$3$stage$3
 
 
-module sat$back$ra_d$29(d,q,clock);
+module sat$back$r_a_decide$3$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11370,10 +11896,10 @@ module sat$back$ra_d$29(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$29
+endmodule // sat$back$r_a_decide$3$stage$4
 
 
-module sat$back$ra_d$3(d,q,clock);
+module sat$back$r_a_decide$3$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11389,10 +11915,89 @@ module sat$back$ra_d$3(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$3
+endmodule // sat$back$r_a_decide$3$stage$5
 
 
-module sat$back$ra_d$30(d,q,clock);
+module sat$back$r_a_decide$4(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$r_a_decide$4$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$r_a_decide$4$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$r_a_decide$4$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$r_a_decide$4$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$r_a_decide$4$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$r_a_decide$4$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$r_a_decide$4
+
+
+module sat$back$r_a_decide$4$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11408,10 +12013,10 @@ module sat$back$ra_d$30(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$30
+endmodule // sat$back$r_a_decide$4$stage$0
 
 
-module sat$back$ra_d$31(d,q,clock);
+module sat$back$r_a_decide$4$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11427,10 +12032,10 @@ module sat$back$ra_d$31(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$31
+endmodule // sat$back$r_a_decide$4$stage$1
 
 
-module sat$back$ra_d$32(d,q,clock);
+module sat$back$r_a_decide$4$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11446,10 +12051,10 @@ module sat$back$ra_d$32(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$32
+endmodule // sat$back$r_a_decide$4$stage$2
 
 
-module sat$back$ra_d$33(d,q,clock);
+module sat$back$r_a_decide$4$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11465,10 +12070,10 @@ module sat$back$ra_d$33(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$33
+endmodule // sat$back$r_a_decide$4$stage$3
 
 
-module sat$back$ra_d$34(d,q,clock);
+module sat$back$r_a_decide$4$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11484,10 +12089,10 @@ module sat$back$ra_d$34(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$34
+endmodule // sat$back$r_a_decide$4$stage$4
 
 
-module sat$back$ra_d$35(d,q,clock);
+module sat$back$r_a_decide$4$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11503,10 +12108,89 @@ module sat$back$ra_d$35(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$35
+endmodule // sat$back$r_a_decide$4$stage$5
 
 
-module sat$back$ra_d$36(d,q,clock);
+module sat$back$r_a_decide$5(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$r_a_decide$5$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$r_a_decide$5$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$r_a_decide$5$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$r_a_decide$5$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$r_a_decide$5$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$r_a_decide$5$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$r_a_decide$5
+
+
+module sat$back$r_a_decide$5$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11522,10 +12206,10 @@ module sat$back$ra_d$36(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$36
+endmodule // sat$back$r_a_decide$5$stage$0
 
 
-module sat$back$ra_d$37(d,q,clock);
+module sat$back$r_a_decide$5$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11541,10 +12225,10 @@ module sat$back$ra_d$37(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$37
+endmodule // sat$back$r_a_decide$5$stage$1
 
 
-module sat$back$ra_d$38(d,q,clock);
+module sat$back$r_a_decide$5$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11560,10 +12244,10 @@ module sat$back$ra_d$38(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$38
+endmodule // sat$back$r_a_decide$5$stage$2
 
 
-module sat$back$ra_d$39(d,q,clock);
+module sat$back$r_a_decide$5$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11579,10 +12263,10 @@ module sat$back$ra_d$39(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$39
+endmodule // sat$back$r_a_decide$5$stage$3
 
 
-module sat$back$ra_d$4(d,q,clock);
+module sat$back$r_a_decide$5$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11598,10 +12282,10 @@ module sat$back$ra_d$4(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$4
+endmodule // sat$back$r_a_decide$5$stage$4
 
 
-module sat$back$ra_d$40(d,q,clock);
+module sat$back$r_a_decide$5$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11617,10 +12301,89 @@ module sat$back$ra_d$40(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$40
+endmodule // sat$back$r_a_decide$5$stage$5
 
 
-module sat$back$ra_d$41(d,q,clock);
+module sat$back$r_a_decide$6(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$r_a_decide$6$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$r_a_decide$6$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$r_a_decide$6$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$r_a_decide$6$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$r_a_decide$6$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$r_a_decide$6$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$r_a_decide$6
+
+
+module sat$back$r_a_decide$6$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11636,10 +12399,10 @@ module sat$back$ra_d$41(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$41
+endmodule // sat$back$r_a_decide$6$stage$0
 
 
-module sat$back$ra_d$42(d,q,clock);
+module sat$back$r_a_decide$6$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11655,10 +12418,10 @@ module sat$back$ra_d$42(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$42
+endmodule // sat$back$r_a_decide$6$stage$1
 
 
-module sat$back$ra_d$43(d,q,clock);
+module sat$back$r_a_decide$6$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11674,10 +12437,10 @@ module sat$back$ra_d$43(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$43
+endmodule // sat$back$r_a_decide$6$stage$2
 
 
-module sat$back$ra_d$44(d,q,clock);
+module sat$back$r_a_decide$6$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11693,10 +12456,10 @@ module sat$back$ra_d$44(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$44
+endmodule // sat$back$r_a_decide$6$stage$3
 
 
-module sat$back$ra_d$45(d,q,clock);
+module sat$back$r_a_decide$6$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11712,10 +12475,10 @@ module sat$back$ra_d$45(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$45
+endmodule // sat$back$r_a_decide$6$stage$4
 
 
-module sat$back$ra_d$46(d,q,clock);
+module sat$back$r_a_decide$6$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11731,10 +12494,89 @@ module sat$back$ra_d$46(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$46
+endmodule // sat$back$r_a_decide$6$stage$5
 
 
-module sat$back$ra_d$47(d,q,clock);
+module sat$back$r_a_decide$7(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$r_a_decide$7$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$r_a_decide$7$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$r_a_decide$7$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$r_a_decide$7$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$r_a_decide$7$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$r_a_decide$7$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$r_a_decide$7
+
+
+module sat$back$r_a_decide$7$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11750,10 +12592,10 @@ module sat$back$ra_d$47(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$47
+endmodule // sat$back$r_a_decide$7$stage$0
 
 
-module sat$back$ra_d$48(d,q,clock);
+module sat$back$r_a_decide$7$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11769,10 +12611,10 @@ module sat$back$ra_d$48(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$48
+endmodule // sat$back$r_a_decide$7$stage$1
 
 
-module sat$back$ra_d$49(d,q,clock);
+module sat$back$r_a_decide$7$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11788,10 +12630,10 @@ module sat$back$ra_d$49(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$49
+endmodule // sat$back$r_a_decide$7$stage$2
 
 
-module sat$back$ra_d$5(d,q,clock);
+module sat$back$r_a_decide$7$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11807,10 +12649,10 @@ module sat$back$ra_d$5(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$5
+endmodule // sat$back$r_a_decide$7$stage$3
 
 
-module sat$back$ra_d$50(d,q,clock);
+module sat$back$r_a_decide$7$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11826,10 +12668,10 @@ module sat$back$ra_d$50(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$50
+endmodule // sat$back$r_a_decide$7$stage$4
 
 
-module sat$back$ra_d$51(d,q,clock);
+module sat$back$r_a_decide$7$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11845,10 +12687,89 @@ module sat$back$ra_d$51(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$51
+endmodule // sat$back$r_a_decide$7$stage$5
 
 
-module sat$back$ra_d$52(d,q,clock);
+module sat$back$r_a_decide$8(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [36:0] d;
+    output reg signed [36:0] q;
+    
+    // Stub signals
+    reg signed [36:0] stage$0$d;
+    wire signed [36:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [36:0] stage$1$d;
+    wire signed [36:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [36:0] stage$2$d;
+    wire signed [36:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [36:0] stage$3$d;
+    wire signed [36:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [36:0] stage$4$d;
+    wire signed [36:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [36:0] stage$5$d;
+    wire signed [36:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$back$r_a_decide$8$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$r_a_decide$8$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$r_a_decide$8$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$r_a_decide$8$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$r_a_decide$8$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$r_a_decide$8$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$back$r_a_decide$8
+
+
+module sat$back$r_a_decide$8$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11864,10 +12785,10 @@ module sat$back$ra_d$52(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$52
+endmodule // sat$back$r_a_decide$8$stage$0
 
 
-module sat$back$ra_d$53(d,q,clock);
+module sat$back$r_a_decide$8$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11883,10 +12804,10 @@ module sat$back$ra_d$53(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$53
+endmodule // sat$back$r_a_decide$8$stage$1
 
 
-module sat$back$ra_d$6(d,q,clock);
+module sat$back$r_a_decide$8$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11902,10 +12823,10 @@ module sat$back$ra_d$6(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$6
+endmodule // sat$back$r_a_decide$8$stage$2
 
 
-module sat$back$ra_d$7(d,q,clock);
+module sat$back$r_a_decide$8$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11921,10 +12842,10 @@ module sat$back$ra_d$7(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$7
+endmodule // sat$back$r_a_decide$8$stage$3
 
 
-module sat$back$ra_d$8(d,q,clock);
+module sat$back$r_a_decide$8$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11940,10 +12861,10 @@ module sat$back$ra_d$8(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$8
+endmodule // sat$back$r_a_decide$8$stage$4
 
 
-module sat$back$ra_d$9(d,q,clock);
+module sat$back$r_a_decide$8$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [36:0] d;
@@ -11959,7 +12880,7 @@ module sat$back$ra_d$9(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$ra_d$9
+endmodule // sat$back$r_a_decide$8$stage$5
 
 
 module sat$back$ra_dot$0(a0,a1,b0,b1,p,clock);
@@ -12808,7 +13729,186 @@ module sat$back$round(t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r$6,r$7,r$
 endmodule // sat$back$round
 
 
-module sat$back$valid$0(d,q,clock);
+module sat$back$valid(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  d;
+    output reg  q;
+    
+    // Stub signals
+    reg  stage$0$d;
+    wire  stage$0$q;
+    reg  stage$0$clock;
+    reg  stage$1$d;
+    wire  stage$1$q;
+    reg  stage$1$clock;
+    reg  stage$2$d;
+    wire  stage$2$q;
+    reg  stage$2$clock;
+    reg  stage$3$d;
+    wire  stage$3$q;
+    reg  stage$3$clock;
+    reg  stage$4$d;
+    wire  stage$4$q;
+    reg  stage$4$clock;
+    reg  stage$5$d;
+    wire  stage$5$q;
+    reg  stage$5$clock;
+    reg  stage$6$d;
+    wire  stage$6$q;
+    reg  stage$6$clock;
+    reg  stage$7$d;
+    wire  stage$7$q;
+    reg  stage$7$clock;
+    reg  stage$8$d;
+    wire  stage$8$q;
+    reg  stage$8$clock;
+    reg  stage$9$d;
+    wire  stage$9$q;
+    reg  stage$9$clock;
+    reg  stage$10$d;
+    wire  stage$10$q;
+    reg  stage$10$clock;
+    reg  stage$11$d;
+    wire  stage$11$q;
+    reg  stage$11$clock;
+    reg  stage$12$d;
+    wire  stage$12$q;
+    reg  stage$12$clock;
+    reg  stage$13$d;
+    wire  stage$13$q;
+    reg  stage$13$clock;
+    reg  stage$14$d;
+    wire  stage$14$q;
+    reg  stage$14$clock;
+    reg  stage$15$d;
+    wire  stage$15$q;
+    reg  stage$15$clock;
+    
+    // Sub module instances
+    sat$back$valid$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$back$valid$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$back$valid$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$back$valid$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$back$valid$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$back$valid$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    sat$back$valid$stage$6 stage$6(
+        .d(stage$6$d),
+        .q(stage$6$q),
+        .clock(stage$6$clock)
+    );
+    sat$back$valid$stage$7 stage$7(
+        .d(stage$7$d),
+        .q(stage$7$q),
+        .clock(stage$7$clock)
+    );
+    sat$back$valid$stage$8 stage$8(
+        .d(stage$8$d),
+        .q(stage$8$q),
+        .clock(stage$8$clock)
+    );
+    sat$back$valid$stage$9 stage$9(
+        .d(stage$9$d),
+        .q(stage$9$q),
+        .clock(stage$9$clock)
+    );
+    sat$back$valid$stage$10 stage$10(
+        .d(stage$10$d),
+        .q(stage$10$q),
+        .clock(stage$10$clock)
+    );
+    sat$back$valid$stage$11 stage$11(
+        .d(stage$11$d),
+        .q(stage$11$q),
+        .clock(stage$11$clock)
+    );
+    sat$back$valid$stage$12 stage$12(
+        .d(stage$12$d),
+        .q(stage$12$q),
+        .clock(stage$12$clock)
+    );
+    sat$back$valid$stage$13 stage$13(
+        .d(stage$13$d),
+        .q(stage$13$q),
+        .clock(stage$13$clock)
+    );
+    sat$back$valid$stage$14 stage$14(
+        .d(stage$14$d),
+        .q(stage$14$q),
+        .clock(stage$14$clock)
+    );
+    sat$back$valid$stage$15 stage$15(
+        .d(stage$15$d),
+        .q(stage$15$q),
+        .clock(stage$15$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$6$clock = clock;
+        stage$7$clock = clock;
+        stage$8$clock = clock;
+        stage$9$clock = clock;
+        stage$10$clock = clock;
+        stage$11$clock = clock;
+        stage$12$clock = clock;
+        stage$13$clock = clock;
+        stage$14$clock = clock;
+        stage$15$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        stage$6$d = stage$5$q;
+        stage$7$d = stage$6$q;
+        stage$8$d = stage$7$q;
+        stage$9$d = stage$8$q;
+        stage$10$d = stage$9$q;
+        stage$11$d = stage$10$q;
+        stage$12$d = stage$11$q;
+        stage$13$d = stage$12$q;
+        stage$14$d = stage$13$q;
+        stage$15$d = stage$14$q;
+        q = stage$15$q;
+    end
+    
+endmodule // sat$back$valid
+
+
+module sat$back$valid$stage$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -12824,10 +13924,10 @@ module sat$back$valid$0(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$0
+endmodule // sat$back$valid$stage$0
 
 
-module sat$back$valid$1(d,q,clock);
+module sat$back$valid$stage$1(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -12843,10 +13943,10 @@ module sat$back$valid$1(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$1
+endmodule // sat$back$valid$stage$1
 
 
-module sat$back$valid$10(d,q,clock);
+module sat$back$valid$stage$10(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -12862,10 +13962,10 @@ module sat$back$valid$10(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$10
+endmodule // sat$back$valid$stage$10
 
 
-module sat$back$valid$11(d,q,clock);
+module sat$back$valid$stage$11(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -12881,10 +13981,10 @@ module sat$back$valid$11(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$11
+endmodule // sat$back$valid$stage$11
 
 
-module sat$back$valid$12(d,q,clock);
+module sat$back$valid$stage$12(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -12900,10 +14000,10 @@ module sat$back$valid$12(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$12
+endmodule // sat$back$valid$stage$12
 
 
-module sat$back$valid$13(d,q,clock);
+module sat$back$valid$stage$13(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -12919,10 +14019,10 @@ module sat$back$valid$13(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$13
+endmodule // sat$back$valid$stage$13
 
 
-module sat$back$valid$14(d,q,clock);
+module sat$back$valid$stage$14(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -12938,10 +14038,10 @@ module sat$back$valid$14(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$14
+endmodule // sat$back$valid$stage$14
 
 
-module sat$back$valid$15(d,q,clock);
+module sat$back$valid$stage$15(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -12957,10 +14057,10 @@ module sat$back$valid$15(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$15
+endmodule // sat$back$valid$stage$15
 
 
-module sat$back$valid$2(d,q,clock);
+module sat$back$valid$stage$2(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -12976,10 +14076,10 @@ module sat$back$valid$2(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$2
+endmodule // sat$back$valid$stage$2
 
 
-module sat$back$valid$3(d,q,clock);
+module sat$back$valid$stage$3(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -12995,10 +14095,10 @@ module sat$back$valid$3(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$3
+endmodule // sat$back$valid$stage$3
 
 
-module sat$back$valid$4(d,q,clock);
+module sat$back$valid$stage$4(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -13014,10 +14114,10 @@ module sat$back$valid$4(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$4
+endmodule // sat$back$valid$stage$4
 
 
-module sat$back$valid$5(d,q,clock);
+module sat$back$valid$stage$5(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -13033,10 +14133,10 @@ module sat$back$valid$5(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$5
+endmodule // sat$back$valid$stage$5
 
 
-module sat$back$valid$6(d,q,clock);
+module sat$back$valid$stage$6(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -13052,10 +14152,10 @@ module sat$back$valid$6(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$6
+endmodule // sat$back$valid$stage$6
 
 
-module sat$back$valid$7(d,q,clock);
+module sat$back$valid$stage$7(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -13071,10 +14171,10 @@ module sat$back$valid$7(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$7
+endmodule // sat$back$valid$stage$7
 
 
-module sat$back$valid$8(d,q,clock);
+module sat$back$valid$stage$8(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -13090,10 +14190,10 @@ module sat$back$valid$8(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$8
+endmodule // sat$back$valid$stage$8
 
 
-module sat$back$valid$9(d,q,clock);
+module sat$back$valid$stage$9(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -13109,7 +14209,7 @@ module sat$back$valid$9(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$back$valid$9
+endmodule // sat$back$valid$stage$9
 
 
 module sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center_b$0,center_b$1,center_b$2,axes_a$0,axes_a$1,axes_a$2,axes_a$3,axes_a$4,axes_a$5,axes_a$6,axes_a$7,axes_a$8,axes_b$0,axes_b$1,axes_b$2,axes_b$3,axes_b$4,axes_b$5,axes_b$6,axes_b$7,axes_b$8,valid_out,t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r$6,r$7,r$8);
@@ -13159,24 +14259,9 @@ module sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center_b$0,cent
     output reg signed [37:0] r$8;
     
     // Stub signals
-    reg  valid$0$d;
-    wire  valid$0$q;
-    reg  valid$0$clock;
-    reg  valid$1$d;
-    wire  valid$1$q;
-    reg  valid$1$clock;
-    reg  valid$2$d;
-    wire  valid$2$q;
-    reg  valid$2$clock;
-    reg  valid$3$d;
-    wire  valid$3$q;
-    reg  valid$3$clock;
-    reg  valid$4$d;
-    wire  valid$4$q;
-    reg  valid$4$clock;
-    reg  valid$5$d;
-    wire  valid$5$q;
-    reg  valid$5$clock;
+    reg  valid$clock;
+    reg  valid$d;
+    wire  valid$q;
     reg  [22:0] world$0$a;
     reg  [22:0] world$0$b;
     wire signed [23:0] world$0$d;
@@ -13365,35 +14450,10 @@ module sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center_b$0,cent
     reg  r_dot$8$clock;
     
     // Sub module instances
-    sat$front$valid$0 valid$0(
-        .d(valid$0$d),
-        .q(valid$0$q),
-        .clock(valid$0$clock)
-    );
-    sat$front$valid$1 valid$1(
-        .d(valid$1$d),
-        .q(valid$1$q),
-        .clock(valid$1$clock)
-    );
-    sat$front$valid$2 valid$2(
-        .d(valid$2$d),
-        .q(valid$2$q),
-        .clock(valid$2$clock)
-    );
-    sat$front$valid$3 valid$3(
-        .d(valid$3$d),
-        .q(valid$3$q),
-        .clock(valid$3$clock)
-    );
-    sat$front$valid$4 valid$4(
-        .d(valid$4$d),
-        .q(valid$4$q),
-        .clock(valid$4$clock)
-    );
-    sat$front$valid$5 valid$5(
-        .d(valid$5$d),
-        .q(valid$5$q),
-        .clock(valid$5$clock)
+    sat$front$valid valid(
+        .clock(valid$clock),
+        .d(valid$d),
+        .q(valid$q)
     );
     sat$front$world$0 world$0(
         .a(world$0$a),
@@ -13656,12 +14716,7 @@ module sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center_b$0,cent
     
     // Update code
     always @(*) begin
-        valid$0$clock = clock;
-        valid$1$clock = clock;
-        valid$2$clock = clock;
-        valid$3$clock = clock;
-        valid$4$clock = clock;
-        valid$5$clock = clock;
+        valid$clock = clock;
         world$0$clock = clock;
         t_dot$0$clock = clock;
         u_dot$0$clock = clock;
@@ -13698,12 +14753,7 @@ module sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center_b$0,cent
         axes_a_r$8$clock = clock;
         axes_b_r$8$clock = clock;
         r_dot$8$clock = clock;
-        valid$0$d = valid_in;
-        valid$1$d = valid$0$q;
-        valid$2$d = valid$1$q;
-        valid$3$d = valid$2$q;
-        valid$4$d = valid$3$q;
-        valid$5$d = valid$4$q;
+        valid$d = valid_in;
         world$0$a = center_a$0;
         world$0$b = center_b$0;
         world$1$a = center_a$1;
@@ -13833,7 +14883,7 @@ module sat$front(clock,valid_in,center_a$0,center_a$1,center_a$2,center_b$0,cent
         r_dot$8$b1 = axes_b_r$7$q;
         r_dot$8$b2 = axes_b_r$8$q;
         r$8 = r_dot$8$p;
-        valid_out = valid$5$q;
+        valid_out = valid$q;
     end
     
 endmodule // sat$front
@@ -14826,7 +15876,86 @@ module sat$front$u_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
 endmodule // sat$front$u_dot$2
 
 
-module sat$front$valid$0(d,q,clock);
+module sat$front$valid(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  d;
+    output reg  q;
+    
+    // Stub signals
+    reg  stage$0$d;
+    wire  stage$0$q;
+    reg  stage$0$clock;
+    reg  stage$1$d;
+    wire  stage$1$q;
+    reg  stage$1$clock;
+    reg  stage$2$d;
+    wire  stage$2$q;
+    reg  stage$2$clock;
+    reg  stage$3$d;
+    wire  stage$3$q;
+    reg  stage$3$clock;
+    reg  stage$4$d;
+    wire  stage$4$q;
+    reg  stage$4$clock;
+    reg  stage$5$d;
+    wire  stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$front$valid$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$front$valid$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$front$valid$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$front$valid$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$front$valid$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$front$valid$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
+endmodule // sat$front$valid
+
+
+module sat$front$valid$stage$0(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -14842,10 +15971,10 @@ module sat$front$valid$0(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$front$valid$0
+endmodule // sat$front$valid$stage$0
 
 
-module sat$front$valid$1(d,q,clock);
+module sat$front$valid$stage$1(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -14861,10 +15990,10 @@ module sat$front$valid$1(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$front$valid$1
+endmodule // sat$front$valid$stage$1
 
 
-module sat$front$valid$2(d,q,clock);
+module sat$front$valid$stage$2(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -14880,10 +16009,10 @@ module sat$front$valid$2(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$front$valid$2
+endmodule // sat$front$valid$stage$2
 
 
-module sat$front$valid$3(d,q,clock);
+module sat$front$valid$stage$3(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -14899,10 +16028,10 @@ module sat$front$valid$3(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$front$valid$3
+endmodule // sat$front$valid$stage$3
 
 
-module sat$front$valid$4(d,q,clock);
+module sat$front$valid$stage$4(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -14918,10 +16047,10 @@ module sat$front$valid$4(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$front$valid$4
+endmodule // sat$front$valid$stage$4
 
 
-module sat$front$valid$5(d,q,clock);
+module sat$front$valid$stage$5(d,q,clock);
     
     // Module arguments
     input wire  d;
@@ -14937,7 +16066,7 @@ module sat$front$valid$5(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$front$valid$5
+endmodule // sat$front$valid$stage$5
 
 
 module sat$front$world$0(a,b,d,clock);
@@ -14985,26 +16114,86 @@ module sat$front$world$2(a,b,d,clock);
 endmodule // sat$front$world$2
 
 
-module sat$ha$0(d,q,clock);
+module sat$ha$0(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire signed [17:0] d;
     output reg signed [17:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$ha$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$ha$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$ha$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$ha$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$ha$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$ha$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
     end
     
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
 endmodule // sat$ha$0
 
 
-module sat$ha$1(d,q,clock);
+module sat$ha$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15020,10 +16209,184 @@ module sat$ha$1(d,q,clock);
        q <= d;
     end
           
+endmodule // sat$ha$0$stage$0
+
+
+module sat$ha$0$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$ha$0$stage$1
+
+
+module sat$ha$0$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$ha$0$stage$2
+
+
+module sat$ha$0$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$ha$0$stage$3
+
+
+module sat$ha$0$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$ha$0$stage$4
+
+
+module sat$ha$0$stage$5(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$ha$0$stage$5
+
+
+module sat$ha$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$ha$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$ha$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$ha$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$ha$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$ha$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$ha$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
 endmodule // sat$ha$1
 
 
-module sat$ha$10(d,q,clock);
+module sat$ha$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15039,10 +16402,10 @@ module sat$ha$10(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$ha$10
+endmodule // sat$ha$1$stage$0
 
 
-module sat$ha$11(d,q,clock);
+module sat$ha$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15058,10 +16421,10 @@ module sat$ha$11(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$ha$11
+endmodule // sat$ha$1$stage$1
 
 
-module sat$ha$12(d,q,clock);
+module sat$ha$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15077,10 +16440,10 @@ module sat$ha$12(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$ha$12
+endmodule // sat$ha$1$stage$2
 
 
-module sat$ha$13(d,q,clock);
+module sat$ha$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15096,10 +16459,10 @@ module sat$ha$13(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$ha$13
+endmodule // sat$ha$1$stage$3
 
 
-module sat$ha$14(d,q,clock);
+module sat$ha$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15115,10 +16478,10 @@ module sat$ha$14(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$ha$14
+endmodule // sat$ha$1$stage$4
 
 
-module sat$ha$15(d,q,clock);
+module sat$ha$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15134,67 +16497,89 @@ module sat$ha$15(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$ha$15
+endmodule // sat$ha$1$stage$5
 
 
-module sat$ha$16(d,q,clock);
+module sat$ha$2(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire signed [17:0] d;
     output reg signed [17:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$ha$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$ha$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$ha$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$ha$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$ha$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$ha$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
     end
     
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$ha$16
-
-
-module sat$ha$17(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$ha$17
-
-
-module sat$ha$2(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
 endmodule // sat$ha$2
 
 
-module sat$ha$3(d,q,clock);
+module sat$ha$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15210,10 +16595,10 @@ module sat$ha$3(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$ha$3
+endmodule // sat$ha$2$stage$0
 
 
-module sat$ha$4(d,q,clock);
+module sat$ha$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15229,10 +16614,10 @@ module sat$ha$4(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$ha$4
+endmodule // sat$ha$2$stage$1
 
 
-module sat$ha$5(d,q,clock);
+module sat$ha$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15248,10 +16633,10 @@ module sat$ha$5(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$ha$5
+endmodule // sat$ha$2$stage$2
 
 
-module sat$ha$6(d,q,clock);
+module sat$ha$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15267,10 +16652,10 @@ module sat$ha$6(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$ha$6
+endmodule // sat$ha$2$stage$3
 
 
-module sat$ha$7(d,q,clock);
+module sat$ha$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15286,10 +16671,10 @@ module sat$ha$7(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$ha$7
+endmodule // sat$ha$2$stage$4
 
 
-module sat$ha$8(d,q,clock);
+module sat$ha$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15305,48 +16690,89 @@ module sat$ha$8(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$ha$8
+endmodule // sat$ha$2$stage$5
 
 
-module sat$ha$9(d,q,clock);
+module sat$hb$0(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire signed [17:0] d;
     output reg signed [17:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$hb$0$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$hb$0$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$hb$0$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$hb$0$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$hb$0$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$hb$0$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
     end
     
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$ha$9
-
-
-module sat$hb$0(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
 endmodule // sat$hb$0
 
 
-module sat$hb$1(d,q,clock);
+module sat$hb$0$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15362,10 +16788,184 @@ module sat$hb$1(d,q,clock);
        q <= d;
     end
           
+endmodule // sat$hb$0$stage$0
+
+
+module sat$hb$0$stage$1(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$hb$0$stage$1
+
+
+module sat$hb$0$stage$2(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$hb$0$stage$2
+
+
+module sat$hb$0$stage$3(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$hb$0$stage$3
+
+
+module sat$hb$0$stage$4(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$hb$0$stage$4
+
+
+module sat$hb$0$stage$5(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // sat$hb$0$stage$5
+
+
+module sat$hb$1(clock,d,q);
+    
+    // Module arguments
+    input wire  clock;
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$hb$1$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$hb$1$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$hb$1$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$hb$1$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$hb$1$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$hb$1$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
+    end
+    
 endmodule // sat$hb$1
 
 
-module sat$hb$10(d,q,clock);
+module sat$hb$1$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15381,10 +16981,10 @@ module sat$hb$10(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$hb$10
+endmodule // sat$hb$1$stage$0
 
 
-module sat$hb$11(d,q,clock);
+module sat$hb$1$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15400,10 +17000,10 @@ module sat$hb$11(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$hb$11
+endmodule // sat$hb$1$stage$1
 
 
-module sat$hb$12(d,q,clock);
+module sat$hb$1$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15419,10 +17019,10 @@ module sat$hb$12(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$hb$12
+endmodule // sat$hb$1$stage$2
 
 
-module sat$hb$13(d,q,clock);
+module sat$hb$1$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15438,10 +17038,10 @@ module sat$hb$13(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$hb$13
+endmodule // sat$hb$1$stage$3
 
 
-module sat$hb$14(d,q,clock);
+module sat$hb$1$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15457,10 +17057,10 @@ module sat$hb$14(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$hb$14
+endmodule // sat$hb$1$stage$4
 
 
-module sat$hb$15(d,q,clock);
+module sat$hb$1$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15476,67 +17076,89 @@ module sat$hb$15(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$hb$15
+endmodule // sat$hb$1$stage$5
 
 
-module sat$hb$16(d,q,clock);
+module sat$hb$2(clock,d,q);
     
     // Module arguments
+    input wire  clock;
     input wire signed [17:0] d;
     output reg signed [17:0] q;
-    input wire  clock;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
+    // Stub signals
+    reg signed [17:0] stage$0$d;
+    wire signed [17:0] stage$0$q;
+    reg  stage$0$clock;
+    reg signed [17:0] stage$1$d;
+    wire signed [17:0] stage$1$q;
+    reg  stage$1$clock;
+    reg signed [17:0] stage$2$d;
+    wire signed [17:0] stage$2$q;
+    reg  stage$2$clock;
+    reg signed [17:0] stage$3$d;
+    wire signed [17:0] stage$3$q;
+    reg  stage$3$clock;
+    reg signed [17:0] stage$4$d;
+    wire signed [17:0] stage$4$q;
+    reg  stage$4$clock;
+    reg signed [17:0] stage$5$d;
+    wire signed [17:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$hb$2$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$hb$2$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$hb$2$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$hb$2$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$hb$2$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$hb$2$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
     end
     
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$hb$16
-
-
-module sat$hb$17(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$hb$17
-
-
-module sat$hb$2(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
 endmodule // sat$hb$2
 
 
-module sat$hb$3(d,q,clock);
+module sat$hb$2$stage$0(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15552,10 +17174,10 @@ module sat$hb$3(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$hb$3
+endmodule // sat$hb$2$stage$0
 
 
-module sat$hb$4(d,q,clock);
+module sat$hb$2$stage$1(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15571,10 +17193,10 @@ module sat$hb$4(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$hb$4
+endmodule // sat$hb$2$stage$1
 
 
-module sat$hb$5(d,q,clock);
+module sat$hb$2$stage$2(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15590,10 +17212,10 @@ module sat$hb$5(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$hb$5
+endmodule // sat$hb$2$stage$2
 
 
-module sat$hb$6(d,q,clock);
+module sat$hb$2$stage$3(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15609,10 +17231,10 @@ module sat$hb$6(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$hb$6
+endmodule // sat$hb$2$stage$3
 
 
-module sat$hb$7(d,q,clock);
+module sat$hb$2$stage$4(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15628,10 +17250,10 @@ module sat$hb$7(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$hb$7
+endmodule // sat$hb$2$stage$4
 
 
-module sat$hb$8(d,q,clock);
+module sat$hb$2$stage$5(d,q,clock);
     
     // Module arguments
     input wire signed [17:0] d;
@@ -15647,29 +17269,89 @@ module sat$hb$8(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$hb$8
+endmodule // sat$hb$2$stage$5
 
 
-module sat$hb$9(d,q,clock);
+module sat$pm(clock,d,q);
     
     // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
     input wire  clock;
+    input wire  [28:0] d;
+    output reg  [28:0] q;
     
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
+    // Stub signals
+    reg  [28:0] stage$0$d;
+    wire  [28:0] stage$0$q;
+    reg  stage$0$clock;
+    reg  [28:0] stage$1$d;
+    wire  [28:0] stage$1$q;
+    reg  stage$1$clock;
+    reg  [28:0] stage$2$d;
+    wire  [28:0] stage$2$q;
+    reg  stage$2$clock;
+    reg  [28:0] stage$3$d;
+    wire  [28:0] stage$3$q;
+    reg  stage$3$clock;
+    reg  [28:0] stage$4$d;
+    wire  [28:0] stage$4$q;
+    reg  stage$4$clock;
+    reg  [28:0] stage$5$d;
+    wire  [28:0] stage$5$q;
+    reg  stage$5$clock;
+    
+    // Sub module instances
+    sat$pm$stage$0 stage$0(
+        .d(stage$0$d),
+        .q(stage$0$q),
+        .clock(stage$0$clock)
+    );
+    sat$pm$stage$1 stage$1(
+        .d(stage$1$d),
+        .q(stage$1$q),
+        .clock(stage$1$clock)
+    );
+    sat$pm$stage$2 stage$2(
+        .d(stage$2$d),
+        .q(stage$2$q),
+        .clock(stage$2$clock)
+    );
+    sat$pm$stage$3 stage$3(
+        .d(stage$3$d),
+        .q(stage$3$q),
+        .clock(stage$3$clock)
+    );
+    sat$pm$stage$4 stage$4(
+        .d(stage$4$d),
+        .q(stage$4$q),
+        .clock(stage$4$clock)
+    );
+    sat$pm$stage$5 stage$5(
+        .d(stage$5$d),
+        .q(stage$5$q),
+        .clock(stage$5$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        stage$0$clock = clock;
+        stage$1$clock = clock;
+        stage$2$clock = clock;
+        stage$3$clock = clock;
+        stage$4$clock = clock;
+        stage$5$clock = clock;
+        stage$0$d = d;
+        stage$1$d = stage$0$q;
+        stage$2$d = stage$1$q;
+        stage$3$d = stage$2$q;
+        stage$4$d = stage$3$q;
+        stage$5$d = stage$4$q;
+        q = stage$5$q;
     end
     
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // sat$hb$9
+endmodule // sat$pm
 
 
-module sat$pm$0(d,q,clock);
+module sat$pm$stage$0(d,q,clock);
     
     // Module arguments
     input wire  [28:0] d;
@@ -15685,10 +17367,10 @@ module sat$pm$0(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$pm$0
+endmodule // sat$pm$stage$0
 
 
-module sat$pm$1(d,q,clock);
+module sat$pm$stage$1(d,q,clock);
     
     // Module arguments
     input wire  [28:0] d;
@@ -15704,10 +17386,10 @@ module sat$pm$1(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$pm$1
+endmodule // sat$pm$stage$1
 
 
-module sat$pm$2(d,q,clock);
+module sat$pm$stage$2(d,q,clock);
     
     // Module arguments
     input wire  [28:0] d;
@@ -15723,10 +17405,10 @@ module sat$pm$2(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$pm$2
+endmodule // sat$pm$stage$2
 
 
-module sat$pm$3(d,q,clock);
+module sat$pm$stage$3(d,q,clock);
     
     // Module arguments
     input wire  [28:0] d;
@@ -15742,10 +17424,10 @@ module sat$pm$3(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$pm$3
+endmodule // sat$pm$stage$3
 
 
-module sat$pm$4(d,q,clock);
+module sat$pm$stage$4(d,q,clock);
     
     // Module arguments
     input wire  [28:0] d;
@@ -15761,10 +17443,10 @@ module sat$pm$4(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$pm$4
+endmodule // sat$pm$stage$4
 
 
-module sat$pm$5(d,q,clock);
+module sat$pm$stage$5(d,q,clock);
     
     // Module arguments
     input wire  [28:0] d;
@@ -15780,4 +17462,4 @@ module sat$pm$5(d,q,clock);
        q <= d;
     end
           
-endmodule // sat$pm$5
+endmodule // sat$pm$stage$5

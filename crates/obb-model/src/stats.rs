@@ -63,7 +63,7 @@ pub fn scene_stats(boxes: &Frame) -> Vec<StatsRow> {
             let sap = engines[0].1;
             StatsRow {
                 overlap: std::array::from_fn(|axis| overlaps[axis][row].1),
-                overlap_xyz: sap.sat,
+                overlap_xyz: sap.sat_tests,
                 collisions: sap.pairs,
                 engines,
                 mask,

@@ -192,8 +192,8 @@ proptest! {
             let work: BroadWork = broad::run(m, mode, &mask, |i, j| {
                 emitted.push([i.min(j) as u32, i.max(j) as u32]);
             });
-            prop_assert_eq!(work.emitted as usize, emitted.len());
-            prop_assert!(work.visited >= work.emitted);
+            prop_assert_eq!(work.sat_tests as usize, emitted.len());
+            prop_assert!(work.visits >= work.sat_tests);
             let mut distinct = emitted.clone();
             distinct.sort_unstable();
             distinct.dedup();
@@ -409,14 +409,14 @@ fn cycle_model_by_hand() {
         sweep.cycles.sort,
         3 * (128 + 3 + LAT_SORT_PASS) + LAT_SORT_START
     );
-    assert_eq!(sweep.work.visited, 1);
+    assert_eq!(sweep.work.visits, 1);
     assert_eq!(sweep.cycles.walk, 4 * 3 + 1);
     // Improved-sap: on x, box 0 meets box 1's min and box 1 meets box 0's max (2 visits); on y
     // and z the three boxes share their keys, so each min meets the two other mins or maxes
     // (6 visits each). Per axis 2n loading clocks, one reading, one per max and two per min,
     // one starting each of the later axes.
     let sap = m.detect(BroadPhase::ImprovedSap, &GroupMask::All);
-    assert_eq!(sap.work.visited, 14);
+    assert_eq!(sap.work.visits, 14);
     assert_eq!(sap.cycles.walk, 3 * (2 * 3 + 1 + 3 + 2 * 3) + 2 + 14);
     assert_eq!(sap.reported(), 6, "pair (0, 1) is met twice on each axis");
     // An empty frame: its end marker, the key write, the drain.

@@ -89,15 +89,15 @@ proptest! {
         let brute = m.detect(BroadPhase::Brute, &mask);
         prop_assert_eq!(&run.pairs, &brute.pairs);
         prop_assert_eq!(run.reported(), brute.reported(), "each pair once");
-        prop_assert_eq!(run.work.emitted, brute.work.emitted);
+        prop_assert_eq!(run.work.sat_tests, brute.work.sat_tests);
         lanes_keep_their_rules(&m, &mask)?;
     }
 }
 
 /// The schedule of `frame`'s grid walk under `mask` keeps the lanes' rules: a visit of box `j`
 /// is made by lane `j % lanes` (box `j` is on that lane's lists and chain), each lane makes at
-/// most one visit a clock and its visits in the walk's order, and at most one candidate is
-/// issued a clock, never on a clock that accepts a box; the SAT takes the candidates in the
+/// most one visit a clock and its visits in the walk's order, and at most one SAT test is
+/// issued a clock, never on a clock that accepts a box; the SAT takes the SAT tests in the
 /// order they are issued.
 fn lanes_keep_their_rules(frame: &ModelFrame, mask: &GroupMask) -> Result<(), TestCaseError> {
     let walk = frame.grid_walk(mask);
@@ -122,14 +122,14 @@ fn lanes_keep_their_rules(frame: &ModelFrame, mask: &GroupMask) -> Result<(), Te
     issues.dedup();
     prop_assert_eq!(issues.len(), s.issues.len(), "one issue a clock");
     prop_assert!(issues.iter().all(|t| s.accepts.binary_search(t).is_err()));
-    let candidates: Vec<(u32, u32)> = walk
+    let tests: Vec<(u32, u32)> = walk
         .pairs
         .iter()
         .zip(&walk.passes)
         .filter(|(_, &pass)| pass)
         .map(|(&p, _)| p)
         .collect();
-    let mut by_issue: Vec<(u64, (u32, u32))> = s.issues.iter().copied().zip(candidates).collect();
+    let mut by_issue: Vec<(u64, (u32, u32))> = s.issues.iter().copied().zip(tests).collect();
     by_issue.sort_unstable();
     let run = frame.detect(BroadPhase::Grid, mask);
     let sat: Vec<[u32; 2]> = by_issue
@@ -159,7 +159,7 @@ fn clock_model_by_hand() {
     let cfg = grid(HwConfig::default());
     let frame = ModelFrame::new(&scene, &cfg).unwrap();
     let run = frame.detect(BroadPhase::Grid, &GroupMask::All);
-    assert_eq!(run.work.visited, n * (n - 1) / 2);
+    assert_eq!(run.work.visits, n * (n - 1) / 2);
     assert_eq!(run.pairs.len() as u64, n * (n - 1) / 2);
     // Box k is accepted at clock k + 1; its one list is the walker's LAT_PROJECT + LAT_PROBE
     // later (the record, then the enumerator's load, choice and write). Box 1's one visit comes
@@ -169,9 +169,9 @@ fn clock_model_by_hand() {
     // free, so the other 42 visits run back to back. The last record retires the clock after
     // its last visit; the clock after that has nothing in flight, and the walk is over on the
     // next (the idle flag is a register). No box is accepted once the
-    // candidates come out of their queue, so each issues LAT_GRID_CHECK after its visit.
+    // SAT tests come out of their queue, so each issues LAT_GRID_CHECK after its visit.
     let first_visit = 2 + LAT_PROJECT + LAT_PROBE;
-    let last_visit = first_visit + run.work.visited + 2;
+    let last_visit = first_visit + run.work.visits + 2;
     let walked = last_visit + 3;
     let schedule = grid_schedule(&frame.grid_walk(&GroupMask::All));
     let mut visits = vec![first_visit, first_visit + 3, first_visit + 4];
@@ -207,7 +207,7 @@ fn clock_model_by_hand() {
     let frame = ModelFrame::new(&scene, &cfg).unwrap();
     let run = frame.run();
     assert_eq!(run.pairs, vec![[0, 1]]);
-    assert_eq!(run.work.visited, 1);
+    assert_eq!(run.work.visits, 1);
     let visit = 2 + LAT_PROJECT + LAT_PROBE;
     let schedule = grid_schedule(&frame.grid_walk(&cfg.groups));
     assert_eq!(schedule.visits, vec![visit]);
@@ -239,7 +239,7 @@ fn clock_model_of_two_lanes_by_hand() {
     let s = grid_schedule(&walk);
     assert_eq!(s.accepts, vec![1, 2, 3]);
     assert_eq!(s.visits, vec![first, first + 3, first + 1]);
-    // Each candidate issues LAT_GRID_CHECK after its visit (no box is accepted then), so the
+    // Each SAT test issues LAT_GRID_CHECK after its visit (no box is accepted then), so the
     // SAT takes lane 1's before lane 0's second.
     assert_eq!(
         s.issues,
@@ -270,8 +270,8 @@ fn credits_hold_the_load_back() {
         "{:?}",
         run.cycles
     );
-    // One visit per clock at most, and every candidate waits for the load to leave port A free.
-    assert!(run.cycles.total >= run.work.visited + LAT_PROJECT + LAT_PROBE + LAT_BROAD + LAT_SAT);
+    // One visit per clock at most, and every SAT test waits for the load to leave port A free.
+    assert!(run.cycles.total >= run.work.visits + LAT_PROJECT + LAT_PROBE + LAT_BROAD + LAT_SAT);
 }
 
 /// With two buckets per bank every list is mixed: more visits, the same pairs, each once.
@@ -297,13 +297,13 @@ fn hash_collisions_cost_visits_not_pairs() {
     assert_eq!(fine.work.large, 0);
     assert_eq!(fine.pairs, brute.pairs);
     assert_eq!(coarse.pairs, brute.pairs);
-    assert_eq!(coarse.work.emitted, fine.work.emitted);
+    assert_eq!(coarse.work.sat_tests, fine.work.sat_tests);
     assert_eq!(coarse.reported(), fine.reported(), "each pair once");
     assert!(
-        coarse.work.visited > 2 * fine.work.visited,
+        coarse.work.visits > 2 * fine.work.visits,
         "{} vs {}",
-        coarse.work.visited,
-        fine.work.visited
+        coarse.work.visits,
+        fine.work.visits
     );
 }
 

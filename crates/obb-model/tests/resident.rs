@@ -114,7 +114,7 @@ fn an_update_frame_clears_the_lists_first_and_reports_every_pair() {
     let update = ModelFrame::new(&scene, &cfg).unwrap().run();
     let whole = ModelFrame::new(&scene, &plain).unwrap().run();
     assert_eq!(update.pairs, whole.pairs);
-    assert_eq!(update.work.visited, whole.work.visited);
+    assert_eq!(update.work.visits, whole.work.visits);
     // The clear before the load adds its clocks (2^grid_hash_bits) to the frame.
     assert_eq!(
         update.cycles.total,
@@ -200,7 +200,7 @@ fn surgical_haptic_frame_figures() {
                 eprintln!(
                     "{lanes} lane(s), haptic {k}, {order}: {:?}, {} visits, {} pairs",
                     h.cycles,
-                    h.work.visited,
+                    h.work.visits,
                     h.pairs.len()
                 );
                 assert!(h.cycles.total < u.cycles.total);

@@ -40,7 +40,7 @@ pub struct BinTable<const C: usize> {
     pub take_valid: Signal<In, Bit>,
     pub take_bin: Signal<In, Bits<8>>,
     pub take_ptr: Signal<Out, Bits<C>>,
-    /// Digit bits (the model's state follows; rust-hdl skips fields named with `_`).
+    // Digit bits (the model's state follows; rust-hdl skips fields named with `_`).
     _digit: u32,
     _m: Model,
 }
@@ -53,7 +53,7 @@ struct Model {
     sum: u64,
     hot_count: Option<usize>,
     hot_take: Option<usize>,
-    /// The taken bin's low and high bits, the groups' reads, the high bits one clock on.
+    // The taken bin's low and high bits, the groups' reads, the high bits one clock on.
     lo: usize,
     hi: usize,
     part: Vec<u64>,

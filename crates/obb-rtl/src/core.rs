@@ -2,7 +2,7 @@
 //! clock), each is projected to its keys and margin and kept in the box tables; the broad
 //! phase (`sweep` over the radix-sorted min x keys, or `walker`: brute, improved-sap) visits
 //! index pairs; each visit's keys are checked on all three axes and its groups against the
-//! mask (the `grid` sends pairs already checked); candidates go through the 15-axis SAT; colliding pairs leave on a valid/ready stream through a FIFO. The
+//! mask (the `grid` sends pairs already checked); SAT tests go through the 15-axis SAT; colliding pairs leave on a valid/ready stream through a FIFO. The
 //! pairs, the counters and the clock count equal `obb_model::fixed::ModelFrame::run`'s
 //! (docs/hardware.md has the ports, the protocol and the cycle budget).
 //!
@@ -10,7 +10,7 @@
 //! | --- | --- |
 //! | V | the walker's visit (i, j); the key table is read for i (port A) and j (port B) |
 //! | V+1 | the keys, margins and groups registered |
-//! | V+2 | keys overlap on x, y, z and the mask allows the groups: a candidate (a < b) |
+//! | V+2 | keys overlap on x, y, z and the mask allows the groups: a SAT test (a < b) |
 //! | V+3 | the geometry table is read for a (port A) and b (port B) |
 //! | V+4 | the geometry registered |
 //! | V+5 .. V+27 | the SAT pipeline; a hit enters the output FIFO |
@@ -20,7 +20,8 @@
 
 use crate::grid::GridPhase;
 use crate::pair_fifo::{self, PairFifo};
-use crate::projection::{Projection, CENTER, HALF, MARGIN, ROT};
+use crate::pipe::Pipe;
+use crate::projection::{self, Projection, CENTER, HALF, MARGIN, ROT};
 use crate::radix::{KeySort, KEY, VAL};
 use crate::sat::{self, Sat};
 use crate::sweep::{self, SweepWalker};
@@ -47,12 +48,15 @@ const PAIR: usize = 2 * INDEX;
 pub const FIFO_DEPTH: u64 = pair_fifo::DEPTH;
 pub const FIFO_STALL: u64 = 32;
 const _: () = assert!(sat::LATENCY == LAT_SAT);
-// `tag_*` and `k_overlap` below are one register per clock of the SAT (literal indices).
-const _: () = assert!(sat::LATENCY == 22 && LAT_BROAD == 5);
+/// Clocks from the key check's verdict (registered in `c_valid`) to the SAT's inputs: the
+/// geometry read (`g_*`) and registered (`h_*`).
+const CHECK_TO_SAT: usize = 3;
+// The model's visit-to-SAT latency: the keys read and registered, then the above.
+const _: () = assert!(LAT_BROAD == 2 + CHECK_TO_SAT as u64);
 const _: () = assert!(FIFO_STALL + 1 + sweep::RUN_ON + LAT_BROAD + sat::LATENCY <= FIFO_DEPTH);
 /// Clocks after the walker's last visit until its SAT verdict is in the FIFO.
 const DRAIN: u64 = LAT_BROAD + sat::LATENCY - 1;
-/// Grid: clocks after a candidate's issue until its SAT verdict is in the FIFO.
+/// Grid: clocks after a SAT test's issue until its SAT verdict is in the FIFO.
 const GRID_DRAIN: u64 = GRID_ISSUE_TO_SAT + sat::LATENCY - 1;
 
 /// Address bits of the per-box tables and the sort for `cfg`: `capacity` entries, twice that
@@ -133,14 +137,14 @@ pub struct ObbCore<const A: usize, const C: usize> {
     /// Clocks from the first load clock to the last SAT verdict.
     pub cycles: Signal<Out, Bits<COUNT>>,
     /// Visits: index pairs the broad phase looked at (the glossary's *visit*).
-    pub candidates: Signal<Out, Bits<COUNT>>,
+    pub visits: Signal<Out, Bits<COUNT>>,
     /// SAT tests: pairs whose keys overlap, sent to the SAT.
     pub sat_tests: Signal<Out, Bits<COUNT>>,
     /// Pairs reported on the pair stream.
     pub pairs: Signal<Out, Bits<COUNT>>,
     // Configuration.
     sweep: Constant<Bit>,
-    /// The grid: it walks while the boxes arrive, and its candidates come key-checked.
+    /// The grid: it walks while the boxes arrive, and its SAT tests come key-checked.
     grid_mode: Constant<Bit>,
     /// Improved-sap: the walker drives the radix sort, and the keys are checked only at the
     /// SAT's output (the paper's Algorithm 2 sends every pair it meets).
@@ -150,7 +154,7 @@ pub struct ObbCore<const A: usize, const C: usize> {
     mask: Constant<Bits<MASK>>,
     drain: Constant<Bits<8>>,
     grid_drain: Constant<Bits<8>>,
-    /// Resident groups: bit g for group g; any at all.
+    // Resident groups: bit g for group g; any at all.
     resident_set: Constant<Bits<8>>,
     has_resident: Constant<Bit>,
     // Stages. The broad phase's blocks are there only when configured (each list holds one
@@ -165,8 +169,8 @@ pub struct ObbCore<const A: usize, const C: usize> {
     _sweeps: usize,
     _walkers: usize,
     _grids: usize,
-    /// The key tables (`kmin`, `kmax` axis x of table t at `3 t + x`; `margin`, `group`): one
-    /// set for the sweep and the walkers; none with the grid, which keeps its own by lane.
+    // The key tables (`kmin`, `kmax` axis x of table t at `3 t + x`; `margin`, `group`): one
+    // set for the sweep and the walkers; none with the grid, which keeps its own by lane.
     _key_tables: usize,
     sat: Sat,
     fifo: PairFifo<PAIR>,
@@ -179,34 +183,34 @@ pub struct ObbCore<const A: usize, const C: usize> {
     margin: Vec<TableRam<Bits<MARGIN>, A>>,
     group: Vec<TableRam<Bits<GROUP>, A>>,
     /// The group alongside the projection pipeline.
-    gdelay: [DFF<Bits<GROUP>>; 8],
+    gdelay: Pipe<Bits<GROUP>, { projection::LATENCY as usize }>,
     // Control.
     state: DFF<CoreState>,
     /// The FIFO's `almost_full`, registered: the walker's stall.
     stall: DFF<Bit>,
     loaded: DFF<Bits<C>>,
-    /// Registered rather than decoded from `state` and `loaded`, so that accepting a box (the
-    /// write enable and address multiplexer of 15 tables) is one LUT from registers:
-    /// `obb_ready` (the state is Load) and `room` (`loaded != capacity`).
+    // Registered rather than decoded from `state` and `loaded`, so that accepting a box (the
+    // write enable and address multiplexer of 15 tables) is one LUT from registers:
+    // `obb_ready` (the state is Load) and `room` (`loaded != capacity`).
     ready: DFF<Bit>,
     room: DFF<Bit>,
     projected: DFF<Bits<C>>,
     over: DFF<Bit>,
     countdown: DFF<Bits<8>>,
-    /// Grid: clocks until the last issued candidate's verdict is in the FIFO.
+    /// Grid: clocks until the last issued SAT test's verdict is in the FIFO.
     pending: DFF<Bits<8>>,
     n_cycles: DFF<Bits<COUNT>>,
     n_visits: DFF<Bits<COUNT>>,
     n_tests: DFF<Bits<COUNT>>,
     n_pairs: DFF<Bits<COUNT>>,
-    /// The resident boxes the last update frame loaded (a haptic frame's first index), and
-    /// whether the tables had room after them; a haptic frame; a box of a streamed group came.
+    // The resident boxes the last update frame loaded (a haptic frame's first index), and
+    // whether the tables had room after them; a haptic frame; a box of a streamed group came.
     res_loaded: DFF<Bits<C>>,
     res_room: DFF<Bit>,
     haptic: DFF<Bit>,
     streamed_seen: DFF<Bit>,
     // Pipeline registers: the visit (K) and its keys read (key_*, margin_*, group_*), the
-    // keys registered (R), the candidate (C), its geometry read (G) and registered (H,
+    // keys registered (R), the SAT test (C), its geometry read (G) and registered (H,
     // geo_*), the pair's indices alongside the SAT (tag_*).
     k_valid: DFF<Bit>,
     k_i: DFF<Bits<A>>,
@@ -243,13 +247,15 @@ pub struct ObbCore<const A: usize, const C: usize> {
     geo_half_b: [DFF<Bits<HALF>>; 3],
     geo_axes_a: [DFF<Signed<ROT>>; 9],
     geo_axes_b: [DFF<Signed<ROT>>; 9],
-    tag_a: [DFF<Bits<A>>; 22],
-    tag_b: [DFF<Bits<A>>; 22],
-    /// The candidate's keys overlap on all three axes (always, but with improved-sap).
-    k_overlap: [DFF<Bit>; 25],
+    /// The pair's indices alongside the SAT.
+    tag_a: Pipe<Bits<A>, { sat::LATENCY as usize }>,
+    tag_b: Pipe<Bits<A>, { sat::LATENCY as usize }>,
+    /// The SAT test's keys overlap on all three axes (always, but with improved-sap), from the
+    /// key check to the SAT's verdict.
+    k_overlap: Pipe<Bit, { CHECK_TO_SAT + sat::LATENCY as usize }>,
     // Combinational.
-    /// The broad phase: the walk starts; the visit (i, j) and the key table's addresses; the
-    /// walk is over. From the sweep walker or the other one, as configured.
+    // The broad phase: the walk starts; the visit (i, j) and the key table's addresses; the
+    // walk is over. From the sweep walker or the other one, as configured.
     walk_start: Signal<Local, Bit>,
     visit: Signal<Local, Bit>,
     vi: Signal<Local, Bits<A>>,
@@ -259,7 +265,7 @@ pub struct ObbCore<const A: usize, const C: usize> {
     walked: Signal<Local, Bit>,
     /// The grid has a record free for the box (always, with the other broad phases).
     credit: Signal<Local, Bit>,
-    /// The radix sort's inputs and outputs (zero without one).
+    // The radix sort's inputs and outputs (zero without one).
     sort_in_valid: Signal<Local, Bit>,
     sort_in_key: Signal<Local, Bits<KEY>>,
     sort_in_val: Signal<Local, Bits<VAL>>,
@@ -271,27 +277,27 @@ pub struct ObbCore<const A: usize, const C: usize> {
     sorted_val: Signal<Local, Bits<VAL>>,
     /// The grid's outputs (idle without it).
     grid_credit: Signal<Local, Bit>,
-    grid_cand_valid: Signal<Local, Bit>,
-    grid_cand_a: Signal<Local, Bits<A>>,
-    grid_cand_b: Signal<Local, Bits<A>>,
-    grid_cand_ma: Signal<Local, Bits<MARGIN>>,
-    grid_cand_mb: Signal<Local, Bits<MARGIN>>,
+    grid_test_valid: Signal<Local, Bit>,
+    grid_test_a: Signal<Local, Bits<A>>,
+    grid_test_b: Signal<Local, Bits<A>>,
+    grid_test_ma: Signal<Local, Bits<MARGIN>>,
+    grid_test_mb: Signal<Local, Bits<MARGIN>>,
     grid_finished: Signal<Local, Bit>,
     grid_too_wide: Signal<Local, Bit>,
     /// The grid's visits of a clock before, counted.
-    grid_visited: Signal<Local, Bits<4>>,
+    grid_visits: Signal<Local, Bits<4>>,
     /// The projected box's table address.
     projected_at: Signal<Local, Bits<A>>,
     accept: Signal<Local, Bit>,
-    /// Grid: its candidate goes to the geometry read this clock.
+    /// Grid: its SAT test goes to the geometry read this clock.
     issue: Signal<Local, Bit>,
     overlap: Signal<Local, Bit>,
     gidx: Signal<Local, Bits<MASK>>,
     shifted: Signal<Local, Bits<MASK>>,
-    candidate: Signal<Local, Bit>,
+    key_pass: Signal<Local, Bit>,
     swap: Signal<Local, Bit>,
     hit: Signal<Local, Bit>,
-    /// The resident set shifted to the arriving box's group; the box is of a resident group.
+    // The resident set shifted to the arriving box's group; the box is of a resident group.
     res_row: Signal<Local, Bits<8>>,
     obb_res: Signal<Local, Bit>,
 }
@@ -344,7 +350,7 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             busy: Default::default(),
             capacity_exceeded: Default::default(),
             cycles: Default::default(),
-            candidates: Default::default(),
+            visits: Default::default(),
             sat_tests: Default::default(),
             pairs: Default::default(),
             sweep: Constant::new(cfg.broad_phase == BroadPhase::Sweep),
@@ -453,21 +459,21 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             sorted_key: Default::default(),
             sorted_val: Default::default(),
             grid_credit: Default::default(),
-            grid_cand_valid: Default::default(),
-            grid_cand_a: Default::default(),
-            grid_cand_b: Default::default(),
-            grid_cand_ma: Default::default(),
-            grid_cand_mb: Default::default(),
+            grid_test_valid: Default::default(),
+            grid_test_a: Default::default(),
+            grid_test_b: Default::default(),
+            grid_test_ma: Default::default(),
+            grid_test_mb: Default::default(),
             grid_finished: Default::default(),
             grid_too_wide: Default::default(),
-            grid_visited: Default::default(),
+            grid_visits: Default::default(),
             projected_at: Default::default(),
             accept: Default::default(),
             issue: Default::default(),
             overlap: Default::default(),
             gidx: Default::default(),
             shifted: Default::default(),
-            candidate: Default::default(),
+            key_pass: Default::default(),
             swap: Default::default(),
             hit: Default::default(),
         }
@@ -563,30 +569,24 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.geo_half_a[x].clock.next = self.clock.val();
             self.geo_half_b[x].clock.next = self.clock.val();
         }
-        for s in 0..8 {
-            self.gdelay[s].clock.next = self.clock.val();
-        }
-        for s in 0..25 {
-            self.k_overlap[s].clock.next = self.clock.val();
-        }
-        for s in 0..22 {
-            self.tag_a[s].clock.next = self.clock.val();
-            self.tag_b[s].clock.next = self.clock.val();
-        }
+        self.gdelay.clock.next = self.clock.val();
+        self.k_overlap.clock.next = self.clock.val();
+        self.tag_a.clock.next = self.clock.val();
+        self.tag_b.clock.next = self.clock.val();
 
         // Load: a box is accepted while loading, stored at its index and projected. The grid
         // takes a box only with a record free for it (a box over capacity is taken and
         // dropped).
         // The blocks' outputs, or their idle values without them.
         self.grid_credit.next = false;
-        self.grid_cand_valid.next = false;
-        self.grid_cand_a.next = 0.into();
-        self.grid_cand_b.next = 0.into();
-        self.grid_cand_ma.next = 0.into();
-        self.grid_cand_mb.next = 0.into();
+        self.grid_test_valid.next = false;
+        self.grid_test_a.next = 0.into();
+        self.grid_test_b.next = 0.into();
+        self.grid_test_ma.next = 0.into();
+        self.grid_test_mb.next = 0.into();
         self.grid_finished.next = false;
         self.grid_too_wide.next = false;
-        self.grid_visited.next = 0.into();
+        self.grid_visits.next = 0.into();
         self.visit.next = false;
         self.vi.next = 0.into();
         self.vj.next = 0.into();
@@ -609,14 +609,14 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         }
         for k in 0..self._grids {
             self.grid_credit.next = self.grid[k].credit.val();
-            self.grid_cand_valid.next = self.grid[k].cand_valid.val();
-            self.grid_cand_a.next = self.grid[k].cand_a.val();
-            self.grid_cand_b.next = self.grid[k].cand_b.val();
-            self.grid_cand_ma.next = self.grid[k].cand_ma.val();
-            self.grid_cand_mb.next = self.grid[k].cand_mb.val();
+            self.grid_test_valid.next = self.grid[k].test_valid.val();
+            self.grid_test_a.next = self.grid[k].test_a.val();
+            self.grid_test_b.next = self.grid[k].test_b.val();
+            self.grid_test_ma.next = self.grid[k].test_ma.val();
+            self.grid_test_mb.next = self.grid[k].test_mb.val();
             self.grid_finished.next = self.grid[k].finished.val();
             self.grid_too_wide.next = self.grid[k].too_wide.val();
-            self.grid_visited.next = self.grid[k].visited.val();
+            self.grid_visits.next = self.grid[k].visits.val();
         }
         for k in 0..self._sweeps {
             self.sort_rd_addr.next = self.sweep_walker[k].rd_addr.val();
@@ -665,10 +665,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.projection.axes[k].next = self.obb_axes[k].val();
         }
         self.projection.valid_in.next = self.accept.val();
-        self.gdelay[0].d.next = self.obb_group.val();
-        for s in 1..8 {
-            self.gdelay[s].d.next = self.gdelay[s - 1].q.val();
-        }
+        self.gdelay.d.next = self.obb_group.val();
         if self.accept.val() {
             self.loaded.d.next = self.loaded.q.val() + 1;
             if self.loaded.q.val() == self.last_slot.val() {
@@ -710,7 +707,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.margin[t].write_data.next = self.projection.margin.val();
             self.group[t].write_enable.next = self.projection.valid_out.val();
             self.group[t].write_address.next = self.projected_at.val();
-            self.group[t].write_data.next = self.gdelay[7].q.val();
+            self.group[t].write_data.next = self.gdelay.q.val();
         }
         if self.sweep.val() {
             self.sort_in_valid.next = self.projection.valid_out.val();
@@ -736,7 +733,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.grid[k].key_max_y.next = self.projection.key_max[1].val();
             self.grid[k].key_max_z.next = self.projection.key_max[2].val();
             self.grid[k].key_margin.next = self.projection.margin.val();
-            self.grid[k].key_group.next = self.gdelay[7].q.val();
+            self.grid[k].key_group.next = self.gdelay.q.val();
         }
 
         // The broad phase: a walker reads the sorted entries and the key table.
@@ -809,7 +806,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         // The grid's lanes visit several boxes a clock; it counts them (registered).
         if self.grid_mode.val() & !self.over.q.val() {
             self.n_visits.d.next =
-                self.n_visits.q.val() + bit_cast::<COUNT, 4>(self.grid_visited.val());
+                self.n_visits.q.val() + bit_cast::<COUNT, 4>(self.grid_visits.val());
         }
 
         // V+2: the keys of i and j overlap on all three axes, and the mask allows the groups.
@@ -822,17 +819,14 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.gidx.next = (bit_cast::<MASK, GROUP>(self.group_a.q.val()) << 3_u64)
             | bit_cast::<MASK, GROUP>(self.group_b.q.val());
         self.shifted.next = self.mask.val() >> self.gidx.val();
-        self.candidate.next = self.r_valid.q.val()
+        self.key_pass.next = self.r_valid.q.val()
             & (self.overlap.val() | self.sap.val())
             & self.shifted.val().get_bit(0)
             & !self.grid_mode.val();
-        self.k_overlap[0].d.next = self.overlap.val();
-        for s in 1..25 {
-            self.k_overlap[s].d.next = self.k_overlap[s - 1].q.val();
-        }
+        self.k_overlap.d.next = self.overlap.val();
         // The lower index is box A of the SAT.
         self.swap.next = self.r_j.q.val() < self.r_i.q.val();
-        self.c_valid.d.next = self.candidate.val();
+        self.c_valid.d.next = self.key_pass.val();
         self.c_a.d.next = self.r_i.q.val();
         self.c_b.d.next = self.r_j.q.val();
         self.c_ma.d.next = self.margin_a.q.val();
@@ -844,11 +838,11 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.c_mb.d.next = self.margin_a.q.val();
         }
 
-        // V+3: the geometry of a and b is read. The grid's candidate is read on a clock that
+        // V+3: the geometry of a and b is read. The grid's SAT test is read on a clock that
         // accepts no box (the box's write takes port A) and when the pair FIFO has room.
-        self.issue.next = self.grid_cand_valid.val() & !self.accept.val() & !self.stall.q.val();
+        self.issue.next = self.grid_test_valid.val() & !self.accept.val() & !self.stall.q.val();
         for k in 0..self._grids {
-            self.grid[k].cand_ready.next = self.issue.val();
+            self.grid[k].test_ready.next = self.issue.val();
         }
         self.g_valid.d.next = self.c_valid.q.val();
         self.g_a.d.next = self.c_a.q.val();
@@ -857,10 +851,10 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.g_mb.d.next = self.c_mb.q.val();
         if self.grid_mode.val() {
             self.g_valid.d.next = self.issue.val();
-            self.g_a.d.next = self.grid_cand_a.val();
-            self.g_b.d.next = self.grid_cand_b.val();
-            self.g_ma.d.next = self.grid_cand_ma.val();
-            self.g_mb.d.next = self.grid_cand_mb.val();
+            self.g_a.d.next = self.grid_test_a.val();
+            self.g_b.d.next = self.grid_test_b.val();
+            self.g_ma.d.next = self.grid_test_ma.val();
+            self.g_mb.d.next = self.grid_test_mb.val();
         }
         for x in 0..3 {
             self.center[x].read_address_a.next = self.g_a.d.val();
@@ -907,23 +901,19 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         }
         self.sat.margin_a.next = self.h_ma.q.val();
         self.sat.margin_b.next = self.h_mb.q.val();
-        self.tag_a[0].d.next = self.h_a.q.val();
-        self.tag_b[0].d.next = self.h_b.q.val();
-        for s in 1..22 {
-            self.tag_a[s].d.next = self.tag_a[s - 1].q.val();
-            self.tag_b[s].d.next = self.tag_b[s - 1].q.val();
-        }
+        self.tag_a.d.next = self.h_a.q.val();
+        self.tag_b.d.next = self.h_b.q.val();
 
         // V+27: a hit enters the FIFO; the stream takes pairs from it.
         // (A frame over capacity reports and counts nothing from then on; the grid walks it to
         // its end, so that its lists are clear for the next frame.)
         self.hit.next = self.sat.valid_out.val()
             & self.sat.hit.val()
-            & (self.k_overlap[24].q.val() | self.grid_mode.val())
+            & (self.k_overlap.q.val() | self.grid_mode.val())
             & !self.over.q.val();
         self.fifo.write.next = self.hit.val();
-        self.fifo.data_in.next = (bit_cast::<PAIR, A>(self.tag_a[21].q.val()) << 20_u64)
-            | bit_cast::<PAIR, A>(self.tag_b[21].q.val());
+        self.fifo.data_in.next = (bit_cast::<PAIR, A>(self.tag_a.q.val()) << 20_u64)
+            | bit_cast::<PAIR, A>(self.tag_b.q.val());
         if self.hit.val() {
             self.n_pairs.d.next = self.n_pairs.q.val() + 1;
         }
@@ -944,7 +934,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.over.d.next = true;
         }
         self.cycles.next = self.n_cycles.q.val();
-        self.candidates.next = self.n_visits.q.val();
+        self.visits.next = self.n_visits.q.val();
         self.sat_tests.next = self.n_tests.q.val();
         self.pairs.next = self.n_pairs.q.val();
         if self.busy.val() {

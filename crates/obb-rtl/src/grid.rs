@@ -29,7 +29,7 @@
 //! registers while a stall lasts), or the arriving second successor, or, the list over, the
 //! list queue's next list. A visit's keys are read on port B of the block's own key table
 //! (written as the boxes' keys arrive; the walking box's keys ride in the list queue), compared
-//! two clocks later, registered and, if they overlap, written to the candidate queue
+//! two clocks later, registered and, if they overlap, written to the test queue
 //! (`PairFifo`), which the core drains on clocks it does not accept a box. At the end of the
 //! walk every bucket is written empty, one a clock, so that the next frame finds the lists
 //! clear.
@@ -57,13 +57,13 @@
 //! reads every lane's lists and enters its own lane's (list l of lane k at `lpl k + l`, `lpl`
 //! = 27 per group), and at K+5 it writes a record of each lane's lists to walk to that lane's
 //! record queue (or retires there). From the record queue on, each lane has its own
-//! enumerator, list queue, walker, key check and candidate queue, and its own banks of the
+//! enumerator, list queue, walker, key check and test queue, and its own banks of the
 //! per-box tables (successor, keys, margin, group: box i at `i >> log2 lanes`), written as the
 //! box's keys arrive, so that every walker reads its own. The large boxes chain per lane; the
 //! slow path takes lane 0's chain, then lane 1's, and a record of the rest of the chains has
 //! one list on every lane: the lane's chain as left. A box is accepted when the credit is set (a
 //! register: on the clock before, every lane had fewer than `GRID_CREDITS - 1` boxes in flight,
-//! so that one accepted then still finds room); the lowest lane with a candidate on its queue's
+//! so that one accepted then still finds room); the lowest lane with a SAT test on its queue's
 //! output issues it.
 
 use crate::box_queue::{BoxQueue, KIND};
@@ -75,7 +75,7 @@ use crate::radix::VAL;
 use crate::resize::Resize;
 use crate::table_ram::TableRam;
 use obb_model::fixed::config::{GROUP_BITS, MAX_LANES};
-use obb_model::fixed::cycles::{GRID_CAND_STALL, GRID_CREDITS};
+use obb_model::fixed::cycles::{GRID_CREDITS, GRID_TEST_STALL};
 use obb_model::fixed::grid::{GridShape, BANKS, MAX_WINDOW};
 use obb_model::fixed::HwConfig;
 use rust_hdl::prelude::*;
@@ -88,10 +88,10 @@ const MASK: usize = 1 << (2 * GROUP);
 /// Records (boxes waiting for the walker): the credits bound them.
 const SLOT: usize = 5;
 const _: () = assert!(GRID_CREDITS <= 1 << SLOT && GRID_CREDITS.is_power_of_two());
-/// Width of a box index in the candidate queue (as on the core's pair stream).
+/// Width of a box index in the test queue (as on the core's pair stream).
 const INDEX: usize = VAL;
-/// A candidate: a, b (a < b), their margins.
-const CAND: usize = 2 * INDEX + 2 * MARGIN;
+/// A SAT test: a, b (a < b), their margins.
+const TEST_WORD: usize = 2 * INDEX + 2 * MARGIN;
 const COUNT: usize = SLOT + 2;
 /// The list queue between the enumerator and the walker: 4 entries (`LIST_QUEUE` of the model).
 const LQ: usize = 2;
@@ -115,7 +115,7 @@ pub enum SlowState {
 }
 // The walker sees the queue's count registered: when it stalls, up to three visits are still in
 // the key check, and the queue has room for them.
-const _: () = assert!(GRID_CAND_STALL as u64 + 3 < pair_fifo::DEPTH);
+const _: () = assert!(GRID_TEST_STALL as u64 + 3 < pair_fifo::DEPTH);
 
 #[derive(LogicBlock)]
 pub struct GridPhase<const A: usize, const C: usize> {
@@ -178,58 +178,58 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// Lanes 6 and 7: the visited box j of their visits (32 bits a lane).
     pub visit_j3: Signal<Out, Bits<64>>,
     /// The visits made a clock before, counted (from registers).
-    pub visited: Signal<Out, Bits<4>>,
-    /// The candidate stream (first word fall-through): a SAT test is on the `cand_*` outputs.
-    pub cand_valid: Signal<Out, Bit>,
-    /// The core takes the candidate this clock.
-    pub cand_ready: Signal<In, Bit>,
-    /// The candidate's lower box index.
-    pub cand_a: Signal<Out, Bits<A>>,
-    /// The candidate's higher box index.
-    pub cand_b: Signal<Out, Bits<A>>,
-    /// The projection margin of box `cand_a`.
-    pub cand_ma: Signal<Out, Bits<MARGIN>>,
-    /// The projection margin of box `cand_b`.
-    pub cand_mb: Signal<Out, Bits<MARGIN>>,
+    pub visits: Signal<Out, Bits<4>>,
+    /// The SAT test stream (first word fall-through): a SAT test is on the `test_*` outputs.
+    pub test_valid: Signal<Out, Bit>,
+    /// The core takes the SAT test this clock.
+    pub test_ready: Signal<In, Bit>,
+    /// The SAT test's lower box index.
+    pub test_a: Signal<Out, Bits<A>>,
+    /// The SAT test's higher box index.
+    pub test_b: Signal<Out, Bits<A>>,
+    /// The projection margin of box `test_a`.
+    pub test_ma: Signal<Out, Bits<MARGIN>>,
+    /// The projection margin of box `test_b`.
+    pub test_mb: Signal<Out, Bits<MARGIN>>,
     /// Every box has retired and the slow path is done: the walk is over (the list heads are
     /// being cleared).
     pub walked: Signal<Out, Bit>,
-    /// The list heads are clear, the candidate queue is empty: the grid's frame is over.
+    /// The list heads are clear, the test queue is empty: the grid's frame is over.
     pub finished: Signal<Out, Bit>,
     /// Sticky for the frame: a large box's window spans more than `MAX_WINDOW` cells on an
     /// axis; the slow path stopped, the frame is incomplete.
     pub too_wide: Signal<Out, Bit>,
     // Configuration.
-    /// Groups with lists (`grid_groups`); walker lanes; lists per lane (27 per group) and in
-    /// all.
+    // Groups with lists (`grid_groups`); walker lanes; lists per lane (27 per group) and in
+    // all.
     _groups: usize,
     _lanes: usize,
     _lpl: usize,
     _lpl_end: usize,
     _lists: usize,
-    /// A box's lane: its index's low bits (`lane_mask`), one lane's value; its address in its
-    /// lane's banks of the per-box tables: the index shifted right.
+    // A box's lane: its index's low bits (`lane_mask`), one lane's value; its address in its
+    // lane's banks of the per-box tables: the index shifted right.
     lane_mask: Constant<Bits<C>>,
     lane_id: Vec<Constant<Bits<C>>>,
     key_lane_mask: Constant<Bits<A>>,
     key_lane_id: Vec<Constant<Bits<A>>>,
     lane_shift: Constant<Bits<8>>,
-    /// Per lane: its bit in `visit`, its place in `visit_i0` and the others.
+    // Per lane: its bit in `visit`, its place in `visit_i0` and the others.
     lane_bit: Vec<Constant<Bits<8>>>,
     lane_at: Vec<Constant<Bits<8>>>,
     last_bucket: Constant<Bits<BUCKET>>,
-    /// The group mask of an update (or any) frame, and of a haptic frame.
+    // The group mask of an update (or any) frame, and of a haptic frame.
     mask: Constant<Bits<MASK>>,
     haptic_mask: Constant<Bits<MASK>>,
-    /// Resident groups (`resident_groups`): bit g for group g; any at all; per group with
-    /// lists, whether it is not resident (its lists are cleared after every frame).
+    // Resident groups (`resident_groups`): bit g for group g; any at all; per group with
+    // lists, whether it is not resident (its lists are cleared after every frame).
     resident_set: Constant<Bits<8>>,
     has_resident: Constant<Bit>,
     group_streamed: Vec<Constant<Bit>>,
     /// The bits of `inflight` at or above `GRID_CREDITS` (a power of two): none set, a credit
     /// is left. (A mask, not a compare: a compare is a carry chain in synthesis.)
     credits_used: Constant<Bits<COUNT>>,
-    /// A successor's or a record head's flag bit (`2^A`); the bits below it.
+    // A successor's or a record head's flag bit (`2^A`); the bits below it.
     top: Constant<Bits<C>>,
     index_mask: Constant<Bits<C>>,
     /// Per list (stored at `27 h + b`): its group h.
@@ -237,10 +237,10 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// The bits of a box's group that name its list: all of them, or none with one list for
     /// every group (`grid_group_lists = false`).
     group_keep: Constant<Bits<GROUP>>,
-    /// log2 of the cell edge; the widest span of a large box in cells (`MAX_WINDOW - 2`).
+    // log2 of the cell edge; the widest span of a large box in cells (`MAX_WINDOW - 2`).
     cell_bits: Constant<Bits<8>>,
     max_span: Constant<Bits<CENTER>>,
-    /// The candidate's fields' places in the queue's word.
+    /// The SAT test's fields' places in the queue's word.
     at_a: Constant<Bits<8>>,
     at_b: Constant<Bits<8>>,
     at_ma: Constant<Bits<8>>,
@@ -319,15 +319,15 @@ pub struct GridPhase<const A: usize, const C: usize> {
     s5_large: DFF<Bit>,
     s5_lprev: DFF<Bits<C>>,
     // Memories.
-    /// Per list: the owner (valid, mixed, fingerprint) and the latest box, by bucket.
+    // Per list: the owner (valid, mixed, fingerprint) and the latest box, by bucket.
     meta: Vec<DistRam<Bits<META>, BUCKET>>,
     head: Vec<DistRam<Bits<C>, BUCKET>>,
     /// Per list: the box after the latest (its second), by bucket.
     head2: Vec<DistRam<Bits<C>, BUCKET>>,
-    /// Per lane, the bank of the per-box tables of the lane's boxes (box i at `i >> lane_shift`):
-    /// each box's second successor on its list (the top bit: there is one); its keys (axis x of
-    /// lane k at `3 k + x`), margin and group, written as the box's keys arrive and read by the
-    /// lane's walker.
+    // Per lane, the bank of the per-box tables of the lane's boxes (box i at `i >> lane_shift`):
+    // each box's second successor on its list (the top bit: there is one); its keys (axis x of
+    // lane k at `3 k + x`), margin and group, written as the box's keys arrive and read by the
+    // lane's walker.
     succ: Vec<TableRam<Bits<C>, C>>,
     kt_min: Vec<TableRam<Bits<CENTER>, C>>,
     kt_max: Vec<TableRam<Bits<CENTER>, C>>,
@@ -358,9 +358,9 @@ pub struct GridPhase<const A: usize, const C: usize> {
     e_max: Vec<DFF<Bits<CENTER>>>,
     e_margin: Vec<DFF<Bits<MARGIN>>>,
     e_kind: Vec<DFF<Bits<KIND>>>,
-    /// The list queue: per entry a list's head, its box, whether it is its record's last. The
-    /// heads are flip-flops (`DistRam::registers`): the walker's next visit is picked from
-    /// them, and synthesis maps that pick for its depth only when it sees the read as logic.
+    // The list queue: per entry a list's head, its box, whether it is its record's last. The
+    // heads are flip-flops (`DistRam::registers`): the walker's next visit is picked from
+    // them, and synthesis maps that pick for its depth only when it sees the read as logic.
     lq_head: Vec<DistRam<Bits<C>, LQ>>,
     lq_head2: Vec<DistRam<Bits<C>, LQ>>,
     lq_box: Vec<BoxQueue<LQ, C>>,
@@ -379,15 +379,15 @@ pub struct GridPhase<const A: usize, const C: usize> {
     cur_max: Vec<DFF<Bits<CENTER>>>,
     cur_margin: Vec<DFF<Bits<MARGIN>>>,
     cur_kind: Vec<DFF<Bits<KIND>>>,
-    /// The successor table's output, registered: the second successor of the box read two
-    /// clocks before. A visit one clock before (`r1`) reads it; `arrive_q`: a visit two clocks
-    /// before read it and it names a box (its flag), registered with it so that the walker's
-    /// decisions start at registers (one LUT follows the block RAM's output).
+    // The successor table's output, registered: the second successor of the box read two
+    // clocks before. A visit one clock before (`r1`) reads it; `arrive_q`: a visit two clocks
+    // before read it and it names a box (its flag), registered with it so that the walker's
+    // decisions start at registers (one LUT follows the block RAM's output).
     succ_q: Vec<DFF<Bits<C>>>,
     r1: Vec<DFF<Bit>>,
     arrive_q: Vec<DFF<Bit>>,
-    /// The list's next boxes known and not yet visited, in order (at most two: the successor
-    /// of a box arrives only after the box before it was visited).
+    // The list's next boxes known and not yet visited, in order (at most two: the successor
+    // of a box arrives only after the box before it was visited).
     q0v: Vec<DFF<Bit>>,
     q0: Vec<DFF<Bits<C>>>,
     q1v: Vec<DFF<Bit>>,
@@ -410,26 +410,26 @@ pub struct GridPhase<const A: usize, const C: usize> {
     v2_margin_i: Vec<DFF<Bits<MARGIN>>>,
     v2_margin_j: Vec<DFF<Bits<MARGIN>>>,
     v2_kind: Vec<DFF<Bits<KIND>>>,
-    /// A round passes a visited box whose home cell, its first cell j plus one, lies within
-    /// the round's first and last cells. All three are compared less one, so that no adder
-    /// stands behind the key table's block RAM (j is its key shifted) nor before the
-    /// compares: the round's first cell less one (zero for cell zero: every home is at least
-    /// one), its last cell less one (its largest key shifted), j; the visited box's group.
+    // A round passes a visited box whose home cell, its first cell j plus one, lies within
+    // the round's first and last cells. All three are compared less one, so that no adder
+    // stands behind the key table's block RAM (j is its key shifted) nor before the
+    // compares: the round's first cell less one (zero for cell zero: every home is at least
+    // one), its last cell less one (its largest key shifted), j; the visited box's group.
     v2_wl: Vec<DFF<Bits<CENTER>>>,
     v2_wh: Vec<DFF<Bits<CENTER>>>,
     v2_jc: Vec<DFF<Bits<CENTER>>>,
     v2_group_j: Vec<DFF<Bits<GROUP>>>,
-    /// V+3: the key check's terms, registered (the visit is valid, the keys overlap, the visited
-    /// box's home is in the round or need not be, the mask pairs the groups or need not), and
-    /// the candidate: only one LUT follows the compares' carry chains, and the verdict (`pass`,
-    /// their AND) is a LUT ahead of the queue's count, which the write picks.
+    // V+3: the key check's terms, registered (the visit is valid, the keys overlap, the visited
+    // box's home is in the round or need not be, the mask pairs the groups or need not), and
+    // the SAT test: only one LUT follows the compares' carry chains, and the verdict (`pass`,
+    // their AND) is a LUT ahead of the queue's count, which the write picks.
     v3_valid: Vec<DFF<Bit>>,
     v3_overlap: Vec<DFF<Bit>>,
     v3_home: Vec<DFF<Bit>>,
     v3_anywhere: Vec<DFF<Bit>>,
     v3_mask: Vec<DFF<Bit>>,
-    v3_word: Vec<DFF<Bits<CAND>>>,
-    fifo: Vec<PairFifo<CAND>>,
+    v3_word: Vec<DFF<Bits<TEST_WORD>>>,
+    fifo: Vec<PairFifo<TEST_WORD>>,
     // End of frame.
     clearing: DFF<Bit>,
     cleared: DFF<Bit>,
@@ -438,15 +438,15 @@ pub struct GridPhase<const A: usize, const C: usize> {
     // its keys, margin and group, its window's first cells and its cells less one, the round's
     // first cells and the window's cells after them (less one).
     slow: DFF<SlowState>,
-    /// Per lane (one-hot): the slow path's box is on it. The large boxes chain per lane
-    /// (`lnext`, `lnext2`); the slow path takes lane 0's chain, then lane 1's, and so on.
+    // Per lane (one-hot): the slow path's box is on it. The large boxes chain per lane
+    // (`lnext`, `lnext2`); the slow path takes lane 0's chain, then lane 1's, and so on.
     slane: Vec<DFF<Bit>>,
     lnext: Vec<DFF<Bits<C>>>,
     lnext2: Vec<DFF<Bits<C>>>,
     lcur: DFF<Bits<C>>,
     lk_min: [DFF<Bits<CENTER>>; 3],
-    /// Its first cell plus the widest span (`Read`): the window is too wide when its last
-    /// cell is beyond (one carry chain in `Plan`, not a difference and a compare).
+    // Its first cell plus the widest span (`Read`): the window is too wide when its last
+    // cell is beyond (one carry chain in `Plan`, not a difference and a compare).
     lk_lim: [DFF<Bits<CENTER>>; 3],
     lk_max: [DFF<Bits<CENTER>>; 3],
     lmargin: DFF<Bits<MARGIN>>,
@@ -458,25 +458,25 @@ pub struct GridPhase<const A: usize, const C: usize> {
     wide: DFF<Bit>,
     /// The fetched box's address is on port B (`lcur`, through the walker's address multiplexer).
     fetch_q: DFF<Bit>,
-    /// The injected record (at K), its kind and its keys: registered, so that the probe's
-    /// first stage takes them through one multiplexer.
+    // The injected record (at K), its kind and its keys: registered, so that the probe's
+    // first stage takes them through one multiplexer.
     inj: DFF<Bit>,
     inj_kind: DFF<Bits<KIND>>,
     inj_min: [DFF<Bits<CENTER>>; 3],
     inj_max: [DFF<Bits<CENTER>>; 3],
     // Combinational.
-    /// The ports' keys as arrays: the arriving box's; per lane, the box read on its banks'
-    /// port B.
+    // The ports' keys as arrays: the arriving box's; per lane, the box read on its banks'
+    // port B.
     key_min: [Signal<Local, Bits<CENTER>>; 3],
     key_max: [Signal<Local, Bits<CENTER>>; 3],
     rd_min: Vec<Signal<Local, Bits<CENTER>>>,
     rd_max: Vec<Signal<Local, Bits<CENTER>>>,
     rd_margin: Vec<Signal<Local, Bits<MARGIN>>>,
     rd_group: Vec<Signal<Local, Bits<GROUP>>>,
-    /// The arriving box: per lane, it is on it; its address in its lane's banks.
+    // The arriving box: per lane, it is on it; its address in its lane's banks.
     key_lane: Vec<Signal<Local, Bit>>,
     key_addr: Signal<Local, Bits<C>>,
-    /// Per lane: the address its walker reads (its `cand`, shifted); the box's at K+5.
+    // Per lane: the address its walker reads (its `next_box`, shifted); the box's at K+5.
     rd_address: Vec<Signal<Local, Bits<C>>>,
     succ_addr: Signal<Local, Bits<C>>,
     allowed: Signal<Local, Bits<MASK>>,
@@ -487,9 +487,9 @@ pub struct GridPhase<const A: usize, const C: usize> {
     fwd: Vec<Signal<Local, Bit>>,
     /// K+3, per bank: its bucket is the one the box ahead (at K+4) writes.
     same: [Signal<Local, Bit>; 27],
-    /// K+4, per list, from the owner as read (`2 l`) and as forwarded (`2 l + 1`), side by side
-    /// so that the compares start at registers and the forwarding only picks: the owner, walk
-    /// the list, the owner after the entry.
+    // K+4, per list, from the owner as read (`2 l`) and as forwarded (`2 l + 1`), side by side
+    // so that the compares start at registers and the forwarding only picks: the owner, walk
+    // the list, the owner after the entry.
     meta_src: Vec<Signal<Local, Bits<META>>>,
     live_src: Vec<Signal<Local, Bit>>,
     meta_new_src: Vec<Signal<Local, Bits<META>>>,
@@ -502,22 +502,22 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// most), their OR: the box's entry; the box has lists to walk. (Pure ORs, balanced by
     /// synthesis into trees.)
     succ_acc: Signal<Local, Bits<C>>,
-    /// K+4: per list, its old second if the box enters it and it holds a box; per bank, their OR.
+    // K+4: per list, its old second if the box enters it and it holds a box; per bank, their OR.
     entry_pick: Vec<Signal<Local, Bits<C>>>,
     entry_acc: Vec<Signal<Local, Bits<C>>>,
     any_live: Vec<Signal<Local, Bit>>,
-    /// The enumerator's choice, in the walker's order (bank, then group): per list, a list of a
-    /// lower group is left in its bank (`group_prior`); a list is left in a bank before b
-    /// (`bank_prior[b]`, from the registered flags of the chunks of three banks before b's and of
-    /// the banks before b in its chunk); the list is the first left. Pure ANDs and ORs, which
-    /// synthesis balances into trees (written as `if`s, they became multiplexer chains).
-    /// (Per lane and bank at `27 k + b`, per chunk at `9 k + c`; `chunk_prior` at `10 k + c`.)
+    // The enumerator's choice, in the walker's order (bank, then group): per list, a list of a
+    // lower group is left in its bank (`group_prior`); a list is left in a bank before b
+    // (`bank_prior[b]`, from the registered flags of the chunks of three banks before b's and of
+    // the banks before b in its chunk); the list is the first left. Pure ANDs and ORs, which
+    // synthesis balances into trees (written as `if`s, they became multiplexer chains).
+    // (Per lane and bank at `27 k + b`, per chunk at `9 k + c`; `chunk_prior` at `10 k + c`.)
     bank_any: Vec<Signal<Local, Bit>>,
     group_prior: Vec<Signal<Local, Bit>>,
     chunk_prior: Vec<Signal<Local, Bit>>,
     bank_prior: Vec<Signal<Local, Bit>>,
-    /// Per bank and per chunk, a list is left in it, registered: the lists left but the chosen,
-    /// or the loaded record's lists.
+    // Per bank and per chunk, a list is left in it, registered: the lists left but the chosen,
+    // or the loaded record's lists.
     bank_next: Vec<Signal<Local, Bit>>,
     bank_load: Vec<Signal<Local, Bit>>,
     bank_left: Vec<DFF<Bit>>,
@@ -525,8 +525,8 @@ pub struct GridPhase<const A: usize, const C: usize> {
     chunk_load: Vec<Signal<Local, Bit>>,
     chunk_left: Vec<DFF<Bit>>,
     e_first: Vec<Signal<Local, Bit>>,
-    /// A list is written to the list queue: its head (each list's masked by the one-hot choice,
-    /// then ORed); a list other than the chosen is left (none: it is the record's last).
+    // A list is written to the list queue: its head (each list's masked by the one-hot choice,
+    // then ORed); a list other than the chosen is left (none: it is the record's last).
     e_push: Vec<Signal<Local, Bit>>,
     e_pick: Vec<Signal<Local, Bits<C>>>,
     e_out: Vec<Signal<Local, Bits<C>>>,
@@ -536,8 +536,8 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// A record is loaded.
     e_load: Vec<Signal<Local, Bit>>,
     // The walker.
-    /// A box of the list arrives on the registered successor; a box is known to visit; the
-    /// box after it (and whether there is one).
+    // A box of the list arrives on the registered successor; a box is known to visit; the
+    // box after it (and whether there is one).
     arrive: Vec<Signal<Local, Bit>>,
     avail: Vec<Signal<Local, Bit>>,
     after: Vec<Signal<Local, Bits<C>>>,
@@ -546,38 +546,38 @@ pub struct GridPhase<const A: usize, const C: usize> {
     retire_rec: Vec<Signal<Local, Bit>>,
     take: Vec<Signal<Local, Bit>>,
     rd_live: Vec<Signal<Local, Bit>>,
-    /// Credits and records: this clock's changes.
-    /// Each count's next value is selected among its neighbours, computed from the register
-    /// alone, so that the late enables only pick: an adder after them was a carry chain behind
-    /// the walker's and the enumerator's decisions. The selection is an AND-OR of masks (all
-    /// ones where the enable picks): a multiplexer of sums is folded back by synthesis into
-    /// one adder of a selected operand, the carry chain again.
+    // Credits and records: this clock's changes.
+    // Each count's next value is selected among its neighbours, computed from the register
+    // alone, so that the late enables only pick: an adder after them was a carry chain behind
+    // the walker's and the enumerator's decisions. The selection is an AND-OR of masks (all
+    // ones where the enable picks): a multiplexer of sums is folded back by synthesis into
+    // one adder of a selected operand, the carry chain again.
     inflight_up: Signal<Local, Bit>,
     inflight_inc: Vec<Signal<Local, Bits<COUNT>>>,
     inflight_dec: Vec<Signal<Local, Bits<COUNT>>>,
     inflight_dec2: Vec<Signal<Local, Bits<COUNT>>>,
-    /// Masks of the early changes (the load's or the slow path's box, a probe's retirement):
-    /// they cancel, one more, one less. The values without and with a record's retirement,
-    /// which comes late from the walker's decision and only picks one of them.
+    // Masks of the early changes (the load's or the slow path's box, a probe's retirement):
+    // they cancel, one more, one less. The values without and with a record's retirement,
+    // which comes late from the walker's decision and only picks one of them.
     inflight_m: Vec<Signal<Local, Bits<COUNT>>>,
     inflight_n0: Vec<Signal<Local, Bits<COUNT>>>,
     inflight_n1: Vec<Signal<Local, Bits<COUNT>>>,
     count_inc: Vec<Signal<Local, Bits<COUNT>>>,
     count_dec: Vec<Signal<Local, Bits<COUNT>>>,
-    /// Masks: keep, one more, one less.
+    // Masks: keep, one more, one less.
     count_m: Vec<Signal<Local, Bits<COUNT>>>,
     ones: Constant<Bits<COUNT>>,
-    cand_word: Vec<Signal<Local, Bits<CAND>>>,
-    unpack_a: Signal<Local, Bits<CAND>>,
-    unpack_b: Signal<Local, Bits<CAND>>,
-    unpack_ma: Signal<Local, Bits<CAND>>,
-    cand: Vec<Signal<Local, Bits<C>>>,
+    test_word: Vec<Signal<Local, Bits<TEST_WORD>>>,
+    unpack_a: Signal<Local, Bits<TEST_WORD>>,
+    unpack_b: Signal<Local, Bits<TEST_WORD>>,
+    unpack_ma: Signal<Local, Bits<TEST_WORD>>,
+    next_box: Vec<Signal<Local, Bits<C>>>,
     /// The box's index with the flag bit, a list head: at K+3 (a large box joins the chain), at
     /// K+4 (it enters a list), at K+5 (forwarded).
     entry: Signal<Local, Bits<C>>,
     entry4: Signal<Local, Bits<C>>,
     entry5: Signal<Local, Bits<C>>,
-    cand_ok: Vec<Signal<Local, Bit>>,
+    next_ok: Vec<Signal<Local, Bit>>,
     go: Vec<Signal<Local, Bit>>,
     stall: Vec<Signal<Local, Bit>>,
     retire_probe: Vec<Signal<Local, Bit>>,
@@ -587,20 +587,20 @@ pub struct GridPhase<const A: usize, const C: usize> {
     rec_write: Vec<Signal<Local, Bit>>,
     overlap: Vec<Signal<Local, Bit>>,
     swap: Vec<Signal<Local, Bit>>,
-    cand_lo: Vec<Signal<Local, Bits<C>>>,
-    cand_hi: Vec<Signal<Local, Bits<C>>>,
-    /// The candidate's fields widened to the queue's word (`Resize`: no `bit_cast` in a loop).
-    pack_lo: Vec<Resize<CAND, C>>,
-    pack_hi: Vec<Resize<CAND, C>>,
-    pack_mlo: Vec<Resize<CAND, MARGIN>>,
-    pack_mhi: Vec<Resize<CAND, MARGIN>>,
+    test_lo: Vec<Signal<Local, Bits<C>>>,
+    test_hi: Vec<Signal<Local, Bits<C>>>,
+    /// The SAT test's fields widened to the queue's word (`Resize`: no `bit_cast` in a loop).
+    pack_lo: Vec<Resize<TEST_WORD, C>>,
+    pack_hi: Vec<Resize<TEST_WORD, C>>,
+    pack_mlo: Vec<Resize<TEST_WORD, MARGIN>>,
+    pack_mhi: Vec<Resize<TEST_WORD, MARGIN>>,
     margin_lo: Vec<Signal<Local, Bits<MARGIN>>>,
     margin_hi: Vec<Signal<Local, Bits<MARGIN>>>,
     done_walk: Signal<Local, Bit>,
-    /// The slow path: nothing in flight after the load on the clock before, nothing launched
-    /// (a register, so that the counts and the sequencer are not one path), and its next
-    /// value; this clock fetches a large box, injects a record (and of which kind, with which
-    /// keys).
+    // The slow path: nothing in flight after the load on the clock before, nothing launched
+    // (a register, so that the counts and the sequencer are not one path), and its next
+    // value; this clock fetches a large box, injects a record (and of which kind, with which
+    // keys).
     idle: DFF<Bit>,
     idle_next: Signal<Local, Bit>,
     fetch: Signal<Local, Bit>,
@@ -608,12 +608,12 @@ pub struct GridPhase<const A: usize, const C: usize> {
     inject_kind: Signal<Local, Bits<KIND>>,
     inject_min: [Signal<Local, Bits<CENTER>>; 3],
     inject_max: [Signal<Local, Bits<CENTER>>; 3],
-    /// Per axis: the cells left, the round's included, less two (`rleft`, kept by steps: a
-    /// difference would be a carry chain before the compares; less two, so that the plan's
-    /// difference needs no increment); the round has three cells; it is the
-    /// axis's last; the round's first cell plus 1, 2, 3; the cells left less 2, 3; masks (all
-    /// ones where the round has two, three cells: an AND-OR, which synthesis does not fold
-    /// into an adder of a selected operand); the next round's first cell and cells left.
+    // Per axis: the cells left, the round's included, less two (`rleft`, kept by steps: a
+    // difference would be a carry chain before the compares; less two, so that the plan's
+    // difference needs no increment); the round has three cells; it is the
+    // axis's last; the round's first cell plus 1, 2, 3; the cells left less 2, 3; masks (all
+    // ones where the round has two, three cells: an AND-OR, which synthesis does not fold
+    // into an adder of a selected operand); the next round's first cell and cells left.
     left: [Signal<Local, Bits<CENTER>>; 3],
     three_cells: [Signal<Local, Bit>; 3],
     last_round: [Signal<Local, Bit>; 3],
@@ -627,7 +627,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     next_rr: [Signal<Local, Bits<CENTER>>; 3],
     next_left: [Signal<Local, Bits<CENTER>>; 3],
     plan_span: [Signal<Local, Bits<CENTER>>; 3],
-    /// All ones; all but the low bit; all but the two low bits.
+    // All ones; all but the low bit; all but the two low bits.
     center_ones: Constant<Bits<CENTER>>,
     above_one: Constant<Bits<CENTER>>,
     above_three: Constant<Bits<CENTER>>,
@@ -639,33 +639,33 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// V+2: the visited box's home is in the round; the mask pairs the groups. V+3: the pair
     /// passes.
     home_ok: Vec<Signal<Local, Bit>>,
-    /// The round's first cell; all ones unless it is cell zero.
+    // The round's first cell; all ones unless it is cell zero.
     wl_cell: Vec<Signal<Local, Bits<CENTER>>>,
     wl_keep: Vec<Signal<Local, Bits<CENTER>>>,
     mask_row: Vec<Signal<Local, Bits<MASK>>>,
     mask_ok: Vec<Signal<Local, Bit>>,
     pass: Vec<Signal<Local, Bit>>,
-    /// The candidate issued: per lane, a lower lane holds one (`lower[k]`, prefix ORs); the lane
-    /// issues; its word (zero unless it issues), their OR.
+    // The SAT test issued: per lane, a lower lane holds one (`lower[k]`, prefix ORs); the lane
+    // issues; its word (zero unless it issues), their OR.
     lower: Vec<Signal<Local, Bit>>,
     issuer: Vec<Signal<Local, Bit>>,
-    out_pick: Vec<Signal<Local, Bits<CAND>>>,
-    out_word: Signal<Local, Bits<CAND>>,
-    /// The slow path's next large box: per lane, a lower lane's chain holds one (prefix ORs);
-    /// the lane's chain is the first that does; its head if so; their OR.
+    out_pick: Vec<Signal<Local, Bits<TEST_WORD>>>,
+    out_word: Signal<Local, Bits<TEST_WORD>>,
+    // The slow path's next large box: per lane, a lower lane's chain holds one (prefix ORs);
+    // the lane's chain is the first that does; its head if so; their OR.
     lprior: Vec<Signal<Local, Bit>>,
     lfirst: Vec<Signal<Local, Bit>>,
     lpick: Vec<Signal<Local, Bits<C>>>,
     lhead: Signal<Local, Bits<C>>,
-    /// The visits' outputs, gathered lane by lane; the visits counted.
+    // The visits' outputs, gathered lane by lane; the visits counted.
     visit_acc: Signal<Local, Bits<8>>,
     vis_pack_i: Vec<Signal<Local, Bits<64>>>,
     vis_pack_j: Vec<Signal<Local, Bits<64>>>,
-    visited_acc: Signal<Local, Bits<4>>,
+    visits_acc: Signal<Local, Bits<4>>,
     vis_i: Vec<Resize<64, C>>,
     vis_j: Vec<Resize<64, C>>,
-    /// A large box is left on some lane's chain; every lane has a credit; a candidate is on
-    /// some lane's queue's output; every lane is drained (and the list heads are clear).
+    // A large box is left on some lane's chain; every lane has a credit; a SAT test is on
+    // some lane's queue's output; every lane is drained (and the list heads are clear).
     large_left: Signal<Local, Bit>,
     credit_acc: Signal<Local, Bit>,
     /// The credit, registered: every lane had room for two more boxes on the clock before.
@@ -676,12 +676,12 @@ pub struct GridPhase<const A: usize, const C: usize> {
     lrow: Signal<Local, Bits<MASK>>,
     /// The frame's group mask (the haptic one in a haptic frame).
     fmask: DFF<Bits<MASK>>,
-    /// The clear before an update frame's load runs (it writes every list; the clear after a
-    /// walk only the streamed groups'); the clear is at its last bucket.
+    // The clear before an update frame's load runs (it writes every list; the clear after a
+    // walk only the streamed groups'); the clear is at its last bucket.
     pre_clear: DFF<Bit>,
     clear_last: Signal<Local, Bit>,
-    /// The resident set shifted to the box's group at K+3; the box is of a resident group, in
-    /// an update frame.
+    // The resident set shifted to the box's group at K+3; the box is of a resident group, in
+    // an update frame.
     res_row: Signal<Local, Bits<8>>,
     s3_res: Signal<Local, Bit>,
     /// Per lane, the chain of large boxes as the resident ones left it (`lnext`, `lnext2`):
@@ -746,13 +746,13 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             visit_j1: Default::default(),
             visit_j2: Default::default(),
             visit_j3: Default::default(),
-            visited: Default::default(),
-            cand_valid: Default::default(),
-            cand_ready: Default::default(),
-            cand_a: Default::default(),
-            cand_b: Default::default(),
-            cand_ma: Default::default(),
-            cand_mb: Default::default(),
+            visits: Default::default(),
+            test_valid: Default::default(),
+            test_ready: Default::default(),
+            test_a: Default::default(),
+            test_b: Default::default(),
+            test_ma: Default::default(),
+            test_mb: Default::default(),
             walked: Default::default(),
             finished: Default::default(),
             too_wide: Default::default(),
@@ -925,7 +925,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             v3_mask: vec(lanes),
             v3_word: vec(lanes),
             fifo: (0..lanes)
-                .map(|_| PairFifo::new(GRID_CAND_STALL as u64))
+                .map(|_| PairFifo::new(GRID_TEST_STALL as u64))
                 .collect(),
             clearing: Default::default(),
             cleared: Default::default(),
@@ -1006,15 +1006,15 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             count_dec: vec(lanes),
             count_m: vec(3 * lanes),
             ones: Constant::new(((1u64 << COUNT) - 1).into()),
-            cand_word: vec(lanes),
+            test_word: vec(lanes),
             unpack_a: Default::default(),
             unpack_b: Default::default(),
             unpack_ma: Default::default(),
-            cand: vec(lanes),
+            next_box: vec(lanes),
             entry: Default::default(),
             entry4: Default::default(),
             entry5: Default::default(),
-            cand_ok: vec(lanes),
+            next_ok: vec(lanes),
             go: vec(lanes),
             stall: vec(lanes),
             retire_probe: vec(lanes),
@@ -1022,8 +1022,8 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             rec_write: vec(lanes),
             overlap: vec(lanes),
             swap: vec(lanes),
-            cand_lo: vec(lanes),
-            cand_hi: vec(lanes),
+            test_lo: vec(lanes),
+            test_hi: vec(lanes),
             margin_lo: vec(lanes),
             margin_hi: vec(lanes),
             done_walk: Default::default(),
@@ -1067,7 +1067,7 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             visit_acc: Default::default(),
             vis_pack_i: vec(4),
             vis_pack_j: vec(4),
-            visited_acc: Default::default(),
+            visits_acc: Default::default(),
             key_addr: Default::default(),
             succ_addr: Default::default(),
             vis_i: vec(lanes),
@@ -2023,17 +2023,17 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 self.take[k].next = self.need[k].val() & self.lq_fill[3 * k].q.val();
                 self.retire_rec[k].next =
                     self.need[k].val() & self.cur_valid[k].q.val() & self.cur_last[k].q.val();
-                self.cand[k].next = self.lq_head[k].read_data.val();
+                self.next_box[k].next = self.lq_head[k].read_data.val();
                 if self.fetch_q.q.val() {
-                    self.cand[k].next = self.lcur.q.val();
+                    self.next_box[k].next = self.lcur.q.val();
                 }
                 if self.arrive[k].val() {
-                    self.cand[k].next = self.succ_q[k].q.val();
+                    self.next_box[k].next = self.succ_q[k].q.val();
                 }
                 if self.q0v[k].q.val() {
-                    self.cand[k].next = self.q0[k].q.val();
+                    self.next_box[k].next = self.q0[k].q.val();
                 }
-                // The box after `cand`: `q1`, the arrival behind `q0`, or a taken list's second.
+                // The box after `next_box`: `q1`, the arrival behind `q0`, or a taken list's second.
                 self.after[k].next = self.succ_q[k].q.val();
                 if self.q1v[k].q.val() {
                     self.after[k].next = self.q1[k].q.val();
@@ -2044,18 +2044,18 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     self.after[k].next = self.lq_head2[k].read_data.val();
                     self.after_v[k].next = (self.lq_head2[k].read_data.val() & self.top.val()) != 0;
                 }
-                self.cand_ok[k].next = self.avail[k].val() | self.take[k].val();
+                self.next_ok[k].next = self.avail[k].val() | self.take[k].val();
                 self.stall[k].next = self.fifo[k].almost_full.val();
-                self.go[k].next = self.cand_ok[k].val() & !self.stall[k].val();
+                self.go[k].next = self.next_ok[k].val() & !self.stall[k].val();
                 if self.go[k].val() {
                     self.q0[k].d.next = self.after[k].val();
                     self.q0v[k].d.next = self.after_v[k].val();
                     self.q1v[k].d.next = false;
                 } else {
-                    self.q0[k].d.next = self.cand[k].val();
-                    self.q0v[k].d.next = self.cand_ok[k].val();
+                    self.q0[k].d.next = self.next_box[k].val();
+                    self.q0v[k].d.next = self.next_ok[k].val();
                     self.q1[k].d.next = self.after[k].val();
-                    self.q1v[k].d.next = self.cand_ok[k].val() & self.after_v[k].val();
+                    self.q1v[k].d.next = self.next_ok[k].val() & self.after_v[k].val();
                 }
                 self.r1[k].d.next = self.go[k].val();
                 self.arrive_q[k].d.next =
@@ -2105,7 +2105,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     self.lq_fill[3 * k + 2].d.next = false;
                 }
                 self.rd_address[k].next =
-                    (self.cand[k].val() & self.index_mask.val()) >> self.lane_shift.val();
+                    (self.next_box[k].val() & self.index_mask.val()) >> self.lane_shift.val();
                 self.succ[k].read_address_a.next = 0.into();
                 self.succ[k].read_address_b.next = self.rd_address[k].val();
                 for x in 0..3 {
@@ -2121,15 +2121,15 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 self.vis_pack_i[m].next = 0.into();
                 self.vis_pack_j[m].next = 0.into();
             }
-            self.visited_acc.next = 0.into();
+            self.visits_acc.next = 0.into();
             for k in 0..self._lanes {
                 self.vis_i[k].value.next = self.v1_i[k].d.val();
-                self.vis_j[k].value.next = self.cand[k].val() & self.index_mask.val();
+                self.vis_j[k].value.next = self.next_box[k].val() & self.index_mask.val();
                 if self.go[k].val() {
                     self.visit_acc.next = self.visit_acc.val() | self.lane_bit[k].val();
                 }
                 if self.v1_valid[k].q.val() {
-                    self.visited_acc.next = self.visited_acc.val() + 1;
+                    self.visits_acc.next = self.visits_acc.val() + 1;
                 }
                 self.vis_pack_i[k / 2].next = self.vis_pack_i[k / 2].val()
                     | (self.vis_i[k].resized.val() << self.lane_at[k].val());
@@ -2145,7 +2145,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.visit_j1.next = self.vis_pack_j[1].val();
             self.visit_j2.next = self.vis_pack_j[2].val();
             self.visit_j3.next = self.vis_pack_j[3].val();
-            self.visited.next = self.visited_acc.val();
+            self.visits.next = self.visits_acc.val();
 
             // Credits and records, per lane. A box is accepted when every lane has a credit.
             self.inflight_up.next = self.accept.val() | self.inject.val();
@@ -2201,15 +2201,15 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.credit.next = self.credit_q.q.val();
 
             // The key check, per lane: V+1 the visited box's keys come from the lane's banks;
-            // V+2 they are compared with the walking box's; V+3 a candidate (lower index first)
-            // enters the lane's candidate queue. A round passes a box whose home cell is in it;
+            // V+2 they are compared with the walking box's; V+3 a SAT test (lower index first)
+            // enters the lane's test queue. A round passes a box whose home cell is in it;
             // the chain's boxes pass if the mask pairs the groups (`lrow`: the mask's row of the
             // slow path's box's group).
             self.lrow.next =
                 self.fmask.q.val() >> (bit_cast::<MASK, GROUP>(self.lgroup.q.val()) << 3_u64);
             for k in 0..self._lanes {
                 self.v1_valid[k].d.next = self.go[k].val();
-                self.v1_j[k].d.next = self.cand[k].val() & self.index_mask.val();
+                self.v1_j[k].d.next = self.next_box[k].val() & self.index_mask.val();
                 self.v2_valid[k].d.next = self.v1_valid[k].q.val();
                 self.v2_i[k].d.next = self.v1_i[k].q.val();
                 self.v2_j[k].d.next = self.v1_j[k].q.val();
@@ -2249,21 +2249,21 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     & (self.v2_min_i[3 * k + 2].q.val() <= self.v2_max_j[3 * k + 2].q.val())
                     & (self.v2_min_j[3 * k + 2].q.val() <= self.v2_max_i[3 * k + 2].q.val());
                 self.swap[k].next = self.v2_i[k].q.val() < self.v2_j[k].q.val();
-                self.cand_lo[k].next = self.v2_j[k].q.val();
-                self.cand_hi[k].next = self.v2_i[k].q.val();
+                self.test_lo[k].next = self.v2_j[k].q.val();
+                self.test_hi[k].next = self.v2_i[k].q.val();
                 self.margin_lo[k].next = self.v2_margin_j[k].q.val();
                 self.margin_hi[k].next = self.v2_margin_i[k].q.val();
                 if self.swap[k].val() {
-                    self.cand_lo[k].next = self.v2_i[k].q.val();
-                    self.cand_hi[k].next = self.v2_j[k].q.val();
+                    self.test_lo[k].next = self.v2_i[k].q.val();
+                    self.test_hi[k].next = self.v2_j[k].q.val();
                     self.margin_lo[k].next = self.v2_margin_i[k].q.val();
                     self.margin_hi[k].next = self.v2_margin_j[k].q.val();
                 }
-                self.pack_lo[k].value.next = self.cand_lo[k].val();
-                self.pack_hi[k].value.next = self.cand_hi[k].val();
+                self.pack_lo[k].value.next = self.test_lo[k].val();
+                self.pack_hi[k].value.next = self.test_hi[k].val();
                 self.pack_mlo[k].value.next = self.margin_lo[k].val();
                 self.pack_mhi[k].value.next = self.margin_hi[k].val();
-                self.cand_word[k].next = (self.pack_lo[k].resized.val() << self.at_a.val())
+                self.test_word[k].next = (self.pack_lo[k].resized.val() << self.at_a.val())
                     | (self.pack_hi[k].resized.val() << self.at_b.val())
                     | (self.pack_mlo[k].resized.val() << self.at_ma.val())
                     | self.pack_mhi[k].resized.val();
@@ -2281,7 +2281,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 self.v3_anywhere[k].d.next = !self.v2_kind[k].q.val().get_bit(0);
                 self.v3_mask[k].d.next =
                     self.mask_ok[k].val() | !self.v2_kind[k].q.val().get_bit(1);
-                self.v3_word[k].d.next = self.cand_word[k].val();
+                self.v3_word[k].d.next = self.test_word[k].val();
                 self.pass[k].next = self.v3_valid[k].q.val()
                     & self.v3_overlap[k].q.val()
                     & (self.v3_home[k].q.val() | self.v3_anywhere[k].q.val())
@@ -2289,10 +2289,10 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 self.fifo[k].write.next = self.pass[k].val();
                 self.fifo[k].data_in.next = self.v3_word[k].q.val();
             }
-            // The candidate stream: the lowest lane with a candidate on its queue's output issues it.
+            // The SAT test stream: the lowest lane with a SAT test on its queue's output issues it.
             // `out_valid` is its own OR of the queues' flags, not the last of the `lower` chain:
             // Verilator orders this block by groups of statements linked through the signals they
-            // write, and the core's ready depends on `cand_valid`, so `cand_valid` must share no
+            // write, and the core's ready depends on `test_valid`, so `test_valid` must share no
             // written signal with the queues' ready terms below (else UNOPTFLAT, a loop).
             self.lower[0].next = false;
             self.out_word.next = 0.into();
@@ -2307,16 +2307,16 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 self.out_word.next = self.out_word.val() | self.out_pick[k].val();
                 self.out_valid.next = self.out_valid.val() | self.fifo[k].valid.val();
             }
-            self.cand_valid.next = self.out_valid.val();
+            self.test_valid.next = self.out_valid.val();
             self.unpack_a.next = self.out_word.val() >> self.at_a.val();
             self.unpack_b.next = self.out_word.val() >> self.at_b.val();
             self.unpack_ma.next = self.out_word.val() >> self.at_ma.val();
-            self.cand_a.next = bit_cast::<A, CAND>(self.unpack_a.val());
-            self.cand_b.next = bit_cast::<A, CAND>(self.unpack_b.val());
-            self.cand_ma.next = bit_cast::<MARGIN, CAND>(self.unpack_ma.val());
-            self.cand_mb.next = bit_cast::<MARGIN, CAND>(self.out_word.val());
+            self.test_a.next = bit_cast::<A, TEST_WORD>(self.unpack_a.val());
+            self.test_b.next = bit_cast::<A, TEST_WORD>(self.unpack_b.val());
+            self.test_ma.next = bit_cast::<MARGIN, TEST_WORD>(self.unpack_ma.val());
+            self.test_mb.next = bit_cast::<MARGIN, TEST_WORD>(self.out_word.val());
             for k in 0..self._lanes {
-                self.fifo[k].ready.next = self.cand_ready.val() & self.issuer[k].val();
+                self.fifo[k].ready.next = self.test_ready.val() & self.issuer[k].val();
             }
 
             // The end: every box accepted and retired, the slow path over; then the clear, one

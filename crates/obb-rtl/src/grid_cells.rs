@@ -50,12 +50,12 @@ pub struct GridCells {
     /// The cell edge in key units (a box at most this wide on every axis is small), its log2.
     cell_edge: Constant<Bits<CENTER>>,
     cell_bits: Constant<Bits<8>>,
-    /// Per axis and coordinate bit, the hash's column (`23 x + i`).
+    // Per axis and coordinate bit, the hash's column (`23 x + i`).
     column: Vec<Constant<Bits<HASH>>>,
     bucket_mask: Constant<Bits<HASH>>,
-    /// Per 6-bit chunk of a coordinate its shift, its mask, and per value of a chunk the
-    /// value and its residue mod 3; per pair of residues side by side (`4 a + b`, the shift
-    /// 2) their sum mod 3.
+    // Per 6-bit chunk of a coordinate its shift, its mask, and per value of a chunk the
+    // value and its residue mod 3; per pair of residues side by side (`4 a + b`, the shift
+    // 2) their sum mod 3.
     chunk_at: Vec<Constant<Bits<8>>>,
     chunk_mask: Constant<Bits<COORD>>,
     chunk_value: Vec<Constant<Bits<COORD>>>,
@@ -65,19 +65,19 @@ pub struct GridCells {
     valid1: DFF<Bit>,
     valid2: DFF<Bit>,
     valid3: DFF<Bit>,
-    /// K+1: the box's width per axis; K+2: the box is small (the difference and the compare
-    /// on two clocks: two carry chains in one clock behind the injection's multiplexer were
-    /// over 4 ns).
+    // K+1: the box's width per axis; K+2: the box is small (the difference and the compare
+    // on two clocks: two carry chains in one clock behind the injection's multiplexer were
+    // over 4 ns).
     width1: [DFF<Bits<CENTER>>; 3],
     small2: DFF<Bit>,
     small3: DFF<Bit>,
-    /// Per axis the window's cells `3 x + d` (first + d), and whether the third is in it.
+    // Per axis the window's cells `3 x + d` (first + d), and whether the third is in it.
     cell1: [DFF<Bits<COORD>>; 9],
     third1: [DFF<Bit>; 3],
     hash2: [DFF<Bits<HASH>>; 9],
     third2: [DFF<Bit>; 3],
-    /// Per axis and 6-bit chunk of the first cell's coordinate (`4 x + c`), the chunk mod 3;
-    /// then the coordinate mod 3, per axis.
+    // Per axis and 6-bit chunk of the first cell's coordinate (`4 x + c`), the chunk mod 3;
+    // then the coordinate mod 3, per axis.
     res1: [DFF<Bits<COORD>>; 12],
     res2: [DFF<Bits<COORD>>; 3],
     bucket_r: [DFF<Bits<BUCKET>>; 27],
@@ -87,16 +87,16 @@ pub struct GridCells {
     home_fp_r: DFF<Bits<FP>>,
     /// Per axis and cell: the hash accumulated over the coordinate's bits (`24 (3 x + d) + i`).
     hacc: Vec<Signal<Local, Bits<HASH>>>,
-    /// Per axis: the first cell; per 6-bit chunk of it its value; per axis and pair of
-    /// chunks (`2 x + p`) their residues side by side and summed mod 3; per axis those two
-    /// sums side by side.
+    // Per axis: the first cell; per 6-bit chunk of it its value; per axis and pair of
+    // chunks (`2 x + p`) their residues side by side and summed mod 3; per axis those two
+    // sums side by side.
     first: [Signal<Local, Bits<COORD>>; 3],
     chunk: [Signal<Local, Bits<COORD>>; 12],
     pair: [Signal<Local, Bits<COORD>>; 6],
     pair_sum: [Signal<Local, Bits<COORD>>; 6],
     pairs: [Signal<Local, Bits<COORD>>; 3],
-    /// Per axis and residue `3 x + r`: the window cell's hash, whether it is in the window,
-    /// whether it is the home cell.
+    // Per axis and residue `3 x + r`: the window cell's hash, whether it is in the window,
+    // whether it is the home cell.
     slot_hash: [Signal<Local, Bits<HASH>>; 9],
     slot_in: [Signal<Local, Bit>; 9],
     slot_home: [Signal<Local, Bit>; 9],

@@ -4,9 +4,11 @@
 //!
 //! The hardware, in the order a box goes through the core:
 
-// Building blocks: arithmetic leaves (each product one DSP48E1), memories, a width adapter.
+// Building blocks: arithmetic leaves (each product one DSP48E1), memories, delay lines, a width
+// adapter.
 pub mod dist_ram;
 pub mod leaf;
+pub mod pipe;
 pub mod resize;
 pub mod table_ram;
 

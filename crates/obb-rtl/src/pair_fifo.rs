@@ -45,7 +45,7 @@ pub struct PairFifo<const W: usize> {
     /// At least `stall_at` entries stored (the output register not counted).
     pub almost_full: Signal<Out, Bit>,
     stall_at: Constant<Bits<COUNT>>,
-    /// `stall_at` less one and plus one; all ones.
+    // `stall_at` less one and plus one; all ones.
     stall_lo: Constant<Bits<COUNT>>,
     stall_hi: Constant<Bits<COUNT>>,
     ones: Constant<Bits<COUNT>>,
@@ -53,7 +53,7 @@ pub struct PairFifo<const W: usize> {
     wptr: DFF<Bits<ADDRESS>>,
     rptr: DFF<Bits<ADDRESS>>,
     count: DFF<Bits<COUNT>>,
-    /// Something is stored; exactly one entry is.
+    // Something is stored; exactly one entry is.
     stored: DFF<Bit>,
     one: DFF<Bit>,
     out_valid: DFF<Bit>,
@@ -62,7 +62,7 @@ pub struct PairFifo<const W: usize> {
     full_q: DFF<Bit>,
     load: Signal<Local, Bit>,
     two: Signal<Local, Bit>,
-    /// The count plus and less one; masks: it stays, rises, falls.
+    // The count plus and less one; masks: it stays, rises, falls.
     count_inc: Signal<Local, Bits<COUNT>>,
     count_dec: Signal<Local, Bits<COUNT>>,
     keep_m: Signal<Local, Bits<COUNT>>,

@@ -15,6 +15,7 @@
 //! | 8 | keys: `min >> s`, `(max + 2^s - 1) >> s` |
 
 use crate::leaf::{AbsTwice, UMul};
+use crate::pipe::Pipe;
 use obb_model::fixed::margins::BETA_SHIFT;
 use obb_model::fixed::{HwConfig, Margins};
 use rust_hdl::prelude::*;
@@ -69,9 +70,10 @@ pub struct Projection {
     margin_round: Constant<Bits<SB>>,
     margin_shift: Constant<Bits<8>>,
     // Pipeline.
-    valid: [DFF<Bit>; 8],
-    /// The centers delayed to clock 7: `center_r[3 s + x]` holds axis x after clock s + 1.
-    center_r: [DFF<Bits<CENTER>>; 18],
+    /// `valid_in`, `LATENCY` clocks later.
+    valid: Pipe<Bit, { LATENCY as usize }>,
+    /// The centers, from the input to clock 7's end points: after clock 6.
+    center_r: [Pipe<Bits<CENTER>, 6>; 3],
     half_r: [DFF<Bits<HALF>>; 3],
     hdelay: [DFF<Bits<HALF>>; 3],
     axes_r: [DFF<Signed<ROT>>; 9],
@@ -157,13 +159,9 @@ impl Logic for Projection {
     #[hdl_gen]
     fn update(&mut self) {
         // Clocks and register feedback.
-        for i in 0..8 {
-            self.valid[i].clock.next = self.clock.val();
-        }
-        for i in 0..18 {
-            self.center_r[i].clock.next = self.clock.val();
-        }
+        self.valid.clock.next = self.clock.val();
         for k in 0..3 {
+            self.center_r[k].clock.next = self.clock.val();
             self.half_r[k].clock.next = self.clock.val();
             self.hdelay[k].clock.next = self.clock.val();
             self.sum[k].clock.next = self.clock.val();
@@ -183,16 +181,10 @@ impl Logic for Projection {
         self.margin_r[1].clock.next = self.clock.val();
         self.margin_o.clock.next = self.clock.val();
         // Clock 1: input registers; the valid bit and the centers ride along to the end.
-        self.valid[0].d.next = self.valid_in.val();
-        for i in 1..8 {
-            self.valid[i].d.next = self.valid[i - 1].q.val();
-        }
+        self.valid.d.next = self.valid_in.val();
         for x in 0..3 {
             self.center_r[x].d.next = self.center[x].val();
             self.half_r[x].d.next = self.half[x].val();
-        }
-        for i in 3..18 {
-            self.center_r[i].d.next = self.center_r[i - 3].q.val();
         }
         for i in 0..9 {
             self.axes_r[i].d.next = self.axes[i].val();
@@ -242,9 +234,9 @@ impl Logic for Projection {
         self.extent[0].next = bit_cast::<END, SUM>(self.sum[0].q.val() >> self.frac1.val());
         self.extent[1].next = bit_cast::<END, SUM>(self.sum[1].q.val() >> self.frac1.val());
         self.extent[2].next = bit_cast::<END, SUM>(self.sum[2].q.val() >> self.frac1.val());
-        self.wide[0].next = bit_cast::<END, CENTER>(self.center_r[15].q.val());
-        self.wide[1].next = bit_cast::<END, CENTER>(self.center_r[16].q.val());
-        self.wide[2].next = bit_cast::<END, CENTER>(self.center_r[17].q.val());
+        self.wide[0].next = bit_cast::<END, CENTER>(self.center_r[0].q.val());
+        self.wide[1].next = bit_cast::<END, CENTER>(self.center_r[1].q.val());
+        self.wide[2].next = bit_cast::<END, CENTER>(self.center_r[2].q.val());
         for x in 0..3 {
             self.lo[x].d.next = self.wide[x].val() - self.extent[x].val();
             self.hi[x].d.next = self.wide[x].val() + self.extent[x].val();
@@ -264,7 +256,7 @@ impl Logic for Projection {
             self.key_min[x].next = self.kmin[x].q.val();
             self.key_max[x].next = self.kmax[x].q.val();
         }
-        self.valid_out.next = self.valid[7].q.val();
+        self.valid_out.next = self.valid.q.val();
         self.margin.next = self.margin_o.q.val();
     }
 }

@@ -81,7 +81,7 @@ pub struct RadixSort<const A: usize, const C: usize, const K: usize, const E: us
     // Configuration.
     mask: Constant<Bits<8>>,
     last_bin: Constant<Bits<C>>,
-    /// One pass only; else the pass before the last (mod 8).
+    // One pass only; else the pass before the last (mod 8).
     one_pass: Constant<Bit>,
     penultimate: Constant<Bits<3>>,
     /// Pass p's digit starts at entry bit `offsets[p]`.
@@ -91,7 +91,7 @@ pub struct RadixSort<const A: usize, const C: usize, const K: usize, const E: us
     phase: DFF<Phase>,
     ram: [RAM<Bits<E>, A>; 2],
     bin_table: BinTable<C>,
-    /// RAM the current pass reads (0 or 1); the other is written.
+    // RAM the current pass reads (0 or 1); the other is written.
     src: DFF<Bit>,
     count: DFF<Bits<C>>,
     /// From the count, for the scatter's end test one clock ahead: `count - 2`, `count == 1`,
@@ -112,10 +112,10 @@ pub struct RadixSort<const A: usize, const C: usize, const K: usize, const E: us
     l_entry: DFF<Bits<E>>,
     /// The RAM's output holds an entry of the pass.
     r_valid: DFF<Bit>,
-    /// The entry (from the RAM's output) and its way to the write.
+    // The entry (from the RAM's output) and its way to the write.
     e: [DFF<Bits<E>>; STAGES],
     v: [DFF<Bit>; STAGES],
-    /// The bin table's inputs: this pass's digit (take) and the next pass's (count).
+    // The bin table's inputs: this pass's digit (take) and the next pass's (count).
     t_valid: DFF<Bit>,
     t_bin: DFF<Bits<8>>,
     c_valid: DFF<Bit>,

@@ -2,6 +2,7 @@
 //! `LATENCY` clocks later, bit for bit as `obb_model::fixed::sat::collide`. `sat_front` (the
 //! exact products) followed by `sat_back`; the half-lengths and the pair's margin ride along.
 
+use crate::pipe::Pipe;
 use crate::projection::{CENTER, HALF, MARGIN, ROT};
 use crate::sat_back::{SatBack, HALF_S, PAIR_MARGIN};
 use crate::sat_front::{self, SatFront};
@@ -10,8 +11,8 @@ use rust_hdl::prelude::*;
 
 /// Clocks from a pair on the inputs to its verdict.
 pub const LATENCY: u64 = sat_front::LATENCY + crate::sat_back::LATENCY;
-// `ha`, `hb` and `pm` are one register per clock of the front (literal indices).
-const _: () = assert!(sat_front::LATENCY == 6);
+/// The front's latency, the back end's inputs' delay behind `valid_in`.
+const FRONT: usize = sat_front::LATENCY as usize;
 
 #[derive(Clone, Debug, LogicBlock)]
 pub struct Sat {
@@ -39,11 +40,10 @@ pub struct Sat {
     pub hit: Signal<Out, Bit>,
     front: SatFront,
     back: SatBack,
-    /// The half-lengths, signed, and the pair margin, delayed to the back end's inputs:
-    /// `ha[3 s + x]` after clock s + 1.
-    ha: [DFF<Signed<HALF_S>>; 18],
-    hb: [DFF<Signed<HALF_S>>; 18],
-    pm: [DFF<Bits<PAIR_MARGIN>>; 6],
+    // The half-lengths, signed, and the pair margin, delayed to the back end's inputs.
+    ha: [Pipe<Signed<HALF_S>, FRONT>; 3],
+    hb: [Pipe<Signed<HALF_S>, FRONT>; 3],
+    pm: Pipe<Bits<PAIR_MARGIN>, FRONT>,
     ha_s: [Signal<Local, Signed<HALF_S>>; 3],
     hb_s: [Signal<Local, Signed<HALF_S>>; 3],
     pair: Signal<Local, Bits<PAIR_MARGIN>>,
@@ -81,13 +81,11 @@ impl Logic for Sat {
     fn update(&mut self) {
         self.front.clock.next = self.clock.val();
         self.back.clock.next = self.clock.val();
-        for i in 0..18 {
-            self.ha[i].clock.next = self.clock.val();
-            self.hb[i].clock.next = self.clock.val();
+        for x in 0..3 {
+            self.ha[x].clock.next = self.clock.val();
+            self.hb[x].clock.next = self.clock.val();
         }
-        for i in 0..6 {
-            self.pm[i].clock.next = self.clock.val();
-        }
+        self.pm.clock.next = self.clock.val();
         self.front.valid_in.next = self.valid_in.val();
         for x in 0..3 {
             self.front.center_a[x].next = self.center_a[x].val();
@@ -110,26 +108,19 @@ impl Logic for Sat {
             self.ha[x].d.next = self.ha_s[x].val();
             self.hb[x].d.next = self.hb_s[x].val();
         }
-        for i in 3..18 {
-            self.ha[i].d.next = self.ha[i - 3].q.val();
-            self.hb[i].d.next = self.hb[i - 3].q.val();
-        }
-        self.pm[0].d.next = self.pair.val();
-        for i in 1..6 {
-            self.pm[i].d.next = self.pm[i - 1].q.val();
-        }
+        self.pm.d.next = self.pair.val();
         // The back end takes the products with the box data delayed by the front's latency.
         self.back.valid_in.next = self.front.valid_out.val();
         for i in 0..3 {
             self.back.t[i].next = self.front.t[i].val();
             self.back.u[i].next = self.front.u[i].val();
-            self.back.half_a[i].next = self.ha[15 + i].q.val();
-            self.back.half_b[i].next = self.hb[15 + i].q.val();
+            self.back.half_a[i].next = self.ha[i].q.val();
+            self.back.half_b[i].next = self.hb[i].q.val();
         }
         for i in 0..9 {
             self.back.r[i].next = self.front.r[i].val();
         }
-        self.back.pair_margin.next = self.pm[5].q.val();
+        self.back.pair_margin.next = self.pm.q.val();
         self.valid_out.next = self.back.valid_out.val();
         self.hit.next = self.back.hit.val();
     }

@@ -8,9 +8,10 @@
 //! | 2-6 | 51 DSP48E1: face radii (6 `SDot3`), `P` (9 `SDot2`), `r_A` (9), the 9 minors |
 //! | 7 | `ceil(|minor|/2^f)` and `|P|` (`AbsShift`) |
 //! | 8-12 | `r_B` (9 `SDot2`) |
-//! | 13-14 | `SatDecide`: radius sums with the margins, then the 15 comparisons and their OR |
+//! | 13-16 | `SatDecide`: radius sums with the margins, then the 15 comparisons and their OR |
 
 use crate::leaf::{sval, uval, AbsShift, SDot2, SDot3, DOT_LATENCY};
+use crate::pipe::Pipe;
 use crate::sat_front::{RR, TU};
 use crate::sat_round::{SatRound, ABS_TU, RT, R_UP, TH};
 use obb_model::fixed::sat::{sat_decide, SatRounded, SatTerms};
@@ -34,9 +35,12 @@ const MINOR: usize = 21;
 const RB: usize = MINOR + HALF_S + 1;
 /// Clocks from a pair's products on the inputs to its verdict.
 pub const LATENCY: u64 = 2 * DOT_LATENCY + 6;
-// The delay lines below are one register per clock, and rust-hdl needs literal indices: they
-// are laid out for this latency.
-const _: () = assert!(DOT_LATENCY == 5);
+/// The clocks after which each stage's results are registered (the table above): the values
+/// that ride along are delayed from the stage that makes them to the stage that uses them.
+const ROUNDED: usize = 1;
+const PRODUCTS: usize = ROUNDED + DOT_LATENCY as usize;
+const MINORS_ABS: usize = PRODUCTS + 1;
+const R_B_DONE: usize = MINORS_ABS + DOT_LATENCY as usize;
 
 /// The radius sums and the 15 comparisons as one leaf (its arithmetic mixes signed products
 /// with unsigned sums, which rust-hdl's Verilog gets wrong): four clocks, the sums in two
@@ -62,8 +66,8 @@ pub struct SatDecide {
     /// No axis separates the pair.
     pub hit: Signal<Out, Bit>,
     pub clock: Signal<In, Clock>,
-    /// The verdict three, two and one clocks before it shows on `hit` (the sums' and the
-    /// comparisons' stages in the Verilog).
+    // The verdict three, two and one clocks before it shows on `hit` (the sums' and the
+    // comparisons' stages in the Verilog).
     verdict: Signal<Local, Bit>,
     verdict_q: Signal<Local, Bit>,
     verdict_qq: Signal<Local, Bit>,
@@ -204,12 +208,19 @@ pub struct SatBack {
     shift: Constant<Bits<8>>,
     face_margin: Constant<Bits<24>>,
     cross_margin: Constant<Bits<24>>,
-    valid: [DFF<Bit>; 16],
+    /// `valid_in`, `LATENCY` clocks later.
+    valid: Pipe<Bit, { LATENCY as usize }>,
     round: SatRound,
-    /// Half-lengths delayed: `ha[3 s + x]` after clock s + 1 (s = 0..11).
-    ha: [DFF<Signed<HALF_S>>; 36],
-    hb: [DFF<Signed<HALF_S>>; 36],
-    pm: [DFF<Bits<PAIR_MARGIN>>; 12],
+    // The half-lengths of A and B for the face radii and r_A (after the rounding), for r_B
+    // (after the minors' magnitudes) and for the decision (after r_B).
+    ha_products: [Pipe<Signed<HALF_S>, ROUNDED>; 3],
+    hb_products: [Pipe<Signed<HALF_S>, ROUNDED>; 3],
+    ha_r_b: [Pipe<Signed<HALF_S>, { MINORS_ABS - ROUNDED }>; 3],
+    hb_r_b: [Pipe<Signed<HALF_S>, { MINORS_ABS - ROUNDED }>; 3],
+    ha_decide: [Pipe<Signed<HALF_S>, { R_B_DONE - MINORS_ABS }>; 3],
+    hb_decide: [Pipe<Signed<HALF_S>, { R_B_DONE - MINORS_ABS }>; 3],
+    /// The pair's margin, for the decision.
+    margin_decide: Pipe<Bits<PAIR_MARGIN>, R_B_DONE>,
     face_a_dot: [SDot3<R_UP, HALF_S, FACE>; 3],
     face_b_dot: [SDot3<R_UP, HALF_S, FACE>; 3],
     p_dot: [SDot2<TH, RT, P_BITS, true>; 9],
@@ -219,16 +230,14 @@ pub struct SatBack {
     minor_s: [Signal<Local, Signed<MINOR>>; 9],
     p_abs: [AbsShift<P_BITS, P_BITS>; 9],
     rb_dot: [SDot2<MINOR, HALF_S, RB, false>; 9],
-    /// |t|, |u| from clock 1 to 12: `at_d[3 s + i]` after clock s + 2.
-    at_d: [DFF<Bits<ABS_TU>>; 33],
-    au_d: [DFF<Bits<ABS_TU>>; 33],
-    /// Face radii from clock 6 to 12: `fa_d[3 s + i]` after clock s + 7.
-    fa_d: [DFF<Signed<FACE>>; 18],
-    fb_d: [DFF<Signed<FACE>>; 18],
-    /// r_A from clock 6 to 12: `ra_d[9 s + c]` after clock s + 7.
-    ra_d: [DFF<Signed<PAIR2>>; 54],
-    /// |P| from clock 7 to 12: `pa_d[9 s + c]` after clock s + 8.
-    pa_d: [DFF<Bits<P_BITS>>; 45],
+    // The decision's other operands, from the stage that makes them until r_B is done: |t|
+    // and |u| (rounding), the face radii and r_A (products), |P| (magnitudes).
+    abs_t_decide: [Pipe<Bits<ABS_TU>, { R_B_DONE - ROUNDED }>; 3],
+    abs_u_decide: [Pipe<Bits<ABS_TU>, { R_B_DONE - ROUNDED }>; 3],
+    face_a_decide: [Pipe<Signed<FACE>, { R_B_DONE - PRODUCTS }>; 3],
+    face_b_decide: [Pipe<Signed<FACE>, { R_B_DONE - PRODUCTS }>; 3],
+    r_a_decide: [Pipe<Signed<PAIR2>, { R_B_DONE - PRODUCTS }>; 9],
+    abs_p_decide: [Pipe<Bits<P_BITS>, { R_B_DONE - MINORS_ABS }>; 9],
     decide: SatDecide,
 }
 
@@ -254,9 +263,13 @@ impl SatBack {
             cross_margin: Constant::new((m.cross as u64).into()),
             valid: Default::default(),
             round: Default::default(),
-            ha: std::array::from_fn(|_| Default::default()),
-            hb: std::array::from_fn(|_| Default::default()),
-            pm: Default::default(),
+            ha_products: Default::default(),
+            hb_products: Default::default(),
+            ha_r_b: Default::default(),
+            hb_r_b: Default::default(),
+            ha_decide: Default::default(),
+            hb_decide: Default::default(),
+            margin_decide: Default::default(),
             face_a_dot: Default::default(),
             face_b_dot: Default::default(),
             p_dot: Default::default(),
@@ -266,12 +279,12 @@ impl SatBack {
             minor_s: Default::default(),
             p_abs: Default::default(),
             rb_dot: Default::default(),
-            at_d: std::array::from_fn(|_| Default::default()),
-            au_d: std::array::from_fn(|_| Default::default()),
-            fa_d: Default::default(),
-            fb_d: Default::default(),
-            ra_d: std::array::from_fn(|_| Default::default()),
-            pa_d: std::array::from_fn(|_| Default::default()),
+            abs_t_decide: Default::default(),
+            abs_u_decide: Default::default(),
+            face_a_decide: Default::default(),
+            face_b_decide: Default::default(),
+            r_a_decide: Default::default(),
+            abs_p_decide: Default::default(),
             decide: Default::default(),
         }
     }
@@ -280,17 +293,23 @@ impl SatBack {
 impl Logic for SatBack {
     #[hdl_gen]
     fn update(&mut self) {
-        for i in 0..16 {
-            self.valid[i].clock.next = self.clock.val();
+        self.valid.clock.next = self.clock.val();
+        self.margin_decide.clock.next = self.clock.val();
+        for x in 0..3 {
+            self.ha_products[x].clock.next = self.clock.val();
+            self.hb_products[x].clock.next = self.clock.val();
+            self.ha_r_b[x].clock.next = self.clock.val();
+            self.hb_r_b[x].clock.next = self.clock.val();
+            self.ha_decide[x].clock.next = self.clock.val();
+            self.hb_decide[x].clock.next = self.clock.val();
+            self.abs_t_decide[x].clock.next = self.clock.val();
+            self.abs_u_decide[x].clock.next = self.clock.val();
+            self.face_a_decide[x].clock.next = self.clock.val();
+            self.face_b_decide[x].clock.next = self.clock.val();
         }
-        for i in 0..36 {
-            self.ha[i].clock.next = self.clock.val();
-        }
-        for i in 0..36 {
-            self.hb[i].clock.next = self.clock.val();
-        }
-        for i in 0..12 {
-            self.pm[i].clock.next = self.clock.val();
+        for c in 0..9 {
+            self.r_a_decide[c].clock.next = self.clock.val();
+            self.abs_p_decide[c].clock.next = self.clock.val();
         }
         for i in 0..3 {
             self.face_a_dot[i].clock.next = self.clock.val();
@@ -316,42 +335,18 @@ impl Logic for SatBack {
         for i in 0..9 {
             self.rb_dot[i].clock.next = self.clock.val();
         }
-        for i in 0..33 {
-            self.at_d[i].clock.next = self.clock.val();
-        }
-        for i in 0..33 {
-            self.au_d[i].clock.next = self.clock.val();
-        }
-        for i in 0..18 {
-            self.fa_d[i].clock.next = self.clock.val();
-        }
-        for i in 0..18 {
-            self.fb_d[i].clock.next = self.clock.val();
-        }
-        for i in 0..54 {
-            self.ra_d[i].clock.next = self.clock.val();
-        }
-        for i in 0..45 {
-            self.pa_d[i].clock.next = self.clock.val();
-        }
         self.round.clock.next = self.clock.val();
         self.decide.clock.next = self.clock.val();
         // Valid, half-lengths and the pair margin ride along.
-        self.valid[0].d.next = self.valid_in.val();
-        for i in 1..16 {
-            self.valid[i].d.next = self.valid[i - 1].q.val();
-        }
-        self.pm[0].d.next = self.pair_margin.val();
-        for i in 1..12 {
-            self.pm[i].d.next = self.pm[i - 1].q.val();
-        }
+        self.valid.d.next = self.valid_in.val();
+        self.margin_decide.d.next = self.pair_margin.val();
         for x in 0..3 {
-            self.ha[x].d.next = self.half_a[x].val();
-            self.hb[x].d.next = self.half_b[x].val();
-        }
-        for i in 3..36 {
-            self.ha[i].d.next = self.ha[i - 3].q.val();
-            self.hb[i].d.next = self.hb[i - 3].q.val();
+            self.ha_products[x].d.next = self.half_a[x].val();
+            self.hb_products[x].d.next = self.half_b[x].val();
+            self.ha_r_b[x].d.next = self.ha_products[x].q.val();
+            self.hb_r_b[x].d.next = self.hb_products[x].q.val();
+            self.ha_decide[x].d.next = self.ha_r_b[x].q.val();
+            self.hb_decide[x].d.next = self.hb_r_b[x].q.val();
         }
         // Clock 1: rounding.
         self.round.f.next = self.frac.val();
@@ -362,7 +357,7 @@ impl Logic for SatBack {
         for i in 0..9 {
             self.round.r[i].next = self.r[i].val();
         }
-        // Clocks 2-6: face radii, P, r_A and the minors (halves after clock 1: ha[0..3]), as
+        // Clocks 2-6: face radii, P, r_A and the minors (the halves `*_products`), as
         // `obb_model::fixed::sat::sat_terms` states them. R = A Bᵀ row-major (`r_up`, `rt`,
         // `art` hold |R| rounded up, R rounded, |R| rounded, at `3 i + j`); `th` is t in A's
         // frame. For face i, and for the cross axis A_i x B_j at c = 3 i + j, with the
@@ -383,15 +378,15 @@ impl Logic for SatBack {
             self.face_a_dot[i].a0.next = self.round.r_up[3 * i].val();
             self.face_a_dot[i].a1.next = self.round.r_up[3 * i + 1].val();
             self.face_a_dot[i].a2.next = self.round.r_up[3 * i + 2].val();
-            self.face_a_dot[i].b0.next = self.hb[0].q.val();
-            self.face_a_dot[i].b1.next = self.hb[1].q.val();
-            self.face_a_dot[i].b2.next = self.hb[2].q.val();
+            self.face_a_dot[i].b0.next = self.hb_products[0].q.val();
+            self.face_a_dot[i].b1.next = self.hb_products[1].q.val();
+            self.face_a_dot[i].b2.next = self.hb_products[2].q.val();
             self.face_b_dot[i].a0.next = self.round.r_up[i].val();
             self.face_b_dot[i].a1.next = self.round.r_up[3 + i].val();
             self.face_b_dot[i].a2.next = self.round.r_up[6 + i].val();
-            self.face_b_dot[i].b0.next = self.ha[0].q.val();
-            self.face_b_dot[i].b1.next = self.ha[1].q.val();
-            self.face_b_dot[i].b2.next = self.ha[2].q.val();
+            self.face_b_dot[i].b0.next = self.ha_products[0].q.val();
+            self.face_b_dot[i].b1.next = self.ha_products[1].q.val();
+            self.face_b_dot[i].b2.next = self.ha_products[2].q.val();
         }
         for i in 0..3 {
             for j in 0..3 {
@@ -399,9 +394,9 @@ impl Logic for SatBack {
                 self.p_dot[3 * i + j].b0.next = self.round.rt[3 * ((i + 1) % 3) + j].val();
                 self.p_dot[3 * i + j].a1.next = self.round.th[(i + 1) % 3].val();
                 self.p_dot[3 * i + j].b1.next = self.round.rt[3 * ((i + 2) % 3) + j].val();
-                self.ra_dot[3 * i + j].a0.next = self.ha[(i + 1) % 3].q.val();
+                self.ra_dot[3 * i + j].a0.next = self.ha_products[(i + 1) % 3].q.val();
                 self.ra_dot[3 * i + j].b0.next = self.round.art[3 * ((i + 2) % 3) + j].val();
-                self.ra_dot[3 * i + j].a1.next = self.ha[(i + 2) % 3].q.val();
+                self.ra_dot[3 * i + j].a1.next = self.ha_products[(i + 2) % 3].q.val();
                 self.ra_dot[3 * i + j].b1.next = self.round.art[3 * ((i + 1) % 3) + j].val();
             }
             for p in 0..3 {
@@ -431,63 +426,48 @@ impl Logic for SatBack {
         self.minor_s[6].next = signed_cast::<MINOR>(self.minor_abs[6].y.val());
         self.minor_s[7].next = signed_cast::<MINOR>(self.minor_abs[7].y.val());
         self.minor_s[8].next = signed_cast::<MINOR>(self.minor_abs[8].y.val());
-        // Clocks 8-12: r_B[3 i + j] = Σ_(l != j) h^B_l minor(i, {j, l}) (halves after clock 7:
-        // hb[18..21]): for j = 0, 1, 2 the column pairs {0, 1} and {0, 2}, {0, 1} and {1, 2},
+        // Clocks 8-12: r_B[3 i + j] = Σ_(l != j) h^B_l minor(i, {j, l}) (the halves `hb_r_b`): for j = 0, 1, 2 the column pairs {0, 1} and {0, 2}, {0, 1} and {1, 2},
         // {0, 2} and {1, 2}, that is minors 3 i + j / 2 and 3 i + (j + 3) / 2, times h^B of the
         // other column of each, (2 - j) / 2 and 2 - j / 2.
         for i in 0..3 {
             for j in 0..3 {
                 self.rb_dot[3 * i + j].a0.next = self.minor_s[3 * i + j / 2].val();
-                self.rb_dot[3 * i + j].b0.next = self.hb[18 + (2 - j) / 2].q.val();
+                self.rb_dot[3 * i + j].b0.next = self.hb_r_b[(2 - j) / 2].q.val();
                 self.rb_dot[3 * i + j].a1.next = self.minor_s[3 * i + (j + 3) / 2].val();
-                self.rb_dot[3 * i + j].b1.next = self.hb[20 - j / 2].q.val();
+                self.rb_dot[3 * i + j].b1.next = self.hb_r_b[2 - j / 2].q.val();
             }
         }
-        // Delay lines to clock 12.
+        // The decision's operands wait for r_B.
         for i in 0..3 {
-            self.at_d[i].d.next = self.round.abs_t[i].val();
-            self.au_d[i].d.next = self.round.abs_u[i].val();
-            self.fa_d[i].d.next = self.face_a_dot[i].p.val();
-            self.fb_d[i].d.next = self.face_b_dot[i].p.val();
-        }
-        for i in 3..33 {
-            self.at_d[i].d.next = self.at_d[i - 3].q.val();
-            self.au_d[i].d.next = self.au_d[i - 3].q.val();
-        }
-        for i in 3..18 {
-            self.fa_d[i].d.next = self.fa_d[i - 3].q.val();
-            self.fb_d[i].d.next = self.fb_d[i - 3].q.val();
+            self.abs_t_decide[i].d.next = self.round.abs_t[i].val();
+            self.abs_u_decide[i].d.next = self.round.abs_u[i].val();
+            self.face_a_decide[i].d.next = self.face_a_dot[i].p.val();
+            self.face_b_decide[i].d.next = self.face_b_dot[i].p.val();
         }
         for c in 0..9 {
-            self.ra_d[c].d.next = self.ra_dot[c].p.val();
-            self.pa_d[c].d.next = self.p_abs[c].y.val();
+            self.r_a_decide[c].d.next = self.ra_dot[c].p.val();
+            self.abs_p_decide[c].d.next = self.p_abs[c].y.val();
         }
-        for c in 9..54 {
-            self.ra_d[c].d.next = self.ra_d[c - 9].q.val();
-        }
-        for c in 9..45 {
-            self.pa_d[c].d.next = self.pa_d[c - 9].q.val();
-        }
-        // Clocks 13-14: the decision (halves and margin after clock 12: ha[33..36], pm[11]).
+        // Clocks 13-16: the decision.
         self.decide.f.next = self.frac.val();
         self.decide.k.next = self.shift.val();
         self.decide.face_margin.next = self.face_margin.val();
         self.decide.cross_margin.next = self.cross_margin.val();
-        self.decide.pair_margin.next = self.pm[11].q.val();
+        self.decide.pair_margin.next = self.margin_decide.q.val();
         for i in 0..3 {
-            self.decide.abs_t[i].next = self.at_d[30 + i].q.val();
-            self.decide.abs_u[i].next = self.au_d[30 + i].q.val();
-            self.decide.face_a[i].next = self.fa_d[15 + i].q.val();
-            self.decide.face_b[i].next = self.fb_d[15 + i].q.val();
-            self.decide.half_a[i].next = self.ha[33 + i].q.val();
-            self.decide.half_b[i].next = self.hb[33 + i].q.val();
+            self.decide.abs_t[i].next = self.abs_t_decide[i].q.val();
+            self.decide.abs_u[i].next = self.abs_u_decide[i].q.val();
+            self.decide.face_a[i].next = self.face_a_decide[i].q.val();
+            self.decide.face_b[i].next = self.face_b_decide[i].q.val();
+            self.decide.half_a[i].next = self.ha_decide[i].q.val();
+            self.decide.half_b[i].next = self.hb_decide[i].q.val();
         }
         for c in 0..9 {
-            self.decide.abs_p[c].next = self.pa_d[36 + c].q.val();
-            self.decide.r_a[c].next = self.ra_d[45 + c].q.val();
+            self.decide.abs_p[c].next = self.abs_p_decide[c].q.val();
+            self.decide.r_a[c].next = self.r_a_decide[c].q.val();
             self.decide.r_b[c].next = self.rb_dot[c].p.val();
         }
-        self.valid_out.next = self.valid[15].q.val();
+        self.valid_out.next = self.valid.q.val();
         self.hit.next = self.decide.hit.val();
     }
 }

@@ -8,6 +8,7 @@
 //! | 2-6 | 15 three-term dot products (`SDot3`, `DOT_LATENCY` clocks): 3 for t, 3 for u, 9 for R |
 
 use crate::leaf::{Diff, SDot3, DOT_LATENCY};
+use crate::pipe::Pipe;
 use crate::projection::{CENTER, ROT};
 use rust_hdl::prelude::*;
 
@@ -19,8 +20,6 @@ pub const TU: usize = ROT + T_WORLD + 2;
 pub const RR: usize = 2 * ROT + 2;
 /// Clocks from a pair on the inputs to its products on the outputs.
 pub const LATENCY: u64 = 1 + DOT_LATENCY;
-// The valid bits below are one register per clock, and rust-hdl needs literal indices.
-const _: () = assert!(LATENCY == 6);
 
 #[derive(Clone, Debug, Default, LogicBlock)]
 pub struct SatFront {
@@ -36,7 +35,8 @@ pub struct SatFront {
     pub u: [Signal<Out, Signed<TU>>; 3],
     /// `r[3i + j]` = `R_ij`.
     pub r: [Signal<Out, Signed<RR>>; 9],
-    valid: [DFF<Bit>; 6],
+    /// `valid_in`, `LATENCY` clocks later.
+    valid: Pipe<Bit, { LATENCY as usize }>,
     world: [Diff<CENTER, T_WORLD>; 3],
     axes_a_r: [DFF<Signed<ROT>>; 9],
     axes_b_r: [DFF<Signed<ROT>>; 9],
@@ -48,9 +48,7 @@ pub struct SatFront {
 impl Logic for SatFront {
     #[hdl_gen]
     fn update(&mut self) {
-        for i in 0..6 {
-            self.valid[i].clock.next = self.clock.val();
-        }
+        self.valid.clock.next = self.clock.val();
         for i in 0..3 {
             self.world[i].clock.next = self.clock.val();
             self.t_dot[i].clock.next = self.clock.val();
@@ -62,10 +60,7 @@ impl Logic for SatFront {
             self.r_dot[i].clock.next = self.clock.val();
         }
         // Clock 1.
-        self.valid[0].d.next = self.valid_in.val();
-        for i in 1..6 {
-            self.valid[i].d.next = self.valid[i - 1].q.val();
-        }
+        self.valid.d.next = self.valid_in.val();
         for x in 0..3 {
             self.world[x].a.next = self.center_a[x].val();
             self.world[x].b.next = self.center_b[x].val();
@@ -102,6 +97,6 @@ impl Logic for SatFront {
                 self.r[i * 3 + j].next = self.r_dot[i * 3 + j].p.val();
             }
         }
-        self.valid_out.next = self.valid[5].q.val();
+        self.valid_out.next = self.valid.q.val();
     }
 }

@@ -69,10 +69,10 @@ pub struct SweepWalker<const A: usize, const C: usize> {
     pub vj: Signal<Out, Bits<A>>,
     /// The walk is over (held until the next `start`).
     pub finished: Signal<Out, Bit>,
-    /// A walk is on; it is over (held until the next `start`).
+    // A walk is on; it is over (held until the next `start`).
     running: DFF<Bit>,
     finished_q: DFF<Bit>,
-    /// The next read's address, and whether it is the outer box's first successor.
+    // The next read's address, and whether it is the outer box's first successor.
     raddr: DFF<Bits<C>>,
     rfirst: DFF<Bit>,
     /// The read issued last clock (its entry is on `rd_key`, `rd_val`): a real one, the first
@@ -90,16 +90,16 @@ pub struct SweepWalker<const A: usize, const C: usize> {
     stop: DFF<Bit>,
     /// The virtual outer position -1 is over: `maxk` holds a real box's key.
     primed: DFF<Bit>,
-    /// The outer box and its max x key; the next outer box.
+    // The outer box and its max x key; the next outer box.
     i: DFF<Bits<A>>,
     maxk: DFF<Bits<KEY>>,
     nxt_i: DFF<Bits<A>>,
-    /// The next outer position's first successor (p+2); `n - 1`; the outer position is the
-    /// last one (p = n-2).
+    // The next outer position's first successor (p+2); `n - 1`; the outer position is the
+    // last one (p = n-2).
     nxt_pos: DFF<Bits<C>>,
     n_last: DFF<Bits<C>>,
     last_outer: DFF<Bit>,
-    /// A restart one and two clocks ago: the new box's max x key is on port A at the second.
+    // A restart one and two clocks ago: the new box's max x key is on port A at the second.
     load1: DFF<Bit>,
     load2: DFF<Bit>,
     visit_q: DFF<Bit>,

@@ -89,18 +89,18 @@ pub struct Walker<const A: usize, const C: usize> {
     /// Improved-sap, or brute.
     sap: Constant<Bit>,
     state: DFF<WalkState>,
-    /// Improved-sap: the end point's position; box i.
+    // Improved-sap: the end point's position; box i.
     p: DFF<Bits<C>>,
     i: DFF<Bits<A>>,
     /// Next end point to read (improved-sap) or box j (brute).
     succ: DFF<Bits<C>>,
     /// Improved-sap: an end point was read last clock: it is on `rd_val`.
     pending: DFF<Bit>,
-    /// Improved-sap: the axis, and which end point of box `i` goes into the sort next.
+    // Improved-sap: the axis, and which end point of box `i` goes into the sort next.
     axis: DFF<Bits<2>>,
     upper: DFF<Bit>,
     last: Signal<Local, Bits<C>>,
-    /// Improved-sap: 2n end points; the axis's keys of box i; the box and kind of the entry read.
+    // Improved-sap: 2n end points; the axis's keys of box i; the box and kind of the entry read.
     ends: Signal<Local, Bits<C>>,
     key_lo: Signal<Local, Bits<CENTER>>,
     key_hi: Signal<Local, Bits<CENTER>>,

@@ -43,7 +43,7 @@ fn inputs() -> Vec<Port> {
 }
 
 /// Output word: pair_valid, pair_a, pair_b, done, capacity_exceeded, obb_ready, cycles,
-/// candidates, sat_tests, pairs.
+/// visits, sat_tests, pairs.
 fn outputs() -> Vec<Port> {
     vec![
         Port::new("pair_valid", 1),
@@ -53,7 +53,7 @@ fn outputs() -> Vec<Port> {
         Port::new("capacity_exceeded", 1),
         Port::new("obb_ready", 1),
         Port::new("cycles", COUNT),
-        Port::new("candidates", COUNT),
+        Port::new("visits", COUNT),
         Port::new("sat_tests", COUNT),
         Port::new("pairs", COUNT),
     ]
@@ -120,7 +120,7 @@ fn rust_hdl<const A: usize, const C: usize>(cfg: &HwConfig, words: &[Vec<u64>]) 
             u64::from(u.capacity_exceeded.val()),
             u64::from(u.obb_ready.val()),
             uval(u.cycles.val()),
-            uval(u.candidates.val()),
+            uval(u.visits.val()),
             uval(u.sat_tests.val()),
             uval(u.pairs.val()),
         ]
@@ -146,7 +146,7 @@ fn outcome(words: &[Vec<u64>], out: &[Vec<u64>], from: usize) -> SimFrame {
                 clocks: (k - from) as u64,
                 capacity_exceeded: o[4] == 1,
                 cycles: o[6],
-                candidates: o[7],
+                visits: o[7],
                 sat_tests: o[8],
                 pairs: o[9],
             };
@@ -309,7 +309,7 @@ fn sweep_core_matches_the_model() {
 /// The grid, every group pair, 16 buckets a bank: the list heads' clear is short, so that the
 /// frames' ends are the last verdicts as often as the clear. A surgical scene, the dense case
 /// (its boxes in few cells: long lists), throttled after the load too (a pair every eighth
-/// clock: the pair FIFO's stall holds the candidates, whose queue holds the walker), one box,
+/// clock: the pair FIFO's stall holds the SAT tests, whose queue holds the walker), one box,
 /// no box, the touching cases; each frame's load held by the credits as the model holds it.
 #[test]
 fn grid_core_matches_the_model() {
@@ -352,8 +352,8 @@ fn grid_core_with_one_list_matches_the_model() {
     );
 }
 
-/// The grid with four walker lanes, every group pair: each lane's lists, walker and candidate
-/// queue, the candidates issued lowest lane first, the visits counted several a clock; the
+/// The grid with four walker lanes, every group pair: each lane's lists, walker and test
+/// queue, the SAT tests issued lowest lane first, the visits counted several a clock; the
 /// large boxes chained per lane. Long (Verilator takes about ten minutes over its 324 lists):
 /// run with `cargo test --release -p obb-rtl --test core -- --ignored`.
 #[test]

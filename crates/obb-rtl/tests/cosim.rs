@@ -138,7 +138,7 @@ fn sweep_core_on_surgical_stiff_and_dense_scenes_with_back_pressure() {
 
 /// The grid core on the whole 17,500-OBB surgical scene, all pairs; and, with 16 mm cells and
 /// every group, the dense case with the receiver taking a pair one clock in 16: the pair FIFO
-/// holds the candidates, their queue the walker, the credits the load (the test bench offers
+/// holds the SAT tests, their queue the walker, the credits the load (the test bench offers
 /// each box until the core takes it), and no pair is lost or reordered.
 #[test]
 fn grid_core_on_all_pairs_and_under_back_pressure() {
@@ -376,14 +376,7 @@ fn waves_record_a_window_at_a_depth() {
     let (from, to) = (20, 60);
     let record = |sim: Simulator, file: &str, depth: u32| {
         let waves = Waves::new(&dir.join(file), from, Some(to), depth).unwrap();
-        let bench = build(
-            &design,
-            Level::Rtl,
-            sim,
-            Some(waves.trace().unwrap()),
-            &cache(),
-        )
-        .unwrap();
+        let bench = build(&design, Level::Rtl, sim, Some(waves.trace()), &cache()).unwrap();
         bench
             .record(&stim, 1, &RunOptions::default(), &waves, |_| {})
             .unwrap_or_else(|e| panic!("{sim:?} {file}: {e}"));

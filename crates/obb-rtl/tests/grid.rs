@@ -1,10 +1,10 @@
 //! The grid block (`GridPhase`) against the model's walk and clocks
 //! (`obb_model::fixed::grid`, `grid_clocks::grid_schedule`): driven clock by clock with the
 //! inputs the core gives it on the model's schedule (accepts, keys out of the projection, the
-//! candidate queue drained on clocks with no accept), in rust-hdl and as Verilog in Verilator,
+//! test queue drained on clocks with no accept), in rust-hdl and as Verilog in Verilator,
 //! with one walker lane and with several. Both must agree on every output on every clock, and
 //! equal the model: the credits, every visit (clock, lane's walking box, visited box), the
-//! visits counted, every candidate issued (clock, pair, margins) and the clock the frame is
+//! visits counted, every SAT test issued (clock, pair, margins) and the clock the frame is
 //! over.
 
 mod common;
@@ -36,7 +36,7 @@ fn input_ports() -> Vec<Port> {
     }
     p.push(Port::new("key_margin", MARGIN));
     p.push(Port::new("key_group", 3));
-    p.push(Port::new("cand_ready", 1));
+    p.push(Port::new("test_ready", 1));
     p
 }
 
@@ -60,12 +60,12 @@ fn output_ports() -> Vec<Port> {
         Port::new("visit_j1", 64),
         Port::new("visit_j2", 64),
         Port::new("visit_j3", 64),
-        Port::new("visited", 4),
-        Port::new("cand_valid", 1),
-        Port::new("cand_a", A),
-        Port::new("cand_b", A),
-        Port::new("cand_ma", MARGIN),
-        Port::new("cand_mb", MARGIN),
+        Port::new("visits", 4),
+        Port::new("test_valid", 1),
+        Port::new("test_a", A),
+        Port::new("test_b", A),
+        Port::new("test_ma", MARGIN),
+        Port::new("test_mb", MARGIN),
         Port::new("finished", 1),
         Port::new("too_wide", 1),
     ]
@@ -80,7 +80,7 @@ struct Case {
     accept: Vec<bool>,
     /// Per visit: clock, i, j (in that order: with several lanes, a clock makes several).
     visits: Vec<(u64, u64, u64)>,
-    /// Per candidate: clock, a, b (in clock order).
+    /// Per SAT test: clock, a, b (in clock order).
     issues: Vec<(u64, u64, u64)>,
     finished: u64,
     /// The clock from which `too_wide` is high (the slow path planned a window too wide).
@@ -96,7 +96,7 @@ fn case(scene: &Scene, cfg: &HwConfig, mask: &GroupMask) -> Case {
         .too_wide
         .map(|l| s.fetches.iter().find(|f| f.1 == l).unwrap().0 + 3);
     // Over when the list heads are clear (from the clock after the walk, one bucket a clock)
-    // and the last candidate has left the queue.
+    // and the last SAT test has left the queue.
     let cleared = s.walked + (1 << cfg.grid_hash_bits) + 1;
     let finished = cleared.max(s.issues.last().map_or(0, |&t| t + 1));
     let clocks = finished + 5;
@@ -221,7 +221,7 @@ fn check_against_model(c: &Case, rows: &[Vec<u64>], what: &str) {
     same(
         &issues,
         &c.issues,
-        &format!("{what}: candidates (clock, a, b)"),
+        &format!("{what}: SAT tests (clock, a, b)"),
     );
     assert_eq!(finished, Some(c.finished), "{what}: the end");
 }
@@ -258,7 +258,7 @@ fn rust_hdl_rows(cfg: &HwConfig, c: &Case) -> Vec<Vec<u64>> {
             u.key_max_z.next = v[10].into();
             u.key_margin.next = v[11].into();
             u.key_group.next = v[12].into();
-            u.cand_ready.next = v[13] == 1;
+            u.test_ready.next = v[13] == 1;
         },
         |u, level| u.clock.next = Clock::from(level),
         |u| {
@@ -273,12 +273,12 @@ fn rust_hdl_rows(cfg: &HwConfig, c: &Case) -> Vec<Vec<u64>> {
                 u.visit_j1.val().to_u64(),
                 u.visit_j2.val().to_u64(),
                 u.visit_j3.val().to_u64(),
-                u.visited.val().to_u64(),
-                u64::from(u.cand_valid.val()),
-                u.cand_a.val().to_u64(),
-                u.cand_b.val().to_u64(),
-                u.cand_ma.val().to_u64(),
-                u.cand_mb.val().to_u64(),
+                u.visits.val().to_u64(),
+                u64::from(u.test_valid.val()),
+                u.test_a.val().to_u64(),
+                u.test_b.val().to_u64(),
+                u.test_ma.val().to_u64(),
+                u.test_mb.val().to_u64(),
                 u64::from(u.finished.val()),
                 u64::from(u.too_wide.val()),
             ]
@@ -298,7 +298,7 @@ fn grid_cfg(hash_bits: u32, cell_mm: f64, groups: GroupMask) -> HwConfig {
 }
 
 /// Uniform boxes, all pairs, 8 buckets a bank: lists shared by many cells (mixed) and long
-/// walks; coincident boxes, every visit a candidate; and the surgical surfaces cross-group,
+/// walks; coincident boxes, every visit a SAT test; and the surgical surfaces cross-group,
 /// where the instruments' boxes skip the tissue's pure lists.
 fn cases() -> Vec<(&'static str, HwConfig, Scene)> {
     vec![
@@ -308,7 +308,7 @@ fn cases() -> Vec<(&'static str, HwConfig, Scene)> {
             uniform(120, 5, 0.4).unwrap(),
         ),
         (
-            "24 coincident boxes, then 120 apart: the candidates wait while the load holds \
+            "24 coincident boxes, then 120 apart: the SAT tests wait while the load holds \
              the geometry port, the queue fills, the walker stalls",
             grid_cfg(4, 2.0, GroupMask::All),
             Scene {
@@ -378,7 +378,7 @@ fn lanes_cases() -> Vec<(&'static str, HwConfig, Scene)> {
     vec![
         (
             "48 coincident boxes of one group, all pairs, 8 lanes: the credits of every lane, \
-             the lanes' candidates issued lowest lane first",
+             the lanes' SAT tests issued lowest lane first",
             lanes(grid_cfg(4, 2.0, GroupMask::All), 8, 1),
             Scene {
                 obbs: (0..48)
@@ -448,9 +448,9 @@ fn grid_lanes_verilog_match_rust_hdl_and_the_model() {
 fn block_matches_the_model_in_rust_hdl(cases: Vec<(&'static str, HwConfig, Scene)>) {
     for (what, cfg, scene) in cases {
         let c = case(&scene, &cfg, &cfg.groups);
-        assert!(!c.issues.is_empty(), "{what}: candidates to check");
+        assert!(!c.issues.is_empty(), "{what}: SAT tests to check");
         eprintln!(
-            "{what}: {} visits, {} candidates, {} clocks",
+            "{what}: {} visits, {} SAT tests, {} clocks",
             c.visits.len(),
             c.issues.len(),
             c.finished

@@ -5,8 +5,9 @@
 use obb_rtl::bin_table::BinTable;
 use obb_rtl::dist_ram::DistRam;
 use obb_rtl::flow::verilator::{self, Port};
-use obb_rtl::leaf::{sbits, uval, AbsTwice, UMul};
+use obb_rtl::leaf::{sbits, sval, uval, AbsTwice, UMul};
 use obb_rtl::pair_fifo::{self, PairFifo};
+use obb_rtl::pipe::Pipe;
 use obb_rtl::sat_front::{RR, TU};
 use obb_rtl::sat_round::{SatRound, ABS_TU, RT, R_UP, TH};
 use obb_rtl::table_ram::TableRam;
@@ -172,6 +173,50 @@ fn table_ram_matches_its_verilog() {
         &v,
     );
     assert_eq!(out, model);
+}
+
+/// A delay line gives its input `D` clocks later, in rust-hdl and in Verilog, at one clock
+/// (nothing between its input and its only register) and at a length past `derive(Default)`'s
+/// 32; signed values come out with their sign.
+#[test]
+fn pipe_delays_by_its_length() {
+    fn check<T: Synth, const D: usize>(
+        bits: usize,
+        value: impl Fn(u64) -> T,
+        read: impl Fn(T) -> u64,
+    ) {
+        let v = vectors(proptest::collection::vec(0..(1u64 << bits), 1), 120);
+        let mut uut: Pipe<T, D> = Default::default();
+        uut.connect_all();
+        let mut got = Vec::new();
+        for x in &v {
+            uut.d.next = value(x[0]);
+            tick(&mut uut, |u, c| u.clock.next = Clock::from(c));
+            got.push(vec![read(uut.q.val())]);
+        }
+        // Before the first value is through, the registers' reset value, 0.
+        let want: Vec<Vec<u64>> = (0..v.len())
+            .map(|k| vec![if k + 1 >= D { v[k + 1 - D][0] } else { 0 }])
+            .collect();
+        assert_eq!(got, want, "rust-hdl, D = {D}");
+        let name = format!("pipe_{D}");
+        let out = in_verilator(
+            &mut Pipe::<T, D>::default(),
+            &name,
+            &[Port::new("d", bits)],
+            &[Port::new("q", bits)],
+            &v,
+        );
+        assert_eq!(out, want, "Verilog, D = {D}");
+    }
+    check::<Bit, 1>(1, |x| x == 1, u64::from);
+    check::<Bits<7>, 5>(7, |x| x.into(), uval);
+    // Signed: in by sign extension of the raw bits, out as raw bits again.
+    check::<Signed<9>, 40>(
+        9,
+        |x| sbits::<9>(((x << 55) as i64) >> 55),
+        |s| sval(s) as u64 & 0x1ff,
+    );
 }
 
 /// The distributed RAM, and its flip-flop form: its model against a plain array (the read port

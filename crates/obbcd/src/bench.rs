@@ -38,7 +38,7 @@ struct Row {
     threads: usize,
     ms: f64,
     pairs: usize,
-    candidates: u64,
+    visits: u64,
 }
 
 fn time_engine(
@@ -58,7 +58,7 @@ fn time_engine(
             engine.detect(&frame, mask, &mut pairs)
         })
     });
-    (ms, pairs, c.candidates)
+    (ms, pairs, c.visits)
 }
 
 fn bench_scene(
@@ -72,7 +72,7 @@ fn bench_scene(
     let all_threads = rayon::current_num_threads();
     let single = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
     let mut reference: Option<Vec<Pair>> = None;
-    let mut add = |engine: &str, threads, ms, pairs: &[Pair], candidates| {
+    let mut add = |engine: &str, threads, ms, pairs: &[Pair], visits| {
         rows.push(Row {
             scene: name.into(),
             n,
@@ -81,7 +81,7 @@ fn bench_scene(
             threads,
             ms,
             pairs: pairs.len(),
-            candidates,
+            visits,
         });
     };
     for kind in EngineKind::ALL {
@@ -180,12 +180,12 @@ pub fn run(a: BenchArgs) -> Result<()> {
         let scene = uniform(n, 1, UNIFORM_DEFAULT_DENSITY)?;
         bench_scene("uniform", &scene, &GroupMask::All, &a, &mut rows)?;
     }
-    let mut table = String::from("scene,n,groups,engine,threads,time_ms,pairs,candidates\n");
+    let mut table = String::from("scene,n,groups,engine,threads,time_ms,pairs,visits\n");
     for r in &rows {
         writeln!(
             table,
             "{},{},{},{},{},{:.3},{},{}",
-            r.scene, r.n, r.groups, r.engine, r.threads, r.ms, r.pairs, r.candidates
+            r.scene, r.n, r.groups, r.engine, r.threads, r.ms, r.pairs, r.visits
         )?;
     }
     print!("{table}");

@@ -82,6 +82,8 @@ fn spinner(msg: String) -> ProgressBar {
     bar
 }
 
+/// Runs the scene's frame (and its haptic frames) through the core's Verilog and compares
+/// each frame with the model.
 pub fn run(a: CosimArgs) -> Result<()> {
     if a.ready_every == 0 {
         bail!("--ready-every must be at least 1");
@@ -106,45 +108,15 @@ pub fn run(a: CosimArgs) -> Result<()> {
         SimulatorArg::Verilator => Simulator::Verilator,
         SimulatorArg::Icarus => Simulator::Icarus,
     };
-    let mut design = generate::core(&cfg)?;
-    let level = if a.gate_level {
-        let bar = spinner("synthesizing the core with yosys (cached after the first time)".into());
-        let (dir, _) = synth::netlist(
-            &design,
-            "obb_core",
-            synth::Mapping::Simulation,
-            &cache.join("synth"),
-        )?;
-        bar.finish_and_clear();
-        design = std::fs::read_to_string(dir.join("syn.v"))?;
-        Level::Gates
-    } else {
-        Level::Rtl
-    };
-    let bar = spinner(format!("building the {sim:?} simulation"));
-    let bench = cosim::build(&design, level, sim, None, &cache.join("cosim"))?;
-    bar.finish_and_clear();
-    eprintln!(
-        "{sim:?} build: {}",
-        if bench.cached { "cached" } else { "new" }
-    );
+    let core = Core::build(&cfg, sim, a.gate_level, &cache)?;
 
-    let work = cache.join(format!("run-{}", std::process::id()));
-    std::fs::create_dir_all(&work).with_context(|| format!("cannot create {}", work.display()))?;
-    let stim = work.join("stim.hex");
     let mut frames = vec![(true, boxes.as_slice())];
     frames.extend(haptic.iter().map(|m| (false, m.streamed())));
-    std::fs::write(&stim, cosim::stimulus(&frames, &cfg))?;
     // The model's clocks, or for a frame over capacity a bound: the bar's length.
     let expect = cosim::frame_clocks(&scene, &cfg, run.as_ref())?
         + haptic_runs.iter().map(|r| r.cycles.total).sum::<u64>();
     let reported = run.as_ref().map_or(0, |r| r.reported())
         + haptic_runs.iter().map(|r| r.reported()).sum::<u64>();
-    let bar = ProgressBar::new(expect).with_style(
-        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} clocks ({eta})")
-            .expect("a valid template"),
-    );
-    bar.set_message("simulating");
     let opts = RunOptions {
         ready_every: a.ready_every,
         // A core that never says `done` is a failure, not a hang: twice the clocks the frame
@@ -153,38 +125,18 @@ pub fn run(a: CosimArgs) -> Result<()> {
         progress_every: (expect / 200).max(1000),
     };
     let start = Instant::now();
-    // (The bar follows the frames' clocks one after another.)
-    let mut done = 0;
-    let mut last = 0;
-    let result = bench.run(&stim, frames.len(), &opts, |clock| {
-        if clock < last {
-            done += last;
-        }
-        last = clock;
-        bar.set_position(done + clock)
-    });
-    bar.finish_and_clear();
+    let mut got = core.simulate(&frames, &cfg, &opts, expect, waves.as_ref())?;
     let secs = start.elapsed().as_secs_f64();
-    // The waves are recorded whatever the verdict: a difference is when they are wanted.
-    let recorded = match &waves {
-        Some(w) if result.is_ok() => {
-            record_waves(&design, level, sim, &cache, &stim, frames.len(), &opts, w)
-        }
-        _ => Ok(()),
-    };
-    let _ = std::fs::remove_dir_all(&work);
-    let mut got = result?;
-    recorded?;
     let later = got.split_off(1);
     let got = got.remove(0);
     let line = |frame: &str, got: &cosim::SimFrame, obbs: usize, pairs: usize, model: u64| {
         format!(
             "frame={frame} simulator={} level={} obbs={obbs} pairs={pairs} reported={} \
-             candidates={} sat={} cycles={} model_cycles={model} frame_ms={:.3} clock_ns={}",
+             visits={} sat_tests={} cycles={} model_cycles={model} frame_ms={:.3} clock_ns={}",
             format!("{sim:?}").to_lowercase(),
             if a.gate_level { "gates" } else { "rtl" },
             got.pairs,
-            got.candidates,
+            got.visits,
             got.sat_tests,
             got.cycles,
             got.cycles as f64 * cfg.clock_ns * 1e-6,
@@ -192,9 +144,7 @@ pub fn run(a: CosimArgs) -> Result<()> {
         )
     };
 
-    let mut pairs = got.stream.clone();
-    pairs.sort_unstable();
-    pairs.dedup();
+    let pairs = distinct(&got.stream);
     let want = Expected::of(run.as_ref());
     let verdict = compare(&got, &want, Taken::of(a.ready_every, cfg.lanes));
     let total_clocks: u64 = got.clocks + later.iter().map(|f| f.clocks).sum::<u64>();
@@ -216,28 +166,9 @@ pub fn run(a: CosimArgs) -> Result<()> {
     if let Err(e) = verdict {
         bail!("the core and the model differ: {e}");
     }
-    if run.is_none() {
-        bail!(
-            "the scene's {} boxes exceed the configured capacity of {}: the core flagged \
-             capacity_exceeded and reported no pair, as it must; no pairs file was written",
-            boxes.len(),
-            cfg.capacity
-        );
-    }
-    if let Expected::Incomplete(_) = want {
-        bail!(
-            "a box spans more than {} grid cells of {} mm on an axis, a window the grid's slow \
-             path does not read: the core flagged capacity_exceeded, and the {} pair(s) it sent \
-             are the model's; no pairs file was written (a larger `grid_cell_mm` takes the box)",
-            MAX_WINDOW - 1,
-            cfg.grid_cell_mm,
-            got.stream.len()
-        );
-    }
+    first_frame_complete(&boxes, &cfg, run.is_some(), &want, got.stream.len())?;
     for (k, ((m, r), sim_frame)) in haptic.iter().zip(&haptic_runs).zip(&later).enumerate() {
-        let mut pairs = sim_frame.stream.clone();
-        pairs.sort_unstable();
-        pairs.dedup();
+        let pairs = distinct(&sim_frame.stream);
         println!(
             "{}",
             line(
@@ -262,31 +193,154 @@ pub fn run(a: CosimArgs) -> Result<()> {
     Ok(())
 }
 
-/// Runs the stimulus `stim` again on a traced build, recording `waves`.
-#[allow(clippy::too_many_arguments)]
-fn record_waves(
-    design: &str,
+/// The pairs of a stream, sorted, each once.
+fn distinct(stream: &[[u32; 2]]) -> Vec<[u32; 2]> {
+    let mut pairs = stream.to_vec();
+    pairs.sort_unstable();
+    pairs.dedup();
+    pairs
+}
+
+/// A first frame that agrees with the model but is not the scene's whole answer (over
+/// capacity, or a grid window too wide) still fails the command, saying why.
+fn first_frame_complete(
+    boxes: &[obb_model::fixed::QObb],
+    cfg: &HwConfig,
+    fits: bool,
+    want: &Expected,
+    sent: usize,
+) -> Result<()> {
+    if !fits {
+        bail!(
+            "the scene's {} boxes exceed the configured capacity of {}: the core flagged \
+             capacity_exceeded and reported no pair, as it must; no pairs file was written",
+            boxes.len(),
+            cfg.capacity
+        );
+    }
+    if let Expected::Incomplete(_) = want {
+        bail!(
+            "a box spans more than {} grid cells of {} mm on an axis, a window the grid's slow \
+             path does not read: the core flagged capacity_exceeded, and the {sent} pair(s) it \
+             sent are the model's; no pairs file was written (a larger `grid_cell_mm` takes the \
+             box)",
+            MAX_WINDOW - 1,
+            cfg.grid_cell_mm,
+        );
+    }
+    Ok(())
+}
+
+/// The core's Verilog (RTL, or yosys' netlist of it) built for a simulator.
+struct Core {
+    design: String,
     level: Level,
     sim: Simulator,
-    cache: &Path,
-    stim: &Path,
-    frames: usize,
-    opts: &RunOptions,
-    waves: &Waves,
-) -> Result<()> {
-    let bar = spinner(format!("building the traced {sim:?} simulation"));
-    let traced = cosim::build(
-        design,
-        level,
-        sim,
-        Some(waves.trace()?),
-        &cache.join("cosim"),
-    )?;
-    bar.set_message(format!("recording {}", waves.path.display()));
-    traced.record(stim, frames, opts, waves, |_| {})?;
-    bar.finish_and_clear();
-    eprintln!("waves: {}", waves.path.display());
-    Ok(())
+    cache: PathBuf,
+    bench: cosim::Bench,
+}
+
+impl Core {
+    /// Generates the core for `cfg`, synthesizes it for `gate_level`, and builds the
+    /// simulation (each step cached under `cache`).
+    fn build(cfg: &HwConfig, sim: Simulator, gate_level: bool, cache: &Path) -> Result<Core> {
+        let mut design = generate::core(cfg)?;
+        let level = if gate_level {
+            let bar =
+                spinner("synthesizing the core with yosys (cached after the first time)".into());
+            let (dir, _) = synth::netlist(
+                &design,
+                "obb_core",
+                synth::Mapping::Simulation,
+                &cache.join("synth"),
+            )?;
+            bar.finish_and_clear();
+            design = std::fs::read_to_string(dir.join("syn.v"))?;
+            Level::Gates
+        } else {
+            Level::Rtl
+        };
+        let bar = spinner(format!("building the {sim:?} simulation"));
+        let bench = cosim::build(&design, level, sim, None, &cache.join("cosim"))?;
+        bar.finish_and_clear();
+        eprintln!(
+            "{sim:?} build: {}",
+            if bench.cached { "cached" } else { "new" }
+        );
+        Ok(Core {
+            design,
+            level,
+            sim,
+            cache: cache.to_path_buf(),
+            bench,
+        })
+    }
+
+    /// Runs the frames back to back (with a bar over the `expect` clocks) and returns what
+    /// each frame gave; then, whatever the verdict, records the waves if asked (a difference
+    /// is when they are wanted).
+    fn simulate(
+        &self,
+        frames: &[(bool, &[obb_model::fixed::QObb])],
+        cfg: &HwConfig,
+        opts: &RunOptions,
+        expect: u64,
+        waves: Option<&Waves>,
+    ) -> Result<Vec<cosim::SimFrame>> {
+        let work = self.cache.join(format!("run-{}", std::process::id()));
+        std::fs::create_dir_all(&work)
+            .with_context(|| format!("cannot create {}", work.display()))?;
+        let stim = work.join("stim.hex");
+        std::fs::write(&stim, cosim::stimulus(frames, cfg))?;
+        let bar = ProgressBar::new(expect).with_style(
+            ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} clocks ({eta})")
+                .expect("a valid template"),
+        );
+        bar.set_message("simulating");
+        // (The bar follows the frames' clocks one after another.)
+        let mut done = 0;
+        let mut last = 0;
+        let result = self.bench.run(&stim, frames.len(), opts, |clock| {
+            if clock < last {
+                done += last;
+            }
+            last = clock;
+            bar.set_position(done + clock)
+        });
+        bar.finish_and_clear();
+        let recorded = match waves {
+            Some(w) if result.is_ok() => self.record_waves(&stim, frames.len(), opts, w),
+            _ => Ok(()),
+        };
+        let _ = std::fs::remove_dir_all(&work);
+        let got = result?;
+        recorded?;
+        Ok(got)
+    }
+
+    /// The same stimulus again on a traced build, into `waves`.
+    fn record_waves(
+        &self,
+        stim: &Path,
+        frames: usize,
+        opts: &RunOptions,
+        waves: &Waves,
+    ) -> Result<()> {
+        let sim = self.sim;
+        let bar = spinner(format!("building the traced {sim:?} simulation"));
+        let traced = cosim::build(
+            &self.design,
+            self.level,
+            sim,
+            Some(waves.trace()),
+            &self.cache.join("cosim"),
+        )?;
+        bar.set_message(format!("recording {}", waves.path.display()));
+        traced.record(stim, frames, opts, waves, |_| {})?;
+        bar.finish_and_clear();
+        eprintln!("waves: {}", waves.path.display());
+        Ok(())
+    }
 }
 
 /// The model's `count` haptic frames after the scene's frame `update`: each streams the

@@ -142,10 +142,10 @@ fn run_cpu(a: &DetectArgs, scene: &Scene, kind: EngineKind) -> Result<Vec<Pair>>
         write_pairs(path, &pairs)?;
     }
     println!(
-        "engine={kind} obbs={} groups={mask} candidates={} sat={} pairs={} time_ms={ms:.3} threads={}",
+        "engine={kind} obbs={} groups={mask} visits={} sat_tests={} pairs={} time_ms={ms:.3} threads={}",
         scene.obbs.len(),
-        counters.candidates,
-        counters.sat,
+        counters.visits,
+        counters.sat_tests,
         counters.pairs,
         rayon::current_num_threads()
     );
@@ -199,13 +199,13 @@ fn run_model(a: &DetectArgs, scene: &Scene) -> Result<Vec<Pair>> {
     }
     let c = run.counters();
     println!(
-        "engine=model obbs={} groups={} broad_phase={} candidates={} sat={} pairs={} \
+        "engine=model obbs={} groups={} broad_phase={} visits={} sat_tests={} pairs={} \
          false_positives={} false_negatives={} cycles={} time_ms={ms:.3}",
         scene.obbs.len(),
         cfg.groups,
         cfg.broad_phase,
-        c.candidates,
-        c.sat,
+        c.visits,
+        c.sat_tests,
         c.pairs,
         fp.len(),
         missed.len(),

@@ -36,7 +36,8 @@ enum Command {
     Scene(scene::SceneArgs),
     /// Find every colliding pair of a scene.
     Detect(detect::DetectArgs),
-    /// Per-axis overlap counts, candidates of each broad phase and collisions, by group pair.
+    /// Per-axis overlap counts, each broad phase's visits and SAT tests, and collisions, by
+    /// group pair.
     Stats(stats::StatsArgs),
     /// Time every engine and parry3d on the surgical scene and on uniform scenes.
     Bench(bench::BenchArgs),

@@ -29,7 +29,7 @@ pub fn run(a: StatsArgs) -> Result<()> {
     ];
     let engine_cols: Vec<String> = STATS_ENGINES
         .iter()
-        .flat_map(|k| [format!("{k}_cand"), format!("{k}_sat")])
+        .flat_map(|k| [format!("{k}_visits"), format!("{k}_sat_tests")])
         .collect();
     header.extend(engine_cols.iter().map(String::as_str));
     header.push("collisions");
@@ -44,8 +44,8 @@ pub fn run(a: StatsArgs) -> Result<()> {
             r.overlap_xyz.to_string(),
         ];
         for (_, c) in &r.engines {
-            cells.push(c.candidates.to_string());
-            cells.push(c.sat.to_string());
+            cells.push(c.visits.to_string());
+            cells.push(c.sat_tests.to_string());
         }
         cells.push(r.collisions.to_string());
         println!("{}", cells.join("\t"));

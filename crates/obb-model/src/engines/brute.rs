@@ -21,8 +21,8 @@ impl Engine for Brute {
                 if !mask.allows(boxes.groups[i], boxes.groups[j]) {
                     continue;
                 }
-                c.candidates += 1;
-                c.sat += 1;
+                c.visits += 1;
+                c.sat_tests += 1;
                 if boxes.collide(i, j) {
                     out.push([i as u32, j as u32]);
                 }

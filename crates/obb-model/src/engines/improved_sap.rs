@@ -38,8 +38,8 @@ impl Engine for ImprovedSap {
                     if !mask.allows(boxes.groups[i], boxes.groups[j]) {
                         continue;
                     }
-                    c.candidates += 1;
-                    c.sat += 1;
+                    c.visits += 1;
+                    c.sat_tests += 1;
                     if boxes.collide(i, j) {
                         out.push(ordered(i, j));
                     }

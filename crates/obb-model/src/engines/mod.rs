@@ -28,17 +28,17 @@ pub struct Counters {
     /// Pairs the broad phase examined (allowed by the mask): all pairs for `brute`, the per-axis
     /// overlaps summed over x, y, z for `sap`, the index pairs Algorithm 2 visits for
     /// `improved-sap`, the pairs walked for `sweep`, the pairs met inside cells for `grid`.
-    pub candidates: u64,
+    pub visits: u64,
     /// Calls of the narrow phase (AABB check and 15-axis SAT).
-    pub sat: u64,
+    pub sat_tests: u64,
     /// Colliding pairs reported.
     pub pairs: u64,
 }
 
 impl std::ops::AddAssign for Counters {
     fn add_assign(&mut self, o: Counters) {
-        self.candidates += o.candidates;
-        self.sat += o.sat;
+        self.visits += o.visits;
+        self.sat_tests += o.sat_tests;
         self.pairs += o.pairs;
     }
 }

@@ -55,7 +55,7 @@ impl Engine for Sap {
         let mut c = Counters::default();
         for axis in 0..3 {
             self.traverse(boxes, mask, axis);
-            c.candidates += self.axis_pairs[axis].len() as u64;
+            c.visits += self.axis_pairs[axis].len() as u64;
             self.sorter
                 .sort_dedup(&mut self.axis_pairs[axis], boxes.len());
         }
@@ -71,7 +71,7 @@ impl Engine for Sap {
                 iz += 1;
             }
             if y.get(iy) == Some(p) && z.get(iz) == Some(p) {
-                c.sat += 1;
+                c.sat_tests += 1;
                 if boxes.collide(p[0] as usize, p[1] as usize) {
                     out.push(*p);
                 }

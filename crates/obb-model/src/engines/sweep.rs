@@ -1,5 +1,5 @@
 //! Sort-and-sweep on one axis: the min end points sorted on the axis that emits the fewest
-//! candidates; for each box i, walk j while min_j <= max_i, filter on the other two axes.
+//! visits; for each box i, walk j while min_j <= max_i, filter on the other two axes.
 
 use super::{ordered, Counters, Engine, EngineKind, Pair, PairSorter};
 use crate::groups::GroupMask;
@@ -73,10 +73,10 @@ impl Engine for Sweep {
                 if !mask.allows(boxes.groups[i], boxes.groups[j]) {
                     continue;
                 }
-                c.candidates += 1;
+                c.visits += 1;
                 let bj = &boxes.aabbs[j];
                 if bi.overlaps_on(bj, o1) && bi.overlaps_on(bj, o2) {
-                    c.sat += 1;
+                    c.sat_tests += 1;
                     if boxes.collide(i, j) {
                         out.push(ordered(i, j));
                     }

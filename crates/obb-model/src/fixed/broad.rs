@@ -1,4 +1,4 @@
-//! The broad phases of the core, on the integer sort keys, each emitting its candidate pairs in
+//! The broad phases of the core, on the integer sort keys, each emitting its SAT tests in
 //! the exact order the hardware will: `brute`, the single-axis `sweep`, the paper's three-axis
 //! `improved-sap` (Algorithm 2) and the `grid`, a spatial hash built during the load
 //! (`grid.rs`). `brute`, `sweep` and
@@ -44,7 +44,7 @@ pub fn run_keeping(
     };
     let mut send = |w: &mut BroadWork, i: usize, j: usize| {
         if wanted(i, j) {
-            w.emitted += 1;
+            w.sat_tests += 1;
             emit(i, j);
         }
     };
@@ -54,7 +54,7 @@ pub fn run_keeping(
         BroadPhase::Brute => {
             for i in 0..n {
                 for j in i + 1..n {
-                    w.visited += 1;
+                    w.visits += 1;
                     send(&mut w, i, j);
                 }
             }
@@ -78,7 +78,7 @@ pub fn run_keeping(
                     if frame.keys[j].0[0] > frame.keys[i].1[0] {
                         break;
                     }
-                    w.visited += 1;
+                    w.visits += 1;
                     send(&mut w, i, j);
                 }
             }
@@ -113,18 +113,18 @@ pub fn run_keeping(
                         if j == i {
                             break;
                         }
-                        w.visited += 1;
+                        w.visits += 1;
                         send(&mut w, i, j);
                     }
                 }
             }
         }
         BroadPhase::Grid => {
-            // The lanes' candidates reach the SAT in the order they are issued.
+            // The lanes' SAT tests reach the SAT in the order they are issued.
             let mut sent = Vec::new();
             let walk = grid::walk(frame, mask, &mut w, &mut |w, i, j| {
                 if wanted(i, j) {
-                    w.emitted += 1;
+                    w.sat_tests += 1;
                     sent.push((i, j));
                 }
             });
@@ -156,11 +156,11 @@ pub fn run_keeping(
 /// - `grid` overlaps the load: `grid_clocks` plays it clock by clock.
 pub fn walk_cycles(mode: BroadPhase, n: u64, w: &BroadWork) -> u64 {
     match mode {
-        BroadPhase::Brute => w.visited,
+        BroadPhase::Brute => w.visits,
         BroadPhase::Sweep if n < 2 => 0,
-        BroadPhase::Sweep => 4 * n + w.visited,
+        BroadPhase::Sweep => 4 * n + w.visits,
         BroadPhase::ImprovedSap if n < 2 => 0,
-        BroadPhase::ImprovedSap => 3 * (5 * n + 1) + 2 + w.visited,
+        BroadPhase::ImprovedSap => 3 * (5 * n + 1) + 2 + w.visits,
         BroadPhase::Grid => w.grid.map_or(0, |g| g.walk),
     }
 }

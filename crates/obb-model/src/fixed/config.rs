@@ -91,7 +91,7 @@ pub struct HwConfig {
     pub broad_phase: BroadPhase,
     /// Which group pairs are reported (`all`, `cross`, or a list like `0-1,0-2,1-2`).
     pub groups: GroupMask,
-    /// Grid: walker lanes, each with its own lists, enumerator, walker, key check and candidate
+    /// Grid: walker lanes, each with its own lists, enumerator, walker, key check and test
     /// queue, so that a clock makes up to `lanes` visits (a power of two up to 8; 1 with the other
     /// broad phases). Box `i` is on lane `i mod lanes`. The SAT takes one pair per clock.
     pub lanes: u32,

@@ -21,7 +21,7 @@ pub const LAT_SORT_START: u64 = 3;
 pub fn sort_cycles(n: u64, passes: u32, digit_bits: u32) -> u64 {
     u64::from(passes) * ((1u64 << digit_bits) + n + LAT_SORT_PASS) + LAT_SORT_START
 }
-/// Clocks from a visit of the broad phase to its candidate on the SAT's inputs: the key table
+/// Clocks from a visit of the broad phase to its SAT test on the SAT's inputs: the key table
 /// read and its registered output, the key and group check, the geometry read and its
 /// registered output (`obb_rtl::core`: no logic follows a block RAM's output in its clock).
 pub const LAT_BROAD: u64 = 5;
@@ -44,13 +44,13 @@ pub const LAT_PROBE: u64 = LAT_RECORD + 3;
 /// Grid: boxes accepted and not yet retired (probed without visits, or walked): the record
 /// queue between the probe and the walker holds them all, so the load waits instead.
 pub const GRID_CREDITS: usize = 32;
-/// Grid: the candidate queue's stored entries at which the walker pauses.
-pub const GRID_CAND_STALL: usize = 32;
-/// Grid: clocks from a visit to its candidate's first possible issue: the keys read and
-/// registered, compared, the compares' results registered and written to the candidate queue,
+/// Grid: the test queue's stored entries at which the walker pauses.
+pub const GRID_TEST_STALL: usize = 32;
+/// Grid: clocks from a visit to its SAT test's first possible issue: the keys read and
+/// registered, compared, the compares' results registered and written to the test queue,
 /// loaded on its output register.
 pub const LAT_GRID_CHECK: u64 = 5;
-/// Grid: clocks from a candidate's issue to the SAT's inputs: its geometry read and registered.
+/// Grid: clocks from a SAT test's issue to the SAT's inputs: its geometry read and registered.
 pub const GRID_ISSUE_TO_SAT: u64 = 2;
 
 /// Cycles per stage of one frame, from the first clock the core accepts a box to the last SAT

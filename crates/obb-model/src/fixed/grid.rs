@@ -329,7 +329,7 @@ pub struct LargeWalk {
 }
 
 /// Runs the grid on `frame`: every visit in the hardware's order goes to `send`, which emits the
-/// pair when the mask allows it and the keys overlap. Fills `w.visited`, `w.large` and
+/// pair when the mask allows it and the keys overlap. Fills `w.visits`, `w.large` and
 /// `w.incomplete`.
 pub(super) fn walk(
     frame: &ModelFrame,
@@ -359,12 +359,12 @@ pub(super) fn walk(
             out.lists.push(0);
         }
         *out.lists.last_mut().expect("a list was started") += 1;
-        let emitted = w.emitted;
-        w.visited += 1;
+        let tests = w.sat_tests;
+        w.visits += 1;
         if at_home {
             send(w, i, j);
         }
-        out.passes.push(w.emitted > emitted);
+        out.passes.push(w.sat_tests > tests);
         out.pairs.push((i as u32, j as u32));
     };
     let mut large = Vec::new();

@@ -23,15 +23,15 @@
 //! - **Walk.** The walker takes the lists in order and makes one visit per clock, from list to
 //!   list without a gap while lists are queued; a record retires on the clock after its last
 //!   visit, when the walker reads that its last list has ended. It pauses on a clock when
-//!   the candidate queue stores `GRID_CAND_STALL` entries or more (its output register not
+//!   the test queue stores `GRID_TEST_STALL` entries or more (its output register not
 //!   counted); a list it takes on such a clock leaves the list queue then.
 //! - **Check.** A visit at V is read from the key table at V + 1, compared at V + 2, the
 //!   compares' results registered at V + 3 and, when the keys overlap, written to the
-//!   candidate queue (`obb_rtl::pair_fifo`): stored from V + 4, on its output register from V + 5 at the
+//!   test queue (`obb_rtl::pair_fifo`): stored from V + 4, on its output register from V + 5 at the
 //!   earliest (`LAT_GRID_CHECK`).
-//! - **Issue.** The candidate on the output register is issued on a clock when no box is accepted
+//! - **Issue.** The SAT test on the output register is issued on a clock when no box is accepted
 //!   (the geometry tables' port A writes the arriving box); the output register takes the next
-//!   stored entry on a clock it is empty or issued. An issued candidate is on the SAT's inputs
+//!   stored entry on a clock it is empty or issued. An issued SAT test is on the SAT's inputs
 //!   `GRID_ISSUE_TO_SAT` clocks later.
 //! - **Slow path.** A sequencer works on *idle* clocks: a clock is idle when on the clock
 //!   before every box had been accepted, nothing was in flight (accepted or injected, not
@@ -44,11 +44,11 @@
 //!   from K + `LAT_RECORD`, retiring at K + 6 when it has no list); then, if a large box
 //!   follows, a record of one list, the rest of the chain, is launched the same way.
 //! - **Lanes.** With several, each lane has its own record queue, enumerator, list queue,
-//!   walker, key check and candidate queue, on its lane's lists, by the rules above. A box (or
+//!   walker, key check and test queue, on its lane's lists, by the rules above. A box (or
 //!   injected record) is in flight on every lane from its accept (injection) until that lane
 //!   retires it; a box is accepted when the credit is set on every lane, and a clock is idle
 //!   when no lane had one in flight on the clock before. On a clock with no accept, the lowest
-//!   lane with a candidate on its output register issues it.
+//!   lane with a SAT test on its output register issues it.
 //! - **Update frame** (`resident_groups`): before the first accept, every list head is
 //!   cleared, one bucket of every bank a clock (clocks 1 to `2^grid_hash_bits`); the credit is
 //!   set from the clock after. The clear after the walk then clears only the lists of the
@@ -56,11 +56,11 @@
 //! - **End.** The walk is over on the first idle clock with no large box left to fetch (or
 //!   after a window too wide). From the clock after that, every list head is
 //!   cleared for the next frame, one bucket of every bank a clock (`2^grid_hash_bits` clocks),
-//!   while the last candidates leave; the frame ends with the later of the clear and the last
+//!   while the last SAT tests leave; the frame ends with the later of the clear and the last
 //!   verdict.
 
 use super::cycles::{
-    GRID_CAND_STALL, GRID_CREDITS, GRID_ISSUE_TO_SAT, LAT_KEY_WRITE, LAT_PROJECT, LAT_RECORD,
+    GRID_CREDITS, GRID_ISSUE_TO_SAT, GRID_TEST_STALL, LAT_KEY_WRITE, LAT_PROJECT, LAT_RECORD,
     LAT_SAT,
 };
 use super::grid::GridWalk;
@@ -74,7 +74,7 @@ pub struct GridSchedule {
     pub accepts: Vec<u64>,
     /// Per visit of `GridWalk::pairs`, in order, the clock it is made.
     pub visits: Vec<u64>,
-    /// Per candidate (a visit that passed the key check), in the walk's order, the clock it is
+    /// Per SAT test (a visit that passed the key check), in the walk's order, the clock it is
     /// issued (with several lanes not in that order).
     pub issues: Vec<u64>,
     /// Per large box fetched by the slow path, in order: the clock its address is on port B (its
@@ -86,10 +86,10 @@ pub struct GridSchedule {
     pub clocks: GridClocks,
 }
 
-/// The grid core's candidate queue (`obb_rtl::pair_fifo`), one a lane: candidates (their
+/// The grid core's test queue (`obb_rtl::pair_fifo`), one a lane: SAT tests (their
 /// index among the walk's) stored and on the output register, clock by clock.
 #[derive(Default)]
-struct CandidateQueue {
+struct TestQueue {
     stored: VecDeque<usize>,
     out: Option<usize>,
 }
@@ -122,14 +122,14 @@ struct Queued {
 const LIST_QUEUE: usize = 4;
 
 /// One walker lane: its records in flight, its record queue, enumerator, list queue, walker,
-/// key check and candidate queue.
+/// key check and test queue.
 #[derive(Default)]
 struct Lane {
     records: VecDeque<Record>,
-    /// Retirements, by the probe (a record with no list on this lane) and by the walker.
+    // Retirements, by the probe (a record with no list on this lane) and by the walker.
     retire_probe: VecDeque<u64>,
     retire_walker: VecDeque<u64>,
-    /// Boxes and injected records accepted and not retired on this lane before t.
+    // Boxes and injected records accepted and not retired on this lane before t.
     inflight: usize,
     enumerator: Option<Enumerator>,
     list_queue: VecDeque<Queued>,
@@ -138,9 +138,9 @@ struct Lane {
     next_visit: usize,
     left: usize,
     last_list: bool,
-    /// Visits in the key check: clock and visit.
+    // Visits in the key check: clock and visit.
     in_check: VecDeque<(u64, usize)>,
-    queue: CandidateQueue,
+    queue: TestQueue,
 }
 
 impl Lane {
@@ -195,7 +195,7 @@ impl Lane {
 
     /// Walk at `t`: with no list left to go on, the walker takes the next queued (written
     /// before t), or, its record's last list done, retires the record; one visit per clock
-    /// unless the candidate queue stalls it. Returns the visit made.
+    /// unless the test queue stalls it. Returns the visit made.
     fn walk(&mut self, t: u64, stall: bool) -> Option<usize> {
         if self.left == 0 {
             if self.last_list {
@@ -241,14 +241,14 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
         visits: vec![0; walk.passes.len()],
         ..GridSchedule::default()
     };
-    // Per visit that passes, its candidate's index; `issues` is filled by candidate.
-    let mut candidate = Vec::with_capacity(walk.passes.len());
-    let mut candidates = 0usize;
+    // Per visit that passes, its SAT test's index; `issues` is filled by SAT test.
+    let mut test_of = Vec::with_capacity(walk.passes.len());
+    let mut tests = 0usize;
     for &pass in &walk.passes {
-        candidate.push(candidates);
-        candidates += usize::from(pass);
+        test_of.push(tests);
+        tests += usize::from(pass);
     }
-    s.issues = vec![0; candidates];
+    s.issues = vec![0; tests];
     let keys_out = |accept: u64| accept + LAT_PROJECT;
     let mut lanes: Vec<Lane> = (0..walk.lanes).map(|_| Lane::default()).collect();
     // Boxes and injected records enter the probe at K: on each lane a record from
@@ -346,16 +346,16 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
             let counts = &walk.visits[k * walk.lanes..(k + 1) * walk.lanes];
             probe(keys_out(t), counts, &mut lanes);
         }
-        // The candidate queues: on a clock with no accept the lowest lane with a candidate on
+        // The test queues: on a clock with no accept the lowest lane with a SAT test on
         // its output register issues it; each loads its output register from its stored
         // entries when it is empty or issued, and stores the key check's write.
         let mut issuer = (!accept)
             .then(|| lanes.iter().position(|l| l.queue.out.is_some()))
             .flatten();
         for (k, lane) in lanes.iter_mut().enumerate() {
-            let stall = lane.queue.stored.len() >= GRID_CAND_STALL;
+            let stall = lane.queue.stored.len() >= GRID_TEST_STALL;
             if issuer == Some(k) {
-                let c = lane.queue.out.take().expect("the issuer holds a candidate");
+                let c = lane.queue.out.take().expect("the issuer holds a SAT test");
                 s.issues[c] = t;
                 last_issue = t;
                 issuer = None;
@@ -366,7 +366,7 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
             if lane.in_check.front().is_some_and(|&(v, _)| v + 3 == t) {
                 let (_, v) = lane.in_check.pop_front().unwrap();
                 if walk.passes[v] {
-                    lane.queue.stored.push_back(candidate[v]);
+                    lane.queue.stored.push_back(test_of[v]);
                 }
             }
             let written = lane.enumerate(t, &walk.lists);
@@ -381,7 +381,7 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
         }
     }
     let load = s.accepts.last().map_or(1, |&a| keys_out(a)) + LAT_KEY_WRITE;
-    let verdict = if candidates == 0 {
+    let verdict = if tests == 0 {
         0
     } else {
         last_issue + GRID_ISSUE_TO_SAT + LAT_SAT

@@ -76,8 +76,8 @@ impl ModelRun {
     /// SAT stage, pairs reported.
     pub fn counters(&self) -> Counters {
         Counters {
-            candidates: self.work.visited,
-            sat: self.work.emitted,
+            visits: self.work.visits,
+            sat_tests: self.work.sat_tests,
             pairs: self.pairs.len() as u64,
         }
     }

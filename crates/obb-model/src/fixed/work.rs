@@ -16,11 +16,11 @@ pub struct BroadWork {
     /// Clocks of the sorts (`cycles::sort_cycles`), summed.
     pub sort_cycles: u64,
     /// Index pairs the broad phase visits (one per clock per lane).
-    pub visited: u64,
+    pub visits: u64,
     /// Clocks of the walk (`walk_cycles`).
     pub walk: u64,
     /// Pairs sent to the SAT stage.
-    pub emitted: u64,
+    pub sat_tests: u64,
     /// Grid: the load and the walk, which overlap (`grid_clocks`).
     pub grid: Option<GridClocks>,
 }

@@ -5,7 +5,7 @@
 //! result and compares it with the bit-exact model. `obbcd cosim` is its command line.
 
 use crate::flow::cache;
-use crate::flow::verilator::{binary_build, hex_word, output, Simulator};
+use crate::flow::verilator::{hex_word, output, Simulator, BINARY_FLAGS};
 use crate::flow::waves::{Trace, WaveFormat, Waves};
 use anyhow::{bail, Context, Result};
 use obb_model::fixed::{quantize, HwConfig, ModelFrame, ModelRun, QObb, QuantizeError};
@@ -179,8 +179,7 @@ fn compile_flags(sim: Simulator, level: Level, trace: Option<Trace>) -> Vec<Stri
     let mut flags = Vec::new();
     match sim {
         Simulator::Verilator => {
-            let base = binary_build(Path::new(""));
-            flags.extend(base.get_args().map(|a| a.to_string_lossy().into_owned()));
+            flags.extend(BINARY_FLAGS.map(String::from));
             if level == Level::Gates {
                 flags.extend(["-Wno-lint", "-Wno-style"].map(String::from));
             }
@@ -202,7 +201,7 @@ fn compile_flags(sim: Simulator, level: Level, trace: Option<Trace>) -> Vec<Stri
 fn compile(work: &Path, sim: Simulator, flags: &[String], sources: &[&str]) -> Result<()> {
     match sim {
         Simulator::Verilator => {
-            // `flags` begins with `binary_build`'s own.
+            // `flags` begins with `BINARY_FLAGS`.
             let mut cmd = Command::new("verilator");
             cmd.current_dir(work).args(flags).args(sources);
             output(&mut cmd, "verilator (build)")?;
@@ -250,8 +249,8 @@ pub struct SimFrame {
     pub clocks: u64,
     /// The `cycles` output at `done`.
     pub cycles: u64,
-    /// The `candidates` output (visits) at `done`.
-    pub candidates: u64,
+    /// The `visits` output at `done`.
+    pub visits: u64,
     /// The `sat_tests` output at `done`.
     pub sat_tests: u64,
     /// The `pairs` output at `done`.
@@ -270,8 +269,7 @@ impl Bench {
         opts: &RunOptions,
         progress: impl FnMut(u64),
     ) -> Result<Vec<SimFrame>> {
-        let out = std::path::absolute(stim)?.with_extension("out");
-        let errors = self.simulate(stim, frames, opts, &[], progress)?;
+        let (out, errors) = self.simulate(stim, frames, opts, &[], progress)?;
         let text = std::fs::read_to_string(&out)
             .with_context(|| format!("the simulation wrote no {}:\n{errors}", out.display()))?;
         let got = parse_result(&text).with_context(|| format!("in {}", out.display()))?;
@@ -296,7 +294,7 @@ impl Bench {
         progress: impl FnMut(u64),
     ) -> Result<()> {
         let mut args = waves.plusargs()?;
-        if self.sim == Simulator::Icarus && waves.format()? == WaveFormat::Fst {
+        if self.sim == Simulator::Icarus && waves.format == WaveFormat::Fst {
             // vvp's own flag (before the plusargs) selects FST for `$dumpfile`.
             args.insert(0, "-fst".into());
         }
@@ -312,7 +310,8 @@ impl Bench {
     }
 
     /// Runs the test bench on `stim` with `extra` arguments; calls `progress` with the clocks
-    /// the simulation reports; fails with what it said if it fails. Returns its stderr.
+    /// the simulation reports; fails with what it said if it fails. Returns the result file it
+    /// was told to write (beside `stim`) and what it said.
     fn simulate(
         &self,
         stim: &Path,
@@ -320,7 +319,7 @@ impl Bench {
         opts: &RunOptions,
         extra: &[String],
         mut progress: impl FnMut(u64),
-    ) -> Result<String> {
+    ) -> Result<(PathBuf, String)> {
         let stim = std::path::absolute(stim)?;
         let out = stim.with_extension("out");
         let mut cmd = match self.sim {
@@ -367,7 +366,7 @@ impl Bench {
                 said.join("\n")
             );
         }
-        Ok(said.join("\n") + "\n" + &errors)
+        Ok((out, said.join("\n") + "\n" + &errors))
     }
 }
 
@@ -383,12 +382,12 @@ fn parse_result(text: &str) -> Result<Vec<SimFrame>> {
             .collect::<Result<_>>()?;
         match (tag, nums.as_slice()) {
             (Some("pair"), &[a, b]) => stream.push([a as u32, b as u32]),
-            (Some("done"), &[clocks, cycles, candidates, sat_tests, pairs, over]) => {
+            (Some("done"), &[clocks, cycles, visits, sat_tests, pairs, over]) => {
                 frames.push(SimFrame {
                     stream: std::mem::take(&mut stream),
                     clocks,
                     cycles,
-                    candidates,
+                    visits,
                     sat_tests,
                     pairs,
                     capacity_exceeded: over == 1,
@@ -431,7 +430,7 @@ pub enum Taken {
     /// broad phase).
     Throttled,
     /// Throttled, several grid walker lanes: the model's pairs with their repeats, in more
-    /// cycles, but their order may differ: the lowest lane with a candidate issues it, and a
+    /// cycles, but their order may differ: the lowest lane with a SAT test issues it, and a
     /// stall changes which lanes hold one when the issue resumes.
     ThrottledLanes,
 }
@@ -485,11 +484,11 @@ pub fn compare(got: &SimFrame, want: &Expected, taken: Taken) -> Result<(), Stri
                     got.stream.len()
                 ));
             }
-            let counters = [got.candidates, got.sat_tests, got.pairs];
+            let counters = [got.visits, got.sat_tests, got.pairs];
             return match counters {
                 [0, 0, 0] => Ok(()),
                 c => Err(format!(
-                    "over capacity, but the counters (candidates, sat_tests, pairs) are {c:?}"
+                    "over capacity, but the counters (visits, sat_tests, pairs) are {c:?}"
                 )),
             };
         }
@@ -518,8 +517,8 @@ pub fn compare(got: &SimFrame, want: &Expected, taken: Taken) -> Result<(), Stri
     }
     let c = run.counters();
     let counters = [
-        ("candidates", got.candidates, c.candidates),
-        ("sat_tests", got.sat_tests, c.sat),
+        ("visits", got.visits, c.visits),
+        ("sat_tests", got.sat_tests, c.sat_tests),
         ("pairs", got.pairs, run.reported()),
     ];
     for (name, core, model) in counters {

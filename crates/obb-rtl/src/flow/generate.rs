@@ -98,7 +98,7 @@ pub struct CoreInfo {
     pub fifo_depth: u64,
     /// The pair FIFO's fill at which the broad phase stalls.
     pub fifo_stall_fill: u64,
-    /// Width of the status counters (`cycles`, `candidates`, `sat_tests`, `pairs`).
+    /// Width of the status counters (`cycles`, `visits`, `sat_tests`, `pairs`).
     pub counter_bits: usize,
     /// The grid's clocks (`obb_model::fixed::grid_clocks`), with `broad_phase = "grid"`.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -112,12 +112,12 @@ pub struct GridInfo {
     pub lat_probe: u64,
     /// Boxes accepted and not retired, at most: the load waits beyond.
     pub credits: usize,
-    /// Clocks from a visit to its candidate's first possible issue.
+    /// Clocks from a visit to its SAT test's first possible issue.
     pub lat_check: u64,
     /// Clocks from the issue to the SAT's inputs.
     pub issue_to_sat: u64,
-    /// The candidate queue's fill at which the walker pauses.
-    pub candidate_stall_fill: usize,
+    /// The test queue's fill at which the walker pauses.
+    pub test_stall_fill: usize,
     /// Buckets a bank: the clocks of the list heads' clear at the end of a frame.
     pub buckets: u64,
     /// Cells per axis a large box's window may span on the slow path: a wider one raises
@@ -283,7 +283,7 @@ pub fn files(cfg: &HwConfig) -> Result<Vec<(String, String)>> {
             credits: cycles::GRID_CREDITS,
             lat_check: cycles::LAT_GRID_CHECK,
             issue_to_sat: cycles::GRID_ISSUE_TO_SAT,
-            candidate_stall_fill: cycles::GRID_CAND_STALL,
+            test_stall_fill: cycles::GRID_TEST_STALL,
             buckets: 1 << cfg.grid_hash_bits,
             max_window: grid::MAX_WINDOW,
         }),

@@ -397,7 +397,7 @@ struct Arrival {
 struct Cell {
     name: String,
     kind: Kind,
-    /// (pin, bits) of inputs and outputs; a bit is a net number or None for a constant.
+    // (pin, bits) of inputs and outputs; a bit is a net number or None for a constant.
     inputs: Vec<(String, Vec<Option<u64>>)>,
     outputs: Vec<(String, Vec<Option<u64>>)>,
     ty: String,

@@ -171,18 +171,27 @@ fn run(cmd: &mut Command, what: &str) -> Result<()> {
 /// minutes; `-O1` takes ten seconds), while the simulation runs about 1.4 times slower.
 pub fn binary_build(dir: &Path) -> Command {
     let mut cmd = Command::new("verilator");
-    cmd.current_dir(dir)
-        .args(["--binary", "-j", "2", "-O3", "--top-module", "tb"])
-        .args(["-MAKEFLAGS", "OPT_FAST=-O1 OPT_GLOBAL=-O1"])
-        .args([
-            "-Wno-fatal",
-            "-Wno-WIDTH",
-            "-Wno-DECLFILENAME",
-            "-Wno-UNUSED",
-        ])
-        .args(["--Mdir", "obj"]);
+    cmd.current_dir(dir).args(BINARY_FLAGS);
     cmd
 }
+
+/// `binary_build`'s flags (a co-simulation build's cache key holds them).
+pub const BINARY_FLAGS: [&str; 14] = [
+    "--binary",
+    "-j",
+    "2",
+    "-O3",
+    "--top-module",
+    "tb",
+    "-MAKEFLAGS",
+    "OPT_FAST=-O1 OPT_GLOBAL=-O1",
+    "-Wno-fatal",
+    "-Wno-WIDTH",
+    "-Wno-DECLFILENAME",
+    "-Wno-UNUSED",
+    "--Mdir",
+    "obj",
+];
 
 /// A Verilog simulator: Verilator for speed, Icarus as a second opinion.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

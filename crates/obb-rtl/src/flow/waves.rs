@@ -31,6 +31,8 @@ pub struct Trace {
 pub struct Waves {
     /// The file, `.vcd` or `.fst`.
     pub path: PathBuf,
+    /// The format its extension names.
+    pub format: WaveFormat,
     /// The first clock dumped, counted from the run's first clock over all its frames.
     pub from: u64,
     /// The clock at which the run ends (exclusive); `None`: the run's end.
@@ -43,39 +45,34 @@ pub struct Waves {
 impl Waves {
     /// Checks the extension and the window.
     pub fn new(path: &Path, from: u64, to: Option<u64>, depth: u32) -> Result<Waves> {
-        let waves = Waves {
-            path: path.to_path_buf(),
-            from,
-            to,
-            depth,
+        let format = match path.extension().and_then(|e| e.to_str()) {
+            Some("vcd") => WaveFormat::Vcd,
+            Some("fst") => WaveFormat::Fst,
+            _ => bail!(
+                "waveform file {}: the extension names the format, .vcd or .fst",
+                path.display()
+            ),
         };
-        waves.format()?;
         if let Some(to) = to {
             if to <= from {
                 bail!("the waveform window is empty: it ends at clock {to}, not after {from}");
             }
         }
-        Ok(waves)
-    }
-
-    /// The format the file's extension names.
-    pub fn format(&self) -> Result<WaveFormat> {
-        match self.path.extension().and_then(|e| e.to_str()) {
-            Some("vcd") => Ok(WaveFormat::Vcd),
-            Some("fst") => Ok(WaveFormat::Fst),
-            _ => bail!(
-                "waveform file {}: the extension names the format, .vcd or .fst",
-                self.path.display()
-            ),
-        }
+        Ok(Waves {
+            path: path.to_path_buf(),
+            format,
+            from,
+            to,
+            depth,
+        })
     }
 
     /// What the build needs.
-    pub fn trace(&self) -> Result<Trace> {
-        Ok(Trace {
-            format: self.format()?,
+    pub fn trace(&self) -> Trace {
+        Trace {
+            format: self.format,
             depth: self.depth,
-        })
+        }
     }
 
     /// The test bench's plusargs for the recording (the file made absolute: the simulator runs

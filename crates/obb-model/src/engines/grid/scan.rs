@@ -48,10 +48,10 @@ impl<'a> Emitter<'a> {
         }
     }
 
-    /// A candidate pair; room must have been reserved.
+    /// A visited pair; room must have been reserved.
     #[inline(always)]
     fn pair(&mut self, boxes: &Frame, i: usize, j: usize) {
-        self.counters.candidates += 1;
+        self.counters.visits += 1;
         self.out[self.kept] = ordered(i, j);
         self.kept += usize::from(overlaps(&boxes.aabbs[i], &boxes.aabbs[j]));
     }
@@ -60,7 +60,7 @@ impl<'a> Emitter<'a> {
     fn finish(self, boxes: &Frame) -> Counters {
         let mut c = self.counters;
         self.out.truncate(self.kept);
-        c.sat = self.kept as u64;
+        c.sat_tests = self.kept as u64;
         retain_colliding(boxes.obbs, boxes.slack, self.out);
         c
     }
@@ -207,9 +207,9 @@ pub(super) fn scan_large(
         if j == l || (j_large && j < l) || !mask.allows(boxes.groups[l], boxes.groups[j]) {
             continue;
         }
-        c.candidates += 1;
+        c.visits += 1;
         if boxes.aabbs[l].overlaps(&boxes.aabbs[j]) {
-            c.sat += 1;
+            c.sat_tests += 1;
             if boxes.sat(l, j) {
                 out.push(ordered(l, j));
             }
