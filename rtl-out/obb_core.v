@@ -338,207 +338,110 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     reg  streamed_seen$d;
     wire  streamed_seen$q;
     reg  streamed_seen$clock;
-    reg  k_valid$d;
-    wire  k_valid$q;
-    reg  k_valid$clock;
-    reg  [14:0] k_i$d;
-    wire  [14:0] k_i$q;
-    reg  k_i$clock;
-    reg  [14:0] k_j$d;
-    wire  [14:0] k_j$q;
-    reg  k_j$clock;
-    reg  [22:0] key_min_a$0$d;
-    wire  [22:0] key_min_a$0$q;
-    reg  key_min_a$0$clock;
-    reg  [22:0] key_min_a$1$d;
-    wire  [22:0] key_min_a$1$q;
-    reg  key_min_a$1$clock;
-    reg  [22:0] key_min_a$2$d;
-    wire  [22:0] key_min_a$2$q;
-    reg  key_min_a$2$clock;
-    reg  [22:0] key_min_b$0$d;
-    wire  [22:0] key_min_b$0$q;
-    reg  key_min_b$0$clock;
-    reg  [22:0] key_min_b$1$d;
-    wire  [22:0] key_min_b$1$q;
-    reg  key_min_b$1$clock;
-    reg  [22:0] key_min_b$2$d;
-    wire  [22:0] key_min_b$2$q;
-    reg  key_min_b$2$clock;
-    reg  [22:0] key_max_a$0$d;
-    wire  [22:0] key_max_a$0$q;
-    reg  key_max_a$0$clock;
-    reg  [22:0] key_max_a$1$d;
-    wire  [22:0] key_max_a$1$q;
-    reg  key_max_a$1$clock;
-    reg  [22:0] key_max_a$2$d;
-    wire  [22:0] key_max_a$2$q;
-    reg  key_max_a$2$clock;
-    reg  [22:0] key_max_b$0$d;
-    wire  [22:0] key_max_b$0$q;
-    reg  key_max_b$0$clock;
-    reg  [22:0] key_max_b$1$d;
-    wire  [22:0] key_max_b$1$q;
-    reg  key_max_b$1$clock;
-    reg  [22:0] key_max_b$2$d;
-    wire  [22:0] key_max_b$2$q;
-    reg  key_max_b$2$clock;
-    reg  [27:0] margin_a$d;
-    wire  [27:0] margin_a$q;
-    reg  margin_a$clock;
-    reg  [27:0] margin_b$d;
-    wire  [27:0] margin_b$q;
-    reg  margin_b$clock;
-    reg  [2:0] group_a$d;
-    wire  [2:0] group_a$q;
-    reg  group_a$clock;
-    reg  [2:0] group_b$d;
-    wire  [2:0] group_b$q;
-    reg  group_b$clock;
-    reg  r_valid$d;
-    wire  r_valid$q;
-    reg  r_valid$clock;
-    reg  [14:0] r_i$d;
-    wire  [14:0] r_i$q;
-    reg  r_i$clock;
-    reg  [14:0] r_j$d;
-    wire  [14:0] r_j$q;
-    reg  r_j$clock;
-    reg  c_valid$d;
-    wire  c_valid$q;
-    reg  c_valid$clock;
-    reg  [14:0] c_a$d;
-    wire  [14:0] c_a$q;
-    reg  c_a$clock;
-    reg  [14:0] c_b$d;
-    wire  [14:0] c_b$q;
-    reg  c_b$clock;
-    reg  [27:0] c_ma$d;
-    wire  [27:0] c_ma$q;
-    reg  c_ma$clock;
-    reg  [27:0] c_mb$d;
-    wire  [27:0] c_mb$q;
-    reg  c_mb$clock;
-    reg  g_valid$d;
-    wire  g_valid$q;
-    reg  g_valid$clock;
-    reg  [14:0] g_a$d;
-    wire  [14:0] g_a$q;
-    reg  g_a$clock;
-    reg  [14:0] g_b$d;
-    wire  [14:0] g_b$q;
-    reg  g_b$clock;
-    reg  [27:0] g_ma$d;
-    wire  [27:0] g_ma$q;
-    reg  g_ma$clock;
-    reg  [27:0] g_mb$d;
-    wire  [27:0] g_mb$q;
-    reg  g_mb$clock;
-    reg  h_valid$d;
-    wire  h_valid$q;
-    reg  h_valid$clock;
-    reg  [14:0] h_a$d;
-    wire  [14:0] h_a$q;
-    reg  h_a$clock;
-    reg  [14:0] h_b$d;
-    wire  [14:0] h_b$q;
-    reg  h_b$clock;
-    reg  [27:0] h_ma$d;
-    wire  [27:0] h_ma$q;
-    reg  h_ma$clock;
-    reg  [27:0] h_mb$d;
-    wire  [27:0] h_mb$q;
-    reg  h_mb$clock;
-    reg  [22:0] geo_center_a$0$d;
-    wire  [22:0] geo_center_a$0$q;
-    reg  geo_center_a$0$clock;
-    reg  [22:0] geo_center_a$1$d;
-    wire  [22:0] geo_center_a$1$q;
-    reg  geo_center_a$1$clock;
-    reg  [22:0] geo_center_a$2$d;
-    wire  [22:0] geo_center_a$2$q;
-    reg  geo_center_a$2$clock;
-    reg  [22:0] geo_center_b$0$d;
-    wire  [22:0] geo_center_b$0$q;
-    reg  geo_center_b$0$clock;
-    reg  [22:0] geo_center_b$1$d;
-    wire  [22:0] geo_center_b$1$q;
-    reg  geo_center_b$1$clock;
-    reg  [22:0] geo_center_b$2$d;
-    wire  [22:0] geo_center_b$2$q;
-    reg  geo_center_b$2$clock;
-    reg  [16:0] geo_half_a$0$d;
-    wire  [16:0] geo_half_a$0$q;
-    reg  geo_half_a$0$clock;
-    reg  [16:0] geo_half_a$1$d;
-    wire  [16:0] geo_half_a$1$q;
-    reg  geo_half_a$1$clock;
-    reg  [16:0] geo_half_a$2$d;
-    wire  [16:0] geo_half_a$2$q;
-    reg  geo_half_a$2$clock;
-    reg  [16:0] geo_half_b$0$d;
-    wire  [16:0] geo_half_b$0$q;
-    reg  geo_half_b$0$clock;
-    reg  [16:0] geo_half_b$1$d;
-    wire  [16:0] geo_half_b$1$q;
-    reg  geo_half_b$1$clock;
-    reg  [16:0] geo_half_b$2$d;
-    wire  [16:0] geo_half_b$2$q;
-    reg  geo_half_b$2$clock;
-    reg signed [17:0] geo_axes_a$0$d;
-    wire signed [17:0] geo_axes_a$0$q;
-    reg  geo_axes_a$0$clock;
-    reg signed [17:0] geo_axes_a$1$d;
-    wire signed [17:0] geo_axes_a$1$q;
-    reg  geo_axes_a$1$clock;
-    reg signed [17:0] geo_axes_a$2$d;
-    wire signed [17:0] geo_axes_a$2$q;
-    reg  geo_axes_a$2$clock;
-    reg signed [17:0] geo_axes_a$3$d;
-    wire signed [17:0] geo_axes_a$3$q;
-    reg  geo_axes_a$3$clock;
-    reg signed [17:0] geo_axes_a$4$d;
-    wire signed [17:0] geo_axes_a$4$q;
-    reg  geo_axes_a$4$clock;
-    reg signed [17:0] geo_axes_a$5$d;
-    wire signed [17:0] geo_axes_a$5$q;
-    reg  geo_axes_a$5$clock;
-    reg signed [17:0] geo_axes_a$6$d;
-    wire signed [17:0] geo_axes_a$6$q;
-    reg  geo_axes_a$6$clock;
-    reg signed [17:0] geo_axes_a$7$d;
-    wire signed [17:0] geo_axes_a$7$q;
-    reg  geo_axes_a$7$clock;
-    reg signed [17:0] geo_axes_a$8$d;
-    wire signed [17:0] geo_axes_a$8$q;
-    reg  geo_axes_a$8$clock;
-    reg signed [17:0] geo_axes_b$0$d;
-    wire signed [17:0] geo_axes_b$0$q;
-    reg  geo_axes_b$0$clock;
-    reg signed [17:0] geo_axes_b$1$d;
-    wire signed [17:0] geo_axes_b$1$q;
-    reg  geo_axes_b$1$clock;
-    reg signed [17:0] geo_axes_b$2$d;
-    wire signed [17:0] geo_axes_b$2$q;
-    reg  geo_axes_b$2$clock;
-    reg signed [17:0] geo_axes_b$3$d;
-    wire signed [17:0] geo_axes_b$3$q;
-    reg  geo_axes_b$3$clock;
-    reg signed [17:0] geo_axes_b$4$d;
-    wire signed [17:0] geo_axes_b$4$q;
-    reg  geo_axes_b$4$clock;
-    reg signed [17:0] geo_axes_b$5$d;
-    wire signed [17:0] geo_axes_b$5$q;
-    reg  geo_axes_b$5$clock;
-    reg signed [17:0] geo_axes_b$6$d;
-    wire signed [17:0] geo_axes_b$6$q;
-    reg  geo_axes_b$6$clock;
-    reg signed [17:0] geo_axes_b$7$d;
-    wire signed [17:0] geo_axes_b$7$q;
-    reg  geo_axes_b$7$clock;
-    reg signed [17:0] geo_axes_b$8$d;
-    wire signed [17:0] geo_axes_b$8$q;
-    reg  geo_axes_b$8$clock;
+    reg  check$clock;
+    reg  check$visit;
+    reg  [14:0] check$i;
+    reg  [14:0] check$j;
+    reg  [22:0] check$min_a$0;
+    reg  [22:0] check$min_a$1;
+    reg  [22:0] check$min_a$2;
+    reg  [22:0] check$min_b$0;
+    reg  [22:0] check$min_b$1;
+    reg  [22:0] check$min_b$2;
+    reg  [22:0] check$max_a$0;
+    reg  [22:0] check$max_a$1;
+    reg  [22:0] check$max_a$2;
+    reg  [22:0] check$max_b$0;
+    reg  [22:0] check$max_b$1;
+    reg  [22:0] check$max_b$2;
+    reg  [27:0] check$margin_a;
+    reg  [27:0] check$margin_b;
+    reg  [2:0] check$group_a;
+    reg  [2:0] check$group_b;
+    reg  [63:0] check$mask;
+    reg  check$unchecked;
+    reg  check$idle;
+    wire  check$visited;
+    wire  check$overlap;
+    wire  check$test_valid;
+    wire  [14:0] check$test_a;
+    wire  [14:0] check$test_b;
+    wire  [27:0] check$test_ma;
+    wire  [27:0] check$test_mb;
+    reg  fetch$clock;
+    reg  fetch$test_valid;
+    reg  [14:0] fetch$test_a;
+    reg  [14:0] fetch$test_b;
+    reg  [27:0] fetch$test_ma;
+    reg  [27:0] fetch$test_mb;
+    wire  [14:0] fetch$addr_a;
+    wire  [14:0] fetch$addr_b;
+    reg  [22:0] fetch$read_center_a$0;
+    reg  [22:0] fetch$read_center_a$1;
+    reg  [22:0] fetch$read_center_a$2;
+    reg  [22:0] fetch$read_center_b$0;
+    reg  [22:0] fetch$read_center_b$1;
+    reg  [22:0] fetch$read_center_b$2;
+    reg  [16:0] fetch$read_half_a$0;
+    reg  [16:0] fetch$read_half_a$1;
+    reg  [16:0] fetch$read_half_a$2;
+    reg  [16:0] fetch$read_half_b$0;
+    reg  [16:0] fetch$read_half_b$1;
+    reg  [16:0] fetch$read_half_b$2;
+    reg signed [17:0] fetch$read_axes_a$0;
+    reg signed [17:0] fetch$read_axes_a$1;
+    reg signed [17:0] fetch$read_axes_a$2;
+    reg signed [17:0] fetch$read_axes_a$3;
+    reg signed [17:0] fetch$read_axes_a$4;
+    reg signed [17:0] fetch$read_axes_a$5;
+    reg signed [17:0] fetch$read_axes_a$6;
+    reg signed [17:0] fetch$read_axes_a$7;
+    reg signed [17:0] fetch$read_axes_a$8;
+    reg signed [17:0] fetch$read_axes_b$0;
+    reg signed [17:0] fetch$read_axes_b$1;
+    reg signed [17:0] fetch$read_axes_b$2;
+    reg signed [17:0] fetch$read_axes_b$3;
+    reg signed [17:0] fetch$read_axes_b$4;
+    reg signed [17:0] fetch$read_axes_b$5;
+    reg signed [17:0] fetch$read_axes_b$6;
+    reg signed [17:0] fetch$read_axes_b$7;
+    reg signed [17:0] fetch$read_axes_b$8;
+    wire  fetch$fetching;
+    wire  fetch$valid;
+    wire  [14:0] fetch$a;
+    wire  [14:0] fetch$b;
+    wire  [27:0] fetch$ma;
+    wire  [27:0] fetch$mb;
+    wire  [22:0] fetch$center_a$0;
+    wire  [22:0] fetch$center_a$1;
+    wire  [22:0] fetch$center_a$2;
+    wire  [22:0] fetch$center_b$0;
+    wire  [22:0] fetch$center_b$1;
+    wire  [22:0] fetch$center_b$2;
+    wire  [16:0] fetch$half_a$0;
+    wire  [16:0] fetch$half_a$1;
+    wire  [16:0] fetch$half_a$2;
+    wire  [16:0] fetch$half_b$0;
+    wire  [16:0] fetch$half_b$1;
+    wire  [16:0] fetch$half_b$2;
+    wire signed [17:0] fetch$axes_a$0;
+    wire signed [17:0] fetch$axes_a$1;
+    wire signed [17:0] fetch$axes_a$2;
+    wire signed [17:0] fetch$axes_a$3;
+    wire signed [17:0] fetch$axes_a$4;
+    wire signed [17:0] fetch$axes_a$5;
+    wire signed [17:0] fetch$axes_a$6;
+    wire signed [17:0] fetch$axes_a$7;
+    wire signed [17:0] fetch$axes_a$8;
+    wire signed [17:0] fetch$axes_b$0;
+    wire signed [17:0] fetch$axes_b$1;
+    wire signed [17:0] fetch$axes_b$2;
+    wire signed [17:0] fetch$axes_b$3;
+    wire signed [17:0] fetch$axes_b$4;
+    wire signed [17:0] fetch$axes_b$5;
+    wire signed [17:0] fetch$axes_b$6;
+    wire signed [17:0] fetch$axes_b$7;
+    wire signed [17:0] fetch$axes_b$8;
     reg  tag_a$clock;
     reg  [14:0] tag_a$d;
     wire  [14:0] tag_a$q;
@@ -579,11 +482,6 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     reg  [14:0] projected_at;
     reg  accept;
     reg  issue;
-    reg  overlap;
-    reg  [63:0] gidx;
-    reg  [63:0] shifted;
-    reg  key_pass;
-    reg  swap;
     reg  hit;
     reg  [7:0] res_row;
     reg  obb_res;
@@ -941,340 +839,113 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         .q(streamed_seen$q),
         .clock(streamed_seen$clock)
     );
-    obb_core$k_valid k_valid(
-        .d(k_valid$d),
-        .q(k_valid$q),
-        .clock(k_valid$clock)
-    );
-    obb_core$k_i k_i(
-        .d(k_i$d),
-        .q(k_i$q),
-        .clock(k_i$clock)
-    );
-    obb_core$k_j k_j(
-        .d(k_j$d),
-        .q(k_j$q),
-        .clock(k_j$clock)
-    );
-    obb_core$key_min_a$0 key_min_a$0(
-        .d(key_min_a$0$d),
-        .q(key_min_a$0$q),
-        .clock(key_min_a$0$clock)
-    );
-    obb_core$key_min_a$1 key_min_a$1(
-        .d(key_min_a$1$d),
-        .q(key_min_a$1$q),
-        .clock(key_min_a$1$clock)
-    );
-    obb_core$key_min_a$2 key_min_a$2(
-        .d(key_min_a$2$d),
-        .q(key_min_a$2$q),
-        .clock(key_min_a$2$clock)
-    );
-    obb_core$key_min_b$0 key_min_b$0(
-        .d(key_min_b$0$d),
-        .q(key_min_b$0$q),
-        .clock(key_min_b$0$clock)
-    );
-    obb_core$key_min_b$1 key_min_b$1(
-        .d(key_min_b$1$d),
-        .q(key_min_b$1$q),
-        .clock(key_min_b$1$clock)
-    );
-    obb_core$key_min_b$2 key_min_b$2(
-        .d(key_min_b$2$d),
-        .q(key_min_b$2$q),
-        .clock(key_min_b$2$clock)
-    );
-    obb_core$key_max_a$0 key_max_a$0(
-        .d(key_max_a$0$d),
-        .q(key_max_a$0$q),
-        .clock(key_max_a$0$clock)
-    );
-    obb_core$key_max_a$1 key_max_a$1(
-        .d(key_max_a$1$d),
-        .q(key_max_a$1$q),
-        .clock(key_max_a$1$clock)
-    );
-    obb_core$key_max_a$2 key_max_a$2(
-        .d(key_max_a$2$d),
-        .q(key_max_a$2$q),
-        .clock(key_max_a$2$clock)
-    );
-    obb_core$key_max_b$0 key_max_b$0(
-        .d(key_max_b$0$d),
-        .q(key_max_b$0$q),
-        .clock(key_max_b$0$clock)
-    );
-    obb_core$key_max_b$1 key_max_b$1(
-        .d(key_max_b$1$d),
-        .q(key_max_b$1$q),
-        .clock(key_max_b$1$clock)
-    );
-    obb_core$key_max_b$2 key_max_b$2(
-        .d(key_max_b$2$d),
-        .q(key_max_b$2$q),
-        .clock(key_max_b$2$clock)
-    );
-    obb_core$margin_a margin_a(
-        .d(margin_a$d),
-        .q(margin_a$q),
-        .clock(margin_a$clock)
-    );
-    obb_core$margin_b margin_b(
-        .d(margin_b$d),
-        .q(margin_b$q),
-        .clock(margin_b$clock)
-    );
-    obb_core$group_a group_a(
-        .d(group_a$d),
-        .q(group_a$q),
-        .clock(group_a$clock)
-    );
-    obb_core$group_b group_b(
-        .d(group_b$d),
-        .q(group_b$q),
-        .clock(group_b$clock)
-    );
-    obb_core$r_valid r_valid(
-        .d(r_valid$d),
-        .q(r_valid$q),
-        .clock(r_valid$clock)
-    );
-    obb_core$r_i r_i(
-        .d(r_i$d),
-        .q(r_i$q),
-        .clock(r_i$clock)
-    );
-    obb_core$r_j r_j(
-        .d(r_j$d),
-        .q(r_j$q),
-        .clock(r_j$clock)
-    );
-    obb_core$c_valid c_valid(
-        .d(c_valid$d),
-        .q(c_valid$q),
-        .clock(c_valid$clock)
-    );
-    obb_core$c_a c_a(
-        .d(c_a$d),
-        .q(c_a$q),
-        .clock(c_a$clock)
-    );
-    obb_core$c_b c_b(
-        .d(c_b$d),
-        .q(c_b$q),
-        .clock(c_b$clock)
-    );
-    obb_core$c_ma c_ma(
-        .d(c_ma$d),
-        .q(c_ma$q),
-        .clock(c_ma$clock)
-    );
-    obb_core$c_mb c_mb(
-        .d(c_mb$d),
-        .q(c_mb$q),
-        .clock(c_mb$clock)
-    );
-    obb_core$g_valid g_valid(
-        .d(g_valid$d),
-        .q(g_valid$q),
-        .clock(g_valid$clock)
-    );
-    obb_core$g_a g_a(
-        .d(g_a$d),
-        .q(g_a$q),
-        .clock(g_a$clock)
-    );
-    obb_core$g_b g_b(
-        .d(g_b$d),
-        .q(g_b$q),
-        .clock(g_b$clock)
-    );
-    obb_core$g_ma g_ma(
-        .d(g_ma$d),
-        .q(g_ma$q),
-        .clock(g_ma$clock)
-    );
-    obb_core$g_mb g_mb(
-        .d(g_mb$d),
-        .q(g_mb$q),
-        .clock(g_mb$clock)
-    );
-    obb_core$h_valid h_valid(
-        .d(h_valid$d),
-        .q(h_valid$q),
-        .clock(h_valid$clock)
-    );
-    obb_core$h_a h_a(
-        .d(h_a$d),
-        .q(h_a$q),
-        .clock(h_a$clock)
-    );
-    obb_core$h_b h_b(
-        .d(h_b$d),
-        .q(h_b$q),
-        .clock(h_b$clock)
-    );
-    obb_core$h_ma h_ma(
-        .d(h_ma$d),
-        .q(h_ma$q),
-        .clock(h_ma$clock)
-    );
-    obb_core$h_mb h_mb(
-        .d(h_mb$d),
-        .q(h_mb$q),
-        .clock(h_mb$clock)
-    );
-    obb_core$geo_center_a$0 geo_center_a$0(
-        .d(geo_center_a$0$d),
-        .q(geo_center_a$0$q),
-        .clock(geo_center_a$0$clock)
-    );
-    obb_core$geo_center_a$1 geo_center_a$1(
-        .d(geo_center_a$1$d),
-        .q(geo_center_a$1$q),
-        .clock(geo_center_a$1$clock)
-    );
-    obb_core$geo_center_a$2 geo_center_a$2(
-        .d(geo_center_a$2$d),
-        .q(geo_center_a$2$q),
-        .clock(geo_center_a$2$clock)
-    );
-    obb_core$geo_center_b$0 geo_center_b$0(
-        .d(geo_center_b$0$d),
-        .q(geo_center_b$0$q),
-        .clock(geo_center_b$0$clock)
-    );
-    obb_core$geo_center_b$1 geo_center_b$1(
-        .d(geo_center_b$1$d),
-        .q(geo_center_b$1$q),
-        .clock(geo_center_b$1$clock)
-    );
-    obb_core$geo_center_b$2 geo_center_b$2(
-        .d(geo_center_b$2$d),
-        .q(geo_center_b$2$q),
-        .clock(geo_center_b$2$clock)
-    );
-    obb_core$geo_half_a$0 geo_half_a$0(
-        .d(geo_half_a$0$d),
-        .q(geo_half_a$0$q),
-        .clock(geo_half_a$0$clock)
-    );
-    obb_core$geo_half_a$1 geo_half_a$1(
-        .d(geo_half_a$1$d),
-        .q(geo_half_a$1$q),
-        .clock(geo_half_a$1$clock)
-    );
-    obb_core$geo_half_a$2 geo_half_a$2(
-        .d(geo_half_a$2$d),
-        .q(geo_half_a$2$q),
-        .clock(geo_half_a$2$clock)
-    );
-    obb_core$geo_half_b$0 geo_half_b$0(
-        .d(geo_half_b$0$d),
-        .q(geo_half_b$0$q),
-        .clock(geo_half_b$0$clock)
-    );
-    obb_core$geo_half_b$1 geo_half_b$1(
-        .d(geo_half_b$1$d),
-        .q(geo_half_b$1$q),
-        .clock(geo_half_b$1$clock)
-    );
-    obb_core$geo_half_b$2 geo_half_b$2(
-        .d(geo_half_b$2$d),
-        .q(geo_half_b$2$q),
-        .clock(geo_half_b$2$clock)
-    );
-    obb_core$geo_axes_a$0 geo_axes_a$0(
-        .d(geo_axes_a$0$d),
-        .q(geo_axes_a$0$q),
-        .clock(geo_axes_a$0$clock)
-    );
-    obb_core$geo_axes_a$1 geo_axes_a$1(
-        .d(geo_axes_a$1$d),
-        .q(geo_axes_a$1$q),
-        .clock(geo_axes_a$1$clock)
-    );
-    obb_core$geo_axes_a$2 geo_axes_a$2(
-        .d(geo_axes_a$2$d),
-        .q(geo_axes_a$2$q),
-        .clock(geo_axes_a$2$clock)
-    );
-    obb_core$geo_axes_a$3 geo_axes_a$3(
-        .d(geo_axes_a$3$d),
-        .q(geo_axes_a$3$q),
-        .clock(geo_axes_a$3$clock)
-    );
-    obb_core$geo_axes_a$4 geo_axes_a$4(
-        .d(geo_axes_a$4$d),
-        .q(geo_axes_a$4$q),
-        .clock(geo_axes_a$4$clock)
-    );
-    obb_core$geo_axes_a$5 geo_axes_a$5(
-        .d(geo_axes_a$5$d),
-        .q(geo_axes_a$5$q),
-        .clock(geo_axes_a$5$clock)
-    );
-    obb_core$geo_axes_a$6 geo_axes_a$6(
-        .d(geo_axes_a$6$d),
-        .q(geo_axes_a$6$q),
-        .clock(geo_axes_a$6$clock)
-    );
-    obb_core$geo_axes_a$7 geo_axes_a$7(
-        .d(geo_axes_a$7$d),
-        .q(geo_axes_a$7$q),
-        .clock(geo_axes_a$7$clock)
-    );
-    obb_core$geo_axes_a$8 geo_axes_a$8(
-        .d(geo_axes_a$8$d),
-        .q(geo_axes_a$8$q),
-        .clock(geo_axes_a$8$clock)
-    );
-    obb_core$geo_axes_b$0 geo_axes_b$0(
-        .d(geo_axes_b$0$d),
-        .q(geo_axes_b$0$q),
-        .clock(geo_axes_b$0$clock)
-    );
-    obb_core$geo_axes_b$1 geo_axes_b$1(
-        .d(geo_axes_b$1$d),
-        .q(geo_axes_b$1$q),
-        .clock(geo_axes_b$1$clock)
-    );
-    obb_core$geo_axes_b$2 geo_axes_b$2(
-        .d(geo_axes_b$2$d),
-        .q(geo_axes_b$2$q),
-        .clock(geo_axes_b$2$clock)
-    );
-    obb_core$geo_axes_b$3 geo_axes_b$3(
-        .d(geo_axes_b$3$d),
-        .q(geo_axes_b$3$q),
-        .clock(geo_axes_b$3$clock)
-    );
-    obb_core$geo_axes_b$4 geo_axes_b$4(
-        .d(geo_axes_b$4$d),
-        .q(geo_axes_b$4$q),
-        .clock(geo_axes_b$4$clock)
-    );
-    obb_core$geo_axes_b$5 geo_axes_b$5(
-        .d(geo_axes_b$5$d),
-        .q(geo_axes_b$5$q),
-        .clock(geo_axes_b$5$clock)
-    );
-    obb_core$geo_axes_b$6 geo_axes_b$6(
-        .d(geo_axes_b$6$d),
-        .q(geo_axes_b$6$q),
-        .clock(geo_axes_b$6$clock)
-    );
-    obb_core$geo_axes_b$7 geo_axes_b$7(
-        .d(geo_axes_b$7$d),
-        .q(geo_axes_b$7$q),
-        .clock(geo_axes_b$7$clock)
-    );
-    obb_core$geo_axes_b$8 geo_axes_b$8(
-        .d(geo_axes_b$8$d),
-        .q(geo_axes_b$8$q),
-        .clock(geo_axes_b$8$clock)
+    obb_core$check check(
+        .clock(check$clock),
+        .visit(check$visit),
+        .i(check$i),
+        .j(check$j),
+        .min_a$0(check$min_a$0),
+        .min_a$1(check$min_a$1),
+        .min_a$2(check$min_a$2),
+        .min_b$0(check$min_b$0),
+        .min_b$1(check$min_b$1),
+        .min_b$2(check$min_b$2),
+        .max_a$0(check$max_a$0),
+        .max_a$1(check$max_a$1),
+        .max_a$2(check$max_a$2),
+        .max_b$0(check$max_b$0),
+        .max_b$1(check$max_b$1),
+        .max_b$2(check$max_b$2),
+        .margin_a(check$margin_a),
+        .margin_b(check$margin_b),
+        .group_a(check$group_a),
+        .group_b(check$group_b),
+        .mask(check$mask),
+        .unchecked(check$unchecked),
+        .idle(check$idle),
+        .visited(check$visited),
+        .overlap(check$overlap),
+        .test_valid(check$test_valid),
+        .test_a(check$test_a),
+        .test_b(check$test_b),
+        .test_ma(check$test_ma),
+        .test_mb(check$test_mb)
+    );
+    obb_core$fetch fetch(
+        .clock(fetch$clock),
+        .test_valid(fetch$test_valid),
+        .test_a(fetch$test_a),
+        .test_b(fetch$test_b),
+        .test_ma(fetch$test_ma),
+        .test_mb(fetch$test_mb),
+        .addr_a(fetch$addr_a),
+        .addr_b(fetch$addr_b),
+        .read_center_a$0(fetch$read_center_a$0),
+        .read_center_a$1(fetch$read_center_a$1),
+        .read_center_a$2(fetch$read_center_a$2),
+        .read_center_b$0(fetch$read_center_b$0),
+        .read_center_b$1(fetch$read_center_b$1),
+        .read_center_b$2(fetch$read_center_b$2),
+        .read_half_a$0(fetch$read_half_a$0),
+        .read_half_a$1(fetch$read_half_a$1),
+        .read_half_a$2(fetch$read_half_a$2),
+        .read_half_b$0(fetch$read_half_b$0),
+        .read_half_b$1(fetch$read_half_b$1),
+        .read_half_b$2(fetch$read_half_b$2),
+        .read_axes_a$0(fetch$read_axes_a$0),
+        .read_axes_a$1(fetch$read_axes_a$1),
+        .read_axes_a$2(fetch$read_axes_a$2),
+        .read_axes_a$3(fetch$read_axes_a$3),
+        .read_axes_a$4(fetch$read_axes_a$4),
+        .read_axes_a$5(fetch$read_axes_a$5),
+        .read_axes_a$6(fetch$read_axes_a$6),
+        .read_axes_a$7(fetch$read_axes_a$7),
+        .read_axes_a$8(fetch$read_axes_a$8),
+        .read_axes_b$0(fetch$read_axes_b$0),
+        .read_axes_b$1(fetch$read_axes_b$1),
+        .read_axes_b$2(fetch$read_axes_b$2),
+        .read_axes_b$3(fetch$read_axes_b$3),
+        .read_axes_b$4(fetch$read_axes_b$4),
+        .read_axes_b$5(fetch$read_axes_b$5),
+        .read_axes_b$6(fetch$read_axes_b$6),
+        .read_axes_b$7(fetch$read_axes_b$7),
+        .read_axes_b$8(fetch$read_axes_b$8),
+        .fetching(fetch$fetching),
+        .valid(fetch$valid),
+        .a(fetch$a),
+        .b(fetch$b),
+        .ma(fetch$ma),
+        .mb(fetch$mb),
+        .center_a$0(fetch$center_a$0),
+        .center_a$1(fetch$center_a$1),
+        .center_a$2(fetch$center_a$2),
+        .center_b$0(fetch$center_b$0),
+        .center_b$1(fetch$center_b$1),
+        .center_b$2(fetch$center_b$2),
+        .half_a$0(fetch$half_a$0),
+        .half_a$1(fetch$half_a$1),
+        .half_a$2(fetch$half_a$2),
+        .half_b$0(fetch$half_b$0),
+        .half_b$1(fetch$half_b$1),
+        .half_b$2(fetch$half_b$2),
+        .axes_a$0(fetch$axes_a$0),
+        .axes_a$1(fetch$axes_a$1),
+        .axes_a$2(fetch$axes_a$2),
+        .axes_a$3(fetch$axes_a$3),
+        .axes_a$4(fetch$axes_a$4),
+        .axes_a$5(fetch$axes_a$5),
+        .axes_a$6(fetch$axes_a$6),
+        .axes_a$7(fetch$axes_a$7),
+        .axes_a$8(fetch$axes_a$8),
+        .axes_b$0(fetch$axes_b$0),
+        .axes_b$1(fetch$axes_b$1),
+        .axes_b$2(fetch$axes_b$2),
+        .axes_b$3(fetch$axes_b$3),
+        .axes_b$4(fetch$axes_b$4),
+        .axes_b$5(fetch$axes_b$5),
+        .axes_b$6(fetch$axes_b$6),
+        .axes_b$7(fetch$axes_b$7),
+        .axes_b$8(fetch$axes_b$8)
     );
     obb_core$tag_a tag_a(
         .clock(tag_a$clock),
@@ -1311,31 +982,6 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         res_room$clock = clock;
         haptic$clock = clock;
         streamed_seen$clock = clock;
-        k_valid$clock = clock;
-        k_i$clock = clock;
-        k_j$clock = clock;
-        margin_a$clock = clock;
-        margin_b$clock = clock;
-        group_a$clock = clock;
-        group_b$clock = clock;
-        r_valid$clock = clock;
-        r_i$clock = clock;
-        r_j$clock = clock;
-        c_valid$clock = clock;
-        c_a$clock = clock;
-        c_b$clock = clock;
-        c_ma$clock = clock;
-        c_mb$clock = clock;
-        g_valid$clock = clock;
-        g_a$clock = clock;
-        g_b$clock = clock;
-        g_ma$clock = clock;
-        g_mb$clock = clock;
-        h_valid$clock = clock;
-        h_a$clock = clock;
-        h_b$clock = clock;
-        h_ma$clock = clock;
-        h_mb$clock = clock;
         state$d = state$q;
         stall$d = stall$q;
         loaded$d = loaded$q;
@@ -1353,32 +999,9 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         res_room$d = res_room$q;
         haptic$d = haptic$q;
         streamed_seen$d = streamed_seen$q;
-        k_valid$d = k_valid$q;
-        k_i$d = k_i$q;
-        k_j$d = k_j$q;
-        margin_a$d = margin_a$q;
-        margin_b$d = margin_b$q;
-        group_a$d = group_a$q;
-        group_b$d = group_b$q;
-        r_valid$d = r_valid$q;
-        r_i$d = r_i$q;
-        r_j$d = r_j$q;
-        c_valid$d = c_valid$q;
-        c_a$d = c_a$q;
-        c_b$d = c_b$q;
-        c_ma$d = c_ma$q;
-        c_mb$d = c_mb$q;
-        g_valid$d = g_valid$q;
-        g_a$d = g_a$q;
-        g_b$d = g_b$q;
-        g_ma$d = g_ma$q;
-        g_mb$d = g_mb$q;
-        h_valid$d = h_valid$q;
-        h_a$d = h_a$q;
-        h_b$d = h_b$q;
-        h_ma$d = h_ma$q;
-        h_mb$d = h_mb$q;
         projection$clock = clock;
+        check$clock = clock;
+        fetch$clock = clock;
         sat$clock = clock;
         fifo$clock = clock;
         grid$0$clock = clock;
@@ -1389,56 +1012,14 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         center$2$clock = clock;
         half$2$clock = clock;
         axes$0$clock = clock;
-        geo_axes_a$0$clock = clock;
-        geo_axes_b$0$clock = clock;
         axes$1$clock = clock;
-        geo_axes_a$1$clock = clock;
-        geo_axes_b$1$clock = clock;
         axes$2$clock = clock;
-        geo_axes_a$2$clock = clock;
-        geo_axes_b$2$clock = clock;
         axes$3$clock = clock;
-        geo_axes_a$3$clock = clock;
-        geo_axes_b$3$clock = clock;
         axes$4$clock = clock;
-        geo_axes_a$4$clock = clock;
-        geo_axes_b$4$clock = clock;
         axes$5$clock = clock;
-        geo_axes_a$5$clock = clock;
-        geo_axes_b$5$clock = clock;
         axes$6$clock = clock;
-        geo_axes_a$6$clock = clock;
-        geo_axes_b$6$clock = clock;
         axes$7$clock = clock;
-        geo_axes_a$7$clock = clock;
-        geo_axes_b$7$clock = clock;
         axes$8$clock = clock;
-        geo_axes_a$8$clock = clock;
-        geo_axes_b$8$clock = clock;
-        key_min_a$0$clock = clock;
-        key_min_b$0$clock = clock;
-        key_max_a$0$clock = clock;
-        key_max_b$0$clock = clock;
-        geo_center_a$0$clock = clock;
-        geo_center_b$0$clock = clock;
-        geo_half_a$0$clock = clock;
-        geo_half_b$0$clock = clock;
-        key_min_a$1$clock = clock;
-        key_min_b$1$clock = clock;
-        key_max_a$1$clock = clock;
-        key_max_b$1$clock = clock;
-        geo_center_a$1$clock = clock;
-        geo_center_b$1$clock = clock;
-        geo_half_a$1$clock = clock;
-        geo_half_b$1$clock = clock;
-        key_min_a$2$clock = clock;
-        key_min_b$2$clock = clock;
-        key_max_a$2$clock = clock;
-        key_max_b$2$clock = clock;
-        geo_center_a$2$clock = clock;
-        geo_center_b$2$clock = clock;
-        geo_half_a$2$clock = clock;
-        geo_half_b$2$clock = clock;
         gdelay$clock = clock;
         k_overlap$clock = clock;
         tag_a$clock = clock;
@@ -1588,168 +1169,147 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         grid$0$key_group = gdelay$q;
         stall$d = fifo$almost_full;
         walk_start = 1'b0;
-        k_valid$d = visit;
-        k_i$d = vi;
-        k_j$d = vj;
-        key_min_a$0$d = 32'h0;
-        key_min_b$0$d = 32'h0;
-        key_max_a$0$d = 32'h0;
-        key_max_b$0$d = 32'h0;
-        key_min_a$1$d = 32'h0;
-        key_min_b$1$d = 32'h0;
-        key_max_a$1$d = 32'h0;
-        key_max_b$1$d = 32'h0;
-        key_min_a$2$d = 32'h0;
-        key_min_b$2$d = 32'h0;
-        key_max_a$2$d = 32'h0;
-        key_max_b$2$d = 32'h0;
-        margin_a$d = 32'h0;
-        margin_b$d = 32'h0;
-        group_a$d = 32'h0;
-        group_b$d = 32'h0;
-        r_valid$d = k_valid$q;
-        r_i$d = k_i$q;
-        r_j$d = k_j$q;
-        if (k_valid$q & ~over$q) begin
+        check$visit = visit;
+        check$i = vi;
+        check$j = vj;
+        check$min_a$0 = 32'h0;
+        check$min_b$0 = 32'h0;
+        check$max_a$0 = 32'h0;
+        check$max_b$0 = 32'h0;
+        check$min_a$1 = 32'h0;
+        check$min_b$1 = 32'h0;
+        check$max_a$1 = 32'h0;
+        check$max_b$1 = 32'h0;
+        check$min_a$2 = 32'h0;
+        check$min_b$2 = 32'h0;
+        check$max_a$2 = 32'h0;
+        check$max_b$2 = 32'h0;
+        check$margin_a = 32'h0;
+        check$margin_b = 32'h0;
+        check$group_a = 32'h0;
+        check$group_b = 32'h0;
+        check$mask = mask;
+        check$unchecked = sap;
+        check$idle = grid_mode;
+        if (check$visited & ~over$q) begin
             n_visits$d = n_visits$q + 32'h1;
         end
         if (grid_mode & ~over$q) begin
             n_visits$d = n_visits$q + ((grid_visits) & 40'hffffffffff);
         end
-        overlap = (key_min_a$0$q <= key_max_b$0$q) & (key_min_b$0$q <= key_max_a$0$q) & (key_min_a$1$q <= key_max_b$1$q) & (key_min_b$1$q <= key_max_a$1$q) & (key_min_a$2$q <= key_max_b$2$q) & (key_min_b$2$q <= key_max_a$2$q);
-        gidx = (((group_a$q) & 64'hffffffffffffffff) << 64'h3) | ((group_b$q) & 64'hffffffffffffffff);
-        shifted = mask >> gidx;
-        key_pass = r_valid$q & (overlap | sap) & shifted[32'h0] & ~grid_mode;
-        k_overlap$d = overlap;
-        swap = r_j$q < r_i$q;
-        c_valid$d = key_pass;
-        c_a$d = r_i$q;
-        c_b$d = r_j$q;
-        c_ma$d = margin_a$q;
-        c_mb$d = margin_b$q;
-        if (swap) begin
-            c_a$d = r_j$q;
-            c_b$d = r_i$q;
-            c_ma$d = margin_b$q;
-            c_mb$d = margin_a$q;
-        end
+        k_overlap$d = check$overlap;
         issue = grid_test_valid & ~accept & ~stall$q;
         grid$0$test_ready = issue;
-        g_valid$d = c_valid$q;
-        g_a$d = c_a$q;
-        g_b$d = c_b$q;
-        g_ma$d = c_ma$q;
-        g_mb$d = c_mb$q;
+        fetch$test_valid = check$test_valid;
+        fetch$test_a = check$test_a;
+        fetch$test_b = check$test_b;
+        fetch$test_ma = check$test_ma;
+        fetch$test_mb = check$test_mb;
         if (grid_mode) begin
-            g_valid$d = issue;
-            g_a$d = grid_test_a;
-            g_b$d = grid_test_b;
-            g_ma$d = grid_test_ma;
-            g_mb$d = grid_test_mb;
+            fetch$test_valid = issue;
+            fetch$test_a = grid_test_a;
+            fetch$test_b = grid_test_b;
+            fetch$test_ma = grid_test_ma;
+            fetch$test_mb = grid_test_mb;
         end
-        center$0$read_address_a = g_a$d;
-        center$0$read_address_b = g_b$d;
-        half$0$read_address_a = g_a$d;
-        half$0$read_address_b = g_b$d;
-        center$1$read_address_a = g_a$d;
-        center$1$read_address_b = g_b$d;
-        half$1$read_address_a = g_a$d;
-        half$1$read_address_b = g_b$d;
-        center$2$read_address_a = g_a$d;
-        center$2$read_address_b = g_b$d;
-        half$2$read_address_a = g_a$d;
-        half$2$read_address_b = g_b$d;
-        axes$0$read_address_a = g_a$d;
-        axes$0$read_address_b = g_b$d;
-        axes$1$read_address_a = g_a$d;
-        axes$1$read_address_b = g_b$d;
-        axes$2$read_address_a = g_a$d;
-        axes$2$read_address_b = g_b$d;
-        axes$3$read_address_a = g_a$d;
-        axes$3$read_address_b = g_b$d;
-        axes$4$read_address_a = g_a$d;
-        axes$4$read_address_b = g_b$d;
-        axes$5$read_address_a = g_a$d;
-        axes$5$read_address_b = g_b$d;
-        axes$6$read_address_a = g_a$d;
-        axes$6$read_address_b = g_b$d;
-        axes$7$read_address_a = g_a$d;
-        axes$7$read_address_b = g_b$d;
-        axes$8$read_address_a = g_a$d;
-        axes$8$read_address_b = g_b$d;
-        if (g_valid$q & ~over$q) begin
+        center$0$read_address_a = fetch$addr_a;
+        center$0$read_address_b = fetch$addr_b;
+        half$0$read_address_a = fetch$addr_a;
+        half$0$read_address_b = fetch$addr_b;
+        fetch$read_center_a$0 = center$0$read_data_a;
+        fetch$read_center_b$0 = center$0$read_data_b;
+        fetch$read_half_a$0 = half$0$read_data_a;
+        fetch$read_half_b$0 = half$0$read_data_b;
+        center$1$read_address_a = fetch$addr_a;
+        center$1$read_address_b = fetch$addr_b;
+        half$1$read_address_a = fetch$addr_a;
+        half$1$read_address_b = fetch$addr_b;
+        fetch$read_center_a$1 = center$1$read_data_a;
+        fetch$read_center_b$1 = center$1$read_data_b;
+        fetch$read_half_a$1 = half$1$read_data_a;
+        fetch$read_half_b$1 = half$1$read_data_b;
+        center$2$read_address_a = fetch$addr_a;
+        center$2$read_address_b = fetch$addr_b;
+        half$2$read_address_a = fetch$addr_a;
+        half$2$read_address_b = fetch$addr_b;
+        fetch$read_center_a$2 = center$2$read_data_a;
+        fetch$read_center_b$2 = center$2$read_data_b;
+        fetch$read_half_a$2 = half$2$read_data_a;
+        fetch$read_half_b$2 = half$2$read_data_b;
+        axes$0$read_address_a = fetch$addr_a;
+        axes$0$read_address_b = fetch$addr_b;
+        fetch$read_axes_a$0 = axes$0$read_data_a;
+        fetch$read_axes_b$0 = axes$0$read_data_b;
+        axes$1$read_address_a = fetch$addr_a;
+        axes$1$read_address_b = fetch$addr_b;
+        fetch$read_axes_a$1 = axes$1$read_data_a;
+        fetch$read_axes_b$1 = axes$1$read_data_b;
+        axes$2$read_address_a = fetch$addr_a;
+        axes$2$read_address_b = fetch$addr_b;
+        fetch$read_axes_a$2 = axes$2$read_data_a;
+        fetch$read_axes_b$2 = axes$2$read_data_b;
+        axes$3$read_address_a = fetch$addr_a;
+        axes$3$read_address_b = fetch$addr_b;
+        fetch$read_axes_a$3 = axes$3$read_data_a;
+        fetch$read_axes_b$3 = axes$3$read_data_b;
+        axes$4$read_address_a = fetch$addr_a;
+        axes$4$read_address_b = fetch$addr_b;
+        fetch$read_axes_a$4 = axes$4$read_data_a;
+        fetch$read_axes_b$4 = axes$4$read_data_b;
+        axes$5$read_address_a = fetch$addr_a;
+        axes$5$read_address_b = fetch$addr_b;
+        fetch$read_axes_a$5 = axes$5$read_data_a;
+        fetch$read_axes_b$5 = axes$5$read_data_b;
+        axes$6$read_address_a = fetch$addr_a;
+        axes$6$read_address_b = fetch$addr_b;
+        fetch$read_axes_a$6 = axes$6$read_data_a;
+        fetch$read_axes_b$6 = axes$6$read_data_b;
+        axes$7$read_address_a = fetch$addr_a;
+        axes$7$read_address_b = fetch$addr_b;
+        fetch$read_axes_a$7 = axes$7$read_data_a;
+        fetch$read_axes_b$7 = axes$7$read_data_b;
+        axes$8$read_address_a = fetch$addr_a;
+        axes$8$read_address_b = fetch$addr_b;
+        fetch$read_axes_a$8 = axes$8$read_data_a;
+        fetch$read_axes_b$8 = axes$8$read_data_b;
+        if (fetch$fetching & ~over$q) begin
             n_tests$d = n_tests$q + 32'h1;
         end
-        geo_center_a$0$d = center$0$read_data_a;
-        geo_center_b$0$d = center$0$read_data_b;
-        geo_half_a$0$d = half$0$read_data_a;
-        geo_half_b$0$d = half$0$read_data_b;
-        geo_center_a$1$d = center$1$read_data_a;
-        geo_center_b$1$d = center$1$read_data_b;
-        geo_half_a$1$d = half$1$read_data_a;
-        geo_half_b$1$d = half$1$read_data_b;
-        geo_center_a$2$d = center$2$read_data_a;
-        geo_center_b$2$d = center$2$read_data_b;
-        geo_half_a$2$d = half$2$read_data_a;
-        geo_half_b$2$d = half$2$read_data_b;
-        geo_axes_a$0$d = axes$0$read_data_a;
-        geo_axes_b$0$d = axes$0$read_data_b;
-        geo_axes_a$1$d = axes$1$read_data_a;
-        geo_axes_b$1$d = axes$1$read_data_b;
-        geo_axes_a$2$d = axes$2$read_data_a;
-        geo_axes_b$2$d = axes$2$read_data_b;
-        geo_axes_a$3$d = axes$3$read_data_a;
-        geo_axes_b$3$d = axes$3$read_data_b;
-        geo_axes_a$4$d = axes$4$read_data_a;
-        geo_axes_b$4$d = axes$4$read_data_b;
-        geo_axes_a$5$d = axes$5$read_data_a;
-        geo_axes_b$5$d = axes$5$read_data_b;
-        geo_axes_a$6$d = axes$6$read_data_a;
-        geo_axes_b$6$d = axes$6$read_data_b;
-        geo_axes_a$7$d = axes$7$read_data_a;
-        geo_axes_b$7$d = axes$7$read_data_b;
-        geo_axes_a$8$d = axes$8$read_data_a;
-        geo_axes_b$8$d = axes$8$read_data_b;
-        h_valid$d = g_valid$q;
-        h_a$d = g_a$q;
-        h_b$d = g_b$q;
-        h_ma$d = g_ma$q;
-        h_mb$d = g_mb$q;
-        sat$valid_in = h_valid$q;
-        sat$center_a$0 = geo_center_a$0$q;
-        sat$center_b$0 = geo_center_b$0$q;
-        sat$half_a$0 = geo_half_a$0$q;
-        sat$half_b$0 = geo_half_b$0$q;
-        sat$center_a$1 = geo_center_a$1$q;
-        sat$center_b$1 = geo_center_b$1$q;
-        sat$half_a$1 = geo_half_a$1$q;
-        sat$half_b$1 = geo_half_b$1$q;
-        sat$center_a$2 = geo_center_a$2$q;
-        sat$center_b$2 = geo_center_b$2$q;
-        sat$half_a$2 = geo_half_a$2$q;
-        sat$half_b$2 = geo_half_b$2$q;
-        sat$axes_a$0 = geo_axes_a$0$q;
-        sat$axes_b$0 = geo_axes_b$0$q;
-        sat$axes_a$1 = geo_axes_a$1$q;
-        sat$axes_b$1 = geo_axes_b$1$q;
-        sat$axes_a$2 = geo_axes_a$2$q;
-        sat$axes_b$2 = geo_axes_b$2$q;
-        sat$axes_a$3 = geo_axes_a$3$q;
-        sat$axes_b$3 = geo_axes_b$3$q;
-        sat$axes_a$4 = geo_axes_a$4$q;
-        sat$axes_b$4 = geo_axes_b$4$q;
-        sat$axes_a$5 = geo_axes_a$5$q;
-        sat$axes_b$5 = geo_axes_b$5$q;
-        sat$axes_a$6 = geo_axes_a$6$q;
-        sat$axes_b$6 = geo_axes_b$6$q;
-        sat$axes_a$7 = geo_axes_a$7$q;
-        sat$axes_b$7 = geo_axes_b$7$q;
-        sat$axes_a$8 = geo_axes_a$8$q;
-        sat$axes_b$8 = geo_axes_b$8$q;
-        sat$margin_a = h_ma$q;
-        sat$margin_b = h_mb$q;
-        tag_a$d = h_a$q;
-        tag_b$d = h_b$q;
+        sat$valid_in = fetch$valid;
+        sat$center_a$0 = fetch$center_a$0;
+        sat$center_b$0 = fetch$center_b$0;
+        sat$half_a$0 = fetch$half_a$0;
+        sat$half_b$0 = fetch$half_b$0;
+        sat$center_a$1 = fetch$center_a$1;
+        sat$center_b$1 = fetch$center_b$1;
+        sat$half_a$1 = fetch$half_a$1;
+        sat$half_b$1 = fetch$half_b$1;
+        sat$center_a$2 = fetch$center_a$2;
+        sat$center_b$2 = fetch$center_b$2;
+        sat$half_a$2 = fetch$half_a$2;
+        sat$half_b$2 = fetch$half_b$2;
+        sat$axes_a$0 = fetch$axes_a$0;
+        sat$axes_b$0 = fetch$axes_b$0;
+        sat$axes_a$1 = fetch$axes_a$1;
+        sat$axes_b$1 = fetch$axes_b$1;
+        sat$axes_a$2 = fetch$axes_a$2;
+        sat$axes_b$2 = fetch$axes_b$2;
+        sat$axes_a$3 = fetch$axes_a$3;
+        sat$axes_b$3 = fetch$axes_b$3;
+        sat$axes_a$4 = fetch$axes_a$4;
+        sat$axes_b$4 = fetch$axes_b$4;
+        sat$axes_a$5 = fetch$axes_a$5;
+        sat$axes_b$5 = fetch$axes_b$5;
+        sat$axes_a$6 = fetch$axes_a$6;
+        sat$axes_b$6 = fetch$axes_b$6;
+        sat$axes_a$7 = fetch$axes_a$7;
+        sat$axes_b$7 = fetch$axes_b$7;
+        sat$axes_a$8 = fetch$axes_a$8;
+        sat$axes_b$8 = fetch$axes_b$8;
+        sat$margin_a = fetch$ma;
+        sat$margin_b = fetch$mb;
+        tag_a$d = fetch$a;
+        tag_b$d = fetch$b;
         hit = sat$valid_out & sat$hit & (k_overlap$q | grid_mode) & ~over$q;
         fifo$write = hit;
         fifo$data_in = (((tag_a$q) & 40'hffffffffff) << 64'h14) | ((tag_b$q) & 40'hffffffffff);
@@ -2116,101 +1676,6 @@ module obb_core$axes$8(clock,write_enable,write_address,write_data,read_address_
 endmodule // obb_core$axes$8
 
 
-module obb_core$c_a(d,q,clock);
-    
-    // Module arguments
-    input wire  [14:0] d;
-    output reg  [14:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 15'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$c_a
-
-
-module obb_core$c_b(d,q,clock);
-    
-    // Module arguments
-    input wire  [14:0] d;
-    output reg  [14:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 15'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$c_b
-
-
-module obb_core$c_ma(d,q,clock);
-    
-    // Module arguments
-    input wire  [27:0] d;
-    output reg  [27:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 28'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$c_ma
-
-
-module obb_core$c_mb(d,q,clock);
-    
-    // Module arguments
-    input wire  [27:0] d;
-    output reg  [27:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 28'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$c_mb
-
-
-module obb_core$c_valid(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$c_valid
-
-
 module obb_core$center$0(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
     
     // Module arguments
@@ -2292,6 +1757,872 @@ module obb_core$center$2(clock,write_enable,write_address,write_data,read_addres
 endmodule // obb_core$center$2
 
 
+module obb_core$check(clock,visit,i,j,min_a$0,min_a$1,min_a$2,min_b$0,min_b$1,min_b$2,max_a$0,max_a$1,max_a$2,max_b$0,max_b$1,max_b$2,margin_a,margin_b,group_a,group_b,mask,unchecked,idle,visited,overlap,test_valid,test_a,test_b,test_ma,test_mb);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  visit;
+    input wire  [14:0] i;
+    input wire  [14:0] j;
+    input wire  [22:0] min_a$0;
+    input wire  [22:0] min_a$1;
+    input wire  [22:0] min_a$2;
+    input wire  [22:0] min_b$0;
+    input wire  [22:0] min_b$1;
+    input wire  [22:0] min_b$2;
+    input wire  [22:0] max_a$0;
+    input wire  [22:0] max_a$1;
+    input wire  [22:0] max_a$2;
+    input wire  [22:0] max_b$0;
+    input wire  [22:0] max_b$1;
+    input wire  [22:0] max_b$2;
+    input wire  [27:0] margin_a;
+    input wire  [27:0] margin_b;
+    input wire  [2:0] group_a;
+    input wire  [2:0] group_b;
+    input wire  [63:0] mask;
+    input wire  unchecked;
+    input wire  idle;
+    output reg  visited;
+    output reg  overlap;
+    output reg  test_valid;
+    output reg  [14:0] test_a;
+    output reg  [14:0] test_b;
+    output reg  [27:0] test_ma;
+    output reg  [27:0] test_mb;
+    
+    // Stub signals
+    reg  k_valid$d;
+    wire  k_valid$q;
+    reg  k_valid$clock;
+    reg  [14:0] k_i$d;
+    wire  [14:0] k_i$q;
+    reg  k_i$clock;
+    reg  [14:0] k_j$d;
+    wire  [14:0] k_j$q;
+    reg  k_j$clock;
+    reg  r_valid$d;
+    wire  r_valid$q;
+    reg  r_valid$clock;
+    reg  [14:0] r_i$d;
+    wire  [14:0] r_i$q;
+    reg  r_i$clock;
+    reg  [14:0] r_j$d;
+    wire  [14:0] r_j$q;
+    reg  r_j$clock;
+    reg  [22:0] key_min_a$0$d;
+    wire  [22:0] key_min_a$0$q;
+    reg  key_min_a$0$clock;
+    reg  [22:0] key_min_a$1$d;
+    wire  [22:0] key_min_a$1$q;
+    reg  key_min_a$1$clock;
+    reg  [22:0] key_min_a$2$d;
+    wire  [22:0] key_min_a$2$q;
+    reg  key_min_a$2$clock;
+    reg  [22:0] key_min_b$0$d;
+    wire  [22:0] key_min_b$0$q;
+    reg  key_min_b$0$clock;
+    reg  [22:0] key_min_b$1$d;
+    wire  [22:0] key_min_b$1$q;
+    reg  key_min_b$1$clock;
+    reg  [22:0] key_min_b$2$d;
+    wire  [22:0] key_min_b$2$q;
+    reg  key_min_b$2$clock;
+    reg  [22:0] key_max_a$0$d;
+    wire  [22:0] key_max_a$0$q;
+    reg  key_max_a$0$clock;
+    reg  [22:0] key_max_a$1$d;
+    wire  [22:0] key_max_a$1$q;
+    reg  key_max_a$1$clock;
+    reg  [22:0] key_max_a$2$d;
+    wire  [22:0] key_max_a$2$q;
+    reg  key_max_a$2$clock;
+    reg  [22:0] key_max_b$0$d;
+    wire  [22:0] key_max_b$0$q;
+    reg  key_max_b$0$clock;
+    reg  [22:0] key_max_b$1$d;
+    wire  [22:0] key_max_b$1$q;
+    reg  key_max_b$1$clock;
+    reg  [22:0] key_max_b$2$d;
+    wire  [22:0] key_max_b$2$q;
+    reg  key_max_b$2$clock;
+    reg  [27:0] r_margin_a$d;
+    wire  [27:0] r_margin_a$q;
+    reg  r_margin_a$clock;
+    reg  [27:0] r_margin_b$d;
+    wire  [27:0] r_margin_b$q;
+    reg  r_margin_b$clock;
+    reg  [2:0] r_group_a$d;
+    wire  [2:0] r_group_a$q;
+    reg  r_group_a$clock;
+    reg  [2:0] r_group_b$d;
+    wire  [2:0] r_group_b$q;
+    reg  r_group_b$clock;
+    reg  c_valid$d;
+    wire  c_valid$q;
+    reg  c_valid$clock;
+    reg  [14:0] c_a$d;
+    wire  [14:0] c_a$q;
+    reg  c_a$clock;
+    reg  [14:0] c_b$d;
+    wire  [14:0] c_b$q;
+    reg  c_b$clock;
+    reg  [27:0] c_ma$d;
+    wire  [27:0] c_ma$q;
+    reg  c_ma$clock;
+    reg  [27:0] c_mb$d;
+    wire  [27:0] c_mb$q;
+    reg  c_mb$clock;
+    
+    // Local signals
+    reg  [63:0] gidx;
+    reg  [63:0] shifted;
+    reg  pass;
+    reg  swap;
+    
+    // Sub module instances
+    obb_core$check$k_valid k_valid(
+        .d(k_valid$d),
+        .q(k_valid$q),
+        .clock(k_valid$clock)
+    );
+    obb_core$check$k_i k_i(
+        .d(k_i$d),
+        .q(k_i$q),
+        .clock(k_i$clock)
+    );
+    obb_core$check$k_j k_j(
+        .d(k_j$d),
+        .q(k_j$q),
+        .clock(k_j$clock)
+    );
+    obb_core$check$r_valid r_valid(
+        .d(r_valid$d),
+        .q(r_valid$q),
+        .clock(r_valid$clock)
+    );
+    obb_core$check$r_i r_i(
+        .d(r_i$d),
+        .q(r_i$q),
+        .clock(r_i$clock)
+    );
+    obb_core$check$r_j r_j(
+        .d(r_j$d),
+        .q(r_j$q),
+        .clock(r_j$clock)
+    );
+    obb_core$check$key_min_a$0 key_min_a$0(
+        .d(key_min_a$0$d),
+        .q(key_min_a$0$q),
+        .clock(key_min_a$0$clock)
+    );
+    obb_core$check$key_min_a$1 key_min_a$1(
+        .d(key_min_a$1$d),
+        .q(key_min_a$1$q),
+        .clock(key_min_a$1$clock)
+    );
+    obb_core$check$key_min_a$2 key_min_a$2(
+        .d(key_min_a$2$d),
+        .q(key_min_a$2$q),
+        .clock(key_min_a$2$clock)
+    );
+    obb_core$check$key_min_b$0 key_min_b$0(
+        .d(key_min_b$0$d),
+        .q(key_min_b$0$q),
+        .clock(key_min_b$0$clock)
+    );
+    obb_core$check$key_min_b$1 key_min_b$1(
+        .d(key_min_b$1$d),
+        .q(key_min_b$1$q),
+        .clock(key_min_b$1$clock)
+    );
+    obb_core$check$key_min_b$2 key_min_b$2(
+        .d(key_min_b$2$d),
+        .q(key_min_b$2$q),
+        .clock(key_min_b$2$clock)
+    );
+    obb_core$check$key_max_a$0 key_max_a$0(
+        .d(key_max_a$0$d),
+        .q(key_max_a$0$q),
+        .clock(key_max_a$0$clock)
+    );
+    obb_core$check$key_max_a$1 key_max_a$1(
+        .d(key_max_a$1$d),
+        .q(key_max_a$1$q),
+        .clock(key_max_a$1$clock)
+    );
+    obb_core$check$key_max_a$2 key_max_a$2(
+        .d(key_max_a$2$d),
+        .q(key_max_a$2$q),
+        .clock(key_max_a$2$clock)
+    );
+    obb_core$check$key_max_b$0 key_max_b$0(
+        .d(key_max_b$0$d),
+        .q(key_max_b$0$q),
+        .clock(key_max_b$0$clock)
+    );
+    obb_core$check$key_max_b$1 key_max_b$1(
+        .d(key_max_b$1$d),
+        .q(key_max_b$1$q),
+        .clock(key_max_b$1$clock)
+    );
+    obb_core$check$key_max_b$2 key_max_b$2(
+        .d(key_max_b$2$d),
+        .q(key_max_b$2$q),
+        .clock(key_max_b$2$clock)
+    );
+    obb_core$check$r_margin_a r_margin_a(
+        .d(r_margin_a$d),
+        .q(r_margin_a$q),
+        .clock(r_margin_a$clock)
+    );
+    obb_core$check$r_margin_b r_margin_b(
+        .d(r_margin_b$d),
+        .q(r_margin_b$q),
+        .clock(r_margin_b$clock)
+    );
+    obb_core$check$r_group_a r_group_a(
+        .d(r_group_a$d),
+        .q(r_group_a$q),
+        .clock(r_group_a$clock)
+    );
+    obb_core$check$r_group_b r_group_b(
+        .d(r_group_b$d),
+        .q(r_group_b$q),
+        .clock(r_group_b$clock)
+    );
+    obb_core$check$c_valid c_valid(
+        .d(c_valid$d),
+        .q(c_valid$q),
+        .clock(c_valid$clock)
+    );
+    obb_core$check$c_a c_a(
+        .d(c_a$d),
+        .q(c_a$q),
+        .clock(c_a$clock)
+    );
+    obb_core$check$c_b c_b(
+        .d(c_b$d),
+        .q(c_b$q),
+        .clock(c_b$clock)
+    );
+    obb_core$check$c_ma c_ma(
+        .d(c_ma$d),
+        .q(c_ma$q),
+        .clock(c_ma$clock)
+    );
+    obb_core$check$c_mb c_mb(
+        .d(c_mb$d),
+        .q(c_mb$q),
+        .clock(c_mb$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        k_valid$clock = clock;
+        k_i$clock = clock;
+        k_j$clock = clock;
+        r_valid$clock = clock;
+        r_i$clock = clock;
+        r_j$clock = clock;
+        r_margin_a$clock = clock;
+        r_margin_b$clock = clock;
+        r_group_a$clock = clock;
+        r_group_b$clock = clock;
+        c_valid$clock = clock;
+        c_a$clock = clock;
+        c_b$clock = clock;
+        c_ma$clock = clock;
+        c_mb$clock = clock;
+        k_valid$d = k_valid$q;
+        k_i$d = k_i$q;
+        k_j$d = k_j$q;
+        r_valid$d = r_valid$q;
+        r_i$d = r_i$q;
+        r_j$d = r_j$q;
+        r_margin_a$d = r_margin_a$q;
+        r_margin_b$d = r_margin_b$q;
+        r_group_a$d = r_group_a$q;
+        r_group_b$d = r_group_b$q;
+        c_valid$d = c_valid$q;
+        c_a$d = c_a$q;
+        c_b$d = c_b$q;
+        c_ma$d = c_ma$q;
+        c_mb$d = c_mb$q;
+        k_valid$d = visit;
+        k_i$d = i;
+        k_j$d = j;
+        r_valid$d = k_valid$q;
+        r_i$d = k_i$q;
+        r_j$d = k_j$q;
+        key_min_a$0$clock = clock;
+        key_min_b$0$clock = clock;
+        key_max_a$0$clock = clock;
+        key_max_b$0$clock = clock;
+        key_min_a$0$d = min_a$0;
+        key_min_b$0$d = min_b$0;
+        key_max_a$0$d = max_a$0;
+        key_max_b$0$d = max_b$0;
+        key_min_a$1$clock = clock;
+        key_min_b$1$clock = clock;
+        key_max_a$1$clock = clock;
+        key_max_b$1$clock = clock;
+        key_min_a$1$d = min_a$1;
+        key_min_b$1$d = min_b$1;
+        key_max_a$1$d = max_a$1;
+        key_max_b$1$d = max_b$1;
+        key_min_a$2$clock = clock;
+        key_min_b$2$clock = clock;
+        key_max_a$2$clock = clock;
+        key_max_b$2$clock = clock;
+        key_min_a$2$d = min_a$2;
+        key_min_b$2$d = min_b$2;
+        key_max_a$2$d = max_a$2;
+        key_max_b$2$d = max_b$2;
+        r_margin_a$d = margin_a;
+        r_margin_b$d = margin_b;
+        r_group_a$d = group_a;
+        r_group_b$d = group_b;
+        visited = k_valid$q;
+        overlap = (key_min_a$0$q <= key_max_b$0$q) & (key_min_b$0$q <= key_max_a$0$q) & (key_min_a$1$q <= key_max_b$1$q) & (key_min_b$1$q <= key_max_a$1$q) & (key_min_a$2$q <= key_max_b$2$q) & (key_min_b$2$q <= key_max_a$2$q);
+        gidx = (((r_group_a$q) & 64'hffffffffffffffff) << 64'h3) | ((r_group_b$q) & 64'hffffffffffffffff);
+        shifted = mask >> gidx;
+        pass = r_valid$q & (overlap | unchecked) & shifted[32'h0] & ~idle;
+        swap = r_j$q < r_i$q;
+        c_valid$d = pass;
+        c_a$d = r_i$q;
+        c_b$d = r_j$q;
+        c_ma$d = r_margin_a$q;
+        c_mb$d = r_margin_b$q;
+        if (swap) begin
+            c_a$d = r_j$q;
+            c_b$d = r_i$q;
+            c_ma$d = r_margin_b$q;
+            c_mb$d = r_margin_a$q;
+        end
+        test_valid = c_valid$q;
+        test_a = c_a$q;
+        test_b = c_b$q;
+        test_ma = c_ma$q;
+        test_mb = c_mb$q;
+    end
+    
+endmodule // obb_core$check
+
+
+module obb_core$check$c_a(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$c_a
+
+
+module obb_core$check$c_b(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$c_b
+
+
+module obb_core$check$c_ma(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$c_ma
+
+
+module obb_core$check$c_mb(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$c_mb
+
+
+module obb_core$check$c_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$c_valid
+
+
+module obb_core$check$k_i(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$k_i
+
+
+module obb_core$check$k_j(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$k_j
+
+
+module obb_core$check$k_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$k_valid
+
+
+module obb_core$check$key_max_a$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$key_max_a$0
+
+
+module obb_core$check$key_max_a$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$key_max_a$1
+
+
+module obb_core$check$key_max_a$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$key_max_a$2
+
+
+module obb_core$check$key_max_b$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$key_max_b$0
+
+
+module obb_core$check$key_max_b$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$key_max_b$1
+
+
+module obb_core$check$key_max_b$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$key_max_b$2
+
+
+module obb_core$check$key_min_a$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$key_min_a$0
+
+
+module obb_core$check$key_min_a$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$key_min_a$1
+
+
+module obb_core$check$key_min_a$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$key_min_a$2
+
+
+module obb_core$check$key_min_b$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$key_min_b$0
+
+
+module obb_core$check$key_min_b$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$key_min_b$1
+
+
+module obb_core$check$key_min_b$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$key_min_b$2
+
+
+module obb_core$check$r_group_a(d,q,clock);
+    
+    // Module arguments
+    input wire  [2:0] d;
+    output reg  [2:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 3'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$r_group_a
+
+
+module obb_core$check$r_group_b(d,q,clock);
+    
+    // Module arguments
+    input wire  [2:0] d;
+    output reg  [2:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 3'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$r_group_b
+
+
+module obb_core$check$r_i(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$r_i
+
+
+module obb_core$check$r_j(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$r_j
+
+
+module obb_core$check$r_margin_a(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$r_margin_a
+
+
+module obb_core$check$r_margin_b(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$r_margin_b
+
+
+module obb_core$check$r_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$check$r_valid
+
+
 module obb_core$countdown(d,q,clock);
     
     // Module arguments
@@ -2309,6 +2640,1303 @@ module obb_core$countdown(d,q,clock);
     end
           
 endmodule // obb_core$countdown
+
+
+module obb_core$fetch(clock,test_valid,test_a,test_b,test_ma,test_mb,addr_a,addr_b,read_center_a$0,read_center_a$1,read_center_a$2,read_center_b$0,read_center_b$1,read_center_b$2,read_half_a$0,read_half_a$1,read_half_a$2,read_half_b$0,read_half_b$1,read_half_b$2,read_axes_a$0,read_axes_a$1,read_axes_a$2,read_axes_a$3,read_axes_a$4,read_axes_a$5,read_axes_a$6,read_axes_a$7,read_axes_a$8,read_axes_b$0,read_axes_b$1,read_axes_b$2,read_axes_b$3,read_axes_b$4,read_axes_b$5,read_axes_b$6,read_axes_b$7,read_axes_b$8,fetching,valid,a,b,ma,mb,center_a$0,center_a$1,center_a$2,center_b$0,center_b$1,center_b$2,half_a$0,half_a$1,half_a$2,half_b$0,half_b$1,half_b$2,axes_a$0,axes_a$1,axes_a$2,axes_a$3,axes_a$4,axes_a$5,axes_a$6,axes_a$7,axes_a$8,axes_b$0,axes_b$1,axes_b$2,axes_b$3,axes_b$4,axes_b$5,axes_b$6,axes_b$7,axes_b$8);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  test_valid;
+    input wire  [14:0] test_a;
+    input wire  [14:0] test_b;
+    input wire  [27:0] test_ma;
+    input wire  [27:0] test_mb;
+    output reg  [14:0] addr_a;
+    output reg  [14:0] addr_b;
+    input wire  [22:0] read_center_a$0;
+    input wire  [22:0] read_center_a$1;
+    input wire  [22:0] read_center_a$2;
+    input wire  [22:0] read_center_b$0;
+    input wire  [22:0] read_center_b$1;
+    input wire  [22:0] read_center_b$2;
+    input wire  [16:0] read_half_a$0;
+    input wire  [16:0] read_half_a$1;
+    input wire  [16:0] read_half_a$2;
+    input wire  [16:0] read_half_b$0;
+    input wire  [16:0] read_half_b$1;
+    input wire  [16:0] read_half_b$2;
+    input wire signed [17:0] read_axes_a$0;
+    input wire signed [17:0] read_axes_a$1;
+    input wire signed [17:0] read_axes_a$2;
+    input wire signed [17:0] read_axes_a$3;
+    input wire signed [17:0] read_axes_a$4;
+    input wire signed [17:0] read_axes_a$5;
+    input wire signed [17:0] read_axes_a$6;
+    input wire signed [17:0] read_axes_a$7;
+    input wire signed [17:0] read_axes_a$8;
+    input wire signed [17:0] read_axes_b$0;
+    input wire signed [17:0] read_axes_b$1;
+    input wire signed [17:0] read_axes_b$2;
+    input wire signed [17:0] read_axes_b$3;
+    input wire signed [17:0] read_axes_b$4;
+    input wire signed [17:0] read_axes_b$5;
+    input wire signed [17:0] read_axes_b$6;
+    input wire signed [17:0] read_axes_b$7;
+    input wire signed [17:0] read_axes_b$8;
+    output reg  fetching;
+    output reg  valid;
+    output reg  [14:0] a;
+    output reg  [14:0] b;
+    output reg  [27:0] ma;
+    output reg  [27:0] mb;
+    output reg  [22:0] center_a$0;
+    output reg  [22:0] center_a$1;
+    output reg  [22:0] center_a$2;
+    output reg  [22:0] center_b$0;
+    output reg  [22:0] center_b$1;
+    output reg  [22:0] center_b$2;
+    output reg  [16:0] half_a$0;
+    output reg  [16:0] half_a$1;
+    output reg  [16:0] half_a$2;
+    output reg  [16:0] half_b$0;
+    output reg  [16:0] half_b$1;
+    output reg  [16:0] half_b$2;
+    output reg signed [17:0] axes_a$0;
+    output reg signed [17:0] axes_a$1;
+    output reg signed [17:0] axes_a$2;
+    output reg signed [17:0] axes_a$3;
+    output reg signed [17:0] axes_a$4;
+    output reg signed [17:0] axes_a$5;
+    output reg signed [17:0] axes_a$6;
+    output reg signed [17:0] axes_a$7;
+    output reg signed [17:0] axes_a$8;
+    output reg signed [17:0] axes_b$0;
+    output reg signed [17:0] axes_b$1;
+    output reg signed [17:0] axes_b$2;
+    output reg signed [17:0] axes_b$3;
+    output reg signed [17:0] axes_b$4;
+    output reg signed [17:0] axes_b$5;
+    output reg signed [17:0] axes_b$6;
+    output reg signed [17:0] axes_b$7;
+    output reg signed [17:0] axes_b$8;
+    
+    // Stub signals
+    reg  g_valid$d;
+    wire  g_valid$q;
+    reg  g_valid$clock;
+    reg  [14:0] g_a$d;
+    wire  [14:0] g_a$q;
+    reg  g_a$clock;
+    reg  [14:0] g_b$d;
+    wire  [14:0] g_b$q;
+    reg  g_b$clock;
+    reg  [27:0] g_ma$d;
+    wire  [27:0] g_ma$q;
+    reg  g_ma$clock;
+    reg  [27:0] g_mb$d;
+    wire  [27:0] g_mb$q;
+    reg  g_mb$clock;
+    reg  h_valid$d;
+    wire  h_valid$q;
+    reg  h_valid$clock;
+    reg  [14:0] h_a$d;
+    wire  [14:0] h_a$q;
+    reg  h_a$clock;
+    reg  [14:0] h_b$d;
+    wire  [14:0] h_b$q;
+    reg  h_b$clock;
+    reg  [27:0] h_ma$d;
+    wire  [27:0] h_ma$q;
+    reg  h_ma$clock;
+    reg  [27:0] h_mb$d;
+    wire  [27:0] h_mb$q;
+    reg  h_mb$clock;
+    reg  [22:0] geo_center_a$0$d;
+    wire  [22:0] geo_center_a$0$q;
+    reg  geo_center_a$0$clock;
+    reg  [22:0] geo_center_a$1$d;
+    wire  [22:0] geo_center_a$1$q;
+    reg  geo_center_a$1$clock;
+    reg  [22:0] geo_center_a$2$d;
+    wire  [22:0] geo_center_a$2$q;
+    reg  geo_center_a$2$clock;
+    reg  [22:0] geo_center_b$0$d;
+    wire  [22:0] geo_center_b$0$q;
+    reg  geo_center_b$0$clock;
+    reg  [22:0] geo_center_b$1$d;
+    wire  [22:0] geo_center_b$1$q;
+    reg  geo_center_b$1$clock;
+    reg  [22:0] geo_center_b$2$d;
+    wire  [22:0] geo_center_b$2$q;
+    reg  geo_center_b$2$clock;
+    reg  [16:0] geo_half_a$0$d;
+    wire  [16:0] geo_half_a$0$q;
+    reg  geo_half_a$0$clock;
+    reg  [16:0] geo_half_a$1$d;
+    wire  [16:0] geo_half_a$1$q;
+    reg  geo_half_a$1$clock;
+    reg  [16:0] geo_half_a$2$d;
+    wire  [16:0] geo_half_a$2$q;
+    reg  geo_half_a$2$clock;
+    reg  [16:0] geo_half_b$0$d;
+    wire  [16:0] geo_half_b$0$q;
+    reg  geo_half_b$0$clock;
+    reg  [16:0] geo_half_b$1$d;
+    wire  [16:0] geo_half_b$1$q;
+    reg  geo_half_b$1$clock;
+    reg  [16:0] geo_half_b$2$d;
+    wire  [16:0] geo_half_b$2$q;
+    reg  geo_half_b$2$clock;
+    reg signed [17:0] geo_axes_a$0$d;
+    wire signed [17:0] geo_axes_a$0$q;
+    reg  geo_axes_a$0$clock;
+    reg signed [17:0] geo_axes_a$1$d;
+    wire signed [17:0] geo_axes_a$1$q;
+    reg  geo_axes_a$1$clock;
+    reg signed [17:0] geo_axes_a$2$d;
+    wire signed [17:0] geo_axes_a$2$q;
+    reg  geo_axes_a$2$clock;
+    reg signed [17:0] geo_axes_a$3$d;
+    wire signed [17:0] geo_axes_a$3$q;
+    reg  geo_axes_a$3$clock;
+    reg signed [17:0] geo_axes_a$4$d;
+    wire signed [17:0] geo_axes_a$4$q;
+    reg  geo_axes_a$4$clock;
+    reg signed [17:0] geo_axes_a$5$d;
+    wire signed [17:0] geo_axes_a$5$q;
+    reg  geo_axes_a$5$clock;
+    reg signed [17:0] geo_axes_a$6$d;
+    wire signed [17:0] geo_axes_a$6$q;
+    reg  geo_axes_a$6$clock;
+    reg signed [17:0] geo_axes_a$7$d;
+    wire signed [17:0] geo_axes_a$7$q;
+    reg  geo_axes_a$7$clock;
+    reg signed [17:0] geo_axes_a$8$d;
+    wire signed [17:0] geo_axes_a$8$q;
+    reg  geo_axes_a$8$clock;
+    reg signed [17:0] geo_axes_b$0$d;
+    wire signed [17:0] geo_axes_b$0$q;
+    reg  geo_axes_b$0$clock;
+    reg signed [17:0] geo_axes_b$1$d;
+    wire signed [17:0] geo_axes_b$1$q;
+    reg  geo_axes_b$1$clock;
+    reg signed [17:0] geo_axes_b$2$d;
+    wire signed [17:0] geo_axes_b$2$q;
+    reg  geo_axes_b$2$clock;
+    reg signed [17:0] geo_axes_b$3$d;
+    wire signed [17:0] geo_axes_b$3$q;
+    reg  geo_axes_b$3$clock;
+    reg signed [17:0] geo_axes_b$4$d;
+    wire signed [17:0] geo_axes_b$4$q;
+    reg  geo_axes_b$4$clock;
+    reg signed [17:0] geo_axes_b$5$d;
+    wire signed [17:0] geo_axes_b$5$q;
+    reg  geo_axes_b$5$clock;
+    reg signed [17:0] geo_axes_b$6$d;
+    wire signed [17:0] geo_axes_b$6$q;
+    reg  geo_axes_b$6$clock;
+    reg signed [17:0] geo_axes_b$7$d;
+    wire signed [17:0] geo_axes_b$7$q;
+    reg  geo_axes_b$7$clock;
+    reg signed [17:0] geo_axes_b$8$d;
+    wire signed [17:0] geo_axes_b$8$q;
+    reg  geo_axes_b$8$clock;
+    
+    // Sub module instances
+    obb_core$fetch$g_valid g_valid(
+        .d(g_valid$d),
+        .q(g_valid$q),
+        .clock(g_valid$clock)
+    );
+    obb_core$fetch$g_a g_a(
+        .d(g_a$d),
+        .q(g_a$q),
+        .clock(g_a$clock)
+    );
+    obb_core$fetch$g_b g_b(
+        .d(g_b$d),
+        .q(g_b$q),
+        .clock(g_b$clock)
+    );
+    obb_core$fetch$g_ma g_ma(
+        .d(g_ma$d),
+        .q(g_ma$q),
+        .clock(g_ma$clock)
+    );
+    obb_core$fetch$g_mb g_mb(
+        .d(g_mb$d),
+        .q(g_mb$q),
+        .clock(g_mb$clock)
+    );
+    obb_core$fetch$h_valid h_valid(
+        .d(h_valid$d),
+        .q(h_valid$q),
+        .clock(h_valid$clock)
+    );
+    obb_core$fetch$h_a h_a(
+        .d(h_a$d),
+        .q(h_a$q),
+        .clock(h_a$clock)
+    );
+    obb_core$fetch$h_b h_b(
+        .d(h_b$d),
+        .q(h_b$q),
+        .clock(h_b$clock)
+    );
+    obb_core$fetch$h_ma h_ma(
+        .d(h_ma$d),
+        .q(h_ma$q),
+        .clock(h_ma$clock)
+    );
+    obb_core$fetch$h_mb h_mb(
+        .d(h_mb$d),
+        .q(h_mb$q),
+        .clock(h_mb$clock)
+    );
+    obb_core$fetch$geo_center_a$0 geo_center_a$0(
+        .d(geo_center_a$0$d),
+        .q(geo_center_a$0$q),
+        .clock(geo_center_a$0$clock)
+    );
+    obb_core$fetch$geo_center_a$1 geo_center_a$1(
+        .d(geo_center_a$1$d),
+        .q(geo_center_a$1$q),
+        .clock(geo_center_a$1$clock)
+    );
+    obb_core$fetch$geo_center_a$2 geo_center_a$2(
+        .d(geo_center_a$2$d),
+        .q(geo_center_a$2$q),
+        .clock(geo_center_a$2$clock)
+    );
+    obb_core$fetch$geo_center_b$0 geo_center_b$0(
+        .d(geo_center_b$0$d),
+        .q(geo_center_b$0$q),
+        .clock(geo_center_b$0$clock)
+    );
+    obb_core$fetch$geo_center_b$1 geo_center_b$1(
+        .d(geo_center_b$1$d),
+        .q(geo_center_b$1$q),
+        .clock(geo_center_b$1$clock)
+    );
+    obb_core$fetch$geo_center_b$2 geo_center_b$2(
+        .d(geo_center_b$2$d),
+        .q(geo_center_b$2$q),
+        .clock(geo_center_b$2$clock)
+    );
+    obb_core$fetch$geo_half_a$0 geo_half_a$0(
+        .d(geo_half_a$0$d),
+        .q(geo_half_a$0$q),
+        .clock(geo_half_a$0$clock)
+    );
+    obb_core$fetch$geo_half_a$1 geo_half_a$1(
+        .d(geo_half_a$1$d),
+        .q(geo_half_a$1$q),
+        .clock(geo_half_a$1$clock)
+    );
+    obb_core$fetch$geo_half_a$2 geo_half_a$2(
+        .d(geo_half_a$2$d),
+        .q(geo_half_a$2$q),
+        .clock(geo_half_a$2$clock)
+    );
+    obb_core$fetch$geo_half_b$0 geo_half_b$0(
+        .d(geo_half_b$0$d),
+        .q(geo_half_b$0$q),
+        .clock(geo_half_b$0$clock)
+    );
+    obb_core$fetch$geo_half_b$1 geo_half_b$1(
+        .d(geo_half_b$1$d),
+        .q(geo_half_b$1$q),
+        .clock(geo_half_b$1$clock)
+    );
+    obb_core$fetch$geo_half_b$2 geo_half_b$2(
+        .d(geo_half_b$2$d),
+        .q(geo_half_b$2$q),
+        .clock(geo_half_b$2$clock)
+    );
+    obb_core$fetch$geo_axes_a$0 geo_axes_a$0(
+        .d(geo_axes_a$0$d),
+        .q(geo_axes_a$0$q),
+        .clock(geo_axes_a$0$clock)
+    );
+    obb_core$fetch$geo_axes_a$1 geo_axes_a$1(
+        .d(geo_axes_a$1$d),
+        .q(geo_axes_a$1$q),
+        .clock(geo_axes_a$1$clock)
+    );
+    obb_core$fetch$geo_axes_a$2 geo_axes_a$2(
+        .d(geo_axes_a$2$d),
+        .q(geo_axes_a$2$q),
+        .clock(geo_axes_a$2$clock)
+    );
+    obb_core$fetch$geo_axes_a$3 geo_axes_a$3(
+        .d(geo_axes_a$3$d),
+        .q(geo_axes_a$3$q),
+        .clock(geo_axes_a$3$clock)
+    );
+    obb_core$fetch$geo_axes_a$4 geo_axes_a$4(
+        .d(geo_axes_a$4$d),
+        .q(geo_axes_a$4$q),
+        .clock(geo_axes_a$4$clock)
+    );
+    obb_core$fetch$geo_axes_a$5 geo_axes_a$5(
+        .d(geo_axes_a$5$d),
+        .q(geo_axes_a$5$q),
+        .clock(geo_axes_a$5$clock)
+    );
+    obb_core$fetch$geo_axes_a$6 geo_axes_a$6(
+        .d(geo_axes_a$6$d),
+        .q(geo_axes_a$6$q),
+        .clock(geo_axes_a$6$clock)
+    );
+    obb_core$fetch$geo_axes_a$7 geo_axes_a$7(
+        .d(geo_axes_a$7$d),
+        .q(geo_axes_a$7$q),
+        .clock(geo_axes_a$7$clock)
+    );
+    obb_core$fetch$geo_axes_a$8 geo_axes_a$8(
+        .d(geo_axes_a$8$d),
+        .q(geo_axes_a$8$q),
+        .clock(geo_axes_a$8$clock)
+    );
+    obb_core$fetch$geo_axes_b$0 geo_axes_b$0(
+        .d(geo_axes_b$0$d),
+        .q(geo_axes_b$0$q),
+        .clock(geo_axes_b$0$clock)
+    );
+    obb_core$fetch$geo_axes_b$1 geo_axes_b$1(
+        .d(geo_axes_b$1$d),
+        .q(geo_axes_b$1$q),
+        .clock(geo_axes_b$1$clock)
+    );
+    obb_core$fetch$geo_axes_b$2 geo_axes_b$2(
+        .d(geo_axes_b$2$d),
+        .q(geo_axes_b$2$q),
+        .clock(geo_axes_b$2$clock)
+    );
+    obb_core$fetch$geo_axes_b$3 geo_axes_b$3(
+        .d(geo_axes_b$3$d),
+        .q(geo_axes_b$3$q),
+        .clock(geo_axes_b$3$clock)
+    );
+    obb_core$fetch$geo_axes_b$4 geo_axes_b$4(
+        .d(geo_axes_b$4$d),
+        .q(geo_axes_b$4$q),
+        .clock(geo_axes_b$4$clock)
+    );
+    obb_core$fetch$geo_axes_b$5 geo_axes_b$5(
+        .d(geo_axes_b$5$d),
+        .q(geo_axes_b$5$q),
+        .clock(geo_axes_b$5$clock)
+    );
+    obb_core$fetch$geo_axes_b$6 geo_axes_b$6(
+        .d(geo_axes_b$6$d),
+        .q(geo_axes_b$6$q),
+        .clock(geo_axes_b$6$clock)
+    );
+    obb_core$fetch$geo_axes_b$7 geo_axes_b$7(
+        .d(geo_axes_b$7$d),
+        .q(geo_axes_b$7$q),
+        .clock(geo_axes_b$7$clock)
+    );
+    obb_core$fetch$geo_axes_b$8 geo_axes_b$8(
+        .d(geo_axes_b$8$d),
+        .q(geo_axes_b$8$q),
+        .clock(geo_axes_b$8$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        g_valid$clock = clock;
+        g_a$clock = clock;
+        g_b$clock = clock;
+        g_ma$clock = clock;
+        g_mb$clock = clock;
+        h_valid$clock = clock;
+        h_a$clock = clock;
+        h_b$clock = clock;
+        h_ma$clock = clock;
+        h_mb$clock = clock;
+        g_valid$d = g_valid$q;
+        g_a$d = g_a$q;
+        g_b$d = g_b$q;
+        g_ma$d = g_ma$q;
+        g_mb$d = g_mb$q;
+        h_valid$d = h_valid$q;
+        h_a$d = h_a$q;
+        h_b$d = h_b$q;
+        h_ma$d = h_ma$q;
+        h_mb$d = h_mb$q;
+        geo_center_a$0$clock = clock;
+        geo_center_b$0$clock = clock;
+        geo_half_a$0$clock = clock;
+        geo_half_b$0$clock = clock;
+        geo_center_a$1$clock = clock;
+        geo_center_b$1$clock = clock;
+        geo_half_a$1$clock = clock;
+        geo_half_b$1$clock = clock;
+        geo_center_a$2$clock = clock;
+        geo_center_b$2$clock = clock;
+        geo_half_a$2$clock = clock;
+        geo_half_b$2$clock = clock;
+        geo_axes_a$0$clock = clock;
+        geo_axes_b$0$clock = clock;
+        geo_axes_a$1$clock = clock;
+        geo_axes_b$1$clock = clock;
+        geo_axes_a$2$clock = clock;
+        geo_axes_b$2$clock = clock;
+        geo_axes_a$3$clock = clock;
+        geo_axes_b$3$clock = clock;
+        geo_axes_a$4$clock = clock;
+        geo_axes_b$4$clock = clock;
+        geo_axes_a$5$clock = clock;
+        geo_axes_b$5$clock = clock;
+        geo_axes_a$6$clock = clock;
+        geo_axes_b$6$clock = clock;
+        geo_axes_a$7$clock = clock;
+        geo_axes_b$7$clock = clock;
+        geo_axes_a$8$clock = clock;
+        geo_axes_b$8$clock = clock;
+        addr_a = test_a;
+        addr_b = test_b;
+        g_valid$d = test_valid;
+        g_a$d = test_a;
+        g_b$d = test_b;
+        g_ma$d = test_ma;
+        g_mb$d = test_mb;
+        fetching = g_valid$q;
+        geo_center_a$0$d = read_center_a$0;
+        geo_center_b$0$d = read_center_b$0;
+        geo_half_a$0$d = read_half_a$0;
+        geo_half_b$0$d = read_half_b$0;
+        geo_center_a$1$d = read_center_a$1;
+        geo_center_b$1$d = read_center_b$1;
+        geo_half_a$1$d = read_half_a$1;
+        geo_half_b$1$d = read_half_b$1;
+        geo_center_a$2$d = read_center_a$2;
+        geo_center_b$2$d = read_center_b$2;
+        geo_half_a$2$d = read_half_a$2;
+        geo_half_b$2$d = read_half_b$2;
+        geo_axes_a$0$d = read_axes_a$0;
+        geo_axes_b$0$d = read_axes_b$0;
+        geo_axes_a$1$d = read_axes_a$1;
+        geo_axes_b$1$d = read_axes_b$1;
+        geo_axes_a$2$d = read_axes_a$2;
+        geo_axes_b$2$d = read_axes_b$2;
+        geo_axes_a$3$d = read_axes_a$3;
+        geo_axes_b$3$d = read_axes_b$3;
+        geo_axes_a$4$d = read_axes_a$4;
+        geo_axes_b$4$d = read_axes_b$4;
+        geo_axes_a$5$d = read_axes_a$5;
+        geo_axes_b$5$d = read_axes_b$5;
+        geo_axes_a$6$d = read_axes_a$6;
+        geo_axes_b$6$d = read_axes_b$6;
+        geo_axes_a$7$d = read_axes_a$7;
+        geo_axes_b$7$d = read_axes_b$7;
+        geo_axes_a$8$d = read_axes_a$8;
+        geo_axes_b$8$d = read_axes_b$8;
+        h_valid$d = g_valid$q;
+        h_a$d = g_a$q;
+        h_b$d = g_b$q;
+        h_ma$d = g_ma$q;
+        h_mb$d = g_mb$q;
+        valid = h_valid$q;
+        a = h_a$q;
+        b = h_b$q;
+        ma = h_ma$q;
+        mb = h_mb$q;
+        center_a$0 = geo_center_a$0$q;
+        center_b$0 = geo_center_b$0$q;
+        half_a$0 = geo_half_a$0$q;
+        half_b$0 = geo_half_b$0$q;
+        center_a$1 = geo_center_a$1$q;
+        center_b$1 = geo_center_b$1$q;
+        half_a$1 = geo_half_a$1$q;
+        half_b$1 = geo_half_b$1$q;
+        center_a$2 = geo_center_a$2$q;
+        center_b$2 = geo_center_b$2$q;
+        half_a$2 = geo_half_a$2$q;
+        half_b$2 = geo_half_b$2$q;
+        axes_a$0 = geo_axes_a$0$q;
+        axes_b$0 = geo_axes_b$0$q;
+        axes_a$1 = geo_axes_a$1$q;
+        axes_b$1 = geo_axes_b$1$q;
+        axes_a$2 = geo_axes_a$2$q;
+        axes_b$2 = geo_axes_b$2$q;
+        axes_a$3 = geo_axes_a$3$q;
+        axes_b$3 = geo_axes_b$3$q;
+        axes_a$4 = geo_axes_a$4$q;
+        axes_b$4 = geo_axes_b$4$q;
+        axes_a$5 = geo_axes_a$5$q;
+        axes_b$5 = geo_axes_b$5$q;
+        axes_a$6 = geo_axes_a$6$q;
+        axes_b$6 = geo_axes_b$6$q;
+        axes_a$7 = geo_axes_a$7$q;
+        axes_b$7 = geo_axes_b$7$q;
+        axes_a$8 = geo_axes_a$8$q;
+        axes_b$8 = geo_axes_b$8$q;
+    end
+    
+endmodule // obb_core$fetch
+
+
+module obb_core$fetch$g_a(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$g_a
+
+
+module obb_core$fetch$g_b(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$g_b
+
+
+module obb_core$fetch$g_ma(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$g_ma
+
+
+module obb_core$fetch$g_mb(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$g_mb
+
+
+module obb_core$fetch$g_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$g_valid
+
+
+module obb_core$fetch$geo_axes_a$0(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_a$0
+
+
+module obb_core$fetch$geo_axes_a$1(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_a$1
+
+
+module obb_core$fetch$geo_axes_a$2(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_a$2
+
+
+module obb_core$fetch$geo_axes_a$3(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_a$3
+
+
+module obb_core$fetch$geo_axes_a$4(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_a$4
+
+
+module obb_core$fetch$geo_axes_a$5(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_a$5
+
+
+module obb_core$fetch$geo_axes_a$6(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_a$6
+
+
+module obb_core$fetch$geo_axes_a$7(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_a$7
+
+
+module obb_core$fetch$geo_axes_a$8(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_a$8
+
+
+module obb_core$fetch$geo_axes_b$0(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_b$0
+
+
+module obb_core$fetch$geo_axes_b$1(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_b$1
+
+
+module obb_core$fetch$geo_axes_b$2(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_b$2
+
+
+module obb_core$fetch$geo_axes_b$3(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_b$3
+
+
+module obb_core$fetch$geo_axes_b$4(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_b$4
+
+
+module obb_core$fetch$geo_axes_b$5(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_b$5
+
+
+module obb_core$fetch$geo_axes_b$6(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_b$6
+
+
+module obb_core$fetch$geo_axes_b$7(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_b$7
+
+
+module obb_core$fetch$geo_axes_b$8(d,q,clock);
+    
+    // Module arguments
+    input wire signed [17:0] d;
+    output reg signed [17:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 18'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_axes_b$8
+
+
+module obb_core$fetch$geo_center_a$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_center_a$0
+
+
+module obb_core$fetch$geo_center_a$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_center_a$1
+
+
+module obb_core$fetch$geo_center_a$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_center_a$2
+
+
+module obb_core$fetch$geo_center_b$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_center_b$0
+
+
+module obb_core$fetch$geo_center_b$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_center_b$1
+
+
+module obb_core$fetch$geo_center_b$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [22:0] d;
+    output reg  [22:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 23'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_center_b$2
+
+
+module obb_core$fetch$geo_half_a$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [16:0] d;
+    output reg  [16:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 17'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_half_a$0
+
+
+module obb_core$fetch$geo_half_a$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [16:0] d;
+    output reg  [16:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 17'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_half_a$1
+
+
+module obb_core$fetch$geo_half_a$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [16:0] d;
+    output reg  [16:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 17'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_half_a$2
+
+
+module obb_core$fetch$geo_half_b$0(d,q,clock);
+    
+    // Module arguments
+    input wire  [16:0] d;
+    output reg  [16:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 17'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_half_b$0
+
+
+module obb_core$fetch$geo_half_b$1(d,q,clock);
+    
+    // Module arguments
+    input wire  [16:0] d;
+    output reg  [16:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 17'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_half_b$1
+
+
+module obb_core$fetch$geo_half_b$2(d,q,clock);
+    
+    // Module arguments
+    input wire  [16:0] d;
+    output reg  [16:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 17'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$geo_half_b$2
+
+
+module obb_core$fetch$h_a(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$h_a
+
+
+module obb_core$fetch$h_b(d,q,clock);
+    
+    // Module arguments
+    input wire  [14:0] d;
+    output reg  [14:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 15'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$h_b
+
+
+module obb_core$fetch$h_ma(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$h_ma
+
+
+module obb_core$fetch$h_mb(d,q,clock);
+    
+    // Module arguments
+    input wire  [27:0] d;
+    output reg  [27:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 28'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$h_mb
+
+
+module obb_core$fetch$h_valid(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fetch$h_valid
 
 
 module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full);
@@ -2663,101 +4291,6 @@ module obb_core$fifo$wptr(d,q,clock);
 endmodule // obb_core$fifo$wptr
 
 
-module obb_core$g_a(d,q,clock);
-    
-    // Module arguments
-    input wire  [14:0] d;
-    output reg  [14:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 15'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$g_a
-
-
-module obb_core$g_b(d,q,clock);
-    
-    // Module arguments
-    input wire  [14:0] d;
-    output reg  [14:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 15'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$g_b
-
-
-module obb_core$g_ma(d,q,clock);
-    
-    // Module arguments
-    input wire  [27:0] d;
-    output reg  [27:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 28'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$g_ma
-
-
-module obb_core$g_mb(d,q,clock);
-    
-    // Module arguments
-    input wire  [27:0] d;
-    output reg  [27:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 28'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$g_mb
-
-
-module obb_core$g_valid(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$g_valid
-
-
 module obb_core$gdelay(clock,d,q);
     
     // Module arguments
@@ -3007,576 +4540,6 @@ module obb_core$gdelay$stage$7(d,q,clock);
     end
           
 endmodule // obb_core$gdelay$stage$7
-
-
-module obb_core$geo_axes_a$0(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_a$0
-
-
-module obb_core$geo_axes_a$1(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_a$1
-
-
-module obb_core$geo_axes_a$2(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_a$2
-
-
-module obb_core$geo_axes_a$3(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_a$3
-
-
-module obb_core$geo_axes_a$4(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_a$4
-
-
-module obb_core$geo_axes_a$5(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_a$5
-
-
-module obb_core$geo_axes_a$6(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_a$6
-
-
-module obb_core$geo_axes_a$7(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_a$7
-
-
-module obb_core$geo_axes_a$8(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_a$8
-
-
-module obb_core$geo_axes_b$0(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_b$0
-
-
-module obb_core$geo_axes_b$1(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_b$1
-
-
-module obb_core$geo_axes_b$2(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_b$2
-
-
-module obb_core$geo_axes_b$3(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_b$3
-
-
-module obb_core$geo_axes_b$4(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_b$4
-
-
-module obb_core$geo_axes_b$5(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_b$5
-
-
-module obb_core$geo_axes_b$6(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_b$6
-
-
-module obb_core$geo_axes_b$7(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_b$7
-
-
-module obb_core$geo_axes_b$8(d,q,clock);
-    
-    // Module arguments
-    input wire signed [17:0] d;
-    output reg signed [17:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 18'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_axes_b$8
-
-
-module obb_core$geo_center_a$0(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_center_a$0
-
-
-module obb_core$geo_center_a$1(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_center_a$1
-
-
-module obb_core$geo_center_a$2(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_center_a$2
-
-
-module obb_core$geo_center_b$0(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_center_b$0
-
-
-module obb_core$geo_center_b$1(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_center_b$1
-
-
-module obb_core$geo_center_b$2(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_center_b$2
-
-
-module obb_core$geo_half_a$0(d,q,clock);
-    
-    // Module arguments
-    input wire  [16:0] d;
-    output reg  [16:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 17'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_half_a$0
-
-
-module obb_core$geo_half_a$1(d,q,clock);
-    
-    // Module arguments
-    input wire  [16:0] d;
-    output reg  [16:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 17'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_half_a$1
-
-
-module obb_core$geo_half_a$2(d,q,clock);
-    
-    // Module arguments
-    input wire  [16:0] d;
-    output reg  [16:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 17'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_half_a$2
-
-
-module obb_core$geo_half_b$0(d,q,clock);
-    
-    // Module arguments
-    input wire  [16:0] d;
-    output reg  [16:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 17'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_half_b$0
-
-
-module obb_core$geo_half_b$1(d,q,clock);
-    
-    // Module arguments
-    input wire  [16:0] d;
-    output reg  [16:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 17'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_half_b$1
-
-
-module obb_core$geo_half_b$2(d,q,clock);
-    
-    // Module arguments
-    input wire  [16:0] d;
-    output reg  [16:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 17'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$geo_half_b$2
 
 
 module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_index,key_min_x,key_min_y,key_min_z,key_max_x,key_max_y,key_max_z,key_margin,key_group,visit,visit_i0,visit_i1,visit_i2,visit_i3,visit_j0,visit_j1,visit_j2,visit_j3,visits,test_valid,test_ready,test_a,test_b,test_ma,test_mb,walked,finished,too_wide);
@@ -84960,139 +85923,6 @@ module obb_core$grid$0$wspan$2(d,q,clock);
 endmodule // obb_core$grid$0$wspan$2
 
 
-module obb_core$group_a(d,q,clock);
-    
-    // Module arguments
-    input wire  [2:0] d;
-    output reg  [2:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 3'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$group_a
-
-
-module obb_core$group_b(d,q,clock);
-    
-    // Module arguments
-    input wire  [2:0] d;
-    output reg  [2:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 3'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$group_b
-
-
-module obb_core$h_a(d,q,clock);
-    
-    // Module arguments
-    input wire  [14:0] d;
-    output reg  [14:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 15'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$h_a
-
-
-module obb_core$h_b(d,q,clock);
-    
-    // Module arguments
-    input wire  [14:0] d;
-    output reg  [14:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 15'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$h_b
-
-
-module obb_core$h_ma(d,q,clock);
-    
-    // Module arguments
-    input wire  [27:0] d;
-    output reg  [27:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 28'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$h_ma
-
-
-module obb_core$h_mb(d,q,clock);
-    
-    // Module arguments
-    input wire  [27:0] d;
-    output reg  [27:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 28'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$h_mb
-
-
-module obb_core$h_valid(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$h_valid
-
-
 module obb_core$half$0(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
     
     // Module arguments
@@ -85191,44 +86021,6 @@ module obb_core$haptic(d,q,clock);
     end
           
 endmodule // obb_core$haptic
-
-
-module obb_core$k_i(d,q,clock);
-    
-    // Module arguments
-    input wire  [14:0] d;
-    output reg  [14:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 15'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$k_i
-
-
-module obb_core$k_j(d,q,clock);
-    
-    // Module arguments
-    input wire  [14:0] d;
-    output reg  [14:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 15'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$k_j
 
 
 module obb_core$k_overlap(clock,d,q);
@@ -85975,253 +86767,6 @@ module obb_core$k_overlap$stage$9(d,q,clock);
 endmodule // obb_core$k_overlap$stage$9
 
 
-module obb_core$k_valid(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$k_valid
-
-
-module obb_core$key_max_a$0(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$key_max_a$0
-
-
-module obb_core$key_max_a$1(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$key_max_a$1
-
-
-module obb_core$key_max_a$2(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$key_max_a$2
-
-
-module obb_core$key_max_b$0(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$key_max_b$0
-
-
-module obb_core$key_max_b$1(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$key_max_b$1
-
-
-module obb_core$key_max_b$2(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$key_max_b$2
-
-
-module obb_core$key_min_a$0(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$key_min_a$0
-
-
-module obb_core$key_min_a$1(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$key_min_a$1
-
-
-module obb_core$key_min_a$2(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$key_min_a$2
-
-
-module obb_core$key_min_b$0(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$key_min_b$0
-
-
-module obb_core$key_min_b$1(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$key_min_b$1
-
-
-module obb_core$key_min_b$2(d,q,clock);
-    
-    // Module arguments
-    input wire  [22:0] d;
-    output reg  [22:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 23'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$key_min_b$2
-
-
 module obb_core$loaded(d,q,clock);
     
     // Module arguments
@@ -86239,44 +86784,6 @@ module obb_core$loaded(d,q,clock);
     end
           
 endmodule // obb_core$loaded
-
-
-module obb_core$margin_a(d,q,clock);
-    
-    // Module arguments
-    input wire  [27:0] d;
-    output reg  [27:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 28'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$margin_a
-
-
-module obb_core$margin_b(d,q,clock);
-    
-    // Module arguments
-    input wire  [27:0] d;
-    output reg  [27:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 28'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$margin_b
 
 
 module obb_core$n_cycles(d,q,clock);
@@ -88959,63 +89466,6 @@ module obb_core$projection$valid$stage$7(d,q,clock);
     end
           
 endmodule // obb_core$projection$valid$stage$7
-
-
-module obb_core$r_i(d,q,clock);
-    
-    // Module arguments
-    input wire  [14:0] d;
-    output reg  [14:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 15'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$r_i
-
-
-module obb_core$r_j(d,q,clock);
-    
-    // Module arguments
-    input wire  [14:0] d;
-    output reg  [14:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 15'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$r_j
-
-
-module obb_core$r_valid(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$r_valid
 
 
 module obb_core$ready(d,q,clock);

@@ -18,7 +18,9 @@
 //! Every block RAM output goes straight into a register (the RAMB36E1's output register,
 //! DO_REG, is not inferred by yosys): 2.45 ns from the clock, no logic after it.
 
+use crate::geometry_fetch::GeometryFetch;
 use crate::grid::GridPhase;
+use crate::key_check::{KeyCheck, MASK};
 use crate::pair_fifo::{self, PairFifo};
 use crate::pipe::Pipe;
 use crate::projection::{self, Projection, CENTER, HALF, MARGIN, ROT};
@@ -37,8 +39,6 @@ pub const COUNT: usize = 40;
 /// Width of a box index on the pair stream.
 pub const INDEX: usize = VAL;
 const GROUP: usize = GROUP_BITS as usize;
-/// The group mask: bit `8 g + h` says whether groups g and h are paired.
-const MASK: usize = 1 << (2 * GROUP);
 /// A pair in the output FIFO: a above b.
 const PAIR: usize = 2 * INDEX;
 /// Entries of the pair FIFO, and the fill at which the walker stalls: the pairs in flight
@@ -48,7 +48,7 @@ const PAIR: usize = 2 * INDEX;
 pub const FIFO_DEPTH: u64 = pair_fifo::DEPTH;
 pub const FIFO_STALL: u64 = 32;
 const _: () = assert!(sat::LATENCY == LAT_SAT);
-/// Clocks from the key check's verdict (registered in `c_valid`) to the SAT's inputs: the
+/// Clocks from the key check's verdict (`KeyCheck::test_valid`) to the SAT's inputs: the
 /// geometry read (`g_*`) and registered (`h_*`).
 const CHECK_TO_SAT: usize = 3;
 // The model's visit-to-SAT latency: the keys read and registered, then the above.
@@ -209,44 +209,11 @@ pub struct ObbCore<const A: usize, const C: usize> {
     res_room: DFF<Bit>,
     haptic: DFF<Bit>,
     streamed_seen: DFF<Bit>,
-    // Pipeline registers: the visit (K) and its keys read (key_*, margin_*, group_*), the
-    // keys registered (R), the SAT test (C), its geometry read (G) and registered (H,
-    // geo_*), the pair's indices alongside the SAT (tag_*).
-    k_valid: DFF<Bit>,
-    k_i: DFF<Bits<A>>,
-    k_j: DFF<Bits<A>>,
-    key_min_a: [DFF<Bits<CENTER>>; 3],
-    key_min_b: [DFF<Bits<CENTER>>; 3],
-    key_max_a: [DFF<Bits<CENTER>>; 3],
-    key_max_b: [DFF<Bits<CENTER>>; 3],
-    margin_a: DFF<Bits<MARGIN>>,
-    margin_b: DFF<Bits<MARGIN>>,
-    group_a: DFF<Bits<GROUP>>,
-    group_b: DFF<Bits<GROUP>>,
-    r_valid: DFF<Bit>,
-    r_i: DFF<Bits<A>>,
-    r_j: DFF<Bits<A>>,
-    c_valid: DFF<Bit>,
-    c_a: DFF<Bits<A>>,
-    c_b: DFF<Bits<A>>,
-    c_ma: DFF<Bits<MARGIN>>,
-    c_mb: DFF<Bits<MARGIN>>,
-    g_valid: DFF<Bit>,
-    g_a: DFF<Bits<A>>,
-    g_b: DFF<Bits<A>>,
-    g_ma: DFF<Bits<MARGIN>>,
-    g_mb: DFF<Bits<MARGIN>>,
-    h_valid: DFF<Bit>,
-    h_a: DFF<Bits<A>>,
-    h_b: DFF<Bits<A>>,
-    h_ma: DFF<Bits<MARGIN>>,
-    h_mb: DFF<Bits<MARGIN>>,
-    geo_center_a: [DFF<Bits<CENTER>>; 3],
-    geo_center_b: [DFF<Bits<CENTER>>; 3],
-    geo_half_a: [DFF<Bits<HALF>>; 3],
-    geo_half_b: [DFF<Bits<HALF>>; 3],
-    geo_axes_a: [DFF<Signed<ROT>>; 9],
-    geo_axes_b: [DFF<Signed<ROT>>; 9],
+    /// The key check (V+1 .. V+3): a visit's keys registered and compared, the SAT test.
+    check: KeyCheck<A>,
+    /// The geometry fetch (V+3 .. V+5): a SAT test's boxes read and registered, the SAT's
+    /// inputs.
+    fetch: GeometryFetch<A>,
     /// The pair's indices alongside the SAT.
     tag_a: Pipe<Bits<A>, { sat::LATENCY as usize }>,
     tag_b: Pipe<Bits<A>, { sat::LATENCY as usize }>,
@@ -291,11 +258,6 @@ pub struct ObbCore<const A: usize, const C: usize> {
     accept: Signal<Local, Bit>,
     /// Grid: its SAT test goes to the geometry read this clock.
     issue: Signal<Local, Bit>,
-    overlap: Signal<Local, Bit>,
-    gidx: Signal<Local, Bits<MASK>>,
-    shifted: Signal<Local, Bits<MASK>>,
-    key_pass: Signal<Local, Bit>,
-    swap: Signal<Local, Bit>,
     hit: Signal<Local, Bit>,
     // The resident set shifted to the arriving box's group; the box is of a resident group.
     res_row: Signal<Local, Bits<8>>,
@@ -403,41 +365,8 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             streamed_seen: Default::default(),
             res_row: Default::default(),
             obb_res: Default::default(),
-            k_valid: Default::default(),
-            k_i: Default::default(),
-            k_j: Default::default(),
-            key_min_a: Default::default(),
-            key_min_b: Default::default(),
-            key_max_a: Default::default(),
-            key_max_b: Default::default(),
-            margin_a: Default::default(),
-            margin_b: Default::default(),
-            group_a: Default::default(),
-            group_b: Default::default(),
-            r_valid: Default::default(),
-            r_i: Default::default(),
-            r_j: Default::default(),
-            c_valid: Default::default(),
-            c_a: Default::default(),
-            c_b: Default::default(),
-            c_ma: Default::default(),
-            c_mb: Default::default(),
-            g_valid: Default::default(),
-            g_a: Default::default(),
-            g_b: Default::default(),
-            g_ma: Default::default(),
-            g_mb: Default::default(),
-            h_valid: Default::default(),
-            h_a: Default::default(),
-            h_b: Default::default(),
-            h_ma: Default::default(),
-            h_mb: Default::default(),
-            geo_center_a: Default::default(),
-            geo_center_b: Default::default(),
-            geo_half_a: Default::default(),
-            geo_half_b: Default::default(),
-            geo_axes_a: Default::default(),
-            geo_axes_b: Default::default(),
+            check: Default::default(),
+            fetch: Default::default(),
             tag_a: Default::default(),
             tag_b: Default::default(),
             k_overlap: Default::default(),
@@ -470,11 +399,6 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             projected_at: Default::default(),
             accept: Default::default(),
             issue: Default::default(),
-            overlap: Default::default(),
-            gidx: Default::default(),
-            shifted: Default::default(),
-            key_pass: Default::default(),
-            swap: Default::default(),
             hit: Default::default(),
         }
     }
@@ -502,34 +426,9 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             res_loaded,
             res_room,
             haptic,
-            streamed_seen,
-            k_valid,
-            k_i,
-            k_j,
-            margin_a,
-            margin_b,
-            group_a,
-            group_b,
-            r_valid,
-            r_i,
-            r_j,
-            c_valid,
-            c_a,
-            c_b,
-            c_ma,
-            c_mb,
-            g_valid,
-            g_a,
-            g_b,
-            g_ma,
-            g_mb,
-            h_valid,
-            h_a,
-            h_b,
-            h_ma,
-            h_mb
+            streamed_seen
         );
-        clock!(self, clock, projection, sat, fifo);
+        clock!(self, clock, projection, check, fetch, sat, fifo);
         for k in 0..self._radixes {
             self.radix[k].clock.next = self.clock.val();
         }
@@ -556,18 +455,6 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         }
         for k in 0..9 {
             self.axes[k].clock.next = self.clock.val();
-            self.geo_axes_a[k].clock.next = self.clock.val();
-            self.geo_axes_b[k].clock.next = self.clock.val();
-        }
-        for x in 0..3 {
-            self.key_min_a[x].clock.next = self.clock.val();
-            self.key_min_b[x].clock.next = self.clock.val();
-            self.key_max_a[x].clock.next = self.clock.val();
-            self.key_max_b[x].clock.next = self.clock.val();
-            self.geo_center_a[x].clock.next = self.clock.val();
-            self.geo_center_b[x].clock.next = self.clock.val();
-            self.geo_half_a[x].clock.next = self.clock.val();
-            self.geo_half_b[x].clock.next = self.clock.val();
         }
         self.gdelay.clock.next = self.clock.val();
         self.k_overlap.clock.next = self.clock.val();
@@ -771,36 +658,36 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.group[t].read_address_b.next = self.b_addr.val();
         }
 
-        // V+1: the keys, margins and groups of i and j arrive and are registered.
-        self.k_valid.d.next = self.visit.val();
-        self.k_i.d.next = self.vi.val();
-        self.k_j.d.next = self.vj.val();
+        // V+1 .. V+3: the key check; the key table's outputs (zero without one) go to it.
+        self.check.visit.next = self.visit.val();
+        self.check.i.next = self.vi.val();
+        self.check.j.next = self.vj.val();
         for x in 0..3 {
-            self.key_min_a[x].d.next = 0.into();
-            self.key_min_b[x].d.next = 0.into();
-            self.key_max_a[x].d.next = 0.into();
-            self.key_max_b[x].d.next = 0.into();
+            self.check.min_a[x].next = 0.into();
+            self.check.min_b[x].next = 0.into();
+            self.check.max_a[x].next = 0.into();
+            self.check.max_b[x].next = 0.into();
         }
-        self.margin_a.d.next = 0.into();
-        self.margin_b.d.next = 0.into();
-        self.group_a.d.next = 0.into();
-        self.group_b.d.next = 0.into();
+        self.check.margin_a.next = 0.into();
+        self.check.margin_b.next = 0.into();
+        self.check.group_a.next = 0.into();
+        self.check.group_b.next = 0.into();
         for t in 0..self._key_tables {
             for x in 0..3 {
-                self.key_min_a[x].d.next = self.kmin[3 * t + x].read_data_a.val();
-                self.key_min_b[x].d.next = self.kmin[3 * t + x].read_data_b.val();
-                self.key_max_a[x].d.next = self.kmax[3 * t + x].read_data_a.val();
-                self.key_max_b[x].d.next = self.kmax[3 * t + x].read_data_b.val();
+                self.check.min_a[x].next = self.kmin[3 * t + x].read_data_a.val();
+                self.check.min_b[x].next = self.kmin[3 * t + x].read_data_b.val();
+                self.check.max_a[x].next = self.kmax[3 * t + x].read_data_a.val();
+                self.check.max_b[x].next = self.kmax[3 * t + x].read_data_b.val();
             }
-            self.margin_a.d.next = self.margin[t].read_data_a.val();
-            self.margin_b.d.next = self.margin[t].read_data_b.val();
-            self.group_a.d.next = self.group[t].read_data_a.val();
-            self.group_b.d.next = self.group[t].read_data_b.val();
+            self.check.margin_a.next = self.margin[t].read_data_a.val();
+            self.check.margin_b.next = self.margin[t].read_data_b.val();
+            self.check.group_a.next = self.group[t].read_data_a.val();
+            self.check.group_b.next = self.group[t].read_data_b.val();
         }
-        self.r_valid.d.next = self.k_valid.q.val();
-        self.r_i.d.next = self.k_i.q.val();
-        self.r_j.d.next = self.k_j.q.val();
-        if self.k_valid.q.val() & !self.over.q.val() {
+        self.check.mask.next = self.mask.val();
+        self.check.unchecked.next = self.sap.val();
+        self.check.idle.next = self.grid_mode.val();
+        if self.check.visited.val() & !self.over.q.val() {
             self.n_visits.d.next = self.n_visits.q.val() + 1;
         }
         // The grid's lanes visit several boxes a clock; it counts them (registered).
@@ -808,35 +695,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.n_visits.d.next =
                 self.n_visits.q.val() + bit_cast::<COUNT, 4>(self.grid_visits.val());
         }
-
-        // V+2: the keys of i and j overlap on all three axes, and the mask allows the groups.
-        self.overlap.next = (self.key_min_a[0].q.val() <= self.key_max_b[0].q.val())
-            & (self.key_min_b[0].q.val() <= self.key_max_a[0].q.val())
-            & (self.key_min_a[1].q.val() <= self.key_max_b[1].q.val())
-            & (self.key_min_b[1].q.val() <= self.key_max_a[1].q.val())
-            & (self.key_min_a[2].q.val() <= self.key_max_b[2].q.val())
-            & (self.key_min_b[2].q.val() <= self.key_max_a[2].q.val());
-        self.gidx.next = (bit_cast::<MASK, GROUP>(self.group_a.q.val()) << 3_u64)
-            | bit_cast::<MASK, GROUP>(self.group_b.q.val());
-        self.shifted.next = self.mask.val() >> self.gidx.val();
-        self.key_pass.next = self.r_valid.q.val()
-            & (self.overlap.val() | self.sap.val())
-            & self.shifted.val().get_bit(0)
-            & !self.grid_mode.val();
-        self.k_overlap.d.next = self.overlap.val();
-        // The lower index is box A of the SAT.
-        self.swap.next = self.r_j.q.val() < self.r_i.q.val();
-        self.c_valid.d.next = self.key_pass.val();
-        self.c_a.d.next = self.r_i.q.val();
-        self.c_b.d.next = self.r_j.q.val();
-        self.c_ma.d.next = self.margin_a.q.val();
-        self.c_mb.d.next = self.margin_b.q.val();
-        if self.swap.val() {
-            self.c_a.d.next = self.r_j.q.val();
-            self.c_b.d.next = self.r_i.q.val();
-            self.c_ma.d.next = self.margin_b.q.val();
-            self.c_mb.d.next = self.margin_a.q.val();
-        }
+        self.k_overlap.d.next = self.check.overlap.val();
 
         // V+3: the geometry of a and b is read. The grid's SAT test is read on a clock that
         // accepts no box (the box's write takes port A) and when the pair FIFO has room.
@@ -844,65 +703,54 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         for k in 0..self._grids {
             self.grid[k].test_ready.next = self.issue.val();
         }
-        self.g_valid.d.next = self.c_valid.q.val();
-        self.g_a.d.next = self.c_a.q.val();
-        self.g_b.d.next = self.c_b.q.val();
-        self.g_ma.d.next = self.c_ma.q.val();
-        self.g_mb.d.next = self.c_mb.q.val();
+        self.fetch.test_valid.next = self.check.test_valid.val();
+        self.fetch.test_a.next = self.check.test_a.val();
+        self.fetch.test_b.next = self.check.test_b.val();
+        self.fetch.test_ma.next = self.check.test_ma.val();
+        self.fetch.test_mb.next = self.check.test_mb.val();
         if self.grid_mode.val() {
-            self.g_valid.d.next = self.issue.val();
-            self.g_a.d.next = self.grid_test_a.val();
-            self.g_b.d.next = self.grid_test_b.val();
-            self.g_ma.d.next = self.grid_test_ma.val();
-            self.g_mb.d.next = self.grid_test_mb.val();
+            self.fetch.test_valid.next = self.issue.val();
+            self.fetch.test_a.next = self.grid_test_a.val();
+            self.fetch.test_b.next = self.grid_test_b.val();
+            self.fetch.test_ma.next = self.grid_test_ma.val();
+            self.fetch.test_mb.next = self.grid_test_mb.val();
         }
         for x in 0..3 {
-            self.center[x].read_address_a.next = self.g_a.d.val();
-            self.center[x].read_address_b.next = self.g_b.d.val();
-            self.half[x].read_address_a.next = self.g_a.d.val();
-            self.half[x].read_address_b.next = self.g_b.d.val();
+            self.center[x].read_address_a.next = self.fetch.addr_a.val();
+            self.center[x].read_address_b.next = self.fetch.addr_b.val();
+            self.half[x].read_address_a.next = self.fetch.addr_a.val();
+            self.half[x].read_address_b.next = self.fetch.addr_b.val();
+            self.fetch.read_center_a[x].next = self.center[x].read_data_a.val();
+            self.fetch.read_center_b[x].next = self.center[x].read_data_b.val();
+            self.fetch.read_half_a[x].next = self.half[x].read_data_a.val();
+            self.fetch.read_half_b[x].next = self.half[x].read_data_b.val();
         }
         for k in 0..9 {
-            self.axes[k].read_address_a.next = self.g_a.d.val();
-            self.axes[k].read_address_b.next = self.g_b.d.val();
+            self.axes[k].read_address_a.next = self.fetch.addr_a.val();
+            self.axes[k].read_address_b.next = self.fetch.addr_b.val();
+            self.fetch.read_axes_a[k].next = self.axes[k].read_data_a.val();
+            self.fetch.read_axes_b[k].next = self.axes[k].read_data_b.val();
         }
-        if self.g_valid.q.val() & !self.over.q.val() {
+        if self.fetch.fetching.val() & !self.over.q.val() {
             self.n_tests.d.next = self.n_tests.q.val() + 1;
         }
 
-        // V+4: the geometry arrives and is registered.
-        for x in 0..3 {
-            self.geo_center_a[x].d.next = self.center[x].read_data_a.val();
-            self.geo_center_b[x].d.next = self.center[x].read_data_b.val();
-            self.geo_half_a[x].d.next = self.half[x].read_data_a.val();
-            self.geo_half_b[x].d.next = self.half[x].read_data_b.val();
-        }
-        for k in 0..9 {
-            self.geo_axes_a[k].d.next = self.axes[k].read_data_a.val();
-            self.geo_axes_b[k].d.next = self.axes[k].read_data_b.val();
-        }
-        self.h_valid.d.next = self.g_valid.q.val();
-        self.h_a.d.next = self.g_a.q.val();
-        self.h_b.d.next = self.g_b.q.val();
-        self.h_ma.d.next = self.g_ma.q.val();
-        self.h_mb.d.next = self.g_mb.q.val();
-
         // V+5: the SAT; the indices ride alongside.
-        self.sat.valid_in.next = self.h_valid.q.val();
+        self.sat.valid_in.next = self.fetch.valid.val();
         for x in 0..3 {
-            self.sat.center_a[x].next = self.geo_center_a[x].q.val();
-            self.sat.center_b[x].next = self.geo_center_b[x].q.val();
-            self.sat.half_a[x].next = self.geo_half_a[x].q.val();
-            self.sat.half_b[x].next = self.geo_half_b[x].q.val();
+            self.sat.center_a[x].next = self.fetch.center_a[x].val();
+            self.sat.center_b[x].next = self.fetch.center_b[x].val();
+            self.sat.half_a[x].next = self.fetch.half_a[x].val();
+            self.sat.half_b[x].next = self.fetch.half_b[x].val();
         }
         for k in 0..9 {
-            self.sat.axes_a[k].next = self.geo_axes_a[k].q.val();
-            self.sat.axes_b[k].next = self.geo_axes_b[k].q.val();
+            self.sat.axes_a[k].next = self.fetch.axes_a[k].val();
+            self.sat.axes_b[k].next = self.fetch.axes_b[k].val();
         }
-        self.sat.margin_a.next = self.h_ma.q.val();
-        self.sat.margin_b.next = self.h_mb.q.val();
-        self.tag_a.d.next = self.h_a.q.val();
-        self.tag_b.d.next = self.h_b.q.val();
+        self.sat.margin_a.next = self.fetch.ma.val();
+        self.sat.margin_b.next = self.fetch.mb.val();
+        self.tag_a.d.next = self.fetch.a.val();
+        self.tag_b.d.next = self.fetch.b.val();
 
         // V+27: a hit enters the FIFO; the stream takes pairs from it.
         // (A frame over capacity reports and counts nothing from then on; the grid walks it to

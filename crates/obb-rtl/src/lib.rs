@@ -24,6 +24,10 @@ pub mod radix;
 pub mod sweep;
 pub mod walker;
 
+// The key check of a visit (the grid checks its own), and a SAT test's geometry fetch.
+pub mod geometry_fetch;
+pub mod key_check;
+
 // The narrow phase: the 15-axis SAT, front and back, and the pair stream's FIFO.
 pub mod pair_fifo;
 pub mod sat;

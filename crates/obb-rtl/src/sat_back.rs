@@ -33,14 +33,14 @@ const PAIR2: usize = 2 * RT + 1;
 const MINOR: usize = 21;
 /// `r_B` (21 x 18 bits, two terms).
 const RB: usize = MINOR + HALF_S + 1;
-/// Clocks from a pair's products on the inputs to its verdict.
-pub const LATENCY: u64 = 2 * DOT_LATENCY + 6;
 /// The clocks after which each stage's results are registered (the table above): the values
 /// that ride along are delayed from the stage that makes them to the stage that uses them.
 const ROUNDED: usize = 1;
 const PRODUCTS: usize = ROUNDED + DOT_LATENCY as usize;
 const MINORS_ABS: usize = PRODUCTS + 1;
 const R_B_DONE: usize = MINORS_ABS + DOT_LATENCY as usize;
+/// Clocks from a pair's products on the inputs to its verdict: the stages, then the decision.
+pub const LATENCY: u64 = R_B_DONE as u64 + SatDecide::LATENCY;
 
 /// The radius sums and the 15 comparisons as one leaf (its arithmetic mixes signed products
 /// with unsigned sums, which rust-hdl's Verilog gets wrong): four clocks, the sums in two
@@ -75,6 +75,11 @@ pub struct SatDecide {
 
 /// Width of the radius sums and of the compared values.
 const SUM: usize = 46;
+
+impl SatDecide {
+    /// Clocks from its operands to `hit`: two of sums, the comparisons, their OR.
+    pub const LATENCY: u64 = 4;
+}
 
 impl Logic for SatDecide {
     fn update(&mut self) {

@@ -1,0 +1,418 @@
+//! The core's own stages between the broad phase and the SAT, each on its own, clock by clock,
+//! in rust-hdl and in Verilog (Verilator): the key check (`KeyCheck`) and the geometry fetch
+//! (`GeometryFetch`), against references written here from the clock table in `core.rs`, on
+//! random traffic with ties, the keys' extremes and every group pair.
+
+mod common;
+
+use common::{ports, raw, run_rust_hdl, run_verilator, signed};
+use obb_rtl::flow::emit;
+use obb_rtl::flow::verilator::Port;
+use obb_rtl::geometry_fetch::GeometryFetch;
+use obb_rtl::key_check::{KeyCheck, MASK};
+use obb_rtl::leaf::{sbits, sval, uval};
+use obb_rtl::projection::{CENTER, HALF, MARGIN, ROT};
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+use rust_hdl::prelude::*;
+
+/// Box indices of 5 bits: small enough that equal and swapped pairs come often.
+const A: usize = 5;
+const GROUP: usize = obb_model::fixed::config::GROUP_BITS as usize;
+const CLOCKS: usize = 600;
+
+/// A key: mostly from a few small values (ties between one box's min and the other's max come
+/// often), sometimes anywhere in the key's range, its largest value included (the compare is
+/// unsigned).
+fn key(rng: &mut StdRng) -> u64 {
+    match rng.random_range(0..8) {
+        0 => (1 << CENTER) - 1,
+        1 => rng.random_range(0..1u64 << CENTER),
+        _ => rng.random_range(0..6),
+    }
+}
+
+/// The key check's inputs, in the order of `KEY_CHECK_INPUTS`.
+struct CheckIn {
+    visit: bool,
+    i: u64,
+    j: u64,
+    /// Box i's and box j's min keys, then their max keys, x, y, z.
+    min_a: [u64; 3],
+    min_b: [u64; 3],
+    max_a: [u64; 3],
+    max_b: [u64; 3],
+    margin_a: u64,
+    margin_b: u64,
+    group_a: u64,
+    group_b: u64,
+    mask: u64,
+    unchecked: bool,
+    idle: bool,
+}
+
+impl CheckIn {
+    fn from(v: &[u64]) -> CheckIn {
+        let three = |k: usize| [v[k], v[k + 1], v[k + 2]];
+        CheckIn {
+            visit: v[0] == 1,
+            i: v[1],
+            j: v[2],
+            min_a: three(3),
+            min_b: three(6),
+            max_a: three(9),
+            max_b: three(12),
+            margin_a: v[15],
+            margin_b: v[16],
+            group_a: v[17],
+            group_b: v[18],
+            mask: v[19],
+            unchecked: v[20] == 1,
+            idle: v[21] == 1,
+        }
+    }
+}
+
+fn key_check_inputs() -> Vec<Port> {
+    let mut p = vec![Port::new("visit", 1), Port::new("i", A), Port::new("j", A)];
+    for name in ["min_a", "min_b", "max_a", "max_b"] {
+        p.extend(ports(name, 3, CENTER));
+    }
+    p.extend([
+        Port::new("margin_a", MARGIN),
+        Port::new("margin_b", MARGIN),
+        Port::new("group_a", GROUP),
+        Port::new("group_b", GROUP),
+        Port::new("mask", MASK),
+        Port::new("unchecked", 1),
+        Port::new("idle", 1),
+    ]);
+    p
+}
+
+fn key_check_outputs() -> Vec<Port> {
+    vec![
+        Port::new("visited", 1),
+        Port::new("overlap", 1),
+        Port::new("test_valid", 1),
+        Port::new("test_a", A),
+        Port::new("test_b", A),
+        Port::new("test_ma", MARGIN),
+        Port::new("test_mb", MARGIN),
+    ]
+}
+
+/// Random key-check traffic: visits on about two clocks in three, the mode inputs held for
+/// stretches (as the core holds them for a frame) and a random group mask per stretch.
+fn key_check_traffic(seed: u64) -> Vec<Vec<u64>> {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let (mut mask, mut unchecked, mut idle) = (0u64, 0u64, 0u64);
+    (0..CLOCKS)
+        .map(|t| {
+            if t % 100 == 0 {
+                mask = rng.random();
+                unchecked = u64::from(t % 300 == 100);
+                idle = u64::from(t % 300 == 200);
+            }
+            let mut v = vec![
+                u64::from(rng.random_bool(0.7)),
+                rng.random_range(0..1 << A),
+                rng.random_range(0..1 << A),
+            ];
+            v.extend((0..12).map(|_| key(&mut rng)));
+            v.extend([
+                rng.random_range(0..1 << MARGIN),
+                rng.random_range(0..1 << MARGIN),
+                rng.random_range(0..1 << GROUP),
+                rng.random_range(0..1 << GROUP),
+                mask,
+                unchecked,
+                idle,
+            ]);
+            v
+        })
+        .collect()
+}
+
+/// What the key check must give, read after each clock's rising edge (the clock's inputs still
+/// applied): a visit applied on clock V is counted after V's edge; its keys, margins and groups
+/// come with clock V+1's inputs and their overlap shows after that edge; the mask and the mode
+/// are those of clock V+2, after whose edge the test shows, its boxes in index order with their
+/// margins. Mask bit `8 g_i + g_j` pairs box i's group with box j's.
+fn key_check_reference(v: &[Vec<u64>]) -> Vec<Vec<u64>> {
+    let ins: Vec<CheckIn> = v.iter().map(|x| CheckIn::from(x)).collect();
+    // The registers' reset value, before the first inputs are through.
+    let reset = CheckIn::from(&[0; 22]);
+    let overlaps =
+        |k: &CheckIn| (0..3).all(|x| k.min_a[x] <= k.max_b[x] && k.min_b[x] <= k.max_a[x]);
+    (0..ins.len())
+        .map(|t| {
+            let now = &ins[t];
+            let mut out = vec![u64::from(now.visit), u64::from(overlaps(now))];
+            let visit = if t >= 2 { &ins[t - 2] } else { &reset };
+            let keys = if t >= 1 { &ins[t - 1] } else { &reset };
+            let paired = now.mask >> (8 * keys.group_a + keys.group_b) & 1 == 1;
+            let test = visit.visit && (overlaps(keys) || now.unchecked) && paired && !now.idle;
+            let (a, b, ma, mb) = if visit.j < visit.i {
+                (visit.j, visit.i, keys.margin_b, keys.margin_a)
+            } else {
+                (visit.i, visit.j, keys.margin_a, keys.margin_b)
+            };
+            out.extend([u64::from(test), a, b, ma, mb]);
+            out
+        })
+        .collect()
+}
+
+fn apply_key_check(u: &mut KeyCheck<A>, v: &[u64]) {
+    let k = CheckIn::from(v);
+    u.visit.next = k.visit;
+    u.i.next = k.i.into();
+    u.j.next = k.j.into();
+    for x in 0..3 {
+        u.min_a[x].next = k.min_a[x].into();
+        u.min_b[x].next = k.min_b[x].into();
+        u.max_a[x].next = k.max_a[x].into();
+        u.max_b[x].next = k.max_b[x].into();
+    }
+    u.margin_a.next = k.margin_a.into();
+    u.margin_b.next = k.margin_b.into();
+    u.group_a.next = k.group_a.into();
+    u.group_b.next = k.group_b.into();
+    u.mask.next = k.mask.into();
+    u.unchecked.next = k.unchecked;
+    u.idle.next = k.idle;
+}
+
+fn key_check_read(u: &KeyCheck<A>) -> Vec<u64> {
+    vec![
+        u64::from(u.visited.val()),
+        u64::from(u.overlap.val()),
+        u64::from(u.test_valid.val()),
+        uval(u.test_a.val()),
+        uval(u.test_b.val()),
+        uval(u.test_ma.val()),
+        uval(u.test_mb.val()),
+    ]
+}
+
+/// The key check in rust-hdl and in Verilog against the reference, every output at every
+/// clock: the overlap with ties on every axis and the keys' largest value, the mask read at
+/// the test's group pair, the improved-sap mode (every allowed visit a test) and the grid mode
+/// (none), the pair put in index order with its margins.
+#[test]
+fn key_check_matches_its_clock_table() {
+    for seed in [1, 2] {
+        let v = key_check_traffic(seed);
+        let want = key_check_reference(&v);
+        // The traffic reaches every case the reference distinguishes.
+        let tests = want.iter().filter(|o| o[2] == 1).count();
+        let refused = (2..v.len())
+            .filter(|&t| v[t - 2][0] == 1 && want[t][2] == 0)
+            .count();
+        assert!(
+            tests > 50 && refused > 50,
+            "seed {seed}: {tests} tests, {refused} refused"
+        );
+        assert!(want.iter().any(|o| o[1] == 1) && want.iter().any(|o| o[1] == 0));
+        let got = run_rust_hdl(
+            &mut KeyCheck::<A>::default(),
+            &v,
+            apply_key_check,
+            |u, c| u.clock.next = Clock::from(c),
+            key_check_read,
+        );
+        assert_eq!(got, want, "rust-hdl, seed {seed}");
+        let verilog = emit::verilog(&mut KeyCheck::<A>::default(), "key_check").unwrap();
+        let got = run_verilator(
+            &verilog,
+            "key_check",
+            &key_check_inputs(),
+            &key_check_outputs(),
+            &v,
+        );
+        assert_eq!(got, want, "Verilog, seed {seed}");
+    }
+}
+
+/// One box's geometry as the tables hold it: center, half-lengths, axes (raw bits).
+#[derive(Clone)]
+struct Geometry {
+    center: [u64; 3],
+    half: [u64; 3],
+    axes: [u64; 9],
+}
+
+impl Geometry {
+    fn random(rng: &mut StdRng) -> Geometry {
+        let some = |rng: &mut StdRng, bits: usize| match rng.random_range(0..4) {
+            0 => (1 << bits) - 1,
+            1 => 1 << (bits - 1),
+            _ => rng.random_range(0..1u64 << bits),
+        };
+        Geometry {
+            center: std::array::from_fn(|_| some(rng, CENTER)),
+            half: std::array::from_fn(|_| some(rng, HALF)),
+            axes: std::array::from_fn(|_| some(rng, ROT)),
+        }
+    }
+}
+
+/// Inputs: the test (valid, a, b, ma, mb), then the tables' answers for ports A and B
+/// (centers, half-lengths, axes); as `apply_fetch` reads them.
+fn fetch_inputs() -> Vec<Port> {
+    let mut p = vec![
+        Port::new("test_valid", 1),
+        Port::new("test_a", A),
+        Port::new("test_b", A),
+        Port::new("test_ma", MARGIN),
+        Port::new("test_mb", MARGIN),
+    ];
+    for side in ["a", "b"] {
+        p.extend(ports(&format!("read_center_{side}"), 3, CENTER));
+    }
+    for side in ["a", "b"] {
+        p.extend(ports(&format!("read_half_{side}"), 3, HALF));
+    }
+    for side in ["a", "b"] {
+        p.extend(ports(&format!("read_axes_{side}"), 9, ROT));
+    }
+    p
+}
+
+fn fetch_outputs() -> Vec<Port> {
+    let mut p = vec![
+        Port::new("addr_a", A),
+        Port::new("addr_b", A),
+        Port::new("fetching", 1),
+        Port::new("valid", 1),
+        Port::new("a", A),
+        Port::new("b", A),
+        Port::new("ma", MARGIN),
+        Port::new("mb", MARGIN),
+    ];
+    for (name, bits) in [("center", CENTER), ("half", HALF)] {
+        p.extend(ports(&format!("{name}_a"), 3, bits));
+        p.extend(ports(&format!("{name}_b"), 3, bits));
+    }
+    p.extend(ports("axes_a", 9, ROT));
+    p.extend(ports("axes_b", 9, ROT));
+    p
+}
+
+/// Tests on about half the clocks, back to back at times; the tables answer as block RAMs do:
+/// the data of the address a clock's inputs gave comes with the next clock's inputs (the
+/// reference checks that the block gives the tables the test's boxes as addresses).
+fn fetch_traffic(seed: u64, table: &[Geometry]) -> Vec<Vec<u64>> {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let mut v: Vec<Vec<u64>> = Vec::new();
+    for t in 0..CLOCKS {
+        let test = vec![
+            u64::from(rng.random_bool(0.5)),
+            rng.random_range(0..1 << A),
+            rng.random_range(0..1 << A),
+            rng.random_range(0..1 << MARGIN),
+            rng.random_range(0..1 << MARGIN),
+        ];
+        let (a, b) = match t {
+            0 => (&table[0], &table[0]),
+            _ => (&table[v[t - 1][1] as usize], &table[v[t - 1][2] as usize]),
+        };
+        let mut x = test;
+        x.extend(a.center.iter().chain(&b.center));
+        x.extend(a.half.iter().chain(&b.half));
+        x.extend(a.axes.iter().chain(&b.axes));
+        v.push(x);
+    }
+    v
+}
+
+/// What the fetch must give after each clock's edge: the tables' addresses are the test's
+/// boxes at once; the test is counted (`fetching`) after its own clock's edge; it reaches the
+/// SAT's inputs after the next edge, with its margins and the geometry of its two boxes.
+fn fetch_reference(v: &[Vec<u64>], table: &[Geometry]) -> Vec<Vec<u64>> {
+    (0..v.len())
+        .map(|t| {
+            let mut out = vec![v[t][1], v[t][2], v[t][0]];
+            // Before the first test is through: the registers' reset value, and the tables'
+            // answer to address 0.
+            let test = if t >= 1 { &v[t - 1][..5] } else { &[0; 5] };
+            out.extend(test);
+            let (a, b) = (&table[test[1] as usize], &table[test[2] as usize]);
+            out.extend(a.center.iter().chain(&b.center));
+            out.extend(a.half.iter().chain(&b.half));
+            out.extend(a.axes.iter().chain(&b.axes));
+            out
+        })
+        .collect()
+}
+
+fn apply_fetch(u: &mut GeometryFetch<A>, v: &[u64]) {
+    u.test_valid.next = v[0] == 1;
+    u.test_a.next = v[1].into();
+    u.test_b.next = v[2].into();
+    u.test_ma.next = v[3].into();
+    u.test_mb.next = v[4].into();
+    let (centers, halves, axes) = (&v[5..11], &v[11..17], &v[17..35]);
+    for x in 0..3 {
+        u.read_center_a[x].next = centers[x].into();
+        u.read_center_b[x].next = centers[3 + x].into();
+        u.read_half_a[x].next = halves[x].into();
+        u.read_half_b[x].next = halves[3 + x].into();
+    }
+    for k in 0..9 {
+        u.read_axes_a[k].next = sbits(signed(axes[k], ROT));
+        u.read_axes_b[k].next = sbits(signed(axes[9 + k], ROT));
+    }
+}
+
+fn fetch_read(u: &GeometryFetch<A>) -> Vec<u64> {
+    let mut out = vec![
+        uval(u.addr_a.val()),
+        uval(u.addr_b.val()),
+        u64::from(u.fetching.val()),
+        u64::from(u.valid.val()),
+        uval(u.a.val()),
+        uval(u.b.val()),
+        uval(u.ma.val()),
+        uval(u.mb.val()),
+    ];
+    out.extend(u.center_a.iter().chain(&u.center_b).map(|s| uval(s.val())));
+    out.extend(u.half_a.iter().chain(&u.half_b).map(|s| uval(s.val())));
+    out.extend(
+        u.axes_a
+            .iter()
+            .chain(&u.axes_b)
+            .map(|s| raw(sval(s.val()), ROT)),
+    );
+    out
+}
+
+/// The geometry fetch in rust-hdl and in Verilog against the reference, every output at every
+/// clock: each test's two boxes' geometry (the fields' extremes and the axes' sign included)
+/// beside the test and its margins, one clock after it is counted.
+#[test]
+fn geometry_fetch_matches_its_clock_table() {
+    let mut rng = StdRng::seed_from_u64(7);
+    let table: Vec<Geometry> = (0..1 << A).map(|_| Geometry::random(&mut rng)).collect();
+    let v = fetch_traffic(8, &table);
+    let want = fetch_reference(&v, &table);
+    assert!(want.iter().filter(|o| o[3] == 1).count() > CLOCKS / 3);
+    let got = run_rust_hdl(
+        &mut GeometryFetch::<A>::default(),
+        &v,
+        apply_fetch,
+        |u, c| u.clock.next = Clock::from(c),
+        fetch_read,
+    );
+    assert_eq!(got, want, "rust-hdl");
+    let verilog = emit::verilog(&mut GeometryFetch::<A>::default(), "geometry_fetch").unwrap();
+    let got = run_verilator(
+        &verilog,
+        "geometry_fetch",
+        &fetch_inputs(),
+        &fetch_outputs(),
+        &v,
+    );
+    assert_eq!(got, want, "Verilog");
+}
