@@ -5,8 +5,7 @@
 
 mod common;
 
-use common::{ports, raw, run_rust_hdl, run_verilator, signed};
-use obb_rtl::flow::emit;
+use common::{in_verilator, ports, raw, run_rust_hdl, signed};
 use obb_rtl::flow::verilator::Port;
 use obb_rtl::geometry_fetch::GeometryFetch;
 use obb_rtl::key_check::{KeyCheck, MASK};
@@ -223,9 +222,8 @@ fn key_check_matches_its_clock_table() {
             key_check_read,
         );
         assert_eq!(got, want, "rust-hdl, seed {seed}");
-        let verilog = emit::verilog(&mut KeyCheck::<A>::default(), "key_check").unwrap();
-        let got = run_verilator(
-            &verilog,
+        let got = in_verilator(
+            &mut KeyCheck::<A>::default(),
             "key_check",
             &key_check_inputs(),
             &key_check_outputs(),
@@ -406,9 +404,8 @@ fn geometry_fetch_matches_its_clock_table() {
         fetch_read,
     );
     assert_eq!(got, want, "rust-hdl");
-    let verilog = emit::verilog(&mut GeometryFetch::<A>::default(), "geometry_fetch").unwrap();
-    let got = run_verilator(
-        &verilog,
+    let got = in_verilator(
+        &mut GeometryFetch::<A>::default(),
         "geometry_fetch",
         &fetch_inputs(),
         &fetch_outputs(),

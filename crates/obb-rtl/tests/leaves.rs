@@ -2,9 +2,12 @@
 //! Verilator, clock by clock, on random operands including the extremes; and the latencies the
 //! model's cycle count assumes.
 
+mod common;
+
+use common::{in_verilator, signed};
 use obb_rtl::bin_table::BinTable;
 use obb_rtl::dist_ram::DistRam;
-use obb_rtl::flow::verilator::{self, Port};
+use obb_rtl::flow::verilator::Port;
 use obb_rtl::leaf::{sbits, sval, uval, AbsTwice, UMul};
 use obb_rtl::pair_fifo::{self, PairFifo};
 use obb_rtl::pipe::Pipe;
@@ -29,21 +32,6 @@ fn vectors(strategy: impl Strategy<Value = Vec<u64>>, n: usize) -> Vec<Vec<u64>>
     (0..n)
         .map(|_| strategy.new_tree(&mut runner).unwrap().current())
         .collect()
-}
-
-/// `block`'s Verilog, top module `name`, linted and run in Verilator on `vectors` (one per
-/// clock): the outputs after each rising edge.
-fn in_verilator<B: Block>(
-    block: &mut B,
-    name: &str,
-    inputs: &[Port],
-    outputs: &[Port],
-    vectors: &[Vec<u64>],
-) -> Vec<Vec<u64>> {
-    let verilog = obb_rtl::flow::emit::verilog(block, name).unwrap();
-    let dir = verilator::scratch_dir(name).unwrap();
-    verilator::lint(&dir, &verilog, name).unwrap();
-    verilator::simulate(&dir, &verilog, name, "clock", inputs, outputs, vectors).unwrap()
 }
 
 /// A memory's write port, the first three fields of `memory_traffic`'s vectors.
@@ -436,11 +424,11 @@ fn sat_round_matches_its_verilog() {
     let mut model = Vec::new();
     for x in &v {
         for i in 0..3 {
-            uut.t[i].next = Signed::from(sign_extend(x[i], TU));
-            uut.u[i].next = Signed::from(sign_extend(x[3 + i], TU));
+            uut.t[i].next = Signed::from(signed(x[i], TU));
+            uut.u[i].next = Signed::from(signed(x[3 + i], TU));
         }
         for k in 0..9 {
-            uut.r[k].next = Signed::from(sign_extend(x[6 + k], RR));
+            uut.r[k].next = Signed::from(signed(x[6 + k], RR));
         }
         uut.f.next = x[15].into();
         tick(&mut uut, |u, c| u.clock.next = Clock::from(c));
@@ -484,10 +472,6 @@ fn sat_round_matches_its_verilog() {
 }
 
 /// `bits`-bit two's complement `raw` as an i64.
-fn sign_extend(raw: u64, bits: usize) -> i64 {
-    ((raw << (64 - bits)) as i64) >> (64 - bits)
-}
-
 #[test]
 fn model_latencies_are_the_hardware_latencies() {
     assert_eq!(

@@ -60,6 +60,19 @@ pub fn run_verilator(
     verilator::simulate(&dir, verilog, top, "clock", inputs, outputs, vectors).unwrap()
 }
 
+/// `block`'s Verilog, top module `name`, linted and run in Verilator on `vectors` (one per
+/// clock): the outputs after each rising edge.
+pub fn in_verilator<B: Block>(
+    block: &mut B,
+    name: &str,
+    inputs: &[Port],
+    outputs: &[Port],
+    vectors: &[Vec<u64>],
+) -> Vec<Vec<u64>> {
+    let verilog = obb_rtl::flow::emit::verilog(block, name).unwrap();
+    run_verilator(&verilog, name, inputs, outputs, vectors)
+}
+
 /// Every clock where the model (`want`) or the block (`got`) has its first output (valid)
 /// high must agree on every output; and some clock must be valid.
 pub fn check(got: &[Vec<u64>], want: &[Vec<u64>], what: &str) {
