@@ -7,7 +7,7 @@
 use crate::projection::{CENTER, HALF, MARGIN, ROT};
 use rust_hdl::prelude::*;
 
-#[derive(LogicBlock)]
+#[derive(Default, LogicBlock)]
 pub struct GeometryFetch<const A: usize> {
     pub clock: Signal<In, Clock>,
     /// A SAT test this clock: its boxes (lower index first) and their margins.
@@ -78,55 +78,6 @@ pub struct GeometryFetch<const A: usize> {
     geo_half_b: [DFF<Bits<HALF>>; 3],
     geo_axes_a: [DFF<Signed<ROT>>; 9],
     geo_axes_b: [DFF<Signed<ROT>>; 9],
-}
-
-impl<const A: usize> Default for GeometryFetch<A> {
-    fn default() -> Self {
-        GeometryFetch {
-            clock: Default::default(),
-            test_valid: Default::default(),
-            test_a: Default::default(),
-            test_b: Default::default(),
-            test_ma: Default::default(),
-            test_mb: Default::default(),
-            addr_a: Default::default(),
-            addr_b: Default::default(),
-            read_center_a: Default::default(),
-            read_center_b: Default::default(),
-            read_half_a: Default::default(),
-            read_half_b: Default::default(),
-            read_axes_a: Default::default(),
-            read_axes_b: Default::default(),
-            fetching: Default::default(),
-            valid: Default::default(),
-            a: Default::default(),
-            b: Default::default(),
-            ma: Default::default(),
-            mb: Default::default(),
-            center_a: Default::default(),
-            center_b: Default::default(),
-            half_a: Default::default(),
-            half_b: Default::default(),
-            axes_a: Default::default(),
-            axes_b: Default::default(),
-            g_valid: Default::default(),
-            g_a: Default::default(),
-            g_b: Default::default(),
-            g_ma: Default::default(),
-            g_mb: Default::default(),
-            h_valid: Default::default(),
-            h_a: Default::default(),
-            h_b: Default::default(),
-            h_ma: Default::default(),
-            h_mb: Default::default(),
-            geo_center_a: Default::default(),
-            geo_center_b: Default::default(),
-            geo_half_a: Default::default(),
-            geo_half_b: Default::default(),
-            geo_axes_a: Default::default(),
-            geo_axes_b: Default::default(),
-        }
-    }
 }
 
 impl<const A: usize> Logic for GeometryFetch<A> {

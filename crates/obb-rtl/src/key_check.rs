@@ -11,7 +11,7 @@ const GROUP: usize = GROUP_BITS as usize;
 /// The group mask: bit `8 g + h` says whether groups g and h are paired.
 pub const MASK: usize = 1 << (2 * GROUP);
 
-#[derive(LogicBlock)]
+#[derive(Default, LogicBlock)]
 pub struct KeyCheck<const A: usize> {
     pub clock: Signal<In, Clock>,
     /// A visit (i, j) this clock: its keys are read now, on the key table's ports A and B.
@@ -83,58 +83,6 @@ pub struct KeyCheck<const A: usize> {
     c_b: DFF<Bits<A>>,
     c_ma: DFF<Bits<MARGIN>>,
     c_mb: DFF<Bits<MARGIN>>,
-}
-
-impl<const A: usize> Default for KeyCheck<A> {
-    fn default() -> Self {
-        KeyCheck {
-            clock: Default::default(),
-            visit: Default::default(),
-            i: Default::default(),
-            j: Default::default(),
-            min_a: Default::default(),
-            min_b: Default::default(),
-            max_a: Default::default(),
-            max_b: Default::default(),
-            margin_a: Default::default(),
-            margin_b: Default::default(),
-            group_a: Default::default(),
-            group_b: Default::default(),
-            mask: Default::default(),
-            unchecked: Default::default(),
-            idle: Default::default(),
-            visited: Default::default(),
-            overlap: Default::default(),
-            test_valid: Default::default(),
-            test_a: Default::default(),
-            test_b: Default::default(),
-            test_ma: Default::default(),
-            test_mb: Default::default(),
-            k_valid: Default::default(),
-            k_i: Default::default(),
-            k_j: Default::default(),
-            r_valid: Default::default(),
-            r_i: Default::default(),
-            r_j: Default::default(),
-            key_min_a: Default::default(),
-            key_min_b: Default::default(),
-            key_max_a: Default::default(),
-            key_max_b: Default::default(),
-            r_margin_a: Default::default(),
-            r_margin_b: Default::default(),
-            r_group_a: Default::default(),
-            r_group_b: Default::default(),
-            gidx: Default::default(),
-            shifted: Default::default(),
-            pass: Default::default(),
-            swap: Default::default(),
-            c_valid: Default::default(),
-            c_a: Default::default(),
-            c_b: Default::default(),
-            c_ma: Default::default(),
-            c_mb: Default::default(),
-        }
-    }
 }
 
 impl<const A: usize> Logic for KeyCheck<A> {
