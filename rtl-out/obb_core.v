@@ -43,12 +43,9 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     localparam  sweep = 1'b0;
     localparam  grid_mode = 1'b1;
     localparam  sap = 1'b0;
-    localparam  last_slot = 16'h7fff;
     localparam  mask = 64'h7fbfdfeff7fbfdfe;
     localparam  drain = 8'h1a;
     localparam  grid_drain = 8'h17;
-    localparam  resident_set = 8'h0;
-    localparam  has_resident = 1'b0;
     
     // Enums
     localparam CoreState$Idle = 0;
@@ -293,15 +290,6 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     reg  stall$d;
     wire  stall$q;
     reg  stall$clock;
-    reg  [15:0] loaded$d;
-    wire  [15:0] loaded$q;
-    reg  loaded$clock;
-    reg  ready$d;
-    wire  ready$q;
-    reg  ready$clock;
-    reg  room$d;
-    wire  room$q;
-    reg  room$clock;
     reg  [15:0] projected$d;
     wire  [15:0] projected$q;
     reg  projected$clock;
@@ -326,18 +314,21 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     reg  [39:0] n_pairs$d;
     wire  [39:0] n_pairs$q;
     reg  n_pairs$clock;
-    reg  [15:0] res_loaded$d;
-    wire  [15:0] res_loaded$q;
-    reg  res_loaded$clock;
-    reg  res_room$d;
-    wire  res_room$q;
-    reg  res_room$clock;
-    reg  haptic$d;
-    wire  haptic$q;
-    reg  haptic$clock;
-    reg  streamed_seen$d;
-    wire  streamed_seen$q;
-    reg  streamed_seen$clock;
+    reg  load$clock;
+    reg  load$frame_start;
+    reg  load$frame_update;
+    reg  load$obb_valid;
+    reg  load$obb_last;
+    reg  [2:0] load$obb_group;
+    reg  load$credit;
+    wire  load$obb_ready;
+    wire  load$accept;
+    wire  [14:0] load$index;
+    wire  [15:0] load$loaded;
+    wire  load$loading;
+    wire  load$ended;
+    wire  load$refused;
+    wire  [15:0] load$first;
     reg  check$clock;
     reg  check$visit;
     reg  [14:0] check$i;
@@ -460,7 +451,6 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     reg  [14:0] a_addr;
     reg  [14:0] b_addr;
     reg  walked;
-    reg  credit;
     reg  sort_in_valid;
     reg  [23:0] sort_in_key;
     reg  [19:0] sort_in_val;
@@ -480,11 +470,8 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     reg  grid_too_wide;
     reg  [3:0] grid_visits;
     reg  [14:0] projected_at;
-    reg  accept;
     reg  issue;
     reg  hit;
-    reg  [7:0] res_row;
-    reg  obb_res;
     
     // Sub module instances
     obb_core$projection projection(
@@ -764,21 +751,6 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         .q(stall$q),
         .clock(stall$clock)
     );
-    obb_core$loaded loaded(
-        .d(loaded$d),
-        .q(loaded$q),
-        .clock(loaded$clock)
-    );
-    obb_core$ready ready(
-        .d(ready$d),
-        .q(ready$q),
-        .clock(ready$clock)
-    );
-    obb_core$room room(
-        .d(room$d),
-        .q(room$q),
-        .clock(room$clock)
-    );
     obb_core$projected projected(
         .d(projected$d),
         .q(projected$q),
@@ -819,25 +791,22 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         .q(n_pairs$q),
         .clock(n_pairs$clock)
     );
-    obb_core$res_loaded res_loaded(
-        .d(res_loaded$d),
-        .q(res_loaded$q),
-        .clock(res_loaded$clock)
-    );
-    obb_core$res_room res_room(
-        .d(res_room$d),
-        .q(res_room$q),
-        .clock(res_room$clock)
-    );
-    obb_core$haptic haptic(
-        .d(haptic$d),
-        .q(haptic$q),
-        .clock(haptic$clock)
-    );
-    obb_core$streamed_seen streamed_seen(
-        .d(streamed_seen$d),
-        .q(streamed_seen$q),
-        .clock(streamed_seen$clock)
+    obb_core$load load(
+        .clock(load$clock),
+        .frame_start(load$frame_start),
+        .frame_update(load$frame_update),
+        .obb_valid(load$obb_valid),
+        .obb_last(load$obb_last),
+        .obb_group(load$obb_group),
+        .credit(load$credit),
+        .obb_ready(load$obb_ready),
+        .accept(load$accept),
+        .index(load$index),
+        .loaded(load$loaded),
+        .loading(load$loading),
+        .ended(load$ended),
+        .refused(load$refused),
+        .first(load$first)
     );
     obb_core$check check(
         .clock(check$clock),
@@ -967,9 +936,6 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     always @(*) begin
         state$clock = clock;
         stall$clock = clock;
-        loaded$clock = clock;
-        ready$clock = clock;
-        room$clock = clock;
         projected$clock = clock;
         over$clock = clock;
         countdown$clock = clock;
@@ -978,15 +944,8 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         n_tests$clock = clock;
         n_pairs$clock = clock;
         pending$clock = clock;
-        res_loaded$clock = clock;
-        res_room$clock = clock;
-        haptic$clock = clock;
-        streamed_seen$clock = clock;
         state$d = state$q;
         stall$d = stall$q;
-        loaded$d = loaded$q;
-        ready$d = ready$q;
-        room$d = room$q;
         projected$d = projected$q;
         over$d = over$q;
         countdown$d = countdown$q;
@@ -995,11 +954,8 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         n_tests$d = n_tests$q;
         n_pairs$d = n_pairs$q;
         pending$d = pending$q;
-        res_loaded$d = res_loaded$q;
-        res_room$d = res_room$q;
-        haptic$d = haptic$q;
-        streamed_seen$d = streamed_seen$q;
         projection$clock = clock;
+        load$clock = clock;
         check$clock = clock;
         fetch$clock = clock;
         sat$clock = clock;
@@ -1057,92 +1013,77 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         grid_finished = grid$0$finished;
         grid_too_wide = grid$0$too_wide;
         grid_visits = grid$0$visits;
-        credit = grid_credit | ~grid_mode | ~room$q;
-        obb_ready = ready$q & credit;
-        accept = obb_ready & obb_valid & room$q;
-        center$0$write_enable = accept;
-        center$0$write_address = ((loaded$q) & 15'h7fff);
+        load$frame_start = frame_start;
+        load$frame_update = frame_update;
+        load$obb_valid = obb_valid;
+        load$obb_last = obb_last;
+        load$obb_group = obb_group;
+        load$credit = grid_credit | ~grid_mode;
+        obb_ready = load$obb_ready;
+        center$0$write_enable = load$accept;
+        center$0$write_address = load$index;
         center$0$write_data = obb_center$0;
-        half$0$write_enable = accept;
-        half$0$write_address = ((loaded$q) & 15'h7fff);
+        half$0$write_enable = load$accept;
+        half$0$write_address = load$index;
         half$0$write_data = obb_half$0;
         projection$center$0 = obb_center$0;
         projection$half$0 = obb_half$0;
-        center$1$write_enable = accept;
-        center$1$write_address = ((loaded$q) & 15'h7fff);
+        center$1$write_enable = load$accept;
+        center$1$write_address = load$index;
         center$1$write_data = obb_center$1;
-        half$1$write_enable = accept;
-        half$1$write_address = ((loaded$q) & 15'h7fff);
+        half$1$write_enable = load$accept;
+        half$1$write_address = load$index;
         half$1$write_data = obb_half$1;
         projection$center$1 = obb_center$1;
         projection$half$1 = obb_half$1;
-        center$2$write_enable = accept;
-        center$2$write_address = ((loaded$q) & 15'h7fff);
+        center$2$write_enable = load$accept;
+        center$2$write_address = load$index;
         center$2$write_data = obb_center$2;
-        half$2$write_enable = accept;
-        half$2$write_address = ((loaded$q) & 15'h7fff);
+        half$2$write_enable = load$accept;
+        half$2$write_address = load$index;
         half$2$write_data = obb_half$2;
         projection$center$2 = obb_center$2;
         projection$half$2 = obb_half$2;
-        axes$0$write_enable = accept;
-        axes$0$write_address = ((loaded$q) & 15'h7fff);
+        axes$0$write_enable = load$accept;
+        axes$0$write_address = load$index;
         axes$0$write_data = obb_axes$0;
         projection$axes$0 = obb_axes$0;
-        axes$1$write_enable = accept;
-        axes$1$write_address = ((loaded$q) & 15'h7fff);
+        axes$1$write_enable = load$accept;
+        axes$1$write_address = load$index;
         axes$1$write_data = obb_axes$1;
         projection$axes$1 = obb_axes$1;
-        axes$2$write_enable = accept;
-        axes$2$write_address = ((loaded$q) & 15'h7fff);
+        axes$2$write_enable = load$accept;
+        axes$2$write_address = load$index;
         axes$2$write_data = obb_axes$2;
         projection$axes$2 = obb_axes$2;
-        axes$3$write_enable = accept;
-        axes$3$write_address = ((loaded$q) & 15'h7fff);
+        axes$3$write_enable = load$accept;
+        axes$3$write_address = load$index;
         axes$3$write_data = obb_axes$3;
         projection$axes$3 = obb_axes$3;
-        axes$4$write_enable = accept;
-        axes$4$write_address = ((loaded$q) & 15'h7fff);
+        axes$4$write_enable = load$accept;
+        axes$4$write_address = load$index;
         axes$4$write_data = obb_axes$4;
         projection$axes$4 = obb_axes$4;
-        axes$5$write_enable = accept;
-        axes$5$write_address = ((loaded$q) & 15'h7fff);
+        axes$5$write_enable = load$accept;
+        axes$5$write_address = load$index;
         axes$5$write_data = obb_axes$5;
         projection$axes$5 = obb_axes$5;
-        axes$6$write_enable = accept;
-        axes$6$write_address = ((loaded$q) & 15'h7fff);
+        axes$6$write_enable = load$accept;
+        axes$6$write_address = load$index;
         axes$6$write_data = obb_axes$6;
         projection$axes$6 = obb_axes$6;
-        axes$7$write_enable = accept;
-        axes$7$write_address = ((loaded$q) & 15'h7fff);
+        axes$7$write_enable = load$accept;
+        axes$7$write_address = load$index;
         axes$7$write_data = obb_axes$7;
         projection$axes$7 = obb_axes$7;
-        axes$8$write_enable = accept;
-        axes$8$write_address = ((loaded$q) & 15'h7fff);
+        axes$8$write_enable = load$accept;
+        axes$8$write_address = load$index;
         axes$8$write_data = obb_axes$8;
         projection$axes$8 = obb_axes$8;
-        projection$valid_in = accept;
+        projection$valid_in = load$accept;
         gdelay$d = obb_group;
-        if (accept) begin
-            loaded$d = loaded$q + 32'h1;
-            if (loaded$q == last_slot) begin
-                room$d = 1'b0;
-            end
-        end
-        res_row = resident_set >> ((obb_group) & 8'hff);
-        obb_res = has_resident & res_row[32'h0];
-        if (accept) begin
-            if (obb_res) begin
-                if (haptic$q | streamed_seen$q) begin
-                    over$d = 1'b1;
-                end
-                else begin
-                    res_loaded$d = loaded$q + 32'h1;
-                    res_room$d = loaded$q != last_slot;
-                end
-            end
-            else begin
-                streamed_seen$d = 1'b1;
-            end
+        if (load$refused) begin
+            over$d = 1'b1;
         end
         projected_at = ((projected$q) & 15'h7fff);
         if (sweep) begin
@@ -1155,8 +1096,8 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         end
         grid$0$start = frame_start;
         grid$0$update = frame_update;
-        grid$0$accept = accept;
-        grid$0$loaded = ~ready$q & ~frame_start;
+        grid$0$accept = load$accept;
+        grid$0$loaded = ~load$loading & ~frame_start;
         grid$0$key_valid = projection$valid_out;
         grid$0$key_index = ((projected$q) & 15'h7fff);
         grid$0$key_min_x = projection$key_min$0;
@@ -1198,7 +1139,7 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
             n_visits$d = n_visits$q + ((grid_visits) & 40'hffffffffff);
         end
         k_overlap$d = check$overlap;
-        issue = grid_test_valid & ~accept & ~stall$q;
+        issue = grid_test_valid & ~load$accept & ~stall$q;
         grid$0$test_ready = issue;
         fetch$test_valid = check$test_valid;
         fetch$test_a = check$test_a;
@@ -1339,17 +1280,13 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
                 end
             CoreState$Load:
                 begin
-                    if (obb_valid & ~room$q) begin
-                        over$d = 1'b1;
-                    end
-                    if (obb_last & (obb_ready | ~obb_valid)) begin
+                    if (load$ended) begin
                         state$d = CoreState$Project;
-                        ready$d = 1'b0;
                     end
                 end
             CoreState$Project:
                 begin
-                    if (projected$q == loaded$q) begin
+                    if (projected$q == load$loaded) begin
                         if (grid_mode) begin
                             state$d = CoreState$Walk;
                         end
@@ -1404,29 +1341,13 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         end
         if (frame_start) begin
             state$d = CoreState$Load;
-            ready$d = 1'b1;
-            room$d = 1'b1;
-            loaded$d = 32'h0;
-            projected$d = 32'h0;
+            projected$d = load$first;
             over$d = 1'b0;
             pending$d = 32'h0;
             n_cycles$d = 32'h0;
             n_visits$d = 32'h0;
             n_tests$d = 32'h0;
             n_pairs$d = 32'h0;
-            streamed_seen$d = 1'b0;
-            haptic$d = has_resident & ~frame_update;
-            if (has_resident) begin
-                if (frame_update) begin
-                    res_loaded$d = 32'h0;
-                    res_room$d = 1'b1;
-                end
-                else begin
-                    loaded$d = res_loaded$q;
-                    projected$d = res_loaded$q;
-                    room$d = res_room$q;
-                end
-            end
         end
     end
     
@@ -86004,25 +85925,6 @@ module obb_core$half$2(clock,write_enable,write_address,write_data,read_address_
 endmodule // obb_core$half$2
 
 
-module obb_core$haptic(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$haptic
-
-
 module obb_core$k_overlap(clock,d,q);
     
     // Module arguments
@@ -86767,7 +86669,169 @@ module obb_core$k_overlap$stage$9(d,q,clock);
 endmodule // obb_core$k_overlap$stage$9
 
 
-module obb_core$loaded(d,q,clock);
+module obb_core$load(clock,frame_start,frame_update,obb_valid,obb_last,obb_group,credit,obb_ready,accept,index,loaded,loading,ended,refused,first);
+    
+    // Module arguments
+    input wire  clock;
+    input wire  frame_start;
+    input wire  frame_update;
+    input wire  obb_valid;
+    input wire  obb_last;
+    input wire  [2:0] obb_group;
+    input wire  credit;
+    output reg  obb_ready;
+    output reg  accept;
+    output reg  [14:0] index;
+    output reg  [15:0] loaded;
+    output reg  loading;
+    output reg  ended;
+    output reg  refused;
+    output reg  [15:0] first;
+    
+    // Constant declarations
+    localparam  last_slot = 16'h7fff;
+    localparam  resident_set = 8'h0;
+    localparam  has_resident = 1'b0;
+    
+    // Stub signals
+    reg  ready$d;
+    wire  ready$q;
+    reg  ready$clock;
+    reg  room$d;
+    wire  room$q;
+    reg  room$clock;
+    reg  [15:0] count$d;
+    wire  [15:0] count$q;
+    reg  count$clock;
+    reg  [15:0] res_loaded$d;
+    wire  [15:0] res_loaded$q;
+    reg  res_loaded$clock;
+    reg  res_room$d;
+    wire  res_room$q;
+    reg  res_room$clock;
+    reg  haptic$d;
+    wire  haptic$q;
+    reg  haptic$clock;
+    reg  streamed_seen$d;
+    wire  streamed_seen$q;
+    reg  streamed_seen$clock;
+    
+    // Local signals
+    reg  [7:0] res_row;
+    reg  obb_res;
+    
+    // Sub module instances
+    obb_core$load$ready ready(
+        .d(ready$d),
+        .q(ready$q),
+        .clock(ready$clock)
+    );
+    obb_core$load$room room(
+        .d(room$d),
+        .q(room$q),
+        .clock(room$clock)
+    );
+    obb_core$load$count count(
+        .d(count$d),
+        .q(count$q),
+        .clock(count$clock)
+    );
+    obb_core$load$res_loaded res_loaded(
+        .d(res_loaded$d),
+        .q(res_loaded$q),
+        .clock(res_loaded$clock)
+    );
+    obb_core$load$res_room res_room(
+        .d(res_room$d),
+        .q(res_room$q),
+        .clock(res_room$clock)
+    );
+    obb_core$load$haptic haptic(
+        .d(haptic$d),
+        .q(haptic$q),
+        .clock(haptic$clock)
+    );
+    obb_core$load$streamed_seen streamed_seen(
+        .d(streamed_seen$d),
+        .q(streamed_seen$q),
+        .clock(streamed_seen$clock)
+    );
+    
+    // Update code
+    always @(*) begin
+        ready$clock = clock;
+        room$clock = clock;
+        count$clock = clock;
+        res_loaded$clock = clock;
+        res_room$clock = clock;
+        haptic$clock = clock;
+        streamed_seen$clock = clock;
+        ready$d = ready$q;
+        room$d = room$q;
+        count$d = count$q;
+        res_loaded$d = res_loaded$q;
+        res_room$d = res_room$q;
+        haptic$d = haptic$q;
+        streamed_seen$d = streamed_seen$q;
+        obb_ready = ready$q & (credit | ~room$q);
+        accept = obb_ready & obb_valid & room$q;
+        index = ((count$q) & 15'h7fff);
+        loaded = count$q;
+        loading = ready$q;
+        if (accept) begin
+            count$d = count$q + 32'h1;
+            if (count$q == last_slot) begin
+                room$d = 1'b0;
+            end
+        end
+        res_row = resident_set >> ((obb_group) & 8'hff);
+        obb_res = has_resident & res_row[32'h0];
+        refused = ready$q & obb_valid & ~room$q;
+        if (accept) begin
+            if (obb_res) begin
+                if (haptic$q | streamed_seen$q) begin
+                    refused = 1'b1;
+                end
+                else begin
+                    res_loaded$d = count$q + 32'h1;
+                    res_room$d = count$q != last_slot;
+                end
+            end
+            else begin
+                streamed_seen$d = 1'b1;
+            end
+        end
+        ended = ready$q & obb_last & (obb_ready | ~obb_valid);
+        if (ended) begin
+            ready$d = 1'b0;
+        end
+        first = 32'h0;
+        if (has_resident & ~frame_update) begin
+            first = res_loaded$q;
+        end
+        if (frame_start) begin
+            ready$d = 1'b1;
+            room$d = 1'b1;
+            count$d = 32'h0;
+            streamed_seen$d = 1'b0;
+            haptic$d = has_resident & ~frame_update;
+            if (has_resident) begin
+                if (frame_update) begin
+                    res_loaded$d = 32'h0;
+                    res_room$d = 1'b1;
+                end
+                else begin
+                    count$d = res_loaded$q;
+                    room$d = res_room$q;
+                end
+            end
+        end
+    end
+    
+endmodule // obb_core$load
+
+
+module obb_core$load$count(d,q,clock);
     
     // Module arguments
     input wire  [15:0] d;
@@ -86783,7 +86847,121 @@ module obb_core$loaded(d,q,clock);
        q <= d;
     end
           
-endmodule // obb_core$loaded
+endmodule // obb_core$load$count
+
+
+module obb_core$load$haptic(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$load$haptic
+
+
+module obb_core$load$ready(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$load$ready
+
+
+module obb_core$load$res_loaded(d,q,clock);
+    
+    // Module arguments
+    input wire  [15:0] d;
+    output reg  [15:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 16'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$load$res_loaded
+
+
+module obb_core$load$res_room(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$load$res_room
+
+
+module obb_core$load$room(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$load$room
+
+
+module obb_core$load$streamed_seen(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$load$streamed_seen
 
 
 module obb_core$n_cycles(d,q,clock);
@@ -89466,82 +89644,6 @@ module obb_core$projection$valid$stage$7(d,q,clock);
     end
           
 endmodule // obb_core$projection$valid$stage$7
-
-
-module obb_core$ready(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$ready
-
-
-module obb_core$res_loaded(d,q,clock);
-    
-    // Module arguments
-    input wire  [15:0] d;
-    output reg  [15:0] q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 16'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$res_loaded
-
-
-module obb_core$res_room(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$res_room
-
-
-module obb_core$room(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$room
 
 
 module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,half_a$2,axes_a$0,axes_a$1,axes_a$2,axes_a$3,axes_a$4,axes_a$5,axes_a$6,axes_a$7,axes_a$8,margin_a,center_b$0,center_b$1,center_b$2,half_b$0,half_b$1,half_b$2,axes_b$0,axes_b$1,axes_b$2,axes_b$3,axes_b$4,axes_b$5,axes_b$6,axes_b$7,axes_b$8,margin_b,valid_out,hit);
@@ -107052,25 +107154,6 @@ module obb_core$state(d,q,clock);
     end
           
 endmodule // obb_core$state
-
-
-module obb_core$streamed_seen(d,q,clock);
-    
-    // Module arguments
-    input wire  d;
-    output reg  q;
-    input wire  clock;
-    
-    // Update code (custom)
-    initial begin
-       q = 1'h0;
-    end
-    
-    always @(posedge clock) begin
-       q <= d;
-    end
-          
-endmodule // obb_core$streamed_seen
 
 
 module obb_core$tag_a(clock,d,q);

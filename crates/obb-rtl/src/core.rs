@@ -18,6 +18,7 @@
 //! Every block RAM output goes straight into a register (the RAMB36E1's output register,
 //! DO_REG, is not inferred by yosys): 2.45 ns from the clock, no logic after it.
 
+use crate::box_load::BoxLoad;
 use crate::geometry_fetch::GeometryFetch;
 use crate::grid::GridPhase;
 use crate::key_check::{KeyCheck, MASK};
@@ -149,14 +150,9 @@ pub struct ObbCore<const A: usize, const C: usize> {
     /// Improved-sap: the walker drives the radix sort, and the keys are checked only at the
     /// SAT's output (the paper's Algorithm 2 sends every pair it meets).
     sap: Constant<Bit>,
-    /// The last index a box may take: `capacity - 1`.
-    last_slot: Constant<Bits<C>>,
     mask: Constant<Bits<MASK>>,
     drain: Constant<Bits<8>>,
     grid_drain: Constant<Bits<8>>,
-    // Resident groups: bit g for group g; any at all.
-    resident_set: Constant<Bits<8>>,
-    has_resident: Constant<Bit>,
     // Stages. The broad phase's blocks are there only when configured (each list holds one
     // block or none): the radix sort for sweep and improved-sap, the sweep's walker, the other
     // walker for brute and improved-sap, the grid.
@@ -188,12 +184,6 @@ pub struct ObbCore<const A: usize, const C: usize> {
     state: DFF<CoreState>,
     /// The FIFO's `almost_full`, registered: the walker's stall.
     stall: DFF<Bit>,
-    loaded: DFF<Bits<C>>,
-    // Registered rather than decoded from `state` and `loaded`, so that accepting a box (the
-    // write enable and address multiplexer of 15 tables) is one LUT from registers:
-    // `obb_ready` (the state is Load) and `room` (`loaded != capacity`).
-    ready: DFF<Bit>,
-    room: DFF<Bit>,
     projected: DFF<Bits<C>>,
     over: DFF<Bit>,
     countdown: DFF<Bits<8>>,
@@ -203,12 +193,8 @@ pub struct ObbCore<const A: usize, const C: usize> {
     n_visits: DFF<Bits<COUNT>>,
     n_tests: DFF<Bits<COUNT>>,
     n_pairs: DFF<Bits<COUNT>>,
-    // The resident boxes the last update frame loaded (a haptic frame's first index), and
-    // whether the tables had room after them; a haptic frame; a box of a streamed group came.
-    res_loaded: DFF<Bits<C>>,
-    res_room: DFF<Bit>,
-    haptic: DFF<Bit>,
-    streamed_seen: DFF<Bit>,
+    /// The load: which box is taken, at which index, and when the load ends.
+    load: BoxLoad<A, C>,
     /// The key check (V+1 .. V+3): a visit's keys registered and compared, the SAT test.
     check: KeyCheck<A>,
     /// The geometry fetch (V+3 .. V+5): a SAT test's boxes read and registered, the SAT's
@@ -230,8 +216,6 @@ pub struct ObbCore<const A: usize, const C: usize> {
     a_addr: Signal<Local, Bits<A>>,
     b_addr: Signal<Local, Bits<A>>,
     walked: Signal<Local, Bit>,
-    /// The grid has a record free for the box (always, with the other broad phases).
-    credit: Signal<Local, Bit>,
     // The radix sort's inputs and outputs (zero without one).
     sort_in_valid: Signal<Local, Bit>,
     sort_in_key: Signal<Local, Bits<KEY>>,
@@ -255,13 +239,9 @@ pub struct ObbCore<const A: usize, const C: usize> {
     grid_visits: Signal<Local, Bits<4>>,
     /// The projected box's table address.
     projected_at: Signal<Local, Bits<A>>,
-    accept: Signal<Local, Bit>,
     /// Grid: its SAT test goes to the geometry read this clock.
     issue: Signal<Local, Bit>,
     hit: Signal<Local, Bit>,
-    // The resident set shifted to the arriving box's group; the box is of a resident group.
-    res_row: Signal<Local, Bits<8>>,
-    obb_res: Signal<Local, Bit>,
 }
 
 impl<const A: usize, const C: usize> ObbCore<A, C> {
@@ -284,7 +264,6 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             address_bits(cfg) <= A,
             "capacity fits the tables and the sort"
         );
-        let resident_set: u64 = cfg.resident_groups.iter().map(|&g| 1u64 << g).sum();
         let mut mask = Bits::<MASK>::default();
         for g in 0..1u32 << GROUP {
             for h in 0..1u32 << GROUP {
@@ -318,12 +297,9 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             sweep: Constant::new(cfg.broad_phase == BroadPhase::Sweep),
             grid_mode: Constant::new(grid),
             sap: Constant::new(mode == WalkMode::ImprovedSap),
-            last_slot: Constant::new(u64::from(cfg.capacity - 1).into()),
             mask: Constant::new(mask),
             drain: Constant::new(DRAIN.into()),
             grid_drain: Constant::new(GRID_DRAIN.into()),
-            resident_set: Constant::new(resident_set.into()),
-            has_resident: Constant::new(resident_set != 0),
             projection: Projection::new(cfg),
             radix: (0..radixes)
                 .map(|_| KeySort::new(sort_key_bits(cfg), cfg.radix_digit_bits))
@@ -348,9 +324,6 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             gdelay: Default::default(),
             state: Default::default(),
             stall: Default::default(),
-            loaded: Default::default(),
-            ready: Default::default(),
-            room: Default::default(),
             projected: Default::default(),
             over: Default::default(),
             countdown: Default::default(),
@@ -359,12 +332,7 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             n_visits: Default::default(),
             n_tests: Default::default(),
             n_pairs: Default::default(),
-            res_loaded: Default::default(),
-            res_room: Default::default(),
-            haptic: Default::default(),
-            streamed_seen: Default::default(),
-            res_row: Default::default(),
-            obb_res: Default::default(),
+            load: BoxLoad::new(cfg),
             check: Default::default(),
             fetch: Default::default(),
             tag_a: Default::default(),
@@ -377,7 +345,6 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             a_addr: Default::default(),
             b_addr: Default::default(),
             walked: Default::default(),
-            credit: Default::default(),
             sort_in_valid: Default::default(),
             sort_in_key: Default::default(),
             sort_in_val: Default::default(),
@@ -397,7 +364,6 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             grid_too_wide: Default::default(),
             grid_visits: Default::default(),
             projected_at: Default::default(),
-            accept: Default::default(),
             issue: Default::default(),
             hit: Default::default(),
         }
@@ -408,27 +374,10 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self,
-            clock,
-            state,
-            stall,
-            loaded,
-            ready,
-            room,
-            projected,
-            over,
-            countdown,
-            n_cycles,
-            n_visits,
-            n_tests,
-            n_pairs,
-            pending,
-            res_loaded,
-            res_room,
-            haptic,
-            streamed_seen
+            self, clock, state, stall, projected, over, countdown, n_cycles, n_visits, n_tests,
+            n_pairs, pending
         );
-        clock!(self, clock, projection, check, fetch, sat, fifo);
+        clock!(self, clock, projection, load, check, fetch, sat, fifo);
         for k in 0..self._radixes {
             self.radix[k].clock.next = self.clock.val();
         }
@@ -532,50 +481,33 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             }
         }
 
-        self.credit.next = self.grid_credit.val() | !self.grid_mode.val() | !self.room.q.val();
-        self.obb_ready.next = self.ready.q.val() & self.credit.val();
-        self.accept.next = self.obb_ready.val() & self.obb_valid.val() & self.room.q.val();
+        self.load.frame_start.next = self.frame_start.val();
+        self.load.frame_update.next = self.frame_update.val();
+        self.load.obb_valid.next = self.obb_valid.val();
+        self.load.obb_last.next = self.obb_last.val();
+        self.load.obb_group.next = self.obb_group.val();
+        self.load.credit.next = self.grid_credit.val() | !self.grid_mode.val();
+        self.obb_ready.next = self.load.obb_ready.val();
         for x in 0..3 {
-            self.center[x].write_enable.next = self.accept.val();
-            self.center[x].write_address.next = bit_cast::<A, C>(self.loaded.q.val());
+            self.center[x].write_enable.next = self.load.accept.val();
+            self.center[x].write_address.next = self.load.index.val();
             self.center[x].write_data.next = self.obb_center[x].val();
-            self.half[x].write_enable.next = self.accept.val();
-            self.half[x].write_address.next = bit_cast::<A, C>(self.loaded.q.val());
+            self.half[x].write_enable.next = self.load.accept.val();
+            self.half[x].write_address.next = self.load.index.val();
             self.half[x].write_data.next = self.obb_half[x].val();
             self.projection.center[x].next = self.obb_center[x].val();
             self.projection.half[x].next = self.obb_half[x].val();
         }
         for k in 0..9 {
-            self.axes[k].write_enable.next = self.accept.val();
-            self.axes[k].write_address.next = bit_cast::<A, C>(self.loaded.q.val());
+            self.axes[k].write_enable.next = self.load.accept.val();
+            self.axes[k].write_address.next = self.load.index.val();
             self.axes[k].write_data.next = self.obb_axes[k].val();
             self.projection.axes[k].next = self.obb_axes[k].val();
         }
-        self.projection.valid_in.next = self.accept.val();
+        self.projection.valid_in.next = self.load.accept.val();
         self.gdelay.d.next = self.obb_group.val();
-        if self.accept.val() {
-            self.loaded.d.next = self.loaded.q.val() + 1;
-            if self.loaded.q.val() == self.last_slot.val() {
-                self.room.d.next = false;
-            }
-        }
-        // Resident groups: an update frame keeps the count of its resident boxes, which come
-        // first; a resident box in a haptic frame, or after a streamed one, makes the frame
-        // incomplete (and the resident lists unsure: the next frame must be an update).
-        // (rust-hdl writes a bit of an expression as Verilog cannot read: a local first.)
-        self.res_row.next = self.resident_set.val() >> bit_cast::<8, GROUP>(self.obb_group.val());
-        self.obb_res.next = self.has_resident.val() & self.res_row.val().get_bit(0);
-        if self.accept.val() {
-            if self.obb_res.val() {
-                if self.haptic.q.val() | self.streamed_seen.q.val() {
-                    self.over.d.next = true;
-                } else {
-                    self.res_loaded.d.next = self.loaded.q.val() + 1;
-                    self.res_room.d.next = self.loaded.q.val() != self.last_slot.val();
-                }
-            } else {
-                self.streamed_seen.d.next = true;
-            }
+        if self.load.refused.val() {
+            self.over.d.next = true;
         }
 
         // Projected: keys, margin and group stored at the box's index; sweep sorts min x.
@@ -609,8 +541,8 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         for k in 0..self._grids {
             self.grid[k].start.next = self.frame_start.val();
             self.grid[k].update.next = self.frame_update.val();
-            self.grid[k].accept.next = self.accept.val();
-            self.grid[k].loaded.next = !self.ready.q.val() & !self.frame_start.val();
+            self.grid[k].accept.next = self.load.accept.val();
+            self.grid[k].loaded.next = !self.load.loading.val() & !self.frame_start.val();
             self.grid[k].key_valid.next = self.projection.valid_out.val();
             self.grid[k].key_index.next = bit_cast::<A, C>(self.projected.q.val());
             self.grid[k].key_min_x.next = self.projection.key_min[0].val();
@@ -627,14 +559,14 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.stall.d.next = self.fifo.almost_full.val();
         self.walk_start.next = false;
         for k in 0..self._sweeps {
-            self.sweep_walker[k].n.next = self.loaded.q.val();
+            self.sweep_walker[k].n.next = self.load.loaded.val();
             self.sweep_walker[k].stall.next = self.stall.q.val();
             self.sweep_walker[k].rd_key.next = self.sorted_key.val();
             self.sweep_walker[k].rd_val.next = self.sorted_val.val();
             self.sweep_walker[k].a_max.next = self.kmax[0].read_data_a.val();
         }
         for k in 0..self._walkers {
-            self.walker[k].n.next = self.loaded.q.val();
+            self.walker[k].n.next = self.load.loaded.val();
             self.walker[k].stall.next = self.stall.q.val();
             self.walker[k].rd_val.next = self.sorted_val.val();
             self.walker[k].sort_done.next = self.sort_done.val();
@@ -699,7 +631,8 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
 
         // V+3: the geometry of a and b is read. The grid's SAT test is read on a clock that
         // accepts no box (the box's write takes port A) and when the pair FIFO has room.
-        self.issue.next = self.grid_test_valid.val() & !self.accept.val() & !self.stall.q.val();
+        self.issue.next =
+            self.grid_test_valid.val() & !self.load.accept.val() & !self.stall.q.val();
         for k in 0..self._grids {
             self.grid[k].test_ready.next = self.issue.val();
         }
@@ -791,19 +724,14 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         match self.state.q.val() {
             CoreState::Idle => {}
             CoreState::Load => {
-                if self.obb_valid.val() & !self.room.q.val() {
-                    self.over.d.next = true;
-                }
-                // The last box taken, or the end marker alone.
-                if self.obb_last.val() & (self.obb_ready.val() | !self.obb_valid.val()) {
+                if self.load.ended.val() {
                     self.state.d.next = CoreState::Project;
-                    self.ready.d.next = false;
                 }
             }
             CoreState::Project => {
                 // Every box is in the key table: sort (sweep) or walk (brute); a frame over
                 // capacity ends here with no pairs.
-                if self.projected.q.val() == self.loaded.q.val() {
+                if self.projected.q.val() == self.load.loaded.val() {
                     if self.grid_mode.val() {
                         // (The grid walks while boxes arrive.)
                         self.state.d.next = CoreState::Walk;
@@ -866,29 +794,13 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         }
         if self.frame_start.val() {
             self.state.d.next = CoreState::Load;
-            self.ready.d.next = true;
-            self.room.d.next = true;
-            self.loaded.d.next = 0.into();
-            self.projected.d.next = 0.into();
+            self.projected.d.next = self.load.first.val();
             self.over.d.next = false;
             self.pending.d.next = 0.into();
             self.n_cycles.d.next = 0.into();
             self.n_visits.d.next = 0.into();
             self.n_tests.d.next = 0.into();
             self.n_pairs.d.next = 0.into();
-            self.streamed_seen.d.next = false;
-            self.haptic.d.next = self.has_resident.val() & !self.frame_update.val();
-            if self.has_resident.val() {
-                if self.frame_update.val() {
-                    self.res_loaded.d.next = 0.into();
-                    self.res_room.d.next = true;
-                } else {
-                    // A haptic frame's boxes follow the resident ones.
-                    self.loaded.d.next = self.res_loaded.q.val();
-                    self.projected.d.next = self.res_loaded.q.val();
-                    self.room.d.next = self.res_room.q.val();
-                }
-            }
         }
     }
 }

@@ -12,7 +12,9 @@ pub mod pipe;
 pub mod resize;
 pub mod table_ram;
 
-// The projection: a box's AABB keys and SAT margin.
+// The load (which box is taken, at which index) and the projection: a box's AABB keys and SAT
+// margin.
+pub mod box_load;
 pub mod projection;
 
 // The broad phases: the radix sort (sweep, improved-sap), the walkers, and the grid.

@@ -1,11 +1,14 @@
-//! The core's own stages between the broad phase and the SAT, each on its own, clock by clock,
-//! in rust-hdl and in Verilog (Verilator): the key check (`KeyCheck`) and the geometry fetch
+//! The core's own stages, each on its own, clock by clock, in rust-hdl and in Verilog
+//! (Verilator): the load (`BoxLoad`) against the stream protocol written here, and, between the
+//! broad phase and the SAT, the key check (`KeyCheck`) and the geometry fetch
 //! (`GeometryFetch`), against references written here from the clock table in `core.rs`, on
 //! random traffic with ties, the keys' extremes and every group pair.
 
 mod common;
 
 use common::{in_verilator, ports, raw, run_rust_hdl, signed};
+use obb_model::fixed::HwConfig;
+use obb_rtl::box_load::BoxLoad;
 use obb_rtl::flow::verilator::Port;
 use obb_rtl::geometry_fetch::GeometryFetch;
 use obb_rtl::key_check::{KeyCheck, MASK};
@@ -412,4 +415,257 @@ fn geometry_fetch_matches_its_clock_table() {
         &v,
     );
     assert_eq!(got, want, "Verilog");
+}
+
+/// The load's tables: 6 boxes (indices of 3 bits, counts of 4).
+const LOAD_A: usize = 3;
+const LOAD_C: usize = 4;
+const LOAD_CAPACITY: u64 = 6;
+
+fn load_config(resident: &[u32]) -> HwConfig {
+    HwConfig {
+        capacity: LOAD_CAPACITY as u32,
+        resident_groups: resident.to_vec(),
+        ..HwConfig::default()
+    }
+}
+
+/// The load as its protocol says (`box_load.rs`): its state between clocks.
+#[derive(Clone, Copy, Default)]
+struct LoadState {
+    loading: bool,
+    room: bool,
+    count: u64,
+    resident_count: u64,
+    resident_room: bool,
+    haptic: bool,
+    streamed_seen: bool,
+}
+
+/// A clock's inputs: frame_start, frame_update, obb_valid, obb_last, obb_group, credit.
+fn load_inputs() -> Vec<Port> {
+    vec![
+        Port::new("frame_start", 1),
+        Port::new("frame_update", 1),
+        Port::new("obb_valid", 1),
+        Port::new("obb_last", 1),
+        Port::new("obb_group", GROUP),
+        Port::new("credit", 1),
+    ]
+}
+
+fn load_outputs() -> Vec<Port> {
+    vec![
+        Port::new("obb_ready", 1),
+        Port::new("accept", 1),
+        Port::new("index", LOAD_A),
+        Port::new("loaded", LOAD_C),
+        Port::new("loading", 1),
+        Port::new("ended", 1),
+        Port::new("refused", 1),
+        Port::new("first", LOAD_C),
+    ]
+}
+
+/// The outputs of state `s` under the clock's inputs `v`, in `load_outputs`' order.
+fn load_outputs_of(s: &LoadState, v: &[u64], resident: &[u32]) -> Vec<u64> {
+    let (update, valid, last, group, credit) = (v[1] == 1, v[2] == 1, v[3] == 1, v[4], v[5] == 1);
+    // A box is taken when the load is on and the broad phase has room for it; past the
+    // capacity it is taken whatever the credit, and dropped.
+    let ready = s.loading && (credit || !s.room);
+    let accept = ready && valid && s.room;
+    let is_resident = resident.contains(&(group as u32));
+    let out_of_place = accept && is_resident && (s.haptic || s.streamed_seen);
+    let refused = (s.loading && valid && !s.room) || out_of_place;
+    let ended = s.loading && last && (ready || !valid);
+    let first = if !resident.is_empty() && !update {
+        s.resident_count
+    } else {
+        0
+    };
+    [
+        u64::from(ready),
+        u64::from(accept),
+        s.count % (1 << LOAD_A),
+        s.count,
+        u64::from(s.loading),
+        u64::from(ended),
+        u64::from(refused),
+        first,
+    ]
+    .to_vec()
+}
+
+/// The state after a clock's edge.
+fn load_step(s: &LoadState, v: &[u64], resident: &[u32]) -> LoadState {
+    let out = load_outputs_of(s, v, resident);
+    let (accept, ended) = (out[1] == 1, out[5] == 1);
+    let mut n = *s;
+    if accept {
+        n.count = s.count + 1;
+        n.room = s.count + 1 < LOAD_CAPACITY;
+        if resident.contains(&(v[4] as u32)) {
+            if !(s.haptic || s.streamed_seen) {
+                n.resident_count = s.count + 1;
+                n.resident_room = s.count + 1 < LOAD_CAPACITY;
+            }
+        } else {
+            n.streamed_seen = true;
+        }
+    }
+    if ended {
+        n.loading = false;
+    }
+    if v[0] == 1 {
+        let has_resident = !resident.is_empty();
+        let update = v[1] == 1;
+        n.loading = true;
+        n.streamed_seen = false;
+        n.haptic = has_resident && !update;
+        (n.count, n.room) = (0, true);
+        if has_resident && update {
+            (n.resident_count, n.resident_room) = (0, true);
+        } else if has_resident {
+            (n.count, n.room) = (s.resident_count, s.resident_room);
+        }
+    }
+    n
+}
+
+/// What the load gives after each clock's edge, the clock's inputs still applied (`after`),
+/// and before it: what the edge does (`before`: a box taken, the load's end, a refusal).
+fn load_reference(v: &[Vec<u64>], resident: &[u32], after: bool) -> Vec<Vec<u64>> {
+    let mut s = LoadState::default();
+    v.iter()
+        .map(|x| {
+            let before = load_outputs_of(&s, x, resident);
+            s = load_step(&s, x, resident);
+            if after {
+                load_outputs_of(&s, x, resident)
+            } else {
+                before
+            }
+        })
+        .collect()
+}
+
+/// Frames of 0 to 9 boxes (past the capacity of 6 at times) in groups 0 to 3, boxes on about
+/// 7 clocks in 10, the credit withheld on about 1 in 5, update frames and haptic ones at
+/// random, `obb_last` with the last box or alone, and now and then a `frame_start` in the middle
+/// of a load. The sender moves on to its next box when the protocol says the box was taken.
+fn load_traffic(seed: u64, resident: &[u32]) -> Vec<Vec<u64>> {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let mut v = Vec::new();
+    let mut s = LoadState::default();
+    let mut send = |v: &mut Vec<Vec<u64>>, x: Vec<u64>| {
+        let before = load_outputs_of(&s, &x, resident);
+        s = load_step(&s, &x, resident);
+        v.push(x);
+        (before[0] == 1, before[5] == 1)
+    };
+    while v.len() < CLOCKS {
+        send(&mut v, vec![1, u64::from(rng.random_bool(0.5)), 0, 0, 0, 1]);
+        let boxes = rng.random_range(0..10);
+        let abort = rng.random_bool(0.1);
+        let mut sent = 0;
+        for _ in 0..40 {
+            if abort && sent == boxes / 2 {
+                break;
+            }
+            let valid = sent < boxes && rng.random_bool(0.7);
+            let last = (valid && sent + 1 == boxes) || (!valid && sent == boxes);
+            let group = rng.random_range(0..4);
+            let credit = rng.random_bool(0.8);
+            let (ready, ended) = send(
+                &mut v,
+                vec![
+                    0,
+                    0,
+                    u64::from(valid),
+                    u64::from(last),
+                    group,
+                    u64::from(credit),
+                ],
+            );
+            sent += usize::from(valid && ready);
+            if ended {
+                break;
+            }
+        }
+        for _ in 0..rng.random_range(0..3) {
+            send(&mut v, vec![0, 0, 0, 0, 0, 1]);
+        }
+    }
+    v
+}
+
+fn apply_load(u: &mut BoxLoad<LOAD_A, LOAD_C>, v: &[u64]) {
+    u.frame_start.next = v[0] == 1;
+    u.frame_update.next = v[1] == 1;
+    u.obb_valid.next = v[2] == 1;
+    u.obb_last.next = v[3] == 1;
+    u.obb_group.next = v[4].into();
+    u.credit.next = v[5] == 1;
+}
+
+fn load_read(u: &BoxLoad<LOAD_A, LOAD_C>) -> Vec<u64> {
+    vec![
+        u64::from(u.obb_ready.val()),
+        u64::from(u.accept.val()),
+        uval(u.index.val()),
+        uval(u.loaded.val()),
+        u64::from(u.loading.val()),
+        u64::from(u.ended.val()),
+        u64::from(u.refused.val()),
+        uval(u.first.val()),
+    ]
+}
+
+/// The load in rust-hdl and in Verilog against its protocol, every output at every clock: boxes
+/// taken only while loading with the credit and room, stored at consecutive indices; past the
+/// capacity taken, dropped and the frame refused; the load's end with its last box or with
+/// `obb_last` alone; a `frame_start` mid-load restarting it; with resident groups (0 and 2),
+/// update frames keeping their resident count, haptic frames starting after it, and a resident
+/// box out of place refusing the frame.
+#[test]
+fn box_load_follows_the_stream_protocol() {
+    for (seed, resident) in [(1, vec![]), (2, vec![0, 2])] {
+        let v = load_traffic(seed, &resident);
+        let want = load_reference(&v, &resident, true);
+        let edges = load_reference(&v, &resident, false);
+        let count = |k: usize| edges.iter().filter(|o| o[k] == 1).count();
+        let (accepted, ended, refused) = (count(1), count(5), count(6));
+        assert!(
+            accepted > 100 && ended > 20 && refused > 5,
+            "seed {seed}: {accepted} taken, {ended} ends, {refused} refusals"
+        );
+        assert!(
+            want.iter().any(|o| o[3] == LOAD_CAPACITY),
+            "the tables filled"
+        );
+        if !resident.is_empty() {
+            assert!(
+                want.iter().any(|o| o[7] > 0),
+                "a haptic frame after residents"
+            );
+        }
+        let config = load_config(&resident);
+        let got = run_rust_hdl(
+            &mut BoxLoad::<LOAD_A, LOAD_C>::new(&config),
+            &v,
+            apply_load,
+            |u, c| u.clock.next = Clock::from(c),
+            load_read,
+        );
+        assert_eq!(got, want, "rust-hdl, resident {resident:?}");
+        let name = format!("box_load_{seed}");
+        let got = in_verilator(
+            &mut BoxLoad::<LOAD_A, LOAD_C>::new(&config),
+            &name,
+            &load_inputs(),
+            &load_outputs(),
+            &v,
+        );
+        assert_eq!(got, want, "Verilog, resident {resident:?}");
+    }
 }
