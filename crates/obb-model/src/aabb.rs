@@ -12,6 +12,14 @@ pub struct Aabb {
 /// Unit roundoff of f64 (2^-53).
 pub const U: f64 = f64::EPSILON / 2.0;
 
+/// The smallest positive f64 (2^-1074, subnormal): the absolute error a product may lose when
+/// it underflows is half of it.
+pub const TINY: f64 = f64::from_bits(1);
+
+/// Added to every AABB half-extent: it covers what the three products of `e_x` lose when they
+/// underflow (at most 2^-1075 each), which the relative widening does not (docs/sat.md, "AABBs").
+const EXTENT_FLOOR: f64 = 4.0 * TINY;
+
 /// `d` moved outward (`dir` -1 down, +1 up) by `2u·|d|`, which is at least one ulp of `d`, so
 /// that the result lies beyond the exact value that `d` rounds; `+ 0.0` turns -0.0 into +0.0.
 /// Unlike `next_down`/`next_up` it has no branch on the sign, which is unpredictable for
@@ -24,8 +32,9 @@ fn outward(d: f64, dir: f64) -> f64 {
 impl Aabb {
     /// The AABB of an OBB: per world axis x, `e_x = Σ_k half_k |axes_k,x|` is the exact half-extent
     /// of the box's projection, whatever the axes (they need not be orthonormal). The computed sum
-    /// has relative error at most γ₃ < 4u; scaling by (1 + 8u) and stepping the end points one ulp
-    /// outward makes the stored bounds contain the exact ones (docs/sat.md, "AABBs").
+    /// has relative error at most γ₃ < 4u, plus 2^-1075 per product that underflows; scaling by
+    /// (1 + 8u), adding `EXTENT_FLOOR` and stepping the end points one ulp outward makes the
+    /// stored bounds contain the exact ones (docs/sat.md, "AABBs").
     pub fn of(obb: &Obb) -> Aabb {
         let mut min = [0.0; 3];
         let mut max = [0.0; 3];
@@ -33,7 +42,7 @@ impl Aabb {
             let e = obb.half[0] * obb.axes[0][x].abs()
                 + obb.half[1] * obb.axes[1][x].abs()
                 + obb.half[2] * obb.axes[2][x].abs();
-            let e = e * (1.0 + 8.0 * U);
+            let e = e * (1.0 + 8.0 * U) + EXTENT_FLOOR;
             // `+ 0.0` turns -0.0 into +0.0, so that sorting by total order (which puts -0.0
             // first) agrees with `<=` on touching end points.
             min[x] = outward(obb.center[x] - e, -1.0);

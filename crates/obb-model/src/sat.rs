@@ -8,7 +8,14 @@
 //! margin: about 1e-14 of the scene's scale for exactly orthonormal axes, and about
 //! 2·η·Σh for axes orthonormal only to η (1e-7 for single-precision rotations).
 
-use crate::aabb::U;
+use crate::aabb::{TINY, U};
+
+/// Added to every axis test's margin: the absolute error of the products that underflow (at
+/// most 2^-1075 each, some 40 in one axis test, carried by factors near 1), which the relative
+/// margin does not cover when the boxes and their distance are subnormal (docs/sat.md,
+/// "Underflow"). 2^14 times the smallest subnormal: 400 times the bound, and still about 1e-319
+/// mm, so it adds no false positive at any scale a scene can have.
+const MARGIN_FLOOR: f64 = 16384.0 * TINY;
 use crate::scene::Obb;
 
 /// Two per-box constants of the SAT margin, computed once per frame.
@@ -126,9 +133,10 @@ fn sat_lanes<const L: usize>(
     let tw: [V<L>; 3] = lanes3(|k, l| b[l].center[k] - a[l].center[k]);
     let tnorm: V<L> = lanes(|l| tw[0][l].abs() + tw[1][l].abs() + tw[2][l].abs());
     // The margin every axis test gets: the rounding bound 64u·(|T|₁ + Σa + Σb) (docs/sat.md
-    // derives 23u) plus both boxes' orthonormality slack.
-    let s: V<L> =
-        lanes(|l| sa[l].kappa + sb[l].kappa + 64.0 * U * (tnorm[l] + sa[l].hsum + sb[l].hsum));
+    // derives 23u) plus both boxes' orthonormality slack, plus the underflow floor.
+    let s: V<L> = lanes(|l| {
+        sa[l].kappa + sb[l].kappa + 64.0 * U * (tnorm[l] + sa[l].hsum + sb[l].hsum) + MARGIN_FLOOR
+    });
     let ah: [V<L>; 3] = lanes3(|k, l| a[l].half[k]);
     let bh: [V<L>; 3] = lanes3(|k, l| b[l].half[k]);
 

@@ -4,6 +4,9 @@ use crate::aabb::Aabb;
 
 /// Cells per axis at most (keys stay below 2^60).
 const MAX_CELLS_PER_AXIS: u64 = 1 << 20;
+/// The smallest cell edge, the smallest normal f64 (2^-1022): its inverse is finite. Below it
+/// (boxes of subnormal size) `1 / cell` would be infinite and every box would cover 2^63 cells.
+const MIN_CELL: f64 = f64::MIN_POSITIVE;
 /// Cell edge as a multiple of the median AABB edge: the measured sweet spot between entries per
 /// box and pairs per cell (docs/engines.md).
 const CELL_PER_MEDIAN_EDGE: f64 = 3.0;
@@ -61,10 +64,12 @@ impl GridGeometry {
     }
 
     /// Sets origin and dims for cells of edge `cell` over `lo..=hi`, enlarging the cell when the
-    /// extent would need more than `MAX_CELLS_PER_AXIS` cells.
+    /// extent would need more than `MAX_CELLS_PER_AXIS` cells, or when it is below `MIN_CELL`.
     pub(super) fn fit(lo: [f64; 3], hi: [f64; 3], cell: f64) -> GridGeometry {
         let extent = (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
-        let cell = cell.max(extent / (MAX_CELLS_PER_AXIS - 2) as f64);
+        let cell = cell
+            .max(extent / (MAX_CELLS_PER_AXIS - 2) as f64)
+            .max(MIN_CELL);
         let g = GridGeometry {
             origin: lo,
             cell,
