@@ -24,15 +24,15 @@ pub const HALF_S: usize = 18;
 /// The pair's margin `M_A + M_B`.
 pub const PAIR_MARGIN: usize = crate::projection::MARGIN + 1;
 /// Face radius sums `Σ h r_up` (19 x 18 bits, three terms).
-const FACE: usize = R_UP + HALF_S + 2;
+pub const FACE: usize = R_UP + HALF_S + 2;
 /// `P` and `|P|`.
-const P_BITS: usize = TH + RT + 1;
+pub const P_BITS: usize = TH + RT + 1;
 /// `r_A` and the minors (18 x 18 bits, two terms).
-const PAIR2: usize = 2 * RT + 1;
+pub const PAIR2: usize = 2 * RT + 1;
 /// `ceil(|minor| / 2^f)` (at most 2^19, kept signed for the DSP's A port).
-const MINOR: usize = 21;
+pub const MINOR: usize = 21;
 /// `r_B` (21 x 18 bits, two terms).
-const RB: usize = MINOR + HALF_S + 1;
+pub const RB: usize = MINOR + HALF_S + 1;
 /// The clocks after which each stage's results are registered (the table above): the values
 /// that ride along are delayed from the stage that makes them to the stage that uses them.
 const ROUNDED: usize = 1;
@@ -46,7 +46,9 @@ pub const LATENCY: u64 = R_B_DONE as u64 + SatDecide::LATENCY;
 /// with unsigned sums, which rust-hdl's Verilog gets wrong): four clocks, the sums in two
 /// clocks of two-operand adds (a four-operand sum in one clock took 5.1 ns), the 15
 /// comparisons (registered: with their OR in the same clock they took 5 LUT levels), their OR.
-/// Its Rust model calls `obb_model::fixed::sat::sat_decide`.
+/// Its Rust model calls `obb_model::fixed::sat::sat_decide`. `f` and `k` are constants of the
+/// configuration: the Verilog reads `f` in the first clock and `k` in the third, so a change
+/// takes effect for the operands three clocks apart.
 #[derive(Clone, Debug, Default, LogicBlock)]
 pub struct SatDecide {
     pub abs_t: [Signal<In, Bits<ABS_TU>>; 3],
@@ -66,8 +68,10 @@ pub struct SatDecide {
     /// No axis separates the pair.
     pub hit: Signal<Out, Bit>,
     pub clock: Signal<In, Clock>,
-    // The verdict three, two and one clocks before it shows on `hit` (the sums' and the
-    // comparisons' stages in the Verilog).
+    // The verdict "some axis separates the pair" three, two and one clocks before its negation
+    // shows on `hit` (the sums' and the comparisons' stages in the Verilog). Kept as
+    // "separated" so that from reset, as in the Verilog (no comparison register set), `hit`
+    // is high.
     verdict: Signal<Local, Bit>,
     verdict_q: Signal<Local, Bit>,
     verdict_qq: Signal<Local, Bit>,
@@ -84,7 +88,7 @@ impl SatDecide {
 impl Logic for SatDecide {
     fn update(&mut self) {
         if self.clock.pos_edge() {
-            let shown = self.verdict_qq.val();
+            let shown = !self.verdict_qq.val();
             self.verdict_qq.next = self.verdict_q.val();
             self.verdict_q.next = self.verdict.val();
             let f = uval(self.f.val()) as u32;
@@ -121,7 +125,7 @@ impl Logic for SatDecide {
             let r_b =
                 std::array::from_fn(|i| std::array::from_fn(|j| sval(self.r_b[3 * i + j].val())));
             let pair = uval(self.pair_margin.val()) as i64;
-            self.verdict.next = sat_decide(&half_a, &half_b, pair, &rounded, &terms, &r_b, &m);
+            self.verdict.next = !sat_decide(&half_a, &half_b, pair, &rounded, &terms, &r_b, &m);
             self.hit.next = shown;
         }
     }

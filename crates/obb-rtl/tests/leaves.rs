@@ -1,18 +1,17 @@
-//! Each arithmetic leaf: its Rust model (the rust-hdl simulation) against its own Verilog in
-//! Verilator, clock by clock, on random operands including the extremes; and the latencies the
-//! model's cycle count assumes.
+//! Each arithmetic leaf, delay line, memory and the pair FIFO: its Rust model (the rust-hdl
+//! simulation) against its own Verilog in Verilator, clock by clock, on random operands
+//! including the extremes; and the latencies the model's cycle count assumes. (The SAT back
+//! end's leaves: `sat_leaves.rs`.)
 
 mod common;
 
-use common::{in_verilator, signed};
+use common::in_verilator;
 use obb_rtl::bin_table::BinTable;
 use obb_rtl::dist_ram::DistRam;
 use obb_rtl::flow::verilator::Port;
 use obb_rtl::leaf::{sbits, sval, uval, AbsTwice, UMul};
 use obb_rtl::pair_fifo::{self, PairFifo};
 use obb_rtl::pipe::Pipe;
-use obb_rtl::sat_front::{RR, TU};
-use obb_rtl::sat_round::{SatRound, ABS_TU, RT, R_UP, TH};
 use obb_rtl::table_ram::TableRam;
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
@@ -370,108 +369,7 @@ fn pair_fifo_matches_its_specification_and_its_verilog() {
     assert_eq!(out, got, "Verilator against rust-hdl");
 }
 
-/// The SAT's rounding stage: its Rust model (the model's `sat_round`) against its Verilog, every
-/// output, for f = 2, 9 and 16 on random products and the edges of rounding: ties at
-/// 2^(f-1) of either sign, ±1, 0 and the largest |R| (2^(2f), unit rotation entries) and |t|.
-#[test]
-fn sat_round_matches_its_verilog() {
-    let mask = |v: i64, bits: usize| (v as u64) & ((1u64 << bits) - 1);
-    let mut runner = proptest::test_runner::TestRunner::deterministic();
-    let mut v = Vec::new();
-    for f in [2i64, 9, 16] {
-        let r_max = 1i64 << (2 * f);
-        let t_max = (1i64 << (23 + f)) - 1;
-        let h = 1i64 << (f - 1);
-        let edges = [
-            0,
-            1,
-            -1,
-            h,
-            -h,
-            h - 1,
-            -h + 1,
-            h + 1,
-            -h - 1,
-            3 * h,
-            -3 * h,
-            r_max,
-            -r_max,
-        ];
-        for n in 0..60 {
-            let mut x = vec![0u64; 16];
-            for k in 0..6 {
-                let t = if n < edges.len() {
-                    edges[(n + k) % edges.len()].clamp(-t_max, t_max)
-                } else {
-                    (-t_max..=t_max).new_tree(&mut runner).unwrap().current()
-                };
-                x[k] = mask(t, TU);
-            }
-            for k in 0..9 {
-                let r = if n < edges.len() {
-                    edges[(n + k) % edges.len()]
-                } else {
-                    (-r_max..=r_max).new_tree(&mut runner).unwrap().current()
-                };
-                x[6 + k] = mask(r, RR);
-            }
-            x[15] = f as u64;
-            v.push(x);
-        }
-    }
-    let mut uut = SatRound::default();
-    uut.connect_all();
-    let mut model = Vec::new();
-    for x in &v {
-        for i in 0..3 {
-            uut.t[i].next = Signed::from(signed(x[i], TU));
-            uut.u[i].next = Signed::from(signed(x[3 + i], TU));
-        }
-        for k in 0..9 {
-            uut.r[k].next = Signed::from(signed(x[6 + k], RR));
-        }
-        uut.f.next = x[15].into();
-        tick(&mut uut, |u, c| u.clock.next = Clock::from(c));
-        let mut out = Vec::new();
-        for i in 0..3 {
-            out.push(uval(uut.abs_t[i].val()));
-            out.push(uval(uut.abs_u[i].val()));
-            out.push(mask(obb_rtl::leaf::sval(uut.th[i].val()), TH));
-        }
-        for k in 0..9 {
-            out.push(mask(obb_rtl::leaf::sval(uut.r_up[k].val()), R_UP));
-            out.push(mask(obb_rtl::leaf::sval(uut.rt[k].val()), RT));
-            out.push(mask(obb_rtl::leaf::sval(uut.art[k].val()), RT));
-        }
-        model.push(out);
-    }
-    let mut inputs = Vec::new();
-    for i in 0..3 {
-        inputs.push(Port::new(format!("t${i}"), TU));
-    }
-    for i in 0..3 {
-        inputs.push(Port::new(format!("u${i}"), TU));
-    }
-    for k in 0..9 {
-        inputs.push(Port::new(format!("r${k}"), RR));
-    }
-    inputs.push(Port::new("f", 8));
-    let mut outputs = Vec::new();
-    for i in 0..3 {
-        outputs.push(Port::new(format!("abs_t${i}"), ABS_TU));
-        outputs.push(Port::new(format!("abs_u${i}"), ABS_TU));
-        outputs.push(Port::new(format!("th${i}"), TH));
-    }
-    for k in 0..9 {
-        outputs.push(Port::new(format!("r_up${k}"), R_UP));
-        outputs.push(Port::new(format!("rt${k}"), RT));
-        outputs.push(Port::new(format!("art${k}"), RT));
-    }
-    let out = in_verilator(&mut SatRound::default(), "sat_round", &inputs, &outputs, &v);
-    assert_eq!(out, model);
-}
-
-/// `bits`-bit two's complement `raw` as an i64.
+/// The latencies the model's cycle count assumes are the blocks' own.
 #[test]
 fn model_latencies_are_the_hardware_latencies() {
     assert_eq!(
