@@ -200,7 +200,7 @@ pub struct ObbCore<const A: usize, const C: usize> {
     /// The geometry fetch (V+3 .. V+5): a SAT test's boxes read and registered, the SAT's
     /// inputs.
     fetch: GeometryFetch<A>,
-    /// The pair's indices alongside the SAT.
+    // The pair's indices alongside the SAT.
     tag_a: Pipe<Bits<A>, { sat::LATENCY as usize }>,
     tag_b: Pipe<Bits<A>, { sat::LATENCY as usize }>,
     /// The SAT test's keys overlap on all three axes (always, but with improved-sap), from the

@@ -315,7 +315,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     s5_entry: Vec<DFF<Bits<C>>>,
     /// Per list: the owner the box wrote (forwarded to the next box).
     s5_meta_w: Vec<DFF<Bits<META>>>,
-    /// A large box arrived: the chain's old second is its entry (zero for any other box).
+    // A large box arrived: the chain's old second is its entry (zero for any other box).
     s5_large: DFF<Bit>,
     s5_lprev: DFF<Bits<C>>,
     // Memories.
@@ -572,8 +572,8 @@ pub struct GridPhase<const A: usize, const C: usize> {
     unpack_b: Signal<Local, Bits<TEST_WORD>>,
     unpack_ma: Signal<Local, Bits<TEST_WORD>>,
     next_box: Vec<Signal<Local, Bits<C>>>,
-    /// The box's index with the flag bit, a list head: at K+3 (a large box joins the chain), at
-    /// K+4 (it enters a list), at K+5 (forwarded).
+    // The box's index with the flag bit, a list head: at K+3 (a large box joins the chain), at
+    // K+4 (it enters a list), at K+5 (forwarded).
     entry: Signal<Local, Bits<C>>,
     entry4: Signal<Local, Bits<C>>,
     entry5: Signal<Local, Bits<C>>,

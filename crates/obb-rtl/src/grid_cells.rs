@@ -47,7 +47,7 @@ pub struct GridCells {
     pub home: [Signal<Out, Bit>; 27],
     /// The home cell's fingerprint.
     pub home_fp: Signal<Out, Bits<FP>>,
-    /// The cell edge in key units (a box at most this wide on every axis is small), its log2.
+    // The cell edge in key units (a box at most this wide on every axis is small), its log2.
     cell_edge: Constant<Bits<CENTER>>,
     cell_bits: Constant<Bits<8>>,
     // Per axis and coordinate bit, the hash's column (`23 x + i`).

@@ -75,12 +75,12 @@ pub struct SweepWalker<const A: usize, const C: usize> {
     // The next read's address, and whether it is the outer box's first successor.
     raddr: DFF<Bits<C>>,
     rfirst: DFF<Bit>,
-    /// The read issued last clock (its entry is on `rd_key`, `rd_val`): a real one, the first
-    /// successor, at the end of the entries.
+    // The read issued last clock (its entry is on `rd_key`, `rd_val`): a real one, the first
+    // successor, at the end of the entries.
     f_valid: DFF<Bit>,
     f_first: DFF<Bit>,
     f_end: DFF<Bit>,
-    /// The entry read two clocks ago, registered, with its tag.
+    // The entry read two clocks ago, registered, with its tag.
     e_valid: DFF<Bit>,
     e_first: DFF<Bit>,
     e_end: DFF<Bit>,

@@ -133,8 +133,8 @@ struct Lane {
     inflight: usize,
     enumerator: Option<Enumerator>,
     list_queue: VecDeque<Queued>,
-    /// The walker's next visit, the visits left in its list (a held one included), whether
-    /// that list is its record's last.
+    // The walker's next visit, the visits left in its list (a held one included), whether
+    // that list is its record's last.
     next_visit: usize,
     left: usize,
     last_list: bool,

@@ -77,18 +77,23 @@ pub struct DelayModel {
     pub setup: f64,
     /// Shift register (SRL16E/SRLC32E) clock to output.
     pub srl_clock_to_q: f64,
-    /// Block RAM clock to data out, without and with the output register (DO_REG).
+    /// Block RAM clock to data out, without the output register (DO_REG).
     pub bram_clock_to_out: f64,
+    /// Block RAM clock to data out, with the output register (DO_REG).
     pub bram_clock_to_out_reg: f64,
     /// Block RAM address and data setup.
     pub bram_setup: f64,
-    /// DSP48E1 clock to P with PREG; with MREG only; with only input registers.
+    /// DSP48E1 clock to P with PREG.
     pub dsp_clock_to_p: f64,
+    /// DSP48E1 clock to P with MREG only.
     pub dsp_m_to_p: f64,
+    /// DSP48E1 clock to P with only input registers.
     pub dsp_a_to_p: f64,
-    /// DSP48E1 input setup to its input register; to M when A/B are not registered; to P.
+    /// DSP48E1 input setup to its input register.
     pub dsp_setup: f64,
+    /// DSP48E1 input setup to M, when A/B are not registered.
     pub dsp_setup_m: f64,
+    /// DSP48E1 input setup to P.
     pub dsp_setup_p: f64,
     /// DSP48E1 cascade input (PCIN) setup.
     pub dsp_setup_pcin: f64,
@@ -122,11 +127,17 @@ pub struct Resources {
     pub luts: u64,
     /// LUTs used as memory: distributed RAM and shift registers.
     pub lutram: u64,
+    /// Flip-flops (FDRE and its kin).
     pub registers: u64,
+    /// CARRY4 carry chains.
     pub carry4: u64,
+    /// MUXF7 and MUXF8.
     pub muxf: u64,
+    /// DSP48E1 slices.
     pub dsp: u64,
+    /// RAMB36E1 block RAMs.
     pub ramb36: u64,
+    /// RAMB18E1 block RAMs.
     pub ramb18: u64,
 }
 
@@ -165,9 +176,11 @@ pub const AIM_NS: f64 = 4.0;
 pub struct PathGroup {
     pub from: String,
     pub to: String,
-    /// Endpoints (bits) in the group, the most LUT levels and the slowest delay among them.
+    /// Endpoints (bits) in the group.
     pub endpoints: u64,
+    /// The most LUT levels among them.
     pub luts: u32,
+    /// The slowest delay among them (ns).
     pub ns: f64,
 }
 
@@ -210,8 +223,9 @@ impl Grouping {
 #[derive(Clone, Debug, Serialize)]
 pub struct Report {
     pub resources: Resources,
-    /// DSP48E1s that multiply without MREG, and without PREG.
+    /// DSP48E1s that multiply without MREG.
     pub dsp_without_mreg: u64,
+    /// DSP48E1s that multiply without PREG.
     pub dsp_without_preg: u64,
     /// Block RAMs with a read port whose output register (DO_REG) is off.
     pub bram_without_output_register: u64,
@@ -219,12 +233,13 @@ pub struct Report {
     pub endpoints_over_3_luts: u64,
     /// Those endpoints by the register families they run between, deepest first.
     pub deep_groups: Vec<PathGroup>,
-    /// Path endpoints slower than [`AIM_NS`] under the delay model, and by families, slowest
-    /// first.
+    /// Path endpoints slower than [`AIM_NS`] under the delay model.
     pub endpoints_over_aim: u64,
+    /// Those endpoints by the register families they run between, slowest first.
     pub slow_groups: Vec<PathGroup>,
-    /// The slowest path under the delay model, and the one with the most LUT levels.
+    /// The slowest path under the delay model.
     pub worst: PathInfo,
+    /// The path with the most LUT levels.
     pub deepest: DeepPath,
     pub delays: DelayModel,
 }
