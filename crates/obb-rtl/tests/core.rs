@@ -160,11 +160,51 @@ fn outcome(words: &[Vec<u64>], out: &[Vec<u64>], from: usize) -> SimFrame {
 struct Frame {
     name: &'static str,
     scene: Scene,
-    /// `pair_ready` on one clock in this many.
-    ready_every: usize,
+    /// When the receiver takes a pair.
+    ready: Ready,
     /// A haptic frame (`resident_groups`): `scene` holds the streamed boxes, which follow the
     /// resident ones of the last update frame.
     haptic: bool,
+}
+
+/// When the receiver of the pair stream is ready (`pair_ready`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Ready {
+    /// On one clock in this many.
+    Every(usize),
+    /// On about one clock in this many, at random (a fixed hash of the clock): runs of stalls
+    /// and of takes of many lengths, which the FIFO and the walkers must ride out.
+    Random(u64),
+}
+
+impl Ready {
+    fn at(self, k: usize) -> bool {
+        match self {
+            Ready::Every(n) => k % n == 0,
+            Ready::Random(n) => {
+                // splitmix64's finalizer.
+                let mut z = (k as u64).wrapping_add(0x9e37_79b9_7f4a_7c15);
+                z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+                z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+                (z ^ (z >> 31)) % n == 0
+            }
+        }
+    }
+
+    /// Clocks a pair may wait for the receiver, with room, for the frame's idle budget.
+    fn clocks_per_pair(self) -> usize {
+        match self {
+            Ready::Every(n) => n,
+            Ready::Random(n) => 2 * n as usize,
+        }
+    }
+
+    fn taken(self, lanes: u32) -> Taken {
+        match self {
+            Ready::Every(n) => Taken::of(n as u32, lanes),
+            Ready::Random(_) => Taken::of(2, lanes),
+        }
+    }
 }
 
 /// Runs `frames` back to back through one core for `cfg` in rust-hdl and in Verilator: both
@@ -220,15 +260,14 @@ fn stimulus(
         let total = run
             .as_ref()
             .map_or(boxes.len() as u64 + 100, |r| r.cycles.total);
-        let idle = total as usize + f.ready_every * pairs + 20;
-        let every = f.ready_every;
+        let idle = total as usize + f.ready.clocks_per_pair() * pairs + 20;
         // The stream is throttled once the load is over: these words are fixed in advance, so
         // they cannot follow a load the throttle would hold (`tests/cosim.rs` does, through the
         // test bench).
         let loaded = accepts.last().map_or(0, |&t| t as usize);
         starts.push(words.len());
         words.extend(frame((&boxes, f.haptic), &accepts, &fit, idle, &|k| {
-            k % every == 0 || (fit.broad_phase == BroadPhase::Grid && k <= loaded)
+            f.ready.at(k) || (fit.broad_phase == BroadPhase::Grid && k <= loaded)
         }));
         models.push(run);
     }
@@ -255,10 +294,10 @@ fn judge(
             run.as_ref().map(|r| r.cycles)
         );
         let want = Expected::of(run.as_ref());
-        if let Err(e) = compare(&got, &want, Taken::of(f.ready_every as u32, cfg.lanes)) {
+        if let Err(e) = compare(&got, &want, f.ready.taken(cfg.lanes)) {
             panic!("{}: {e}", f.name);
         }
-        if let (Some(run), true) = (run, f.ready_every > 1) {
+        if let (Some(run), true) = (run, f.ready.taken(cfg.lanes) != Taken::Freely) {
             assert!(
                 got.cycles > run.cycles.total,
                 "{}: the stream never stalled the core",
@@ -272,7 +311,7 @@ fn frame_of(name: &'static str, scene: Scene) -> Frame {
     Frame {
         name,
         scene,
-        ready_every: 1,
+        ready: Ready::Every(1),
         haptic: false,
     }
 }
@@ -297,7 +336,7 @@ fn sweep_core_matches_the_model() {
             Frame {
                 name: "dense, throttled",
                 scene: dense(120),
-                ready_every: 4,
+                ready: Ready::Every(4),
                 haptic: false,
             },
             frame_of("one box", first(touching_pairs(), 1)),
@@ -321,7 +360,7 @@ fn grid_core_matches_the_model() {
             Frame {
                 name: "dense, throttled",
                 scene: three_groups(dense(120)),
-                ready_every: 8,
+                ready: Ready::Every(8),
                 haptic: false,
             },
             frame_of("one box", first(touching_pairs(), 1)),
@@ -376,7 +415,7 @@ fn grid_variant_frames() -> Vec<Frame> {
         Frame {
             name: "dense, throttled",
             scene: three_groups(dense(120)),
-            ready_every: 8,
+            ready: Ready::Every(8),
             haptic: false,
         },
         frame_of(
@@ -424,10 +463,10 @@ fn grid_core_keeps_resident_groups() {
     first.obbs.insert(0, plate(0));
     let mut with_plate = instruments(1.0);
     with_plate.obbs.push(plate(2));
-    let haptic = |name, scene, ready_every| Frame {
+    let haptic = |name, scene, every| Frame {
         name,
         scene,
-        ready_every,
+        ready: Ready::Every(every),
         haptic: true,
     };
     run(
@@ -478,7 +517,9 @@ fn three_groups(mut scene: Scene) -> Scene {
     scene
 }
 
-/// Brute force with narrow formats and a group-pair list: the touching cases and the dense case.
+/// Brute force with narrow formats and a group-pair list: the touching cases and the dense case,
+/// the receiver always ready, taking a pair every 50th clock, and on one clock in 50 at random
+/// (the FIFO fills and the walker stalls: nothing is lost or repeated).
 #[test]
 fn brute_core_matches_the_model() {
     let cfg = HwConfig {
@@ -498,6 +539,14 @@ fn brute_core_matches_the_model() {
             frame_of("touching", touching_pairs()),
             frame_of("stiff", stiff()),
             frame_of("dense", dense(100)),
+            Frame {
+                ready: Ready::Every(50),
+                ..frame_of("dense, a pair taken every 50th clock", dense(100))
+            },
+            Frame {
+                ready: Ready::Random(50),
+                ..frame_of("dense, pairs taken at random", dense(100))
+            },
             frame_of("surgical", surgical(150, 5).unwrap()),
         ],
     );
