@@ -165,10 +165,10 @@ fn three_term_dot_product_matches_its_sum() {
             vec![raw(p, FACE)]
         })
         .collect();
-    let inputs = [ports("a", 3, A), ports("b", 3, B)].concat();
-    let inputs: Vec<Port> = inputs
-        .into_iter()
-        .map(|p| Port::new(p.name.replace('$', ""), p.bits))
+    // Scalar ports a0..a2, b0..b2 (not arrays: `SDot3` says why).
+    let inputs: Vec<Port> = [("a", A), ("b", B)]
+        .iter()
+        .flat_map(|&(name, bits)| (0..3).map(move |k| Port::new(format!("{name}{k}"), bits)))
         .collect();
     both_give(
         SDot3::<A, B, FACE>::default,
