@@ -29,7 +29,7 @@ use crate::radix::{KeySort, KEY, VAL};
 use crate::sat::{self, Sat};
 use crate::sweep::{self, SweepWalker};
 use crate::table_ram::TableRam;
-use crate::walker::{WalkMode, Walker};
+use crate::walker::{self, WalkMode, Walker};
 use obb_model::fixed::config::GROUP_BITS;
 use obb_model::fixed::cycles::{GRID_ISSUE_TO_SAT, LAT_BROAD, LAT_SAT};
 use obb_model::fixed::{BroadPhase, HwConfig};
@@ -42,10 +42,11 @@ pub const INDEX: usize = VAL;
 const GROUP: usize = GROUP_BITS as usize;
 /// A pair in the output FIFO: a above b.
 const PAIR: usize = 2 * INDEX;
-/// Entries of the pair FIFO, and the fill at which the walker stalls: the pairs in flight
-/// behind it still fit: the clock that registers the stall, the visits the walker makes after
-/// it (`sweep::RUN_ON`), and those in the key check, the geometry read and the SAT
-/// (`LAT_BROAD + sat::LATENCY`).
+/// Entries of the pair FIFO, and the fill at which the broad phase stalls: the pairs in flight
+/// behind it still fit: the clock that registers the stall, the visits a walker makes after it
+/// (`sweep::RUN_ON`, `walker::RUN_ON`), and those in the key check, the geometry read and the
+/// SAT (`LAT_BROAD + sat::LATENCY`); the grid issues no SAT test on a stalled clock, and has
+/// its issue, geometry read and SAT in flight (`GRID_ISSUE_TO_SAT + sat::LATENCY`).
 pub const FIFO_DEPTH: u64 = pair_fifo::DEPTH;
 pub const FIFO_STALL: u64 = 32;
 const _: () = assert!(sat::LATENCY == LAT_SAT);
@@ -55,6 +56,8 @@ const CHECK_TO_SAT: usize = 3;
 // The model's visit-to-SAT latency: the keys read and registered, then the above.
 const _: () = assert!(LAT_BROAD == 2 + CHECK_TO_SAT as u64);
 const _: () = assert!(FIFO_STALL + 1 + sweep::RUN_ON + LAT_BROAD + sat::LATENCY <= FIFO_DEPTH);
+const _: () = assert!(FIFO_STALL + 1 + walker::RUN_ON + LAT_BROAD + sat::LATENCY <= FIFO_DEPTH);
+const _: () = assert!(FIFO_STALL + 1 + GRID_ISSUE_TO_SAT + sat::LATENCY <= FIFO_DEPTH);
 /// Clocks after the walker's last visit until its SAT verdict is in the FIFO.
 const DRAIN: u64 = LAT_BROAD + sat::LATENCY - 1;
 /// Grid: clocks after a SAT test's issue until its SAT verdict is in the FIFO.

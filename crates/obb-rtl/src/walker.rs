@@ -11,11 +11,17 @@
 //!   end point read until i's own max (each other box met is a visit, with no key check); one
 //!   clock starts the next axis.
 //!
-//! `stall` holds back visits (the output is filling); it never drops one.
+//! `stall` holds back visits (the output is filling); it never drops one. Brute makes no visit
+//! on a stalled clock; improved-sap may make [`RUN_ON`] (the end point read before the stall).
 
 use crate::projection::CENTER;
 use crate::radix::{KEY, VAL};
 use rust_hdl::prelude::*;
+
+/// Visits the walker may still make from the clock `stall` rises until it falls: improved-sap's
+/// end point already read when a walk step stalls (its read is not repeated), or a walk's first
+/// one, read by the head; brute none.
+pub const RUN_ON: u64 = 1;
 
 #[derive(Copy, Clone, Debug, PartialEq, LogicState)]
 pub enum WalkState {

@@ -59,14 +59,16 @@ fn outputs() -> Vec<Port> {
     ]
 }
 
-/// The words of one frame: `frame_start` (with `frame_update` unless `haptic`), the boxes (the last with `obb_last`, or the marker
-/// alone for no boxes), then `idle` clocks; `ready(k)` drives `pair_ready` on clock k. Box k is
-/// offered from the clock after box k - 1 was taken until clock `accepts[k]` (the model's
-/// clock for its acceptance: the grid's credits hold the load), so that a core taking it on
-/// another clock takes a box twice or leaves one out.
+/// The words of one frame: `frame_start` (with `frame_update` unless `haptic`), the boxes (the
+/// last with `obb_last`, or the marker alone for no boxes), then `idle` clocks; `ready(k)`
+/// drives `pair_ready` on clock k. Box k is offered from the clock after box k - 1 was taken
+/// until clock `accepts[k]` (the model's clock for its acceptance: the grid's credits hold the
+/// load), so that a core taking it on another clock takes a box twice or leaves one out; with
+/// `gaps`, the clocks before `accepts[k]` are idle instead (`obb_valid` low).
 fn frame(
     (boxes, haptic): (&[QObb], bool),
     accepts: &[u64],
+    gaps: bool,
     cfg: &HwConfig,
     idle: usize,
     ready: &dyn Fn(usize) -> bool,
@@ -78,9 +80,11 @@ fn frame(
         let mut w = vec![0, 1, u64::from(i + 1 == boxes.len())];
         w.extend(box_ports(b, cfg).map(|(v, _)| v));
         w.extend([0, 0]);
-        while (words.len() as u64) <= accepts[i] {
-            words.push(w.clone());
+        // The box is offered until the core takes it, or (`gaps`) the clocks before are idle.
+        while (words.len() as u64) < accepts[i] {
+            words.push(if gaps { vec![0; WORD] } else { w.clone() });
         }
+        words.push(w);
     }
     if boxes.is_empty() {
         let mut w = vec![0; WORD];
@@ -131,10 +135,11 @@ fn rust_hdl<const A: usize, const C: usize>(cfg: &HwConfig, words: &[Vec<u64>]) 
 
 /// What a frame's outputs say: the pairs taken from the stream in order (a pair moves on a
 /// clock whose word has `pair_ready` while the outputs before it show `pair_valid`), the
-/// clock `done` first shows, and the status outputs then.
-fn outcome(words: &[Vec<u64>], out: &[Vec<u64>], from: usize) -> SimFrame {
+/// clock `done` first shows, and the status outputs then. The frame runs from clock `from` up
+/// to `to` (the next frame's start, or the end of the run).
+fn outcome(words: &[Vec<u64>], out: &[Vec<u64>], from: usize, to: usize) -> SimFrame {
     let mut stream = Vec::new();
-    for k in from + 1..out.len() {
+    for k in from + 1..to {
         let before = &out[k - 1];
         if before[0] == 1 && words[k][READY] == 1 {
             stream.push([before[1] as u32, before[2] as u32]);
@@ -152,7 +157,11 @@ fn outcome(words: &[Vec<u64>], out: &[Vec<u64>], from: usize) -> SimFrame {
             };
         }
     }
-    panic!("the frame never finished");
+    panic!(
+        "the frame never finished in its {} clocks ({} pairs taken)",
+        to - from,
+        stream.len()
+    );
 }
 
 /// A frame of a run: its scene, quantized with the run's formats at the scene's own LSB (the
@@ -165,6 +174,9 @@ struct Frame {
     /// A haptic frame (`resident_groups`): `scene` holds the streamed boxes, which follow the
     /// resident ones of the last update frame.
     haptic: bool,
+    /// The boxes come with idle clocks between them (`obb_valid` low for 0 to 3 clocks, a fixed
+    /// hash of the box): the load takes those clocks longer, and nothing else changes.
+    gaps: bool,
 }
 
 /// When the receiver of the pair stream is ready (`pair_ready`).
@@ -181,13 +193,7 @@ impl Ready {
     fn at(self, k: usize) -> bool {
         match self {
             Ready::Every(n) => k % n == 0,
-            Ready::Random(n) => {
-                // splitmix64's finalizer.
-                let mut z = (k as u64).wrapping_add(0x9e37_79b9_7f4a_7c15);
-                z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-                z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-                (z ^ (z >> 31)) % n == 0
-            }
+            Ready::Random(n) => hash(k as u64) % n == 0,
         }
     }
 
@@ -202,9 +208,17 @@ impl Ready {
     fn taken(self, lanes: u32) -> Taken {
         match self {
             Ready::Every(n) => Taken::of(n as u32, lanes),
-            Ready::Random(_) => Taken::of(2, lanes),
+            Ready::Random(_) => Taken::throttled(lanes),
         }
     }
+}
+
+/// A fixed hash of `k` (splitmix64's finalizer): the tests' random but repeatable timing.
+fn hash(k: u64) -> u64 {
+    let mut z = k.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
 }
 
 /// Runs `frames` back to back through one core for `cfg` in rust-hdl and in Verilator: both
@@ -249,12 +263,28 @@ fn stimulus(
             (_, false) => prepare(&f.scene, &fit).unwrap_or_else(|e| panic!("{}: {e}", f.name)),
         };
         last.clone_from(&m);
-        let run = m.as_ref().map(ModelFrame::run);
-        let accepts = match (&m, fit.broad_phase) {
-            (Some(m), BroadPhase::Grid) => grid_schedule(&m.grid_walk(&fit.groups)).accepts,
+        let mut run = m.as_ref().map(ModelFrame::run);
+        let accepts: Vec<u64> = match (&m, fit.broad_phase) {
+            (Some(m), BroadPhase::Grid) => {
+                assert!(!f.gaps, "{}: the grid's load follows its credits", f.name);
+                grid_schedule(&m.grid_walk(&fit.groups)).accepts
+            }
+            _ if f.gaps => (0..boxes.len() as u64)
+                .scan(0, |t, i| {
+                    *t += 1 + hash(i) % 4;
+                    Some(*t)
+                })
+                .collect(),
             _ => (1..=boxes.len() as u64).collect(),
         };
-        let pairs = run.as_ref().map_or(0, |r| r.pairs.len());
+        // The load ends with the last box: the idle clocks before it lengthen the frame.
+        if let (Some(r), true) = (run.as_mut(), f.gaps) {
+            let idle_in_load = accepts.last().map_or(0, |&t| t - boxes.len() as u64);
+            r.cycles.load += idle_in_load;
+            r.cycles.total += idle_in_load;
+        }
+        // (Improved-sap streams a pair as often as it meets it: the stream, not the pairs.)
+        let pairs = run.as_ref().map_or(0, |r| r.stream.len());
         // (A frame over capacity has no model run: the grid still walks the boxes it took
         // before it reports, so it gets a hundred clocks more.)
         let total = run
@@ -266,9 +296,14 @@ fn stimulus(
         // test bench).
         let loaded = accepts.last().map_or(0, |&t| t as usize);
         starts.push(words.len());
-        words.extend(frame((&boxes, f.haptic), &accepts, &fit, idle, &|k| {
-            f.ready.at(k) || (fit.broad_phase == BroadPhase::Grid && k <= loaded)
-        }));
+        words.extend(frame(
+            (&boxes, f.haptic),
+            &accepts,
+            f.gaps,
+            &fit,
+            idle,
+            &|k| f.ready.at(k) || (fit.broad_phase == BroadPhase::Grid && k <= loaded),
+        ));
         models.push(run);
     }
     (words, starts, models)
@@ -283,8 +318,9 @@ fn judge(
     starts: &[usize],
     models: &[Option<ModelRun>],
 ) {
-    for ((f, run), &from) in frames.iter().zip(models).zip(starts) {
-        let got = outcome(words, hdl, from);
+    let ends = starts.iter().skip(1).copied().chain([hdl.len()]);
+    for (((f, run), &from), to) in frames.iter().zip(models).zip(starts).zip(ends) {
+        let got = outcome(words, hdl, from, to);
         eprintln!(
             "{}: {} boxes, {} pairs, {} cycles (model {:?})",
             f.name,
@@ -313,12 +349,14 @@ fn frame_of(name: &'static str, scene: Scene) -> Frame {
         scene,
         ready: Ready::Every(1),
         haptic: false,
+        gaps: false,
     }
 }
 
-/// Sweep with the default formats and every group pair: a surgical scene, the stiff cases,
-/// the dense case with the receiver always ready and then taking a pair every fourth clock
-/// (the FIFO fills and the walker stalls), one box, no box.
+/// Sweep with the default formats and every group pair: a surgical scene, the stiff cases (also
+/// with idle clocks between the boxes: the frame is longer by them, exactly), the dense case
+/// with the receiver always ready and then taking a pair every fourth clock (the FIFO fills
+/// and the walker stalls), one box, no box.
 #[test]
 fn sweep_core_matches_the_model() {
     let cfg = HwConfig {
@@ -332,12 +370,17 @@ fn sweep_core_matches_the_model() {
         &[
             frame_of("surgical", surgical(300, 11).unwrap()),
             frame_of("stiff", stiff()),
+            Frame {
+                gaps: true,
+                ..frame_of("stiff, idle clocks between boxes", stiff())
+            },
             frame_of("dense", dense(120)),
             Frame {
                 name: "dense, throttled",
                 scene: dense(120),
                 ready: Ready::Every(4),
                 haptic: false,
+                gaps: false,
             },
             frame_of("one box", first(touching_pairs(), 1)),
             frame_of("no box", Scene { obbs: vec![] }),
@@ -348,8 +391,9 @@ fn sweep_core_matches_the_model() {
 /// The grid, every group pair, 16 buckets a bank: the list heads' clear is short, so that the
 /// frames' ends are the last verdicts as often as the clear. A surgical scene, the dense case
 /// (its boxes in few cells: long lists), throttled after the load too (a pair every eighth
-/// clock: the pair FIFO's stall holds the SAT tests, whose queue holds the walker), one box,
-/// no box, the touching cases; each frame's load held by the credits as the model holds it.
+/// clock, then on one clock in 8 at random: the pair FIFO's stall holds the SAT tests, whose
+/// queue holds the walker), one box, no box, the touching cases; each frame's load held by
+/// the credits as the model holds it.
 #[test]
 fn grid_core_matches_the_model() {
     run(
@@ -362,6 +406,11 @@ fn grid_core_matches_the_model() {
                 scene: three_groups(dense(120)),
                 ready: Ready::Every(8),
                 haptic: false,
+                gaps: false,
+            },
+            Frame {
+                ready: Ready::Random(8),
+                ..frame_of("dense, pairs taken at random", three_groups(dense(120)))
             },
             frame_of("one box", first(touching_pairs(), 1)),
             frame_of("no box", Scene { obbs: vec![] }),
@@ -417,6 +466,7 @@ fn grid_variant_frames() -> Vec<Frame> {
             scene: three_groups(dense(120)),
             ready: Ready::Every(8),
             haptic: false,
+            gaps: false,
         },
         frame_of(
             "a box larger than a cell, first",
@@ -468,6 +518,7 @@ fn grid_core_keeps_resident_groups() {
         scene,
         ready: Ready::Every(every),
         haptic: true,
+        gaps: false,
     };
     run(
         &cfg,
@@ -519,7 +570,8 @@ fn three_groups(mut scene: Scene) -> Scene {
 
 /// Brute force with narrow formats and a group-pair list: the touching cases and the dense case,
 /// the receiver always ready, taking a pair every 50th clock, and on one clock in 50 at random
-/// (the FIFO fills and the walker stalls: nothing is lost or repeated).
+/// with idle clocks between the boxes (the FIFO fills and the walker stalls: nothing is lost
+/// or repeated).
 #[test]
 fn brute_core_matches_the_model() {
     let cfg = HwConfig {
@@ -545,7 +597,11 @@ fn brute_core_matches_the_model() {
             },
             Frame {
                 ready: Ready::Random(50),
-                ..frame_of("dense, pairs taken at random", dense(100))
+                gaps: true,
+                ..frame_of(
+                    "dense, idle clocks between boxes, pairs taken at random",
+                    dense(100),
+                )
             },
             frame_of("surgical", surgical(150, 5).unwrap()),
         ],
@@ -553,7 +609,10 @@ fn brute_core_matches_the_model() {
 }
 
 /// The paper's Algorithm 2 (improved-sap), cross-group, default formats: pairs met on several
-/// end points come several times, as the model counts them; a single box sorts nothing.
+/// end points come several times, as the model counts them; the dense case also with a pair
+/// taken every 8th clock, and on one clock in 8 at random with idle clocks between the boxes
+/// (the walker stalls in its walks, and its unchecked visits fill the FIFO); a single box
+/// sorts nothing.
 #[test]
 fn improved_sap_core_matches_the_model() {
     let cfg = HwConfig {
@@ -566,20 +625,33 @@ fn improved_sap_core_matches_the_model() {
         &[
             frame_of("touching", touching_pairs()),
             frame_of("dense", dense(100)),
+            Frame {
+                ready: Ready::Every(8),
+                ..frame_of("dense, a pair taken every 8th clock", dense(100))
+            },
+            Frame {
+                ready: Ready::Random(8),
+                gaps: true,
+                ..frame_of(
+                    "dense, idle clocks between boxes, pairs taken at random",
+                    dense(100),
+                )
+            },
             frame_of("surgical", surgical(200, 3).unwrap()),
             frame_of("one box", first(touching_pairs(), 1)),
         ],
     );
 }
 
-/// Sweep and the grid, cross-group, capacity 8: a frame of ten boxes reports the error and no
+/// Every broad phase, cross-group, capacity 8: a frame of ten boxes reports the error and no
 /// pairs; the next frame, within capacity, is whole again (the grid walked and cleared the
-/// lists of the frame over capacity). The grid, 8 mm cells: a plate 240 mm long spans more
-/// than `MAX_WINDOW` cells, so the frame is incomplete (flagged, with only true pairs before);
-/// the next is whole again.
+/// lists of the frame over capacity); eight boxes, the capacity, are whole; nine, one over,
+/// report the error. The grid, 8 mm cells: a plate 240 mm long spans more than `MAX_WINDOW`
+/// cells, so the frame is incomplete (flagged, with only true pairs before); the next is whole
+/// again.
 #[test]
 fn capacity_exceeded_is_reported_and_cleared() {
-    for broad_phase in [BroadPhase::Sweep, BroadPhase::Grid] {
+    for broad_phase in BroadPhase::ALL {
         let cfg = HwConfig {
             capacity: 8,
             broad_phase,
@@ -587,11 +659,18 @@ fn capacity_exceeded_is_reported_and_cleared() {
             grid_hash_bits: 2,
             ..HwConfig::default()
         };
-        let mut ten = touching_pairs();
-        ten.obbs.extend(touching_pairs().obbs[..3].to_vec());
+        // The touching cases' seven boxes and `more` of them again.
+        let boxes = |more: usize| {
+            let mut scene = touching_pairs();
+            scene.obbs.extend(touching_pairs().obbs[..more].to_vec());
+            assert_eq!(scene.obbs.len(), 7 + more);
+            scene
+        };
         let mut frames = vec![
-            frame_of("ten boxes", ten),
+            frame_of("ten boxes", boxes(3)),
             frame_of("touching", touching_pairs()),
+            frame_of("eight boxes, the capacity", boxes(1)),
+            frame_of("nine boxes, one over", boxes(2)),
         ];
         if broad_phase == BroadPhase::Grid {
             let mut wide = touching_pairs();

@@ -11,8 +11,8 @@ use obb_model::fixed::broad::{walk_cycles, BroadWork};
 use obb_model::fixed::BroadPhase;
 use obb_rtl::flow::verilator::Port;
 use obb_rtl::leaf::uval;
-use obb_rtl::sweep::{SweepWalker, RUN_ON};
-use obb_rtl::walker::{WalkMode, Walker};
+use obb_rtl::sweep::{self, SweepWalker};
+use obb_rtl::walker::{self, WalkMode, Walker};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
@@ -27,6 +27,8 @@ const C: usize = 8;
 enum Stall {
     Never,
     EveryThird,
+    /// Stalls of 20 clocks, 9 clocks apart: long enough for every run-on to show.
+    Bursts,
     Random(u64),
 }
 
@@ -35,6 +37,7 @@ impl Stall {
         match self {
             Stall::Never => vec![false; clocks],
             Stall::EveryThird => (0..clocks).map(|t| t % 3 == 2).collect(),
+            Stall::Bursts => (0..clocks).map(|t| t % 29 >= 9).collect(),
             Stall::Random(seed) => {
                 let mut rng = StdRng::seed_from_u64(seed);
                 (0..clocks).map(|_| rng.random_bool(0.5)).collect()
@@ -43,9 +46,10 @@ impl Stall {
     }
 }
 
-const STALLS: [Stall; 4] = [
+const STALLS: [Stall; 5] = [
     Stall::Never,
     Stall::EveryThird,
+    Stall::Bursts,
     Stall::Random(1),
     Stall::Random(2),
 ];
@@ -389,15 +393,15 @@ fn improved_sap_and_sweep_walkers_verilog_equal_their_rust_hdl_simulations() {
     verilog_equals_rust_hdl(SweepWalker::<A, C>::default, "sweep_walker", &walk.inputs);
 }
 
-/// While `stall` stays high, at most `RUN_ON` visits still come out (the pair FIFO's headroom
-/// counts on it).
-fn assert_run_on(walk: &Walk, stall: &[bool], what: &str) {
+/// While `stall` stays high, at most `run_on` visits still come out (the pair FIFO's headroom
+/// counts on the walker's `RUN_ON`).
+fn assert_run_on(walk: &Walk, stall: &[bool], run_on: u64, what: &str) {
     let mut run = 0;
     for t in 1..=walk.finished {
         if stall[t - 1] {
             run += usize::from(walk.at.contains(&t));
             assert!(
-                run as u64 <= RUN_ON,
+                run as u64 <= run_on,
                 "{what}: {run} visits into the stall that holds on clock {t}"
             );
         } else {
@@ -482,7 +486,7 @@ fn sweep_walker_visits_in_the_sweep_order_under_stalls() {
             let walk = sweep_walk(keys, &stall);
             assert_eq!(walk.visits, want, "{name}, {s:?}");
             // Without stalls: the model's clocks (`finished` rises the clock after the last
-            // restart), and a stall lets through at most RUN_ON visits.
+            // restart), and a stall lets through at most its RUN_ON visits.
             if let Stall::Never = s {
                 let work = BroadWork {
                     visits: want.len() as u64,
@@ -492,7 +496,7 @@ fn sweep_walker_visits_in_the_sweep_order_under_stalls() {
                 let expected = if n < 2 { 1 } else { free + 1 };
                 assert_eq!(walk.finished, expected, "{name}: finished");
             }
-            assert_run_on(&walk, &stall, &format!("{name}, {s:?}"));
+            assert_run_on(&walk, &stall, sweep::RUN_ON, &format!("{name}, {s:?}"));
         }
     }
 }
@@ -627,8 +631,8 @@ fn sap_keys(n: usize, seed: u64) -> Vec<Keys3> {
 
 /// The improved-sap walker loads each axis's end points into the sort (box 0 min, box 0 max,
 /// ...: key `2 v + is_max`, value `2 b + is_max`), then visits in Algorithm 2's order, none lost
-/// or repeated beyond the algorithm's own repeats, under stalls; at most `RUN_ON` visits come
-/// into a stall; without stalls the walk takes the model's `walk_cycles` plus, per axis, the
+/// or repeated beyond the algorithm's own repeats, under stalls; at most `walker::RUN_ON` visits
+/// come into a stall; without stalls the walk takes the model's `walk_cycles` plus, per axis, the
 /// clock of `sort_go` and the sort's own clocks.
 #[test]
 fn improved_sap_walker_visits_in_algorithm_2s_order_under_stalls() {
@@ -684,7 +688,7 @@ fn improved_sap_walker_visits_in_algorithm_2s_order_under_stalls() {
                         "{name}, sort delay {delay}: finished"
                     );
                 }
-                assert_run_on(&walk, &stall, &format!("{name}, {s:?}"));
+                assert_run_on(&walk, &stall, walker::RUN_ON, &format!("{name}, {s:?}"));
             }
         }
     }

@@ -438,10 +438,17 @@ pub enum Taken {
 impl Taken {
     /// The pair stream taken one clock in `ready_every`, with `lanes` walker lanes.
     pub fn of(ready_every: u32, lanes: u32) -> Taken {
-        match (ready_every > 1, lanes > 1) {
-            (false, _) => Taken::Freely,
-            (true, false) => Taken::Throttled,
-            (true, true) => Taken::ThrottledLanes,
+        match ready_every > 1 {
+            false => Taken::Freely,
+            true => Taken::throttled(lanes),
+        }
+    }
+
+    /// The pair stream taken on some clocks only (any pattern), with `lanes` walker lanes.
+    pub fn throttled(lanes: u32) -> Taken {
+        match lanes > 1 {
+            false => Taken::Throttled,
+            true => Taken::ThrottledLanes,
         }
     }
 }
