@@ -39,7 +39,8 @@ pub struct Sat {
     /// No axis separates the pair: it is reported.
     pub hit: Signal<Out, Bit>,
     front: SatFront,
-    back: SatBack,
+    /// The back end (public for the tests, which read the sides of every axis it decides on).
+    pub back: SatBack,
     // The half-lengths, signed, and the pair margin, delayed to the back end's inputs.
     ha: [Pipe<Signed<HALF_S>, FRONT>; 3],
     hb: [Pipe<Signed<HALF_S>, FRONT>; 3],

@@ -38,7 +38,7 @@ pub const RB: usize = MINOR + HALF_S + 1;
 const ROUNDED: usize = 1;
 const PRODUCTS: usize = ROUNDED + DOT_LATENCY as usize;
 const MINORS_ABS: usize = PRODUCTS + 1;
-const R_B_DONE: usize = MINORS_ABS + DOT_LATENCY as usize;
+pub const R_B_DONE: usize = MINORS_ABS + DOT_LATENCY as usize;
 /// Clocks from a pair's products on the inputs to its verdict: the stages, then the decision.
 pub const LATENCY: u64 = R_B_DONE as u64 + SatDecide::LATENCY;
 
@@ -247,7 +247,10 @@ pub struct SatBack {
     face_b_decide: [Pipe<Signed<FACE>, { R_B_DONE - PRODUCTS }>; 3],
     r_a_decide: [Pipe<Signed<PAIR2>, { R_B_DONE - PRODUCTS }>; 9],
     abs_p_decide: [Pipe<Bits<P_BITS>, { R_B_DONE - MINORS_ABS }>; 9],
-    decide: SatDecide,
+    /// The decision; its inputs hold every axis' sides (|t|, |u|, |P|, the face radii, r_A,
+    /// r_B) of the pair `R_B_DONE` clocks after its products, which the tests read to compare
+    /// the 15 axes value by value.
+    pub decide: SatDecide,
 }
 
 impl SatBack {

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::scenes::{dense, first, stiff, surgical_contact, touching_pairs};
+use common::scenes::{dense, first, stiff, surgical_contact, three_groups, touching_pairs};
 use common::{run_rust_hdl, run_verilator, signed};
 use obb_model::fixed::grid_clocks::grid_schedule;
 use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame, ModelRun, QObb};
@@ -558,14 +558,6 @@ fn with_plate(mut scene: Scene, first: bool) -> Scene {
     match first {
         true => scene.obbs.insert(0, plate),
         false => scene.obbs.push(plate),
-    }
-    scene
-}
-
-/// `scene` with its groups folded into the grid's default three.
-fn three_groups(mut scene: Scene) -> Scene {
-    for o in &mut scene.obbs {
-        o.group %= 3;
     }
     scene
 }

@@ -9,7 +9,7 @@
 
 mod common;
 
-use common::{in_verilator, ports, raw, run_rust_hdl, signed};
+use common::{ceil_div, floor_div, in_verilator, nearest, ports, raw, run_rust_hdl, signed};
 use obb_rtl::flow::verilator::Port;
 use obb_rtl::leaf::{sbits, sval, uval, AbsShift, SDot2, SDot3, DOT_LATENCY};
 use obb_rtl::sat_back::{SatDecide, FACE, HALF_S, MINOR, PAIR2, PAIR_MARGIN, P_BITS, RB};
@@ -41,18 +41,6 @@ fn magnitude(rng: &mut StdRng, bits: usize) -> i64 {
     } else {
         rng.random_range(0..1i64 << bits)
     }
-}
-
-/// `floor(x / 2^s)`, `ceil(x / 2^s)`, and `x / 2^s` to the nearest integer with ties up, by
-/// Euclidean division (the leaves shift).
-fn floor_div(x: i64, s: u32) -> i64 {
-    x.div_euclid(1 << s)
-}
-fn ceil_div(x: i64, s: u32) -> i64 {
-    -(-x).div_euclid(1 << s)
-}
-fn nearest(x: i64, s: u32) -> i64 {
-    floor_div(2 * x + (1 << s), s + 1)
 }
 
 /// What a leaf of latency `lat` shows after each rising edge: the result of clock k's

@@ -75,7 +75,8 @@ fn unpack(ports: &[Port], word: &str) -> Result<Vec<u64>> {
     Ok(out)
 }
 
-/// The test bench: clock low, apply word k, rising edge, write the outputs, falling edge. Its
+/// The test bench: clock low, apply word k, rising edge, write the outputs (ports, and probes
+/// named `dut.<signal>`), falling edge. Its
 /// own names start with `tb_` or end with `_file`, apart from any port's (a port `f` once met
 /// the bench's file handle `f`).
 fn testbench(top: &str, clock: &str, inputs: &[Port], outputs: &[Port], n: usize) -> String {
@@ -101,15 +102,33 @@ fn testbench(top: &str, clock: &str, inputs: &[Port], outputs: &[Port], n: usize
         );
         at += p.bits;
     }
-    for p in outputs {
-        let _ = writeln!(v, "wire [{}:0] {};", p.bits - 1, p.name);
+    // An output named with a dot is a probe: a signal inside the design, read by its
+    // hierarchical name below `dut` (e.g. `decide$abs_t$0`, an input of the child `decide`).
+    let mut packed = Vec::new();
+    for (k, p) in outputs.iter().enumerate() {
+        match p.name.strip_prefix("dut.") {
+            Some(path) => {
+                let _ = writeln!(v, "wire [{}:0] tb_probe_{k} = dut.{path};", p.bits - 1);
+                packed.push(format!("tb_probe_{k}"));
+            }
+            None => {
+                let _ = writeln!(v, "wire [{}:0] {};", p.bits - 1, p.name);
+                packed.push(p.name.clone());
+            }
+        }
     }
     let conns: Vec<String> = std::iter::once(clock.to_string())
-        .chain(inputs.iter().chain(outputs).map(|p| p.name.clone()))
+        .chain(
+            inputs
+                .iter()
+                .chain(outputs)
+                .filter(|p| !p.name.starts_with("dut."))
+                .map(|p| p.name.clone()),
+        )
         .map(|n| format!(".{n}({n})"))
         .collect();
     let _ = writeln!(v, "{top} dut({});", conns.join(", "));
-    let packed: Vec<&str> = outputs.iter().rev().map(|p| p.name.as_str()).collect();
+    packed.reverse();
     let _ = writeln!(
         v,
         "integer tb_fd, tb_k;

@@ -2,6 +2,7 @@
 //! Verilator, on the same packed vectors, and comparing both with the model's expected outputs.
 #![allow(dead_code)] // each test binary uses its own subset
 
+pub mod sat_sides;
 pub mod scenes;
 
 use obb_model::fixed::broad;
@@ -13,6 +14,18 @@ use rust_hdl::prelude::*;
 /// Sign-extends the low `bits` of `v`.
 pub fn signed(v: u64, bits: usize) -> i64 {
     ((v << (64 - bits)) as i64) >> (64 - bits)
+}
+
+/// `floor(x / 2^s)`, `ceil(x / 2^s)`, and `x / 2^s` to the nearest integer with ties up, by
+/// Euclidean division (the leaves shift).
+pub fn floor_div(x: i64, s: u32) -> i64 {
+    x.div_euclid(1 << s)
+}
+pub fn ceil_div(x: i64, s: u32) -> i64 {
+    -(-x).div_euclid(1 << s)
+}
+pub fn nearest(x: i64, s: u32) -> i64 {
+    floor_div(2 * x + (1 << s), s + 1)
 }
 
 /// The low `bits` of a signed value, as a vector entry.

@@ -37,6 +37,14 @@ pub fn dense(n: usize) -> Scene {
     s
 }
 
+/// `scene` with its groups folded into the grid's default three.
+pub fn three_groups(mut scene: Scene) -> Scene {
+    for o in &mut scene.obbs {
+        o.group %= 3;
+    }
+    scene
+}
+
 /// The stiff and extreme cases: boxes at both ends of the coordinate range, the longest
 /// half-lengths, a near-parallel pair 1e-9 rad apart, axes rounded to f32, a zero-thickness
 /// plate touching a box, coincident boxes.
