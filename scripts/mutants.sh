@@ -2,8 +2,10 @@
 # Mutation testing of the core's emitted Verilog (not part of scripts/test.sh: each mutant takes
 # a Verilator build of the whole core, about 26 s on 2 cores). Draws a sample of the default
 # core's single mutants, runs each through the co-simulation frames of tests/mutants.rs against
-# the bit-exact model, and prints each verdict, a tally by kind and the survivors; the log is
-# kept in target/mutants.log. Needs Verilator (scripts/test.sh installs it).
+# the bit-exact model (a mutant of the SAT that passes them also through the comparison of every
+# axis' sides in the standalone SAT), and prints each verdict, a tally by kind and the
+# survivors; the log is kept in target/mutants.log. Needs Verilator (scripts/test.sh installs
+# it).
 #
 #   scripts/mutants.sh [COUNT [SEED [MATCH]]]
 #

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::scenes::{dense, first, stiff, touching_pairs};
+use common::scenes::{dense, first, shared_buckets, stiff, touching_pairs};
 use obb_model::fixed::stream::{interleave, STREAM_WAYS};
 use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame};
 use obb_model::generate::{surgical, SURGICAL_DEFAULT_N};
@@ -68,7 +68,8 @@ fn cosim(
 }
 
 /// The default configuration (the grid, cross-group) from no box and one box to the whole
-/// 17,500-OBB surgical scene.
+/// 17,500-OBB surgical scene, and buckets shared by two cells in every one of its 81 list
+/// copies (entries forwarded, lists mixed, skipped and walked: `scenes::shared_buckets`).
 #[test]
 fn default_core_from_one_box_to_the_full_surgical_scene() {
     let cfg = HwConfig::default();
@@ -81,6 +82,7 @@ fn default_core_from_one_box_to_the_full_surgical_scene() {
         ("touching", touching_pairs()),
         ("surgical 1000", surgical(1000, 1).unwrap()),
         ("surgical 17500", full),
+        ("shared buckets", shared_buckets()),
     ];
     for (name, scene) in &scenes {
         cosim(

@@ -4,9 +4,10 @@
 //! +-1, a negated condition, two wires swapped, a register bypassed) each runs frames against
 //! the bit-exact model: the touching cases, the whole 17,500-box surgical scene, the stiff
 //! cases, the surgical contact, the dense case, boxes larger than a cell (the grid's slow path),
-//! small boxes of three groups close together and spread wide, back to back with the pair
-//! stream taken freely (pairs in order, counters, clock count); then the dense case, the large
-//! boxes and the close small ones with it taken one clock in three. A mutant is killed when a
+//! small boxes of three groups close together and spread wide, buckets shared by two cells in
+//! every list copy of the grid, back to back with the pair stream taken freely (pairs in order,
+//! counters, clock count); then the dense case, the large boxes, the close small ones and the
+//! shared buckets with it taken one clock in three. A mutant is killed when a
 //! frame differs, the run fails or never finishes; it survives when every frame agrees. Its
 //! Verilator build gets a directory of its own, removed after the run.
 //!
@@ -15,17 +16,24 @@
 mod common;
 mod mutation;
 
-use common::scenes::{dense, stiff, surgical_contact, three_groups, touching_pairs};
+use common::scenes::{
+    dense, shared_buckets, stiff, surgical_contact, three_groups, touching_pairs,
+};
+use common::whole_sat::{self, SIDES_AT};
+use common::{pairs, sat_sides};
 use mutation::{mutants, Kind, Mutant};
-use obb_model::fixed::{HwConfig, ModelRun, QObb};
+use obb_model::fixed::grid::{GridShape, BANKS};
+use obb_model::fixed::grid_clocks::grid_schedule;
+use obb_model::fixed::{keys, project, HwConfig, Margins, ModelFrame, ModelRun, QObb};
 use obb_model::generate::{surgical, uniform, SURGICAL_DEFAULT_N};
 use obb_model::{Obb, Scene};
 use obb_rtl::flow::cosim::{build, compare, prepare, stimulus, Expected, Level, RunOptions, Taken};
-use obb_rtl::flow::generate;
 use obb_rtl::flow::verilator::Simulator;
+use obb_rtl::flow::{emit, generate};
+use obb_rtl::sat::Sat;
 use rand::rngs::StdRng;
 use rand::SeedableRng;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -124,6 +132,143 @@ endmodule
     assert_eq!(got, want);
 }
 
+/// The core's SAT is the standalone SAT's Verilog line for line (modules `obb_core$sat...`
+/// and `sat...`), so that a mutant of the core's SAT moves to the standalone one, whose sides
+/// the script compares; the standalone SAT is built for the default formats at the LSB of the
+/// scene it is run on, which the Verilog does not hold.
+#[test]
+fn the_cores_sat_is_the_standalone_sat() {
+    let core = generate::core(&HwConfig::default()).unwrap();
+    let sat = standalone_sat().verilog;
+    // Per module named `<prefix>sat...`, its lines with the prefix taken out of every name.
+    let modules = |verilog: &str, prefix: &str| -> BTreeMap<String, Vec<String>> {
+        let mut out: BTreeMap<String, Vec<String>> = BTreeMap::new();
+        let mut within: Option<String> = None;
+        for line in verilog.lines() {
+            let line = line.replace(&format!("{prefix}sat"), "sat");
+            if let Some(rest) = line.strip_prefix("module ") {
+                let name = rest.split('(').next().unwrap_or(rest);
+                within = (name == "sat" || name.starts_with("sat$")).then(|| name.to_string());
+            }
+            if let Some(name) = &within {
+                let end = line.starts_with("endmodule");
+                out.entry(name.clone()).or_default().push(line);
+                if end {
+                    within = None;
+                }
+            }
+        }
+        out
+    };
+    let in_core = modules(&core, "obb_core$");
+    let alone = modules(&sat, "");
+    assert!(
+        in_core.len() > 100,
+        "{} SAT modules in the core",
+        in_core.len()
+    );
+    assert_eq!(
+        in_core.keys().collect::<Vec<_>>(),
+        alone.keys().collect::<Vec<_>>()
+    );
+    for (name, lines) in &in_core {
+        let other = &alone[name];
+        let differ = (0..lines.len().max(other.len())).find(|&k| lines.get(k) != other.get(k));
+        assert_eq!(differ, None, "module {name}: a line differs");
+    }
+}
+
+/// The shared-bucket frame does in every one of the default grid's 81 list copies (27 banks x
+/// 3 groups) what `shared_buckets` says, by the model's keys, cells and acceptance clocks: two
+/// boxes of one cell entering on consecutive clocks; a pure list probed from another cell, on
+/// the clock after an entry (its head forwarded) and later (read from the table); a list mixed
+/// by the entry of the clock before (forwarded) and one mixed by an entry read from the table,
+/// each then probed from both of its cells (from its first cell, a list taken as pure would be
+/// skipped: the pairs there are found only if it is mixed), the first on the clock after it
+/// was mixed.
+#[test]
+fn shared_buckets_reach_every_list_copy() {
+    let cfg = HwConfig::default();
+    let (model, boxes) = prepare(&shared_buckets(), &cfg).unwrap();
+    let model = model.expect("the scene fits the default core");
+    let accepts = grid_schedule(&model.grid_walk(&cfg.groups)).accepts;
+    let shape = GridShape::new(&cfg);
+    let margins = Margins::new(&cfg);
+    // Per box: its home cell's bank, its group, the cell's bucket and fingerprint.
+    let homes: Vec<(usize, u32, usize, usize)> = boxes
+        .iter()
+        .map(|b| {
+            let (lo, hi) = keys(&project(b, &cfg, &margins), &cfg);
+            assert!(shape.is_small(&lo, &hi), "a box of one cell");
+            let home = shape.home(&lo);
+            let bank = GridShape::bank(&home);
+            (bank, b.group, shape.bucket(&home), shape.fingerprint(&home))
+        })
+        .collect();
+    // Per list (bank, group, bucket): the first fingerprint and, once another entered, how and
+    // its fingerprint.
+    type Mixed = Option<(&'static str, usize)>;
+    let mut lists: HashMap<(usize, u32, usize), (usize, Mixed)> = HashMap::new();
+    let mut befell: BTreeMap<(usize, u32), BTreeSet<String>> = BTreeMap::new();
+    for (i, &(bank, g, bucket, fp)) in homes.iter().enumerate() {
+        // The box before, if it was taken on the clock before.
+        let before = (i > 0 && accepts[i] == accepts[i - 1] + 1).then(|| homes[i - 1]);
+        // Cross-group: the box probes its home cell's lists of the other groups.
+        for h in (0..3).filter(|&h| h != g) {
+            let event = match lists.get(&(bank, h, bucket)) {
+                Some(&(owner, None)) if owner != fp => {
+                    "a pure list probed from another cell".into()
+                }
+                Some(&(owner, Some((how, second)))) if fp == owner || fp == second => {
+                    let from = if fp == owner { "first" } else { "second" };
+                    format!("mixed by {how}, probed from its {from} cell")
+                }
+                _ => continue,
+            };
+            let event = match before {
+                Some((b, g, u, _)) if (b, g, u) == (bank, h, bucket) => {
+                    format!("{event}, on the clock after an entry")
+                }
+                _ => event,
+            };
+            befell.entry((bank, h)).or_default().insert(event);
+        }
+        let forwarded = before.is_some_and(|(b, h, u, _)| (b, h, u) == (bank, g, bucket));
+        if forwarded && homes[i - 1].3 == fp {
+            let events = befell.entry((bank, g)).or_default();
+            events.insert("two boxes of a cell on consecutive clocks".into());
+        }
+        let list = lists.entry((bank, g, bucket)).or_insert((fp, None));
+        if list.0 != fp && list.1.is_none() {
+            let how = if forwarded {
+                "the entry of the clock before"
+            } else {
+                "a stored entry"
+            };
+            list.1 = Some((how, fp));
+        }
+    }
+    let wanted = [
+        "two boxes of a cell on consecutive clocks",
+        "a pure list probed from another cell, on the clock after an entry",
+        "a pure list probed from another cell",
+        "mixed by the entry of the clock before, probed from its second cell, on the clock after \
+         an entry",
+        "mixed by the entry of the clock before, probed from its first cell",
+        "mixed by a stored entry, probed from its first cell",
+        "mixed by a stored entry, probed from its second cell",
+    ];
+    assert_eq!(befell.len(), BANKS * 3, "list copies reached");
+    for (copy, events) in &befell {
+        for want in wanted {
+            assert!(
+                events.contains(want),
+                "bank and group {copy:?}: not `{want}` but {events:#?}"
+            );
+        }
+    }
+}
+
 /// A run of frames back to back with the pair stream taken one clock in `ready_every`.
 struct Run {
     ready_every: u32,
@@ -182,7 +327,7 @@ fn spread() -> Scene {
 }
 
 fn runs(cfg: &HwConfig) -> Vec<Run> {
-    let scenes: [(&str, Scene); 8] = [
+    let scenes: [(&str, Scene); 9] = [
         ("touching", touching_pairs()),
         (
             "surgical 17500",
@@ -194,6 +339,7 @@ fn runs(cfg: &HwConfig) -> Vec<Run> {
         ("large boxes", with_large_boxes(surgical_contact(300))),
         ("scattered 600", scattered()),
         ("spread 3000", spread()),
+        ("shared buckets", shared_buckets()),
     ];
     let prepared: Vec<(&str, Vec<QObb>, ModelRun)> = scenes
         .iter()
@@ -203,8 +349,10 @@ fn runs(cfg: &HwConfig) -> Vec<Run> {
             (*name, boxes, model.run())
         })
         .collect();
-    // All of them taken freely; the dense, large and close small boxes throttled.
-    [(1, &prepared[..]), (3, &prepared[4..7])]
+    // All of them taken freely; the dense, large and close small boxes and the shared buckets
+    // throttled.
+    let throttled: Vec<_> = [4, 5, 6, 8].map(|k| prepared[k].clone()).into();
+    [(1, &prepared[..]), (3, &throttled[..])]
         .into_iter()
         .map(|(ready_every, frames)| {
             let timeout = 10_000
@@ -229,6 +377,60 @@ fn runs(cfg: &HwConfig) -> Vec<Run> {
             }
         })
         .collect()
+}
+
+/// The standalone SAT and a run of it: 300 pairs reported and 300 separated of a surgical
+/// scene, with every axis' sides compared (`tests/sat.rs`).
+struct SatSides {
+    verilog: String,
+    stim: whole_sat::Stimulus,
+}
+
+fn standalone_sat() -> SatSides {
+    let scene = surgical(600, 9).expect("a surgical scene");
+    let cfg = HwConfig::default().fitted(&scene);
+    let m = ModelFrame::new(&scene, &cfg).expect("the scene fits");
+    SatSides {
+        verilog: emit::verilog(&mut Sat::new(&cfg), "sat").unwrap(),
+        stim: whole_sat::stimulus(&m, &pairs(&m, 300)),
+    }
+}
+
+/// How `verilog`, a standalone SAT built in `dir`, differs from the model and the reference
+/// sides: a verdict, a side, or the lint of the block tests refusing it.
+fn sides_differ(verilog: &str, sat: &SatSides, dir: &Path) -> Option<String> {
+    std::fs::create_dir_all(dir).unwrap();
+    let got = match whole_sat::try_in_verilator(verilog, &sat.stim.vectors, dir) {
+        Ok(got) => got,
+        Err(e) => return Some(e),
+    };
+    // A verdict is read when valid (column 0).
+    let verdicts = sat_sides::verdicts(&got);
+    let want = &sat.stim.want;
+    if let Some(k) =
+        (0..want.len()).find(|&k| verdicts[k] != want[k] && verdicts[k][0] + want[k][0] > 0)
+    {
+        return Some(format!(
+            "clock {k}: verdict {:?}, want {:?}",
+            verdicts[k], sat.stim.want[k]
+        ));
+    }
+    sat_sides::differ(&got, &sat.stim.want_sides, SIDES_AT, 2)
+}
+
+/// A mutant of the core's SAT run in the standalone SAT (built in `dir`), if it is one.
+fn judge_sides(m: &Mutant, core: &str, sat: &SatSides, dir: &Path) -> Option<Verdict> {
+    let name = m.module.strip_prefix("obb_core$")?;
+    if !(name == "sat" || name.starts_with("sat$")) {
+        return None;
+    }
+    let moved = m
+        .moved(core, &sat.verilog, name)
+        .unwrap_or_else(|| panic!("{}: not in the standalone SAT", m.describe(core)));
+    Some(match sides_differ(&moved.apply(&sat.verilog), sat, dir) {
+        Some(e) => Verdict::Killed(format!("the SAT alone: {e}")),
+        None => Verdict::Survived,
+    })
 }
 
 /// What became of a mutant.
@@ -325,8 +527,12 @@ fn mutants_of_the_default_core() {
         all.len()
     );
 
-    let suite = runs(&cfg);
     let root = PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
+    let suite = runs(&cfg);
+    let sat = standalone_sat();
+    if let Some(e) = sides_differ(&sat.verilog, &sat, &root.join("cosim-cache").join("sat")) {
+        panic!("the unmutated SAT fails: {e}");
+    }
     match judge(&verilog, &cfg, &suite, &root.join("cosim-cache")) {
         Verdict::Survived => {}
         Verdict::Killed(e) | Verdict::Invalid(e) => panic!("the unmutated core fails: {e}"),
@@ -338,7 +544,12 @@ fn mutants_of_the_default_core() {
         let m = &all[k];
         let dir = root.join(format!("mutant-{}", std::process::id()));
         let t = Instant::now();
-        let verdict = judge(&m.apply(&verilog), &cfg, &suite, &dir);
+        let verdict = match judge(&m.apply(&verilog), &cfg, &suite, &dir) {
+            Verdict::Survived => {
+                judge_sides(m, &verilog, &sat, &dir.join("sat")).unwrap_or(Verdict::Survived)
+            }
+            v => v,
+        };
         let _ = std::fs::remove_dir_all(&dir);
         let (slot, word, why) = match &verdict {
             Verdict::Killed(e) => (0, "killed", e.as_str()),

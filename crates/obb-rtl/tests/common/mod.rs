@@ -4,6 +4,7 @@
 
 pub mod sat_sides;
 pub mod scenes;
+pub mod whole_sat;
 
 use obb_model::fixed::broad;
 use obb_model::fixed::{BroadPhase, ModelFrame};

@@ -76,6 +76,32 @@ impl Mutant {
         out
     }
 
+    /// The same mutant in `to`, a design that holds this mutant's module of `from` under the
+    /// name `name` (a block's own Verilog): the same lines of that module, if they read the same
+    /// there (a line naming a submodule differs, but no mutant changes one).
+    pub fn moved(&self, from: &str, to: &str, name: &str) -> Option<Mutant> {
+        let start = |verilog: &str, module: &str| {
+            let head = format!("module {module}(");
+            verilog.lines().position(|l| l.starts_with(&head))
+        };
+        let (here, there) = (start(from, &self.module)?, start(to, name)?);
+        let (from_lines, to_lines): (Vec<&str>, Vec<&str>) =
+            (from.lines().collect(), to.lines().collect());
+        let edits = self
+            .edits
+            .iter()
+            .map(|(at, line)| {
+                let moved = there + (at - here);
+                (to_lines.get(moved) == Some(&from_lines[*at])).then(|| (moved, line.clone()))
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(Mutant {
+            kind: self.kind,
+            module: name.to_string(),
+            edits,
+        })
+    }
+
     /// `module:line kind: `old` -> `new``, for each replaced line (lines counted from 1).
     pub fn describe(&self, verilog: &str) -> String {
         let lines: Vec<&str> = verilog.lines().collect();
