@@ -7,8 +7,9 @@
 
 mod common;
 
-use common::{axes_of, f32_axes, tilted, touching};
+use common::{axes_of, f32_axes, parry_contact, size, tilted, touching};
 use obb_model::aabb::Aabb;
+use obb_model::contact::{contact, MIN_CROSS_SINE};
 use obb_model::fixed::plan::{plan, Aims};
 use obb_model::fixed::{BroadPhase, HwConfig, Margins, ModelFrame};
 use obb_model::{detect, EngineKind, GroupMask, Obb, Pair, Prepared, Scene};
@@ -53,7 +54,8 @@ fn reference(scene: &Scene) -> Vec<Pair> {
 }
 
 /// Every configuration (with the LSB fitted to the scene) reports every reference pair, and the
-/// reference reports at least `expected` pairs.
+/// reference reports at least `expected` pairs; and each reference pair's contact is finite,
+/// its normal unit and its depth parry's (`contacts_agree`).
 fn never_missed(scene: &Scene, expected: usize) {
     let truth = reference(scene);
     assert!(
@@ -61,6 +63,7 @@ fn never_missed(scene: &Scene, expected: usize) {
         "reference found {} < {expected}",
         truth.len()
     );
+    contacts_agree(scene, &truth);
     // The finest power-of-two cell no smaller than any box's AABB: no window is too wide.
     let extent = scene
         .obbs
@@ -102,6 +105,31 @@ fn never_missed(scene: &Scene, expected: usize) {
         assert!(
             run.pairs.binary_search(p).is_ok(),
             "missed {p:?} with the plan {planned:?}"
+        );
+    }
+}
+
+/// Each pair's contact against parry3d-f64's separating-axis search: a unit normal, a finite
+/// depth of at least 0, equal to parry's within the rounding, the near-parallel edges' bound
+/// and the axes' non-orthonormality (parry makes a rotation of them), all relative to the
+/// boxes' size.
+fn contacts_agree(scene: &Scene, pairs: &[Pair]) {
+    for &[i, j] in pairs {
+        let (a, b) = (&scene.obbs[i as usize], &scene.obbs[j as usize]);
+        let c = contact(a, b);
+        let norm: f64 = c.normal.iter().map(|x| x * x).sum();
+        assert!((norm - 1.0).abs() < 1e-12, "{c:?} of {a:?} {b:?}");
+        assert!(
+            c.depth.is_finite() && c.depth >= 0.0,
+            "{c:?} of {a:?} {b:?}"
+        );
+        let (_, depth) = parry_contact(a, b);
+        let eta = a.ortho_error().max(b.ortho_error());
+        let tol = (1e-12 + 4.0 * MIN_CROSS_SINE + 4.0 * eta) * size(a, b);
+        assert!(
+            (c.depth - depth.max(0.0)).abs() <= tol,
+            "depth {} against parry's {depth} of {a:?} {b:?}",
+            c.depth
         );
     }
 }

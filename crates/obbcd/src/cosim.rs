@@ -188,7 +188,7 @@ pub fn run(a: CosimArgs) -> Result<()> {
         }
     }
     if let Some(path) = &a.output {
-        write_pairs(path, &pairs)?;
+        write_pairs(path, &pairs, None)?;
     }
     Ok(())
 }

@@ -1,20 +1,23 @@
 //! `obbcd detect`: the colliding pairs of a scene, by a CPU engine or by the fixed-point model of
-//! the core.
+//! the core, and with `--contacts` each pair's normal and penetration depth.
 
 use crate::builtin::scene_or_builtin;
 use crate::timing::median_ms;
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use obb_model::contact::{contact, Contact};
 use obb_model::fixed::accuracy::{differences, reference_pairs};
 use obb_model::fixed::grid::MAX_WINDOW;
 use obb_model::fixed::plan::{plan, Aims};
 use obb_model::fixed::{HwConfig, ModelFrame};
 use obb_model::{EngineKind, GroupMask, Pair, Prepared, Scene};
+use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
+use std::time::Instant;
 
 /// An engine on the command line: a CPU engine, or `model`, the bit-exact fixed-point model of
 /// the core.
@@ -67,17 +70,24 @@ pub struct DetectArgs {
     /// Pairs JSON file to write.
     #[arg(short = 'o', long = "output")]
     output: Option<PathBuf>,
+    /// Add to the pairs file each pair's contact: the unit normal of the axis of least overlap
+    /// (from the first box to the second) and the penetration depth along it.
+    #[arg(long, requires = "output")]
+    contacts: bool,
 }
 
-/// The pairs file: `{"pairs":[[i,j], ...]}`, i < j, sorted ascending.
+/// The pairs file: `{"pairs":[[i,j], ...]}`, i < j, sorted ascending; with contacts,
+/// `"contacts":[{"normal":[x,y,z],"depth":d}, ...]`, one per pair in the pairs' order.
 #[derive(Serialize)]
 struct PairsFile<'a> {
     pairs: &'a [Pair],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    contacts: Option<&'a [Contact]>,
 }
 
 /// Writes a pairs file.
-pub fn write_pairs(path: &Path, pairs: &[Pair]) -> Result<()> {
-    let json = serde_json::to_string(&PairsFile { pairs })?;
+pub fn write_pairs(path: &Path, pairs: &[Pair], contacts: Option<&[Contact]>) -> Result<()> {
+    let json = serde_json::to_string(&PairsFile { pairs, contacts })?;
     std::fs::write(path, json).with_context(|| format!("cannot write {}", path.display()))
 }
 
@@ -99,6 +109,10 @@ pub fn run(a: DetectArgs) -> Result<()> {
         EngineArg::Model => run_model(&a, &scene)?,
     };
     println!("{}", by_group_pair(&scene, &pairs));
+    let contacts = a.contacts.then(|| contacts_of(&scene, &pairs));
+    if let Some(path) = &a.output {
+        write_pairs(path, &pairs, contacts.as_deref())?;
+    }
     if a.scene.is_none() {
         eprintln!(
             "next: `obbcd detect --engine model` runs the frame through the bit-exact model of \
@@ -107,6 +121,22 @@ pub fn run(a: DetectArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// Each pair's contact, on the worker threads, timed apart from the detection: `contacts=N max_depth=D contacts_ms=T`.
+fn contacts_of(scene: &Scene, pairs: &[Pair]) -> Vec<Contact> {
+    let start = Instant::now();
+    let contacts: Vec<Contact> = pairs
+        .par_iter()
+        .map(|&[i, j]| contact(&scene.obbs[i as usize], &scene.obbs[j as usize]))
+        .collect();
+    let ms = start.elapsed().as_secs_f64() * 1e3;
+    let deepest = contacts.iter().map(|c| c.depth).fold(0.0, f64::max);
+    println!(
+        "contacts={} max_depth={deepest:.6} contacts_ms={ms:.3}",
+        contacts.len()
+    );
+    contacts
 }
 
 /// The pairs counted by the groups of their boxes: `pairs_by_groups 0-0=.. 0-1=..`, every
@@ -138,9 +168,6 @@ fn run_cpu(a: &DetectArgs, scene: &Scene, kind: EngineKind) -> Result<Vec<Pair>>
             engine.detect(&frame, &mask, &mut pairs)
         })
     });
-    if let Some(path) = &a.output {
-        write_pairs(path, &pairs)?;
-    }
     println!(
         "engine={kind} obbs={} groups={mask} visits={} sat_tests={} pairs={} time_ms={ms:.3} threads={}",
         scene.obbs.len(),
@@ -194,9 +221,6 @@ fn run_model(a: &DetectArgs, scene: &Scene) -> Result<Vec<Pair>> {
     }
     let reference = reference_pairs(scene, &cfg.groups);
     let (fp, missed) = differences(&run.pairs, &reference);
-    if let Some(path) = &a.output {
-        write_pairs(path, &run.pairs)?;
-    }
     let c = run.counters();
     println!(
         "engine=model obbs={} groups={} broad_phase={} visits={} sat_tests={} pairs={} \

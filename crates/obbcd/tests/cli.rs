@@ -733,3 +733,57 @@ fn every_engine_finishes_on_tiny_huge_and_degenerate_scenes() {
         }
     }
 }
+
+/// `detect --contacts`: one contact per pair in the pairs' order, with the grid and the model
+/// alike; on boxes set face to face and into each other by known amounts, each pair's depth
+/// and normal exactly; without `-o`, a clear error.
+#[test]
+fn detect_writes_a_contact_per_pair() {
+    let aligned = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    // Unit cubes: 0-1 face to face on x (depth 0), 1-2 into each other by 0.25 on y, 3 apart.
+    let scene = boxes_scene(
+        "contacts.json",
+        &[
+            ([0.0, 0.0, 0.0], aligned, [1.0; 3]),
+            ([2.0, 0.5, 0.0], aligned, [1.0; 3]),
+            ([2.0, 2.25, 0.3], aligned, [1.0; 3]),
+            ([9.0, 0.0, 0.0], aligned, [1.0; 3]),
+        ],
+    );
+    for engine in ["grid", "model"] {
+        let pairs = tmp(&format!("contacts-{engine}.json"));
+        let args = [
+            "detect",
+            "--scene",
+            scene.to_str().unwrap(),
+            "--engine",
+            engine,
+            "--contacts",
+            "-o",
+            pairs.to_str().unwrap(),
+        ];
+        let out = String::from_utf8(ok(&args).stdout).unwrap();
+        let line = out.lines().find(|l| l.starts_with("contacts=")).unwrap();
+        assert_eq!(field(line, "contacts"), "2", "{out}");
+        assert_eq!(field(line, "max_depth"), "0.250000", "{out}");
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&pairs).unwrap()).unwrap();
+        assert_eq!(
+            json["pairs"],
+            serde_json::json!([[0, 1], [1, 2]]),
+            "{engine}"
+        );
+        assert_eq!(
+            json["contacts"],
+            serde_json::json!([
+                {"normal": [1.0, 0.0, 0.0], "depth": 0.0},
+                {"normal": [0.0, 1.0, 0.0], "depth": 0.25},
+            ]),
+            "{engine}"
+        );
+    }
+    fails_with(&[(
+        &["detect", "--scene", scene.to_str().unwrap(), "--contacts"],
+        "--output",
+    )]);
+}

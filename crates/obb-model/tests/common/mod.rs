@@ -3,6 +3,9 @@
 
 use nalgebra::{Quaternion, UnitQuaternion};
 use obb_model::{GroupMask, Obb, Scene};
+use parry3d_f64::math::{Mat3, Pose, Rot3, Vector};
+use parry3d_f64::query::sat;
+use parry3d_f64::shape::Cuboid;
 use proptest::prelude::*;
 
 /// Axes of a rotation given by a (not necessarily unit) quaternion, as rows.
@@ -220,4 +223,45 @@ pub fn touching_pair() -> impl Strategy<Value = (Obb, Obb)> {
                 (a, b)
             },
         )
+}
+
+/// parry's separating-axis search for two cuboids, the one its cuboid contact starts from: the
+/// normal (from `a` towards `b`) and depth of the axis of least overlap. (`query::contact`
+/// itself then measures a face contact's depth from one support point's projection on the
+/// other box, which is not the least overlap when that point projects onto another face.)
+pub fn parry_contact(a: &Obb, b: &Obb) -> ([f64; 3], f64) {
+    let v = |r: [f64; 3]| Vector::new(r[0], r[1], r[2]);
+    let pose = |o: &Obb| {
+        let m = Mat3::from_cols(v(o.axes[0]), v(o.axes[1]), v(o.axes[2]));
+        Pose::from_parts(v(o.center), Rot3::from_mat3(&m))
+    };
+    let (pa, pb) = (pose(a), pose(b));
+    let (ca, cb) = (Cuboid::new(v(a.half)), Cuboid::new(v(b.half)));
+    let (ab, ba) = (pa.inv_mul(&pb), pb.inv_mul(&pa));
+    // Each in the first box's frame: a's faces, b's faces (normal from b to a), the edges.
+    let faces_a = sat::cuboid_cuboid_find_local_separating_normal_oneway(&ca, &cb, &ab);
+    let faces_b = sat::cuboid_cuboid_find_local_separating_normal_oneway(&cb, &ca, &ba);
+    let edges = sat::cuboid_cuboid_find_local_separating_edge_twoway(&ca, &cb, &ab);
+    let candidates = [
+        (faces_a.0, pa.rotation * faces_a.1),
+        (faces_b.0, pb.rotation * -faces_b.1),
+        (edges.0, pa.rotation * edges.1),
+    ];
+    let (separation, n) =
+        candidates
+            .into_iter()
+            .fold((f64::NEG_INFINITY, Vector::ZERO), |best, c| {
+                if c.0 > best.0 {
+                    c
+                } else {
+                    best
+                }
+            });
+    ([n.x, n.y, n.z], -separation)
+}
+
+/// The boxes' size: their half-lengths and the distance of their centers, summed.
+pub fn size(a: &Obb, b: &Obb) -> f64 {
+    let t: [f64; 3] = std::array::from_fn(|x| b.center[x] - a.center[x]);
+    a.half.iter().chain(&b.half).sum::<f64>() + t.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
