@@ -7,9 +7,11 @@
 //! small boxes of three groups close together and spread wide, buckets shared by two cells in
 //! every list copy of the grid, back to back with the pair stream taken freely (pairs in order,
 //! counters, clock count); then the dense case, the large boxes, the close small ones and the
-//! shared buckets with it taken one clock in three. A mutant is killed when a
-//! frame differs, the run fails or never finishes; it survives when every frame agrees. Its
-//! Verilator build gets a directory of its own, removed after the run.
+//! shared buckets with it taken one clock in three. A mutant of the SAT that every frame passes
+//! then runs in the standalone SAT, every axis' sides compared (the frames compare verdicts,
+//! behind the margins' slack). A mutant is killed when a frame or a side differs, the run fails
+//! or never finishes; it survives when all agree. Its Verilator builds get a directory of their
+//! own, removed after the run.
 //!
 //! The default tests here check the mutator itself on the default core's Verilog.
 

@@ -106,7 +106,7 @@ pub fn surgical_contact(n: usize) -> Scene {
 /// two cells of that bank in one bucket with different fingerprints; every cell chosen at least
 /// three cells from every other on some axis, so that no box's window (two cells per axis)
 /// reaches another's cell, and no two pairs of a bank in one bucket.
-pub fn bucket_pairs(per_bank: usize) -> Vec<Vec<([u64; 3], [u64; 3])>> {
+fn bucket_pairs(per_bank: usize) -> Vec<Vec<([u64; 3], [u64; 3])>> {
     let shape = GridShape::new(&HwConfig::default());
     let mut taken: Vec<[u64; 3]> = Vec::new();
     let free = |taken: &[[u64; 3]], c: &[u64; 3]| {
