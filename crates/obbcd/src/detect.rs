@@ -123,7 +123,8 @@ pub fn run(a: DetectArgs) -> Result<()> {
     Ok(())
 }
 
-/// Each pair's contact, on the worker threads, timed apart from the detection: `contacts=N max_depth=D contacts_ms=T`.
+/// Each pair's contact, on the worker threads, timed apart from the detection; prints
+/// `contacts=N max_depth=D contacts_ms=T`.
 fn contacts_of(scene: &Scene, pairs: &[Pair]) -> Vec<Contact> {
     let start = Instant::now();
     let contacts: Vec<Contact> = pairs
