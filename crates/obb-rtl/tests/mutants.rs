@@ -22,7 +22,7 @@ use common::scenes::{
     dense, shared_buckets, stiff, surgical_contact, three_groups, touching_pairs,
 };
 use common::whole_sat::{self, SIDES_AT};
-use common::{pairs, sat_sides};
+use common::{disagreement, pairs, sat_sides};
 use mutation::{mutants, Kind, Mutant};
 use obb_model::fixed::grid::{GridShape, BANKS};
 use obb_model::fixed::grid_clocks::grid_schedule;
@@ -385,7 +385,7 @@ fn runs(cfg: &HwConfig) -> Vec<Run> {
 /// scene, with every axis' sides compared (`tests/sat.rs`).
 struct SatSides {
     verilog: String,
-    stim: whole_sat::Stimulus,
+    stim: sat_sides::Stimulus,
 }
 
 fn standalone_sat() -> SatSides {
@@ -406,12 +406,9 @@ fn sides_differ(verilog: &str, sat: &SatSides, dir: &Path) -> Option<String> {
         Ok(got) => got,
         Err(e) => return Some(e),
     };
-    // A verdict is read when valid (column 0).
     let verdicts = sat_sides::verdicts(&got);
     let want = &sat.stim.want;
-    if let Some(k) =
-        (0..want.len()).find(|&k| verdicts[k] != want[k] && verdicts[k][0] + want[k][0] > 0)
-    {
+    if let Some(k) = disagreement(&verdicts, want) {
         return Some(format!(
             "clock {k}: verdict {:?}, want {:?}",
             verdicts[k], sat.stim.want[k]

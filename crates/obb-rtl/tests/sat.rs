@@ -5,8 +5,9 @@
 
 mod common;
 
-use common::whole_sat::{self, Stimulus, SIDES_AT};
-use common::{check, pairs, run_rust_hdl, sat_sides, signed};
+use common::sat_sides::{self, Stimulus};
+use common::whole_sat::{self, SIDES_AT};
+use common::{check, pairs, run_rust_hdl, signed};
 use obb_model::fixed::{HwConfig, ModelFrame};
 use obb_model::generate::{surgical, uniform};
 use obb_rtl::leaf::sbits;

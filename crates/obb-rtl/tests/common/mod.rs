@@ -87,14 +87,20 @@ pub fn in_verilator<B: Block>(
     run_verilator(&verilog, name, inputs, outputs, vectors)
 }
 
+/// The first clock where the model (`want`) or the block (`got`) has its first output (valid)
+/// high and the two differ in any output.
+pub fn disagreement(got: &[Vec<u64>], want: &[Vec<u64>]) -> Option<usize> {
+    got.iter()
+        .zip(want)
+        .position(|(g, w)| (g[0] == 1 || w[0] == 1) && g != w)
+}
+
 /// Every clock where the model (`want`) or the block (`got`) has its first output (valid)
 /// high must agree on every output; and some clock must be valid.
 pub fn check(got: &[Vec<u64>], want: &[Vec<u64>], what: &str) {
     assert_eq!(got.len(), want.len(), "{what}: clocks");
-    for (k, (g, w)) in got.iter().zip(want).enumerate() {
-        if g[0] == 1 || w[0] == 1 {
-            assert_eq!(g, w, "{what}: clock {k}");
-        }
+    if let Some(k) = disagreement(got, want) {
+        assert_eq!(got[k], want[k], "{what}: clock {k}");
     }
     assert!(want.iter().any(|w| w[0] == 1), "{what}: nothing valid");
 }

@@ -3,6 +3,7 @@
 //! of docs/numerics.md (not from the model's stage functions).
 
 use super::{ceil_div, floor_div, nearest, ports, raw};
+use obb_model::fixed::ModelFrame;
 use obb_rtl::flow::verilator::Port;
 use obb_rtl::leaf::{sval, uval};
 use obb_rtl::sat_back::{SatDecide, FACE, PAIR2, P_BITS, RB};
@@ -108,4 +109,40 @@ pub fn differ(got: &[Vec<u64>], want: &[Vec<u64>], at: usize, column: usize) -> 
 /// The verdict columns (valid, hit) of each clock, the sides left out.
 pub fn verdicts(rows: &[Vec<u64>]) -> Vec<Vec<u64>> {
     rows.iter().map(|r| r[..2].to_vec()).collect()
+}
+
+/// A run of a SAT block, one pair per clock: its input vectors and what it must give.
+pub struct Stimulus {
+    /// One per clock: the pairs, then idle clocks to drain.
+    pub vectors: Vec<Vec<u64>>,
+    /// The verdict (valid, hit) the model gives at each clock.
+    pub want: Vec<Vec<u64>>,
+    /// Each pair's sides.
+    pub want_sides: Vec<Vec<u64>>,
+}
+
+impl Stimulus {
+    /// `pairs` of `m` as their input `vectors` (one per pair) and first-stage `products`, into
+    /// a block whose verdict comes `latency` clocks after its inputs: the vectors followed by
+    /// idle clocks, the model's verdicts on their clocks, and the pairs' sides.
+    pub fn new(
+        m: &ModelFrame,
+        pairs: &[(usize, usize)],
+        latency: u64,
+        mut vectors: Vec<Vec<u64>>,
+        products: impl Iterator<Item = Products>,
+    ) -> Stimulus {
+        let want_sides = products.map(|p| sides(&p, m.cfg.frac_bits())).collect();
+        let width = vectors[0].len();
+        vectors.extend(std::iter::repeat_n(vec![0; width], latency as usize + 1));
+        let mut want = vec![vec![0, 0]; vectors.len()];
+        for (k, &(i, j)) in pairs.iter().enumerate() {
+            want[k + latency as usize - 1] = vec![1, u64::from(m.sat(i, j))];
+        }
+        Stimulus {
+            vectors,
+            want,
+            want_sides,
+        }
+    }
 }

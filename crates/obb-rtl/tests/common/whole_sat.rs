@@ -2,7 +2,7 @@
 //! vectors, the verdicts the model gives, and every axis' sides from the boxes' own products
 //! (`sat_sides`); and its emitted Verilog run in Verilator with the sides probed.
 
-use super::sat_sides::{self, Products};
+use super::sat_sides::{self, Products, Stimulus};
 use super::{ports, raw};
 use obb_model::fixed::ModelFrame;
 use obb_rtl::flow::verilator::{self, Port};
@@ -15,17 +15,6 @@ use std::path::Path;
 /// The clock after a pair's inputs at which its sides reach the decision: the back end's
 /// `R_B_DONE` clocks after the front's products.
 pub const SIDES_AT: usize = sat_front::LATENCY as usize + R_B_DONE - 1;
-
-/// A run's input vectors and what it must give.
-pub struct Stimulus {
-    /// One per clock: valid, then for A and for B: centers (3), halves (3), axes (9), margin;
-    /// the pairs, then idle clocks to drain.
-    pub vectors: Vec<Vec<u64>>,
-    /// The verdict (valid, hit) the model gives at each clock.
-    pub want: Vec<Vec<u64>>,
-    /// Each pair's sides.
-    pub want_sides: Vec<Vec<u64>>,
-}
 
 /// Boxes i and j of `m` as an input vector.
 fn input(m: &ModelFrame, i: usize, j: usize) -> Vec<u64> {
@@ -55,23 +44,12 @@ fn products(m: &ModelFrame, i: usize, j: usize) -> Products {
     }
 }
 
+/// `pairs` of `m` into the whole SAT, one a clock (vectors: valid, then for A and for B:
+/// centers (3), halves (3), axes (9), margin).
 pub fn stimulus(m: &ModelFrame, pairs: &[(usize, usize)]) -> Stimulus {
-    let f = m.cfg.frac_bits();
-    let want_sides = pairs
-        .iter()
-        .map(|&(i, j)| sat_sides::sides(&products(m, i, j), f))
-        .collect();
-    let mut vectors: Vec<Vec<u64>> = pairs.iter().map(|&(i, j)| input(m, i, j)).collect();
-    vectors.extend(std::iter::repeat_n(vec![0; 33], LATENCY as usize + 1));
-    let mut want = vec![vec![0, 0]; vectors.len()];
-    for (k, &(i, j)) in pairs.iter().enumerate() {
-        want[k + LATENCY as usize - 1] = vec![1, u64::from(m.sat(i, j))];
-    }
-    Stimulus {
-        vectors,
-        want,
-        want_sides,
-    }
+    let vectors = pairs.iter().map(|&(i, j)| input(m, i, j)).collect();
+    let first_stage = pairs.iter().map(|&(i, j)| products(m, i, j));
+    Stimulus::new(m, pairs, LATENCY, vectors, first_stage)
 }
 
 /// `verilog` (the whole SAT's) in Verilator: the verdicts and the probed sides.
