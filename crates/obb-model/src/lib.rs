@@ -13,6 +13,7 @@ pub mod engines;
 pub mod fixed;
 pub mod generate;
 pub mod groups;
+pub mod mesh;
 pub mod prepared;
 pub mod radix;
 pub mod sat;

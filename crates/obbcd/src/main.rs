@@ -6,6 +6,7 @@ mod cosim;
 mod detect;
 mod error;
 mod error_plot;
+mod mesh_io;
 mod parry;
 mod plan;
 mod scene;
@@ -13,7 +14,7 @@ mod stats;
 mod synth;
 mod timing;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -32,7 +33,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Generate a scene and write it as JSON.
+    /// Generate a scene, or make one from OBJ and STL meshes, and write it as JSON.
     Scene(scene::SceneArgs),
     /// Find every colliding pair of a scene.
     Detect(detect::DetectArgs),
@@ -57,7 +58,10 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // The matches are kept beside the parsed arguments: `scene mesh` pairs each mesh with the
+    // options after it, an order the derived structs do not keep.
+    let matches = Cli::command().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     if let Some(t) = cli.threads {
         if let Err(e) = rayon::ThreadPoolBuilder::new()
             .num_threads(t)
@@ -68,7 +72,10 @@ fn main() -> ExitCode {
         }
     }
     let result = match cli.command {
-        Command::Scene(a) => scene::run(a),
+        Command::Scene(a) => match matches.subcommand() {
+            Some((_, m)) => scene::run(a, m),
+            None => unreachable!("clap requires a subcommand"),
+        },
         Command::Detect(a) => detect::run(a),
         Command::Stats(a) => stats::run(a),
         Command::Bench(a) => bench::run(a),

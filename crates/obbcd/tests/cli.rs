@@ -1,56 +1,10 @@
 //! The command line end to end: scene -> detect -> pairs file, and clear errors on bad input.
 
+mod common;
+
+use common::{fails_with, field, ok, tmp};
 use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn obbcd(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_obbcd"))
-        .args(args)
-        .output()
-        .expect("obbcd runs")
-}
-
-/// Runs obbcd and requires success, showing its stderr otherwise.
-fn ok(args: &[&str]) -> Output {
-    let out = obbcd(args);
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
-}
-
-/// Each command fails, without a panic, with a message containing its text and stating each
-/// cause once (no part of the `a: b: c` chain repeated).
-fn fails_with(cases: &[(&[&str], &str)]) {
-    for (args, want) in cases {
-        let out = obbcd(args);
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(!out.status.success(), "{args:?} should fail");
-        assert!(err.contains(want), "{args:?}: `{err}` lacks `{want}`");
-        assert!(!err.contains("panicked"), "{args:?} panicked");
-        let parts: Vec<&str> = err.trim().split(": ").collect();
-        for (k, part) in parts.iter().enumerate() {
-            assert!(
-                !parts[k + 1..].contains(part),
-                "{args:?}: `{err}` says `{part}` twice"
-            );
-        }
-    }
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("obbcd-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn field<'a>(line: &'a str, key: &str) -> &'a str {
-    line.split_whitespace()
-        .find_map(|kv| kv.strip_prefix(&format!("{key}=")))
-        .unwrap_or_else(|| panic!("no {key}= in `{line}`"))
-}
+use std::process::Command;
 
 #[test]
 fn scene_detect_and_stats() {

@@ -5,7 +5,7 @@ mod surgical;
 mod uniform;
 
 pub use slabs::slabs;
-pub use surgical::{surgical, SURGICAL_DEFAULT_N};
+pub use surgical::{surgical, surgical_meshes, SurfaceMesh, SURGICAL_DEFAULT_N};
 pub use uniform::{uniform, UNIFORM_DEFAULT_DENSITY};
 
 use crate::scene::Obb;
@@ -42,7 +42,7 @@ fn check_n(n: usize) -> Result<(), GenerateError> {
 }
 
 /// An OBB from a center, a rotation whose columns are the box axes, and half-lengths.
-fn obb(center: Vector3<f64>, rot: &Matrix3<f64>, half: [f64; 3], group: u32) -> Obb {
+pub(crate) fn obb(center: Vector3<f64>, rot: &Matrix3<f64>, half: [f64; 3], group: u32) -> Obb {
     let col = |k: usize| [rot[(0, k)], rot[(1, k)], rot[(2, k)]];
     Obb {
         center: [center.x, center.y, center.z],

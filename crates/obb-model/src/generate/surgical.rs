@@ -8,6 +8,7 @@
 //! the shaft.
 
 use super::{check_n, obb, rng, GenerateError};
+use crate::mesh::{quad_box, Mesh};
 use crate::scene::{Obb, Scene};
 use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
 use rand::Rng;
@@ -51,38 +52,23 @@ fn grid_shape(count: usize, wide: f64) -> (usize, usize) {
     (cols, count.div_ceil(cols))
 }
 
-fn tissue(surface: &Surface, count: usize, out: &mut Vec<Obb>) {
+/// The tissue's quads, corners in order around each: a grid of `count` cells over the surface.
+fn tissue(surface: &Surface, count: usize) -> Vec<[Vector3<f64>; 4]> {
     let (cols, rows) = grid_shape(count, TISSUE_X / TISSUE_Y);
     let (dx, dy) = (TISSUE_X / cols as f64, TISSUE_Y / rows as f64);
-    for k in 0..count {
-        let (ix, iy) = (k % cols, k / cols);
-        let x0 = -TISSUE_X / 2.0 + ix as f64 * dx;
-        let y0 = -TISSUE_Y / 2.0 + iy as f64 * dy;
-        let p = [
-            surface.point(x0, y0),
-            surface.point(x0 + dx, y0),
-            surface.point(x0, y0 + dy),
-            surface.point(x0 + dx, y0 + dy),
-        ];
-        let u = ((p[1] - p[0]) + (p[3] - p[2])).normalize();
-        let w = (p[2] - p[0]) + (p[3] - p[1]);
-        let n = u.cross(&w).normalize();
-        let v = n.cross(&u);
-        let center = (p[0] + p[1] + p[2] + p[3]) / 4.0;
-        // Half-lengths that cover the quad's corners; its warp goes into the thickness.
-        let reach = |axis: &Vector3<f64>| {
-            p.iter()
-                .map(|q| (q - center).dot(axis).abs())
-                .fold(0.0, f64::max)
-        };
-        let rot = Matrix3::from_columns(&[u, v, n]);
-        out.push(obb(
-            center,
-            &rot,
-            [reach(&u), reach(&v), TISSUE_HALF_THICKNESS + reach(&n)],
-            0,
-        ));
-    }
+    (0..count)
+        .map(|k| {
+            let (ix, iy) = (k % cols, k / cols);
+            let x0 = -TISSUE_X / 2.0 + ix as f64 * dx;
+            let y0 = -TISSUE_Y / 2.0 + iy as f64 * dy;
+            [
+                surface.point(x0, y0),
+                surface.point(x0 + dx, y0),
+                surface.point(x0 + dx, y0 + dy),
+                surface.point(x0, y0 + dy),
+            ]
+        })
+        .collect()
 }
 
 /// A gripper in its own frame: the hinge at the origin, the shaft along +z, the jaws opening in
@@ -201,8 +187,14 @@ fn jitter(r: &mut ChaCha8Rng, scale: f64) -> f64 {
     r.random_range(-scale..=scale)
 }
 
-/// The surgical scene with `n` boxes (default 17,500), deterministic from `seed`.
-pub fn surgical(n: usize, seed: u64) -> Result<Scene, GenerateError> {
+/// The scene's parts: the tissue's quads and each gripper's boxes with the index of its first
+/// jaw box (shaft boxes have their skin normal as axis 0, jaw boxes as axis 2).
+struct Parts {
+    tissue: Vec<[Vector3<f64>; 4]>,
+    grippers: Vec<(Vec<Obb>, usize)>,
+}
+
+fn parts(n: usize, seed: u64) -> Result<Parts, GenerateError> {
     check_n(n)?;
     let mut r = rng(seed);
     let surface = Surface {
@@ -211,13 +203,13 @@ pub fn surgical(n: usize, seed: u64) -> Result<Scene, GenerateError> {
     let n_tissue = ((n as f64 * 4.0 / 7.0).round() as usize).max(1);
     let n_left = (n - n_tissue) / 2;
     let n_right = n - n_tissue - n_left;
-    let mut obbs = Vec::with_capacity(n);
-    tissue(&surface, n_tissue, &mut obbs);
+    let tissue = tissue(&surface, n_tissue);
     // Left gripper comes in from -x, right from +x, at different angles; tips near the dome.
     let grippers = [
         (n_left, 1, -0.70, 0.25, -12.0, 5.0),
         (n_right, 2, 0.60, -0.35, 15.0, -8.0),
     ];
+    let mut placed = Vec::with_capacity(2);
     for (count, group, lean_x, lean_y, tx, ty) in grippers {
         if count == 0 {
             continue;
@@ -232,7 +224,7 @@ pub fn surgical(n: usize, seed: u64) -> Result<Scene, GenerateError> {
         let roll = jitter(&mut r, PI);
         let local = gripper_local(count, open, group);
         let jaw_from = count - 2 * (count / 10);
-        obbs.extend(place(
+        let boxes = place(
             local,
             &surface,
             up,
@@ -240,7 +232,80 @@ pub fn surgical(n: usize, seed: u64) -> Result<Scene, GenerateError> {
             tx + jitter(&mut r, 1.0),
             ty + jitter(&mut r, 1.0),
             jaw_from,
-        ));
+        );
+        placed.push((boxes, jaw_from));
+    }
+    Ok(Parts {
+        tissue,
+        grippers: placed,
+    })
+}
+
+/// The surgical scene with `n` boxes (default 17,500), deterministic from `seed`.
+pub fn surgical(n: usize, seed: u64) -> Result<Scene, GenerateError> {
+    let parts = parts(n, seed)?;
+    let mut obbs = Vec::with_capacity(n);
+    // Half-lengths that cover the quad's corners; its warp goes into the thickness.
+    obbs.extend(
+        parts
+            .tissue
+            .iter()
+            .map(|q| quad_box(q, TISSUE_HALF_THICKNESS, 0)),
+    );
+    for (boxes, _) in parts.grippers {
+        obbs.extend(boxes);
     }
     Ok(Scene { obbs })
+}
+
+/// One surface of the surgical scene as a mesh: the group its boxes take and the thickness
+/// `mesh_boxes` makes them again with.
+pub struct SurfaceMesh {
+    pub group: u32,
+    pub thickness: f64,
+    pub mesh: Mesh,
+}
+
+/// The surgical scene's surfaces as meshes (quads, four vertices each): the tissue's quads
+/// (`mesh_boxes` gives back the scene's tissue boxes bit for bit) and each gripper's skin, one
+/// quad per box at the middle of its skin (given back to rounding).
+pub fn surgical_meshes(n: usize, seed: u64) -> Result<Vec<SurfaceMesh>, GenerateError> {
+    let parts = parts(n, seed)?;
+    let mut out = vec![SurfaceMesh {
+        group: 0,
+        thickness: 2.0 * TISSUE_HALF_THICKNESS,
+        mesh: quads_mesh(parts.tissue),
+    }];
+    for (boxes, jaw_from) in parts.grippers {
+        let group = boxes.first().map_or(0, |b| b.group);
+        let quads = boxes
+            .iter()
+            .enumerate()
+            .map(|(k, b)| mid_surface(b, if k < jaw_from { 0 } else { 2 }))
+            .collect();
+        out.push(SurfaceMesh {
+            group,
+            thickness: 2.0 * SKIN_HALF_THICKNESS,
+            mesh: quads_mesh(quads),
+        });
+    }
+    Ok(out)
+}
+
+fn quads_mesh(quads: Vec<[Vector3<f64>; 4]>) -> Mesh {
+    Mesh {
+        vertices: quads.iter().flatten().map(|p| [p.x, p.y, p.z]).collect(),
+        faces: (0..quads.len())
+            .map(|k| (4 * k..4 * k + 4).collect())
+            .collect(),
+    }
+}
+
+/// The rectangle through a box's center across its `normal` axis, corners in order around it.
+fn mid_surface(b: &Obb, normal: usize) -> [Vector3<f64>; 4] {
+    let (i, j) = ((normal + 1) % 3, (normal + 2) % 3);
+    let c = Vector3::from(b.center);
+    let a = Vector3::from(b.axes[i]) * b.half[i];
+    let e = Vector3::from(b.axes[j]) * b.half[j];
+    [c - a - e, c + a - e, c + a + e, c - a + e]
 }
