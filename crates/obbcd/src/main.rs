@@ -6,9 +6,11 @@ mod cosim;
 mod detect;
 mod error;
 mod error_plot;
+mod frames;
 mod mesh_io;
 mod parry;
 mod plan;
+mod replay;
 mod scene;
 mod stats;
 mod synth;
@@ -37,6 +39,10 @@ enum Command {
     Scene(scene::SceneArgs),
     /// Find every colliding pair of a scene.
     Detect(detect::DetectArgs),
+    /// Run a moving scene frame by frame as a control loop does (the built-in surgical motion
+    /// at 1 kHz, or recorded frames): latency percentiles of the haptic frames, tissue updates
+    /// apart.
+    Replay(replay::ReplayArgs),
     /// Per-axis overlap counts, each broad phase's visits and SAT tests, and collisions, by
     /// group pair.
     Stats(stats::StatsArgs),
@@ -77,6 +83,7 @@ fn main() -> ExitCode {
             None => unreachable!("clap requires a subcommand"),
         },
         Command::Detect(a) => detect::run(a),
+        Command::Replay(a) => replay::run(a),
         Command::Stats(a) => stats::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Error(a) => error::run(a),

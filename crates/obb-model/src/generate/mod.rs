@@ -1,9 +1,11 @@
 //! Scene generators, deterministic from a seed (ChaCha8, whose stream is fixed across platforms).
 
+mod motion;
 mod slabs;
 mod surgical;
 mod uniform;
 
+pub use motion::{FrameUpdate, SurgicalMotion, HAPTIC_HZ, TISSUE_EVERY};
 pub use slabs::slabs;
 pub use surgical::{surgical, surgical_meshes, SurfaceMesh, SURGICAL_DEFAULT_N};
 pub use uniform::{uniform, UNIFORM_DEFAULT_DENSITY};

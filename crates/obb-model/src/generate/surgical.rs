@@ -19,7 +19,7 @@ pub const SURGICAL_DEFAULT_N: usize = 17_500;
 
 const TISSUE_X: f64 = 100.0;
 const TISSUE_Y: f64 = 80.0;
-const TISSUE_HALF_THICKNESS: f64 = 0.125;
+pub(super) const TISSUE_HALF_THICKNESS: f64 = 0.125;
 const SHAFT_RADIUS: f64 = 4.0;
 const SHAFT_LENGTH: f64 = 150.0;
 const JAW_LENGTH: f64 = 15.0;
@@ -29,14 +29,17 @@ const SKIN_HALF_THICKNESS: f64 = 0.2;
 /// How far the lowest jaw box dips below the tissue surface.
 const PENETRATION: f64 = 0.3;
 
-/// The tissue height field: a dome with gentle ripples whose phase comes from the seed.
-struct Surface {
-    phase: [f64; 2],
+/// The tissue height field: a dome with gentle ripples whose phase comes from the seed; `rise`
+/// lifts the dome's top (0 in the still scene, breathing in `SurgicalMotion`).
+#[derive(Clone, Copy)]
+pub(super) struct Surface {
+    pub(super) phase: [f64; 2],
+    pub(super) rise: f64,
 }
 
 impl Surface {
-    fn height(&self, x: f64, y: f64) -> f64 {
-        12.0 * (-(x * x / (2.0 * 30.0 * 30.0) + y * y / (2.0 * 25.0 * 25.0))).exp()
+    pub(super) fn height(&self, x: f64, y: f64) -> f64 {
+        (12.0 + self.rise) * (-(x * x / (2.0 * 30.0 * 30.0) + y * y / (2.0 * 25.0 * 25.0))).exp()
             + 0.6 * (x / 7.0 + self.phase[0]).sin() * (y / 6.0 + self.phase[1]).cos()
     }
 
@@ -53,7 +56,7 @@ fn grid_shape(count: usize, wide: f64) -> (usize, usize) {
 }
 
 /// The tissue's quads, corners in order around each: a grid of `count` cells over the surface.
-fn tissue(surface: &Surface, count: usize) -> Vec<[Vector3<f64>; 4]> {
+pub(super) fn tissue(surface: &Surface, count: usize) -> Vec<[Vector3<f64>; 4]> {
     let (cols, rows) = grid_shape(count, TISSUE_X / TISSUE_Y);
     let (dx, dy) = (TISSUE_X / cols as f64, TISSUE_Y / rows as f64);
     (0..count)
@@ -189,16 +192,18 @@ fn jitter(r: &mut ChaCha8Rng, scale: f64) -> f64 {
 
 /// The scene's parts: the tissue's quads and each gripper's boxes with the index of its first
 /// jaw box (shaft boxes have their skin normal as axis 0, jaw boxes as axis 2).
-struct Parts {
-    tissue: Vec<[Vector3<f64>; 4]>,
-    grippers: Vec<(Vec<Obb>, usize)>,
+pub(super) struct Parts {
+    pub(super) surface: Surface,
+    pub(super) tissue: Vec<[Vector3<f64>; 4]>,
+    pub(super) grippers: Vec<(Vec<Obb>, usize)>,
 }
 
-fn parts(n: usize, seed: u64) -> Result<Parts, GenerateError> {
+pub(super) fn parts(n: usize, seed: u64) -> Result<Parts, GenerateError> {
     check_n(n)?;
     let mut r = rng(seed);
     let surface = Surface {
         phase: [jitter(&mut r, PI), jitter(&mut r, PI)],
+        rise: 0.0,
     };
     let n_tissue = ((n as f64 * 4.0 / 7.0).round() as usize).max(1);
     let n_left = (n - n_tissue) / 2;
@@ -236,6 +241,7 @@ fn parts(n: usize, seed: u64) -> Result<Parts, GenerateError> {
         placed.push((boxes, jaw_from));
     }
     Ok(Parts {
+        surface,
         tissue,
         grippers: placed,
     })

@@ -1,0 +1,304 @@
+//! `obbcd replay`: a moving scene frame by frame, as a control loop runs it, with each frame's
+//! latency from its boxes to its pairs. Frames that replace the tissue (group 0) are tissue
+//! updates, reported apart from the haptic frames.
+
+use crate::builtin::DEFAULT_SEED;
+use crate::frames::{FrameReader, FrameWriter};
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use obb_model::generate::{FrameUpdate, SurgicalMotion, SURGICAL_DEFAULT_N};
+use obb_model::{EngineKind, GroupMask, Obb, Pair, Prepared};
+use plotters::prelude::*;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The built-in run's length: one gripper cycle (2 s at 1 kHz).
+const DEFAULT_FRAMES: usize = 2000;
+
+#[derive(Args)]
+pub struct ReplayArgs {
+    /// Recorded frames: `.jsonl` (JSON lines) or the binary format (any other name). Default:
+    /// the built-in moving surgical scene.
+    #[arg(long)]
+    input: Option<PathBuf>,
+    /// Frames to run (default: 2000 of the built-in scene, every frame of a file).
+    #[arg(long)]
+    frames: Option<usize>,
+    /// Built-in scene: number of boxes.
+    #[arg(long)]
+    n: Option<usize>,
+    /// Built-in scene: seed.
+    #[arg(long, default_value_t = DEFAULT_SEED)]
+    seed: u64,
+    /// brute, sap, improved-sap, sweep or grid.
+    #[arg(long, default_value = "grid")]
+    engine: EngineKind,
+    /// Which group pairs (`all`, `cross`, or a list like `0-1,0-2`).
+    #[arg(long, default_value = "cross")]
+    groups: GroupMask,
+    /// Write the frames run to this file (`.jsonl` or binary).
+    #[arg(long)]
+    record: Option<PathBuf>,
+    /// Write every frame's latency and pairs (CSV).
+    #[arg(long)]
+    csv: Option<PathBuf>,
+    /// Plot the latency over the frames (SVG).
+    #[arg(long)]
+    svg: Option<PathBuf>,
+}
+
+/// One frame's outcome.
+struct Run {
+    t_ms: f64,
+    tissue: bool,
+    latency_ms: f64,
+    pairs: usize,
+}
+
+/// The scene's boxes as the frames leave them: by group, ascending, each group's in the order
+/// its last frame gave them (so a box's index is stable while no group changes its count).
+#[derive(Default)]
+struct Boxes {
+    all: Vec<Obb>,
+    /// Each group's range in `all`, by group.
+    ranges: BTreeMap<u32, Range<usize>>,
+}
+
+impl Boxes {
+    /// Applies a frame: its groups' boxes replace theirs, moved straight into place when every
+    /// replaced group keeps its count (the haptic frames), else the scene is laid out again.
+    fn apply(&mut self, f: FrameUpdate) -> Result<()> {
+        let slot = |g: u32| {
+            f.replace
+                .iter()
+                .position(|&r| r == g)
+                .with_context(|| format!("a box of group {g}, which the frame does not replace"))
+        };
+        let mut counts = vec![0; f.replace.len()];
+        for b in &f.obbs {
+            counts[slot(b.group)?] += 1;
+        }
+        let kept = f
+            .replace
+            .iter()
+            .zip(&counts)
+            .all(|(g, &n)| self.ranges.get(g).map(|r| r.len()) == Some(n));
+        if kept {
+            let mut at: Vec<usize> = f.replace.iter().map(|g| self.ranges[g].start).collect();
+            for b in f.obbs {
+                let k = slot(b.group)?;
+                self.all[at[k]] = b;
+                at[k] += 1;
+            }
+            return Ok(());
+        }
+        let mut by_group: BTreeMap<u32, Vec<Obb>> = BTreeMap::new();
+        for (g, r) in &self.ranges {
+            if !f.replace.contains(g) {
+                by_group.insert(*g, self.all[r.clone()].to_vec());
+            }
+        }
+        for &g in &f.replace {
+            by_group.insert(g, Vec::new());
+        }
+        for b in f.obbs {
+            by_group.entry(b.group).or_default().push(b);
+        }
+        self.all.clear();
+        self.ranges.clear();
+        for (g, boxes) in by_group {
+            self.ranges
+                .insert(g, self.all.len()..self.all.len() + boxes.len());
+            self.all.extend(boxes);
+        }
+        Ok(())
+    }
+}
+
+/// The frames: the file's, or the built-in motion's, one at a time.
+enum Source {
+    File(FrameReader),
+    Builtin(SurgicalMotion, usize),
+}
+
+impl Source {
+    fn next(&mut self) -> Result<Option<FrameUpdate>> {
+        match self {
+            Source::File(r) => r.next_frame(),
+            Source::Builtin(m, k) => {
+                let f = m.frame(*k);
+                *k += 1;
+                Ok(Some(f))
+            }
+        }
+    }
+}
+
+pub fn run(a: ReplayArgs) -> Result<()> {
+    if a.frames == Some(0) {
+        bail!("--frames must be at least 1");
+    }
+    let (mut source, limit) = match &a.input {
+        Some(path) => {
+            if a.n.is_some() {
+                bail!("--n is for the built-in scene, not with --input");
+            }
+            (Source::File(FrameReader::open(path)?), a.frames)
+        }
+        None => {
+            let motion = SurgicalMotion::new(a.n.unwrap_or(SURGICAL_DEFAULT_N), a.seed)
+                .context("cannot generate the built-in moving scene")?;
+            (
+                Source::Builtin(motion, 0),
+                Some(a.frames.unwrap_or(DEFAULT_FRAMES)),
+            )
+        }
+    };
+    let mut record = a.record.as_deref().map(FrameWriter::create).transpose()?;
+    let mut engine = a.engine.build();
+    let mut prepared = Prepared::default();
+    let mut boxes = Boxes::default();
+    let mut pairs: Vec<Pair> = Vec::new();
+    let mut runs = Vec::new();
+    let mut csv = String::from("frame,t_ms,tissue_update,latency_ms,pairs\n");
+    // As `detect`: the loop runs on a pool worker, so parallel phases do not wake a thread from
+    // outside the pool.
+    rayon::scope(|_| -> Result<()> {
+        while limit.is_none_or(|l| runs.len() < l) {
+            let Some(frame) = source.next()? else { break };
+            if let Some(w) = record.as_mut() {
+                w.write(&frame)?;
+            }
+            let (t_ms, tissue) = (frame.t_ms, frame.replace.contains(&0));
+            let start = Instant::now();
+            boxes.apply(frame)?;
+            let f = prepared.update(&boxes.all);
+            engine.detect(&f, &a.groups, &mut pairs);
+            let latency_ms = start.elapsed().as_secs_f64() * 1e3;
+            let _ = writeln!(
+                csv,
+                "{},{t_ms},{tissue},{latency_ms:.6},{}",
+                runs.len(),
+                pairs.len()
+            );
+            runs.push(Run {
+                t_ms,
+                tissue,
+                latency_ms,
+                pairs: pairs.len(),
+            });
+        }
+        Ok(())
+    })?;
+    if let Some(w) = record {
+        w.finish()?;
+    }
+    println!("{}", summary(&runs, &a, boxes.all.len()));
+    if let Some(path) = &a.csv {
+        std::fs::write(path, csv).with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    if let Some(path) = &a.svg {
+        plot(&runs, path)?;
+    }
+    Ok(())
+}
+
+/// The `p`-th percentile (nearest rank) of `v`, 0 for no values.
+fn percentile(v: &mut [f64], p: f64) -> f64 {
+    v.sort_by(f64::total_cmp);
+    match v.len() {
+        0 => 0.0,
+        n => v[((p * n as f64).ceil() as usize).clamp(1, n) - 1],
+    }
+}
+
+fn summary(runs: &[Run], a: &ReplayArgs, obbs: usize) -> String {
+    let mut haptic: Vec<f64> = runs
+        .iter()
+        .filter(|r| !r.tissue)
+        .map(|r| r.latency_ms)
+        .collect();
+    let mut tissue: Vec<f64> = runs
+        .iter()
+        .filter(|r| r.tissue)
+        .map(|r| r.latency_ms)
+        .collect();
+    let pairs_max = runs.iter().map(|r| r.pairs).max().unwrap_or(0);
+    let pairs_mean = runs.iter().map(|r| r.pairs).sum::<usize>() as f64 / runs.len().max(1) as f64;
+    format!(
+        "frames={} haptic_frames={} tissue_updates={} p50_ms={:.4} p99_ms={:.4} max_ms={:.4} \
+         tissue_p99_ms={:.4} tissue_max_ms={:.4} pairs_mean={pairs_mean:.1} pairs_max={pairs_max} \
+         engine={} groups={} obbs={obbs} threads={}",
+        runs.len(),
+        haptic.len(),
+        tissue.len(),
+        percentile(&mut haptic, 0.5),
+        percentile(&mut haptic, 0.99),
+        percentile(&mut haptic, 1.0),
+        percentile(&mut tissue, 0.99),
+        percentile(&mut tissue, 1.0),
+        a.engine,
+        a.groups,
+        rayon::current_num_threads()
+    )
+}
+
+/// Latency over the frames' times: haptic frames as a line, tissue updates as points.
+fn plot(runs: &[Run], path: &Path) -> Result<()> {
+    let t_end = runs.last().map_or(1.0, |r| r.t_ms).max(1.0);
+    let worst = runs.iter().map(|r| r.latency_ms).fold(0.01, f64::max);
+    let root = SVGBackend::new(path, (1000, 500)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption("obbcd replay: latency per frame", ("sans-serif", 18))
+        .margin(20)
+        .x_label_area_size(45)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..t_end, 0.0..worst * 1.1)?;
+    chart
+        .configure_mesh()
+        .x_desc("frame time (ms)")
+        .y_desc("latency (ms)")
+        .draw()?;
+    let haptic = runs.iter().filter(|r| !r.tissue);
+    chart
+        .draw_series(LineSeries::new(
+            haptic.map(|r| (r.t_ms, r.latency_ms)),
+            BLUE.stroke_width(1),
+        ))?
+        .label("haptic frames")
+        .legend(|(x, y)| PathElement::new(vec![(x - 10, y), (x + 10, y)], BLUE));
+    chart
+        .draw_series(
+            runs.iter()
+                .filter(|r| r.tissue)
+                .map(|r| Circle::new((r.t_ms, r.latency_ms), 3, RED.filled())),
+        )?
+        .label("tissue updates")
+        .legend(|(x, y)| Circle::new((x, y), 3, RED.filled()));
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::percentile;
+
+    #[test]
+    fn percentiles_are_nearest_rank() {
+        let mut v: Vec<f64> = (1..=200).rev().map(f64::from).collect();
+        assert_eq!(percentile(&mut v, 0.5), 100.0);
+        assert_eq!(percentile(&mut v, 0.99), 198.0);
+        assert_eq!(percentile(&mut v, 1.0), 200.0);
+        assert_eq!(percentile(&mut [7.0], 0.99), 7.0);
+        assert_eq!(percentile(&mut [], 0.5), 0.0);
+    }
+}
