@@ -6,6 +6,7 @@ use crate::builtin::DEFAULT_SEED;
 use crate::frames::{FrameReader, FrameWriter};
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use obb_model::engines::Resident;
 use obb_model::generate::{FrameUpdate, SurgicalMotion, SURGICAL_DEFAULT_N};
 use obb_model::{EngineKind, GroupMask, Obb, Pair, Prepared};
 use plotters::prelude::*;
@@ -39,6 +40,10 @@ pub struct ReplayArgs {
     /// Which group pairs (`all`, `cross`, or a list like `0-1,0-2`).
     #[arg(long, default_value = "cross")]
     groups: GroupMask,
+    /// Keep the tissue (group 0) resident: prepared and entered in its own grid on a tissue
+    /// update only; a haptic frame prepares and probes with the other groups' boxes (grid only).
+    #[arg(long)]
+    resident: bool,
     /// Write the frames run to this file (`.jsonl` or binary).
     #[arg(long)]
     record: Option<PathBuf>,
@@ -158,6 +163,10 @@ pub fn run(a: ReplayArgs) -> Result<()> {
         }
     };
     let mut record = a.record.as_deref().map(FrameWriter::create).transpose()?;
+    if a.resident && a.engine != EngineKind::Grid {
+        bail!("--resident keeps the tissue in a grid: it takes --engine grid only");
+    }
+    let mut resident = a.resident.then(Resident::default);
     let mut engine = a.engine.build();
     let mut prepared = Prepared::default();
     let mut boxes = Boxes::default();
@@ -175,8 +184,17 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             let (t_ms, tissue) = (frame.t_ms, frame.replace.contains(&0));
             let start = Instant::now();
             boxes.apply(frame)?;
-            let f = prepared.update(&boxes.all);
-            engine.detect(&f, &a.groups, &mut pairs);
+            if let Some(r) = resident.as_mut() {
+                // Group 0 comes first: its boxes are 0..s, the moving ones after them.
+                let s = boxes.ranges.get(&0).map_or(0, |r| r.end);
+                if tissue {
+                    r.update_static(&boxes.all[..s], &a.groups);
+                }
+                r.detect(&boxes.all[s..], &mut pairs);
+            } else {
+                let f = prepared.update(&boxes.all);
+                engine.detect(&f, &a.groups, &mut pairs);
+            }
             let latency_ms = start.elapsed().as_secs_f64() * 1e3;
             let _ = writeln!(
                 csv,
@@ -231,7 +249,7 @@ fn summary(runs: &[Run], a: &ReplayArgs, obbs: usize) -> String {
     format!(
         "frames={} haptic_frames={} tissue_updates={} p50_ms={:.4} p99_ms={:.4} max_ms={:.4} \
          tissue_p99_ms={:.4} tissue_max_ms={:.4} pairs_mean={pairs_mean:.1} pairs_max={pairs_max} \
-         engine={} groups={} obbs={obbs} threads={}",
+         engine={}{} groups={} obbs={obbs} threads={}",
         runs.len(),
         haptic.len(),
         tissue.len(),
@@ -241,6 +259,7 @@ fn summary(runs: &[Run], a: &ReplayArgs, obbs: usize) -> String {
         percentile(&mut tissue, 0.99),
         percentile(&mut tissue, 1.0),
         a.engine,
+        if a.resident { " resident=0" } else { "" },
         a.groups,
         rayon::current_num_threads()
     )

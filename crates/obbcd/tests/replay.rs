@@ -32,23 +32,16 @@ fn rows(csv: &Path) -> Vec<(String, String, usize)> {
         .collect()
 }
 
+/// The built-in scene's run the tests check: 700 boxes, 600 frames.
+const RUN: [&str; 7] = ["replay", "--n", "700", "--seed", "3", "--frames", "600"];
+
 /// 700 boxes, 600 frames: the grippers come down into the tissue. Every 10th frame's pairs are
 /// those brute force finds on the scene assembled here from the motion's frames (each frame
 /// replaces its groups' boxes; the scene lists them by group).
 #[test]
 fn builtin_frames_give_brute_forces_pairs() {
     let csv = tmp("builtin.csv");
-    let out = ok(&[
-        "replay",
-        "--n",
-        "700",
-        "--seed",
-        "3",
-        "--frames",
-        "600",
-        "--csv",
-        s(&csv),
-    ]);
+    let out = ok(&[&RUN[..], &["--csv", s(&csv)]].concat());
     let line = String::from_utf8(out.stdout).unwrap();
     assert_eq!(field(&line, "frames"), "600");
     assert_eq!(field(&line, "tissue_updates"), "15");
@@ -80,6 +73,19 @@ fn builtin_frames_give_brute_forces_pairs() {
     }
     assert!(touching > 10, "the grippers reach the tissue: {touching}");
     assert_eq!(got[0].2, 0, "the grippers start above the tissue");
+    // The tissue resident: the same pairs on every frame, all pairs and cross-group.
+    for groups in ["cross", "all"] {
+        let (full, resident) = (tmp("full.csv"), tmp("resident.csv"));
+        let run = |csv: &Path, extra: &[&str]| {
+            let mut args = [&RUN[..], &["--groups", groups, "--csv", s(csv)]].concat();
+            args.extend(extra);
+            String::from_utf8(ok(&args).stdout).unwrap()
+        };
+        run(&full, &[]);
+        let line = run(&resident, &["--resident"]);
+        assert_eq!(field(&line, "resident"), "0");
+        assert_eq!(rows(&resident), rows(&full), "{groups}");
+    }
 }
 
 /// A run recorded as JSON lines replays to the same rows as the built-in scene; a binary
@@ -152,6 +158,7 @@ fn bad_frame_files_fail_with_a_message() {
         (vec!["replay", "--input", &cut], format!("{cut}: frame 0 is cut short")),
         (vec!["replay", "--input", &good_file, "--n", "5"], "--n is for the built-in scene".into()),
         (vec!["replay", "--frames", "0"], "--frames must be at least 1".into()),
+        (vec!["replay", "--resident", "--engine", "sweep"], "--resident keeps the tissue in a grid".into()),
     ];
     let cases: Vec<(&[&str], &str)> = cases
         .iter()

@@ -20,10 +20,12 @@
 mod geometry;
 mod occupied;
 mod ranks;
+mod resident;
 mod scan;
 mod slab;
 
 pub use geometry::GridGeometry;
+pub use resident::Resident;
 
 use super::{Counters, Engine, EngineKind, Pair, PairSorter};
 use crate::aabb::Aabb;

@@ -1,0 +1,183 @@
+//! Resident static boxes, as the core keeps the tissue: the static boxes (the tissue) are
+//! prepared and entered in a grid of their own once per update; a frame brings only the moving
+//! boxes (the instruments), which probe that grid, and meet each other in a `Grid` of their own.
+//!
+//! Indices: the static boxes are 0..S, the moving ones S.. in the order given, as in a scene
+//! that lists the static group first. The pairs are those of every other engine on that scene:
+//! closed AABB overlap and the SAT, each pair once (a static-moving pair is taken in its home
+//! cell, the cell of the lower corner of the two AABBs' intersection, which both cover).
+
+use super::geometry::{choose_cell, GridGeometry};
+use super::{Grid, MAX_CELLS_PER_BOX};
+use crate::aabb::Aabb;
+use crate::engines::{Counters, Engine, Pair};
+use crate::groups::GroupMask;
+use crate::prepared::{Frame, Prepared};
+use crate::sat::{boxes_collide, Slack};
+use crate::scene::Obb;
+
+#[derive(Debug, Default)]
+pub struct Resident {
+    mask: GroupMask,
+    statics: Vec<Obb>,
+    aabbs: Vec<Aabb>,
+    slack: Vec<Slack>,
+    /// The union of the entered static boxes' AABBs.
+    bounds: Aabb,
+    geometry: GridGeometry,
+    /// (cell key, static box), sorted by key.
+    entries: Vec<(u64, u32)>,
+    /// Static boxes covering more than `MAX_CELLS_PER_BOX` cells: met by every moving box.
+    large: Vec<u32>,
+    /// The pairs among the static boxes the mask allows, found on update.
+    static_pairs: Vec<Pair>,
+    moving: Prepared,
+    /// Each moving group's AABB union, this frame.
+    group_bounds: Vec<(u32, Aabb)>,
+    grid: Grid,
+    moving_pairs: Vec<Pair>,
+}
+
+impl Resident {
+    /// New static boxes and the mask every later frame uses: prepares and enters them, and finds
+    /// the pairs among them.
+    pub fn update_static(&mut self, statics: &[Obb], mask: &GroupMask) -> Counters {
+        self.mask = mask.clone();
+        self.statics.clear();
+        self.statics.extend_from_slice(statics);
+        let mut prepared = Prepared::default();
+        let frame = prepared.update(&self.statics);
+        let counters = self.grid.detect(&frame, mask, &mut self.static_pairs);
+        self.aabbs.clear();
+        self.aabbs.extend_from_slice(frame.aabbs);
+        self.slack.clear();
+        self.slack.extend_from_slice(frame.slack);
+        let mut scratch = Vec::new();
+        let cell = if statics.is_empty() {
+            1.0
+        } else {
+            choose_cell(&self.aabbs, false, &mut scratch)
+        };
+        self.geometry = GridGeometry::fit(frame.bounds.min, frame.bounds.max, cell);
+        self.entries.clear();
+        self.large.clear();
+        self.bounds = Aabb::EMPTY;
+        for (j, b) in self.aabbs.iter().enumerate() {
+            let (c0, c1) = self.geometry.range(b);
+            if GridGeometry::cells_in(c0, c1) > MAX_CELLS_PER_BOX {
+                self.large.push(j as u32);
+                continue;
+            }
+            self.bounds = self.bounds.union(b);
+            for z in c0[2]..=c1[2] {
+                for y in c0[1]..=c1[1] {
+                    for x in c0[0]..=c1[0] {
+                        self.entries.push((self.geometry.key([x, y, z]), j as u32));
+                    }
+                }
+            }
+        }
+        self.entries.sort_unstable();
+        counters
+    }
+
+    /// The pairs of the scene "static boxes, then `moving`", sorted ascending.
+    pub fn detect(&mut self, moving: &[Obb], out: &mut Vec<Pair>) -> Counters {
+        let s = self.statics.len() as u32;
+        let frame = self.moving.update(moving);
+        let mut counters = Counters::default();
+        self.moving_pairs.clear();
+        if moving_groups_may_meet(&self.mask, &mut self.group_bounds, &frame) {
+            counters = self.grid.detect(&frame, &self.mask, &mut self.moving_pairs);
+        }
+        out.clear();
+        out.extend_from_slice(&self.static_pairs);
+        counters.pairs += self.static_pairs.len() as u64;
+        let from = out.len();
+        for (i, (m, a)) in moving.iter().zip(frame.aabbs).enumerate() {
+            let ms = &frame.slack[i];
+            let meet = |j: u32, counters: &mut Counters, out: &mut Vec<Pair>| {
+                let ju = j as usize;
+                counters.visits += 1;
+                if self.mask.allows(self.statics[ju].group, m.group) && self.aabbs[ju].overlaps(a) {
+                    counters.sat_tests += 1;
+                    if boxes_collide(&self.statics[ju], &self.slack[ju], m, ms) {
+                        counters.pairs += 1;
+                        out.push([j, s + i as u32]);
+                    }
+                }
+            };
+            for &j in &self.large {
+                meet(j, &mut counters, out);
+            }
+            if !a.overlaps(&self.bounds) {
+                continue;
+            }
+            let g = &self.geometry;
+            let (c0, c1) = g.range(a);
+            let last = g.dims.map(|d| d - 1);
+            let (c0, c1): ([u64; 3], [u64; 3]) = (
+                std::array::from_fn(|k| c0[k].min(last[k])),
+                std::array::from_fn(|k| c1[k].min(last[k])),
+            );
+            if GridGeometry::cells_in(c0, c1) > MAX_CELLS_PER_BOX {
+                // A moving box larger than the cells it would look up: every static box.
+                for j in 0..s {
+                    if !self.large.contains(&j) {
+                        meet(j, &mut counters, out);
+                    }
+                }
+                continue;
+            }
+            for z in c0[2]..=c1[2] {
+                for y in c0[1]..=c1[1] {
+                    for x in c0[0]..=c1[0] {
+                        let key = g.key([x, y, z]);
+                        let start = self.entries.partition_point(|e| e.0 < key);
+                        for &(k, j) in self.entries[start..].iter().take_while(|e| e.0 == key) {
+                            debug_assert_eq!(k, key);
+                            // Home cell: where the intersection's lower corner lies.
+                            let b = &self.aabbs[j as usize];
+                            let home: [u64; 3] =
+                                std::array::from_fn(|k| g.coord(a.min[k].max(b.min[k]), k));
+                            if home == [x, y, z] {
+                                meet(j, &mut counters, out);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        // Static-moving pairs come out by moving box: sort them by static box.
+        out[from..].sort_unstable();
+        if !self.static_pairs.is_empty() {
+            out.sort_unstable();
+        }
+        out.extend(self.moving_pairs.iter().map(|&[i, j]| [s + i, s + j]));
+        counters
+    }
+}
+
+/// Whether two moving boxes may make a pair: when the mask allows no pair inside a moving
+/// group and the moving groups' bounds are apart (two instruments away from each other),
+/// the moving boxes' own grid is skipped, most of a haptic frame's work otherwise.
+fn moving_groups_may_meet(
+    mask: &GroupMask,
+    group_bounds: &mut Vec<(u32, Aabb)>,
+    frame: &Frame,
+) -> bool {
+    group_bounds.clear();
+    for (&g, a) in frame.groups.iter().zip(frame.aabbs) {
+        match group_bounds.iter_mut().find(|(h, _)| *h == g) {
+            Some((_, b)) => *b = b.union(a),
+            None => group_bounds.push((g, *a)),
+        }
+    }
+    let gb = &*group_bounds;
+    gb.iter().enumerate().any(|(k, (g, a))| {
+        mask.allows(*g, *g)
+            || gb[k + 1..]
+                .iter()
+                .any(|(h, b)| mask.allows(*g, *h) && a.overlaps(b))
+    })
+}
