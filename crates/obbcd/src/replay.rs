@@ -172,7 +172,6 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     let mut boxes = Boxes::default();
     let mut pairs: Vec<Pair> = Vec::new();
     let mut runs = Vec::new();
-    let mut csv = String::from("frame,t_ms,tissue_update,latency_ms,pairs\n");
     // As `detect`: the loop runs on a pool worker, so parallel phases do not wake a thread from
     // outside the pool.
     rayon::scope(|_| -> Result<()> {
@@ -196,12 +195,6 @@ pub fn run(a: ReplayArgs) -> Result<()> {
                 engine.detect(&f, &a.groups, &mut pairs);
             }
             let latency_ms = start.elapsed().as_secs_f64() * 1e3;
-            let _ = writeln!(
-                csv,
-                "{},{t_ms},{tissue},{latency_ms:.6},{}",
-                runs.len(),
-                pairs.len()
-            );
             runs.push(Run {
                 t_ms,
                 tissue,
@@ -216,12 +209,26 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     }
     println!("{}", summary(&runs, &a, boxes.all.len()));
     if let Some(path) = &a.csv {
-        std::fs::write(path, csv).with_context(|| format!("cannot write {}", path.display()))?;
+        std::fs::write(path, csv(&runs))
+            .with_context(|| format!("cannot write {}", path.display()))?;
     }
     if let Some(path) = &a.svg {
         plot(&runs, path)?;
     }
     Ok(())
+}
+
+/// `frame,t_ms,tissue_update,latency_ms,pairs`, a row per frame.
+fn csv(runs: &[Run]) -> String {
+    let mut csv = String::from("frame,t_ms,tissue_update,latency_ms,pairs\n");
+    for (k, r) in runs.iter().enumerate() {
+        let _ = writeln!(
+            csv,
+            "{k},{},{},{:.6},{}",
+            r.t_ms, r.tissue, r.latency_ms, r.pairs
+        );
+    }
+    csv
 }
 
 /// The `p`-th percentile (nearest rank) of `v`, 0 for no values.

@@ -151,7 +151,9 @@ impl Resident {
         // Static-moving pairs come out by moving box: sort them by static box.
         out[from..].sort_unstable();
         if !self.static_pairs.is_empty() {
-            out.sort_unstable();
+            // Two sorted runs (the static pairs, the static-moving pairs): the stable sort
+            // merges natural runs, in linear time.
+            out.sort();
         }
         out.extend(self.moving_pairs.iter().map(|&[i, j]| [s + i, s + j]));
         counters
