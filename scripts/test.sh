@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs everything that must pass: formatting, lints, and every test of the workspace.
 # On a fresh machine it installs what the tests need from Debian's packages: Verilator (with
-# g++ and make, to build its simulations), Icarus Verilog, yosys (the gate-level run and the
+# g++ and make, to build its simulations; gcc and g++ also build the C ABI's C and C++
+# examples), Icarus Verilog, yosys (the gate-level run and the
 # synthesis analysis) and tclsh (the ISE script's check). A missing tool is installed or the
 # script fails: no test is skipped for want of one.
 set -euo pipefail
@@ -16,6 +17,8 @@ need=()
 command -v verilator >/dev/null 2>&1 || need+=(verilator)
 command -v iverilog >/dev/null 2>&1 || need+=(iverilog)
 command -v g++ >/dev/null 2>&1 || need+=(g++)
+command -v cc >/dev/null 2>&1 || need+=(gcc)
+command -v c++ >/dev/null 2>&1 || need+=(g++)
 command -v make >/dev/null 2>&1 || need+=(make)
 command -v tclsh >/dev/null 2>&1 || need+=(tcl)
 command -v yosys >/dev/null 2>&1 || need+=(yosys)

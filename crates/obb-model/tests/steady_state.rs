@@ -8,35 +8,11 @@
 use obb_model::engines::Grid;
 use obb_model::generate::surgical;
 use obb_model::{Engine, GroupMask, Prepared};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-struct Counting;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: forwards every call to the system allocator unchanged; it only counts.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        // SAFETY: the caller's contract is passed on as it is.
-        unsafe { System.alloc(layout) }
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: as above.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        // SAFETY: as above.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
+use stats_alloc::{Region, StatsAlloc, INSTRUMENTED_SYSTEM};
+use std::alloc::System;
 
 #[global_allocator]
-static COUNTING: Counting = Counting;
+static COUNTING: &StatsAlloc<System> = &INSTRUMENTED_SYSTEM;
 
 #[test]
 fn grid_allocates_nothing_in_steady_state() {
@@ -65,11 +41,12 @@ fn grid_allocates_nothing_in_steady_state() {
                 run(&mut warm);
             }
             let mut steady = Vec::with_capacity(256);
-            let before = ALLOCATIONS.load(Ordering::Relaxed);
+            let region = Region::new(COUNTING);
             for _ in 0..100 {
                 run(&mut steady);
             }
-            (warm, ALLOCATIONS.load(Ordering::Relaxed) - before)
+            let change = region.change();
+            (warm, change.allocations + change.reallocations)
         });
         assert!(warm[0] > 0, "the frames have colliding pairs ({mask})");
         assert_eq!(

@@ -2,6 +2,7 @@
 
 mod bench;
 mod builtin;
+mod capi;
 mod cosim;
 mod detect;
 mod error;

@@ -3,6 +3,7 @@
 //! updates, reported apart from the haptic frames.
 
 use crate::builtin::DEFAULT_SEED;
+use crate::capi::CapiRun;
 use crate::frames::{FrameReader, FrameWriter};
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -44,6 +45,11 @@ pub struct ReplayArgs {
     /// update only; a haptic frame prepares and probes with the other groups' boxes (grid only).
     #[arg(long)]
     resident: bool,
+    /// Run the frames through the C ABI (the obbcd-capi library) as a C caller would: the
+    /// tissue resident, each frame's groups set, then a detection (grid only). The time starts
+    /// with the boxes already in the ABI's records.
+    #[arg(long, conflicts_with = "resident")]
+    capi: bool,
     /// Write the frames run to this file (`.jsonl` or binary).
     #[arg(long)]
     record: Option<PathBuf>,
@@ -163,10 +169,15 @@ pub fn run(a: ReplayArgs) -> Result<()> {
         }
     };
     let mut record = a.record.as_deref().map(FrameWriter::create).transpose()?;
-    if a.resident && a.engine != EngineKind::Grid {
-        bail!("--resident keeps the tissue in a grid: it takes --engine grid only");
+    if (a.resident || a.capi) && a.engine != EngineKind::Grid {
+        bail!("--resident and --capi keep the tissue in a grid: they take --engine grid only");
     }
     let mut resident = a.resident.then(Resident::default);
+    let mut capi = if a.capi {
+        Some(CapiRun::new(&a.groups, rayon::current_num_threads())?)
+    } else {
+        None
+    };
     let mut engine = a.engine.build();
     let mut prepared = Prepared::default();
     let mut boxes = Boxes::default();
@@ -181,6 +192,21 @@ pub fn run(a: ReplayArgs) -> Result<()> {
                 w.write(&frame)?;
             }
             let (t_ms, tissue) = (frame.t_ms, frame.replace.contains(&0));
+            if let Some(c) = capi.as_mut() {
+                c.stage(&frame);
+                let start = Instant::now();
+                let pairs = c.detect(&frame.replace)?;
+                let latency_ms = start.elapsed().as_secs_f64() * 1e3;
+                runs.push(Run {
+                    t_ms,
+                    tissue,
+                    latency_ms,
+                    pairs,
+                });
+                // The scene's box count, for the summary.
+                boxes.apply(frame)?;
+                continue;
+            }
             let start = Instant::now();
             boxes.apply(frame)?;
             if let Some(r) = resident.as_mut() {
@@ -256,7 +282,7 @@ fn summary(runs: &[Run], a: &ReplayArgs, obbs: usize) -> String {
     format!(
         "frames={} haptic_frames={} tissue_updates={} p50_ms={:.4} p99_ms={:.4} max_ms={:.4} \
          tissue_p99_ms={:.4} tissue_max_ms={:.4} pairs_mean={pairs_mean:.1} pairs_max={pairs_max} \
-         engine={}{} groups={} obbs={obbs} threads={}",
+         engine={}{}{} groups={} obbs={obbs} threads={}",
         runs.len(),
         haptic.len(),
         tissue.len(),
@@ -266,7 +292,12 @@ fn summary(runs: &[Run], a: &ReplayArgs, obbs: usize) -> String {
         percentile(&mut tissue, 0.99),
         percentile(&mut tissue, 1.0),
         a.engine,
-        if a.resident { " resident=0" } else { "" },
+        if a.resident || a.capi {
+            " resident=0"
+        } else {
+            ""
+        },
+        if a.capi { " capi=1" } else { "" },
         a.groups,
         rayon::current_num_threads()
     )

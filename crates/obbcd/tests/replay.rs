@@ -85,6 +85,11 @@ fn builtin_frames_give_brute_forces_pairs() {
         let line = run(&resident, &["--resident"]);
         assert_eq!(field(&line, "resident"), "0");
         assert_eq!(rows(&resident), rows(&full), "{groups}");
+        // Through the C ABI, as a C caller runs it.
+        let capi = tmp("capi.csv");
+        let line = run(&capi, &["--capi"]);
+        assert_eq!(field(&line, "capi"), "1");
+        assert_eq!(rows(&capi), rows(&full), "{groups}");
     }
 }
 
@@ -158,7 +163,8 @@ fn bad_frame_files_fail_with_a_message() {
         (vec!["replay", "--input", &cut], format!("{cut}: frame 0 is cut short")),
         (vec!["replay", "--input", &good_file, "--n", "5"], "--n is for the built-in scene".into()),
         (vec!["replay", "--frames", "0"], "--frames must be at least 1".into()),
-        (vec!["replay", "--resident", "--engine", "sweep"], "--resident keeps the tissue in a grid".into()),
+        (vec!["replay", "--resident", "--engine", "sweep"], "--resident and --capi keep the tissue in a grid".into()),
+        (vec!["replay", "--capi", "--resident"], "cannot be used with".into()),
     ];
     let cases: Vec<(&[&str], &str)> = cases
         .iter()

@@ -1,0 +1,105 @@
+//! After warm-up, a haptic frame through the C ABI (set the instruments' boxes, detect, read
+//! the pairs and contacts) allocates nothing in obbcd: every allocation of the process is
+//! counted. The one that remains is rayon's: handing a job to a pool from outside it puts it
+//! in a queue made of 63-slot blocks, and a new block is allocated every 63 jobs (seen with
+//! gdb: `crossbeam_deque::Injector::push` under `Registry::inject`).
+
+use obb_model::generate::SurgicalMotion;
+use obbcd_c::*;
+use stats_alloc::{Region, StatsAlloc, INSTRUMENTED_SYSTEM};
+use std::alloc::System;
+use std::ffi::CString;
+use std::ptr::{null, null_mut};
+
+/// Counts the allocations and reallocations of every thread.
+#[global_allocator]
+static COUNTING: &StatsAlloc<System> = &INSTRUMENTED_SYSTEM;
+
+/// Jobs per block of rayon's injector queue (crossbeam_deque's BLOCK_CAP).
+const QUEUE_BLOCK: usize = 63;
+
+/// The motion's frame where the run starts: the grippers slide in the tissue.
+const START: usize = 800;
+
+/// One haptic frame's boxes by group.
+type Frame = Vec<(u32, Vec<ObbcdBox>)>;
+
+fn haptic_frames(n: usize, count: usize) -> (Vec<ObbcdBox>, Vec<Frame>) {
+    let motion = SurgicalMotion::new(n, 4).unwrap();
+    let to_c = |b: &obb_model::Obb| ObbcdBox {
+        center: b.center,
+        axes: b.axes,
+        half: b.half,
+    };
+    // A tissue update in the middle of the slide along the tissue, and the haptic frames after.
+    let first = motion.frame(START);
+    assert!(first.replace.contains(&0));
+    let tissue = first
+        .obbs
+        .iter()
+        .filter(|b| b.group == 0)
+        .map(to_c)
+        .collect();
+    let frames = (START + 1..=START + count)
+        .map(|k| {
+            let f = motion.frame(k);
+            assert!(!f.replace.contains(&0), "frame {k} is a tissue update");
+            f.replace
+                .iter()
+                .map(|&g| {
+                    (
+                        g,
+                        f.obbs.iter().filter(|b| b.group == g).map(to_c).collect(),
+                    )
+                })
+                .collect()
+        })
+        .collect();
+    (tissue, frames)
+}
+
+#[test]
+fn a_haptic_frame_allocates_nothing_after_warm_up() {
+    let (tissue, frames) = haptic_frames(7000, 39);
+    let mask = CString::new("cross").unwrap();
+    for threads in [1, 2] {
+        let mut e = null_mut();
+        let (mut pairs, mut contacts, mut n) = (null(), null(), 0);
+        let mut found = 0;
+        // SAFETY: valid pointers throughout; the engine is freed at the end.
+        unsafe {
+            let st = obbcd_engine_new(mask.as_ptr(), [0].as_ptr(), 1, threads, &mut e);
+            assert_eq!(st, ObbcdStatus::Ok);
+            assert_eq!(
+                obbcd_set_boxes(e, 0, tissue.as_ptr(), tissue.len()),
+                ObbcdStatus::Ok
+            );
+            for pass in 0..3 {
+                let region = Region::new(COUNTING);
+                for f in &frames {
+                    for (g, boxes) in f {
+                        let st = obbcd_set_boxes(e, *g, boxes.as_ptr(), boxes.len());
+                        assert_eq!(st, ObbcdStatus::Ok);
+                    }
+                    assert_eq!(obbcd_detect(e, null_mut()), ObbcdStatus::Ok);
+                    assert_eq!(obbcd_pairs(e, &mut pairs, &mut n), ObbcdStatus::Ok);
+                    assert_eq!(obbcd_contacts(e, &mut contacts, &mut n), ObbcdStatus::Ok);
+                    found += n;
+                }
+                let change = region.change();
+                let allocated = change.allocations + change.reallocations;
+                // The first pass is the warm-up: buffers grow to the run's largest frame. After
+                // it, at most rayon's queue blocks: one per 63 detections, rounded up.
+                if pass > 0 {
+                    assert!(
+                        allocated <= frames.len().div_ceil(QUEUE_BLOCK),
+                        "{threads} threads, pass {pass}: {allocated} allocations in {} frames",
+                        frames.len()
+                    );
+                }
+            }
+            obbcd_engine_free(e);
+        }
+        assert!(found > 0, "the grippers never touched the tissue");
+    }
+}

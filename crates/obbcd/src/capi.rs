@@ -1,0 +1,83 @@
+//! `obbcd replay --capi`: the frames through the C ABI (crate obbcd-capi) as a C control loop
+//! calls it, the tissue (group 0) resident: each replaced group's boxes set, then a detection.
+
+use anyhow::{bail, Result};
+use obb_model::generate::FrameUpdate;
+use obb_model::GroupMask;
+use obbcd_c::{
+    obbcd_detect, obbcd_engine_free, obbcd_engine_new, obbcd_last_error, obbcd_set_boxes, ObbcdBox,
+    ObbcdEngine, ObbcdStatus,
+};
+use std::collections::BTreeMap;
+use std::ffi::{CStr, CString};
+use std::ptr::null_mut;
+
+pub struct CapiRun {
+    engine: *mut ObbcdEngine,
+    /// The frame's boxes in the ABI's records, by group.
+    staged: BTreeMap<u32, Vec<ObbcdBox>>,
+}
+
+/// `status`, or an error with the ABI's reason.
+fn check(what: &str, status: ObbcdStatus) -> Result<()> {
+    if status != ObbcdStatus::Ok {
+        // SAFETY: obbcd_last_error returns a NUL-terminated string.
+        let why = unsafe { CStr::from_ptr(obbcd_last_error()) };
+        bail!("{what}: {}", why.to_string_lossy());
+    }
+    Ok(())
+}
+
+impl CapiRun {
+    pub fn new(mask: &GroupMask, threads: usize) -> Result<CapiRun> {
+        let mask = CString::new(mask.to_string())?;
+        let mut engine = null_mut();
+        // SAFETY: a NUL-terminated mask, one static group, a writable output.
+        let status = unsafe {
+            obbcd_engine_new(mask.as_ptr(), [0].as_ptr(), 1, threads as u32, &mut engine)
+        };
+        check("obbcd_engine_new", status)?;
+        Ok(CapiRun {
+            engine,
+            staged: BTreeMap::new(),
+        })
+    }
+
+    /// The frame's boxes as the ABI takes them, by group (not timed: a C caller has them so).
+    pub fn stage(&mut self, f: &FrameUpdate) {
+        for &g in &f.replace {
+            let boxes = self.staged.entry(g).or_default();
+            boxes.clear();
+            boxes.extend(f.obbs.iter().filter(|b| b.group == g).map(|b| ObbcdBox {
+                center: b.center,
+                axes: b.axes,
+                half: b.half,
+            }));
+        }
+    }
+
+    /// Sets the staged boxes of the groups `replace` names and detects: the number of pairs.
+    pub fn detect(&mut self, replace: &[u32]) -> Result<usize> {
+        for g in replace {
+            let boxes = &self.staged[g];
+            // SAFETY: a live engine and `boxes.len()` boxes.
+            let status = unsafe { obbcd_set_boxes(self.engine, *g, boxes.as_ptr(), boxes.len()) };
+            check(&format!("obbcd_set_boxes (group {g})"), status)?;
+        }
+        let mut n = 0;
+        // SAFETY: a live engine, a writable count.
+        check("obbcd_detect", unsafe { obbcd_detect(self.engine, &mut n) })?;
+        Ok(n)
+    }
+}
+
+// SAFETY: the ABI lets an engine move between threads while no two use it at once; the run
+// owns its engine and uses it from one thread at a time.
+unsafe impl Send for CapiRun {}
+
+impl Drop for CapiRun {
+    fn drop(&mut self) {
+        // SAFETY: from obbcd_engine_new, freed once.
+        unsafe { obbcd_engine_free(self.engine) }
+    }
+}
