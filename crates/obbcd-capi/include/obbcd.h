@@ -6,13 +6,17 @@
 #include <stddef.h>
 #include <stdint.h>
 
+// The most worker threads an engine starts: far above any machine's use for one frame, and
+// low enough that a mistaken count fails at once instead of starting threads by the thousand.
+#define MAX_THREADS 256
+
 // What a call did. On anything but `OBBCD_STATUS_OK`, `obbcd_last_error` says why.
 typedef enum {
   OBBCD_STATUS_OK = 0,
   // A pointer argument that must not be NULL was NULL.
   OBBCD_STATUS_NULL_ARGUMENT = 1,
-  // An argument outside its domain: a bad group mask, too many boxes, threads that cannot
-  // start, a string that is not UTF-8.
+  // An argument outside its domain: a bad group mask, too many boxes, too many threads or
+  // threads that cannot start, a string that is not UTF-8.
   OBBCD_STATUS_INVALID_ARGUMENT = 2,
   // A box with a NaN, an infinity, a coordinate beyond ±1e6, a negative half-length or axes
   // that are not orthonormal. Nothing was changed.
@@ -60,7 +64,8 @@ extern "C" {
 // `group_mask`: which group pairs are reported, as on obbcd's command line: `"all"`,
 // `"cross"` (boxes of different groups only) or a list such as `"0-1,0-2"` (`"1-1"`: pairs
 // inside group 1). `static_groups`, `static_count`: the groups kept resident (may be NULL when
-// the count is 0). `threads`: worker threads of the engine's own pool, 0 for one per core.
+// the count is 0). `threads`: worker threads of the engine's own pool, 0 for one per core, at
+// most 256.
 //
 // # Safety
 // `group_mask` is a NUL-terminated string; `static_groups` points to `static_count` values;
@@ -78,7 +83,7 @@ ObbcdStatus obbcd_engine_new(const char *group_mask,
 void obbcd_engine_free(ObbcdEngine *engine);
 
 // Sets the boxes of `group` (replacing the ones it had; `count` 0 empties it, and `boxes`
-// may then be NULL). Every box is checked first: on `OBBCD_STATUS_INVALID_BOX` nothing
+// may then be NULL; at most 2^28 boxes in all). Every box is checked first: on `OBBCD_STATUS_INVALID_BOX` nothing
 // changed. The last detection's pairs and contacts are dropped. With the group's count
 // unchanged, the boxes are copied in place and nothing is allocated.
 //

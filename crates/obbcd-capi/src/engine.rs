@@ -8,6 +8,10 @@ use obb_model::engines::{Pair, Resident};
 use obb_model::scene::MAX_OBBS;
 use obb_model::{GroupMask, Obb};
 
+/// The most worker threads an engine starts: far above any machine's use for one frame, and
+/// low enough that a mistaken count fails at once instead of starting threads by the thousand.
+pub const MAX_THREADS: usize = 256;
+
 /// Where one group's boxes lie: in `statics` or `moving`, from `start`, `len` of them.
 #[derive(Clone, Copy, Debug)]
 struct Slot {
@@ -97,6 +101,11 @@ impl Engine {
     /// An engine reporting the pairs `mask` allows; `static_groups` are kept resident; `threads`
     /// workers (0: one per core).
     pub fn new(mask: GroupMask, static_groups: &[u32], threads: usize) -> Result<Engine, Refusal> {
+        if threads > MAX_THREADS {
+            return Err(Refusal::Argument(format!(
+                "threads is {threads}, more than the limit of {MAX_THREADS}"
+            )));
+        }
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .thread_name(|k| format!("obbcd-{k}"))

@@ -20,6 +20,7 @@ pub use types::{ObbcdBox, ObbcdContact, ObbcdPair, ObbcdStatus};
 
 use engine::{Engine, Refusal};
 use error::{fail, guard};
+use obb_model::scene::MAX_OBBS;
 use std::ffi::{c_char, CStr};
 
 /// An engine (opaque to C).
@@ -75,7 +76,8 @@ fn refused(r: Refusal) -> ObbcdStatus {
 /// `group_mask`: which group pairs are reported, as on obbcd's command line: `"all"`,
 /// `"cross"` (boxes of different groups only) or a list such as `"0-1,0-2"` (`"1-1"`: pairs
 /// inside group 1). `static_groups`, `static_count`: the groups kept resident (may be NULL when
-/// the count is 0). `threads`: worker threads of the engine's own pool, 0 for one per core.
+/// the count is 0). `threads`: worker threads of the engine's own pool, 0 for one per core, at
+/// most 256.
 ///
 /// # Safety
 /// `group_mask` is a NUL-terminated string; `static_groups` points to `static_count` values;
@@ -149,7 +151,7 @@ pub unsafe extern "C" fn obbcd_engine_free(engine: *mut ObbcdEngine) {
 }
 
 /// Sets the boxes of `group` (replacing the ones it had; `count` 0 empties it, and `boxes`
-/// may then be NULL). Every box is checked first: on `OBBCD_STATUS_INVALID_BOX` nothing
+/// may then be NULL; at most 2^28 boxes in all). Every box is checked first: on `OBBCD_STATUS_INVALID_BOX` nothing
 /// changed. The last detection's pairs and contacts are dropped. With the group's count
 /// unchanged, the boxes are copied in place and nothing is allocated.
 ///
@@ -166,6 +168,13 @@ pub unsafe extern "C" fn obbcd_set_boxes(
         return fail(
             ObbcdStatus::NullArgument,
             "boxes is NULL but count is not 0",
+        );
+    }
+    // Before the slice is made: a count this large cannot be the caller's array.
+    if count > MAX_OBBS {
+        return fail(
+            ObbcdStatus::InvalidArgument,
+            &format!("count is {count}, more than the limit of {MAX_OBBS} boxes"),
         );
     }
     let boxes = match count {

@@ -39,8 +39,8 @@ pub enum ObbcdStatus {
     Ok = 0,
     /// A pointer argument that must not be NULL was NULL.
     NullArgument = 1,
-    /// An argument outside its domain: a bad group mask, too many boxes, threads that cannot
-    /// start, a string that is not UTF-8.
+    /// An argument outside its domain: a bad group mask, too many boxes, too many threads or
+    /// threads that cannot start, a string that is not UTF-8.
     InvalidArgument = 2,
     /// A box with a NaN, an infinity, a coordinate beyond ±1e6, a negative half-length or axes
     /// that are not orthonormal. Nothing was changed.

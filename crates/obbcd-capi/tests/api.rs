@@ -212,6 +212,11 @@ fn misuse_gets_a_status_and_a_reason() {
             obbcd_engine_new(latin1.as_ptr().cast(), null(), 0, 1, &mut out),
             ObbcdStatus::InvalidArgument
         );
+        assert_eq!(
+            obbcd_engine_new(cross.as_ptr(), null(), 0, 100_000, &mut out),
+            ObbcdStatus::InvalidArgument
+        );
+        assert!(last_error().contains("threads is 100000, more than the limit of 256"));
         assert!(out.is_null());
         assert_eq!(
             obbcd_set_boxes(null_mut(), 0, null(), 0),
@@ -252,6 +257,17 @@ fn misuse_gets_a_status_and_a_reason() {
         assert_eq!(
             obbcd_set_boxes(e.0, 1, null(), 3),
             ObbcdStatus::NullArgument
+        );
+        // A count no array can have is refused before the boxes are read.
+        let one = plate(0.9);
+        assert_eq!(
+            obbcd_set_boxes(e.0, 1, &one, usize::MAX),
+            ObbcdStatus::InvalidArgument
+        );
+        assert!(
+            last_error().contains("more than the limit of 268435456 boxes"),
+            "{}",
+            last_error()
         );
         assert_eq!(
             obbcd_pairs(e.0, null_mut(), null_mut()),
