@@ -55,6 +55,13 @@ impl Side {
         }
     }
 
+    /// How many boxes `group` has here (0 if none).
+    fn count(&self, group: u32) -> usize {
+        self.slots
+            .binary_search_by_key(&group, |s| s.group)
+            .map_or(0, |k| self.slots[k].len)
+    }
+
     /// The slots' starts after a group changed its count.
     fn restart(&mut self) {
         let mut start = 0;
@@ -68,6 +75,16 @@ impl Side {
     fn locate(&self, k: usize) -> (u32, u32) {
         let s = &self.slots[self.slots.partition_point(|s| s.start + s.len <= k)];
         (s.group, (k - s.start) as u32)
+    }
+}
+
+/// The side holding `Resident`'s box `k` (the static boxes first, the moving ones after them)
+/// and the box's index on that side.
+fn side_of<'a>(statics: &'a Side, moving: &'a Side, k: u32) -> (&'a Side, usize) {
+    let k = k as usize;
+    match k.checked_sub(statics.boxes.len()) {
+        None => (statics, k),
+        Some(m) => (moving, m),
     }
 }
 
@@ -147,28 +164,19 @@ impl Engine {
                 .map_err(|e| Refusal::Box(format!("group {group}: {e}")))?;
         }
         let is_static = self.static_groups.binary_search(&group).is_ok();
+        let held = self.statics.boxes.len() + self.moving.boxes.len();
         let side = if is_static {
             &mut self.statics
         } else {
             &mut self.moving
         };
-        let kept = side
-            .slots
-            .iter()
-            .find(|s| s.group == group)
-            .map_or(0, |s| s.len);
-        let total = self.statics.boxes.len() + self.moving.boxes.len() - kept + boxes.len();
+        let total = held - side.count(group) + boxes.len();
         if total > MAX_OBBS {
             return Err(Refusal::Argument(format!(
                 "group {group}: {} boxes would make {total} in all, more than the limit of {MAX_OBBS}",
                 boxes.len()
             )));
         }
-        let side = if is_static {
-            &mut self.statics
-        } else {
-            &mut self.moving
-        };
         side.set(group, boxes.iter().map(obb));
         self.statics_changed |= is_static;
         self.raw.clear();
@@ -197,15 +205,9 @@ impl Engine {
             }
             resident.detect(&moving.boxes, raw);
         });
-        // Resident numbers the static boxes first, the moving ones after them.
-        let s = self.statics.boxes.len();
         let at = |k: u32| {
-            let k = k as usize;
-            if k < s {
-                self.statics.locate(k)
-            } else {
-                self.moving.locate(k - s)
-            }
+            let (side, i) = side_of(&self.statics, &self.moving, k);
+            side.locate(i)
         };
         self.pairs.clear();
         self.pairs.extend(self.raw.iter().map(|&[i, j]| {
@@ -229,15 +231,9 @@ impl Engine {
     /// The contact of each of the last detection's pairs, computed on the first call after it.
     pub fn contacts(&mut self) -> &[ObbcdContact] {
         if !self.contacts_ready {
-            let s = self.statics.boxes.len();
-            let (statics, moving) = (&self.statics.boxes, &self.moving.boxes);
             let obb = |k: u32| {
-                let k = k as usize;
-                if k < s {
-                    &statics[k]
-                } else {
-                    &moving[k - s]
-                }
+                let (side, i) = side_of(&self.statics, &self.moving, k);
+                &side.boxes[i]
             };
             self.contacts.clear();
             self.contacts.extend(self.raw.iter().map(|&[i, j]| {

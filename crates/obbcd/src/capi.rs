@@ -56,6 +56,11 @@ impl CapiRun {
         }
     }
 
+    /// The scene's boxes: every group's as last staged.
+    pub fn len(&self) -> usize {
+        self.staged.values().map(Vec::len).sum()
+    }
+
     /// Sets the staged boxes of the groups `replace` names and detects: the number of pairs.
     pub fn detect(&mut self, replace: &[u32]) -> Result<usize> {
         for g in replace {

@@ -203,8 +203,6 @@ pub fn run(a: ReplayArgs) -> Result<()> {
                     latency_ms,
                     pairs,
                 });
-                // The scene's box count, for the summary.
-                boxes.apply(frame)?;
                 continue;
             }
             let start = Instant::now();
@@ -233,7 +231,8 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     if let Some(w) = record {
         w.finish()?;
     }
-    println!("{}", summary(&runs, &a, boxes.all.len()));
+    let obbs = capi.as_ref().map_or(boxes.all.len(), CapiRun::len);
+    println!("{}", summary(&runs, &a, obbs));
     if let Some(path) = &a.csv {
         std::fs::write(path, csv(&runs))
             .with_context(|| format!("cannot write {}", path.display()))?;
