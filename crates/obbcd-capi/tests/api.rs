@@ -1,8 +1,10 @@
 //! The C ABI called as C calls it: pairs equal brute force's on a moving scene whose groups
 //! change and empty, with resident groups or none, and every misuse gets a status and a reason.
 
+mod common;
+
 use obb_model::generate::SurgicalMotion;
-use obb_model::{detect, EngineKind, GroupMask, Obb, Prepared};
+use obb_model::{GroupMask, Obb};
 use obbcd_c::*;
 use std::collections::BTreeMap;
 use std::ffi::{CStr, CString};
@@ -86,34 +88,6 @@ impl Drop for Engine {
     }
 }
 
-/// Brute force's pairs on the groups' boxes, static groups first, as (group, index) pairs.
-fn brute(groups: &BTreeMap<u32, Vec<Obb>>, statics: &[u32], mask: &GroupMask) -> Vec<ObbcdPair> {
-    let order: Vec<(&u32, &Vec<Obb>)> = groups
-        .iter()
-        .filter(|(g, _)| statics.contains(g))
-        .chain(groups.iter().filter(|(g, _)| !statics.contains(g)))
-        .collect();
-    let all: Vec<Obb> = order.iter().flat_map(|(_, b)| b.iter().cloned()).collect();
-    let at: Vec<(u32, u32)> = order
-        .iter()
-        .flat_map(|(&g, b)| (0..b.len() as u32).map(move |i| (g, i)))
-        .collect();
-    let mut prepared = Prepared::default();
-    let (pairs, _) = detect(EngineKind::Brute, &prepared.update(&all), mask);
-    pairs
-        .iter()
-        .map(|&[i, j]| {
-            let ((group_a, index_a), (group_b, index_b)) = (at[i as usize], at[j as usize]);
-            ObbcdPair {
-                group_a,
-                index_a,
-                group_b,
-                index_b,
-            }
-        })
-        .collect()
-}
-
 /// The surgical motion through the C ABI, with a fourth group (a loose instrument) that grows,
 /// shrinks and empties, so groups are laid out again between frames.
 fn run_motion(mask: &str, statics: &[u32], threads: u32) -> usize {
@@ -147,11 +121,11 @@ fn run_motion(mask: &str, statics: &[u32], threads: u32) -> usize {
         );
         groups.insert(3, loose);
         let got = engine.detect();
-        assert_eq!(
-            got,
-            brute(&groups, statics, &parsed),
-            "frame {k}, mask {mask}"
-        );
+        let want: Vec<ObbcdPair> = common::brute(&groups, statics, &parsed)
+            .into_iter()
+            .map(|(p, _, _)| p)
+            .collect();
+        assert_eq!(got, want, "frame {k}, mask {mask}");
         let contacts = engine.contacts();
         assert_eq!(contacts.len(), got.len());
         assert!(contacts

@@ -5,8 +5,7 @@
 mod common;
 
 use obb_model::contact::contact;
-use obb_model::engines::{Brute, Engine};
-use obb_model::{GroupMask, Obb, Prepared};
+use obb_model::{GroupMask, Obb};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -85,29 +84,19 @@ fn c_example_reports_brute_force_pairs_with_contacts() {
                 listed.push((ids[0], ids[1], ids[2], ids[3], [v[0], v[1], v[2]], v[3]));
             }
             "frame" => {
-                // The scene as the engine orders it: the static group 0, then groups 1, 2.
-                let all: Vec<Obb> = groups.values().flatten().cloned().collect();
-                let at: Vec<(u32, u32)> = groups
-                    .iter()
-                    .flat_map(|(&g, b)| (0..b.len() as u32).map(move |i| (g, i)))
-                    .collect();
-                let mut prepared = Prepared::default();
-                let mut expected = Vec::new();
-                Brute.detect(&prepared.update(&all), &GroupMask::Cross, &mut expected);
+                // The engine's order: the static group 0, then groups 1, 2.
+                let want = common::brute(&groups, &[0], &GroupMask::Cross);
                 let got: Vec<(u32, u32, u32, u32)> =
                     listed.iter().map(|p| (p.0, p.1, p.2, p.3)).collect();
-                let want: Vec<(u32, u32, u32, u32)> = expected
+                let want_ids: Vec<(u32, u32, u32, u32)> = want
                     .iter()
-                    .map(|&[i, j]| {
-                        let ((ga, ia), (gb, ib)) = (at[i as usize], at[j as usize]);
-                        (ga, ia, gb, ib)
-                    })
+                    .map(|(p, _, _)| (p.group_a, p.index_a, p.group_b, p.index_b))
                     .collect();
-                assert_eq!(got, want, "{line}");
+                assert_eq!(got, want_ids, "{line}");
                 assert_eq!(f[3], want.len().to_string(), "{line}");
-                for (p, &[i, j]) in listed.iter().zip(&expected) {
+                for (p, (_, a, b)) in listed.iter().zip(&want) {
                     // The normal points from the pair's first box to its second.
-                    let c = contact(&all[i as usize], &all[j as usize]);
+                    let c = contact(a, b);
                     assert_eq!((p.4, p.5), (c.normal, c.depth), "{line}: {p:?}");
                 }
                 for p in &listed {
