@@ -194,36 +194,31 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             let (t_ms, tissue) = (frame.t_ms, frame.replace.contains(&0));
             if let Some(c) = capi.as_mut() {
                 c.stage(&frame);
-                let start = Instant::now();
-                let pairs = c.detect(&frame.replace)?;
-                let latency_ms = start.elapsed().as_secs_f64() * 1e3;
-                runs.push(Run {
-                    t_ms,
-                    tissue,
-                    latency_ms,
-                    pairs,
-                });
-                continue;
             }
             let start = Instant::now();
-            boxes.apply(frame)?;
-            if let Some(r) = resident.as_mut() {
-                // Group 0 comes first: its boxes are 0..s, the moving ones after them.
-                let s = boxes.ranges.get(&0).map_or(0, |r| r.end);
-                if tissue {
-                    r.update_static(&boxes.all[..s], &a.groups);
-                }
-                r.detect(&boxes.all[s..], &mut pairs);
+            let found = if let Some(c) = capi.as_mut() {
+                c.detect(&frame.replace)?
             } else {
-                let f = prepared.update(&boxes.all);
-                engine.detect(&f, &a.groups, &mut pairs);
-            }
+                boxes.apply(frame)?;
+                if let Some(r) = resident.as_mut() {
+                    // Group 0 comes first: its boxes are 0..s, the moving ones after them.
+                    let s = boxes.ranges.get(&0).map_or(0, |r| r.end);
+                    if tissue {
+                        r.update_static(&boxes.all[..s], &a.groups);
+                    }
+                    r.detect(&boxes.all[s..], &mut pairs);
+                } else {
+                    let f = prepared.update(&boxes.all);
+                    engine.detect(&f, &a.groups, &mut pairs);
+                }
+                pairs.len()
+            };
             let latency_ms = start.elapsed().as_secs_f64() * 1e3;
             runs.push(Run {
                 t_ms,
                 tissue,
                 latency_ms,
-                pairs: pairs.len(),
+                pairs: found,
             });
         }
         Ok(())
