@@ -14,6 +14,7 @@ pub mod fixed;
 pub mod generate;
 pub mod groups;
 pub mod mesh;
+pub mod pose;
 pub mod prepared;
 pub mod radix;
 pub mod sat;

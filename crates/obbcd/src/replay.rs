@@ -7,7 +7,7 @@ use crate::capi::CapiRun;
 use crate::frames::{FrameReader, FrameWriter};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use obb_model::engines::Resident;
+use obb_model::engines::{Resident, RigidResident};
 use obb_model::generate::{FrameUpdate, SurgicalMotion, SURGICAL_DEFAULT_N};
 use obb_model::{EngineKind, GroupMask, Obb, Pair, Prepared};
 use plotters::prelude::*;
@@ -50,6 +50,11 @@ pub struct ReplayArgs {
     /// with the boxes already in the ABI's records.
     #[arg(long, conflicts_with = "resident")]
     capi: bool,
+    /// The built-in motion's grippers as rigid bodies: their boxes given once in their own
+    /// frame, a haptic frame brings only a pose per gripper; the tissue resident (grid only).
+    /// Only the grippers' box clusters near the tissue or the other gripper are placed.
+    #[arg(long, conflicts_with_all = ["resident", "capi", "input"])]
+    rigid: bool,
     /// Write the frames run to this file (`.jsonl` or binary).
     #[arg(long)]
     record: Option<PathBuf>,
@@ -169,10 +174,20 @@ pub fn run(a: ReplayArgs) -> Result<()> {
         }
     };
     let mut record = a.record.as_deref().map(FrameWriter::create).transpose()?;
-    if (a.resident || a.capi) && a.engine != EngineKind::Grid {
-        bail!("--resident and --capi keep the tissue in a grid: they take --engine grid only");
+    if (a.resident || a.capi || a.rigid) && a.engine != EngineKind::Grid {
+        bail!(
+            "--resident, --capi and --rigid keep the tissue in a grid: they take --engine grid only"
+        );
     }
     let mut resident = a.resident.then(Resident::default);
+    let mut rigid = match (&source, a.rigid) {
+        (Source::Builtin(m, _), true) => {
+            let mut r = RigidResident::default();
+            r.set_bodies(&m.bodies());
+            Some(r)
+        }
+        _ => None,
+    };
     let mut capi = if a.capi {
         Some(CapiRun::new(&a.groups, rayon::current_num_threads())?)
     } else {
@@ -187,6 +202,18 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     // outside the pool.
     rayon::scope(|_| -> Result<()> {
         while limit.is_none_or(|l| runs.len() < l) {
+            if let (Some(r), Source::Builtin(m, k)) = (rigid.as_mut(), &mut source) {
+                runs.push(rigid_frame(
+                    r,
+                    m,
+                    *k,
+                    &a.groups,
+                    &mut pairs,
+                    record.as_mut(),
+                )?);
+                *k += 1;
+                continue;
+            }
             let Some(frame) = source.next()? else { break };
             if let Some(w) = record.as_mut() {
                 w.write(&frame)?;
@@ -226,7 +253,11 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     if let Some(w) = record {
         w.finish()?;
     }
-    let obbs = capi.as_ref().map_or(boxes.all.len(), CapiRun::len);
+    let obbs = match (&capi, &rigid) {
+        (Some(c), _) => c.len(),
+        (_, Some(r)) => r.boxes(),
+        _ => boxes.all.len(),
+    };
     println!("{}", summary(&runs, &a, obbs));
     if let Some(path) = &a.csv {
         std::fs::write(path, csv(&runs))
@@ -236,6 +267,35 @@ pub fn run(a: ReplayArgs) -> Result<()> {
         plot(&runs, path)?;
     }
     Ok(())
+}
+
+/// Frame `k` of the built-in motion with rigid grippers: the tissue on its update frames, then
+/// the grippers' poses; the time runs from the poses (and the tissue) to the pairs.
+fn rigid_frame(
+    rigid: &mut RigidResident,
+    motion: &SurgicalMotion,
+    k: usize,
+    mask: &GroupMask,
+    pairs: &mut Vec<Pair>,
+    record: Option<&mut FrameWriter>,
+) -> Result<Run> {
+    if let Some(w) = record {
+        w.write(&motion.frame(k))?;
+    }
+    let tissue = motion.tissue(k);
+    let poses = motion.poses(k);
+    let start = Instant::now();
+    let updated = tissue.is_some();
+    if let Some(t) = tissue {
+        rigid.update_static(&t, mask);
+    }
+    rigid.detect(&poses, pairs);
+    Ok(Run {
+        t_ms: motion.frame_time_ms(k),
+        tissue: updated,
+        latency_ms: start.elapsed().as_secs_f64() * 1e3,
+        pairs: pairs.len(),
+    })
 }
 
 /// `frame,t_ms,tissue_update,latency_ms,pairs`, a row per frame.
@@ -276,7 +336,7 @@ fn summary(runs: &[Run], a: &ReplayArgs, obbs: usize) -> String {
     format!(
         "frames={} haptic_frames={} tissue_updates={} p50_ms={:.4} p99_ms={:.4} max_ms={:.4} \
          tissue_p99_ms={:.4} tissue_max_ms={:.4} pairs_mean={pairs_mean:.1} pairs_max={pairs_max} \
-         engine={}{}{} groups={} obbs={obbs} threads={}",
+         engine={}{}{}{} groups={} obbs={obbs} threads={}",
         runs.len(),
         haptic.len(),
         tissue.len(),
@@ -286,12 +346,13 @@ fn summary(runs: &[Run], a: &ReplayArgs, obbs: usize) -> String {
         percentile(&mut tissue, 0.99),
         percentile(&mut tissue, 1.0),
         a.engine,
-        if a.resident || a.capi {
+        if a.resident || a.capi || a.rigid {
             " resident=0"
         } else {
             ""
         },
         if a.capi { " capi=1" } else { "" },
+        if a.rigid { " rigid=1" } else { "" },
         a.groups,
         rayon::current_num_threads()
     )

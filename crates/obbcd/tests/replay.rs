@@ -90,6 +90,12 @@ fn builtin_frames_give_brute_forces_pairs() {
         let line = run(&capi, &["--capi"]);
         assert_eq!(field(&line, "capi"), "1");
         assert_eq!(rows(&capi), rows(&full), "{groups}");
+        // The grippers as rigid bodies moved by poses.
+        let rigid = tmp("rigid.csv");
+        let line = run(&rigid, &["--rigid"]);
+        assert_eq!(field(&line, "rigid"), "1");
+        assert_eq!(field(&line, "obbs"), "700");
+        assert_eq!(rows(&rigid), rows(&full), "{groups}");
     }
 }
 
@@ -163,8 +169,10 @@ fn bad_frame_files_fail_with_a_message() {
         (vec!["replay", "--input", &cut], format!("{cut}: frame 0 is cut short")),
         (vec!["replay", "--input", &good_file, "--n", "5"], "--n is for the built-in scene".into()),
         (vec!["replay", "--frames", "0"], "--frames must be at least 1".into()),
-        (vec!["replay", "--resident", "--engine", "sweep"], "--resident and --capi keep the tissue in a grid".into()),
+        (vec!["replay", "--resident", "--engine", "sweep"], "--resident, --capi and --rigid keep the tissue in a grid".into()),
+        (vec!["replay", "--rigid", "--engine", "brute"], "--resident, --capi and --rigid keep the tissue in a grid".into()),
         (vec!["replay", "--capi", "--resident"], "cannot be used with".into()),
+        (vec!["replay", "--rigid", "--input", &good_file], "cannot be used with".into()),
     ];
     let cases: Vec<(&[&str], &str)> = cases
         .iter()

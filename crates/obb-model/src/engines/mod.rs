@@ -9,7 +9,7 @@ mod sap;
 mod sweep;
 
 pub use brute::Brute;
-pub use grid::{Grid, Resident};
+pub use grid::{Grid, Resident, RigidResident};
 pub use improved_sap::ImprovedSap;
 pub use sap::Sap;
 pub use sweep::Sweep;

@@ -9,6 +9,7 @@
 use super::surgical::{parts, tissue, Surface, TISSUE_HALF_THICKNESS};
 use super::GenerateError;
 use crate::mesh::quad_box;
+use crate::pose::Pose;
 use crate::scene::Obb;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -99,19 +100,30 @@ impl SurgicalMotion {
         }
     }
 
-    /// Frame `k`: the grippers' boxes, and on frames 0, 40, 80, ... the tissue's first.
-    pub fn frame(&self, k: usize) -> FrameUpdate {
+    /// The grippers as rigid bodies: each one's boxes in its own frame (where the still scene
+    /// has them), in group order.
+    pub fn bodies(&self) -> Vec<Vec<Obb>> {
+        self.grippers.iter().map(|g| g.boxes.clone()).collect()
+    }
+
+    /// Frame `k`'s new tissue surface, on frames 0, 40, 80, ...
+    pub fn tissue(&self, k: usize) -> Option<Vec<Obb>> {
+        (k % TISSUE_EVERY == 0).then(|| {
+            tissue(&self.surface_at(k), self.n_tissue)
+                .iter()
+                .map(|q| quad_box(q, TISSUE_HALF_THICKNESS, 0))
+                .collect()
+        })
+    }
+
+    /// Frame `k`'s time, in ms.
+    pub fn frame_time_ms(&self, k: usize) -> f64 {
+        k as f64 * 1e3 / HAPTIC_HZ
+    }
+
+    /// The grippers' poses on frame `k`, in group order: translations.
+    pub fn poses(&self, k: usize) -> Vec<Pose> {
         let surface = self.surface_at(k);
-        let mut replace = Vec::with_capacity(1 + self.grippers.len());
-        let mut obbs = Vec::new();
-        if k % TISSUE_EVERY == 0 {
-            replace.push(0);
-            obbs.extend(
-                tissue(&surface, self.n_tissue)
-                    .iter()
-                    .map(|q| quad_box(q, TISSUE_HALF_THICKNESS, 0)),
-            );
-        }
         let s = (k % CYCLE) as f64 / CYCLE as f64;
         let lift = if s < 0.2 {
             LIFT * (1.0 - s / 0.2)
@@ -125,20 +137,33 @@ impl SurgicalMotion {
         } else {
             0.0
         };
-        for g in &self.grippers {
-            let (dx, dy) = (slide * g.heading[0], slide * g.heading[1]);
-            // The tip keeps its depth under the surface wherever the surface has moved to.
-            let dz = lift + surface.height(g.tip[0] + dx, g.tip[1] + dy)
-                - self.surface.height(g.tip[0], g.tip[1]);
+        self.grippers
+            .iter()
+            .map(|g| {
+                let (dx, dy) = (slide * g.heading[0], slide * g.heading[1]);
+                // The tip keeps its depth under the surface wherever the surface has moved to.
+                let dz = lift + surface.height(g.tip[0] + dx, g.tip[1] + dy)
+                    - self.surface.height(g.tip[0], g.tip[1]);
+                Pose::translation([dx, dy, dz])
+            })
+            .collect()
+    }
+
+    /// Frame `k`: on frames 0, 40, 80, ... the tissue's boxes, then the grippers' boxes placed
+    /// by their poses.
+    pub fn frame(&self, k: usize) -> FrameUpdate {
+        let mut replace = Vec::with_capacity(1 + self.grippers.len());
+        let mut obbs = Vec::new();
+        if let Some(t) = self.tissue(k) {
+            replace.push(0);
+            obbs.extend(t);
+        }
+        for (g, pose) in self.grippers.iter().zip(self.poses(k)) {
             replace.push(g.group);
-            obbs.extend(g.boxes.iter().map(|b| {
-                let mut b = b.clone();
-                b.center = [b.center[0] + dx, b.center[1] + dy, b.center[2] + dz];
-                b
-            }));
+            obbs.extend(g.boxes.iter().map(|b| pose.apply(b)));
         }
         FrameUpdate {
-            t_ms: k as f64 * 1e3 / HAPTIC_HZ,
+            t_ms: self.frame_time_ms(k),
             replace,
             obbs,
         }

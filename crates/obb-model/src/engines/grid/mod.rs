@@ -21,11 +21,13 @@ mod geometry;
 mod occupied;
 mod ranks;
 mod resident;
+mod rigid;
 mod scan;
 mod slab;
 
 pub use geometry::GridGeometry;
 pub use resident::Resident;
+pub use rigid::RigidResident;
 
 use super::{Counters, Engine, EngineKind, Pair, PairSorter};
 use crate::aabb::Aabb;

@@ -24,9 +24,17 @@ pub struct Resident {
     slack: Vec<Slack>,
     /// The union of the entered static boxes' AABBs.
     bounds: Aabb,
+    /// The union of every static box's AABB, the large ones' too.
+    all_bounds: Aabb,
     geometry: GridGeometry,
+    /// Each static box's first cell on each axis (a coordinate is below 2^21).
+    first_cells: Vec<[u32; 3]>,
     /// (cell key, static box), sorted by key.
     entries: Vec<(u64, u32)>,
+    /// Where each cell's entries start in `entries` (one more for the end), when the grid has
+    /// at most `DENSE_CELLS` cells or 4 per entry; else empty, and a cell is found by a binary
+    /// search (a probe's lookups are most of a haptic frame's time).
+    starts: Vec<u32>,
     /// Static boxes covering more than `MAX_CELLS_PER_BOX` cells: met by every moving box.
     large: Vec<u32>,
     /// The pairs among the static boxes the mask allows, found on update.
@@ -59,11 +67,14 @@ impl Resident {
             choose_cell(&self.aabbs, false, &mut scratch)
         };
         self.geometry = GridGeometry::fit(frame.bounds.min, frame.bounds.max, cell);
+        self.all_bounds = frame.bounds;
         self.entries.clear();
         self.large.clear();
+        self.first_cells.clear();
         self.bounds = Aabb::EMPTY;
         for (j, b) in self.aabbs.iter().enumerate() {
             let (c0, c1) = self.geometry.range(b);
+            self.first_cells.push(c0.map(|c| c as u32));
             if GridGeometry::cells_in(c0, c1) > MAX_CELLS_PER_BOX {
                 self.large.push(j as u32);
                 continue;
@@ -78,7 +89,33 @@ impl Resident {
             }
         }
         self.entries.sort_unstable();
+        self.starts.clear();
+        let cells = self.geometry.dims.iter().product::<u64>();
+        if cells <= DENSE_CELLS.max(4 * self.entries.len() as u64) {
+            let mut at = 0;
+            self.starts.extend((0..=cells).map(|key| {
+                while at < self.entries.len() && self.entries[at].0 < key {
+                    at += 1;
+                }
+                at as u32
+            }));
+        }
         counters
+    }
+
+    /// The number of static boxes.
+    pub fn statics(&self) -> usize {
+        self.statics.len()
+    }
+
+    /// The union of the static boxes' AABBs (`Aabb::EMPTY` for none): a moving box whose AABB
+    /// misses it meets no static box.
+    pub fn static_bounds(&self) -> Aabb {
+        if self.statics.is_empty() {
+            Aabb::EMPTY
+        } else {
+            self.all_bounds
+        }
     }
 
     /// The pairs of the scene "static boxes, then `moving`", sorted ascending.
@@ -114,10 +151,10 @@ impl Resident {
                 continue;
             }
             let g = &self.geometry;
-            let (c0, c1) = g.range(a);
+            let (first, c1) = g.range(a);
             let last = g.dims.map(|d| d - 1);
             let (c0, c1): ([u64; 3], [u64; 3]) = (
-                std::array::from_fn(|k| c0[k].min(last[k])),
+                std::array::from_fn(|k| first[k].min(last[k])),
                 std::array::from_fn(|k| c1[k].min(last[k])),
             );
             if GridGeometry::cells_in(c0, c1) > MAX_CELLS_PER_BOX {
@@ -132,14 +169,13 @@ impl Resident {
             for z in c0[2]..=c1[2] {
                 for y in c0[1]..=c1[1] {
                     for x in c0[0]..=c1[0] {
-                        let key = g.key([x, y, z]);
-                        let start = self.entries.partition_point(|e| e.0 < key);
-                        for &(k, j) in self.entries[start..].iter().take_while(|e| e.0 == key) {
-                            debug_assert_eq!(k, key);
-                            // Home cell: where the intersection's lower corner lies.
-                            let b = &self.aabbs[j as usize];
+                        for &(_, j) in cell(&self.entries, &self.starts, g.key([x, y, z])) {
+                            // Home cell: where the intersection's lower corner lies. The cell
+                            // coordinate is monotone, so that is the larger of the two boxes'
+                            // first cells on each axis.
+                            let b = &self.first_cells[j as usize];
                             let home: [u64; 3] =
-                                std::array::from_fn(|k| g.coord(a.min[k].max(b.min[k]), k));
+                                std::array::from_fn(|k| first[k].max(u64::from(b[k])));
                             if home == [x, y, z] {
                                 meet(j, &mut counters, out);
                             }
@@ -157,6 +193,23 @@ impl Resident {
         }
         out.extend(self.moving_pairs.iter().map(|&[i, j]| [s + i, s + j]));
         counters
+    }
+}
+
+/// Grids of up to this many cells get a dense index of where each cell's entries start.
+const DENSE_CELLS: u64 = 1 << 20;
+
+/// The static boxes entered in cell `key`: `entries` sorted by key, `starts` their dense index
+/// or empty.
+#[inline]
+fn cell<'a>(entries: &'a [(u64, u32)], starts: &[u32], key: u64) -> &'a [(u64, u32)] {
+    if starts.is_empty() {
+        let start = entries.partition_point(|e| e.0 < key);
+        let end = start + entries[start..].partition_point(|e| e.0 == key);
+        &entries[start..end]
+    } else {
+        let k = key as usize;
+        &entries[starts[k] as usize..starts[k + 1] as usize]
     }
 }
 
