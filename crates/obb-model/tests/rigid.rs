@@ -180,3 +180,10 @@ fn touching_faces_at_large_coordinates() {
     }
     assert!(touching > 100, "many of them touch: {touching}");
 }
+
+#[test]
+#[should_panic(expected = "a body's boxes are all of one group")]
+fn a_body_of_two_groups_is_refused() {
+    let b = |g| Obb::aligned([0.0; 3], [1.0; 3], g);
+    RigidResident::default().set_bodies(&[vec![b(1), b(2)]]);
+}

@@ -115,8 +115,8 @@ impl RigidResident {
         self.resident.update_static(statics, mask)
     }
 
-    /// The bodies, each's boxes in its own frame, all of one group per body. Their indices
-    /// follow the static boxes, body after body.
+    /// The bodies, each's boxes in its own frame, all of one group per body (panics
+    /// otherwise). Their indices follow the static boxes, body after body.
     pub fn set_bodies(&mut self, bodies: &[Vec<Obb>]) {
         self.bodies = bodies
             .iter()
@@ -127,8 +127,15 @@ impl RigidResident {
                         .map(|s| Cluster::of(boxes, s..(s + size).min(boxes.len())))
                         .collect()
                 };
+                let group = boxes.first().map_or(0, |b| b.group);
+                // The masks below are decided per body: a body of two groups would hide the
+                // pairs between them.
+                assert!(
+                    boxes.iter().all(|b| b.group == group),
+                    "a body's boxes are all of one group"
+                );
                 Body {
-                    group: boxes.first().map_or(0, |b| b.group),
+                    group,
                     clusters: cut(CLUSTER),
                     supers: cut(CLUSTER * SUPER),
                     boxes: boxes.clone(),
