@@ -75,20 +75,20 @@ fn large_boxes_far_boxes_and_empty_sides() {
     }
 }
 
-/// Static boxes spread thinly over a wide space: the grid has far more cells than entries, so
-/// cells are found by a binary search instead of a dense index; the same pairs.
+/// Static boxes spread thinly over a wide space: the grid has more cells than an occupancy
+/// bitmap is kept for (2^25), so cells are found by a binary search; the same pairs.
 #[test]
 fn sparse_statics_over_a_wide_grid() {
     let statics: Vec<Obb> = (0..60)
         .map(|k| {
-            let t = k as f64 * 1.7;
-            Obb::aligned([t, 0.5 * t, 100.0 - t], [0.05, 0.05, 0.05], 0)
+            let t = k as f64 * 17.0;
+            Obb::aligned([t, 0.5 * t, 1000.0 - t], [0.05, 0.05, 0.05], 0)
         })
         .collect();
     let moving: Vec<Obb> = (0..60)
         .map(|k| {
-            let t = k as f64 * 1.7 + 0.06 * (k % 3) as f64;
-            Obb::aligned([t, 0.5 * t, 100.0 - t], [0.04, 0.04, 0.04], 1 + k % 2)
+            let t = k as f64 * 17.0 + 0.06 * (k % 3) as f64;
+            Obb::aligned([t, 0.5 * t, 1000.0 - t], [0.04, 0.04, 0.04], 1 + k % 2)
         })
         .collect();
     for mask in [GroupMask::Cross, GroupMask::All] {

@@ -180,7 +180,8 @@ impl Grid {
                 .slabs
                 .iter()
                 .fold(Aabb::EMPTY, |b, s| b.union(&s.bounds));
-            self.occupied.index(&self.keys, class_bits, cells, bounds);
+            let entry_cells = self.keys.iter().map(|k| k >> class_bits);
+            self.occupied.index(entry_cells, cells, bounds);
         }
         self.cut_runs(threads);
     }

@@ -36,29 +36,39 @@ impl Occupied {
         self.starts.clear();
     }
 
-    /// Indexes `keys` (sorted, the cell above `class_bits`) over a grid of `cells` cells, whose
-    /// boxes lie in `bounds`.
-    pub(super) fn index(&mut self, keys: &[u64], class_bits: u32, cells: u64, bounds: Aabb) {
+    /// Indexes sorted entries over a grid of `cells` cells, given each entry's cell in order;
+    /// the entered boxes lie in `bounds`.
+    pub(super) fn index(
+        &mut self,
+        entry_cells: impl Iterator<Item = u64>,
+        cells: u64,
+        bounds: Aabb,
+    ) {
         self.clear();
         self.bounds = bounds;
         let words = cells.div_ceil(64) as usize;
         self.bits.resize(words, 0);
-        let mut last = None;
-        for (p, &k) in keys.iter().enumerate() {
-            let cell = k >> class_bits;
+        let (mut last, mut len) = (None, 0);
+        for (p, cell) in entry_cells.enumerate() {
             if last != Some(cell) {
                 self.bits[(cell / 64) as usize] |= 1 << (cell % 64);
                 self.starts.push(p as u32);
                 last = Some(cell);
             }
+            len = p + 1;
         }
-        self.starts.push(keys.len() as u32);
+        self.starts.push(len as u32);
         let mut sum = 0;
         self.rank.extend(self.bits.iter().map(|w| {
             let before = sum;
             sum += w.count_ones();
             before
         }));
+    }
+
+    /// Whether `index` has run since the last `clear`.
+    pub(super) fn is_indexed(&self) -> bool {
+        !self.bits.is_empty()
     }
 
     /// The range of sorted entries in `cell`, empty when it holds none.

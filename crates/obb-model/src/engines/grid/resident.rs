@@ -8,7 +8,8 @@
 //! cell, the cell of the lower corner of the two AABBs' intersection, which both cover).
 
 use super::geometry::{choose_cell, GridGeometry};
-use super::{Grid, MAX_CELLS_PER_BOX};
+use super::occupied::Occupied;
+use super::{Grid, MAX_BITMAP_CELLS, MAX_CELLS_PER_BOX};
 use crate::aabb::Aabb;
 use crate::engines::{Counters, Engine, Pair};
 use crate::groups::GroupMask;
@@ -31,10 +32,10 @@ pub struct Resident {
     first_cells: Vec<[u32; 3]>,
     /// (cell key, static box), sorted by key.
     entries: Vec<(u64, u32)>,
-    /// Where each cell's entries start in `entries` (one more for the end), when the grid has
-    /// at most `DENSE_CELLS` cells or 4 per entry; else empty, and a cell is found by a binary
-    /// search (a probe's lookups are most of a haptic frame's time).
-    starts: Vec<u32>,
+    /// Where each occupied cell's entries lie in `entries`, when the grid has at most
+    /// `MAX_BITMAP_CELLS` cells; else not indexed, and a cell is found by a binary search (a
+    /// probe's lookups are most of a haptic frame's time).
+    occupied: Occupied,
     /// Static boxes covering more than `MAX_CELLS_PER_BOX` cells: met by every moving box.
     large: Vec<u32>,
     /// The pairs among the static boxes the mask allows, found on update.
@@ -89,16 +90,11 @@ impl Resident {
             }
         }
         self.entries.sort_unstable();
-        self.starts.clear();
+        self.occupied.clear();
         let cells = self.geometry.dims.iter().product::<u64>();
-        if cells <= DENSE_CELLS.max(4 * self.entries.len() as u64) {
-            let mut at = 0;
-            self.starts.extend((0..=cells).map(|key| {
-                while at < self.entries.len() && self.entries[at].0 < key {
-                    at += 1;
-                }
-                at as u32
-            }));
+        if cells <= MAX_BITMAP_CELLS {
+            let entry_cells = self.entries.iter().map(|e| e.0);
+            self.occupied.index(entry_cells, cells, self.bounds);
         }
         counters
     }
@@ -169,7 +165,7 @@ impl Resident {
             for z in c0[2]..=c1[2] {
                 for y in c0[1]..=c1[1] {
                     for x in c0[0]..=c1[0] {
-                        for &(_, j) in cell(&self.entries, &self.starts, g.key([x, y, z])) {
+                        for &(_, j) in cell(&self.entries, &self.occupied, g.key([x, y, z])) {
                             // Home cell: where the intersection's lower corner lies. The cell
                             // coordinate is monotone, so that is the larger of the two boxes'
                             // first cells on each axis.
@@ -196,20 +192,16 @@ impl Resident {
     }
 }
 
-/// Grids of up to this many cells get a dense index of where each cell's entries start.
-const DENSE_CELLS: u64 = 1 << 20;
-
-/// The static boxes entered in cell `key`: `entries` sorted by key, `starts` their dense index
-/// or empty.
+/// The static boxes entered in cell `key`: `entries` sorted by key, `occupied` their index or
+/// not indexed.
 #[inline]
-fn cell<'a>(entries: &'a [(u64, u32)], starts: &[u32], key: u64) -> &'a [(u64, u32)] {
-    if starts.is_empty() {
+fn cell<'a>(entries: &'a [(u64, u32)], occupied: &Occupied, key: u64) -> &'a [(u64, u32)] {
+    if occupied.is_indexed() {
+        &entries[occupied.entries(key)]
+    } else {
         let start = entries.partition_point(|e| e.0 < key);
         let end = start + entries[start..].partition_point(|e| e.0 == key);
         &entries[start..end]
-    } else {
-        let k = key as usize;
-        &entries[starts[k] as usize..starts[k + 1] as usize]
     }
 }
 
