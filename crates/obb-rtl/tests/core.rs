@@ -17,6 +17,7 @@ use obb_rtl::flow::verilator::Port;
 use obb_rtl::leaf::{sbits, uval};
 use obb_rtl::projection::{CENTER, HALF, ROT};
 use rust_hdl::prelude::*;
+use std::time::Instant;
 
 /// Table address bits of the small cores (capacity 512).
 const A: usize = 9;
@@ -238,10 +239,17 @@ fn hash(k: u64) -> u64 {
 /// traces must be equal, and each frame must agree with the model.
 fn run(cfg: &HwConfig, frames: &[Frame]) {
     let (words, starts, models) = stimulus(cfg, frames);
+    let start = Instant::now();
     let hdl = rust_hdl::<A, { A + 1 }>(cfg, &words);
+    let hdl_secs = start.elapsed().as_secs_f64();
     let verilog =
         obb_rtl::flow::emit::verilog(&mut ObbCore::<A, { A + 1 }>::new(cfg), "obb_core").unwrap();
     let verilator = run_verilator(&verilog, "obb_core", &inputs(), &outputs(), &words);
+    eprintln!(
+        "{} clocks: rust-hdl {hdl_secs:.1} s, Verilator (build and run) {:.1} s",
+        words.len(),
+        start.elapsed().as_secs_f64() - hdl_secs
+    );
     for (k, (h, v)) in hdl.iter().zip(&verilator).enumerate() {
         assert_eq!(h, v, "rust-hdl and Verilator differ at clock {k}");
     }

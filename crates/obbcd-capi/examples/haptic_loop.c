@@ -1,8 +1,10 @@
 /* A haptic loop over obbcd's C ABI: a tissue patch kept resident (group 0), a tilted
- * instrument of four boxes (group 1) that goes down onto the tissue, slides along it into a
- * second instrument (group 2) and rises again, one detection per 1 kHz frame, the tissue
- * moving every 25th frame. Prints a line per frame; with --trace, also every box it sets and
- * every pair with its contact (the tests compare them with a reference).
+ * instrument of four boxes (group 1, a rigid body: its boxes set once in its own frame, a pose
+ * each frame) that goes down onto the tissue, slides along it into a second instrument
+ * (group 2) and rises again, turning a little about the vertical, one detection per 1 kHz
+ * frame, the tissue moving every 25th frame. Prints a line per frame; with --trace, also every
+ * box and pose it sets and every pair with its contact (the tests compare them with a
+ * reference).
  *
  * Build (from the workspace, after `cargo build --release -p obbcd-capi`):
  *   cc -std=c11 -O2 -I crates/obbcd-capi/include crates/obbcd-capi/examples/haptic_loop.c \
@@ -55,8 +57,27 @@ static void tissue(ObbcdBox *out, double t) {
     }
 }
 
-/* The instrument at frame k: four 2 mm boxes along a shaft tilted 30 degrees, tip first. */
-static void instrument(ObbcdBox *out, int k) {
+/* The instrument in its own frame: four 2 mm boxes along a shaft tilted 30 degrees, tip
+ * first, the tip at the origin. */
+static void instrument(ObbcdBox *out) {
+  const double pi = 3.14159265358979323846, c = cos(pi / 6), s = sin(pi / 6);
+  for (int n = 0; n < TOOL; n++) {
+    ObbcdBox *b = &out[n];
+    memset(b, 0, sizeof *b);
+    double along = 1.0 + 2.0 * n; /* from the tip to this box's center */
+    b->center[0] = -c * along;
+    b->center[1] = 0.0;
+    b->center[2] = s * along;
+    b->axes[0][0] = c, b->axes[0][2] = s;
+    b->axes[1][1] = 1.0;
+    b->axes[2][0] = -s, b->axes[2][2] = c;
+    b->half[0] = 1.0;
+    b->half[1] = b->half[2] = 0.3;
+  }
+}
+
+/* The instrument's pose at frame k: its tip down, along, up; turned about z by a few degrees. */
+static ObbcdPose instrument_pose(int k) {
   double x = 10.0, z = 3.0;
   if (k < 50) {
     z = 3.0 - 3.0 * k / 50.0;
@@ -67,20 +88,21 @@ static void instrument(ObbcdBox *out, int k) {
     z = 3.0 * (k - 150) / 50.0;
     x = 30.0;
   }
-  const double pi = 3.14159265358979323846, c = cos(pi / 6), s = sin(pi / 6);
-  for (int n = 0; n < TOOL; n++) {
-    ObbcdBox *b = &out[n];
-    memset(b, 0, sizeof *b);
-    double along = 1.0 + 2.0 * n; /* from the tip to this box's center */
-    b->center[0] = x - c * along;
-    b->center[1] = 24.0;
-    b->center[2] = z + s * along;
-    b->axes[0][0] = c, b->axes[0][2] = s;
-    b->axes[1][1] = 1.0;
-    b->axes[2][0] = -s, b->axes[2][2] = c;
-    b->half[0] = 1.0;
-    b->half[1] = b->half[2] = 0.3;
+  double yaw = 0.1 * sin(0.05 * k), c = cos(yaw), s = sin(yaw);
+  ObbcdPose p = {{{c, -s, 0.0}, {s, c, 0.0}, {0.0, 0.0, 1.0}}, {x, 24.0, z}};
+  return p;
+}
+
+/* Sets a group's pose (and traces it). */
+static ObbcdStatus pose(ObbcdEngine *e, uint32_t group, const ObbcdPose *p) {
+  if (trace) {
+    printf("pose %u", group);
+    for (int r = 0; r < 3; r++)
+      for (int k = 0; k < 3; k++) printf(" %.17g", p->rotation[r][k]);
+    for (int k = 0; k < 3; k++) printf(" %.17g", p->translation[k]);
+    printf("\n");
   }
+  return obbcd_set_pose(e, group, p);
 }
 
 int main(int argc, char **argv) {
@@ -92,10 +114,18 @@ int main(int argc, char **argv) {
   if (st != OBBCD_STATUS_OK) return failed("obbcd_engine_new", st);
 
   /* A bad box is refused with a reason, and changes nothing. */
-  ObbcdBox bad;
-  instrument(&bad, 0);
+  ObbcdBox tool[TOOL];
+  instrument(tool);
+  ObbcdBox bad = tool[0];
   bad.half[1] = NAN;
   st = obbcd_set_boxes(engine, 1, &bad, 1);
+  printf("refused: status %d: %s\n", (int)st, obbcd_last_error());
+
+  /* The instrument's boxes once, in its own frame; then a pose a frame. A rotation that is
+   * not one is refused. */
+  if ((st = set(engine, 1, tool, TOOL)) != OBBCD_STATUS_OK) return failed("set instrument", st);
+  ObbcdPose skew = {{{1.0, 0.1, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}}, {0.0, 0.0, 0.0}};
+  st = obbcd_set_pose(engine, 1, &skew);
   printf("refused: status %d: %s\n", (int)st, obbcd_last_error());
 
   /* The second instrument: one box standing where the first one's slide ends. */
@@ -112,9 +142,8 @@ int main(int argc, char **argv) {
       tissue(boxes, k);
       if ((st = set(engine, 0, boxes, TISSUE)) != OBBCD_STATUS_OK) return failed("set tissue", st);
     }
-    ObbcdBox tool[TOOL];
-    instrument(tool, k);
-    if ((st = set(engine, 1, tool, TOOL)) != OBBCD_STATUS_OK) return failed("set instrument", st);
+    ObbcdPose p = instrument_pose(k);
+    if ((st = pose(engine, 1, &p)) != OBBCD_STATUS_OK) return failed("pose instrument", st);
 
     size_t n = 0;
     if ((st = obbcd_detect(engine, &n)) != OBBCD_STATUS_OK) return failed("obbcd_detect", st);

@@ -16,10 +16,11 @@ typedef enum {
   // A pointer argument that must not be NULL was NULL.
   OBBCD_STATUS_NULL_ARGUMENT = 1,
   // An argument outside its domain: a bad group mask, too many boxes, too many threads or
-  // threads that cannot start, a string that is not UTF-8.
+  // threads that cannot start, a string that is not UTF-8, a pose refused.
   OBBCD_STATUS_INVALID_ARGUMENT = 2,
-  // A box with a NaN, an infinity, a coordinate beyond ±1e6, a negative half-length or axes
-  // that are not orthonormal. Nothing was changed.
+  // A box with a NaN, an infinity, a coordinate beyond ±1e6 (also where its group's pose
+  // places it), a negative half-length or axes that are not orthonormal. Nothing was
+  // changed.
   OBBCD_STATUS_INVALID_BOX = 3,
   // A bug in obbcd, caught at the boundary (no panic crosses it). The engine must not be
   // used again, only freed.
@@ -37,6 +38,16 @@ typedef struct {
   double axes[3][3];
   double half[3];
 } ObbcdBox;
+
+// A rigid pose: a moving group's boxes, given in the group's own frame, are placed in the
+// world as `x_world = rotation x + translation` (rotation by rows: a box's center `c` goes to
+// `rotation c + translation`, each of its axes `a` to `rotation a`). The rotation must be
+// orthonormal within 1e-5 (as a box's axes), every entry finite, the translation and every
+// placed center within ±1e6.
+typedef struct {
+  double rotation[3][3];
+  double translation[3];
+} ObbcdPose;
 
 // A colliding pair: box `index_a` of group `group_a` and box `index_b` of group `group_b`
 // (indices in the order the group's boxes were last set). The first box is the one earlier
@@ -83,9 +94,11 @@ ObbcdStatus obbcd_engine_new(const char *group_mask,
 void obbcd_engine_free(ObbcdEngine *engine);
 
 // Sets the boxes of `group` (replacing the ones it had; `count` 0 empties it, and `boxes`
-// may then be NULL; at most 2^28 boxes in all). Every box is checked first: on `OBBCD_STATUS_INVALID_BOX` nothing
-// changed. The last detection's pairs and contacts are dropped. With the group's count
-// unchanged, the boxes are copied in place and nothing is allocated.
+// may then be NULL; at most 2^28 boxes in all), in the group's frame: a moving group's pose
+// (`obbcd_set_pose`, the identity until set) places them. Every box is checked first, and
+// where its group's pose places it: on `OBBCD_STATUS_INVALID_BOX` nothing changed. The last
+// detection's pairs and contacts are dropped. With the group's count unchanged, the boxes
+// are copied in place and nothing is allocated.
 //
 // # Safety
 // `engine` as in `obbcd_engine_free`; `boxes` points to `count` boxes.
@@ -94,15 +107,30 @@ ObbcdStatus obbcd_set_boxes(ObbcdEngine *engine,
                             const ObbcdBox *boxes,
                             size_t count);
 
-// Finds every colliding pair of the boxes set so far; `*pair_count` (if not NULL) receives
+// Places the boxes of the moving group `group` by `*pose` from the next detection on: box
+// centers `c` at `rotation c + translation`, axes `a` as `rotation a`. A group's pose is the
+// identity until set, and is kept when its boxes are set again (they are in the group's
+// frame). Refused with `OBBCD_STATUS_INVALID_ARGUMENT`, changing nothing, for a static group,
+// a group whose boxes were never set, an entry that is not finite, a rotation not
+// orthonormal within 1e-5 (an entry of R·Rᵀ - I), a translation beyond ±1e6, or a pose
+// placing a box's center beyond ±1e6. The last detection's pairs and contacts are dropped. Costs no allocation.
+//
+// # Safety
+// `engine` as in `obbcd_engine_free`; `pose` points to a pose.
+ObbcdStatus obbcd_set_pose(ObbcdEngine *engine,
+                           uint32_t group,
+                           const ObbcdPose *pose);
+
+// Finds every colliding pair of the boxes set so far, each moving group placed by its pose; `*pair_count` (if not NULL) receives
 // their number. Read them with `obbcd_pairs`.
 //
 // # Safety
 // `engine` as in `obbcd_engine_free`; `pair_count` is NULL or writable.
-ObbcdStatus obbcd_detect(ObbcdEngine *engine, size_t *pair_count);
+ObbcdStatus obbcd_detect(ObbcdEngine *engine,
+                         size_t *pair_count);
 
 // The last detection's pairs, sorted: `*pairs` points to `*count` of them, valid until the
-// engine's next `obbcd_set_boxes`, `obbcd_detect` or `obbcd_engine_free`.
+// engine's next `obbcd_set_boxes`, `obbcd_set_pose`, `obbcd_detect` or `obbcd_engine_free`.
 //
 // # Safety
 // `engine` as in `obbcd_engine_free`; `pairs` and `count` are writable.

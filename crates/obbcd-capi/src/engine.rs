@@ -1,23 +1,30 @@
 //! The engine behind the C ABI, in safe Rust: boxes kept by group, the static groups resident in
-//! their own grid (rebuilt only when one of them is set), the moving groups tested each frame,
-//! and the pairs and contacts in buffers that are reused from frame to frame.
+//! their own grid (rebuilt only when one of them is set), the moving groups placed by their
+//! poses and tested each frame as the rigid bodies of `RigidResident`, and the pairs and
+//! contacts in buffers that are reused from frame to frame.
 
 use crate::types::{ObbcdBox, ObbcdContact, ObbcdPair};
 use obb_model::contact::contact;
-use obb_model::engines::{Pair, Resident};
-use obb_model::scene::MAX_OBBS;
+use obb_model::engines::{Pair, RigidResident};
+use obb_model::pose::Pose;
+use obb_model::scene::{COORD_LIMIT, MAX_OBBS, ORTHO_TOL};
 use obb_model::{GroupMask, Obb};
 
 /// The most worker threads an engine starts: far above any machine's use for one frame, and
 /// low enough that a mistaken count fails at once instead of starting threads by the thousand.
 pub const MAX_THREADS: usize = 256;
 
-/// Where one group's boxes lie: in `statics` or `moving`, from `start`, `len` of them.
+/// Where one group's boxes lie: in `statics` or `moving`, from `start`, `len` of them; the
+/// pose that places them in the world (the identity for static groups).
 #[derive(Clone, Copy, Debug)]
 struct Slot {
     group: u32,
     start: usize,
     len: usize,
+    pose: Pose,
+    /// Per axis, the largest |coordinate| of the boxes' centers: a pose keeps every placed
+    /// center within `COORD_LIMIT` if `|t| + |R| reach` does.
+    reach: [f64; 3],
 }
 
 /// One side (static or moving): its boxes, by group ascending, and the groups' slots.
@@ -28,15 +35,22 @@ struct Side {
 }
 
 impl Side {
-    /// Replaces `group`'s boxes with `new`: in place when the count is kept (no allocation),
-    /// else the side is laid out again.
-    fn set(&mut self, group: u32, new: impl ExactSizeIterator<Item = Obb>) {
-        match self.slots.binary_search_by_key(&group, |s| s.group) {
+    /// Replaces `group`'s boxes with `new` (its pose kept; a new group's is the identity): in
+    /// place when the count is kept (no allocation), else the side is laid out again. The
+    /// group's slot, and whether the side was laid out again.
+    fn set(
+        &mut self,
+        group: u32,
+        new: impl ExactSizeIterator<Item = Obb>,
+        reach: [f64; 3],
+    ) -> (usize, bool) {
+        let (k, relaid) = match self.slots.binary_search_by_key(&group, |s| s.group) {
             Ok(k) if self.slots[k].len == new.len() => {
                 let s = self.slots[k];
                 for (dst, b) in self.boxes[s.start..s.start + s.len].iter_mut().zip(new) {
                     *dst = b;
                 }
+                (k, false)
             }
             Ok(k) => {
                 let s = self.slots[k];
@@ -44,15 +58,40 @@ impl Side {
                 self.boxes.splice(s.start..s.start + s.len, new);
                 self.slots[k].len = len;
                 self.restart();
+                (k, true)
             }
             Err(k) => {
                 let start = self.slots.get(k).map_or(self.boxes.len(), |s| s.start);
                 let len = new.len();
                 self.boxes.splice(start..start, new);
-                self.slots.insert(k, Slot { group, start, len });
+                let slot = Slot {
+                    group,
+                    start,
+                    len,
+                    pose: Pose::IDENTITY,
+                    reach: [0.0; 3],
+                };
+                self.slots.insert(k, slot);
                 self.restart();
+                (k, true)
             }
-        }
+        };
+        self.slots[k].reach = reach;
+        (k, relaid)
+    }
+
+    /// The boxes of slot `k`.
+    fn boxes_of(&self, k: usize) -> &[Obb] {
+        let s = &self.slots[k];
+        &self.boxes[s.start..s.start + s.len]
+    }
+
+    /// The pose of `group`, if it has boxes here.
+    fn pose(&self, group: u32) -> Option<Pose> {
+        self.slots
+            .binary_search_by_key(&group, |s| s.group)
+            .ok()
+            .map(|k| self.slots[k].pose)
     }
 
     /// How many boxes `group` has here (0 if none).
@@ -71,11 +110,84 @@ impl Side {
         }
     }
 
+    /// The slot of box `k` of this side.
+    fn slot_of(&self, k: usize) -> &Slot {
+        &self.slots[self.slots.partition_point(|s| s.start + s.len <= k)]
+    }
+
     /// The group of box `k` of this side and its index inside the group.
     fn locate(&self, k: usize) -> (u32, u32) {
-        let s = &self.slots[self.slots.partition_point(|s| s.start + s.len <= k)];
+        let s = self.slot_of(k);
         (s.group, (k - s.start) as u32)
     }
+
+    /// Box `k` of this side placed in the world by its group's pose.
+    fn placed(&self, k: usize) -> Obb {
+        self.slot_of(k).pose.apply(&self.boxes[k])
+    }
+}
+
+/// Per axis, the largest |coordinate| of the boxes' centers.
+fn reach(boxes: &[ObbcdBox]) -> [f64; 3] {
+    boxes.iter().fold([0.0; 3], |r, b| {
+        std::array::from_fn(|x| r[x].max(b.center[x].abs()))
+    })
+}
+
+/// Refuses a pose the engine cannot honour: an entry not finite, a rotation not orthonormal
+/// within `ORTHO_TOL` (as a box's axes), or one that places a box's center (as the engine
+/// computes it) beyond `COORD_LIMIT`. `reach` is the boxes' (see [`Slot`]).
+fn check_pose(
+    group: u32,
+    pose: &Pose,
+    boxes: impl Iterator<Item = Obb>,
+    reach: [f64; 3],
+) -> Result<(), String> {
+    let entries = pose.rotation.iter().flatten().chain(&pose.translation);
+    if let Some(v) = entries.clone().find(|v| !v.is_finite()) {
+        return Err(format!(
+            "group {group}: the pose has {v}, not a finite number"
+        ));
+    }
+    if let Some(v) = entries.clone().find(|v| v.abs() > COORD_LIMIT) {
+        return Err(format!(
+            "group {group}: the pose has {v}, beyond ±{COORD_LIMIT:e}"
+        ));
+    }
+    let rotation = Obb {
+        center: [0.0; 3],
+        axes: pose.rotation,
+        half: [0.0; 3],
+        group,
+    };
+    let err = rotation.ortho_error();
+    if err > ORTHO_TOL {
+        return Err(format!(
+            "group {group}: the pose's rotation is not orthonormal: an entry of R·Rᵀ - I is \
+             {err:.3e}, the limit is {ORTHO_TOL:e}"
+        ));
+    }
+    // |R c + t| <= |t| + |R| reach, widened for the rounding of the computed center; only a
+    // pose near the limit has its boxes placed one by one.
+    let within = (0..3).all(|x| {
+        let bound = pose.translation[x].abs()
+            + (0..3)
+                .map(|j| pose.rotation[x][j].abs() * reach[j])
+                .sum::<f64>();
+        bound * (1.0 + 16.0 * f64::EPSILON) <= COORD_LIMIT
+    });
+    if within {
+        return Ok(());
+    }
+    for (i, b) in boxes.enumerate() {
+        let c = pose.apply(&b).center;
+        if c.iter().any(|v| v.abs() > COORD_LIMIT) {
+            return Err(format!(
+                "group {group}: the pose places box {i}'s center at {c:?}, beyond ±{COORD_LIMIT:e}"
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The side holding `Resident`'s box `k` (the static boxes first, the moving ones after them)
@@ -105,7 +217,10 @@ pub struct Engine {
     moving: Side,
     /// A static group changed since the last detection: the resident grid is rebuilt.
     statics_changed: bool,
-    resident: Resident,
+    /// The static boxes resident, the moving groups its bodies (one per slot of `moving`).
+    rigid: RigidResident,
+    /// The moving groups' poses, gathered for a detection.
+    poses: Vec<Pose>,
     pool: rayon::ThreadPool,
     raw: Vec<Pair>,
     pairs: Vec<ObbcdPair>,
@@ -131,15 +246,16 @@ impl Engine {
         let mut static_groups = static_groups.to_vec();
         static_groups.sort_unstable();
         static_groups.dedup();
-        let mut resident = Resident::default();
-        resident.update_static(&[], &mask);
+        let mut rigid = RigidResident::default();
+        rigid.update_static(&[], &mask);
         Ok(Engine {
             mask,
             static_groups,
             statics: Side::default(),
             moving: Side::default(),
             statics_changed: false,
-            resident,
+            rigid,
+            poses: Vec::new(),
             pool,
             raw: Vec::new(),
             pairs: Vec::new(),
@@ -148,9 +264,10 @@ impl Engine {
         })
     }
 
-    /// Replaces the boxes of `group`. Every box is checked first: on a refusal nothing changes.
-    /// Otherwise the last detection's pairs and contacts are dropped (their indices may no
-    /// longer name the same boxes).
+    /// Replaces the boxes of `group` (in the group's frame: its pose, kept, places them).
+    /// Every box is checked first, and placed by the group's pose: on a refusal nothing
+    /// changes. Otherwise the last detection's pairs and contacts are dropped (their indices
+    /// may no longer name the same boxes).
     pub fn set_boxes(&mut self, group: u32, boxes: &[ObbcdBox]) -> Result<(), Refusal> {
         let obb = |b: &ObbcdBox| Obb {
             center: b.center,
@@ -177,33 +294,77 @@ impl Engine {
                 boxes.len()
             )));
         }
-        side.set(group, boxes.iter().map(obb));
-        self.statics_changed |= is_static;
+        let reach = reach(boxes);
+        if let Some(pose) = side.pose(group) {
+            check_pose(group, &pose, boxes.iter().map(obb), reach).map_err(Refusal::Box)?;
+        }
+        let (k, relaid) = side.set(group, boxes.iter().map(obb), reach);
+        match (is_static, relaid) {
+            (true, _) => self.statics_changed = true,
+            (false, true) => {
+                let bodies: Vec<&[Obb]> = (0..self.moving.slots.len())
+                    .map(|k| self.moving.boxes_of(k))
+                    .collect();
+                self.rigid.set_bodies(&bodies);
+            }
+            (false, false) => self.rigid.set_body(k, self.moving.boxes_of(k)),
+        }
+        self.drop_results();
+        Ok(())
+    }
+
+    /// Places the boxes of the moving group `group` by `pose` from the next detection on
+    /// (`x_world = R x + t`). Refused, changing nothing, for a static group, a group never
+    /// set, or a pose `check_pose` refuses. The last detection's pairs and contacts are
+    /// dropped.
+    pub fn set_pose(&mut self, group: u32, pose: Pose) -> Result<(), Refusal> {
+        if self.static_groups.binary_search(&group).is_ok() {
+            return Err(Refusal::Argument(format!(
+                "group {group} is static: its boxes are set, not posed"
+            )));
+        }
+        let Ok(k) = self.moving.slots.binary_search_by_key(&group, |s| s.group) else {
+            return Err(Refusal::Argument(format!(
+                "group {group} has no boxes: set them before its pose"
+            )));
+        };
+        let reach = self.moving.slots[k].reach;
+        check_pose(group, &pose, self.moving.boxes_of(k).iter().cloned(), reach)
+            .map_err(Refusal::Argument)?;
+        self.moving.slots[k].pose = pose;
+        self.drop_results();
+        Ok(())
+    }
+
+    /// Forgets the last detection's pairs and contacts.
+    fn drop_results(&mut self) {
         self.raw.clear();
         self.pairs.clear();
         self.contacts.clear();
         self.contacts_ready = true;
-        Ok(())
     }
 
-    /// Finds the colliding pairs of the boxes set so far.
+    /// Finds the colliding pairs of the boxes set so far, each moving group placed by its pose.
     pub fn detect(&mut self) -> &[ObbcdPair] {
         let Engine {
             mask,
             statics,
             moving,
             statics_changed,
-            resident,
+            rigid,
+            poses,
             pool,
             raw,
             ..
         } = self;
         pool.install(|| {
             if *statics_changed {
-                resident.update_static(&statics.boxes, mask);
+                rigid.update_static(&statics.boxes, mask);
                 *statics_changed = false;
             }
-            resident.detect(&moving.boxes, raw);
+            poses.clear();
+            poses.extend(moving.slots.iter().map(|s| s.pose));
+            rigid.detect(poses, raw);
         });
         let at = |k: u32| {
             let (side, i) = side_of(&self.statics, &self.moving, k);
@@ -233,11 +394,11 @@ impl Engine {
         if !self.contacts_ready {
             let obb = |k: u32| {
                 let (side, i) = side_of(&self.statics, &self.moving, k);
-                &side.boxes[i]
+                side.placed(i)
             };
             self.contacts.clear();
             self.contacts.extend(self.raw.iter().map(|&[i, j]| {
-                let c = contact(obb(i), obb(j));
+                let c = contact(&obb(i), &obb(j));
                 ObbcdContact {
                     normal: c.normal,
                     depth: c.depth,

@@ -2,7 +2,9 @@
 //!
 //! An engine keeps boxes by group. Groups named static at creation (the tissue) are resident:
 //! their grid is rebuilt only when one of them is set; the other groups (the instruments) are
-//! tested against it and each other at every detection. The pairs are those of every obbcd
+//! tested against it and each other at every detection. A moving group's boxes may be given
+//! once in the group's own frame and placed by a pose each frame (`obbcd_set_pose`, a rigid
+//! instrument): only the boxes near something are placed and tested. The pairs are those of every obbcd
 //! engine: all colliding pairs the group mask allows, never a miss (docs/sat.md). After the
 //! first frames, a detection with unchanged box counts allocates nothing in the engine.
 //!
@@ -16,10 +18,11 @@ mod engine;
 mod error;
 mod types;
 
-pub use types::{ObbcdBox, ObbcdContact, ObbcdPair, ObbcdStatus};
+pub use types::{ObbcdBox, ObbcdContact, ObbcdPair, ObbcdPose, ObbcdStatus};
 
 use engine::{Engine, Refusal};
 use error::{fail, guard};
+use obb_model::pose::Pose;
 use obb_model::scene::MAX_OBBS;
 use std::ffi::{c_char, CStr};
 
@@ -151,9 +154,11 @@ pub unsafe extern "C" fn obbcd_engine_free(engine: *mut ObbcdEngine) {
 }
 
 /// Sets the boxes of `group` (replacing the ones it had; `count` 0 empties it, and `boxes`
-/// may then be NULL; at most 2^28 boxes in all). Every box is checked first: on `OBBCD_STATUS_INVALID_BOX` nothing
-/// changed. The last detection's pairs and contacts are dropped. With the group's count
-/// unchanged, the boxes are copied in place and nothing is allocated.
+/// may then be NULL; at most 2^28 boxes in all), in the group's frame: a moving group's pose
+/// (`obbcd_set_pose`, the identity until set) places them. Every box is checked first, and
+/// where its group's pose places it: on `OBBCD_STATUS_INVALID_BOX` nothing changed. The last
+/// detection's pairs and contacts are dropped. With the group's count unchanged, the boxes
+/// are copied in place and nothing is allocated.
 ///
 /// # Safety
 /// `engine` as in `obbcd_engine_free`; `boxes` points to `count` boxes.
@@ -186,7 +191,39 @@ pub unsafe extern "C" fn obbcd_set_boxes(
     unsafe { with_engine(engine, |e| e.set_boxes(group, boxes).map_err(refused)) }
 }
 
-/// Finds every colliding pair of the boxes set so far; `*pair_count` (if not NULL) receives
+/// Places the boxes of the moving group `group` by `*pose` from the next detection on: box
+/// centers `c` at `rotation c + translation`, axes `a` as `rotation a`. A group's pose is the
+/// identity until set, and is kept when its boxes are set again (they are in the group's
+/// frame). Refused with `OBBCD_STATUS_INVALID_ARGUMENT`, changing nothing, for a static group,
+/// a group whose boxes were never set, an entry that is not finite, a rotation not
+/// orthonormal within 1e-5 (an entry of R·Rᵀ - I), a translation beyond ±1e6, or a pose
+/// placing a box's center beyond ±1e6. The last detection's pairs and contacts are dropped. Costs no allocation.
+///
+/// # Safety
+/// `engine` as in `obbcd_engine_free`; `pose` points to a pose.
+#[no_mangle]
+pub unsafe extern "C" fn obbcd_set_pose(
+    engine: *mut ObbcdEngine,
+    group: u32,
+    pose: *const ObbcdPose,
+) -> ObbcdStatus {
+    // SAFETY: the caller's contract.
+    let Some(&ObbcdPose {
+        rotation,
+        translation,
+    }) = (unsafe { pose.as_ref() })
+    else {
+        return fail(ObbcdStatus::NullArgument, "pose is NULL");
+    };
+    let pose = Pose {
+        rotation,
+        translation,
+    };
+    // SAFETY: the caller's contract.
+    unsafe { with_engine(engine, |e| e.set_pose(group, pose).map_err(refused)) }
+}
+
+/// Finds every colliding pair of the boxes set so far, each moving group placed by its pose; `*pair_count` (if not NULL) receives
 /// their number. Read them with `obbcd_pairs`.
 ///
 /// # Safety
@@ -232,7 +269,7 @@ unsafe fn list_out<T>(
 }
 
 /// The last detection's pairs, sorted: `*pairs` points to `*count` of them, valid until the
-/// engine's next `obbcd_set_boxes`, `obbcd_detect` or `obbcd_engine_free`.
+/// engine's next `obbcd_set_boxes`, `obbcd_set_pose`, `obbcd_detect` or `obbcd_engine_free`.
 ///
 /// # Safety
 /// `engine` as in `obbcd_engine_free`; `pairs` and `count` are writable.

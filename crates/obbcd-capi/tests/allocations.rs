@@ -1,6 +1,6 @@
-//! After warm-up, a haptic frame through the C ABI (set the instruments' boxes, detect, read
-//! the pairs and contacts) allocates nothing in obbcd: every allocation of the process is
-//! counted. The one that remains is rayon's: handing a job to a pool from outside it puts it
+//! After warm-up, a haptic frame through the C ABI (set the instruments' boxes, or their poses,
+//! detect, read the pairs and contacts) allocates nothing in obbcd: every allocation of the
+//! process is counted. The one that remains is rayon's: handing a job to a pool from outside it puts it
 //! in a queue made of 63-slot blocks, and a new block is allocated every 63 jobs (seen with
 //! gdb: `crossbeam_deque::Injector::push` under `Registry::inject`).
 
@@ -21,10 +21,16 @@ const QUEUE_BLOCK: usize = 63;
 /// The motion's frame where the run starts: the grippers slide in the tissue.
 const START: usize = 800;
 
-/// One haptic frame's boxes by group.
-type Frame = Vec<(u32, Vec<ObbcdBox>)>;
+/// One haptic frame's boxes by group, and the instruments' poses by group (their boxes in
+/// their own frames being the bodies').
+struct Frame {
+    boxes: Vec<(u32, Vec<ObbcdBox>)>,
+    poses: Vec<(u32, ObbcdPose)>,
+}
 
-fn haptic_frames(n: usize, count: usize) -> (Vec<ObbcdBox>, Vec<Frame>) {
+/// The tissue, the instruments' boxes in their own frames by group, and `count` haptic frames.
+#[allow(clippy::type_complexity)]
+fn haptic_frames(n: usize, count: usize) -> (Vec<ObbcdBox>, Vec<(u32, Vec<ObbcdBox>)>, Vec<Frame>) {
     let motion = SurgicalMotion::new(n, 4).unwrap();
     let to_c = |b: &obb_model::Obb| ObbcdBox {
         center: b.center,
@@ -44,7 +50,8 @@ fn haptic_frames(n: usize, count: usize) -> (Vec<ObbcdBox>, Vec<Frame>) {
         .map(|k| {
             let f = motion.frame(k);
             assert!(!f.replace.contains(&0), "frame {k} is a tissue update");
-            f.replace
+            let boxes = f
+                .replace
                 .iter()
                 .map(|&g| {
                     (
@@ -52,17 +59,35 @@ fn haptic_frames(n: usize, count: usize) -> (Vec<ObbcdBox>, Vec<Frame>) {
                         f.obbs.iter().filter(|b| b.group == g).map(to_c).collect(),
                     )
                 })
-                .collect()
+                .collect();
+            let poses = motion
+                .bodies()
+                .iter()
+                .zip(motion.poses(k))
+                .map(|(body, p)| {
+                    let pose = ObbcdPose {
+                        rotation: p.rotation,
+                        translation: p.translation,
+                    };
+                    (body[0].group, pose)
+                })
+                .collect();
+            Frame { boxes, poses }
         })
         .collect();
-    (tissue, frames)
+    let bodies = motion
+        .bodies()
+        .iter()
+        .map(|b| (b[0].group, b.iter().map(to_c).collect()))
+        .collect();
+    (tissue, bodies, frames)
 }
 
 #[test]
 fn a_haptic_frame_allocates_nothing_after_warm_up() {
-    let (tissue, frames) = haptic_frames(7000, 39);
+    let (tissue, bodies, frames) = haptic_frames(7000, 39);
     let mask = CString::new("cross").unwrap();
-    for threads in [1, 2] {
+    for (threads, posed) in [(1, false), (2, false), (1, true), (2, true)] {
         let mut e = null_mut();
         let (mut pairs, mut contacts, mut n) = (null(), null(), 0);
         let mut found = 0;
@@ -74,12 +99,24 @@ fn a_haptic_frame_allocates_nothing_after_warm_up() {
                 obbcd_set_boxes(e, 0, tissue.as_ptr(), tissue.len()),
                 ObbcdStatus::Ok
             );
+            if posed {
+                for (g, boxes) in &bodies {
+                    let st = obbcd_set_boxes(e, *g, boxes.as_ptr(), boxes.len());
+                    assert_eq!(st, ObbcdStatus::Ok);
+                }
+            }
             for pass in 0..3 {
                 let region = Region::new(COUNTING);
                 for f in &frames {
-                    for (g, boxes) in f {
-                        let st = obbcd_set_boxes(e, *g, boxes.as_ptr(), boxes.len());
-                        assert_eq!(st, ObbcdStatus::Ok);
+                    if posed {
+                        for (g, pose) in &f.poses {
+                            assert_eq!(obbcd_set_pose(e, *g, pose), ObbcdStatus::Ok);
+                        }
+                    } else {
+                        for (g, boxes) in &f.boxes {
+                            let st = obbcd_set_boxes(e, *g, boxes.as_ptr(), boxes.len());
+                            assert_eq!(st, ObbcdStatus::Ok);
+                        }
                     }
                     assert_eq!(obbcd_detect(e, null_mut()), ObbcdStatus::Ok);
                     assert_eq!(obbcd_pairs(e, &mut pairs, &mut n), ObbcdStatus::Ok);
@@ -93,13 +130,17 @@ fn a_haptic_frame_allocates_nothing_after_warm_up() {
                 if pass > 0 {
                     assert!(
                         allocated <= frames.len().div_ceil(QUEUE_BLOCK),
-                        "{threads} threads, pass {pass}: {allocated} allocations in {} frames",
+                        "{threads} threads, posed {posed}, pass {pass}: {allocated} allocations \
+                         in {} frames",
                         frames.len()
                     );
                 }
             }
             obbcd_engine_free(e);
         }
-        assert!(found > 0, "the grippers never touched the tissue");
+        assert!(
+            found > 0,
+            "the grippers never touched the tissue (posed {posed})"
+        );
     }
 }

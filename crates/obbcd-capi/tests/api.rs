@@ -1,9 +1,12 @@
 //! The C ABI called as C calls it: pairs equal brute force's on a moving scene whose groups
-//! change and empty, with resident groups or none, and every misuse gets a status and a reason.
+//! change and empty, with resident groups or none, and on rigid bodies placed by poses; every
+//! misuse gets a status and a reason.
 
 mod common;
 
+use obb_model::contact::contact;
 use obb_model::generate::SurgicalMotion;
+use obb_model::pose::Pose;
 use obb_model::{GroupMask, Obb};
 use obbcd_c::*;
 use std::collections::BTreeMap;
@@ -50,6 +53,15 @@ impl Engine {
     fn set(&mut self, group: u32, boxes: &[ObbcdBox]) -> ObbcdStatus {
         // SAFETY: a live engine and a valid slice.
         unsafe { obbcd_set_boxes(self.0, group, boxes.as_ptr(), boxes.len()) }
+    }
+
+    fn pose(&mut self, group: u32, pose: &Pose) -> ObbcdStatus {
+        let p = ObbcdPose {
+            rotation: pose.rotation,
+            translation: pose.translation,
+        };
+        // SAFETY: a live engine and a valid pose.
+        unsafe { obbcd_set_pose(self.0, group, &p) }
     }
 
     fn pairs(&mut self) -> Vec<ObbcdPair> {
@@ -149,6 +161,82 @@ fn moving_scene_equals_brute_force() {
             run_motion(mask, statics, threads) > 0,
             "{mask}: no pairs at all"
         );
+    }
+}
+
+/// A turn by `angle` about z, then a translation by `t`.
+fn turn(angle: f64, t: [f64; 3]) -> Pose {
+    let (s, c) = angle.sin_cos();
+    Pose {
+        rotation: [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]],
+        translation: t,
+    }
+}
+
+/// The surgical motion's grippers as rigid bodies: each's boxes set once in its own frame, a
+/// pose a frame (the tissue, static, set when it changes); and a loose body, group 3, of 40
+/// tissue boxes taken from a window that slides every frame (its boxes set again in place,
+/// its pose kept), turning about z above the tissue. Every frame's pairs equal brute force's
+/// on the boxes placed by the poses, and each contact equals the model's on the placed pair.
+#[test]
+fn posed_bodies_equal_brute_force() {
+    let motion = SurgicalMotion::new(700, 11).unwrap();
+    for (mask, threads) in [("cross", 1), ("all", 2), ("0-1,2-3", 1)] {
+        let parsed: GroupMask = mask.parse().unwrap();
+        let mut engine = Engine::new(mask, &[0], threads);
+        let bodies = motion.bodies();
+        let groups: Vec<u32> = bodies.iter().map(|b| b[0].group).collect();
+        for (g, boxes) in groups.iter().zip(&bodies) {
+            let c: Vec<ObbcdBox> = boxes.iter().map(to_c).collect();
+            assert_eq!(engine.set(*g, &c), ObbcdStatus::Ok, "{}", last_error());
+        }
+        let mut placed: BTreeMap<u32, Vec<Obb>> = BTreeMap::new();
+        let mut tissue = Vec::new();
+        let mut loose = Pose::IDENTITY;
+        let (mut found, mut contacts) = (0, 0);
+        for k in (0..2000).step_by(20) {
+            if let Some(t) = motion.tissue(k) {
+                let c: Vec<ObbcdBox> = t.iter().map(to_c).collect();
+                assert_eq!(engine.set(0, &c), ObbcdStatus::Ok, "{}", last_error());
+                placed.insert(0, t.clone());
+                tissue = t;
+            }
+            for ((g, boxes), pose) in groups.iter().zip(&bodies).zip(motion.poses(k)) {
+                assert_eq!(engine.pose(*g, &pose), ObbcdStatus::Ok, "{}", last_error());
+                placed.insert(*g, boxes.iter().map(|b| pose.apply(b)).collect());
+            }
+            // The loose body: in its own frame, centred on the window's first box.
+            let from = (k / 20) * 7 % (tissue.len() - 40);
+            let origin = tissue[from].center;
+            let local: Vec<Obb> = tissue[from..from + 40]
+                .iter()
+                .map(|b| Obb {
+                    center: std::array::from_fn(|x| b.center[x] - origin[x]),
+                    group: 3,
+                    ..b.clone()
+                })
+                .collect();
+            let c: Vec<ObbcdBox> = local.iter().map(to_c).collect();
+            assert_eq!(engine.set(3, &c), ObbcdStatus::Ok, "{}", last_error());
+            // A new pose every other frame; in between, the last one is kept.
+            if k % 40 == 0 {
+                loose = turn(0.01 * k as f64, [origin[0], origin[1], origin[2] + 0.3]);
+                assert_eq!(engine.pose(3, &loose), ObbcdStatus::Ok, "{}", last_error());
+            }
+            placed.insert(3, local.iter().map(|b| loose.apply(b)).collect());
+
+            let got = engine.detect();
+            let want = common::brute(&placed, &[0], &parsed);
+            let pairs: Vec<ObbcdPair> = want.iter().map(|(p, _, _)| *p).collect();
+            assert_eq!(got, pairs, "frame {k}, mask {mask}");
+            for (c, (_, a, b)) in engine.contacts().iter().zip(&want) {
+                let m = contact(a, b);
+                assert_eq!((c.normal, c.depth), (m.normal, m.depth), "frame {k}");
+                contacts += 1;
+            }
+            found += got.len();
+        }
+        assert!(found > 0 && contacts == found, "{mask}: {found} pairs");
     }
 }
 
@@ -252,4 +340,60 @@ fn misuse_gets_a_status_and_a_reason() {
     // Setting boxes drops the last detection's pairs and contacts.
     assert!(e.pairs().is_empty() && e.contacts().is_empty());
     assert_eq!(e.detect(), []);
+
+    // Poses: refused with a reason, changing nothing.
+    assert_eq!(e.set(1, &[plate(0.9)]), ObbcdStatus::Ok);
+    assert_eq!(e.detect(), before);
+    let mut nan = Pose::IDENTITY;
+    nan.rotation[1][2] = f64::NAN;
+    let mut skew = Pose::IDENTITY;
+    skew.rotation[0] = [1.0, 0.1, 0.0];
+    for (group, pose, says) in [
+        (
+            0,
+            Pose::IDENTITY,
+            "group 0 is static: its boxes are set, not posed",
+        ),
+        (
+            5,
+            Pose::IDENTITY,
+            "group 5 has no boxes: set them before its pose",
+        ),
+        (1, nan, "group 1: the pose has NaN, not a finite number"),
+        (1, skew, "group 1: the pose's rotation is not orthonormal"),
+        (
+            1,
+            Pose::translation([0.0, -2e6, 0.0]),
+            "group 1: the pose has -2000000, beyond ±1e6",
+        ),
+        (
+            1,
+            Pose::translation([999_999.5, 0.0, 0.0]),
+            "group 1: the pose places box 0's center at [1000000.4",
+        ),
+    ] {
+        assert_eq!(e.pose(group, &pose), ObbcdStatus::InvalidArgument);
+        assert!(last_error().contains(says), "{} / {says}", last_error());
+        assert_eq!(e.detect(), before);
+    }
+    // SAFETY: a live engine; a NULL pose is refused before it is read.
+    unsafe {
+        assert_eq!(obbcd_set_pose(e.0, 1, null()), ObbcdStatus::NullArgument);
+        assert!(last_error().contains("pose is NULL"));
+    }
+    // A pose near the limit is taken; boxes it would place beyond are refused.
+    let far = Pose::translation([999_998.0, 0.0, 0.0]);
+    assert_eq!(e.pose(1, &far), ObbcdStatus::Ok, "{}", last_error());
+    assert_eq!(e.detect(), []);
+    assert_eq!(e.set(1, &[plate(1.5)]), ObbcdStatus::Ok);
+    assert_eq!(e.set(1, &[plate(1.5), plate(2.5)]), ObbcdStatus::InvalidBox);
+    assert!(
+        last_error().contains("group 1: the pose places box 1's center at [1000000.5"),
+        "{}",
+        last_error()
+    );
+    // Back home, the pairs of the start.
+    assert_eq!(e.pose(1, &Pose::IDENTITY), ObbcdStatus::Ok);
+    assert_eq!(e.set(1, &[plate(0.9)]), ObbcdStatus::Ok);
+    assert_eq!(e.detect(), before);
 }

@@ -1,10 +1,11 @@
 //! The C example, built with `cc` against the static library and run: every frame's pairs are
-//! those of brute force on the boxes it set (read back from its trace), each with its contact,
-//! and its bad box is refused with a reason.
+//! those of brute force on the boxes it set placed by the poses it set (read back from its
+//! trace), each with its contact, and its bad box and bad pose are refused with a reason.
 
 mod common;
 
 use obb_model::contact::contact;
+use obb_model::pose::Pose;
 use obb_model::{GroupMask, Obb};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -48,19 +49,14 @@ fn c_example_reports_brute_force_pairs_with_contacts() {
     let out = common::run(Command::new(build("cc", "c11", "haptic_loop.c")).arg("--trace"));
     let text = String::from_utf8(out.stdout).expect("UTF-8 output");
     let mut groups: BTreeMap<u32, Vec<Obb>> = BTreeMap::new();
+    let mut poses: BTreeMap<u32, Pose> = BTreeMap::new();
     let mut listed: Vec<(u32, u32, u32, u32, [f64; 3], f64)> = Vec::new();
     let (mut frames, mut by_kind) = (0, BTreeMap::new());
-    let mut refused = false;
+    let mut refused = Vec::new();
     for line in text.lines() {
         let f: Vec<&str> = line.split_whitespace().collect();
         match f[0] {
-            "refused:" => {
-                refused = true;
-                assert!(
-                    line.contains("status 3") && line.contains("group 1: obb 0: field `half`"),
-                    "{line}"
-                );
-            }
+            "refused:" => refused.push(line.to_string()),
             "box" => {
                 let (g, i): (u32, usize) = (f[1].parse().unwrap(), f[2].parse().unwrap());
                 let v = numbers(&f[3..]);
@@ -78,14 +74,30 @@ fn c_example_reports_brute_force_pairs_with_contacts() {
                 assert_eq!(group.len(), i, "{line}");
                 group.push(b);
             }
+            "pose" => {
+                let v = numbers(&f[2..]);
+                let pose = Pose {
+                    rotation: [[v[0], v[1], v[2]], [v[3], v[4], v[5]], [v[6], v[7], v[8]]],
+                    translation: [v[9], v[10], v[11]],
+                };
+                poses.insert(f[1].parse().unwrap(), pose);
+            }
             "pair" => {
                 let ids: Vec<u32> = f[1..5].iter().map(|v| v.parse().unwrap()).collect();
                 let v = numbers(&f[5..]);
                 listed.push((ids[0], ids[1], ids[2], ids[3], [v[0], v[1], v[2]], v[3]));
             }
             "frame" => {
-                // The engine's order: the static group 0, then groups 1, 2.
-                let want = common::brute(&groups, &[0], &GroupMask::Cross);
+                // The boxes where their groups' poses place them; the engine's order: the
+                // static group 0, then groups 1, 2.
+                let placed = groups
+                    .iter()
+                    .map(|(g, boxes)| {
+                        let pose = poses.get(g).copied().unwrap_or(Pose::IDENTITY);
+                        (*g, boxes.iter().map(|b| pose.apply(b)).collect())
+                    })
+                    .collect();
+                let want = common::brute(&placed, &[0], &GroupMask::Cross);
                 let got: Vec<(u32, u32, u32, u32)> =
                     listed.iter().map(|p| (p.0, p.1, p.2, p.3)).collect();
                 let want_ids: Vec<(u32, u32, u32, u32)> = want
@@ -108,7 +120,20 @@ fn c_example_reports_brute_force_pairs_with_contacts() {
             _ => assert!(line.starts_with("frames=200 "), "{line}"),
         }
     }
-    assert!(refused, "the example's bad box was not refused");
+    // The example's bad box, then its skewed rotation.
+    assert_eq!(refused.len(), 2, "{refused:?}");
+    assert!(
+        refused[0].contains("status 3") && refused[0].contains("group 1: obb 0: field `half`"),
+        "{}",
+        refused[0]
+    );
+    assert!(
+        refused[1].contains("status 2")
+            && refused[1].contains("group 1: the pose's rotation is not orthonormal"),
+        "{}",
+        refused[1]
+    );
+    assert_eq!(poses.len(), 1, "the instrument was never posed");
     assert_eq!(frames, 200);
     // The run is not empty: the instrument meets the tissue and the other instrument.
     assert!(

@@ -1,12 +1,14 @@
 //! `obbcd replay --capi`: the frames through the C ABI (crate obbcd-capi) as a C control loop
-//! calls it, the tissue (group 0) resident: each replaced group's boxes set, then a detection.
+//! calls it, the tissue (group 0) resident: each replaced group's boxes set, then a detection;
+//! with `--rigid`, each instrument's boxes set once and a pose per frame.
 
 use anyhow::{bail, Result};
 use obb_model::generate::FrameUpdate;
-use obb_model::GroupMask;
+use obb_model::pose::Pose;
+use obb_model::{GroupMask, Obb};
 use obbcd_c::{
-    obbcd_detect, obbcd_engine_free, obbcd_engine_new, obbcd_last_error, obbcd_set_boxes, ObbcdBox,
-    ObbcdEngine, ObbcdStatus,
+    obbcd_detect, obbcd_engine_free, obbcd_engine_new, obbcd_last_error, obbcd_set_boxes,
+    obbcd_set_pose, ObbcdBox, ObbcdEngine, ObbcdPose, ObbcdStatus,
 };
 use std::collections::BTreeMap;
 use std::ffi::{CStr, CString};
@@ -46,14 +48,19 @@ impl CapiRun {
     /// The frame's boxes as the ABI takes them, by group (not timed: a C caller has them so).
     pub fn stage(&mut self, f: &FrameUpdate) {
         for &g in &f.replace {
-            let boxes = self.staged.entry(g).or_default();
-            boxes.clear();
-            boxes.extend(f.obbs.iter().filter(|b| b.group == g).map(|b| ObbcdBox {
-                center: b.center,
-                axes: b.axes,
-                half: b.half,
-            }));
+            self.stage_group(g, f.obbs.iter().filter(|b| b.group == g));
         }
+    }
+
+    /// `group`'s boxes as the ABI takes them.
+    pub fn stage_group<'a>(&mut self, group: u32, obbs: impl Iterator<Item = &'a Obb>) {
+        let boxes = self.staged.entry(group).or_default();
+        boxes.clear();
+        boxes.extend(obbs.map(|b| ObbcdBox {
+            center: b.center,
+            axes: b.axes,
+            half: b.half,
+        }));
     }
 
     /// The scene's boxes: every group's as last staged.
@@ -64,11 +71,39 @@ impl CapiRun {
     /// Sets the staged boxes of the groups `replace` names and detects: the number of pairs.
     pub fn detect(&mut self, replace: &[u32]) -> Result<usize> {
         for g in replace {
-            let boxes = &self.staged[g];
-            // SAFETY: a live engine and `boxes.len()` boxes.
-            let status = unsafe { obbcd_set_boxes(self.engine, *g, boxes.as_ptr(), boxes.len()) };
-            check(&format!("obbcd_set_boxes (group {g})"), status)?;
+            self.set(*g)?;
         }
+        self.detect_only()
+    }
+
+    /// Sets the staged boxes of `group`.
+    pub fn set(&mut self, group: u32) -> Result<()> {
+        let boxes = &self.staged[&group];
+        // SAFETY: a live engine and `boxes.len()` boxes.
+        let status = unsafe { obbcd_set_boxes(self.engine, group, boxes.as_ptr(), boxes.len()) };
+        check(&format!("obbcd_set_boxes (group {group})"), status)
+    }
+
+    /// Sets the staged tissue (group 0) if `tissue`, the pose of each of `groups`, and
+    /// detects: the number of pairs.
+    pub fn detect_posed(&mut self, tissue: bool, groups: &[u32], poses: &[Pose]) -> Result<usize> {
+        if tissue {
+            self.set(0)?;
+        }
+        for (g, p) in groups.iter().zip(poses) {
+            let pose = ObbcdPose {
+                rotation: p.rotation,
+                translation: p.translation,
+            };
+            // SAFETY: a live engine and a pose.
+            let status = unsafe { obbcd_set_pose(self.engine, *g, &pose) };
+            check(&format!("obbcd_set_pose (group {g})"), status)?;
+        }
+        self.detect_only()
+    }
+
+    /// Detects: the number of pairs.
+    fn detect_only(&mut self) -> Result<usize> {
         let mut n = 0;
         // SAFETY: a live engine, a writable count.
         check("obbcd_detect", unsafe { obbcd_detect(self.engine, &mut n) })?;

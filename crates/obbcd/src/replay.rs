@@ -52,8 +52,9 @@ pub struct ReplayArgs {
     capi: bool,
     /// The built-in motion's grippers as rigid bodies: their boxes given once in their own
     /// frame, a haptic frame brings only a pose per gripper; the tissue resident (grid only).
-    /// Only the grippers' box clusters near the tissue or the other gripper are placed.
-    #[arg(long, conflicts_with_all = ["resident", "capi", "input"])]
+    /// Only the grippers' box clusters near the tissue or the other gripper are placed. With
+    /// --capi, through the C ABI (`obbcd_set_pose`).
+    #[arg(long, conflicts_with_all = ["resident", "input"])]
     rigid: bool,
     /// Write the frames run to this file (`.jsonl` or binary).
     #[arg(long)]
@@ -180,18 +181,31 @@ pub fn run(a: ReplayArgs) -> Result<()> {
         );
     }
     let mut resident = a.resident.then(Resident::default);
-    let mut rigid = match (&source, a.rigid) {
-        (Source::Builtin(m, _), true) => {
-            let mut r = RigidResident::default();
-            r.set_bodies(&m.bodies());
-            Some(r)
-        }
-        _ => None,
-    };
     let mut capi = if a.capi {
         Some(CapiRun::new(&a.groups, rayon::current_num_threads())?)
     } else {
         None
+    };
+    let mut rigid = match (&source, a.rigid, capi.take()) {
+        (Source::Builtin(m, _), true, None) => {
+            let mut r = RigidResident::default();
+            r.set_bodies(&m.bodies());
+            Some(Rigid::Native(Box::new(r)))
+        }
+        (Source::Builtin(m, _), true, Some(mut c)) => {
+            let mut groups = Vec::new();
+            for body in m.bodies() {
+                let g = body.first().map_or(0, |b| b.group);
+                c.stage_group(g, body.iter());
+                c.set(g)?;
+                groups.push(g);
+            }
+            Some(Rigid::Capi(c, groups))
+        }
+        (_, _, c) => {
+            capi = c;
+            None
+        }
     };
     let mut engine = a.engine.build();
     let mut prepared = Prepared::default();
@@ -254,8 +268,8 @@ pub fn run(a: ReplayArgs) -> Result<()> {
         w.finish()?;
     }
     let obbs = match (&capi, &rigid) {
-        (Some(c), _) => c.len(),
-        (_, Some(r)) => r.boxes(),
+        (Some(c), _) | (_, Some(Rigid::Capi(c, _))) => c.len(),
+        (_, Some(Rigid::Native(r))) => r.boxes(),
         _ => boxes.all.len(),
     };
     println!("{}", summary(&runs, &a, obbs));
@@ -269,10 +283,16 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     Ok(())
 }
 
+/// Where `--rigid` runs: the engine itself, or the C ABI with the bodies' groups.
+enum Rigid {
+    Native(Box<RigidResident>),
+    Capi(CapiRun, Vec<u32>),
+}
+
 /// Frame `k` of the built-in motion with rigid grippers: the tissue on its update frames, then
 /// the grippers' poses; the time runs from the poses (and the tissue) to the pairs.
 fn rigid_frame(
-    rigid: &mut RigidResident,
+    rigid: &mut Rigid,
     motion: &SurgicalMotion,
     k: usize,
     mask: &GroupMask,
@@ -284,17 +304,27 @@ fn rigid_frame(
     }
     let tissue = motion.tissue(k);
     let poses = motion.poses(k);
-    let start = Instant::now();
     let updated = tissue.is_some();
-    if let Some(t) = tissue {
-        rigid.update_static(&t, mask);
+    // (Staged before the clock starts: a C caller has the boxes in the ABI's records.)
+    if let (Rigid::Capi(c, _), Some(t)) = (&mut *rigid, &tissue) {
+        c.stage_group(0, t.iter());
     }
-    rigid.detect(&poses, pairs);
+    let start = Instant::now();
+    let found = match rigid {
+        Rigid::Native(r) => {
+            if let Some(t) = tissue {
+                r.update_static(&t, mask);
+            }
+            r.detect(&poses, pairs);
+            pairs.len()
+        }
+        Rigid::Capi(c, groups) => c.detect_posed(updated, groups, &poses)?,
+    };
     Ok(Run {
         t_ms: motion.frame_time_ms(k),
         tissue: updated,
         latency_ms: start.elapsed().as_secs_f64() * 1e3,
-        pairs: pairs.len(),
+        pairs: found,
     })
 }
 

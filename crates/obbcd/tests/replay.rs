@@ -96,6 +96,11 @@ fn builtin_frames_give_brute_forces_pairs() {
         assert_eq!(field(&line, "rigid"), "1");
         assert_eq!(field(&line, "obbs"), "700");
         assert_eq!(rows(&rigid), rows(&full), "{groups}");
+        // And posed through the C ABI.
+        let line = run(&rigid, &["--rigid", "--capi"]);
+        assert_eq!((field(&line, "rigid"), field(&line, "capi")), ("1", "1"));
+        assert_eq!(field(&line, "obbs"), "700");
+        assert_eq!(rows(&rigid), rows(&full), "{groups}");
     }
 }
 

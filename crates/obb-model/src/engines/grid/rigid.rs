@@ -93,6 +93,34 @@ struct Body {
     supers: Vec<Cluster>,
 }
 
+impl Body {
+    fn of(boxes: &[Obb]) -> Body {
+        let cut = |size: usize| -> Vec<Cluster> {
+            (0..boxes.len())
+                .step_by(size)
+                .map(|s| Cluster::of(boxes, s..(s + size).min(boxes.len())))
+                .collect()
+        };
+        Body {
+            group: Body::group_of(boxes),
+            clusters: cut(CLUSTER),
+            supers: cut(CLUSTER * SUPER),
+            boxes: boxes.to_vec(),
+        }
+    }
+
+    /// The group of the boxes, which must all be of one: the masks are decided per body, so
+    /// a body of two groups would hide the pairs between them.
+    fn group_of(boxes: &[Obb]) -> u32 {
+        let group = boxes.first().map_or(0, |b| b.group);
+        assert!(
+            boxes.iter().all(|b| b.group == group),
+            "a body's boxes are all of one group"
+        );
+        group
+    }
+}
+
 #[derive(Debug, Default)]
 pub struct RigidResident {
     resident: Resident,
@@ -117,31 +145,29 @@ impl RigidResident {
 
     /// The bodies, each's boxes in its own frame, all of one group per body (panics
     /// otherwise). Their indices follow the static boxes, body after body.
-    pub fn set_bodies(&mut self, bodies: &[Vec<Obb>]) {
-        self.bodies = bodies
-            .iter()
-            .map(|boxes| {
-                let cut = |size: usize| -> Vec<Cluster> {
-                    (0..boxes.len())
-                        .step_by(size)
-                        .map(|s| Cluster::of(boxes, s..(s + size).min(boxes.len())))
-                        .collect()
-                };
-                let group = boxes.first().map_or(0, |b| b.group);
-                // The masks below are decided per body: a body of two groups would hide the
-                // pairs between them.
-                assert!(
-                    boxes.iter().all(|b| b.group == group),
-                    "a body's boxes are all of one group"
-                );
-                Body {
-                    group,
-                    clusters: cut(CLUSTER),
-                    supers: cut(CLUSTER * SUPER),
-                    boxes: boxes.clone(),
-                }
-            })
-            .collect();
+    pub fn set_bodies<B: AsRef<[Obb]>>(&mut self, bodies: &[B]) {
+        self.bodies = bodies.iter().map(|b| Body::of(b.as_ref())).collect();
+    }
+
+    /// New boxes for body `k` (in its own frame, as in `set_bodies`), in place: with the
+    /// body's count unchanged nothing is allocated. Panics if there is no body `k`.
+    pub fn set_body(&mut self, k: usize, boxes: &[Obb]) {
+        let body = &mut self.bodies[k];
+        if body.boxes.len() != boxes.len() {
+            *body = Body::of(boxes);
+            return;
+        }
+        body.group = Body::group_of(boxes);
+        body.boxes.clone_from_slice(boxes);
+        let Body {
+            boxes,
+            clusters,
+            supers,
+            ..
+        } = body;
+        for c in clusters.iter_mut().chain(supers.iter_mut()) {
+            *c = Cluster::of(boxes, c.boxes.clone());
+        }
     }
 
     /// The boxes of the scene: the static ones and every body's.
