@@ -113,21 +113,19 @@ ObbcdStatus obbcd_set_boxes(ObbcdEngine *engine,
 // frame). Refused with `OBBCD_STATUS_INVALID_ARGUMENT`, changing nothing, for a static group,
 // a group whose boxes were never set, an entry that is not finite, a rotation not
 // orthonormal within 1e-5 (an entry of R·Rᵀ - I), a translation beyond ±1e6, or a pose
-// placing a box's center beyond ±1e6. The last detection's pairs and contacts are dropped. Costs no allocation.
+// placing a box's center beyond ±1e6. The last detection's pairs and contacts are dropped.
+// Costs no allocation.
 //
 // # Safety
 // `engine` as in `obbcd_engine_free`; `pose` points to a pose.
-ObbcdStatus obbcd_set_pose(ObbcdEngine *engine,
-                           uint32_t group,
-                           const ObbcdPose *pose);
+ObbcdStatus obbcd_set_pose(ObbcdEngine *engine, uint32_t group, const ObbcdPose *pose);
 
-// Finds every colliding pair of the boxes set so far, each moving group placed by its pose; `*pair_count` (if not NULL) receives
-// their number. Read them with `obbcd_pairs`.
+// Finds every colliding pair of the boxes set so far, each moving group placed by its pose;
+// `*pair_count` (if not NULL) receives their number. Read them with `obbcd_pairs`.
 //
 // # Safety
 // `engine` as in `obbcd_engine_free`; `pair_count` is NULL or writable.
-ObbcdStatus obbcd_detect(ObbcdEngine *engine,
-                         size_t *pair_count);
+ObbcdStatus obbcd_detect(ObbcdEngine *engine, size_t *pair_count);
 
 // The last detection's pairs, sorted: `*pairs` points to `*count` of them, valid until the
 // engine's next `obbcd_set_boxes`, `obbcd_set_pose`, `obbcd_detect` or `obbcd_engine_free`.

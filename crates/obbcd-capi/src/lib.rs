@@ -4,9 +4,10 @@
 //! their grid is rebuilt only when one of them is set; the other groups (the instruments) are
 //! tested against it and each other at every detection. A moving group's boxes may be given
 //! once in the group's own frame and placed by a pose each frame (`obbcd_set_pose`, a rigid
-//! instrument): only the boxes near something are placed and tested. The pairs are those of every obbcd
-//! engine: all colliding pairs the group mask allows, never a miss (docs/sat.md). After the
-//! first frames, a detection with unchanged box counts allocates nothing in the engine.
+//! instrument): only the boxes near something are placed and tested. The pairs are those of
+//! every obbcd engine: all colliding pairs the group mask allows, never a miss (docs/sat.md).
+//! After the first frames, a detection with unchanged box counts allocates nothing in the
+//! engine.
 //!
 //! Every function returns an [`ObbcdStatus`]; on a failure `obbcd_last_error` gives the reason.
 //! No panic crosses the boundary: one is caught, reported as `OBBCD_STATUS_INTERNAL`, and the
@@ -197,7 +198,8 @@ pub unsafe extern "C" fn obbcd_set_boxes(
 /// frame). Refused with `OBBCD_STATUS_INVALID_ARGUMENT`, changing nothing, for a static group,
 /// a group whose boxes were never set, an entry that is not finite, a rotation not
 /// orthonormal within 1e-5 (an entry of R·Rᵀ - I), a translation beyond ±1e6, or a pose
-/// placing a box's center beyond ±1e6. The last detection's pairs and contacts are dropped. Costs no allocation.
+/// placing a box's center beyond ±1e6. The last detection's pairs and contacts are dropped.
+/// Costs no allocation.
 ///
 /// # Safety
 /// `engine` as in `obbcd_engine_free`; `pose` points to a pose.
@@ -223,8 +225,8 @@ pub unsafe extern "C" fn obbcd_set_pose(
     unsafe { with_engine(engine, |e| e.set_pose(group, pose).map_err(refused)) }
 }
 
-/// Finds every colliding pair of the boxes set so far, each moving group placed by its pose; `*pair_count` (if not NULL) receives
-/// their number. Read them with `obbcd_pairs`.
+/// Finds every colliding pair of the boxes set so far, each moving group placed by its pose;
+/// `*pair_count` (if not NULL) receives their number. Read them with `obbcd_pairs`.
 ///
 /// # Safety
 /// `engine` as in `obbcd_engine_free`; `pair_count` is NULL or writable.

@@ -1,8 +1,8 @@
 //! After warm-up, a haptic frame through the C ABI (set the instruments' boxes, or their poses,
 //! detect, read the pairs and contacts) allocates nothing in obbcd: every allocation of the
-//! process is counted. The one that remains is rayon's: handing a job to a pool from outside it puts it
-//! in a queue made of 63-slot blocks, and a new block is allocated every 63 jobs (seen with
-//! gdb: `crossbeam_deque::Injector::push` under `Registry::inject`).
+//! process is counted. The one that remains is rayon's: handing a job to a pool from outside
+//! it puts it in a queue made of 63-slot blocks, and a new block is allocated every 63 jobs
+//! (seen with gdb: `crossbeam_deque::Injector::push` under `Registry::inject`).
 
 use obb_model::generate::SurgicalMotion;
 use obbcd_c::*;
