@@ -186,26 +186,26 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     } else {
         None
     };
-    let mut rigid = match (&source, a.rigid, capi.take()) {
-        (Source::Builtin(m, _), true, None) => {
-            let mut r = RigidResident::default();
-            r.set_bodies(&m.bodies());
-            Some(Rigid::Native(Box::new(r)))
-        }
-        (Source::Builtin(m, _), true, Some(mut c)) => {
-            let mut groups = Vec::new();
-            for body in m.bodies() {
-                let g = body.first().map_or(0, |b| b.group);
-                c.stage_group(g, body.iter());
-                c.set(g)?;
-                groups.push(g);
+    // With --rigid, --capi's engine runs the rigid frames.
+    let mut rigid = match (&source, a.rigid) {
+        (Source::Builtin(m, _), true) => Some(match capi.take() {
+            None => {
+                let mut r = RigidResident::default();
+                r.set_bodies(&m.bodies());
+                Rigid::Native(Box::new(r))
             }
-            Some(Rigid::Capi(c, groups))
-        }
-        (_, _, c) => {
-            capi = c;
-            None
-        }
+            Some(mut c) => {
+                let mut groups = Vec::new();
+                for body in m.bodies() {
+                    let g = body.first().map_or(0, |b| b.group);
+                    c.stage_group(g, body.iter());
+                    c.set(g)?;
+                    groups.push(g);
+                }
+                Rigid::Capi(c, groups)
+            }
+        }),
+        _ => None,
     };
     let mut engine = a.engine.build();
     let mut prepared = Prepared::default();
