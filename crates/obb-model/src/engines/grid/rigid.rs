@@ -30,10 +30,12 @@ const SUPER: usize = 16;
 const GROW: f64 = 64.0 * U;
 
 /// Consecutive boxes of one body and the bounds of their AABBs in the body's frame.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 struct Cluster {
     boxes: Range<usize>,
-    /// Center and half-extent of the boxes' local AABB union.
+    /// The boxes' local AABB union.
+    union: Aabb,
+    /// Center and half-extent of that union.
     center: [f64; 3],
     half: [f64; 3],
     /// Per local axis, the largest |coordinate| of that union: bounds every local quantity
@@ -52,12 +54,27 @@ impl Cluster {
             union = union.union(&Aabb::of(b));
             halves = halves.max(b.half.iter().sum());
         }
+        Cluster::bounding(range, union, 16.0 * TINY * (1.0 + halves))
+    }
+
+    /// The cluster of consecutive clusters' boxes (at least one cluster), from their bounds
+    /// alone: the union of unions and the largest floor are exactly those `of` computes from
+    /// the boxes (the floor grows with the half-lengths).
+    fn merged(parts: &[Cluster]) -> Cluster {
+        let range = parts[0].boxes.start..parts[parts.len() - 1].boxes.end;
+        let union = parts.iter().fold(Aabb::EMPTY, |u, c| u.union(&c.union));
+        let floor = parts.iter().fold(0.0, |f: f64, c| f.max(c.floor));
+        Cluster::bounding(range, union, floor)
+    }
+
+    fn bounding(boxes: Range<usize>, union: Aabb, floor: f64) -> Cluster {
         Cluster {
-            boxes: range,
+            boxes,
+            union,
             center: std::array::from_fn(|j| 0.5 * (union.min[j] + union.max[j])),
             half: std::array::from_fn(|j| 0.5 * (union.max[j] - union.min[j])),
             reach: std::array::from_fn(|j| union.min[j].abs().max(union.max[j].abs())),
-            floor: 16.0 * TINY * (1.0 + halves),
+            floor,
         }
     }
 
@@ -95,16 +112,14 @@ struct Body {
 
 impl Body {
     fn of(boxes: &[Obb]) -> Body {
-        let cut = |size: usize| -> Vec<Cluster> {
-            (0..boxes.len())
-                .step_by(size)
-                .map(|s| Cluster::of(boxes, s..(s + size).min(boxes.len())))
-                .collect()
-        };
+        let clusters: Vec<Cluster> = (0..boxes.len())
+            .step_by(CLUSTER)
+            .map(|s| Cluster::of(boxes, s..(s + CLUSTER).min(boxes.len())))
+            .collect();
         Body {
             group: Body::group_of(boxes),
-            clusters: cut(CLUSTER),
-            supers: cut(CLUSTER * SUPER),
+            supers: clusters.chunks(SUPER).map(Cluster::merged).collect(),
+            clusters,
             boxes: boxes.to_vec(),
         }
     }
@@ -165,8 +180,11 @@ impl RigidResident {
             supers,
             ..
         } = body;
-        for c in clusters.iter_mut().chain(supers.iter_mut()) {
+        for c in clusters.iter_mut() {
             *c = Cluster::of(boxes, c.boxes.clone());
+        }
+        for (s, parts) in supers.iter_mut().zip(clusters.chunks(SUPER)) {
+            *s = Cluster::merged(parts);
         }
     }
 
@@ -313,6 +331,34 @@ mod tests {
                         );
                     }
                 }
+            }
+        }
+    }
+
+    /// A super-cluster merged from its clusters' bounds equals one computed from its boxes:
+    /// whole and partial super-clusters, boxes of every size and far from the origin.
+    #[test]
+    fn merged_clusters_equal_the_cluster_of_their_boxes() {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        for n in [
+            1,
+            CLUSTER,
+            CLUSTER * SUPER,
+            CLUSTER * SUPER + 17,
+            3 * CLUSTER * SUPER - 5,
+        ] {
+            let boxes: Vec<Obb> = (0..n)
+                .map(|_| {
+                    let c = std::array::from_fn(|_| rng.random_range(-9e5..9e5));
+                    let h = std::array::from_fn(|_| rng.random_range(0.0..50.0));
+                    Obb::aligned(c, h, 1)
+                })
+                .collect();
+            let body = Body::of(&boxes);
+            assert_eq!(body.supers.len(), n.div_ceil(CLUSTER * SUPER));
+            for (k, s) in body.supers.iter().enumerate() {
+                let range = k * CLUSTER * SUPER..((k + 1) * CLUSTER * SUPER).min(n);
+                assert_eq!(*s, Cluster::of(&boxes, range), "n {n}, super {k}");
             }
         }
     }
