@@ -18,5 +18,5 @@ cd "$(dirname "$0")/.."
 command -v verilator >/dev/null 2>&1 || { echo "error: verilator is missing (scripts/test.sh installs it)" >&2; exit 1; }
 mkdir -p target
 MUTANTS="${1:-40}" MUTANTS_SEED="${2:-1}" MUTANTS_MATCH="${3:-}" \
-  cargo test --locked -p obb-rtl --test mutants -- --ignored --nocapture mutants_of_the_default_core \
+  cargo test --locked -p obb-rtl --test rtl -- --ignored --nocapture mutants::mutants_of_the_default_core \
   2>&1 | tee target/mutants.log

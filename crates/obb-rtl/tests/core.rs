@@ -3,7 +3,7 @@
 //! emitted Verilog, in Verilator, clock for clock on the same input words. Back-pressure on the
 //! pair stream loses nothing; a frame over capacity reports the error and no pairs.
 
-mod common;
+use crate::common;
 
 use common::scenes::{dense, first, stiff, surgical_contact, three_groups, touching_pairs};
 use common::{run_rust_hdl, run_verilator, signed};
@@ -12,7 +12,9 @@ use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame, ModelRun, QObb};
 use obb_model::generate::surgical;
 use obb_model::{Obb, Scene};
 use obb_rtl::core::{ObbCore, COUNT, INDEX};
-use obb_rtl::flow::cosim::{box_ports, compare, prepare, Expected, SimFrame, Taken};
+use obb_rtl::flow::cosim::{
+    box_ports, compare, frame_clocks, prepare, taken_run, Expected, SimFrame, Taken,
+};
 use obb_rtl::flow::verilator::Port;
 use obb_rtl::leaf::{sbits, uval};
 use obb_rtl::projection::{CENTER, HALF, ROT};
@@ -290,6 +292,18 @@ fn stimulus(
                 assert!(!f.gaps, "{}: the grid's load follows its credits", f.name);
                 grid_schedule(&m.grid_walk(&fit.groups)).accepts
             }
+            (None, BroadPhase::Grid) => {
+                // Over capacity: the boxes it keeps on their credits, then the rest, which it
+                // takes (and drops) on the next clocks whatever the credits say.
+                let kept = Scene {
+                    obbs: f.scene.obbs[..fit.capacity as usize].to_vec(),
+                };
+                let m = ModelFrame::new(&kept, &fit).unwrap();
+                let mut accepts = grid_schedule(&m.grid_walk(&fit.groups)).accepts;
+                let last = *accepts.last().unwrap();
+                accepts.extend((1..).map(|k| last + k).take(boxes.len() - accepts.len()));
+                accepts
+            }
             _ if f.gaps => (0..boxes.len() as u64)
                 .scan(0, |t, i| {
                     *t += 1 + hash(i) % 4;
@@ -306,11 +320,8 @@ fn stimulus(
         }
         // (Improved-sap streams a pair as often as it meets it: the stream, not the pairs.)
         let pairs = run.as_ref().map_or(0, |r| r.stream.len());
-        // (A frame over capacity has no model run: the grid still walks the boxes it took
-        // before it reports, so it gets a hundred clocks more.)
-        let total = run
-            .as_ref()
-            .map_or(boxes.len() as u64 + 100, |r| r.cycles.total);
+        // (A frame over capacity has no model run: the core still walks the boxes it took.)
+        let total = frame_clocks(&f.scene, &fit, run.as_ref()).unwrap();
         let idle = total as usize + f.ready.clocks_per_pair() * pairs + 20;
         // The stream is throttled once the load is over: these words are fixed in advance, so
         // they cannot follow a load the throttle would hold (`tests/cosim.rs` does, through the
@@ -350,7 +361,14 @@ fn judge(
             got.cycles,
             run.as_ref().map(|r| r.cycles)
         );
-        let want = Expected::of(run.as_ref());
+        let taken;
+        let want = match run {
+            Some(run) => Expected::of(run),
+            None => {
+                taken = taken_run(&f.scene, cfg).unwrap();
+                Expected::over_capacity(cfg, &taken)
+            }
+        };
         if let Err(e) = compare(&got, &want, f.ready.taken(cfg.lanes)) {
             panic!("{}: {e}", f.name);
         }
@@ -458,7 +476,7 @@ fn grid_core_with_one_list_matches_the_model() {
 /// The grid with four walker lanes, every group pair: each lane's lists, walker and test
 /// queue, the SAT tests issued lowest lane first, the visits counted several a clock; the
 /// large boxes chained per lane. Long (Verilator takes about ten minutes over its 324 lists):
-/// run with `cargo test --release -p obb-rtl --test core -- --ignored`.
+/// run with `cargo test --release -p obb-rtl --test rtl -- --ignored cores::`.
 #[test]
 #[ignore = "long: the core with four lanes in Verilator (run with --ignored)"]
 fn grid_core_with_lanes_matches_the_model() {
@@ -645,48 +663,6 @@ fn improved_sap_core_matches_the_model() {
     );
 }
 
-/// Every broad phase, cross-group, capacity 8: a frame of ten boxes reports the error and no
-/// pairs; the next frame, within capacity, is whole again (the grid walked and cleared the
-/// lists of the frame over capacity); eight boxes, the capacity, are whole; nine, one over,
-/// report the error. The grid, 8 mm cells: a plate 240 mm long spans more than `MAX_WINDOW`
-/// cells, so the frame is incomplete (flagged, with only true pairs before); the next is whole
-/// again.
-#[test]
-fn capacity_exceeded_is_reported_and_cleared() {
-    for broad_phase in BroadPhase::ALL {
-        let cfg = HwConfig {
-            capacity: 8,
-            broad_phase,
-            grid_cell_mm: 8.0,
-            grid_hash_bits: 2,
-            ..HwConfig::default()
-        };
-        // The touching cases' seven boxes and `more` of them again.
-        let boxes = |more: usize| {
-            let mut scene = touching_pairs();
-            scene.obbs.extend(touching_pairs().obbs[..more].to_vec());
-            assert_eq!(scene.obbs.len(), 7 + more);
-            scene
-        };
-        let mut frames = vec![
-            frame_of("ten boxes", boxes(3)),
-            frame_of("touching", touching_pairs()),
-            frame_of("eight boxes, the capacity", boxes(1)),
-            frame_of("nine boxes, one over", boxes(2)),
-        ];
-        if broad_phase == BroadPhase::Grid {
-            let mut wide = touching_pairs();
-            wide.obbs
-                .push(Obb::aligned([0.0, 0.0, -1.5], [120.0, 4.0, 0.5], 2));
-            let model = ModelFrame::new(&wide, &cfg).unwrap().run();
-            assert!(model.work.incomplete, "the plate's window is too wide");
-            frames.push(frame_of("a plate 30 cells long", wide));
-            frames.push(frame_of("touching, after it", touching_pairs()));
-        }
-        run(&cfg, &frames);
-    }
-}
-
 /// The default configuration (capacity 32,768, cross-group grid) in rust-hdl on the 1,000
 /// boxes of the surgical scene around a jaw tip: the model's pairs, counters and clock count
 /// (the figure in the README).
@@ -702,7 +678,11 @@ fn default_core_on_1000_boxes_of_the_surgical_scene() {
     judge(&cfg, &frames, &words, &hdl, &starts, &models);
 }
 
-/// Random boxes: up to 40 in a small cube, any rotation, half-lengths from zero up, groups 0..7.
+/// The random scenes' configuration's capacity: more than any random scene's boxes.
+const RANDOM_CAPACITY: u32 = 40;
+
+/// Random boxes: fewer than `RANDOM_CAPACITY` in a small cube, any rotation, half-lengths from
+/// zero up, groups 0..7.
 fn random_scene() -> impl proptest::strategy::Strategy<Value = Scene> {
     use proptest::prelude::*;
     let obb = (
@@ -723,14 +703,14 @@ fn random_scene() -> impl proptest::strategy::Strategy<Value = Scene> {
             o.axes = std::array::from_fn(|k| [r[(0, k)], r[(1, k)], r[(2, k)]]);
             o
         });
-    prop::collection::vec(obb, 0..40).prop_map(|obbs| Scene { obbs })
+    prop::collection::vec(obb, 0..RANDOM_CAPACITY as usize).prop_map(|obbs| Scene { obbs })
 }
 
 /// The configuration the random scenes run in: `mode`, the group mask `mask`, 8 mm cells (a
 /// box is larger now and then: the grid's slow path takes it), eight groups.
 fn random_config(mode: BroadPhase, mask: &str) -> HwConfig {
     HwConfig {
-        capacity: 1 << (A - 1),
+        capacity: RANDOM_CAPACITY,
         broad_phase: mode,
         groups: mask.parse().unwrap(),
         grid_cell_mm: 8.0,
@@ -780,22 +760,51 @@ fn random_scenes_match_the_model() {
         .unwrap();
 }
 
-/// Random scenes back to back, six per broad phase, every group pair, in rust-hdl and
-/// in Verilator: the pair stream taken on one clock in 3 at random, the boxes (but the grid's,
-/// which its credits pace) with idle clocks between them.
+/// Every broad phase, every group pair, capacity `RANDOM_CAPACITY`, one core each in rust-hdl
+/// and in Verilator. Random scenes back to back, six: the pair stream taken on one clock in 3
+/// at random, the boxes (but the grid's, which its credits pace) with idle clocks between them.
+/// Then the capacity's edges: one box over reports the error and no pairs; the next frame is
+/// whole again (the grid walked and cleared the lists of the frame over capacity); the
+/// capacity's boxes are whole; one over reports again. The grid, 8 mm cells: a plate 240 mm
+/// long spans more than `MAX_WINDOW` cells, so the frame is incomplete (flagged, with only
+/// true pairs before); the next is whole again.
 #[test]
-fn random_scenes_under_back_pressure_match_the_model() {
+fn random_scenes_under_back_pressure_and_the_capacity_match_the_model() {
     use proptest::strategy::{Strategy, ValueTree};
     let mut runner = deterministic_runner(1);
     let scenes = random_scene();
+    // The touching cases' boxes, again and again: `n` boxes.
+    let boxes = |n: usize| {
+        let t = touching_pairs().obbs;
+        Scene {
+            obbs: (0..n).map(|k| t[k % t.len()].clone()).collect(),
+        }
+    };
+    let cap = RANDOM_CAPACITY as usize;
     for mode in BroadPhase::ALL {
-        let frames: Vec<Frame> = (0..6)
+        let cfg = random_config(mode, "all");
+        let mut frames: Vec<Frame> = (0..6)
             .map(|_| Frame {
                 ready: Ready::Sparse(3),
                 gaps: mode != BroadPhase::Grid,
                 ..frame_of("random", scenes.new_tree(&mut runner).unwrap().current())
             })
             .collect();
-        run(&random_config(mode, "all"), &frames);
+        frames.extend([
+            frame_of("one box over the capacity", boxes(cap + 1)),
+            frame_of("touching", touching_pairs()),
+            frame_of("the capacity's boxes", boxes(cap)),
+            frame_of("one box over the capacity, again", boxes(cap + 1)),
+        ]);
+        if mode == BroadPhase::Grid {
+            let mut wide = touching_pairs();
+            wide.obbs
+                .push(Obb::aligned([0.0, 0.0, -1.5], [120.0, 4.0, 0.5], 2));
+            let model = ModelFrame::new(&wide, &cfg).unwrap().run();
+            assert!(model.work.incomplete, "the plate's window is too wide");
+            frames.push(frame_of("a plate 30 cells long", wide));
+            frames.push(frame_of("touching, after it", touching_pairs()));
+        }
+        run(&cfg, &frames);
     }
 }

@@ -4,7 +4,7 @@
 //! (`GeometryFetch`), against references written here from the clock table in `core.rs`, on
 //! random traffic with ties, the keys' extremes and every group pair.
 
-mod common;
+use crate::common;
 
 use common::{in_verilator, ports, raw, run_rust_hdl, signed};
 use obb_model::fixed::HwConfig;

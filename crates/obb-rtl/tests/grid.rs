@@ -7,7 +7,7 @@
 //! visits counted, every SAT test issued (clock, pair, margins) and the clock the frame is
 //! over.
 
-mod common;
+use crate::common;
 
 use obb_model::fixed::cycles::LAT_PROJECT;
 use obb_model::fixed::grid_clocks::grid_schedule;
@@ -298,9 +298,8 @@ fn grid_cfg(hash_bits: u32, cell_mm: f64, groups: GroupMask) -> HwConfig {
 }
 
 /// Uniform boxes, all pairs, 8 buckets a bank: lists shared by many cells (mixed) and long
-/// walks; coincident boxes, every visit a SAT test; and the surgical surfaces cross-group,
-/// where the instruments' boxes skip the tissue's pure lists.
-fn cases() -> Vec<(&'static str, HwConfig, Scene)> {
+/// walks, on one lane and on two; coincident boxes, every visit a SAT test.
+fn uniform_cases() -> Vec<(&'static str, HwConfig, Scene)> {
     vec![
         (
             "uniform 120, all pairs, 2^3 buckets",
@@ -330,6 +329,18 @@ fn cases() -> Vec<(&'static str, HwConfig, Scene)> {
             },
         ),
         (
+            "uniform 120, all pairs, 2^3 buckets, 2 lanes",
+            lanes(grid_cfg(3, 16.0, GroupMask::All), 2, 1),
+            uniform(120, 5, 0.4).unwrap(),
+        ),
+    ]
+}
+
+/// The surgical surfaces, all pairs with most lists mixed, and cross-group, where the
+/// instruments' boxes skip the tissue's pure lists.
+fn surgical_cases() -> Vec<(&'static str, HwConfig, Scene)> {
+    vec![
+        (
             "surgical 300, all pairs, 2 buckets a bank: most lists mixed",
             grid_cfg(1, 16.0, GroupMask::All),
             surgical(300, 2).unwrap(),
@@ -339,6 +350,12 @@ fn cases() -> Vec<(&'static str, HwConfig, Scene)> {
             grid_cfg(5, 16.0, GroupMask::Cross),
             surgical(300, 2).unwrap(),
         ),
+    ]
+}
+
+/// Boxes larger than a cell: the slow path's rounds and chain.
+fn large_cases() -> Vec<(&'static str, HwConfig, Scene)> {
+    vec![
         (
             "slabs over small boxes, 2 mm cells, groups 0-2 and 2-3: three large boxes, their \
              rounds and the chain",
@@ -363,17 +380,12 @@ fn cases() -> Vec<(&'static str, HwConfig, Scene)> {
                 .concat(),
             },
         ),
-        (
-            "uniform 120, all pairs, 2^3 buckets, 2 lanes",
-            lanes(grid_cfg(3, 16.0, GroupMask::All), 2, 1),
-            uniform(120, 5, 0.4).unwrap(),
-        ),
     ]
 }
 
 /// The lanes' larger cases: hundreds of lists, each Verilog of its own, so that Verilator takes
 /// minutes over each. Long: run with
-/// `cargo test --release -p obb-rtl --test grid -- --ignored`.
+/// `cargo test --release -p obb-rtl --test rtl -- --ignored grid::`.
 fn lanes_cases() -> Vec<(&'static str, HwConfig, Scene)> {
     vec![
         (
@@ -423,29 +435,31 @@ fn large_cfg(hash_bits: u32, cell_mm: f64, groups: GroupMask) -> HwConfig {
     }
 }
 
+// Each case in rust-hdl and, as emitted Verilog, in Verilator: both against the model, and
+// equal clock for clock. (Three tests, so that their Verilator builds share the cores.)
+
 #[test]
-fn grid_block_matches_the_model_in_rust_hdl() {
-    block_matches_the_model_in_rust_hdl(cases());
+fn grid_block_on_uniform_boxes_matches_the_model() {
+    block_matches_the_model(uniform_cases());
 }
 
 #[test]
-#[ignore = "long: the lanes' larger cases (run with --ignored)"]
-fn grid_lanes_match_the_model_in_rust_hdl() {
-    block_matches_the_model_in_rust_hdl(lanes_cases());
+fn grid_block_on_surgical_surfaces_matches_the_model() {
+    block_matches_the_model(surgical_cases());
 }
 
 #[test]
-fn grid_block_verilog_matches_rust_hdl_and_the_model() {
-    block_verilog_matches_rust_hdl_and_the_model(cases());
+fn grid_block_on_large_boxes_matches_the_model() {
+    block_matches_the_model(large_cases());
 }
 
 #[test]
-#[ignore = "long: the lanes' larger cases in Verilator (run with --ignored)"]
-fn grid_lanes_verilog_match_rust_hdl_and_the_model() {
-    block_verilog_matches_rust_hdl_and_the_model(lanes_cases());
+#[ignore = "long: the lanes' larger cases in rust-hdl and Verilator (run with --ignored)"]
+fn grid_lanes_match_the_model_in_rust_hdl_and_verilog() {
+    block_matches_the_model(lanes_cases());
 }
 
-fn block_matches_the_model_in_rust_hdl(cases: Vec<(&'static str, HwConfig, Scene)>) {
+fn block_matches_the_model(cases: Vec<(&'static str, HwConfig, Scene)>) {
     for (what, cfg, scene) in cases {
         let c = case(&scene, &cfg, &cfg.groups);
         assert!(!c.issues.is_empty(), "{what}: SAT tests to check");
@@ -455,14 +469,8 @@ fn block_matches_the_model_in_rust_hdl(cases: Vec<(&'static str, HwConfig, Scene
             c.issues.len(),
             c.finished
         );
-        let rows = rust_hdl_rows(&cfg, &c);
-        check_against_model(&c, &rows, what);
-    }
-}
-
-fn block_verilog_matches_rust_hdl_and_the_model(cases: Vec<(&'static str, HwConfig, Scene)>) {
-    for (what, cfg, scene) in cases {
-        let c = case(&scene, &cfg, &cfg.groups);
+        let hdl = rust_hdl_rows(&cfg, &c);
+        check_against_model(&c, &hdl, &format!("{what} (rust-hdl)"));
         let verilog =
             obb_rtl::flow::emit::verilog(&mut GridPhase::<A, C>::new(&cfg), "grid_phase").unwrap();
         let rows = common::run_verilator(
@@ -472,12 +480,8 @@ fn block_verilog_matches_rust_hdl_and_the_model(cases: Vec<(&'static str, HwConf
             &output_ports(),
             &c.vectors,
         );
-        check_against_model(&c, &rows, what);
-        assert_eq!(
-            rows,
-            rust_hdl_rows(&cfg, &c),
-            "{what}: Verilator equals rust-hdl"
-        );
+        check_against_model(&c, &rows, &format!("{what} (Verilator)"));
+        assert_eq!(rows, hdl, "{what}: Verilator equals rust-hdl");
     }
 }
 

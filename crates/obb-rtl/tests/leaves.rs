@@ -3,7 +3,7 @@
 //! including the extremes; and the latencies the model's cycle count assumes. (The SAT back
 //! end's leaves: `sat_leaves.rs`.)
 
-mod common;
+use crate::common;
 
 use common::in_verilator;
 use obb_rtl::bin_table::BinTable;

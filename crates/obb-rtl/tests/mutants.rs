@@ -15,8 +15,8 @@
 //!
 //! The default tests here check the mutator itself on the default core's Verilog.
 
-mod common;
-mod mutation;
+use crate::common;
+use crate::mutation;
 
 use common::scenes::{
     dense, shared_buckets, stiff, surgical_contact, three_groups, touching_pairs,
@@ -402,7 +402,7 @@ fn standalone_sat() -> SatSides {
 /// sides: a verdict, a side, or the lint of the block tests refusing it.
 fn sides_differ(verilog: &str, sat: &SatSides, dir: &Path) -> Option<String> {
     std::fs::create_dir_all(dir).unwrap();
-    let got = match whole_sat::try_in_verilator(verilog, &sat.stim.vectors, dir) {
+    let got = match whole_sat::try_in_verilator(verilog, &sat.stim.vectors, dir, None) {
         Ok(got) => got,
         Err(e) => return Some(e),
     };
@@ -470,7 +470,7 @@ fn judge(design: &str, cfg: &HwConfig, suite: &[Run], cache: &Path) -> Verdict {
         };
         for ((name, want), got) in run.frames.iter().zip(&got) {
             let taken = Taken::of(run.ready_every, cfg.lanes);
-            if let Err(e) = compare(got, &Expected::of(Some(want)), taken) {
+            if let Err(e) = compare(got, &Expected::of(want), taken) {
                 let how = format!("ready 1/{}", run.ready_every);
                 return Verdict::Killed(format!("{name}, {how}: {}", first_line(e)));
             }

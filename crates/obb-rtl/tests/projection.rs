@@ -2,7 +2,7 @@
 //! emitted Verilog in Verilator (and Icarus, which must agree), on the same vectors, must give the model's keys and margins
 //! `LATENCY` clocks after each OBB, one OBB per clock, and nothing on the other clocks.
 
-mod common;
+use crate::common;
 
 use common::{check, ports, raw, run_rust_hdl, run_verilator, signed};
 use obb_model::fixed::{keys, project, quantize, HwConfig, Margins, QObb};
@@ -96,6 +96,7 @@ fn simulators(cfg: &HwConfig, vectors: &[Vec<u64>]) -> (Vec<Vec<u64>>, Vec<Vec<u
     let icarus = obb_rtl::flow::verilator::simulate_with(
         Simulator::Icarus,
         &dir,
+        None,
         &verilog,
         "projection",
         "clock",

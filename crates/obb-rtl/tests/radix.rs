@@ -2,7 +2,7 @@
 //! one), and `done` exactly the model's `sort_cycles` clocks after `go`, in rust-hdl and in
 //! Verilator; with the core's 24-bit keys and with the 63-bit keys a grid's cells need.
 
-mod common;
+use crate::common;
 
 use obb_model::radix::RadixSorter;
 use obb_rtl::leaf::uval;

@@ -3,7 +3,7 @@
 //! and every axis' two sides where the decision reads them (`common::sat_sides`), against a
 //! reference computed from the boxes (`common::whole_sat`).
 
-mod common;
+use crate::common;
 
 use common::sat_sides::{self, Stimulus};
 use common::whole_sat::{self, SIDES_AT};

@@ -8,7 +8,7 @@
 //! term fails, though the margins' slack may hide it from the verdict (rounding the minors down
 //! does: the last test shows it).
 
-mod common;
+use crate::common;
 
 use common::sat_sides::{self, Products, Stimulus};
 use common::{check, disagreement, pairs, ports, raw, run_rust_hdl, run_verilator, signed};

@@ -1,7 +1,7 @@
 //! The SAT's first stage, clock by clock against `obb_model::fixed::sat::sat_products`, in
 //! rust-hdl and in Verilator: one pair per clock, the exact t, u and R `LATENCY` clocks later.
 
-mod common;
+use crate::common;
 
 use common::{check, ports, raw, run_rust_hdl, run_verilator, signed};
 use obb_model::fixed::sat::sat_products;

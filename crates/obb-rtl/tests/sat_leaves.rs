@@ -7,7 +7,7 @@
 //! extremes (-2^(B-1), the largest positive, zero, ±1) and, where a leaf rounds or compares,
 //! the values on either side of every tie.
 
-mod common;
+use crate::common;
 
 use common::{ceil_div, floor_div, in_verilator, nearest, ports, raw, run_rust_hdl, signed};
 use obb_rtl::flow::verilator::Port;

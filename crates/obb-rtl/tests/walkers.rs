@@ -5,7 +5,7 @@
 //! walker's Verilog (Verilator) equals its rust-hdl simulation on every output, every clock,
 //! driven with the inputs of a closed-loop walk.
 
-mod common;
+use crate::common;
 
 use obb_model::fixed::broad::{walk_cycles, BroadWork};
 use obb_model::fixed::BroadPhase;

@@ -1,13 +1,14 @@
 //! A cache of slow builds (simulators, yosys netlists), keyed by the SHA-256 of everything the
 //! build reads. An entry is built in a directory of its own and renamed into place when
 //! complete, so that concurrent builds (two shells) never see half-built files; within one
-//! process (parallel tests) builds take turns.
+//! process (parallel tests) builds of one entry take turns.
 
 use anyhow::{bail, Context, Result};
 use sha2::{Digest, Sha256};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 /// The cache directory: `$OBBCD_CACHE`, else `$XDG_CACHE_HOME/obbcd`, else `~/.cache/obbcd`,
 /// else below the system's temporary directory.
@@ -49,11 +50,18 @@ pub fn entry(
     name: &str,
     build: impl FnOnce(&Path) -> Result<()>,
 ) -> Result<(PathBuf, bool)> {
-    // One build at a time in this process: threads that want the same entry wait for it
-    // instead of building it again (a poisoned lock only means another build failed).
-    static BUILDING: Mutex<()> = Mutex::new(());
+    // One build of an entry at a time in this process: threads that want the same entry wait
+    // for it instead of building it again, while other entries build beside it (a yosys
+    // synthesis takes one core for minutes). A poisoned lock only means another build failed.
+    static BUILDING: Mutex<BTreeMap<PathBuf, Arc<Mutex<()>>>> = Mutex::new(BTreeMap::new());
     static CALLS: AtomicUsize = AtomicUsize::new(0);
-    let _one = BUILDING.lock().unwrap_or_else(|p| p.into_inner());
+    let this = BUILDING
+        .lock()
+        .unwrap_or_else(|p| p.into_inner())
+        .entry(cache.join(name))
+        .or_default()
+        .clone();
+    let _one = this.lock().unwrap_or_else(|p| p.into_inner());
     if let Some(dir) = built(cache, name) {
         return Ok((dir, true));
     }

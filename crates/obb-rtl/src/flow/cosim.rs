@@ -8,7 +8,7 @@ use crate::flow::cache;
 use crate::flow::verilator::{hex_word, output, Simulator, BINARY_FLAGS};
 use crate::flow::waves::{Trace, WaveFormat, Waves};
 use anyhow::{bail, Context, Result};
-use obb_model::fixed::{quantize, HwConfig, ModelFrame, ModelRun, QObb, QuantizeError};
+use obb_model::fixed::{quantize, BroadPhase, HwConfig, ModelFrame, ModelRun, QObb, QuantizeError};
 use obb_model::{Pair, Scene};
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
@@ -46,14 +46,17 @@ pub fn prepare(
 pub fn frame_clocks(scene: &Scene, cfg: &HwConfig, run: Option<&ModelRun>) -> Result<u64> {
     Ok(match run {
         Some(r) => r.cycles.total,
-        None => {
-            let took = (cfg.capacity as usize).min(scene.obbs.len());
-            let first = Scene {
-                obbs: scene.obbs[..took].to_vec(),
-            };
-            ModelFrame::new(&first, cfg)?.run().cycles.total + scene.obbs.len() as u64
-        }
+        None => taken_run(scene, cfg)?.cycles.total + scene.obbs.len() as u64,
     })
+}
+
+/// The model's run of the boxes a frame over capacity keeps: its first `capacity`.
+pub fn taken_run(scene: &Scene, cfg: &HwConfig) -> Result<ModelRun> {
+    let took = (cfg.capacity as usize).min(scene.obbs.len());
+    let first = Scene {
+        obbs: scene.obbs[..took].to_vec(),
+    };
+    Ok(ModelFrame::new(&first, cfg)?.run())
 }
 
 /// The values of the box input ports for one box, in the test bench's word order (lowest bits
@@ -403,20 +406,32 @@ fn parse_result(text: &str) -> Result<Vec<SimFrame>> {
 /// not.
 pub enum Expected<'a> {
     Frame(&'a ModelRun),
+    /// Over capacity, but for the grid: the flag, and no pair (the other broad phases start
+    /// once every box is in).
     OverCapacity,
-    /// The grid met a large box whose window spans more than `grid::MAX_WINDOW` cells on an
-    /// axis, which its slow path does not read: the core flags the frame; the pairs it sent
-    /// before are some of the model's.
+    /// The frame is incomplete, and the core flags it; the pairs it sent before are some of
+    /// this run's. The grid met a large box whose window spans more than `grid::MAX_WINDOW`
+    /// cells on an axis, which its slow path does not read; or the grid's frame is over
+    /// capacity, and the run is of the boxes it kept (`taken_run`): it walks them as they
+    /// arrive, and sends their pairs until the box over capacity.
     Incomplete(&'a ModelRun),
 }
 
 impl<'a> Expected<'a> {
-    /// What the core must give for the model's run (`None`: the frame is over capacity).
-    pub fn of(run: Option<&'a ModelRun>) -> Expected<'a> {
-        match run {
-            None => Expected::OverCapacity,
-            Some(r) if r.work.incomplete => Expected::Incomplete(r),
-            Some(r) => Expected::Frame(r),
+    /// What the core must give for the model's run of a frame whose boxes fit.
+    pub fn of(run: &'a ModelRun) -> Expected<'a> {
+        match run.work.incomplete {
+            true => Expected::Incomplete(run),
+            false => Expected::Frame(run),
+        }
+    }
+
+    /// What the core for `cfg` must give for a frame over capacity; `taken` is the run of the
+    /// boxes it kept (`taken_run`).
+    pub fn over_capacity(cfg: &HwConfig, taken: &'a ModelRun) -> Expected<'a> {
+        match cfg.broad_phase {
+            BroadPhase::Grid => Expected::Incomplete(taken),
+            _ => Expected::OverCapacity,
         }
     }
 }
@@ -455,15 +470,16 @@ impl Taken {
 
 /// Compares a simulated frame with the model: the pair stream (in order unless `taken` says
 /// otherwise), the counters, and (with the pair stream never throttled) the cycle count; `done`
-/// within three clocks of it. Over capacity: the flag, and no pair. Incomplete: the flag, and
-/// only the model's pairs. Returns the first difference.
+/// within three clocks of it. Over capacity: the flag, and no pair. Incomplete (and the grid
+/// over capacity): the flag, and only the model's pairs. Returns the first difference.
 pub fn compare(got: &SimFrame, want: &Expected, taken: Taken) -> Result<(), String> {
     let throttled = taken != Taken::Freely;
     let run = match want {
         Expected::Incomplete(run) => {
             if !got.capacity_exceeded {
                 return Err(
-                    "a large box's window is too wide for the grid, but capacity_exceeded is low"
+                    "the frame is incomplete (over capacity, or a large box's window \
+                            too wide for the grid), but capacity_exceeded is low"
                         .into(),
                 );
             }

@@ -1,8 +1,10 @@
-//! Runs emitted Verilog in a real simulator (Verilator, or Icarus as a second opinion) on vectors: a generated test bench reads
-//! one packed input word per clock (`$readmemh`), applies it, clocks the design and writes the
-//! packed outputs after the edge. The same vectors drive the rust-hdl simulation, and both are
+//! Runs emitted Verilog in a real simulator (Verilator, or Icarus as a second opinion) on
+//! vectors: a generated test bench reads one packed input word per clock (`$fscanf`, until the
+//! file ends: a build serves any number of vectors), applies it, clocks the design and writes
+//! the packed outputs after the edge. The same vectors drive the rust-hdl simulation, and both are
 //! compared with the model, because rust-hdl's simulation and its Verilog can disagree.
 
+use super::cache;
 use anyhow::{bail, Context, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -79,17 +81,11 @@ fn unpack(ports: &[Port], word: &str) -> Result<Vec<u64>> {
 /// named `dut.<signal>`), falling edge. Its
 /// own names start with `tb_` or end with `_file`, apart from any port's (a port `f` once met
 /// the bench's file handle `f`).
-fn testbench(top: &str, clock: &str, inputs: &[Port], outputs: &[Port], n: usize) -> String {
+fn testbench(top: &str, clock: &str, inputs: &[Port], outputs: &[Port]) -> String {
     let iw: usize = inputs.iter().map(|p| p.bits).sum();
     let mut v = String::new();
     let _ = writeln!(v, "`timescale 1ns/1ps\nmodule tb;");
-    let _ = writeln!(
-        v,
-        "reg {clock} = 0;\nreg [{}:0] stim [0:{}];\nreg [{}:0] cur;",
-        iw - 1,
-        n - 1,
-        iw - 1
-    );
+    let _ = writeln!(v, "reg {clock} = 0;\nreg [{}:0] cur, tb_word;", iw - 1);
     let mut at = 0;
     for p in inputs {
         let _ = writeln!(
@@ -131,19 +127,23 @@ fn testbench(top: &str, clock: &str, inputs: &[Port], outputs: &[Port], n: usize
     packed.reverse();
     let _ = writeln!(
         v,
-        "integer tb_fd, tb_k;
+        "integer tb_fd, tb_in;
 reg [1023:0] stim_file, out_file;
 initial begin
   if (!$value$plusargs(\"stim=%s\", stim_file)) $fatal(1, \"no +stim\");
   if (!$value$plusargs(\"out=%s\", out_file)) $fatal(1, \"no +out\");
-  $readmemh(stim_file, stim);
+  tb_in = $fopen(stim_file, \"r\");
+  if (tb_in == 0) $fatal(1, \"cannot open the stimulus\");
   tb_fd = $fopen(out_file, \"w\");
-  for (tb_k = 0; tb_k < {n}; tb_k = tb_k + 1) begin
-    cur = stim[tb_k];
+  // (Read into a word of its own, then assigned: Verilator does not see `$fscanf`'s write
+  // as a change that the port wires must follow.)
+  while ($fscanf(tb_in, \"%h\\n\", tb_word) == 1) begin
+    cur = tb_word;
     #1 {clock} = 1;
     #1 $fwrite(tb_fd, \"%h\\n\", {{{}}});
     #1 {clock} = 0;
   end
+  $fclose(tb_in);
   $fclose(tb_fd);
   $finish;
 end
@@ -220,11 +220,14 @@ pub enum Simulator {
 }
 
 /// Simulates `verilog` (top module `top`, clocked by `clock`) in `sim` on one input vector per
-/// clock and returns the outputs after each rising edge.
+/// clock and returns the outputs after each rising edge. The files of the run are written in
+/// `dir`; a Verilator build is taken from `cache` (`cache::entry`, keyed by the test bench, the
+/// design, the flags and Verilator's version) when one is given, else built in `dir`.
 #[allow(clippy::too_many_arguments)]
 pub fn simulate_with(
     sim: Simulator,
     dir: &Path,
+    cache: Option<&Path>,
     verilog: &str,
     top: &str,
     clock: &str,
@@ -233,26 +236,46 @@ pub fn simulate_with(
     vectors: &[Vec<u64>],
 ) -> Result<Vec<Vec<u64>>> {
     assert!(!vectors.is_empty() && !inputs.is_empty());
-    std::fs::write(dir.join("dut.v"), verilog)?;
-    let bench = testbench(top, clock, inputs, outputs, vectors.len());
-    std::fs::write(dir.join("tb.v"), bench)?;
+    let bench = testbench(top, clock, inputs, outputs);
     let stim: String = vectors.iter().map(|v| pack(inputs, v) + "\n").collect();
     std::fs::write(dir.join("stim.hex"), stim)?;
     let plusargs = ["+stim=stim.hex", "+out=out.hex"];
+    let sources = |at: &Path| -> Result<()> {
+        std::fs::write(at.join("dut.v"), verilog)?;
+        std::fs::write(at.join("tb.v"), &bench)?;
+        Ok(())
+    };
     match sim {
         Simulator::Verilator => {
+            let build = |at: &Path| {
+                sources(at)?;
+                run(
+                    binary_build(at).args(["tb.v", "dut.v"]),
+                    "verilator (build)",
+                )
+            };
+            let built = match cache {
+                Some(cache) => {
+                    let version = output(Command::new("verilator").arg("--version"), "verilator")?;
+                    let flags = BINARY_FLAGS.join(" ");
+                    let parts = [&bench, verilog, &flags, &version].map(str::as_bytes);
+                    let name = format!("block-{top}-{}", cache::key(&parts));
+                    cache::entry(cache, &name, build)?.0
+                }
+                None => {
+                    build(dir)?;
+                    dir.to_path_buf()
+                }
+            };
             run(
-                binary_build(dir).args(["tb.v", "dut.v"]),
-                "verilator (build)",
-            )?;
-            run(
-                Command::new(dir.join("obj/Vtb"))
+                Command::new(built.join("obj/Vtb"))
                     .current_dir(dir)
                     .args(plusargs),
                 "the Verilator simulation",
             )?;
         }
         Simulator::Icarus => {
+            sources(dir)?;
             run(
                 Command::new("iverilog")
                     .current_dir(dir)
@@ -273,8 +296,10 @@ pub fn simulate_with(
 }
 
 /// `simulate_with` in Verilator.
+#[allow(clippy::too_many_arguments)]
 pub fn simulate(
     dir: &Path,
+    cache: Option<&Path>,
     verilog: &str,
     top: &str,
     clock: &str,
@@ -285,6 +310,7 @@ pub fn simulate(
     simulate_with(
         Simulator::Verilator,
         dir,
+        cache,
         verilog,
         top,
         clock,

@@ -1,6 +1,5 @@
 //! Driving a block clock by clock: in rust-hdl's simulation and, as emitted Verilog, in
 //! Verilator, on the same packed vectors, and comparing both with the model's expected outputs.
-#![allow(dead_code)] // each test binary uses its own subset
 
 pub mod sat_sides;
 pub mod scenes;
@@ -71,7 +70,24 @@ pub fn run_verilator(
 ) -> Vec<Vec<u64>> {
     let dir = verilator::scratch_dir(top).unwrap();
     verilator::lint(&dir, verilog, top).unwrap();
-    verilator::simulate(&dir, verilog, top, "clock", inputs, outputs, vectors).unwrap()
+    let cache = cache();
+    verilator::simulate(
+        &dir,
+        Some(&cache),
+        verilog,
+        top,
+        "clock",
+        inputs,
+        outputs,
+        vectors,
+    )
+    .unwrap()
+}
+
+/// The cache of Verilator and yosys builds, below cargo's scratch directory: a build is reused
+/// by the tests (and the runs) that simulate the same Verilog.
+pub fn cache() -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cosim-cache")
 }
 
 /// `block`'s Verilog, top module `name`, linted and run in Verilator on `vectors` (one per

@@ -55,14 +55,16 @@ pub fn stimulus(m: &ModelFrame, pairs: &[(usize, usize)]) -> Stimulus {
 /// `verilog` (the whole SAT's) in Verilator: the verdicts and the probed sides.
 pub fn in_verilator(verilog: &str, vectors: &[Vec<u64>]) -> Vec<Vec<u64>> {
     let dir = verilator::scratch_dir("sat").unwrap();
-    try_in_verilator(verilog, vectors, &dir).unwrap()
+    try_in_verilator(verilog, vectors, &dir, Some(&super::cache())).unwrap()
 }
 
-/// The same, linted and built in `dir`; the first line of what failed.
+/// The same, linted in `dir` and built there or taken from `cache`; the first line of what
+/// failed.
 pub fn try_in_verilator(
     verilog: &str,
     vectors: &[Vec<u64>],
     dir: &Path,
+    cache: Option<&Path>,
 ) -> Result<Vec<Vec<u64>>, String> {
     let mut inputs = vec![Port::new("valid_in", 1)];
     for side in ["a", "b"] {
@@ -75,7 +77,9 @@ pub fn try_in_verilator(
     outputs.extend(sat_sides::probes("dut.back.decide"));
     verilator::lint(dir, verilog, "sat")
         .and_then(|()| {
-            verilator::simulate(dir, verilog, "sat", "clock", &inputs, &outputs, vectors)
+            verilator::simulate(
+                dir, cache, verilog, "sat", "clock", &inputs, &outputs, vectors,
+            )
         })
         .map_err(|e| format!("{e:#}").lines().next().unwrap_or("").to_string())
 }
