@@ -1,6 +1,7 @@
 //! The projection pipeline, clock by clock against the model: the rust-hdl simulation and the
-//! emitted Verilog in Verilator (and Icarus, which must agree), on the same vectors, must give the model's keys and margins
-//! `LATENCY` clocks after each OBB, one OBB per clock, and nothing on the other clocks.
+//! emitted Verilog in Verilator (and Icarus, which must agree), on the same vectors, must give
+//! the model's keys and margins `LATENCY` clocks after each OBB, one OBB per clock, and nothing
+//! on the other clocks.
 
 use crate::common;
 
