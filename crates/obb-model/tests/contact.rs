@@ -3,7 +3,7 @@
 //! overlap; zero depth on boxes that touch face to face; never a vanishing cross axis on
 //! near-parallel edges.
 
-mod common;
+use crate::common;
 
 use common::{axes_of, obb_strategy, parry_contact, size, tilted, touching};
 use obb_model::contact::{contact, Contact, MIN_CROSS_SINE};

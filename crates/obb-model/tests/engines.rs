@@ -1,6 +1,6 @@
 //! Every engine reports exactly brute force's pairs, on random and degenerate scenes.
 
-mod common;
+use crate::common;
 
 use obb_model::engines::Grid;
 use obb_model::generate::{surgical, uniform};

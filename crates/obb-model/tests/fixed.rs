@@ -2,7 +2,7 @@
 //! and the central claim: never a false negative against the f64 reference, for every
 //! supported configuration (docs/numerics.md).
 
-mod common;
+use crate::common;
 
 use obb_model::aabb::Aabb;
 use obb_model::fixed::broad::{self, BroadWork};

@@ -14,7 +14,7 @@ use obb_model::generate::{slabs, surgical, SURGICAL_DEFAULT_N};
 use obb_model::{GroupMask, Obb, Scene};
 use proptest::prelude::*;
 
-mod common;
+use crate::common;
 
 fn grid(cfg: HwConfig) -> HwConfig {
     HwConfig {

@@ -1,7 +1,7 @@
 //! The f64 SAT never reports intersecting or touching boxes as separated, and agrees with an
 //! independent implementation (parry3d-f64) except within a stated tolerance of touching.
 
-mod common;
+use crate::common;
 
 use common::{axes_of, boundary, f32_axes, obb_strategy, tilted, touching};
 use obb_model::aabb::Aabb;

@@ -5,7 +5,7 @@
 //! collisions the case is built to have, so that no case passes by being empty. The
 //! configuration `obbcd plan` writes for each case takes it without a miss too.
 
-mod common;
+use crate::common;
 
 use common::{axes_of, f32_axes, parry_contact, size, tilted, touching};
 use obb_model::aabb::Aabb;

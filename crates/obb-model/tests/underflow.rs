@@ -5,7 +5,7 @@
 //! independently of the engines: the shared point's box coordinates are solved for by Cramer's
 //! rule (docs/sat.md, "Underflow").
 
-mod common;
+use crate::common;
 
 use common::{axes_of, f32_axes, point, runner, touching};
 use num_bigint::BigInt;

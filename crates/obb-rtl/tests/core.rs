@@ -1,7 +1,8 @@
 //! The whole core, `obb_core`, on small scenes against `ModelFrame::run`: the same pairs (each
 //! once), the same counters and the model's clock count, in rust-hdl's simulation and, as
 //! emitted Verilog, in Verilator, clock for clock on the same input words. Back-pressure on the
-//! pair stream loses nothing; a frame over capacity reports the error and no pairs.
+//! pair stream loses nothing; a frame over capacity reports the error and no pairs (the grid,
+//! which walks the boxes as they arrive: only pairs of the boxes it kept).
 
 use crate::common;
 

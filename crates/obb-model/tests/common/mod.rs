@@ -1,5 +1,4 @@
 //! Strategies shared by the integration tests: random and degenerate scenes.
-#![allow(dead_code)] // each test binary uses its own subset
 
 use nalgebra::{Quaternion, UnitQuaternion};
 use obb_model::{GroupMask, Obb, Scene};
