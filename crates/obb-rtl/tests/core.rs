@@ -14,7 +14,7 @@ use obb_model::generate::surgical;
 use obb_model::{Obb, Scene};
 use obb_rtl::core::{ObbCore, COUNT, INDEX};
 use obb_rtl::flow::cosim::{
-    box_ports, compare, frame_clocks, prepare, taken_run, Expected, SimFrame, Taken,
+    box_ports, compare, frame_clocks, kept_frame, prepare, Expected, SimFrame, Taken,
 };
 use obb_rtl::flow::verilator::Port;
 use obb_rtl::leaf::{sbits, uval};
@@ -296,10 +296,7 @@ fn stimulus(
             (None, BroadPhase::Grid) => {
                 // Over capacity: the boxes it keeps on their credits, then the rest, which it
                 // takes (and drops) on the next clocks whatever the credits say.
-                let kept = Scene {
-                    obbs: f.scene.obbs[..fit.capacity as usize].to_vec(),
-                };
-                let m = ModelFrame::new(&kept, &fit).unwrap();
+                let m = kept_frame(&f.scene, &fit).unwrap();
                 let mut accepts = grid_schedule(&m.grid_walk(&fit.groups)).accepts;
                 let last = *accepts.last().unwrap();
                 accepts.extend((1..).map(|k| last + k).take(boxes.len() - accepts.len()));
@@ -362,14 +359,8 @@ fn judge(
             got.cycles,
             run.as_ref().map(|r| r.cycles)
         );
-        let taken;
-        let want = match run {
-            Some(run) => Expected::of(run),
-            None => {
-                taken = taken_run(&f.scene, cfg).unwrap();
-                Expected::over_capacity(cfg, &taken)
-            }
-        };
+        let mut kept = None;
+        let want = Expected::for_frame(run.as_ref(), &mut kept, &f.scene, cfg).unwrap();
         if let Err(e) = compare(&got, &want, f.ready.taken(cfg.lanes)) {
             panic!("{}: {e}", f.name);
         }

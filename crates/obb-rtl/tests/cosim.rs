@@ -11,8 +11,7 @@ use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame};
 use obb_model::generate::{surgical, SURGICAL_DEFAULT_N};
 use obb_model::{GroupMask, Scene};
 use obb_rtl::flow::cosim::{
-    build, compare, frame_clocks, prepare, stimulus, taken_run, Expected, Level, RunOptions,
-    SimFrame, Taken,
+    build, compare, frame_clocks, prepare, stimulus, Expected, Level, RunOptions, SimFrame, Taken,
 };
 use obb_rtl::flow::synth;
 use obb_rtl::flow::verilator::{scratch_dir, Simulator};
@@ -47,14 +46,8 @@ fn cosim(
     let start = Instant::now();
     let got = bench.run(&stim, 1, &opts, |_| {}).unwrap().remove(0);
     let secs = start.elapsed().as_secs_f64();
-    let taken;
-    let want = match &run {
-        Some(run) => Expected::of(run),
-        None => {
-            taken = taken_run(scene, cfg).unwrap();
-            Expected::over_capacity(cfg, &taken)
-        }
-    };
+    let mut kept = None;
+    let want = Expected::for_frame(run.as_ref(), &mut kept, scene, cfg).unwrap();
     if let Err(e) = compare(&got, &want, Taken::of(ready_every, cfg.lanes)) {
         panic!("{name} ({sim:?}, {level:?}): {e}");
     }

@@ -145,14 +145,8 @@ pub fn run(a: CosimArgs) -> Result<()> {
     };
 
     let pairs = distinct(&got.stream);
-    let taken;
-    let want = match &run {
-        Some(run) => Expected::of(run),
-        None => {
-            taken = cosim::taken_run(&scene, &cfg)?;
-            Expected::over_capacity(&cfg, &taken)
-        }
-    };
+    let mut kept = None;
+    let want = Expected::for_frame(run.as_ref(), &mut kept, &scene, &cfg)?;
     let verdict = compare(&got, &want, Taken::of(a.ready_every, cfg.lanes));
     let total_clocks: u64 = got.clocks + later.iter().map(|f| f.clocks).sum::<u64>();
     println!(

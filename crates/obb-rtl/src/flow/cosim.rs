@@ -50,13 +50,18 @@ pub fn frame_clocks(scene: &Scene, cfg: &HwConfig, run: Option<&ModelRun>) -> Re
     })
 }
 
-/// The model's run of the boxes a frame over capacity keeps: its first `capacity`.
-pub fn taken_run(scene: &Scene, cfg: &HwConfig) -> Result<ModelRun> {
+/// The model's frame of the boxes a frame over capacity keeps: its first `capacity`.
+pub fn kept_frame(scene: &Scene, cfg: &HwConfig) -> Result<ModelFrame> {
     let took = (cfg.capacity as usize).min(scene.obbs.len());
     let first = Scene {
         obbs: scene.obbs[..took].to_vec(),
     };
-    Ok(ModelFrame::new(&first, cfg)?.run())
+    Ok(ModelFrame::new(&first, cfg)?)
+}
+
+/// The model's run of `kept_frame`.
+pub fn taken_run(scene: &Scene, cfg: &HwConfig) -> Result<ModelRun> {
+    Ok(kept_frame(scene, cfg)?.run())
 }
 
 /// The values of the box input ports for one box, in the test bench's word order (lowest bits
@@ -426,13 +431,22 @@ impl<'a> Expected<'a> {
         }
     }
 
-    /// What the core for `cfg` must give for a frame over capacity; `taken` is the run of the
-    /// boxes it kept (`taken_run`).
-    pub fn over_capacity(cfg: &HwConfig, taken: &'a ModelRun) -> Expected<'a> {
-        match cfg.broad_phase {
-            BroadPhase::Grid => Expected::Incomplete(taken),
-            _ => Expected::OverCapacity,
-        }
+    /// What the core for `cfg` must give for a frame of `scene` whose model run is `run`
+    /// (`None`: over capacity). The grid's frame over capacity is judged against the run of
+    /// the boxes it kept (`taken_run`), which `kept` holds.
+    pub fn for_frame(
+        run: Option<&'a ModelRun>,
+        kept: &'a mut Option<ModelRun>,
+        scene: &Scene,
+        cfg: &HwConfig,
+    ) -> Result<Expected<'a>> {
+        Ok(match run {
+            Some(run) => Expected::of(run),
+            None if cfg.broad_phase == BroadPhase::Grid => {
+                Expected::Incomplete(kept.insert(taken_run(scene, cfg)?))
+            }
+            None => Expected::OverCapacity,
+        })
     }
 }
 
