@@ -5,12 +5,19 @@ use obb_model::fixed::HwConfig;
 use obb_rtl::flow::generate::{files, ports};
 use std::path::Path;
 
+/// `gen-rtl`'s files for the default configuration, generated once for the tests that read
+/// them (rust-hdl takes seconds over the whole core).
+fn default_files() -> &'static [(String, String)] {
+    static FILES: std::sync::OnceLock<Vec<(String, String)>> = std::sync::OnceLock::new();
+    FILES.get_or_init(|| files(&HwConfig::default()).unwrap())
+}
+
 #[test]
 fn rtl_out_is_what_gen_rtl_writes_for_the_default_configuration() {
-    let fresh = files(&HwConfig::default()).unwrap();
+    let fresh = default_files();
     assert_eq!(fresh, files(&HwConfig::default()).unwrap(), "deterministic");
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../rtl-out");
-    for (name, text) in &fresh {
+    for (name, text) in fresh {
         let committed = std::fs::read_to_string(dir.join(name))
             .unwrap_or_else(|e| panic!("rtl-out/{name}: {e}; run `cargo run --bin gen-rtl`"));
         assert!(
@@ -46,8 +53,8 @@ fn file<'a>(fresh: &'a [(String, String)], name: &str) -> &'a str {
 
 #[test]
 fn the_manifest_lists_the_verilog_ports() {
-    let fresh = files(&HwConfig::default()).unwrap();
-    let json: serde_json::Value = serde_json::from_str(file(&fresh, "manifest.json")).unwrap();
+    let fresh = default_files();
+    let json: serde_json::Value = serde_json::from_str(file(fresh, "manifest.json")).unwrap();
     let module = |name: &str| {
         json["modules"]
             .as_array()
@@ -74,7 +81,7 @@ fn the_manifest_lists_the_verilog_ports() {
         ("sat", "blocks/sat.v", 1 + 1 + 2 * (3 + 3 + 9 + 1) + 2),
         ("radix_sort", "blocks/radix_sort.v", 10),
     ] {
-        let p = ports(file(&fresh, path), name);
+        let p = ports(file(fresh, path), name);
         assert_eq!(p.len(), count, "{name}: {p:?}");
         assert_eq!(
             module(name)["ports"].as_array().unwrap().len(),
@@ -83,14 +90,14 @@ fn the_manifest_lists_the_verilog_ports() {
         );
         assert_eq!(module(name)["file"], path);
     }
-    let core = ports(file(&fresh, "obb_core.v"), "obb_core");
+    let core = ports(file(fresh, "obb_core.v"), "obb_core");
     assert!(core
         .iter()
         .any(|p| p.name == "obb_axes$8" && p.signed && p.bits == 18));
     assert!(core
         .iter()
         .any(|p| p.name == "pair_ready" && p.direction == "input"));
-    let sort = ports(file(&fresh, "blocks/radix_sort.v"), "radix_sort");
+    let sort = ports(file(fresh, "blocks/radix_sort.v"), "radix_sort");
     assert!(
         sort.iter().any(|p| p.name == "rd_addr" && p.bits == 15),
         "capacity 32768"
@@ -113,9 +120,9 @@ fn the_manifest_lists_the_verilog_ports() {
 /// DECLFILENAME and UNUSED fatal); the core tests simulate it at a smaller capacity.
 #[test]
 fn the_default_core_lints_clean() {
-    let fresh = files(&HwConfig::default()).unwrap();
+    let fresh = default_files();
     let dir = obb_rtl::flow::verilator::scratch_dir("lint-obb-core").unwrap();
-    obb_rtl::flow::verilator::lint(&dir, file(&fresh, "obb_core.v"), "obb_core").unwrap();
+    obb_rtl::flow::verilator::lint(&dir, file(fresh, "obb_core.v"), "obb_core").unwrap();
 }
 
 #[test]
