@@ -266,6 +266,11 @@ fn run(cfg: &HwConfig, frames: &[Frame]) {
         words.len(),
         start.elapsed().as_secs_f64() - hdl_secs
     );
+    assert_eq!(
+        verilator.len(),
+        words.len(),
+        "Verilator's outputs, one row a clock"
+    );
     for (k, (h, v)) in hdl.iter().zip(&verilator).enumerate() {
         assert_eq!(h, v, "rust-hdl and Verilator differ at clock {k}");
     }
