@@ -71,6 +71,22 @@ module tb;
   reg [63:0] run_clock = 64'd0;
   reg started, waves;
 
+  // Clock 0 of a frame: its header, then frame_start (with frame_update); the first box (or the
+  // empty frame's marker) follows.
+  task start_frame;
+    begin
+      scanned = $fscanf(stim, "%d %d\n", update, boxes);
+      if (scanned != 2) begin
+        $display("error: %0s has no header for frame %0d of %0d", stim_name, frame, frames);
+        $fatal(1);
+      end
+      sent = 0;
+      clocks <= 0;
+      frame_start <= 1'b1;
+      frame_update <= update != 0;
+    end
+  endtask
+
   // Puts the next box on the inputs from the next clock on (the read is blocking, the
   // assignment not, so that the core never sees a box early); a short file is an error, not a
   // silent short frame.
@@ -114,18 +130,8 @@ module tb;
     if (waves && run_clock == waves_from) $dumpvars(waves_depth, tb);
     if (waves && waves_to != 0 && run_clock == waves_to) $finish;
     if (!started) begin
-      // Clock 0 of a frame: its header, then frame_start; the first box (or the empty frame's
-      // marker) follows.
-      scanned = $fscanf(stim, "%d %d\n", update, boxes);
-      if (scanned != 2) begin
-        $display("error: %0s has no header for frame %0d of %0d", stim_name, frame, frames);
-        $fatal(1);
-      end
-      sent = 0;
-      clocks <= 0;
       started <= 1'b1;
-      frame_start <= 1'b1;
-      frame_update <= update != 0;
+      start_frame;
     end else begin
       frame_start <= 1'b0;
       clocks <= clocks + 1;
@@ -161,9 +167,11 @@ module tb;
         if (frame == frames) begin
           $fclose(out);
           $finish;
+        end else begin
+          // The next frame at once: its frame_start on the clock after the first with done,
+          // no idle clock between the frames. ($finish ends the run only after this clock.)
+          start_frame;
         end
-        // The next frame starts on the next clock.
-        started <= 1'b0;
       end
       if (clocks >= timeout) begin
         $display("error: no done after %0d clocks", clocks);

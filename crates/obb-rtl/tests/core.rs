@@ -13,7 +13,7 @@ use obb_model::fixed::grid_clocks::grid_schedule;
 use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame, ModelRun, QObb};
 use obb_model::generate::surgical;
 use obb_model::{Obb, Scene};
-use obb_rtl::core::{ObbCore, COUNT, INDEX};
+use obb_rtl::core::{ObbCore, COUNT, FIFO_DEPTH, FIFO_STALL, INDEX};
 use obb_rtl::flow::cosim::{
     box_ports, compare, frame_clocks, kept_frame, prepare, Expected, SimFrame, Taken,
 };
@@ -63,6 +63,9 @@ fn outputs() -> Vec<Port> {
         Port::new("pairs", COUNT),
     ]
 }
+
+/// Verilator's extra column: the pair FIFO's stored entries (a probe of its count register).
+const FIFO_FILL: usize = 10;
 
 /// The words of one frame: `frame_start` (with `frame_update` unless `haptic`), the boxes (the
 /// last with `obb_last`, or the marker alone for no boxes), then `idle` clocks; `ready(k)`
@@ -260,7 +263,9 @@ fn run(cfg: &HwConfig, frames: &[Frame]) {
     let hdl_secs = start.elapsed().as_secs_f64();
     let verilog =
         obb_rtl::flow::emit::verilog(&mut ObbCore::<A, { A + 1 }>::new(cfg), "obb_core").unwrap();
-    let verilator = run_verilator(&verilog, "obb_core", &inputs(), &outputs(), &words);
+    let mut probed = outputs();
+    probed.push(Port::new("dut.fifo.count.q", 7));
+    let verilator = run_verilator(&verilog, "obb_core", &inputs(), &probed, &words);
     eprintln!(
         "{} clocks: rust-hdl {shared} in {hdl_secs:.1} s, Verilator (build and run) all in {:.1} s",
         words.len(),
@@ -272,9 +277,24 @@ fn run(cfg: &HwConfig, frames: &[Frame]) {
         "Verilator's outputs, one row a clock"
     );
     for (k, (h, v)) in hdl.iter().zip(&verilator).enumerate() {
-        assert_eq!(h, v, "rust-hdl and Verilator differ at clock {k}");
+        assert_eq!(
+            h[..],
+            v[..FIFO_FILL],
+            "rust-hdl and Verilator differ at clock {k}"
+        );
     }
     judge(cfg, frames, &words, &verilator, &starts, &models);
+    // The FIFO's headroom: the stall holds its fill within its depth, and a stream held back
+    // fills it to the stall threshold (so the headroom was used).
+    let peak = verilator.iter().map(|o| o[FIFO_FILL]).max().unwrap_or(0);
+    eprintln!("pair FIFO: at most {peak} of {FIFO_DEPTH} entries stored (stall at {FIFO_STALL})");
+    assert!(peak <= FIFO_DEPTH, "the FIFO held {peak} entries");
+    if frames.iter().any(|f| f.ready.holds_back()) {
+        assert!(
+            peak >= FIFO_STALL,
+            "the stream held back, but the FIFO peaked at {peak}"
+        );
+    }
 }
 
 /// The input words of `frames` back to back, where each frame starts, and the model's runs.
