@@ -264,7 +264,9 @@ fn run(cfg: &HwConfig, frames: &[Frame]) {
     let verilog =
         obb_rtl::flow::emit::verilog(&mut ObbCore::<A, { A + 1 }>::new(cfg), "obb_core").unwrap();
     let mut probed = outputs();
-    probed.push(Port::new("dut.fifo.count.q", 7));
+    // (The count runs from 0 to the depth, a power of two: one bit more than its addresses.)
+    let count_bits = FIFO_DEPTH.trailing_zeros() as usize + 1;
+    probed.push(Port::new("dut.fifo.count.q", count_bits));
     let verilator = run_verilator(&verilog, "obb_core", &inputs(), &probed, &words);
     eprintln!(
         "{} clocks: rust-hdl {shared} in {hdl_secs:.1} s, Verilator (build and run) all in {:.1} s",
