@@ -2,7 +2,7 @@
 // Configuration: center_bits=20 half_bits=17 rot_bits=18 key_bits=20 lsb_mm=0.0009765625
 
 
-module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_center$0,obb_center$1,obb_center$2,obb_half$0,obb_half$1,obb_half$2,obb_axes$0,obb_axes$1,obb_axes$2,obb_axes$3,obb_axes$4,obb_axes$5,obb_axes$6,obb_axes$7,obb_axes$8,obb_group,pair_valid,pair_ready,pair_a,pair_b,done,busy,capacity_exceeded,cycles,visits,sat_tests,pairs);
+module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_center$0,obb_center$1,obb_center$2,obb_half$0,obb_half$1,obb_half$2,obb_axes$0,obb_axes$1,obb_axes$2,obb_axes$3,obb_axes$4,obb_axes$5,obb_axes$6,obb_axes$7,obb_axes$8,obb_group,pair_valid,pair_ready,pair_a,pair_b,done,busy,capacity_exceeded,pair_overflow,cycles,visits,sat_tests,pairs);
     
     // Module arguments
     input wire  clock;
@@ -34,6 +34,7 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     output reg  done;
     output reg  busy;
     output reg  capacity_exceeded;
+    output reg  pair_overflow;
     output reg  [39:0] cycles;
     output reg  [39:0] visits;
     output reg  [39:0] sat_tests;
@@ -117,6 +118,7 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     wire  grid$0$walked;
     wire  grid$0$finished;
     wire  grid$0$too_wide;
+    wire  grid$0$queue_overflow;
     reg  sat$clock;
     reg  sat$valid_in;
     reg  [22:0] sat$center_a$0;
@@ -161,6 +163,8 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     wire  [39:0] fifo$data_out;
     wire  fifo$empty;
     wire  fifo$almost_full;
+    reg  fifo$clear;
+    wire  fifo$overflow;
     reg  center$0$clock;
     reg  center$0$write_enable;
     reg  [14:0] center$0$write_address;
@@ -299,9 +303,27 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     reg  [7:0] countdown$d;
     wire  [7:0] countdown$q;
     reg  countdown$clock;
+    reg  live$d;
+    wire  live$q;
+    reg  live$clock;
+    reg  restart$d;
+    wire  restart$q;
+    reg  restart$clock;
+    reg  restart_go$d;
+    wire  restart_go$q;
+    reg  restart_go$clock;
+    reg  restart_update$d;
+    wire  restart_update$q;
+    reg  restart_update$clock;
     reg  [7:0] pending$d;
     wire  [7:0] pending$q;
     reg  pending$clock;
+    reg  pending_none$d;
+    wire  pending_none$q;
+    reg  pending_none$clock;
+    reg  began$d;
+    wire  began$q;
+    reg  began$clock;
     reg  [39:0] n_cycles$d;
     wire  [39:0] n_cycles$q;
     reg  n_cycles$clock;
@@ -317,6 +339,9 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     reg  load$clock;
     reg  load$frame_start;
     reg  load$frame_update;
+    reg  load$live;
+    reg  load$restart_go;
+    reg  load$restart_update;
     reg  load$obb_valid;
     reg  load$obb_last;
     reg  [2:0] load$obb_group;
@@ -328,6 +353,9 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
     wire  load$loading;
     wire  load$ended;
     wire  load$refused;
+    wire  load$frame_begin;
+    wire  load$update;
+    wire  load$frame_abort;
     wire  [15:0] load$first;
     reg  check$clock;
     reg  check$visit;
@@ -536,7 +564,8 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         .test_mb(grid$0$test_mb),
         .walked(grid$0$walked),
         .finished(grid$0$finished),
-        .too_wide(grid$0$too_wide)
+        .too_wide(grid$0$too_wide),
+        .queue_overflow(grid$0$queue_overflow)
     );
     obb_core$sat sat(
         .clock(sat$clock),
@@ -584,7 +613,9 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         .valid(fifo$valid),
         .data_out(fifo$data_out),
         .empty(fifo$empty),
-        .almost_full(fifo$almost_full)
+        .almost_full(fifo$almost_full),
+        .clear(fifo$clear),
+        .overflow(fifo$overflow)
     );
     obb_core$center$0 center$0(
         .clock(center$0$clock),
@@ -766,10 +797,40 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         .q(countdown$q),
         .clock(countdown$clock)
     );
+    obb_core$live live(
+        .d(live$d),
+        .q(live$q),
+        .clock(live$clock)
+    );
+    obb_core$restart restart(
+        .d(restart$d),
+        .q(restart$q),
+        .clock(restart$clock)
+    );
+    obb_core$restart_go restart_go(
+        .d(restart_go$d),
+        .q(restart_go$q),
+        .clock(restart_go$clock)
+    );
+    obb_core$restart_update restart_update(
+        .d(restart_update$d),
+        .q(restart_update$q),
+        .clock(restart_update$clock)
+    );
     obb_core$pending pending(
         .d(pending$d),
         .q(pending$q),
         .clock(pending$clock)
+    );
+    obb_core$pending_none pending_none(
+        .d(pending_none$d),
+        .q(pending_none$q),
+        .clock(pending_none$clock)
+    );
+    obb_core$began began(
+        .d(began$d),
+        .q(began$q),
+        .clock(began$clock)
     );
     obb_core$n_cycles n_cycles(
         .d(n_cycles$d),
@@ -795,6 +856,9 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         .clock(load$clock),
         .frame_start(load$frame_start),
         .frame_update(load$frame_update),
+        .live(load$live),
+        .restart_go(load$restart_go),
+        .restart_update(load$restart_update),
         .obb_valid(load$obb_valid),
         .obb_last(load$obb_last),
         .obb_group(load$obb_group),
@@ -806,6 +870,9 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         .loading(load$loading),
         .ended(load$ended),
         .refused(load$refused),
+        .frame_begin(load$frame_begin),
+        .update(load$update),
+        .frame_abort(load$frame_abort),
         .first(load$first)
     );
     obb_core$check check(
@@ -939,21 +1006,33 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         projected$clock = clock;
         over$clock = clock;
         countdown$clock = clock;
+        live$clock = clock;
+        restart$clock = clock;
+        restart_go$clock = clock;
+        restart_update$clock = clock;
         n_cycles$clock = clock;
         n_visits$clock = clock;
         n_tests$clock = clock;
         n_pairs$clock = clock;
         pending$clock = clock;
+        pending_none$clock = clock;
+        began$clock = clock;
         state$d = state$q;
         stall$d = stall$q;
         projected$d = projected$q;
         over$d = over$q;
         countdown$d = countdown$q;
+        live$d = live$q;
+        restart$d = restart$q;
+        restart_go$d = restart_go$q;
+        restart_update$d = restart_update$q;
         n_cycles$d = n_cycles$q;
         n_visits$d = n_visits$q;
         n_tests$d = n_tests$q;
         n_pairs$d = n_pairs$q;
         pending$d = pending$q;
+        pending_none$d = pending_none$q;
+        began$d = began$q;
         projection$clock = clock;
         load$clock = clock;
         check$clock = clock;
@@ -999,7 +1078,7 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         sorted_key = 32'h0;
         sorted_val = 32'h0;
         sort_rd_addr = 32'h0;
-        sort_start = frame_start;
+        sort_start = began$q;
         sort_go = 1'b0;
         sort_in_valid = 1'b0;
         sort_in_key = 32'h0;
@@ -1015,6 +1094,9 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         grid_visits = grid$0$visits;
         load$frame_start = frame_start;
         load$frame_update = frame_update;
+        load$live = live$q;
+        load$restart_go = restart_go$q;
+        load$restart_update = restart_update$q;
         load$obb_valid = obb_valid;
         load$obb_last = obb_last;
         load$obb_group = obb_group;
@@ -1094,10 +1176,10 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         if (projection$valid_out) begin
             projected$d = projected$q + 32'h1;
         end
-        grid$0$start = frame_start;
-        grid$0$update = frame_update;
+        grid$0$start = load$frame_begin;
+        grid$0$update = load$update;
         grid$0$accept = load$accept;
-        grid$0$loaded = ~load$loading & ~frame_start;
+        grid$0$loaded = ~load$loading & ~load$frame_begin;
         grid$0$key_valid = projection$valid_out;
         grid$0$key_index = ((projected$q) & 15'h7fff);
         grid$0$key_min_x = projection$key_min$0;
@@ -1257,13 +1339,16 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         if (hit) begin
             n_pairs$d = n_pairs$q + 32'h1;
         end
-        pair_valid = fifo$valid;
+        pair_valid = fifo$valid & ~restart$q & ~load$frame_abort;
         pair_a = fifo$data_out[(32'h14)+:(20)];
         pair_b = fifo$data_out[(32'h0)+:(20)];
-        fifo$ready = pair_ready;
-        busy = (state$q != CoreState$Idle) & (state$q != CoreState$Done);
-        done = (state$q == CoreState$Done) & fifo$empty;
-        capacity_exceeded = over$q;
+        fifo$ready = (pair_ready & ~load$frame_abort) | restart$q;
+        fifo$clear = load$frame_begin;
+        pair_overflow = fifo$overflow;
+        pair_overflow = fifo$overflow | grid$0$queue_overflow;
+        busy = ((state$q != CoreState$Idle) & (state$q != CoreState$Done)) | restart$q;
+        done = (state$q == CoreState$Done) & fifo$empty & ~restart$q;
+        capacity_exceeded = over$q & ~restart$q;
         if (grid_too_wide) begin
             over$d = 1'b1;
         end
@@ -1280,7 +1365,7 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
                 end
             CoreState$Load:
                 begin
-                    if (load$ended) begin
+                    if (load$ended | load$frame_abort) begin
                         state$d = CoreState$Project;
                     end
                 end
@@ -1313,7 +1398,7 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
             CoreState$Walk:
                 begin
                     if (grid_mode) begin
-                        if (grid_finished & (pending$q == 32'h0) & ~issue) begin
+                        if (grid_finished & pending_none$q & ~issue) begin
                             state$d = CoreState$Done;
                         end
                     end
@@ -1339,11 +1424,28 @@ module obb_core(clock,frame_start,frame_update,obb_valid,obb_ready,obb_last,obb_
         else if (pending$q != 32'h0) begin
             pending$d = pending$q - 32'h1;
         end
-        if (frame_start) begin
+        pending_none$d = ~issue & (pending$q < 32'h2);
+        began$d = load$frame_begin;
+        if ((state$q == CoreState$Done) & fifo$empty) begin
+            live$d = 1'b0;
+        end
+        restart_go$d = 1'b0;
+        if (load$frame_abort) begin
+            over$d = 1'b1;
+            restart$d = 1'b1;
+            restart_update$d = frame_update;
+        end
+        if (restart$q & ~restart_go$q & (state$q == CoreState$Done) & fifo$empty) begin
+            restart_go$d = 1'b1;
+        end
+        if (load$frame_begin) begin
+            live$d = 1'b1;
+            restart$d = 1'b0;
             state$d = CoreState$Load;
             projected$d = load$first;
             over$d = 1'b0;
             pending$d = 32'h0;
+            pending_none$d = 1'b1;
             n_cycles$d = 32'h0;
             n_visits$d = 32'h0;
             n_tests$d = 32'h0;
@@ -1369,6 +1471,10 @@ module obb_core$axes$0(clock,write_enable,write_address,write_data,read_address_
     // Update code (custom)
     reg [17:0] mem [0:32767];
     wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -1396,6 +1502,10 @@ module obb_core$axes$1(clock,write_enable,write_address,write_data,read_address_
     // Update code (custom)
     reg [17:0] mem [0:32767];
     wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -1423,6 +1533,10 @@ module obb_core$axes$2(clock,write_enable,write_address,write_data,read_address_
     // Update code (custom)
     reg [17:0] mem [0:32767];
     wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -1450,6 +1564,10 @@ module obb_core$axes$3(clock,write_enable,write_address,write_data,read_address_
     // Update code (custom)
     reg [17:0] mem [0:32767];
     wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -1477,6 +1595,10 @@ module obb_core$axes$4(clock,write_enable,write_address,write_data,read_address_
     // Update code (custom)
     reg [17:0] mem [0:32767];
     wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -1504,6 +1626,10 @@ module obb_core$axes$5(clock,write_enable,write_address,write_data,read_address_
     // Update code (custom)
     reg [17:0] mem [0:32767];
     wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -1531,6 +1657,10 @@ module obb_core$axes$6(clock,write_enable,write_address,write_data,read_address_
     // Update code (custom)
     reg [17:0] mem [0:32767];
     wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -1558,6 +1688,10 @@ module obb_core$axes$7(clock,write_enable,write_address,write_data,read_address_
     // Update code (custom)
     reg [17:0] mem [0:32767];
     wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -1585,6 +1719,10 @@ module obb_core$axes$8(clock,write_enable,write_address,write_data,read_address_
     // Update code (custom)
     reg [17:0] mem [0:32767];
     wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -1595,6 +1733,25 @@ module obb_core$axes$8(clock,write_enable,write_address,write_data,read_address_
        read_data_b <= mem[read_address_b];
     end
 endmodule // obb_core$axes$8
+
+
+module obb_core$began(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$began
 
 
 module obb_core$center$0(clock,write_enable,write_address,write_data,read_address_a,read_address_b,read_data_a,read_data_b);
@@ -1612,6 +1769,10 @@ module obb_core$center$0(clock,write_enable,write_address,write_data,read_addres
     // Update code (custom)
     reg [22:0] mem [0:32767];
     wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -1639,6 +1800,10 @@ module obb_core$center$1(clock,write_enable,write_address,write_data,read_addres
     // Update code (custom)
     reg [22:0] mem [0:32767];
     wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -1666,6 +1831,10 @@ module obb_core$center$2(clock,write_enable,write_address,write_data,read_addres
     // Update code (custom)
     reg [22:0] mem [0:32767];
     wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -3860,7 +4029,7 @@ module obb_core$fetch$h_valid(d,q,clock);
 endmodule // obb_core$fetch$h_valid
 
 
-module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full);
+module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full,clear,overflow);
     
     // Module arguments
     input wire  clock;
@@ -3871,8 +4040,11 @@ module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full)
     output reg  [39:0] data_out;
     output reg  empty;
     output reg  almost_full;
+    input wire  clear;
+    output reg  overflow;
     
     // Constant declarations
+    localparam  depth = 7'b1000000;
     localparam  stall_at = 7'b100000;
     localparam  stall_lo = 7'b11111;
     localparam  stall_hi = 7'b100001;
@@ -3909,6 +4081,9 @@ module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full)
     reg  full_q$d;
     wire  full_q$q;
     reg  full_q$clock;
+    reg  overflow_q$d;
+    wire  overflow_q$q;
+    reg  overflow_q$clock;
     
     // Local signals
     reg  load;
@@ -3970,6 +4145,11 @@ module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full)
         .q(full_q$q),
         .clock(full_q$clock)
     );
+    obb_core$fifo$overflow_q overflow_q(
+        .d(overflow_q$d),
+        .q(overflow_q$q),
+        .clock(overflow_q$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -3981,6 +4161,7 @@ module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full)
         out_valid$clock = clock;
         out_data$clock = clock;
         full_q$clock = clock;
+        overflow_q$clock = clock;
         wptr$d = wptr$q;
         rptr$d = rptr$q;
         count$d = count$q;
@@ -3989,6 +4170,7 @@ module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full)
         out_valid$d = out_valid$q;
         out_data$d = out_data$q;
         full_q$d = full_q$q;
+        overflow_q$d = overflow_q$q;
         ram$clock = clock;
         ram$write_enable = write;
         ram$write_address = wptr$q;
@@ -4031,6 +4213,13 @@ module obb_core$fifo(clock,write,data_in,ready,valid,data_out,empty,almost_full)
         data_out = out_data$q;
         empty = ~stored$q & ~out_valid$q;
         almost_full = full_q$q;
+        if (clear) begin
+            overflow_q$d = 1'b0;
+        end
+        if (up & (count$q == depth)) begin
+            overflow_q$d = 1'b1;
+        end
+        overflow = overflow_q$q;
     end
     
 endmodule // obb_core$fifo
@@ -4129,6 +4318,25 @@ module obb_core$fifo$out_valid(d,q,clock);
     end
           
 endmodule // obb_core$fifo$out_valid
+
+
+module obb_core$fifo$overflow_q(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$fifo$overflow_q
 
 
 module obb_core$fifo$ram(clock,write_enable,write_address,write_data,read_address,read_data);
@@ -4463,7 +4671,7 @@ module obb_core$gdelay$stage$7(d,q,clock);
 endmodule // obb_core$gdelay$stage$7
 
 
-module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_index,key_min_x,key_min_y,key_min_z,key_max_x,key_max_y,key_max_z,key_margin,key_group,visit,visit_i0,visit_i1,visit_i2,visit_i3,visit_j0,visit_j1,visit_j2,visit_j3,visits,test_valid,test_ready,test_a,test_b,test_ma,test_mb,walked,finished,too_wide);
+module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_index,key_min_x,key_min_y,key_min_z,key_max_x,key_max_y,key_max_z,key_margin,key_group,visit,visit_i0,visit_i1,visit_i2,visit_i3,visit_j0,visit_j1,visit_j2,visit_j3,visits,test_valid,test_ready,test_a,test_b,test_ma,test_mb,walked,finished,too_wide,queue_overflow);
     
     // Module arguments
     input wire  clock;
@@ -4501,6 +4709,7 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
     output reg  walked;
     output reg  finished;
     output reg  too_wide;
+    output reg  queue_overflow;
     
     // Constant declarations
     localparam  lane_mask = 16'h0;
@@ -11394,6 +11603,8 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
     wire  [95:0] fifo$0$data_out;
     wire  fifo$0$empty;
     wire  fifo$0$almost_full;
+    reg  fifo$0$clear;
+    wire  fifo$0$overflow;
     reg  clearing$d;
     wire  clearing$q;
     reg  clearing$clock;
@@ -11663,6 +11874,7 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
     reg  update_q$clock;
     
     // Local signals
+    reg  lanes_overflow;
     reg  [22:0] key_min$0;
     reg  [22:0] key_min$1;
     reg  [22:0] key_min$2;
@@ -23887,7 +24099,9 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
         .valid(fifo$0$valid),
         .data_out(fifo$0$data_out),
         .empty(fifo$0$empty),
-        .almost_full(fifo$0$almost_full)
+        .almost_full(fifo$0$almost_full),
+        .clear(fifo$0$clear),
+        .overflow(fifo$0$overflow)
     );
     obb_core$grid$0$clearing clearing(
         .d(clearing$d),
@@ -36468,6 +36682,10 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
         test_ma = ((unpack_ma) & 28'hfffffff);
         test_mb = ((out_word) & 28'hfffffff);
         fifo$0$ready = test_ready & issuer$0;
+        lanes_overflow = 1'b0;
+        fifo$0$clear = start;
+        lanes_overflow = lanes_overflow | fifo$0$overflow;
+        queue_overflow = lanes_overflow;
         done_walk = idle$q & ((slow$q == SlowState$Over) | ((slow$q == SlowState$Fetch) & ~large_left));
         walked = done_walk;
         if (done_walk & ~clearing$q & ~cleared$q) begin
@@ -52952,7 +53170,7 @@ module obb_core$grid$0$fetch_q(d,q,clock);
 endmodule // obb_core$grid$0$fetch_q
 
 
-module obb_core$grid$0$fifo$0(clock,write,data_in,ready,valid,data_out,empty,almost_full);
+module obb_core$grid$0$fifo$0(clock,write,data_in,ready,valid,data_out,empty,almost_full,clear,overflow);
     
     // Module arguments
     input wire  clock;
@@ -52963,8 +53181,11 @@ module obb_core$grid$0$fifo$0(clock,write,data_in,ready,valid,data_out,empty,alm
     output reg  [95:0] data_out;
     output reg  empty;
     output reg  almost_full;
+    input wire  clear;
+    output reg  overflow;
     
     // Constant declarations
+    localparam  depth = 7'b1000000;
     localparam  stall_at = 7'b100000;
     localparam  stall_lo = 7'b11111;
     localparam  stall_hi = 7'b100001;
@@ -53001,6 +53222,9 @@ module obb_core$grid$0$fifo$0(clock,write,data_in,ready,valid,data_out,empty,alm
     reg  full_q$d;
     wire  full_q$q;
     reg  full_q$clock;
+    reg  overflow_q$d;
+    wire  overflow_q$q;
+    reg  overflow_q$clock;
     
     // Local signals
     reg  load;
@@ -53062,6 +53286,11 @@ module obb_core$grid$0$fifo$0(clock,write,data_in,ready,valid,data_out,empty,alm
         .q(full_q$q),
         .clock(full_q$clock)
     );
+    obb_core$grid$0$fifo$0$overflow_q overflow_q(
+        .d(overflow_q$d),
+        .q(overflow_q$q),
+        .clock(overflow_q$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -53073,6 +53302,7 @@ module obb_core$grid$0$fifo$0(clock,write,data_in,ready,valid,data_out,empty,alm
         out_valid$clock = clock;
         out_data$clock = clock;
         full_q$clock = clock;
+        overflow_q$clock = clock;
         wptr$d = wptr$q;
         rptr$d = rptr$q;
         count$d = count$q;
@@ -53081,6 +53311,7 @@ module obb_core$grid$0$fifo$0(clock,write,data_in,ready,valid,data_out,empty,alm
         out_valid$d = out_valid$q;
         out_data$d = out_data$q;
         full_q$d = full_q$q;
+        overflow_q$d = overflow_q$q;
         ram$clock = clock;
         ram$write_enable = write;
         ram$write_address = wptr$q;
@@ -53123,6 +53354,13 @@ module obb_core$grid$0$fifo$0(clock,write,data_in,ready,valid,data_out,empty,alm
         data_out = out_data$q;
         empty = ~stored$q & ~out_valid$q;
         almost_full = full_q$q;
+        if (clear) begin
+            overflow_q$d = 1'b0;
+        end
+        if (up & (count$q == depth)) begin
+            overflow_q$d = 1'b1;
+        end
+        overflow = overflow_q$q;
     end
     
 endmodule // obb_core$grid$0$fifo$0
@@ -53221,6 +53459,25 @@ module obb_core$grid$0$fifo$0$out_valid(d,q,clock);
     end
           
 endmodule // obb_core$grid$0$fifo$0$out_valid
+
+
+module obb_core$grid$0$fifo$0$overflow_q(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$fifo$0$overflow_q
 
 
 module obb_core$grid$0$fifo$0$ram(clock,write_enable,write_address,write_data,read_address,read_data);
@@ -58388,6 +58645,10 @@ module obb_core$grid$0$kt_group$0(clock,write_enable,write_address,write_data,re
     // Update code (custom)
     reg [2:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -58415,6 +58676,10 @@ module obb_core$grid$0$kt_margin$0(clock,write_enable,write_address,write_data,r
     // Update code (custom)
     reg [27:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -58442,6 +58707,10 @@ module obb_core$grid$0$kt_max$0(clock,write_enable,write_address,write_data,read
     // Update code (custom)
     reg [22:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -58469,6 +58738,10 @@ module obb_core$grid$0$kt_max$1(clock,write_enable,write_address,write_data,read
     // Update code (custom)
     reg [22:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -58496,6 +58769,10 @@ module obb_core$grid$0$kt_max$2(clock,write_enable,write_address,write_data,read
     // Update code (custom)
     reg [22:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -58523,6 +58800,10 @@ module obb_core$grid$0$kt_min$0(clock,write_enable,write_address,write_data,read
     // Update code (custom)
     reg [22:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -58550,6 +58831,10 @@ module obb_core$grid$0$kt_min$1(clock,write_enable,write_address,write_data,read
     // Update code (custom)
     reg [22:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -58577,6 +58862,10 @@ module obb_core$grid$0$kt_min$2(clock,write_enable,write_address,write_data,read
     // Update code (custom)
     reg [22:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -84759,6 +85048,10 @@ module obb_core$grid$0$succ$0(clock,write_enable,write_address,write_data,read_a
     // Update code (custom)
     reg [15:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -85859,6 +86152,10 @@ module obb_core$half$0(clock,write_enable,write_address,write_data,read_address_
     // Update code (custom)
     reg [16:0] mem [0:32767];
     wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -85886,6 +86183,10 @@ module obb_core$half$1(clock,write_enable,write_address,write_data,read_address_
     // Update code (custom)
     reg [16:0] mem [0:32767];
     wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -85913,6 +86214,10 @@ module obb_core$half$2(clock,write_enable,write_address,write_data,read_address_
     // Update code (custom)
     reg [16:0] mem [0:32767];
     wire [14:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -86669,12 +86974,34 @@ module obb_core$k_overlap$stage$9(d,q,clock);
 endmodule // obb_core$k_overlap$stage$9
 
 
-module obb_core$load(clock,frame_start,frame_update,obb_valid,obb_last,obb_group,credit,obb_ready,accept,index,loaded,loading,ended,refused,first);
+module obb_core$live(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$live
+
+
+module obb_core$load(clock,frame_start,frame_update,live,restart_go,restart_update,obb_valid,obb_last,obb_group,credit,obb_ready,accept,index,loaded,loading,ended,refused,frame_begin,update,frame_abort,first);
     
     // Module arguments
     input wire  clock;
     input wire  frame_start;
     input wire  frame_update;
+    input wire  live;
+    input wire  restart_go;
+    input wire  restart_update;
     input wire  obb_valid;
     input wire  obb_last;
     input wire  [2:0] obb_group;
@@ -86686,6 +87013,9 @@ module obb_core$load(clock,frame_start,frame_update,obb_valid,obb_last,obb_group
     output reg  loading;
     output reg  ended;
     output reg  refused;
+    output reg  frame_begin;
+    output reg  update;
+    output reg  frame_abort;
     output reg  [15:0] first;
     
     // Constant declarations
@@ -86715,6 +87045,12 @@ module obb_core$load(clock,frame_start,frame_update,obb_valid,obb_last,obb_group
     reg  streamed_seen$d;
     wire  streamed_seen$q;
     reg  streamed_seen$clock;
+    reg  res_ok$d;
+    wire  res_ok$q;
+    reg  res_ok$clock;
+    reg  spoiled$d;
+    wire  spoiled$q;
+    reg  spoiled$clock;
     
     // Local signals
     reg  [7:0] res_row;
@@ -86756,6 +87092,16 @@ module obb_core$load(clock,frame_start,frame_update,obb_valid,obb_last,obb_group
         .q(streamed_seen$q),
         .clock(streamed_seen$clock)
     );
+    obb_core$load$res_ok res_ok(
+        .d(res_ok$d),
+        .q(res_ok$q),
+        .clock(res_ok$clock)
+    );
+    obb_core$load$spoiled spoiled(
+        .d(spoiled$d),
+        .q(spoiled$q),
+        .clock(spoiled$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -86766,6 +87112,8 @@ module obb_core$load(clock,frame_start,frame_update,obb_valid,obb_last,obb_group
         res_room$clock = clock;
         haptic$clock = clock;
         streamed_seen$clock = clock;
+        res_ok$clock = clock;
+        spoiled$clock = clock;
         ready$d = ready$q;
         room$d = room$q;
         count$d = count$q;
@@ -86773,7 +87121,15 @@ module obb_core$load(clock,frame_start,frame_update,obb_valid,obb_last,obb_group
         res_room$d = res_room$q;
         haptic$d = haptic$q;
         streamed_seen$d = streamed_seen$q;
-        obb_ready = ready$q & (credit | ~room$q);
+        res_ok$d = res_ok$q;
+        spoiled$d = spoiled$q;
+        frame_begin = (frame_start & ~live) | restart_go;
+        frame_abort = frame_start & live & ~restart_go;
+        update = restart_update;
+        if (frame_start) begin
+            update = frame_update;
+        end
+        obb_ready = ready$q & ~frame_start & (credit | ~room$q);
         accept = obb_ready & obb_valid & room$q;
         index = ((count$q) & 15'h7fff);
         loaded = count$q;
@@ -86786,7 +87142,7 @@ module obb_core$load(clock,frame_start,frame_update,obb_valid,obb_last,obb_group
         end
         res_row = resident_set >> ((obb_group) & 8'hff);
         obb_res = has_resident & res_row[32'h0];
-        refused = ready$q & obb_valid & ~room$q;
+        refused = ready$q & ((obb_valid & ~room$q) | (haptic$q & ~res_ok$q));
         if (accept) begin
             if (obb_res) begin
                 if (haptic$q | streamed_seen$q) begin
@@ -86801,24 +87157,36 @@ module obb_core$load(clock,frame_start,frame_update,obb_valid,obb_last,obb_group
                 streamed_seen$d = 1'b1;
             end
         end
-        ended = ready$q & obb_last & (obb_ready | ~obb_valid);
+        if (refused & obb_res) begin
+            spoiled$d = 1'b1;
+            res_ok$d = 1'b0;
+        end
+        ended = ready$q & ~frame_start & obb_last & (obb_ready | ~obb_valid);
         if (ended) begin
+            ready$d = 1'b0;
+            if (~haptic$q & ~spoiled$q & ~(refused & obb_res)) begin
+                res_ok$d = 1'b1;
+            end
+        end
+        if (frame_abort) begin
             ready$d = 1'b0;
         end
         first = 32'h0;
-        if (has_resident & ~frame_update) begin
+        if (has_resident & ~update) begin
             first = res_loaded$q;
         end
-        if (frame_start) begin
+        if (frame_begin) begin
             ready$d = 1'b1;
             room$d = 1'b1;
             count$d = 32'h0;
             streamed_seen$d = 1'b0;
-            haptic$d = has_resident & ~frame_update;
+            spoiled$d = 1'b0;
+            haptic$d = has_resident & ~update;
             if (has_resident) begin
-                if (frame_update) begin
+                if (update) begin
                     res_loaded$d = 32'h0;
                     res_room$d = 1'b1;
+                    res_ok$d = 1'b0;
                 end
                 else begin
                     count$d = res_loaded$q;
@@ -86907,6 +87275,25 @@ module obb_core$load$res_loaded(d,q,clock);
 endmodule // obb_core$load$res_loaded
 
 
+module obb_core$load$res_ok(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$load$res_ok
+
+
 module obb_core$load$res_room(d,q,clock);
     
     // Module arguments
@@ -86943,6 +87330,25 @@ module obb_core$load$room(d,q,clock);
     end
           
 endmodule // obb_core$load$room
+
+
+module obb_core$load$spoiled(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$load$spoiled
 
 
 module obb_core$load$streamed_seen(d,q,clock);
@@ -87076,6 +87482,25 @@ module obb_core$pending(d,q,clock);
     end
           
 endmodule // obb_core$pending
+
+
+module obb_core$pending_none(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$pending_none
 
 
 module obb_core$projected(d,q,clock);
@@ -88978,6 +89403,12 @@ module obb_core$projection$products$0(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -89001,6 +89432,12 @@ module obb_core$projection$products$1(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -89024,6 +89461,12 @@ module obb_core$projection$products$2(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -89047,6 +89490,12 @@ module obb_core$projection$products$3(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -89070,6 +89519,12 @@ module obb_core$projection$products$4(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -89093,6 +89548,12 @@ module obb_core$projection$products$5(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -89116,6 +89577,12 @@ module obb_core$projection$products$6(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -89139,6 +89606,12 @@ module obb_core$projection$products$7(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -89162,6 +89635,12 @@ module obb_core$projection$products$8(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -89185,6 +89664,12 @@ module obb_core$projection$sb(a,b,p,clock);
     reg  [34:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -89261,6 +89746,9 @@ module obb_core$projection$terms$0(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -89277,6 +89765,9 @@ module obb_core$projection$terms$1(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -89293,6 +89784,9 @@ module obb_core$projection$terms$2(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -89309,6 +89803,9 @@ module obb_core$projection$terms$3(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -89325,6 +89822,9 @@ module obb_core$projection$terms$4(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -89341,6 +89841,9 @@ module obb_core$projection$terms$5(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -89357,6 +89860,9 @@ module obb_core$projection$terms$6(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -89373,6 +89879,9 @@ module obb_core$projection$terms$7(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -89389,6 +89898,9 @@ module obb_core$projection$terms$8(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -89644,6 +90156,63 @@ module obb_core$projection$valid$stage$7(d,q,clock);
     end
           
 endmodule // obb_core$projection$valid$stage$7
+
+
+module obb_core$restart(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$restart
+
+
+module obb_core$restart_go(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$restart_go
+
+
+module obb_core$restart_update(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$restart_update
 
 
 module obb_core$sat(clock,valid_in,center_a$0,center_a$1,center_a$2,half_a$0,half_a$1,half_a$2,axes_a$0,axes_a$1,axes_a$2,axes_a$3,axes_a$4,axes_a$5,axes_a$6,axes_a$7,axes_a$8,margin_a,center_b$0,center_b$1,center_b$2,half_b$0,half_b$1,half_b$2,axes_b$0,axes_b$1,axes_b$2,axes_b$3,axes_b$4,axes_b$5,axes_b$6,axes_b$7,axes_b$8,margin_b,valid_out,hit);
@@ -95468,6 +96037,72 @@ module obb_core$sat$back$decide(abs_t$0,abs_t$1,abs_t$2,abs_u$0,abs_u$1,abs_u$2,
     reg [45:0] lhs [0:14];
     reg [45:0] rhs [0:14];
     reg [14:0] apart;
+    initial begin
+       part[0] = 0;
+       lhs1[0] = 0;
+       lhs[0] = 0;
+       rhs[0] = 0;
+       part[1] = 0;
+       lhs1[1] = 0;
+       lhs[1] = 0;
+       rhs[1] = 0;
+       part[2] = 0;
+       lhs1[2] = 0;
+       lhs[2] = 0;
+       rhs[2] = 0;
+       part[3] = 0;
+       lhs1[3] = 0;
+       lhs[3] = 0;
+       rhs[3] = 0;
+       part[4] = 0;
+       lhs1[4] = 0;
+       lhs[4] = 0;
+       rhs[4] = 0;
+       part[5] = 0;
+       lhs1[5] = 0;
+       lhs[5] = 0;
+       rhs[5] = 0;
+       part[6] = 0;
+       lhs1[6] = 0;
+       lhs[6] = 0;
+       rhs[6] = 0;
+       part[7] = 0;
+       lhs1[7] = 0;
+       lhs[7] = 0;
+       rhs[7] = 0;
+       part[8] = 0;
+       lhs1[8] = 0;
+       lhs[8] = 0;
+       rhs[8] = 0;
+       part[9] = 0;
+       lhs1[9] = 0;
+       lhs[9] = 0;
+       rhs[9] = 0;
+       part[10] = 0;
+       lhs1[10] = 0;
+       lhs[10] = 0;
+       rhs[10] = 0;
+       part[11] = 0;
+       lhs1[11] = 0;
+       lhs[11] = 0;
+       rhs[11] = 0;
+       part[12] = 0;
+       lhs1[12] = 0;
+       lhs[12] = 0;
+       rhs[12] = 0;
+       part[13] = 0;
+       lhs1[13] = 0;
+       lhs[13] = 0;
+       rhs[13] = 0;
+       part[14] = 0;
+       lhs1[14] = 0;
+       lhs[14] = 0;
+       rhs[14] = 0;
+       face_m = 0;
+       cross_m = 0;
+       apart = 0;
+       hit = 0;
+    end
     always @(posedge clock) begin
        part[0] <= ({{46{1'b0}}, half_a$0} << f) + {{46{1'b0}}, face_a$0};
        lhs1[0] <= {{46{1'b0}}, abs_t$0};
@@ -96147,6 +96782,26 @@ module obb_core$sat$back$face_a_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [36:0] m0, m1, m2;
     reg signed [38:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -96190,6 +96845,26 @@ module obb_core$sat$back$face_a_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [36:0] m0, m1, m2;
     reg signed [38:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -96233,6 +96908,26 @@ module obb_core$sat$back$face_a_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [36:0] m0, m1, m2;
     reg signed [38:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -96855,6 +97550,26 @@ module obb_core$sat$back$face_b_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [36:0] m0, m1, m2;
     reg signed [38:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -96898,6 +97613,26 @@ module obb_core$sat$back$face_b_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [36:0] m0, m1, m2;
     reg signed [38:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -96941,6 +97676,26 @@ module obb_core$sat$back$face_b_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [36:0] m0, m1, m2;
     reg signed [38:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -99776,6 +100531,9 @@ module obb_core$sat$back$minor_abs$0(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -99794,6 +100552,9 @@ module obb_core$sat$back$minor_abs$1(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -99812,6 +100573,9 @@ module obb_core$sat$back$minor_abs$2(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -99830,6 +100594,9 @@ module obb_core$sat$back$minor_abs$3(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -99848,6 +100615,9 @@ module obb_core$sat$back$minor_abs$4(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -99866,6 +100636,9 @@ module obb_core$sat$back$minor_abs$5(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -99884,6 +100657,9 @@ module obb_core$sat$back$minor_abs$6(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -99902,6 +100678,9 @@ module obb_core$sat$back$minor_abs$7(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -99920,6 +100699,9 @@ module obb_core$sat$back$minor_abs$8(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -99941,6 +100723,25 @@ module obb_core$sat$back$minor_dot$0(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -99980,6 +100781,25 @@ module obb_core$sat$back$minor_dot$1(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100019,6 +100839,25 @@ module obb_core$sat$back$minor_dot$2(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100058,6 +100897,25 @@ module obb_core$sat$back$minor_dot$3(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100097,6 +100955,25 @@ module obb_core$sat$back$minor_dot$4(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100136,6 +101013,25 @@ module obb_core$sat$back$minor_dot$5(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100175,6 +101071,25 @@ module obb_core$sat$back$minor_dot$6(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100214,6 +101129,25 @@ module obb_core$sat$back$minor_dot$7(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100253,6 +101187,25 @@ module obb_core$sat$back$minor_dot$8(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100289,6 +101242,9 @@ module obb_core$sat$back$p_abs$0(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -100307,6 +101263,9 @@ module obb_core$sat$back$p_abs$1(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -100325,6 +101284,9 @@ module obb_core$sat$back$p_abs$2(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -100343,6 +101305,9 @@ module obb_core$sat$back$p_abs$3(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -100361,6 +101326,9 @@ module obb_core$sat$back$p_abs$4(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -100379,6 +101347,9 @@ module obb_core$sat$back$p_abs$5(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -100397,6 +101368,9 @@ module obb_core$sat$back$p_abs$6(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -100415,6 +101389,9 @@ module obb_core$sat$back$p_abs$7(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -100433,6 +101410,9 @@ module obb_core$sat$back$p_abs$8(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -100454,6 +101434,25 @@ module obb_core$sat$back$p_dot$0(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100493,6 +101492,25 @@ module obb_core$sat$back$p_dot$1(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100532,6 +101550,25 @@ module obb_core$sat$back$p_dot$2(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100571,6 +101608,25 @@ module obb_core$sat$back$p_dot$3(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100610,6 +101666,25 @@ module obb_core$sat$back$p_dot$4(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100649,6 +101724,25 @@ module obb_core$sat$back$p_dot$5(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100688,6 +101782,25 @@ module obb_core$sat$back$p_dot$6(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100727,6 +101840,25 @@ module obb_core$sat$back$p_dot$7(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -100766,6 +101898,25 @@ module obb_core$sat$back$p_dot$8(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -102542,6 +103693,25 @@ module obb_core$sat$back$ra_dot$0(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -102581,6 +103751,25 @@ module obb_core$sat$back$ra_dot$1(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -102620,6 +103809,25 @@ module obb_core$sat$back$ra_dot$2(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -102659,6 +103867,25 @@ module obb_core$sat$back$ra_dot$3(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -102698,6 +103925,25 @@ module obb_core$sat$back$ra_dot$4(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -102737,6 +103983,25 @@ module obb_core$sat$back$ra_dot$5(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -102776,6 +104041,25 @@ module obb_core$sat$back$ra_dot$6(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -102815,6 +104099,25 @@ module obb_core$sat$back$ra_dot$7(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -102854,6 +104157,25 @@ module obb_core$sat$back$ra_dot$8(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -102893,6 +104215,25 @@ module obb_core$sat$back$rb_dot$0(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -102932,6 +104273,25 @@ module obb_core$sat$back$rb_dot$1(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -102971,6 +104331,25 @@ module obb_core$sat$back$rb_dot$2(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -103010,6 +104389,25 @@ module obb_core$sat$back$rb_dot$3(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -103049,6 +104447,25 @@ module obb_core$sat$back$rb_dot$4(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -103088,6 +104505,25 @@ module obb_core$sat$back$rb_dot$5(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -103127,6 +104563,25 @@ module obb_core$sat$back$rb_dot$6(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -103166,6 +104621,25 @@ module obb_core$sat$back$rb_dot$7(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -103205,6 +104679,25 @@ module obb_core$sat$back$rb_dot$8(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -103332,6 +104825,44 @@ module obb_core$sat$back$round(t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r
     wire [38:0] up8 = ({1'b0, xr8} + ones + r$8[37]) >> f;
     wire signed [38:0] near8 = ($signed({r$8[37], r$8}) + half) >>> f;
     wire [38:0] anear8 = ({1'b0, xr8} + half_u) >> f;
+    initial begin
+       abs_t$0 = 0;
+       abs_u$0 = 0;
+       th$0 = 0;
+       abs_t$1 = 0;
+       abs_u$1 = 0;
+       th$1 = 0;
+       abs_t$2 = 0;
+       abs_u$2 = 0;
+       th$2 = 0;
+       r_up$0 = 0;
+       rt$0 = 0;
+       art$0 = 0;
+       r_up$1 = 0;
+       rt$1 = 0;
+       art$1 = 0;
+       r_up$2 = 0;
+       rt$2 = 0;
+       art$2 = 0;
+       r_up$3 = 0;
+       rt$3 = 0;
+       art$3 = 0;
+       r_up$4 = 0;
+       rt$4 = 0;
+       art$4 = 0;
+       r_up$5 = 0;
+       rt$5 = 0;
+       art$5 = 0;
+       r_up$6 = 0;
+       rt$6 = 0;
+       art$6 = 0;
+       r_up$7 = 0;
+       rt$7 = 0;
+       art$7 = 0;
+       r_up$8 = 0;
+       rt$8 = 0;
+       art$8 = 0;
+    end
     always @(posedge clock) begin
        abs_t$0 <= mt0;
        abs_u$0 <= mu0;
@@ -104892,6 +106423,26 @@ module obb_core$sat$front$r_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -104935,6 +106486,26 @@ module obb_core$sat$front$r_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -104978,6 +106549,26 @@ module obb_core$sat$front$r_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -105021,6 +106612,26 @@ module obb_core$sat$front$r_dot$3(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -105064,6 +106675,26 @@ module obb_core$sat$front$r_dot$4(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -105107,6 +106738,26 @@ module obb_core$sat$front$r_dot$5(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -105150,6 +106801,26 @@ module obb_core$sat$front$r_dot$6(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -105193,6 +106864,26 @@ module obb_core$sat$front$r_dot$7(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -105236,6 +106927,26 @@ module obb_core$sat$front$r_dot$8(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -105279,6 +106990,26 @@ module obb_core$sat$front$t_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [41:0] m0, m1, m2;
     reg signed [43:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -105322,6 +107053,26 @@ module obb_core$sat$front$t_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [41:0] m0, m1, m2;
     reg signed [43:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -105365,6 +107116,26 @@ module obb_core$sat$front$t_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [41:0] m0, m1, m2;
     reg signed [43:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -105408,6 +107179,26 @@ module obb_core$sat$front$u_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [41:0] m0, m1, m2;
     reg signed [43:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -105451,6 +107242,26 @@ module obb_core$sat$front$u_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [41:0] m0, m1, m2;
     reg signed [43:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -105494,6 +107305,26 @@ module obb_core$sat$front$u_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [41:0] m0, m1, m2;
     reg signed [43:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -105722,6 +107553,9 @@ module obb_core$sat$front$world$0(a,b,d,clock);
     input wire  clock;
     
     // Update code (custom)
+    initial begin
+       d = 0;
+    end
     always @(posedge clock) begin
        d <= $signed({1'b0, b}) - $signed({1'b0, a});
     end
@@ -105737,6 +107571,9 @@ module obb_core$sat$front$world$1(a,b,d,clock);
     input wire  clock;
     
     // Update code (custom)
+    initial begin
+       d = 0;
+    end
     always @(posedge clock) begin
        d <= $signed({1'b0, b}) - $signed({1'b0, a});
     end
@@ -105752,6 +107589,9 @@ module obb_core$sat$front$world$2(a,b,d,clock);
     input wire  clock;
     
     // Update code (custom)
+    initial begin
+       d = 0;
+    end
     always @(posedge clock) begin
        d <= $signed({1'b0, b}) - $signed({1'b0, a});
     end

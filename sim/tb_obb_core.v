@@ -7,7 +7,12 @@
 //                 boxes, one hex word per line (README.md, "File formats", has the layout)
 //   +frames=F     how many frames FILE holds
 //   +out=FILE     written, per frame: one line `pair A B` per pair taken from the stream, in
-//                 order, then `done CLOCKS CYCLES CANDIDATES SAT_TESTS PAIRS CAPACITY_EXCEEDED`
+//                 order, then `done CLOCKS CYCLES CANDIDATES SAT_TESTS PAIRS CAPACITY_EXCEEDED
+//                 PAIR_OVERFLOW`; before it, `abort` where +abort aborted the frame
+//   +abort=C      abort each frame once, at its clock C (1 or more; default 0: never) if it has
+//                 not finished: frame_start again, and the frame's boxes again from its first
+//                 (pairs taken before the `abort` line are the aborted frame's; CLOCKS then
+//                 counts from the abort)
 //   +ready=K      pair_ready is high one clock in K (default 1: always), to throttle the stream
 //   +timeout=T    give up (exit code non-zero) after T clocks without `done` (default 2^40)
 //   +progress=P   print `progress CLOCK` every P clocks (default 0: never)
@@ -33,7 +38,7 @@ module tb;
   reg pair_ready = 1'b0;
   reg [WORD-1:0] word = {WORD{1'b0}};
 
-  wire obb_ready, pair_valid, done, busy, capacity_exceeded;
+  wire obb_ready, pair_valid, done, busy, capacity_exceeded, pair_overflow;
   wire [INDEX-1:0] pair_a, pair_b;
   wire [COUNT-1:0] cycles, visits, sat_tests, pairs;
 
@@ -60,21 +65,23 @@ module tb;
     .pair_valid(pair_valid), .pair_ready(pair_ready),
     .pair_a(pair_a), .pair_b(pair_b),
     .done(done), .busy(busy), .capacity_exceeded(capacity_exceeded),
+    .pair_overflow(pair_overflow),
     .cycles(cycles), .visits(visits), .sat_tests(sat_tests), .pairs(pairs)
   );
 
   reg [WORD-1:0] read_word;
   reg [1023:0] stim_name, out_name, waves_name;
   integer stim, out, boxes, ready_every, progress, sent, scanned, frames, frame, update;
-  integer waves_depth;
-  reg [63:0] clocks, timeout, waves_from, waves_to;
+  integer waves_depth, frame_at, sought;
+  reg [63:0] clocks, timeout, waves_from, waves_to, abort_at;
   reg [63:0] run_clock = 64'd0;
-  reg started, waves;
+  reg started, waves, aborted;
 
   // Clock 0 of a frame: its header, then frame_start (with frame_update); the first box (or the
   // empty frame's marker) follows.
   task start_frame;
     begin
+      frame_at = $ftell(stim);
       scanned = $fscanf(stim, "%d %d\n", update, boxes);
       if (scanned != 2) begin
         $display("error: %0s has no header for frame %0d of %0d", stim_name, frame, frames);
@@ -108,6 +115,7 @@ module tb;
     if (!$value$plusargs("ready=%d", ready_every)) ready_every = 1;
     if (!$value$plusargs("progress=%d", progress)) progress = 0;
     if (!$value$plusargs("timeout=%d", timeout)) timeout = 64'd1 << 40;
+    if (!$value$plusargs("abort=%d", abort_at)) abort_at = 0;
     // The file is opened here, the dump starts at the window's first clock.
     waves = $value$plusargs("waves=%s", waves_name);
     if (waves) $dumpfile(waves_name);
@@ -123,6 +131,7 @@ module tb;
     clocks = 0;
     frame = 0;
     started = 1'b0;
+    aborted = 1'b0;
   end
 
   always @(posedge clock) begin
@@ -135,7 +144,9 @@ module tb;
     end else begin
       frame_start <= 1'b0;
       clocks <= clocks + 1;
-      // The box stream: the current box moves when the core takes it.
+      // The box stream: the current box moves when the core takes it. The end marker alone
+      // stays up until the next frame (the core reads it only while it loads, which after an
+      // abort is some clocks later).
       if (clocks == 0) begin
         if (boxes == 0) begin
           obb_last <= 1'b1;
@@ -153,17 +164,16 @@ module tb;
           next_box;
           obb_last <= sent + 1 == boxes;
         end
-      end else if (boxes == 0) begin
-        obb_last <= 1'b0;
       end
       // The pair stream: a pair moves on a clock where valid and ready are both high.
       if (pair_valid && pair_ready) $fwrite(out, "pair %0d %0d\n", pair_a, pair_b);
       pair_ready <= (clocks + 1) % ready_every == 0;
       if (progress != 0 && clocks % progress == 0) $display("progress %0d", clocks);
       if (done && clocks > 1) begin
-        $fwrite(out, "done %0d %0d %0d %0d %0d %0d\n", clocks, cycles, visits, sat_tests,
-                pairs, capacity_exceeded);
+        $fwrite(out, "done %0d %0d %0d %0d %0d %0d %0d\n", clocks, cycles, visits, sat_tests,
+                pairs, capacity_exceeded, pair_overflow);
         frame = frame + 1;
+        aborted = 1'b0;
         if (frame == frames) begin
           $fclose(out);
           $finish;
@@ -172,6 +182,14 @@ module tb;
           // no idle clock between the frames. ($finish ends the run only after this clock.)
           start_frame;
         end
+      end
+      // The abort: the frame's header and boxes again, from the next clock.
+      if (abort_at != 0 && !aborted && !done && clocks == abort_at) begin
+        $fwrite(out, "abort\n");
+        sought = $fseek(stim, frame_at, 0);
+        if (sought != 0) begin $display("error: cannot seek in %0s", stim_name); $fatal(1); end
+        aborted = 1'b1;
+        start_frame;
       end
       if (clocks >= timeout) begin
         $display("error: no done after %0d clocks", clocks);

@@ -2,7 +2,7 @@
 // Configuration: center_bits=20 half_bits=17 rot_bits=18 key_bits=20 lsb_mm=0.0009765625
 
 
-module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,key_min_x,key_min_y,key_min_z,key_max_x,key_max_y,key_max_z,key_margin,key_group,visit,visit_i0,visit_i1,visit_i2,visit_i3,visit_j0,visit_j1,visit_j2,visit_j3,visits,test_valid,test_ready,test_a,test_b,test_ma,test_mb,walked,finished,too_wide);
+module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,key_min_x,key_min_y,key_min_z,key_max_x,key_max_y,key_max_z,key_margin,key_group,visit,visit_i0,visit_i1,visit_i2,visit_i3,visit_j0,visit_j1,visit_j2,visit_j3,visits,test_valid,test_ready,test_a,test_b,test_ma,test_mb,walked,finished,too_wide,queue_overflow);
     
     // Module arguments
     input wire  clock;
@@ -40,6 +40,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
     output reg  walked;
     output reg  finished;
     output reg  too_wide;
+    output reg  queue_overflow;
     
     // Constant declarations
     localparam  lane_mask = 16'h0;
@@ -6933,6 +6934,8 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
     wire  [95:0] fifo$0$data_out;
     wire  fifo$0$empty;
     wire  fifo$0$almost_full;
+    reg  fifo$0$clear;
+    wire  fifo$0$overflow;
     reg  clearing$d;
     wire  clearing$q;
     reg  clearing$clock;
@@ -7202,6 +7205,7 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
     reg  update_q$clock;
     
     // Local signals
+    reg  lanes_overflow;
     reg  [22:0] key_min$0;
     reg  [22:0] key_min$1;
     reg  [22:0] key_min$2;
@@ -19426,7 +19430,9 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         .valid(fifo$0$valid),
         .data_out(fifo$0$data_out),
         .empty(fifo$0$empty),
-        .almost_full(fifo$0$almost_full)
+        .almost_full(fifo$0$almost_full),
+        .clear(fifo$0$clear),
+        .overflow(fifo$0$overflow)
     );
     grid_phase$clearing clearing(
         .d(clearing$d),
@@ -32007,6 +32013,10 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         test_ma = ((unpack_ma) & 28'hfffffff);
         test_mb = ((out_word) & 28'hfffffff);
         fifo$0$ready = test_ready & issuer$0;
+        lanes_overflow = 1'b0;
+        fifo$0$clear = start;
+        lanes_overflow = lanes_overflow | fifo$0$overflow;
+        queue_overflow = lanes_overflow;
         done_walk = idle$q & ((slow$q == SlowState$Over) | ((slow$q == SlowState$Fetch) & ~large_left));
         walked = done_walk;
         if (done_walk & ~clearing$q & ~cleared$q) begin
@@ -48491,7 +48501,7 @@ module grid_phase$fetch_q(d,q,clock);
 endmodule // grid_phase$fetch_q
 
 
-module grid_phase$fifo$0(clock,write,data_in,ready,valid,data_out,empty,almost_full);
+module grid_phase$fifo$0(clock,write,data_in,ready,valid,data_out,empty,almost_full,clear,overflow);
     
     // Module arguments
     input wire  clock;
@@ -48502,8 +48512,11 @@ module grid_phase$fifo$0(clock,write,data_in,ready,valid,data_out,empty,almost_f
     output reg  [95:0] data_out;
     output reg  empty;
     output reg  almost_full;
+    input wire  clear;
+    output reg  overflow;
     
     // Constant declarations
+    localparam  depth = 7'b1000000;
     localparam  stall_at = 7'b100000;
     localparam  stall_lo = 7'b11111;
     localparam  stall_hi = 7'b100001;
@@ -48540,6 +48553,9 @@ module grid_phase$fifo$0(clock,write,data_in,ready,valid,data_out,empty,almost_f
     reg  full_q$d;
     wire  full_q$q;
     reg  full_q$clock;
+    reg  overflow_q$d;
+    wire  overflow_q$q;
+    reg  overflow_q$clock;
     
     // Local signals
     reg  load;
@@ -48601,6 +48617,11 @@ module grid_phase$fifo$0(clock,write,data_in,ready,valid,data_out,empty,almost_f
         .q(full_q$q),
         .clock(full_q$clock)
     );
+    grid_phase$fifo$0$overflow_q overflow_q(
+        .d(overflow_q$d),
+        .q(overflow_q$q),
+        .clock(overflow_q$clock)
+    );
     
     // Update code
     always @(*) begin
@@ -48612,6 +48633,7 @@ module grid_phase$fifo$0(clock,write,data_in,ready,valid,data_out,empty,almost_f
         out_valid$clock = clock;
         out_data$clock = clock;
         full_q$clock = clock;
+        overflow_q$clock = clock;
         wptr$d = wptr$q;
         rptr$d = rptr$q;
         count$d = count$q;
@@ -48620,6 +48642,7 @@ module grid_phase$fifo$0(clock,write,data_in,ready,valid,data_out,empty,almost_f
         out_valid$d = out_valid$q;
         out_data$d = out_data$q;
         full_q$d = full_q$q;
+        overflow_q$d = overflow_q$q;
         ram$clock = clock;
         ram$write_enable = write;
         ram$write_address = wptr$q;
@@ -48662,6 +48685,13 @@ module grid_phase$fifo$0(clock,write,data_in,ready,valid,data_out,empty,almost_f
         data_out = out_data$q;
         empty = ~stored$q & ~out_valid$q;
         almost_full = full_q$q;
+        if (clear) begin
+            overflow_q$d = 1'b0;
+        end
+        if (up & (count$q == depth)) begin
+            overflow_q$d = 1'b1;
+        end
+        overflow = overflow_q$q;
     end
     
 endmodule // grid_phase$fifo$0
@@ -48760,6 +48790,25 @@ module grid_phase$fifo$0$out_valid(d,q,clock);
     end
           
 endmodule // grid_phase$fifo$0$out_valid
+
+
+module grid_phase$fifo$0$overflow_q(d,q,clock);
+    
+    // Module arguments
+    input wire  d;
+    output reg  q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 1'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // grid_phase$fifo$0$overflow_q
 
 
 module grid_phase$fifo$0$ram(clock,write_enable,write_address,write_data,read_address,read_data);
@@ -53927,6 +53976,10 @@ module grid_phase$kt_group$0(clock,write_enable,write_address,write_data,read_ad
     // Update code (custom)
     reg [2:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -53954,6 +54007,10 @@ module grid_phase$kt_margin$0(clock,write_enable,write_address,write_data,read_a
     // Update code (custom)
     reg [27:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -53981,6 +54038,10 @@ module grid_phase$kt_max$0(clock,write_enable,write_address,write_data,read_addr
     // Update code (custom)
     reg [22:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -54008,6 +54069,10 @@ module grid_phase$kt_max$1(clock,write_enable,write_address,write_data,read_addr
     // Update code (custom)
     reg [22:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -54035,6 +54100,10 @@ module grid_phase$kt_max$2(clock,write_enable,write_address,write_data,read_addr
     // Update code (custom)
     reg [22:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -54062,6 +54131,10 @@ module grid_phase$kt_min$0(clock,write_enable,write_address,write_data,read_addr
     // Update code (custom)
     reg [22:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -54089,6 +54162,10 @@ module grid_phase$kt_min$1(clock,write_enable,write_address,write_data,read_addr
     // Update code (custom)
     reg [22:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -54116,6 +54193,10 @@ module grid_phase$kt_min$2(clock,write_enable,write_address,write_data,read_addr
     // Update code (custom)
     reg [22:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;
@@ -80298,6 +80379,10 @@ module grid_phase$succ$0(clock,write_enable,write_address,write_data,read_addres
     // Update code (custom)
     reg [15:0] mem [0:32767];
     wire [15:0] address_a = write_enable ? write_address : read_address_a;
+    initial begin
+       read_data_a = 0;
+       read_data_b = 0;
+    end
     always @(posedge clock) begin
        if (write_enable) begin
           mem[address_a] <= write_data;

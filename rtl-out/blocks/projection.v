@@ -1883,6 +1883,12 @@ module projection$products$0(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -1906,6 +1912,12 @@ module projection$products$1(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -1929,6 +1941,12 @@ module projection$products$2(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -1952,6 +1970,12 @@ module projection$products$3(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -1975,6 +1999,12 @@ module projection$products$4(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -1998,6 +2028,12 @@ module projection$products$5(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -2021,6 +2057,12 @@ module projection$products$6(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -2044,6 +2086,12 @@ module projection$products$7(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -2067,6 +2115,12 @@ module projection$products$8(a,b,p,clock);
     reg  [35:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -2090,6 +2144,12 @@ module projection$sb(a,b,p,clock);
     reg  [34:0] m_r;
     
     // Update code (custom)
+    initial begin
+       a_r = 0;
+       b_r = 0;
+       m_r = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a_r <= a;
        b_r <= b;
@@ -2166,6 +2226,9 @@ module projection$terms$0(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -2182,6 +2245,9 @@ module projection$terms$1(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -2198,6 +2264,9 @@ module projection$terms$2(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -2214,6 +2283,9 @@ module projection$terms$3(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -2230,6 +2302,9 @@ module projection$terms$4(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -2246,6 +2321,9 @@ module projection$terms$5(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -2262,6 +2340,9 @@ module projection$terms$6(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -2278,6 +2359,9 @@ module projection$terms$7(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end
@@ -2294,6 +2378,9 @@ module projection$terms$8(r,t,clock);
     // Update code (custom)
     wire [17:0] mag = r[17] ? -r : r;
     wire [18:0] wide = {{1{1'b0}}, mag};
+    initial begin
+       t = 0;
+    end
     always @(posedge clock) begin
        t <= {wide[17:0], 1'b1};
     end

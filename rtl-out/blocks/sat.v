@@ -5824,6 +5824,72 @@ module sat$back$decide(abs_t$0,abs_t$1,abs_t$2,abs_u$0,abs_u$1,abs_u$2,face_a$0,
     reg [45:0] lhs [0:14];
     reg [45:0] rhs [0:14];
     reg [14:0] apart;
+    initial begin
+       part[0] = 0;
+       lhs1[0] = 0;
+       lhs[0] = 0;
+       rhs[0] = 0;
+       part[1] = 0;
+       lhs1[1] = 0;
+       lhs[1] = 0;
+       rhs[1] = 0;
+       part[2] = 0;
+       lhs1[2] = 0;
+       lhs[2] = 0;
+       rhs[2] = 0;
+       part[3] = 0;
+       lhs1[3] = 0;
+       lhs[3] = 0;
+       rhs[3] = 0;
+       part[4] = 0;
+       lhs1[4] = 0;
+       lhs[4] = 0;
+       rhs[4] = 0;
+       part[5] = 0;
+       lhs1[5] = 0;
+       lhs[5] = 0;
+       rhs[5] = 0;
+       part[6] = 0;
+       lhs1[6] = 0;
+       lhs[6] = 0;
+       rhs[6] = 0;
+       part[7] = 0;
+       lhs1[7] = 0;
+       lhs[7] = 0;
+       rhs[7] = 0;
+       part[8] = 0;
+       lhs1[8] = 0;
+       lhs[8] = 0;
+       rhs[8] = 0;
+       part[9] = 0;
+       lhs1[9] = 0;
+       lhs[9] = 0;
+       rhs[9] = 0;
+       part[10] = 0;
+       lhs1[10] = 0;
+       lhs[10] = 0;
+       rhs[10] = 0;
+       part[11] = 0;
+       lhs1[11] = 0;
+       lhs[11] = 0;
+       rhs[11] = 0;
+       part[12] = 0;
+       lhs1[12] = 0;
+       lhs[12] = 0;
+       rhs[12] = 0;
+       part[13] = 0;
+       lhs1[13] = 0;
+       lhs[13] = 0;
+       rhs[13] = 0;
+       part[14] = 0;
+       lhs1[14] = 0;
+       lhs[14] = 0;
+       rhs[14] = 0;
+       face_m = 0;
+       cross_m = 0;
+       apart = 0;
+       hit = 0;
+    end
     always @(posedge clock) begin
        part[0] <= ({{46{1'b0}}, half_a$0} << f) + {{46{1'b0}}, face_a$0};
        lhs1[0] <= {{46{1'b0}}, abs_t$0};
@@ -6503,6 +6569,26 @@ module sat$back$face_a_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [36:0] m0, m1, m2;
     reg signed [38:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -6546,6 +6632,26 @@ module sat$back$face_a_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [36:0] m0, m1, m2;
     reg signed [38:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -6589,6 +6695,26 @@ module sat$back$face_a_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [36:0] m0, m1, m2;
     reg signed [38:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -7211,6 +7337,26 @@ module sat$back$face_b_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [36:0] m0, m1, m2;
     reg signed [38:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -7254,6 +7400,26 @@ module sat$back$face_b_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [36:0] m0, m1, m2;
     reg signed [38:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -7297,6 +7463,26 @@ module sat$back$face_b_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [36:0] m0, m1, m2;
     reg signed [38:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -10132,6 +10318,9 @@ module sat$back$minor_abs$0(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10150,6 +10339,9 @@ module sat$back$minor_abs$1(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10168,6 +10360,9 @@ module sat$back$minor_abs$2(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10186,6 +10381,9 @@ module sat$back$minor_abs$3(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10204,6 +10402,9 @@ module sat$back$minor_abs$4(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10222,6 +10423,9 @@ module sat$back$minor_abs$5(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10240,6 +10444,9 @@ module sat$back$minor_abs$6(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10258,6 +10465,9 @@ module sat$back$minor_abs$7(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10276,6 +10486,9 @@ module sat$back$minor_abs$8(x,s,y,clock);
     wire [36:0] mag = x[36] ? -x : x;
     wire [37:0] round = ({{37{1'b0}}, 1'b1} << s) - 1;
     wire [37:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10297,6 +10510,25 @@ module sat$back$minor_dot$0(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -10336,6 +10568,25 @@ module sat$back$minor_dot$1(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -10375,6 +10626,25 @@ module sat$back$minor_dot$2(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -10414,6 +10684,25 @@ module sat$back$minor_dot$3(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -10453,6 +10742,25 @@ module sat$back$minor_dot$4(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -10492,6 +10800,25 @@ module sat$back$minor_dot$5(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -10531,6 +10858,25 @@ module sat$back$minor_dot$6(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -10570,6 +10916,25 @@ module sat$back$minor_dot$7(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -10609,6 +10974,25 @@ module sat$back$minor_dot$8(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -10645,6 +11029,9 @@ module sat$back$p_abs$0(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10663,6 +11050,9 @@ module sat$back$p_abs$1(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10681,6 +11071,9 @@ module sat$back$p_abs$2(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10699,6 +11092,9 @@ module sat$back$p_abs$3(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10717,6 +11113,9 @@ module sat$back$p_abs$4(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10735,6 +11134,9 @@ module sat$back$p_abs$5(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10753,6 +11155,9 @@ module sat$back$p_abs$6(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10771,6 +11176,9 @@ module sat$back$p_abs$7(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10789,6 +11197,9 @@ module sat$back$p_abs$8(x,s,y,clock);
     wire [43:0] mag = x[43] ? -x : x;
     wire [44:0] round = ({{44{1'b0}}, 1'b1} << s) - 1;
     wire [44:0] total = {1'b0, mag} + round;
+    initial begin
+       y = 0;
+    end
     always @(posedge clock) begin
        y <= total >> s;
     end
@@ -10810,6 +11221,25 @@ module sat$back$p_dot$0(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -10849,6 +11279,25 @@ module sat$back$p_dot$1(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -10888,6 +11337,25 @@ module sat$back$p_dot$2(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -10927,6 +11395,25 @@ module sat$back$p_dot$3(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -10966,6 +11453,25 @@ module sat$back$p_dot$4(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -11005,6 +11511,25 @@ module sat$back$p_dot$5(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -11044,6 +11569,25 @@ module sat$back$p_dot$6(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -11083,6 +11627,25 @@ module sat$back$p_dot$7(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -11122,6 +11685,25 @@ module sat$back$p_dot$8(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [42:0] m0, m1;
     reg signed [43:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -12898,6 +13480,25 @@ module sat$back$ra_dot$0(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -12937,6 +13538,25 @@ module sat$back$ra_dot$1(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -12976,6 +13596,25 @@ module sat$back$ra_dot$2(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13015,6 +13654,25 @@ module sat$back$ra_dot$3(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13054,6 +13712,25 @@ module sat$back$ra_dot$4(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13093,6 +13770,25 @@ module sat$back$ra_dot$5(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13132,6 +13828,25 @@ module sat$back$ra_dot$6(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13171,6 +13886,25 @@ module sat$back$ra_dot$7(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13210,6 +13944,25 @@ module sat$back$ra_dot$8(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [35:0] m0, m1;
     reg signed [36:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13249,6 +14002,25 @@ module sat$back$rb_dot$0(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13288,6 +14060,25 @@ module sat$back$rb_dot$1(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13327,6 +14118,25 @@ module sat$back$rb_dot$2(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13366,6 +14176,25 @@ module sat$back$rb_dot$3(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13405,6 +14234,25 @@ module sat$back$rb_dot$4(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13444,6 +14292,25 @@ module sat$back$rb_dot$5(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13483,6 +14350,25 @@ module sat$back$rb_dot$6(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13522,6 +14408,25 @@ module sat$back$rb_dot$7(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13561,6 +14466,25 @@ module sat$back$rb_dot$8(a0,a1,b0,b1,p,clock);
     reg signed [17:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
     reg signed [38:0] m0, m1;
     reg signed [39:0] p0;
+    initial begin
+       a0_f = 0;
+       a1_f = 0;
+       c_f = 0;
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       c_r = 0;
+       c_rr = 0;
+       b0_f = 0;
+       b1_f = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       m0 = 0;
+       m1 = 0;
+       p0 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        a0_f <= a0;
        b0_f <= b0;
@@ -13688,6 +14612,44 @@ module sat$back$round(t$0,t$1,t$2,u$0,u$1,u$2,r$0,r$1,r$2,r$3,r$4,r$5,r$6,r$7,r$
     wire [38:0] up8 = ({1'b0, xr8} + ones + r$8[37]) >> f;
     wire signed [38:0] near8 = ($signed({r$8[37], r$8}) + half) >>> f;
     wire [38:0] anear8 = ({1'b0, xr8} + half_u) >> f;
+    initial begin
+       abs_t$0 = 0;
+       abs_u$0 = 0;
+       th$0 = 0;
+       abs_t$1 = 0;
+       abs_u$1 = 0;
+       th$1 = 0;
+       abs_t$2 = 0;
+       abs_u$2 = 0;
+       th$2 = 0;
+       r_up$0 = 0;
+       rt$0 = 0;
+       art$0 = 0;
+       r_up$1 = 0;
+       rt$1 = 0;
+       art$1 = 0;
+       r_up$2 = 0;
+       rt$2 = 0;
+       art$2 = 0;
+       r_up$3 = 0;
+       rt$3 = 0;
+       art$3 = 0;
+       r_up$4 = 0;
+       rt$4 = 0;
+       art$4 = 0;
+       r_up$5 = 0;
+       rt$5 = 0;
+       art$5 = 0;
+       r_up$6 = 0;
+       rt$6 = 0;
+       art$6 = 0;
+       r_up$7 = 0;
+       rt$7 = 0;
+       art$7 = 0;
+       r_up$8 = 0;
+       rt$8 = 0;
+       art$8 = 0;
+    end
     always @(posedge clock) begin
        abs_t$0 <= mt0;
        abs_u$0 <= mu0;
@@ -15248,6 +16210,26 @@ module sat$front$r_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -15291,6 +16273,26 @@ module sat$front$r_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -15334,6 +16336,26 @@ module sat$front$r_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -15377,6 +16399,26 @@ module sat$front$r_dot$3(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -15420,6 +16462,26 @@ module sat$front$r_dot$4(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -15463,6 +16525,26 @@ module sat$front$r_dot$5(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -15506,6 +16588,26 @@ module sat$front$r_dot$6(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -15549,6 +16651,26 @@ module sat$front$r_dot$7(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -15592,6 +16714,26 @@ module sat$front$r_dot$8(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [17:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [35:0] m0, m1, m2;
     reg signed [37:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -15635,6 +16777,26 @@ module sat$front$t_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [41:0] m0, m1, m2;
     reg signed [43:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -15678,6 +16840,26 @@ module sat$front$t_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [41:0] m0, m1, m2;
     reg signed [43:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -15721,6 +16903,26 @@ module sat$front$t_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [41:0] m0, m1, m2;
     reg signed [43:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -15764,6 +16966,26 @@ module sat$front$u_dot$0(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [41:0] m0, m1, m2;
     reg signed [43:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -15807,6 +17029,26 @@ module sat$front$u_dot$1(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [41:0] m0, m1, m2;
     reg signed [43:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -15850,6 +17092,26 @@ module sat$front$u_dot$2(a0,a1,a2,b0,b1,b2,p,clock);
     reg signed [23:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
     reg signed [41:0] m0, m1, m2;
     reg signed [43:0] p0, p1;
+    initial begin
+       a0_r = 0;
+       a1_r = 0;
+       a1_rr = 0;
+       a2_r = 0;
+       a2_rr = 0;
+       a2_rrr = 0;
+       b0_r = 0;
+       b1_r = 0;
+       b1_rr = 0;
+       b2_r = 0;
+       b2_rr = 0;
+       b2_rrr = 0;
+       m0 = 0;
+       m1 = 0;
+       m2 = 0;
+       p0 = 0;
+       p1 = 0;
+       p = 0;
+    end
     always @(posedge clock) begin
        // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
        a0_r <= a0;
@@ -16078,6 +17340,9 @@ module sat$front$world$0(a,b,d,clock);
     input wire  clock;
     
     // Update code (custom)
+    initial begin
+       d = 0;
+    end
     always @(posedge clock) begin
        d <= $signed({1'b0, b}) - $signed({1'b0, a});
     end
@@ -16093,6 +17358,9 @@ module sat$front$world$1(a,b,d,clock);
     input wire  clock;
     
     // Update code (custom)
+    initial begin
+       d = 0;
+    end
     always @(posedge clock) begin
        d <= $signed({1'b0, b}) - $signed({1'b0, a});
     end
@@ -16108,6 +17376,9 @@ module sat$front$world$2(a,b,d,clock);
     input wire  clock;
     
     // Update code (custom)
+    initial begin
+       d = 0;
+    end
     always @(posedge clock) begin
        d <= $signed({1'b0, b}) - $signed({1'b0, a});
     end

@@ -101,6 +101,9 @@ pub enum CoreState {
 pub struct ObbCore<const A: usize, const C: usize> {
     pub clock: Signal<In, Clock>,
     /// Pulse: clear the counters and begin a frame (boxes are accepted from the next clock).
+    /// During a frame (`busy`, or `done` not yet up) it aborts that frame: from this clock no
+    /// box is taken and no pair of it is offered, and the new frame begins once the old one has
+    /// run out (docs/hardware.md, "Abort").
     pub frame_start: Signal<In, Bit>,
     /// With `frame_start` (grid, `resident_groups`): an update frame, which loads every box, the
     /// resident groups' first, and keeps those. Low: a haptic frame, which streams only the
@@ -131,13 +134,16 @@ pub struct ObbCore<const A: usize, const C: usize> {
     pub pair_b: Signal<Out, Bits<INDEX>>,
     /// The frame is computed and every pair has left; held until the next `frame_start`.
     pub done: Signal<Out, Bit>,
-    /// A frame is under way (from `frame_start` until `done`).
+    /// A frame is under way (from `frame_start` until `done`), or an aborted one runs out.
     pub busy: Signal<Out, Bit>,
     /// Sticky for the frame: more boxes than `capacity` arrived, or (grid) a large box's window
     /// spans more than `MAX_WINDOW` cells on an axis: the frame is incomplete. From then on it
     /// reports and counts nothing; with the grid, which reports pairs while boxes arrive, pairs
     /// sent before are true pairs.
     pub capacity_exceeded: Signal<Out, Bit>,
+    /// Sticky for the frame: a pair (or, with the grid, a SAT test) was lost to a full queue.
+    /// Never: the broad phase stalls with room for everything in flight; the tests assert it.
+    pub pair_overflow: Signal<Out, Bit>,
     /// Clocks from the first load clock to the last SAT verdict.
     pub cycles: Signal<Out, Bits<COUNT>>,
     /// Visits: index pairs the broad phase looked at (the glossary's *visit*).
@@ -190,8 +196,21 @@ pub struct ObbCore<const A: usize, const C: usize> {
     projected: DFF<Bits<C>>,
     over: DFF<Bit>,
     countdown: DFF<Bits<8>>,
-    /// Grid: clocks until the last issued SAT test's verdict is in the FIFO.
+    /// A frame is under way or has pairs to leave: a `frame_start` now aborts it.
+    live: DFF<Bit>,
+    /// An aborted frame runs out (silently, as one over capacity); then `restart_go` pulses and
+    /// the new frame begins, an update frame if `restart_update`.
+    restart: DFF<Bit>,
+    restart_go: DFF<Bit>,
+    restart_update: DFF<Bit>,
+    /// Grid: clocks until the last issued SAT test's verdict is in the FIFO; none (registered,
+    /// so that the walk's end is not a compare deep).
     pending: DFF<Bits<8>>,
+    pending_none: DFF<Bit>,
+    /// The frame began on the clock before: the radix sort's start. (Its first entry comes
+    /// after the projection; registered, so that the begin's decision does not lengthen the
+    /// sort's control paths.)
+    began: DFF<Bit>,
     n_cycles: DFF<Bits<COUNT>>,
     n_visits: DFF<Bits<COUNT>>,
     n_tests: DFF<Bits<COUNT>>,
@@ -292,6 +311,7 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             pair_b: Default::default(),
             done: Default::default(),
             busy: Default::default(),
+            pair_overflow: Default::default(),
             capacity_exceeded: Default::default(),
             cycles: Default::default(),
             visits: Default::default(),
@@ -330,7 +350,13 @@ impl<const A: usize, const C: usize> ObbCore<A, C> {
             projected: Default::default(),
             over: Default::default(),
             countdown: Default::default(),
+            live: Default::default(),
+            restart: Default::default(),
+            restart_go: Default::default(),
+            restart_update: Default::default(),
             pending: Default::default(),
+            pending_none: Default::default(),
+            began: Default::default(),
             n_cycles: Default::default(),
             n_visits: Default::default(),
             n_tests: Default::default(),
@@ -377,8 +403,24 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, state, stall, projected, over, countdown, n_cycles, n_visits, n_tests,
-            n_pairs, pending
+            self,
+            clock,
+            state,
+            stall,
+            projected,
+            over,
+            countdown,
+            live,
+            restart,
+            restart_go,
+            restart_update,
+            n_cycles,
+            n_visits,
+            n_tests,
+            n_pairs,
+            pending,
+            pending_none,
+            began
         );
         clock!(self, clock, projection, load, check, fetch, sat, fifo);
         for k in 0..self._radixes {
@@ -436,7 +478,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         self.sorted_key.next = 0.into();
         self.sorted_val.next = 0.into();
         self.sort_rd_addr.next = 0.into();
-        self.sort_start.next = self.frame_start.val();
+        self.sort_start.next = self.began.q.val();
         self.sort_go.next = false;
         self.sort_in_valid.next = false;
         self.sort_in_key.next = 0.into();
@@ -476,7 +518,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.walked.next = self.walker[k].finished.val();
             // Improved-sap: the walker drives the sort.
             if self.sap.val() {
-                self.sort_start.next = self.frame_start.val() | self.walker[k].sort_start.val();
+                self.sort_start.next = self.began.q.val() | self.walker[k].sort_start.val();
                 self.sort_go.next = self.walker[k].sort_go.val();
                 self.sort_in_valid.next = self.walker[k].sort_valid.val();
                 self.sort_in_key.next = self.walker[k].sort_key.val();
@@ -486,6 +528,9 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
 
         self.load.frame_start.next = self.frame_start.val();
         self.load.frame_update.next = self.frame_update.val();
+        self.load.live.next = self.live.q.val();
+        self.load.restart_go.next = self.restart_go.q.val();
+        self.load.restart_update.next = self.restart_update.q.val();
         self.load.obb_valid.next = self.obb_valid.val();
         self.load.obb_last.next = self.obb_last.val();
         self.load.obb_group.next = self.obb_group.val();
@@ -542,10 +587,10 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         // The grid probes each box as its keys arrive, and keeps its own copy of the keys
         // (banked by lane).
         for k in 0..self._grids {
-            self.grid[k].start.next = self.frame_start.val();
-            self.grid[k].update.next = self.frame_update.val();
+            self.grid[k].start.next = self.load.frame_begin.val();
+            self.grid[k].update.next = self.load.update.val();
             self.grid[k].accept.next = self.load.accept.val();
-            self.grid[k].loaded.next = !self.load.loading.val() & !self.frame_start.val();
+            self.grid[k].loaded.next = !self.load.loading.val() & !self.load.frame_begin.val();
             self.grid[k].key_valid.next = self.projection.valid_out.val();
             self.grid[k].key_index.next = bit_cast::<A, C>(self.projected.q.val());
             self.grid[k].key_min_x.next = self.projection.key_min[0].val();
@@ -701,17 +746,27 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         if self.hit.val() {
             self.n_pairs.d.next = self.n_pairs.q.val() + 1;
         }
-        self.pair_valid.next = self.fifo.valid.val();
+        // An aborted frame's pairs are not offered; they are drained.
+        self.pair_valid.next =
+            self.fifo.valid.val() & !self.restart.q.val() & !self.load.frame_abort.val();
         self.pair_a.next = self.fifo.data_out.val().get_bits::<INDEX>(20);
         self.pair_b.next = self.fifo.data_out.val().get_bits::<INDEX>(0);
-        self.fifo.ready.next = self.pair_ready.val();
+        self.fifo.ready.next =
+            (self.pair_ready.val() & !self.load.frame_abort.val()) | self.restart.q.val();
+        self.fifo.clear.next = self.load.frame_begin.val();
+        self.pair_overflow.next = self.fifo.overflow.val();
+        for k in 0..self._grids {
+            self.pair_overflow.next = self.fifo.overflow.val() | self.grid[k].queue_overflow.val();
+        }
 
         // Control and status.
-        self.busy.next =
-            (self.state.q.val() != CoreState::Idle) & (self.state.q.val() != CoreState::Done);
+        self.busy.next = ((self.state.q.val() != CoreState::Idle)
+            & (self.state.q.val() != CoreState::Done))
+            | self.restart.q.val();
         // A hit written on the edge into Done already makes the FIFO not empty.
-        self.done.next = (self.state.q.val() == CoreState::Done) & self.fifo.empty.val();
-        self.capacity_exceeded.next = self.over.q.val();
+        self.done.next =
+            (self.state.q.val() == CoreState::Done) & self.fifo.empty.val() & !self.restart.q.val();
+        self.capacity_exceeded.next = self.over.q.val() & !self.restart.q.val();
         // A large box's window too wide for the grid's slow path: the frame is incomplete, as
         // one over capacity is.
         if self.grid_too_wide.val() {
@@ -727,7 +782,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         match self.state.q.val() {
             CoreState::Idle => {}
             CoreState::Load => {
-                if self.load.ended.val() {
+                if self.load.ended.val() | self.load.frame_abort.val() {
                     self.state.d.next = CoreState::Project;
                 }
             }
@@ -759,7 +814,7 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             }
             CoreState::Walk => {
                 if self.grid_mode.val() {
-                    if self.grid_finished.val() & (self.pending.q.val() == 0) & !self.issue.val() {
+                    if self.grid_finished.val() & self.pending_none.q.val() & !self.issue.val() {
                         self.state.d.next = CoreState::Done;
                     }
                 } else if self.walked.val() {
@@ -780,6 +835,8 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
         } else if self.pending.q.val() != 0 {
             self.pending.d.next = self.pending.q.val() - 1;
         }
+        self.pending_none.d.next = !self.issue.val() & (self.pending.q.val() < 2);
+        self.began.d.next = self.load.frame_begin.val();
         // (After the states that set them: a local is read where it is written in the Verilog.)
         for k in 0..self._sweeps {
             self.sweep_walker[k].start.next = self.walk_start.val();
@@ -795,11 +852,32 @@ impl<const A: usize, const C: usize> Logic for ObbCore<A, C> {
             self.radix[k].in_val.next = self.sort_in_val.val();
             self.radix[k].rd_addr.next = self.sort_rd_addr.val();
         }
-        if self.frame_start.val() {
+        // The frame is over when its pairs have left; an aborted one begins the new frame then.
+        if (self.state.q.val() == CoreState::Done) & self.fifo.empty.val() {
+            self.live.d.next = false;
+        }
+        self.restart_go.d.next = false;
+        if self.load.frame_abort.val() {
+            self.over.d.next = true;
+            self.restart.d.next = true;
+            self.restart_update.d.next = self.frame_update.val();
+        }
+        // (`restart` stays up through the clock of `restart_go`, so that `done` does not rise.)
+        if self.restart.q.val()
+            & !self.restart_go.q.val()
+            & (self.state.q.val() == CoreState::Done)
+            & self.fifo.empty.val()
+        {
+            self.restart_go.d.next = true;
+        }
+        if self.load.frame_begin.val() {
+            self.live.d.next = true;
+            self.restart.d.next = false;
             self.state.d.next = CoreState::Load;
             self.projected.d.next = self.load.first.val();
             self.over.d.next = false;
             self.pending.d.next = 0.into();
+            self.pending_none.d.next = true;
             self.n_cycles.d.next = 0.into();
             self.n_visits.d.next = 0.into();
             self.n_tests.d.next = 0.into();

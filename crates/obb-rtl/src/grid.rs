@@ -199,6 +199,11 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// Sticky for the frame: a large box's window spans more than `MAX_WINDOW` cells on an
     /// axis; the slow path stopped, the frame is incomplete.
     pub too_wide: Signal<Out, Bit>,
+    /// Sticky for the frame: a lane's SAT test queue was written full (a test lost); never, as
+    /// the lanes stall at `GRID_TEST_STALL` with room for the tests in flight.
+    pub queue_overflow: Signal<Out, Bit>,
+    /// The lanes' queue overflows, ORed.
+    lanes_overflow: Signal<Local, Bit>,
     // Configuration.
     // Groups with lists (`grid_groups`); walker lanes; lists per lane (27 per group) and in
     // all.
@@ -756,6 +761,8 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             walked: Default::default(),
             finished: Default::default(),
             too_wide: Default::default(),
+            queue_overflow: Default::default(),
+            lanes_overflow: Default::default(),
             _groups: groups,
             _lanes: lanes,
             _lpl: lpl,
@@ -2318,6 +2325,12 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             for k in 0..self._lanes {
                 self.fifo[k].ready.next = self.test_ready.val() & self.issuer[k].val();
             }
+            self.lanes_overflow.next = false;
+            for k in 0..self._lanes {
+                self.fifo[k].clear.next = self.start.val();
+                self.lanes_overflow.next = self.lanes_overflow.val() | self.fifo[k].overflow.val();
+            }
+            self.queue_overflow.next = self.lanes_overflow.val();
 
             // The end: every box accepted and retired, the slow path over; then the clear, one
             // bucket a clock.

@@ -20,6 +20,18 @@ pub fn sval<const N: usize>(s: Signed<N>) -> i64 {
 }
 
 /// A signed signal from a value that fits it.
+/// An `initial` block that zeroes the registers `regs`: the Rust models start every register
+/// at zero, and the Verilog must too in every simulator (Icarus starts one at `x`, which the
+/// block harness treats as an error). Synthesis keeps them as init values; the DSP48E1's and
+/// RAMB36E1's registers start at zero anyway, and their mapping is unchanged.
+pub fn zeroed<S: AsRef<str>>(regs: impl IntoIterator<Item = S>) -> String {
+    let mut v = String::from("initial begin\n");
+    for r in regs {
+        v.push_str(&format!("   {} = 0;\n", r.as_ref()));
+    }
+    v + "end\n"
+}
+
 pub fn sbits<const N: usize>(v: i64) -> Signed<N> {
     debug_assert!(N == 64 || (-(1i64 << (N - 1))..(1i64 << (N - 1))).contains(&v));
     Signed::from(v)
@@ -56,10 +68,11 @@ impl<const N: usize, const M: usize> Logic for AbsTwice<N, M> {
             "\
 wire [{n1}:0] mag = r[{n1}] ? -r : r;
 wire [{m1}:0] wide = {{{{{pad}{{1'b0}}}}, mag}};
-always @(posedge clock) begin
+{init}always @(posedge clock) begin
    t <= {{wide[{m2}:0], 1'b1}};
 end
 ",
+            init = zeroed(["t"]),
             n1 = N - 1,
             m1 = M - 1,
             m2 = M - 2,
@@ -109,15 +122,15 @@ impl<const A: usize, const B: usize, const P: usize> Logic for UMul<A, B, P> {
     }
     fn hdl(&self) -> Verilog {
         Verilog::Custom(
-            "\
+            zeroed(["a_r", "b_r", "m_r", "p"])
+                + "\
 always @(posedge clock) begin
    a_r <= a;
    b_r <= b;
    m_r <= a_r * b_r;
    p <= m_r;
 end
-"
-            .into(),
+",
         )
     }
 }
@@ -149,10 +162,11 @@ impl<const N: usize, const M: usize> Logic for Diff<N, M> {
     fn hdl(&self) -> Verilog {
         Verilog::Custom(format!(
             "\
-always @(posedge clock) begin
+{init}always @(posedge clock) begin
    d <= $signed({{{pad}'b0, b}}) - $signed({{{pad}'b0, a}});
 end
 ",
+            init = zeroed(["d"]),
             pad = M - N,
         ))
     }
@@ -235,7 +249,7 @@ reg signed [{a}:0] a0_r, a1_r, a1_rr, a2_r, a2_rr, a2_rrr;
 reg signed [{b}:0] b0_r, b1_r, b1_rr, b2_r, b2_rr, b2_rrr;
 reg signed [{m}:0] m0, m1, m2;
 reg signed [{p}:0] p0, p1;
-always @(posedge clock) begin
+{init}always @(posedge clock) begin
    // DSP 0: a0 b0 (AREG/BREG, MREG, PREG).
    a0_r <= a0;
    b0_r <= b0;
@@ -259,6 +273,10 @@ always @(posedge clock) begin
    p <= m2 + p1;
 end
 ",
+            init = zeroed([
+                "a0_r", "a1_r", "a1_rr", "a2_r", "a2_rr", "a2_rrr", "b0_r", "b1_r", "b1_rr",
+                "b2_r", "b2_rr", "b2_rrr", "m0", "m1", "m2", "p0", "p1", "p",
+            ]),
             a = A - 1,
             b = B - 1,
             m = A + B - 1,
@@ -320,7 +338,7 @@ reg signed [{a}:0] a0_f, a1_f, c_f, a0_r, a1_r, a1_rr, c_r, c_rr;
 reg signed [{b}:0] b0_f, b1_f, b0_r, b1_r, b1_rr;
 reg signed [{m}:0] m0, m1;
 reg signed [{p}:0] p0;
-always @(posedge clock) begin
+{init}always @(posedge clock) begin
    a0_f <= a0;
    b0_f <= b0;
    a1_f <= a1;
@@ -342,6 +360,10 @@ always @(posedge clock) begin
    p <= m1 + p0;
 end
 ",
+            init = zeroed([
+                "a0_f", "a1_f", "c_f", "a0_r", "a1_r", "a1_rr", "c_r", "c_rr", "b0_f", "b1_f",
+                "b0_r", "b1_r", "b1_rr", "m0", "m1", "p0", "p",
+            ]),
             a = A - 1,
             b = B - 1,
             m = A + B - 1,
@@ -378,10 +400,11 @@ impl<const N: usize, const M: usize> Logic for AbsShift<N, M> {
 wire [{n1}:0] mag = x[{n1}] ? -x : x;
 wire [{n}:0] round = ({{{{{n}{{1'b0}}}}, 1'b1}} << s) - 1;
 wire [{n}:0] total = {{1'b0, mag}} + round;
-always @(posedge clock) begin
+{init}always @(posedge clock) begin
    y <= total >> s;
 end
 ",
+            init = zeroed(["y"]),
             n1 = N - 1,
             n = N,
         ))

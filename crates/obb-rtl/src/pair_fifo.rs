@@ -4,7 +4,9 @@
 //! decision is on registers, so no path between registers passes more than 3 LUT levels.
 //!
 //! - A `write` stores `data_in` at the write pointer (the caller never writes a full FIFO: the
-//!   core stalls its broad phase at `almost_full` with room for every pair in flight).
+//!   core stalls its broad phase at `almost_full` with room for every pair in flight). Should
+//!   one come with every entry stored and none leaving, `overflow` rises and stays up until
+//!   `clear`: a pair was lost, and the tests assert it never happens.
 //! - The output register loads the oldest stored entry when it is empty or taken this clock
 //!   (`valid` and `ready` high), so a steady stream leaves one entry per clock.
 //! - Beside the stored count, two registered flags say whether anything is stored and whether
@@ -44,6 +46,11 @@ pub struct PairFifo<const W: usize> {
     pub empty: Signal<Out, Bit>,
     /// At least `stall_at` entries stored (the output register not counted).
     pub almost_full: Signal<Out, Bit>,
+    /// Pulse: `overflow` falls.
+    pub clear: Signal<In, Bit>,
+    /// Sticky: an entry was written with every entry stored and none leaving (it is lost).
+    pub overflow: Signal<Out, Bit>,
+    depth: Constant<Bits<COUNT>>,
     stall_at: Constant<Bits<COUNT>>,
     // `stall_at` less one and plus one; all ones.
     stall_lo: Constant<Bits<COUNT>>,
@@ -60,6 +67,7 @@ pub struct PairFifo<const W: usize> {
     out_data: DFF<Bits<W>>,
     /// `almost_full`, registered with the count.
     full_q: DFF<Bit>,
+    overflow_q: DFF<Bit>,
     load: Signal<Local, Bit>,
     two: Signal<Local, Bit>,
     // The count plus and less one; masks: it stays, rises, falls.
@@ -88,6 +96,9 @@ impl<const W: usize> PairFifo<W> {
             data_out: Default::default(),
             empty: Default::default(),
             almost_full: Default::default(),
+            clear: Default::default(),
+            overflow: Default::default(),
+            depth: Constant::new(DEPTH.into()),
             stall_at: Constant::new(stall_at.into()),
             stall_lo: Constant::new((stall_at - 1).into()),
             stall_hi: Constant::new((stall_at + 1).into()),
@@ -101,6 +112,7 @@ impl<const W: usize> PairFifo<W> {
             out_valid: Default::default(),
             out_data: Default::default(),
             full_q: Default::default(),
+            overflow_q: Default::default(),
             load: Default::default(),
             two: Default::default(),
             count_inc: Default::default(),
@@ -117,7 +129,9 @@ impl<const W: usize> PairFifo<W> {
 impl<const W: usize> Logic for PairFifo<W> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, wptr, rptr, count, stored, one, out_valid, out_data, full_q);
+        dff_setup!(
+            self, clock, wptr, rptr, count, stored, one, out_valid, out_data, full_q, overflow_q
+        );
         clock!(self, clock, ram);
         self.ram.write_enable.next = self.write.val();
         self.ram.write_address.next = self.wptr.q.val();
@@ -166,5 +180,12 @@ impl<const W: usize> Logic for PairFifo<W> {
         self.data_out.next = self.out_data.q.val();
         self.empty.next = !self.stored.q.val() & !self.out_valid.q.val();
         self.almost_full.next = self.full_q.q.val();
+        if self.clear.val() {
+            self.overflow_q.d.next = false;
+        }
+        if self.up.val() & (self.count.q.val() == self.depth.val()) {
+            self.overflow_q.d.next = true;
+        }
+        self.overflow.next = self.overflow_q.q.val();
     }
 }

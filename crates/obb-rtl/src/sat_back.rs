@@ -10,7 +10,7 @@
 //! | 8-12 | `r_B` (9 `SDot2`) |
 //! | 13-16 | `SatDecide`: radius sums with the margins, then the 15 comparisons and their OR |
 
-use crate::leaf::{sval, uval, AbsShift, SDot2, SDot3, DOT_LATENCY};
+use crate::leaf::{sval, uval, zeroed, AbsShift, SDot2, SDot3, DOT_LATENCY};
 use crate::pipe::Pipe;
 use crate::sat_front::{RR, TU};
 use crate::sat_round::{SatRound, ABS_TU, RT, R_UP, TH};
@@ -146,6 +146,10 @@ impl Logic for SatDecide {
              reg [{s1}:0] lhs1 [0:14];\nreg [{s1}:0] lhs [0:14];\nreg [{s1}:0] rhs [0:14];\n\
              reg [14:0] apart;"
         );
+        let arrays = ["part", "lhs1", "lhs", "rhs"];
+        let entries = (0..15).flat_map(|x| arrays.map(|a| format!("{a}[{x}]")));
+        let regs = ["face_m", "cross_m", "apart", "hit"].map(String::from);
+        v.push_str(&zeroed(entries.chain(regs)));
         v.push_str("always @(posedge clock) begin\n");
         // Clock 1: the sums' two halves, each of two operands (one carry chain).
         for i in 0..3 {

@@ -2,7 +2,7 @@
 //! signed values, which rust-hdl's Verilog gets wrong): `obb_model::fixed::sat::sat_round` plus
 //! `|R̃|`. Its Rust model calls the model itself, and its Verilog is checked against it.
 
-use crate::leaf::{sbits, sval, uval};
+use crate::leaf::{sbits, sval, uval, zeroed};
 use crate::sat_front::{RR, TU};
 use obb_model::fixed::sat::{sat_round, SatProducts};
 use rust_hdl::prelude::*;
@@ -111,6 +111,16 @@ impl Logic for SatRound {
                 rr = RR
             );
         }
+        let regs = (0..3).flat_map(|i| {
+            [
+                format!("abs_t${i}"),
+                format!("abs_u${i}"),
+                format!("th${i}"),
+            ]
+        });
+        let rounded =
+            (0..9).flat_map(|k| [format!("r_up${k}"), format!("rt${k}"), format!("art${k}")]);
+        v.push_str(&zeroed(regs.chain(rounded)));
         v.push_str("always @(posedge clock) begin\n");
         for i in 0..3 {
             let _ = writeln!(

@@ -87,7 +87,7 @@ impl<D: Synth, const A: usize> Logic for TableRam<D, A> {
             "\
 reg [{d}:0] mem [0:{last}];
 wire [{a}:0] address_a = write_enable ? write_address : read_address_a;
-always @(posedge clock) begin
+{init}always @(posedge clock) begin
    if (write_enable) begin
       mem[address_a] <= write_data;
    end
@@ -97,6 +97,7 @@ always @(posedge clock) begin
    read_data_b <= mem[read_address_b];
 end
 ",
+            init = crate::leaf::zeroed(["read_data_a", "read_data_b"]),
             d = D::BITS - 1,
             a = A - 1,
             last = self._depth - 1,

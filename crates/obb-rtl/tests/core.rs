@@ -48,7 +48,7 @@ fn inputs() -> Vec<Port> {
 }
 
 /// Output word: pair_valid, pair_a, pair_b, done, capacity_exceeded, obb_ready, cycles,
-/// visits, sat_tests, pairs.
+/// visits, sat_tests, pairs, pair_overflow.
 fn outputs() -> Vec<Port> {
     vec![
         Port::new("pair_valid", 1),
@@ -61,11 +61,12 @@ fn outputs() -> Vec<Port> {
         Port::new("visits", COUNT),
         Port::new("sat_tests", COUNT),
         Port::new("pairs", COUNT),
+        Port::new("pair_overflow", 1),
     ]
 }
 
 /// Verilator's extra column: the pair FIFO's stored entries (a probe of its count register).
-const FIFO_FILL: usize = 10;
+const FIFO_FILL: usize = 11;
 
 /// The words of one frame: `frame_start` (with `frame_update` unless `haptic`), the boxes (the
 /// last with `obb_last`, or the marker alone for no boxes), then `idle` clocks; `ready(k)`
@@ -135,6 +136,7 @@ fn rust_hdl<const A: usize, const C: usize>(cfg: &HwConfig, words: &[Vec<u64>]) 
             uval(u.visits.val()),
             uval(u.sat_tests.val()),
             uval(u.pairs.val()),
+            u64::from(u.pair_overflow.val()),
         ]
     };
     let clock = |u: &mut Core<A, C>, c: bool| u.clock.next = Clock::from(c);
@@ -162,6 +164,8 @@ fn outcome(words: &[Vec<u64>], out: &[Vec<u64>], from: usize, to: usize) -> SimF
                 visits: o[7],
                 sat_tests: o[8],
                 pairs: o[9],
+                pair_overflow: o[10] == 1,
+                before_abort: None,
             };
         }
     }

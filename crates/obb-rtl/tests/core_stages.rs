@@ -440,9 +440,14 @@ struct LoadState {
     resident_room: bool,
     haptic: bool,
     streamed_seen: bool,
+    /// An update frame has loaded whole since the last began (haptic frames may follow); a
+    /// resident box was refused in this frame.
+    resident_ok: bool,
+    spoiled: bool,
 }
 
-/// A clock's inputs: frame_start, frame_update, obb_valid, obb_last, obb_group, credit.
+/// A clock's inputs: frame_start, frame_update, obb_valid, obb_last, obb_group, credit; the
+/// core's registers live, restart_go, restart_update.
 fn load_inputs() -> Vec<Port> {
     vec![
         Port::new("frame_start", 1),
@@ -451,6 +456,9 @@ fn load_inputs() -> Vec<Port> {
         Port::new("obb_last", 1),
         Port::new("obb_group", GROUP),
         Port::new("credit", 1),
+        Port::new("live", 1),
+        Port::new("restart_go", 1),
+        Port::new("restart_update", 1),
     ]
 }
 
@@ -464,20 +472,32 @@ fn load_outputs() -> Vec<Port> {
         Port::new("ended", 1),
         Port::new("refused", 1),
         Port::new("first", LOAD_C),
+        Port::new("frame_begin", 1),
+        Port::new("update", 1),
+        Port::new("frame_abort", 1),
     ]
 }
 
 /// The outputs of state `s` under the clock's inputs `v`, in `load_outputs`' order.
 fn load_outputs_of(s: &LoadState, v: &[u64], resident: &[u32]) -> Vec<u64> {
-    let (update, valid, last, group, credit) = (v[1] == 1, v[2] == 1, v[3] == 1, v[4], v[5] == 1);
+    let (start, valid, last, group, credit) = (v[0] == 1, v[2] == 1, v[3] == 1, v[4], v[5] == 1);
+    let (live, go) = (v[6] == 1, v[7] == 1);
+    // A frame begins on a frame_start with none under way, or when the core restarts after an
+    // abort; a frame_start during a frame aborts it. The frame_start's update is the later.
+    let begin = (start && !live) || go;
+    let abort = start && live && !go;
+    let update = if start { v[1] == 1 } else { v[8] == 1 };
     // A box is taken when the load is on and the broad phase has room for it; past the
-    // capacity it is taken whatever the credit, and dropped.
-    let ready = s.loading && (credit || !s.room);
+    // capacity it is taken whatever the credit, and dropped. Nothing is taken on a
+    // frame_start's clock.
+    let ready = s.loading && !start && (credit || !s.room);
     let accept = ready && valid && s.room;
     let is_resident = resident.contains(&(group as u32));
     let out_of_place = accept && is_resident && (s.haptic || s.streamed_seen);
-    let refused = (s.loading && valid && !s.room) || out_of_place;
-    let ended = s.loading && last && (ready || !valid);
+    // A haptic frame with no whole update frame before it is refused.
+    let unsure = s.haptic && !s.resident_ok;
+    let refused = (s.loading && ((valid && !s.room) || unsure)) || out_of_place;
+    let ended = s.loading && !start && last && (ready || !valid);
     let first = if !resident.is_empty() && !update {
         s.resident_count
     } else {
@@ -492,6 +512,9 @@ fn load_outputs_of(s: &LoadState, v: &[u64], resident: &[u32]) -> Vec<u64> {
         u64::from(ended),
         u64::from(refused),
         first,
+        u64::from(begin),
+        u64::from(update),
+        u64::from(abort),
     ]
     .to_vec()
 }
@@ -499,7 +522,9 @@ fn load_outputs_of(s: &LoadState, v: &[u64], resident: &[u32]) -> Vec<u64> {
 /// The state after a clock's edge.
 fn load_step(s: &LoadState, v: &[u64], resident: &[u32]) -> LoadState {
     let out = load_outputs_of(s, v, resident);
-    let (accept, ended) = (out[1] == 1, out[5] == 1);
+    let (accept, ended, refused) = (out[1] == 1, out[5] == 1, out[6] == 1);
+    let (begin, update, abort) = (out[8] == 1, out[9] == 1, out[10] == 1);
+    let box_resident = resident.contains(&(v[4] as u32));
     let mut n = *s;
     if accept {
         n.count = s.count + 1;
@@ -513,18 +538,29 @@ fn load_step(s: &LoadState, v: &[u64], resident: &[u32]) -> LoadState {
             n.streamed_seen = true;
         }
     }
+    if refused && box_resident {
+        n.spoiled = true;
+        n.resident_ok = false;
+    }
     if ended {
         n.loading = false;
+        if !(s.haptic || s.spoiled || (refused && box_resident)) {
+            n.resident_ok = true;
+        }
     }
-    if v[0] == 1 {
+    if abort {
+        n.loading = false;
+    }
+    if begin {
         let has_resident = !resident.is_empty();
-        let update = v[1] == 1;
         n.loading = true;
         n.streamed_seen = false;
+        n.spoiled = false;
         n.haptic = has_resident && !update;
         (n.count, n.room) = (0, true);
         if has_resident && update {
             (n.resident_count, n.resident_room) = (0, true);
+            n.resident_ok = false;
         } else if has_resident {
             (n.count, n.room) = (s.resident_count, s.resident_room);
         }
@@ -552,7 +588,10 @@ fn load_reference(v: &[Vec<u64>], resident: &[u32], after: bool) -> Vec<Vec<u64>
 /// Frames of 0 to 9 boxes (past the capacity of 6 at times) in groups 0 to 3, boxes on about
 /// 7 clocks in 10, the credit withheld on about 1 in 5, update frames and haptic ones at
 /// random, `obb_last` with the last box or alone, and now and then a `frame_start` in the middle
-/// of a load. The sender moves on to its next box when the protocol says the box was taken.
+/// of a load. A frame begins on `frame_start` with no frame live, or aborts a live one and
+/// begins on the core's `restart_go` a few clocks later (now and then on the same clock as
+/// another `frame_start`, whose update wins). The sender moves on to its next box when the
+/// protocol says the box was taken.
 fn load_traffic(seed: u64, resident: &[u32]) -> Vec<Vec<u64>> {
     let mut rng = StdRng::seed_from_u64(seed);
     let mut v = Vec::new();
@@ -564,7 +603,17 @@ fn load_traffic(seed: u64, resident: &[u32]) -> Vec<Vec<u64>> {
         (before[0] == 1, before[5] == 1)
     };
     while v.len() < CLOCKS {
-        send(&mut v, vec![1, u64::from(rng.random_bool(0.5)), 0, 0, 0, 1]);
+        let update = u64::from(rng.random_bool(0.5));
+        if rng.random_bool(0.25) {
+            send(&mut v, vec![1, update, 0, 0, 0, 1, 1, 0, 0]);
+            for _ in 0..rng.random_range(0..3) {
+                send(&mut v, vec![0, 0, 0, 0, 0, 1, 1, 0, 0]);
+            }
+            let again = u64::from(rng.random_bool(0.2));
+            send(&mut v, vec![again, 1 - update, 0, 0, 0, 1, 0, 1, update]);
+        } else {
+            send(&mut v, vec![1, update, 0, 0, 0, 1, 0, 0, 0]);
+        }
         let boxes = rng.random_range(0..10);
         let abort = rng.random_bool(0.1);
         let mut sent = 0;
@@ -585,6 +634,9 @@ fn load_traffic(seed: u64, resident: &[u32]) -> Vec<Vec<u64>> {
                     u64::from(last),
                     group,
                     u64::from(credit),
+                    0,
+                    0,
+                    0,
                 ],
             );
             sent += usize::from(valid && ready);
@@ -593,7 +645,7 @@ fn load_traffic(seed: u64, resident: &[u32]) -> Vec<Vec<u64>> {
             }
         }
         for _ in 0..rng.random_range(0..3) {
-            send(&mut v, vec![0, 0, 0, 0, 0, 1]);
+            send(&mut v, vec![0, 0, 0, 0, 0, 1, 0, 0, 0]);
         }
     }
     v
@@ -606,6 +658,9 @@ fn apply_load(u: &mut BoxLoad<LOAD_A, LOAD_C>, v: &[u64]) {
     u.obb_last.next = v[3] == 1;
     u.obb_group.next = v[4].into();
     u.credit.next = v[5] == 1;
+    u.live.next = v[6] == 1;
+    u.restart_go.next = v[7] == 1;
+    u.restart_update.next = v[8] == 1;
 }
 
 fn load_read(u: &BoxLoad<LOAD_A, LOAD_C>) -> Vec<u64> {
@@ -618,15 +673,19 @@ fn load_read(u: &BoxLoad<LOAD_A, LOAD_C>) -> Vec<u64> {
         u64::from(u.ended.val()),
         u64::from(u.refused.val()),
         uval(u.first.val()),
+        u64::from(u.frame_begin.val()),
+        u64::from(u.update.val()),
+        u64::from(u.frame_abort.val()),
     ]
 }
 
 /// The load in rust-hdl and in Verilog against its protocol, every output at every clock: boxes
 /// taken only while loading with the credit and room, stored at consecutive indices; past the
 /// capacity taken, dropped and the frame refused; the load's end with its last box or with
-/// `obb_last` alone; a `frame_start` mid-load restarting it; with resident groups (0 and 2),
-/// update frames keeping their resident count, haptic frames starting after it, and a resident
-/// box out of place refusing the frame.
+/// `obb_last` alone; a `frame_start` mid-load restarting it, or aborting it (the core's `live`)
+/// until `restart_go`; with resident groups (0 and 2), update frames keeping their resident
+/// count, haptic frames starting after it (refused until an update frame has loaded whole), and
+/// a resident box out of place refusing the frame.
 #[test]
 fn box_load_follows_the_stream_protocol() {
     for (seed, resident) in [(1, vec![]), (2, vec![0, 2])] {
@@ -634,10 +693,10 @@ fn box_load_follows_the_stream_protocol() {
         let want = load_reference(&v, &resident, true);
         let edges = load_reference(&v, &resident, false);
         let count = |k: usize| edges.iter().filter(|o| o[k] == 1).count();
-        let (accepted, ended, refused) = (count(1), count(5), count(6));
+        let (accepted, ended, refused, aborted) = (count(1), count(5), count(6), count(10));
         assert!(
-            accepted > 100 && ended > 20 && refused > 5,
-            "seed {seed}: {accepted} taken, {ended} ends, {refused} refusals"
+            accepted > 100 && ended > 20 && refused > 5 && aborted > 5,
+            "seed {seed}: {accepted} taken, {ended} ends, {refused} refusals, {aborted} aborts"
         );
         assert!(
             want.iter().any(|o| o[3] == LOAD_CAPACITY),

@@ -502,3 +502,115 @@ fn the_netlist_matches_the_model_and_the_analysis_counts_what_yosys_counts() {
     );
     eprintln!("{report:?}");
 }
+
+/// A `frame_start` in the middle of a frame aborts it (docs/hardware.md, "Abort"). Each broad
+/// phase (capacity 512, a surgical scene of 300 boxes) runs three frames, each aborted once at
+/// the same clock of it and sent again whole: in the load, in the walk, and near the end; the
+/// receiver always ready and taking a pair one clock in 4. Before the abort the core offers
+/// only true pairs of the old frame; after it, nothing of the old frame: the frame sent again
+/// is whole and equal to the model's, pairs, order, counters and cycles. With resident tissue
+/// (the grid, `resident_groups = [0]`), an aborted update frame and haptic frames after it; and
+/// a haptic frame with no whole update frame before it is refused (`capacity_exceeded`), for
+/// its resident boxes are unsure.
+#[test]
+fn aborted_frames_give_the_whole_new_frame() {
+    let base = HwConfig {
+        capacity: 512,
+        ..HwConfig::default()
+    };
+    let scene = surgical(300, 3).unwrap();
+    let dir = scratch_dir("cosim").unwrap();
+    let stim = dir.join("stim.hex");
+    let phases = [
+        BroadPhase::Brute,
+        BroadPhase::Sweep,
+        BroadPhase::ImprovedSap,
+        BroadPhase::Grid,
+    ];
+    for broad_phase in phases {
+        let cfg = HwConfig {
+            broad_phase,
+            groups: GroupMask::All,
+            ..base.clone()
+        };
+        let design = obb_rtl::flow::generate::core(&cfg).unwrap();
+        let bench = build(&design, Level::Rtl, Simulator::Verilator, None, &cache()).unwrap();
+        let model = ModelFrame::new(&scene, &cfg).unwrap();
+        let run = model.run();
+        let total = run.cycles.total;
+        std::fs::write(&stim, stimulus(&[(true, model.streamed()); 3], &cfg)).unwrap();
+        for ready_every in [1, 4] {
+            for abort_at in [3, total / 2, total - 20] {
+                let opts = RunOptions {
+                    ready_every,
+                    timeout: 20 * (total + run.reported() * u64::from(ready_every)) + 10_000,
+                    abort_at,
+                    ..RunOptions::default()
+                };
+                let got = bench.run(&stim, 3, &opts, |_| {}).unwrap();
+                for (k, frame) in got.iter().enumerate() {
+                    let what = format!(
+                        "{broad_phase}, ready 1 in {ready_every}, aborted at clock {abort_at}, \
+                         frame {k}"
+                    );
+                    let before = frame.before_abort.as_ref();
+                    assert!(before.is_some(), "{what}: not aborted");
+                    let taken = Taken::of(ready_every, cfg.lanes);
+                    if let Err(e) = compare(frame, &Expected::of(&run), taken) {
+                        panic!("{what}: {e}");
+                    }
+                    eprintln!(
+                        "{what}: {} pairs before the abort, then {} pairs, {} cycles",
+                        before.map_or(0, Vec::len),
+                        frame.stream.len(),
+                        frame.cycles
+                    );
+                }
+            }
+        }
+    }
+    // Resident tissue: update (aborted), haptic, haptic; then a core whose first frame is
+    // haptic.
+    let cfg = HwConfig {
+        resident_groups: vec![0],
+        ..base
+    };
+    let design = obb_rtl::flow::generate::core(&cfg).unwrap();
+    let bench = build(&design, Level::Rtl, Simulator::Verilator, None, &cache()).unwrap();
+    let update = ModelFrame::new(&scene, &cfg).unwrap();
+    let instruments = Scene {
+        obbs: scene
+            .obbs
+            .iter()
+            .filter(|o| o.group != 0)
+            .cloned()
+            .collect(),
+    };
+    let haptic = update.haptic(&instruments).unwrap();
+    let runs = [update.run(), haptic.run(), haptic.run()];
+    let frames = [
+        (true, update.streamed()),
+        (false, haptic.streamed()),
+        (false, haptic.streamed()),
+    ];
+    std::fs::write(&stim, stimulus(&frames, &cfg)).unwrap();
+    let opts = RunOptions {
+        timeout: 100 * runs[0].cycles.total + 10_000,
+        abort_at: runs[0].cycles.total / 2,
+        ..RunOptions::default()
+    };
+    let got = bench.run(&stim, 3, &opts, |_| {}).unwrap();
+    assert!(got[0].before_abort.is_some(), "the update frame is aborted");
+    for (k, (frame, run)) in got.iter().zip(&runs).enumerate() {
+        if let Err(e) = compare(frame, &Expected::of(run), Taken::Freely) {
+            panic!("resident tissue, frame {k}: {e}");
+        }
+    }
+    std::fs::write(&stim, stimulus(&frames[1..], &cfg)).unwrap();
+    let got = bench.run(&stim, 2, &RunOptions::default(), |_| {}).unwrap();
+    for (k, frame) in got.iter().enumerate() {
+        if let Err(e) = compare(frame, &Expected::OverCapacity, Taken::Freely) {
+            panic!("haptic frame {k} with no update frame before it: {e}");
+        }
+    }
+}

@@ -70,8 +70,9 @@ fn the_manifest_lists_the_verilog_ports() {
             "obb_core",
             "obb_core.v",
             // clock; frame_start, frame_update; the box's handshake, center, half-lengths,
-            // axes and group; the pair stream; done, busy, capacity_exceeded; the counters.
-            1 + 2 + 3 + 3 + 3 + 9 + 1 + 4 + 3 + 4,
+            // axes and group; the pair stream; done, busy, capacity_exceeded, pair_overflow;
+            // the counters.
+            1 + 2 + 3 + 3 + 3 + 9 + 1 + 4 + 4 + 4,
         ),
         (
             "projection",

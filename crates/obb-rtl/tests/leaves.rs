@@ -241,23 +241,32 @@ fn dist_ram_matches_its_verilog() {
 }
 
 /// The pair FIFO's specification, clock by clock: entries stored in order; the output register
-/// loads the oldest when it is empty or taken; `almost_full` counts the stored entries.
+/// loads the oldest when it is empty or taken; `almost_full` counts the stored entries; a
+/// write with `depth` entries stored and none leaving is lost and sets `overflow` until `clear`
+/// (a write on the clock of `clear` wins).
 struct FifoSpec {
     stored: VecDeque<u64>,
     out: Option<u64>,
     stall_at: usize,
+    depth: usize,
+    overflow: bool,
 }
 
 impl FifoSpec {
-    /// One clock edge with inputs `write`, `data`, `ready`; returns the outputs after it:
-    /// valid, data_out, empty, almost_full.
-    fn clock(&mut self, write: bool, data: u64, ready: bool) -> Vec<u64> {
-        if !self.stored.is_empty() && (self.out.is_none() || ready) {
+    /// One clock edge with inputs `write`, `data`, `ready`, `clear`; returns the outputs after
+    /// it: valid, data_out, empty, almost_full, overflow.
+    fn clock(&mut self, write: bool, data: u64, ready: bool, clear: bool) -> Vec<u64> {
+        let full = self.stored.len() == self.depth;
+        let leaves = !self.stored.is_empty() && (self.out.is_none() || ready);
+        if leaves {
             self.out = self.stored.pop_front();
         } else if ready {
             self.out = None;
         }
-        if write {
+        self.overflow &= !clear;
+        if write && full && !leaves {
+            self.overflow = true;
+        } else if write {
             self.stored.push_back(data);
         }
         vec![
@@ -265,6 +274,7 @@ impl FifoSpec {
             self.out.unwrap_or(0),
             u64::from(self.stored.is_empty() && self.out.is_none()),
             u64::from(self.stored.len() >= self.stall_at),
+            u64::from(self.overflow),
         ]
     }
 }
@@ -273,7 +283,8 @@ impl FifoSpec {
 /// to its depth with the receiver mostly away, stream with the receiver mostly ready, and
 /// drain it; data_out is compared only while valid (it holds the last entry otherwise, as the
 /// specification does not say). Every entry written leaves once, in order, and a steady stream
-/// leaves one per clock.
+/// leaves one per clock. Then a phase writes past the depth with the receiver away: `overflow`
+/// rises and stays up until `clear` (from the lost write on, only `overflow` is compared).
 #[test]
 fn pair_fifo_matches_its_specification_and_its_verilog() {
     const W: usize = 12;
@@ -285,6 +296,8 @@ fn pair_fifo_matches_its_specification_and_its_verilog() {
         stored: VecDeque::new(),
         out: None,
         stall_at,
+        depth,
+        overflow: false,
     };
     let mut v = Vec::new();
     let mut expected = Vec::new();
@@ -296,10 +309,19 @@ fn pair_fifo_matches_its_specification_and_its_verilog() {
                 .current();
             let write = w < write_in_4 && spec.stored.len() < depth;
             let ready = r < ready_in_4;
-            v.push(vec![u64::from(write), d, u64::from(ready)]);
-            expected.push(spec.clock(write, d, ready));
+            v.push(vec![u64::from(write), d, u64::from(ready), 0]);
+            expected.push(spec.clock(write, d, ready, false));
         }
     }
+    // The overflow phase: writes every clock, the receiver away, then idle, a clear, idle.
+    let whole = v.len();
+    for k in 0..depth + 12 {
+        let (write, clear) = (k < depth + 4, k == depth + 8);
+        v.push(vec![u64::from(write), k as u64, 0, u64::from(clear)]);
+        expected.push(spec.clock(write, k as u64, false, clear));
+    }
+    let lost = expected.iter().position(|o| o[4] == 1).unwrap();
+    assert!(lost > whole && expected.last().unwrap()[4] == 0);
     assert!(
         expected.iter().any(|o| o[3] == 1),
         "the traffic reaches the stall threshold"
@@ -311,24 +333,34 @@ fn pair_fifo_matches_its_specification_and_its_verilog() {
         uut.write.next = x[0] == 1;
         uut.data_in.next = x[1].into();
         uut.ready.next = x[2] == 1;
+        uut.clear.next = x[3] == 1;
         tick(&mut uut, |u, c| u.clock.next = Clock::from(c));
         got.push(vec![
             u64::from(uut.valid.val()),
             uval(uut.data_out.val()),
             u64::from(uut.empty.val()),
             u64::from(uut.almost_full.val()),
+            u64::from(uut.overflow.val()),
         ]);
     }
     let masked = |o: &[Vec<u64>]| -> Vec<Vec<u64>> {
         o.iter()
-            .map(|o| vec![o[0], o[1] * o[0], o[2], o[3]])
+            .enumerate()
+            .map(|(k, o)| match k < lost {
+                true => vec![o[0], o[1] * o[0], o[2], o[3], o[4]],
+                false => vec![o[4]],
+            })
             .collect()
     };
     assert_eq!(masked(&got), masked(&expected), "rust-hdl");
     // Order and loss: what is taken (valid and ready on a clock) is what was written.
-    let written: Vec<u64> = v.iter().filter(|x| x[0] == 1).map(|x| x[1]).collect();
+    let written: Vec<u64> = v[..whole]
+        .iter()
+        .filter(|x| x[0] == 1)
+        .map(|x| x[1])
+        .collect();
     let mut taken = Vec::new();
-    for (k, x) in v.iter().enumerate().skip(1) {
+    for (k, x) in v[..whole].iter().enumerate().skip(1) {
         if x[2] == 1 && got[k - 1][0] == 1 {
             taken.push(got[k - 1][1]);
         }
@@ -352,12 +384,14 @@ fn pair_fifo_matches_its_specification_and_its_verilog() {
         Port::new("write", 1),
         Port::new("data_in", W),
         Port::new("ready", 1),
+        Port::new("clear", 1),
     ];
     let outputs = [
         Port::new("valid", 1),
         Port::new("data_out", W),
         Port::new("empty", 1),
         Port::new("almost_full", 1),
+        Port::new("overflow", 1),
     ];
     let out = in_verilator(
         &mut PairFifo::<W>::new(stall_at as u64),

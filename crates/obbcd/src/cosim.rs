@@ -123,6 +123,7 @@ pub fn run(a: CosimArgs) -> Result<()> {
         // can take with every pair waiting `ready_every` clocks.
         timeout: 2 * (expect + reported * u64::from(a.ready_every)) + 10_000,
         progress_every: (expect / 200).max(1000),
+        ..RunOptions::default()
     };
     let start = Instant::now();
     let mut got = core.simulate(&frames, &cfg, &opts, expect, waves.as_ref())?;

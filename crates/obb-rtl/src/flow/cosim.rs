@@ -236,6 +236,9 @@ pub struct RunOptions {
     pub timeout: u64,
     /// Clocks between progress reports (0: none).
     pub progress_every: u64,
+    /// Abort each frame once at this clock of it, if it has not finished, and send it again
+    /// (0: never).
+    pub abort_at: u64,
 }
 
 impl Default for RunOptions {
@@ -244,6 +247,7 @@ impl Default for RunOptions {
             ready_every: 1,
             timeout: 1 << 40,
             progress_every: 0,
+            abort_at: 0,
         }
     }
 }
@@ -265,6 +269,11 @@ pub struct SimFrame {
     pub pairs: u64,
     /// The `capacity_exceeded` output at `done`.
     pub capacity_exceeded: bool,
+    /// The `pair_overflow` output at `done`.
+    pub pair_overflow: bool,
+    /// Aborted once (`RunOptions::abort_at`): the pairs taken before the abort. `stream` and
+    /// the rest are the frame's as sent again.
+    pub before_abort: Option<Vec<Pair>>,
 }
 
 impl Bench {
@@ -347,6 +356,7 @@ impl Bench {
             .arg(format!("+ready={}", opts.ready_every))
             .arg(format!("+timeout={}", opts.timeout))
             .arg(format!("+progress={}", opts.progress_every))
+            .arg(format!("+abort={}", opts.abort_at))
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
@@ -382,6 +392,7 @@ impl Bench {
 fn parse_result(text: &str) -> Result<Vec<SimFrame>> {
     let mut frames = Vec::new();
     let mut stream = Vec::new();
+    let mut before_abort = None;
     for line in text.lines() {
         let mut words = line.split_whitespace();
         let tag = words.next();
@@ -390,7 +401,10 @@ fn parse_result(text: &str) -> Result<Vec<SimFrame>> {
             .collect::<Result<_>>()?;
         match (tag, nums.as_slice()) {
             (Some("pair"), &[a, b]) => stream.push([a as u32, b as u32]),
-            (Some("done"), &[clocks, cycles, visits, sat_tests, pairs, over]) => {
+            (Some("abort"), &[]) if before_abort.is_none() => {
+                before_abort = Some(std::mem::take(&mut stream))
+            }
+            (Some("done"), &[clocks, cycles, visits, sat_tests, pairs, over, lost]) => {
                 frames.push(SimFrame {
                     stream: std::mem::take(&mut stream),
                     clocks,
@@ -399,6 +413,8 @@ fn parse_result(text: &str) -> Result<Vec<SimFrame>> {
                     sat_tests,
                     pairs,
                     capacity_exceeded: over == 1,
+                    pair_overflow: lost == 1,
+                    before_abort: before_abort.take(),
                 })
             }
             _ => bail!("bad line `{line}`"),
@@ -488,6 +504,22 @@ impl Taken {
 /// over capacity): the flag, and only the model's pairs. Returns the first difference.
 pub fn compare(got: &SimFrame, want: &Expected, taken: Taken) -> Result<(), String> {
     let throttled = taken != Taken::Freely;
+    if got.pair_overflow {
+        return Err("pair_overflow is high: a pair or a SAT test was lost to a full queue".into());
+    }
+    // An aborted frame offers only its own true pairs before the abort; the frame sent again
+    // is judged whole below.
+    if let Some(before) = &got.before_abort {
+        let known = match want {
+            Expected::Frame(run) | Expected::Incomplete(run) => &run.pairs[..],
+            Expected::OverCapacity => &[],
+        };
+        if let Some(p) = before.iter().find(|p| !known.contains(p)) {
+            return Err(format!(
+                "before the abort the core sent {p:?}, which the model does not report"
+            ));
+        }
+    }
     let run = match want {
         Expected::Incomplete(run) => {
             if !got.capacity_exceeded {
@@ -580,8 +612,10 @@ pub fn compare(got: &SimFrame, want: &Expected, taken: Taken) -> Result<(), Stri
     }
     // `done` waits for the last pair to leave: with the stream throttled, that may be long
     // after the last verdict.
+    // (After an abort, the clocks count from the abort: the old frame runs out first.)
     let late = got.clocks.saturating_sub(got.cycles);
-    if got.clocks < got.cycles || (!throttled && late > 3) {
+    let patient = throttled || got.before_abort.is_some();
+    if got.clocks < got.cycles || (!patient && late > 3) {
         return Err(format!(
             "done came {} clocks after frame_start, for {} cycles",
             got.clocks, got.cycles

@@ -53,16 +53,17 @@ pub fn hex_word(fields: &[(u64, usize)]) -> String {
         .collect()
 }
 
-/// Unpacks a hex word into one value per port; `x` and `z` digits read as 0.
+/// Unpacks a hex word into one value per port; an `x` or `z` digit is an error.
 fn unpack(ports: &[Port], word: &str) -> Result<Vec<u64>> {
     let mut bits = Vec::with_capacity(word.len() * 4);
     for c in word.trim().chars().rev() {
-        let d = match c {
-            'x' | 'X' | 'z' | 'Z' => 0,
-            _ => c
-                .to_digit(16)
-                .with_context(|| format!("bad output word `{word}`"))?,
-        };
+        // An unknown (x) or floating (z) bit is a failure, not a zero: it hides X propagation.
+        if matches!(c, 'x' | 'X' | 'z' | 'Z') {
+            bail!("output word `{word}` has unknown or floating bits");
+        }
+        let d = c
+            .to_digit(16)
+            .with_context(|| format!("bad output word `{word}`"))?;
         bits.extend((0..4).map(|b| d >> b & 1 == 1));
     }
     let mut at = 0;
@@ -350,5 +351,13 @@ mod tests {
         let word = pack(&ports, &values);
         assert_eq!(word.len(), 17);
         assert_eq!(unpack(&ports, &word).unwrap(), values);
+    }
+
+    #[test]
+    fn unknown_or_floating_bits_are_errors() {
+        let ports = [Port::new("a", 8)];
+        for word in ["x0", "0X", "z1", "Z0"] {
+            assert!(unpack(&ports, word).is_err(), "{word}");
+        }
     }
 }
