@@ -86,7 +86,8 @@ pub struct BoxLoad<const A: usize, const C: usize> {
     res_room: DFF<Bit>,
     haptic: DFF<Bit>,
     streamed_seen: DFF<Bit>,
-    // An update frame has loaded whole since the last one began; this frame was refused.
+    // An update frame has loaded whole since the last one began; a resident box was refused
+    // in this frame.
     res_ok: DFF<Bit>,
     spoiled: DFF<Bit>,
     // The resident set shifted to the arriving box's group; the box is of a resident group.

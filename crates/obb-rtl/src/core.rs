@@ -101,9 +101,9 @@ pub enum CoreState {
 pub struct ObbCore<const A: usize, const C: usize> {
     pub clock: Signal<In, Clock>,
     /// Pulse: clear the counters and begin a frame (boxes are accepted from the next clock).
-    /// During a frame (`busy`, or `done` not yet up) it aborts that frame: from this clock no
-    /// box is taken and no pair of it is offered, and the new frame begins once the old one has
-    /// run out (docs/hardware.md, "Abort").
+    /// During a frame (up to the first clock of its `done`) it aborts that frame: from this
+    /// clock no box is taken and no pair of it is offered, and the new frame begins once the old
+    /// one has run out (docs/hardware.md, "Abort").
     pub frame_start: Signal<In, Bit>,
     /// With `frame_start` (grid, `resident_groups`): an update frame, which loads every box, the
     /// resident groups' first, and keeps those. Low: a haptic frame, which streams only the

@@ -19,7 +19,6 @@ pub fn sval<const N: usize>(s: Signed<N>) -> i64 {
     }
 }
 
-/// A signed signal from a value that fits it.
 /// An `initial` block that zeroes the registers `regs`: the Rust models start every register
 /// at zero, and the Verilog must too in every simulator (Icarus starts one at `x`, which the
 /// block harness treats as an error). Synthesis keeps them as init values; the DSP48E1's and
@@ -32,6 +31,7 @@ pub fn zeroed<S: AsRef<str>>(regs: impl IntoIterator<Item = S>) -> String {
     v + "end\n"
 }
 
+/// A signed signal from a value that fits it.
 pub fn sbits<const N: usize>(v: i64) -> Signed<N> {
     debug_assert!(N == 64 || (-(1i64 << (N - 1))..(1i64 << (N - 1))).contains(&v));
     Signed::from(v)
