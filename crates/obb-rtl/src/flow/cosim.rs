@@ -501,7 +501,8 @@ impl Taken {
 /// Compares a simulated frame with the model: the pair stream (in order unless `taken` says
 /// otherwise), the counters, and (with the pair stream never throttled) the cycle count; `done`
 /// within three clocks of it. Over capacity: the flag, and no pair. Incomplete (and the grid
-/// over capacity): the flag, and only the model's pairs. Returns the first difference.
+/// over capacity): the flag, and only the model's pairs. A frame showing `pair_overflow` fails;
+/// an aborted one's pairs before the abort must be the model's. Returns the first difference.
 pub fn compare(got: &SimFrame, want: &Expected, taken: Taken) -> Result<(), String> {
     let throttled = taken != Taken::Freely;
     if got.pair_overflow {
@@ -514,7 +515,8 @@ pub fn compare(got: &SimFrame, want: &Expected, taken: Taken) -> Result<(), Stri
             Expected::Frame(run) | Expected::Incomplete(run) => &run.pairs[..],
             Expected::OverCapacity => &[],
         };
-        if let Some(p) = before.iter().find(|p| !known.contains(p)) {
+        // (`ModelRun::pairs` is sorted.)
+        if let Some(p) = before.iter().find(|p| known.binary_search(p).is_err()) {
             return Err(format!(
                 "before the abort the core sent {p:?}, which the model does not report"
             ));
