@@ -5,7 +5,7 @@
 
 use crate::common::{self, cache};
 
-use common::scenes::{dense, first, shared_buckets, stiff, touching_pairs};
+use common::scenes::{dense, first, instruments, shared_buckets, stiff, touching_pairs};
 use obb_model::fixed::stream::{interleave, STREAM_WAYS};
 use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame};
 use obb_model::generate::{surgical, SURGICAL_DEFAULT_N};
@@ -240,18 +240,13 @@ fn resident_tissue_with_haptic_frames() {
     let bench = build(&design, Level::Rtl, Simulator::Verilator, None, &cache()).unwrap();
     let scene = surgical(SURGICAL_DEFAULT_N, 1).unwrap();
     for ready_every in [1, 4] {
-        let moved = |k: f64| Scene {
-            obbs: scene
-                .obbs
-                .iter()
-                .filter(|o| o.group != 0)
-                .map(|o| {
-                    let mut o = o.clone();
-                    o.center[0] += 0.2 * k;
-                    o.center[2] -= 0.1 * k;
-                    o
-                })
-                .collect(),
+        let moved = |k: f64| {
+            let mut m = instruments(&scene);
+            for o in &mut m.obbs {
+                o.center[0] += 0.2 * k;
+                o.center[2] -= 0.1 * k;
+            }
+            m
         };
         let update = ModelFrame::new(&scene, &cfg).unwrap();
         let mut models = vec![("update", update.clone())];
@@ -578,15 +573,7 @@ fn aborted_frames_give_the_whole_new_frame() {
     let design = obb_rtl::flow::generate::core(&cfg).unwrap();
     let bench = build(&design, Level::Rtl, Simulator::Verilator, None, &cache()).unwrap();
     let update = ModelFrame::new(&scene, &cfg).unwrap();
-    let instruments = Scene {
-        obbs: scene
-            .obbs
-            .iter()
-            .filter(|o| o.group != 0)
-            .cloned()
-            .collect(),
-    };
-    let haptic = update.haptic(&instruments).unwrap();
+    let haptic = update.haptic(&instruments(&scene)).unwrap();
     let runs = [update.run(), haptic.run(), haptic.run()];
     let frames = [
         (true, update.streamed()),

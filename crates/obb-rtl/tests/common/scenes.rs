@@ -24,6 +24,19 @@ pub fn touching_pairs() -> Scene {
     Scene { obbs }
 }
 
+/// The boxes of `scene` but the tissue's (group 0): a surgical scene's instruments, which a
+/// haptic frame streams when the tissue is resident.
+pub fn instruments(scene: &Scene) -> Scene {
+    Scene {
+        obbs: scene
+            .obbs
+            .iter()
+            .filter(|o| o.group != 0)
+            .cloned()
+            .collect(),
+    }
+}
+
 /// The first `n` boxes of `scene`.
 pub fn first(scene: Scene, n: usize) -> Scene {
     Scene {
