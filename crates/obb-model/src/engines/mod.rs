@@ -5,12 +5,14 @@ mod brute;
 pub(crate) mod endpoints;
 mod grid;
 mod improved_sap;
+mod pair_sort;
 mod sap;
 mod sweep;
 
 pub use brute::Brute;
 pub use grid::{Grid, Resident, RigidResident};
 pub use improved_sap::ImprovedSap;
+pub(crate) use pair_sort::PairSorter;
 pub use sap::Sap;
 pub use sweep::Sweep;
 
@@ -114,61 +116,6 @@ pub fn detect(kind: EngineKind, boxes: &Frame, mask: &GroupMask) -> (Vec<Pair>, 
     let mut out = Vec::new();
     let counters = kind.build().detect(boxes, mask, &mut out);
     (out, counters)
-}
-
-/// `PairSorter` sorts by comparison when there are fewer pairs than boxes / this.
-const SMALL_SORT_RATIO: usize = 16;
-
-/// Sorts pairs ascending and removes repeats, on buffers kept by the caller: a counting sort on
-/// the first index (one bucket per box), then each bucket's few second indices sorted in place.
-#[derive(Debug, Default)]
-pub(crate) struct PairSorter {
-    starts: Vec<u32>,
-    seconds: Vec<u32>,
-}
-
-impl PairSorter {
-    /// Sorts `pairs` ascending (by i, then j) and drops duplicates; `n` is the number of boxes.
-    pub fn sort_dedup(&mut self, pairs: &mut Vec<Pair>, n: usize) {
-        // Few pairs among many boxes (cross-group detection): the buckets would cost more than
-        // a comparison sort.
-        if pairs.len() * SMALL_SORT_RATIO < n {
-            pairs.sort_unstable();
-            pairs.dedup();
-            return;
-        }
-        self.starts.clear();
-        self.starts.resize(n + 1, 0);
-        for p in pairs.iter() {
-            self.starts[p[0] as usize + 1] += 1;
-        }
-        for i in 0..n {
-            self.starts[i + 1] += self.starts[i];
-        }
-        self.seconds.clear();
-        self.seconds.resize(pairs.len(), 0);
-        // `starts[i]` runs ahead as bucket i fills, ending where bucket i + 1 starts.
-        for p in pairs.iter() {
-            let at = &mut self.starts[p[0] as usize];
-            self.seconds[*at as usize] = p[1];
-            *at += 1;
-        }
-        pairs.clear();
-        let mut begin = 0;
-        for i in 0..n {
-            let end = self.starts[i] as usize;
-            let bucket = &mut self.seconds[begin..end];
-            bucket.sort_unstable();
-            let mut last = None;
-            for &j in bucket.iter() {
-                if last != Some(j) {
-                    pairs.push([i as u32, j]);
-                    last = Some(j);
-                }
-            }
-            begin = end;
-        }
-    }
 }
 
 /// `[min(i, j), max(i, j)]`.

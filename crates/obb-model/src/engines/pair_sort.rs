@@ -1,0 +1,198 @@
+//! The engines' final pair sort, in parts of the box range on all threads.
+
+use super::Pair;
+
+/// `PairSorter` sorts by comparison when there are fewer pairs than boxes / this.
+const SMALL_SORT_RATIO: usize = 16;
+/// A part sorts at least this many pairs: each part reads every pair, and a thread's hand-off
+/// costs about as much as sorting a few thousand.
+const MIN_PAIRS_PER_PART: usize = 16_384;
+
+/// Sorts pairs ascending and removes repeats, on buffers kept between calls: a counting sort on
+/// the first index (one bucket per box), then each bucket's few second indices sorted in place.
+/// The box range is cut into parts, one per thread: each part counts and places the pairs whose
+/// first index it holds, so the parts write disjoint stretches and need no merge.
+#[derive(Debug, Default)]
+pub(crate) struct PairSorter {
+    /// Per box: its bucket's start, then (after the scatter) its end, within its part.
+    starts: Vec<u32>,
+    seconds: Vec<u32>,
+    sorted: Vec<Pair>,
+    parts: Vec<Part>,
+}
+
+/// One part of the box range and its stretch of the output.
+#[derive(Debug, Default, Clone, Copy)]
+struct Part {
+    first_box: usize,
+    /// Pairs whose first index is in this part.
+    pairs: usize,
+    /// Of those, the distinct ones.
+    kept: usize,
+}
+
+impl PairSorter {
+    /// Sorts `pairs` ascending (by i, then j) and drops duplicates; `n` is the number of boxes.
+    pub fn sort_dedup(&mut self, pairs: &mut Vec<Pair>, n: usize) {
+        // Few pairs among many boxes (cross-group detection): the buckets would cost more than
+        // a comparison sort. (Two or more pairs mean two or more boxes.)
+        if pairs.len() < 2 || pairs.len() * SMALL_SORT_RATIO < n {
+            pairs.sort_unstable();
+            pairs.dedup();
+            return;
+        }
+        let parts = rayon::current_num_threads()
+            .min(pairs.len() / MIN_PAIRS_PER_PART)
+            .clamp(1, n);
+        let per_part = n.div_ceil(parts);
+        self.parts.clear();
+        self.parts
+            .extend((0..n).step_by(per_part).map(|first_box| Part {
+                first_box,
+                ..Part::default()
+            }));
+        self.starts.clear();
+        self.starts.resize(n, 0);
+        self.seconds.resize(pairs.len(), 0);
+        self.sorted.resize(pairs.len(), [0; 2]);
+        let input: &[Pair] = pairs;
+        split(
+            &mut self.parts,
+            &mut self.starts,
+            &mut [],
+            &mut [],
+            &|part, starts, _, _| part.pairs = count(input, part.first_box, starts),
+        );
+        split(
+            &mut self.parts,
+            &mut self.starts,
+            &mut self.seconds,
+            &mut self.sorted,
+            &|part, starts, seconds, sorted| {
+                part.kept = place(input, part.first_box, starts, seconds, sorted);
+            },
+        );
+        // Parts that dropped repeats leave gaps: close them.
+        let (mut at, mut kept) = (0, 0);
+        for part in &self.parts {
+            self.sorted.copy_within(at..at + part.kept, kept);
+            at += part.pairs;
+            kept += part.kept;
+        }
+        self.sorted.truncate(kept);
+        std::mem::swap(pairs, &mut self.sorted);
+    }
+}
+
+/// Runs `f` on each part with its boxes' `starts` and its stretch of `seconds` and `sorted` (empty
+/// slices stay empty), the parts in parallel by `rayon::join`, which needs no allocation.
+fn split<F>(parts: &mut [Part], starts: &mut [u32], seconds: &mut [u32], sorted: &mut [Pair], f: &F)
+where
+    F: Fn(&mut Part, &mut [u32], &mut [u32], &mut [Pair]) + Sync,
+{
+    match parts {
+        [] => {}
+        [one] => f(one, starts, seconds, sorted),
+        _ => {
+            let (a, b) = parts.split_at_mut(parts.len() / 2);
+            let (sa, sb) = starts.split_at_mut(b[0].first_box - a[0].first_box);
+            let pairs = a.iter().map(|p| p.pairs).sum::<usize>().min(seconds.len());
+            let (ca, cb) = seconds.split_at_mut(pairs);
+            let (oa, ob) = sorted.split_at_mut(pairs.min(sorted.len()));
+            rayon::join(|| split(a, sa, ca, oa, f), || split(b, sb, cb, ob, f));
+        }
+    }
+}
+
+/// Counts the pairs of each box of the part from `first_box` (`starts` holds its boxes) and
+/// turns the counts into the buckets' starts; returns the part's pairs.
+fn count(pairs: &[Pair], first_box: usize, starts: &mut [u32]) -> usize {
+    for p in pairs {
+        if let Some(c) = starts.get_mut((p[0] as usize).wrapping_sub(first_box)) {
+            *c += 1;
+        }
+    }
+    let mut sum = 0;
+    for s in starts.iter_mut() {
+        (*s, sum) = (sum, sum + *s);
+    }
+    sum as usize
+}
+
+/// Places the part's second indices in their buckets, sorts each, and writes the part's distinct
+/// pairs to the front of `sorted`; returns how many.
+fn place(
+    pairs: &[Pair],
+    first_box: usize,
+    starts: &mut [u32],
+    seconds: &mut [u32],
+    sorted: &mut [Pair],
+) -> usize {
+    // `starts[b]` runs ahead as bucket b fills, ending where bucket b + 1 starts.
+    for p in pairs {
+        if let Some(at) = starts.get_mut((p[0] as usize).wrapping_sub(first_box)) {
+            seconds[*at as usize] = p[1];
+            *at += 1;
+        }
+    }
+    // No index reaches `u32::MAX` (at most 2^32 - 2 boxes), so it marks "no previous second".
+    let (mut kept, mut begin) = (0, 0);
+    for (b, &end) in starts.iter().enumerate() {
+        let bucket = &mut seconds[begin..end as usize];
+        if bucket.len() > 1 {
+            bucket.sort_unstable();
+        }
+        let first = (first_box + b) as u32;
+        let mut last = u32::MAX;
+        for &j in bucket.iter() {
+            sorted[kept] = [first, j];
+            kept += usize::from(j != last);
+            last = j;
+        }
+        begin = end as usize;
+    }
+    kept
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Pairs with repeats, sorted by each part count against the comparison sort.
+    #[test]
+    fn parts_sort_and_dedup_as_one() {
+        let n = 3000;
+        let mut state = 12345u64;
+        let mut next = |m: u64| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) % m
+        };
+        let mut pairs: Vec<Pair> = (0..70_000)
+            .map(|_| {
+                let i = next(n - 1);
+                [i as u32, (i + 1 + next(n - 1 - i)) as u32]
+            })
+            .collect();
+        pairs.extend_from_within(..500);
+        let mut want = pairs.clone();
+        want.sort_unstable();
+        want.dedup();
+        assert!(want.len() < pairs.len(), "the input repeats pairs");
+        for threads in [1, 2, 3, 4] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut sorter = PairSorter::default();
+            let mut got = pairs.clone();
+            pool.install(|| sorter.sort_dedup(&mut got, n as usize));
+            assert_eq!(got, want, "{threads} threads");
+            // Again on the same buffers, as the engines call it frame after frame.
+            let mut again = pairs.clone();
+            pool.install(|| sorter.sort_dedup(&mut again, n as usize));
+            assert_eq!(again, want, "{threads} threads, second call");
+        }
+    }
+}
