@@ -7,7 +7,7 @@
 
 use crate::common;
 
-use common::scenes::{dense, first, stiff, surgical_contact, three_groups, touching_pairs};
+use common::scenes::{self, dense, first, stiff, surgical_contact, three_groups, touching_pairs};
 use common::{run_rust_hdl, run_verilator, signed};
 use obb_model::fixed::grid_clocks::grid_schedule;
 use obb_model::fixed::{BroadPhase, HwConfig, ModelFrame, ModelRun, QObb};
@@ -553,17 +553,9 @@ fn grid_core_keeps_resident_groups() {
         ..grid_all_pairs(1)
     };
     let scene = surgical(300, 11).unwrap();
-    let of = |s: &Scene, tissue: bool| Scene {
-        obbs: s
-            .obbs
-            .iter()
-            .filter(|o| (o.group == 0) == tissue)
-            .cloned()
-            .collect(),
-    };
     // The instruments moved k steps of 3 mm towards the tissue and along it.
     let instruments = |k: f64| {
-        let mut s = of(&scene, false);
+        let mut s = scenes::instruments(&scene);
         for o in &mut s.obbs {
             o.center[0] += 3.0 * k;
             o.center[2] -= 1.5 * k;
@@ -575,7 +567,7 @@ fn grid_core_keeps_resident_groups() {
     let join = |a: Scene, b: Scene| Scene {
         obbs: a.obbs.into_iter().chain(b.obbs).collect(),
     };
-    let mut first = of(&scene, true);
+    let mut first = scenes::tissue(&scene);
     first.obbs.insert(0, plate(0));
     let mut with_plate = instruments(1.0);
     with_plate.obbs.push(plate(2));
@@ -594,7 +586,10 @@ fn grid_core_keeps_resident_groups() {
             haptic("haptic, no box", Scene { obbs: vec![] }, 1),
             frame_of(
                 "update, other tissue",
-                join(of(&surgical(300, 12).unwrap(), true), instruments(0.0)),
+                join(
+                    scenes::tissue(&surgical(300, 12).unwrap()),
+                    instruments(0.0),
+                ),
             ),
             haptic("haptic 3", instruments(3.0), 1),
         ],

@@ -96,9 +96,10 @@ where
         _ => {
             let (a, b) = parts.split_at_mut(parts.len() / 2);
             let (sa, sb) = starts.split_at_mut(b[0].first_box - a[0].first_box);
+            // Before the count (empty stretches) the parts' pair counts are last call's.
             let pairs = a.iter().map(|p| p.pairs).sum::<usize>().min(seconds.len());
             let (ca, cb) = seconds.split_at_mut(pairs);
-            let (oa, ob) = sorted.split_at_mut(pairs.min(sorted.len()));
+            let (oa, ob) = sorted.split_at_mut(pairs);
             rayon::join(|| split(a, sa, ca, oa, f), || split(b, sb, cb, ob, f));
         }
     }

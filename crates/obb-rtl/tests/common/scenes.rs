@@ -27,13 +27,18 @@ pub fn touching_pairs() -> Scene {
 /// The boxes of `scene` but the tissue's (group 0): a surgical scene's instruments, which a
 /// haptic frame streams when the tissue is resident.
 pub fn instruments(scene: &Scene) -> Scene {
+    boxes_where(scene, |o| o.group != 0)
+}
+
+/// The tissue's boxes (group 0) of `scene`: what an update frame leaves resident.
+pub fn tissue(scene: &Scene) -> Scene {
+    boxes_where(scene, |o| o.group == 0)
+}
+
+/// The boxes of `scene` that `keep` keeps, in scene order.
+fn boxes_where(scene: &Scene, keep: impl Fn(&Obb) -> bool) -> Scene {
     Scene {
-        obbs: scene
-            .obbs
-            .iter()
-            .filter(|o| o.group != 0)
-            .cloned()
-            .collect(),
+        obbs: scene.obbs.iter().filter(|o| keep(o)).cloned().collect(),
     }
 }
 
