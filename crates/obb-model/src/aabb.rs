@@ -69,19 +69,38 @@ impl Aabb {
         max: [f64::NEG_INFINITY; 3],
     };
 
-    /// The smallest box holding both.
+    /// The smallest box holding all of `aabbs` (`EMPTY` for none): four unions side by side,
+    /// so that each waits on the one four boxes back rather than on the last.
+    pub fn union_of(aabbs: &[Aabb]) -> Aabb {
+        let mut acc = [Aabb::EMPTY; 4];
+        let quads = aabbs.chunks_exact(4);
+        let rest = quads.remainder();
+        for quad in quads {
+            for (acc, b) in acc.iter_mut().zip(quad) {
+                *acc = acc.union(b);
+            }
+        }
+        let all = rest.iter().fold(acc[0].union(&acc[1]), |u, b| u.union(b));
+        all.union(&acc[2].union(&acc[3]))
+    }
+
+    /// The smallest box holding both. Plain compares rather than `f64::min`, whose NaN handling
+    /// costs two more instructions on the chain of a fold over every box (validated boxes hold
+    /// no NaN).
     #[inline]
     pub fn union(&self, other: &Aabb) -> Aabb {
+        let lo = |a: f64, b: f64| if b < a { b } else { a };
+        let hi = |a: f64, b: f64| if b > a { b } else { a };
         Aabb {
-            min: std::array::from_fn(|x| self.min[x].min(other.min[x])),
-            max: std::array::from_fn(|x| self.max[x].max(other.max[x])),
+            min: std::array::from_fn(|x| lo(self.min[x], other.min[x])),
+            max: std::array::from_fn(|x| hi(self.max[x], other.max[x])),
         }
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::outward;
+    use super::{outward, Aabb};
     use proptest::prelude::*;
 
     proptest! {
@@ -95,6 +114,23 @@ mod tests {
             prop_assert!(down <= d.next_down() || (d.abs() < f64::MIN_POSITIVE && down <= d));
             prop_assert!(up >= d.next_up() || (d.abs() < f64::MIN_POSITIVE && up >= d));
             prop_assert!(down.to_bits() != (-0.0f64).to_bits() && up.to_bits() != (-0.0f64).to_bits());
+        }
+    }
+
+    #[test]
+    fn union_of_is_the_fold_of_unions() {
+        let boxes: Vec<Aabb> = (0..9)
+            .map(|k| {
+                let c = [k as f64 * 1.5 - 6.0, (k * k % 7) as f64, -(k as f64)];
+                Aabb {
+                    min: c.map(|x| x - 0.5),
+                    max: c.map(|x| x + 0.25 * k as f64),
+                }
+            })
+            .collect();
+        for n in 0..=boxes.len() {
+            let fold = boxes[..n].iter().fold(Aabb::EMPTY, |u, b| u.union(b));
+            assert_eq!(Aabb::union_of(&boxes[..n]), fold, "{n} boxes");
         }
     }
 

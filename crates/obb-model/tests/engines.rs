@@ -4,7 +4,7 @@ use crate::common;
 
 use obb_model::engines::Grid;
 use obb_model::generate::{surgical, uniform};
-use obb_model::{detect, Engine, EngineKind, GroupMask, Prepared, Scene};
+use obb_model::{detect, Engine, EngineKind, Frame, GroupMask, Pair, Prepared, Scene};
 use proptest::prelude::*;
 
 fn check_all_engines(scene: &Scene, mask: &GroupMask) {
@@ -158,22 +158,61 @@ fn grid_slabs_do_not_matter() {
         let boxes = prepared.update(&scene.obbs);
         // sweep equals brute on every other test scene, and is much faster on these.
         let (reference, _) = detect(EngineKind::Sweep, &boxes, &mask);
-        let mut first = None;
-        for threads in [1, 2, 3, 7] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            let mut grid = Grid::default();
-            let mut pairs = Vec::new();
-            let c = pool.install(|| grid.detect(&boxes, &mask, &mut pairs));
-            assert_eq!(pairs, reference, "{threads} threads, mask {mask}");
-            let first = first.get_or_insert(c);
-            assert_eq!(
-                (c.sat_tests, c.pairs),
-                (first.sat_tests, first.pairs),
-                "{threads} threads"
-            );
-        }
+        grid_gives_on_threads(&boxes, &mask, &reference, &[1, 2, 3, 7]);
     }
+}
+
+/// The grid, on a pool of each of `threads`, gives `reference` and the same counters.
+fn grid_gives_on_threads(boxes: &Frame, mask: &GroupMask, reference: &[Pair], threads: &[usize]) {
+    let mut first = None;
+    for &threads in threads {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut grid = Grid::default();
+        let mut pairs = Vec::new();
+        let c = pool.install(|| grid.detect(boxes, mask, &mut pairs));
+        assert_eq!(pairs, reference, "{threads} threads, mask {mask}");
+        let first = first.get_or_insert(c);
+        assert_eq!(
+            (c.sat_tests, c.pairs),
+            (first.sat_tests, first.pairs),
+            "{threads} threads"
+        );
+    }
+}
+
+#[test]
+fn grid_leaves_out_boxes_far_from_their_partner_groups() {
+    // Three groups in separate clusters, 100 mm apart on x, except 20 boxes of group 1 left in
+    // group 0's cluster: a box meeting none of the bounds of the groups the mask pairs it with
+    // has no pair, and the grid does not enter it. Every mask must still give brute's pairs, on
+    // one thread and on two (slabs).
+    let mut scene = uniform(3000, 11, 2.0).unwrap();
+    let mut bridges = 0;
+    for (i, o) in scene.obbs.iter_mut().enumerate() {
+        o.group = (i % 3) as u32;
+        if o.group == 1 && bridges < 20 {
+            bridges += 1;
+            continue;
+        }
+        o.center[0] += 100.0 * f64::from(o.group);
+    }
+    let mut prepared = Prepared::default();
+    let boxes = prepared.update(&scene.obbs);
+    for mask in ["cross", "0-1", "1-2", "0-0,1-2", "0-1,1-1", "all"] {
+        let mask: GroupMask = mask.parse().unwrap();
+        check_all_engines(&scene, &mask);
+        let (reference, _) = detect(EngineKind::Brute, &boxes, &mask);
+        grid_gives_on_threads(&boxes, &mask, &reference, &[1, 2]);
+    }
+    // With `0-1`, group 0 probes and only group 1's boxes near it are entered (group 2 pairs
+    // with nothing): the 20 left in group 0's cluster, each in a few cells, not all 1,000.
+    let mut grid = Grid::default();
+    let mut pairs = Vec::new();
+    grid.detect(&boxes, &"0-1".parse().unwrap(), &mut pairs);
+    let entries = grid.stats().entries;
+    assert!(entries > 0 && entries < 200, "{entries} entries");
+    assert!(!pairs.is_empty(), "the bridging boxes collide with group 0");
 }

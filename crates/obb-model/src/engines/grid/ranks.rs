@@ -1,6 +1,7 @@
 //! Classes below the cell in a key: group ranks and start flags, and which class pairs are wanted.
 
 use super::{ALL_STARTS, FLAG_BITS};
+use crate::aabb::Aabb;
 use crate::groups::GroupMask;
 use crate::prepared::Frame;
 use crate::radix::bits_for;
@@ -23,6 +24,8 @@ pub(super) struct Ranks {
     pub(super) pairwise: bool,
     /// The most populous group, when the mask excludes its own pairs (see `Grid::build`).
     pub(super) sparse: Option<u32>,
+    /// The union of each rank's AABBs, when the mask tells ranks apart (`bits` > 0).
+    bounds: [Aabb; MAX_RANKS],
 }
 
 impl Ranks {
@@ -59,11 +62,16 @@ impl Ranks {
             }
         }
         self.bits = bits_for(self.groups.len().saturating_sub(1) as u64);
+        self.bounds = [Aabb::EMPTY; MAX_RANKS];
         if self.bits > 0 {
+            let mut at = 0;
             for run in boxes.groups.chunk_by(|a, b| a == b) {
                 let r = self.groups.iter().position(|(h, _)| *h == run[0]);
-                let r = r.expect("every group was counted") as u8;
-                self.rank.extend(std::iter::repeat_n(r, run.len()));
+                let r = r.expect("every group was counted");
+                self.rank.extend(std::iter::repeat_n(r as u8, run.len()));
+                let run_aabbs = &boxes.aabbs[at..at + run.len()];
+                self.bounds[r] = self.bounds[r].union(&Aabb::union_of(run_aabbs));
+                at += run.len();
             }
         }
         self.sparse = self
@@ -72,6 +80,19 @@ impl Ranks {
             .max_by_key(|(g, n)| (*n, std::cmp::Reverse(*g)))
             .filter(|&&(g, _)| self.groups.len() > 1 && !mask.allows(g, g))
             .map(|&(g, _)| g);
+    }
+
+    /// Whether box `i`, of AABB `b`, may overlap a box of a group the mask pairs it with: the
+    /// AABB of every such box lies in its group's bounds, so a box meeting none of those bounds
+    /// has no pair, and the grid leaves it out. (An instrument's boxes far from the tissue and
+    /// from the other instrument: in the surgical scene, cross-group, all but a few dozen.)
+    #[inline]
+    pub(super) fn may_pair(&self, i: usize, b: &Aabb) -> bool {
+        if self.bits == 0 {
+            return true;
+        }
+        let allowed = &self.allowed[self.rank(i) as usize];
+        (0..self.groups.len()).any(|r| allowed[r] && b.overlaps(&self.bounds[r]))
     }
 
     pub(super) fn rank(&self, i: usize) -> u64 {

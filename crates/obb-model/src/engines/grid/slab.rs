@@ -69,12 +69,13 @@ impl Slab {
         self.large.clear();
         self.bounds = Aabb::EMPTY;
         for (i, b) in l.boxes.aabbs.iter().enumerate() {
-            // The group, then the z range: most boxes probe, or lie in other slabs.
+            // The group, then the z range: most boxes probe, or lie in other slabs; then whether
+            // the box may meet any box it pairs with.
             if Some(l.boxes.groups[i]) == l.prober {
                 continue;
             }
             let (z0, z1) = (g.coord(b.min[2], 2), g.coord(b.max[2], 2));
-            if z1 < self.z.start || z0 >= self.z.end {
+            if z1 < self.z.start || z0 >= self.z.end || !l.ranks.may_pair(i, b) {
                 continue;
             }
             let (c0, c1) = g.range(b);
@@ -142,7 +143,7 @@ pub(super) fn place(slabs: &mut Vec<Slab>, threads: usize, l: &Layout, scratch: 
     scratch.extend(
         (0..aabbs.len())
             .step_by(aabbs.len().div_ceil(SLAB_SAMPLE).max(1))
-            .filter(|&i| Some(groups[i]) != l.prober)
+            .filter(|&i| Some(groups[i]) != l.prober && l.ranks.may_pair(i, &aabbs[i]))
             .map(|i| g.coord(aabbs[i].min[2], 2)),
     );
     let n = threads.min(scratch.len() / MIN_SAMPLE_PER_SLAB).max(1);
