@@ -129,9 +129,9 @@ impl Grid {
 
     /// Enters the boxes in their cells (or in the large list), sorts the entries by key, and
     /// finds the cells with pairs to examine, in slabs of z layers on all threads.
-    fn build(&mut self, boxes: &Frame, mask: &GroupMask) {
+    /// `self.ranks` must be up to date for `boxes` and the mask.
+    fn build(&mut self, boxes: &Frame) {
         let aabbs = boxes.aabbs;
-        self.ranks.update(boxes, mask);
         let cell = match self.cell {
             Some(c) => c,
             None => choose_cell(aabbs, self.ranks.sparse.is_some(), &mut self.scratch),
@@ -222,13 +222,16 @@ impl Engine for Grid {
 
     fn detect(&mut self, boxes: &Frame, mask: &GroupMask, out: &mut Vec<Pair>) -> Counters {
         out.clear();
-        if boxes.is_empty() {
+        if !boxes.is_empty() {
+            self.ranks.update(boxes, mask);
+        }
+        if boxes.is_empty() || !self.ranks.any_pair() {
             self.keys.clear();
             self.runs.clear();
             self.large.clear();
             return Counters::default();
         }
-        self.build(boxes, mask);
+        self.build(boxes);
         // Tasks: the cell chunks, then (when a group probes) equal ranges of box indices.
         let cell_tasks = self.cuts.len() - 1;
         let probe_tasks = match self.prober {

@@ -95,6 +95,18 @@ impl Ranks {
         (0..self.groups.len()).any(|r| allowed[r] && b.overlaps(&self.bounds[r]))
     }
 
+    /// Whether any pair may exist: some two ranks (or one with itself) that the mask pairs and
+    /// whose bounds meet. When none, the grid has nothing to do (two instruments apart, for a
+    /// resident tissue's haptic frame).
+    pub(super) fn any_pair(&self) -> bool {
+        if self.bits == 0 {
+            return self.allowed[0][0];
+        }
+        let n = self.groups.len();
+        (0..n)
+            .any(|a| (a..n).any(|b| self.allowed[a][b] && self.bounds[a].overlaps(&self.bounds[b])))
+    }
+
     pub(super) fn rank(&self, i: usize) -> u64 {
         self.rank.get(i).map_or(0, |&r| u64::from(r))
     }

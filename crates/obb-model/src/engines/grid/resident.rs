@@ -13,7 +13,7 @@ use super::{Grid, MAX_BITMAP_CELLS, MAX_CELLS_PER_BOX};
 use crate::aabb::Aabb;
 use crate::engines::{Counters, Engine, Pair};
 use crate::groups::GroupMask;
-use crate::prepared::{Frame, Prepared};
+use crate::prepared::Prepared;
 use crate::sat::{boxes_collide, Slack};
 use crate::scene::Obb;
 
@@ -41,8 +41,6 @@ pub struct Resident {
     /// The pairs among the static boxes the mask allows, found on update.
     static_pairs: Vec<Pair>,
     moving: Prepared,
-    /// Each moving group's AABB union, this frame.
-    group_bounds: Vec<(u32, Aabb)>,
     grid: Grid,
     moving_pairs: Vec<Pair>,
 }
@@ -118,11 +116,9 @@ impl Resident {
     pub fn detect(&mut self, moving: &[Obb], out: &mut Vec<Pair>) -> Counters {
         let s = self.statics.len() as u32;
         let frame = self.moving.update(moving);
-        let mut counters = Counters::default();
-        self.moving_pairs.clear();
-        if moving_groups_may_meet(&self.mask, &mut self.group_bounds, &frame) {
-            counters = self.grid.detect(&frame, &self.mask, &mut self.moving_pairs);
-        }
+        // The moving boxes' own pairs: `Grid` returns at once when no two of them may meet
+        // (two instruments apart), most of a haptic frame's work otherwise.
+        let mut counters = self.grid.detect(&frame, &self.mask, &mut self.moving_pairs);
         out.clear();
         out.extend_from_slice(&self.static_pairs);
         counters.pairs += self.static_pairs.len() as u64;
@@ -203,28 +199,4 @@ fn cell<'a>(entries: &'a [(u64, u32)], occupied: &Occupied, key: u64) -> &'a [(u
         let end = start + entries[start..].partition_point(|e| e.0 == key);
         &entries[start..end]
     }
-}
-
-/// Whether two moving boxes may make a pair: when the mask allows no pair inside a moving
-/// group and the moving groups' bounds are apart (two instruments away from each other),
-/// the moving boxes' own grid is skipped, most of a haptic frame's work otherwise.
-fn moving_groups_may_meet(
-    mask: &GroupMask,
-    group_bounds: &mut Vec<(u32, Aabb)>,
-    frame: &Frame,
-) -> bool {
-    group_bounds.clear();
-    for (&g, a) in frame.groups.iter().zip(frame.aabbs) {
-        match group_bounds.iter_mut().find(|(h, _)| *h == g) {
-            Some((_, b)) => *b = b.union(a),
-            None => group_bounds.push((g, *a)),
-        }
-    }
-    let gb = &*group_bounds;
-    gb.iter().enumerate().any(|(k, (g, a))| {
-        mask.allows(*g, *g)
-            || gb[k + 1..]
-                .iter()
-                .any(|(h, b)| mask.allows(*g, *h) && a.overlaps(b))
-    })
 }
