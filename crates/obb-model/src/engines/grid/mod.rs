@@ -9,9 +9,9 @@
 //! Below the cell, a key holds a box's class: its group's rank (when the mask tells groups
 //! apart) and three flags, one per axis, set when the box's cell range starts in this cell on
 //! that axis. A pair is in its home cell exactly when, on every axis, one of the two starts
-//! there. Sorted by key, a cell's boxes lie in runs of one class, and the scan pairs whole runs
-//! whose flags cover all three axes and whose groups the mask allows: it never visits a pair
-//! that is not at home or not wanted.
+//! there. The scan tests every pair of a cell, without a branch, for being wanted (its two
+//! classes' flags cover all three axes and the mask allows their ranks) and for overlapping
+//! AABBs: only the wanted pairs count as visits, and each overlapping pair is kept once.
 //!
 //! When the mask excludes the pairs inside the largest group (tissue, for cross-group
 //! detection), only the other groups are entered and sorted; each box of the largest group then
@@ -57,8 +57,18 @@ const ALL_STARTS: u64 = 0b111;
 /// rank words): the probing needs it.
 const MAX_BITMAP_CELLS: u64 = 1 << 25;
 
-/// One parallel task's output: its colliding pairs, and the probing boxes it found too large.
-type TaskOut = (Vec<Pair>, Vec<u32>);
+/// One parallel task's buffers, kept between frames. Aligned to two cache lines so that tasks
+/// running side by side do not write to one line (the Vecs' lengths change as they fill).
+#[derive(Debug, Default)]
+#[repr(align(128))]
+struct Task {
+    /// Its colliding pairs.
+    pairs: Vec<Pair>,
+    /// The probing boxes it found too large.
+    large: Vec<u32>,
+    /// The AABBs of the cell being scanned, in entry order (see `scan_cells`).
+    cell: Vec<Aabb>,
+}
 
 /// Uniform-grid engine. `cell` fixes the cell edge; `None` chooses it from the scene each frame.
 #[derive(Debug, Default)]
@@ -76,7 +86,7 @@ pub struct Grid {
     cuts: Vec<usize>,
     /// The group that probes instead of being entered, when there is one.
     prober: Option<u32>,
-    tasks: Vec<TaskOut>,
+    tasks: Vec<Task>,
     scratch: Vec<f64>,
     /// Where each occupied cell's entries start, when a group probes.
     occupied: Occupied,
@@ -253,10 +263,12 @@ impl Engine for Grid {
         let mut c = self.tasks[..n_tasks]
             .par_iter_mut()
             .enumerate()
-            .map(|(t, (pairs, large))| {
+            .map(|(t, task)| {
+                let Task { pairs, large, cell } = task;
                 large.clear();
                 if t < cell_tasks {
-                    return scan_cells(&cells, &runs[cuts[t]..cuts[t + 1]], boxes, mask, pairs);
+                    let runs = &runs[cuts[t]..cuts[t + 1]];
+                    return scan_cells(&cells, runs, boxes, mask, pairs, cell);
                 }
                 let first = ((t - cell_tasks) * probe_len).min(boxes.len());
                 let last = (first + probe_len).min(boxes.len());
@@ -275,14 +287,14 @@ impl Engine for Grid {
                 a += b;
                 a
             });
-        for (_, large) in &self.tasks[..n_tasks] {
-            for &l in large {
+        for task in &self.tasks[..n_tasks] {
+            for &l in &task.large {
                 self.is_large[l as usize] = true;
                 self.large.push(l);
             }
         }
-        for (pairs, _) in &self.tasks[..n_tasks] {
-            out.extend_from_slice(pairs);
+        for task in &self.tasks[..n_tasks] {
+            out.extend_from_slice(&task.pairs);
         }
         for &l in &self.large {
             c += scan_large(l as usize, &self.is_large, boxes, mask, out);
