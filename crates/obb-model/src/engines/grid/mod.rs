@@ -42,7 +42,7 @@ use geometry::choose_cell;
 use occupied::Occupied;
 use ranks::Ranks;
 use rayon::prelude::*;
-use scan::{probe, scan_cells, scan_large, Cells};
+use scan::{probe, scan_cells, scan_large, CellEntry, Cells};
 use slab::{Layout, Slab};
 
 /// A box covering more cells than this is not entered in the grid but tested against every box:
@@ -66,8 +66,8 @@ struct Task {
     pairs: Vec<Pair>,
     /// The probing boxes it found too large.
     large: Vec<u32>,
-    /// The AABBs of the cell being scanned, in entry order (see `scan_cells`).
-    cell: Vec<Aabb>,
+    /// The entries of the cell being scanned (see `scan_cells`).
+    cell: Vec<CellEntry>,
 }
 
 /// Uniform-grid engine. `cell` fixes the cell edge; `None` chooses it from the scene each frame.

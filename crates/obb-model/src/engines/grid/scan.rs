@@ -22,7 +22,8 @@ pub(super) struct Cells<'a> {
 }
 
 /// Pairs written at `out[kept]` and kept when their AABBs overlap, with no branch on that (it
-/// goes either way about as often); `reserve` makes room first.
+/// goes either way about as often); `reserve` makes room first. A pair is written as found and
+/// put in order (lower index first) only when kept, in `finish`.
 struct Emitter<'a> {
     out: &'a mut Vec<Pair>,
     kept: usize,
@@ -52,24 +53,23 @@ impl<'a> Emitter<'a> {
     #[inline(always)]
     fn pair(&mut self, boxes: &Frame, i: usize, j: usize) {
         self.counters.visits += 1;
-        self.out[self.kept] = ordered(i, j);
+        self.out[self.kept] = [i as u32, j as u32];
         self.kept += usize::from(overlaps(&boxes.aabbs[i], &boxes.aabbs[j]));
     }
 
-    /// The pairs of the cell's entry `p` (box `entries[p]`, AABB `aabbs[p]`) with each later
-    /// entry `q`, of which those with `wanted(q)` are visited; room must have been reserved. The
-    /// scan's inner loop: one AABB compare and one store per pair, kept when wanted and
-    /// overlapping, with no branch.
+    /// The pairs of the cell's entry `p` with each later entry `q`, of which those with
+    /// `wanted(q)` are visited; room must have been reserved. The scan's inner loop: one AABB
+    /// compare and one store per pair, kept when wanted and overlapping, with no branch.
     #[inline(always)]
-    fn row(&mut self, p: usize, entries: &[u32], aabbs: &[Aabb], wanted: impl Fn(usize) -> bool) {
-        let (i, a) = (entries[p] as usize, &aabbs[p]);
-        let n = entries.len();
-        let out = &mut self.out[self.kept..self.kept + (n - p - 1)];
+    fn row(&mut self, cell: &[CellEntry], p: usize, wanted: impl Fn(&CellEntry) -> bool) {
+        let a = &cell[p];
+        let later = &cell[p + 1..];
+        let out = &mut self.out[self.kept..self.kept + later.len()];
         let (mut k, mut visits) = (0, 0);
-        for q in p + 1..n {
-            let w = wanted(q);
-            out[k] = ordered(i, entries[q] as usize);
-            k += usize::from(w & overlaps(a, &aabbs[q]));
+        for b in later {
+            let w = wanted(b);
+            out[k] = [a.id, b.id];
+            k += usize::from(w & overlaps(&a.aabb, &b.aabb));
             visits += u64::from(w);
         }
         self.kept += k;
@@ -80,10 +80,21 @@ impl<'a> Emitter<'a> {
     fn finish(self, boxes: &Frame) -> Counters {
         let mut c = self.counters;
         self.out.truncate(self.kept);
+        for p in self.out.iter_mut() {
+            *p = ordered(p[0] as usize, p[1] as usize);
+        }
         c.sat_tests = self.kept as u64;
         retain_colliding(boxes.obbs, boxes.slack, self.out);
         c
     }
+}
+
+/// A cell's entry as the scan reads it: the box, its class and its AABB side by side.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct CellEntry {
+    aabb: Aabb,
+    id: u32,
+    class: u32,
 }
 
 /// `Aabb::overlaps` without short-circuit branches.
@@ -99,9 +110,10 @@ fn overlaps(a: &Aabb, b: &Aabb) -> bool {
 
 /// Examines the wanted home pairs inside the cells `runs` and puts the colliding ones in `out`.
 ///
-/// Each cell's AABBs are first copied to `cell`, in entry order, so that a box's meetings in its
-/// cell read one short stretch. Then every pair of the cell is tested, without a branch, for
-/// being wanted (at home and allowed: the class bits of both keys) and for overlapping AABBs.
+/// Each cell's entries are first copied to `cell` with their classes and AABBs, so that a box's
+/// meetings in its cell read one short stretch. Then every pair of the cell is tested, without a
+/// branch, for being wanted (at home and allowed: the classes of both) and for overlapping
+/// AABBs.
 /// Most pairs of a cell are wanted (three in four for all pairs on the surgical scene), and a
 /// cell's entries fall into many short runs of one class: pairing whole runs of classes cost
 /// more in loop overhead than the unwanted pairs cost here.
@@ -111,7 +123,7 @@ pub(super) fn scan_cells(
     boxes: &Frame,
     mask: &GroupMask,
     out: &mut Vec<Pair>,
-    cell: &mut Vec<Aabb>,
+    cell: &mut Vec<CellEntry>,
 ) -> Counters {
     let ranks = cells.ranks;
     let class_mask = ranks.class_mask();
@@ -127,18 +139,22 @@ pub(super) fn scan_cells(
         let (s, e) = (s as usize, e as usize);
         let (keys, entries) = (&cells.keys[s..e], &cells.entries[s..e]);
         cell.clear();
-        cell.extend(entries.iter().map(|&j| boxes.aabbs[j as usize]));
+        cell.extend(keys.iter().zip(entries).map(|(&k, &id)| CellEntry {
+            aabb: boxes.aabbs[id as usize],
+            id,
+            class: (k & class_mask) as u32,
+        }));
         let n = entries.len();
         emit.reserve(n * (n - 1) / 2);
         for p in 0..n {
-            let row = wanted[(keys[p] & class_mask) as usize];
-            let want = |q: usize| (row >> (keys[q] & class_mask)) & 1 == 1;
+            let row = wanted[cell[p].class as usize];
+            let want = |b: &CellEntry| (row >> b.class) & 1 == 1;
             if ranks.pairwise {
-                let g = boxes.groups[entries[p] as usize];
-                let allowed = |q: usize| mask.allows(g, boxes.groups[entries[q] as usize]);
-                emit.row(p, entries, cell, |q| want(q) && allowed(q));
+                let g = boxes.groups[cell[p].id as usize];
+                let allowed = |b: &CellEntry| mask.allows(g, boxes.groups[b.id as usize]);
+                emit.row(cell, p, |b| want(b) && allowed(b));
             } else {
-                emit.row(p, entries, cell, want);
+                emit.row(cell, p, want);
             }
         }
     }
