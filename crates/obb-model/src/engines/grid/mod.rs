@@ -252,11 +252,7 @@ impl Engine for Grid {
         if self.tasks.len() < n_tasks {
             self.tasks.resize_with(n_tasks, Default::default);
         }
-        let cells = Cells {
-            keys: &self.keys,
-            entries: &self.entries,
-            ranks: &self.ranks,
-        };
+        let cells = Cells::new(&self.keys, &self.entries, &self.ranks);
         let (cuts, runs, geometry, occupied) =
             (&self.cuts, &self.runs, &self.geometry, &self.occupied);
         let (prober, probe_len) = (self.prober, boxes.len().div_ceil(probe_tasks.max(1)));

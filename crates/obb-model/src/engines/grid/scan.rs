@@ -19,6 +19,25 @@ pub(super) struct Cells<'a> {
     pub keys: &'a [u64],
     pub entries: &'a [u32],
     pub ranks: &'a Ranks,
+    /// Bit `b` of `wanted[a]`: pairs of classes a and b are wanted (`Ranks::pairs_wanted`).
+    pub wanted: [u64; MAX_CLASSES],
+}
+
+impl<'a> Cells<'a> {
+    pub fn new(keys: &'a [u64], entries: &'a [u32], ranks: &'a Ranks) -> Self {
+        let mut wanted = [0u64; MAX_CLASSES];
+        for (a, row) in wanted.iter_mut().enumerate() {
+            for b in 0..MAX_CLASSES {
+                *row |= u64::from(ranks.pairs_wanted(a as u64, b as u64)) << b;
+            }
+        }
+        Cells {
+            keys,
+            entries,
+            ranks,
+            wanted,
+        }
+    }
 }
 
 /// Pairs written at `out[kept]` and kept when their AABBs overlap, with no branch on that (it
@@ -113,10 +132,9 @@ fn overlaps(a: &Aabb, b: &Aabb) -> bool {
 /// Each cell's entries are first copied to `cell` with their classes and AABBs, so that a box's
 /// meetings in its cell read one short stretch. Then every pair of the cell is tested, without a
 /// branch, for being wanted (at home and allowed: the classes of both) and for overlapping
-/// AABBs.
-/// Most pairs of a cell are wanted (three in four for all pairs on the surgical scene), and a
-/// cell's entries fall into many short runs of one class: pairing whole runs of classes cost
-/// more in loop overhead than the unwanted pairs cost here.
+/// AABBs. Most pairs of a cell are wanted (three in four for all pairs on the surgical scene),
+/// and a cell's entries fall into many short runs of one class: pairing whole runs of classes
+/// cost more in loop overhead than the unwanted pairs cost here.
 pub(super) fn scan_cells(
     cells: &Cells,
     runs: &[(u32, u32)],
@@ -127,13 +145,6 @@ pub(super) fn scan_cells(
 ) -> Counters {
     let ranks = cells.ranks;
     let class_mask = ranks.class_mask();
-    // Bit `b` of `wanted[a]`: pairs of classes a and b are wanted.
-    let mut wanted = [0u64; MAX_CLASSES];
-    for (a, row) in wanted.iter_mut().enumerate() {
-        for b in 0..MAX_CLASSES {
-            *row |= u64::from(ranks.pairs_wanted(a as u64, b as u64)) << b;
-        }
-    }
     let mut emit = Emitter::new(out);
     for &(s, e) in runs {
         let (s, e) = (s as usize, e as usize);
@@ -147,7 +158,7 @@ pub(super) fn scan_cells(
         let n = entries.len();
         emit.reserve(n * (n - 1) / 2);
         for p in 0..n {
-            let row = wanted[cell[p].class as usize];
+            let row = cells.wanted[cell[p].class as usize];
             let want = |b: &CellEntry| (row >> b.class) & 1 == 1;
             if ranks.pairwise {
                 let g = boxes.groups[cell[p].id as usize];
