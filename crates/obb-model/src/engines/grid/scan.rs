@@ -25,9 +25,11 @@ pub(super) struct Cells<'a> {
 
 impl<'a> Cells<'a> {
     pub fn new(keys: &'a [u64], entries: &'a [u32], ranks: &'a Ranks) -> Self {
+        // Only the classes this frame's keys can hold: 8 for one rank, not all 64.
+        let classes = 1 << ranks.class_bits();
         let mut wanted = [0u64; MAX_CLASSES];
-        for (a, row) in wanted.iter_mut().enumerate() {
-            for b in 0..MAX_CLASSES {
+        for (a, row) in wanted.iter_mut().enumerate().take(classes) {
+            for b in 0..classes {
                 *row |= u64::from(ranks.pairs_wanted(a as u64, b as u64)) << b;
             }
         }
