@@ -39,7 +39,10 @@ impl Slack {
     }
 }
 
-/// Pairs [`retain_colliding`] tests side by side.
+#[cfg(target_arch = "x86_64")]
+mod avx512;
+
+/// Pairs [`retain_colliding_lanes`] tests side by side.
 pub const LANES: usize = 4;
 
 #[inline(always)]
@@ -59,11 +62,25 @@ pub fn boxes_collide(a: &Obb, sa: &Slack, b: &Obb, sb: &Slack) -> bool {
     sat_lanes([a], [sa], [b], [sb])[0]
 }
 
-/// Keeps the pairs of `pairs` that collide (by [`boxes_collide`]), in their order, testing
-/// [`LANES`] pairs at a time with the widest vector instructions the CPU has (chosen at run time;
-/// no fused multiply-add, so every lane rounds exactly as [`boxes_collide`] does).
-#[multiversion::multiversion(targets("x86_64+avx2", "x86_64+sse4.1"))]
+/// Keeps the pairs of `pairs` that collide (by [`boxes_collide`]), in their order. On a CPU with
+/// AVX-512 it tests eight pairs at a time, each box value gathered into its lane (`avx512`);
+/// elsewhere it is [`retain_colliding_lanes`]. Every lane rounds exactly as [`boxes_collide`]
+/// does, so the answer is the same on every CPU.
 pub fn retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) {
+    #[cfg(target_arch = "x86_64")]
+    if avx512::usable(obbs.len()) {
+        // SAFETY: `usable` has checked that this CPU has the features it enables.
+        unsafe { avx512::retain_colliding(obbs, slack, pairs) };
+        return;
+    }
+    retain_colliding_lanes(obbs, slack, pairs);
+}
+
+/// [`retain_colliding`] without AVX-512: [`LANES`] pairs at a time with the widest vector
+/// instructions the CPU has (chosen at run time; no fused multiply-add, so every lane rounds
+/// exactly as [`boxes_collide`] does). Public so that the tests can run both forms.
+#[multiversion::multiversion(targets("x86_64+avx2", "x86_64+sse4.1"))]
+pub fn retain_colliding_lanes(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) {
     let n = pairs.len();
     let mut kept = 0;
     for start in (0..n).step_by(LANES) {

@@ -5,7 +5,7 @@ use crate::common;
 
 use common::{axes_of, boundary, f32_axes, obb_strategy, tilted, touching};
 use obb_model::aabb::Aabb;
-use obb_model::sat::{obbs_collide, retain_colliding};
+use obb_model::sat::{obbs_collide, retain_colliding, retain_colliding_lanes};
 use obb_model::{Obb, Prepared};
 use parry3d_f64::math::{Mat3, Pose, Rot3, Vector};
 use parry3d_f64::query::intersection_test;
@@ -67,18 +67,100 @@ proptest! {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
 
-    /// The vector-lane SAT keeps exactly the pairs the one-pair SAT accepts, in order, for any
-    /// number of pairs (full groups of lanes and a partial last group).
+    /// Both vector-lane SATs (AVX-512 gathers, when this CPU has them, and the portable lanes)
+    /// keep exactly the pairs the one-pair SAT accepts, in order, for any number of pairs (full
+    /// groups of lanes and a partial last group).
     #[test]
     fn lanes_equal_one_pair_sat(scene in common::scene(24), take in 0usize..300) {
         let mut prepared = Prepared::default();
         let frame = prepared.update(&scene.obbs);
         let n = frame.len() as u32;
         let all: Vec<[u32; 2]> = (0..n).flat_map(|i| (i + 1..n).map(move |j| [i, j])).take(take).collect();
-        let mut kept = all.clone();
-        retain_colliding(frame.obbs, frame.slack, &mut kept);
-        let expect: Vec<[u32; 2]> = all.into_iter().filter(|p| frame.sat(p[0] as usize, p[1] as usize)).collect();
-        prop_assert_eq!(kept, expect);
+        let expect: Vec<[u32; 2]> = all.iter().copied().filter(|p| frame.sat(p[0] as usize, p[1] as usize)).collect();
+        prop_assert_eq!(retained(&frame, &all, retain_colliding), expect.clone());
+        prop_assert_eq!(retained(&frame, &all, retain_colliding_lanes), expect);
+    }
+
+    /// The same on the stiff cases, at the very point where the answer flips: each touching pair
+    /// is moved apart along the line of its centres to the last position the one-pair SAT calls
+    /// colliding and the first it calls separated (found by bisection to adjacent floats). A
+    /// lane that rounded any step differently would flip there.
+    #[test]
+    fn lanes_equal_one_pair_sat_where_it_flips(
+        cases in prop::collection::vec(common::touching_pair(), 1..12)
+    ) {
+        let mut obbs = Vec::new();
+        for (a, b) in cases {
+            if let Some((inside, apart)) = flip_point(&a, &b) {
+                obbs.extend([a.clone(), inside, a, apart]);
+            }
+        }
+        let mut prepared = Prepared::default();
+        let frame = prepared.update(&obbs);
+        let all: Vec<[u32; 2]> = (0..obbs.len() as u32 / 2).map(|k| [2 * k, 2 * k + 1]).collect();
+        let expect: Vec<[u32; 2]> = all.iter().copied().filter(|p| frame.sat(p[0] as usize, p[1] as usize)).collect();
+        prop_assert_eq!(expect.len() * 2, all.len(), "half collide, half do not");
+        prop_assert_eq!(retained(&frame, &all, retain_colliding), expect.clone());
+        prop_assert_eq!(retained(&frame, &all, retain_colliding_lanes), expect);
+    }
+}
+
+/// `b` moved from `a` along the line of their centres to the last position where the one-pair
+/// SAT says they collide and the first where it says they do not; `None` when the centres
+/// coincide or no move of up to 2^60 times the scale separates them.
+fn flip_point(a: &Obb, b: &Obb) -> Option<(Obb, Obb)> {
+    let d: [f64; 3] = std::array::from_fn(|k| b.center[k] - a.center[k]);
+    let norm = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if !(norm > 0.0 && norm.is_finite()) {
+        return None;
+    }
+    let moved = |x: f64| {
+        let mut m = b.clone();
+        m.center = std::array::from_fn(|k| b.center[k] + x * d[k] / norm);
+        m
+    };
+    let sat = |x: f64| obbs_collide(a, &moved(x));
+    let (mut lo, mut hi) = (0.0, norm * f64::EPSILON);
+    while sat(hi) {
+        (lo, hi) = (hi, hi * 2.0);
+        if hi > norm * 2f64.powi(60) {
+            return None;
+        }
+    }
+    // sat(lo) and not sat(hi): halve the gap until no float lies between.
+    loop {
+        let mid = lo + (hi - lo) / 2.0;
+        if mid <= lo || mid >= hi {
+            return Some((moved(lo), moved(hi)));
+        }
+        if sat(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+}
+
+/// The pairs of `all` that `retain` keeps.
+fn retained(
+    frame: &obb_model::Frame,
+    all: &[[u32; 2]],
+    retain: fn(&[Obb], &[obb_model::sat::Slack], &mut Vec<[u32; 2]>),
+) -> Vec<[u32; 2]> {
+    let mut kept = all.to_vec();
+    retain(frame.obbs, frame.slack, &mut kept);
+    kept
+}
+
+/// A pair naming a box past the scene is refused with a panic, by both forms, never read.
+#[test]
+fn pair_past_the_boxes_panics() {
+    let obbs = vec![Obb::aligned([0.0; 3], [1.0; 3], 0); 3];
+    let mut prepared = Prepared::default();
+    let frame = prepared.update(&obbs);
+    for retain in [retain_colliding, retain_colliding_lanes] {
+        let caught = std::panic::catch_unwind(|| retained(&frame, &[[0, 1], [1, 3]], retain));
+        assert!(caught.is_err(), "box 3 of 3 was accepted");
     }
 }
 

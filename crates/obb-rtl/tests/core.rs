@@ -207,8 +207,8 @@ enum Ready {
 impl Ready {
     fn at(self, k: usize) -> bool {
         match self {
-            Ready::Every(n) => k % n == 0,
-            Ready::Random(n) | Ready::Sparse(n) => hash(k as u64) % n == 0,
+            Ready::Every(n) => k.is_multiple_of(n),
+            Ready::Random(n) | Ready::Sparse(n) => hash(k as u64).is_multiple_of(n),
         }
     }
 

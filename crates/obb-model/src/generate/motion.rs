@@ -108,7 +108,7 @@ impl SurgicalMotion {
 
     /// Frame `k`'s new tissue surface, on frames 0, 40, 80, ...
     pub fn tissue(&self, k: usize) -> Option<Vec<Obb>> {
-        (k % TISSUE_EVERY == 0).then(|| {
+        k.is_multiple_of(TISSUE_EVERY).then(|| {
             tissue(&self.surface_at(k), self.n_tissue)
                 .iter()
                 .map(|q| quad_box(q, TISSUE_HALF_THICKNESS, 0))

@@ -84,13 +84,14 @@ impl<'a> Emitter<'a> {
     #[inline(always)]
     fn row(&mut self, cell: &[CellEntry], p: usize, wanted: impl Fn(&CellEntry) -> bool) {
         let a = &cell[p];
+        let reach = a.reach();
         let later = &cell[p + 1..];
         let out = &mut self.out[self.kept..self.kept + later.len()];
         let (mut k, mut visits) = (0, 0);
         for b in later {
             let w = wanted(b);
             out[k] = [a.id, b.id];
-            k += usize::from(w & overlaps(&a.aabb, &b.aabb));
+            k += usize::from(w & b.within(&reach));
             visits += u64::from(w);
         }
         self.kept += k;
@@ -111,11 +112,43 @@ impl<'a> Emitter<'a> {
 }
 
 /// A cell's entry as the scan reads it: the box, its class and its AABB side by side.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub(super) struct CellEntry {
-    aabb: Aabb,
+    /// The AABB as `[min, -max, 0, 0]`: two AABBs overlap when one's row is at most, lane by
+    /// lane, the other's [`CellEntry::reach`]. Eight lanes compare at once in vector registers
+    /// where six separate compares with their own flags cost several times more.
+    bounds: [f64; 8],
     id: u32,
     class: u32,
+}
+
+impl CellEntry {
+    /// Fills the entry in place: built elsewhere and copied, its 64-byte row would be read back
+    /// whole right after being written in parts, which stalls the copy.
+    #[inline(always)]
+    fn set(&mut self, aabb: &Aabb, id: u32, class: u32) {
+        let (l, h) = (aabb.min, aabb.max);
+        self.bounds = [l[0], l[1], l[2], -h[0], -h[1], -h[2], 0.0, 0.0];
+        self.id = id;
+        self.class = class;
+    }
+
+    /// `[max, -min, 0, 0]`: what another entry's `bounds` must not exceed in any lane to overlap.
+    #[inline(always)]
+    fn reach(&self) -> [f64; 8] {
+        let b = &self.bounds;
+        [-b[3], -b[4], -b[5], -b[0], -b[1], -b[2], 0.0, 0.0]
+    }
+
+    /// Whether this entry's AABB overlaps the one whose [`CellEntry::reach`] is `reach`: exactly
+    /// [`overlaps`] (negation is exact, and `x <= y` is `-y <= -x`), with no branch.
+    #[inline(always)]
+    fn within(&self, reach: &[f64; 8]) -> bool {
+        self.bounds
+            .iter()
+            .zip(reach)
+            .fold(true, |all, (b, r)| all & (b <= r))
+    }
 }
 
 /// `Aabb::overlaps` without short-circuit branches.
@@ -137,6 +170,7 @@ fn overlaps(a: &Aabb, b: &Aabb) -> bool {
 /// AABBs. Most pairs of a cell are wanted (three in four for all pairs on the surgical scene),
 /// and a cell's entries fall into many short runs of one class: pairing whole runs of classes
 /// cost more in loop overhead than the unwanted pairs cost here.
+#[multiversion::multiversion(targets("x86_64+avx512f+avx512vl", "x86_64+avx2"))]
 pub(super) fn scan_cells(
     cells: &Cells,
     runs: &[(u32, u32)],
@@ -151,13 +185,11 @@ pub(super) fn scan_cells(
     for &(s, e) in runs {
         let (s, e) = (s as usize, e as usize);
         let (keys, entries) = (&cells.keys[s..e], &cells.entries[s..e]);
-        cell.clear();
-        cell.extend(keys.iter().zip(entries).map(|(&k, &id)| CellEntry {
-            aabb: boxes.aabbs[id as usize],
-            id,
-            class: (k & class_mask) as u32,
-        }));
         let n = entries.len();
+        cell.resize(n, CellEntry::default());
+        for ((e, &k), &id) in cell.iter_mut().zip(keys).zip(entries) {
+            e.set(&boxes.aabbs[id as usize], id, (k & class_mask) as u32);
+        }
         emit.reserve(n * (n - 1) / 2);
         for p in 0..n {
             let row = cells.wanted[cell[p].class as usize];

@@ -1,0 +1,230 @@
+//! The SAT of [`super::retain_colliding`] on eight pairs at a time, written with AVX-512
+//! intrinsics.
+//!
+//! The compiler's own vectorisation of `sat_lanes` spends most of its time putting each box's
+//! values into their lanes: the two boxes of a pair lie anywhere in the scene, so every value
+//! is a load, a shuffle or a spill. Here each value of eight boxes comes in one gather. Every
+//! product, sum and comparison is the one `sat_lanes` writes, in the same order and without
+//! fused multiply-add, so each lane rounds exactly as [`super::boxes_collide`] does: the two
+//! give the same answer on every pair, which the tests check on random and touching pairs.
+
+use super::{Slack, MARGIN_FLOOR};
+use crate::aabb::U;
+use crate::scene::Obb;
+use std::arch::x86_64::*;
+use std::mem::{offset_of, size_of};
+
+/// Pairs tested side by side: the f64 lanes of a 512-bit vector.
+const WIDTH: usize = 8;
+/// Boxes and slacks as arrays of f64, for the gathers' indices.
+const OBB_STRIDE: usize = size_of::<Obb>() / 8;
+const SLACK_STRIDE: usize = size_of::<Slack>() / 8;
+const CENTER: usize = offset_of!(Obb, center) / 8;
+const AXES: usize = offset_of!(Obb, axes) / 8;
+const HALF: usize = offset_of!(Obb, half) / 8;
+const HSUM: usize = offset_of!(Slack, hsum) / 8;
+const KAPPA: usize = offset_of!(Slack, kappa) / 8;
+const _: () = assert!(size_of::<Obb>().is_multiple_of(8) && size_of::<Slack>().is_multiple_of(8));
+
+/// Whether [`retain_colliding`] can run here on `n` boxes: the CPU has AVX-512F (and AVX2), and
+/// every box's offset fits the gathers' 32-bit indices.
+pub(super) fn usable(n: usize) -> bool {
+    n.checked_mul(OBB_STRIDE)
+        .is_some_and(|x| x <= i32::MAX as usize)
+        && is_x86_feature_detected!("avx512f")
+        && is_x86_feature_detected!("avx2")
+}
+
+/// [`super::retain_colliding`], eight pairs per step. Only for a CPU and box count that
+/// [`usable`] accepts. A pair naming a box past `obbs` or `slack` panics, as indexing does.
+#[target_feature(enable = "avx512f,avx2")]
+pub(super) fn retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) {
+    debug_assert!(usable(obbs.len()));
+    let n = pairs.len();
+    let boxes = obbs.len().min(slack.len());
+    let mut kept = 0;
+    for start in (0..n).step_by(WIDTH) {
+        // The last step repeats its final pair to fill the lanes.
+        let take = WIDTH.min(n - start);
+        let mut p = [pairs[n - 1]; WIDTH];
+        p[..take].copy_from_slice(&pairs[start..start + take]);
+        // The gathers do not check their indices: this does.
+        if let Some(q) = p
+            .iter()
+            .find(|q| q[0] as usize >= boxes || q[1] as usize >= boxes)
+        {
+            panic!("pair {q:?} names a box past the {boxes} boxes");
+        }
+        // SAFETY: `p` is 64 bytes; every index is below `boxes`, checked above, so each gather
+        // reads inside `obbs` or `slack`; the compress store writes `keep`'s count of pairs at
+        // `kept`, which is at most `start + take - count`, inside `pairs`.
+        unsafe {
+            // Each pair as one 64-bit lane, its first index in the low half.
+            let v = _mm512_loadu_si512(p.as_ptr().cast());
+            let i = _mm512_cvtepi64_epi32(v);
+            let j = _mm512_cvtepi64_epi32(_mm512_srli_epi64::<32>(v));
+            let separated = separated(obbs, slack, i, j);
+            let keep = !separated & (u16::MAX >> (16 - take)) as u8;
+            _mm512_mask_compressstoreu_epi64(pairs.as_mut_ptr().add(kept).cast(), keep, v);
+            kept += keep.count_ones() as usize;
+        }
+    }
+    pairs.truncate(kept);
+}
+
+/// The values at `field` (an offset in f64) of the eight records `index` (in records of
+/// `stride` f64) from `base`.
+///
+/// SAFETY: every record read must lie inside the allocation at `base`.
+#[inline]
+#[target_feature(enable = "avx512f,avx2")]
+unsafe fn gather(base: *const f64, stride: usize, index: __m256i, field: usize) -> __m512d {
+    let at = _mm256_mullo_epi32(index, _mm256_set1_epi32(stride as i32));
+    _mm512_i32gather_pd::<8>(at, base.add(field).cast())
+}
+
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn add(x: __m512d, y: __m512d) -> __m512d {
+    _mm512_add_pd(x, y)
+}
+
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn sub(x: __m512d, y: __m512d) -> __m512d {
+    _mm512_sub_pd(x, y)
+}
+
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn mul(x: __m512d, y: __m512d) -> __m512d {
+    _mm512_mul_pd(x, y)
+}
+
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn abs(x: __m512d) -> __m512d {
+    _mm512_abs_pd(x)
+}
+
+/// The lanes where `lhs > rhs` (false on NaN, as in Rust).
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn greater(lhs: __m512d, rhs: __m512d) -> u8 {
+    _mm512_cmp_pd_mask::<_CMP_GT_OQ>(lhs, rhs)
+}
+
+/// `(p0·q0 + p1·q1) + p2·q2`, as `dot` in `sat_lanes`.
+#[inline]
+#[target_feature(enable = "avx512f")]
+fn dot(p: &[__m512d; 3], q: &[__m512d; 3]) -> __m512d {
+    add(add(mul(p[0], q[0]), mul(p[1], q[1])), mul(p[2], q[2]))
+}
+
+/// Three values of the eight records: fields `field`, `field + 1`, `field + 2`.
+///
+/// SAFETY: as [`gather`].
+#[inline]
+#[target_feature(enable = "avx512f,avx2")]
+unsafe fn gather3(base: *const f64, stride: usize, index: __m256i, field: usize) -> [__m512d; 3] {
+    unsafe {
+        [
+            gather(base, stride, index, field),
+            gather(base, stride, index, field + 1),
+            gather(base, stride, index, field + 2),
+        ]
+    }
+}
+
+/// The lanes that one of the 15 axes separates, for the pairs (i, j) of the lanes: `sat_lanes`
+/// step by step. Plain loops, not closures: a closure here is not always inlined, and a call per
+/// vector costs more than the vector.
+///
+/// SAFETY: every index of `i` and `j` must be below `obbs.len()` and `slack.len()`.
+#[target_feature(enable = "avx512f,avx2")]
+unsafe fn separated(obbs: &[Obb], slack: &[Slack], i: __m256i, j: __m256i) -> u8 {
+    let (ob, sb) = (obbs.as_ptr().cast::<f64>(), slack.as_ptr().cast::<f64>());
+    let zero = _mm512_setzero_pd();
+    // SAFETY: the caller's indices are inside both slices.
+    let (a_center, b_center, ah, bh, mut a_axes, mut b_axes, s_of) = unsafe {
+        (
+            gather3(ob, OBB_STRIDE, i, CENTER),
+            gather3(ob, OBB_STRIDE, j, CENTER),
+            gather3(ob, OBB_STRIDE, i, HALF),
+            gather3(ob, OBB_STRIDE, j, HALF),
+            [[zero; 3]; 3],
+            [[zero; 3]; 3],
+            [
+                gather(sb, SLACK_STRIDE, i, KAPPA),
+                gather(sb, SLACK_STRIDE, j, KAPPA),
+                gather(sb, SLACK_STRIDE, i, HSUM),
+                gather(sb, SLACK_STRIDE, j, HSUM),
+            ],
+        )
+    };
+    for (row, (a_row, b_row)) in a_axes.iter_mut().zip(b_axes.iter_mut()).enumerate() {
+        // SAFETY: as above.
+        unsafe {
+            *a_row = gather3(ob, OBB_STRIDE, i, AXES + 3 * row);
+            *b_row = gather3(ob, OBB_STRIDE, j, AXES + 3 * row);
+        }
+    }
+    let [a_kappa, b_kappa, a_hsum, b_hsum] = s_of;
+
+    let mut tw = [zero; 3];
+    for (k, w) in tw.iter_mut().enumerate() {
+        *w = sub(b_center[k], a_center[k]);
+    }
+    let tnorm = add(add(abs(tw[0]), abs(tw[1])), abs(tw[2]));
+    let hsums = add(add(tnorm, a_hsum), b_hsum);
+    let s = add(
+        add(add(a_kappa, b_kappa), mul(_mm512_set1_pd(64.0 * U), hsums)),
+        _mm512_set1_pd(MARGIN_FLOOR),
+    );
+
+    let (mut r, mut ar) = ([[zero; 3]; 3], [[zero; 3]; 3]);
+    let (mut t, mut u) = ([zero; 3], [zero; 3]);
+    for a in 0..3 {
+        for b in 0..3 {
+            r[a][b] = dot(&a_axes[a], &b_axes[b]);
+            ar[a][b] = abs(r[a][b]);
+        }
+        t[a] = dot(&tw, &a_axes[a]);
+        u[a] = dot(&tw, &b_axes[a]);
+    }
+
+    let mut sep = 0u8;
+    for a in 0..3 {
+        let rb = add(
+            add(mul(bh[0], ar[a][0]), mul(bh[1], ar[a][1])),
+            mul(bh[2], ar[a][2]),
+        );
+        sep |= greater(abs(t[a]), add(add(ah[a], rb), s));
+    }
+    for b in 0..3 {
+        let ra = add(
+            add(mul(ah[0], ar[0][b]), mul(ah[1], ar[1][b])),
+            mul(ah[2], ar[2][b]),
+        );
+        sep |= greater(abs(u[b]), add(add(ra, bh[b]), s));
+    }
+    if sep == u8::MAX {
+        return sep;
+    }
+    for a in 0..3 {
+        let (a1, a2) = ((a + 1) % 3, (a + 2) % 3);
+        let mut m = [zero; 3];
+        for (k, mk) in m.iter_mut().enumerate() {
+            let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
+            *mk = abs(sub(mul(r[a1][k1], r[a2][k2]), mul(r[a2][k1], r[a1][k2])));
+        }
+        for b in 0..3 {
+            let (b1, b2) = ((b + 1) % 3, (b + 2) % 3);
+            let lhs = abs(sub(mul(t[a2], r[a1][b]), mul(t[a1], r[a2][b])));
+            let ra = add(mul(ah[a1], ar[a2][b]), mul(ah[a2], ar[a1][b]));
+            let rb = add(mul(bh[b1], m[b2]), mul(bh[b2], m[b1]));
+            sep |= greater(lhs, add(add(ra, rb), s));
+        }
+    }
+    sep
+}
