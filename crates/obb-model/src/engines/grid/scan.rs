@@ -83,14 +83,13 @@ impl<'a> Emitter<'a> {
     /// compare and one store per pair, kept when wanted and overlapping, with no branch.
     #[inline(always)]
     fn row(&mut self, cell: &[CellEntry], p: usize, wanted: impl Fn(&CellEntry) -> bool) {
-        let a = &cell[p];
-        let reach = a.reach();
+        let (a_id, reach) = (cell[p].id, cell[p].reach());
         let later = &cell[p + 1..];
         let out = &mut self.out[self.kept..self.kept + later.len()];
         let (mut k, mut visits) = (0, 0);
         for b in later {
             let w = wanted(b);
-            out[k] = [a.id, b.id];
+            out[k] = [a_id, b.id];
             k += usize::from(w & b.within(&reach));
             visits += u64::from(w);
         }
