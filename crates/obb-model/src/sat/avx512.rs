@@ -72,15 +72,21 @@ pub(super) fn retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u
     pairs.truncate(kept);
 }
 
-/// The values at `field` (an offset in f64) of the eight records `index` (in records of
-/// `stride` f64) from `base`.
+/// The eight indices `index` in f64 from the start of an array of records of `stride` f64.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn scaled(index: __m256i, stride: usize) -> __m256i {
+    _mm256_mullo_epi32(index, _mm256_set1_epi32(stride as i32))
+}
+
+/// The values at `field` (an offset in f64) of the eight records at `at` (from [`scaled`]) from
+/// `base`.
 ///
 /// SAFETY: every record read must lie inside the allocation at `base`.
 #[inline]
-#[target_feature(enable = "avx512f,avx2")]
-unsafe fn gather(base: *const f64, stride: usize, index: __m256i, field: usize) -> __m512d {
-    let at = _mm256_mullo_epi32(index, _mm256_set1_epi32(stride as i32));
-    _mm512_i32gather_pd::<8>(at, base.add(field).cast())
+#[target_feature(enable = "avx512f")]
+unsafe fn gather(base: *const f64, at: __m256i, field: usize) -> __m512d {
+    unsafe { _mm512_i32gather_pd::<8>(at, base.add(field).cast()) }
 }
 
 #[inline]
@@ -125,13 +131,13 @@ fn dot(p: &[__m512d; 3], q: &[__m512d; 3]) -> __m512d {
 ///
 /// SAFETY: as [`gather`].
 #[inline]
-#[target_feature(enable = "avx512f,avx2")]
-unsafe fn gather3(base: *const f64, stride: usize, index: __m256i, field: usize) -> [__m512d; 3] {
+#[target_feature(enable = "avx512f")]
+unsafe fn gather3(base: *const f64, at: __m256i, field: usize) -> [__m512d; 3] {
     unsafe {
         [
-            gather(base, stride, index, field),
-            gather(base, stride, index, field + 1),
-            gather(base, stride, index, field + 2),
+            gather(base, at, field),
+            gather(base, at, field + 1),
+            gather(base, at, field + 2),
         ]
     }
 }
@@ -144,29 +150,31 @@ unsafe fn gather3(base: *const f64, stride: usize, index: __m256i, field: usize)
 #[target_feature(enable = "avx512f,avx2")]
 unsafe fn separated(obbs: &[Obb], slack: &[Slack], i: __m256i, j: __m256i) -> u8 {
     let (ob, sb) = (obbs.as_ptr().cast::<f64>(), slack.as_ptr().cast::<f64>());
+    let (a_box, b_box) = (scaled(i, OBB_STRIDE), scaled(j, OBB_STRIDE));
+    let (a_slack, b_slack) = (scaled(i, SLACK_STRIDE), scaled(j, SLACK_STRIDE));
     let zero = _mm512_setzero_pd();
     // SAFETY: the caller's indices are inside both slices.
     let (a_center, b_center, ah, bh, mut a_axes, mut b_axes, s_of) = unsafe {
         (
-            gather3(ob, OBB_STRIDE, i, CENTER),
-            gather3(ob, OBB_STRIDE, j, CENTER),
-            gather3(ob, OBB_STRIDE, i, HALF),
-            gather3(ob, OBB_STRIDE, j, HALF),
+            gather3(ob, a_box, CENTER),
+            gather3(ob, b_box, CENTER),
+            gather3(ob, a_box, HALF),
+            gather3(ob, b_box, HALF),
             [[zero; 3]; 3],
             [[zero; 3]; 3],
             [
-                gather(sb, SLACK_STRIDE, i, KAPPA),
-                gather(sb, SLACK_STRIDE, j, KAPPA),
-                gather(sb, SLACK_STRIDE, i, HSUM),
-                gather(sb, SLACK_STRIDE, j, HSUM),
+                gather(sb, a_slack, KAPPA),
+                gather(sb, b_slack, KAPPA),
+                gather(sb, a_slack, HSUM),
+                gather(sb, b_slack, HSUM),
             ],
         )
     };
     for (row, (a_row, b_row)) in a_axes.iter_mut().zip(b_axes.iter_mut()).enumerate() {
         // SAFETY: as above.
         unsafe {
-            *a_row = gather3(ob, OBB_STRIDE, i, AXES + 3 * row);
-            *b_row = gather3(ob, OBB_STRIDE, j, AXES + 3 * row);
+            *a_row = gather3(ob, a_box, AXES + 3 * row);
+            *b_row = gather3(ob, b_box, AXES + 3 * row);
         }
     }
     let [a_kappa, b_kappa, a_hsum, b_hsum] = s_of;
