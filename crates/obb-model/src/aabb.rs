@@ -18,7 +18,7 @@ pub const TINY: f64 = f64::from_bits(1);
 
 /// Added to every AABB half-extent: it covers what the three products of `e_x` lose when they
 /// underflow (at most 2^-1075 each), which the relative widening does not (docs/sat.md, "AABBs").
-const EXTENT_FLOOR: f64 = 4.0 * TINY;
+pub(crate) const EXTENT_FLOOR: f64 = 4.0 * TINY;
 
 /// `d` moved outward (`dir` -1 down, +1 up) by `2u·|d|`, which is at least one ulp of `d`, so
 /// that the result lies beyond the exact value that `d` rounds; `+ 0.0` turns -0.0 into +0.0.

@@ -8,6 +8,8 @@
 //! what this crate computes.
 
 pub mod aabb;
+#[cfg(target_arch = "x86_64")]
+mod avx512;
 pub mod contact;
 pub mod engines;
 pub mod fixed;

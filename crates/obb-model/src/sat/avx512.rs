@@ -10,6 +10,7 @@
 
 use super::{Slack, MARGIN_FLOOR};
 use crate::aabb::U;
+use crate::avx512::{abs, add, dot, gather, mul, sub};
 use crate::scene::Obb;
 use std::arch::x86_64::*;
 use std::mem::{offset_of, size_of};
@@ -79,52 +80,11 @@ fn scaled(index: __m256i, stride: usize) -> __m256i {
     _mm256_mullo_epi32(index, _mm256_set1_epi32(stride as i32))
 }
 
-/// The values at `field` (an offset in f64) of the eight records at `at` (from [`scaled`]) from
-/// `base`.
-///
-/// SAFETY: every record read must lie inside the allocation at `base`.
-#[inline]
-#[target_feature(enable = "avx512f")]
-unsafe fn gather(base: *const f64, at: __m256i, field: usize) -> __m512d {
-    unsafe { _mm512_i32gather_pd::<8>(at, base.add(field).cast()) }
-}
-
-#[inline]
-#[target_feature(enable = "avx512f")]
-fn add(x: __m512d, y: __m512d) -> __m512d {
-    _mm512_add_pd(x, y)
-}
-
-#[inline]
-#[target_feature(enable = "avx512f")]
-fn sub(x: __m512d, y: __m512d) -> __m512d {
-    _mm512_sub_pd(x, y)
-}
-
-#[inline]
-#[target_feature(enable = "avx512f")]
-fn mul(x: __m512d, y: __m512d) -> __m512d {
-    _mm512_mul_pd(x, y)
-}
-
-#[inline]
-#[target_feature(enable = "avx512f")]
-fn abs(x: __m512d) -> __m512d {
-    _mm512_abs_pd(x)
-}
-
 /// The lanes where `lhs > rhs` (false on NaN, as in Rust).
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn greater(lhs: __m512d, rhs: __m512d) -> u8 {
     _mm512_cmp_pd_mask::<_CMP_GT_OQ>(lhs, rhs)
-}
-
-/// `(p0·q0 + p1·q1) + p2·q2`, as `dot` in `sat_lanes`.
-#[inline]
-#[target_feature(enable = "avx512f")]
-fn dot(p: &[__m512d; 3], q: &[__m512d; 3]) -> __m512d {
-    add(add(mul(p[0], q[0]), mul(p[1], q[1])), mul(p[2], q[2]))
 }
 
 /// Three values of the eight records: fields `field`, `field + 1`, `field + 2`.
