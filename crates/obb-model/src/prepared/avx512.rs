@@ -23,9 +23,9 @@ const AXES: usize = offset_of!(Obb, axes) / 8;
 const HALF: usize = offset_of!(Obb, half) / 8;
 const _: () = assert!(size_of::<Obb>().is_multiple_of(8));
 
-/// Whether [`prepare`] can run here: the CPU has AVX-512F.
+/// Whether [`prepare`] can run here: the CPU has AVX-512F (and AVX2, for the gathers' indices).
 pub(super) fn usable() -> bool {
-    is_x86_feature_detected!("avx512f")
+    is_x86_feature_detected!("avx512f") && is_x86_feature_detected!("avx2")
 }
 
 /// `outward` of `aabb.rs` on eight lanes: `d + dir·(|d|·2u) + 0`.
@@ -38,7 +38,7 @@ fn outward(d: __m512d, dir: f64) -> __m512d {
 
 /// [`super::prepare`], eight boxes per step; the last `len % 8` boxes go to the scalar form.
 /// Only for a CPU that [`usable`] accepts.
-#[target_feature(enable = "avx512f")]
+#[target_feature(enable = "avx512f,avx2")]
 pub(super) fn prepare(
     obbs: &[Obb],
     aabbs: &mut [Aabb],
@@ -91,7 +91,9 @@ pub(super) fn prepare(
             low[x] = lower(low[x], ends[x]);
             high[x] = higher(high[x], ends[3 + x]);
         }
-        // Slack::of: the Gram matrix's worst entry, in Obb::ortho_error's order.
+        // Slack::of: the Gram matrix's worst entry, in Obb::ortho_error's order. Its
+        // `worst.max(v)` is `higher(worst, v)` here: `worst` starts at 0 and is never NaN, and
+        // both keep `worst` when `v` is NaN.
         let mut worst = _mm512_setzero_pd();
         for i in 0..3 {
             for k in i..3 {
@@ -107,7 +109,9 @@ pub(super) fn prepare(
             &mut aabbs[first..first + WIDTH],
             &mut slack[first..first + WIDTH],
         );
-        let boxes = obbs[first..first + WIDTH].iter().zip(&mut groups[first..]);
+        let boxes = obbs[first..first + WIDTH]
+            .iter()
+            .zip(&mut groups[first..first + WIDTH]);
         for (l, ((aabb, slack), (obb, group))) in aabbs.iter_mut().zip(slack).zip(boxes).enumerate()
         {
             *aabb = lane_aabb(&ends, l);
