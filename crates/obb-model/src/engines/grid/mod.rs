@@ -56,6 +56,11 @@ const ALL_STARTS: u64 = 0b111;
 /// Largest grid (in cells) for which an occupancy bitmap is kept (4 MiB of bits, and as many
 /// rank words): the probing needs it.
 const MAX_BITMAP_CELLS: u64 = 1 << 25;
+/// Below this much pair work (cell entries, plus the boxes that probe), the scan and the
+/// probing run on the calling thread: handing a few hundred boxes' work to another thread costs
+/// more than the work, and a haptic frame's tail latency suffers most from it (the other core
+/// may be busy, and a worker woken for each frame competes with the caller).
+const PARALLEL_MIN_WORK: usize = 4096;
 
 /// One parallel task's buffers, kept between frames. Aligned to two cache lines so that tasks
 /// running side by side do not write to one line (the Vecs' lengths change as they fill).
@@ -92,6 +97,8 @@ pub struct Grid {
     occupied: Occupied,
     /// The grid's z slabs, one per thread at most.
     slabs: Vec<Slab>,
+    /// The threads the scan and the probing run on this frame: 1 below `PARALLEL_MIN_WORK`.
+    threads: usize,
     /// Sampled z layers, to place the slabs.
     layers: Vec<u64>,
     sorter: PairSorter,
@@ -197,7 +204,9 @@ impl Grid {
             let entry_cells = self.keys.iter().map(|k| k >> class_bits);
             self.occupied.index(entry_cells, cells, bounds);
         }
-        self.cut_runs(threads);
+        let work = total + prober.map_or(0, |_| aabbs.len());
+        self.threads = if work < PARALLEL_MIN_WORK { 1 } else { threads };
+        self.cut_runs(self.threads);
     }
 
     /// Cuts the runs into chunks of about equal pair work: dense cells lie together in key
@@ -245,7 +254,7 @@ impl Engine for Grid {
         // Tasks: the cell chunks, then (when a group probes) equal ranges of box indices.
         let cell_tasks = self.cuts.len() - 1;
         let probe_tasks = match self.prober {
-            Some(_) => rayon::current_num_threads() * CHUNKS_PER_THREAD,
+            Some(_) => self.threads * CHUNKS_PER_THREAD,
             None => 0,
         };
         let n_tasks = cell_tasks + probe_tasks;
@@ -256,33 +265,44 @@ impl Engine for Grid {
         let (cuts, runs, geometry, occupied) =
             (&self.cuts, &self.runs, &self.geometry, &self.occupied);
         let (prober, probe_len) = (self.prober, boxes.len().div_ceil(probe_tasks.max(1)));
-        let mut c = self.tasks[..n_tasks]
-            .par_iter_mut()
-            .enumerate()
-            .map(|(t, task)| {
-                let Task { pairs, large, cell } = task;
-                large.clear();
-                if t < cell_tasks {
-                    let runs = &runs[cuts[t]..cuts[t + 1]];
-                    return scan_cells(&cells, runs, boxes, mask, pairs, cell);
-                }
-                let first = ((t - cell_tasks) * probe_len).min(boxes.len());
-                let last = (first + probe_len).min(boxes.len());
-                let pick = |i: &usize| Some(boxes.groups[*i]) == prober;
-                probe(
-                    &cells,
-                    geometry,
-                    occupied,
-                    (first..last).filter(pick),
-                    boxes,
-                    pairs,
-                    large,
-                )
-            })
-            .reduce(Counters::default, |mut a, b| {
-                a += b;
-                a
-            });
+        let run = |(t, task): (usize, &mut Task)| {
+            let Task { pairs, large, cell } = task;
+            large.clear();
+            if t < cell_tasks {
+                let runs = &runs[cuts[t]..cuts[t + 1]];
+                return scan_cells(&cells, runs, boxes, mask, pairs, cell);
+            }
+            let first = ((t - cell_tasks) * probe_len).min(boxes.len());
+            let last = (first + probe_len).min(boxes.len());
+            let pick = |i: &usize| Some(boxes.groups[*i]) == prober;
+            probe(
+                &cells,
+                geometry,
+                occupied,
+                (first..last).filter(pick),
+                boxes,
+                pairs,
+                large,
+            )
+        };
+        let sum = |mut a: Counters, b: Counters| {
+            a += b;
+            a
+        };
+        let tasks = &mut self.tasks[..n_tasks];
+        let mut c = if self.threads > 1 {
+            tasks
+                .par_iter_mut()
+                .enumerate()
+                .map(run)
+                .reduce(Counters::default, sum)
+        } else {
+            tasks
+                .iter_mut()
+                .enumerate()
+                .map(run)
+                .fold(Counters::default(), sum)
+        };
         for task in &self.tasks[..n_tasks] {
             for &l in &task.large {
                 self.is_large[l as usize] = true;
