@@ -2,7 +2,16 @@
 //! (`prepared/avx512.rs`): each lane of these computes exactly what the scalar operation does
 //! (no fused multiply-add), so the vector forms round as the scalar code they follow.
 
+use crate::scene::Obb;
 use std::arch::x86_64::*;
+use std::mem::{offset_of, size_of};
+
+/// Boxes as arrays of f64, for the gathers' indices: a box's stride and its fields' offsets.
+pub(crate) const OBB_STRIDE: usize = size_of::<Obb>() / 8;
+pub(crate) const CENTER: usize = offset_of!(Obb, center) / 8;
+pub(crate) const AXES: usize = offset_of!(Obb, axes) / 8;
+pub(crate) const HALF: usize = offset_of!(Obb, half) / 8;
+const _: () = assert!(size_of::<Obb>().is_multiple_of(8));
 
 /// The values at `field` of the eight records at `at` from `base`, both in f64.
 ///
@@ -11,6 +20,28 @@ use std::arch::x86_64::*;
 #[target_feature(enable = "avx512f")]
 pub(crate) unsafe fn gather(base: *const f64, at: __m256i, field: usize) -> __m512d {
     unsafe { _mm512_i32gather_pd::<8>(at, base.add(field).cast()) }
+}
+
+/// The eight indices `index` in f64 from the start of an array of records of `stride` f64.
+#[inline]
+#[target_feature(enable = "avx2")]
+pub(crate) fn scaled(index: __m256i, stride: usize) -> __m256i {
+    _mm256_mullo_epi32(index, _mm256_set1_epi32(stride as i32))
+}
+
+/// Three values of the eight records: fields `field`, `field + 1`, `field + 2`.
+///
+/// SAFETY: as [`gather`].
+#[inline]
+#[target_feature(enable = "avx512f")]
+pub(crate) unsafe fn gather3(base: *const f64, at: __m256i, field: usize) -> [__m512d; 3] {
+    unsafe {
+        [
+            gather(base, at, field),
+            gather(base, at, field + 1),
+            gather(base, at, field + 2),
+        ]
+    }
 }
 
 #[inline]

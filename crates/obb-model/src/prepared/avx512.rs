@@ -8,20 +8,15 @@
 //! tests check on random and extreme boxes.
 
 use crate::aabb::{Aabb, EXTENT_FLOOR, U};
-use crate::avx512::{abs, add, dot, gather, higher, lower, mul, sub};
+use crate::avx512::{
+    abs, add, dot, gather3, higher, lower, mul, scaled, sub, AXES, CENTER, HALF, OBB_STRIDE,
+};
 use crate::sat::Slack;
 use crate::scene::Obb;
 use std::arch::x86_64::*;
-use std::mem::{offset_of, size_of};
 
 /// Boxes prepared side by side: the f64 lanes of a 512-bit vector.
 const WIDTH: usize = 8;
-/// A box as an array of f64, for the gathers' indices.
-const OBB_STRIDE: i32 = (size_of::<Obb>() / 8) as i32;
-const CENTER: usize = offset_of!(Obb, center) / 8;
-const AXES: usize = offset_of!(Obb, axes) / 8;
-const HALF: usize = offset_of!(Obb, half) / 8;
-const _: () = assert!(size_of::<Obb>().is_multiple_of(8));
 
 /// Whether [`prepare`] can run here: the CPU has AVX-512F (and AVX2, for the gathers' indices).
 pub(super) fn usable() -> bool {
@@ -52,29 +47,22 @@ pub(super) fn prepare(
         .min(groups.len());
     let whole = n - n % WIDTH;
     // Box l of a step at `l * OBB_STRIDE` f64 from the step's first box.
-    let at = _mm256_mullo_epi32(
-        _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
-        _mm256_set1_epi32(OBB_STRIDE),
-    );
+    let at = scaled(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), OBB_STRIDE);
     let mut low = [_mm512_set1_pd(Aabb::EMPTY.min[0]); 3];
     let mut high = [_mm512_set1_pd(Aabb::EMPTY.max[0]); 3];
     for first in (0..whole).step_by(WIDTH) {
         let base = obbs[first..first + WIDTH].as_ptr().cast::<f64>();
         // Plain loops, not closures: a closure does not take this function's target features,
         // and a call per gather would cost more than the gather.
-        let (mut center, mut half) = ([_mm512_setzero_pd(); 3], [_mm512_setzero_pd(); 3]);
         let mut axes = [[_mm512_setzero_pd(); 3]; 3];
-        for k in 0..3 {
-            // SAFETY: the eight boxes from `first` are inside `obbs` (the slice above checks
-            // it), and every gather reads one f64 field of one of them.
-            unsafe {
-                center[k] = gather(base, at, CENTER + k);
-                half[k] = gather(base, at, HALF + k);
-                for (row, axis) in axes.iter_mut().enumerate() {
-                    axis[k] = gather(base, at, AXES + 3 * row + k);
-                }
+        // SAFETY: the eight boxes from `first` are inside `obbs` (the slice above checks it),
+        // and every gather reads one f64 field of one of them.
+        let (center, half) = unsafe {
+            for (row, axis) in axes.iter_mut().enumerate() {
+                *axis = gather3(base, at, AXES + 3 * row);
             }
-        }
+            (gather3(base, at, CENTER), gather3(base, at, HALF))
+        };
         // Aabb::of: each world axis's half-extent, enlarged, and the end points stepped out.
         let mut ends = [_mm512_setzero_pd(); 6];
         for x in 0..3 {

@@ -10,22 +10,20 @@
 
 use super::{Slack, MARGIN_FLOOR};
 use crate::aabb::U;
-use crate::avx512::{abs, add, dot, gather, mul, sub};
+use crate::avx512::{
+    abs, add, dot, gather, gather3, mul, scaled, sub, AXES, CENTER, HALF, OBB_STRIDE,
+};
 use crate::scene::Obb;
 use std::arch::x86_64::*;
 use std::mem::{offset_of, size_of};
 
 /// Pairs tested side by side: the f64 lanes of a 512-bit vector.
 const WIDTH: usize = 8;
-/// Boxes and slacks as arrays of f64, for the gathers' indices.
-const OBB_STRIDE: usize = size_of::<Obb>() / 8;
+/// Slacks as arrays of f64, for the gathers' indices (boxes: `crate::avx512`).
 const SLACK_STRIDE: usize = size_of::<Slack>() / 8;
-const CENTER: usize = offset_of!(Obb, center) / 8;
-const AXES: usize = offset_of!(Obb, axes) / 8;
-const HALF: usize = offset_of!(Obb, half) / 8;
 const HSUM: usize = offset_of!(Slack, hsum) / 8;
 const KAPPA: usize = offset_of!(Slack, kappa) / 8;
-const _: () = assert!(size_of::<Obb>().is_multiple_of(8) && size_of::<Slack>().is_multiple_of(8));
+const _: () = assert!(size_of::<Slack>().is_multiple_of(8));
 
 /// Whether [`retain_colliding`] can run here on `n` boxes: the CPU has AVX-512F (and AVX2), and
 /// every box's offset fits the gathers' 32-bit indices.
@@ -73,33 +71,11 @@ pub(super) fn retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u
     pairs.truncate(kept);
 }
 
-/// The eight indices `index` in f64 from the start of an array of records of `stride` f64.
-#[inline]
-#[target_feature(enable = "avx2")]
-fn scaled(index: __m256i, stride: usize) -> __m256i {
-    _mm256_mullo_epi32(index, _mm256_set1_epi32(stride as i32))
-}
-
 /// The lanes where `lhs > rhs` (false on NaN, as in Rust).
 #[inline]
 #[target_feature(enable = "avx512f")]
 fn greater(lhs: __m512d, rhs: __m512d) -> u8 {
     _mm512_cmp_pd_mask::<_CMP_GT_OQ>(lhs, rhs)
-}
-
-/// Three values of the eight records: fields `field`, `field + 1`, `field + 2`.
-///
-/// SAFETY: as [`gather`].
-#[inline]
-#[target_feature(enable = "avx512f")]
-unsafe fn gather3(base: *const f64, at: __m256i, field: usize) -> [__m512d; 3] {
-    unsafe {
-        [
-            gather(base, at, field),
-            gather(base, at, field + 1),
-            gather(base, at, field + 2),
-        ]
-    }
 }
 
 /// The lanes that one of the 15 axes separates, for the pairs (i, j) of the lanes: `sat_lanes`
