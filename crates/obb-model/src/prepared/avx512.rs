@@ -1,16 +1,14 @@
 //! [`super::prepare`] on eight boxes at a time, written with AVX-512 intrinsics.
 //!
 //! Scalar, the preparation is half of a cross-group frame: every box's AABB and slack take about
-//! a hundred dependent operations. Here each of a box's fifteen values comes for eight
-//! consecutive boxes in one gather, and every product, sum, comparison and maximum is the one
-//! `Aabb::of`, `Slack::of` (with `Obb::ortho_error`) and `Aabb::union` write, in the same order
+//! a hundred dependent operations. Here eight consecutive boxes are read whole and transposed in
+//! registers (`crate::avx512::boxes`), so that each vector holds one value of the eight, and
+//! every product, sum, comparison and maximum is the one `Aabb::of`, `Slack::of` (with `Obb::ortho_error`) and `Aabb::union` write, in the same order
 //! and without fused multiply-add: each lane rounds exactly as the scalar code does, which the
 //! tests check on random and extreme boxes.
 
 use crate::aabb::{Aabb, EXTENT_FLOOR, U};
-use crate::avx512::{
-    abs, add, dot, gather3, higher, lower, mul, scaled, sub, AXES, CENTER, HALF, OBB_STRIDE,
-};
+use crate::avx512::{abs, add, boxes, dot, field3, higher, lower, mul, sub, AXES, CENTER, HALF};
 use crate::sat::Slack;
 use crate::scene::Obb;
 use std::arch::x86_64::*;
@@ -18,9 +16,9 @@ use std::arch::x86_64::*;
 /// Boxes prepared side by side: the f64 lanes of a 512-bit vector.
 const WIDTH: usize = 8;
 
-/// Whether [`prepare`] can run here: the CPU has AVX-512F (and AVX2, for the gathers' indices).
+/// Whether [`prepare`] can run here: the CPU has AVX-512F.
 pub(super) fn usable() -> bool {
-    is_x86_feature_detected!("avx512f") && is_x86_feature_detected!("avx2")
+    is_x86_feature_detected!("avx512f")
 }
 
 /// `outward` of `aabb.rs` on eight lanes: `d + dir·(|d|·2u) + 0`.
@@ -33,7 +31,7 @@ fn outward(d: __m512d, dir: f64) -> __m512d {
 
 /// [`super::prepare`], eight boxes per step; the last `len % 8` boxes go to the scalar form.
 /// Only for a CPU that [`usable`] accepts.
-#[target_feature(enable = "avx512f,avx2")]
+#[target_feature(enable = "avx512f")]
 pub(super) fn prepare(
     obbs: &[Obb],
     aabbs: &mut [Aabb],
@@ -46,23 +44,13 @@ pub(super) fn prepare(
         .min(slack.len())
         .min(groups.len());
     let whole = n - n % WIDTH;
-    // Box l of a step at `l * OBB_STRIDE` f64 from the step's first box.
-    let at = scaled(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), OBB_STRIDE);
     let mut low = [_mm512_set1_pd(Aabb::EMPTY.min[0]); 3];
     let mut high = [_mm512_set1_pd(Aabb::EMPTY.max[0]); 3];
     for first in (0..whole).step_by(WIDTH) {
-        let base = obbs[first..first + WIDTH].as_ptr().cast::<f64>();
-        // Plain loops, not closures: a closure does not take this function's target features,
-        // and a call per gather would cost more than the gather.
-        let mut axes = [[_mm512_setzero_pd(); 3]; 3];
-        // SAFETY: the eight boxes from `first` are inside `obbs` (the slice above checks it),
-        // and every gather reads one f64 field of one of them.
-        let (center, half) = unsafe {
-            for (row, axis) in axes.iter_mut().enumerate() {
-                *axis = gather3(base, at, AXES + 3 * row);
-            }
-            (gather3(base, at, CENTER), gather3(base, at, HALF))
-        };
+        // SAFETY: the eight boxes from `first` are below `whole`, inside `obbs`.
+        let b = unsafe { boxes(obbs, std::array::from_fn(|l| first + l)) };
+        let axes = [0, 3, 6].map(|row| field3(&b, AXES + row));
+        let (center, half) = (field3(&b, CENTER), field3(&b, HALF));
         // Aabb::of: each world axis's half-extent, enlarged, and the end points stepped out.
         let mut ends = [_mm512_setzero_pd(); 6];
         for x in 0..3 {

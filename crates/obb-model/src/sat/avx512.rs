@@ -3,40 +3,40 @@
 //!
 //! The compiler's own vectorisation of `sat_lanes` spends most of its time putting each box's
 //! values into their lanes: the two boxes of a pair lie anywhere in the scene, so every value
-//! is a load, a shuffle or a spill. Here each value of eight boxes comes in one gather. Every
+//! is a load, a shuffle or a spill. Here eight boxes are read whole and transposed in registers
+//! (`crate::avx512::boxes`), so that each vector holds one value of the eight boxes. Every
 //! product, sum and comparison is the one `sat_lanes` writes, in the same order and without
 //! fused multiply-add, so each lane rounds exactly as [`super::boxes_collide`] does: the two
 //! give the same answer on every pair, which the tests check on random and touching pairs.
 
 use super::{Slack, MARGIN_FLOOR};
 use crate::aabb::U;
-use crate::avx512::{
-    abs, add, dot, gather, gather3, mul, scaled, sub, AXES, CENTER, HALF, OBB_STRIDE,
-};
+use crate::avx512::{abs, add, boxes, dot, field3, gather, mul, scaled, sub, AXES, CENTER, HALF};
 use crate::scene::Obb;
 use std::arch::x86_64::*;
 use std::mem::{offset_of, size_of};
 
 /// Pairs tested side by side: the f64 lanes of a 512-bit vector.
 const WIDTH: usize = 8;
-/// Slacks as arrays of f64, for the gathers' indices (boxes: `crate::avx512`).
+/// Slacks as arrays of f64, for the gathers' indices.
 const SLACK_STRIDE: usize = size_of::<Slack>() / 8;
 const HSUM: usize = offset_of!(Slack, hsum) / 8;
 const KAPPA: usize = offset_of!(Slack, kappa) / 8;
 const _: () = assert!(size_of::<Slack>().is_multiple_of(8));
 
-/// Whether [`retain_colliding`] can run here on `n` boxes: the CPU has AVX-512F (and AVX2), and
-/// every box's offset fits the gathers' 32-bit indices.
+/// Whether [`retain_colliding`] can run here on `n` boxes: the CPU has AVX-512F (and AVX2 and
+/// POPCNT), and every box's slack offset fits the gathers' 32-bit indices.
 pub(super) fn usable(n: usize) -> bool {
-    n.checked_mul(OBB_STRIDE)
+    n.checked_mul(SLACK_STRIDE)
         .is_some_and(|x| x <= i32::MAX as usize)
         && is_x86_feature_detected!("avx512f")
         && is_x86_feature_detected!("avx2")
+        && is_x86_feature_detected!("popcnt")
 }
 
 /// [`super::retain_colliding`], eight pairs per step. Only for a CPU and box count that
 /// [`usable`] accepts. A pair naming a box past `obbs` or `slack` panics, as indexing does.
-#[target_feature(enable = "avx512f,avx2")]
+#[target_feature(enable = "avx512f,avx2,popcnt")]
 pub(super) fn retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) {
     debug_assert!(usable(obbs.len()));
     let n = pairs.len();
@@ -47,25 +47,31 @@ pub(super) fn retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u
         let take = WIDTH.min(n - start);
         let mut p = [pairs[n - 1]; WIDTH];
         p[..take].copy_from_slice(&pairs[start..start + take]);
-        // The gathers do not check their indices: this does.
+        // The loads and gathers do not check their indices: this does.
         if let Some(q) = p
             .iter()
             .find(|q| q[0] as usize >= boxes || q[1] as usize >= boxes)
         {
             panic!("pair {q:?} names a box past the {boxes} boxes");
         }
-        // SAFETY: `p` is 64 bytes; every index is below `boxes`, checked above, so each gather
-        // reads inside `obbs` or `slack`; the compress store writes `keep`'s count of pairs at
-        // `kept`, which is at most `start + take - count`, inside `pairs`.
+        // SAFETY: `p` is 64 bytes; every index is below `boxes`, checked above, so each load
+        // and gather reads inside `obbs` or `slack`; the masked store writes `keep`'s count of
+        // pairs at `kept`, which is at most `start + take - count`, inside `pairs`.
         unsafe {
             // Each pair as one 64-bit lane, its first index in the low half.
             let v = _mm512_loadu_si512(p.as_ptr().cast());
             let i = _mm512_cvtepi64_epi32(v);
             let j = _mm512_cvtepi64_epi32(_mm512_srli_epi64::<32>(v));
-            let separated = separated(obbs, slack, i, j);
+            let separated = separated(obbs, slack, &p, i, j);
             let keep = !separated & (u16::MAX >> (16 - take)) as u8;
-            _mm512_mask_compressstoreu_epi64(pairs.as_mut_ptr().add(kept).cast(), keep, v);
-            kept += keep.count_ones() as usize;
+            // Compressed in a register, then stored under a mask of the kept count: a
+            // compress straight to memory is microcoded on AMD's Zen 4 (about 7 % of the SAT's
+            // time there, sampled on the instruction after it), a masked store is not.
+            let count = keep.count_ones();
+            let low = ((1u16 << count) - 1) as u8;
+            let packed = _mm512_maskz_compress_epi64(keep, v);
+            _mm512_mask_storeu_epi64(pairs.as_mut_ptr().add(kept).cast(), low, packed);
+            kept += count as usize;
         }
     }
     pairs.truncate(kept);
@@ -78,26 +84,28 @@ fn greater(lhs: __m512d, rhs: __m512d) -> u8 {
     _mm512_cmp_pd_mask::<_CMP_GT_OQ>(lhs, rhs)
 }
 
-/// The lanes that one of the 15 axes separates, for the pairs (i, j) of the lanes: `sat_lanes`
-/// step by step. Plain loops, not closures: a closure here is not always inlined, and a call per
-/// vector costs more than the vector.
+/// The lanes that one of the 15 axes separates, for the pairs `p` (box indices also as `i` and
+/// `j`): `sat_lanes` step by step, the boxes read whole ([`boxes`]) and the slacks gathered.
+/// Plain loops, not closures: a closure here is not always inlined, and a call per vector costs
+/// more than the vector.
 ///
-/// SAFETY: every index of `i` and `j` must be below `obbs.len()` and `slack.len()`.
+/// SAFETY: every index of `p` (and so of `i` and `j`) must be below `obbs.len()` and
+/// `slack.len()`.
 #[target_feature(enable = "avx512f,avx2")]
-unsafe fn separated(obbs: &[Obb], slack: &[Slack], i: __m256i, j: __m256i) -> u8 {
-    let (ob, sb) = (obbs.as_ptr().cast::<f64>(), slack.as_ptr().cast::<f64>());
-    let (a_box, b_box) = (scaled(i, OBB_STRIDE), scaled(j, OBB_STRIDE));
+unsafe fn separated(
+    obbs: &[Obb],
+    slack: &[Slack],
+    p: &[[u32; 2]; WIDTH],
+    i: __m256i,
+    j: __m256i,
+) -> u8 {
+    let sb = slack.as_ptr().cast::<f64>();
     let (a_slack, b_slack) = (scaled(i, SLACK_STRIDE), scaled(j, SLACK_STRIDE));
-    let zero = _mm512_setzero_pd();
     // SAFETY: the caller's indices are inside both slices.
-    let (a_center, b_center, ah, bh, mut a_axes, mut b_axes, s_of) = unsafe {
+    let (a_boxes, b_boxes, [a_kappa, b_kappa, a_hsum, b_hsum]) = unsafe {
         (
-            gather3(ob, a_box, CENTER),
-            gather3(ob, b_box, CENTER),
-            gather3(ob, a_box, HALF),
-            gather3(ob, b_box, HALF),
-            [[zero; 3]; 3],
-            [[zero; 3]; 3],
+            boxes(obbs, p.map(|q| q[0] as usize)),
+            boxes(obbs, p.map(|q| q[1] as usize)),
             [
                 gather(sb, a_slack, KAPPA),
                 gather(sb, b_slack, KAPPA),
@@ -106,14 +114,11 @@ unsafe fn separated(obbs: &[Obb], slack: &[Slack], i: __m256i, j: __m256i) -> u8
             ],
         )
     };
-    for (row, (a_row, b_row)) in a_axes.iter_mut().zip(b_axes.iter_mut()).enumerate() {
-        // SAFETY: as above.
-        unsafe {
-            *a_row = gather3(ob, a_box, AXES + 3 * row);
-            *b_row = gather3(ob, b_box, AXES + 3 * row);
-        }
-    }
-    let [a_kappa, b_kappa, a_hsum, b_hsum] = s_of;
+    let (a_center, b_center) = (field3(&a_boxes, CENTER), field3(&b_boxes, CENTER));
+    let (ah, bh) = (field3(&a_boxes, HALF), field3(&b_boxes, HALF));
+    let a_axes = [0, 3, 6].map(|row| field3(&a_boxes, AXES + row));
+    let b_axes = [0, 3, 6].map(|row| field3(&b_boxes, AXES + row));
+    let zero = _mm512_setzero_pd();
 
     let mut tw = [zero; 3];
     for (k, w) in tw.iter_mut().enumerate() {
