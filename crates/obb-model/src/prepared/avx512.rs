@@ -3,9 +3,10 @@
 //! Scalar, the preparation is half of a cross-group frame: every box's AABB and slack take about
 //! a hundred dependent operations. Here eight consecutive boxes are read whole and transposed in
 //! registers (`crate::avx512::boxes`), so that each vector holds one value of the eight, and
-//! every product, sum, comparison and maximum is the one `Aabb::of`, `Slack::of` (with `Obb::ortho_error`) and `Aabb::union` write, in the same order
-//! and without fused multiply-add: each lane rounds exactly as the scalar code does, which the
-//! tests check on random and extreme boxes.
+//! every product, sum, comparison and maximum is the one `Aabb::of`, `Slack::of` (with
+//! `Obb::ortho_error`) and `Aabb::union` write, in the same order and without fused
+//! multiply-add: each lane rounds exactly as the scalar code does, which the tests check on
+//! random and extreme boxes.
 
 use crate::aabb::{Aabb, EXTENT_FLOOR, U};
 use crate::avx512::{abs, add, boxes, dot, field3, higher, lower, mul, sub, AXES, CENTER, HALF};
