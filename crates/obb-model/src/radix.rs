@@ -30,6 +30,15 @@ impl<V: Copy> RadixSorter<V> {
         }
     }
 
+    /// Sets the widest digit, 1 to 16 bits, for the sorts that follow.
+    pub fn set_max_digit_bits(&mut self, max_digit_bits: u32) {
+        assert!(
+            (1..=16).contains(&max_digit_bits),
+            "radix digit width must be 1..=16 bits, got {max_digit_bits}"
+        );
+        self.max_digit_bits = max_digit_bits;
+    }
+
     /// Number of passes needed for `key_bits`-bit keys.
     pub fn passes(&self, key_bits: u32) -> u32 {
         key_bits.div_ceil(self.max_digit_bits)
@@ -42,14 +51,22 @@ impl<V: Copy> RadixSorter<V> {
     }
 
     pub fn sort(&mut self, keys: &mut Vec<u64>, vals: &mut Vec<V>, key_bits: u32) {
+        self.sort_bits(keys, vals, 0, key_bits);
+    }
+
+    /// Sorts `keys` (and `vals` alongside) stably by their bits `low..key_bits` only: keys
+    /// equal in those bits keep their order, whatever their lower bits.
+    pub fn sort_bits(&mut self, keys: &mut Vec<u64>, vals: &mut Vec<V>, low: u32, key_bits: u32) {
         assert_eq!(keys.len(), vals.len(), "one payload per key");
         assert!(keys.len() < u32::MAX as usize, "at most 2^32 - 2 keys");
         let n = keys.len();
-        let passes = self.passes(key_bits.min(64));
+        let key_bits = key_bits.min(64);
+        let low = low.min(key_bits);
+        let passes = self.passes(key_bits - low);
         if n < 2 || passes == 0 {
             return;
         }
-        let digit_bits = self.digit_bits(key_bits.min(64));
+        let digit_bits = self.digit_bits(key_bits - low);
         let radix = 1usize << digit_bits;
         let mask = (radix - 1) as u64;
         // All digit histograms in one read of the keys (the hardware counts the next digit's
@@ -58,7 +75,7 @@ impl<V: Copy> RadixSorter<V> {
         self.counts.resize(radix * passes as usize, 0);
         for &k in keys.iter() {
             for (p, hist) in self.counts.chunks_exact_mut(radix).enumerate() {
-                hist[((k >> (p as u32 * digit_bits)) & mask) as usize] += 1;
+                hist[((k >> (low + p as u32 * digit_bits)) & mask) as usize] += 1;
             }
         }
         // Every slot of the scratch is written by each pass (a stable scatter is a
@@ -80,7 +97,7 @@ impl<V: Copy> RadixSorter<V> {
                 *c = sum;
                 sum += here;
             }
-            let shift = p as u32 * digit_bits;
+            let shift = low + p as u32 * digit_bits;
             let (tk, tv) = (&mut self.tmp_keys[..n], &mut self.tmp_vals[..n]);
             for (&k, &v) in keys.iter().zip(vals.iter()) {
                 let d = ((k >> shift) & mask) as usize;

@@ -9,7 +9,7 @@ const MAX_CELLS_PER_AXIS: u64 = 1 << 20;
 const MIN_CELL: f64 = f64::MIN_POSITIVE;
 /// Cell edge as a multiple of the median AABB edge: the measured sweet spot between entries per
 /// box and pairs per cell (docs/engines.md).
-const CELL_PER_MEDIAN_EDGE: f64 = 3.0;
+const CELL_PER_MEDIAN_EDGE: f64 = 5.0;
 /// The same when a group probes: larger cells mean fewer entries to enter and sort, and fewer
 /// cells for each probing box to look up, while the pairs examined grow more slowly.
 const PROBING_CELL_PER_MEDIAN_EDGE: f64 = 4.0;

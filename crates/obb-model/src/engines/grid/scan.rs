@@ -11,6 +11,15 @@ use crate::groups::GroupMask;
 use crate::prepared::Frame;
 use crate::sat::retain_colliding;
 
+#[cfg(target_arch = "x86_64")]
+mod avx512;
+#[cfg(target_arch = "x86_64")]
+pub(super) use avx512::Columns;
+/// Where the vector scan is not built, its buffers are none.
+#[cfg(not(target_arch = "x86_64"))]
+#[derive(Debug, Default)]
+pub(super) struct Columns;
+
 /// Classes in one cell at most: every rank with every flag pattern.
 const MAX_CLASSES: usize = MAX_RANKS << FLAG_BITS;
 
@@ -162,6 +171,26 @@ fn overlaps(a: &Aabb, b: &Aabb) -> bool {
 }
 
 /// Examines the wanted home pairs inside the cells `runs` and puts the colliding ones in `out`.
+/// On a CPU with AVX-512, unless the mask is checked pair by pair, each entry meets eight later
+/// ones at a time (`avx512`, with `columns` its buffers); elsewhere it is [`scan_rows`]. Both
+/// visit, count and keep the same pairs in the same order.
+pub(super) fn scan_cells(
+    cells: &Cells,
+    runs: &[(u32, u32)],
+    boxes: &Frame,
+    mask: &GroupMask,
+    out: &mut Vec<Pair>,
+    buffers: (&mut Vec<CellEntry>, &mut Columns),
+) -> Counters {
+    #[cfg(target_arch = "x86_64")]
+    if !cells.ranks.pairwise && avx512::usable() {
+        // SAFETY: `usable` has checked that this CPU has the features it enables.
+        return unsafe { avx512::scan_cells(cells, runs, boxes, out, buffers.1) };
+    }
+    scan_rows(cells, runs, boxes, mask, out, buffers.0)
+}
+
+/// [`scan_cells`], one pair per step.
 ///
 /// Each cell's entries are first copied to `cell` with their classes and AABBs, so that a box's
 /// meetings in its cell read one short stretch. Then every pair of the cell is tested, without a
@@ -170,7 +199,7 @@ fn overlaps(a: &Aabb, b: &Aabb) -> bool {
 /// and a cell's entries fall into many short runs of one class: pairing whole runs of classes
 /// cost more in loop overhead than the unwanted pairs cost here.
 #[multiversion::multiversion(targets("x86_64+avx512f+avx512vl", "x86_64+avx2"))]
-pub(super) fn scan_cells(
+pub(super) fn scan_rows(
     cells: &Cells,
     runs: &[(u32, u32)],
     boxes: &Frame,
