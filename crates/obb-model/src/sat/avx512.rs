@@ -84,7 +84,7 @@ fn greater(lhs: __m512d, rhs: __m512d) -> u8 {
 }
 
 /// The lanes that one of the 15 axes separates, for the pairs `p` (box indices also as `i` and
-/// `j`): `sat_lanes` step by step, the boxes read whole ([`boxes`]) and the slacks gathered.
+/// `j`): `sat_lanes` step by step, the boxes read whole ([`boxes`]), `kappa` gathered.
 /// Plain loops, not closures: a closure here is not always inlined, and a call per vector costs
 /// more than the vector.
 ///

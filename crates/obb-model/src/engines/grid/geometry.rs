@@ -7,12 +7,16 @@ const MAX_CELLS_PER_AXIS: u64 = 1 << 20;
 /// The smallest cell edge, the smallest normal f64 (2^-1022): its inverse is finite. Below it
 /// (boxes of subnormal size) `1 / cell` would be infinite and every box would cover 2^63 cells.
 const MIN_CELL: f64 = f64::MIN_POSITIVE;
-/// Cell edge as a multiple of the median AABB edge: the measured sweet spot between entries per
-/// box and pairs per cell (docs/engines.md).
-const CELL_PER_MEDIAN_EDGE: f64 = 5.0;
+/// Cell edge as a multiple of the median AABB edge, for a grid whose cells are scanned pair by
+/// pair: the measured sweet spot between entries per box and pairs per cell (docs/engines.md).
+pub(super) const CELL_PER_MEDIAN_EDGE: f64 = 5.0;
 /// The same when a group probes: larger cells mean fewer entries to enter and sort, and fewer
 /// cells for each probing box to look up, while the pairs examined grow more slowly.
-const PROBING_CELL_PER_MEDIAN_EDGE: f64 = 4.0;
+pub(super) const PROBING_CELL_PER_MEDIAN_EDGE: f64 = 4.0;
+/// The same for the resident grid, which only moving boxes probe (`Resident`): a haptic frame
+/// enters and sorts nothing, and each moving box meets every entry of the cells it covers, so
+/// smaller cells pay.
+pub(super) const RESIDENT_CELL_PER_MEDIAN_EDGE: f64 = 3.0;
 /// The median edge is taken over at most this many boxes, evenly spaced in the scene.
 const CELL_SAMPLE: usize = 4096;
 
@@ -83,10 +87,9 @@ impl GridGeometry {
     }
 }
 
-/// Cell edge from the boxes: `CELL_PER_MEDIAN_EDGE` (or `PROBING_CELL_PER_MEDIAN_EDGE` when a
-/// group will probe) times the median of each AABB's mean edge, over an evenly spaced sample of
-/// at most `CELL_SAMPLE` boxes.
-pub(super) fn choose_cell(aabbs: &[Aabb], probing: bool, scratch: &mut Vec<f64>) -> f64 {
+/// Cell edge from the boxes: `factor` (one of the `*_CELL_PER_MEDIAN_EDGE`) times the median of
+/// each AABB's mean edge, over an evenly spaced sample of at most `CELL_SAMPLE` boxes.
+pub(super) fn choose_cell(aabbs: &[Aabb], factor: f64, scratch: &mut Vec<f64>) -> f64 {
     scratch.clear();
     scratch.extend(
         aabbs
@@ -96,11 +99,6 @@ pub(super) fn choose_cell(aabbs: &[Aabb], probing: bool, scratch: &mut Vec<f64>)
     );
     let mid = scratch.len() / 2;
     let (_, median, _) = scratch.select_nth_unstable_by(mid, f64::total_cmp);
-    let factor = if probing {
-        PROBING_CELL_PER_MEDIAN_EDGE
-    } else {
-        CELL_PER_MEDIAN_EDGE
-    };
     let cell = *median * factor;
     // Boxes of zero size give a zero median: any positive cell is then correct.
     if cell > 0.0 && cell.is_finite() {

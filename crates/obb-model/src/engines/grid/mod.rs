@@ -38,7 +38,7 @@ use crate::aabb::Aabb;
 use crate::groups::GroupMask;
 use crate::prepared::Frame;
 use crate::radix::bits_for;
-use geometry::choose_cell;
+use geometry::{choose_cell, CELL_PER_MEDIAN_EDGE, PROBING_CELL_PER_MEDIAN_EDGE};
 use occupied::Occupied;
 use ranks::Ranks;
 use rayon::prelude::*;
@@ -152,7 +152,13 @@ impl Grid {
         let aabbs = boxes.aabbs;
         let cell = match self.cell {
             Some(c) => c,
-            None => choose_cell(aabbs, self.ranks.sparse.is_some(), &mut self.scratch),
+            None => {
+                let factor = match self.ranks.sparse {
+                    Some(_) => PROBING_CELL_PER_MEDIAN_EDGE,
+                    None => CELL_PER_MEDIAN_EDGE,
+                };
+                choose_cell(aabbs, factor, &mut self.scratch)
+            }
         };
         let g = GridGeometry::fit(boxes.bounds.min, boxes.bounds.max, cell);
         self.geometry = g;

@@ -7,7 +7,7 @@
 //! closed AABB overlap and the SAT, each pair once (a static-moving pair is taken in its home
 //! cell, the cell of the lower corner of the two AABBs' intersection, which both cover).
 
-use super::geometry::{choose_cell, GridGeometry};
+use super::geometry::{choose_cell, GridGeometry, RESIDENT_CELL_PER_MEDIAN_EDGE};
 use super::occupied::Occupied;
 use super::{Grid, MAX_BITMAP_CELLS, MAX_CELLS_PER_BOX};
 use crate::aabb::Aabb;
@@ -63,7 +63,7 @@ impl Resident {
         let cell = if statics.is_empty() {
             1.0
         } else {
-            choose_cell(&self.aabbs, false, &mut scratch)
+            choose_cell(&self.aabbs, RESIDENT_CELL_PER_MEDIAN_EDGE, &mut scratch)
         };
         self.geometry = GridGeometry::fit(frame.bounds.min, frame.bounds.max, cell);
         self.all_bounds = frame.bounds;
