@@ -18,16 +18,14 @@ pub struct RadixSorter<V> {
 impl<V: Copy> RadixSorter<V> {
     /// `max_digit_bits` from 1 to 16.
     pub fn new(max_digit_bits: u32) -> Self {
-        assert!(
-            (1..=16).contains(&max_digit_bits),
-            "radix digit width must be 1..=16 bits, got {max_digit_bits}"
-        );
-        RadixSorter {
-            max_digit_bits,
+        let mut sorter = RadixSorter {
+            max_digit_bits: 1,
             tmp_keys: Vec::new(),
             tmp_vals: Vec::new(),
             counts: Vec::new(),
-        }
+        };
+        sorter.set_max_digit_bits(max_digit_bits);
+        sorter
     }
 
     /// Sets the widest digit, 1 to 16 bits, for the sorts that follow.
