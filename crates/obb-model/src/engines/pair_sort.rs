@@ -75,7 +75,10 @@ impl PairSorter {
         // Parts that dropped repeats leave gaps: close them.
         let (mut at, mut kept) = (0, 0);
         for part in &self.parts {
-            self.sorted.copy_within(at..at + part.kept, kept);
+            // (The first part, and every part after one that dropped none, is in place.)
+            if at != kept {
+                self.sorted.copy_within(at..at + part.kept, kept);
+            }
             at += part.pairs;
             kept += part.kept;
         }

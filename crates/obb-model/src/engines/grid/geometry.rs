@@ -56,6 +56,34 @@ impl GridGeometry {
         )
     }
 
+    /// [`GridGeometry::range`] with the six coordinates in one AVX-512 vector: one subtraction,
+    /// one product and one conversion where `range` takes six of each with their saturation
+    /// checks (two fifths of the entering's time). Each lane rounds as `coord` does; a lane
+    /// below the origin or NaN is 0 in both (the lane's `max` with 0 gives 0 for those), and the
+    /// two differ only for a coordinate past 2^63, far beyond the grid's 2^20 cells an axis.
+    #[cfg(target_arch = "x86_64")]
+    #[inline]
+    #[target_feature(enable = "avx512f,avx512dq,avx512vl")]
+    pub(super) fn range_avx512(&self, b: &Aabb) -> ([u64; 3], [u64; 3]) {
+        use std::arch::x86_64::*;
+        let o = &self.origin;
+        let origin = _mm512_setr_pd(o[0], o[1], o[2], 0.0, o[0], o[1], o[2], 0.0);
+        // SAFETY: each load reads the three f64 of one array (the fourth lane is masked off).
+        let (min, max) = unsafe {
+            (
+                _mm256_maskz_loadu_pd(0b111, b.min.as_ptr()),
+                _mm256_maskz_loadu_pd(0b111, b.max.as_ptr()),
+            )
+        };
+        let x = _mm512_insertf64x4::<1>(_mm512_castpd256_pd512(min), max);
+        let scaled = _mm512_mul_pd(_mm512_sub_pd(x, origin), _mm512_set1_pd(self.inv));
+        let cells = _mm512_cvttpd_epi64(_mm512_max_pd(scaled, _mm512_setzero_pd()));
+        let mut c = [0u64; 8];
+        // SAFETY: `c` holds the eight lanes.
+        unsafe { _mm512_storeu_si512(c.as_mut_ptr().cast(), cells) };
+        ([c[0], c[1], c[2]], [c[4], c[5], c[6]])
+    }
+
     /// Cells in the range `c0..=c1` (from `range`).
     #[inline]
     pub(super) fn cells_in(c0: [u64; 3], c1: [u64; 3]) -> u64 {
@@ -105,5 +133,48 @@ pub(super) fn choose_cell(aabbs: &[Aabb], factor: f64, scratch: &mut Vec<f64>) -
         cell
     } else {
         1.0
+    }
+}
+
+#[cfg(all(test, target_arch = "x86_64"))]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A coordinate in cells from the origin: inside the grid, below the origin, far past it
+    /// (up to 2^62 cells), or not a number.
+    fn coordinate() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            4 => -3.0..40.0f64,
+            1 => -1e300..-1.0f64,
+            1 => 40.0..4e18f64,
+            1 => Just(f64::NAN),
+            1 => Just(f64::NEG_INFINITY),
+        ]
+    }
+
+    proptest! {
+        /// The vector cell range is the scalar one, lane by lane, wherever the two are meant to
+        /// agree (every coordinate below 2^63 cells), including points below the origin and NaN.
+        #[test]
+        fn vector_range_is_the_scalar_range(
+            cells in proptest::array::uniform6(coordinate()),
+            origin in proptest::array::uniform3(-1e3..1e3f64),
+            cell in 1e-3..1e3f64,
+        ) {
+            let have = is_x86_feature_detected!("avx512f")
+                && is_x86_feature_detected!("avx512dq")
+                && is_x86_feature_detected!("avx512vl");
+            if !have {
+                // The entering then uses `range` itself: there is no second form to compare.
+                return Ok(());
+            }
+            let g = GridGeometry { origin, cell, inv: 1.0 / cell, dims: [40; 3] };
+            let at = |k: usize| origin[k % 3] + cells[k] * cell;
+            let b = Aabb { min: [at(0), at(1), at(2)], max: [at(3), at(4), at(5)] };
+            // SAFETY: checked above that this CPU has the features.
+            let vector = unsafe { g.range_avx512(&b) };
+            prop_assert_eq!(vector, g.range(&b));
+        }
     }
 }

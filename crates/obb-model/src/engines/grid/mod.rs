@@ -181,16 +181,20 @@ impl Grid {
         slab::place(&mut self.slabs, threads, &layout, &mut self.layers);
         self.slabs.par_iter_mut().for_each(|s| s.build(&layout));
         let total = self.slabs.iter().map(Slab::len).sum();
-        self.keys.resize(total, 0);
-        self.entries.resize(total, 0);
         let ranks = &self.ranks;
-        slab::for_each_part(
-            &mut self.slabs,
-            &mut self.keys,
-            &mut self.entries,
-            0,
-            &|s, k, e, offset| s.publish(k, e, offset, ranks),
-        );
+        if let [only] = &mut self.slabs[..] {
+            only.publish_whole(&mut self.keys, &mut self.entries, ranks);
+        } else {
+            self.keys.resize(total, 0);
+            self.entries.resize(total, 0);
+            slab::for_each_part(
+                &mut self.slabs,
+                &mut self.keys,
+                &mut self.entries,
+                0,
+                &|s, k, e, offset| s.publish(k, e, offset, ranks),
+            );
+        }
         self.large.clear();
         self.is_large.clear();
         self.is_large.resize(aabbs.len(), false);

@@ -71,7 +71,30 @@ impl Slab {
 
     /// Enters the chosen boxes' cells in this slab's layers, then sorts them by key.
     pub(super) fn build(&mut self, l: &Layout) {
-        let (g, class_bits) = (l.geometry, l.ranks.class_bits());
+        #[cfg(target_arch = "x86_64")]
+        if is_x86_feature_detected!("avx512f")
+            && is_x86_feature_detected!("avx512dq")
+            && is_x86_feature_detected!("avx512vl")
+        {
+            // SAFETY: this CPU has the features `build_avx512` enables.
+            return unsafe { self.build_avx512(l) };
+        }
+        self.enter(l, |b| l.geometry.range(b));
+        self.sort(l);
+    }
+
+    /// [`Slab::build`] with each box's cell range from [`GridGeometry::range_avx512`].
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512dq,avx512vl")]
+    fn build_avx512(&mut self, l: &Layout) {
+        self.enter(l, |b| l.geometry.range_avx512(b));
+        self.sort(l);
+    }
+
+    /// Enters the chosen boxes' cells in this slab's layers, each box's cell range from `range`.
+    #[inline(always)]
+    fn enter(&mut self, l: &Layout, range: impl Fn(&Aabb) -> ([u64; 3], [u64; 3])) {
+        let class_bits = l.ranks.class_bits();
         self.keys.clear();
         self.entries.clear();
         self.large.clear();
@@ -82,11 +105,11 @@ impl Slab {
             if Some(l.boxes.groups[i]) == l.prober {
                 continue;
             }
-            let (z0, z1) = (g.coord(b.min[2], 2), g.coord(b.max[2], 2));
+            let (c0, c1) = range(b);
+            let (z0, z1) = (c0[2], c1[2]);
             if z1 < self.z.start || z0 >= self.z.end || !l.ranks.may_pair(i, b) {
                 continue;
             }
-            let (c0, c1) = g.range(b);
             if GridGeometry::cells_in(c0, c1) > MAX_CELLS_PER_BOX {
                 if self.z.contains(&z0) {
                     self.large.push(i as u32);
@@ -104,7 +127,7 @@ impl Slab {
                 let z_flag = u64::from(z == c0[2]) << 2;
                 for y in c0[1]..=c1[1] {
                     let flags = z_flag | u64::from(y == c0[1]) << 1;
-                    let row = (g.key([c0[0], y, z]) << class_bits) | rank;
+                    let row = (l.geometry.key([c0[0], y, z]) << class_bits) | rank;
                     self.keys.push(row | flags | 1);
                     self.entries.push(i as u32);
                     for dx in 1..=c1[0] - c0[0] {
@@ -114,6 +137,10 @@ impl Slab {
                 }
             }
         }
+    }
+
+    /// Sorts the entered keys (and their boxes).
+    fn sort(&mut self, l: &Layout) {
         // By cell and rank only: the scan needs a cell's entries together and its ranks in
         // order (see `publish`), not its start flags in order, and three bits fewer often
         // save a pass. Digits one bit wider than the entries' count needs (up to 16 bits) take
@@ -127,9 +154,7 @@ impl Slab {
     }
 
     /// Copies the sorted entries to `keys` and `entries` (this slab's part of the whole grid,
-    /// starting at entry `offset`), and finds its runs: the cells with two or more entries,
-    /// except those holding one rank whose own pairs the mask excludes (an instrument's cells,
-    /// for cross-group detection).
+    /// starting at entry `offset`), and finds its runs (`find_runs`).
     pub(super) fn publish(
         &mut self,
         keys: &mut [u64],
@@ -139,6 +164,28 @@ impl Slab {
     ) {
         keys.copy_from_slice(&self.keys);
         entries.copy_from_slice(&self.entries);
+        self.find_runs(keys, offset, ranks);
+    }
+
+    /// [`Slab::publish`] for the only slab: its entries are the whole grid, so the buffers
+    /// change hands instead of being copied (the slab refills the grid's old ones next frame).
+    pub(super) fn publish_whole(
+        &mut self,
+        keys: &mut Vec<u64>,
+        entries: &mut Vec<u32>,
+        ranks: &Ranks,
+    ) {
+        std::mem::swap(keys, &mut self.keys);
+        std::mem::swap(entries, &mut self.entries);
+        self.keys.clear();
+        self.entries.clear();
+        self.find_runs(keys, 0, ranks);
+    }
+
+    /// Finds this slab's runs in its sorted `keys` (the whole grid's from entry `offset`): the
+    /// cells with two or more entries, except those holding one rank whose own pairs the mask
+    /// excludes (an instrument's cells, for cross-group detection).
+    fn find_runs(&mut self, keys: &[u64], offset: usize, ranks: &Ranks) {
         let class_bits = ranks.class_bits();
         let class_mask = ranks.class_mask();
         let rank = |k: u64| ((k & class_mask) >> FLAG_BITS) as usize;
