@@ -2,14 +2,15 @@
 //! run, with the growth of the run time from the smallest to the largest uniform scene.
 
 use crate::parry::ParryScene;
-use crate::timing::median_ms;
+use crate::timing::{race, turn, warm_median_ms, Contender};
 use anyhow::{Context, Result};
 use clap::Args;
 use obb_model::generate::{surgical, uniform, SURGICAL_DEFAULT_N, UNIFORM_DEFAULT_DENSITY};
 use obb_model::sat::obbs_collide;
-use obb_model::{EngineKind, GroupMask, Pair, Prepared, Scene};
+use obb_model::{Counters, Engine, EngineKind, GroupMask, Pair, Prepared, Scene};
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::time::Duration;
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -22,6 +23,16 @@ pub struct BenchArgs {
     /// Timed runs per measurement (the median is reported).
     #[arg(long, default_value_t = 5)]
     repeat: usize,
+    /// Untimed runs before each measurement, for this long (ms; at least one run): the
+    /// figures are of the steady state, as a loop running frame after frame sees it.
+    #[arg(long, default_value_t = 300)]
+    warmup_ms: u64,
+    /// The grid (on all threads and on 1) and parry3d take turns of this long (ms), ...
+    #[arg(long, default_value_t = 100)]
+    turn_ms: u64,
+    /// ... for at least this many rounds (and until each has `--repeat` timed runs).
+    #[arg(long, default_value_t = 5)]
+    rounds: usize,
     /// Quadratic engines (brute, sap, improved-sap) only up to this many boxes.
     #[arg(long, default_value_t = 20_000)]
     quadratic_max: usize,
@@ -41,24 +52,90 @@ struct Row {
     visits: u64,
 }
 
+/// Times `kind` alone on `scene`: the median of `--repeat` frames after `--warmup-ms`.
 fn time_engine(
     kind: EngineKind,
     scene: &Scene,
     mask: &GroupMask,
-    repeat: usize,
+    a: &BenchArgs,
 ) -> (f64, Vec<Pair>, u64) {
-    let mut engine = kind.build();
-    let mut boxes = Prepared::default();
-    let mut pairs = Vec::new();
+    let mut run = FrameLoop::new(kind);
     // The frame loop runs on a worker of the current pool, as a real-time loop should: a call
     // from outside the pool pays a thread wake-up per parallel phase (README, "Performance").
-    let (ms, c) = rayon::scope(|_| {
-        median_ms(repeat, || {
-            let frame = boxes.update(&scene.obbs);
-            engine.detect(&frame, mask, &mut pairs)
+    let (ms, ()) = rayon::scope(|_| {
+        warm_median_ms(Duration::from_millis(a.warmup_ms), a.repeat, || {
+            run.frame(scene, mask)
         })
     });
-    (ms, pairs, c.visits)
+    (ms, run.pairs, run.counters.visits)
+}
+
+/// One engine's frame loop, kept from frame to frame (and from turn to turn of a race).
+struct FrameLoop {
+    engine: Box<dyn Engine>,
+    boxes: Prepared,
+    pairs: Vec<Pair>,
+    counters: Counters,
+}
+
+impl FrameLoop {
+    fn new(kind: EngineKind) -> Self {
+        FrameLoop {
+            engine: kind.build(),
+            boxes: Prepared::default(),
+            pairs: Vec::new(),
+            counters: Counters::default(),
+        }
+    }
+
+    fn frame(&mut self, scene: &Scene, mask: &GroupMask) {
+        let frame = self.boxes.update(&scene.obbs);
+        self.counters = self.engine.detect(&frame, mask, &mut self.pairs);
+    }
+}
+
+/// The grid on all threads, the grid on one (when there are more) and parry3d, timed in turns
+/// (`race`): their ratios compare them over the same stretch of time. Returns the medians in
+/// that order (two when there is one thread), the grid's pairs and visits, and parry3d's pairs.
+fn race_grid(
+    scene: &Scene,
+    mask: &GroupMask,
+    a: &BenchArgs,
+    single: &rayon::ThreadPool,
+) -> (Vec<f64>, (Vec<Pair>, u64), Vec<Pair>) {
+    let (mut all, mut one) = (
+        FrameLoop::new(EngineKind::Grid),
+        FrameLoop::new(EngineKind::Grid),
+    );
+    let parry = ParryScene::new(scene);
+    let mut parry_pairs = Vec::new();
+    // Each runs its turns on a worker of its pool, as `time_engine` does.
+    let mut on_all = |length, times: &mut Vec<f64>| {
+        rayon::scope(|_| turn(length, times, || all.frame(scene, mask)));
+    };
+    let mut on_one = |length, times: &mut Vec<f64>| {
+        single.install(|| rayon::scope(|_| turn(length, times, || one.frame(scene, mask))));
+    };
+    let mut on_parry = |length, times: &mut Vec<f64>| {
+        turn(length, times, || parry.detect(mask, &mut parry_pairs));
+    };
+    let mut contenders: Vec<Contender> = vec![&mut on_all];
+    if rayon::current_num_threads() > 1 {
+        contenders.push(&mut on_one);
+    }
+    contenders.push(&mut on_parry);
+    // A first turn each, untimed, for the warm-up.
+    for contender in contenders.iter_mut() {
+        contender(Duration::from_millis(a.warmup_ms), &mut Vec::new());
+    }
+    let medians = race(
+        &mut contenders,
+        a.repeat,
+        a.rounds,
+        Duration::from_millis(a.turn_ms),
+    );
+    drop(contenders);
+    (medians, (all.pairs, all.counters.visits), parry_pairs)
 }
 
 fn bench_scene(
@@ -72,6 +149,7 @@ fn bench_scene(
     let all_threads = rayon::current_num_threads();
     let single = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
     let mut reference: Option<Vec<Pair>> = None;
+    let mut parry = None;
     let mut add = |engine: &str, threads, ms, pairs: &[Pair], visits| {
         rows.push(Row {
             scene: name.into(),
@@ -92,12 +170,19 @@ fn bench_scene(
         if quadratic && n > a.quadratic_max {
             continue;
         }
-        let (ms, pairs, cand) = time_engine(kind, scene, mask, a.repeat);
-        add(kind.name(), all_threads, ms, &pairs, cand);
-        if kind == EngineKind::Grid && all_threads > 1 {
-            let (ms1, _, _) = single.install(|| time_engine(kind, scene, mask, a.repeat));
-            add(kind.name(), 1, ms1, &pairs, cand);
-        }
+        let pairs = if kind == EngineKind::Grid {
+            let (medians, (pairs, visits), pairs_parry) = race_grid(scene, mask, a, &single);
+            add(kind.name(), all_threads, medians[0], &pairs, visits);
+            if all_threads > 1 {
+                add(kind.name(), 1, medians[1], &pairs, visits);
+            }
+            parry = Some((medians[medians.len() - 1], pairs_parry));
+            pairs
+        } else {
+            let (ms, pairs, visits) = time_engine(kind, scene, mask, a);
+            add(kind.name(), all_threads, ms, &pairs, visits);
+            pairs
+        };
         match &reference {
             None => reference = Some(pairs),
             Some(r) => anyhow::ensure!(
@@ -106,9 +191,7 @@ fn bench_scene(
             ),
         }
     }
-    let parry = ParryScene::new(scene);
-    let mut pairs = Vec::new();
-    let (ms, ()) = median_ms(a.repeat, || parry.detect(mask, &mut pairs));
+    let (ms, pairs) = parry.context("the grid ran beside parry3d")?;
     add("parry3d", 1, ms, &pairs, 0);
     let ours = reference.context("at least one engine ran")?;
     report_disagreement(name, scene, mask, &ours, &pairs)
