@@ -142,7 +142,7 @@ impl Slab {
     /// Sorts the entered keys (and their boxes).
     fn sort(&mut self, l: &Layout) {
         // By cell and rank only: the scan needs a cell's entries together and its ranks in
-        // order (see `publish`), not its start flags in order, and three bits fewer often
+        // order (see `find_runs`), not its start flags in order, and three bits fewer often
         // save a pass. Digits one bit wider than the entries' count needs (up to 16 bits) take
         // the fewest passes whose counts still fit the caches beside the entries, and whose
         // counts cost less to clear than the entries to sort: on the surgical scene one pass
