@@ -124,12 +124,9 @@ fn race_grid(
         contenders.push(&mut on_one);
     }
     contenders.push(&mut on_parry);
-    // A first turn each, untimed, for the warm-up.
-    for contender in contenders.iter_mut() {
-        contender(Duration::from_millis(a.warmup_ms), &mut Vec::new());
-    }
     let medians = race(
         &mut contenders,
+        Duration::from_millis(a.warmup_ms),
         a.repeat,
         a.rounds,
         Duration::from_millis(a.turn_ms),

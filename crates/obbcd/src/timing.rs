@@ -51,7 +51,7 @@ pub type Contender<'a> = &'a mut dyn FnMut(Duration, &mut Vec<f64>);
 
 /// Times contenders against each other in turns of `length` each, round after round, until
 /// every one has at least `repeat` timed runs and `rounds` turns; returns each one's median
-/// (ms).
+/// (ms). A first round of turns of `warmup` each is not timed.
 ///
 /// Taking turns, the contenders' medians come from the same stretch of time. This machine kind
 /// is shared: its speed changes over seconds, and timed one after the other, a fast
@@ -60,10 +60,14 @@ pub type Contender<'a> = &'a mut dyn FnMut(Duration, &mut Vec<f64>);
 /// other contenders' turns cost the caches nothing that a frame loop would not pay once.
 pub fn race(
     contenders: &mut [Contender],
+    warmup: Duration,
     repeat: usize,
     rounds: usize,
     length: Duration,
 ) -> Vec<f64> {
+    for contender in contenders.iter_mut() {
+        contender(warmup, &mut Vec::new());
+    }
     let mut times = vec![Vec::new(); contenders.len()];
     let mut round = 0;
     while round < rounds.max(1) || times.iter().any(|t| t.len() < repeat.max(1)) {
@@ -117,9 +121,11 @@ mod tests {
                 std::thread::sleep(Duration::from_millis(4))
             });
         };
-        let medians = race(&mut [&mut quick, &mut slow], 6, 2, Duration::from_millis(5));
-        // A turn of 5 ms times one or two 4 ms frames: six need three turns at least.
-        assert!(slow_turns >= 3, "{slow_turns} turns");
+        let (warmup, length) = (Duration::from_millis(1), Duration::from_millis(5));
+        let medians = race(&mut [&mut quick, &mut slow], warmup, 6, 2, length);
+        // A turn of 5 ms times one or two 4 ms frames: six need three turns at least, after
+        // the warm-up's.
+        assert!(slow_turns >= 4, "{slow_turns} turns");
         assert_eq!(quick_turns, slow_turns);
         assert!(medians[0] >= 0.2 && medians[1] >= 4.0, "{medians:?}");
         assert!(medians[1] > 5.0 * medians[0], "{medians:?}");
