@@ -63,9 +63,11 @@ pub fn boxes_collide(a: &Obb, sa: &Slack, b: &Obb, sb: &Slack) -> bool {
 }
 
 /// Keeps the pairs of `pairs` that collide (by [`boxes_collide`]), in their order. On a CPU with
-/// AVX-512 it tests eight pairs at a time, each box read whole into its lane (`avx512`);
+/// AVX-512 it tests eight pairs at a time, each box read whole into its lane, after a first
+/// pass that accepts the pairs whose boxes share a point between their centres (`avx512`);
 /// elsewhere it is [`retain_colliding_lanes`]. Every lane rounds exactly as [`boxes_collide`]
-/// does, so the answer is the same on every CPU.
+/// does, and the first pass accepts only boxes that intersect, so for boxes that pass
+/// validation the answer is the same on every CPU.
 pub fn retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) {
     #[cfg(target_arch = "x86_64")]
     if avx512::usable(obbs.len()) {
