@@ -8,8 +8,9 @@
 //! product, sum and comparison is the one `sat_lanes` writes, in the same order and without
 //! fused multiply-add, so each lane rounds exactly as [`super::boxes_collide`] does. A pair is
 //! accepted without the SAT only when its boxes share a point for certain (a point between the
-//! centres, proved in docs/sat.md), which `boxes_collide` never calls separated: the two give the same
-//! answer on every pair of valid boxes, which the tests check on random and touching pairs.
+//! centres, proved in docs/sat.md), which `boxes_collide` never calls separated: the two give
+//! the same answer on every pair of valid boxes, which the tests check on random and touching
+//! pairs.
 
 use super::{Slack, MARGIN_FLOOR};
 use crate::aabb::U;
@@ -80,9 +81,9 @@ pub(super) fn retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u
             // SAFETY: every pair's boxes are inside both slices, checked above; `undecided`
             // has room for the block's pairs and sixteen more, which the store may write.
             unsafe {
-                let front = Front::of(obbs, slack, &p);
-                *hit = front.shares_a_point() & in_range(len - s * WIDTH);
-                let rest = !*hit & in_range(len - s * WIDTH);
+                let live = in_range(len - s * WIDTH);
+                *hit = Front::of(obbs, slack, &p).shares_a_point() & live;
+                let rest = !*hit & live;
                 // (Sixteen 32-bit lanes, of which eight are used: AVX-512F alone has no
                 // compress of eight.)
                 let offsets = _mm512_add_epi32(_mm512_set1_epi32((s * WIDTH) as i32), lane);
