@@ -8,8 +8,6 @@
 //! what this crate computes.
 
 pub mod aabb;
-#[cfg(target_arch = "x86_64")]
-mod avx512;
 pub mod contact;
 pub mod engines;
 pub mod fixed;
@@ -21,6 +19,7 @@ pub mod prepared;
 pub mod radix;
 pub mod sat;
 pub mod scene;
+pub mod simd;
 pub mod stats;
 
 pub use engines::{detect, Counters, Engine, EngineKind, Pair};

@@ -3,6 +3,9 @@
 use crate::aabb::Aabb;
 use crate::sat::{boxes_collide, Slack};
 use crate::scene::Obb;
+use crate::simd::Vectors;
+#[cfg(target_arch = "x86_64")]
+use crate::simd::{Avx2, Avx512};
 use rayon::prelude::*;
 
 /// Boxes below this count are prepared on one thread: below it, waking the pool costs more.
@@ -32,16 +35,35 @@ pub struct Frame<'a> {
 }
 
 #[cfg(target_arch = "x86_64")]
-mod avx512;
+mod vector;
 
-/// Prepares one run of boxes and returns the union of their AABBs. On a CPU with AVX-512 it
-/// prepares eight boxes at a time (`avx512`); elsewhere it is [`prepare_scalar`]. Every lane
-/// rounds as the scalar code does, so the result is the same on every CPU.
+/// Prepares one run of boxes and returns the union of their AABBs, on the best vector
+/// instructions this CPU has ([`prepare_with`]).
 fn prepare(obbs: &[Obb], aabbs: &mut [Aabb], slack: &mut [Slack], groups: &mut [u32]) -> Aabb {
+    prepare_with(Vectors::detected(), obbs, aabbs, slack, groups)
+}
+
+/// [`prepare`] on the instruction set `vectors` (one this CPU has): eight boxes at a time with
+/// AVX-512, four with AVX2 (`vector`), else [`prepare_scalar`]. Every lane rounds as the scalar
+/// code does, so the result is the same in every form.
+fn prepare_with(
+    vectors: Vectors,
+    obbs: &[Obb],
+    aabbs: &mut [Aabb],
+    slack: &mut [Slack],
+    groups: &mut [u32],
+) -> Aabb {
+    // SAFETY (both calls): the token `detect` returns proves that this CPU has the features
+    // the function enables.
     #[cfg(target_arch = "x86_64")]
-    if avx512::usable() {
-        // SAFETY: `usable` has checked that this CPU has the features it enables.
-        return unsafe { avx512::prepare(obbs, aabbs, slack, groups) };
+    match (vectors, Avx512::detect(), Avx2::detect()) {
+        (Vectors::Avx512, Some(isa), _) => {
+            return unsafe { vector::with_avx512(isa, obbs, aabbs, slack, groups) };
+        }
+        (Vectors::Avx2, _, Some(isa)) => {
+            return unsafe { vector::with_avx2(isa, obbs, aabbs, slack, groups) };
+        }
+        _ => {}
     }
     prepare_scalar(obbs, aabbs, slack, groups)
 }
@@ -119,8 +141,6 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
-    type PrepareFn = fn(&[Obb], &mut [Aabb], &mut [Slack], &mut [u32]) -> Aabb;
-
     /// Boxes of every kind the preparation meets: rotated and skewed axes, flat and empty boxes,
     /// subnormal, huge and zero values, negative zeros, centres at the coordinate limit.
     fn boxes(n: usize) -> Vec<Obb> {
@@ -146,8 +166,7 @@ mod tests {
     }
 
     /// Every AABB, slack and group, and the bounds, bit for bit as the scalar preparation gives
-    /// them; also for lengths that leave a scalar tail. (On a CPU without AVX-512 both sides are
-    /// the scalar form.)
+    /// them, in every vector form this CPU has; also for lengths that leave a scalar tail.
     #[test]
     fn prepare_equals_the_scalar_form() {
         let mut all = boxes(1003);
@@ -162,10 +181,10 @@ mod tests {
         }
         for n in [0, 1, 7, 8, 9, 64, 1003] {
             let obbs = &all[..n];
-            let run = |f: PrepareFn| {
+            let run = |vectors: Vectors| {
                 let (mut a, mut s, mut g) =
                     (vec![Aabb::EMPTY; n], vec![Slack::default(); n], vec![9; n]);
-                let bounds = f(obbs, &mut a, &mut s, &mut g);
+                let bounds = prepare_with(vectors, obbs, &mut a, &mut s, &mut g);
                 let bits = |a: &Aabb| -> Vec<u64> {
                     a.min.iter().chain(&a.max).map(|x| x.to_bits()).collect()
                 };
@@ -176,7 +195,13 @@ mod tests {
                     .collect();
                 (bits(&bounds), a, s, g)
             };
-            assert_eq!(run(prepare), run(prepare_scalar), "{n} boxes");
+            for &vectors in Vectors::available() {
+                assert_eq!(
+                    run(vectors),
+                    run(Vectors::Portable),
+                    "{vectors:?}, {n} boxes"
+                );
+            }
         }
     }
 }

@@ -9,6 +9,10 @@
 //! 2·η·Σh for axes orthonormal only to η (1e-7 for single-precision rotations).
 
 use crate::aabb::{TINY, U};
+use crate::scene::Obb;
+use crate::simd::Vectors;
+#[cfg(target_arch = "x86_64")]
+use crate::simd::{Avx2, Avx512};
 
 /// Added to every axis test's margin: the absolute error of the products that underflow (at
 /// most 2^-1075 each, some 40 in one axis test, carried by factors near 1), which the relative
@@ -16,7 +20,6 @@ use crate::aabb::{TINY, U};
 /// "Underflow"). 2^14 times the smallest subnormal: 400 times the bound, and still about 1e-319
 /// mm, so it adds no false positive at any scale a scene can have.
 const MARGIN_FLOOR: f64 = 16384.0 * TINY;
-use crate::scene::Obb;
 
 /// Two per-box constants of the SAT margin, computed once per frame.
 #[derive(Clone, Copy, Debug, Default)]
@@ -40,9 +43,9 @@ impl Slack {
 }
 
 #[cfg(target_arch = "x86_64")]
-mod avx512;
+mod vector;
 
-/// Pairs [`retain_colliding_lanes`] tests side by side.
+/// Pairs [`retain_colliding_with`] tests side by side in the portable form.
 pub const LANES: usize = 4;
 
 #[inline(always)]
@@ -62,27 +65,52 @@ pub fn boxes_collide(a: &Obb, sa: &Slack, b: &Obb, sb: &Slack) -> bool {
     sat_lanes([a], [sa], [b], [sb])[0]
 }
 
-/// Keeps the pairs of `pairs` that collide (by [`boxes_collide`]), in their order. On a CPU with
-/// AVX-512 it tests eight pairs at a time, each box read whole into its lane, after a first
-/// pass that accepts the pairs whose boxes share a point between their centres (`avx512`);
-/// elsewhere it is [`retain_colliding_lanes`]. Every lane rounds exactly as [`boxes_collide`]
-/// does, and the first pass accepts only boxes that intersect, so for boxes that pass
-/// validation the answer is the same on every CPU.
+/// Keeps the pairs of `pairs` that collide (by [`boxes_collide`]), in their order, on the best
+/// vector instructions this CPU has ([`retain_colliding_with`]).
 pub fn retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) {
+    retain_colliding_with(Vectors::detected(), obbs, slack, pairs);
+}
+
+/// [`retain_colliding`] on the instruction set `vectors`, which this CPU must have (it panics
+/// otherwise); public so that the tests can run every form. With AVX-512 it tests eight pairs
+/// at a time, with AVX2 four, each box read whole into its lane, after a first pass that
+/// accepts the pairs whose boxes share a point between their centres (`vector`). The portable
+/// form is the generic `sat_lanes` on [`LANES`] pairs, compiled for AVX2 or SSE4.1 and chosen
+/// at run time (no fused multiply-add), with no first pass. Every lane rounds exactly as
+/// [`boxes_collide`] does, and the first pass accepts only boxes that intersect, so for boxes
+/// that pass validation the answer is the same on every CPU and in every form.
+pub fn retain_colliding_with(
+    vectors: Vectors,
+    obbs: &[Obb],
+    slack: &[Slack],
+    pairs: &mut Vec<[u32; 2]>,
+) {
+    assert!(
+        Vectors::available().contains(&vectors),
+        "this CPU cannot run the SAT's {vectors:?} form"
+    );
     #[cfg(target_arch = "x86_64")]
-    if avx512::usable(obbs.len()) {
-        // SAFETY: `usable` has checked that this CPU has the features it enables.
-        unsafe { avx512::retain_colliding(obbs, slack, pairs) };
-        return;
+    if vector::fits(obbs.len()) {
+        // SAFETY (both calls): the token `detect` returns proves that this CPU has the
+        // features the function enables.
+        match (vectors, Avx512::detect(), Avx2::detect()) {
+            (Vectors::Avx512, Some(isa), _) => {
+                return unsafe { vector::with_avx512(isa, obbs, slack, pairs) };
+            }
+            (Vectors::Avx2, _, Some(isa)) => {
+                return unsafe { vector::with_avx2(isa, obbs, slack, pairs) };
+            }
+            _ => {}
+        }
     }
     retain_colliding_lanes(obbs, slack, pairs);
 }
 
-/// [`retain_colliding`] without AVX-512: [`LANES`] pairs at a time with the widest vector
-/// instructions the CPU has (chosen at run time; no fused multiply-add, so every lane rounds
-/// exactly as [`boxes_collide`] does). Public so that the tests can run both forms.
+/// The portable form of [`retain_colliding_with`]: [`LANES`] pairs at a time with the widest
+/// vector instructions the CPU has (chosen at run time; no fused multiply-add, so every lane
+/// rounds exactly as [`boxes_collide`] does).
 #[multiversion::multiversion(targets("x86_64+avx2", "x86_64+sse4.1"))]
-pub fn retain_colliding_lanes(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) {
+fn retain_colliding_lanes(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) {
     let n = pairs.len();
     let mut kept = 0;
     for start in (0..n).step_by(LANES) {

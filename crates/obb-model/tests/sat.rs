@@ -5,7 +5,8 @@ use crate::common;
 
 use common::{axes_of, boundary, f32_axes, obb_strategy, tilted, touching};
 use obb_model::aabb::Aabb;
-use obb_model::sat::{obbs_collide, retain_colliding, retain_colliding_lanes};
+use obb_model::sat::{obbs_collide, retain_colliding_with};
+use obb_model::simd::Vectors;
 use obb_model::{Obb, Prepared};
 use parry3d_f64::math::{Mat3, Pose, Rot3, Vector};
 use parry3d_f64::query::intersection_test;
@@ -67,8 +68,8 @@ proptest! {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
 
-    /// Both vector-lane SATs (AVX-512 gathers, when this CPU has them, and the portable lanes)
-    /// keep exactly the pairs the one-pair SAT accepts, in order, for any number of pairs (full
+    /// Every vector-lane form of the SAT this CPU has (AVX-512, AVX2, the portable lanes) keeps
+    /// exactly the pairs the one-pair SAT accepts, in order, for any number of pairs (full
     /// groups of lanes and a partial last group).
     #[test]
     fn lanes_equal_one_pair_sat(scene in common::scene(24), take in 0usize..300) {
@@ -77,8 +78,9 @@ proptest! {
         let n = frame.len() as u32;
         let all: Vec<[u32; 2]> = (0..n).flat_map(|i| (i + 1..n).map(move |j| [i, j])).take(take).collect();
         let expect: Vec<[u32; 2]> = all.iter().copied().filter(|p| frame.sat(p[0] as usize, p[1] as usize)).collect();
-        prop_assert_eq!(retained(&frame, &all, retain_colliding), expect.clone());
-        prop_assert_eq!(retained(&frame, &all, retain_colliding_lanes), expect);
+        for &vectors in Vectors::available() {
+            prop_assert_eq!(retained(&frame, &all, vectors), expect.clone(), "{:?}", vectors);
+        }
     }
 
     /// The same on the stiff cases, at the very point where the answer flips: each touching pair
@@ -100,8 +102,9 @@ proptest! {
         let all: Vec<[u32; 2]> = (0..obbs.len() as u32 / 2).map(|k| [2 * k, 2 * k + 1]).collect();
         let expect: Vec<[u32; 2]> = all.iter().copied().filter(|p| frame.sat(p[0] as usize, p[1] as usize)).collect();
         prop_assert_eq!(expect.len() * 2, all.len(), "half collide, half do not");
-        prop_assert_eq!(retained(&frame, &all, retain_colliding), expect.clone());
-        prop_assert_eq!(retained(&frame, &all, retain_colliding_lanes), expect);
+        for &vectors in Vectors::available() {
+            prop_assert_eq!(retained(&frame, &all, vectors), expect.clone(), "{:?}", vectors);
+        }
     }
 }
 
@@ -141,26 +144,22 @@ fn flip_point(a: &Obb, b: &Obb) -> Option<(Obb, Obb)> {
     }
 }
 
-/// The pairs of `all` that `retain` keeps.
-fn retained(
-    frame: &obb_model::Frame,
-    all: &[[u32; 2]],
-    retain: fn(&[Obb], &[obb_model::sat::Slack], &mut Vec<[u32; 2]>),
-) -> Vec<[u32; 2]> {
+/// The pairs of `all` that the SAT's form on `vectors` keeps.
+fn retained(frame: &obb_model::Frame, all: &[[u32; 2]], vectors: Vectors) -> Vec<[u32; 2]> {
     let mut kept = all.to_vec();
-    retain(frame.obbs, frame.slack, &mut kept);
+    retain_colliding_with(vectors, frame.obbs, frame.slack, &mut kept);
     kept
 }
 
-/// A pair naming a box past the scene is refused with a panic, by both forms, never read.
+/// A pair naming a box past the scene is refused with a panic, by every form, never read.
 #[test]
 fn pair_past_the_boxes_panics() {
     let obbs = vec![Obb::aligned([0.0; 3], [1.0; 3], 0); 3];
     let mut prepared = Prepared::default();
     let frame = prepared.update(&obbs);
-    for retain in [retain_colliding, retain_colliding_lanes] {
-        let caught = std::panic::catch_unwind(|| retained(&frame, &[[0, 1], [1, 3]], retain));
-        assert!(caught.is_err(), "box 3 of 3 was accepted");
+    for &vectors in Vectors::available() {
+        let caught = std::panic::catch_unwind(|| retained(&frame, &[[0, 1], [1, 3]], vectors));
+        assert!(caught.is_err(), "{vectors:?}: box 3 of 3 was accepted");
     }
 }
 

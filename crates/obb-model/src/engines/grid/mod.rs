@@ -343,10 +343,13 @@ mod tests {
     use crate::generate::{surgical, uniform};
     use crate::prepared::Prepared;
     use crate::scene::Obb;
+    use crate::simd::Vectors;
+    use scan::scan_cells_with;
 
-    /// Scans every cell of the grid `detect` built on `obbs` with both forms of the scan, and
-    /// returns each form's pairs (as found, before the pair sort) and counters.
-    fn both_scans(obbs: &[Obb], mask: &GroupMask) -> [(Vec<Pair>, Counters); 2] {
+    /// Scans every cell of the grid `detect` built on `obbs` with the one-pair scan and with
+    /// each form this CPU has, and returns each scan's pairs (as found, before the pair sort)
+    /// and counters, the one-pair scan's first.
+    fn every_scan(obbs: &[Obb], mask: &GroupMask) -> Vec<(Vec<Pair>, Counters)> {
         let mut prepared = Prepared::default();
         let boxes = prepared.update(obbs);
         let mut grid = Grid::default();
@@ -356,21 +359,21 @@ mod tests {
         let (mut cell, mut columns) = (Vec::new(), Columns::default());
         let mut rows = Vec::new();
         let row_counters = scan::scan_rows(&cells, &grid.runs, &boxes, mask, &mut rows, &mut cell);
-        let mut any = Vec::new();
-        let counters = scan_cells(
-            &cells,
-            &grid.runs,
-            &boxes,
-            mask,
-            &mut any,
-            (&mut cell, &mut columns),
-        );
-        [(rows, row_counters), (any, counters)]
+        let mut scans = vec![(rows, row_counters)];
+        for &vectors in Vectors::available() {
+            let mut any = Vec::new();
+            let buffers = (&mut cell, &mut columns);
+            let counters =
+                scan_cells_with(vectors, &cells, &grid.runs, &boxes, mask, &mut any, buffers);
+            scans.push((any, counters));
+        }
+        scans
     }
 
-    /// The scan this CPU runs (eight entries a step with AVX-512) visits, counts and keeps the
-    /// same pairs in the same order as the one-pair scan, on dense, sparse and grouped scenes
-    /// with every kind of mask; and it found pairs, so the comparison says something.
+    /// Every form of the scan this CPU has (eight entries a step with AVX-512, four with AVX2)
+    /// visits, counts and keeps the same pairs in the same order as the one-pair scan, on dense,
+    /// sparse and grouped scenes with every kind of mask; and it found pairs, so the comparison
+    /// says something.
     #[test]
     fn vector_scan_equals_the_row_scan() {
         let scenes = [
@@ -385,8 +388,11 @@ mod tests {
         ];
         for (s, obbs) in scenes.iter().enumerate() {
             for mask in &masks {
-                let [rows, any] = both_scans(obbs, mask);
-                assert_eq!(rows, any, "scene {s}, mask {mask}");
+                let scans = every_scan(obbs, mask);
+                let rows = &scans[0];
+                for (any, vectors) in scans[1..].iter().zip(Vectors::available()) {
+                    assert_eq!(rows, any, "scene {s}, mask {mask}, {vectors:?}");
+                }
                 if *mask == GroupMask::All {
                     assert!(rows.0.len() > 100, "scene {s} has pairs to compare");
                 }

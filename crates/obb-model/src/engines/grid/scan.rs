@@ -10,12 +10,15 @@ use crate::engines::{ordered, Counters, Pair};
 use crate::groups::GroupMask;
 use crate::prepared::Frame;
 use crate::sat::retain_colliding;
+use crate::simd::Vectors;
+#[cfg(target_arch = "x86_64")]
+use crate::simd::{Avx2, Avx512};
 use std::mem::MaybeUninit;
 
 #[cfg(target_arch = "x86_64")]
-mod avx512;
+mod vector;
 #[cfg(target_arch = "x86_64")]
-pub(super) use avx512::Columns;
+pub(super) use vector::Columns;
 /// Where the vector scan is not built, its buffers are none.
 #[cfg(not(target_arch = "x86_64"))]
 #[derive(Debug, Default)]
@@ -179,10 +182,8 @@ fn overlaps(a: &Aabb, b: &Aabb) -> bool {
         & (b.min[2] <= a.max[2])
 }
 
-/// Examines the wanted home pairs inside the cells `runs` and puts the colliding ones in `out`.
-/// On a CPU with AVX-512, unless the mask is checked pair by pair, each entry meets eight later
-/// ones at a time (`avx512`, with `columns` its buffers); elsewhere it is [`scan_rows`]. Both
-/// visit, count and keep the same pairs in the same order.
+/// Examines the wanted home pairs inside the cells `runs` and puts the colliding ones in `out`,
+/// on the best vector instructions this CPU has ([`scan_cells_with`]).
 pub(super) fn scan_cells(
     cells: &Cells,
     runs: &[(u32, u32)],
@@ -191,10 +192,35 @@ pub(super) fn scan_cells(
     out: &mut Vec<Pair>,
     buffers: (&mut Vec<CellEntry>, &mut Columns),
 ) -> Counters {
+    scan_cells_with(Vectors::detected(), cells, runs, boxes, mask, out, buffers)
+}
+
+/// [`scan_cells`] on the instruction set `vectors` (one this CPU has). Unless the mask is
+/// checked pair by pair, each entry meets eight later ones at a time with AVX-512 and four with
+/// AVX2 (`vector`, with `columns` its buffers); otherwise it is [`scan_rows`]. Every form
+/// visits, counts and keeps the same pairs in the same order.
+pub(super) fn scan_cells_with(
+    vectors: Vectors,
+    cells: &Cells,
+    runs: &[(u32, u32)],
+    boxes: &Frame,
+    mask: &GroupMask,
+    out: &mut Vec<Pair>,
+    buffers: (&mut Vec<CellEntry>, &mut Columns),
+) -> Counters {
+    // SAFETY (both calls): the token `detect` returns proves that this CPU has the features
+    // the function enables.
     #[cfg(target_arch = "x86_64")]
-    if !cells.ranks.pairwise && avx512::usable() {
-        // SAFETY: `usable` has checked that this CPU has the features it enables.
-        return unsafe { avx512::scan_cells(cells, runs, boxes, out, buffers.1) };
+    if !cells.ranks.pairwise {
+        match (vectors, Avx512::detect(), Avx2::detect()) {
+            (Vectors::Avx512, Some(isa), _) => {
+                return unsafe { vector::with_avx512(isa, cells, runs, boxes, out, buffers.1) };
+            }
+            (Vectors::Avx2, _, Some(isa)) => {
+                return unsafe { vector::with_avx2(isa, cells, runs, boxes, out, buffers.1) };
+            }
+            _ => {}
+        }
     }
     scan_rows(cells, runs, boxes, mask, out, buffers.0)
 }

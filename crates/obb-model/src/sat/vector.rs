@@ -1,10 +1,10 @@
-//! The SAT of [`super::retain_colliding`] on eight pairs at a time, written with AVX-512
-//! intrinsics.
+//! The SAT of [`super::retain_colliding`] on several pairs at a time, written once over the
+//! vector instruction set ([`Isa`]): eight pairs with AVX-512, four with AVX2.
 //!
 //! The compiler's own vectorisation of `sat_lanes` spends most of its time putting each box's
 //! values into their lanes: the two boxes of a pair lie anywhere in the scene, so every value
-//! is a load, a shuffle or a spill. Here eight boxes are read whole and transposed in registers
-//! (`crate::avx512::boxes`), so that each vector holds one value of the eight boxes. Every
+//! is a load, a shuffle or a spill. Here the boxes of a step are read whole and transposed in
+//! registers ([`Isa::boxes`]), so that each vector holds one value of the step's boxes. Every
 //! product, sum and comparison is the one `sat_lanes` writes, in the same order and without
 //! fused multiply-add, so each lane rounds exactly as [`super::boxes_collide`] does. A pair is
 //! accepted without the SAT only when its boxes share a point for certain (a point between the
@@ -14,44 +14,56 @@
 
 use super::{Slack, MARGIN_FLOOR};
 use crate::aabb::U;
-use crate::avx512::{abs, add, boxes, dot, field3, gather, mul, scaled, sub, AXES, CENTER, HALF};
 use crate::scene::Obb;
-use std::arch::x86_64::*;
+use crate::simd::{
+    all_lanes, axes, dot, field3, Avx2, Avx512, Isa, LaneMask, Lanes, Mask, CENTER, HALF, MAX_WIDTH,
+};
 use std::mem::{offset_of, size_of};
 
-/// Pairs tested side by side: the f64 lanes of a 512-bit vector.
-const WIDTH: usize = 8;
 /// Slacks as arrays of f64, for the gathers' indices.
 const SLACK_STRIDE: usize = size_of::<Slack>() / 8;
 const KAPPA: usize = offset_of!(Slack, kappa) / 8;
 const _: () = assert!(size_of::<Slack>().is_multiple_of(8));
 
-/// Whether [`retain_colliding`] can run here on `n` boxes: the CPU has AVX-512F (and AVX2 and
-/// POPCNT), and every box's slack offset fits the gathers' 32-bit indices.
-pub(super) fn usable(n: usize) -> bool {
+/// Whether every box's slack offset fits the gathers' 32-bit indices.
+pub(super) fn fits(n: usize) -> bool {
     n.checked_mul(SLACK_STRIDE)
         .is_some_and(|x| x <= i32::MAX as usize)
-        && is_x86_feature_detected!("avx512f")
-        && is_x86_feature_detected!("avx2")
-        && is_x86_feature_detected!("popcnt")
 }
 
 /// Pairs taken at a time through the three passes of [`retain_colliding`]: small enough that
 /// their boxes are still in the caches when the second pass reads them again.
 const BLOCK: usize = 1024;
 
-/// [`super::retain_colliding`], eight pairs per step. Only for a CPU and box count that
-/// [`usable`] accepts. A pair naming a box past `obbs` or `slack` panics, as indexing does.
+/// [`retain_colliding`] compiled for AVX-512.
+#[target_feature(enable = "avx512f,avx2,popcnt")]
+pub(super) fn with_avx512(isa: Avx512, obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) {
+    retain_colliding(isa, obbs, slack, pairs)
+}
+
+/// [`retain_colliding`] compiled for AVX2.
+#[target_feature(enable = "avx2,popcnt")]
+pub(super) fn with_avx2(isa: Avx2, obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) {
+    retain_colliding(isa, obbs, slack, pairs)
+}
+
+/// [`super::retain_colliding`], `W` pairs per step, for boxes that [`fits`] accepts. A pair
+/// naming a box past `obbs` or `slack` panics, as indexing does.
 ///
 /// Nine in ten of the pairs the grid hands over collide, so most steps need all 15 axes. In a
 /// block of pairs, a first pass looks for a point between the two centres inside both boxes
 /// ([`Front::shares_a_point`]: a sufficient test for colliding, which needs 6 of the SAT's 15
 /// dot products, and decides five in six of the surgical scene's pairs); the second pass runs
-/// the whole SAT on the pairs the first could not decide, packed eight to a step; the third
+/// the whole SAT on the pairs the first could not decide, packed `W` to a step; the third
 /// keeps the colliding pairs, in their order.
-#[target_feature(enable = "avx512f,avx2,popcnt")]
-pub(super) fn retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) {
-    debug_assert!(usable(obbs.len()));
+#[inline(always)]
+fn retain_colliding<I: Isa<W>, const W: usize>(
+    isa: I,
+    obbs: &[Obb],
+    slack: &[Slack],
+    pairs: &mut Vec<[u32; 2]>,
+) {
+    debug_assert!(fits(obbs.len()));
     let n = pairs.len();
     let boxes = obbs.len().min(slack.len());
     // The loads and gathers do not check their indices: this does.
@@ -61,62 +73,62 @@ pub(super) fn retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u
     {
         panic!("pair {q:?} names a box past the {boxes} boxes");
     }
+    // The third pass stores `W` pairs whole at each step, the kept ones first: room for the
+    // last step's.
+    pairs.reserve(W);
     let mut kept = 0;
     // Bit `l` of `colliding[s]`: the pair at lane `l` of step `s` collides.
-    let mut colliding = [0u8; BLOCK / WIDTH];
+    let mut colliding = [0u8; BLOCK];
     // The block's pairs that the first pass left undecided, as offsets into the block, with
-    // room for the sixteen lanes that each store writes.
-    let mut undecided = [0u32; BLOCK + 2 * WIDTH];
-    let lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    // room for the lanes that each store writes past them.
+    let mut undecided = [0u64; BLOCK + MAX_WIDTH];
     let base = pairs.as_mut_ptr();
     for block in (0..n).step_by(BLOCK) {
         let len = BLOCK.min(n - block);
         // SAFETY: the block is inside `pairs`, and nothing writes to it while `at` is read
         // (the third pass, which writes, reads through `base`).
         let at = unsafe { std::slice::from_raw_parts(base.add(block), len) };
-        let steps = len.div_ceil(WIDTH);
+        let steps = len.div_ceil(W);
         let mut open = 0;
         for (s, hit) in colliding.iter_mut().enumerate().take(steps) {
-            let p = step(at, s);
-            // SAFETY: every pair's boxes are inside both slices, checked above; `undecided`
-            // has room for the block's pairs and sixteen more, which the store may write.
-            unsafe {
-                let live = in_range(len - s * WIDTH);
-                *hit = Front::of(obbs, slack, &p).shares_a_point() & live;
-                let rest = !*hit & live;
-                // (Sixteen 32-bit lanes, of which eight are used: AVX-512F alone has no
-                // compress of eight.)
-                let offsets = _mm512_add_epi32(_mm512_set1_epi32((s * WIDTH) as i32), lane);
-                let packed = _mm512_maskz_compress_epi32(u16::from(rest), offsets);
-                _mm512_storeu_si512(undecided.as_mut_ptr().add(open).cast(), packed);
-                open += rest.count_ones() as usize;
-            }
+            let live = isa.first(len - s * W);
+            // SAFETY: every pair's boxes are inside both slices, checked above.
+            let shares = unsafe { Front::of(isa, obbs, slack, &step(at, s)) }.shares_a_point(isa);
+            let shares = shares & live;
+            let rest = (!shares & live).bits();
+            *hit = shares.bits();
+            let offsets = isa.lane_numbers() | isa.splat_u64((s * W) as u64);
+            // SAFETY: `undecided` has room for the block's pairs and `MAX_WIDTH` more.
+            unsafe { isa.compress_store(rest, offsets, undecided.as_mut_ptr().add(open)) };
+            open += rest.count_ones() as usize;
         }
-        for chunk in undecided[..open].chunks(WIDTH) {
+        for chunk in undecided[..open].chunks(W) {
             let p = lanes(at, |l| chunk[l.min(chunk.len() - 1)] as usize);
             // SAFETY: as above.
-            let separated = unsafe { Front::of(obbs, slack, &p).separated() };
+            let separated = unsafe { Front::of(isa, obbs, slack, &p) }.separated(isa);
+            let separated = separated.bits();
             for (l, &q) in chunk.iter().enumerate() {
                 let q = q as usize;
-                colliding[q / WIDTH] |= u8::from(separated >> l & 1 == 0) << (q % WIDTH);
+                colliding[q / W] |= u8::from(separated >> l & 1 == 0) << (q % W);
             }
         }
         for (s, &hit) in colliding.iter().enumerate().take(steps) {
-            // SAFETY: the load reads the step's pairs, those past the block's end masked off;
-            // the masked store writes `hit`'s count of pairs at `kept`, at most `block + s *
-            // WIDTH`: inside `pairs`, and below every pair not yet read.
+            let from = block + s * W;
+            // SAFETY: the load reads the step's pairs, from `pairs` when the step is whole,
+            // else from a copy of its pairs; the store writes `W` pairs at `kept`, at most
+            // `from`: below every pair not yet read, and inside `pairs` and the room reserved.
             unsafe {
-                let from = base.add(block + s * WIDTH).cast();
-                let v = _mm512_maskz_loadu_epi64(in_range(len - s * WIDTH), from);
-                // Compressed in a register, then stored under a mask of the kept count: a
-                // compress straight to memory is microcoded on AMD's Zen 4 (about 7 % of the
-                // SAT's time there, sampled on the instruction after it), a masked store is not.
-                let count = hit.count_ones();
-                let low = ((1u16 << count) - 1) as u8;
-                let packed = _mm512_maskz_compress_epi64(hit, v);
-                _mm512_mask_storeu_epi64(base.add(kept).cast(), low, packed);
-                kept += count as usize;
+                let v = if s < len / W {
+                    isa.load_u64(base.add(from).cast())
+                } else {
+                    let mut tail = [0u64; W];
+                    let rest = len - s * W;
+                    std::ptr::copy_nonoverlapping(base.add(from).cast(), tail.as_mut_ptr(), rest);
+                    isa.load_u64(tail.as_ptr())
+                };
+                isa.compress_store(hit, v, base.add(kept).cast());
             }
+            kept += hit.count_ones() as usize;
         }
     }
     pairs.truncate(kept);
@@ -124,87 +136,79 @@ pub(super) fn retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u
 
 /// The pairs of step `s` of `at`, the last pair repeated past the end of `at`.
 #[inline(always)]
-fn step(at: &[[u32; 2]], s: usize) -> [[u32; 2]; WIDTH] {
-    match at.get(s * WIDTH..(s + 1) * WIDTH) {
-        Some(full) => full.try_into().expect("a step is WIDTH pairs"),
-        None => lanes(at, |l| s * WIDTH + l),
+fn step<const W: usize>(at: &[[u32; 2]], s: usize) -> [[u32; 2]; W] {
+    match at.get(s * W..(s + 1) * W) {
+        Some(full) => full.try_into().expect("a step is W pairs"),
+        None => lanes(at, |l| s * W + l),
     }
 }
 
-/// The pairs `at[index(l)]` for the eight lanes, the last pair repeated past the end of `at`.
+/// The pairs `at[index(l)]` for the `W` lanes, the last pair repeated past the end of `at`.
 #[inline(always)]
-fn lanes(at: &[[u32; 2]], index: impl Fn(usize) -> usize) -> [[u32; 2]; WIDTH] {
+fn lanes<const W: usize>(at: &[[u32; 2]], index: impl Fn(usize) -> usize) -> [[u32; 2]; W] {
     std::array::from_fn(|l| at[index(l).min(at.len() - 1)])
 }
 
-/// The lanes below `n` (all eight when `n >= 8`).
-#[inline(always)]
-fn in_range(n: usize) -> u8 {
-    (u16::MAX >> (16 - WIDTH.min(n))) as u8
-}
-
-/// The lanes where `lhs > rhs` (false on NaN, as in Rust).
-#[inline]
-#[target_feature(enable = "avx512f")]
-fn greater(lhs: __m512d, rhs: __m512d) -> u8 {
-    _mm512_cmp_pd_mask::<_CMP_GT_OQ>(lhs, rhs)
-}
-
-/// What the SAT reads and computes first for the eight pairs `p`, and what both passes need:
-/// the boxes read whole ([`boxes`]), `kappa` gathered, the margin, and the centres' offset's
-/// projections on each box's axes. Every value is computed as `sat_lanes` computes it.
-struct Front {
-    ah: [__m512d; 3],
-    bh: [__m512d; 3],
-    a_axes: [[__m512d; 3]; 3],
-    b_axes: [[__m512d; 3]; 3],
+/// What the SAT reads and computes first for the `W` pairs of a step, and what both passes
+/// need: the boxes read whole ([`Isa::boxes`]), `kappa` gathered, the margin, and the centres'
+/// offset's projections on each box's axes. Every value is computed as `sat_lanes` computes it.
+struct Front<F> {
+    ah: [F; 3],
+    bh: [F; 3],
+    a_axes: [[F; 3]; 3],
+    b_axes: [[F; 3]; 3],
     /// The margin `s` of every axis test.
-    s: __m512d,
+    s: F,
     /// `tw · a_k` and `tw · b_k`.
-    t: [__m512d; 3],
-    u: [__m512d; 3],
+    t: [F; 3],
+    u: [F; 3],
 }
 
-impl Front {
+impl<F: Lanes> Front<F> {
     /// SAFETY: every index of `p` must be below `obbs.len()` and `slack.len()`.
-    #[inline]
-    #[target_feature(enable = "avx512f,avx2")]
-    unsafe fn of(obbs: &[Obb], slack: &[Slack], p: &[[u32; 2]; WIDTH]) -> Front {
+    #[inline(always)]
+    unsafe fn of<I: Isa<W, F = F>, const W: usize>(
+        isa: I,
+        obbs: &[Obb],
+        slack: &[Slack],
+        p: &[[u32; 2]; W],
+    ) -> Front<F> {
         let sb = slack.as_ptr().cast::<f64>();
-        // SAFETY: `p` is 64 bytes.
-        let v = unsafe { _mm512_loadu_si512(p.as_ptr().cast()) };
-        // Each pair is one 64-bit lane, its first index in the low half.
-        let i = _mm512_cvtepi64_epi32(v);
-        let j = _mm512_cvtepi64_epi32(_mm512_srli_epi64::<32>(v));
-        let (a_slack, b_slack) = (scaled(i, SLACK_STRIDE), scaled(j, SLACK_STRIDE));
-        // SAFETY: the caller's indices are inside both slices.
+        // Plain loops here and below, no `map` or `from_fn`: their closures are compiled
+        // outside the function that enables the instruction set, so vector work in them would
+        // be a call each.
+        let (mut a_at, mut b_at) = ([0; W], [0; W]);
+        let (mut a_slack, mut b_slack) = ([0; W], [0; W]);
+        for (l, &[i, j]) in p.iter().enumerate() {
+            (a_at[l], b_at[l]) = (i as usize, j as usize);
+            a_slack[l] = i * SLACK_STRIDE as u32 + KAPPA as u32;
+            b_slack[l] = j * SLACK_STRIDE as u32 + KAPPA as u32;
+        }
+        // SAFETY: the caller's indices are inside both slices, and `fits` keeps their offsets
+        // below 2^31.
         let (a_boxes, b_boxes, a_kappa, b_kappa) = unsafe {
             (
-                boxes(obbs, p.map(|q| q[0] as usize)),
-                boxes(obbs, p.map(|q| q[1] as usize)),
-                gather(sb, a_slack, KAPPA),
-                gather(sb, b_slack, KAPPA),
+                isa.boxes(obbs, a_at),
+                isa.boxes(obbs, b_at),
+                isa.gather(sb, a_slack),
+                isa.gather(sb, b_slack),
             )
         };
         let (a_center, b_center) = (field3(&a_boxes, CENTER), field3(&b_boxes, CENTER));
         let (ah, bh) = (field3(&a_boxes, HALF), field3(&b_boxes, HALF));
         // `Slack::hsum`, summed here from the halves just read, in its order: two gathers
         // fewer.
-        let (a_hsum, b_hsum) = (add(add(ah[0], ah[1]), ah[2]), add(add(bh[0], bh[1]), bh[2]));
-        let a_axes = [0, 3, 6].map(|row| field3(&a_boxes, AXES + row));
-        let b_axes = [0, 3, 6].map(|row| field3(&b_boxes, AXES + row));
-        let zero = _mm512_setzero_pd();
-        let mut tw = [zero; 3];
-        for (k, w) in tw.iter_mut().enumerate() {
-            *w = sub(b_center[k], a_center[k]);
+        let (a_hsum, b_hsum) = (ah[0] + ah[1] + ah[2], bh[0] + bh[1] + bh[2]);
+        let a_axes = axes(&a_boxes);
+        let b_axes = axes(&b_boxes);
+        let mut tw = [a_hsum; 3];
+        for k in 0..3 {
+            tw[k] = b_center[k] - a_center[k];
         }
-        let tnorm = add(add(abs(tw[0]), abs(tw[1])), abs(tw[2]));
-        let hsums = add(add(tnorm, a_hsum), b_hsum);
-        let s = add(
-            add(add(a_kappa, b_kappa), mul(_mm512_set1_pd(64.0 * U), hsums)),
-            _mm512_set1_pd(MARGIN_FLOOR),
-        );
-        let (mut t, mut u) = ([zero; 3], [zero; 3]);
+        let tnorm = tw[0].abs() + tw[1].abs() + tw[2].abs();
+        let hsums = tnorm + a_hsum + b_hsum;
+        let s = a_kappa + b_kappa + isa.splat(64.0 * U) * hsums + isa.splat(MARGIN_FLOOR);
+        let (mut t, mut u) = ([s; 3], [s; 3]);
         for k in 0..3 {
             t[k] = dot(&tw, &a_axes[k]);
             u[k] = dot(&tw, &b_axes[k]);
@@ -228,30 +232,29 @@ impl Front {
     /// docs/sat.md, "A sufficient test: a point between the centres"). `α` is the middle of the
     /// range that the two conditions leave, found with approximate reciprocals: any `α` in
     /// `[0, 1]` would do, since the conditions are then checked as computed. False on NaN.
-    #[inline]
-    #[target_feature(enable = "avx512f")]
-    fn shares_a_point(&self) -> u8 {
-        let (zero, one) = (_mm512_setzero_pd(), _mm512_set1_pd(1.0));
-        let m = add(self.s, self.s);
-        let (mut room_a, mut room_b, mut t, mut u) = ([zero; 3], [zero; 3], [zero; 3], [zero; 3]);
+    #[inline(always)]
+    fn shares_a_point<I: Isa<W, F = F>, const W: usize>(&self, isa: I) -> F::Mask {
+        let (zero, one) = (isa.splat(0.0), isa.splat(1.0));
+        let m = self.s + self.s;
+        let (mut room_a, mut room_b, mut t, mut u) = ([m; 3], [m; 3], [m; 3], [m; 3]);
         for k in 0..3 {
-            (room_a[k], room_b[k]) = (sub(self.ah[k], m), sub(self.bh[k], m));
-            (t[k], u[k]) = (abs(self.t[k]), abs(self.u[k]));
+            (room_a[k], room_b[k]) = (self.ah[k] - m, self.bh[k] - m);
+            (t[k], u[k]) = (self.t[k].abs(), self.u[k].abs());
         }
-        // The largest α the first box allows, and the largest 1 - α the second allows.
+        // The largest α the first box allows, and the largest 1 - α the second allows (a NaN
+        // ratio, from a zero offset, leaves them as they are).
         let (mut hi, mut lo) = (one, one);
         for k in 0..3 {
-            hi = _mm512_min_pd(mul(room_a[k], _mm512_rcp14_pd(t[k])), hi);
-            lo = _mm512_min_pd(mul(room_b[k], _mm512_rcp14_pd(u[k])), lo);
+            hi = (room_a[k] * t[k].recip()).min(hi);
+            lo = (room_b[k] * u[k].recip()).min(lo);
         }
-        let mid = mul(_mm512_set1_pd(0.5), add(hi, sub(one, lo)));
-        // In [0, 1] (a NaN becomes 1: `min_pd` returns its second operand then).
-        let alpha = _mm512_max_pd(_mm512_min_pd(mid, one), zero);
-        let beta = sub(one, alpha);
-        let mut holds = u8::MAX;
+        let mid = isa.splat(0.5) * (hi + (one - lo));
+        // In [0, 1] (a NaN becomes 1: `min` returns its second operand then).
+        let alpha = mid.min(one).max(zero);
+        let beta = one - alpha;
+        let mut holds = isa.first(W);
         for k in 0..3 {
-            holds &= _mm512_cmp_pd_mask::<_CMP_LE_OQ>(mul(alpha, t[k]), room_a[k]);
-            holds &= _mm512_cmp_pd_mask::<_CMP_LE_OQ>(mul(beta, u[k]), room_b[k]);
+            holds = holds & (alpha * t[k]).le(room_a[k]) & (beta * u[k]).le(room_b[k]);
         }
         holds
     }
@@ -259,9 +262,8 @@ impl Front {
     /// The lanes that one of the 15 axes separates: `sat_lanes` step by step. Plain loops, not
     /// closures: a closure here is not always inlined, and a call per vector costs more than
     /// the vector.
-    #[inline]
-    #[target_feature(enable = "avx512f")]
-    fn separated(&self) -> u8 {
+    #[inline(always)]
+    fn separated<I: Isa<W, F = F>, const W: usize>(&self, isa: I) -> Mask<I, W> {
         let Front {
             ah,
             bh,
@@ -271,30 +273,24 @@ impl Front {
             t,
             u,
         } = *self;
-        let zero = _mm512_setzero_pd();
+        let zero = isa.splat(0.0);
         let (mut r, mut ar) = ([[zero; 3]; 3], [[zero; 3]; 3]);
         for a in 0..3 {
             for b in 0..3 {
                 r[a][b] = dot(&a_axes[a], &b_axes[b]);
-                ar[a][b] = abs(r[a][b]);
+                ar[a][b] = r[a][b].abs();
             }
         }
-        let mut sep = 0u8;
+        let mut sep = !isa.first(W);
         for a in 0..3 {
-            let rb = add(
-                add(mul(bh[0], ar[a][0]), mul(bh[1], ar[a][1])),
-                mul(bh[2], ar[a][2]),
-            );
-            sep |= greater(abs(t[a]), add(add(ah[a], rb), s));
+            let rb = bh[0] * ar[a][0] + bh[1] * ar[a][1] + bh[2] * ar[a][2];
+            sep = sep | t[a].abs().gt(ah[a] + rb + s);
         }
         for b in 0..3 {
-            let ra = add(
-                add(mul(ah[0], ar[0][b]), mul(ah[1], ar[1][b])),
-                mul(ah[2], ar[2][b]),
-            );
-            sep |= greater(abs(u[b]), add(add(ra, bh[b]), s));
+            let ra = ah[0] * ar[0][b] + ah[1] * ar[1][b] + ah[2] * ar[2][b];
+            sep = sep | u[b].abs().gt(ra + bh[b] + s);
         }
-        if sep == u8::MAX {
+        if sep.bits() == all_lanes::<W>() {
             return sep;
         }
         for a in 0..3 {
@@ -302,14 +298,14 @@ impl Front {
             let mut m = [zero; 3];
             for (k, mk) in m.iter_mut().enumerate() {
                 let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
-                *mk = abs(sub(mul(r[a1][k1], r[a2][k2]), mul(r[a2][k1], r[a1][k2])));
+                *mk = (r[a1][k1] * r[a2][k2] - r[a2][k1] * r[a1][k2]).abs();
             }
             for b in 0..3 {
                 let (b1, b2) = ((b + 1) % 3, (b + 2) % 3);
-                let lhs = abs(sub(mul(t[a2], r[a1][b]), mul(t[a1], r[a2][b])));
-                let ra = add(mul(ah[a1], ar[a2][b]), mul(ah[a2], ar[a1][b]));
-                let rb = add(mul(bh[b1], m[b2]), mul(bh[b2], m[b1]));
-                sep |= greater(lhs, add(add(ra, rb), s));
+                let lhs = (t[a2] * r[a1][b] - t[a1] * r[a2][b]).abs();
+                let ra = ah[a1] * ar[a2][b] + ah[a2] * ar[a1][b];
+                let rb = bh[b1] * m[b2] + bh[b2] * m[b1];
+                sep = sep | lhs.gt(ra + rb + s);
             }
         }
         sep
@@ -392,6 +388,23 @@ mod tests {
             })
     }
 
+    /// The pairs `[2l, 2l + 1]` of `obbs` that the first pass accepts, by `l`.
+    fn first_pass<I: Isa<W>, const W: usize>(isa: I, obbs: &[Obb], slack: &[Slack]) -> Vec<usize> {
+        let mut accepted = Vec::new();
+        for first in (0..obbs.len() / 2).step_by(W) {
+            let p: [[u32; 2]; W] =
+                std::array::from_fn(|l| [2 * (first + l) as u32, 2 * (first + l) as u32 + 1]);
+            // SAFETY: every index is in range (the callers pass a multiple of `2 W` boxes).
+            let shares = unsafe { Front::of(isa, obbs, slack, &p) }.shares_a_point(isa);
+            accepted.extend(
+                (0..W)
+                    .filter(|l| shares.bits() >> l & 1 == 1)
+                    .map(|l| first + l),
+            );
+        }
+        accepted
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(2000))]
 
@@ -401,23 +414,20 @@ mod tests {
         /// limit: without its margin the test accepts pairs whose segment misses a box.
         #[test]
         fn an_accepted_pair_shares_a_point_between_the_centres(
-            pairs in proptest::collection::vec(pair_strategy(), WIDTH)
+            pairs in proptest::collection::vec(pair_strategy(), MAX_WIDTH)
         ) {
             let obbs: Vec<Obb> = pairs.iter().flat_map(|(a, b)| [a.clone(), b.clone()]).collect();
             prop_assume!(obbs.iter().all(|b| b.ortho_error() <= ORTHO_TOL));
             prop_assume!(obbs.iter().all(|b| b.half.iter().all(|h| h.is_finite())));
-            if !usable(obbs.len()) {
-                // `retain_colliding` then runs `retain_colliding_lanes`, which has no first pass.
-                return Ok(());
-            }
             let slack: Vec<Slack> = obbs.iter().map(Slack::of).collect();
-            let p: [[u32; 2]; WIDTH] = std::array::from_fn(|l| [2 * l as u32, 2 * l as u32 + 1]);
-            // SAFETY: checked above that this CPU has the features; every index is in range.
-            let accepted = unsafe { Front::of(&obbs, &slack, &p).shares_a_point() };
-            for (l, (a, b)) in pairs.iter().enumerate() {
-                if accepted >> l & 1 == 0 {
-                    continue;
-                }
+            let mut accepted = Vec::new();
+            if let Some(isa) = Avx512::detect() {
+                accepted.extend(first_pass(isa, &obbs, &slack));
+            }
+            if let Some(isa) = Avx2::detect() {
+                accepted.extend(first_pass(isa, &obbs, &slack));
+            }
+            for (l, (a, b)) in accepted.into_iter().map(|l| (l, &pairs[l])) {
                 // The point c_A + αT is at αv from c_A and at (α - 1)w from c_B, v and w the
                 // centres' offset in each box's coordinates: the α that both boxes allow.
                 let t = Vector3::from(b.center) - Vector3::from(a.center);

@@ -1,10 +1,10 @@
-//! [`super::scan_cells`] with each row's later entries taken eight at a time, written with
-//! AVX-512 intrinsics.
+//! [`super::scan_cells`] with each row's later entries taken several at a time, written once
+//! over the vector instruction set ([`Isa`]): eight with AVX-512, four with AVX2.
 //!
 //! The scalar scan tests one pair per step: one AABB compare of eight lanes, one class test and
 //! one store, about eight operations a pair. Here a cell's entries are laid out as columns (each
 //! AABB bound, the class and the id in an array of their own), so that one step compares an
-//! entry with eight later ones: six vector compares, one shift for the classes, and the kept
+//! entry with `W` later ones: six vector compares, one shift for the classes, and the kept
 //! pairs compressed in a register and stored whole (the lanes past the kept ones are
 //! overwritten by the next step). Every pair is visited, counted and kept exactly as the scalar
 //! scan does, in the same order, which the tests check.
@@ -12,10 +12,10 @@
 use super::{Cells, Emitter};
 use crate::engines::{Counters, Pair};
 use crate::prepared::Frame;
-use std::arch::x86_64::*;
+use crate::simd::{Avx2, Avx512, Isa, LaneMask, Lanes, MAX_WIDTH};
 
-/// Later entries compared at once: the f64 lanes of a 512-bit vector.
-const WIDTH: usize = 8;
+/// The columns' padding: a step reads `W` values from any entry of the cell.
+const WIDTH: usize = MAX_WIDTH;
 
 /// One cell's entries as columns, padded by [`WIDTH`] so that a step past the last entry reads
 /// inside the arrays (its lanes are masked off). Kept between cells and frames.
@@ -78,15 +78,37 @@ impl Cell<'_> {
     }
 }
 
-/// Whether [`scan_cells`] can run here: the CPU has AVX-512F and POPCNT.
-pub(super) fn usable() -> bool {
-    is_x86_feature_detected!("avx512f") && is_x86_feature_detected!("popcnt")
+/// [`scan_cells`] compiled for AVX-512.
+#[target_feature(enable = "avx512f,avx2,popcnt")]
+pub(super) fn with_avx512(
+    isa: Avx512,
+    cells: &Cells,
+    runs: &[(u32, u32)],
+    boxes: &Frame,
+    out: &mut Vec<Pair>,
+    columns: &mut Columns,
+) -> Counters {
+    scan_cells(isa, cells, runs, boxes, out, columns)
 }
 
-/// [`super::scan_cells`] for a mask told apart by ranks alone (not `Ranks::pairwise`). Only for
-/// a CPU that [`usable`] accepts.
-#[target_feature(enable = "avx512f,popcnt")]
-pub(super) fn scan_cells(
+/// [`scan_cells`] compiled for AVX2.
+#[target_feature(enable = "avx2,popcnt")]
+pub(super) fn with_avx2(
+    isa: Avx2,
+    cells: &Cells,
+    runs: &[(u32, u32)],
+    boxes: &Frame,
+    out: &mut Vec<Pair>,
+    columns: &mut Columns,
+) -> Counters {
+    scan_cells(isa, cells, runs, boxes, out, columns)
+}
+
+/// [`super::scan_cells`] for a mask told apart by ranks alone (not `Ranks::pairwise`), `W`
+/// later entries a step.
+#[inline(always)]
+fn scan_cells<I: Isa<W>, const W: usize>(
+    isa: I,
     cells: &Cells,
     runs: &[(u32, u32)],
     boxes: &Frame,
@@ -96,7 +118,6 @@ pub(super) fn scan_cells(
     debug_assert!(!cells.ranks.pairwise);
     let class_mask = cells.ranks.class_mask();
     let mut emit = Emitter::new(out);
-    let one = _mm512_set1_epi64(1);
     let longest = runs.iter().map(|&(s, e)| (e - s) as usize).max();
     let mut cell = columns.cell(longest.unwrap_or(0));
     for &(s, e) in runs {
@@ -104,38 +125,39 @@ pub(super) fn scan_cells(
         let (keys, entries) = (&cells.keys[s..e], &cells.entries[s..e]);
         let n = entries.len();
         cell.fill(keys, entries, boxes, class_mask);
-        // Each step stores eight pairs whole, of which those kept come first.
-        emit.reserve(n * (n - 1) / 2 + WIDTH);
+        // Each step stores `W` pairs whole, of which those kept come first.
+        emit.reserve(n * (n - 1) / 2 + W);
         let (bounds, ids, class) = (&cell.bounds, &*cell.ids, &*cell.class);
         let (out, mut kept) = (emit.out.as_mut_ptr(), emit.kept);
         for p in 0..n {
-            let wanted = _mm512_set1_epi64(cells.wanted[class[p] as usize] as i64);
-            let first = _mm512_set1_epi64(i64::from(entries[p]));
-            let own: [__m512d; 6] = std::array::from_fn(|b| _mm512_set1_pd(bounds[b][p]));
+            let wanted = isa.splat_u64(cells.wanted[class[p] as usize]);
+            let first = isa.splat_u64(u64::from(entries[p]));
+            let mut own = [isa.splat(0.0); 6];
+            for (own, column) in own.iter_mut().zip(bounds) {
+                *own = isa.splat(column[p]);
+            }
             let mut visits = 0;
-            for q in (p + 1..n).step_by(WIDTH) {
-                let lanes = (u16::MAX >> (16 - WIDTH.min(n - q))) as u8;
-                // SAFETY: the columns hold `n + WIDTH` values, so the eight from `q < n` are
-                // inside them; the store writes eight pairs at `kept`, and `reserve` made room
-                // for every pair of the cell and eight more.
+            for q in (p + 1..n).step_by(W) {
+                // SAFETY: the columns hold `n + WIDTH` values, so the `W` from `q < n` are
+                // inside them; the store writes `W` pairs at `kept`, and `reserve` made room
+                // for every pair of the cell and `W` more.
                 unsafe {
-                    let at = |column: &[f64]| _mm512_loadu_pd(column.as_ptr().add(q));
                     // Wanted: bit `class[q]` of this entry's row of `Cells::wanted`.
-                    let their = _mm512_loadu_si512(class.as_ptr().add(q).cast());
-                    let want =
-                        _mm512_mask_test_epi64_mask(lanes, _mm512_srlv_epi64(wanted, their), one);
-                    visits += want.count_ones();
+                    let their = isa.load_u64(class.as_ptr().add(q));
+                    let want = isa.bit(wanted, their) & isa.first(n - q);
                     // Overlapping on every axis: the other's min at most this max, and this
-                    // min at most the other's max, as `overlaps` compares (false on NaN).
+                    // min at most the other's max, as `overlaps` compares (false on NaN). (No
+                    // closure for the loads: it would be compiled without the instruction set.)
                     let mut keep = want;
                     for axis in 0..3 {
-                        keep &= _mm512_cmp_pd_mask::<_CMP_LE_OQ>(at(bounds[axis]), own[3 + axis]);
-                        keep &= _mm512_cmp_pd_mask::<_CMP_LE_OQ>(own[axis], at(bounds[3 + axis]));
+                        let (min, max) = (bounds[axis].as_ptr(), bounds[3 + axis].as_ptr());
+                        keep = keep & isa.load(min.add(q)).le(own[3 + axis]);
+                        keep = keep & own[axis].le(isa.load(max.add(q)));
                     }
-                    let pairs =
-                        _mm512_or_si512(first, _mm512_loadu_si512(ids.as_ptr().add(q).cast()));
-                    let packed = _mm512_maskz_compress_epi64(keep, pairs);
-                    _mm512_storeu_si512(out.add(kept).cast(), packed);
+                    let (want, keep) = (want.bits(), keep.bits());
+                    visits += want.count_ones();
+                    let pairs = first | isa.load_u64(ids.as_ptr().add(q));
+                    isa.compress_store(keep, pairs, out.add(kept).cast());
                     kept += keep.count_ones() as usize;
                 }
             }

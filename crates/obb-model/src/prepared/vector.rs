@@ -1,0 +1,145 @@
+//! [`super::prepare`] on several boxes at a time, written once over the vector instruction set
+//! ([`Isa`]): eight boxes with AVX-512, four with AVX2.
+//!
+//! Scalar, the preparation is half of a cross-group frame: every box's AABB and slack take about
+//! a hundred dependent operations. Here consecutive boxes are read whole and transposed in
+//! registers ([`Isa::boxes`]), so that each vector holds one value of each box, and every
+//! product, sum, comparison and maximum is the one `Aabb::of`, `Slack::of` (with
+//! `Obb::ortho_error`) and `Aabb::union` write, in the same order and without fused
+//! multiply-add: each lane rounds exactly as the scalar code does, which the tests check on
+//! random and extreme boxes.
+
+use crate::aabb::{Aabb, EXTENT_FLOOR, U};
+use crate::sat::Slack;
+use crate::scene::Obb;
+use crate::simd::{axes, dot, field3, higher, lower, Avx2, Avx512, Isa, Lanes, CENTER, HALF};
+
+/// [`prepare`] compiled for AVX-512.
+#[target_feature(enable = "avx512f,avx2,popcnt")]
+pub(super) fn with_avx512(
+    isa: Avx512,
+    obbs: &[Obb],
+    aabbs: &mut [Aabb],
+    slack: &mut [Slack],
+    groups: &mut [u32],
+) -> Aabb {
+    prepare(isa, obbs, aabbs, slack, groups)
+}
+
+/// [`prepare`] compiled for AVX2.
+#[target_feature(enable = "avx2,popcnt")]
+pub(super) fn with_avx2(
+    isa: Avx2,
+    obbs: &[Obb],
+    aabbs: &mut [Aabb],
+    slack: &mut [Slack],
+    groups: &mut [u32],
+) -> Aabb {
+    prepare(isa, obbs, aabbs, slack, groups)
+}
+
+/// `outward` of `aabb.rs` on each lane: `d + dir·(|d|·2u) + 0`.
+#[inline(always)]
+fn outward<I: Isa<W>, const W: usize>(isa: I, d: I::F, dir: f64) -> I::F {
+    let step = isa.splat(dir) * (d.abs() * isa.splat(2.0 * U));
+    d + step + isa.splat(0.0)
+}
+
+/// [`super::prepare`], `W` boxes per step; the last `len % W` boxes go to the scalar form.
+#[inline(always)]
+fn prepare<I: Isa<W>, const W: usize>(
+    isa: I,
+    obbs: &[Obb],
+    aabbs: &mut [Aabb],
+    slack: &mut [Slack],
+    groups: &mut [u32],
+) -> Aabb {
+    let n = obbs
+        .len()
+        .min(aabbs.len())
+        .min(slack.len())
+        .min(groups.len());
+    let whole = n - n % W;
+    let mut low = [isa.splat(Aabb::EMPTY.min[0]); 3];
+    let mut high = [isa.splat(Aabb::EMPTY.max[0]); 3];
+    for first in (0..whole).step_by(W) {
+        // Plain loops here, no `map` or `from_fn`: their closures are compiled outside the
+        // function that enables the instruction set, so vector work in them would be a call
+        // each.
+        let mut at = [first; W];
+        for (l, at) in at.iter_mut().enumerate() {
+            *at += l;
+        }
+        // SAFETY: the `W` boxes from `first` are below `whole`, inside `obbs`.
+        let b = unsafe { isa.boxes(obbs, at) };
+        let axes = axes(&b);
+        let (center, half) = (field3(&b, CENTER), field3(&b, HALF));
+        // Aabb::of: each world axis's half-extent, enlarged, and the end points stepped out.
+        let mut ends = [isa.splat(0.0); 6];
+        for x in 0..3 {
+            let e = half[0] * axes[0][x].abs()
+                + half[1] * axes[1][x].abs()
+                + half[2] * axes[2][x].abs();
+            let e = e * isa.splat(1.0 + 8.0 * U) + isa.splat(EXTENT_FLOOR);
+            ends[x] = outward(isa, center[x] - e, -1.0);
+            ends[3 + x] = outward(isa, center[x] + e, 1.0);
+            low[x] = lower(low[x], ends[x]);
+            high[x] = higher(high[x], ends[3 + x]);
+        }
+        // Slack::of: the Gram matrix's worst entry, in Obb::ortho_error's order. Its
+        // `worst.max(v)` is `higher(worst, v)` here: `worst` starts at 0 and is never NaN, and
+        // both keep `worst` when `v` is NaN.
+        let mut worst = isa.splat(0.0);
+        for i in 0..3 {
+            for k in i..3 {
+                let target = isa.splat(if i == k { 1.0 } else { 0.0 });
+                worst = higher(worst, (dot(&axes[i], &axes[k]) - target).abs());
+            }
+        }
+        let eta = worst + isa.splat(8.0 * U);
+        let hsum = half[0] + half[1] + half[2];
+        let kappa = isa.splat(2.01) * eta * hsum;
+        let ends = lanes(isa, ends);
+        let [hsum, kappa] = lanes(isa, [hsum, kappa]);
+        let (aabbs, slack) = (&mut aabbs[first..first + W], &mut slack[first..first + W]);
+        let boxes = obbs[first..first + W]
+            .iter()
+            .zip(&mut groups[first..first + W]);
+        for (l, ((aabb, slack), (obb, group))) in aabbs.iter_mut().zip(slack).zip(boxes).enumerate()
+        {
+            *aabb = lane_aabb(&ends, l);
+            *slack = Slack {
+                hsum: hsum[l],
+                kappa: kappa[l],
+            };
+            *group = obb.group;
+        }
+    }
+    let bounds = super::prepare_scalar(
+        &obbs[whole..n],
+        &mut aabbs[whole..n],
+        &mut slack[whole..n],
+        &mut groups[whole..n],
+    );
+    let ends = lanes(isa, [low[0], low[1], low[2], high[0], high[1], high[2]]);
+    (0..W).fold(bounds, |b, l| b.union(&lane_aabb(&ends, l)))
+}
+
+/// The lanes of each vector of `v`.
+#[inline(always)]
+fn lanes<I: Isa<W>, const W: usize, const N: usize>(isa: I, v: [I::F; N]) -> [[f64; W]; N] {
+    let mut lanes = [[0.0; W]; N];
+    for (v, lane) in v.iter().zip(lanes.iter_mut()) {
+        *lane = isa.lanes(*v);
+    }
+    lanes
+}
+
+/// The AABB in lane `l` of `ends`: the lanes of min x, y, z, then max x, y, z.
+#[inline(always)]
+fn lane_aabb<const W: usize>(ends: &[[f64; W]; 6], l: usize) -> Aabb {
+    Aabb {
+        min: [ends[0][l], ends[1][l], ends[2][l]],
+        max: [ends[3][l], ends[4][l], ends[5][l]],
+    }
+}
