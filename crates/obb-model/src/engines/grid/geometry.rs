@@ -84,6 +84,38 @@ impl GridGeometry {
         ([c[0], c[1], c[2]], [c[4], c[5], c[6]])
     }
 
+    /// [`GridGeometry::range`] in two AVX2 vectors, one for `min` and one for `max`: one
+    /// subtraction, one product and one conversion each where `range` takes three of each with
+    /// their saturation checks. Each lane rounds as `coord` does; a lane below the origin or NaN
+    /// is 0 in both (the lane's `max` with 0 gives 0 for those). The conversion is to 32 bits,
+    /// so a lane is first clamped to `i32::MAX`: the two differ only for a coordinate past
+    /// 2^31 cells, far beyond the grid's 2^20 cells an axis. (The entering, which uses it, only
+    /// meets boxes inside the bounds the grid was fit to.)
+    #[cfg(target_arch = "x86_64")]
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub(super) fn range_avx2(&self, b: &Aabb) -> ([u64; 3], [u64; 3]) {
+        use std::arch::x86_64::*;
+        let o = &self.origin;
+        let origin = _mm256_setr_pd(o[0], o[1], o[2], 0.0);
+        let (inv, zero) = (_mm256_set1_pd(self.inv), _mm256_setzero_pd());
+        let top = _mm256_set1_pd(f64::from(i32::MAX));
+        let three = _mm256_setr_epi64x(-1, -1, -1, 0);
+        let mut c = [0i32; 8];
+        for (end, out) in [&b.min, &b.max].into_iter().zip(c.chunks_exact_mut(4)) {
+            // SAFETY: the load reads the three f64 of `end` (the fourth lane is masked off);
+            // the store writes the four i32 of `out`.
+            unsafe {
+                let x = _mm256_maskload_pd(end.as_ptr(), three);
+                let scaled = _mm256_mul_pd(_mm256_sub_pd(x, origin), inv);
+                let clamped = _mm256_min_pd(_mm256_max_pd(scaled, zero), top);
+                _mm_storeu_si128(out.as_mut_ptr().cast(), _mm256_cvttpd_epi32(clamped));
+            }
+        }
+        let cell = |k: usize| c[k] as u64;
+        ([cell(0), cell(1), cell(2)], [cell(4), cell(5), cell(6)])
+    }
+
     /// Cells in the range `c0..=c1` (from `range`).
     #[inline]
     pub(super) fn cells_in(c0: [u64; 3], c1: [u64; 3]) -> u64 {
@@ -142,11 +174,12 @@ mod tests {
     use proptest::prelude::*;
 
     /// A coordinate in cells from the origin: inside the grid, below the origin, far past it
-    /// (up to 2^62 cells), or not a number.
+    /// (up to 2^31 cells, and up to 2^62), or not a number.
     fn coordinate() -> impl Strategy<Value = f64> {
         prop_oneof![
             4 => -3.0..40.0f64,
             1 => -1e300..-1.0f64,
+            1 => 40.0..2.1e9f64,
             1 => 40.0..4e18f64,
             1 => Just(f64::NAN),
             1 => Just(f64::NEG_INFINITY),
@@ -154,27 +187,32 @@ mod tests {
     }
 
     proptest! {
-        /// The vector cell range is the scalar one, lane by lane, wherever the two are meant to
-        /// agree (every coordinate below 2^63 cells), including points below the origin and NaN.
+        /// The vector cell ranges are the scalar one, lane by lane, wherever they are meant to
+        /// agree (every coordinate below 2^63 cells for AVX-512, below 2^31 for AVX2), including
+        /// points below the origin and NaN.
         #[test]
         fn vector_range_is_the_scalar_range(
             cells in proptest::array::uniform6(coordinate()),
             origin in proptest::array::uniform3(-1e3..1e3f64),
             cell in 1e-3..1e3f64,
         ) {
-            let have = is_x86_feature_detected!("avx512f")
-                && is_x86_feature_detected!("avx512dq")
-                && is_x86_feature_detected!("avx512vl");
-            if !have {
-                // The entering then uses `range` itself: there is no second form to compare.
-                return Ok(());
-            }
             let g = GridGeometry { origin, cell, inv: 1.0 / cell, dims: [40; 3] };
             let at = |k: usize| origin[k % 3] + cells[k] * cell;
             let b = Aabb { min: [at(0), at(1), at(2)], max: [at(3), at(4), at(5)] };
-            // SAFETY: checked above that this CPU has the features.
-            let vector = unsafe { g.range_avx512(&b) };
-            prop_assert_eq!(vector, g.range(&b));
+            let scalar = g.range(&b);
+            if is_x86_feature_detected!("avx512f")
+                && is_x86_feature_detected!("avx512dq")
+                && is_x86_feature_detected!("avx512vl")
+            {
+                // SAFETY: checked above that this CPU has the features.
+                prop_assert_eq!(unsafe { g.range_avx512(&b) }, scalar);
+            }
+            // The 32-bit form agrees below 2^31 cells.
+            let in_i32 = scalar.0.iter().chain(&scalar.1).all(|&c| c < i32::MAX as u64);
+            if is_x86_feature_detected!("avx2") && in_i32 {
+                // SAFETY: checked above that this CPU has the feature.
+                prop_assert_eq!(unsafe { g.range_avx2(&b) }, scalar);
+            }
         }
     }
 }

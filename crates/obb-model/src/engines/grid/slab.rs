@@ -79,7 +79,20 @@ impl Slab {
             // SAFETY: this CPU has the features `build_avx512` enables.
             return unsafe { self.build_avx512(l) };
         }
+        #[cfg(target_arch = "x86_64")]
+        if is_x86_feature_detected!("avx2") {
+            // SAFETY: this CPU has the feature `build_avx2` enables.
+            return unsafe { self.build_avx2(l) };
+        }
         self.enter(l, |b| l.geometry.range(b));
+        self.sort(l);
+    }
+
+    /// [`Slab::build`] with each box's cell range from [`GridGeometry::range_avx2`].
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn build_avx2(&mut self, l: &Layout) {
+        self.enter(l, |b| l.geometry.range_avx2(b));
         self.sort(l);
     }
 
