@@ -4,8 +4,6 @@ use crate::aabb::Aabb;
 use crate::sat::{boxes_collide, Slack};
 use crate::scene::Obb;
 use crate::simd::Vectors;
-#[cfg(target_arch = "x86_64")]
-use crate::simd::{Avx2, Avx512};
 use rayon::prelude::*;
 
 /// Boxes below this count are prepared on one thread: below it, waking the pool costs more.
@@ -53,17 +51,9 @@ fn prepare_with(
     slack: &mut [Slack],
     groups: &mut [u32],
 ) -> Aabb {
-    // SAFETY (both calls): the token `detect` returns proves that this CPU has the features
-    // the function enables.
     #[cfg(target_arch = "x86_64")]
-    match (vectors, Avx512::detect(), Avx2::detect()) {
-        (Vectors::Avx512, Some(isa), _) => {
-            return unsafe { vector::with_avx512(isa, obbs, aabbs, slack, groups) };
-        }
-        (Vectors::Avx2, _, Some(isa)) => {
-            return unsafe { vector::with_avx2(isa, obbs, aabbs, slack, groups) };
-        }
-        _ => {}
+    if let Some(bounds) = vector::on(vectors, obbs, aabbs, slack, groups) {
+        return bounds;
     }
     prepare_scalar(obbs, aabbs, slack, groups)
 }

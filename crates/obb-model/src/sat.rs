@@ -11,8 +11,6 @@
 use crate::aabb::{TINY, U};
 use crate::scene::Obb;
 use crate::simd::Vectors;
-#[cfg(target_arch = "x86_64")]
-use crate::simd::{Avx2, Avx512};
 
 /// Added to every axis test's margin: the absolute error of the products that underflow (at
 /// most 2^-1075 each, some 40 in one axis test, carried by factors near 1), which the relative
@@ -90,18 +88,8 @@ pub fn retain_colliding_with(
         "this CPU cannot run the SAT's {vectors:?} form"
     );
     #[cfg(target_arch = "x86_64")]
-    if vector::fits(obbs.len()) {
-        // SAFETY (both calls): the token `detect` returns proves that this CPU has the
-        // features the function enables.
-        match (vectors, Avx512::detect(), Avx2::detect()) {
-            (Vectors::Avx512, Some(isa), _) => {
-                return unsafe { vector::with_avx512(isa, obbs, slack, pairs) };
-            }
-            (Vectors::Avx2, _, Some(isa)) => {
-                return unsafe { vector::with_avx2(isa, obbs, slack, pairs) };
-            }
-            _ => {}
-        }
+    if vector::fits(obbs.len()) && vector::on(vectors, obbs, slack, pairs).is_some() {
+        return;
     }
     retain_colliding_lanes(obbs, slack, pairs);
 }

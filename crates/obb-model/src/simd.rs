@@ -55,6 +55,56 @@ impl Vectors {
     }
 }
 
+/// Compiles the generic vector function `$f(isa, args...)` for each instruction set, as
+/// `with_avx512` and `with_avx2`: each enables its instructions (`#[target_feature]`), so that
+/// the `#[inline(always)]` vector code and its intrinsics are inlined into it. Defines `on`,
+/// which runs `$f` on the form `vectors` (one this CPU has) and returns `None` for the portable
+/// form, which each caller provides itself.
+macro_rules! compile_for_each_isa {
+    ($f:ident($($arg:ident: $ty:ty),* $(,)?) -> $ret:ty) => {
+        #[target_feature(enable = "avx512f,avx2,popcnt")]
+        fn with_avx512(isa: $crate::simd::Avx512, $($arg: $ty),*) -> $ret {
+            $f(isa, $($arg),*)
+        }
+
+        #[target_feature(enable = "avx2,popcnt")]
+        fn with_avx2(isa: $crate::simd::Avx2, $($arg: $ty),*) -> $ret {
+            $f(isa, $($arg),*)
+        }
+
+        /// `$f` on the instruction set `vectors`; `None` for the portable form.
+        pub(super) fn on(vectors: $crate::simd::Vectors, $($arg: $ty),*) -> Option<$ret> {
+            use $crate::simd::{Avx2, Avx512, Vectors};
+            // SAFETY (both calls): the token `detect` returns proves that this CPU has the
+            // features the function enables.
+            match (vectors, Avx512::detect(), Avx2::detect()) {
+                (Vectors::Avx512, Some(isa), _) => Some(unsafe { with_avx512(isa, $($arg),*) }),
+                (Vectors::Avx2, _, Some(isa)) => Some(unsafe { with_avx2(isa, $($arg),*) }),
+                _ => None,
+            }
+        }
+    };
+}
+pub(crate) use compile_for_each_isa;
+
+/// Implements the operator trait `$op` (method `$method`) on the vector type `$t` by the
+/// intrinsic `$f`.
+#[cfg(target_arch = "x86_64")]
+macro_rules! operator {
+    ($t:ident, $op:ident, $method:ident, $f:ident) => {
+        impl std::ops::$op for $t {
+            type Output = $t;
+            #[inline(always)]
+            fn $method(self, other: $t) -> $t {
+                // SAFETY: a value of `$t` exists only on a CPU with its instructions.
+                $t(unsafe { $f(self.0, other.0) })
+            }
+        }
+    };
+}
+#[cfg(target_arch = "x86_64")]
+use operator;
+
 /// Boxes as arrays of f64: a box's stride and its fields' offsets.
 pub(crate) const OBB_STRIDE: usize = size_of::<Obb>() / 8;
 pub(crate) const CENTER: usize = offset_of!(Obb, center) / 8;

@@ -12,31 +12,16 @@
 use crate::aabb::{Aabb, EXTENT_FLOOR, U};
 use crate::sat::Slack;
 use crate::scene::Obb;
-use crate::simd::{axes, dot, field3, higher, lower, Avx2, Avx512, Isa, Lanes, CENTER, HALF};
+use crate::simd::{
+    axes, compile_for_each_isa, dot, field3, higher, lower, Isa, Lanes, CENTER, HALF,
+};
 
-/// [`prepare`] compiled for AVX-512.
-#[target_feature(enable = "avx512f,avx2,popcnt")]
-pub(super) fn with_avx512(
-    isa: Avx512,
+compile_for_each_isa!(prepare(
     obbs: &[Obb],
     aabbs: &mut [Aabb],
     slack: &mut [Slack],
     groups: &mut [u32],
-) -> Aabb {
-    prepare(isa, obbs, aabbs, slack, groups)
-}
-
-/// [`prepare`] compiled for AVX2.
-#[target_feature(enable = "avx2,popcnt")]
-pub(super) fn with_avx2(
-    isa: Avx2,
-    obbs: &[Obb],
-    aabbs: &mut [Aabb],
-    slack: &mut [Slack],
-    groups: &mut [u32],
-) -> Aabb {
-    prepare(isa, obbs, aabbs, slack, groups)
-}
+) -> Aabb);
 
 /// `outward` of `aabb.rs` on each lane: `d + dir·(|d|·2u) + 0`.
 #[inline(always)]

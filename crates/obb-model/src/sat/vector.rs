@@ -16,7 +16,8 @@ use super::{Slack, MARGIN_FLOOR};
 use crate::aabb::U;
 use crate::scene::Obb;
 use crate::simd::{
-    all_lanes, axes, dot, field3, Avx2, Avx512, Isa, LaneMask, Lanes, Mask, CENTER, HALF, MAX_WIDTH,
+    all_lanes, axes, compile_for_each_isa, dot, field3, Isa, LaneMask, Lanes, Mask, CENTER, HALF,
+    MAX_WIDTH,
 };
 use std::mem::{offset_of, size_of};
 
@@ -35,17 +36,7 @@ pub(super) fn fits(n: usize) -> bool {
 /// their boxes are still in the caches when the second pass reads them again.
 const BLOCK: usize = 1024;
 
-/// [`retain_colliding`] compiled for AVX-512.
-#[target_feature(enable = "avx512f,avx2,popcnt")]
-pub(super) fn with_avx512(isa: Avx512, obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) {
-    retain_colliding(isa, obbs, slack, pairs)
-}
-
-/// [`retain_colliding`] compiled for AVX2.
-#[target_feature(enable = "avx2,popcnt")]
-pub(super) fn with_avx2(isa: Avx2, obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) {
-    retain_colliding(isa, obbs, slack, pairs)
-}
+compile_for_each_isa!(retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) -> ());
 
 /// [`super::retain_colliding`], `W` pairs per step, for boxes that [`fits`] accepts. A pair
 /// naming a box past `obbs` or `slack` panics, as indexing does.
@@ -317,6 +308,7 @@ mod tests {
     use super::*;
     use crate::sat::boxes_collide;
     use crate::scene::ORTHO_TOL;
+    use crate::simd::{Avx2, Avx512};
     use nalgebra::{Matrix3, Rotation3, Vector3};
     use proptest::prelude::*;
 

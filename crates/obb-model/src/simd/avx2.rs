@@ -1,9 +1,9 @@
 //! [`Isa`] on AVX2: four f64 lanes, masks as vectors of all-ones or all-zeros lanes.
 
-use super::{Isa, LaneMask, Lanes, OBB_STRIDE};
+use super::{operator, Isa, LaneMask, Lanes, OBB_STRIDE};
 use crate::scene::Obb;
 use std::arch::x86_64::*;
-use std::ops::{Add, BitAnd, BitOr, Mul, Not, Sub};
+use std::ops::Not;
 
 /// The proof that this CPU has AVX2 and POPCNT.
 #[derive(Clone, Copy, Debug)]
@@ -29,53 +29,12 @@ pub(crate) struct U64x4(__m256i);
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Mask4(__m256d);
 
-impl Add for F64x4 {
-    type Output = F64x4;
-    #[inline(always)]
-    fn add(self, other: F64x4) -> F64x4 {
-        F64x4(unsafe { _mm256_add_pd(self.0, other.0) })
-    }
-}
-
-impl Sub for F64x4 {
-    type Output = F64x4;
-    #[inline(always)]
-    fn sub(self, other: F64x4) -> F64x4 {
-        F64x4(unsafe { _mm256_sub_pd(self.0, other.0) })
-    }
-}
-
-impl Mul for F64x4 {
-    type Output = F64x4;
-    #[inline(always)]
-    fn mul(self, other: F64x4) -> F64x4 {
-        F64x4(unsafe { _mm256_mul_pd(self.0, other.0) })
-    }
-}
-
-impl BitOr for U64x4 {
-    type Output = U64x4;
-    #[inline(always)]
-    fn bitor(self, other: U64x4) -> U64x4 {
-        U64x4(unsafe { _mm256_or_si256(self.0, other.0) })
-    }
-}
-
-impl BitAnd for Mask4 {
-    type Output = Mask4;
-    #[inline(always)]
-    fn bitand(self, other: Mask4) -> Mask4 {
-        Mask4(unsafe { _mm256_and_pd(self.0, other.0) })
-    }
-}
-
-impl BitOr for Mask4 {
-    type Output = Mask4;
-    #[inline(always)]
-    fn bitor(self, other: Mask4) -> Mask4 {
-        Mask4(unsafe { _mm256_or_pd(self.0, other.0) })
-    }
-}
+operator!(F64x4, Add, add, _mm256_add_pd);
+operator!(F64x4, Sub, sub, _mm256_sub_pd);
+operator!(F64x4, Mul, mul, _mm256_mul_pd);
+operator!(U64x4, BitOr, bitor, _mm256_or_si256);
+operator!(Mask4, BitAnd, bitand, _mm256_and_pd);
+operator!(Mask4, BitOr, bitor, _mm256_or_pd);
 
 impl Not for Mask4 {
     type Output = Mask4;

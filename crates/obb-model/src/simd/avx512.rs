@@ -1,9 +1,8 @@
 //! [`Isa`] on AVX-512: eight f64 lanes, masks in `__mmask8`.
 
-use super::{Isa, LaneMask, Lanes, OBB_STRIDE};
+use super::{operator, Isa, LaneMask, Lanes, OBB_STRIDE};
 use crate::scene::Obb;
 use std::arch::x86_64::*;
-use std::ops::{Add, Mul, Sub};
 
 /// The proof that this CPU has AVX-512F, AVX2 and POPCNT.
 #[derive(Clone, Copy, Debug)]
@@ -27,37 +26,10 @@ pub(crate) struct F64x8(__m512d);
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct U64x8(__m512i);
 
-impl Add for F64x8 {
-    type Output = F64x8;
-    #[inline(always)]
-    fn add(self, other: F64x8) -> F64x8 {
-        F64x8(unsafe { _mm512_add_pd(self.0, other.0) })
-    }
-}
-
-impl Sub for F64x8 {
-    type Output = F64x8;
-    #[inline(always)]
-    fn sub(self, other: F64x8) -> F64x8 {
-        F64x8(unsafe { _mm512_sub_pd(self.0, other.0) })
-    }
-}
-
-impl Mul for F64x8 {
-    type Output = F64x8;
-    #[inline(always)]
-    fn mul(self, other: F64x8) -> F64x8 {
-        F64x8(unsafe { _mm512_mul_pd(self.0, other.0) })
-    }
-}
-
-impl std::ops::BitOr for U64x8 {
-    type Output = U64x8;
-    #[inline(always)]
-    fn bitor(self, other: U64x8) -> U64x8 {
-        U64x8(unsafe { _mm512_or_si512(self.0, other.0) })
-    }
-}
+operator!(F64x8, Add, add, _mm512_add_pd);
+operator!(F64x8, Sub, sub, _mm512_sub_pd);
+operator!(F64x8, Mul, mul, _mm512_mul_pd);
+operator!(U64x8, BitOr, bitor, _mm512_or_si512);
 
 impl Lanes for F64x8 {
     type Mask = u8;

@@ -38,6 +38,7 @@ use crate::aabb::Aabb;
 use crate::groups::GroupMask;
 use crate::prepared::Frame;
 use crate::radix::bits_for;
+use crate::simd::Vectors;
 use geometry::{choose_cell, CELL_PER_MEDIAN_EDGE, PROBING_CELL_PER_MEDIAN_EDGE};
 use occupied::Occupied;
 use ranks::Ranks;
@@ -273,6 +274,7 @@ impl Engine for Grid {
             self.tasks.resize_with(n_tasks, Default::default);
         }
         let cells = Cells::new(&self.keys, &self.entries, &self.ranks);
+        let vectors = Vectors::detected();
         let (cuts, runs, geometry, occupied) =
             (&self.cuts, &self.runs, &self.geometry, &self.occupied);
         let (prober, probe_len) = (self.prober, boxes.len().div_ceil(probe_tasks.max(1)));
@@ -286,7 +288,8 @@ impl Engine for Grid {
             large.clear();
             if t < cell_tasks {
                 let runs = &runs[cuts[t]..cuts[t + 1]];
-                return scan_cells(&cells, runs, boxes, mask, pairs, (cell, columns));
+                let buffers = (cell, columns);
+                return scan_cells(vectors, &cells, runs, boxes, mask, pairs, buffers);
             }
             let first = ((t - cell_tasks) * probe_len).min(boxes.len());
             let last = (first + probe_len).min(boxes.len());
@@ -343,8 +346,6 @@ mod tests {
     use crate::generate::{surgical, uniform};
     use crate::prepared::Prepared;
     use crate::scene::Obb;
-    use crate::simd::Vectors;
-    use scan::scan_cells_with;
 
     /// Scans every cell of the grid `detect` built on `obbs` with the one-pair scan and with
     /// each form this CPU has, and returns each scan's pairs (as found, before the pair sort)
@@ -363,8 +364,7 @@ mod tests {
         for &vectors in Vectors::available() {
             let mut any = Vec::new();
             let buffers = (&mut cell, &mut columns);
-            let counters =
-                scan_cells_with(vectors, &cells, &grid.runs, &boxes, mask, &mut any, buffers);
+            let counters = scan_cells(vectors, &cells, &grid.runs, &boxes, mask, &mut any, buffers);
             scans.push((any, counters));
         }
         scans

@@ -11,8 +11,6 @@ use crate::groups::GroupMask;
 use crate::prepared::Frame;
 use crate::sat::retain_colliding;
 use crate::simd::Vectors;
-#[cfg(target_arch = "x86_64")]
-use crate::simd::{Avx2, Avx512};
 use std::mem::MaybeUninit;
 
 #[cfg(target_arch = "x86_64")]
@@ -183,23 +181,11 @@ fn overlaps(a: &Aabb, b: &Aabb) -> bool {
 }
 
 /// Examines the wanted home pairs inside the cells `runs` and puts the colliding ones in `out`,
-/// on the best vector instructions this CPU has ([`scan_cells_with`]).
+/// on the instruction set `vectors` (one this CPU has; the grid takes the best). Unless the
+/// mask is checked pair by pair, each entry meets eight later ones at a time with AVX-512 and
+/// four with AVX2 (`vector`, with `columns` its buffers); otherwise it is [`scan_rows`]. Every
+/// form visits, counts and keeps the same pairs in the same order.
 pub(super) fn scan_cells(
-    cells: &Cells,
-    runs: &[(u32, u32)],
-    boxes: &Frame,
-    mask: &GroupMask,
-    out: &mut Vec<Pair>,
-    buffers: (&mut Vec<CellEntry>, &mut Columns),
-) -> Counters {
-    scan_cells_with(Vectors::detected(), cells, runs, boxes, mask, out, buffers)
-}
-
-/// [`scan_cells`] on the instruction set `vectors` (one this CPU has). Unless the mask is
-/// checked pair by pair, each entry meets eight later ones at a time with AVX-512 and four with
-/// AVX2 (`vector`, with `columns` its buffers); otherwise it is [`scan_rows`]. Every form
-/// visits, counts and keeps the same pairs in the same order.
-pub(super) fn scan_cells_with(
     vectors: Vectors,
     cells: &Cells,
     runs: &[(u32, u32)],
@@ -208,18 +194,10 @@ pub(super) fn scan_cells_with(
     out: &mut Vec<Pair>,
     buffers: (&mut Vec<CellEntry>, &mut Columns),
 ) -> Counters {
-    // SAFETY (both calls): the token `detect` returns proves that this CPU has the features
-    // the function enables.
     #[cfg(target_arch = "x86_64")]
     if !cells.ranks.pairwise {
-        match (vectors, Avx512::detect(), Avx2::detect()) {
-            (Vectors::Avx512, Some(isa), _) => {
-                return unsafe { vector::with_avx512(isa, cells, runs, boxes, out, buffers.1) };
-            }
-            (Vectors::Avx2, _, Some(isa)) => {
-                return unsafe { vector::with_avx2(isa, cells, runs, boxes, out, buffers.1) };
-            }
-            _ => {}
+        if let Some(c) = vector::on(vectors, cells, runs, boxes, out, buffers.1) {
+            return c;
         }
     }
     scan_rows(cells, runs, boxes, mask, out, buffers.0)

@@ -12,13 +12,10 @@
 use super::{Cells, Emitter};
 use crate::engines::{Counters, Pair};
 use crate::prepared::Frame;
-use crate::simd::{Avx2, Avx512, Isa, LaneMask, Lanes, MAX_WIDTH};
+use crate::simd::{compile_for_each_isa, Isa, LaneMask, Lanes, MAX_WIDTH};
 
-/// The columns' padding: a step reads `W` values from any entry of the cell.
-const WIDTH: usize = MAX_WIDTH;
-
-/// One cell's entries as columns, padded by [`WIDTH`] so that a step past the last entry reads
-/// inside the arrays (its lanes are masked off). Kept between cells and frames.
+/// One cell's entries as columns, padded by [`MAX_WIDTH`] so that a step past the last entry
+/// reads inside the arrays (its lanes are masked off). Kept between cells and frames.
 #[derive(Debug, Default)]
 pub(in crate::engines::grid) struct Columns {
     /// Each entry's AABB: `min` per axis, then `max` per axis.
@@ -40,7 +37,7 @@ struct Cell<'a> {
 impl Columns {
     /// Room for cells of `len` entries, as slices.
     fn cell(&mut self, len: usize) -> Cell<'_> {
-        let len = len + WIDTH;
+        let len = len + MAX_WIDTH;
         if self.ids.len() < len {
             for column in &mut self.bounds {
                 column.resize(len, 0.0);
@@ -78,31 +75,13 @@ impl Cell<'_> {
     }
 }
 
-/// [`scan_cells`] compiled for AVX-512.
-#[target_feature(enable = "avx512f,avx2,popcnt")]
-pub(super) fn with_avx512(
-    isa: Avx512,
+compile_for_each_isa!(scan_cells(
     cells: &Cells,
     runs: &[(u32, u32)],
     boxes: &Frame,
     out: &mut Vec<Pair>,
     columns: &mut Columns,
-) -> Counters {
-    scan_cells(isa, cells, runs, boxes, out, columns)
-}
-
-/// [`scan_cells`] compiled for AVX2.
-#[target_feature(enable = "avx2,popcnt")]
-pub(super) fn with_avx2(
-    isa: Avx2,
-    cells: &Cells,
-    runs: &[(u32, u32)],
-    boxes: &Frame,
-    out: &mut Vec<Pair>,
-    columns: &mut Columns,
-) -> Counters {
-    scan_cells(isa, cells, runs, boxes, out, columns)
-}
+) -> Counters);
 
 /// [`super::scan_cells`] for a mask told apart by ranks alone (not `Ranks::pairwise`), `W`
 /// later entries a step.
@@ -138,7 +117,7 @@ fn scan_cells<I: Isa<W>, const W: usize>(
             }
             let mut visits = 0;
             for q in (p + 1..n).step_by(W) {
-                // SAFETY: the columns hold `n + WIDTH` values, so the `W` from `q < n` are
+                // SAFETY: the columns hold `n + MAX_WIDTH` values, so the `W` from `q < n` are
                 // inside them; the store writes `W` pairs at `kept`, and `reserve` made room
                 // for every pair of the cell and `W` more.
                 unsafe {
