@@ -3,7 +3,8 @@
 # On a fresh machine it installs what the tests need from Debian's packages: Verilator (with
 # g++ and make, to build its simulations; gcc and g++ also build the C ABI's C and C++
 # examples), Icarus Verilog, yosys (the gate-level run and the
-# synthesis analysis) and tclsh (the ISE script's check). A missing tool is installed or the
+# synthesis analysis), tclsh (the ISE script's check) and ccache (Verilator's builds compile
+# its runtime once through it instead of once a build). A missing tool is installed or the
 # script fails: no test is skipped for want of one.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,6 +23,7 @@ command -v c++ >/dev/null 2>&1 || need+=(g++)
 command -v make >/dev/null 2>&1 || need+=(make)
 command -v tclsh >/dev/null 2>&1 || need+=(tcl)
 command -v yosys >/dev/null 2>&1 || need+=(yosys)
+command -v ccache >/dev/null 2>&1 || need+=(ccache)
 if [ ${#need[@]} -gt 0 ]; then
   if [ "$(id -u)" != 0 ]; then
     echo "error: missing ${need[*]}; run as root (or install them) so that the HDL tests can run" >&2

@@ -5,7 +5,7 @@
 //! result and compares it with the bit-exact model. `obbcd cosim` is its command line.
 
 use crate::flow::cache;
-use crate::flow::verilator::{hex_word, output, Simulator, BINARY_FLAGS};
+use crate::flow::verilator::{binary_flags, hex_word, output, Runs, Simulator};
 use crate::flow::waves::{Trace, WaveFormat, Waves};
 use anyhow::{bail, Context, Result};
 use obb_model::fixed::{quantize, BroadPhase, HwConfig, ModelFrame, ModelRun, QObb, QuantizeError};
@@ -187,9 +187,14 @@ fn compile_flags(sim: Simulator, level: Level, trace: Option<Trace>) -> Vec<Stri
     let mut flags = Vec::new();
     match sim {
         Simulator::Verilator => {
-            flags.extend(BINARY_FLAGS.map(String::from));
-            if level == Level::Gates {
-                flags.extend(["-Wno-lint", "-Wno-style"].map(String::from));
+            // A netlist runs only small scenes, and its C++ is large (38 MB for a small sweep
+            // core): compiled at `-O0`. The RTL runs whole scenes.
+            match level {
+                Level::Rtl => flags.extend(binary_flags(Runs::Long)),
+                Level::Gates => {
+                    flags.extend(binary_flags(Runs::Short));
+                    flags.extend(["-Wno-lint", "-Wno-style"].map(String::from));
+                }
             }
             if let Some(t) = trace {
                 flags.push(match t.format {
@@ -209,7 +214,7 @@ fn compile_flags(sim: Simulator, level: Level, trace: Option<Trace>) -> Vec<Stri
 fn compile(work: &Path, sim: Simulator, flags: &[String], sources: &[&str]) -> Result<()> {
     match sim {
         Simulator::Verilator => {
-            // `flags` begins with `BINARY_FLAGS`.
+            // `flags` begins with `binary_flags`.
             let mut cmd = Command::new("verilator");
             cmd.current_dir(work).args(flags).args(sources);
             output(&mut cmd, "verilator (build)")?;

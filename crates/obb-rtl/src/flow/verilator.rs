@@ -183,35 +183,57 @@ fn run(cmd: &mut Command, what: &str) -> Result<()> {
     output(cmd, what).map(drop)
 }
 
-/// The Verilator command that builds a test bench (top module `tb`) in `dir` into the
-/// executable `dir/obj/Vtb`; the caller adds options and the sources.
-///
-/// The C++ is compiled at `-O1`, not Verilator's default `-Os`: GCC's `-Os` is superlinear on
-/// the one large evaluation function a grid core becomes (one 1.2 MB file took more than seven
-/// minutes; `-O1` takes ten seconds), while the simulation runs about 1.4 times slower.
-pub fn binary_build(dir: &Path) -> Command {
-    let mut cmd = Command::new("verilator");
-    cmd.current_dir(dir).args(BINARY_FLAGS);
-    cmd
+/// How long the simulations of a Verilator build run, which decides how much its C++ is
+/// optimised: compiling that C++ is most of a short test's time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Runs {
+    /// Whole scenes, up to millions of clocks: the C++ at `-O1`. Not Verilator's default `-Os`:
+    /// GCC's `-Os` is superlinear on the one large evaluation function a grid core becomes (one
+    /// 1.2 MB file took more than seven minutes; `-O1` takes ten seconds), while the simulation
+    /// runs about 1.4 times slower.
+    Long,
+    /// A block's vectors or a few small frames (thousands of clocks): the C++ at `-O0`, which
+    /// compiled a grid block in 26 s of CPU where `-O1` took 43.
+    Short,
 }
 
-/// `binary_build`'s flags (a co-simulation build's cache key holds them).
-pub const BINARY_FLAGS: [&str; 14] = [
-    "--binary",
-    "-j",
-    "2",
-    "-O3",
-    "--top-module",
-    "tb",
-    "-MAKEFLAGS",
-    "OPT_FAST=-O1 OPT_GLOBAL=-O1",
-    "-Wno-fatal",
-    "-Wno-WIDTH",
-    "-Wno-DECLFILENAME",
-    "-Wno-UNUSED",
-    "--Mdir",
-    "obj",
-];
+/// The flags of a Verilator build of a test bench (top module `tb`) into the executable
+/// `obj/Vtb` of its directory, for simulations that run `runs` (a build's cache key holds the
+/// flags). Where `ccache` is on the PATH the C++ compiler runs through it: Verilator's own
+/// runtime, the same in every build, is then compiled once (about 11 s of CPU a build).
+pub fn binary_flags(runs: Runs) -> Vec<String> {
+    let opt = match runs {
+        Runs::Long => "-O1",
+        Runs::Short => "-O0",
+    };
+    let mut make = format!("OPT_FAST={opt} OPT_SLOW={opt} OPT_GLOBAL=-O1");
+    if has_ccache() {
+        make.push_str(" OBJCACHE=ccache");
+    }
+    let flags = [
+        "--binary",
+        "-j",
+        "2",
+        "-O3",
+        "--top-module",
+        "tb",
+        "-MAKEFLAGS",
+        &make,
+        "-Wno-fatal",
+        "-Wno-WIDTH",
+        "-Wno-DECLFILENAME",
+        "-Wno-UNUSED",
+        "--Mdir",
+        "obj",
+    ];
+    flags.map(String::from).to_vec()
+}
+
+/// Whether `ccache` runs here (asked once).
+fn has_ccache() -> bool {
+    static HAS: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *HAS.get_or_init(|| Command::new("ccache").arg("--version").output().is_ok())
+}
 
 /// A Verilog simulator: Verilator for speed, Icarus as a second opinion.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -248,17 +270,17 @@ pub fn simulate_with(
     };
     match sim {
         Simulator::Verilator => {
+            let flags = binary_flags(Runs::Short);
             let build = |at: &Path| {
                 sources(at)?;
-                run(
-                    binary_build(at).args(["tb.v", "dut.v"]),
-                    "verilator (build)",
-                )
+                let mut cmd = Command::new("verilator");
+                cmd.current_dir(at).args(&flags).args(["tb.v", "dut.v"]);
+                run(&mut cmd, "verilator (build)")
             };
             let built = match cache {
                 Some(cache) => {
                     let version = output(Command::new("verilator").arg("--version"), "verilator")?;
-                    let flags = BINARY_FLAGS.join(" ");
+                    let flags = flags.join(" ");
                     let parts = [&bench, verilog, &flags, &version].map(str::as_bytes);
                     let name = format!("block-{top}-{}", cache::key(&parts));
                     cache::entry(cache, &name, build)?.0
