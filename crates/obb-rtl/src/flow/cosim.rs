@@ -5,7 +5,7 @@
 //! result and compares it with the bit-exact model. `obbcd cosim` is its command line.
 
 use crate::flow::cache;
-use crate::flow::verilator::{binary_flags, hex_word, output, Runs, Simulator};
+use crate::flow::verilator::{binary_flags, hex_word, output, Runs, Simulator, Warnings};
 use crate::flow::waves::{Trace, WaveFormat, Waves};
 use anyhow::{bail, Context, Result};
 use obb_model::fixed::{quantize, BroadPhase, HwConfig, ModelFrame, ModelRun, QObb, QuantizeError};
@@ -190,9 +190,9 @@ fn compile_flags(sim: Simulator, level: Level, trace: Option<Trace>) -> Vec<Stri
             // A netlist runs only small scenes, and its C++ is large (38 MB for a small sweep
             // core): compiled at `-O0`. The RTL runs whole scenes.
             match level {
-                Level::Rtl => flags.extend(binary_flags(Runs::Long)),
+                Level::Rtl => flags.extend(binary_flags(Runs::Long, Warnings::Printed)),
                 Level::Gates => {
-                    flags.extend(binary_flags(Runs::Short));
+                    flags.extend(binary_flags(Runs::Short, Warnings::Printed));
                     flags.extend(["-Wno-lint", "-Wno-style"].map(String::from));
                 }
             }

@@ -197,11 +197,32 @@ pub enum Runs {
     Short,
 }
 
+/// What a Verilator build does with the warnings of its Verilog.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Warnings {
+    /// Printed, and the build goes on: a core with its hand-written test bench (`sim/`), which
+    /// `lint` checks on its own where the tests need it.
+    Printed,
+    /// Every warning [`lint`] reports fails the build, and the build is the lint: Verilator
+    /// parses and checks a large design once instead of twice (a grid block's lint took 5 to
+    /// 12 s of the two cores, as long as its translation to C++). The generated test bench's
+    /// own warnings (the ports a test leaves unconnected) are off ([`BENCH_LINT_OFF`]).
+    Fatal,
+}
+
+/// A Verilator configuration file that turns every warning off in the generated test bench
+/// (`tb.v`), so that a [`Warnings::Fatal`] build reports only the design's.
+pub const BENCH_LINT_OFF: &str = "`verilator_config\nlint_off -file \"*tb.v\"\n";
+
+/// Warnings neither the lint nor a build reports: WIDTH (rust-hdl writes 32-bit literals),
+/// DECLFILENAME and UNUSED.
+const QUIET: [&str; 3] = ["-Wno-WIDTH", "-Wno-DECLFILENAME", "-Wno-UNUSED"];
+
 /// The flags of a Verilator build of a test bench (top module `tb`) into the executable
 /// `obj/Vtb` of its directory, for simulations that run `runs` (a build's cache key holds the
 /// flags). Where `ccache` is on the PATH the C++ compiler runs through it: Verilator's own
 /// runtime, the same in every build, is then compiled once (about 11 s of CPU a build).
-pub fn binary_flags(runs: Runs) -> Vec<String> {
+pub fn binary_flags(runs: Runs, warnings: Warnings) -> Vec<String> {
     let opt = match runs {
         Runs::Long => "-O1",
         Runs::Short => "-O0",
@@ -219,14 +240,19 @@ pub fn binary_flags(runs: Runs) -> Vec<String> {
         "tb",
         "-MAKEFLAGS",
         &make,
-        "-Wno-fatal",
-        "-Wno-WIDTH",
-        "-Wno-DECLFILENAME",
-        "-Wno-UNUSED",
         "--Mdir",
         "obj",
     ];
-    flags.map(String::from).to_vec()
+    let policy: &[&str] = match warnings {
+        Warnings::Printed => &["-Wno-fatal"],
+        Warnings::Fatal => &["-Wall"],
+    };
+    flags
+        .iter()
+        .chain(policy)
+        .chain(&QUIET)
+        .map(|f| f.to_string())
+        .collect()
 }
 
 /// Whether `ccache` runs here (asked once).
@@ -245,7 +271,9 @@ pub enum Simulator {
 /// Simulates `verilog` (top module `top`, clocked by `clock`) in `sim` on one input vector per
 /// clock and returns the outputs after each rising edge. The files of the run are written in
 /// `dir`; a Verilator build is taken from `cache` (`cache::entry`, keyed by the test bench, the
-/// design, the flags and Verilator's version) when one is given, else built in `dir`.
+/// design, the flags and Verilator's version) when one is given, else built in `dir`. The
+/// Verilator build lints the design as [`lint`] does ([`Warnings::Fatal`]): a design with a
+/// warning is an error, and a cached build passed the lint.
 #[allow(clippy::too_many_arguments)]
 pub fn simulate_with(
     sim: Simulator,
@@ -270,18 +298,22 @@ pub fn simulate_with(
     };
     match sim {
         Simulator::Verilator => {
-            let flags = binary_flags(Runs::Short);
+            let flags = binary_flags(Runs::Short, Warnings::Fatal);
             let build = |at: &Path| {
                 sources(at)?;
+                std::fs::write(at.join("bench.vlt"), BENCH_LINT_OFF)?;
                 let mut cmd = Command::new("verilator");
-                cmd.current_dir(at).args(&flags).args(["tb.v", "dut.v"]);
-                run(&mut cmd, "verilator (build)")
+                cmd.current_dir(at)
+                    .args(&flags)
+                    .args(["bench.vlt", "tb.v", "dut.v"]);
+                run(&mut cmd, "verilator (lint and build)")
             };
             let built = match cache {
                 Some(cache) => {
                     let version = output(Command::new("verilator").arg("--version"), "verilator")?;
                     let flags = flags.join(" ");
-                    let parts = [&bench, verilog, &flags, &version].map(str::as_bytes);
+                    let parts =
+                        [&bench, verilog, &flags, BENCH_LINT_OFF, &version].map(str::as_bytes);
                     let name = format!("block-{top}-{}", cache::key(&parts));
                     cache::entry(cache, &name, build)?.0
                 }
@@ -350,13 +382,8 @@ pub fn lint(dir: &Path, verilog: &str, top: &str) -> Result<()> {
     run(
         Command::new("verilator")
             .current_dir(dir)
-            .args([
-                "--lint-only",
-                "-Wall",
-                "-Wno-WIDTH",
-                "-Wno-DECLFILENAME",
-                "-Wno-UNUSED",
-            ])
+            .args(["--lint-only", "-Wall"])
+            .args(QUIET)
             .args(["--top-module", top, "lint.v"]),
         "verilator --lint-only",
     )
@@ -373,6 +400,37 @@ mod tests {
         let word = pack(&ports, &values);
         assert_eq!(word.len(), 17);
         assert_eq!(unpack(&ports, &word).unwrap(), values);
+    }
+
+    /// A block's build is its lint: a latch fails it as it fails `lint`, while the test
+    /// bench's own warnings (here an output it leaves unconnected) do not.
+    #[test]
+    fn a_block_build_lints_the_design_and_not_the_bench() {
+        let block = |body: &str| {
+            format!(
+                "module m(input clock, input [3:0] a, output reg [3:0] q, output [3:0] r);\n\
+                 {body}\nalways @(posedge clock) q <= a;\nendmodule\n"
+            )
+        };
+        let clean = block("assign r = ~a;");
+        let latch = block("reg [3:0] l;\nalways @(*) if (a[0]) l = a;\nassign r = l;");
+        let (inputs, outputs) = ([Port::new("a", 4)], [Port::new("q", 4)]);
+        let vectors = vec![vec![5], vec![9]];
+        let run = |verilog: &str| {
+            let dir = scratch_dir("m").unwrap();
+            simulate(
+                &dir, None, verilog, "m", "clock", &inputs, &outputs, &vectors,
+            )
+        };
+        assert_eq!(run(&clean).unwrap(), [[5], [9]]);
+        let dir = scratch_dir("m").unwrap();
+        lint(&dir, &clean, "m").unwrap();
+        for e in [
+            lint(&dir, &latch, "m").unwrap_err(),
+            run(&latch).unwrap_err(),
+        ] {
+            assert!(format!("{e:#}").contains("%Warning-LATCH"), "{e:#}");
+        }
     }
 
     #[test]
