@@ -205,14 +205,14 @@ pub enum Warnings {
     Printed,
     /// Every warning [`lint`] reports fails the build, and the build is the lint: Verilator
     /// parses and checks a large design once instead of twice (a grid block's lint took 5 to
-    /// 12 s of the two cores, as long as its translation to C++). The generated test bench's
-    /// own warnings (the ports a test leaves unconnected) are off ([`BENCH_LINT_OFF`]).
+    /// 12 s of CPU, as long as its translation to C++). The generated test bench's
+    /// own warnings (the ports a test leaves unconnected) are off (`BENCH_LINT_OFF`).
     Fatal,
 }
 
 /// A Verilator configuration file that turns every warning off in the generated test bench
 /// (`tb.v`), so that a [`Warnings::Fatal`] build reports only the design's.
-pub const BENCH_LINT_OFF: &str = "`verilator_config\nlint_off -file \"*tb.v\"\n";
+const BENCH_LINT_OFF: &str = "`verilator_config\nlint_off -file \"*tb.v\"\n";
 
 /// Warnings neither the lint nor a build reports: WIDTH (rust-hdl writes 32-bit literals),
 /// DECLFILENAME and UNUSED.
