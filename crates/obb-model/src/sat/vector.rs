@@ -35,6 +35,12 @@ pub(super) fn fits(n: usize) -> bool {
 /// Pairs taken at a time through the three passes of [`retain_colliding`]: small enough that
 /// their boxes are still in the caches when the second pass reads them again.
 const BLOCK: usize = 1024;
+/// The first pass prefetches the boxes of the step this many steps ahead. A step's work (two
+/// boxes of `W` pairs read and transposed, and the segment test: about 330 instructions with
+/// AVX2) is more than the CPU's reorder buffer holds, so without it a step's box reads, mostly
+/// from L3, hardly overlap any other step's work: on AMD's Zen 3, 2 to 8 steps ahead took 0.1
+/// ms off the surgical scene's all-pairs frame (3 %), alike.
+const PREFETCH_STEPS: usize = 4;
 
 compile_for_each_isa!(retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) -> ());
 
@@ -82,6 +88,9 @@ fn retain_colliding<I: Isa<W>, const W: usize>(
         let steps = len.div_ceil(W);
         let mut open = 0;
         for (s, hit) in colliding.iter_mut().enumerate().take(steps) {
+            // SAFETY: the pairs below `n` are inside `pairs`, not yet written by any third
+            // pass (which writes at most up to the current block).
+            unsafe { prefetch_boxes(obbs, base, n, block + (s + PREFETCH_STEPS) * W, W) };
             let live = isa.first(len - s * W);
             // SAFETY: every pair's boxes are inside both slices, checked above.
             let shares = unsafe { Front::of(isa, obbs, slack, &step(at, s)) }.shares_a_point(isa);
@@ -123,6 +132,29 @@ fn retain_colliding<I: Isa<W>, const W: usize>(
         }
     }
     pairs.truncate(kept);
+}
+
+/// Prefetches into the first-level cache both boxes of the `w` pairs from `at` (those below
+/// `n`): each box is 128 bytes, and its bytes 0, 64 and 127 lie on every line it covers (two or
+/// three, as it is aligned).
+/// SAFETY: the pairs below `n` must be readable at `pairs`.
+#[inline(always)]
+unsafe fn prefetch_boxes(obbs: &[Obb], pairs: *const [u32; 2], n: usize, at: usize, w: usize) {
+    use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+    for k in at..(at + w).min(n) {
+        // SAFETY: `k < n`, the caller's promise.
+        for i in unsafe { *pairs.add(k) } {
+            // A prefetch never faults; the address is only a hint (`wrapping_add`: not even an
+            // index checked by the caller is needed).
+            let b = obbs.as_ptr().wrapping_add(i as usize).cast::<i8>();
+            // SAFETY: SSE, which every x86_64 CPU has.
+            unsafe {
+                _mm_prefetch::<_MM_HINT_T0>(b);
+                _mm_prefetch::<_MM_HINT_T0>(b.wrapping_add(64));
+                _mm_prefetch::<_MM_HINT_T0>(b.wrapping_add(size_of::<Obb>() - 1));
+            }
+        }
+    }
 }
 
 /// The pairs of step `s` of `at`, the last pair repeated past the end of `at`.
@@ -232,8 +264,8 @@ impl<F: Lanes> Front<F> {
             (room_a[k], room_b[k]) = (self.ah[k] - m, self.bh[k] - m);
             (t[k], u[k]) = (self.t[k].abs(), self.u[k].abs());
         }
-        // The largest α the first box allows, and the largest 1 - α the second allows (a NaN
-        // ratio, from a zero offset, leaves them as they are).
+        // The largest α the first box allows, and the largest 1 - α the second allows (a zero
+        // offset's ratio, infinite or NaN, leaves them as they are).
         let (mut hi, mut lo) = (one, one);
         for k in 0..3 {
             hi = (room_a[k] * t[k].recip()).min(hi);

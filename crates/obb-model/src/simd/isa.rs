@@ -116,7 +116,7 @@ pub(crate) trait Lanes:
     fn le(self, other: Self) -> Self::Mask;
     /// The lanes where `self > other` (false on NaN).
     fn gt(self, other: Self) -> Self::Mask;
-    /// An approximation of `1 / self`, to about 12 bits or better.
+    /// An approximation of `1 / self`, to about 12 bits or better (or exact).
     fn recip(self) -> Self;
 }
 
