@@ -2,7 +2,7 @@
 //! run, with the growth of the run time from the smallest to the largest uniform scene.
 
 use crate::parry::ParryScene;
-use crate::timing::{race, turn, warm_median_ms, Contender};
+use crate::timing::{median, race, turn, warm_median_ms, Contender};
 use anyhow::{Context, Result};
 use clap::Args;
 use obb_model::generate::{surgical, uniform, SURGICAL_DEFAULT_N, UNIFORM_DEFAULT_DENSITY};
@@ -33,12 +33,26 @@ pub struct BenchArgs {
     /// ... for at least this many rounds (and until each has `--repeat` timed runs).
     #[arg(long, default_value_t = 5)]
     rounds: usize,
+    /// Races of the grid against parry3d per scene: each gives a speed-up of its own, and the
+    /// `speedup` lines list them with their min, median and max (the table: the medians).
+    #[arg(long, default_value_t = 1)]
+    runs: usize,
     /// Quadratic engines (brute, sap, improved-sap) only up to this many boxes.
     #[arg(long, default_value_t = 20_000)]
     quadratic_max: usize,
     /// Also write the table as CSV.
     #[arg(long)]
     csv: Option<PathBuf>,
+}
+
+/// The grid's speed-up over parry3d (parry3d's median frame over the grid's) in each race on
+/// one scene, with the grid on `threads` threads.
+struct Speedup {
+    scene: String,
+    n: usize,
+    groups: GroupMask,
+    threads: usize,
+    runs: Vec<f64>,
 }
 
 struct Row {
@@ -141,6 +155,7 @@ fn bench_scene(
     mask: &GroupMask,
     a: &BenchArgs,
     rows: &mut Vec<Row>,
+    speedups: &mut Vec<Speedup>,
 ) -> Result<()> {
     let n = scene.obbs.len();
     let all_threads = rayon::current_num_threads();
@@ -168,12 +183,32 @@ fn bench_scene(
             continue;
         }
         let pairs = if kind == EngineKind::Grid {
-            let (medians, (pairs, visits), pairs_parry) = race_grid(scene, mask, a, &single);
-            add(kind.name(), all_threads, medians[0], &pairs, visits);
-            if all_threads > 1 {
-                add(kind.name(), 1, medians[1], &pairs, visits);
+            // Each race's medians: the grid on all threads, on 1 (when more), parry3d last.
+            let mut races = Vec::new();
+            let mut found = None;
+            for _ in 0..a.runs {
+                let (medians, grid, pairs_parry) = race_grid(scene, mask, a, &single);
+                races.push(medians);
+                found = Some((grid, pairs_parry));
             }
-            parry = Some((medians[medians.len() - 1], pairs_parry));
+            let ((pairs, visits), pairs_parry) = found.context("--runs is at least 1")?;
+            let last = races[0].len() - 1;
+            let over_races = |k: usize| median(&mut races.iter().map(|m| m[k]).collect::<Vec<_>>());
+            let mut threads = vec![all_threads];
+            if all_threads > 1 {
+                threads.push(1);
+            }
+            for (k, &t) in threads.iter().enumerate() {
+                add(kind.name(), t, over_races(k), &pairs, visits);
+                speedups.push(Speedup {
+                    scene: name.into(),
+                    n,
+                    groups: mask.clone(),
+                    threads: t,
+                    runs: races.iter().map(|m| m[last] / m[k]).collect(),
+                });
+            }
+            parry = Some((over_races(last), pairs_parry));
             pairs
         } else {
             let (ms, pairs, visits) = time_engine(kind, scene, mask, a);
@@ -249,16 +284,25 @@ fn report_disagreement(
 }
 
 pub fn run(a: BenchArgs) -> Result<()> {
+    anyhow::ensure!(a.runs >= 1, "--runs must be at least 1");
     let mut rows = Vec::new();
+    let mut speedups = Vec::new();
     let surg = surgical(a.surgical_n, 1)?;
     for mask in [GroupMask::All, GroupMask::Cross] {
         eprintln!("surgical {} groups={mask}", a.surgical_n);
-        bench_scene("surgical", &surg, &mask, &a, &mut rows)?;
+        bench_scene("surgical", &surg, &mask, &a, &mut rows, &mut speedups)?;
     }
     for &n in &a.sizes {
         eprintln!("uniform {n}");
         let scene = uniform(n, 1, UNIFORM_DEFAULT_DENSITY)?;
-        bench_scene("uniform", &scene, &GroupMask::All, &a, &mut rows)?;
+        bench_scene(
+            "uniform",
+            &scene,
+            &GroupMask::All,
+            &a,
+            &mut rows,
+            &mut speedups,
+        )?;
     }
     let mut table = String::from("scene,n,groups,engine,threads,time_ms,pairs,visits\n");
     for r in &rows {
@@ -269,6 +313,22 @@ pub fn run(a: BenchArgs) -> Result<()> {
         )?;
     }
     print!("{table}");
+    for s in &mut speedups {
+        let list: Vec<String> = s.runs.iter().map(|r| format!("{r:.1}")).collect();
+        let (min, max) = s
+            .runs
+            .iter()
+            .fold((f64::MAX, 0.0f64), |(lo, hi), &r| (lo.min(r), hi.max(r)));
+        let mid = median(&mut s.runs);
+        println!(
+            "speedup {} {} groups={} threads={}: {}x (min {min:.1}, median {mid:.1}, max {max:.1})",
+            s.scene,
+            s.n,
+            s.groups,
+            s.threads,
+            list.join(" ")
+        );
+    }
     // How the time grows over the uniform sizes: the exponent k in time ~ n^k.
     if let (Some(&lo), Some(&hi)) = (a.sizes.iter().min(), a.sizes.iter().max()) {
         if hi > lo {

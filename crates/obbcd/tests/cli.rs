@@ -113,7 +113,7 @@ fn bad_input_fails_with_a_message() {
     .unwrap();
     let typed = tmp("typed.json");
     std::fs::write(&typed, r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]},{"center":[0,0,0],"axes":[[1,0,0],[0,1,"x"],[0,0,1]],"half":[1,1,1]}]}"#).unwrap();
-    let cases: [(&[&str], &str); 12] = [
+    let cases: [(&[&str], &str); 13] = [
         (
             &["detect", "--scene", bad.to_str().unwrap()],
             "obb 0: field `half` has -1",
@@ -179,8 +179,67 @@ fn bad_input_fails_with_a_message() {
             ],
             "the waveform window is empty",
         ),
+        (&["bench", "--runs", "0"], "--runs must be at least 1"),
     ];
     fails_with(&cases);
+}
+
+/// `bench --runs N` races the grid against parry3d N times per scene and prints, per scene and
+/// thread count, each race's speed-up (parry3d's median frame over the grid's) with their min,
+/// median and max; the table's times are the medians over the races.
+#[test]
+fn bench_lists_the_speedup_of_every_race() {
+    let out = ok(&[
+        "bench",
+        "--sizes",
+        "300",
+        "--surgical-n",
+        "500",
+        "--repeat",
+        "2",
+        "--runs",
+        "3",
+        "--warmup-ms",
+        "1",
+        "--turn-ms",
+        "2",
+        "--rounds",
+        "1",
+        "--quadratic-max",
+        "0",
+    ]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().filter(|l| l.starts_with("speedup ")).collect();
+    // Three scenes (surgical all pairs and cross-group, uniform), the grid on all threads and,
+    // where there are more, on one.
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    assert_eq!(lines.len(), if threads > 1 { 6 } else { 3 }, "{text}");
+    for scene in [
+        "surgical 500 groups=all",
+        "surgical 500 groups=cross",
+        "uniform 300 groups=all",
+    ] {
+        assert!(
+            lines.iter().any(|l| l.contains(scene)),
+            "no {scene} in {text}"
+        );
+    }
+    for line in lines {
+        let (runs, summary) = line
+            .split_once(": ")
+            .and_then(|(_, rest)| rest.split_once("x (min "))
+            .unwrap_or_else(|| panic!("`{line}` is not `speedup ...: r r rx (min ...)`"));
+        let mut runs: Vec<f64> = runs.split(' ').map(|r| r.parse().unwrap()).collect();
+        assert_eq!(runs.len(), 3, "{line}");
+        assert!(runs.iter().all(|&r| r > 0.0 && r.is_finite()), "{line}");
+        runs.sort_by(f64::total_cmp);
+        let summary: Vec<f64> = summary
+            .trim_end_matches(')')
+            .split(", ")
+            .map(|part| part.rsplit(' ').next().unwrap().parse().unwrap())
+            .collect();
+        assert_eq!(summary, [runs[0], runs[1], runs[2]], "{line}");
+    }
 }
 
 #[test]
