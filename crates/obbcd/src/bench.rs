@@ -315,11 +315,9 @@ pub fn run(a: BenchArgs) -> Result<()> {
     print!("{table}");
     for s in &mut speedups {
         let list: Vec<String> = s.runs.iter().map(|r| format!("{r:.1}")).collect();
-        let (min, max) = s
-            .runs
-            .iter()
-            .fold((f64::MAX, 0.0f64), |(lo, hi), &r| (lo.min(r), hi.max(r)));
+        // `median` sorts the runs: the least and the greatest are then at the ends.
         let mid = median(&mut s.runs);
+        let (min, max) = (s.runs[0], s.runs[s.runs.len() - 1]);
         println!(
             "speedup {} {} groups={} threads={}: {}x (min {min:.1}, median {mid:.1}, max {max:.1})",
             s.scene,
