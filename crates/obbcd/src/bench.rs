@@ -7,10 +7,11 @@ use anyhow::{Context, Result};
 use clap::Args;
 use obb_model::generate::{surgical, uniform, SURGICAL_DEFAULT_N, UNIFORM_DEFAULT_DENSITY};
 use obb_model::sat::obbs_collide;
+use obb_model::simd::Vectors;
 use obb_model::{Counters, Engine, EngineKind, GroupMask, Pair, Prepared, Scene};
 use std::fmt::Write as _;
 use std::path::PathBuf;
-use std::time::Duration;
+use std::time::{Duration, SystemTime};
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -283,8 +284,38 @@ fn report_disagreement(
     Ok(())
 }
 
+/// When and where the figures were measured: they differ from CPU to CPU and from hour to hour
+/// on a shared machine (README, "Performance"), so a run says which it was.
+fn measured_on() -> String {
+    format!(
+        "bench {}, {}, vector code {:?}, {} threads",
+        humantime::format_rfc3339_seconds(SystemTime::now()),
+        cpu().unwrap_or_else(|| "CPU unknown".into()),
+        Vectors::detected(),
+        rayon::current_num_threads()
+    )
+}
+
+/// The CPU's name, family and model, as Linux's `/proc/cpuinfo` gives them (x86's numbering;
+/// elsewhere only the fields there are).
+fn cpu() -> Option<String> {
+    let info = std::fs::read_to_string("/proc/cpuinfo").ok()?;
+    let field = |key: &str| {
+        info.lines().find_map(|l| {
+            let (k, v) = l.split_once(':')?;
+            (k.trim() == key).then(|| v.trim().to_string())
+        })
+    };
+    let name = field("model name")?;
+    Some(match (field("cpu family"), field("model")) {
+        (Some(family), Some(model)) => format!("{name} (family {family}, model {model})"),
+        _ => name,
+    })
+}
+
 pub fn run(a: BenchArgs) -> Result<()> {
     anyhow::ensure!(a.runs >= 1, "--runs must be at least 1");
+    println!("{}", measured_on());
     let mut rows = Vec::new();
     let mut speedups = Vec::new();
     let surg = surgical(a.surgical_n, 1)?;

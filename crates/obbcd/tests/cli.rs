@@ -186,7 +186,8 @@ fn bad_input_fails_with_a_message() {
 
 /// `bench --runs N` races the grid against parry3d N times per scene and prints, per scene and
 /// thread count, each race's speed-up (parry3d's median frame over the grid's) with their min,
-/// median and max; the table's times are the medians over the races.
+/// median and max; the table's times are the medians over the races. Its first line says when,
+/// on which CPU and with which vector code it measured.
 #[test]
 fn bench_lists_the_speedup_of_every_race() {
     let out = ok(&[
@@ -209,6 +210,20 @@ fn bench_lists_the_speedup_of_every_race() {
         "0",
     ]);
     let text = String::from_utf8(out.stdout).unwrap();
+    // It says first when (UTC), on which CPU and with which vector code it measured.
+    let head = text.lines().next().unwrap_or_default();
+    let stamp = head
+        .strip_prefix("bench ")
+        .and_then(|r| r.split(", ").next());
+    assert!(
+        stamp.is_some_and(|t| humantime::parse_rfc3339(t).is_ok()),
+        "`{head}` does not start with `bench <UTC time>, `"
+    );
+    let vectors = format!("vector code {:?}", obb_model::simd::Vectors::detected());
+    assert!(
+        head.contains(&vectors),
+        "`{head}` does not name the {vectors}"
+    );
     let lines: Vec<&str> = text.lines().filter(|l| l.starts_with("speedup ")).collect();
     // Three scenes (surgical all pairs and cross-group, uniform), the grid on all threads and,
     // where there are more, on one.
