@@ -76,7 +76,7 @@ fn time_engine(
 ) -> (f64, Vec<Pair>, u64) {
     let mut run = FrameLoop::new(kind);
     // The frame loop runs on a worker of the current pool, as a real-time loop should: a call
-    // from outside the pool pays a thread wake-up per parallel phase (README, "Performance").
+    // from outside the pool pays a thread wake-up per parallel phase (README, "Measured figures").
     let (ms, ()) = rayon::scope(|_| {
         warm_median_ms(Duration::from_millis(a.warmup_ms), a.repeat, || {
             run.frame(scene, mask)
@@ -285,7 +285,7 @@ fn report_disagreement(
 }
 
 /// When and where the figures were measured: they differ from CPU to CPU and from hour to hour
-/// on a shared machine (README, "Performance"), so a run says which it was.
+/// on a shared machine (README, "Measured figures"), so a run says which it was.
 fn measured_on() -> String {
     format!(
         "bench {}, {}, vector code {:?}, {} threads",

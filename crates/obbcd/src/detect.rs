@@ -162,7 +162,7 @@ fn run_cpu(a: &DetectArgs, scene: &Scene, kind: EngineKind) -> Result<Vec<Pair>>
     let mut pairs = Vec::new();
     // Timed: the per-frame work (AABBs, SAT slack, broad and narrow phase), scene already loaded.
     // The loop runs on a pool worker, as a real-time loop should: a call from outside the pool
-    // pays a thread wake-up per parallel phase (README, "Performance").
+    // pays a thread wake-up per parallel phase (README, "Measured figures").
     let (ms, counters) = rayon::scope(|_| {
         median_ms(a.repeat, || {
             let frame = boxes.update(&scene.obbs);
