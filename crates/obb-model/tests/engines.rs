@@ -70,6 +70,44 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Boxes of one size on a lattice, spaced at their edge (faces touching), a hair closer or
+    /// a hair apart, turned a little or not: every AABB is as large as the largest, so the
+    /// grid takes the corner layout, with neighbours' lower corners about one cell edge apart.
+    /// A box of the same size at `anchor` lattice steps below it sets where the cells start,
+    /// so the lattice falls anywhere in them. The pairs and SAT tests equal brute force's.
+    #[test]
+    fn corner_layout_on_touching_lattices(
+        half in prop_oneof![Just(0.5), Just(0.3), Just(1.7), Just(1e-3)],
+        gap in prop_oneof![Just(1.0), Just(1.0 - 1e-12), Just(1.0 + 1e-12), Just(0.999), Just(1.001)],
+        turn in prop_oneof![Just(0.0), -0.2..0.2f64],
+        origin in prop::array::uniform3(-1e3..1e3f64),
+        anchor in prop::array::uniform3(1.0..9.0f64),
+    ) {
+        let axes = common::axes_of([1.0, turn, 0.5 * turn, 0.0]);
+        let step = 2.0 * half * gap;
+        let place = |at: [f64; 3]| obb_model::Obb {
+            center: std::array::from_fn(|x| origin[x] + at[x] * step),
+            axes,
+            half: [half; 3],
+            group: 0,
+        };
+        let mut obbs: Vec<_> = (0..150)
+            .map(|i| place([i % 6, i / 6 % 5, i / 30].map(f64::from)))
+            .collect();
+        obbs.push(place(anchor.map(|a| -a)));
+        let scene = Scene { obbs };
+        let mut prepared = Prepared::default();
+        let boxes = prepared.update(&scene.obbs);
+        let mut grid = Grid::default();
+        grid.detect(&boxes, &GroupMask::All, &mut Vec::new());
+        prop_assert!(grid.stats().corner, "boxes of one size take the corner layout");
+        check_all_engines(&scene, &GroupMask::All);
+    }
+}
+
 #[test]
 fn every_box_overlapping_every_other() {
     // 60 boxes around one point: all 1,770 pairs collide.

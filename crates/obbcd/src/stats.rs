@@ -54,7 +54,8 @@ pub fn run(a: StatsArgs) -> Result<()> {
     grid.detect(&boxes, &GroupMask::All, &mut Vec::new());
     let g = grid.stats();
     println!(
-        "grid cell_mm={:.4} dims={}x{}x{} entries={} entries_per_box={:.2} max_per_cell={} large={}",
+        "grid layout={} cell_mm={:.4} dims={}x{}x{} entries={} entries_per_box={:.2} max_per_cell={} large={}",
+        if g.corner { "corner" } else { "regular" },
         g.geometry.cell,
         g.geometry.dims[0],
         g.geometry.dims[1],

@@ -13,6 +13,11 @@
 //! classes' flags cover all three axes and the mask allows their ranks) and for overlapping
 //! AABBs: only the wanted pairs count as visits, and each overlapping pair is kept once.
 //!
+//! When every pair is wanted and the boxes are of similar sizes, the grid takes the *corner*
+//! layout instead (`corner`): cells a little larger than the largest AABB, each box entered
+//! once, in the cell of its AABB's lower corner, and each cell meeting itself and 13 of its
+//! neighbours.
+//!
 //! When the mask excludes the pairs inside the largest group (tissue, for cross-group
 //! detection), only the other groups are entered and sorted; each box of the largest group then
 //! probes the cells it covers (see `Grid::build`).
@@ -21,6 +26,7 @@
 //! AABBs) of the groups the mask pairs it with has no pair, and is not entered: cross-group on
 //! the surgical scene, all but a few dozen of the instruments' 7,500 boxes (`Ranks::may_pair`).
 
+mod corner;
 mod geometry;
 mod occupied;
 mod ranks;
@@ -39,11 +45,12 @@ use crate::groups::GroupMask;
 use crate::prepared::Frame;
 use crate::radix::bits_for;
 use crate::simd::Vectors;
+use corner::{Corner, CornerCell};
 use geometry::{choose_cell, CELL_PER_MEDIAN_EDGE, PROBING_CELL_PER_MEDIAN_EDGE};
 use occupied::Occupied;
 use ranks::Ranks;
 use rayon::prelude::*;
-use scan::{probe, scan_cells, scan_large, CellEntry, Cells, Columns};
+use scan::{probe, scan_cells, scan_corner, scan_large, CellEntry, Cells, Columns};
 use slab::{Layout, Slab};
 
 /// A box covering more cells than this is not entered in the grid but tested against every box:
@@ -81,6 +88,11 @@ struct Task {
 #[derive(Debug, Default)]
 pub struct Grid {
     cell: Option<f64>,
+    /// Never the corner layout (the tests of the regular layout's scan set it).
+    regular_only: bool,
+    /// The corner layout's buffers, and whether the last detection used it.
+    corner: Corner,
+    cornered: bool,
     geometry: GridGeometry,
     ranks: Ranks,
     keys: Vec<u64>,
@@ -116,6 +128,8 @@ pub struct GridStats {
     pub large: usize,
     /// Most boxes in one cell.
     pub max_per_cell: usize,
+    /// Whether the corner layout took the detection (one entry per box, `corner`).
+    pub corner: bool,
 }
 
 impl Grid {
@@ -133,6 +147,15 @@ impl Grid {
     }
 
     pub fn stats(&self) -> GridStats {
+        if self.cornered {
+            return GridStats {
+                geometry: self.corner.geometry,
+                entries: self.corner.len(),
+                large: 0,
+                max_per_cell: self.corner.max_per_cell(),
+                corner: true,
+            };
+        }
         GridStats {
             geometry: self.geometry,
             entries: self.keys.len(),
@@ -143,24 +166,15 @@ impl Grid {
                 .map(|&(s, e)| (e - s) as usize)
                 .max()
                 .unwrap_or(usize::from(!self.keys.is_empty())),
+            corner: false,
         }
     }
 
     /// Enters the boxes in their cells (or in the large list), sorts the entries by key, and
     /// finds the cells with pairs to examine, in slabs of z layers on all threads.
     /// `self.ranks` must be up to date for `boxes` and the mask.
-    fn build(&mut self, boxes: &Frame) {
+    fn build(&mut self, boxes: &Frame, cell: f64) {
         let aabbs = boxes.aabbs;
-        let cell = match self.cell {
-            Some(c) => c,
-            None => {
-                let factor = match self.ranks.sparse {
-                    Some(_) => PROBING_CELL_PER_MEDIAN_EDGE,
-                    None => CELL_PER_MEDIAN_EDGE,
-                };
-                choose_cell(aabbs, factor, &mut self.scratch)
-            }
-        };
         let g = GridGeometry::fit(boxes.bounds.min, boxes.bounds.max, cell);
         self.geometry = g;
         // When the mask excludes pairs inside the largest group, a box of that group only pairs
@@ -218,31 +232,105 @@ impl Grid {
         }
         let work = total + prober.map_or(0, |_| aabbs.len());
         self.threads = if work < PARALLEL_MIN_WORK { 1 } else { threads };
-        self.cut_runs(self.threads);
-    }
-
-    /// Cuts the runs into chunks of about equal pair work: dense cells lie together in key
-    /// order and would otherwise load one thread.
-    fn cut_runs(&mut self, threads: usize) {
-        let work = |&(s, e): &(u32, u32)| {
+        let pairs = |&(s, e): &(u32, u32)| {
             let len = (e - s) as usize;
             len * (len - 1) / 2
         };
-        let total: usize = self.runs.iter().map(work).sum();
-        let target = total.div_ceil(threads * CHUNKS_PER_THREAD).max(1);
-        self.cuts.clear();
-        self.cuts.push(0);
-        let mut acc = 0;
-        for (r, run) in self.runs.iter().enumerate() {
-            acc += work(run);
-            if acc >= target {
-                self.cuts.push(r + 1);
-                acc = 0;
+        cut_by_work(&self.runs, pairs, self.threads, &mut self.cuts);
+    }
+
+    /// The cell edge of the regular layout: fixed, or a multiple of the median AABB edge.
+    fn regular_cell(&mut self, aabbs: &[Aabb]) -> f64 {
+        match self.cell {
+            Some(c) => c,
+            None => {
+                let factor = match self.ranks.sparse {
+                    Some(_) => PROBING_CELL_PER_MEDIAN_EDGE,
+                    None => CELL_PER_MEDIAN_EDGE,
+                };
+                choose_cell(aabbs, factor, &mut self.scratch)
             }
         }
-        if *self.cuts.last().expect("starts with 0") != self.runs.len() {
-            self.cuts.push(self.runs.len());
+    }
+
+    /// The frame in the corner layout, when every pair is wanted, the cell edge is chosen, and
+    /// the largest AABB is at most `corner::MAX_EDGE_PER_MEDIAN` median edges (the regular
+    /// cell, `cell`, is `CELL_PER_MEDIAN_EDGE` of them); else `None`.
+    fn detect_corner(&mut self, boxes: &Frame, cell: f64, out: &mut Vec<Pair>) -> Option<Counters> {
+        let all_wanted = self.ranks.bits == 0 && !self.ranks.pairwise;
+        if self.regular_only || self.cell.is_some() || !all_wanted {
+            return None;
         }
+        let max_edge = cell * (corner::MAX_EDGE_PER_MEDIAN / CELL_PER_MEDIAN_EDGE);
+        let geometry = Corner::fit(boxes.aabbs, &boxes.bounds, max_edge)?;
+        self.cornered = true;
+        self.corner.build(boxes, geometry);
+        let threads = match self.corner.len() {
+            n if n < PARALLEL_MIN_WORK => 1,
+            _ => rayon::current_num_threads(),
+        };
+        cut_by_work(
+            &self.corner.cells,
+            CornerCell::work,
+            threads,
+            &mut self.cuts,
+        );
+        let n_tasks = self.cuts.len() - 1;
+        if self.tasks.len() < n_tasks {
+            self.tasks.resize_with(n_tasks, Default::default);
+        }
+        let (corner, cuts, vectors) = (&self.corner, &self.cuts, Vectors::detected());
+        let run = |(t, task): (usize, &mut Task)| {
+            let cells = &corner.cells[cuts[t]..cuts[t + 1]];
+            scan_corner(vectors, corner, cells, boxes, &mut task.pairs)
+        };
+        let tasks = &mut self.tasks[..n_tasks];
+        let mut c = if threads > 1 {
+            tasks
+                .par_iter_mut()
+                .enumerate()
+                .map(run)
+                .reduce(Counters::default, add)
+        } else {
+            tasks
+                .iter_mut()
+                .enumerate()
+                .map(run)
+                .fold(Counters::default(), add)
+        };
+        for task in &self.tasks[..n_tasks] {
+            out.extend_from_slice(&task.pairs);
+        }
+        self.sorter.sort_dedup(out, boxes.len());
+        c.pairs = out.len() as u64;
+        Some(c)
+    }
+}
+
+/// The two tasks' counters together.
+fn add(mut a: Counters, b: Counters) -> Counters {
+    a += b;
+    a
+}
+
+/// Cuts `items` into chunks of about equal `work` for `threads` threads, as the indices where
+/// each chunk starts and the end: dense cells lie together in key order and would otherwise
+/// load one thread.
+fn cut_by_work<T>(items: &[T], work: impl Fn(&T) -> usize, threads: usize, cuts: &mut Vec<usize>) {
+    let total: usize = items.iter().map(&work).sum();
+    let target = total.div_ceil(threads * CHUNKS_PER_THREAD).max(1);
+    cuts.clear();
+    cuts.push(0);
+    let mut acc = 0;
+    for (r, item) in items.iter().enumerate() {
+        acc += work(item);
+        if acc >= target {
+            cuts.push(r + 1);
+            acc = 0;
+        }
+    }
+    if *cuts.last().expect("starts with 0") != items.len() {
+        cuts.push(items.len());
     }
 }
 
@@ -256,13 +344,18 @@ impl Engine for Grid {
         if !boxes.is_empty() {
             self.ranks.update(boxes, mask);
         }
+        self.cornered = false;
         if boxes.is_empty() || !self.ranks.any_pair() {
             self.keys.clear();
             self.runs.clear();
             self.large.clear();
             return Counters::default();
         }
-        self.build(boxes);
+        let cell = self.regular_cell(boxes.aabbs);
+        if let Some(c) = self.detect_corner(boxes, cell, out) {
+            return c;
+        }
+        self.build(boxes, cell);
         // Tasks: the cell chunks, then (when a group probes) equal ranges of box indices.
         let cell_tasks = self.cuts.len() - 1;
         let probe_tasks = match self.prober {
@@ -304,23 +397,19 @@ impl Engine for Grid {
                 large,
             )
         };
-        let sum = |mut a: Counters, b: Counters| {
-            a += b;
-            a
-        };
         let tasks = &mut self.tasks[..n_tasks];
         let mut c = if self.threads > 1 {
             tasks
                 .par_iter_mut()
                 .enumerate()
                 .map(run)
-                .reduce(Counters::default, sum)
+                .reduce(Counters::default, add)
         } else {
             tasks
                 .iter_mut()
                 .enumerate()
                 .map(run)
-                .fold(Counters::default(), sum)
+                .fold(Counters::default(), add)
         };
         for task in &self.tasks[..n_tasks] {
             for &l in &task.large {
@@ -353,7 +442,10 @@ mod tests {
     fn every_scan(obbs: &[Obb], mask: &GroupMask) -> Vec<(Vec<Pair>, Counters)> {
         let mut prepared = Prepared::default();
         let boxes = prepared.update(obbs);
-        let mut grid = Grid::default();
+        let mut grid = Grid {
+            regular_only: true,
+            ..Grid::default()
+        };
         let mut pairs = Vec::new();
         grid.detect(&boxes, mask, &mut pairs);
         let cells = Cells::new(&grid.keys, &grid.entries, &grid.ranks);
@@ -398,5 +490,58 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The corner layout's scan, in every form this CPU has, meets, counts and keeps the same
+    /// pairs in the same order as its portable form, on dense and sparse scenes.
+    #[test]
+    fn corner_scan_forms_agree() {
+        let scenes = [
+            surgical(6000, 3).expect("valid size").obbs,
+            uniform(3000, 5, 8.0).expect("valid size").obbs,
+            uniform(3000, 6, 0.5).expect("valid size").obbs,
+        ];
+        for (s, obbs) in scenes.iter().enumerate() {
+            let mut prepared = Prepared::default();
+            let boxes = prepared.update(obbs);
+            let mut grid = Grid::default();
+            grid.detect(&boxes, &GroupMask::All, &mut Vec::new());
+            assert!(
+                grid.cornered,
+                "scene {s}: boxes of similar sizes, every pair wanted"
+            );
+            let scan = |vectors| {
+                let mut pairs = Vec::new();
+                let cells = &grid.corner.cells;
+                let c = scan_corner(vectors, &grid.corner, cells, &boxes, &mut pairs);
+                (pairs, c)
+            };
+            let portable = scan(Vectors::Portable);
+            assert!(portable.0.len() > 100, "scene {s} has pairs to compare");
+            for &vectors in Vectors::available() {
+                assert_eq!(scan(vectors), portable, "scene {s}, {vectors:?}");
+            }
+        }
+    }
+
+    /// The corner layout enters each box once, and only when every pair is wanted and no box
+    /// is much larger than the median; otherwise the regular layout takes the frame.
+    #[test]
+    fn corner_layout_is_taken_for_similar_boxes_and_every_pair() {
+        let mut obbs = surgical(2000, 3).expect("valid size").obbs;
+        let layout = |obbs: &[Obb], mask: &GroupMask| {
+            let mut prepared = Prepared::default();
+            let boxes = prepared.update(obbs);
+            let mut grid = Grid::default();
+            grid.detect(&boxes, mask, &mut Vec::new());
+            let stats = grid.stats();
+            (stats.corner, stats.entries)
+        };
+        assert_eq!(layout(&obbs, &GroupMask::All), (true, obbs.len()));
+        assert!(!layout(&obbs, &GroupMask::Cross).0, "cross-group probes");
+        let pairs = GroupMask::Pairs(vec![(0, 0), (1, 2)]);
+        assert!(!layout(&obbs, &pairs).0, "a mask telling groups apart");
+        obbs[7].half = [40.0, 1.0, 1.0];
+        assert!(!layout(&obbs, &GroupMask::All).0, "one box far larger");
     }
 }

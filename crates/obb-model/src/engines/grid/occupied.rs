@@ -1,5 +1,6 @@
-//! The occupied cells of a sorted grid, for probing: a bitmap with a rank per word, so that a
-//! probing box finds a cell's entries in constant time instead of two binary searches.
+//! The occupied cells of a sorted grid, for probing and for the corner layout's stretches: a
+//! bitmap with a rank per word, so that a box finds a cell's entries, and a cell its
+//! neighbours', in constant time instead of two binary searches.
 
 use crate::aabb::Aabb;
 
@@ -58,12 +59,53 @@ impl Occupied {
             len = p + 1;
         }
         self.starts.push(len as u32);
+        self.rank_words();
+    }
+
+    /// Indexes the entries of unsorted `keys`, cells of a grid of `cells` cells, where a
+    /// counting sort by cell would place them (stable: a cell's entries in the order of
+    /// `keys`): the bitmap, its ranks, and each occupied cell's start. The caller places each
+    /// entry at the next place of its cell (`ordinal`, `starts`).
+    #[inline(always)]
+    pub(super) fn count(&mut self, keys: &[u64], cells: u64) {
+        self.clear();
+        self.bits.resize(cells.div_ceil(64) as usize, 0);
+        for &k in keys {
+            self.bits[(k / 64) as usize] |= 1 << (k % 64);
+        }
+        let occupied = self.rank_words();
+        // Each cell's count in the slot after its own, then summed: the slots become starts.
+        self.starts.resize(occupied + 1, 0);
+        for &k in keys {
+            let cell = self.ordinal(k);
+            self.starts[cell + 1] += 1;
+        }
+        for r in 1..self.starts.len() {
+            self.starts[r] += self.starts[r - 1];
+        }
+    }
+
+    /// The occupied cells before each word of the bitmap; returns all the occupied cells.
+    #[inline(always)]
+    fn rank_words(&mut self) -> usize {
         let mut sum = 0;
         self.rank.extend(self.bits.iter().map(|w| {
             let before = sum;
             sum += w.count_ones();
             before
         }));
+        sum as usize
+    }
+
+    /// Where each occupied cell's entries start, in cell order, and the end of the last.
+    pub(super) fn starts(&self) -> &[u32] {
+        &self.starts
+    }
+
+    /// The occupied cells before `cell`: the place of `cell` among them when it is occupied.
+    #[inline(always)]
+    pub(super) fn ordinal(&self, cell: u64) -> usize {
+        self.before(cell).0
     }
 
     /// Whether `index` has run since the last `clear`.
@@ -71,15 +113,21 @@ impl Occupied {
         !self.bits.is_empty()
     }
 
+    /// The occupied cells before `cell`, and whether `cell` is occupied.
+    #[inline(always)]
+    fn before(&self, cell: u64) -> (usize, bool) {
+        let (w, b) = ((cell / 64) as usize, cell % 64);
+        let word = self.bits[w];
+        let ordinal = self.rank[w] + (word & ((1 << b) - 1)).count_ones();
+        (ordinal as usize, word & (1 << b) != 0)
+    }
+
     /// The range of sorted entries in `cell`, empty when it holds none.
     #[inline]
     pub(super) fn entries(&self, cell: u64) -> std::ops::Range<usize> {
-        let (w, b) = ((cell / 64) as usize, cell % 64);
-        let word = self.bits[w];
-        if word & (1 << b) == 0 {
-            return 0..0;
+        match self.before(cell) {
+            (ordinal, true) => self.starts[ordinal] as usize..self.starts[ordinal + 1] as usize,
+            (_, false) => 0..0,
         }
-        let ordinal = (self.rank[w] + (word & ((1 << b) - 1)).count_ones()) as usize;
-        self.starts[ordinal] as usize..self.starts[ordinal + 1] as usize
     }
 }

@@ -13,8 +13,10 @@ use crate::sat::retain_colliding;
 use crate::simd::Vectors;
 use std::mem::MaybeUninit;
 
+mod corner;
 #[cfg(target_arch = "x86_64")]
 mod vector;
+pub(super) use corner::scan_corner;
 #[cfg(target_arch = "x86_64")]
 pub(super) use vector::Columns;
 /// Where the vector scan is not built, its buffers are none.
