@@ -54,7 +54,10 @@ fn scene_detect_and_stats() {
         1 + 1 + 6 + 1,
         "header, all, six group pairs, grid"
     );
-    assert!(text.lines().last().unwrap().starts_with("grid cell_mm="));
+    // The surgical scene's boxes are of similar sizes: all pairs take the corner layout.
+    let grid = text.lines().last().unwrap();
+    assert!(grid.starts_with("grid layout=corner cell_mm="), "{grid}");
+    assert!(grid.contains(" entries_per_box=1.00 "), "{grid}");
 }
 
 /// `detect` with no scene runs the built-in surgical scene (what `scene surgical` writes), says
