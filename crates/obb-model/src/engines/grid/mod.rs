@@ -284,20 +284,7 @@ impl Grid {
             let cells = &corner.cells[cuts[t]..cuts[t + 1]];
             scan_corner(vectors, corner, cells, boxes, &mut task.pairs)
         };
-        let tasks = &mut self.tasks[..n_tasks];
-        let mut c = if threads > 1 {
-            tasks
-                .par_iter_mut()
-                .enumerate()
-                .map(run)
-                .reduce(Counters::default, add)
-        } else {
-            tasks
-                .iter_mut()
-                .enumerate()
-                .map(run)
-                .fold(Counters::default(), add)
-        };
+        let mut c = run_tasks(&mut self.tasks[..n_tasks], threads, run);
         for task in &self.tasks[..n_tasks] {
             out.extend_from_slice(&task.pairs);
         }
@@ -307,10 +294,29 @@ impl Grid {
     }
 }
 
-/// The two tasks' counters together.
-fn add(mut a: Counters, b: Counters) -> Counters {
-    a += b;
-    a
+/// Runs `run` on each task (with its index), on all threads when `threads` is above 1, and
+/// sums their counters.
+fn run_tasks<F>(tasks: &mut [Task], threads: usize, run: F) -> Counters
+where
+    F: Fn((usize, &mut Task)) -> Counters + Send + Sync,
+{
+    let add = |mut a: Counters, b: Counters| {
+        a += b;
+        a
+    };
+    if threads > 1 {
+        tasks
+            .par_iter_mut()
+            .enumerate()
+            .map(run)
+            .reduce(Counters::default, add)
+    } else {
+        tasks
+            .iter_mut()
+            .enumerate()
+            .map(run)
+            .fold(Counters::default(), add)
+    }
 }
 
 /// Cuts `items` into chunks of about equal `work` for `threads` threads, as the indices where
@@ -397,20 +403,7 @@ impl Engine for Grid {
                 large,
             )
         };
-        let tasks = &mut self.tasks[..n_tasks];
-        let mut c = if self.threads > 1 {
-            tasks
-                .par_iter_mut()
-                .enumerate()
-                .map(run)
-                .reduce(Counters::default, add)
-        } else {
-            tasks
-                .iter_mut()
-                .enumerate()
-                .map(run)
-                .fold(Counters::default(), add)
-        };
+        let mut c = run_tasks(&mut self.tasks[..n_tasks], self.threads, run);
         for task in &self.tasks[..n_tasks] {
             for &l in &task.large {
                 self.is_large[l as usize] = true;
