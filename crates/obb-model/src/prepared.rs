@@ -30,14 +30,58 @@ pub struct Frame<'a> {
     pub groups: &'a [u32],
     /// The union of the AABBs (`Aabb::EMPTY` for no boxes).
     pub bounds: Aabb,
+    /// The largest extent of any AABB on any axis (0 for no boxes).
+    pub widest: f64,
+}
+
+/// What the preparation learns of the boxes together, in the same pass as their AABBs: the
+/// grid sizes its cells from both.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Spread {
+    bounds: Aabb,
+    widest: f64,
+}
+
+impl Spread {
+    const NONE: Spread = Spread {
+        bounds: Aabb::EMPTY,
+        widest: 0.0,
+    };
+
+    /// With `aabb` too.
+    #[inline(always)]
+    fn with(self, aabb: &Aabb) -> Spread {
+        let mut widest = self.widest;
+        for x in 0..3 {
+            let d = aabb.max[x] - aabb.min[x];
+            // (A NaN extent is never kept; validated boxes have none.)
+            widest = if d > widest { d } else { widest };
+        }
+        Spread {
+            bounds: self.bounds.union(aabb),
+            widest,
+        }
+    }
+
+    /// Both spreads together.
+    fn join(self, other: Spread) -> Spread {
+        Spread {
+            bounds: self.bounds.union(&other.bounds),
+            widest: if other.widest > self.widest {
+                other.widest
+            } else {
+                self.widest
+            },
+        }
+    }
 }
 
 #[cfg(target_arch = "x86_64")]
 mod vector;
 
-/// Prepares one run of boxes and returns the union of their AABBs, on the best vector
-/// instructions this CPU has ([`prepare_with`]).
-fn prepare(obbs: &[Obb], aabbs: &mut [Aabb], slack: &mut [Slack], groups: &mut [u32]) -> Aabb {
+/// Prepares one run of boxes and returns their AABBs' spread, on the best vector instructions
+/// this CPU has ([`prepare_with`]).
+fn prepare(obbs: &[Obb], aabbs: &mut [Aabb], slack: &mut [Slack], groups: &mut [u32]) -> Spread {
     prepare_with(Vectors::detected(), obbs, aabbs, slack, groups)
 }
 
@@ -50,10 +94,10 @@ fn prepare_with(
     aabbs: &mut [Aabb],
     slack: &mut [Slack],
     groups: &mut [u32],
-) -> Aabb {
+) -> Spread {
     #[cfg(target_arch = "x86_64")]
-    if let Some(bounds) = vector::on(vectors, obbs, aabbs, slack, groups) {
-        return bounds;
+    if let Some(spread) = vector::on(vectors, obbs, aabbs, slack, groups) {
+        return spread;
     }
     prepare_scalar(obbs, aabbs, slack, groups)
 }
@@ -64,15 +108,15 @@ fn prepare_scalar(
     aabbs: &mut [Aabb],
     slack: &mut [Slack],
     groups: &mut [u32],
-) -> Aabb {
-    let mut bounds = Aabb::EMPTY;
+) -> Spread {
+    let mut spread = Spread::NONE;
     for (((obb, aabb), slack), group) in obbs.iter().zip(aabbs).zip(slack).zip(groups) {
         *aabb = Aabb::of(obb);
         *slack = Slack::of(obb);
         *group = obb.group;
-        bounds = bounds.union(aabb);
+        spread = spread.with(aabb);
     }
-    bounds
+    spread
 }
 
 impl Prepared {
@@ -82,7 +126,7 @@ impl Prepared {
         self.aabbs.resize(n, Aabb::default());
         self.slack.resize(n, Slack::default());
         self.groups.resize(n, 0);
-        let bounds = if n < PARALLEL_MIN {
+        let spread = if n < PARALLEL_MIN {
             prepare(obbs, &mut self.aabbs, &mut self.slack, &mut self.groups)
         } else {
             obbs.par_chunks(CHUNK)
@@ -90,14 +134,15 @@ impl Prepared {
                 .zip(self.slack.par_chunks_mut(CHUNK))
                 .zip(self.groups.par_chunks_mut(CHUNK))
                 .map(|(((o, a), s), g)| prepare(o, a, s, g))
-                .reduce(|| Aabb::EMPTY, |a, b| a.union(&b))
+                .reduce(|| Spread::NONE, Spread::join)
         };
         Frame {
             obbs,
             aabbs: &self.aabbs,
             slack: &self.slack,
             groups: &self.groups,
-            bounds,
+            bounds: spread.bounds,
+            widest: spread.widest,
         }
     }
 }
@@ -155,7 +200,7 @@ mod tests {
             .collect()
     }
 
-    /// Every AABB, slack and group, and the bounds, bit for bit as the scalar preparation gives
+    /// Every AABB, slack and group, and the spread, bit for bit as the scalar preparation gives
     /// them, in every vector form this CPU has; also for lengths that leave a scalar tail.
     #[test]
     fn prepare_equals_the_scalar_form() {
@@ -174,7 +219,7 @@ mod tests {
             let run = |vectors: Vectors| {
                 let (mut a, mut s, mut g) =
                     (vec![Aabb::EMPTY; n], vec![Slack::default(); n], vec![9; n]);
-                let bounds = prepare_with(vectors, obbs, &mut a, &mut s, &mut g);
+                let spread = prepare_with(vectors, obbs, &mut a, &mut s, &mut g);
                 let bits = |a: &Aabb| -> Vec<u64> {
                     a.min.iter().chain(&a.max).map(|x| x.to_bits()).collect()
                 };
@@ -183,7 +228,8 @@ mod tests {
                     .iter()
                     .map(|s| [s.hsum.to_bits(), s.kappa.to_bits()])
                     .collect();
-                (bits(&bounds), a, s, g)
+                let spread = (bits(&spread.bounds), spread.widest.to_bits());
+                (spread, a, s, g)
             };
             for &vectors in Vectors::available() {
                 assert_eq!(

@@ -9,6 +9,7 @@
 //! multiply-add: each lane rounds exactly as the scalar code does, which the tests check on
 //! random and extreme boxes.
 
+use super::Spread;
 use crate::aabb::{Aabb, EXTENT_FLOOR, U};
 use crate::sat::Slack;
 use crate::scene::Obb;
@@ -21,7 +22,7 @@ compile_for_each_isa!(prepare(
     aabbs: &mut [Aabb],
     slack: &mut [Slack],
     groups: &mut [u32],
-) -> Aabb);
+) -> Spread);
 
 /// `outward` of `aabb.rs` on each lane: `d + dir·(|d|·2u) + 0`.
 #[inline(always)]
@@ -38,7 +39,7 @@ fn prepare<I: Isa<W>, const W: usize>(
     aabbs: &mut [Aabb],
     slack: &mut [Slack],
     groups: &mut [u32],
-) -> Aabb {
+) -> Spread {
     let n = obbs
         .len()
         .min(aabbs.len())
@@ -47,6 +48,7 @@ fn prepare<I: Isa<W>, const W: usize>(
     let whole = n - n % W;
     let mut low = [isa.splat(Aabb::EMPTY.min[0]); 3];
     let mut high = [isa.splat(Aabb::EMPTY.max[0]); 3];
+    let mut widest = isa.splat(0.0);
     for first in (0..whole).step_by(W) {
         // Plain loops here, no `map` or `from_fn`: their closures are compiled outside the
         // function that enables the instruction set, so vector work in them would be a call
@@ -70,6 +72,7 @@ fn prepare<I: Isa<W>, const W: usize>(
             ends[3 + x] = outward(isa, center[x] + e, 1.0);
             low[x] = lower(low[x], ends[x]);
             high[x] = higher(high[x], ends[3 + x]);
+            widest = higher(widest, ends[3 + x] - ends[x]);
         }
         // Slack::of: the Gram matrix's worst entry, in Obb::ortho_error's order. Its
         // `worst.max(v)` is `higher(worst, v)` here: `worst` starts at 0 and is never NaN, and
@@ -100,14 +103,21 @@ fn prepare<I: Isa<W>, const W: usize>(
             *group = obb.group;
         }
     }
-    let bounds = super::prepare_scalar(
+    let tail = super::prepare_scalar(
         &obbs[whole..n],
         &mut aabbs[whole..n],
         &mut slack[whole..n],
         &mut groups[whole..n],
     );
     let ends = lanes(isa, [low[0], low[1], low[2], high[0], high[1], high[2]]);
-    (0..W).fold(bounds, |b, l| b.union(&lane_aabb(&ends, l)))
+    let [widest] = lanes(isa, [widest]);
+    (0..W).fold(tail, |s, l| {
+        let lane = Spread {
+            bounds: lane_aabb(&ends, l),
+            widest: widest[l],
+        };
+        s.join(lane)
+    })
 }
 
 /// The lanes of each vector of `v`.

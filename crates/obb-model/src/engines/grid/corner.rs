@@ -9,12 +9,12 @@
 //! (`Corner::fit`): on the surgical scene it enters 17,500 entries where the regular layout
 //! enters 33,652, and meets 343,170 pairs where that visits 504,329 (docs/engines.md).
 
+use super::columns::EntryColumns;
 use super::geometry::GridGeometry;
 use super::occupied::Occupied;
 use super::MAX_BITMAP_CELLS;
 use crate::aabb::Aabb;
 use crate::prepared::Frame;
-use crate::simd::MAX_WIDTH;
 
 /// The corner layout is taken when its cell edge (the largest AABB extent) is at most this
 /// many median AABB edges: the pairs met grow with the cell's volume. On the surgical scene
@@ -66,36 +66,25 @@ pub(super) struct Corner {
     /// placed.
     cell_keys: Vec<u64>,
     next: Vec<u32>,
-    /// Each sorted entry's AABB, `min` per axis then `max` per axis, one array per bound, and
-    /// its box in the high half of a 64-bit pair, as `[first, id]` is laid out; padded by
-    /// `MAX_WIDTH` so that a step past the last entry reads inside them.
-    pub bounds: [Vec<f64>; 6],
-    pub ids: Vec<u64>,
+    /// The sorted entries' AABBs and boxes.
+    pub columns: EntryColumns,
     occupied: Occupied,
     pub cells: Vec<CornerCell>,
 }
 
 impl Corner {
-    /// The layout's geometry for `aabbs` within `bounds`, when its cell edge is at most
-    /// `max_edge`, positive and normal, and the grid fits the occupancy bitmap; else `None`.
+    /// The layout's geometry for `boxes`, when its cell edge is at most `max_edge`, positive
+    /// and normal, and the grid fits the occupancy bitmap; else `None`.
     ///
     /// Why no overlapping pair is missed: on each axis, AABBs that overlap have lower corners
     /// `v_a <= v_b` at most one extent apart, and the computed extents are within `u` of the
-    /// exact ones, so `v_b - v_a <= (1 + u) e` for the largest computed extent `e`. The scaled
-    /// coordinate `fl(fl(v - o) · fl(1/E))` is within `3u` (relative) of `(v - o)/E`, and below
-    /// 2^20, so the two scaled corners differ by at most `(1 + u)/(1 + 2^-10) + 6u · 2^20 < 1`:
-    /// their cells (the floors) are the same or neighbours. The offset `v - o` is never
-    /// negative, as `o` is the least corner.
-    pub fn fit(aabbs: &[Aabb], bounds: &Aabb, max_edge: f64) -> Option<GridGeometry> {
-        let mut m = [0.0f64; 3];
-        for b in aabbs {
-            for (x, m) in m.iter_mut().enumerate() {
-                let d = b.max[x] - b.min[x];
-                // (A NaN extent never passes; validated boxes have none.)
-                *m = if d > *m { d } else { *m };
-            }
-        }
-        let largest = m[0].max(m[1]).max(m[2]);
+    /// exact ones, so `v_b - v_a <= (1 + u) e` for the largest computed extent `e`
+    /// (`Frame::widest`). The scaled coordinate `fl(fl(v - o) · fl(1/E))` is within `3u`
+    /// (relative) of `(v - o)/E`, and below 2^20, so the two scaled corners differ by at most
+    /// `(1 + u)/(1 + 2^-10) + 6u · 2^20 < 1`: their cells (the floors) are the same or
+    /// neighbours. The offset `v - o` is never negative, as `o` is the least corner.
+    pub fn fit(boxes: &Frame, max_edge: f64) -> Option<GridGeometry> {
+        let (largest, bounds) = (boxes.widest, &boxes.bounds);
         let cell = largest + largest * EDGE_GROWTH;
         if !(cell >= f64::MIN_POSITIVE && cell <= max_edge) {
             return None;
@@ -140,25 +129,11 @@ impl Corner {
         find_stretches(self, (nx, nx * ny));
     }
 
-    /// The columns of the sorted entries, each cut to its length first so that no store
-    /// checks its index. (Written in order: placed straight from the counting sort, the
-    /// columns' megabyte was written at random and took longer.)
+    /// The columns of the sorted entries. (Written in order: placed straight from the counting
+    /// sort, the columns' megabyte was written at random and took longer.)
     fn lay_out(&mut self, aabbs: &[Aabb]) {
         let n = self.entries.len();
-        for column in &mut self.bounds {
-            column.resize(n + MAX_WIDTH, 0.0);
-        }
-        self.ids.resize(n + MAX_WIDTH, 0);
-        let [x0, y0, z0, x1, y1, z1] = &mut self.bounds;
-        let (x0, y0, z0) = (&mut x0[..n], &mut y0[..n], &mut z0[..n]);
-        let (x1, y1, z1) = (&mut x1[..n], &mut y1[..n], &mut z1[..n]);
-        let (ids, entries) = (&mut self.ids[..n], &self.entries[..n]);
-        for p in 0..n {
-            let b = &aabbs[entries[p] as usize];
-            (x0[p], y0[p], z0[p]) = (b.min[0], b.min[1], b.min[2]);
-            (x1[p], y1[p], z1[p]) = (b.max[0], b.max[1], b.max[2]);
-            ids[p] = u64::from(entries[p]) << 32;
-        }
+        self.columns.room(n).fill(&self.entries, aabbs);
     }
 
     /// Entries in the grid.

@@ -26,6 +26,7 @@
 //! AABBs) of the groups the mask pairs it with has no pair, and is not entered: cross-group on
 //! the surgical scene, all but a few dozen of the instruments' 7,500 boxes (`Ranks::may_pair`).
 
+mod columns;
 mod corner;
 mod geometry;
 mod occupied;
@@ -262,7 +263,7 @@ impl Grid {
             return None;
         }
         let max_edge = cell * (corner::MAX_EDGE_PER_MEDIAN / CELL_PER_MEDIAN_EDGE);
-        let geometry = Corner::fit(boxes.aabbs, &boxes.bounds, max_edge)?;
+        let geometry = Corner::fit(boxes, max_edge)?;
         self.cornered = true;
         self.corner.build(boxes, geometry);
         let threads = match self.corner.len() {

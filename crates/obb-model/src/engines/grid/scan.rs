@@ -15,6 +15,8 @@ use std::mem::MaybeUninit;
 
 mod corner;
 #[cfg(target_arch = "x86_64")]
+mod step;
+#[cfg(target_arch = "x86_64")]
 mod vector;
 pub(super) use corner::scan_corner;
 #[cfg(target_arch = "x86_64")]

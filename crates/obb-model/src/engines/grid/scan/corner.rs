@@ -3,11 +3,15 @@
 //! a time otherwise. Every pair met is wanted, so there is no class test; the forms meet, count
 //! and keep the same pairs in the same order.
 
+#[cfg(target_arch = "x86_64")]
+use super::step::ColumnPtrs;
 use super::Emitter;
 use crate::engines::grid::corner::{Corner, CornerCell};
 use crate::engines::{Counters, Pair};
 use crate::prepared::Frame;
-use crate::simd::{compile_for_each_isa, Isa, LaneMask, Lanes, Vectors};
+use crate::simd::Vectors;
+#[cfg(target_arch = "x86_64")]
+use crate::simd::{compile_for_each_isa, Isa};
 
 /// The stretches an entry meets: its own (after it, through the next cell on x), and its
 /// cell's four rows.
@@ -28,7 +32,7 @@ pub(in crate::engines::grid) fn scan_corner(
     }
     let _ = vectors;
     let mut emit = Emitter::new(out);
-    let ids = &corner.ids;
+    let ids = corner.columns.ids();
     for cell in cells {
         for p in cell.start as usize..cell.end as usize {
             let i = (ids[p] >> 32) as usize;
@@ -64,9 +68,7 @@ compile_for_each_isa!(scan_vector(
     out: &mut Vec<Pair>,
 ) -> Counters);
 
-/// [`scan_corner`], `W` entries of a stretch a step: six vector compares, and the kept pairs
-/// compressed in a register and stored whole (the lanes past the kept ones are overwritten by
-/// the next step).
+/// [`scan_corner`], `W` entries of a stretch a step (`ColumnPtrs::keep`).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn scan_vector<I: Isa<W>, const W: usize>(
@@ -77,11 +79,7 @@ fn scan_vector<I: Isa<W>, const W: usize>(
     out: &mut Vec<Pair>,
 ) -> Counters {
     let mut emit = Emitter::new(out);
-    // Plain loops and pointers taken once: a closure would be compiled without the
-    // instruction set, and the Vecs' pointers would be loaded again after every store.
-    let [b0, b1, b2, b3, b4, b5] = &corner.bounds;
-    let bounds = [b0, b1, b2, b3, b4, b5].map(|b| b.as_ptr());
-    let ids = corner.ids.as_ptr();
+    let columns = ColumnPtrs::new(corner.columns.bounds(), corner.columns.ids());
     let mut visits = 0;
     for cell in cells {
         for p in cell.start as usize..cell.end as usize {
@@ -91,30 +89,14 @@ fn scan_vector<I: Isa<W>, const W: usize>(
             visits += meets as u64;
             let (out, mut kept) = (emit.out.as_mut_ptr(), emit.kept);
             // SAFETY: `p` is a sorted entry, inside the columns.
-            let first = isa.splat_u64(unsafe { *ids.add(p) } >> 32);
-            let mut own = [isa.splat(0.0); 6];
-            for (own, column) in own.iter_mut().zip(&bounds) {
-                // SAFETY: as above.
-                *own = isa.splat(unsafe { *column.add(p) });
-            }
+            let own = unsafe { columns.own(isa, p) };
             for (a, b) in stretches(cell, p) {
                 for q in (a..b).step_by(W) {
-                    // SAFETY: the columns hold every entry and `MAX_WIDTH` more, so the `W`
-                    // from `q` below the entries' count are inside them; the store writes `W`
-                    // pairs at `kept`, and `reserve` made room for every pair of the entry and
-                    // `W` more per stretch.
-                    unsafe {
-                        let mut keep = isa.first(b - q);
-                        for axis in 0..3 {
-                            let (min, max) = (bounds[axis], bounds[3 + axis]);
-                            keep = keep & isa.load(min.add(q)).le(own[3 + axis]);
-                            keep = keep & own[axis].le(isa.load(max.add(q)));
-                        }
-                        let keep = keep.bits();
-                        let pairs = first | isa.load_u64(ids.add(q));
-                        isa.compress_store(keep, pairs, out.add(kept).cast());
-                        kept += keep.count_ones() as usize;
-                    }
+                    // SAFETY: the columns hold every entry and their padding, so the `W` from
+                    // `q` below the entries' count are inside them; the step writes `W` pairs
+                    // at `kept`, and `reserve` made room for every pair of the entry and `W`
+                    // more per stretch.
+                    kept += unsafe { columns.keep(isa, &own, isa.first(b - q), q, out.add(kept)) };
                 }
             }
             emit.kept = kept;

@@ -9,68 +9,49 @@
 //! overwritten by the next step). Every pair is visited, counted and kept exactly as the scalar
 //! scan does, in the same order, which the tests check.
 
+use super::step::ColumnPtrs;
 use super::{Cells, Emitter};
+use crate::engines::grid::columns::{ColumnSlices, EntryColumns};
 use crate::engines::{Counters, Pair};
 use crate::prepared::Frame;
-use crate::simd::{compile_for_each_isa, Isa, LaneMask, Lanes, MAX_WIDTH};
+use crate::simd::{compile_for_each_isa, Isa, LaneMask};
 
-/// One cell's entries as columns, padded by [`MAX_WIDTH`] so that a step past the last entry
-/// reads inside the arrays (its lanes are masked off). Kept between cells and frames.
+/// One cell's entries as columns (`EntryColumns`), with each entry's class. Kept between
+/// cells and frames.
 #[derive(Debug, Default)]
 pub(in crate::engines::grid) struct Columns {
-    /// Each entry's AABB: `min` per axis, then `max` per axis.
-    bounds: [Vec<f64>; 6],
-    /// Each entry's box in the high half of a 64-bit pair, as `[first, id]` is laid out.
-    ids: Vec<u64>,
-    /// Each entry's class.
+    entries: EntryColumns,
     class: Vec<u64>,
 }
 
-/// The columns' values as slices, taken once per scan: read through the Vecs, each value's
-/// address would be loaded again after every store of pairs (which might alias them).
+/// The columns as slices (`ColumnSlices`), taken once per scan.
 struct Cell<'a> {
-    bounds: [&'a mut [f64]; 6],
-    ids: &'a mut [u64],
+    columns: ColumnSlices<'a>,
     class: &'a mut [u64],
 }
 
 impl Columns {
     /// Room for cells of `len` entries, as slices.
     fn cell(&mut self, len: usize) -> Cell<'_> {
-        let len = len + MAX_WIDTH;
-        if self.ids.len() < len {
-            for column in &mut self.bounds {
-                column.resize(len, 0.0);
-            }
-            self.ids.resize(len, 0);
-            self.class.resize(len, 0);
+        let columns = self.entries.room(len);
+        if self.class.len() < columns.ids.len() {
+            self.class.resize(columns.ids.len(), 0);
         }
-        let [b0, b1, b2, b3, b4, b5] = &mut self.bounds;
         Cell {
-            bounds: [b0, b1, b2, b3, b4, b5].map(|b| &mut b[..]),
-            ids: &mut self.ids,
+            columns,
             class: &mut self.class,
         }
     }
 }
 
 impl Cell<'_> {
-    /// The entries `entries` (with their keys) as columns. Each column is cut to the cell's
-    /// length first, so that no store checks its index.
+    /// The entries `entries` (with their keys) as columns, and their classes.
     #[inline(always)]
     fn fill(&mut self, keys: &[u64], entries: &[u32], boxes: &Frame, class_mask: u64) {
-        let n = entries.len();
-        let (keys, ids, class) = (&keys[..n], &mut self.ids[..n], &mut self.class[..n]);
-        let [x0, y0, z0, x1, y1, z1] = &mut self.bounds;
-        let bounds = [x0, y0, z0, x1, y1, z1].map(|b| &mut b[..n]);
-        for e in 0..n {
-            let aabb = &boxes.aabbs[entries[e] as usize];
-            for axis in 0..3 {
-                bounds[axis][e] = aabb.min[axis];
-                bounds[3 + axis][e] = aabb.max[axis];
-            }
-            ids[e] = u64::from(entries[e]) << 32;
-            class[e] = keys[e] & class_mask;
+        self.columns.fill(entries, boxes.aabbs);
+        let class = &mut self.class[..entries.len()];
+        for (class, &k) in class.iter_mut().zip(keys) {
+            *class = k & class_mask;
         }
     }
 }
@@ -106,38 +87,25 @@ fn scan_cells<I: Isa<W>, const W: usize>(
         cell.fill(keys, entries, boxes, class_mask);
         // Each step stores `W` pairs whole, of which those kept come first.
         emit.reserve(n * (n - 1) / 2 + W);
-        let (bounds, ids, class) = (&cell.bounds, &*cell.ids, &*cell.class);
+        let class = &*cell.class;
+        let columns = &cell.columns;
+        let columns = ColumnPtrs::new(columns.bounds.each_ref().map(|b| &**b), columns.ids);
         let (out, mut kept) = (emit.out.as_mut_ptr(), emit.kept);
         for p in 0..n {
             let wanted = isa.splat_u64(cells.wanted[class[p] as usize]);
-            let first = isa.splat_u64(u64::from(entries[p]));
-            let mut own = [isa.splat(0.0); 6];
-            for (own, column) in own.iter_mut().zip(bounds) {
-                *own = isa.splat(column[p]);
-            }
+            // SAFETY: `p` is an entry of the cell, inside the columns.
+            let own = unsafe { columns.own(isa, p) };
             let mut visits = 0;
             for q in (p + 1..n).step_by(W) {
-                // SAFETY: the columns hold `n + MAX_WIDTH` values, so the `W` from `q < n` are
-                // inside them; the store writes `W` pairs at `kept`, and `reserve` made room
-                // for every pair of the cell and `W` more.
+                // SAFETY: the columns hold `n` entries and their padding, so the `W` from
+                // `q < n` are inside them; the step writes `W` pairs at `kept`, and `reserve`
+                // made room for every pair of the cell and `W` more.
                 unsafe {
                     // Wanted: bit `class[q]` of this entry's row of `Cells::wanted`.
                     let their = isa.load_u64(class.as_ptr().add(q));
                     let want = isa.bit(wanted, their) & isa.first(n - q);
-                    // Overlapping on every axis: the other's min at most this max, and this
-                    // min at most the other's max, as `overlaps` compares (false on NaN). (No
-                    // closure for the loads: it would be compiled without the instruction set.)
-                    let mut keep = want;
-                    for axis in 0..3 {
-                        let (min, max) = (bounds[axis].as_ptr(), bounds[3 + axis].as_ptr());
-                        keep = keep & isa.load(min.add(q)).le(own[3 + axis]);
-                        keep = keep & own[axis].le(isa.load(max.add(q)));
-                    }
-                    let (want, keep) = (want.bits(), keep.bits());
-                    visits += want.count_ones();
-                    let pairs = first | isa.load_u64(ids.as_ptr().add(q));
-                    isa.compress_store(keep, pairs, out.add(kept).cast());
-                    kept += keep.count_ones() as usize;
+                    visits += want.bits().count_ones();
+                    kept += columns.keep(isa, &own, want, q, out.add(kept));
                 }
             }
             emit.counters.visits += u64::from(visits);
