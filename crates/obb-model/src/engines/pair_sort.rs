@@ -34,15 +34,40 @@ struct Part {
 impl PairSorter {
     /// Sorts `pairs` ascending (by i, then j) and drops duplicates; `n` is the number of boxes.
     pub fn sort_dedup(&mut self, pairs: &mut Vec<Pair>, n: usize) {
-        // Few pairs among many boxes (cross-group detection): the buckets would cost more than
-        // a comparison sort. (Two or more pairs mean two or more boxes.)
-        if pairs.len() < 2 || pairs.len() * SMALL_SORT_RATIO < n {
+        if few(pairs.len(), n) {
             pairs.sort_unstable();
             pairs.dedup();
             return;
         }
+        self.bucket(std::iter::once(&pairs[..]), pairs.len(), n);
+        std::mem::swap(pairs, &mut self.sorted);
+    }
+
+    /// [`PairSorter::sort_dedup`] on the pairs of every run of `runs` together, into `out` (its
+    /// pairs replaced): the runs are read where they are, not copied together first.
+    pub fn sort_dedup_runs<'a, R>(&mut self, runs: R, out: &mut Vec<Pair>, n: usize)
+    where
+        R: Iterator<Item = &'a [Pair]> + Clone + Sync,
+    {
+        let len = runs.clone().map(<[Pair]>::len).sum();
+        if few(len, n) {
+            out.clear();
+            runs.for_each(|r| out.extend_from_slice(r));
+            out.sort_unstable();
+            out.dedup();
+            return;
+        }
+        self.bucket(runs, len, n);
+        std::mem::swap(out, &mut self.sorted);
+    }
+
+    /// The bucket sort of the `len` pairs of `runs` among `n` boxes, into `self.sorted`.
+    fn bucket<'a, R>(&mut self, runs: R, len: usize, n: usize)
+    where
+        R: Iterator<Item = &'a [Pair]> + Clone + Sync,
+    {
         let parts = rayon::current_num_threads()
-            .min(pairs.len() / MIN_PAIRS_PER_PART)
+            .min(len / MIN_PAIRS_PER_PART)
             .clamp(1, n);
         let per_part = n.div_ceil(parts);
         self.parts.clear();
@@ -53,15 +78,14 @@ impl PairSorter {
             }));
         self.starts.clear();
         self.starts.resize(n, 0);
-        self.seconds.resize(pairs.len(), 0);
-        self.sorted.resize(pairs.len(), [0; 2]);
-        let input: &[Pair] = pairs;
+        self.seconds.resize(len, 0);
+        self.sorted.resize(len, [0; 2]);
         split(
             &mut self.parts,
             &mut self.starts,
             &mut [],
             &mut [],
-            &|part, starts, _, _| part.pairs = count(input, part.first_box, starts),
+            &|part, starts, _, _| part.pairs = count(runs.clone(), part.first_box, starts),
         );
         split(
             &mut self.parts,
@@ -69,7 +93,7 @@ impl PairSorter {
             &mut self.seconds,
             &mut self.sorted,
             &|part, starts, seconds, sorted| {
-                part.kept = place(input, part.first_box, starts, seconds, sorted);
+                part.kept = place(runs.clone(), part.first_box, starts, seconds, sorted);
             },
         );
         // Parts that dropped repeats leave gaps: close them.
@@ -83,8 +107,13 @@ impl PairSorter {
             kept += part.kept;
         }
         self.sorted.truncate(kept);
-        std::mem::swap(pairs, &mut self.sorted);
     }
+}
+
+/// Few pairs among many boxes (cross-group detection): the buckets would cost more than a
+/// comparison sort. (Two or more pairs mean two or more boxes.)
+fn few(pairs: usize, n: usize) -> bool {
+    pairs < 2 || pairs * SMALL_SORT_RATIO < n
 }
 
 /// Runs `f` on each part with its boxes' `starts` and its stretch of `seconds` and `sorted` (empty
@@ -110,10 +139,17 @@ where
 
 /// Counts the pairs of each box of the part from `first_box` (`starts` holds its boxes) and
 /// turns the counts into the buckets' starts; returns the part's pairs.
-fn count(pairs: &[Pair], first_box: usize, starts: &mut [u32]) -> usize {
-    for p in pairs {
-        if let Some(c) = starts.get_mut((p[0] as usize).wrapping_sub(first_box)) {
-            *c += 1;
+fn count<'a>(
+    runs: impl Iterator<Item = &'a [Pair]>,
+    first_box: usize,
+    starts: &mut [u32],
+) -> usize {
+    // (A loop per run: flattened, the runs cost a state check per pair.)
+    for run in runs {
+        for p in run {
+            if let Some(c) = starts.get_mut((p[0] as usize).wrapping_sub(first_box)) {
+                *c += 1;
+            }
         }
     }
     let mut sum = 0;
@@ -125,18 +161,20 @@ fn count(pairs: &[Pair], first_box: usize, starts: &mut [u32]) -> usize {
 
 /// Places the part's second indices in their buckets, sorts each, and writes the part's distinct
 /// pairs to the front of `sorted`; returns how many.
-fn place(
-    pairs: &[Pair],
+fn place<'a>(
+    runs: impl Iterator<Item = &'a [Pair]>,
     first_box: usize,
     starts: &mut [u32],
     seconds: &mut [u32],
     sorted: &mut [Pair],
 ) -> usize {
     // `starts[b]` runs ahead as bucket b fills, ending where bucket b + 1 starts.
-    for p in pairs {
-        if let Some(at) = starts.get_mut((p[0] as usize).wrapping_sub(first_box)) {
-            seconds[*at as usize] = p[1];
-            *at += 1;
+    for run in runs {
+        for p in run {
+            if let Some(at) = starts.get_mut((p[0] as usize).wrapping_sub(first_box)) {
+                seconds[*at as usize] = p[1];
+                *at += 1;
+            }
         }
     }
     // No index reaches `u32::MAX` (at most 2^32 - 2 boxes), so it marks "no previous second".
@@ -162,7 +200,8 @@ fn place(
 mod tests {
     use super::*;
 
-    /// Pairs with repeats, sorted by each part count against the comparison sort.
+    /// Pairs with repeats, sorted by each part count against the comparison sort, whole and in
+    /// runs.
     #[test]
     fn parts_sort_and_dedup_as_one() {
         let n = 3000;
@@ -197,6 +236,12 @@ mod tests {
             let mut again = pairs.clone();
             pool.install(|| sorter.sort_dedup(&mut again, n as usize));
             assert_eq!(again, want, "{threads} threads, second call");
+            // The same pairs in runs (one of them empty), read where they lie.
+            let (a, rest) = pairs.split_at(12_345);
+            let (b, c) = rest.split_at(0);
+            let mut runs = vec![[7, 8]];
+            pool.install(|| sorter.sort_dedup_runs([a, b, c].into_iter(), &mut runs, n as usize));
+            assert_eq!(runs, want, "{threads} threads, in runs");
         }
     }
 }

@@ -100,6 +100,8 @@ pub struct Grid {
     entries: Vec<u32>,
     large: Vec<u32>,
     is_large: Vec<bool>,
+    /// The large boxes' colliding pairs.
+    large_pairs: Vec<Pair>,
     /// (start, end) of each cell holding two or more entries of wanted pairs.
     runs: Vec<(u32, u32)>,
     /// Chunk boundaries in `runs`, cut at equal pair work.
@@ -286,10 +288,8 @@ impl Grid {
             scan_corner(vectors, corner, cells, boxes, &mut task.pairs)
         };
         let mut c = run_tasks(&mut self.tasks[..n_tasks], threads, run);
-        for task in &self.tasks[..n_tasks] {
-            out.extend_from_slice(&task.pairs);
-        }
-        self.sorter.sort_dedup(out, boxes.len());
+        let runs = self.tasks[..n_tasks].iter().map(|t| &t.pairs[..]);
+        self.sorter.sort_dedup_runs(runs, out, boxes.len());
         c.pairs = out.len() as u64;
         Some(c)
     }
@@ -411,13 +411,14 @@ impl Engine for Grid {
                 self.large.push(l);
             }
         }
-        for task in &self.tasks[..n_tasks] {
-            out.extend_from_slice(&task.pairs);
-        }
+        self.large_pairs.clear();
         for &l in &self.large {
-            c += scan_large(l as usize, &self.is_large, boxes, mask, out);
+            let is_large = &self.is_large;
+            c += scan_large(l as usize, is_large, boxes, mask, &mut self.large_pairs);
         }
-        self.sorter.sort_dedup(out, boxes.len());
+        let tasks = self.tasks[..n_tasks].iter().map(|t| &t.pairs[..]);
+        let runs = tasks.chain(std::iter::once(&self.large_pairs[..]));
+        self.sorter.sort_dedup_runs(runs, out, boxes.len());
         c.pairs = out.len() as u64;
         c
     }
