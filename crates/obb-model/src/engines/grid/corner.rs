@@ -58,8 +58,9 @@ impl CornerCell {
 #[derive(Debug, Default)]
 pub(super) struct Corner {
     pub geometry: GridGeometry,
-    /// Each box's cell.
+    /// Each box's cell, and its place among the occupied cells.
     keys: Vec<u64>,
+    ordinals: Vec<u32>,
     /// The boxes, sorted by cell.
     entries: Vec<u32>,
     /// Each occupied cell's key, in order, and the next place of each as the entries are
@@ -155,21 +156,22 @@ impl Corner {
 fn sort(corner: &mut Corner, cells: u64) {
     let Corner {
         keys,
+        ordinals,
         entries,
         cell_keys,
         next,
         occupied,
         ..
     } = corner;
-    occupied.count(keys, cells);
+    occupied.count(keys, cells, ordinals);
     let starts = occupied.starts();
     next.clear();
     next.extend_from_slice(&starts[..starts.len() - 1]);
     cell_keys.clear();
     cell_keys.resize(next.len(), 0);
     entries.resize(keys.len(), 0);
-    for (i, &k) in keys.iter().enumerate() {
-        let cell = occupied.ordinal(k);
+    for (i, (&k, &cell)) in keys.iter().zip(&*ordinals).enumerate() {
+        let cell = cell as usize;
         entries[next[cell] as usize] = i as u32;
         next[cell] += 1;
         cell_keys[cell] = k;

@@ -64,10 +64,10 @@ impl Occupied {
 
     /// Indexes the entries of unsorted `keys`, cells of a grid of `cells` cells, where a
     /// counting sort by cell would place them (stable: a cell's entries in the order of
-    /// `keys`): the bitmap, its ranks, and each occupied cell's start. The caller places each
-    /// entry at the next place of its cell (`ordinal`, `starts`).
+    /// `keys`): the bitmap, its ranks, and each occupied cell's start; and each key's ordinal
+    /// into `ordinals`. The caller places each entry at the next place of its cell (`starts`).
     #[inline(always)]
-    pub(super) fn count(&mut self, keys: &[u64], cells: u64) {
+    pub(super) fn count(&mut self, keys: &[u64], cells: u64, ordinals: &mut Vec<u32>) {
         self.clear();
         self.bits.resize(cells.div_ceil(64) as usize, 0);
         for &k in keys {
@@ -76,9 +76,12 @@ impl Occupied {
         let occupied = self.rank_words();
         // Each cell's count in the slot after its own, then summed: the slots become starts.
         self.starts.resize(occupied + 1, 0);
-        for &k in keys {
+        // (A plain loop: a closure would be compiled without the caller's popcount.)
+        ordinals.resize(keys.len(), 0);
+        for (o, &k) in ordinals.iter_mut().zip(keys) {
             let cell = self.ordinal(k);
             self.starts[cell + 1] += 1;
+            *o = cell as u32;
         }
         for r in 1..self.starts.len() {
             self.starts[r] += self.starts[r - 1];
