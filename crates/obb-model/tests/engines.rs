@@ -176,8 +176,9 @@ fn engines_keep_no_state_between_frames() {
 #[test]
 fn grid_slabs_do_not_matter() {
     // The grid splits its cells into one z slab per thread (for scenes of a few hundred boxes
-    // or more): any number of slabs must give the reference pairs and the same counters, with
-    // boxes spanning slab boundaries, large boxes covering many slabs, and probing masks.
+    // or more), and builds the corner layout in chunks: any number of slabs or chunks must give
+    // the reference pairs and the same counters, with boxes spanning slab boundaries, large
+    // boxes covering many slabs, and probing masks.
     // 8,000 boxes, so that even the 1,600 entered when group 0 probes fill several slabs.
     let mut spanning = uniform(8000, 9, 2.0).unwrap();
     spanning.obbs[17] = obb_model::Obb::aligned([0.0; 3], [40.0, 3.0, 60.0], 1);
@@ -186,7 +187,10 @@ fn grid_slabs_do_not_matter() {
         o.group = (i % 5 == 0) as u32;
     }
     let surgery = surgical(3000, 4).unwrap();
+    // Boxes of similar sizes, all pairs: the corner layout, built in chunks on each thread.
+    let similar = uniform(8000, 9, 0.05).unwrap();
     for (scene, mask) in [
+        (&similar, GroupMask::All),
         (&spanning, GroupMask::All),
         (&spanning, GroupMask::Cross),
         (&surgery, GroupMask::All),
@@ -198,6 +202,14 @@ fn grid_slabs_do_not_matter() {
         let (reference, _) = detect(EngineKind::Sweep, &boxes, &mask);
         grid_gives_on_threads(&boxes, &mask, &reference, &[1, 2, 3, 7]);
     }
+    let mut prepared = Prepared::default();
+    let boxes = prepared.update(&similar.obbs);
+    let mut grid = Grid::default();
+    grid.detect(&boxes, &GroupMask::All, &mut Vec::new());
+    assert!(
+        grid.stats().corner,
+        "the similar boxes take the corner layout"
+    );
 }
 
 /// The grid, on a pool of each of `threads`, gives `reference` and the same counters.

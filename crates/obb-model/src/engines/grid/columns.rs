@@ -47,7 +47,22 @@ impl EntryColumns {
     }
 }
 
-impl ColumnSlices<'_> {
+impl<'a> ColumnSlices<'a> {
+    /// The columns' first `mid` entries, and the rest.
+    pub fn split_at(self, mid: usize) -> (ColumnSlices<'a>, ColumnSlices<'a>) {
+        let [b0, b1, b2, b3, b4, b5] = self.bounds.map(|b| b.split_at_mut(mid));
+        let (ids0, ids1) = self.ids.split_at_mut(mid);
+        let first = ColumnSlices {
+            bounds: [b0.0, b1.0, b2.0, b3.0, b4.0, b5.0],
+            ids: ids0,
+        };
+        let rest = ColumnSlices {
+            bounds: [b0.1, b1.1, b2.1, b3.1, b4.1, b5.1],
+            ids: ids1,
+        };
+        (first, rest)
+    }
+
     /// Writes the AABBs and boxes of `entries` from the start of the columns. Each column is
     /// cut to the entries' count first, so that no store checks its index.
     #[inline(always)]

@@ -9,12 +9,13 @@
 //! (`Corner::fit`): on the surgical scene it enters 17,500 entries where the regular layout
 //! enters 33,652, and meets 343,170 pairs where that visits 504,329 (docs/engines.md).
 
-use super::columns::EntryColumns;
+use super::columns::{ColumnSlices, EntryColumns};
 use super::geometry::GridGeometry;
 use super::occupied::Occupied;
 use super::MAX_BITMAP_CELLS;
 use crate::aabb::Aabb;
 use crate::prepared::Frame;
+use rayon::prelude::*;
 
 /// The corner layout is taken when its cell edge (the largest AABB extent) is at most this
 /// many median AABB edges: the pairs met grow with the cell's volume. On the surgical scene
@@ -27,6 +28,9 @@ const EDGE_GROWTH: f64 = 1.0 / 1024.0;
 /// Cells per axis at most: the scaled coordinates stay below 2^20, which the growth's
 /// argument needs, and the keys below 2^60.
 const MAX_CELLS_PER_AXIS: u64 = 1 << 20;
+/// On several threads, each task of the build takes at least this many boxes or cells: fewer
+/// cost more to hand over than to do.
+const BUILD_CHUNK: usize = 2048;
 
 /// One occupied cell: its entries, and the stretches of sorted entries they meet. Entry `p`
 /// meets the later entries of its cell and those of the next cell on x (one stretch, `p + 1 ..
@@ -112,29 +116,30 @@ impl Corner {
 
     /// Enters each box in the cell of its AABB's lower corner, sorts the entries by cell (a
     /// counting sort over the occupied cells, the order of the boxes kept within a cell) into
-    /// their columns, and finds each occupied cell's stretches.
-    pub fn build(&mut self, boxes: &Frame, g: GridGeometry) {
+    /// their columns, and finds each occupied cell's stretches. All but the sort run on
+    /// `threads` threads.
+    pub fn build(&mut self, boxes: &Frame, g: GridGeometry, threads: usize) {
         self.geometry = g;
         let [nx, ny, nz] = g.dims;
         // Through i64, which converts at half the cost of u64: the offset is never negative.
         let cell_of = |b: &Aabb, x: usize| ((b.min[x] - g.origin[x]) * g.inv) as i64 as u64 + 1;
-        self.keys.clear();
-        self.keys.extend(
-            boxes
-                .aabbs
-                .iter()
-                .map(|b| (cell_of(b, 2) * ny + cell_of(b, 1)) * nx + cell_of(b, 0)),
-        );
+        self.keys.resize(boxes.len(), 0);
+        on_chunks(threads, &mut self.keys, |at, keys| {
+            for (k, b) in keys.iter_mut().zip(&boxes.aabbs[at..]) {
+                *k = (cell_of(b, 2) * ny + cell_of(b, 1)) * nx + cell_of(b, 0);
+            }
+        });
         sort(self, nx * ny * nz + 1);
-        self.lay_out(boxes.aabbs);
-        find_stretches(self, (nx, nx * ny));
-    }
-
-    /// The columns of the sorted entries. (Written in order: placed straight from the counting
-    /// sort, the columns' megabyte was written at random and took longer.)
-    fn lay_out(&mut self, aabbs: &[Aabb]) {
-        let n = self.entries.len();
-        self.columns.room(n).fill(&self.entries, aabbs);
+        // The columns, written in order: placed straight from the counting sort, the columns'
+        // megabyte was written at random and took longer.
+        let columns = self.columns.room(self.entries.len());
+        fill_on(threads, columns, &self.entries, boxes.aabbs);
+        self.cells
+            .resize(self.cell_keys.len(), CornerCell::default());
+        let (cell_keys, occupied) = (&self.cell_keys, &self.occupied);
+        on_chunks(threads, &mut self.cells, |at, cells| {
+            find_stretches(cell_keys, occupied, at, cells, (nx, nx * ny));
+        });
     }
 
     /// Entries in the grid.
@@ -178,31 +183,60 @@ fn sort(corner: &mut Corner, cells: u64) {
     }
 }
 
-/// Each occupied cell with its stretches (`CornerCell`), into `corner.cells`. Each stretch end
-/// is a rank in the occupancy bitmap: compiled with the popcount instruction where the CPU
-/// has it, as without it `count_ones` is a dozen instructions.
+/// Runs `f(at, chunk)` on chunks of `out` (`at` where each starts) on all threads when
+/// `threads` is above 1 and `out` is long enough to share, else on `out` whole.
+fn on_chunks<T: Send>(threads: usize, out: &mut [T], f: impl Fn(usize, &mut [T]) + Sync) {
+    if threads > 1 && out.len() >= 2 * BUILD_CHUNK {
+        let chunk = out.len().div_ceil(threads).max(BUILD_CHUNK);
+        out.par_chunks_mut(chunk)
+            .enumerate()
+            .for_each(|(c, out)| f(c * chunk, out));
+    } else {
+        f(0, out);
+    }
+}
+
+/// Fills `columns` with `entries` (`ColumnSlices::fill`), in halves on all threads when
+/// `threads` is above 1 and there are entries enough to share.
+fn fill_on(threads: usize, mut columns: ColumnSlices, entries: &[u32], aabbs: &[Aabb]) {
+    if threads < 2 || entries.len() < 2 * BUILD_CHUNK {
+        return columns.fill(entries, aabbs);
+    }
+    let mid = entries.len() / 2;
+    let ((a, b), (ea, eb)) = (columns.split_at(mid), entries.split_at(mid));
+    let half = threads / 2;
+    rayon::join(
+        || fill_on(half, a, ea, aabbs),
+        || fill_on(threads - half, b, eb, aabbs),
+    );
+}
+
+/// The stretches (`CornerCell`) of the occupied cells from the `at`-th, whose keys are
+/// `cell_keys[at..]`, into `cells`. Each stretch end is a rank in the occupancy bitmap:
+/// compiled with the popcount instruction where the CPU has it, as without it `count_ones` is
+/// a dozen instructions.
 #[multiversion::multiversion(targets("x86_64+popcnt"))]
-fn find_stretches(corner: &mut Corner, (row, layer): (u64, u64)) {
-    let Corner {
-        cell_keys,
-        occupied,
-        cells,
-        ..
-    } = corner;
+fn find_stretches(
+    cell_keys: &[u64],
+    occupied: &Occupied,
+    at: usize,
+    cells: &mut [CornerCell],
+    (row, layer): (u64, u64),
+) {
     let starts = occupied.starts();
-    cells.clear();
-    for (r, &k) in cell_keys.iter().enumerate() {
+    for (r, (cell, &k)) in cells.iter_mut().zip(&cell_keys[at..]).enumerate() {
+        let r = at + r;
         let mut rows = [(0, 0); 4];
         for (stretch, &(dy, dz)) in rows.iter_mut().zip(&ROWS) {
             let mid = (k + dy * row).wrapping_add_signed(dz * layer as i64);
             let from = |key| starts[occupied.ordinal(key)];
             *stretch = (from(mid - 1), from(mid + 2));
         }
-        cells.push(CornerCell {
+        *cell = CornerCell {
             start: starts[r],
             end: starts[r + 1],
             next_end: starts[occupied.ordinal(k + 2)],
             rows,
-        });
+        };
     }
 }

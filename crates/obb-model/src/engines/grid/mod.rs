@@ -267,11 +267,11 @@ impl Grid {
         let max_edge = cell * (corner::MAX_EDGE_PER_MEDIAN / CELL_PER_MEDIAN_EDGE);
         let geometry = Corner::fit(boxes, max_edge)?;
         self.cornered = true;
-        self.corner.build(boxes, geometry);
-        let threads = match self.corner.len() {
+        let threads = match boxes.len() {
             n if n < PARALLEL_MIN_WORK => 1,
             _ => rayon::current_num_threads(),
         };
+        self.corner.build(boxes, geometry, threads);
         cut_by_work(
             &self.corner.cells,
             CornerCell::work,
