@@ -2,7 +2,7 @@
 
 use crate::common;
 
-use obb_model::engines::Grid;
+use obb_model::engines::{Grid, GridStats};
 use obb_model::generate::{surgical, uniform};
 use obb_model::{detect, Engine, EngineKind, Frame, GroupMask, Pair, Prepared, Scene};
 use proptest::prelude::*;
@@ -100,10 +100,8 @@ proptest! {
         obbs.push(place(anchor.map(|a| -a)));
         let scene = Scene { obbs };
         let mut prepared = Prepared::default();
-        let boxes = prepared.update(&scene.obbs);
-        let mut grid = Grid::default();
-        grid.detect(&boxes, &GroupMask::All, &mut Vec::new());
-        prop_assert!(grid.stats().corner, "boxes of one size take the corner layout");
+        let (stats, _) = grid_on(&prepared.update(&scene.obbs), &GroupMask::All);
+        prop_assert!(stats.corner, "boxes of one size take the corner layout");
         check_all_engines(&scene, &GroupMask::All);
     }
 }
@@ -203,13 +201,16 @@ fn grid_slabs_do_not_matter() {
         grid_gives_on_threads(&boxes, &mask, &reference, &[1, 2, 3, 7]);
     }
     let mut prepared = Prepared::default();
-    let boxes = prepared.update(&similar.obbs);
+    let (stats, _) = grid_on(&prepared.update(&similar.obbs), &GroupMask::All);
+    assert!(stats.corner, "the similar boxes take the corner layout");
+}
+
+/// What a new grid builds on `boxes` for `mask`, and its pairs.
+fn grid_on(boxes: &Frame, mask: &GroupMask) -> (GridStats, Vec<Pair>) {
     let mut grid = Grid::default();
-    grid.detect(&boxes, &GroupMask::All, &mut Vec::new());
-    assert!(
-        grid.stats().corner,
-        "the similar boxes take the corner layout"
-    );
+    let mut pairs = Vec::new();
+    grid.detect(boxes, mask, &mut pairs);
+    (grid.stats(), pairs)
 }
 
 /// The grid, on a pool of each of `threads`, gives `reference` and the same counters.
@@ -259,10 +260,8 @@ fn grid_leaves_out_boxes_far_from_their_partner_groups() {
     }
     // With `0-1`, group 0 probes and only group 1's boxes near it are entered (group 2 pairs
     // with nothing): the 20 left in group 0's cluster, each in a few cells, not all 1,000.
-    let mut grid = Grid::default();
-    let mut pairs = Vec::new();
-    grid.detect(&boxes, &"0-1".parse().unwrap(), &mut pairs);
-    let entries = grid.stats().entries;
+    let (stats, pairs) = grid_on(&boxes, &"0-1".parse().unwrap());
+    let entries = stats.entries;
     assert!(entries > 0 && entries < 200, "{entries} entries");
     assert!(!pairs.is_empty(), "the bridging boxes collide with group 0");
 }

@@ -10,7 +10,7 @@ mod sap;
 mod sweep;
 
 pub use brute::Brute;
-pub use grid::{Grid, Resident, RigidResident};
+pub use grid::{Grid, GridStats, Resident, RigidResident};
 pub use improved_sap::ImprovedSap;
 pub(crate) use pair_sort::PairSorter;
 pub use sap::Sap;

@@ -431,6 +431,15 @@ mod tests {
     use crate::prepared::Prepared;
     use crate::scene::Obb;
 
+    /// The scans' test scenes: dense, sparse and grouped, of boxes of similar sizes.
+    fn scan_scenes() -> [Vec<Obb>; 3] {
+        [
+            surgical(6000, 3).expect("valid size").obbs,
+            uniform(3000, 5, 8.0).expect("valid size").obbs,
+            uniform(3000, 6, 0.5).expect("valid size").obbs,
+        ]
+    }
+
     /// Scans every cell of the grid `detect` built on `obbs` with the one-pair scan and with
     /// each form this CPU has, and returns each scan's pairs (as found, before the pair sort)
     /// and counters, the one-pair scan's first.
@@ -463,11 +472,7 @@ mod tests {
     /// says something.
     #[test]
     fn vector_scan_equals_the_row_scan() {
-        let scenes = [
-            surgical(6000, 3).expect("valid size").obbs,
-            uniform(3000, 5, 8.0).expect("valid size").obbs,
-            uniform(3000, 6, 0.5).expect("valid size").obbs,
-        ];
+        let scenes = scan_scenes();
         let masks = [
             GroupMask::All,
             GroupMask::Cross,
@@ -491,11 +496,7 @@ mod tests {
     /// pairs in the same order as its portable form, on dense and sparse scenes.
     #[test]
     fn corner_scan_forms_agree() {
-        let scenes = [
-            surgical(6000, 3).expect("valid size").obbs,
-            uniform(3000, 5, 8.0).expect("valid size").obbs,
-            uniform(3000, 6, 0.5).expect("valid size").obbs,
-        ];
+        let scenes = scan_scenes();
         for (s, obbs) in scenes.iter().enumerate() {
             let mut prepared = Prepared::default();
             let boxes = prepared.update(obbs);
