@@ -1,6 +1,7 @@
 //! The engines' final pair sort, in parts of the box range on all threads.
 
 use super::Pair;
+use std::mem::MaybeUninit;
 
 /// `PairSorter` sorts by comparison when there are fewer pairs than boxes / this.
 const SMALL_SORT_RATIO: usize = 16;
@@ -39,8 +40,9 @@ impl PairSorter {
             pairs.dedup();
             return;
         }
-        self.bucket(std::iter::once(&pairs[..]), pairs.len(), n);
-        std::mem::swap(pairs, &mut self.sorted);
+        let mut sorted = std::mem::take(&mut self.sorted);
+        self.bucket(std::iter::once(&pairs[..]), pairs.len(), n, &mut sorted);
+        self.sorted = std::mem::replace(pairs, sorted);
     }
 
     /// [`PairSorter::sort_dedup`] on the pairs of every run of `runs` together, into `out` (its
@@ -57,12 +59,13 @@ impl PairSorter {
             out.dedup();
             return;
         }
-        self.bucket(runs, len, n);
-        std::mem::swap(out, &mut self.sorted);
+        self.bucket(runs, len, n, out);
     }
 
-    /// The bucket sort of the `len` pairs of `runs` among `n` boxes, into `self.sorted`.
-    fn bucket<'a, R>(&mut self, runs: R, len: usize, n: usize)
+    /// The bucket sort of the `len` pairs of `runs` among `n` boxes, into `out` (its pairs
+    /// replaced). The pairs are placed in `out`'s spare capacity: zeroed first, its half
+    /// megabyte of pairs was written twice a frame on the surgical scene.
+    fn bucket<'a, R>(&mut self, runs: R, len: usize, n: usize, out: &mut Vec<Pair>)
     where
         R: Iterator<Item = &'a [Pair]> + Clone + Sync,
     {
@@ -79,7 +82,9 @@ impl PairSorter {
         self.starts.clear();
         self.starts.resize(n, 0);
         self.seconds.resize(len, 0);
-        self.sorted.resize(len, [0; 2]);
+        out.clear();
+        out.reserve(len);
+        let sorted = &mut out.spare_capacity_mut()[..len];
         split(
             &mut self.parts,
             &mut self.starts,
@@ -91,7 +96,7 @@ impl PairSorter {
             &mut self.parts,
             &mut self.starts,
             &mut self.seconds,
-            &mut self.sorted,
+            sorted,
             &|part, starts, seconds, sorted| {
                 part.kept = place(runs.clone(), part.first_box, starts, seconds, sorted);
             },
@@ -101,14 +106,19 @@ impl PairSorter {
         for part in &self.parts {
             // (The first part, and every part after one that dropped none, is in place.)
             if at != kept {
-                self.sorted.copy_within(at..at + part.kept, kept);
+                sorted.copy_within(at..at + part.kept, kept);
             }
             at += part.pairs;
             kept += part.kept;
         }
-        self.sorted.truncate(kept);
+        // SAFETY: each part wrote its first `part.kept` places (`place`), and those stretches
+        // now lie end to end from the start.
+        unsafe { out.set_len(kept) };
     }
 }
+
+/// Where a part places its pairs: not yet written, so not read before `place` writes them.
+type Places<'a> = &'a mut [MaybeUninit<Pair>];
 
 /// Few pairs among many boxes (cross-group detection): the buckets would cost more than a
 /// comparison sort. (Two or more pairs mean two or more boxes.)
@@ -118,9 +128,9 @@ fn few(pairs: usize, n: usize) -> bool {
 
 /// Runs `f` on each part with its boxes' `starts` and its stretch of `seconds` and `sorted` (empty
 /// slices stay empty), the parts in parallel by `rayon::join`, which needs no allocation.
-fn split<F>(parts: &mut [Part], starts: &mut [u32], seconds: &mut [u32], sorted: &mut [Pair], f: &F)
+fn split<F>(parts: &mut [Part], starts: &mut [u32], seconds: &mut [u32], sorted: Places, f: &F)
 where
-    F: Fn(&mut Part, &mut [u32], &mut [u32], &mut [Pair]) + Sync,
+    F: Fn(&mut Part, &mut [u32], &mut [u32], Places) + Sync,
 {
     match parts {
         [] => {}
@@ -166,7 +176,7 @@ fn place<'a>(
     first_box: usize,
     starts: &mut [u32],
     seconds: &mut [u32],
-    sorted: &mut [Pair],
+    sorted: Places,
 ) -> usize {
     // `starts[b]` runs ahead as bucket b fills, ending where bucket b + 1 starts.
     for run in runs {
@@ -187,7 +197,7 @@ fn place<'a>(
         let first = (first_box + b) as u32;
         let mut last = u32::MAX;
         for &j in bucket.iter() {
-            sorted[kept] = [first, j];
+            sorted[kept].write([first, j]);
             kept += usize::from(j != last);
             last = j;
         }

@@ -91,12 +91,16 @@ fn scan_vector<I: Isa<W>, const W: usize>(
             // SAFETY: `p` is a sorted entry, inside the columns.
             let own = unsafe { columns.own(isa, p) };
             for (a, b) in stretches(cell, p) {
-                for q in (a..b).step_by(W) {
+                // (A counted loop: through `step_by`, the surgical scene's scan took 0.9 million
+                // instructions a frame more.)
+                let mut q = a;
+                while q < b {
                     // SAFETY: the columns hold every entry and their padding, so the `W` from
                     // `q` below the entries' count are inside them; the step writes `W` pairs
                     // at `kept`, and `reserve` made room for every pair of the entry and `W`
                     // more per stretch.
                     kept += unsafe { columns.keep(isa, &own, isa.first(b - q), q, out.add(kept)) };
+                    q += W;
                 }
             }
             emit.kept = kept;
