@@ -64,8 +64,8 @@ fn retain_colliding<I: Isa<W>, const W: usize>(
     let n = pairs.len();
     let boxes = obbs.len().min(slack.len());
     // The loads and gathers do not check their indices: this does, through the largest index
-    // (a plain loop, compiled with the instruction set: in vectors, where `find` took a
-    // twentieth of the SAT's instructions on the surgical scene).
+    // (a plain loop, compiled with the instruction set: in vectors; through `find`, the check
+    // took 0.67 million instructions a frame more on the surgical scene).
     let mut largest = 0;
     for q in pairs.iter() {
         largest = largest.max(q[0]).max(q[1]);
