@@ -191,9 +191,7 @@ fn place<'a>(
     let (mut kept, mut begin) = (0, 0);
     for (b, &end) in starts.iter().enumerate() {
         let bucket = &mut seconds[begin..end as usize];
-        if bucket.len() > 1 {
-            bucket.sort_unstable();
-        }
+        sort_bucket(bucket);
         let first = (first_box + b) as u32;
         let mut last = u32::MAX;
         for &j in bucket.iter() {
@@ -206,9 +204,57 @@ fn place<'a>(
     kept
 }
 
+/// Sorts a bucket's second indices. On the surgical scene 16,219 of the 17,492 buckets hold
+/// four pairs, and two in three of them come unsorted: the sorting networks up to four, without
+/// a branch, took the pass over the buckets from about 290 to 200 µs a frame (the frame's pairs
+/// sorted over and over on the Intel CPU of docs/engines.md), where an insertion sort and a call
+/// of `sort_unstable` per bucket took the same.
+#[inline(always)]
+fn sort_bucket(bucket: &mut [u32]) {
+    match bucket {
+        [] | [_] => {}
+        [a, b] => (*a, *b) = ordered(*a, *b),
+        [a, b, c] => {
+            (*a, *b) = ordered(*a, *b);
+            (*b, *c) = ordered(*b, *c);
+            (*a, *b) = ordered(*a, *b);
+        }
+        [a, b, c, d] => {
+            (*a, *b) = ordered(*a, *b);
+            (*c, *d) = ordered(*c, *d);
+            (*a, *c) = ordered(*a, *c);
+            (*b, *d) = ordered(*b, *d);
+            (*b, *c) = ordered(*b, *c);
+        }
+        _ => bucket.sort_unstable(),
+    }
+}
+
+/// The two in order: a compare-exchange of a sorting network, compiled to `min` and `max`.
+#[inline(always)]
+fn ordered(a: u32, b: u32) -> (u32, u32) {
+    (a.min(b), a.max(b))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every bucket of up to six indices drawn from four values (repeats and ties included)
+    /// comes out sorted: the networks for two to four, and the longer ones.
+    #[test]
+    fn buckets_sort_whatever_their_order() {
+        for len in 0..=6u32 {
+            for code in 0..4usize.pow(len) {
+                let bucket: Vec<u32> = (0..len).map(|k| (code >> (2 * k) & 3) as u32).collect();
+                let mut got = bucket.clone();
+                sort_bucket(&mut got);
+                let mut want = bucket.clone();
+                want.sort_unstable();
+                assert_eq!(got, want, "{bucket:?}");
+            }
+        }
+    }
 
     /// Pairs with repeats, sorted by each part count against the comparison sort, whole and in
     /// runs.
