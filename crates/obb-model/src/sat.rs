@@ -9,6 +9,7 @@
 //! 2·η·Σh for axes orthonormal only to η (1e-7 for single-precision rotations).
 
 use crate::aabb::{TINY, U};
+use crate::prepared::Frame;
 use crate::scene::Obb;
 use crate::simd::Vectors;
 
@@ -30,13 +31,22 @@ pub struct Slack {
 
 impl Slack {
     pub fn of(obb: &Obb) -> Slack {
+        Slack::with_skew(obb).0
+    }
+
+    /// The slack and the box's skew `q = fl(2.01 η)`, of which `kappa` is `fl(q · hsum)`. For
+    /// any `r >= q`, `fl(r · hsum) >= kappa` (rounding is monotone): the largest skew of a
+    /// frame ([`crate::Frame::skew`]) bounds every box's `kappa` from its `hsum` alone.
+    pub fn with_skew(obb: &Obb) -> (Slack, f64) {
         // The Gram matrix is computed with error < 4u per entry; 8u covers it with room.
         let eta = obb.ortho_error() + 8.0 * U;
         let hsum = obb.half[0] + obb.half[1] + obb.half[2];
-        Slack {
+        let skew = 2.01 * eta;
+        let slack = Slack {
             hsum,
-            kappa: 2.01 * eta * hsum,
-        }
+            kappa: skew * hsum,
+        };
+        (slack, skew)
     }
 }
 
@@ -64,9 +74,10 @@ pub fn boxes_collide(a: &Obb, sa: &Slack, b: &Obb, sb: &Slack) -> bool {
 }
 
 /// Keeps the pairs of `pairs` that collide (by [`boxes_collide`]), in their order, on the best
-/// vector instructions this CPU has ([`retain_colliding_with`]).
-pub fn retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) {
-    retain_colliding_with(Vectors::detected(), obbs, slack, pairs);
+/// vector instructions this CPU has ([`retain_colliding_with`]). The pairs name boxes of
+/// `frame`.
+pub fn retain_colliding(frame: &Frame, pairs: &mut Vec<[u32; 2]>) {
+    retain_colliding_with(Vectors::detected(), frame, pairs);
 }
 
 /// [`retain_colliding`] on the instruction set `vectors`, which this CPU must have (it panics
@@ -77,18 +88,14 @@ pub fn retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>
 /// at run time (no fused multiply-add), with no first pass. Every lane rounds exactly as
 /// [`boxes_collide`] does, and the first pass accepts only boxes that intersect, so for boxes
 /// that pass validation the answer is the same on every CPU and in every form.
-pub fn retain_colliding_with(
-    vectors: Vectors,
-    obbs: &[Obb],
-    slack: &[Slack],
-    pairs: &mut Vec<[u32; 2]>,
-) {
+pub fn retain_colliding_with(vectors: Vectors, frame: &Frame, pairs: &mut Vec<[u32; 2]>) {
     assert!(
         Vectors::available().contains(&vectors),
         "this CPU cannot run the SAT's {vectors:?} form"
     );
+    let (obbs, slack) = (frame.obbs, frame.slack);
     #[cfg(target_arch = "x86_64")]
-    if vector::fits(obbs.len()) && vector::on(vectors, obbs, slack, pairs).is_some() {
+    if vector::fits(obbs.len()) && vector::on(vectors, obbs, slack, frame.skew, pairs).is_some() {
         return;
     }
     retain_colliding_lanes(obbs, slack, pairs);

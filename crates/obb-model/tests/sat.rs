@@ -147,7 +147,7 @@ fn flip_point(a: &Obb, b: &Obb) -> Option<(Obb, Obb)> {
 /// The pairs of `all` that the SAT's form on `vectors` keeps.
 fn retained(frame: &obb_model::Frame, all: &[[u32; 2]], vectors: Vectors) -> Vec<[u32; 2]> {
     let mut kept = all.to_vec();
-    retain_colliding_with(vectors, frame.obbs, frame.slack, &mut kept);
+    retain_colliding_with(vectors, frame, &mut kept);
     kept
 }
 

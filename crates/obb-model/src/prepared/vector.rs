@@ -49,6 +49,7 @@ fn prepare<I: Isa<W>, const W: usize>(
     let mut low = [isa.splat(Aabb::EMPTY.min[0]); 3];
     let mut high = [isa.splat(Aabb::EMPTY.max[0]); 3];
     let mut widest = isa.splat(0.0);
+    let mut skew = isa.splat(0.0);
     for first in (0..whole).step_by(W) {
         // Plain loops here, no `map` or `from_fn`: their closures are compiled outside the
         // function that enables the instruction set, so vector work in them would be a call
@@ -86,7 +87,9 @@ fn prepare<I: Isa<W>, const W: usize>(
         }
         let eta = worst + isa.splat(8.0 * U);
         let hsum = half[0] + half[1] + half[2];
-        let kappa = isa.splat(2.01) * eta * hsum;
+        let box_skew = isa.splat(2.01) * eta;
+        skew = higher(skew, box_skew);
+        let kappa = box_skew * hsum;
         let ends = lanes(isa, ends);
         let [hsum, kappa] = lanes(isa, [hsum, kappa]);
         let (aabbs, slack) = (&mut aabbs[first..first + W], &mut slack[first..first + W]);
@@ -110,11 +113,12 @@ fn prepare<I: Isa<W>, const W: usize>(
         &mut groups[whole..n],
     );
     let ends = lanes(isa, [low[0], low[1], low[2], high[0], high[1], high[2]]);
-    let [widest] = lanes(isa, [widest]);
+    let [widest, skew] = lanes(isa, [widest, skew]);
     (0..W).fold(tail, |s, l| {
         let lane = Spread {
             bounds: lane_aabb(&ends, l),
             widest: widest[l],
+            skew: skew[l],
         };
         s.join(lane)
     })

@@ -42,10 +42,16 @@ const BLOCK: usize = 1024;
 /// ms off the surgical scene's all-pairs frame (3 %), alike.
 const PREFETCH_STEPS: usize = 4;
 
-compile_for_each_isa!(retain_colliding(obbs: &[Obb], slack: &[Slack], pairs: &mut Vec<[u32; 2]>) -> ());
+compile_for_each_isa!(retain_colliding(
+    obbs: &[Obb],
+    slack: &[Slack],
+    skew: f64,
+    pairs: &mut Vec<[u32; 2]>,
+) -> ());
 
-/// [`super::retain_colliding`], `W` pairs per step, for boxes that [`fits`] accepts. A pair
-/// naming a box past `obbs` or `slack` panics, as indexing does.
+/// [`super::retain_colliding`], `W` pairs per step, for boxes that [`fits`] accepts; `skew` is
+/// their frame's ([`crate::Frame::skew`]). A pair naming a box past `obbs` or `slack` panics,
+/// as indexing does.
 ///
 /// Nine in ten of the pairs the grid hands over collide, so most steps need all 15 axes. In a
 /// block of pairs, a first pass looks for a point between the two centres inside both boxes
@@ -58,6 +64,7 @@ fn retain_colliding<I: Isa<W>, const W: usize>(
     isa: I,
     obbs: &[Obb],
     slack: &[Slack],
+    skew: f64,
     pairs: &mut Vec<[u32; 2]>,
 ) {
     debug_assert!(fits(obbs.len()));
@@ -100,7 +107,8 @@ fn retain_colliding<I: Isa<W>, const W: usize>(
             unsafe { prefetch_boxes(obbs, base, n, block + (s + PREFETCH_STEPS) * W, W) };
             let live = isa.first(len - s * W);
             // SAFETY: every pair's boxes are inside both slices, checked above.
-            let shares = unsafe { Front::of(isa, obbs, slack, &step(at, s)) }.shares_a_point(isa);
+            let front = unsafe { Front::of(isa, obbs, Kappa::Bounded(skew), &step(at, s)) };
+            let shares = front.shares_a_point(isa);
             let shares = shares & live;
             let rest = (!shares & live).bits();
             *hit = shares.bits();
@@ -112,7 +120,7 @@ fn retain_colliding<I: Isa<W>, const W: usize>(
         for chunk in undecided[..open].chunks(W) {
             let p = lanes(at, |l| chunk[l.min(chunk.len() - 1)] as usize);
             // SAFETY: as above.
-            let separated = unsafe { Front::of(isa, obbs, slack, &p) }.separated(isa);
+            let separated = unsafe { Front::of(isa, obbs, Kappa::Read(slack), &p) }.separated(isa);
             let separated = separated.bits();
             for (l, &q) in chunk.iter().enumerate() {
                 let q = q as usize;
@@ -179,9 +187,34 @@ fn lanes<const W: usize>(at: &[[u32; 2]], index: impl Fn(usize) -> usize) -> [[u
     std::array::from_fn(|l| at[index(l).min(at.len() - 1)])
 }
 
+/// The `kappa` of the boxes `at`. SAFETY: every index must be below `slack.len()` and below
+/// a length that [`fits`] accepts (the gather's offsets are 32-bit).
+#[inline(always)]
+unsafe fn gather_kappa<I: Isa<W>, const W: usize>(isa: I, slack: &[Slack], at: [usize; W]) -> I::F {
+    let mut offsets = [0; W];
+    for (o, &i) in offsets.iter_mut().zip(&at) {
+        *o = (i * SLACK_STRIDE + KAPPA) as u32;
+    }
+    // SAFETY: the caller's promise.
+    unsafe { isa.gather(slack.as_ptr().cast::<f64>(), offsets) }
+}
+
+/// Where [`Front::of`] takes the boxes' `kappa` from.
+#[derive(Clone, Copy)]
+enum Kappa<'a> {
+    /// Each box's own, gathered from its slack: the whole SAT's margin, exactly as
+    /// `sat_lanes` computes it.
+    Read(&'a [Slack]),
+    /// `fl(skew · hsum)` for the frame's skew, at least each box's own (`Slack::with_skew`),
+    /// so the margin is at least the exact one: enough for the first pass, which only needs a
+    /// margin that large, and with no gather.
+    Bounded(f64),
+}
+
 /// What the SAT reads and computes first for the `W` pairs of a step, and what both passes
-/// need: the boxes read whole ([`Isa::boxes`]), `kappa` gathered, the margin, and the centres'
-/// offset's projections on each box's axes. Every value is computed as `sat_lanes` computes it.
+/// need: the boxes read whole ([`Isa::boxes`]), `kappa`, the margin, and the centres' offset's
+/// projections on each box's axes. Every value is computed as `sat_lanes` computes it (the
+/// margin with [`Kappa::Read`]; with [`Kappa::Bounded`] it is the same or larger).
 struct Front<F> {
     ah: [F; 3],
     bh: [F; 3],
@@ -195,40 +228,40 @@ struct Front<F> {
 }
 
 impl<F: Lanes> Front<F> {
-    /// SAFETY: every index of `p` must be below `obbs.len()` and `slack.len()`.
+    /// SAFETY: every index of `p` must be below `obbs.len()`, and below the slack's length
+    /// with [`Kappa::Read`].
     #[inline(always)]
     unsafe fn of<I: Isa<W, F = F>, const W: usize>(
         isa: I,
         obbs: &[Obb],
-        slack: &[Slack],
+        kappa: Kappa,
         p: &[[u32; 2]; W],
     ) -> Front<F> {
-        let sb = slack.as_ptr().cast::<f64>();
         // Plain loops here and below, no `map` or `from_fn`: their closures are compiled
         // outside the function that enables the instruction set, so vector work in them would
         // be a call each.
         let (mut a_at, mut b_at) = ([0; W], [0; W]);
-        let (mut a_slack, mut b_slack) = ([0; W], [0; W]);
         for (l, &[i, j]) in p.iter().enumerate() {
             (a_at[l], b_at[l]) = (i as usize, j as usize);
-            a_slack[l] = i * SLACK_STRIDE as u32 + KAPPA as u32;
-            b_slack[l] = j * SLACK_STRIDE as u32 + KAPPA as u32;
         }
-        // SAFETY: the caller's indices are inside both slices, and `fits` keeps their offsets
-        // below 2^31.
-        let (a_boxes, b_boxes, a_kappa, b_kappa) = unsafe {
-            (
-                isa.boxes(obbs, a_at),
-                isa.boxes(obbs, b_at),
-                isa.gather(sb, a_slack),
-                isa.gather(sb, b_slack),
-            )
-        };
-        let (a_center, b_center) = (field3(&a_boxes, CENTER), field3(&b_boxes, CENTER));
+        // SAFETY: the caller's indices are inside `obbs`.
+        let (a_boxes, b_boxes) = unsafe { (isa.boxes(obbs, a_at), isa.boxes(obbs, b_at)) };
         let (ah, bh) = (field3(&a_boxes, HALF), field3(&b_boxes, HALF));
         // `Slack::hsum`, summed here from the halves just read, in its order: two gathers
         // fewer.
         let (a_hsum, b_hsum) = (ah[0] + ah[1] + ah[2], bh[0] + bh[1] + bh[2]);
+        let (a_kappa, b_kappa) = match kappa {
+            // SAFETY: the caller's indices are inside `slack`, and `fits` keeps their
+            // offsets below 2^31.
+            Kappa::Read(slack) => unsafe {
+                (
+                    gather_kappa(isa, slack, a_at),
+                    gather_kappa(isa, slack, b_at),
+                )
+            },
+            Kappa::Bounded(skew) => (isa.splat(skew) * a_hsum, isa.splat(skew) * b_hsum),
+        };
+        let (a_center, b_center) = (field3(&a_boxes, CENTER), field3(&b_boxes, CENTER));
         let a_axes = axes(&a_boxes);
         let b_axes = axes(&b_boxes);
         let mut tw = [a_hsum; 3];
@@ -419,14 +452,15 @@ mod tests {
             })
     }
 
-    /// The pairs `[2l, 2l + 1]` of `obbs` that the first pass accepts, by `l`.
-    fn first_pass<I: Isa<W>, const W: usize>(isa: I, obbs: &[Obb], slack: &[Slack]) -> Vec<usize> {
+    /// The pairs `[2l, 2l + 1]` of `obbs` that the first pass accepts, by `l`, with `kappa`.
+    fn first_pass<I: Isa<W>, const W: usize>(isa: I, obbs: &[Obb], kappa: Kappa) -> Vec<usize> {
         let mut accepted = Vec::new();
         for first in (0..obbs.len() / 2).step_by(W) {
             let p: [[u32; 2]; W] =
                 std::array::from_fn(|l| [2 * (first + l) as u32, 2 * (first + l) as u32 + 1]);
             // SAFETY: every index is in range (the callers pass a multiple of `2 W` boxes).
-            let shares = unsafe { Front::of(isa, obbs, slack, &p) }.shares_a_point(isa);
+            let shares = unsafe { Front::of(isa, obbs, kappa, &p) };
+            let shares = shares.shares_a_point(isa);
             accepted.extend(
                 (0..W)
                     .filter(|l| shares.bits() >> l & 1 == 1)
@@ -450,13 +484,18 @@ mod tests {
             let obbs: Vec<Obb> = pairs.iter().flat_map(|(a, b)| [a.clone(), b.clone()]).collect();
             prop_assume!(obbs.iter().all(|b| b.ortho_error() <= ORTHO_TOL));
             prop_assume!(obbs.iter().all(|b| b.half.iter().all(|h| h.is_finite())));
-            let slack: Vec<Slack> = obbs.iter().map(Slack::of).collect();
+            let (slack, skews): (Vec<Slack>, Vec<f64>) = obbs.iter().map(Slack::with_skew).unzip();
+            // Each box's own slack (the least margin, the proof's case) and the bound from the
+            // largest skew, as `retain_colliding` runs the pass.
+            let skew = skews.into_iter().fold(0.0, f64::max);
             let mut accepted = Vec::new();
-            if let Some(isa) = Avx512::detect() {
-                accepted.extend(first_pass(isa, &obbs, &slack));
-            }
-            if let Some(isa) = Avx2::detect() {
-                accepted.extend(first_pass(isa, &obbs, &slack));
+            for kappa in [Kappa::Read(&slack), Kappa::Bounded(skew)] {
+                if let Some(isa) = Avx512::detect() {
+                    accepted.extend(first_pass(isa, &obbs, kappa));
+                }
+                if let Some(isa) = Avx2::detect() {
+                    accepted.extend(first_pass(isa, &obbs, kappa));
+                }
             }
             for (l, (a, b)) in accepted.into_iter().map(|l| (l, &pairs[l])) {
                 // The point c_A + αT is at αv from c_A and at (α - 1)w from c_B, v and w the

@@ -128,7 +128,7 @@ impl<'a> Emitter<'a> {
             *p = ordered(p[0] as usize, p[1] as usize);
         }
         c.sat_tests = self.kept as u64;
-        retain_colliding(boxes.obbs, boxes.slack, self.out);
+        retain_colliding(boxes, self.out);
         c
     }
 }
