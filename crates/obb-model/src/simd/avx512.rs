@@ -118,51 +118,47 @@ impl Isa<8> for Avx512 {
         }
     }
 
-    /// Each box is two 64-byte loads, and the two 8x8 blocks are transposed in registers (24
-    /// shuffles each), where gathering the fifteen fields would take fifteen gathers of eight
-    /// loads each. On AMD's Zen 4 the gathers bounded both the SAT and the preparation; on the
-    /// Intel CPU where they were first measured, the two forms were equally fast
-    /// (docs/engines.md).
+    /// Each box is read a quarter (four fields) at a time, and box `l` and box `l + 4` share a
+    /// register, one in each 256-bit half (a load and an insert from memory, which Intel's CPUs
+    /// run on either of two ports); a 4x4 transpose in each half (eight shuffles) then gives
+    /// four fields of the eight boxes. That is 32 shuffles for the eight boxes, where a
+    /// transpose of their 64-byte halves took 48, all on the one port that shuffles 512-bit
+    /// registers. Gathering the fifteen fields would take fifteen gathers of eight loads each:
+    /// on AMD's Zen 4 the gathers bounded both the SAT and the preparation (docs/engines.md).
     #[inline(always)]
     unsafe fn boxes(self, obbs: &[Obb], at: [usize; 8]) -> [F64x8; OBB_STRIDE] {
         let base = obbs.as_ptr().cast::<f64>();
-        // SAFETY (all intrinsics): this CPU has AVX-512F (`self`); each load reads half of box
-        // `i`, which is inside `obbs` (the caller's promise) and is OBB_STRIDE f64.
+        // SAFETY (all intrinsics): this CPU has AVX-512F (`self`); each load reads a quarter of
+        // box `i`, which is inside `obbs` (the caller's promise) and is OBB_STRIDE f64.
         unsafe {
             let mut out = [F64x8(_mm512_setzero_pd()); OBB_STRIDE];
-            // The 8x8 transpose: pairs of rows interleaved, then 128-bit lanes from two pairs,
-            // then 256-bit halves from the two groups of four rows.
-            let from_pairs_lo = _mm512_set_epi64(13, 12, 5, 4, 9, 8, 1, 0);
-            let from_pairs_hi = _mm512_set_epi64(15, 14, 7, 6, 11, 10, 3, 2);
-            for (half, fields) in out.chunks_exact_mut(8).enumerate() {
-                let mut row = [_mm512_setzero_pd(); 8];
-                for (r, &i) in row.iter_mut().zip(&at) {
-                    *r = _mm512_loadu_pd(base.add(i * OBB_STRIDE + 8 * half));
+            // Lanes 0, 1 of the first source, 0, 1 of the second, then 4, 5 of each: the
+            // even 128-bit lanes of both, in each 256-bit half; `odd` the odd ones.
+            let even = _mm512_set_epi64(13, 12, 5, 4, 9, 8, 1, 0);
+            let odd = _mm512_set_epi64(15, 14, 7, 6, 11, 10, 3, 2);
+            for (quarter, fields) in out.chunks_exact_mut(4).enumerate() {
+                // row[k]: fields 4q to 4q + 3 of box at[k] in the low half, of box at[k + 4]
+                // in the high half.
+                let mut row = [_mm512_setzero_pd(); 4];
+                for (k, r) in row.iter_mut().enumerate() {
+                    let low = _mm256_loadu_pd(base.add(at[k] * OBB_STRIDE + 4 * quarter));
+                    let high = _mm256_loadu_pd(base.add(at[k + 4] * OBB_STRIDE + 4 * quarter));
+                    *r = _mm512_insertf64x4::<1>(_mm512_castpd256_pd512(low), high);
                 }
-                let mut pairs = [_mm512_setzero_pd(); 8];
-                for (k, p) in pairs.iter_mut().enumerate() {
-                    let (x, y) = (row[k & !1], row[k | 1]);
-                    *p = if k % 2 == 0 {
-                        _mm512_unpacklo_pd(x, y)
-                    } else {
-                        _mm512_unpackhi_pd(x, y)
-                    };
-                }
-                // quads[4q + m], for the rows 4q to 4q + 3: their field f in the low 256 bits
-                // and their field f + 4 in the high, f = [0, 2, 1, 3][m].
-                let mut quads = [_mm512_setzero_pd(); 8];
-                for q in 0..2 {
-                    let (even, odd) = (4 * q, 4 * q + 1);
-                    let (e, e2, o, o2) = (pairs[even], pairs[even + 2], pairs[odd], pairs[odd + 2]);
-                    quads[4 * q] = _mm512_permutex2var_pd(e, from_pairs_lo, e2);
-                    quads[4 * q + 1] = _mm512_permutex2var_pd(e, from_pairs_hi, e2);
-                    quads[4 * q + 2] = _mm512_permutex2var_pd(o, from_pairs_lo, o2);
-                    quads[4 * q + 3] = _mm512_permutex2var_pd(o, from_pairs_hi, o2);
-                }
-                for (m, field) in [0, 2, 1, 3].into_iter().enumerate() {
-                    fields[field] = F64x8(_mm512_shuffle_f64x2::<0x44>(quads[m], quads[4 + m]));
-                    fields[field + 4] = F64x8(_mm512_shuffle_f64x2::<0xEE>(quads[m], quads[4 + m]));
-                }
+                // Fields f and f + 2 of rows 0, 1 (and of 2, 3) interleaved, f = 0 in `lo`
+                // and f = 1 in `hi`.
+                let (lo01, hi01) = (
+                    _mm512_unpacklo_pd(row[0], row[1]),
+                    _mm512_unpackhi_pd(row[0], row[1]),
+                );
+                let (lo23, hi23) = (
+                    _mm512_unpacklo_pd(row[2], row[3]),
+                    _mm512_unpackhi_pd(row[2], row[3]),
+                );
+                fields[0] = F64x8(_mm512_permutex2var_pd(lo01, even, lo23));
+                fields[1] = F64x8(_mm512_permutex2var_pd(hi01, even, hi23));
+                fields[2] = F64x8(_mm512_permutex2var_pd(lo01, odd, lo23));
+                fields[3] = F64x8(_mm512_permutex2var_pd(hi01, odd, hi23));
             }
             out
         }
