@@ -47,8 +47,9 @@ struct Spread {
     skew: f64,
 }
 
-/// The larger of two skews, `x` kept when `y` is NaN: a NaN skew comes only from NaN or
-/// infinite axes, whose `t_k` already fail the first pass's comparisons.
+/// The larger of the two, `x` kept when `y` is NaN: a NaN extent never becomes the widest
+/// (validated boxes have none), and a NaN skew comes only from NaN or infinite axes, whose
+/// `t_k` already fail the SAT's first pass. (`simd::higher` is this on vector lanes.)
 #[inline(always)]
 fn higher(x: f64, y: f64) -> f64 {
     if y > x {
@@ -70,9 +71,7 @@ impl Spread {
     fn with(self, aabb: &Aabb, skew: f64) -> Spread {
         let mut widest = self.widest;
         for x in 0..3 {
-            let d = aabb.max[x] - aabb.min[x];
-            // (A NaN extent is never kept; validated boxes have none.)
-            widest = if d > widest { d } else { widest };
+            widest = higher(widest, aabb.max[x] - aabb.min[x]);
         }
         Spread {
             bounds: self.bounds.union(aabb),
@@ -85,11 +84,7 @@ impl Spread {
     fn join(self, other: Spread) -> Spread {
         Spread {
             bounds: self.bounds.union(&other.bounds),
-            widest: if other.widest > self.widest {
-                other.widest
-            } else {
-                self.widest
-            },
+            widest: higher(self.widest, other.widest),
             skew: higher(self.skew, other.skew),
         }
     }

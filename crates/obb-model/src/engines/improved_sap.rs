@@ -41,7 +41,7 @@ impl Engine for ImprovedSap {
                     c.visits += 1;
                     c.sat_tests += 1;
                     if boxes.collide(i, j) {
-                        out.push(ordered(i, j));
+                        out.push(ordered(i as u32, j as u32));
                     }
                 }
             }

@@ -1,6 +1,6 @@
 //! The engines' final pair sort, in parts of the box range on all threads.
 
-use super::Pair;
+use super::{ordered, Pair};
 use std::mem::MaybeUninit;
 
 /// `PairSorter` sorts by comparison when there are fewer pairs than boxes / this.
@@ -213,27 +213,21 @@ fn place<'a>(
 fn sort_bucket(bucket: &mut [u32]) {
     match bucket {
         [] | [_] => {}
-        [a, b] => (*a, *b) = ordered(*a, *b),
+        [a, b] => [*a, *b] = ordered(*a, *b),
         [a, b, c] => {
-            (*a, *b) = ordered(*a, *b);
-            (*b, *c) = ordered(*b, *c);
-            (*a, *b) = ordered(*a, *b);
+            [*a, *b] = ordered(*a, *b);
+            [*b, *c] = ordered(*b, *c);
+            [*a, *b] = ordered(*a, *b);
         }
         [a, b, c, d] => {
-            (*a, *b) = ordered(*a, *b);
-            (*c, *d) = ordered(*c, *d);
-            (*a, *c) = ordered(*a, *c);
-            (*b, *d) = ordered(*b, *d);
-            (*b, *c) = ordered(*b, *c);
+            [*a, *b] = ordered(*a, *b);
+            [*c, *d] = ordered(*c, *d);
+            [*a, *c] = ordered(*a, *c);
+            [*b, *d] = ordered(*b, *d);
+            [*b, *c] = ordered(*b, *c);
         }
         _ => bucket.sort_unstable(),
     }
-}
-
-/// The two in order: a compare-exchange of a sorting network, compiled to `min` and `max`.
-#[inline(always)]
-fn ordered(a: u32, b: u32) -> (u32, u32) {
-    (a.min(b), a.max(b))
 }
 
 #[cfg(test)]

@@ -36,7 +36,7 @@ impl Sap {
             } else {
                 for &k in &self.active {
                     if mask.allows(boxes.groups[i], boxes.groups[k as usize]) {
-                        pairs.push(ordered(i, k as usize));
+                        pairs.push(ordered(i as u32, k));
                     }
                 }
                 self.slot[i] = self.active.len();

@@ -78,7 +78,7 @@ impl Engine for Sweep {
                 if bi.overlaps_on(bj, o1) && bi.overlaps_on(bj, o2) {
                     c.sat_tests += 1;
                     if boxes.collide(i, j) {
-                        out.push(ordered(i, j));
+                        out.push(ordered(i as u32, j as u32));
                     }
                 }
             }

@@ -459,8 +459,8 @@ mod tests {
             let p: [[u32; 2]; W] =
                 std::array::from_fn(|l| [2 * (first + l) as u32, 2 * (first + l) as u32 + 1]);
             // SAFETY: every index is in range (the callers pass a multiple of `2 W` boxes).
-            let shares = unsafe { Front::of(isa, obbs, kappa, &p) };
-            let shares = shares.shares_a_point(isa);
+            let front = unsafe { Front::of(isa, obbs, kappa, &p) };
+            let shares = front.shares_a_point(isa);
             accepted.extend(
                 (0..W)
                     .filter(|l| shares.bits() >> l & 1 == 1)

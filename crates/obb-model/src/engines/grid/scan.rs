@@ -125,7 +125,7 @@ impl<'a> Emitter<'a> {
         // been written (`kept` only ever counts pairs already stored).
         unsafe { self.out.set_len(self.kept) };
         for p in self.out.iter_mut() {
-            *p = ordered(p[0] as usize, p[1] as usize);
+            *p = ordered(p[0], p[1]);
         }
         c.sat_tests = self.kept as u64;
         retain_colliding(boxes, self.out);
@@ -322,7 +322,7 @@ pub(super) fn scan_large(
         if boxes.aabbs[l].overlaps(&boxes.aabbs[j]) {
             c.sat_tests += 1;
             if boxes.sat(l, j) {
-                out.push(ordered(l, j));
+                out.push(ordered(l as u32, j as u32));
             }
         }
     }
