@@ -204,9 +204,9 @@ fn write_buckets(first_box: usize, starts: &[u32], seconds: &mut [u32], sorted: 
         let first = (first_box + b) as u32;
         multiversion::target::match_target! {
             "x86_64+sse4.1" => {
-                if let (Ok(four), Some(out)) = (
+                if let (Ok(four), Some(Ok(out))) = (
                     <&mut [u32; 4]>::try_from(&mut *bucket),
-                    sorted.get_mut(kept..kept + 4),
+                    sorted.get_mut(kept..kept + 4).map(<&mut [_; 4]>::try_from),
                 ) {
                     // SAFETY: this form of the function runs only where the CPU has SSE4.1.
                     if unsafe { four_distinct(first, four, out) } {
@@ -236,9 +236,12 @@ fn write_buckets(first_box: usize, starts: &[u32], seconds: &mut [u32], sorted: 
 /// SAFETY: the CPU must have SSE4.1.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "sse4.1")]
-unsafe fn four_distinct(first: u32, bucket: &mut [u32; 4], out: &mut [MaybeUninit<Pair>]) -> bool {
+unsafe fn four_distinct(
+    first: u32,
+    bucket: &mut [u32; 4],
+    out: &mut [MaybeUninit<Pair>; 4],
+) -> bool {
     use std::arch::x86_64::*;
-    let out: &mut [MaybeUninit<Pair>; 4] = out.try_into().expect("room for four pairs");
     // SAFETY: the loads and stores are of the bucket's and `out`'s own 16 and 32 bytes.
     unsafe {
         let mut x = _mm_loadu_si128(bucket.as_ptr().cast());
