@@ -94,7 +94,7 @@ impl Isa<8> for Avx512 {
 
     #[inline(always)]
     fn first(self, n: usize) -> u8 {
-        (u16::MAX >> (16 - n.min(8))) as u8
+        ((1u16 << n.min(8)) - 1) as u8
     }
 
     #[inline(always)]

@@ -169,3 +169,27 @@ pub(crate) fn axes<F: Copy>(boxes: &[F; OBB_STRIDE]) -> [[F; 3]; 3] {
 pub(crate) const fn all_lanes<const W: usize>() -> u8 {
     (u16::MAX >> (16 - W)) as u8
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::simd::{Avx2, Avx512};
+
+    /// `first(n)` holds exactly the lanes below `n`, for every `n` from 0 past `W`.
+    fn first_is_the_lanes_below<I: Isa<W>, const W: usize>(isa: I) {
+        for n in 0..=2 * W {
+            let want = (0..n.min(W)).fold(0u8, |bits, l| bits | 1 << l);
+            assert_eq!(isa.first(n).bits(), want, "first({n}) with {W} lanes");
+        }
+    }
+
+    #[test]
+    fn first_holds_the_lanes_below_n() {
+        if let Some(isa) = Avx512::detect() {
+            first_is_the_lanes_below(isa);
+        }
+        if let Some(isa) = Avx2::detect() {
+            first_is_the_lanes_below(isa);
+        }
+    }
+}
