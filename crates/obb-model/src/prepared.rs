@@ -1,6 +1,7 @@
 //! Per-frame preparation shared by every engine: each box's AABB and SAT slack, and its group.
 
 use crate::aabb::Aabb;
+use crate::engines::threads;
 use crate::sat::{boxes_collide, Slack};
 use crate::scene::Obb;
 use crate::simd::Vectors;
@@ -141,7 +142,7 @@ impl Prepared {
         self.aabbs.resize(n, Aabb::default());
         self.slack.resize(n, Slack::default());
         self.groups.resize(n, 0);
-        let spread = if n < PARALLEL_MIN {
+        let spread = if n < PARALLEL_MIN || threads() == 1 {
             prepare(obbs, &mut self.aabbs, &mut self.slack, &mut self.groups)
         } else {
             obbs.par_chunks(CHUNK)

@@ -76,7 +76,10 @@ extern "C" {
 // `"cross"` (boxes of different groups only) or a list such as `"0-1,0-2"` (`"1-1"`: pairs
 // inside group 1). `static_groups`, `static_count`: the groups kept resident (may be NULL when
 // the count is 0). `threads`: worker threads of the engine's own pool, 0 for one per core, at
-// most 256.
+// most 256. The pool rebuilds a static group after it changed (with 1 thread there is no
+// pool); every other detection runs on the calling thread: a frame of a few hundred moving
+// boxes takes a small part of a millisecond there, where handing it to a pool costs a wake-up
+// of another CPU each way.
 //
 // # Safety
 // `group_mask` is a NUL-terminated string; `static_groups` points to `static_count` values;

@@ -5,7 +5,7 @@
 
 use crate::types::{ObbcdBox, ObbcdContact, ObbcdPair};
 use obb_model::contact::contact;
-use obb_model::engines::{Pair, RigidResident};
+use obb_model::engines::{on_this_thread, Pair, RigidResident};
 use obb_model::pose::Pose;
 use obb_model::scene::{COORD_LIMIT, MAX_OBBS, ORTHO_TOL};
 use obb_model::{GroupMask, Obb};
@@ -221,7 +221,8 @@ pub struct Engine {
     rigid: RigidResident,
     /// The moving groups' poses, gathered for a detection.
     poses: Vec<Pose>,
-    pool: rayon::ThreadPool,
+    /// The workers of a static group's rebuild, when there are two or more.
+    pool: Option<rayon::ThreadPool>,
     raw: Vec<Pair>,
     pairs: Vec<ObbcdPair>,
     contacts: Vec<ObbcdContact>,
@@ -238,11 +239,16 @@ impl Engine {
                 "threads is {threads}, more than the limit of {MAX_THREADS}"
             )));
         }
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .thread_name(|k| format!("obbcd-{k}"))
-            .build()
-            .map_err(|e| Refusal::Argument(format!("cannot start {threads} threads: {e}")))?;
+        // One thread needs no pool: every detection then runs on the calling thread.
+        let pool = match threads {
+            1 => None,
+            _ => rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .thread_name(|k| format!("obbcd-{k}"))
+                .build()
+                .map(|pool| (pool.current_num_threads() > 1).then_some(pool))
+                .map_err(|e| Refusal::Argument(format!("cannot start {threads} threads: {e}")))?,
+        };
         let mut static_groups = static_groups.to_vec();
         static_groups.sort_unstable();
         static_groups.dedup();
@@ -357,15 +363,24 @@ impl Engine {
             raw,
             ..
         } = self;
-        pool.install(|| {
-            if *statics_changed {
+        // A static group's rebuild (the tissue's, some milliseconds) is shared on the pool; any
+        // other detection runs on the calling thread: handed to the pool and back, a haptic
+        // frame of 0.02 ms took 0.1 to 0.24 ms (median over the frames) on one thread, the
+        // two wake-ups of a halted CPU of this project's virtual machines.
+        let rebuild = *statics_changed;
+        let frame = || {
+            if rebuild {
                 rigid.update_static(&statics.boxes, mask);
                 *statics_changed = false;
             }
             poses.clear();
             poses.extend(moving.slots.iter().map(|s| s.pose));
             rigid.detect(poses, raw);
-        });
+        };
+        match pool {
+            Some(pool) if rebuild => pool.install(frame),
+            _ => on_this_thread(frame),
+        }
         let at = |k: u32| {
             let (side, i) = side_of(&self.statics, &self.moving, k);
             side.locate(i)

@@ -8,6 +8,7 @@ mod improved_sap;
 mod pair_sort;
 mod sap;
 mod sweep;
+mod threads;
 
 pub use brute::Brute;
 pub use grid::{Grid, GridStats, Resident, RigidResident};
@@ -15,6 +16,8 @@ pub use improved_sap::ImprovedSap;
 pub(crate) use pair_sort::PairSorter;
 pub use sap::Sap;
 pub use sweep::Sweep;
+pub use threads::on_this_thread;
+pub(crate) use threads::threads;
 
 use crate::groups::GroupMask;
 use crate::prepared::Frame;

@@ -69,7 +69,7 @@ impl PairSorter {
     where
         R: Iterator<Item = &'a [Pair]> + Clone + Sync,
     {
-        let parts = rayon::current_num_threads()
+        let parts = crate::engines::threads()
             .min(len / MIN_PAIRS_PER_PART)
             .clamp(1, n);
         let per_part = n.div_ceil(parts);

@@ -41,7 +41,7 @@ pub use geometry::GridGeometry;
 pub use resident::Resident;
 pub use rigid::RigidResident;
 
-use super::{Counters, Engine, EngineKind, Pair, PairSorter};
+use super::{threads, Counters, Engine, EngineKind, Pair, PairSorter};
 use crate::aabb::Aabb;
 use crate::groups::GroupMask;
 use crate::prepared::Frame;
@@ -196,7 +196,7 @@ impl Grid {
             prober,
             key_bits: bits_for(cells - 1) + class_bits,
         };
-        let threads = rayon::current_num_threads();
+        let threads = threads();
         slab::place(&mut self.slabs, threads, &layout, &mut self.layers);
         self.slabs.par_iter_mut().for_each(|s| s.build(&layout));
         let total = self.slabs.iter().map(Slab::len).sum();
@@ -270,7 +270,7 @@ impl Grid {
         self.cornered = true;
         let threads = match boxes.len() {
             n if n < PARALLEL_MIN_WORK => 1,
-            _ => rayon::current_num_threads(),
+            _ => threads(),
         };
         Some(match threads {
             1 => self.corner_frame(boxes, geometry, threads, out),
