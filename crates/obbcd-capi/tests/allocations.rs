@@ -1,8 +1,8 @@
 //! After warm-up, a haptic frame through the C ABI (set the instruments' boxes, or their poses,
 //! detect, read the pairs and contacts) allocates nothing in obbcd: every allocation of the
-//! process is counted. The one that remains is rayon's: handing a job to a pool from outside
-//! it puts it in a queue made of 63-slot blocks, and a new block is allocated every 63 jobs
-//! (seen with gdb: `crossbeam_deque::Injector::push` under `Registry::inject`).
+//! process is counted. A haptic frame runs on the calling thread; were it handed to the pool,
+//! rayon's queue would allocate a block every 63 frames (`crossbeam_deque::Injector::push`
+//! under `Registry::inject`, seen with gdb).
 
 use obb_model::generate::SurgicalMotion;
 use obbcd_c::*;
@@ -14,9 +14,6 @@ use std::ptr::{null, null_mut};
 /// Counts the allocations and reallocations of every thread.
 #[global_allocator]
 static COUNTING: &StatsAlloc<System> = &INSTRUMENTED_SYSTEM;
-
-/// Jobs per block of rayon's injector queue (crossbeam_deque's BLOCK_CAP).
-const QUEUE_BLOCK: usize = 63;
 
 /// The motion's frame where the run starts: the grippers slide in the tissue.
 const START: usize = 800;
@@ -125,13 +122,12 @@ fn a_haptic_frame_allocates_nothing_after_warm_up() {
                 }
                 let change = region.change();
                 let allocated = change.allocations + change.reallocations;
-                // The first pass is the warm-up: buffers grow to the run's largest frame. After
-                // it, at most rayon's queue blocks: one per 63 detections, rounded up.
+                // The first pass is the warm-up: buffers grow to the run's largest frame.
                 if pass > 0 {
-                    assert!(
-                        allocated <= frames.len().div_ceil(QUEUE_BLOCK),
-                        "{threads} threads, posed {posed}, pass {pass}: {allocated} allocations \
-                         in {} frames",
+                    assert_eq!(
+                        allocated,
+                        0,
+                        "{threads} threads, posed {posed}, pass {pass}: allocations in {} frames",
                         frames.len()
                     );
                 }
