@@ -11,7 +11,7 @@ use std::sync::mpsc;
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::Duration;
 
-/// Every worker of the global pool, each held in a job until `release`.
+/// Every worker of the global pool, each held in a job until this is dropped.
 struct Held {
     released: Arc<(Mutex<bool>, Condvar)>,
 }
