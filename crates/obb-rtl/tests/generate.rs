@@ -213,8 +213,7 @@ fn the_synthesis_report_is_for_the_committed_rtl() {
 #[test]
 fn gen_rtl_plans_for_scenes() {
     use obb_model::fixed::plan::{plan, Aims};
-    let dir = std::env::temp_dir().join(format!("obb-rtl-gen-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = obb_rtl::flow::verilator::scratch_dir("gen").unwrap();
     let scene = obb_model::generate::surgical(400, 1).unwrap();
     let path = dir.join("scene.json");
     scene.save(&path).unwrap();

@@ -12,8 +12,7 @@ endmodule
 
 #[test]
 fn a_period_is_known_once_the_core_is_synthesized() {
-    let cache = std::env::temp_dir().join(format!("obb-rtl-period-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&cache);
+    let cache = obb_rtl::flow::verilator::scratch_dir("period").unwrap();
     assert_eq!(
         synth::period_ns(ADDER, "tiny", &cache, false).unwrap(),
         None
@@ -35,5 +34,4 @@ fn a_period_is_known_once_the_core_is_synthesized() {
         synth::period_ns(&other, "tiny", &cache, false).unwrap(),
         None
     );
-    let _ = std::fs::remove_dir_all(&cache);
 }

@@ -291,10 +291,14 @@ impl Core {
         expect: u64,
         waves: Option<&Waves>,
     ) -> Result<Vec<cosim::SimFrame>> {
-        let work = self.cache.join(format!("run-{}", std::process::id()));
-        std::fs::create_dir_all(&work)
-            .with_context(|| format!("cannot create {}", work.display()))?;
-        let stim = work.join("stim.hex");
+        std::fs::create_dir_all(&self.cache)
+            .with_context(|| format!("cannot create {}", self.cache.display()))?;
+        // (Removed when dropped, on every way out.)
+        let work = tempfile::Builder::new()
+            .prefix("run-")
+            .tempdir_in(&self.cache)
+            .with_context(|| format!("cannot create a directory in {}", self.cache.display()))?;
+        let stim = work.path().join("stim.hex");
         std::fs::write(&stim, cosim::stimulus(frames, cfg))?;
         let bar = ProgressBar::new(expect).with_style(
             ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} clocks ({eta})")
@@ -316,7 +320,6 @@ impl Core {
             Some(w) if result.is_ok() => self.record_waves(&stim, frames.len(), opts, w),
             _ => Ok(()),
         };
-        let _ = std::fs::remove_dir_all(&work);
         let got = result?;
         recorded?;
         Ok(got)

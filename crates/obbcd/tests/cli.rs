@@ -2,13 +2,14 @@
 
 mod common;
 
-use common::{fails_with, field, ok, tmp};
+use common::{fails_with, field, ok, Scratch};
 use std::path::PathBuf;
 use std::process::Command;
 
 #[test]
 fn scene_detect_and_stats() {
-    let scene = tmp("s.json");
+    let scratch = Scratch::new();
+    let scene = scratch.file("s.json");
     ok(&[
         "scene",
         "surgical",
@@ -21,7 +22,7 @@ fn scene_detect_and_stats() {
     ]);
     let mut results = Vec::new();
     for engine in ["brute", "sap", "improved-sap", "sweep", "grid"] {
-        let pairs = tmp(&format!("{engine}.json"));
+        let pairs = scratch.file(&format!("{engine}.json"));
         let out = ok(&[
             "detect",
             "--scene",
@@ -64,6 +65,7 @@ fn scene_detect_and_stats() {
 /// so, and counts the pairs by group pair; the same pairs as from the written file.
 #[test]
 fn detect_without_a_scene_runs_the_builtin_surgical_scene() {
+    let scratch = Scratch::new();
     let out = ok(&["detect"]);
     let stdout = String::from_utf8(out.stdout).unwrap();
     let stderr = String::from_utf8(out.stderr).unwrap();
@@ -94,7 +96,7 @@ fn detect_without_a_scene_runs_the_builtin_surgical_scene() {
         counts.iter().any(|&(k, n)| k == "0-1" && n > 0),
         "{by_groups}"
     );
-    let scene = tmp("builtin.json");
+    let scene = scratch.file("builtin.json");
     ok(&["scene", "surgical", "-o", scene.to_str().unwrap()]);
     let from_file = ok(&["detect", "--scene", scene.to_str().unwrap()]);
     let from_file = String::from_utf8(from_file.stdout).unwrap();
@@ -104,17 +106,18 @@ fn detect_without_a_scene_runs_the_builtin_surgical_scene() {
 
 #[test]
 fn bad_input_fails_with_a_message() {
-    let bad = tmp("bad.json");
+    let scratch = Scratch::new();
+    let bad = scratch.file("bad.json");
     std::fs::write(&bad, r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,-1,1],"group":0}]}"#).unwrap();
-    let empty = tmp("empty.json");
+    let empty = scratch.file("empty.json");
     std::fs::write(&empty, "").unwrap();
-    let short = tmp("short.json");
+    let short = scratch.file("short.json");
     std::fs::write(
         &short,
         r#"{"obbs":[{"center":[0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]}]}"#,
     )
     .unwrap();
-    let typed = tmp("typed.json");
+    let typed = scratch.file("typed.json");
     std::fs::write(&typed, r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]},{"center":[0,0,0],"axes":[[1,0,0],[0,1,"x"],[0,0,1]],"half":[1,1,1]}]}"#).unwrap();
     let cases: [(&[&str], &str); 13] = [
         (
@@ -262,7 +265,8 @@ fn bench_lists_the_speedup_of_every_race() {
 
 #[test]
 fn model_engine_and_error_table() {
-    let scene = tmp("m.json");
+    let scratch = Scratch::new();
+    let scene = scratch.file("m.json");
     ok(&[
         "scene",
         "surgical",
@@ -283,10 +287,10 @@ fn model_engine_and_error_table() {
             serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
         (line, json["pairs"].as_array().unwrap().clone())
     };
-    let (cpu_line, cpu) = run(&["--groups", "all"], &tmp("cpu.json"));
+    let (cpu_line, cpu) = run(&["--groups", "all"], &scratch.file("cpu.json"));
     let (line, model) = run(
         &["--engine", "model", "--groups", "all"],
-        &tmp("model.json"),
+        &scratch.file("model.json"),
     );
     assert_eq!(field(&line, "engine"), "model");
     assert_eq!(field(&line, "false_negatives"), "0");
@@ -296,7 +300,7 @@ fn model_engine_and_error_table() {
     let fp: usize = field(&line, "false_positives").parse().unwrap();
     assert_eq!(model.len(), cpu.len() + fp, "{cpu_line} / {line}");
     // A configuration file: its groups apply unless --groups is given.
-    let cfg = tmp("hw.toml");
+    let cfg = scratch.file("hw.toml");
     std::fs::write(
         &cfg,
         "key_bits = 16\ngroups = \"cross\"\nbroad_phase = \"sweep\"\n",
@@ -304,15 +308,15 @@ fn model_engine_and_error_table() {
     .unwrap();
     let (line, _) = run(
         &["--engine", "model", "--config", cfg.to_str().unwrap()],
-        &tmp("m2.json"),
+        &scratch.file("m2.json"),
     );
     assert_eq!(field(&line, "groups"), "cross");
     assert_eq!(field(&line, "broad_phase"), "sweep");
 
     // Error against run time: two widths, two broad phases, no synthesis in an empty cache, so
     // every period is `clock_ns`.
-    let csv = tmp("err.csv");
-    let svg = tmp("err.svg");
+    let csv = scratch.file("err.csv");
+    let svg = scratch.file("err.svg");
     let out = ok(&[
         "error",
         "--scene",
@@ -322,7 +326,7 @@ fn model_engine_and_error_table() {
         "--broad-phases",
         "grid,sweep",
         "--cache",
-        tmp("empty-cache").to_str().unwrap(),
+        scratch.file("empty-cache").to_str().unwrap(),
         "--csv",
         csv.to_str().unwrap(),
         "--svg",
@@ -372,20 +376,21 @@ fn model_engine_and_error_table() {
 
 #[test]
 fn model_errors_name_the_problem() {
-    let far = tmp("far.json");
+    let scratch = Scratch::new();
+    let far = scratch.file("far.json");
     std::fs::write(&far, r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]},{"center":[900,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]}]}"#).unwrap();
-    let bad_cfg = tmp("bad.toml");
+    let bad_cfg = scratch.file("bad.toml");
     std::fs::write(&bad_cfg, "rot_bits = 30\n").unwrap();
-    let typo = tmp("typo.toml");
+    let typo = scratch.file("typo.toml");
     std::fs::write(&typo, "keybits = 12\n").unwrap();
     let f = far.to_str().unwrap();
     // A 100 mm plate on the grid's 2 mm cells: its window, 52 cells long, is not read.
-    let plate = tmp("plate.json");
+    let plate = scratch.file("plate.json");
     std::fs::write(&plate, r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[50,1,1]},{"center":[0,0,1],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]}]}"#).unwrap();
-    let grid_cfg = tmp("grid.toml");
+    let grid_cfg = scratch.file("grid.toml");
     std::fs::write(&grid_cfg, "broad_phase = \"grid\"\ngroups = \"all\"\n").unwrap();
     // An empty configuration is the built-in one, whose centers reach ±512 mm.
-    let empty_cfg = tmp("empty.toml");
+    let empty_cfg = scratch.file("empty.toml");
     std::fs::write(&empty_cfg, "").unwrap();
     let cases: [(&[&str], &str); 8] = [
         (
@@ -462,8 +467,9 @@ fn model_errors_name_the_problem() {
 /// fail with a message.
 #[test]
 fn cosim_matches_the_model_and_reports_problems() {
-    let scene = tmp("cosim-scene.json");
-    let config = tmp("cosim.toml");
+    let scratch = Scratch::new();
+    let scene = scratch.file("cosim-scene.json");
+    let config = scratch.file("cosim.toml");
     // obb-rtl's tests build the same core (their `aborted_frames_give_the_whole_new_frame`)
     // in this cache: a build of it is shared.
     let cache = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cosim-cache");
@@ -481,14 +487,14 @@ fn cosim_matches_the_model_and_reports_problems() {
         "-o",
         s,
     ]);
-    let model_pairs = tmp("cosim-model.json");
+    let model_pairs = scratch.file("cosim-model.json");
     let m = model_pairs.to_str().unwrap();
     let out = ok(&[
         "detect", "--engine", "model", "--scene", s, "--config", c, "-o", m,
     ]);
     let model_line = String::from_utf8_lossy(&out.stdout).to_string();
     for ready in ["1", "5"] {
-        let pairs = tmp(&format!("cosim-pairs-{ready}.json"));
+        let pairs = scratch.file(&format!("cosim-pairs-{ready}.json"));
         let p = pairs.to_str().unwrap();
         let out = ok(&[
             "cosim",
@@ -520,7 +526,7 @@ fn cosim_matches_the_model_and_reports_problems() {
         );
         assert!(field(&model_line, "pairs").parse::<u64>().unwrap() > 0);
     }
-    let big = tmp("cosim-big.json");
+    let big = scratch.file("cosim-big.json");
     let b = big.to_str().unwrap();
     ok(&["scene", "uniform", "--n", "600", "-o", b]);
     fails_with(&[
@@ -540,7 +546,8 @@ fn cosim_matches_the_model_and_reports_problems() {
 /// pairs), and `plan`'s TOML is a configuration `detect --config` takes, with the same result.
 #[test]
 fn the_model_plans_for_any_scene_the_cpu_engines_take() {
-    let wide = tmp("wide.json");
+    let scratch = Scratch::new();
+    let wide = scratch.file("wide.json");
     std::fs::write(
         &wide,
         r#"{"obbs":[
@@ -550,7 +557,7 @@ fn the_model_plans_for_any_scene_the_cpu_engines_take() {
         {"center":[-10,0,2.5],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1.5]}]}"#,
     )
     .unwrap();
-    let one_group = tmp("one.json");
+    let one_group = scratch.file("one.json");
     ok(&[
         "scene",
         "uniform",
@@ -569,7 +576,7 @@ fn the_model_plans_for_any_scene_the_cpu_engines_take() {
                 "--scene",
                 s,
                 "-o",
-                tmp("plan-cpu.json").to_str().unwrap(),
+                scratch.file("plan-cpu.json").to_str().unwrap(),
             ])
             .stdout,
         )
@@ -581,7 +588,7 @@ fn the_model_plans_for_any_scene_the_cpu_engines_take() {
             "--engine",
             "model",
             "-o",
-            tmp("plan-model.json").to_str().unwrap(),
+            scratch.file("plan-model.json").to_str().unwrap(),
         ]);
         let line = String::from_utf8(out.stdout).unwrap();
         let told = String::from_utf8(out.stderr).unwrap();
@@ -598,7 +605,7 @@ fn the_model_plans_for_any_scene_the_cpu_engines_take() {
         );
 
         // The plan, written and read back: the same configuration, the same frame.
-        let toml = tmp("planned.toml");
+        let toml = scratch.file("planned.toml");
         let planned = ok(&["plan", "--scene", s, "-o", toml.to_str().unwrap()]);
         let figures = String::from_utf8(planned.stdout).unwrap();
         assert!(figures.contains("wrote"), "{figures}");
@@ -645,7 +652,7 @@ fn the_model_plans_for_any_scene_the_cpu_engines_take() {
 type Box3 = ([f64; 3], [[f64; 3]; 3], [f64; 3]);
 
 /// A scene file of the given boxes.
-fn boxes_scene(name: &str, boxes: &[Box3]) -> PathBuf {
+fn boxes_scene(scratch: &Scratch, name: &str, boxes: &[Box3]) -> PathBuf {
     let obbs: Vec<String> = boxes
         .iter()
         .map(|(c, a, h)| {
@@ -653,7 +660,7 @@ fn boxes_scene(name: &str, boxes: &[Box3]) -> PathBuf {
             format!(r#"{{"center":{c:?},"axes":{a:?},"half":{h:?}}}"#)
         })
         .collect();
-    let path = tmp(name);
+    let path = scratch.file(name);
     std::fs::write(&path, format!(r#"{{"obbs":[{}]}}"#, obbs.join(","))).unwrap();
     path
 }
@@ -700,11 +707,13 @@ fn detect_within_limits(scene: &PathBuf, engine: &str) -> String {
 /// "Underflow").
 #[test]
 fn every_engine_finishes_on_tiny_huge_and_degenerate_scenes() {
+    let scratch = Scratch::new();
     const I: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     let tilted = |t: f64| [[1.0, 0.0, 0.0], [t, 1.0, 0.0], [t, 0.0, 1.0]];
     let scenes = [
         (
             boxes_scene(
+                &scratch,
                 "subnormal.json",
                 &[
                     ([0.0; 3], I, [1e-310; 3]),
@@ -715,6 +724,7 @@ fn every_engine_finishes_on_tiny_huge_and_degenerate_scenes() {
         ),
         (
             boxes_scene(
+                &scratch,
                 "plates.json",
                 &[
                     ([0.0; 3], tilted(2.5e-323), [0.0, 0.7, 0.7]),
@@ -725,6 +735,7 @@ fn every_engine_finishes_on_tiny_huge_and_degenerate_scenes() {
         ),
         (
             boxes_scene(
+                &scratch,
                 "huge.json",
                 &[
                     ([1e6; 3], I, [1e6; 3]),
@@ -737,6 +748,7 @@ fn every_engine_finishes_on_tiny_huge_and_degenerate_scenes() {
         ),
         (
             boxes_scene(
+                &scratch,
                 "tiny-in-huge.json",
                 &std::iter::once(([0.0; 3], I, [1e6; 3]))
                     .chain((0..1000).map(|k| ([k as f64 * 1e-299, 0.0, 0.0], I, [1e-300; 3])))
@@ -746,6 +758,7 @@ fn every_engine_finishes_on_tiny_huge_and_degenerate_scenes() {
         ),
         (
             boxes_scene(
+                &scratch,
                 "one-point.json",
                 &vec![([0.5, -0.25, 3.0], I, [0.0; 3]); 300],
             ),
@@ -772,9 +785,11 @@ fn every_engine_finishes_on_tiny_huge_and_degenerate_scenes() {
 /// and normal exactly; without `-o`, a clear error.
 #[test]
 fn detect_writes_a_contact_per_pair() {
+    let scratch = Scratch::new();
     let aligned = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     // Unit cubes: 0-1 face to face on x (depth 0), 1-2 into each other by 0.25 on y, 3 apart.
     let scene = boxes_scene(
+        &scratch,
         "contacts.json",
         &[
             ([0.0, 0.0, 0.0], aligned, [1.0; 3]),
@@ -784,7 +799,7 @@ fn detect_writes_a_contact_per_pair() {
         ],
     );
     for engine in ["grid", "model"] {
-        let pairs = tmp(&format!("contacts-{engine}.json"));
+        let pairs = scratch.file(&format!("contacts-{engine}.json"));
         let args = [
             "detect",
             "--scene",

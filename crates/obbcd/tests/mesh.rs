@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{fails_with, ok, tmp};
+use common::{fails_with, ok, Scratch};
 use obb_model::{Obb, Scene};
 use std::path::{Path, PathBuf};
 
@@ -35,8 +35,12 @@ fn corners(b: &Obb) -> Vec<[f64; 3]> {
 /// gripper box as the same set of points to 1e-9 mm; and `detect` finds the same pairs in both.
 #[test]
 fn surgical_surfaces_as_obj_make_the_surgical_scene_again() {
-    let dir = tmp("surfaces");
-    let (generated, imported) = (tmp("generated.json"), tmp("imported.json"));
+    let scratch = Scratch::new();
+    let dir = scratch.file("surfaces");
+    let (generated, imported) = (
+        scratch.file("generated.json"),
+        scratch.file("imported.json"),
+    );
     let out = ok(&[
         "scene",
         "surgical",
@@ -78,7 +82,7 @@ fn surgical_surfaces_as_obj_make_the_surgical_scene_again() {
         );
     }
     let pairs = |scene: &Path, name: &str| {
-        let file = tmp(name);
+        let file = scratch.file(name);
         ok(&["detect", "--scene", s(scene), "-o", s(&file)]);
         let json: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
@@ -95,6 +99,7 @@ fn surgical_surfaces_as_obj_make_the_surgical_scene_again() {
 /// triangle its own vertices) merge the same way; a fold does not merge.
 #[test]
 fn triangles_that_make_a_rectangle_become_one_box() {
+    let scratch = Scratch::new();
     // Two orthonormal in-plane directions of a tilted plane.
     let unit = |v: [f64; 3]| {
         let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
@@ -121,7 +126,7 @@ fn triangles_that_make_a_rectangle_become_one_box() {
         .iter()
         .flat_map(|r| [[r[0], r[1], r[2]], [r[0], r[2], r[3]]])
         .collect();
-    let stl = tmp("grid.stl");
+    let stl = scratch.file("grid.stl");
     let mut file = std::fs::File::create(&stl).unwrap();
     let vertex = |p: [f64; 3]| stl_io::Vertex::new(p.map(|c| c as f32));
     let faces: Vec<stl_io::Triangle> = triangles
@@ -133,7 +138,7 @@ fn triangles_that_make_a_rectangle_become_one_box() {
         .collect();
     stl_io::write_stl(&mut file, faces.iter()).unwrap();
     drop(file);
-    let obj = tmp("grid.obj");
+    let obj = scratch.file("grid.obj");
     let mut text = String::new();
     for t in &triangles {
         for p in t {
@@ -144,7 +149,7 @@ fn triangles_that_make_a_rectangle_become_one_box() {
         text += &format!("f {} {} {}\n", 3 * k + 1, 3 * k + 2, 3 * k + 3);
     }
     std::fs::write(&obj, text).unwrap();
-    let scene = tmp("grid.json");
+    let scene = scratch.file("grid.json");
     ok(&[
         "scene",
         "mesh",
@@ -186,8 +191,8 @@ fn triangles_that_make_a_rectangle_become_one_box() {
     }
 }
 
-fn obj_file(name: &str, text: &str) -> PathBuf {
-    let path = tmp(name);
+fn obj_file(scratch: &Scratch, name: &str, text: &str) -> PathBuf {
+    let path = scratch.file(name);
     std::fs::write(&path, text).unwrap();
     path
 }
@@ -195,17 +200,27 @@ fn obj_file(name: &str, text: &str) -> PathBuf {
 /// Bad meshes and bad options fail with a message naming the file and the face.
 #[test]
 fn bad_meshes_are_named() {
+    let scratch = Scratch::new();
     let square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
-    let nan = obj_file("nan.obj", &format!("{square}v nan 0 0\nf 1 2 5\n"));
-    let line = obj_file("line.obj", &format!("{square}v 2 0 0\nf 1 2 5\n"));
-    let pentagon = obj_file("pentagon.obj", &format!("{square}v 0.5 2 0\nf 1 2 3 5 4\n"));
-    let empty = obj_file("empty.obj", "# nothing\n");
-    let good = obj_file("good.obj", &format!("{square}f 1 2 3 4\n"));
+    let nan = obj_file(
+        &scratch,
+        "nan.obj",
+        &format!("{square}v nan 0 0\nf 1 2 5\n"),
+    );
+    let line = obj_file(&scratch, "line.obj", &format!("{square}v 2 0 0\nf 1 2 5\n"));
+    let pentagon = obj_file(
+        &scratch,
+        "pentagon.obj",
+        &format!("{square}v 0.5 2 0\nf 1 2 3 5 4\n"),
+    );
+    let empty = obj_file(&scratch, "empty.obj", "# nothing\n");
+    let good = obj_file(&scratch, "good.obj", &format!("{square}f 1 2 3 4\n"));
     let not_stl = obj_file(
+        &scratch,
         "not.stl",
         "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n",
     );
-    let out = s(&tmp("bad.json")).to_string();
+    let out = s(&scratch.file("bad.json")).to_string();
     let mesh = |file: &Path, more: &[&'static str]| -> Vec<String> {
         let mut a = vec!["scene".into(), "mesh".into()];
         let kind = if file.extension().unwrap() == "stl" {

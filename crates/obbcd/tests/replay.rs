@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{fails_with, field, ok, tmp};
+use common::{fails_with, field, ok, Scratch};
 use obb_model::generate::SurgicalMotion;
 use obb_model::{detect, EngineKind, GroupMask, Obb, Prepared};
 use std::path::Path;
@@ -40,7 +40,8 @@ const RUN: [&str; 7] = ["replay", "--n", "700", "--seed", "3", "--frames", "600"
 /// replaces its groups' boxes; the scene lists them by group).
 #[test]
 fn builtin_frames_give_brute_forces_pairs() {
-    let csv = tmp("builtin.csv");
+    let scratch = Scratch::new();
+    let csv = scratch.file("builtin.csv");
     let out = ok(&[&RUN[..], &["--csv", s(&csv)]].concat());
     let line = String::from_utf8(out.stdout).unwrap();
     assert_eq!(field(&line, "frames"), "600");
@@ -75,7 +76,7 @@ fn builtin_frames_give_brute_forces_pairs() {
     assert_eq!(got[0].2, 0, "the grippers start above the tissue");
     // The tissue resident: the same pairs on every frame, all pairs and cross-group.
     for groups in ["cross", "all"] {
-        let (full, resident) = (tmp("full.csv"), tmp("resident.csv"));
+        let (full, resident) = (scratch.file("full.csv"), scratch.file("resident.csv"));
         let run = |csv: &Path, extra: &[&str]| {
             let mut args = [&RUN[..], &["--groups", groups, "--csv", s(csv)]].concat();
             args.extend(extra);
@@ -86,12 +87,12 @@ fn builtin_frames_give_brute_forces_pairs() {
         assert_eq!(field(&line, "resident"), "0");
         assert_eq!(rows(&resident), rows(&full), "{groups}");
         // Through the C ABI, as a C caller runs it.
-        let capi = tmp("capi.csv");
+        let capi = scratch.file("capi.csv");
         let line = run(&capi, &["--capi"]);
         assert_eq!(field(&line, "capi"), "1");
         assert_eq!(rows(&capi), rows(&full), "{groups}");
         // The grippers as rigid bodies moved by poses.
-        let rigid = tmp("rigid.csv");
+        let rigid = scratch.file("rigid.csv");
         let line = run(&rigid, &["--rigid"]);
         assert_eq!(field(&line, "rigid"), "1");
         assert_eq!(field(&line, "obbs"), "700");
@@ -108,6 +109,7 @@ fn builtin_frames_give_brute_forces_pairs() {
 /// recording (single precision) replays to the same rows as its own JSON lines re-recording.
 #[test]
 fn recordings_replay_the_same() {
+    let scratch = Scratch::new();
     let run = |extra: &[&str], csv: &Path| {
         let mut args = vec!["replay", "--csv", s(csv)];
         args.extend(extra);
@@ -115,20 +117,33 @@ fn recordings_replay_the_same() {
         rows(csv)
     };
     let common = ["--n", "350", "--seed", "2", "--frames", "450"];
-    let (jsonl, bin, again) = (tmp("r.jsonl"), tmp("r.bin"), tmp("again.jsonl"));
+    let (jsonl, bin, again) = (
+        scratch.file("r.jsonl"),
+        scratch.file("r.bin"),
+        scratch.file("again.jsonl"),
+    );
     let builtin = run(
         &[&common[..], &["--record", s(&jsonl)]].concat(),
-        &tmp("a.csv"),
+        &scratch.file("a.csv"),
     );
     assert!(builtin.iter().any(|r| r.2 > 0), "some frame has pairs");
-    assert_eq!(run(&["--input", s(&jsonl)], &tmp("b.csv")), builtin);
+    assert_eq!(
+        run(&["--input", s(&jsonl)], &scratch.file("b.csv")),
+        builtin
+    );
     run(
         &[&common[..], &["--record", s(&bin)]].concat(),
-        &tmp("c.csv"),
+        &scratch.file("c.csv"),
     );
-    let binary = run(&["--input", s(&bin), "--record", s(&again)], &tmp("d.csv"));
-    assert_eq!(run(&["--input", s(&again)], &tmp("e.csv")), binary);
-    let short = run(&["--input", s(&bin), "--frames", "7"], &tmp("f.csv"));
+    let binary = run(
+        &["--input", s(&bin), "--record", s(&again)],
+        &scratch.file("d.csv"),
+    );
+    assert_eq!(run(&["--input", s(&again)], &scratch.file("e.csv")), binary);
+    let short = run(
+        &["--input", s(&bin), "--frames", "7"],
+        &scratch.file("f.csv"),
+    );
     assert_eq!(short[..], binary[..7]);
     // 8-byte header, then per frame (12 of them with the tissue's 200 boxes): t_ms, group count and groups, box count, 64 bytes a box.
     let size = std::fs::metadata(&bin).unwrap().len();
@@ -137,14 +152,15 @@ fn recordings_replay_the_same() {
     assert_eq!(size, 8 + 450 * (8 + 4 + 4) + 4 * groups + 64 * boxes);
 }
 
-fn file(name: &str, bytes: &[u8]) -> String {
-    let path = tmp(name);
+fn file(scratch: &Scratch, name: &str, bytes: &[u8]) -> String {
+    let path = scratch.file(name);
     std::fs::write(&path, bytes).unwrap();
     s(&path).to_string()
 }
 
 #[test]
 fn bad_frame_files_fail_with_a_message() {
+    let scratch = Scratch::new();
     let frame = |replace: &str, group: u32| {
         format!(
             r#"{{"t_ms":0,"replace":{replace},"obbs":[{{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1],"group":{group}}}]}}"#
@@ -152,20 +168,25 @@ fn bad_frame_files_fail_with_a_message() {
     };
     let good = frame("[0]", 0);
     let wrong_group = file(
+        &scratch,
         "wrong.jsonl",
         format!("{good}\n{}\n", frame("[1]", 0)).as_bytes(),
     );
-    let bad_json = file("bad.jsonl", format!("{good}\n\n{{\"t_ms\":\n").as_bytes());
-    let empty = file("empty.jsonl", b"");
-    let magic = file("magic.bin", b"NOTFRAMExxxx");
+    let bad_json = file(
+        &scratch,
+        "bad.jsonl",
+        format!("{good}\n\n{{\"t_ms\":\n").as_bytes(),
+    );
+    let empty = file(&scratch, "empty.jsonl", b"");
+    let magic = file(&scratch, "magic.bin", b"NOTFRAMExxxx");
     let mut cut = b"OBBFRM01".to_vec();
     cut.extend(0f64.to_le_bytes());
     cut.extend(1u32.to_le_bytes());
     cut.extend(0u32.to_le_bytes());
     cut.extend(2u32.to_le_bytes());
     cut.extend([0u8; 64]);
-    let cut = file("cut.bin", &cut);
-    let good_file = file("good.jsonl", good.as_bytes());
+    let cut = file(&scratch, "cut.bin", &cut);
+    let good_file = file(&scratch, "good.jsonl", good.as_bytes());
     let cases: Vec<(Vec<&str>, String)> = vec![
         (vec!["replay", "--input", &wrong_group], format!("{wrong_group}: frame 1: box 0 has group 0, not one of the groups the frame replaces [1]")),
         (vec!["replay", "--input", &bad_json], format!("{bad_json} line 3")),

@@ -7,7 +7,6 @@ use anyhow::{bail, Context, Result};
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
 /// The cache directory: `$OBBCD_CACHE`, else `$XDG_CACHE_HOME/obbcd`, else `~/.cache/obbcd`,
@@ -54,7 +53,6 @@ pub fn entry(
     // for it instead of building it again, while other entries build beside it (a yosys
     // synthesis takes one core for minutes). A poisoned lock only means another build failed.
     static BUILDING: Mutex<BTreeMap<PathBuf, Arc<Mutex<()>>>> = Mutex::new(BTreeMap::new());
-    static CALLS: AtomicUsize = AtomicUsize::new(0);
     let this = BUILDING
         .lock()
         .unwrap_or_else(|p| p.into_inner())
@@ -67,12 +65,15 @@ pub fn entry(
     }
     let dir = cache.join(name);
     std::fs::create_dir_all(cache).with_context(|| format!("cannot create {}", cache.display()))?;
-    let call = CALLS.fetch_add(1, Ordering::Relaxed);
-    let work = cache.join(format!("{name}.{}-{call}.tmp", std::process::id()));
-    let _ = std::fs::remove_dir_all(&work);
-    std::fs::create_dir_all(&work).with_context(|| format!("cannot create {}", work.display()))?;
-    build(&work)?;
-    std::fs::write(work.join("ok"), "")?;
+    // (Removed when dropped: a build that fails leaves nothing in the cache.)
+    let work = tempfile::Builder::new()
+        .prefix(&format!("{name}."))
+        .suffix(".tmp")
+        .tempdir_in(cache)
+        .with_context(|| format!("cannot create a directory in {}", cache.display()))?;
+    build(work.path())?;
+    std::fs::write(work.path().join("ok"), "")?;
+    let work = work.keep();
     if std::fs::rename(&work, &dir).is_err() {
         // Another build of the same key finished first: use it.
         let _ = std::fs::remove_dir_all(&work);

@@ -7,7 +7,7 @@
 use super::cache;
 use anyhow::{bail, Context, Result};
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 /// A port of the design under test: its Verilog name and width (at most 64 bits).
@@ -155,13 +155,31 @@ endmodule",
 }
 
 /// A scratch directory for one simulation, below the system's temporary directory, its own for
-/// every call (tests run in parallel threads of one process).
-pub fn scratch_dir(name: &str) -> Result<PathBuf> {
-    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!("obb-rtl-{}-{call}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    Ok(dir)
+/// every call (tests run in parallel threads of one process); removed with everything in it when
+/// dropped. It derefs to its path.
+pub fn scratch_dir(name: &str) -> Result<Scratch> {
+    tempfile::Builder::new()
+        .prefix(&format!("obb-rtl-{name}-"))
+        .tempdir()
+        .map(Scratch)
+        .with_context(|| format!("cannot create a scratch directory for {name}"))
+}
+
+/// See [`scratch_dir`].
+#[derive(Debug)]
+pub struct Scratch(tempfile::TempDir);
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        self.0.path()
+    }
 }
 
 /// Runs a tool to completion; its stdout, or an error with all it said.

@@ -40,10 +40,23 @@ pub fn fails_with(cases: &[(&[&str], &str)]) {
     }
 }
 
-pub fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("obbcd-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+/// A test's own scratch directory, removed with everything in it when the test drops it.
+pub struct Scratch(tempfile::TempDir);
+
+impl Scratch {
+    pub fn new() -> Self {
+        Self(
+            tempfile::Builder::new()
+                .prefix("obbcd-cli-")
+                .tempdir()
+                .expect("a scratch directory"),
+        )
+    }
+
+    /// The path of a file `name` in the directory.
+    pub fn file(&self, name: &str) -> PathBuf {
+        self.0.path().join(name)
+    }
 }
 
 #[allow(dead_code)] // not every test binary reads output fields
