@@ -259,4 +259,22 @@ fn gen_rtl_plans_for_scenes() {
         !both.status.success() && err.contains("--config and --scene"),
         "{err}"
     );
+    // A closed output pipe (`gen-rtl | head -1`) ends it by SIGPIPE, as it ends `cat`, at the
+    // plan's line: no panic.
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let closed = std::process::Command::new(env!("CARGO_BIN_EXE_gen-rtl"))
+        .args([
+            "--scene",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .stdout(writer)
+        .output()
+        .unwrap();
+    use std::os::unix::process::ExitStatusExt;
+    let err = String::from_utf8_lossy(&closed.stderr);
+    assert_eq!(closed.status.signal(), Some(libc::SIGPIPE), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
 }

@@ -65,6 +65,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    quiet_on_closed_pipe();
     // The matches are kept beside the parsed arguments: `scene mesh` pairs each mesh with the
     // options after it, an order the derived structs do not keep.
     let matches = Cli::command().get_matches();
@@ -99,4 +100,12 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// A closed output pipe (`obbcd detect | head -1`) ends the program as it ends `cat`, by
+/// SIGPIPE, where Rust's runtime ignores the signal and `println!` then panics on the failed
+/// write.
+fn quiet_on_closed_pipe() {
+    // SAFETY: restoring a signal's default action, before any other thread runs.
+    unsafe { libc::signal(libc::SIGPIPE, libc::SIG_DFL) };
 }

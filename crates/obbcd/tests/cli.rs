@@ -104,6 +104,33 @@ fn detect_without_a_scene_runs_the_builtin_surgical_scene() {
     assert!(from_file.contains(&format!("pairs_by_groups {by_groups}")));
 }
 
+/// A closed output pipe (`obbcd detect | head -1`) ends `obbcd` by SIGPIPE, as it ends `cat`:
+/// no panic.
+#[test]
+fn a_closed_output_pipe_ends_obbcd_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    let scratch = Scratch::new();
+    let scene = scratch.file("s.json");
+    ok(&[
+        "scene",
+        "uniform",
+        "--n",
+        "300",
+        "-o",
+        scene.to_str().unwrap(),
+    ]);
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let out = Command::new(env!("CARGO_BIN_EXE_obbcd"))
+        .args(["detect", "--scene", scene.to_str().unwrap()])
+        .stdout(writer)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.signal(), Some(libc::SIGPIPE), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
 #[test]
 fn bad_input_fails_with_a_message() {
     let scratch = Scratch::new();

@@ -30,6 +30,10 @@ struct Args {
 }
 
 fn main() -> Result<()> {
+    // A closed output pipe (`gen-rtl | head -1`) ends the program as it ends `cat`, by SIGPIPE,
+    // where Rust's runtime ignores the signal and `println!` then panics on the failed write.
+    // SAFETY: restoring a signal's default action, before any other thread runs.
+    unsafe { libc::signal(libc::SIGPIPE, libc::SIG_DFL) };
     let a = Args::parse();
     let cfg = match (&a.config, a.aims.scenes.is_empty()) {
         (Some(_), false) => {
