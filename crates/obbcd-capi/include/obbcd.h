@@ -79,7 +79,8 @@ extern "C" {
 // most 256. The pool rebuilds a static group after it changed (with 1 thread there is no
 // pool); every other detection runs on the calling thread: a frame of a few hundred moving
 // boxes takes a small part of a millisecond there, where handing it to a pool costs a wake-up
-// of another CPU each way.
+// of another CPU each way. The pool's threads have all started when this returns, and no other
+// thread is started (rayon's global pool neither).
 //
 // # Safety
 // `group_mask` is a NUL-terminated string; `static_groups` points to `static_count` values;
@@ -90,7 +91,9 @@ ObbcdStatus obbcd_engine_new(const char *group_mask,
                              uint32_t threads,
                              ObbcdEngine **out);
 
-// Frees an engine (NULL is ignored). Pointers to its pairs and contacts become invalid.
+// Frees an engine (NULL is ignored). Pointers to its pairs and contacts become invalid. Returns
+// once the engine's own threads (`threads` of `obbcd_engine_new`) have ended: none runs the
+// library's code after it.
 //
 // # Safety
 // `engine` is NULL or a pointer from `obbcd_engine_new` not yet freed.

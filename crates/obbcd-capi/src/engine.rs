@@ -4,6 +4,7 @@
 //! contacts in buffers that are reused from frame to frame.
 
 use crate::types::{ObbcdBox, ObbcdContact, ObbcdPair};
+use crate::workers::Workers;
 use obb_model::contact::contact;
 use obb_model::engines::{on_this_thread, Pair, RigidResident};
 use obb_model::pose::Pose;
@@ -222,7 +223,7 @@ pub struct Engine {
     /// The moving groups' poses, gathered for a detection.
     poses: Vec<Pose>,
     /// The workers of a static group's rebuild, when there are two or more.
-    pool: Option<rayon::ThreadPool>,
+    pool: Option<Workers>,
     raw: Vec<Pair>,
     pairs: Vec<ObbcdPair>,
     contacts: Vec<ObbcdContact>,
@@ -242,11 +243,8 @@ impl Engine {
         // One thread needs no pool: every detection then runs on the calling thread.
         let pool = match threads {
             1 => None,
-            _ => rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .thread_name(|k| format!("obbcd-{k}"))
-                .build()
-                .map(|pool| (pool.current_num_threads() > 1).then_some(pool))
+            _ => Workers::new(threads)
+                .map(|w| (w.pool().current_num_threads() > 1).then_some(w))
                 .map_err(|e| Refusal::Argument(format!("cannot start {threads} threads: {e}")))?,
         };
         let mut static_groups = static_groups.to_vec();
@@ -378,7 +376,7 @@ impl Engine {
             rigid.detect(poses, raw);
         };
         match pool {
-            Some(pool) if rebuild => pool.install(frame),
+            Some(workers) if rebuild => workers.pool().install(frame),
             _ => on_this_thread(frame),
         }
         let at = |k: u32| {

@@ -18,6 +18,7 @@
 mod engine;
 mod error;
 mod types;
+mod workers;
 
 pub use types::{ObbcdBox, ObbcdContact, ObbcdPair, ObbcdPose, ObbcdStatus};
 
@@ -84,7 +85,8 @@ fn refused(r: Refusal) -> ObbcdStatus {
 /// most 256. The pool rebuilds a static group after it changed (with 1 thread there is no
 /// pool); every other detection runs on the calling thread: a frame of a few hundred moving
 /// boxes takes a small part of a millisecond there, where handing it to a pool costs a wake-up
-/// of another CPU each way.
+/// of another CPU each way. The pool's threads have all started when this returns, and no other
+/// thread is started (rayon's global pool neither).
 ///
 /// # Safety
 /// `group_mask` is a NUL-terminated string; `static_groups` points to `static_count` values;
@@ -140,7 +142,9 @@ pub unsafe extern "C" fn obbcd_engine_new(
     })
 }
 
-/// Frees an engine (NULL is ignored). Pointers to its pairs and contacts become invalid.
+/// Frees an engine (NULL is ignored). Pointers to its pairs and contacts become invalid. Returns
+/// once the engine's own threads (`threads` of `obbcd_engine_new`) have ended: none runs the
+/// library's code after it.
 ///
 /// # Safety
 /// `engine` is NULL or a pointer from `obbcd_engine_new` not yet freed.

@@ -2,7 +2,9 @@
 //! detect, read the pairs and contacts) allocates nothing in obbcd: every allocation of the
 //! process is counted. A haptic frame runs on the calling thread; were it handed to the pool,
 //! rayon's queue would allocate a block every 63 frames (`crossbeam_deque::Injector::push`
-//! under `Registry::inject`, seen with gdb).
+//! under `Registry::inject`, seen with gdb). Nor does the ABI start rayon's global pool, whose
+//! threads allocate as they start, when the system gets round to them (under load, in the
+//! middle of the counted frames); an engine's own pool has ended when it is freed.
 
 use obb_model::generate::SurgicalMotion;
 use obbcd_c::*;
@@ -139,4 +141,11 @@ fn a_haptic_frame_allocates_nothing_after_warm_up() {
             "the grippers never touched the tissue (posed {posed})"
         );
     }
+    // The engines ran on the calling thread and on pools of their own: rayon's global pool,
+    // whose threads would start (and allocate) whenever the system schedules them, was never
+    // started. (Building it fails once it has been.)
+    assert!(
+        rayon::ThreadPoolBuilder::new().build_global().is_ok(),
+        "the C ABI started rayon's global pool"
+    );
 }

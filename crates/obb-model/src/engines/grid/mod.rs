@@ -198,9 +198,12 @@ impl Grid {
         };
         let threads = threads();
         slab::place(&mut self.slabs, threads, &layout, &mut self.layers);
-        // (On one thread there is one slab, which rayon builds in place without entering a
-        // pool: `tests/on_this_thread.rs` would wait for the held pool otherwise.)
-        self.slabs.par_iter_mut().for_each(|s| s.build(&layout));
+        match &mut self.slabs[..] {
+            // (One thread, one slab: a parallel iterator would still ask rayon for the current
+            // pool's size, which starts rayon's global pool on a thread outside any pool.)
+            [only] => only.build(&layout),
+            slabs => slabs.par_iter_mut().for_each(|s| s.build(&layout)),
+        }
         let total = self.slabs.iter().map(Slab::len).sum();
         let ranks = &self.ranks;
         if let [only] = &mut self.slabs[..] {
