@@ -11,10 +11,15 @@ use std::thread::JoinHandle;
 
 #[derive(Debug)]
 pub struct Workers {
-    /// Always `Some` until dropped.
-    pool: Option<rayon::ThreadPool>,
-    threads: Vec<JoinHandle<()>>,
+    /// Dropped first (fields drop in their order): that tells the threads to end.
+    pool: rayon::ThreadPool,
+    /// Then joined.
+    _threads: Joined,
 }
+
+/// Threads joined when dropped.
+#[derive(Debug)]
+struct Joined(Vec<JoinHandle<()>>);
 
 impl Workers {
     /// A pool of `threads` workers (0: one per core), named `obbcd-K`.
@@ -40,22 +45,21 @@ impl Workers {
         // of the caller's frames).
         pool.broadcast(|_| ());
         Ok(Workers {
-            pool: Some(pool),
-            threads: handles,
+            pool,
+            _threads: Joined(handles),
         })
     }
 
     pub fn pool(&self) -> &rayon::ThreadPool {
-        self.pool.as_ref().expect("present until dropped")
+        &self.pool
     }
 }
 
-impl Drop for Workers {
-    /// Ends the pool and waits for its threads to end. (Never called on one of them: an engine
-    /// is freed by its caller, outside its pool.)
+impl Drop for Joined {
+    /// Waits for the threads to end. (Never run on one of them: an engine is freed by its
+    /// caller, outside its pool.)
     fn drop(&mut self) {
-        drop(self.pool.take());
-        for t in self.threads.drain(..) {
+        for t in self.0.drain(..) {
             // A worker that panicked has ended too.
             let _ = t.join();
         }

@@ -198,27 +198,30 @@ impl Grid {
         };
         let threads = threads();
         slab::place(&mut self.slabs, threads, &layout, &mut self.layers);
-        match &mut self.slabs[..] {
-            // (One thread, one slab: a parallel iterator would still ask rayon for the current
-            // pool's size, which starts rayon's global pool on a thread outside any pool.)
-            [only] => only.build(&layout),
-            slabs => slabs.par_iter_mut().for_each(|s| s.build(&layout)),
-        }
-        let total = self.slabs.iter().map(Slab::len).sum();
         let ranks = &self.ranks;
-        if let [only] = &mut self.slabs[..] {
-            only.publish_whole(&mut self.keys, &mut self.entries, ranks);
-        } else {
-            self.keys.resize(total, 0);
-            self.entries.resize(total, 0);
-            slab::for_each_part(
-                &mut self.slabs,
-                &mut self.keys,
-                &mut self.entries,
-                0,
-                &|s, k, e, offset| s.publish(k, e, offset, ranks),
-            );
+        match &mut self.slabs[..] {
+            // One slab (one thread) is built here and its buffers handed over: a parallel
+            // iterator would still ask rayon for the current pool's size, which starts rayon's
+            // global pool on a thread outside any pool.
+            [only] => {
+                only.build(&layout);
+                only.publish_whole(&mut self.keys, &mut self.entries, ranks);
+            }
+            slabs => {
+                slabs.par_iter_mut().for_each(|s| s.build(&layout));
+                let total = slabs.iter().map(Slab::len).sum();
+                self.keys.resize(total, 0);
+                self.entries.resize(total, 0);
+                slab::for_each_part(
+                    slabs,
+                    &mut self.keys,
+                    &mut self.entries,
+                    0,
+                    &|s, k, e, offset| s.publish(k, e, offset, ranks),
+                );
+            }
         }
+        let total = self.keys.len();
         self.large.clear();
         self.is_large.clear();
         self.is_large.resize(aabbs.len(), false);
