@@ -134,18 +134,13 @@ fn a_closed_output_pipe_ends_obbcd_quietly() {
 #[test]
 fn bad_input_fails_with_a_message() {
     let scratch = Scratch::new();
-    let bad = scratch.file("bad.json");
-    std::fs::write(&bad, r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,-1,1],"group":0}]}"#).unwrap();
-    let empty = scratch.file("empty.json");
-    std::fs::write(&empty, "").unwrap();
-    let short = scratch.file("short.json");
-    std::fs::write(
-        &short,
+    let bad = scratch.write("bad.json", r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,-1,1],"group":0}]}"#);
+    let empty = scratch.write("empty.json", "");
+    let short = scratch.write(
+        "short.json",
         r#"{"obbs":[{"center":[0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]}]}"#,
-    )
-    .unwrap();
-    let typed = scratch.file("typed.json");
-    std::fs::write(&typed, r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]},{"center":[0,0,0],"axes":[[1,0,0],[0,1,"x"],[0,0,1]],"half":[1,1,1]}]}"#).unwrap();
+    );
+    let typed = scratch.write("typed.json", r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]},{"center":[0,0,0],"axes":[[1,0,0],[0,1,"x"],[0,0,1]],"half":[1,1,1]}]}"#);
     let cases: [(&[&str], &str); 13] = [
         (
             &["detect", "--scene", bad.to_str().unwrap()],
@@ -327,12 +322,10 @@ fn model_engine_and_error_table() {
     let fp: usize = field(&line, "false_positives").parse().unwrap();
     assert_eq!(model.len(), cpu.len() + fp, "{cpu_line} / {line}");
     // A configuration file: its groups apply unless --groups is given.
-    let cfg = scratch.file("hw.toml");
-    std::fs::write(
-        &cfg,
+    let cfg = scratch.write(
+        "hw.toml",
         "key_bits = 16\ngroups = \"cross\"\nbroad_phase = \"sweep\"\n",
-    )
-    .unwrap();
+    );
     let (line, _) = run(
         &["--engine", "model", "--config", cfg.to_str().unwrap()],
         &scratch.file("m2.json"),
@@ -404,21 +397,15 @@ fn model_engine_and_error_table() {
 #[test]
 fn model_errors_name_the_problem() {
     let scratch = Scratch::new();
-    let far = scratch.file("far.json");
-    std::fs::write(&far, r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]},{"center":[900,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]}]}"#).unwrap();
-    let bad_cfg = scratch.file("bad.toml");
-    std::fs::write(&bad_cfg, "rot_bits = 30\n").unwrap();
-    let typo = scratch.file("typo.toml");
-    std::fs::write(&typo, "keybits = 12\n").unwrap();
+    let far = scratch.write("far.json", r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]},{"center":[900,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]}]}"#);
+    let bad_cfg = scratch.write("bad.toml", "rot_bits = 30\n");
+    let typo = scratch.write("typo.toml", "keybits = 12\n");
     let f = far.to_str().unwrap();
     // A 100 mm plate on the grid's 2 mm cells: its window, 52 cells long, is not read.
-    let plate = scratch.file("plate.json");
-    std::fs::write(&plate, r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[50,1,1]},{"center":[0,0,1],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]}]}"#).unwrap();
-    let grid_cfg = scratch.file("grid.toml");
-    std::fs::write(&grid_cfg, "broad_phase = \"grid\"\ngroups = \"all\"\n").unwrap();
+    let plate = scratch.write("plate.json", r#"{"obbs":[{"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[50,1,1]},{"center":[0,0,1],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]}]}"#);
+    let grid_cfg = scratch.write("grid.toml", "broad_phase = \"grid\"\ngroups = \"all\"\n");
     // An empty configuration is the built-in one, whose centers reach ±512 mm.
-    let empty_cfg = scratch.file("empty.toml");
-    std::fs::write(&empty_cfg, "").unwrap();
+    let empty_cfg = scratch.write("empty.toml", "");
     let cases: [(&[&str], &str); 8] = [
         (
             &[
@@ -496,11 +483,10 @@ fn model_errors_name_the_problem() {
 fn cosim_matches_the_model_and_reports_problems() {
     let scratch = Scratch::new();
     let scene = scratch.file("cosim-scene.json");
-    let config = scratch.file("cosim.toml");
+    let config = scratch.write("cosim.toml", "capacity = 512\ngroups = \"all\"\n");
     // obb-rtl's tests build the same core (their `aborted_frames_give_the_whole_new_frame`)
     // in this cache: a build of it is shared.
     let cache = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cosim-cache");
-    std::fs::write(&config, "capacity = 512\ngroups = \"all\"\n").unwrap();
     let s = scene.to_str().unwrap();
     let c = config.to_str().unwrap();
     let k = cache.to_str().unwrap();
@@ -574,16 +560,14 @@ fn cosim_matches_the_model_and_reports_problems() {
 #[test]
 fn the_model_plans_for_any_scene_the_cpu_engines_take() {
     let scratch = Scratch::new();
-    let wide = scratch.file("wide.json");
-    std::fs::write(
-        &wide,
+    let wide = scratch.write(
+        "wide.json",
         r#"{"obbs":[
         {"center":[0,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[498.37,1,1]},
         {"center":[900,0,0],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1]},
         {"center":[497,0.5,0],"axes":[[0.6,0.8,0],[-0.8,0.6,0],[0,0,1]],"half":[1,2,3]},
         {"center":[-10,0,2.5],"axes":[[1,0,0],[0,1,0],[0,0,1]],"half":[1,1,1.5]}]}"#,
-    )
-    .unwrap();
+    );
     let one_group = scratch.file("one.json");
     ok(&[
         "scene",
@@ -687,9 +671,7 @@ fn boxes_scene(scratch: &Scratch, name: &str, boxes: &[Box3]) -> PathBuf {
             format!(r#"{{"center":{c:?},"axes":{a:?},"half":{h:?}}}"#)
         })
         .collect();
-    let path = scratch.file(name);
-    std::fs::write(&path, format!(r#"{{"obbs":[{}]}}"#, obbs.join(","))).unwrap();
-    path
+    scratch.write(name, format!(r#"{{"obbs":[{}]}}"#, obbs.join(",")))
 }
 
 /// `obbcd detect` under a limit of 3 GiB of address space and 120 s: it must finish and succeed.

@@ -5,7 +5,7 @@ mod common;
 
 use common::{fails_with, ok, Scratch};
 use obb_model::{Obb, Scene};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 fn load(path: &Path) -> Scene {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
@@ -138,7 +138,6 @@ fn triangles_that_make_a_rectangle_become_one_box() {
         .collect();
     stl_io::write_stl(&mut file, faces.iter()).unwrap();
     drop(file);
-    let obj = scratch.file("grid.obj");
     let mut text = String::new();
     for t in &triangles {
         for p in t {
@@ -148,7 +147,7 @@ fn triangles_that_make_a_rectangle_become_one_box() {
     for k in 0..triangles.len() {
         text += &format!("f {} {} {}\n", 3 * k + 1, 3 * k + 2, 3 * k + 3);
     }
-    std::fs::write(&obj, text).unwrap();
+    let obj = scratch.write("grid.obj", text);
     let scene = scratch.file("grid.json");
     ok(&[
         "scene",
@@ -191,32 +190,17 @@ fn triangles_that_make_a_rectangle_become_one_box() {
     }
 }
 
-fn obj_file(scratch: &Scratch, name: &str, text: &str) -> PathBuf {
-    let path = scratch.file(name);
-    std::fs::write(&path, text).unwrap();
-    path
-}
-
 /// Bad meshes and bad options fail with a message naming the file and the face.
 #[test]
 fn bad_meshes_are_named() {
     let scratch = Scratch::new();
     let square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
-    let nan = obj_file(
-        &scratch,
-        "nan.obj",
-        &format!("{square}v nan 0 0\nf 1 2 5\n"),
-    );
-    let line = obj_file(&scratch, "line.obj", &format!("{square}v 2 0 0\nf 1 2 5\n"));
-    let pentagon = obj_file(
-        &scratch,
-        "pentagon.obj",
-        &format!("{square}v 0.5 2 0\nf 1 2 3 5 4\n"),
-    );
-    let empty = obj_file(&scratch, "empty.obj", "# nothing\n");
-    let good = obj_file(&scratch, "good.obj", &format!("{square}f 1 2 3 4\n"));
-    let not_stl = obj_file(
-        &scratch,
+    let nan = scratch.write("nan.obj", format!("{square}v nan 0 0\nf 1 2 5\n"));
+    let line = scratch.write("line.obj", format!("{square}v 2 0 0\nf 1 2 5\n"));
+    let pentagon = scratch.write("pentagon.obj", format!("{square}v 0.5 2 0\nf 1 2 3 5 4\n"));
+    let empty = scratch.write("empty.obj", "# nothing\n");
+    let good = scratch.write("good.obj", format!("{square}f 1 2 3 4\n"));
+    let not_stl = scratch.write(
         "not.stl",
         "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n",
     );

@@ -152,10 +152,9 @@ fn recordings_replay_the_same() {
     assert_eq!(size, 8 + 450 * (8 + 4 + 4) + 4 * groups + 64 * boxes);
 }
 
+/// [`Scratch::write`], the path as a string.
 fn file(scratch: &Scratch, name: &str, bytes: &[u8]) -> String {
-    let path = scratch.file(name);
-    std::fs::write(&path, bytes).unwrap();
-    s(&path).to_string()
+    s(&scratch.write(name, bytes)).to_string()
 }
 
 #[test]

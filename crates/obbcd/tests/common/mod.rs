@@ -57,6 +57,13 @@ impl Scratch {
     pub fn file(&self, name: &str) -> PathBuf {
         self.0.path().join(name)
     }
+
+    /// Writes `contents` to the file `name` in the directory; its path.
+    pub fn write(&self, name: &str, contents: impl AsRef<[u8]>) -> PathBuf {
+        let path = self.file(name);
+        std::fs::write(&path, contents).unwrap();
+        path
+    }
 }
 
 #[allow(dead_code)] // not every test binary reads output fields
