@@ -8,7 +8,7 @@
 
 // The most worker threads an engine starts: far above any machine's use for one frame, and
 // low enough that a mistaken count fails at once instead of starting threads by the thousand.
-#define MAX_THREADS 256
+#define OBBCD_MAX_THREADS 256
 
 // What a call did. On anything but `OBBCD_STATUS_OK`, `obbcd_last_error` says why.
 typedef enum {
