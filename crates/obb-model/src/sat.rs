@@ -162,7 +162,7 @@ fn lanes33<const L: usize>(mut f: impl FnMut(usize, usize, usize) -> f64) -> [[V
     v
 }
 
-/// The SAT on `L` pairs (a[l], b[l]) at once: every value is an array over the lanes, so the
+/// The SAT on `L` pairs (`a[l]`, `b[l]`) at once: every value is an array over the lanes, so the
 /// compiler can keep a lane per vector element. A lane is separated when any axis separates it;
 /// the work stops early only when every lane is separated.
 #[inline(always)]

@@ -1,12 +1,12 @@
 //! Vectors of f64 lanes for the SAT, the preparation and the cell scan, on two instruction sets:
 //! AVX-512 (eight lanes) and AVX2 (four). Each of those three parts is written once, generic
-//! over [`Isa`], and compiled for each instruction set inside a function that enables it
+//! over `Isa`, and compiled for each instruction set inside a function that enables it
 //! (`#[target_feature]`). Every method here is `#[inline(always)]`, so that it is inlined into
 //! that function and its intrinsics with it; a method left as a call would cost more than the
 //! vector it computes. Every lane computes exactly what the scalar operation does (no fused
 //! multiply-add), so the vector forms round as the scalar code they follow.
 //!
-//! A value of an [`Isa`] type is the proof that the CPU has its instructions: its only
+//! A value of an `Isa` type is the proof that the CPU has its instructions: its only
 //! constructor, `detect`, checks. Vectors are made only through it, so their methods are safe.
 
 #[cfg(target_arch = "x86_64")]
