@@ -193,19 +193,39 @@ fn the_smallest_capacities_generate() {
     assert!(file(&files(&wide).unwrap(), "obb_core.v").contains("module obb_core("));
 }
 
-/// `reports/synth.md` is `obbcd synth`'s report on the committed `rtl-out/obb_core.v`: when
-/// the RTL changes, the report must be made again (the synthesis takes minutes, so the test
-/// compares the RTL's digest the report names instead of synthesizing).
+/// Each committed synthesis report of a fixed configuration is `obbcd synth`'s on the core that
+/// configuration generates now: when the RTL changes, the report must be made again (the
+/// synthesis takes minutes, so the test compares the RTL's digest the report names instead of
+/// synthesizing). The default core's report is so also the committed `rtl-out/`'s
+/// (`rtl_out_is_what_gen_rtl_writes_for_the_default_configuration`).
 #[test]
-fn the_synthesis_report_is_for_the_committed_rtl() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let rtl = std::fs::read_to_string(root.join("rtl-out/obb_core.v")).unwrap();
-    let report = std::fs::read_to_string(root.join("reports/synth.md")).unwrap();
-    let digest = obb_rtl::flow::cache::key(&[rtl.as_bytes()]);
-    assert!(
-        report.contains(&format!("SHA-256 prefix `{digest}`")),
-        "reports/synth.md is stale: run `cargo run --release -p obbcd -- synth`"
-    );
+fn the_synthesis_reports_are_for_the_current_rtl() {
+    use obb_model::fixed::BroadPhase;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let sweep = HwConfig {
+        broad_phase: BroadPhase::Sweep,
+        ..HwConfig::default()
+    };
+    let reports = [
+        ("synth.md", HwConfig::default(), "the default configuration"),
+        (
+            "synth-sweep.md",
+            sweep,
+            "`--config` a file of `broad_phase = \"sweep\"`",
+        ),
+    ];
+    for (name, config, how) in reports {
+        let fresh = files(&config).unwrap();
+        let rtl = file(&fresh, "obb_core.v");
+        let digest = obb_rtl::flow::cache::key(&[rtl.as_bytes()]);
+        let report = std::fs::read_to_string(root.join("reports").join(name))
+            .unwrap_or_else(|e| panic!("reports/{name}: {e}"));
+        assert!(
+            report.contains(&format!("SHA-256 prefix `{digest}`")),
+            "reports/{name} is stale: run `cargo run --release -p obbcd -- synth -o \
+             reports/{name}` with {how}"
+        );
+    }
 }
 
 /// `gen-rtl --scene` plans for the scenes and writes that plan's core; a configuration and
