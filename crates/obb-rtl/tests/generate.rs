@@ -195,15 +195,22 @@ fn the_smallest_capacities_generate() {
 
 /// Each committed synthesis report of a fixed configuration is `obbcd synth`'s on the core that
 /// configuration generates now: when the RTL changes, the report must be made again (the
-/// synthesis takes minutes, so the test compares the RTL's digest the report names instead of
-/// synthesizing). The default core's report is so also the committed `rtl-out/`'s
+/// synthesis takes minutes to an hour, so the test compares the RTL's digest the report names
+/// instead of synthesizing). The default core's report is so also the committed `rtl-out/`'s
 /// (`rtl_out_is_what_gen_rtl_writes_for_the_default_configuration`).
 #[test]
 fn the_synthesis_reports_are_for_the_current_rtl() {
     use obb_model::fixed::BroadPhase;
+    use obb_model::GroupMask;
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let sweep = HwConfig {
         broad_phase: BroadPhase::Sweep,
+        ..HwConfig::default()
+    };
+    let lanes8 = HwConfig {
+        groups: GroupMask::All,
+        lanes: 8,
+        grid_hash_bits: 7,
         ..HwConfig::default()
     };
     let reports = [
@@ -212,6 +219,11 @@ fn the_synthesis_reports_are_for_the_current_rtl() {
             "synth-sweep.md",
             sweep,
             "`--config` a file of `broad_phase = \"sweep\"`",
+        ),
+        (
+            "synth-lanes8.md",
+            lanes8,
+            "`--config` a file of `groups = \"all\"`, `lanes = 8`, `grid_hash_bits = 7`",
         ),
     ];
     for (name, config, how) in reports {
