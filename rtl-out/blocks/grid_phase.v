@@ -9088,7 +9088,9 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
     reg  [63:0] vis_pack_j$1;
     reg  [63:0] vis_pack_j$2;
     reg  [63:0] vis_pack_j$3;
-    reg  [3:0] visits_acc;
+    reg  [7:0] visited_acc;
+    reg  [7:0] visited_twos;
+    reg  [7:0] visited_fours;
     reg  large_left;
     reg  credit_acc;
     reg  out_valid;
@@ -31843,14 +31845,14 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         vis_pack_j$2 = 32'h0;
         vis_pack_i$3 = 32'h0;
         vis_pack_j$3 = 32'h0;
-        visits_acc = 32'h0;
+        visited_acc = 32'h0;
         vis_i$0$value = v1_i$0$d;
         vis_j$0$value = next_box$0 & index_mask;
         if (go$0) begin
             visit_acc = visit_acc | lane_bit$0;
         end
         if (v1_valid$0$q) begin
-            visits_acc = visits_acc + 32'h1;
+            visited_acc = visited_acc | lane_bit$0;
         end
         vis_pack_i$0 = vis_pack_i$0 | (vis_i$0$resized << lane_at$0);
         vis_pack_j$0 = vis_pack_j$0 | (vis_j$0$resized << lane_at$0);
@@ -31863,7 +31865,9 @@ module grid_phase(clock,start,update,accept,loaded,credit,key_valid,key_index,ke
         visit_j1 = vis_pack_j$1;
         visit_j2 = vis_pack_j$2;
         visit_j3 = vis_pack_j$3;
-        visits = visits_acc;
+        visited_twos = (visited_acc & 32'h55) + ((visited_acc >> 32'h1) & 32'h55);
+        visited_fours = (visited_twos & 32'h33) + ((visited_twos >> 32'h2) & 32'h33);
+        visits = (((visited_fours & 32'hf) + (visited_fours >> 32'h4)) & 4'hf);
         inflight_up = accept | inject;
         credit_acc = 1'b1;
         inflight_inc$0 = inflight$0$q + 32'h1;

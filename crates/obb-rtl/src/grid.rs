@@ -666,7 +666,12 @@ pub struct GridPhase<const A: usize, const C: usize> {
     visit_acc: Signal<Local, Bits<8>>,
     vis_pack_i: Vec<Signal<Local, Bits<64>>>,
     vis_pack_j: Vec<Signal<Local, Bits<64>>>,
-    visits_acc: Signal<Local, Bits<4>>,
+    // The lanes' visits a clock before (bit k, lane k), and their counts in two-bit, then
+    // four-bit fields (a tree: eight increments in a row were the eight-lane core's slowest
+    // path, 7 LUT levels into the visit counter).
+    visited_acc: Signal<Local, Bits<8>>,
+    visited_twos: Signal<Local, Bits<8>>,
+    visited_fours: Signal<Local, Bits<8>>,
     vis_i: Vec<Resize<64, C>>,
     vis_j: Vec<Resize<64, C>>,
     // A large box is left on some lane's chain; every lane has a credit; a SAT test is on
@@ -1074,7 +1079,9 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             visit_acc: Default::default(),
             vis_pack_i: vec(4),
             vis_pack_j: vec(4),
-            visits_acc: Default::default(),
+            visited_acc: Default::default(),
+            visited_twos: Default::default(),
+            visited_fours: Default::default(),
             key_addr: Default::default(),
             succ_addr: Default::default(),
             vis_i: vec(lanes),
@@ -2128,7 +2135,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 self.vis_pack_i[m].next = 0.into();
                 self.vis_pack_j[m].next = 0.into();
             }
-            self.visits_acc.next = 0.into();
+            self.visited_acc.next = 0.into();
             for k in 0..self._lanes {
                 self.vis_i[k].value.next = self.v1_i[k].d.val();
                 self.vis_j[k].value.next = self.next_box[k].val() & self.index_mask.val();
@@ -2136,7 +2143,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     self.visit_acc.next = self.visit_acc.val() | self.lane_bit[k].val();
                 }
                 if self.v1_valid[k].q.val() {
-                    self.visits_acc.next = self.visits_acc.val() + 1;
+                    self.visited_acc.next = self.visited_acc.val() | self.lane_bit[k].val();
                 }
                 self.vis_pack_i[k / 2].next = self.vis_pack_i[k / 2].val()
                     | (self.vis_i[k].resized.val() << self.lane_at[k].val());
@@ -2152,7 +2159,14 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             self.visit_j1.next = self.vis_pack_j[1].val();
             self.visit_j2.next = self.vis_pack_j[2].val();
             self.visit_j3.next = self.vis_pack_j[3].val();
-            self.visits.next = self.visits_acc.val();
+            // Counted field by field: no sum carries out of its field.
+            self.visited_twos.next =
+                (self.visited_acc.val() & 0x55) + ((self.visited_acc.val() >> 1) & 0x55);
+            self.visited_fours.next =
+                (self.visited_twos.val() & 0x33) + ((self.visited_twos.val() >> 2) & 0x33);
+            self.visits.next = bit_cast::<4, 8>(
+                (self.visited_fours.val() & 0x0f) + (self.visited_fours.val() >> 4),
+            );
 
             // Credits and records, per lane. A box is accepted when every lane has a credit.
             self.inflight_up.next = self.accept.val() | self.inject.val();
