@@ -4826,10 +4826,11 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
     localparam SlowState$Fetch = 0;
     localparam SlowState$Address = 1;
     localparam SlowState$Read = 2;
-    localparam SlowState$Plan = 3;
-    localparam SlowState$Round = 4;
-    localparam SlowState$Partner = 5;
-    localparam SlowState$Over = 6;
+    localparam SlowState$Limit = 3;
+    localparam SlowState$Plan = 4;
+    localparam SlowState$Round = 5;
+    localparam SlowState$Partner = 6;
+    localparam SlowState$Over = 7;
     
     // Stub signals
     reg  cells$clock;
@@ -11728,6 +11729,9 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
     reg  [22:0] inj_max$2$d;
     wire  [22:0] inj_max$2$q;
     reg  inj_max$2$clock;
+    reg  [3:0] visits_q$d;
+    wire  [3:0] visits_q$q;
+    reg  visits_q$clock;
     reg  bank_left$0$d;
     wire  bank_left$0$q;
     reg  bank_left$0$clock;
@@ -11889,6 +11893,14 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
     reg  [22:0] rd_max$2;
     reg  [27:0] rd_margin$0;
     reg  [2:0] rd_group$0;
+    reg  [22:0] sel_min$0;
+    reg  [22:0] sel_min$1;
+    reg  [22:0] sel_min$2;
+    reg  [22:0] sel_max$0;
+    reg  [22:0] sel_max$1;
+    reg  [22:0] sel_max$2;
+    reg  [27:0] sel_margin;
+    reg  [2:0] sel_group;
     reg  key_lane$0;
     reg  [15:0] key_addr;
     reg  [15:0] rd_address$0;
@@ -24310,6 +24322,11 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
         .q(inj_max$2$q),
         .clock(inj_max$2$clock)
     );
+    obb_core$grid$0$visits_q visits_q(
+        .d(visits_q$d),
+        .q(visits_q$q),
+        .clock(visits_q$clock)
+    );
     obb_core$grid$0$bank_left$0 bank_left$0(
         .d(bank_left$0$d),
         .q(bank_left$0$q),
@@ -24602,6 +24619,7 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
         fmask$clock = clock;
         pre_clear$clock = clock;
         update_q$clock = clock;
+        visits_q$clock = clock;
         s1_valid$d = s1_valid$q;
         s1_index$d = s1_index$q;
         s1_margin$d = s1_margin$q;
@@ -24647,6 +24665,7 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
         fmask$d = fmask$q;
         pre_clear$d = pre_clear$q;
         update_q$d = update_q$q;
+        visits_q$d = visits_q$q;
         cells$clock = clock;
         s4_bucket$0$clock = clock;
         s4_fp$0$clock = clock;
@@ -27013,6 +27032,24 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
         if ((lk_max$2$q >> cell_bits) > lk_lim$2$q) begin
             plan_wide = 1'b1;
         end
+        sel_margin = 32'h0;
+        sel_group = 32'h0;
+        sel_min$0 = 32'h0;
+        sel_max$0 = 32'h0;
+        sel_min$1 = 32'h0;
+        sel_max$1 = 32'h0;
+        sel_min$2 = 32'h0;
+        sel_max$2 = 32'h0;
+        if (slane$0$q) begin
+            sel_margin = sel_margin | rd_margin$0;
+            sel_group = sel_group | rd_group$0;
+            sel_min$0 = sel_min$0 | rd_min$0;
+            sel_max$0 = sel_max$0 | rd_max$0;
+            sel_min$1 = sel_min$1 | rd_min$1;
+            sel_max$1 = sel_max$1 | rd_max$1;
+            sel_min$2 = sel_min$2 | rd_min$2;
+            sel_max$2 = sel_max$2 | rd_max$2;
+        end
         case (slow$q)
             SlowState$Fetch:
                 begin
@@ -27037,26 +27074,28 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
                 end
             SlowState$Read:
                 begin
-                    if (slane$0$q) begin
-                        lmargin$d = rd_margin$0;
-                        lgroup$d = rd_group$0;
-                        lk_min$0$d = rd_min$0;
-                        lk_lim$0$d = (rd_min$0 >> cell_bits) + max_span;
-                        lk_max$0$d = rd_max$0;
-                        lk_min$1$d = rd_min$1;
-                        lk_lim$1$d = (rd_min$1 >> cell_bits) + max_span;
-                        lk_max$1$d = rd_max$1;
-                        lk_min$2$d = rd_min$2;
-                        lk_lim$2$d = (rd_min$2 >> cell_bits) + max_span;
-                        lk_max$2$d = rd_max$2;
-                    end
-                    slow$d = SlowState$Plan;
+                    lmargin$d = sel_margin;
+                    lgroup$d = sel_group;
+                    lk_min$0$d = sel_min$0;
+                    lk_max$0$d = sel_max$0;
+                    lk_min$1$d = sel_min$1;
+                    lk_max$1$d = sel_max$1;
+                    lk_min$2$d = sel_min$2;
+                    lk_max$2$d = sel_max$2;
+                    slow$d = SlowState$Limit;
                 end
-            SlowState$Plan:
+            SlowState$Limit:
                 begin
                     if (slane$0$q) begin
                         lnext2$0$d = succ_q$0$q;
                     end
+                    lk_lim$0$d = (lk_min$0$q >> cell_bits) + max_span;
+                    lk_lim$1$d = (lk_min$1$q >> cell_bits) + max_span;
+                    lk_lim$2$d = (lk_min$2$q >> cell_bits) + max_span;
+                    slow$d = SlowState$Plan;
+                end
+            SlowState$Plan:
+                begin
                     wlo$0$d = plan_lo$0;
                     wspan$0$d = plan_span$0;
                     rleft$0$d = plan_span$0;
@@ -36536,7 +36575,8 @@ module obb_core$grid$0(clock,start,update,accept,loaded,credit,key_valid,key_ind
         visit_j3 = vis_pack_j$3;
         visited_twos = (visited_acc & 32'h55) + ((visited_acc >> 32'h1) & 32'h55);
         visited_fours = (visited_twos & 32'h33) + ((visited_twos >> 32'h2) & 32'h33);
-        visits = (((visited_fours & 32'hf) + (visited_fours >> 32'h4)) & 4'hf);
+        visits_q$d = (((visited_fours & 32'hf) + (visited_fours >> 32'h4)) & 4'hf);
+        visits = visits_q$q;
         inflight_up = accept | inject;
         credit_acc = 1'b1;
         inflight_inc$0 = inflight$0$q + 32'h1;
@@ -85020,10 +85060,11 @@ module obb_core$grid$0$slow(d,q,clock);
     localparam SlowState$Fetch = 0;
     localparam SlowState$Address = 1;
     localparam SlowState$Read = 2;
-    localparam SlowState$Plan = 3;
-    localparam SlowState$Round = 4;
-    localparam SlowState$Partner = 5;
-    localparam SlowState$Over = 6;
+    localparam SlowState$Limit = 3;
+    localparam SlowState$Plan = 4;
+    localparam SlowState$Round = 5;
+    localparam SlowState$Partner = 6;
+    localparam SlowState$Over = 7;
     
     // Update code (custom)
     initial begin
@@ -85987,6 +86028,25 @@ module obb_core$grid$0$vis_j$0(value,resized);
     end
     
 endmodule // obb_core$grid$0$vis_j$0
+
+
+module obb_core$grid$0$visits_q(d,q,clock);
+    
+    // Module arguments
+    input wire  [3:0] d;
+    output reg  [3:0] q;
+    input wire  clock;
+    
+    // Update code (custom)
+    initial begin
+       q = 4'h0;
+    end
+    
+    always @(posedge clock) begin
+       q <= d;
+    end
+          
+endmodule // obb_core$grid$0$visits_q
 
 
 module obb_core$grid$0$wide(d,q,clock);

@@ -257,7 +257,7 @@ pub struct ObbCore<const A: usize, const C: usize> {
     grid_test_mb: Signal<Local, Bits<MARGIN>>,
     grid_finished: Signal<Local, Bit>,
     grid_too_wide: Signal<Local, Bit>,
-    /// The grid's visits of a clock before, counted.
+    /// The grid's visits of two clocks before, counted (its register).
     grid_visits: Signal<Local, Bits<4>>,
     /// The projected box's table address.
     projected_at: Signal<Local, Bits<A>>,

@@ -103,8 +103,10 @@ pub enum SlowState {
     Fetch,
     /// Its address on the key tables' and the successor table's port B.
     Address,
-    /// Register its keys, group, margin (its entry, the chain's box two on, is read at `Plan`).
+    /// Register its keys, group, margin.
     Read,
+    /// Its window's limit from its first cell; its entry, the chain's box two on, is read.
+    Limit,
     /// Its window's first and last cells, the first round; too wide: over.
     Plan,
     /// Inject the round at `rr` (next clock), step to the next.
@@ -158,7 +160,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     /// The box's group.
     pub key_group: Signal<In, Bits<GROUP>>,
     /// The visits made this clock: bit k, lane k visits (for the tests: the core counts
-    /// `visited`). Lane k's boxes are in `visit_i{k/2}` and `visit_j{k/2}` from bit
+    /// `visits`). Lane k's boxes are in `visit_i{k/2}` and `visit_j{k/2}` from bit
     /// `32 (k mod 2)`.
     pub visit: Signal<Out, Bits<8>>,
     /// Lanes 0 and 1: the walking box i of their visits (32 bits a lane).
@@ -177,7 +179,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     pub visit_j2: Signal<Out, Bits<64>>,
     /// Lanes 6 and 7: the visited box j of their visits (32 bits a lane).
     pub visit_j3: Signal<Out, Bits<64>>,
-    /// The visits made a clock before, counted (from registers).
+    /// The visits made two clocks before, counted (registered).
     pub visits: Signal<Out, Bits<4>>,
     /// The SAT test stream (first word fall-through): a SAT test is on the `test_*` outputs.
     pub test_valid: Signal<Out, Bit>,
@@ -450,8 +452,10 @@ pub struct GridPhase<const A: usize, const C: usize> {
     lnext2: Vec<DFF<Bits<C>>>,
     lcur: DFF<Bits<C>>,
     lk_min: [DFF<Bits<CENTER>>; 3],
-    // Its first cell plus the widest span (`Read`): the window is too wide when its last
-    // cell is beyond (one carry chain in `Plan`, not a difference and a compare).
+    // Its first cell plus the widest span (`Limit`, from `lk_min`: from the key tables'
+    // reads through the lane's selection and the adder, it was the eight-lane core's slowest
+    // path): the window is too wide when its last cell is beyond (one carry chain in `Plan`,
+    // not a difference and a compare).
     lk_lim: [DFF<Bits<CENTER>>; 3],
     lk_max: [DFF<Bits<CENTER>>; 3],
     lmargin: DFF<Bits<MARGIN>>,
@@ -469,6 +473,10 @@ pub struct GridPhase<const A: usize, const C: usize> {
     inj_kind: DFF<Bits<KIND>>,
     inj_min: [DFF<Bits<CENTER>>; 3],
     inj_max: [DFF<Bits<CENTER>>; 3],
+    // The visits made a clock before, counted: registered, as the count and the core's
+    // counter after it were the eight-lane core's slowest path (4 LUT levels and two carry
+    // chains).
+    visits_q: DFF<Bits<4>>,
     // Combinational.
     // The ports' keys as arrays: the arriving box's; per lane, the box read on its banks'
     // port B.
@@ -478,6 +486,12 @@ pub struct GridPhase<const A: usize, const C: usize> {
     rd_max: Vec<Signal<Local, Bits<CENTER>>>,
     rd_margin: Vec<Signal<Local, Bits<MARGIN>>>,
     rd_group: Vec<Signal<Local, Bits<GROUP>>>,
+    // The slow path's lane's reads: the lanes' reads masked by `slane` (one-hot) and ORed, two
+    // LUT levels where a priority selection took three.
+    sel_min: [Signal<Local, Bits<CENTER>>; 3],
+    sel_max: [Signal<Local, Bits<CENTER>>; 3],
+    sel_margin: Signal<Local, Bits<MARGIN>>,
+    sel_group: Signal<Local, Bits<GROUP>>,
     // The arriving box: per lane, it is on it; its address in its lane's banks.
     key_lane: Vec<Signal<Local, Bit>>,
     key_addr: Signal<Local, Bits<C>>,
@@ -961,10 +975,15 @@ impl<const A: usize, const C: usize> GridPhase<A, C> {
             inj_kind: Default::default(),
             inj_min: Default::default(),
             inj_max: Default::default(),
+            visits_q: Default::default(),
             key_min: Default::default(),
             key_max: Default::default(),
             rd_min: vec(3 * lanes),
             rd_max: vec(3 * lanes),
+            sel_min: Default::default(),
+            sel_max: Default::default(),
+            sel_margin: Default::default(),
+            sel_group: Default::default(),
             allowed: Default::default(),
             allow: vec(lists),
             fwd: vec(lists),
@@ -1129,7 +1148,7 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
             s4_lprev, s4_index, s4_margin, s4_kind, s4_home_fp, s5_valid, s5_large, s5_lprev,
             s5_index, s5_margin, clearing, cleared, clear_at, s1_kind, s2_kind, s3_kind, s5_kind,
             slow, lcur, lmargin, lgroup, wide, fetch_q, inj, inj_kind, idle, credit_q, fmask,
-            pre_clear, update_q
+            pre_clear, update_q, visits_q
         );
         clock!(self, clock, cells);
         for b in 0..27 {
@@ -1417,6 +1436,22 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                     self.plan_wide.next = true;
                 }
             }
+            self.sel_margin.next = 0.into();
+            self.sel_group.next = 0.into();
+            for x in 0..3 {
+                self.sel_min[x].next = 0.into();
+                self.sel_max[x].next = 0.into();
+            }
+            for k in 0..self._lanes {
+                if self.slane[k].q.val() {
+                    self.sel_margin.next = self.sel_margin.val() | self.rd_margin[k].val();
+                    self.sel_group.next = self.sel_group.val() | self.rd_group[k].val();
+                    for x in 0..3 {
+                        self.sel_min[x].next = self.sel_min[x].val() | self.rd_min[3 * k + x].val();
+                        self.sel_max[x].next = self.sel_max[x].val() | self.rd_max[3 * k + x].val();
+                    }
+                }
+            }
             match self.slow.q.val() {
                 SlowState::Fetch => {
                     if self.idle.q.val() {
@@ -1440,28 +1475,28 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 }
                 SlowState::Read => {
                     // The box's keys, from its lane's banks.
-                    for k in 0..self._lanes {
-                        if self.slane[k].q.val() {
-                            self.lmargin.d.next = self.rd_margin[k].val();
-                            self.lgroup.d.next = self.rd_group[k].val();
-                            for x in 0..3 {
-                                self.lk_min[x].d.next = self.rd_min[3 * k + x].val();
-                                self.lk_lim[x].d.next = (self.rd_min[3 * k + x].val()
-                                    >> self.cell_bits.val())
-                                    + self.max_span.val();
-                                self.lk_max[x].d.next = self.rd_max[3 * k + x].val();
-                            }
-                        }
+                    self.lmargin.d.next = self.sel_margin.val();
+                    self.lgroup.d.next = self.sel_group.val();
+                    for x in 0..3 {
+                        self.lk_min[x].d.next = self.sel_min[x].val();
+                        self.lk_max[x].d.next = self.sel_max[x].val();
                     }
-                    self.slow.d.next = SlowState::Plan;
+                    self.slow.d.next = SlowState::Limit;
                 }
-                SlowState::Plan => {
+                SlowState::Limit => {
                     // The fetched box's second successor, from its lane's registered output.
                     for k in 0..self._lanes {
                         if self.slane[k].q.val() {
                             self.lnext2[k].d.next = self.succ_q[k].q.val();
                         }
                     }
+                    for x in 0..3 {
+                        self.lk_lim[x].d.next =
+                            (self.lk_min[x].q.val() >> self.cell_bits.val()) + self.max_span.val();
+                    }
+                    self.slow.d.next = SlowState::Plan;
+                }
+                SlowState::Plan => {
                     for x in 0..3 {
                         self.wlo[x].d.next = self.plan_lo[x].val();
                         self.wspan[x].d.next = self.plan_span[x].val();
@@ -2164,9 +2199,10 @@ impl<const A: usize, const C: usize> Logic for GridPhase<A, C> {
                 (self.visited_acc.val() & 0x55) + ((self.visited_acc.val() >> 1) & 0x55);
             self.visited_fours.next =
                 (self.visited_twos.val() & 0x33) + ((self.visited_twos.val() >> 2) & 0x33);
-            self.visits.next = bit_cast::<4, 8>(
+            self.visits_q.d.next = bit_cast::<4, 8>(
                 (self.visited_fours.val() & 0x0f) + (self.visited_fours.val() >> 4),
             );
+            self.visits.next = self.visits_q.q.val();
 
             // Credits and records, per lane. A box is accepted when every lane has a credit.
             self.inflight_up.next = self.accept.val() | self.inject.val();

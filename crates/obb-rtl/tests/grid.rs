@@ -91,10 +91,11 @@ fn case(scene: &Scene, cfg: &HwConfig, mask: &GroupMask) -> Case {
     let frame = ModelFrame::new(scene, cfg).unwrap();
     let walk = frame.grid_walk(mask);
     let s = grid_schedule(&walk);
-    // Addressed at F, the box's keys are registered at F + 1 and its window planned at F + 2.
+    // Addressed at F, the box's keys are registered at F + 1, its window's limit at F + 2 and
+    // its window planned at F + 3.
     let too_wide = walk
         .too_wide
-        .map(|l| s.fetches.iter().find(|f| f.1 == l).unwrap().0 + 3);
+        .map(|l| s.fetches.iter().find(|f| f.1 == l).unwrap().0 + 4);
     // Over when the list heads are clear (from the clock after the walk, one bucket a clock)
     // and the last SAT test has left the queue.
     let cleared = s.walked + (1 << cfg.grid_hash_bits) + 1;
@@ -168,7 +169,8 @@ fn check_against_model(c: &Case, rows: &[Vec<u64>], what: &str) {
     let mut accepted = 0;
     let (mut visits, mut issues) = (Vec::new(), Vec::new());
     let mut finished = None;
-    let mut previous = 0;
+    // The visits made one and two clocks before.
+    let mut previous = [0; 2];
     for (t, row) in rows.iter().enumerate() {
         let t = t as u64 + 1;
         if (t as usize) < c.accept.len() && accepted < n {
@@ -194,9 +196,9 @@ fn check_against_model(c: &Case, rows: &[Vec<u64>], what: &str) {
             visits.push((t, field(2), field(6)));
             made += 1;
         }
-        // `visited` counts the visits of the clock before.
-        assert_eq!(row[10], previous, "{what}: visits counted at clock {t}");
-        previous = made;
+        // `visits` counts the visits of two clocks before.
+        assert_eq!(row[10], previous[1], "{what}: visits counted at clock {t}");
+        previous = [made, previous[0]];
         let ready = (t as usize) < c.accept.len() && !c.accept[t as usize];
         if row[11] == 1 && ready {
             issues.push((t, row[12], row[13]));

@@ -37,8 +37,9 @@
 //!   before every box had been accepted, nothing was in flight (accepted or injected, not
 //!   retired) and nothing was launched (the flag is a register). Per large box, in the
 //!   chain's order: an idle clock fetches it, the next puts its address on port B (its keys
-//!   and its successor, the next large box, are read), the next registers them, the next plans
-//!   its window (or, too wide, ends the slow path); then each round is *launched* on an idle
+//!   and its successor, the next large box, are read), the next registers them, the next
+//!   computes its window's limit, the next plans its window (or, too wide, ends the slow
+//!   path); then each round is *launched* on an idle
 //!   clock and injected on the next as a box whose keys span the round's cells, probed and
 //!   walked as an arriving box is (its keys at the injection clock K, its record in the queue
 //!   from K + `LAT_RECORD`, retiring at K + 6 when it has no list); then, if a large box
@@ -227,6 +228,7 @@ enum Slow {
     Fetch,
     Address,
     Read,
+    Limit,
     Plan,
     Round(usize),
     Partner,
@@ -313,7 +315,8 @@ pub fn grid_schedule(walk: &GridWalk) -> GridSchedule {
             }
             Slow::Fetch if idle => Slow::Over,
             Slow::Address => Slow::Read,
-            Slow::Read => Slow::Plan,
+            Slow::Read => Slow::Limit,
+            Slow::Limit => Slow::Plan,
             Slow::Plan if walk.large[large].rounds.is_empty() => Slow::Over,
             Slow::Plan => Slow::Round(0),
             Slow::Round(r) if idle => {
