@@ -452,10 +452,10 @@ pub struct GridPhase<const A: usize, const C: usize> {
     lnext2: Vec<DFF<Bits<C>>>,
     lcur: DFF<Bits<C>>,
     lk_min: [DFF<Bits<CENTER>>; 3],
-    // Its first cell plus the widest span (`Limit`, from `lk_min`: from the key tables'
-    // reads through the lane's selection and the adder, it was the eight-lane core's slowest
-    // path): the window is too wide when its last cell is beyond (one carry chain in `Plan`,
-    // not a difference and a compare).
+    // Its first cell plus the widest span (`Limit`, from `lk_min`: taken from the key tables'
+    // reads through the lane's selection and the adder in one clock, it would be the
+    // eight-lane core's slowest path): the window is too wide when its last cell is beyond (one
+    // carry chain in `Plan`, not a difference and a compare).
     lk_lim: [DFF<Bits<CENTER>>; 3],
     lk_max: [DFF<Bits<CENTER>>; 3],
     lmargin: DFF<Bits<MARGIN>>,
@@ -473,9 +473,9 @@ pub struct GridPhase<const A: usize, const C: usize> {
     inj_kind: DFF<Bits<KIND>>,
     inj_min: [DFF<Bits<CENTER>>; 3],
     inj_max: [DFF<Bits<CENTER>>; 3],
-    // The visits made a clock before, counted: registered, as the count and the core's
-    // counter after it were the eight-lane core's slowest path (4 LUT levels and two carry
-    // chains).
+    // The visits made a clock before, counted, registered: so that the core's counter adds a
+    // register, not the count (with eight lanes the two in one clock are 4 LUT levels and two
+    // carry chains).
     visits_q: DFF<Bits<4>>,
     // Combinational.
     // The ports' keys as arrays: the arriving box's; per lane, the box read on its banks'
@@ -486,8 +486,7 @@ pub struct GridPhase<const A: usize, const C: usize> {
     rd_max: Vec<Signal<Local, Bits<CENTER>>>,
     rd_margin: Vec<Signal<Local, Bits<MARGIN>>>,
     rd_group: Vec<Signal<Local, Bits<GROUP>>>,
-    // The slow path's lane's reads: the lanes' reads masked by `slane` (one-hot) and ORed, two
-    // LUT levels where a priority selection took three.
+    // The slow path's lane's reads: each lane's masked by `slane` (one-hot), ORed.
     sel_min: [Signal<Local, Bits<CENTER>>; 3],
     sel_max: [Signal<Local, Bits<CENTER>>; 3],
     sel_margin: Signal<Local, Bits<MARGIN>>,
