@@ -105,7 +105,7 @@ fn sweep_core_on_surgical_stiff_and_dense_scenes_with_back_pressure() {
         ..HwConfig::default()
     };
     let design = obb_rtl::flow::generate::core(&cfg).unwrap();
-    let run = |scene: &Scene, ready, name| {
+    let run = |scene: &Scene, ready, name: &str| {
         cosim(
             &cfg,
             &design,
@@ -122,15 +122,21 @@ fn sweep_core_on_surgical_stiff_and_dense_scenes_with_back_pressure() {
         "sweep, surgical 17500",
     );
     run(&stiff(), 1, "sweep, stiff");
-    let free = run(&dense(400), 1, "sweep, dense 400");
+    dense_under_back_pressure("sweep", |ready, name| run(&dense(400), ready, name));
+}
+
+/// The dense case, 400 boxes, with the receiver always ready and then taking a pair one clock
+/// in 16 (`run(ready_every, name)`): the throttled run must take more clocks, else the
+/// receiver never stalled the core and the case tested nothing.
+fn dense_under_back_pressure(core: &str, run: impl Fn(u32, &str) -> SimFrame) {
+    let free = run(1, &format!("{core}, dense 400"));
     let throttled = run(
-        &dense(400),
         16,
-        "sweep, dense 400, pair_ready one clock in 16",
+        &format!("{core}, dense 400, pair_ready one clock in 16"),
     );
     assert!(
         throttled.cycles > free.cycles,
-        "the receiver never stalled the core ({} cycles)",
+        "{core}: the receiver never stalled the core ({} cycles)",
         throttled.cycles
     );
 }
@@ -160,7 +166,7 @@ fn grid_core_on_all_pairs_and_under_back_pressure() {
         ..all
     };
     let design = obb_rtl::flow::generate::core(&dense_cfg).unwrap();
-    let run = |ready, name| {
+    let run = |ready, name: &str| {
         cosim(
             &dense_cfg,
             &design,
@@ -171,13 +177,7 @@ fn grid_core_on_all_pairs_and_under_back_pressure() {
             name,
         )
     };
-    let free = run(1, "grid, dense 400");
-    let throttled = run(16, "grid, dense 400, pair_ready one clock in 16");
-    assert!(
-        throttled.cycles > free.cycles,
-        "the receiver never stalled the core ({} cycles)",
-        throttled.cycles
-    );
+    dense_under_back_pressure("grid", run);
 }
 
 /// Cores planned for their scenes (`obbcd plan`: narrower widths, the capacity, the broad phase

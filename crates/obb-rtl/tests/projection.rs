@@ -94,7 +94,7 @@ fn simulators(cfg: &HwConfig, vectors: &[Vec<u64>]) -> (Vec<Vec<u64>>, Vec<Vec<u
     let verilator = run_verilator(&verilog, "projection", &inputs, &outputs, vectors);
     // Icarus as a second opinion, on the same words.
     let dir = obb_rtl::flow::verilator::scratch_dir("projection-icarus").unwrap();
-    let icarus = obb_rtl::flow::verilator::simulate_with(
+    let icarus = obb_rtl::flow::verilator::simulate(
         Simulator::Icarus,
         &dir,
         None,

@@ -293,7 +293,7 @@ pub enum Simulator {
 /// Verilator build lints the design as [`lint`] does ([`Warnings::Fatal`]): a design with a
 /// warning is an error, and a cached build passed the lint.
 #[allow(clippy::too_many_arguments)]
-pub fn simulate_with(
+pub fn simulate(
     sim: Simulator,
     dir: &Path,
     cache: Option<&Path>,
@@ -368,31 +368,6 @@ pub fn simulate_with(
     text.lines().map(|l| unpack(outputs, l)).collect()
 }
 
-/// `simulate_with` in Verilator.
-#[allow(clippy::too_many_arguments)]
-pub fn simulate(
-    dir: &Path,
-    cache: Option<&Path>,
-    verilog: &str,
-    top: &str,
-    clock: &str,
-    inputs: &[Port],
-    outputs: &[Port],
-    vectors: &[Vec<u64>],
-) -> Result<Vec<Vec<u64>>> {
-    simulate_with(
-        Simulator::Verilator,
-        dir,
-        cache,
-        verilog,
-        top,
-        clock,
-        inputs,
-        outputs,
-        vectors,
-    )
-}
-
 /// Lints `verilog` with Verilator: all warnings on, except WIDTH (rust-hdl writes 32-bit
 /// literals), DECLFILENAME and UNUSED; LATCH and everything else is an error.
 pub fn lint(dir: &Path, verilog: &str, top: &str) -> Result<()> {
@@ -437,7 +412,15 @@ mod tests {
         let run = |verilog: &str| {
             let dir = scratch_dir("m").unwrap();
             simulate(
-                &dir, None, verilog, "m", "clock", &inputs, &outputs, &vectors,
+                Simulator::Verilator,
+                &dir,
+                None,
+                verilog,
+                "m",
+                "clock",
+                &inputs,
+                &outputs,
+                &vectors,
             )
         };
         assert_eq!(run(&clean).unwrap(), [[5], [9]]);

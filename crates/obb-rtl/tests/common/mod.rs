@@ -72,6 +72,7 @@ pub fn run_verilator(
     let dir = verilator::scratch_dir(top).unwrap();
     let cache = cache();
     verilator::simulate(
+        verilator::Simulator::Verilator,
         &dir,
         Some(&cache),
         verilog,

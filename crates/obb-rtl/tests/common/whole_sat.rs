@@ -76,7 +76,15 @@ pub fn try_in_verilator(
     let mut outputs = vec![Port::new("valid_out", 1), Port::new("hit", 1)];
     outputs.extend(sat_sides::probes("dut.back.decide"));
     verilator::simulate(
-        dir, cache, verilog, "sat", "clock", &inputs, &outputs, vectors,
+        verilator::Simulator::Verilator,
+        dir,
+        cache,
+        verilog,
+        "sat",
+        "clock",
+        &inputs,
+        &outputs,
+        vectors,
     )
     .map_err(|e| format!("{e:#}").lines().next().unwrap_or("").to_string())
 }
