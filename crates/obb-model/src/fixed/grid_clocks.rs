@@ -39,11 +39,11 @@
 //!   chain's order: an idle clock fetches it, the next puts its address on port B (its keys
 //!   and its successor, the next large box, are read), the next registers them, the next
 //!   computes its window's limit, the next plans its window (or, too wide, ends the slow
-//!   path); then each round is *launched* on an idle
-//!   clock and injected on the next as a box whose keys span the round's cells, probed and
-//!   walked as an arriving box is (its keys at the injection clock K, its record in the queue
-//!   from K + `LAT_RECORD`, retiring at K + 6 when it has no list); then, if a large box
-//!   follows, a record of one list, the rest of the chain, is launched the same way.
+//!   path); then each round is *launched* on an idle clock and injected on the next as a box
+//!   whose keys span the round's cells, probed and walked as an arriving box is (its keys at
+//!   the injection clock K, its record in the queue from K + `LAT_RECORD`, retiring at K + 6
+//!   when it has no list); then, if a large box follows, a record of one list, the rest of
+//!   the chain, is launched the same way.
 //! - **Lanes.** With several, each lane has its own record queue, enumerator, list queue,
 //!   walker, key check and test queue, on its lane's lists, by the rules above. A box (or
 //!   injected record) is in flight on every lane from its accept (injection) until that lane
