@@ -1,6 +1,7 @@
 //! `obbcd bench`: every engine and parry3d on the surgical scene and on uniform scenes, in one
 //! run, with the growth of the run time from the smallest to the largest uniform scene.
 
+use crate::neighbour::Neighbour;
 use crate::parry::ParryScene;
 use crate::timing::{median, race, turn, warm_median_ms, Contender};
 use anyhow::{Context, Result};
@@ -44,6 +45,12 @@ pub struct BenchArgs {
     /// Also write the table as CSV.
     #[arg(long)]
     csv: Option<PathBuf>,
+    /// While the bench runs, a thread of its own reads random lines of a buffer of this many MB
+    /// (eight chains of dependent loads), as a tenant of the CPU that keeps its own lines in
+    /// the shared L3 does: 12 brings about the slow spells of a shared machine. It needs a core
+    /// beside the worker threads (`obbcd --threads N bench`, N below the cores).
+    #[arg(long)]
+    neighbour_mb: Option<usize>,
 }
 
 /// The grid's speed-up over parry3d (parry3d's median frame over the grid's) in each race on
@@ -286,14 +293,29 @@ fn report_disagreement(
 
 /// When and where the figures were measured: they differ from CPU to CPU and from hour to hour
 /// on a shared machine (README, "Measured figures"), so a run says which it was.
-fn measured_on() -> String {
+fn measured_on(neighbour_mb: Option<usize>) -> String {
+    let beside = neighbour_mb
+        .map(|mb| format!(", beside random reads over {mb} MB"))
+        .unwrap_or_default();
     format!(
-        "bench {}, {}, vector code {:?}, {} threads",
+        "bench {}, {}, vector code {:?}, {} threads{beside}",
         humantime::format_rfc3339_seconds(SystemTime::now()),
         cpu().unwrap_or_else(|| "CPU unknown".into()),
         Vectors::detected(),
         rayon::current_num_threads()
     )
+}
+
+/// Starts `--neighbour-mb`'s reads, on a core the worker threads leave free: on a core of
+/// theirs it would take their time, not their cache.
+fn start_neighbour(mb: usize) -> Result<Neighbour> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = rayon::current_num_threads();
+    anyhow::ensure!(
+        threads < cores,
+        "--neighbour-mb needs a core of its own beside the {threads} worker threads, on {cores} cores: give fewer (`obbcd --threads N bench`, N below {cores})"
+    );
+    Neighbour::start(mb)
 }
 
 /// The CPU's name, family and model, as Linux's `/proc/cpuinfo` gives them (x86's numbering;
@@ -315,7 +337,8 @@ fn cpu() -> Option<String> {
 
 pub fn run(a: BenchArgs) -> Result<()> {
     anyhow::ensure!(a.runs >= 1, "--runs must be at least 1");
-    println!("{}", measured_on());
+    let neighbour = a.neighbour_mb.map(start_neighbour).transpose()?;
+    println!("{}", measured_on(a.neighbour_mb));
     let mut rows = Vec::new();
     let mut speedups = Vec::new();
     let surg = surgical(a.surgical_n, 1)?;
@@ -334,6 +357,15 @@ pub fn run(a: BenchArgs) -> Result<()> {
             &mut rows,
             &mut speedups,
         )?;
+    }
+    if let Some(n) = neighbour {
+        let c = n.finish()?;
+        println!(
+            "neighbour: random reads over {} MB, a load every {:.1} ns in each of its chains ({:.1} s)",
+            c.mb,
+            c.ns_per_load(),
+            c.elapsed.as_secs_f64()
+        );
     }
     let mut table = String::from("scene,n,groups,engine,threads,time_ms,pairs,visits\n");
     for r in &rows {

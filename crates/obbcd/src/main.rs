@@ -9,6 +9,7 @@ mod error;
 mod error_plot;
 mod frames;
 mod mesh_io;
+mod neighbour;
 mod parry;
 mod plan;
 mod replay;

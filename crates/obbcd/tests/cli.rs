@@ -212,31 +212,73 @@ fn bad_input_fails_with_a_message() {
     fails_with(&cases);
 }
 
+/// A bench over in a second: small scenes, three races of few frames each.
+const TINY_BENCH: &[&str] = &[
+    "--sizes",
+    "300",
+    "--surgical-n",
+    "500",
+    "--repeat",
+    "2",
+    "--runs",
+    "3",
+    "--warmup-ms",
+    "1",
+    "--turn-ms",
+    "2",
+    "--rounds",
+    "1",
+    "--quadratic-max",
+    "0",
+];
+
+/// `bench --neighbour-mb` runs its random reads on a core the worker threads leave free (it
+/// refuses when they leave none) and says so in its first line, with the reads' pace at the
+/// end.
+#[test]
+fn bench_beside_a_neighbour() {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let all = cores.to_string();
+    fails_with(&[(
+        &["--threads", all.as_str(), "bench", "--neighbour-mb", "4"],
+        "--neighbour-mb needs a core of its own beside the",
+    )]);
+    assert!(
+        cores >= 2,
+        "a neighbour beside one worker thread needs two cores"
+    );
+    fails_with(&[(
+        &["--threads", "1", "bench", "--neighbour-mb", "0"],
+        "--neighbour-mb must be from 1 to 4096, not 0",
+    )]);
+    let args = [
+        &["--threads", "1", "bench", "--neighbour-mb", "2"],
+        TINY_BENCH,
+    ]
+    .concat();
+    let text = String::from_utf8(ok(&args).stdout).unwrap();
+    let head = text.lines().next().unwrap_or_default();
+    assert!(
+        head.ends_with("1 threads, beside random reads over 2 MB"),
+        "{head}"
+    );
+    let pace = text
+        .lines()
+        .find_map(|l| l.strip_prefix("neighbour: random reads over 2 MB, a load every "))
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|ns| ns.parse::<f64>().ok())
+        .unwrap_or_else(|| panic!("no neighbour line with its pace in {text}"));
+    assert!(pace > 0.0 && pace < 1e5, "{pace} ns a load");
+    assert!(text.lines().any(|l| l.starts_with("speedup ")), "{text}");
+}
+
 /// `bench --runs N` races the grid against parry3d N times per scene and prints, per scene and
 /// thread count, each race's speed-up (parry3d's median frame over the grid's) with their min,
 /// median and max; the table's times are the medians over the races. Its first line says when,
 /// on which CPU and with which vector code it measured.
 #[test]
 fn bench_lists_the_speedup_of_every_race() {
-    let out = ok(&[
-        "bench",
-        "--sizes",
-        "300",
-        "--surgical-n",
-        "500",
-        "--repeat",
-        "2",
-        "--runs",
-        "3",
-        "--warmup-ms",
-        "1",
-        "--turn-ms",
-        "2",
-        "--rounds",
-        "1",
-        "--quadratic-max",
-        "0",
-    ]);
+    let out = ok(&[&["bench"], TINY_BENCH].concat());
     let text = String::from_utf8(out.stdout).unwrap();
     // It says first when (UTC), on which CPU and with which vector code it measured.
     let head = text.lines().next().unwrap_or_default();
