@@ -306,18 +306,6 @@ fn measured_on(neighbour_mb: Option<usize>) -> String {
     )
 }
 
-/// Starts `--neighbour-mb`'s reads, on a core the worker threads leave free: on a core of
-/// theirs it would take their time, not their cache.
-fn start_neighbour(mb: usize) -> Result<Neighbour> {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let threads = rayon::current_num_threads();
-    anyhow::ensure!(
-        threads < cores,
-        "--neighbour-mb needs a core of its own beside the {threads} worker threads, on {cores} cores: give fewer (`obbcd --threads N bench`, N below {cores})"
-    );
-    Neighbour::start(mb)
-}
-
 /// The CPU's name, family and model, as Linux's `/proc/cpuinfo` gives them (x86's numbering;
 /// elsewhere only the fields there are).
 fn cpu() -> Option<String> {
@@ -337,7 +325,7 @@ fn cpu() -> Option<String> {
 
 pub fn run(a: BenchArgs) -> Result<()> {
     anyhow::ensure!(a.runs >= 1, "--runs must be at least 1");
-    let neighbour = a.neighbour_mb.map(start_neighbour).transpose()?;
+    let neighbour = a.neighbour_mb.map(Neighbour::beside_workers).transpose()?;
     println!("{}", measured_on(a.neighbour_mb));
     let mut rows = Vec::new();
     let mut speedups = Vec::new();

@@ -7,7 +7,8 @@
 //! a large buffer keeps nothing there and slows the frame little; random reads over some 12 MB
 //! bring the spells about (docs/engines.md, "The spells reproduced"). This neighbour is those
 //! reads: eight chains of dependent loads, each following one random cycle through every
-//! 64-byte line of its buffer, on a thread of its own until it is stopped.
+//! 64-byte line of its buffer, on a thread of its own until it is stopped. `bench` and
+//! `replay` run it beside their frames.
 
 use anyhow::{anyhow, Result};
 use rand::seq::SliceRandom;
@@ -73,6 +74,18 @@ impl Neighbour {
             started: Instant::now(),
             thread: Some(thread),
         })
+    }
+
+    /// [`Neighbour::start`] on a core that the worker threads leave free: on a core of theirs it
+    /// would take their time, not their cache.
+    pub fn beside_workers(mb: usize) -> Result<Self> {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let threads = rayon::current_num_threads();
+        anyhow::ensure!(
+            threads < cores,
+            "--neighbour-mb needs a core of its own beside the {threads} worker threads, on {cores} cores: give fewer (`obbcd --threads N ...`, N below {cores})"
+        );
+        Self::start(mb)
     }
 
     /// Stops the reads and says what they did.

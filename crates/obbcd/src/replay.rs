@@ -5,6 +5,7 @@
 use crate::builtin::DEFAULT_SEED;
 use crate::capi::CapiRun;
 use crate::frames::{FrameReader, FrameWriter};
+use crate::neighbour::{Chased, Neighbour};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use obb_model::engines::{Resident, RigidResident};
@@ -65,6 +66,12 @@ pub struct ReplayArgs {
     /// Plot the latency over the frames (SVG).
     #[arg(long)]
     svg: Option<PathBuf>,
+    /// Beside the frames, a thread of its own reads random lines of a buffer of this many MB, as
+    /// a tenant of the CPU that keeps its own lines in the shared L3 does (`bench
+    /// --neighbour-mb`); the summary then gives its size and pace (`neighbour_mb=`,
+    /// `neighbour_ns=`). It needs a core beside the worker threads.
+    #[arg(long)]
+    neighbour_mb: Option<usize>,
 }
 
 /// One frame's outcome.
@@ -212,6 +219,7 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     let mut boxes = Boxes::default();
     let mut pairs: Vec<Pair> = Vec::new();
     let mut runs = Vec::new();
+    let neighbour = a.neighbour_mb.map(Neighbour::beside_workers).transpose()?;
     // As `detect`: the loop runs on a pool worker, so parallel phases do not wake a thread from
     // outside the pool.
     rayon::scope(|_| -> Result<()> {
@@ -264,6 +272,7 @@ pub fn run(a: ReplayArgs) -> Result<()> {
         }
         Ok(())
     })?;
+    let chased = neighbour.map(Neighbour::finish).transpose()?;
     if let Some(w) = record {
         w.finish()?;
     }
@@ -272,7 +281,7 @@ pub fn run(a: ReplayArgs) -> Result<()> {
         (_, Some(Rigid::Native(r))) => r.boxes(),
         _ => boxes.all.len(),
     };
-    println!("{}", summary(&runs, &a, obbs));
+    println!("{}", summary(&runs, &a, obbs, chased.as_ref()));
     if let Some(path) = &a.csv {
         std::fs::write(path, csv(&runs))
             .with_context(|| format!("cannot write {}", path.display()))?;
@@ -350,7 +359,7 @@ fn percentile(v: &mut [f64], p: f64) -> f64 {
     }
 }
 
-fn summary(runs: &[Run], a: &ReplayArgs, obbs: usize) -> String {
+fn summary(runs: &[Run], a: &ReplayArgs, obbs: usize, neighbour: Option<&Chased>) -> String {
     let mut haptic: Vec<f64> = runs
         .iter()
         .filter(|r| !r.tissue)
@@ -366,7 +375,7 @@ fn summary(runs: &[Run], a: &ReplayArgs, obbs: usize) -> String {
     format!(
         "frames={} haptic_frames={} tissue_updates={} p50_ms={:.4} p99_ms={:.4} max_ms={:.4} \
          tissue_p99_ms={:.4} tissue_max_ms={:.4} pairs_mean={pairs_mean:.1} pairs_max={pairs_max} \
-         engine={}{}{}{} groups={} obbs={obbs} threads={}",
+         engine={}{}{}{} groups={} obbs={obbs} threads={}{}",
         runs.len(),
         haptic.len(),
         tissue.len(),
@@ -384,7 +393,12 @@ fn summary(runs: &[Run], a: &ReplayArgs, obbs: usize) -> String {
         if a.capi { " capi=1" } else { "" },
         if a.rigid { " rigid=1" } else { "" },
         a.groups,
-        rayon::current_num_threads()
+        rayon::current_num_threads(),
+        neighbour.map_or(String::new(), |c| format!(
+            " neighbour_mb={} neighbour_ns={:.1}",
+            c.mb,
+            c.ns_per_load()
+        ))
     )
 }
 

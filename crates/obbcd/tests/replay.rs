@@ -1,6 +1,6 @@
 //! `obbcd replay`: the built-in moving scene's pairs frame by frame against brute force on
 //! frames the test assembles itself, recordings in both formats replaying the same, the summary,
-//! and clear errors on bad frame files.
+//! clear errors on bad frame files, and the frames beside a neighbour's reads.
 
 mod common;
 
@@ -150,6 +150,47 @@ fn recordings_replay_the_same() {
     let boxes: u64 = 12 * 200 + 450 * 150;
     let groups: u64 = 450 * 2 + 12;
     assert_eq!(size, 8 + 450 * (8 + 4 + 4) + 4 * groups + 64 * boxes);
+}
+
+/// `--neighbour-mb` runs its reads beside the frames, on a core the worker threads leave free
+/// (with none free it refuses), and the summary gives their size and pace.
+#[test]
+fn replay_beside_a_neighbour() {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let all = cores.to_string();
+    fails_with(&[(
+        &[
+            "--threads",
+            all.as_str(),
+            "replay",
+            "--frames",
+            "5",
+            "--neighbour-mb",
+            "2",
+        ],
+        "--neighbour-mb needs a core of its own beside the",
+    )]);
+    assert!(
+        cores >= 2,
+        "a neighbour beside one worker thread needs two cores"
+    );
+    let out = ok(&[
+        "--threads",
+        "1",
+        "replay",
+        "--n",
+        "700",
+        "--frames",
+        "100",
+        "--rigid",
+        "--neighbour-mb",
+        "2",
+    ]);
+    let line = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(field(&line, "frames"), "100");
+    assert_eq!(field(&line, "neighbour_mb"), "2");
+    let ns: f64 = field(&line, "neighbour_ns").parse().unwrap();
+    assert!(ns > 0.0 && ns < 1e5, "{ns} ns a load");
 }
 
 /// [`Scratch::write`], the path as a string.
