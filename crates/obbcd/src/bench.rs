@@ -47,8 +47,8 @@ pub struct BenchArgs {
     csv: Option<PathBuf>,
     /// While the bench runs, a thread of its own reads random lines of a buffer of this many MB
     /// (eight chains of dependent loads), as a tenant of the CPU that keeps its own lines in
-    /// the shared L3 does: 12 brings about the slow spells of a shared machine. It needs a core
-    /// beside the worker threads (`obbcd --threads N bench`, N below the cores).
+    /// the shared L3 does (12 MB brought about the slow spells of a shared Zen 3 machine). It
+    /// needs a core beside the worker threads (`obbcd --threads N bench`, N below the cores).
     #[arg(long)]
     neighbour_mb: Option<usize>,
 }
