@@ -1,14 +1,14 @@
-//! `bench --neighbour-mb`: a neighbour on another core that keeps its own lines in the shared
-//! last-level cache, as another tenant of the CPU does.
+//! `--neighbour-mb` of `bench` and `replay`: a neighbour on another core that keeps its own
+//! lines in the shared last-level cache, as another tenant of the CPU does.
 //!
-//! On a shared machine the grid's frame slows in spells, by up to 1.7 times where parry3d's
-//! slows by 1.1 to 1.3: the frame's data (some 6.5 MB on the surgical scene) live in the L3,
-//! and a tenant that reads lines of its own there at random takes part of it. A stream through
-//! a large buffer keeps nothing there and slows the frame little; random reads over some 12 MB
-//! bring the spells about (docs/engines.md, "The spells reproduced"). This neighbour is those
-//! reads: eight chains of dependent loads, each following one random cycle through every
-//! 64-byte line of its buffer, on a thread of its own until it is stopped. `bench` and
-//! `replay` run it beside their frames.
+//! On a shared machine (a Zen 3 EPYC of this machine kind) the grid's frame slowed in spells,
+//! by up to 1.7 times where parry3d's slowed by 1.1 to 1.3: the frame's data (some 6.5 MB on
+//! the surgical scene) live in the L3, and a tenant that reads lines of its own there at random
+//! takes part of it. A stream through a large buffer keeps nothing there and slowed the frame
+//! little; random reads over some 12 MB brought the spells about (docs/engines.md, "The spells
+//! reproduced"). This neighbour is those reads: eight chains of dependent loads, each following
+//! one random cycle through every 64-byte line of its buffer, on a thread of its own until it
+//! is stopped.
 
 use anyhow::{anyhow, Result};
 use rand::seq::SliceRandom;
