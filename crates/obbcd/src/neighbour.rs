@@ -29,7 +29,7 @@ const CHAINS: usize = 8;
 const ROUNDS_PER_LOOK: u64 = 1024;
 
 /// The largest buffer taken (MB): far past any L3, and well within this machine kind's memory.
-pub const MAX_MB: usize = 4096;
+const MAX_MB: usize = 4096;
 
 /// The neighbour's thread, reading until it is stopped (or dropped).
 pub struct Neighbour {
@@ -56,8 +56,9 @@ impl Chased {
 
 impl Neighbour {
     /// Lays out a buffer of `mb` MB as one random cycle (before it starts, so that laying it out
-    /// is not in what is timed beside it) and starts reading it.
-    pub fn start(mb: usize) -> Result<Self> {
+    /// is not in what is timed beside it) and starts reading it. Callers take
+    /// [`Neighbour::beside_workers`], which first checks for a free core.
+    fn start(mb: usize) -> Result<Self> {
         anyhow::ensure!(
             (1..=MAX_MB).contains(&mb),
             "--neighbour-mb must be from 1 to {MAX_MB}, not {mb}"
@@ -109,7 +110,7 @@ impl Neighbour {
     }
 }
 
-/// A bench that ends early (an error) still stops its neighbour.
+/// A bench or replay that ends early (an error) still stops its neighbour.
 impl Drop for Neighbour {
     fn drop(&mut self) {
         let _ = self.halt();
